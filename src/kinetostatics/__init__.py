@@ -1,0 +1,29 @@
+"""kinetostatics: kinetostatic analysis of planar linkages described in YAML.
+
+>>> import kinetostatics as ks
+>>> model = ks.load("mechanisms/slider_crank.yaml")      # doctest: +SKIP
+>>> result = ks.analyze(model)                           # doctest: +SKIP
+>>> result["motor.torque"].max()                         # doctest: +SKIP
+"""
+
+from .errors import (AssemblyError, KinetostaticsError, ModelError, NearSingularWarning,
+                     SelfLockingError, SingularConfigurationError, StructureError)
+from .model import Model
+from .yaml_io import load, loads
+
+__all__ = ["load", "loads", "analyze", "Model", "Result", "KinetostaticsError", "ModelError",
+           "StructureError", "AssemblyError", "SingularConfigurationError", "SelfLockingError",
+           "NearSingularWarning", "build_system"]
+
+
+def __getattr__(name):          # keep `import kinetostatics` light: load stages on use
+    if name == "analyze":
+        from .analysis import analyze
+        return analyze
+    if name == "Result":
+        from .results import Result
+        return Result
+    if name == "build_system":
+        from .system import build_system
+        return build_system
+    raise AttributeError(f"module 'kinetostatics' has no attribute '{name}'")

@@ -1,0 +1,37 @@
+"""Planar geometry helpers broadcasting over leading axes (internal)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["rotate", "perp", "cross", "wrap_angle", "stack_xy"]
+
+
+def rotate(theta: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """Rotate local vectors ``p (..., 2)`` by angles ``theta (...)`` (CCW, rad).
+
+    >>> rotate(np.pi / 2, np.array([1.0, 0.0])).round(12)
+    array([0., 1.])
+    """
+    c, s = np.cos(theta), np.sin(theta)
+    px, py = p[..., 0], p[..., 1]
+    return np.stack((c * px - s * py, s * px + c * py), axis=-1)
+
+
+def perp(v: np.ndarray) -> np.ndarray:
+    """``v`` rotated by +90°: (x, y) -> (−y, x)."""
+    return np.stack((-v[..., 1], v[..., 0]), axis=-1)
+
+
+def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Scalar planar cross product a × b."""
+    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+
+
+def wrap_angle(a: np.ndarray) -> np.ndarray:
+    """Angles wrapped into [−π, π)."""
+    return (a + np.pi) % (2.0 * np.pi) - np.pi
+
+
+def stack_xy(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    return np.stack((x, y), axis=-1)

@@ -1,0 +1,110 @@
+"""Exceptions and source locations.
+
+Every user-caused problem is a :class:`KinetostaticsError`.  Model problems
+carry a :class:`Location` (file, line, column, key path) and are collected by
+:class:`Collector`, which raises them together as one :class:`ModelError`.
+Solver problems (:class:`AssemblyError`, :class:`SelfLockingError`) name the
+group, the driver coordinate and the reason.  Each class also subclasses a
+built-in exception so ``except ValueError`` keeps working.
+"""
+
+from __future__ import annotations
+
+import difflib
+from dataclasses import dataclass
+from typing import Iterable
+
+__all__ = [
+    "Location", "KinetostaticsError", "ModelError", "StructureError",
+    "AssemblyError", "SingularConfigurationError", "SelfLockingError",
+    "NearSingularWarning", "Collector", "did_you_mean",
+]
+
+
+@dataclass(frozen=True)
+class Location:
+    """Where a value came from: ``file:line:col: key.path`` (line, col 1-based)."""
+
+    file: str = "<model>"
+    line: int | None = None
+    col: int | None = None
+    path: str = ""
+
+    def child(self, key: object, line: int | None = None, col: int | None = None) -> "Location":
+        """The location of ``key`` below this one (list indices as ``[k]``)."""
+        path = f"{self.path}[{key}]" if isinstance(key, int) else (
+            f"{self.path}.{key}" if self.path else str(key))
+        return Location(self.file, line if line is not None else self.line,
+                        col if col is not None else self.col, path)
+
+    def __str__(self) -> str:
+        where = self.file
+        if self.line is not None:
+            where += f":{self.line}:{self.col or 1}"
+        return f"{where}: {self.path}" if self.path else where
+
+
+class KinetostaticsError(Exception):
+    """Base class of every user-caused error."""
+
+
+class ModelError(KinetostaticsError, ValueError):
+    """One or more problems in a model; ``problems`` lists ``(Location, message)``."""
+
+    def __init__(self, problems: Iterable[tuple[Location, str]]):
+        self.problems = list(problems)
+        self.location = self.problems[0][0] if self.problems else Location()
+        super().__init__("\n".join(f"{loc}: {msg}" for loc, msg in self.problems))
+
+
+class StructureError(ModelError):
+    """The topology does not match the drivers or the listed loops."""
+
+
+class AssemblyError(KinetostaticsError, RuntimeError):
+    """A group cannot be assembled at a driver coordinate."""
+
+    def __init__(self, group: str, coordinate: str, reason: str):
+        self.group, self.coordinate, self.reason = group, coordinate, reason
+        super().__init__(f"{group} cannot assemble at {coordinate}: {reason}")
+
+
+class SingularConfigurationError(AssemblyError):
+    """The motion cannot be continued through a singular position."""
+
+
+class SelfLockingError(KinetostaticsError, RuntimeError):
+    """The consistent friction solution does not exist (the mechanism self-locks)."""
+
+
+class NearSingularWarning(UserWarning):
+    """A group is near a singular position (large condition number)."""
+
+
+def did_you_mean(word: str, choices: Iterable[str]) -> str:
+    """`` (did you mean 'x'?)`` for the closest choice, or an empty string."""
+    close = difflib.get_close_matches(str(word), [str(c) for c in choices], n=1, cutoff=0.6)
+    return f" (did you mean '{close[0]}'?)" if close else ""
+
+
+class Collector:
+    """Gathers model problems and raises them together.
+
+    >>> c = Collector()
+    >>> c.add(Location("m.yaml", 3, 5, "links.rod.mass"), "must be positive, got -1")
+    >>> c.raise_if_any()
+    Traceback (most recent call last):
+    ...
+    kinetostatics.errors.ModelError: m.yaml:3:5: links.rod.mass: must be positive, got -1
+    """
+
+    def __init__(self) -> None:
+        self.problems: list[tuple[Location, str]] = []
+
+    def add(self, where: Location, message: str) -> None:
+        self.problems.append((where, message))
+
+    def raise_if_any(self, cls: type[ModelError] = ModelError) -> None:
+        if self.problems:
+            problems, self.problems = self.problems, []
+            raise cls(problems)

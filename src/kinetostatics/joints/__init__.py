@@ -1,0 +1,7 @@
+"""Joint types.  Importing this package registers the built-in types."""
+
+from .base import JOINT_TYPES, Joint, joint_type
+from .prismatic import Prismatic
+from .revolute import Revolute
+
+__all__ = ["Joint", "JOINT_TYPES", "joint_type", "Revolute", "Prismatic"]

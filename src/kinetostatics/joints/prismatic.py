@@ -1,0 +1,172 @@
+"""Prismatic pair: a point of link j slides along an axis of link i."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+import numpy as np
+
+from .._geometry import perp, rotate, wrap_angle
+from .base import Joint
+
+__all__ = ["Prismatic"]
+
+
+def _dot(a, b):
+    return a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1]
+
+
+@dataclass(frozen=True)
+class Prismatic(Joint, kind="prismatic"):
+    """Slider.  The axis belongs to link i: point ``a`` and unit ``u`` (local, ``a``
+    relative to i's CoM); ``p`` is the sliding point of link j (relative to j's CoM).
+
+    Φ₁ = n·(P_j − A_i) (P_j on the axis, n = u rotated +90°),
+    Φ₂ = θ_j − θ_i − ``angle`` (no relative rotation).
+    λ₁ = N, the force of i on j along n; λ₂ = M, the couple of i on j about P_j.
+    Relative coordinate s = (P_j − A_i)·u.  Coulomb friction f|N| along u opposes ṡ;
+    with ``length`` L the block bears on two edges, N₁,₂ = N/2 ± M/L, and the
+    friction is f(|N₁| + |N₂|).
+    """
+
+    n_eq: ClassVar[int] = 2
+    reaction_labels: ClassVar[tuple[str, ...]] = ("Fx", "Fy", "N", "M")
+    angular: ClassVar[bool] = False
+
+    a: np.ndarray = None
+    u: np.ndarray = None
+    p: np.ndarray = None
+    angle: float = 0.0
+    axis_names: tuple[str, ...] = ()
+    point_name: str = ""
+    f: float = 0.0
+    length: float | None = None
+
+    # -- YAML ---------------------------------------------------------------
+    @classmethod
+    def from_spec(cls, name, entry, links, points):
+        entry.check_keys(required=("type", "links", "axis"),
+                         optional=("point", "angle", "length", "friction"))
+        axis, a, u, axis_names = entry.require("axis"), None, None, ()
+        if axis is not None:
+            axis.check_keys(optional=("point", "direction", "points"))
+            if axis.get("points") is not None:
+                pa, pb = axis["points"].names(2) or (None, None)
+                a = axis.point(links[0], pa, points, key="points", index=0)
+                b = axis.point(links[0], pb, points, key="points", index=1)
+                axis_names = (pa, pb)
+                if a is not None and b is not None:
+                    u = axis["points"].unit(b - a)
+            else:
+                pa = axis.require("point").names(1)
+                a = axis.point(links[0], pa and pa[0], points, key="point")
+                d = axis.require("direction").vector(None)
+                u = None if d is None else axis["direction"].unit(d)
+                axis_names = (pa and pa[0],)
+        pname = entry["point"].names(1)[0] if entry.get("point") is not None else name
+        p = entry.point(links[1], pname, points, key="point")
+        angle = entry["angle"].number("angle") if entry.get("angle") is not None else 0.0
+        length = None
+        if entry.get("length") is not None:
+            length = entry["length"].number("length", minimum=0.0, strict=True)
+        f = 0.0
+        if (fr := entry.get("friction")) is not None:
+            fr.check_keys(required=("coefficient",))
+            f = fr["coefficient"].number(None, minimum=0.0) if fr.get("coefficient") else 0.0
+        if a is None or u is None or p is None or angle is None or f is None:
+            return None
+        return cls(name, links, entry.where, a, u, p, float(angle), axis_names, pname,
+                   float(f), length)
+
+    def to_spec(self) -> dict[str, Any]:
+        if len(self.axis_names) == 2:
+            axis: dict[str, Any] = {"points": list(self.axis_names)}
+        else:
+            axis = {"point": self.axis_names[0], "direction": [float(c) for c in self.u]}
+        spec: dict[str, Any] = {"axis": axis, "point": self.point_name, "angle": self.angle}
+        if self.length is not None:
+            spec["length"] = self.length
+        if self.f:
+            spec["friction"] = {"coefficient": self.f}
+        return spec
+
+    # -- geometry -----------------------------------------------------------
+    def _frame(self, qi, qj):
+        A = rotate(qi[..., 2], self.a)
+        U = rotate(qi[..., 2], self.u)
+        P = rotate(qj[..., 2], self.p)
+        d = qj[..., :2] + P - qi[..., :2] - A
+        return A, U, perp(U), P, d
+
+    def residual(self, qi, qj):
+        A, U, N, P, d = self._frame(qi, qj)
+        return np.stack((_dot(N, d), wrap_angle(qj[..., 2] - qi[..., 2] - self.angle)), axis=-1)
+
+    def jacobian(self, qi, qj):
+        A, U, N, P, d = self._frame(qi, qj)
+        shape = d.shape[:-1] + (2, 3)
+        ji, jj = np.zeros(shape), np.zeros(shape)
+        ji[..., 0, :2], ji[..., 0, 2] = -N, -_dot(U, d) - _dot(N, perp(A))
+        jj[..., 0, :2], jj[..., 0, 2] = N, _dot(N, perp(P))
+        ji[..., 1, 2], jj[..., 1, 2] = -1.0, 1.0
+        return ji, jj
+
+    @staticmethod
+    def _rates(A, P, vi, vj):
+        wi, wj = vi[..., 2], vj[..., 2]
+        dd = vj[..., :2] + wj[..., None] * perp(P) - vi[..., :2] - wi[..., None] * perp(A)
+        dd2 = -(wj ** 2)[..., None] * P + (wi ** 2)[..., None] * A   # velocity part of d̈
+        return wi, dd, dd2
+
+    def acceleration_rhs(self, qi, qj, vi, vj):
+        A, U, N, P, d = self._frame(qi, qj)
+        wi, dd, dd2 = self._rates(A, P, vi, vj)
+        g1 = wi ** 2 * _dot(N, d) + 2.0 * wi * _dot(U, dd) - _dot(N, dd2)
+        return np.stack((g1, np.zeros_like(g1)), axis=-1)
+
+    def reaction(self, lam, qi, qj):
+        A, U, N, P, d = self._frame(qi, qj)
+        n_force, couple = lam[..., 0], lam[..., 1]
+        return {"Fx": n_force * N[..., 0], "Fy": n_force * N[..., 1], "N": n_force, "M": couple}
+
+    # -- relative coordinate --------------------------------------------------
+    def coordinate(self, qi, qj):
+        A, U, N, P, d = self._frame(qi, qj)
+        return _dot(U, d)
+
+    def motion_direction(self, qi, qj):
+        A, U, N, P, d = self._frame(qi, qj)
+        gi = np.concatenate((-U, (_dot(N, d) - _dot(U, perp(A)))[..., None]), axis=-1)
+        gj = np.concatenate((U, _dot(U, perp(P))[..., None]), axis=-1)
+        return gi, gj
+
+    def coordinate_bias(self, qi, qj, vi, vj):
+        A, U, N, P, d = self._frame(qi, qj)
+        wi, dd, dd2 = self._rates(A, P, vi, vj)
+        return -wi ** 2 * _dot(U, d) + 2.0 * wi * _dot(N, dd) + _dot(U, dd2)
+
+    # -- friction -----------------------------------------------------------
+    @property
+    def has_friction(self) -> bool:
+        return self.f > 0.0
+
+    def _edges(self, lam):
+        half = 0.5 * lam[..., 0]
+        return half + lam[..., 1] / self.length, half - lam[..., 1] / self.length
+
+    def friction_magnitude(self, lam, qi, qj):
+        if self.length is None:
+            return self.f * np.abs(lam[..., 0])
+        n1, n2 = self._edges(lam)
+        return self.f * (np.abs(n1) + np.abs(n2))
+
+    def friction_gradient(self, lam, qi, qj):
+        grad = np.zeros(lam.shape)
+        if self.length is None:
+            grad[..., 0] = self.f * np.sign(lam[..., 0])
+        else:
+            s1, s2 = (np.sign(n) for n in self._edges(lam))
+            grad[..., 0] = 0.5 * self.f * (s1 + s2)
+            grad[..., 1] = self.f * (s1 - s2) / self.length
+        return grad

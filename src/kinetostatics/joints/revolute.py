@@ -1,0 +1,107 @@
+"""Revolute pair: a point of link i coincides with a point of link j."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+import numpy as np
+
+from .._geometry import perp, rotate
+from .base import Joint
+
+__all__ = ["Revolute"]
+
+
+@dataclass(frozen=True)
+class Revolute(Joint, kind="revolute"):
+    """Pin joint.  ``p_i``, ``p_j``: the pin in each link's frame, relative to its CoM.
+
+    Φ = r_i + A_i p_i − r_j − A_j p_j (2 rows).  λ is the constraint force on
+    link i, so the reaction of i on j is ``F = −λ``.  Friction: the friction
+    circle, a couple of magnitude ρ|F| opposing ω_j − ω_i.
+    """
+
+    n_eq: ClassVar[int] = 2
+    reaction_labels: ClassVar[tuple[str, ...]] = ("Fx", "Fy")
+    angular: ClassVar[bool] = True
+
+    p_i: np.ndarray = None
+    p_j: np.ndarray = None
+    point_names: tuple[str, str] = ("", "")
+    rho: float = 0.0                  # friction-circle radius, m
+
+    # -- YAML ---------------------------------------------------------------
+    @classmethod
+    def from_spec(cls, name, entry, links, points):
+        entry.check_keys(required=("type", "links"), optional=("points", "friction"))
+        names = (name, name)
+        if (e := entry.get("points")) is not None:
+            names = tuple(e.names(2))
+        p_i = entry.point(links[0], names[0], points, key="points", index=0)
+        p_j = entry.point(links[1], names[1], points, key="points", index=1)
+        rho = 0.0
+        if (f := entry.get("friction")) is not None:
+            f.check_keys(optional=("radius", "journal_radius", "coefficient"))
+            if f.get("radius") is not None:
+                if f.get("journal_radius") is not None or f.get("coefficient") is not None:
+                    f.error("give either radius, or journal_radius with coefficient")
+                rho = f["radius"].number("length", minimum=0.0)
+            elif f.get("journal_radius") is not None or f.get("coefficient") is not None:
+                r = f.require("journal_radius").number("length", minimum=0.0)
+                fv = f.require("coefficient").number(None, minimum=0.0)
+                rho = None if r is None or fv is None else r * fv
+            else:
+                f.error("give radius (the friction-circle radius), or journal_radius and coefficient")
+        if p_i is None or p_j is None or rho is None:
+            return None
+        return cls(name, links, entry.where, p_i, p_j, names, float(rho))
+
+    def to_spec(self) -> dict[str, Any]:
+        spec: dict[str, Any] = {"points": list(self.point_names)}
+        if self.rho:
+            spec["friction"] = {"radius": self.rho}
+        return spec
+
+    # -- kinematics ---------------------------------------------------------
+    def residual(self, qi, qj):
+        return (qi[..., :2] + rotate(qi[..., 2], self.p_i)
+                - qj[..., :2] - rotate(qj[..., 2], self.p_j))
+
+    def jacobian(self, qi, qj):
+        shape = np.broadcast_shapes(qi.shape, qj.shape)[:-1] + (2, 3)
+        ji, jj = np.zeros(shape), np.zeros(shape)
+        ji[..., 0, 0] = ji[..., 1, 1] = 1.0
+        jj[..., 0, 0] = jj[..., 1, 1] = -1.0
+        ji[..., :, 2] = perp(rotate(qi[..., 2], self.p_i))
+        jj[..., :, 2] = -perp(rotate(qj[..., 2], self.p_j))
+        return ji, jj
+
+    def acceleration_rhs(self, qi, qj, vi, vj):
+        return (rotate(qi[..., 2], self.p_i) * vi[..., 2:3] ** 2
+                - rotate(qj[..., 2], self.p_j) * vj[..., 2:3] ** 2)
+
+    def reaction(self, lam, qi, qj):
+        return {"Fx": -lam[..., 0], "Fy": -lam[..., 1]}
+
+    # -- relative coordinate --------------------------------------------------
+    def coordinate(self, qi, qj):
+        return qj[..., 2] - qi[..., 2]
+
+    def motion_direction(self, qi, qj):
+        shape = np.broadcast_shapes(qi.shape, qj.shape)
+        gi, gj = np.zeros(shape), np.zeros(shape)
+        gi[..., 2], gj[..., 2] = -1.0, 1.0
+        return gi, gj
+
+    # -- friction -----------------------------------------------------------
+    @property
+    def has_friction(self) -> bool:
+        return self.rho > 0.0
+
+    def friction_magnitude(self, lam, qi, qj):
+        return self.rho * np.hypot(lam[..., 0], lam[..., 1])
+
+    def friction_gradient(self, lam, qi, qj):
+        norm = np.hypot(lam[..., 0], lam[..., 1])[..., None]
+        return self.rho * np.divide(lam, norm, out=np.zeros_like(lam), where=norm > 0)

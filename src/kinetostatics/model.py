@@ -1,0 +1,150 @@
+"""The model: plain frozen data in SI describing what the user wrote.
+
+Nothing here computes.  A :class:`Model` is built by :func:`kinetostatics.load`
+from YAML or directly from Python; the analysis stages read it and never
+write to it.  Local points of a link are stored relative to the link's
+centre of mass, in the link's frame (the frame the user drew the points in).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Mapping
+
+import numpy as np
+
+from .errors import Location
+from .joints import Joint
+
+__all__ = ["Link", "MotionLaw", "Driver", "Condition", "Load", "Analysis", "Model"]
+
+
+@dataclass(frozen=True)
+class Link:
+    """A rigid link.  ``points``: local points relative to the CoM (m)."""
+
+    name: str
+    points: Mapping[str, np.ndarray]
+    mass: float = 0.0                 # kg
+    inertia: float = 0.0              # kg·m² about the CoM
+    com: np.ndarray = field(default_factory=lambda: np.zeros(2))   # CoM in the user's frame, m
+    ground: bool = False
+    where: Location = field(default=Location(), compare=False, repr=False)
+
+
+@dataclass(frozen=True)
+class MotionLaw:
+    """A prescribed driver coordinate: constant ``speed`` (rad/s or m/s, signed)."""
+
+    speed: float
+
+    def value(self, start: float, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(ψ, ψ̇, ψ̈) at times ``t`` for ψ(0) = ``start``."""
+        t = np.asarray(t, dtype=float)
+        return start + self.speed * t, np.full_like(t, self.speed), np.zeros_like(t)
+
+
+@dataclass(frozen=True)
+class Driver:
+    """A driver acting on ``joint``; its effort is applied by the joint's link i on j.
+
+    ``offset``: the constant that turns the joint's relative coordinate into the
+    driver coordinate (for a revolute, angle of (P_j − C) − angle of (P_i − C)
+    minus θ_j − θ_i; zero for a prismatic).  ``balance_at``: the joint that
+    carries the unknown effort instead of this one.
+    """
+
+    name: str
+    joint: str
+    motion: MotionLaw | None = None
+    effort: float | None = None           # constant applied torque (N·m) or force (N)
+    offset: float = 0.0
+    points: tuple[str | None, str | None] = (None, None)
+    balance_at: str | None = None
+    where: Location = field(default=Location(), compare=False, repr=False)
+
+
+@dataclass(frozen=True)
+class Condition:
+    """One ``active:`` condition of a load.
+
+    ``kind``: ``moving`` (point velocity · ``axis`` > 0), ``travel`` (the point's
+    travel along ``axis`` from its extreme, p·axis − min over the cycle, within
+    ``bounds`` m) or ``angle`` (driver coordinate within ``bounds``, rad, in the
+    sense of motion, modulo 2π).
+    """
+
+    kind: str
+    link: str = ""
+    point: str | None = None
+    axis: np.ndarray | None = None
+    bounds: tuple[float, float] | None = None
+    where: Location = field(default=Location(), compare=False, repr=False)
+
+
+@dataclass(frozen=True)
+class Load:
+    """An external load on ``link``.
+
+    ``kind``: ``force`` (global vector ``value`` at ``point``, N), ``torque``
+    (``value`` N·m) or ``resistance`` (magnitude ``value`` N along ``axis``
+    opposing the point's velocity component along it).  Active only while all
+    ``active`` conditions hold.
+    """
+
+    name: str
+    kind: str
+    link: str
+    value: np.ndarray
+    point: str | None = None
+    axis: np.ndarray | None = None
+    active: tuple[Condition, ...] = ()
+    where: Location = field(default=Location(), compare=False, repr=False)
+
+
+@dataclass(frozen=True)
+class Analysis:
+    """Positions: start + k·sweep·sign(speed)/positions for k = 0…positions−1, plus ``at``."""
+
+    start: float = 0.0
+    sweep: float = 2.0 * np.pi
+    positions: int = 360
+    at: tuple[float, ...] = ()
+    events: bool = False
+
+
+@dataclass(frozen=True)
+class Model:
+    """A planar linkage in SI.  ``sketch`` maps point references (``joint`` or
+    ``link.point``) to rough global positions that select the assembly branch."""
+
+    name: str
+    links: tuple[Link, ...]
+    joints: tuple[Joint, ...]
+    drivers: tuple[Driver, ...] = ()
+    loads: tuple[Load, ...] = ()
+    gravity: np.ndarray = field(default_factory=lambda: np.array([0.0, -9.81]))
+    sketch: Mapping[str, np.ndarray] = field(default_factory=dict)
+    analysis: Analysis = field(default_factory=Analysis)
+    loops: tuple[tuple[str, ...], ...] | None = None
+    parameters: Mapping[str, float] = field(default_factory=dict)
+    units: Mapping[str, str] = field(default_factory=dict)
+    source: str = "<model>"
+
+    @property
+    def ground(self) -> Link:
+        return next(link for link in self.links if link.ground)
+
+    @property
+    def moving_links(self) -> tuple[Link, ...]:
+        return tuple(link for link in self.links if not link.ground)
+
+    def link(self, name: str) -> Link:
+        return next(link for link in self.links if link.name == name)
+
+    def joint(self, name: str) -> Joint:
+        return next(j for j in self.joints if j.name == name)
+
+    @property
+    def has_friction(self) -> bool:
+        return any(j.has_friction for j in self.joints)

@@ -1,0 +1,415 @@
+"""Positions: Newton per Assur group, batched over positions, with branch tracking.
+
+The path is parametrised by time t (the drivers' laws give ψ(t)).  The solve:
+
+1. *Start*: the sketch gives a rough pose; each group is solved by Newton in
+   solve order and its branch signature sign(det Φ_q,group) recorded.  A
+   sketch whose signature differs from its Newton solution's, or that sits on
+   a singular pose, is ambiguous: a model error names the group.
+2. *Coarse pass*: sequential continuation over the whole time range with
+   driver steps ≤ 30°, a second-order Taylor predictor from the exact q̇, q̈,
+   and step halving where Newton fails, the correction is large compared
+   with the step (a jump), or the signature changes.  A signature change that
+   persists as the step shrinks to ``MIN_STEP`` while the path stays smooth is
+   a *singular position*: recorded with its coordinate and condition number.
+3. *Batch*: all requested positions predicted by cubic Hermite interpolation
+   between the coarse nodes, one vectorised Newton per group over all of
+   them, signatures checked against the enclosing nodes.  Positions that fail
+   are solved by continuation from the nearest node with steps ≤ 5°.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from ._geometry import rotate
+from .errors import AssemblyError, ModelError, SingularConfigurationError
+from .system import GroupPlan, System, gamma, jacobian, nu, phi
+
+__all__ = ["Drive", "PositionSolution", "Singularity", "solve_positions", "initial_guess",
+           "group_condition", "velocities", "accelerations", "TOL"]
+
+TOL = 1e-12                 # Newton tolerance relative to L_ref (and 1 rad)
+MAX_ITER = 25
+COARSE_STEP = np.radians(30.0)
+FINE_STEP = np.radians(5.0)
+MIN_STEP = 1e-7             # rad of driver coordinate (or × L_ref for a prismatic)
+JUMP_RATIO = 0.35           # |corrector| / |step| above which a step is a suspected jump
+
+Drive = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]]
+"""t (...) -> (ψ, ψ̇, ψ̈), each (..., n_motion_drivers)."""
+
+
+@dataclass(frozen=True)
+class Singularity:
+    """A sign change of a group's determinant along the smooth path."""
+
+    group: str
+    t: float
+    coordinate: float           # driver coordinate of the first motion driver
+    condition: float
+
+
+@dataclass
+class PositionSolution:
+    q: np.ndarray                         # (n, n_q)
+    signatures: np.ndarray                # (n, n_groups) of ±1
+    iterations: np.ndarray                # (n,) Newton iterations of the batch
+    singular: list[Singularity] = field(default_factory=list)
+    fallback: int = 0                     # positions solved by the sequential fallback
+
+
+def _scaled_group_jacobian(system: System, q: np.ndarray, plan: GroupPlan) -> np.ndarray:
+    jac = jacobian(system, q, plan.constraints, plan.cols)
+    scale = np.where(np.arange(len(plan.cols)) % 3 == 2, 1.0, 1.0 / system.l_ref)
+    jac = jac * scale
+    norm = np.max(np.abs(jac), axis=-1, keepdims=True)
+    return jac / np.where(norm > 0, norm, 1.0)
+
+
+def group_condition(system: System, q: np.ndarray, plan: GroupPlan) -> np.ndarray:
+    """Condition number of a group's (row- and unit-scaled) Jacobian, ``(...)``."""
+    s = np.linalg.svd(_scaled_group_jacobian(system, q, plan), compute_uv=False)
+    with np.errstate(divide="ignore"):
+        return s[..., 0] / s[..., -1]
+
+
+def _signature(system: System, q: np.ndarray, plan: GroupPlan) -> np.ndarray:
+    return np.sign(np.linalg.det(_scaled_group_jacobian(system, q, plan)))
+
+
+def _newton(system: System, q: np.ndarray, psi: np.ndarray, plan: GroupPlan,
+            max_iter: int = MAX_ITER) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Batched Newton on one group (other columns fixed).
+
+    Returns (q, converged (...), iterations (...)).  Positions that converge
+    stop updating; the batch iterates until all converged or ``max_iter``.
+    """
+    shape = q.shape
+    q = q.reshape(-1, shape[-1]).copy()
+    psi = np.broadcast_to(psi, shape[:-1] + psi.shape[-1:]).reshape(len(q), -1)
+    cols = plan.cols
+    ang = (np.arange(len(cols)) % 3 == 2)
+    step_tol = np.where(ang, TOL, TOL * system.l_ref)
+    res_tol = TOL * system.l_ref
+    batch = q.shape[:-1]
+    done = np.zeros(batch, dtype=bool)
+    iters = np.zeros(batch, dtype=int)
+    active = np.ones(batch, dtype=bool)
+    for it in range(max_iter):
+        idx = np.nonzero(active & ~done)
+        if not idx[0].size:
+            break
+        qa = q[idx]
+        r = phi(system, qa, psi[idx], plan.constraints)
+        jac = jacobian(system, qa, plan.constraints, cols)
+        try:
+            dx = np.linalg.solve(jac, -r[..., None])[..., 0]
+        except np.linalg.LinAlgError:          # a singular matrix somewhere in the batch
+            dx = (np.linalg.pinv(jac) @ -r[..., None])[..., 0]
+        bad = ~np.all(np.isfinite(dx), axis=-1)
+        dx[bad] = 0.0
+        qa[..., cols] += dx
+        q[idx] = qa
+        iters[idx] += 1
+        small = np.all(np.abs(dx) <= step_tol, axis=-1) & (np.max(np.abs(r), axis=-1) <= res_tol * 1e3)
+        big = np.max(np.abs(dx) / np.where(ang, 1.0, system.l_ref), axis=-1) > 1e3
+        sub_done = small & ~bad
+        d = done[idx]
+        d |= sub_done
+        done[idx] = d
+        a = active[idx]
+        a &= ~(bad | big)
+        active[idx] = a
+    # final residual check
+    r = np.max(np.abs(phi(system, q, psi, plan.constraints)), axis=-1)
+    converged = done & (r <= res_tol)
+    return q.reshape(shape), converged.reshape(shape[:-1]), iters.reshape(shape[:-1])
+
+
+# -- initial guess from the sketch ----------------------------------------------
+def _known_points(system: System) -> dict[str, list[tuple[np.ndarray, np.ndarray]]]:
+    """For each moving link, (local point, rough global position) pairs from the sketch."""
+    model = system.model
+    out: dict[str, list] = {name: [] for name in system.links}
+    ground = model.ground
+    for j in model.joints:
+        pts = _joint_points(j)
+        if j.name in model.sketch:
+            for link, p in pts:
+                if link in out:
+                    out[link].append((p, model.sketch[j.name]))
+        if ground.name in j.links and len(pts) == 2:     # a pin on ground is known exactly
+            gp = dict(pts)[ground.name]
+            for link, p in pts:
+                if link in out:
+                    out[link].append((p, gp))
+    for ref, pos in model.sketch.items():
+        link, dot, pname = ref.partition(".")
+        if dot and link in out:
+            out[link].append((model.link(link).points[pname], pos))
+    return out
+
+
+def _joint_points(j) -> list[tuple[str, np.ndarray]]:
+    if hasattr(j, "p_i"):
+        return [(j.links[0], j.p_i), (j.links[1], j.p_j)]
+    if hasattr(j, "p") and hasattr(j, "a"):
+        return [(j.links[1], j.p)]
+    return []
+
+
+def initial_guess(system: System) -> np.ndarray:
+    """q from the sketch: each link's pose fitted to its sketched points.
+
+    Raises ModelError naming the group of a link the sketch does not place.
+    """
+    known = _known_points(system)
+    q = np.zeros(system.n_q)
+    missing = []
+    for k, name in enumerate(system.links):
+        pairs = known[name]
+        if not pairs:
+            missing.append(name)
+            continue
+        local = np.array([p for p, _ in pairs])
+        world = np.array([w for _, w in pairs])
+        theta = 0.0
+        if len(pairs) >= 2:
+            lc, wc = local - local.mean(0), world - world.mean(0)
+            theta = np.arctan2(np.sum(lc[:, 0] * wc[:, 1] - lc[:, 1] * wc[:, 0]),
+                               np.sum(lc[:, 0] * wc[:, 0] + lc[:, 1] * wc[:, 1]))
+        q[3 * k + 2] = theta
+        q[3 * k:3 * k + 2] = np.mean(world - rotate(theta, local), axis=0)
+    if missing:
+        groups = {n: p.group.label for p in system.plans for n in p.group.links}
+        raise ModelError([(system.model.sketch and _where(system) or _where(system),
+                           f"the sketch places no point of link '{n}' ({groups[n]}): "
+                           "give the rough position of one of its joints") for n in missing])
+    return q
+
+
+def _where(system: System):
+    from .errors import Location
+    return Location(system.model.source, path="sketch")
+
+
+# -- the solve ----------------------------------------------------------------
+def _coordinate_text(system: System, psi: np.ndarray) -> str:
+    drivers = system.motion_drivers
+    if not drivers:
+        return "the start"
+    parts = []
+    for d, v in zip(drivers, np.atleast_1d(psi)):
+        parts.append(f"{d.name} = {np.degrees(v) % 360:.6g}°" if d.joint.angular
+                     else f"{d.name} = {v * 1e3:.6g} mm")
+    return ", ".join(parts)
+
+
+def _assemble_start(system: System, t0: float, drive: Drive) -> tuple[np.ndarray, np.ndarray]:
+    q = initial_guess(system)
+    psi = drive(np.array([t0]))[0][0]
+    sig = []
+    for plan in system.plans:
+        s0 = _signature(system, q, plan)
+        cond0 = group_condition(system, q, plan)
+        qn, ok, _ = _newton(system, q, psi, plan)
+        if not ok:
+            raise AssemblyError(plan.group.label, _coordinate_text(system, psi),
+                                _miss(system, q, psi, plan))
+        s1 = _signature(system, qn, plan)
+        if s0 == 0 or cond0 > 1e10 or s1 != s0:
+            raise ModelError([(_where(system),
+                               f"the sketch does not decide the assembly branch of "
+                               f"{plan.group.label}: sketch its joints closer to the intended pose")])
+        q = qn
+        sig.append(float(s1))
+    return q, np.array(sig)
+
+
+def _miss(system: System, q: np.ndarray, psi: np.ndarray, plan: GroupPlan) -> str:
+    """How far the group is from closing: least-squares residual (Levenberg–Marquardt)."""
+    q = q.copy()
+    mu = 1e-3
+    for _ in range(60):
+        r = phi(system, q, psi, plan.constraints)
+        jac = jacobian(system, q, plan.constraints, plan.cols)
+        a = jac.T @ jac
+        dx = np.linalg.solve(a + mu * np.diag(np.diag(a) + 1e-12), -jac.T @ r)
+        qn = q.copy()
+        qn[plan.cols] += dx
+        rn = phi(system, qn, psi, plan.constraints)
+        if rn @ rn < r @ r:
+            q, mu = qn, mu * 0.3
+        else:
+            mu *= 10.0
+    r = phi(system, q, psi, plan.constraints)
+    worst, k_worst, row = 0.0, None, 0
+    for k in plan.constraints:
+        c = system.constraints[k]
+        v = float(np.max(np.abs(r[row:row + c.n_eq]))) if c.n_eq else 0.0
+        if v > worst:
+            worst, k_worst = v, k
+        row += c.n_eq
+    if k_worst is None:
+        return "Newton did not converge"
+    name = system.constraints[k_worst].name
+    return f"joint {name} misses by {worst * 1e3:.4g} mm (the links cannot reach)"
+
+
+def _step(system: System, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, t: float, h: float,
+          drive: Drive, sig: np.ndarray):
+    """One continuation step; returns (q, ok, reason, new signatures, jump ratio)."""
+    qp = q + h * qd + 0.5 * h * h * qdd
+    psi = drive(np.array([t + h]))[0][0]
+    qn = qp
+    new_sig = sig.copy()
+    for g, plan in enumerate(system.plans):
+        qn, ok, _ = _newton(system, qn, psi, plan)
+        if not ok:
+            return qn, False, "newton", new_sig
+        new_sig[g] = _signature(system, qn, plan)
+    return qn, True, "", new_sig
+
+
+def _jump(system: System, q0: np.ndarray, qp: np.ndarray, qn: np.ndarray) -> float:
+    scale = np.tile([1.0 / system.l_ref, 1.0 / system.l_ref, 1.0], len(system.links))
+    corr = np.max(np.abs((qn - qp) * scale))
+    move = np.max(np.abs((qn - q0) * scale))
+    return corr / max(move, 1e-12)
+
+
+def _derivs(system: System, q: np.ndarray, t: float, drive: Drive):
+    _, psi_d, psi_dd = (x[0] for x in drive(np.array([t])))
+    qd = velocities(system, q[None], psi_d[None])[0]
+    qdd = accelerations(system, q[None], qd[None], psi_dd[None])[0]
+    return qd, qdd
+
+
+def _continue(system: System, q: np.ndarray, sig: np.ndarray, t0: float, t1: float,
+              drive: Drive, max_dt: float, singular: list[Singularity]):
+    """Sequential continuation from t0 to t1; returns nodes (t, q, qd, sig) lists."""
+    ts, qs, qds, sigs = [t0], [q], [], [sig]
+    qd, qdd = _derivs(system, q, t0, drive)
+    qds.append(qd)
+    t = t0
+    span = abs(t1 - t0)
+    direction = np.sign(t1 - t0) or 1.0
+    h = direction * min(max_dt, span)
+    min_h = MIN_STEP * max_dt / COARSE_STEP
+    while direction * (t1 - t) > 1e-12 * max(span, 1e-300):
+        h = direction * min(abs(h), abs(t1 - t))
+        qp = q + h * qd + 0.5 * h * h * qdd
+        qn, ok, _, new_sig = _step(system, q, qd, qdd, t, h, drive, sig)
+        jump = _jump(system, q, qp, qn) if ok else np.inf
+        flipped = ok and np.any(new_sig != sig)
+        if ok and jump <= JUMP_RATIO and not flipped:
+            accept = True
+        elif ok and flipped and abs(h) <= min_h and jump <= JUMP_RATIO:
+            for g in np.nonzero(new_sig != sig)[0]:
+                plan = system.plans[g]
+                psi = drive(np.array([t + h]))[0][0][0] if system.motion_drivers else t + h
+                cond = float(max(group_condition(system, q, plan), group_condition(system, qn, plan)))
+                singular.append(Singularity(plan.group.label, t + 0.5 * h, float(psi), cond))
+            accept = True
+        elif abs(h) > min_h:
+            h *= 0.5
+            continue
+        else:
+            psi = drive(np.array([t + h]))[0][0]
+            plan = _failing_plan(system, qp, psi)
+            reason = _miss(system, qp, psi, plan) if not ok else (
+                "the motion cannot be continued (singular position)")
+            err = AssemblyError if not ok else SingularConfigurationError
+            raise err(plan.group.label, _coordinate_text(system, psi), reason)
+        if accept:
+            t = t + h
+            q, sig = qn, new_sig
+            qd, qdd = _derivs(system, q, t, drive)
+            ts.append(t), qs.append(q), qds.append(qd), sigs.append(sig)
+            h = direction * min(max_dt, abs(h) * 2.0)
+    return np.array(ts), np.array(qs), np.array(qds), np.array(sigs)
+
+
+def _failing_plan(system: System, q: np.ndarray, psi: np.ndarray) -> GroupPlan:
+    for plan in system.plans:
+        qn, ok, _ = _newton(system, q, psi, plan)
+        if not ok:
+            return plan
+        q = qn
+    return system.plans[-1]
+
+
+def _hermite(ts, qs, qds, t):
+    """Cubic Hermite interpolation of q between the nodes, at times t."""
+    k = np.clip(np.searchsorted(ts, t, side="right") - 1, 0, len(ts) - 2)
+    h = ts[k + 1] - ts[k]
+    s = ((t - ts[k]) / h)[:, None]
+    h = h[:, None]
+    h00, h10 = 2 * s**3 - 3 * s**2 + 1, s**3 - 2 * s**2 + s
+    h01, h11 = -2 * s**3 + 3 * s**2, s**3 - s**2
+    return h00 * qs[k] + h10 * h * qds[k] + h01 * qs[k + 1] + h11 * h * qds[k + 1], k
+
+
+def _max_dt(system: System, t0: float, drive: Drive, step: float) -> float:
+    _, psi_d, _ = drive(np.array([t0]))
+    rates = [abs(v) if d.joint.angular else abs(v) / system.l_ref
+             for d, v in zip(system.motion_drivers, psi_d[0])]
+    rate = max(rates, default=0.0)
+    return step / rate if rate > 0 else step
+
+
+def solve_positions(system: System, t: np.ndarray, drive: Drive) -> PositionSolution:
+    """Positions at times ``t (n,)`` on the sketch's branch.
+
+    ``t`` need not be sorted; the path runs from ``t.min()`` (the sketch's
+    pose is taken at ``t = 0``, which must lie in the range) to ``t.max()``.
+    """
+    t = np.asarray(t, dtype=float)
+    t_lo, t_hi = min(0.0, float(t.min())), max(0.0, float(t.max()))
+    q0, sig0 = _assemble_start(system, 0.0, drive)
+    singular: list[Singularity] = []
+    coarse = _max_dt(system, 0.0, drive, COARSE_STEP)
+    parts = []
+    if t_lo < 0.0:
+        ts, qs, qds, sgs = _continue(system, q0, sig0, 0.0, t_lo, drive, coarse, singular)
+        parts.append(tuple(x[::-1][:-1] for x in (ts, qs, qds, sgs)))
+    ts, qs, qds, sgs = _continue(system, q0, sig0, 0.0, t_hi, drive, coarse, singular)
+    parts.append((ts, qs, qds, sgs))
+    ts, qs, qds, sgs = (np.concatenate(x) for x in zip(*parts))
+    if len(ts) == 1:
+        ts, qs, qds, sgs = (np.concatenate((x, x)) for x in (ts, qs, qds, sgs))
+        ts = ts + np.array([0.0, 1.0])
+    guess, k = _hermite(ts, qs, qds, t)
+    psi = drive(t)[0]
+    q = guess
+    ok_all = np.ones(len(t), dtype=bool)
+    iters = np.zeros(len(t), dtype=int)
+    sig = np.zeros((len(t), len(system.plans)))
+    for g, plan in enumerate(system.plans):
+        q, ok, it = _newton(system, q, psi, plan)
+        iters += it
+        sig[:, g] = _signature(system, q, plan)
+        same = sgs[k, g] == sgs[k + 1, g]
+        ok_all &= ok & (~same | (sig[:, g] == sgs[k, g]))
+    bad = np.nonzero(~ok_all)[0]
+    fine = _max_dt(system, 0.0, drive, FINE_STEP)
+    for n in bad:                                       # sequential fallback
+        a = k[n] if abs(t[n] - ts[k[n]]) <= abs(ts[k[n] + 1] - t[n]) else k[n] + 1
+        _, qf, _, sf = _continue(system, qs[a], sgs[a], ts[a], t[n], drive, fine, [])
+        q[n], sig[n] = qf[-1], sf[-1]
+    return PositionSolution(q, sig, iters, singular, len(bad))
+
+
+# -- velocities and accelerations ----------------------------------------------------
+def velocities(system: System, q: np.ndarray, psi_d: np.ndarray) -> np.ndarray:
+    """q̇ from Φ_q q̇ = ν, ``(..., n_q)``."""
+    return np.linalg.solve(jacobian(system, q), nu(system, psi_d)[..., None])[..., 0]
+
+
+def accelerations(system: System, q: np.ndarray, qd: np.ndarray, psi_dd: np.ndarray) -> np.ndarray:
+    """q̈ from Φ_q q̈ = γ, ``(..., n_q)``."""
+    return np.linalg.solve(jacobian(system, q), gamma(system, q, qd, psi_dd)[..., None])[..., 0]
