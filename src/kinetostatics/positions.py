@@ -413,3 +413,22 @@ def velocities(system: System, q: np.ndarray, psi_d: np.ndarray) -> np.ndarray:
 def accelerations(system: System, q: np.ndarray, qd: np.ndarray, psi_dd: np.ndarray) -> np.ndarray:
     """q̈ from Φ_q q̈ = γ, ``(..., n_q)``."""
     return np.linalg.solve(jacobian(system, q), gamma(system, q, qd, psi_dd)[..., None])[..., 0]
+
+
+def state_at(system: System, drive: Drive, t: np.ndarray, t_near: np.ndarray, q_near: np.ndarray,
+             qd_near: np.ndarray, qdd_near: np.ndarray):
+    """(q, q̇, q̈) at times ``t`` close to solved states at ``t_near`` (same branch).
+
+    Taylor prediction from the near state, then Newton per group.  Used to
+    refine event positions; raises AssemblyError if a group does not converge.
+    """
+    h = (t - t_near)[..., None]
+    q = q_near + h * qd_near + 0.5 * h * h * qdd_near
+    psi, psi_d, psi_dd = drive(t)
+    for plan in system.plans:
+        q, ok, _ = _newton(system, q, psi, plan)
+        if not np.all(ok):
+            raise AssemblyError(plan.group.label, _coordinate_text(system, psi.reshape(-1)[:1]),
+                                "Newton did not converge while locating an event")
+    qd = velocities(system, q, psi_d)
+    return q, qd, accelerations(system, q, qd, psi_dd)

@@ -18,7 +18,8 @@ from .graph import Group, Structure, structure
 from .joints import Joint
 from .model import Model
 
-__all__ = ["System", "GroupPlan", "build_system", "phi", "jacobian", "gamma", "nu"]
+__all__ = ["System", "GroupPlan", "build_system", "phi", "jacobian", "gamma", "nu",
+           "coordinate_gradient"]
 
 
 @dataclass(frozen=True)
@@ -126,8 +127,11 @@ def phi(system: System, q: np.ndarray, psi: np.ndarray,
 
 
 def jacobian(system: System, q: np.ndarray, which: Sequence[int] | None = None,
-             cols: np.ndarray | None = None) -> np.ndarray:
-    """Φ_q for the constraints ``which``, restricted to ``cols``: ``(..., rows, cols)``."""
+             cols: np.ndarray | None = None, ground: bool = False) -> np.ndarray:
+    """Φ_q for the constraints ``which``, restricted to ``cols``: ``(..., rows, cols)``.
+
+    With ``ground=True`` the three columns of the ground link are kept at the end.
+    """
     qe = _ext(q)
     which = list(_selection(system, which))
     n_rows = sum(system.constraints[k].n_eq for k in which)
@@ -140,8 +144,19 @@ def jacobian(system: System, q: np.ndarray, which: Sequence[int] | None = None,
         out[..., r:r + c.n_eq, 3 * i:3 * i + 3] += ji
         out[..., r:r + c.n_eq, 3 * j:3 * j + 3] += jj
         r += c.n_eq
-    out = out[..., :-3]
+    out = out if ground else out[..., :-3]
     return out if cols is None else out[..., cols]
+
+
+def coordinate_gradient(system: System, q: np.ndarray, k: int, ground: bool = False) -> np.ndarray:
+    """Gradient of constraint ``k``'s joint coordinate over all of q, ``(..., n_q)``."""
+    qe = _ext(q)
+    i, j = system.ends[k]
+    gi, gj = system.constraints[k].motion_direction(*_pair(qe, system.ends[k]))
+    out = np.zeros(qe.shape)
+    out[..., 3 * i:3 * i + 3] += gi
+    out[..., 3 * j:3 * j + 3] += gj
+    return out if ground else out[..., :-3]
 
 
 def nu(system: System, psi_d: np.ndarray) -> np.ndarray:

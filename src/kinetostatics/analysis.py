@@ -1,0 +1,322 @@
+"""``analyze``: the pipeline from a model to a :class:`~kinetostatics.results.Result`.
+
+Read top to bottom: schedule → positions → velocities/accelerations → load
+events → loads → reactions → friction → power → result columns.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from . import friction as fr
+from .errors import Location, StructureError
+from .loads import condition_values, external_forces, gravity_forces, inertia_forces, mass_vector
+from .model import Condition, Model
+from .positions import (PositionSolution, accelerations, group_condition, solve_positions,
+                        state_at, velocities)
+from .reactions import effort_joints, equilibrium_matrix, solve_equilibrium
+from .results import Result, build_columns
+from .system import System, build_system
+
+__all__ = ["analyze", "Schedule", "Event"]
+
+
+@dataclass(frozen=True)
+class Schedule:
+    """Motion drivers' laws: ψ_d(t) = start_d + speed_d·t."""
+
+    start: np.ndarray          # (n_d,)
+    speed: np.ndarray          # (n_d,)
+
+    def __call__(self, t):
+        t = np.asarray(t, dtype=float)[..., None]
+        return (self.start + self.speed * t, np.broadcast_to(self.speed, t.shape[:-1] + self.speed.shape),
+                np.zeros(t.shape[:-1] + self.speed.shape))
+
+    @property
+    def reference(self) -> float:
+        return float(abs(self.speed[0]))
+
+
+@dataclass(frozen=True)
+class Event:
+    """A load switching on or off, located exactly."""
+
+    t: float
+    coordinate: float            # driver coordinate, rad (or m)
+    load: str
+    condition: str
+    switch: str                  # "on" or "off"
+
+
+def _schedule(system: System) -> Schedule:
+    from .positions import initial_guess
+    drivers = system.motion_drivers
+    q0 = initial_guess(system)
+    starts = []
+    for k, d in enumerate(drivers):
+        if k == 0:
+            starts.append(system.model.analysis.start)
+        else:
+            qe = np.concatenate((q0, np.zeros(3)))
+            i, j = system.ends[system.constraints.index(d)]
+            starts.append(float(d.coordinate(qe[3 * i:3 * i + 3], qe[3 * j:3 * j + 3])))
+    return Schedule(np.array(starts), np.array([d.driver.motion.speed for d in drivers]))
+
+
+def _times(system: System, sched: Schedule, coordinates: np.ndarray | None) -> tuple[np.ndarray, bool]:
+    """Times of the requested positions; whether they cover a full cycle."""
+    a = system.model.analysis
+    w = sched.speed[0]
+    period = 2 * np.pi if system.motion_drivers[0].joint.angular else np.inf
+    if coordinates is not None:
+        d = (np.asarray(coordinates, dtype=float) - a.start) * np.sign(w)
+        if np.isfinite(period):
+            d = np.mod(d, period)
+        return d / abs(w), False
+    step = a.sweep / a.positions
+    d = np.arange(a.positions) * step
+    extra = np.array([(c - a.start) * np.sign(w) for c in a.at])
+    if np.isfinite(period) and extra.size:
+        extra = np.mod(extra, period)
+    full = np.isfinite(period) and abs(a.sweep - period) < 1e-9
+    return np.concatenate((d, extra)) / abs(w), full
+
+
+def _condition_rate(system: System, c: Condition, q, qd, qdd, psi, extremes):
+    """(value, d value/dt) of a condition's switching function."""
+    from .loads import point_state
+    k = system.link_index(c.link)
+    p = system.model.link(c.link).points[c.point] if c.point else np.zeros(2)
+    pos, vel, acc = point_state(q, qd, qdd, k, p)
+    if c.kind == "moving":
+        return vel @ c.axis, acc @ c.axis
+    return pos @ c.axis - extremes[id(c)], vel @ c.axis
+
+
+def _refine(system, drive, f, t0, tn, qn, qdn, qddn, max_iter=12):
+    """Newton on t for f(state) = 0 starting from the sample nearest the root."""
+    t = t0
+    for _ in range(max_iter):
+        q, qd, qdd = state_at(system, drive, np.array([t]), np.array([tn]), qn[None], qdn[None],
+                              qddn[None])
+        g, dg = f(q[0], qd[0], qdd[0])
+        if dg == 0:
+            break
+        dt = -g / dg
+        t += dt
+        if abs(dt) <= 1e-14 * max(abs(t), 1.0):
+            break
+    return t
+
+
+def _find_roots(system, drive, t, q, qd, qdd, fvals, f, full, period_t):
+    """Times where fvals changes sign between samples (cyclically if full), refined."""
+    order = np.argsort(t)
+    ts, fs_ = t[order], fvals[order]
+    pairs = list(zip(range(len(ts) - 1), range(1, len(ts))))
+    if full:
+        pairs.append((len(ts) - 1, 0))
+    roots = []
+    for a, b in pairs:
+        fa, fb = fs_[a], fs_[b]
+        if fa == 0.0:
+            roots.append(ts[a])
+            continue
+        if np.sign(fa) * np.sign(fb) < 0:
+            tb = ts[b] + (period_t if b == 0 else 0.0)
+            n = order[a] if abs(fa) <= abs(fb) else order[b]
+            tn = t[n] + (period_t if (b == 0 and n == order[b]) else 0.0)
+            guess = ts[a] + (tb - ts[a]) * fa / (fa - fb)
+            r = _refine(system, drive, f, guess, tn, q[n], qd[n], qdd[n])
+            roots.append(r % period_t if full else r)
+    return roots
+
+
+def _extremes_and_events(system, drive, sched, t, q, qd, qdd, full):
+    """Exact minima of travel conditions and the switching events of every load."""
+    period_t = 2 * np.pi / sched.reference if full else np.inf
+    psi = drive(t)[0][..., 0]
+    extremes: dict[int, float] = {}
+    for load in system.model.loads:
+        for c in load.active:
+            if c.kind != "travel":
+                continue
+            k = system.link_index(c.link)
+            from .loads import point_state
+            p = system.model.link(c.link).points[c.point] if c.point else np.zeros(2)
+            pos, vel, acc = point_state(q, qd, qdd, k, p)
+            s = pos @ c.axis
+            n = int(np.argmin(s))
+            tmin = _refine(system, drive, lambda a, b, cc, ax=c.axis, kk=k, pp=p:
+                           (point_state(a, b, cc, kk, pp)[1] @ ax,
+                            point_state(a, b, cc, kk, pp)[2] @ ax), t[n], t[n], q[n], qd[n], qdd[n])
+            qm, _, _ = state_at(system, drive, np.array([tmin]), t[n:n + 1], q[n:n + 1],
+                                qd[n:n + 1], qdd[n:n + 1])
+            extremes[id(c)] = min(float(point_state(qm, qm * 0, None, k, p)[0][0] @ c.axis), s.min())
+    events: list = []
+    for load in system.model.loads:
+        for c in load.active:
+            if c.kind == "angle":
+                for bound, sw in zip(c.bounds, ("on", "off")):
+                    tt = np.mod((bound - sched.start[0]) * np.sign(sched.speed[0]), 2 * np.pi) / \
+                        sched.reference
+                    events.append(Event(float(tt), float(drive(np.array([tt]))[0][0, 0]),
+                                        load.name, "angle", sw))
+                continue
+            funcs = [(0.0, "moving")] if c.kind == "moving" else [(c.bounds[0], "travel from"),
+                                                                (c.bounds[1], "travel to")]
+            for offset, label in funcs:
+                def f(a, b, cc, c=c, offset=offset):
+                    g, dg = _condition_rate(system, c, a, b, cc, None, extremes)
+                    return g - offset, dg
+                vals = _condition_rate(system, c, q, qd, qdd, psi, extremes)[0] - offset
+                for r in _find_roots(system, drive, t, q, qd, qdd, vals, f, full, period_t):
+                    qr, qdr, qddr = _state_near(system, drive, r, t, q, qd, qdd)
+                    g, dg = f(qr[0], qdr[0], qddr[0])
+                    psi_r = drive(np.array([r]))[0][..., 0]
+                    if not _others_hold(system, load, c, qr, qdr, psi_r, extremes, sched):
+                        continue
+                    inside_up = dg > 0 if c.kind == "moving" or offset == c.bounds[0] else dg < 0
+                    events.append(Event(float(r), float(drive(np.array([r]))[0][0, 0]), load.name,
+                                        label, "on" if inside_up else "off"))
+    events.sort(key=lambda e: e.t)
+    return extremes, events
+
+
+def _others_hold(system, load, cond, q, qd, psi, extremes, sched) -> bool:
+    """Whether every other condition of ``load`` holds (bands inclusive) at a state."""
+    from .loads import activity
+    from .model import Load
+    others = tuple(c for c in load.active if c is not cond)
+    probe = Load(load.name, load.kind, load.link, load.value, load.point, load.axis, others)
+    return bool(activity(system, probe, q, qd, psi, extremes, sched.reference)[0])
+
+
+def _state_near(system, drive, r, t, q, qd, qdd):
+    n = int(np.argmin(np.abs(t - r)))
+    return state_at(system, drive, np.array([r]), t[n:n + 1], q[n:n + 1], qd[n:n + 1], qdd[n:n + 1])
+
+
+def analyze(model: Model | System, *, positions: np.ndarray | None = None,
+            friction: bool | None = None, events: bool | None = None,
+            progress: Callable[[str], None] | None = None) -> Result:
+    """Kinematics and kinetostatics over the positions of ``model.analysis``.
+
+    Parameters
+    ----------
+    model : Model or System
+        A loaded model, or a system built from one with ``build_system`` (reused).
+    positions : array, optional
+        Driver coordinates (rad, or m for a prismatic driver) to analyse instead
+        of ``analysis.positions``/``at``.
+    friction : bool, optional
+        Solve the friction solutions (default: when the model has friction).
+    events : bool, optional
+        Add rows at the exact positions where loads switch (default
+        ``analysis.events``).
+
+    Returns
+    -------
+    Result
+        Named arrays over the positions (CSV names and units), raw arrays
+        ``q``, ``qd``, ``qdd``, ``lam``, the events and the structure.
+    """
+    system = model if isinstance(model, System) else build_system(model)
+    model = system.model
+    n_motion = len(system.motion_drivers)
+    if n_motion != system.structure.mobility or n_motion == 0:
+        raise StructureError([(Location(model.source, path="drivers"),
+                               f"analyze needs as many motion drivers as the mobility "
+                               f"({system.structure.mobility}); the file has {n_motion}")])
+    sched = _schedule(system)
+    t, full = _times(system, sched, positions)
+    sol: PositionSolution = solve_positions(system, t, sched)
+    q = sol.q
+    psi, psi_d, psi_dd = sched(t)
+    qd = velocities(system, q, psi_d)
+    qdd = accelerations(system, q, qd, psi_dd)
+    extremes, evts = _extremes_and_events(system, sched, sched, t, q, qd, qdd, full)
+    want_events = model.analysis.events if events is None else events
+    if want_events and evts:
+        te = np.array([e.t for e in evts])
+        qe, qde, qdde = zip(*(_state_near(system, sched, r, t, q, qd, qdd) for r in te))
+        t = np.concatenate((t, te))
+        q, qd, qdd = (np.concatenate((a, np.concatenate(b))) for a, b in
+                      ((q, qe), (qd, qde), (qdd, qdde)))
+        order = np.argsort(t, kind="stable")
+        t, q, qd, qdd = t[order], q[order], qd[order], qdd[order]
+        psi, psi_d, psi_dd = sched(t)
+    ref = sched.reference
+    # loads
+    shape = q.shape[:-1]
+    q_grav = gravity_forces(system, shape)
+    q_inert = inertia_forces(system, qdd)
+    q_ext = external_forces(system, q, qd, psi[..., 0], extremes, ref)
+    q_load = q_grav + q_inert + q_ext
+    # reactions
+    a_full = equilibrium_matrix(system, q, ground=True)
+    a = a_full[..., :-3, :]
+    x0, indeterminate = solve_equilibrium(a, -q_load)
+    # friction
+    fric = None
+    if (model.has_friction if friction is None else friction) and model.has_friction:
+        fs = fr.setup(system, q, qd, ref)
+        a_inv = np.linalg.inv(a)
+        xa, ea = fr.approximate(system, fs, a_inv, q_load, x0)
+        cons = fr.consistent(system, fs, a, a_inv, q_load, x0)
+        fric = dict(setup=fs, x_approx=xa, e_approx=ea, solution=cons)
+    # power
+    eff = effort_joints(system)
+    rel = np.stack([np.einsum("...n,...n->...", _grad(system, q, k), qd) for k in eff], axis=-1)
+    n_j = system.n_joint_rows
+    power = {
+        "input": np.sum(x0[..., n_j:] * rel, axis=-1),
+        "kinetic": np.einsum("...n,n,...n->...", qd, mass_vector(system), qdd),
+        "potential": -np.einsum("...n,...n->...", qd, q_grav),
+        "external": -np.einsum("...n,...n->...", qd, q_ext),
+    }
+    power["residual"] = power["input"] - power["kinetic"] - power["potential"] - power["external"]
+    if fric is not None:
+        cons = fric["solution"]
+        loss = np.sum(np.abs(cons.e * fric["setup"].speed), axis=-1)
+        power["friction"] = loss
+        power["input_friction"] = np.sum(cons.x[..., n_j:] * rel, axis=-1)
+        power["residual_friction"] = (power["input_friction"] - power["kinetic"] - power["potential"]
+                                      - power["external"] - loss)
+    cond = {p.group: group_condition(system, q, p) for p in system.plans}
+    shaking = np.einsum("...ij,...j->...i", a_full[..., -3:, :], x0)
+    columns, units = build_columns(system, t, psi, q, qd, qdd, x0, fric, power, cond, shaking, full)
+    return Result(system=system, t=t, coordinate=psi[..., 0], q=q, qd=qd, qdd=qdd, lam=x0,
+                  columns=columns, units=units, events=tuple(evts), singular=tuple(sol.singular),
+                  indeterminate=indeterminate, full_cycle=full, extremes=extremes)
+
+
+def _grad(system, q, k):
+    from .system import coordinate_gradient
+    return coordinate_gradient(system, q, k)
+
+
+def numerical_mobility(system: System) -> int:
+    """n_q − rank Φ_q (joints only) at the first assembled position; warns if it
+    differs from Grübler–Kutzbach (an overconstrained or special linkage)."""
+    import warnings
+    from .positions import initial_guess
+    from .system import jacobian as _jac
+    n_j = len(system.model.joints)
+    q = initial_guess(system)
+    if system.motion_drivers and len(system.motion_drivers) == system.structure.mobility:
+        sched = _schedule(system)
+        q = solve_positions(system, np.array([0.0]), sched).q[0]
+    jac = _jac(system, q, range(n_j))
+    s = np.linalg.svd(jac, compute_uv=False)
+    rank = int(np.sum(s > 1e-9 * max(s.max(initial=0.0), 1.0)))
+    n = system.n_q - rank
+    if n != system.structure.mobility:
+        warnings.warn(f"numerical mobility {n} differs from Grübler–Kutzbach "
+                      f"{system.structure.mobility}: the linkage is overconstrained or special",
+                      stacklevel=2)
+    return n

@@ -1,0 +1,104 @@
+"""The ``kinetostatics`` command: check, run.
+
+A user error prints one line per problem on stderr (``FILE:LINE:COL:
+key.path: message``) and exits with status 2.  ``run`` imports neither
+matplotlib nor scipy.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import warnings
+from pathlib import Path
+
+from .errors import KinetostaticsError
+
+__all__ = ["main"]
+
+
+def _check(args) -> int:
+    from .system import build_system
+    from .yaml_io import load
+    model = load(args.file)
+    system = build_system(model)
+    st = system.structure
+    print(f"{model.name}: {len(model.moving_links)} moving links, {len(model.joints)} joints, "
+          f"{len(model.drivers)} drivers")
+    print(f"mobility (Grübler–Kutzbach): {st.mobility}")
+    print(f"independent loops: {len(st.loops)}")
+    for loop in st.loops:
+        print(f"  {' - '.join(loop)}")
+    print("Assur groups in solve order:")
+    for k, plan in enumerate(system.plans, 1):
+        g = plan.group
+        via = ", ".join(g.joints + g.drivers)
+        print(f"  {k}. {g.label} via {via}")
+    from .analysis import numerical_mobility
+    n_num = numerical_mobility(system)
+    print(f"mobility (numerical, at the sketched pose): {n_num}")
+    return 0
+
+
+def _run(args) -> int:
+    import numpy as np
+    from .analysis import analyze
+    from .yaml_io import load
+    model = load(args.file)
+    result = analyze(model)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    result.to_csv(out / "results.csv")
+    result.to_json(out / "summary.json")
+    s = result.summary()
+    print(f"{model.name}: {len(result)} positions -> {out / 'results.csv'}, {out / 'summary.json'}")
+    print("groups: " + "; ".join(s["structure"]["groups"]))
+    for name, o in s["outputs"].items():
+        print(f"{name}: stroke {o['stroke'] * 1e3:.4f} mm, time ratio {o['time_ratio']:.4f}, "
+              f"limits at {o['limit_positions']['min']['angle']:.3f}° and "
+              f"{o['limit_positions']['max']['angle']:.3f}°")
+    for e in s["events"]:
+        print(f"event: {e['load']} {e['switch']} at {e['angle']:.3f}° ({e['condition']})")
+    for sp in s["singular_positions"]:
+        print(f"singular position: {sp['group']} at {sp['angle']:.4f}° (condition {sp['condition']:.3g})")
+    for name, d in s["drivers"].items():
+        line = f"{name}: mean {d['mean']:.4g} {d['unit']}, peak {d['peak']:.4g}"
+        if "mean_friction" in d:
+            line += (f"; with friction mean {d['mean_friction']:.4g}, peak {d['peak_friction']:.4g}"
+                     f" (approximate mean {d['mean_friction_approx']:.4g})")
+        print(line)
+    for name, p in s["reaction_peaks"].items():
+        print(f"joint {name}: peak reaction {p['peak']:.4g} N at {p['at']:.4g}")
+    if "friction.status" in result.columns:
+        st = result["friction.status"]
+        locked = int(np.sum(st == 2))
+        if locked:
+            print(f"self-locking at {locked} positions (friction.status = 2)")
+    return 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="kinetostatics",
+                                     description="Kinetostatic analysis of planar linkages described in YAML.")
+    sub = parser.add_subparsers(dest="command", required=True)
+    p = sub.add_parser("check", help="structure: mobility, loops, Assur groups")
+    p.add_argument("file", help="mechanism YAML file")
+    p.set_defaults(func=_check)
+    p = sub.add_parser("run", help="analyse a cycle: results.csv and summary.json")
+    p.add_argument("file", help="mechanism YAML file")
+    p.add_argument("--out", default="out", help="output folder (default: out)")
+    p.set_defaults(func=_run)
+    args = parser.parse_args(argv)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("default")
+            return args.func(args)
+    except KinetostaticsError as exc:
+        for line in str(exc).splitlines():
+            print(f"kinetostatics: {line}" if not line.startswith(str(args.file)) else line,
+                  file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

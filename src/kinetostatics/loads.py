@@ -1,0 +1,113 @@
+"""Applied and inertia loads as generalized forces, and load activity.
+
+Every function broadcasts over leading position axes.  The generalized force
+on link k is (Fx, Fy, M about the CoM) in q's slots.  Sign convention:
+``Q = Q_applied + Q_inertia`` with the d'Alembert inertia ``−m a_S``,
+``−J_S α``, so that the Newton–Euler equations read ``Φ_qᵀ λ = −Q``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._geometry import perp, rotate
+from .model import Condition, Load, Model
+from .system import System
+
+__all__ = ["point_state", "mass_vector", "gravity_forces", "inertia_forces", "external_forces",
+           "condition_values", "activity", "zero_speed"]
+
+ZERO_SPEED = 1e-9       # relative speeds below this × x_ref count as zero (SPEC.md)
+
+
+def point_state(q, qd, qdd, k: int, p: np.ndarray):
+    """Global position, velocity, acceleration of local point ``p`` of moving link ``k``."""
+    th, w = q[..., 3 * k + 2], qd[..., 3 * k + 2]
+    rp = rotate(th, p)
+    pos = q[..., 3 * k:3 * k + 2] + rp
+    vel = qd[..., 3 * k:3 * k + 2] + w[..., None] * perp(rp)
+    if qdd is None:
+        return pos, vel, None
+    acc = qdd[..., 3 * k:3 * k + 2] + qdd[..., 3 * k + 2, None] * perp(rp) - (w ** 2)[..., None] * rp
+    return pos, vel, acc
+
+
+def mass_vector(system: System) -> np.ndarray:
+    """Diagonal of the mass matrix, ``(n_q,)``: m, m, J per moving link."""
+    model = system.model
+    return np.concatenate([[model.link(n).mass] * 2 + [model.link(n).inertia]
+                           for n in system.links])
+
+
+def gravity_forces(system: System, shape: tuple[int, ...]) -> np.ndarray:
+    """m g on each link's CoM, ``shape + (n_q,)``."""
+    m = mass_vector(system)
+    g = np.tile(np.append(system.model.gravity, 0.0), len(system.links))
+    return np.broadcast_to(m * g, shape + (system.n_q,))
+
+
+def inertia_forces(system: System, qdd: np.ndarray) -> np.ndarray:
+    """d'Alembert −M q̈."""
+    return -mass_vector(system) * qdd
+
+
+def _reference_point(system: System, link: str, point: str | None) -> np.ndarray:
+    return system.model.link(link).points[point] if point else np.zeros(2)
+
+
+def condition_values(system: System, cond: Condition, q, qd, psi, extremes) -> np.ndarray:
+    """The signed quantity whose sign or band decides a condition, ``(...)``.
+
+    moving: v·axis; travel: p·axis − min over the cycle; angle: ψ − from (mod 2π).
+    """
+    if cond.kind == "angle":
+        return np.mod(psi - cond.bounds[0], 2 * np.pi)
+    k = system.link_index(cond.link)
+    pos, vel, _ = point_state(q, qd, None, k, _reference_point(system, cond.link, cond.point))
+    if cond.kind == "moving":
+        return vel @ cond.axis
+    return pos @ cond.axis - extremes[id(cond)]
+
+
+def activity(system: System, load: Load, q, qd, psi, extremes, ref_speed: float) -> np.ndarray:
+    """Boolean ``(...)``: all of the load's conditions hold (bands inclusive)."""
+    active = np.ones(q.shape[:-1], dtype=bool)
+    tol = ZERO_SPEED * system.l_ref
+    for c in load.active:
+        v = condition_values(system, c, q, qd, psi, extremes)
+        if c.kind == "moving":
+            active &= v > ZERO_SPEED * ref_speed * system.l_ref
+        elif c.kind == "travel":
+            active &= (v >= c.bounds[0] - tol) & (v <= c.bounds[1] + tol)
+        else:
+            width = np.mod(c.bounds[1] - c.bounds[0], 2 * np.pi)
+            active &= v <= width + 1e-12
+    return active
+
+
+def zero_speed(system: System, ref_speed: float) -> float:
+    return ZERO_SPEED * ref_speed * system.l_ref
+
+
+def external_forces(system: System, q, qd, psi, extremes, ref_speed: float) -> np.ndarray:
+    """Generalized external forces of all loads, ``(..., n_q)``."""
+    out = np.zeros(q.shape)
+    for load in system.model.loads:
+        k = system.link_index(load.link)
+        p = _reference_point(system, load.link, load.point)
+        pos, vel, _ = point_state(q, qd, None, k, p)
+        on = activity(system, load, q, qd, psi, extremes, ref_speed)
+        if load.kind == "torque":
+            out[..., 3 * k + 2] += np.where(on, float(load.value), 0.0)
+            continue
+        if load.kind == "force":
+            force = np.broadcast_to(load.value, pos.shape)
+        else:
+            v = vel @ load.axis
+            sign = np.where(np.abs(v) > zero_speed(system, ref_speed), np.sign(v), 0.0)
+            force = -float(load.value) * sign[..., None] * load.axis
+        force = np.where(on[..., None], force, 0.0)
+        arm = rotate(q[..., 3 * k + 2], p)
+        out[..., 3 * k:3 * k + 2] += force
+        out[..., 3 * k + 2] += arm[..., 0] * force[..., 1] - arm[..., 1] * force[..., 0]
+    return out

@@ -1,0 +1,47 @@
+"""Generic Newton–Euler assembly: joint reactions and driver efforts.
+
+With Q the applied plus d'Alembert inertia loads, equilibrium of every
+moving link reads ``A x = −Q`` where the columns of A are the constraint
+gradients Φ_qᵀ of the joints (unknowns λ) followed by, for each motion
+driver, the gradient of the coordinate of the joint that carries its effort
+(the driver's own joint, or ``balance_at``).  Nothing here knows a joint type.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+from .system import System, coordinate_gradient, jacobian
+
+__all__ = ["effort_joints", "equilibrium_matrix", "solve_equilibrium"]
+
+
+def effort_joints(system: System) -> list[int]:
+    """For each motion driver, the index of the joint that carries its effort."""
+    names = [j.name for j in system.model.joints]
+    return [names.index(d.driver.balance_at or d.joint.name) for d in system.motion_drivers]
+
+
+def equilibrium_matrix(system: System, q: np.ndarray, ground: bool = False) -> np.ndarray:
+    """A, ``(..., n_q, n_lam)`` (``n_q + 3`` rows with the ground's)."""
+    n_j = len(system.model.joints)
+    jac = jacobian(system, q, range(n_j), ground=ground)
+    cols = [coordinate_gradient(system, q, k, ground=ground) for k in effort_joints(system)]
+    return np.concatenate([np.swapaxes(jac, -1, -2)] + [c[..., None] for c in cols], axis=-1)
+
+
+def solve_equilibrium(a: np.ndarray, rhs: np.ndarray) -> tuple[np.ndarray, bool]:
+    """x with A x = rhs; minimum-norm when A has more columns than rank.
+
+    Returns (x, indeterminate).
+    """
+    n_q, n_lam = a.shape[-2:]
+    if n_q == n_lam:
+        try:
+            return np.linalg.solve(a, rhs[..., None])[..., 0], False
+        except np.linalg.LinAlgError:
+            warnings.warn("the equilibrium equations are singular at some positions; "
+                          "minimum-norm reactions are reported there", stacklevel=2)
+    return (np.linalg.pinv(a) @ rhs[..., None])[..., 0], True
