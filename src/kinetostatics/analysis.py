@@ -13,7 +13,7 @@ import numpy as np
 
 from . import friction as fr
 from .errors import Location, StructureError
-from .loads import condition_values, external_forces, gravity_forces, inertia_forces, mass_vector
+from .forces import condition_values, external_forces, gravity_forces, inertia_forces, mass_vector
 from .model import Condition, Model
 from .positions import (PositionSolution, accelerations, group_condition, solve_positions,
                         state_at, velocities)
@@ -88,7 +88,7 @@ def _times(system: System, sched: Schedule, coordinates: np.ndarray | None) -> t
 
 def _condition_rate(system: System, c: Condition, q, qd, qdd, psi, extremes):
     """(value, d value/dt) of a condition's switching function."""
-    from .loads import point_state
+    from .forces import point_state
     k = system.link_index(c.link)
     p = system.model.link(c.link).points[c.point] if c.point else np.zeros(2)
     pos, vel, acc = point_state(q, qd, qdd, k, p)
@@ -146,7 +146,7 @@ def _extremes_and_events(system, drive, sched, t, q, qd, qdd, full):
             if c.kind != "travel":
                 continue
             k = system.link_index(c.link)
-            from .loads import point_state
+            from .forces import point_state
             p = system.model.link(c.link).points[c.point] if c.point else np.zeros(2)
             pos, vel, acc = point_state(q, qd, qdd, k, p)
             s = pos @ c.axis
@@ -189,7 +189,7 @@ def _extremes_and_events(system, drive, sched, t, q, qd, qdd, full):
 
 def _others_hold(system, load, cond, q, qd, psi, extremes, sched) -> bool:
     """Whether every other condition of ``load`` holds (bands inclusive) at a state."""
-    from .loads import activity
+    from .forces import activity
     from .model import Load
     others = tuple(c for c in load.active if c is not cond)
     probe = Load(load.name, load.kind, load.link, load.value, load.point, load.axis, others)

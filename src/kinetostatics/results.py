@@ -18,7 +18,7 @@ import numpy as np
 from ._geometry import rotate
 from .errors import did_you_mean
 from .joints import Prismatic, Revolute
-from .loads import point_state
+from .forces import point_state
 from .system import System
 
 __all__ = ["Result", "build_columns", "group_column"]

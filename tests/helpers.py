@@ -1,0 +1,27 @@
+"""Shared helpers for the tests: model variants made by editing a shipped file."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+
+import kinetostatics as ks
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def variant(name: str, **replacements: str) -> ks.Model:
+    """Load ``mechanisms/<name>.yaml`` after regex replacements ``pattern=repl``
+    given as keyword pairs ``k=(pattern, repl)``."""
+    text = (ROOT / "mechanisms" / f"{name}.yaml").read_text()
+    for pattern, repl in replacements.values():
+        text, n = re.subn(pattern, repl, text)
+        assert n, f"pattern {pattern!r} not found"
+    return ks.loads(text, file=f"{name}-variant.yaml")
+
+
+def rel_err(x, ref) -> float:
+    """max|x − ref| / max|ref| (SPEC.md, Accuracy)."""
+    return float(np.max(np.abs(np.asarray(x) - ref)) / np.max(np.abs(ref)))
