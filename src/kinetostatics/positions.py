@@ -126,7 +126,7 @@ def _newton(system: System, q: np.ndarray, psi: np.ndarray, plan: GroupPlan,
         active[idx] = a
     # final residual check
     r = np.max(np.abs(phi(system, q, psi, plan.constraints)), axis=-1)
-    converged = done & (r <= res_tol)
+    converged = r <= res_tol
     return q.reshape(shape), converged.reshape(shape[:-1]), iters.reshape(shape[:-1])
 
 
@@ -216,12 +216,17 @@ def _assemble_start(system: System, t0: float, drive: Drive) -> tuple[np.ndarray
     for plan in system.plans:
         s0 = _signature(system, q, plan)
         cond0 = group_condition(system, q, plan)
+        if s0 == 0 or cond0 > 1e10:
+            raise ModelError([(_where(system),
+                               f"the sketch does not decide the assembly branch of "
+                               f"{plan.group.label}: it sketches a singular pose; "
+                               "sketch its joints closer to the intended pose")])
         qn, ok, _ = _newton(system, q, psi, plan)
         if not ok:
             raise AssemblyError(plan.group.label, _coordinate_text(system, psi),
                                 _miss(system, q, psi, plan))
         s1 = _signature(system, qn, plan)
-        if s0 == 0 or cond0 > 1e10 or s1 != s0:
+        if s1 != s0:
             raise ModelError([(_where(system),
                                f"the sketch does not decide the assembly branch of "
                                f"{plan.group.label}: sketch its joints closer to the intended pose")])
@@ -254,8 +259,8 @@ def _miss(system: System, q: np.ndarray, psi: np.ndarray, plan: GroupPlan) -> st
         if v > worst:
             worst, k_worst = v, k
         row += c.n_eq
-    if k_worst is None:
-        return "Newton did not converge"
+    if k_worst is None or worst <= TOL * 1e3 * system.l_ref:
+        return "Newton did not converge (a singular position is near)"
     name = system.constraints[k_worst].name
     return f"joint {name} misses by {worst * 1e3:.4g} mm (the links cannot reach)"
 
@@ -282,6 +287,15 @@ def _jump(system: System, q0: np.ndarray, qp: np.ndarray, qn: np.ndarray) -> flo
     return corr / max(move, 1e-12)
 
 
+def _kink(system: System, qd_pred: np.ndarray, qd_new: np.ndarray, qd_old: np.ndarray) -> float:
+    """Velocity mismatch relative to the velocities' size (a kink in the path)."""
+    scale = np.tile([1.0 / system.l_ref, 1.0 / system.l_ref, 1.0], len(system.links))
+    size = max(np.max(np.abs(qd_old * scale)), np.max(np.abs(qd_new * scale)), 1e-300)
+    with np.errstate(invalid="ignore"):
+        mismatch = np.max(np.abs((qd_new - qd_pred) * scale)) / size
+    return float(mismatch) if np.isfinite(mismatch) else np.inf
+
+
 def _derivs(system: System, q: np.ndarray, t: float, drive: Drive):
     _, psi_d, psi_dd = (x[0] for x in drive(np.array([t])))
     qd = velocities(system, q[None], psi_d[None])[0]
@@ -300,21 +314,19 @@ def _continue(system: System, q: np.ndarray, sig: np.ndarray, t0: float, t1: flo
     direction = np.sign(t1 - t0) or 1.0
     h = direction * min(max_dt, span)
     min_h = MIN_STEP * max_dt / COARSE_STEP
+    fine_h = FINE_STEP * max_dt / COARSE_STEP
     while direction * (t1 - t) > 1e-12 * max(span, 1e-300):
         h = direction * min(abs(h), abs(t1 - t))
         qp = q + h * qd + 0.5 * h * h * qdd
         qn, ok, _, new_sig = _step(system, q, qd, qdd, t, h, drive, sig)
         jump = _jump(system, q, qp, qn) if ok else np.inf
+        if ok and jump <= JUMP_RATIO:           # C¹: the velocity must continue too
+            qdn, qddn = _derivs(system, qn, t + h, drive)
+            jump = max(jump, _kink(system, qd + h * qdd, qdn, qd))
         flipped = ok and np.any(new_sig != sig)
-        if ok and jump <= JUMP_RATIO and not flipped:
-            accept = True
-        elif ok and flipped and abs(h) <= min_h and jump <= JUMP_RATIO:
-            for g in np.nonzero(new_sig != sig)[0]:
-                plan = system.plans[g]
-                psi = drive(np.array([t + h]))[0][0][0] if system.motion_drivers else t + h
-                cond = float(max(group_condition(system, q, plan), group_condition(system, qn, plan)))
-                singular.append(Singularity(plan.group.label, t + 0.5 * h, float(psi), cond))
-            accept = True
+        if ok and jump <= JUMP_RATIO and (not flipped or abs(h) <= fine_h):
+            for g in np.nonzero(new_sig != sig)[0] if flipped else ():
+                singular.append(_locate_singular(system, drive, g, t, q, qd, t + h, qn, qdn))
         elif abs(h) > min_h:
             h *= 0.5
             continue
@@ -322,16 +334,41 @@ def _continue(system: System, q: np.ndarray, sig: np.ndarray, t0: float, t1: flo
             psi = drive(np.array([t + h]))[0][0]
             plan = _failing_plan(system, qp, psi)
             reason = _miss(system, qp, psi, plan) if not ok else (
-                "the motion cannot be continued (singular position)")
+                "the motion cannot be continued smoothly (singular position)")
             err = AssemblyError if not ok else SingularConfigurationError
             raise err(plan.group.label, _coordinate_text(system, psi), reason)
-        if accept:
-            t = t + h
-            q, sig = qn, new_sig
-            qd, qdd = _derivs(system, q, t, drive)
-            ts.append(t), qs.append(q), qds.append(qd), sigs.append(sig)
-            h = direction * min(max_dt, abs(h) * 2.0)
+        t = t + h
+        q, sig, qd, qdd = qn, new_sig, qdn, qddn
+        ts.append(t), qs.append(q), qds.append(qd), sigs.append(sig)
+        h = direction * min(max_dt, abs(h) * 2.0)
     return np.array(ts), np.array(qs), np.array(qds), np.array(sigs)
+
+
+def _locate_singular(system: System, drive: Drive, g: int, ta: float, qa: np.ndarray,
+                     qda: np.ndarray, tb: float, qb: np.ndarray, qdb: np.ndarray) -> Singularity:
+    """Bisect the sign change of group g's determinant between two path points."""
+    plan = system.plans[g]
+    ts, qs, qds = np.array([ta, tb]), np.array([qa, qb]), np.array([qda, qdb])
+    sa = _signature(system, qa, plan)
+    lo, hi = ta, tb
+    q_mid = qa
+    for _ in range(40):
+        mid = 0.5 * (lo + hi)
+        guess, _ = _hermite(ts, qs, qds, np.array([mid]))
+        psi = drive(np.array([mid]))[0]
+        q_mid = guess[0]
+        for p in system.plans:
+            q_mid, _, _ = _newton(system, q_mid[None], psi, p)
+            q_mid = q_mid[0]
+        if _signature(system, q_mid, plan) == sa:
+            lo = mid
+        else:
+            hi = mid
+        if hi - lo <= 1e-12 * max(abs(tb - ta), 1e-300) * 1e3:
+            break
+    t_s = 0.5 * (lo + hi)
+    coord = float(drive(np.array([t_s]))[0][0][0]) if system.motion_drivers else t_s
+    return Singularity(plan.group.label, t_s, coord, float(group_condition(system, q_mid, plan)))
 
 
 def _failing_plan(system: System, q: np.ndarray, psi: np.ndarray) -> GroupPlan:
@@ -393,8 +430,8 @@ def solve_positions(system: System, t: np.ndarray, drive: Drive) -> PositionSolu
         q, ok, it = _newton(system, q, psi, plan)
         iters += it
         sig[:, g] = _signature(system, q, plan)
-        same = sgs[k, g] == sgs[k + 1, g]
-        ok_all &= ok & (~same | (sig[:, g] == sgs[k, g]))
+        nearer = np.where(t - ts[k] <= ts[k + 1] - t, sgs[k, g], sgs[k + 1, g])
+        ok_all &= ok & (sig[:, g] == nearer)
     bad = np.nonzero(~ok_all)[0]
     fine = _max_dt(system, 0.0, drive, FINE_STEP)
     for n in bad:                                       # sequential fallback

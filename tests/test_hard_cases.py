@@ -1,0 +1,86 @@
+"""Hard cases for positions: a change point, the edge of assembly, sketches
+that select or fail to select a branch, and links that cannot reach."""
+
+import re
+
+import numpy as np
+import pytest
+
+import kinetostatics as ks
+from kinetostatics.errors import AssemblyError, ModelError
+
+from .helpers import rel_err
+from .oracles import slider_crank_closed_form as cf
+
+CHANGE_POINT = "tests/hard/fourbar_change_point.yaml"
+
+
+@pytest.fixture(scope="module")
+def change_point():
+    return ks.load(CHANGE_POINT)
+
+
+def test_change_point_is_reported_and_crossed_smoothly(change_point):
+    r = ks.analyze(change_point, positions=np.radians(90 + np.arange(0, 360, 0.5) + 0.1))
+    assert len(r.singular) == 1
+    s = r.singular[0]
+    assert s.group == "RRR dyad {coupler, rocker}"
+    assert np.degrees(s.coordinate) == pytest.approx(180.0, abs=1e-6)
+    assert s.condition > 1e8
+    # C¹ path: velocities agree with central differences of positions across 180°
+    h = r.t[1] - r.t[0]
+    fd = (r.q[2:] - r.q[:-2]) / (2 * h)
+    assert np.max(np.abs(fd - r.qd[1:-1])) < 1e-3 * np.max(np.abs(r.qd))
+    # the determinant's sign changes exactly there (the branch signature flips once)
+    k = np.argmin(np.abs(r["angle"] - 180.1))
+    assert r["coupler_rocker.cond"][k] > 1e3
+
+
+def test_change_point_on_the_output_grid_gives_finite_results(change_point):
+    r = ks.analyze(change_point)        # 90 + k°, so 180° is a row
+    row = int(np.argmin(np.abs(r["angle"] - 180.0)))
+    assert r["angle"][row] == pytest.approx(180.0)
+    assert np.isfinite(r["rocker.omega"]).all()
+    assert r["coupler_rocker.cond"][row] > 1e8
+
+
+def test_edge_of_assembly_matches_closed_form():
+    r = ks.analyze(ks.load("tests/hard/slider_crank_edge.yaml"))
+    p = cf.SliderCrank(a=0.1, b=0.1201, e=-0.02)
+    k = cf.kinematics(p, np.radians(r["angle"]))
+    assert r.singular == ()
+    assert np.max(r["rod_slider.cond"]) > 1e3          # nearly singular at 90°
+    for ours, theirs in (("slider.x", "xB"), ("rod.omega", "omega2"), ("rod.alpha", "alpha2")):
+        assert rel_err(r[ours], k[theirs]) < 1e-9
+
+
+def _with_sketch(b: str) -> ks.Model:
+    text = open(CHANGE_POINT).read().replace("B: [2.46, 1.4]", f"B: {b}")
+    return ks.loads(text, file="fourbar.yaml")
+
+
+def test_sketch_selects_the_branch():
+    up = ks.analyze(_with_sketch("[2.46, 1.4]"), positions=[np.radians(90)])
+    down = ks.analyze(_with_sketch("[1.73, -0.8]"), positions=[np.radians(90)])
+    assert up["rocker.B.y"][0] == pytest.approx(1.40227038, abs=1e-7)
+    assert down["rocker.B.y"][0] == pytest.approx(-0.80227038, abs=1e-7)
+
+
+def test_ambiguous_sketch_names_the_group():
+    # B sketched on the line A–D: coupler and rocker collinear, no branch chosen
+    with pytest.raises(ModelError, match=r"sketch: the sketch does not decide the assembly "
+                                         r"branch of RRR dyad \{coupler, rocker\}"):
+        ks.analyze(_with_sketch("[1.8, 0.4]"))
+
+
+def test_links_that_cannot_reach_name_group_coordinate_and_miss():
+    text = open("tests/hard/slider_crank_edge.yaml").read().replace("0.1201", "0.11")
+    with pytest.raises(AssemblyError) as info:
+        ks.analyze(ks.loads(text, file="short.yaml"))
+    msg = str(info.value)
+    assert msg.startswith("RRP dyad {rod, slider} cannot assemble at motor = ")
+    angle = float(re.search(r"motor = ([\d.]+)°", msg).group(1))
+    # the rod reaches the guide while a sin φ + |e| ≤ b: first failure past asin(0.09/0.1)
+    assert np.degrees(np.arcsin(0.09 / 0.1)) - 0.01 < angle < 90.0
+    miss = float(re.search(r"misses by ([\d.e+-]+) mm", msg).group(1))
+    assert 0 < miss < 0.01 * 1e3
