@@ -15,12 +15,18 @@ def rotate(theta: np.ndarray, p: np.ndarray) -> np.ndarray:
     """
     c, s = np.cos(theta), np.sin(theta)
     px, py = p[..., 0], p[..., 1]
-    return np.stack((c * px - s * py, s * px + c * py), axis=-1)
+    out = np.empty(np.broadcast_shapes(np.shape(theta), p.shape[:-1]) + (2,))
+    out[..., 0] = c * px - s * py
+    out[..., 1] = s * px + c * py
+    return out
 
 
 def perp(v: np.ndarray) -> np.ndarray:
     """``v`` rotated by +90°: (x, y) -> (−y, x)."""
-    return np.stack((-v[..., 1], v[..., 0]), axis=-1)
+    out = np.empty(v.shape)
+    out[..., 0] = -v[..., 1]
+    out[..., 1] = v[..., 0]
+    return out
 
 
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:

@@ -15,8 +15,7 @@ from . import friction as fr
 from .errors import Location, StructureError
 from .forces import condition_values, external_forces, gravity_forces, inertia_forces, mass_vector
 from .model import Condition, Model
-from .positions import (PositionSolution, accelerations, group_condition, solve_positions,
-                        state_at, velocities)
+from .positions import PositionSolution, derivatives, group_condition, solve_positions, state_at
 from .reactions import effort_joints, equilibrium_matrix, solve_equilibrium
 from .results import Result, build_columns
 from .system import System, build_system
@@ -237,8 +236,7 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
     sol: PositionSolution = solve_positions(system, t, sched)
     q = sol.q
     psi, psi_d, psi_dd = sched(t)
-    qd = velocities(system, q, psi_d)
-    qdd = accelerations(system, q, qd, psi_dd)
+    qd, qdd, jac_inv = derivatives(system, q, psi_d, psi_dd)
     extremes, evts = _extremes_and_events(system, sched, sched, t, q, qd, qdd, full)
     want_events = model.analysis.events if events is None else events
     if want_events and evts:
@@ -250,6 +248,7 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
         order = np.argsort(t, kind="stable")
         t, q, qd, qdd = t[order], q[order], qd[order], qdd[order]
         psi, psi_d, psi_dd = sched(t)
+        jac_inv = None
     ref = sched.reference
     # loads
     shape = q.shape[:-1]
@@ -260,12 +259,19 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
     # reactions
     a_full = equilibrium_matrix(system, q, ground=True)
     a = a_full[..., :-3, :]
-    x0, indeterminate = solve_equilibrium(a, -q_load)
+    own_efforts = all(d.driver.balance_at is None for d in system.motion_drivers)
+    if jac_inv is not None and own_efforts and a.shape[-1] == system.n_q:
+        a_inv = np.swapaxes(jac_inv, -1, -2)      # A = Φ_qᵀ: reuse the kinematic inverse
+        x0, indeterminate = np.einsum("...ij,...j->...i", a_inv, -q_load), False
+    else:
+        x0, indeterminate = solve_equilibrium(a, -q_load)
+        a_inv = None
     # friction
     fric = None
     if (model.has_friction if friction is None else friction) and model.has_friction:
         fs = fr.setup(system, q, qd, ref)
-        a_inv = np.linalg.inv(a)
+        if a_inv is None:
+            a_inv = np.linalg.inv(a)
         xa, ea = fr.approximate(system, fs, a_inv, q_load, x0)
         cons = fr.consistent(system, fs, a, a_inv, q_load, x0)
         fric = dict(setup=fs, x_approx=xa, e_approx=ea, solution=cons)

@@ -238,19 +238,37 @@ def structure(model: Model) -> Structure:
     mobility allows.
     """
     g = joint_graph(model)
-    detached = [n for n in g.nodes if not nx.has_path(g, model.ground.name, n)]
+    ground = model.ground.name
+    detached = []
+    for part in nx.connected_components(g):
+        if ground in part:
+            continue
+        names = [link.name for link in model.links if link.name in part]     # file order
+        first = model.link(names[0]).where
+        where = first if first.line is not None else Location(model.source,
+                                                              path=f"links.{names[0]}")
+        if len(names) == 1:
+            message = (f"link '{names[0]}' is not connected to the ground '{ground}': "
+                       "no joint attaches it")
+        else:
+            message = (f"links {', '.join(names)} are not connected to the ground "
+                       f"'{ground}' by any chain of joints")
+        detached.append((where, message))
     if detached:
-        raise StructureError([(Location(model.source, path="links"),
-                               f"links not connected to the ground '{model.ground.name}': "
-                               f"{', '.join(detached)}")])
+        raise StructureError(detached)
     mobility = gruebler_mobility(g)
     if model.loops is not None:
         check_loops(g, model.loops, Location(model.source, path="loops"))
         loops = model.loops
     else:
         loops = independent_loops(g)
-    n_motion = sum(1 for d in model.drivers if d.motion is not None)
-    if n_motion > mobility:
-        raise StructureError([(Location(model.source, path="drivers"),
-                               f"{n_motion} motion drivers but the mobility is {mobility}")])
+    motion = [d for d in model.drivers if d.motion is not None]
+    if len(motion) > mobility:
+        extra = motion[max(mobility, 0)]
+        where = extra.where if extra.where.line is not None else Location(
+            model.source, path=f"drivers.{extra.name}")
+        raise StructureError([(where, f"{len(motion)} motion drivers "
+                                      f"({', '.join(d.name for d in motion)}) but the mobility "
+                                      f"is {mobility}: give '{extra.name}' an effort instead "
+                                      "of a motion, or remove it")])
     return Structure(g, mobility, tuple(loops), assur_groups(model, g))

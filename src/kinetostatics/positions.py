@@ -20,6 +20,7 @@ The path is parametrised by time t (the drivers' laws give ψ(t)).  The solve:
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass, field
 from typing import Callable
 
@@ -30,7 +31,7 @@ from .errors import AssemblyError, ModelError, SingularConfigurationError
 from .system import GroupPlan, System, gamma, jacobian, nu, phi
 
 __all__ = ["Drive", "PositionSolution", "Singularity", "solve_positions", "initial_guess",
-           "group_condition", "velocities", "accelerations", "TOL"]
+           "group_condition", "velocities", "accelerations", "derivatives", "start_pose", "TOL"]
 
 TOL = 1e-12                 # Newton tolerance relative to L_ref (and 1 rad)
 MAX_ITER = 25
@@ -399,6 +400,20 @@ def _max_dt(system: System, t0: float, drive: Drive, step: float) -> float:
     return step / rate if rate > 0 else step
 
 
+_STARTS: "weakref.WeakKeyDictionary[System, tuple]" = weakref.WeakKeyDictionary()
+
+
+def start_pose(system: System, drive: Drive) -> tuple[np.ndarray, np.ndarray]:
+    """(q, branch signatures) at t = 0 from the sketch; computed once per system
+    and driver start (the pose depends on the model only)."""
+    key = tuple(np.ravel(drive(np.array([0.0]))[0]))
+    cached = _STARTS.get(system)
+    if cached is None or cached[0] != key:
+        cached = (key, *_assemble_start(system, 0.0, drive))
+        _STARTS[system] = cached
+    return cached[1].copy(), cached[2].copy()
+
+
 def solve_positions(system: System, t: np.ndarray, drive: Drive) -> PositionSolution:
     """Positions at times ``t (n,)`` on the sketch's branch.
 
@@ -407,7 +422,10 @@ def solve_positions(system: System, t: np.ndarray, drive: Drive) -> PositionSolu
     """
     t = np.asarray(t, dtype=float)
     t_lo, t_hi = min(0.0, float(t.min())), max(0.0, float(t.max()))
-    q0, sig0 = _assemble_start(system, 0.0, drive)
+    q0, sig0 = start_pose(system, drive)
+    fast = _closed_form_path(system, q0, sig0, t, drive)
+    if fast is not None:
+        return fast
     singular: list[Singularity] = []
     coarse = _max_dt(system, 0.0, drive, COARSE_STEP)
     parts = []
@@ -441,7 +459,58 @@ def solve_positions(system: System, t: np.ndarray, drive: Drive) -> PositionSolu
     return PositionSolution(q, sig, iters, singular, len(bad))
 
 
+def _closed_form_path(system: System, q0: np.ndarray, sig0: np.ndarray, t: np.ndarray,
+                      drive: Drive) -> PositionSolution | None:
+    """All positions at once by closed-form dyads, or None where they do not apply.
+
+    Applies when every group has a closed form and no group comes near a
+    singular position over the path (its margin stays above ``dyads.MARGIN``);
+    auxiliary points every ≤ 30° of the driver let the angles be unwrapped.
+    The result is checked against Φ = 0; any doubt returns None (Newton path).
+    """
+    from .dyads import MARGIN, closed_form
+    solvers = [closed_form(system, plan, q0) for plan in system.plans]
+    if any(s is None for s in solvers):
+        return None
+    coarse = _max_dt(system, 0.0, drive, COARSE_STEP)
+    lo, hi = min(0.0, float(t.min())), max(0.0, float(t.max()))
+    aux = np.linspace(lo, hi, int(np.ceil((hi - lo) / coarse)) + 2)
+    tt = np.concatenate((t, [0.0], aux))
+    order = np.argsort(tt, kind="stable")
+    psi = drive(tt)[0]
+    q = np.broadcast_to(q0, tt.shape + q0.shape).copy()
+    for solve in solvers:
+        q, margin = solve(q, psi)
+        if not np.all(margin >= MARGIN):
+            return None
+    start = len(t)
+    for k in range(len(system.links)):              # unwrap angles along the path
+        col = 3 * k + 2
+        th = np.unwrap(q[order, col])
+        q[order, col] = th
+        q[:, col] += 2 * np.pi * np.round((q0[col] - q[start, col]) / (2 * np.pi))
+    q = q[:start]
+    if np.max(np.abs(phi(system, q, psi[:start]))) > 1e3 * TOL * system.l_ref:
+        return None
+    return PositionSolution(q, np.broadcast_to(sig0, (len(t), len(sig0))),
+                            np.zeros(len(t), dtype=int))
+
+
 # -- velocities and accelerations ----------------------------------------------------
+def derivatives(system: System, q: np.ndarray, psi_d: np.ndarray,
+                psi_dd: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(q̇, q̈, Φ_q⁻¹) with Φ_q assembled and inverted once, ``(..., n_q)`` and
+    ``(..., n_q, n_q)`` (a pseudo-inverse if Φ_q is exactly singular somewhere)."""
+    jac = jacobian(system, q)
+    try:
+        inv = np.linalg.inv(jac)
+    except np.linalg.LinAlgError:            # exactly singular somewhere: least squares there
+        inv = np.linalg.pinv(jac)
+    qd = np.einsum("...ij,...j->...i", inv, nu(system, psi_d))
+    qdd = np.einsum("...ij,...j->...i", inv, gamma(system, q, qd, psi_dd))
+    return qd, qdd, inv
+
+
 def velocities(system: System, q: np.ndarray, psi_d: np.ndarray) -> np.ndarray:
     """q̇ from Φ_q q̇ = ν, ``(..., n_q)``."""
     return np.linalg.solve(jacobian(system, q), nu(system, psi_d)[..., None])[..., 0]

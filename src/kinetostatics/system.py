@@ -32,7 +32,7 @@ class GroupPlan:
     constraints: tuple[int, ...]  # indices into System.constraints
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class System:
     """Model + structure + layout, built once and reused for every position and variant."""
 

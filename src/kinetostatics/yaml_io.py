@@ -17,7 +17,7 @@ import numpy as np
 import yaml
 
 from . import expressions, units
-from .errors import Collector, Location, ModelError, did_you_mean
+from .errors import Collector, KinetostaticsError, Location, ModelError, did_you_mean
 from .joints import JOINT_TYPES, Joint
 from .model import Analysis, Condition, Driver, Link, Load, Model, MotionLaw
 
@@ -25,6 +25,7 @@ __all__ = ["load", "loads", "Entry", "MAX_FILE_BYTES", "MAX_NODES", "dump"]
 
 MAX_FILE_BYTES = 1_000_000
 MAX_NODES = 100_000
+MAX_DEPTH = 100
 MAX_LINKS = 200
 MAX_POSITIONS = 10_000_000
 NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
@@ -33,12 +34,57 @@ TOP_KEYS = ("name", "units", "parameters", "gravity", "ground", "links", "joints
             "drivers", "loads", "sketch", "analysis")
 
 
+class _TooDeep(Exception):
+    def __init__(self, mark):
+        self.mark = mark
+
+
+class _Loader(yaml.SafeLoader):
+    """The safe composer, refusing nesting deeper than :data:`MAX_DEPTH` (before
+    Python's recursion limit is reached)."""
+
+    def __init__(self, stream):
+        super().__init__(stream)
+        self._depth = 0
+
+    def compose_node(self, parent, index):
+        self._depth += 1
+        try:
+            if self._depth > MAX_DEPTH:
+                raise _TooDeep(self.peek_event().start_mark)
+            return super().compose_node(parent, index)
+        finally:
+            self._depth -= 1
+
+
+class _Problems(Collector):
+    """A collector that drops exact repeats (a missing key seen by two readers)."""
+
+    def add(self, where: Location, message: str) -> None:
+        if (where, message) not in self.problems:
+            super().add(where, message)
+
+
 class _Context:
     def __init__(self, file: str):
         self.file = file
-        self.problems = Collector()
+        self.problems = _Problems()
         self.env: dict[str, float] = {}
         self.units: dict[str, float] = units.unit_table(None)
+        self.unit_names: dict[str, str] = {}
+        self.broken_parameters: set[str] = set()   # declared, but in error (already reported)
+
+
+_EXPRESSION_HINT = ("; an expression may use numbers, parameter names, + - * / // % **, "
+                    "parentheses and functions such as sqrt, sind, atan2")
+
+
+def _expression_message(exc: Exception) -> str:
+    """An expression error, with what is allowed when a construct was refused."""
+    message = str(exc)
+    if message.endswith("not allowed") or message.startswith("only calls"):
+        message += _EXPRESSION_HINT
+    return message
 
 
 class Entry:
@@ -76,6 +122,14 @@ class Entry:
         m = node.start_mark
         return Entry(node, self.where.child(key, m.line + 1, m.column + 1), self.ctx)
 
+    def key_where(self, key: str) -> Location:
+        """The location of ``key`` itself (not of its value)."""
+        for k, knode, _ in self._pairs():
+            if k == key:
+                m = knode.start_mark
+                return self.where.child(key, m.line + 1, m.column + 1)
+        return self.where.child(key)
+
     def get(self, key: str) -> "Entry | None":
         for k, _, v in self._pairs():
             if k == key:
@@ -88,17 +142,23 @@ class Entry:
             raise KeyError(key)
         return entry
 
-    def require(self, key: str) -> "Entry | None":
+    def require(self, key: str) -> "Entry":
+        """The child ``key``; when it is absent, report it and return a falsy
+        placeholder whose readers all return ``None`` without reporting again."""
         entry = self.get(key)
-        if entry is None and self.mapping():
-            self.error(f"missing required key '{key}'")
+        if entry is None:
+            if self.mapping():
+                self.error(f"missing required key '{key}'")
+            return _Missing(self, key)
         return entry
 
     def check_keys(self, required: Iterable[str] = (), optional: Iterable[str] = ()) -> bool:
         """Report unknown keys (with a suggestion) and missing required keys."""
         if not self.mapping():
             return False
-        required, allowed = tuple(required), tuple(required) + tuple(optional)
+        required, optional = tuple(required), tuple(optional)
+        allowed = optional if set(required) <= set(optional) else \
+            tuple(dict.fromkeys(required + optional))
         ok = True
         for key, knode, _ in self._pairs():
             if key not in allowed:
@@ -138,25 +198,52 @@ class Entry:
                strict: bool = False) -> float | None:
         """The scalar's value (a number or a parameter expression) times the
         file's unit factor for ``kind`` (``None``: dimensionless)."""
-        if not isinstance(self.node, yaml.ScalarNode) or self.node.value == "":
-            self.error(f"expected a number or an expression, got {_describe(self.node)}")
-            return None
-        try:
-            value = expressions.evaluate(self.node.value, self.ctx.env)
-        except expressions.ExpressionError as exc:
-            self.error(str(exc))
+        value = self.raw_number()
+        if value is None:
             return None
         if minimum is not None and (value < minimum or (strict and value == minimum)):
-            self.error(f"must be {'greater than' if strict else 'at least'} {minimum:g}, got {value:g}")
+            if minimum == 0:
+                self.error(f"must be {'positive' if strict else 'zero or positive'}, "
+                           f"got {value:g}")
+            else:
+                self.error(f"must be {'greater than' if strict else 'at least'} {minimum:g}, "
+                           f"got {value:g}")
             return None
         return value * (self.ctx.units[kind] if kind else 1.0)
 
-    def vector(self, kind: str | None, n: int = 2) -> np.ndarray | None:
-        items = self.seq()
-        if items is None:
+    def raw_number(self) -> float | None:
+        """The scalar's value as written (no unit conversion)."""
+        if not isinstance(self.node, yaml.ScalarNode) or self.node.value == "":
+            self.error(f"expected a number or an expression, got {_describe(self.node)}")
             return None
+        text = self.node.value
+        try:
+            used = expressions.names_in(text)
+        except expressions.ExpressionError as exc:
+            self.error(_expression_message(exc))
+            return None
+        env = self.ctx.env
+        if used & self.ctx.broken_parameters:
+            return None                      # that parameter's problem is already reported
+        for name in sorted(used):
+            if name not in env and name not in expressions.CONSTANTS:
+                self.error(f"undefined parameter '{name}'{did_you_mean(name, env)}")
+                return None
+        try:
+            return expressions.evaluate(text, env)
+        except expressions.ExpressionError as exc:
+            self.error(_expression_message(exc))
+            return None
+
+    def vector(self, kind: str | None, n: int = 2) -> np.ndarray | None:
+        shape = "[x, y]" if n == 2 else f"a list of {n} numbers"
+        if not isinstance(self.node, yaml.SequenceNode):
+            self.error(f"expected {shape}, got {_describe(self.node)}")
+            return None
+        items = self.seq() or []
         if len(items) != n:
-            self.error(f"expected a list of {n} numbers, got {len(items)}")
+            self.error(f"expected {shape} ({n} numbers), got {len(items)} "
+                       f"number{'s' if len(items) != 1 else ''}")
             return None
         values = [e.number(kind) for e in items]
         return None if any(v is None for v in values) else np.array(values, dtype=float)
@@ -164,23 +251,31 @@ class Entry:
     def unit(self, v: np.ndarray) -> np.ndarray | None:
         norm = float(np.hypot(*v))
         if not norm > 0.0:
-            self.error("direction has zero length")
+            self.error(f"the direction [{self._raw_list()}] has zero length")
             return None
         return v / norm
 
-    def names(self, n: int) -> list[str] | None:
-        """A name (n = 1) or a list of exactly n names."""
+    def _raw_list(self) -> str:
+        if isinstance(self.node, yaml.SequenceNode):
+            return ", ".join(str(getattr(n, "value", "?")) for n in self.node.value)
+        return str(getattr(self.node, "value", ""))
+
+    def names(self, n: int) -> list[str | None]:
+        """A name (n = 1) or a list of exactly n names; ``None`` for each name
+        that could not be read (the problem is reported)."""
         if n == 1 and isinstance(self.node, yaml.ScalarNode):
-            t = self.text()
-            return None if t is None else [t]
-        items = self.seq()
-        if items is None:
-            return None
+            return [self.text()]
+        if n == 1:
+            self.error(f"expected a name, got {_describe(self.node)}")
+            return [None]
+        if not isinstance(self.node, yaml.SequenceNode):
+            self.error(f"expected a list of {n} names, got {_describe(self.node)}")
+            return [None] * n
+        items = self.seq() or []
         if len(items) != n:
             self.error(f"expected a list of {n} names, got {len(items)}")
-            return None
-        values = [e.text() for e in items]
-        return None if any(v is None for v in values) else values
+            return [None] * n
+        return [e.text() for e in items]
 
     def point(self, link: str, name: str | None, points: dict[str, dict[str, np.ndarray]],
               key: str, index: int | None = None) -> np.ndarray | None:
@@ -197,6 +292,48 @@ class Entry:
                         f"it has: {', '.join(points[link]) or 'no points'}")
             return None
         return points[link][name]
+
+
+class _Missing(Entry):
+    """Stands for a required key that is absent (already reported): falsy, and
+    every reader returns ``None`` (``names``: a list of ``None``) silently."""
+
+    def __init__(self, parent: Entry, key: str):
+        super().__init__(yaml.ScalarNode("tag:yaml.org,2002:null", ""),
+                         parent.where.child(key), parent.ctx)
+
+    def __bool__(self) -> bool:
+        return False
+
+    def error(self, message: str) -> None:
+        pass
+
+    def mapping(self) -> bool:
+        return False
+
+    def check_keys(self, required: Iterable[str] = (), optional: Iterable[str] = ()) -> bool:
+        return False
+
+    def require(self, key: str) -> "Entry":
+        return _Missing(self, key)
+
+    def seq(self) -> None:
+        return None
+
+    def text(self) -> None:
+        return None
+
+    def boolean(self) -> None:
+        return None
+
+    def raw_number(self) -> None:
+        return None
+
+    def vector(self, kind: str | None, n: int = 2) -> None:
+        return None
+
+    def names(self, n: int) -> list[None]:
+        return [None] * n
 
 
 def _describe(node: yaml.Node) -> str:
@@ -221,20 +358,35 @@ def _count_nodes(node: yaml.Node, limit: int) -> int:
     return count
 
 
-def _duplicate_keys(node: yaml.Node, file: str, problems: Collector, path: str = "") -> None:
-    if isinstance(node, yaml.MappingNode):
-        seen: set[str] = set()
-        for k, v in node.value:
-            key = str(k.value)
-            sub = f"{path}.{key}" if path else key
-            if key in seen:
-                problems.add(Location(file, k.start_mark.line + 1, k.start_mark.column + 1, sub),
-                             f"duplicate key '{key}'")
-            seen.add(key)
-            _duplicate_keys(v, file, problems, sub)
-    elif isinstance(node, yaml.SequenceNode):
-        for k, v in enumerate(node.value):
-            _duplicate_keys(v, file, problems, f"{path}[{k}]")
+def _check_keys_and_duplicates(root: yaml.Node, file: str, problems: Collector) -> None:
+    """Every mapping key must be a plain scalar and appear once (iterative: no recursion)."""
+    stack: list[tuple[yaml.Node, str]] = [(root, "")]
+    visited: set[int] = set()
+    while stack:
+        node, path = stack.pop()
+        if id(node) in visited:                 # an alias: its node was checked already
+            continue
+        visited.add(id(node))
+        if isinstance(node, yaml.MappingNode):
+            seen: dict[str, int] = {}
+            children = []
+            for k, v in node.value:
+                m = k.start_mark
+                if not isinstance(k, yaml.ScalarNode):
+                    problems.add(Location(file, m.line + 1, m.column + 1, path),
+                                 f"a key must be a plain name, got {_describe(k)}")
+                    continue
+                key = str(k.value)
+                sub = f"{path}.{key}" if path else key
+                if key in seen:
+                    problems.add(Location(file, m.line + 1, m.column + 1, sub),
+                                 f"duplicate key '{key}' (first given at line {seen[key]})")
+                else:
+                    seen[key] = m.line + 1
+                children.append((v, sub))
+            stack.extend(reversed(children))
+        elif isinstance(node, yaml.SequenceNode):
+            stack.extend(reversed([(v, f"{path}[{k}]") for k, v in enumerate(node.value)]))
 
 
 # ---------------------------------------------------------------------------
@@ -249,8 +401,15 @@ def load(path: str | Path) -> Model:
         size = path.stat().st_size
         if size > MAX_FILE_BYTES:
             raise ModelError([(Location(str(path)),
-                               f"file is {size} bytes; the limit is {MAX_FILE_BYTES}")])
-        text = path.read_text(encoding="utf-8")
+                               f"the file is {size} bytes, more than the limit of "
+                               f"{MAX_FILE_BYTES} bytes; refused")])
+        with path.open("rb") as f:          # the file may grow between stat and read
+            data = f.read(MAX_FILE_BYTES + 1)
+        if len(data) > MAX_FILE_BYTES:
+            raise ModelError([(Location(str(path)),
+                               f"the file is more than the limit of {MAX_FILE_BYTES} bytes; "
+                               "refused")])
+        text = data.decode("utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
         raise ModelError([(Location(str(path)), f"cannot read the file: {reason}")]) from None
@@ -260,34 +419,67 @@ def load(path: str | Path) -> Model:
 def loads(text: str, file: str = "<string>") -> Model:
     """Read a mechanism from YAML text (see :func:`load`)."""
     if len(text.encode("utf-8", "replace")) > MAX_FILE_BYTES:
-        raise ModelError([(Location(file), f"text is longer than {MAX_FILE_BYTES} bytes")])
+        raise ModelError([(Location(file), f"the text is more than the limit of "
+                                           f"{MAX_FILE_BYTES} bytes; refused")])
     try:
-        root = yaml.compose(text, Loader=yaml.SafeLoader)
+        root = yaml.compose(text, Loader=_Loader)
     except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
-        loc = Location(file, mark.line + 1, mark.column + 1) if mark else Location(file)
-        raise ModelError([(loc, f"YAML syntax error: {problem}")]) from None
+        raise ModelError([_syntax_problem(exc, file)]) from None
+    except _TooDeep as exc:
+        raise ModelError([(Location(file, exc.mark.line + 1, exc.mark.column + 1),
+                           f"lists and mappings nested more than {MAX_DEPTH} deep; "
+                           "refused")]) from None
+    except RecursionError:
+        raise ModelError([(Location(file, 1, 1), "lists and mappings nested too deeply; "
+                                                 "refused")]) from None
     if root is None:
-        raise ModelError([(Location(file, 1, 1), "the file is empty")])
+        raise ModelError([(Location(file, 1, 1), "the file has no content (only comments or "
+                                                 "blank lines); expected a mapping with at "
+                                                 "least links and joints")])
     if _count_nodes(root, MAX_NODES) > MAX_NODES:
         raise ModelError([(Location(file, 1, 1),
-                           f"more than {MAX_NODES} YAML nodes (aliases expanded); refused")])
+                           f"more than {MAX_NODES} YAML nodes once aliases are expanded "
+                           "(an alias bomb?); refused")])
     ctx = _Context(file)
-    _duplicate_keys(root, file, ctx.problems)
+    _check_keys_and_duplicates(root, file, ctx.problems)
     ctx.problems.raise_if_any()
     top = Entry(root, Location(file, 1, 1, ""), ctx)
-    if not top.mapping():
-        ctx.problems.raise_if_any()
+    if not top.is_mapping:
+        raise ModelError([(top.where, "the file must be a mapping of keys (name, units, links, "
+                                      f"joints, ...), got {_describe(root)}")])
     return _Builder(top, ctx).build()
 
 
+def _syntax_problem(exc: yaml.YAMLError, file: str) -> tuple[Location, str]:
+    """``(location, message)`` of a PyYAML error, with the construct it was reading."""
+    mark = getattr(exc, "problem_mark", None)
+    problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
+    loc = Location(file, mark.line + 1, mark.column + 1) if mark else Location(file)
+    context, cmark = getattr(exc, "context", None), getattr(exc, "context_mark", None)
+    message = f"YAML syntax error: {problem}"
+    if context and cmark is not None and (mark is None or cmark.line != mark.line
+                                          or cmark.column != mark.column):
+        context = context.removeprefix("while ").replace("parsing ", "in ", 1) \
+            .replace("scanning ", "in ", 1)
+        message += f" ({context} that starts at line {cmark.line + 1}, column {cmark.column + 1})"
+    return loc, message
+
+
 class _Builder:
-    """Reads the top-level sections in dependency order."""
+    """Reads the top-level sections in dependency order.
+
+    A declared item that cannot be built (its problem reported) is remembered
+    in ``broken``; later references to it stay silent, so one mistake gives
+    one line rather than a cascade.
+    """
 
     def __init__(self, top: Entry, ctx: _Context):
         self.top, self.ctx, self.problems = top, ctx, ctx.problems
-        self.names: dict[str, str] = {}          # name -> what it names (link, joint, driver)
+        self.names: dict[str, tuple[str, Location]] = {}   # name -> (what, where first named)
+        self.broken: dict[str, set[str]] = {"link": set(), "joint": set(), "driver": set(),
+                                            "load": set()}
+        self.ground: str | None = None
+        self.lost: set[str] = set()        # kinds whose whole section is missing or unreadable
 
     def build(self) -> Model:
         top = self.top
@@ -304,7 +496,7 @@ class _Builder:
         points = {link.name: dict(link.points) for link in links}
         joints = self._joints(links, points)
         drivers = self._drivers(links, joints, points)
-        loads_ = self._loads(links, points, drivers)
+        loads_ = self._loads(links, joints, points, drivers)
         sketch = self._sketch(links, joints)
         analysis = self._analysis(joints, drivers)
         loops = self._loops(joints)
@@ -315,230 +507,388 @@ class _Builder:
                      parameters=dict(self.ctx.env), units=unit_names, source=self.ctx.file)
 
     # -- names ----------------------------------------------------------------
-    def _claim(self, entry: Entry, name: str, what: str) -> bool:
+    def _claim(self, section: Entry, name: str, what: str) -> bool:
+        """Register ``name`` (a key of ``section``) as a ``what``; report a bad name."""
+        where = section.key_where(name)
         if not NAME.match(name):
-            entry.error(f"{what} name '{name}' is not a valid name "
-                        "(letters, digits and _, not starting with a digit)")
-            return False
-        if name in RESERVED:
-            entry.error(f"'{name}' is reserved (reserved names: {', '.join(sorted(RESERVED))})")
-            return False
-        if name in self.names:
-            entry.error(f"duplicate name '{name}': already used by a {self.names[name]}")
-            return False
-        self.names[name] = what
-        return True
+            fixed = re.sub(r"[^A-Za-z0-9_]", "_", name) or "_"
+            fixed = "_" + fixed if fixed[0].isdigit() else fixed
+            self.problems.add(where, f"{what} name '{name}' is not a valid name: use letters, "
+                                     f"digits and _, not starting with a digit (e.g. '{fixed}')")
+        elif name in RESERVED:
+            self.problems.add(where, f"'{name}' is a reserved name (a results column); "
+                                     f"reserved: {', '.join(sorted(RESERVED))}")
+        elif name in self.names:
+            other, first = self.names[name]
+            self.problems.add(where, f"duplicate name '{name}': the {other} at line {first.line} "
+                                     "has it already; names must be unique across links, "
+                                     "joints, drivers and loads")
+        else:
+            self.names[name] = (what, where)
+            return True
+        self.broken[what].add(name)
+        return False
+
+    def _broken(self, what: str, name: str) -> bool:
+        """Whether ``name`` was declared as a ``what`` but is in error (already reported)."""
+        return what in self.lost or name in self.broken[what]
+
+    def _what(self, name: str) -> str | None:
+        """What a name names (link, joint, driver, load), if anything."""
+        return self.names[name][0] if name in self.names else None
+
+    @staticmethod
+    def _unknown(what: str, name: str, known: Iterable[str]) -> str:
+        """``unknown link 'x' (did you mean 'y'?)``, or the list of choices when none is close."""
+        known = list(known)
+        hint = did_you_mean(name, known)
+        if not hint:
+            hint = f"; the {what}s are: {', '.join(known)}" if known else f"; there are no {what}s"
+        return f"unknown {what} '{name}'{hint}"
+
+    def _not_a(self, what: str, name: str, known: Iterable[str], links=()) -> str:
+        """Why ``name`` is not a ``what``: it names something else, or nothing."""
+        other = self._what(name)
+        known = list(known)
+        listing = f"; the {what}s are: {', '.join(known)}" if known else ""
+        if other is not None and other != what:
+            return f"'{name}' is a {other}, not a {what}{listing}"
+        owners = [link.name for link in links if name in link.points]
+        if what == "link" and owners:
+            return f"'{name}' is a point of link '{owners[0]}', not a link{listing}"
+        return self._unknown(what, name, known)
 
     # -- sections ---------------------------------------------------------------
     def _units(self) -> dict[str, str]:
         spec: dict[str, str] = {}
-        if (u := self.top.get("units")) is not None and u.mapping():
-            for kind, e in u.items():
-                unit = e.text()
-                if unit is None:
-                    continue
-                try:
-                    self.ctx.units[kind] = units.factor(kind, unit)
-                    spec[kind] = unit
-                except units.UnitError as exc:
-                    e.error(str(exc))
+        u = self.top.get("units")
+        if u is None or not u.mapping():
+            return spec
+        for kind, e in u.items():
+            if kind not in units.QUANTITY_KINDS:
+                self.problems.add(u.key_where(kind),
+                                  f"unknown quantity kind '{kind}'"
+                                  f"{did_you_mean(kind, units.QUANTITY_KINDS)}; "
+                                  f"known: {', '.join(units.QUANTITY_KINDS)}")
+                continue
+            unit = e.text()
+            if unit is None:
+                continue
+            try:
+                self.ctx.units[kind] = units.factor(kind, unit)
+            except units.UnitError as exc:
+                e.error(str(exc))
+                continue
+            spec[kind] = self.ctx.unit_names[kind] = unit
         return spec
 
     def _parameters(self) -> None:
+        """Evaluate the parameters in dependency order, each problem reported at its
+        parameter; a parameter that uses a broken one is skipped silently."""
         p = self.top.get("parameters")
         if p is None or not p.mapping():
             return
-        items, where = [], {}
+        broken = self.ctx.broken_parameters
+        declared = p.keys()
+        pending: dict[str, tuple[Entry, str, list[str]]] = {}
         for key, e in p.items():
-            if not isinstance(e.node, yaml.ScalarNode) or e.node.value == "":
-                e.error(f"expected a number or an expression, got {_describe(e.node)}")
-                continue
+            where = p.key_where(key)
             if not NAME.match(key):
-                e.error(f"parameter name '{key}' is not a valid name")
+                self.problems.add(where, f"parameter name '{key}' is not a valid name: use "
+                                         "letters, digits and _, not starting with a digit")
+            elif key in expressions.FUNCTIONS:
+                self.problems.add(where, f"'{key}' is the name of a function; "
+                                         "choose another parameter name")
+            elif not isinstance(e.node, yaml.ScalarNode) or e.node.value == "":
+                e.error(f"expected a number or an expression, got {_describe(e.node)}")
+            else:
+                try:
+                    used = sorted(expressions.names_in(e.node.value))
+                except expressions.ExpressionError as exc:
+                    e.error(_expression_message(exc))
+                else:
+                    pending[key] = (e, e.node.value, [n for n in used if n in declared])
+                    undefined = [n for n in used
+                                 if n not in declared and n not in expressions.CONSTANTS]
+                    if not undefined:
+                        continue
+                    others = [k for k in declared if k != key]
+                    e.error(f"undefined parameter '{undefined[0]}'"
+                            f"{did_you_mean(undefined[0], others)}")
+                    del pending[key]
+            broken.add(key)
+        env: dict[str, float] = {}
+        progress = True
+        while pending and progress:
+            progress = False
+            for key, (e, text, deps) in list(pending.items()):
+                if any(d in broken for d in deps):
+                    broken.add(key)                 # silent: the cause is reported
+                elif all(d in env for d in deps):
+                    try:
+                        env[key] = expressions.evaluate(text, env)
+                    except expressions.ExpressionError as exc:
+                        e.error(_expression_message(exc))
+                        broken.add(key)
+                else:
+                    continue
+                del pending[key]
+                progress = True
+        reported: set[str] = set()
+        for key in list(pending):                   # what is left depends on a cycle
+            if key in reported:
                 continue
-            items.append((key, e.node.value))
-            where[key] = e
-        try:
-            self.ctx.env.update(expressions.evaluate_parameters(items))
-        except expressions.ExpressionError as exc:
-            (where.get(exc.name) or p).error(str(exc))
+            path, node = [key], key
+            while True:
+                node = next(d for d in pending[node][2] if d in pending)
+                if node in path:
+                    cycle = path[path.index(node):] + [node]
+                    break
+                path.append(node)
+            if not reported & set(cycle):
+                pending[cycle[0]][0].error(f"the parameters form a cycle: {' -> '.join(cycle)}")
+            reported |= set(cycle)
+        broken |= set(pending)
+        self.ctx.env.update((k, env[k]) for k in declared if k in env)
 
     def _links(self, gravity: np.ndarray) -> list[Link]:
-        section = self.top.require("links")
+        section = self.top.get("links")
         if section is None or not section.mapping():
+            self.lost.add("link")
             return []
-        ground_name = "ground"
+        keys = section.keys()
+        where = self.top.key_where("links")
+        if not keys:
+            self.problems.add(where, "no links: give the ground and the moving links")
+            return []
+        if len(keys) > MAX_LINKS:
+            self.problems.add(where, f"{len(keys)} links; the limit is {MAX_LINKS}")
+            return []
         if (g := self.top.get("ground")) is not None:
-            ground_name = g.text() or "ground"
-            if ground_name not in section.keys():
-                g.error(f"ground link '{ground_name}' is not among the links"
-                        f"{did_you_mean(ground_name, section.keys())}")
-        elif "ground" not in section.keys() and section.keys():
-            section.error("no ground link: name a link 'ground' or give the top-level key "
-                          "'ground: <link>'")
-        if len(section.keys()) > MAX_LINKS:
-            section.error(f"{len(section.keys())} links; the limit is {MAX_LINKS}")
-            return []
+            name = g.text()
+            if name is not None and name not in keys:
+                g.error(f"the ground link '{name}' is not among the links"
+                        f"{did_you_mean(name, keys)}; the links are: {', '.join(keys)}")
+            elif name is not None:
+                self.ground = name
+        elif "ground" in keys:
+            self.ground = "ground"
+        else:
+            self.problems.add(where, "no ground link: name a link 'ground', or give the "
+                                     "top-level key 'ground: <link>' naming the frame")
         links = []
         for name, e in section.items():
-            if not self._claim(e, name, "link") or not e.check_keys(
+            link = None
+            if self._claim(section, name, "link") and e.check_keys(
                     optional=("points", "mass", "weight", "com", "inertia")):
-                continue
-            is_ground = name == ground_name
-            com = e["com"].vector("length") if e.get("com") is not None else np.zeros(2)
-            raw: dict[str, np.ndarray] = {}
-            if (pts := e.get("points")) is not None and pts.mapping():
-                for pname, pe in pts.items():
-                    if not NAME.match(pname):
-                        pe.error(f"point name '{pname}' is not a valid name")
-                        continue
-                    v = pe.vector("length")
-                    if v is not None:
-                        raw[pname] = v
-            mass = inertia = 0.0
-            if e.get("mass") is not None and e.get("weight") is not None:
-                e["weight"].error("give either mass or weight, not both")
-            elif e.get("mass") is not None:
-                mass = e["mass"].number("mass", minimum=0.0)
-            elif e.get("weight") is not None:
-                w = e["weight"].number("force", minimum=0.0)
-                g = float(np.hypot(*gravity))
-                if w is not None and w > 0 and g == 0.0:
-                    e["weight"].error("a weight needs a non-zero gravity to give a mass")
-                    w = None
-                mass = None if w is None else (w / g if w else 0.0)
-            if e.get("inertia") is not None:
-                inertia = e["inertia"].number("inertia", minimum=0.0)
-            if is_ground and (mass or inertia):
-                e.error("the ground link takes no mass or inertia")
-            if com is None or mass is None or inertia is None:
-                continue
-            links.append(Link(name, {k: v - com for k, v in raw.items()}, float(mass),
-                              float(inertia), com, is_ground, e.where))
+                link = self._link(name, e, gravity, section.key_where(name))
+            if link is None:
+                self.broken["link"].add(name)
+            else:
+                links.append(link)
         return links
 
+    def _link(self, name: str, e: Entry, gravity: np.ndarray, where: Location) -> Link | None:
+        is_ground = name == self.ground
+        com = e["com"].vector("length") if e.get("com") is not None else np.zeros(2)
+        raw: dict[str, np.ndarray] = {}
+        ok = True
+        if (pts := e.get("points")) is not None and pts.mapping():
+            for pname, pe in pts.items():
+                if not NAME.match(pname):
+                    self.problems.add(pts.key_where(pname),
+                                      f"point name '{pname}' is not a valid name: use letters, "
+                                      "digits and _, not starting with a digit")
+                    ok = False
+                    continue
+                v = pe.vector("length")
+                if v is None:
+                    ok = False
+                else:
+                    raw[pname] = v
+        elif pts is not None:
+            ok = False
+        mass = inertia = 0.0
+        if e.get("mass") is not None and e.get("weight") is not None:
+            e["weight"].error("give either mass or weight, not both")
+            mass = None
+        elif e.get("mass") is not None:
+            mass = e["mass"].number("mass", minimum=0.0)
+        elif e.get("weight") is not None:
+            w = e["weight"].number("force", minimum=0.0)
+            g = float(np.hypot(*gravity))
+            if w is not None and w > 0 and g == 0.0:
+                e["weight"].error("a weight needs a non-zero gravity to give a mass "
+                                  "(gravity is [0, 0]); give the mass instead")
+                w = None
+            mass = None if w is None else (w / g if w else 0.0)
+        if e.get("inertia") is not None:
+            inertia = e["inertia"].number("inertia", minimum=0.0)
+        if is_ground and (mass or inertia):
+            e.error("the ground link takes no mass or inertia")
+        if com is None or mass is None or inertia is None or not ok:
+            return None
+        return Link(name, {k: v - com for k, v in raw.items()}, float(mass),
+                    float(inertia), com, is_ground, where)
+
     def _joints(self, links: list[Link], points) -> list[Joint]:
-        section = self.top.require("joints")
+        section = self.top.get("joints")
         if section is None or not section.mapping():
+            self.lost.add("joint")
             return []
         link_names = [link.name for link in links]
         joints = []
         for name, e in section.items():
-            if not self._claim(e, name, "joint") or not e.mapping():
-                continue
-            t = e.require("type")
-            kind = t.text() if t is not None else None
-            if kind is None:
-                continue
-            if kind not in JOINT_TYPES:
-                t.error(f"unknown joint type '{kind}'{did_you_mean(kind, JOINT_TYPES)}; "
-                        f"known: {', '.join(sorted(JOINT_TYPES))}")
-                continue
-            le = e.require("links")
-            pair = le.names(2) if le is not None else None
-            if pair is None:
-                continue
-            bad = False
-            for k, ln in enumerate(pair):
-                if ln not in link_names:
-                    where = le._child(k, le.node.value[k])
-                    if ln in self.names or ln in points:
-                        where.error(f"'{ln}' is not a link")
-                    else:
-                        where.error(f"unknown link '{ln}'{did_you_mean(ln, link_names)}")
-                    bad = True
-            if bad:
-                continue
-            if pair[0] == pair[1]:
-                le.error(f"a joint connects two different links; both are '{pair[0]}'")
-                continue
-            joint = JOINT_TYPES[kind].from_spec(name, e, tuple(pair), points)
-            if joint is not None:
+            joint = None
+            if self._claim(section, name, "joint") and e.mapping():
+                joint = self._joint(name, e, links, link_names, points)
+            if joint is None:
+                self.broken["joint"].add(name)
+            else:
                 joints.append(joint)
         return joints
 
+    def _joint(self, name: str, e: Entry, links, link_names, points) -> Joint | None:
+        t = e.require("type")
+        kind = t.text()
+        if kind is None:
+            return None
+        if kind not in JOINT_TYPES:
+            t.error(f"unknown joint type '{kind}'{did_you_mean(kind, JOINT_TYPES)}; "
+                    f"known: {', '.join(sorted(JOINT_TYPES))}")
+            return None
+        le = e.require("links")
+        pair = le.names(2)
+        if None in pair:
+            return None
+        bad = False
+        for k, ln in enumerate(pair):
+            if ln not in link_names:
+                if not self._broken("link", ln):
+                    le._child(k, le.node.value[k]).error(self._not_a("link", ln, link_names, links))
+                bad = True
+        if bad:
+            return None
+        if pair[0] == pair[1]:
+            le.error(f"both links are '{pair[0]}'; a joint connects two different links")
+            return None
+        try:
+            return JOINT_TYPES[kind].from_spec(name, e, tuple(pair), points)
+        except KinetostaticsError:
+            raise
+        except Exception as exc:        # a joint type's reader must not crash the loader
+            e.error(f"cannot read this {kind} joint ({type(exc).__name__}: {exc}); "
+                    "this is a bug in the joint type, please report it")
+            return None
+
     def _drivers(self, links, joints, points) -> list[Driver]:
         section = self.top.get("drivers")
+        if section is not None and not section.mapping():
+            self.lost.add("driver")
         if section is None or not section.mapping():
             return []
-        by_name = {j.name: j for j in joints}
         drivers = []
         for name, e in section.items():
-            if not self._claim(e, name, "driver") or not e.check_keys(
+            driver = None
+            if self._claim(section, name, "driver") and e.check_keys(
                     required=("joint",), optional=("motion", "effort", "points", "balance_at")):
-                continue
-            jname = e["joint"].text()
-            joint = by_name.get(jname)
-            if joint is None:
-                if jname is not None:
-                    e["joint"].error(f"unknown joint '{jname}'{did_you_mean(jname, by_name)}")
-                continue
-            speed_kind = "speed"
-            if (e.get("motion") is None) == (e.get("effort") is None):
-                e.error("give exactly one of motion (a prescribed coordinate) or effort "
-                        "(an applied torque or force)")
-                continue
-            motion = effort = None
-            if (m := e.get("motion")) is not None and m.check_keys(required=("speed",)):
-                s = m["speed"]
-                unit = next((u for k, u in self.top["units"].items() if k == "speed"), None) \
-                    if self.top.get("units") is not None else None
-                unit_text = unit.text() if unit is not None else None
-                if unit_text and units.is_angular_speed(unit_text) != joint.angular:
-                    s.error(f"speed unit '{unit_text}' does not fit a "
-                            f"{joint.kind} joint's coordinate")
-                    continue
-                v = s.number(speed_kind)
-                if v is not None and v == 0.0:
-                    s.error("speed must not be zero")
-                    v = None
-                if v is None:
-                    continue
-                motion = MotionLaw(v)
-            if (f := e.get("effort")) is not None:
-                effort = f.number("torque" if joint.angular else "force")
-                if effort is None:
-                    continue
-            pts: tuple[str | None, str | None] = (None, None)
-            offset = 0.0
-            if joint.angular:
-                pts, offset = self._driver_offset(e, joint, joints, points)
-                if offset is None:
-                    continue
-            elif e.get("points") is not None:
-                e["points"].error("points apply to a revolute driver only")
-            balance = None
-            if (b := e.get("balance_at")) is not None:
-                balance = b.text()
-                if balance not in by_name:
-                    b.error(f"unknown joint '{balance}'{did_you_mean(balance or '', by_name)}")
-                    continue
-                if motion is None:
-                    b.error("balance_at needs a motion driver")
-                    continue
-            drivers.append(Driver(name, joint.name, motion, effort, offset, pts, balance, e.where))
+                driver = self._driver(name, e, links, joints, points, section.key_where(name))
+            if driver is None:
+                self.broken["driver"].add(name)
+            else:
+                drivers.append(driver)
         return drivers
+
+    def _driver(self, name: str, e: Entry, links, joints, points,
+                where: Location) -> Driver | None:
+        by_name = {j.name: j for j in joints}
+        jname = e["joint"].text()
+        joint = by_name.get(jname)
+        if joint is None:
+            if jname is not None and not self._broken("joint", jname):
+                e["joint"].error(self._not_a("joint", jname, by_name))
+            return None
+        m, f = e.get("motion"), e.get("effort")
+        if m is not None and f is not None:
+            e.error("give either motion (a prescribed coordinate) or effort (an applied "
+                    "torque or force), not both")
+            return None
+        if m is None and f is None:
+            e.error("give motion (a prescribed coordinate) or effort (an applied torque "
+                    "or force)")
+            return None
+        motion = effort = None
+        if m is not None:
+            if not m.check_keys(required=("speed",)):
+                return None
+            s = m["speed"]
+            unit = self.ctx.unit_names.get("speed")
+            if unit and units.is_angular_speed(unit) != joint.angular:
+                if joint.angular:
+                    s.error(f"the speed unit '{unit}' (units.speed) is linear, but joint "
+                            f"'{joint.name}' is {joint.kind}: give units.speed as rpm, "
+                            "rad/s, deg/s or rev/s")
+                else:
+                    s.error(f"the speed unit '{unit}' (units.speed) is angular, but joint "
+                            f"'{joint.name}' is {joint.kind}: give units.speed as m/s, "
+                            "mm/s or cm/s")
+                return None
+            v = s.number("speed")
+            if v is not None and v == 0.0:
+                s.error("the speed must not be zero (its sign gives the sense of motion)")
+                return None
+            if v is None:
+                return None
+            motion = MotionLaw(v)
+        else:
+            effort = f.number("torque" if joint.angular else "force")
+            if effort is None:
+                return None
+        pts: tuple[str | None, str | None] = (None, None)
+        offset = 0.0
+        if joint.angular:
+            pts, offset = self._driver_offset(e, joint, joints, points)
+            if offset is None:
+                return None
+        elif e.get("points") is not None:
+            e["points"].error("points apply to a revolute driver only")
+        balance = None
+        if (b := e.get("balance_at")) is not None:
+            balance = b.text()
+            if balance is None:
+                return None
+            if balance not in by_name:
+                if not self._broken("joint", balance):
+                    b.error(self._not_a("joint", balance, by_name))
+                return None
+            if motion is None:
+                b.error("balance_at needs a motion driver")
+                return None
+        return Driver(name, joint.name, motion, effort, offset, pts, balance, where)
 
     def _driver_offset(self, e: Entry, joint: Joint, joints, points):
         """(P_i, P_j) names and the offset α_j − α_i of the driver coordinate."""
         i, j = joint.links
+        if self.ground is None:                 # reported with the links
+            return (None, None), None
         chosen: list[str | None] = [None, None]
         if (pe := e.get("points")) is not None:
             names = pe.names(2)
-            if names is None:
+            if None in names:
                 return (None, None), None
             chosen = [None if n in ("", "x", "+x") else n for n in names]
         angles = []
         for k, link in enumerate((i, j)):
             pname = chosen[k]
             if pname is None:
-                if link == self._ground_name() and k == 0:
+                if link == self.ground and k == 0:
                     angles.append(0.0)          # the global +x axis
                     continue
                 others = [o for o in joints if link in o.links and o.name != joint.name]
                 if len(others) != 1:
-                    e.error(f"cannot choose the driver's reference point on link '{link}' "
-                            f"(it has {len(others)} other joints): give points: [P_i, P_j]")
+                    if not self.broken["joint"] and "joint" not in self.lost:
+                        e.error(f"cannot choose the driver's reference point on link '{link}' "
+                                f"(it has {len(others)} other joints): give points: [P_i, P_j]")
                     return (None, None), None
                 other = others[0]
                 pname = _joint_point(other, link)
@@ -556,59 +906,85 @@ class _Builder:
         return (chosen[0], chosen[1]), angles[1] - angles[0]
 
     def _ground_name(self) -> str:
-        g = self.top.get("ground")
-        return (g.text() if g is not None else None) or "ground"
+        return self.ground or "ground"
 
-    def _loads(self, links, points, drivers) -> list[Load]:
+    def _loads(self, links, joints, points, drivers) -> list[Load]:
         section = self.top.get("loads")
         if section is None or not section.mapping():
             return []
-        link_names = {link.name: link for link in links}
         out = []
         for name, e in section.items():
-            if not self._claim(e, name, "load") or not e.check_keys(
+            load = None
+            if self._claim(section, name, "load") and e.check_keys(
                     required=("type", "link", "value"), optional=("point", "axis", "active")):
-                continue
-            kind = e["type"].text()
-            if kind not in ("force", "torque", "resistance"):
-                if kind is not None:
-                    e["type"].error(f"unknown load type '{kind}'"
-                                    f"{did_you_mean(kind, ('force', 'torque', 'resistance'))}; "
-                                    "known: force, resistance, torque")
-                continue
-            link = e["link"].text()
-            if link not in link_names:
-                if link is not None:
-                    e["link"].error(f"unknown link '{link}'{did_you_mean(link, link_names)}")
-                continue
-            if link_names[link].ground:
-                e["link"].error("a load on the ground link does nothing")
-                continue
-            point = None
-            if (pe := e.get("point")) is not None:
-                point = pe.text()
-                if e.point(link, point, points, key="point") is None:
-                    continue
-            value = (e["value"].vector("force") if kind == "force"
-                     else e["value"].number("torque" if kind == "torque" else "force"))
-            axis = None
-            if kind == "resistance":
-                if (ae := e.require("axis")) is None:
-                    continue
-                axis = ae.vector(None)
-                axis = None if axis is None else ae.unit(axis)
-                if axis is None:
-                    continue
-            elif e.get("axis") is not None:
-                e["axis"].error("axis applies to a resistance only")
-            if kind == "torque" and point is not None:
-                e["point"].error("a torque acts on the link, not at a point")
-            conditions = self._conditions(e, link, point, points, drivers)
-            if value is None or conditions is None:
-                continue
-            out.append(Load(name, kind, link, np.asarray(value, dtype=float), point, axis,
-                            tuple(conditions), e.where))
+                load = self._load(name, e, links, points, drivers, section.key_where(name))
+            if load is None:
+                self.broken["load"].add(name)
+            else:
+                out.append(load)
         return out
+
+    def _load(self, name: str, e: Entry, links, points, drivers,
+              where: Location) -> Load | None:
+        link_names = {link.name: link for link in links}
+        kinds = ("force", "torque", "resistance")
+        kind = e["type"].text()
+        if kind not in kinds:
+            if kind is not None:
+                e["type"].error(f"unknown load type '{kind}'{did_you_mean(kind, kinds)}; "
+                                "known: force, resistance, torque")
+            return None
+        link = e["link"].text()
+        if link not in link_names:
+            if link is not None and not self._broken("link", link):
+                e["link"].error(self._not_a("link", link, link_names, links))
+            return None
+        if link_names[link].ground:
+            e["link"].error(f"a load on the ground link '{link}' does nothing; "
+                            "put it on a moving link")
+            return None
+        point = None
+        if (pe := e.get("point")) is not None:
+            point = pe.text()
+            if e.point(link, point, points, key="point") is None:
+                return None
+        value = (e["value"].vector("force") if kind == "force"
+                 else e["value"].number("torque" if kind == "torque" else "force"))
+        axis = None
+        if kind == "resistance":
+            if (ae := e.get("axis")) is None:
+                e.error("a resistance needs axis: [x, y], the line along which it opposes "
+                        "the point's velocity")
+                return None
+            axis = ae.vector(None)
+            axis = None if axis is None else ae.unit(axis)
+            if axis is None:
+                return None
+        elif e.get("axis") is not None:
+            e["axis"].error("axis applies to a resistance only")
+        if kind == "torque" and point is not None:
+            e["point"].error("a torque acts on the link, not at a point")
+        conditions = self._conditions(e, link, point, points, drivers)
+        if value is None or conditions is None:
+            return None
+        return Load(name, kind, link, np.asarray(value, dtype=float), point, axis,
+                    tuple(conditions), where)
+
+    def _point_ref(self, e: Entry, ref: str, points, allow_link: bool = False) -> bool:
+        """Check ``link.point`` (or ``link`` alone when ``allow_link``); report a bad one."""
+        link, dot, pname = ref.partition(".")
+        if link not in points:
+            if not self._broken("link", link):
+                e.error(f"{self._not_a('link', link, points)} (in '{ref}', written link.point)")
+            return False
+        if not dot and not allow_link:
+            e.error(f"'{ref}' is a link; write link.point")
+            return False
+        if dot and pname not in points[link]:
+            e.error(f"link '{link}' has no point '{pname}'{did_you_mean(pname, points[link])}; "
+                    f"it has: {', '.join(points[link]) or 'no points'}")
+            return False
+        return True
 
     def _conditions(self, e: Entry, link: str, point: str | None, points,
                     drivers) -> list[Condition] | None:
@@ -623,17 +999,20 @@ class _Builder:
             if not c.check_keys(optional=("moving", "travel", "along", "angle", "point")):
                 return None
             kinds = [k for k in ("moving", "travel", "angle") if c.get(k) is not None]
-            if len(kinds) != 1:
-                c.error("each condition takes one of: moving, travel, angle")
+            if not kinds:
+                c.error("a condition needs one of: moving, travel, angle")
+                return None
+            if len(kinds) > 1:
+                c.error(f"a condition takes exactly one of moving, travel, angle; this one has "
+                        f"{' and '.join(kinds)} (write each condition as its own list item)")
                 return None
             kind = kinds[0]
             plink, pname = link, point
             if (pe := c.get("point")) is not None:
-                ref = pe.text() or ""
-                plink, _, pname = ref.partition(".")
-                if plink not in points or (pname and pname not in points[plink]):
-                    pe.error(f"unknown point '{ref}' (write link.point)")
+                ref = pe.text()
+                if ref is None or not self._point_ref(pe, ref, points, allow_link=True):
                     return None
+                plink, _, pname = ref.partition(".")
                 pname = pname or None
             if kind == "moving":
                 axis = c["moving"].vector(None)
@@ -651,7 +1030,10 @@ class _Builder:
                 if axis is None or b is None:
                     return None
                 if not b[0] < b[1]:
-                    c["travel"].error(f"the band [{b[0]:g}, {b[1]:g}] m is empty")
+                    scale = self.ctx.units["length"]
+                    unit = self.ctx.unit_names.get("length", "m")
+                    c["travel"].error(f"the travel band [{b[0] / scale:g}, {b[1] / scale:g}] "
+                                      f"{unit} is empty: give [from, to] with from < to")
                     return None
                 out.append(Condition("travel", plink, pname, axis, (b[0], b[1]), c.where))
             else:
@@ -659,7 +1041,8 @@ class _Builder:
                 if b is None:
                     return None
                 if not [d for d in drivers if d.motion is not None]:
-                    c["angle"].error("an angle condition needs a motion driver")
+                    if not self.broken["driver"] and "driver" not in self.lost:
+                        c["angle"].error("an angle condition needs a motion driver")
                     return None
                 out.append(Condition("angle", bounds=(b[0], b[1]), where=c.where))
         return out
@@ -669,16 +1052,21 @@ class _Builder:
         if section is None or not section.mapping():
             return {}
         out = {}
-        by_joint = {j.name for j in joints}
+        by_joint = [j.name for j in joints]
         pts = {link.name: link.points for link in links}
         for ref, e in section.items():
-            link, dot, pname = ref.partition(".")
-            if not dot and ref not in by_joint:
-                e.error(f"unknown point '{ref}': write a joint name or link.point"
-                        f"{did_you_mean(ref, by_joint)}")
-                continue
-            if dot and (link not in pts or pname not in pts[link]):
-                e.error(f"unknown point '{ref}'")
+            where = section.key_where(ref)
+            if "." in ref:
+                if not self._point_ref(Entry(e.node, where, self.ctx), ref, pts):
+                    continue
+            elif ref not in by_joint:
+                if self._broken("joint", ref):
+                    continue
+                what = self._what(ref)
+                head = (f"'{ref}' is a {what}, not a joint" if what and what != "joint"
+                        else f"unknown joint '{ref}'{did_you_mean(ref, by_joint)}")
+                self.problems.add(where, f"{head}: a sketch key is a joint name "
+                                         f"({', '.join(by_joint)}) or link.point")
                 continue
             v = e.vector("length")
             if v is not None:
@@ -692,14 +1080,18 @@ class _Builder:
         by_name = {j.name: j for j in joints}
         motion = [d for d in drivers if d.motion is not None]
         kind = "angle" if not motion or by_name[motion[0].joint].angular else "length"
+        unit = self.ctx.unit_names.get(kind, units.SI_UNITS[kind])
         start = a["start"].number(kind) if a.get("start") is not None else 0.0
-        sweep = a["sweep"].number(kind) if a.get("sweep") is not None else (
-            2 * np.pi if kind == "angle" else None)
-        if kind == "length" and a.get("sweep") is None:
+        sweep = None if kind == "length" else 2 * np.pi
+        if (se := a.get("sweep")) is not None:
+            raw = se.raw_number()
+            sweep = None if raw is None else raw * self.ctx.units[kind]
+            if raw is not None and not raw > 0:
+                se.error(f"the sweep must be positive, got {raw:g} {unit} (it is measured in "
+                         "the sense of motion, which the sign of the driver's speed gives)")
+                sweep = None
+        elif kind == "length":
             a.error("a prismatic driver needs analysis.sweep (the travel to analyse)")
-        if sweep is not None and not sweep > 0:
-            a["sweep"].error(f"sweep must be positive, got {sweep:g}")
-            sweep = None
         n = 360
         if (pe := a.get("positions")) is not None:
             v = pe.number(None)
@@ -718,7 +1110,7 @@ class _Builder:
         section = self.top.get("loops")
         if section is None or (items := section.seq()) is None:
             return None
-        names = {j.name for j in joints}
+        names = [j.name for j in joints]
         loops = []
         for e in items:
             seq = e.seq()
@@ -727,8 +1119,8 @@ class _Builder:
             loop = []
             for x in seq:
                 t = x.text()
-                if t is not None and t not in names:
-                    x.error(f"unknown joint '{t}'{did_you_mean(t, names)}")
+                if t is not None and t not in names and not self._broken("joint", t):
+                    x.error(self._not_a("joint", t, names))
                 loop.append(t)
             loops.append(tuple(loop))
         return tuple(loops)

@@ -1,0 +1,232 @@
+"""Closed-form dyads: a fast path behind the group-solver interface.
+
+For RRR, RRP (slide axis on a known link) and RPR (slide axis on the dyad's
+pivoted link) dyads, and for a link driven about a revolute on a known link,
+the positions of every requested time follow in closed form from the known
+links, vectorised over all positions at once.  The assembly branch is the
+sign ``σ`` read off the Newton solution at the sketched pose.  Each solver
+also returns a *margin* (the discriminant relative to its scale); where the
+margin comes near zero the path may reach a singular position, and the
+caller falls back to the general Newton path, which tracks it.
+
+A solver is ``f(q, psi) -> (q, margin)`` filling the group's columns of ``q``.
+"""
+
+from __future__ import annotations
+
+from typing import Callable
+
+import numpy as np
+
+from ._geometry import cross, perp, rotate, wrap_angle
+from .joints import Prismatic, Revolute
+from .system import GroupPlan, System
+
+__all__ = ["closed_form", "MARGIN"]
+
+MARGIN = 1e-3          # below this relative discriminant the Newton path takes over
+
+Solver = Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]
+
+
+def _world(system: System, q: np.ndarray, link: str, p: np.ndarray) -> np.ndarray:
+    if link == system.model.ground.name:
+        return np.broadcast_to(p, q.shape[:-1] + (2,))
+    k = system.link_index(link)
+    return q[..., 3 * k:3 * k + 2] + rotate(q[..., 3 * k + 2], p)
+
+
+def _angle(system: System, q: np.ndarray, link: str):
+    if link == system.model.ground.name:
+        return np.zeros(q.shape[:-1])
+    return q[..., 3 * system.link_index(link) + 2]
+
+
+def _place(system: System, q: np.ndarray, link: str, theta: np.ndarray, world: np.ndarray,
+           local: np.ndarray) -> None:
+    """Set link's pose so that local point ``local`` lies at ``world``."""
+    k = system.link_index(link)
+    q[..., 3 * k + 2] = theta
+    q[..., 3 * k:3 * k + 2] = world - rotate(theta, local)
+
+
+def _heading(v: np.ndarray) -> np.ndarray:
+    return np.arctan2(v[..., 1], v[..., 0])
+
+
+def _pin(j: Revolute, link: str) -> np.ndarray:
+    return j.p_i if link == j.links[0] else j.p_j
+
+
+def _other(j, link: str) -> str:
+    return j.links[1] if j.links[0] == link else j.links[0]
+
+
+def _rrr(system, plan, joints, q0) -> Solver | None:
+    a, b = plan.group.links
+    if not all(isinstance(joints[n], Revolute) for n in plan.group.joints):
+        return None
+    inner = [joints[n] for n in plan.group.joints if set(joints[n].links) == {a, b}]
+    ext_a = [joints[n] for n in plan.group.joints if a in joints[n].links and joints[n] not in inner]
+    ext_b = [joints[n] for n in plan.group.joints if b in joints[n].links and joints[n] not in inner]
+    if len(inner) != 1 or len(ext_a) != 1 or len(ext_b) != 1:
+        return None
+    m, ja, jb = inner[0], ext_a[0], ext_b[0]
+    la_vec, lb_vec = _pin(m, a) - _pin(ja, a), _pin(m, b) - _pin(jb, b)
+    la, lb = np.hypot(*la_vec), np.hypot(*lb_vec)
+    alpha_a, alpha_b = np.arctan2(la_vec[1], la_vec[0]), np.arctan2(lb_vec[1], lb_vec[0])
+    if la == 0 or lb == 0:
+        return None
+
+    def points(q):
+        return (_world(system, q, _other(ja, a), _pin(ja, _other(ja, a))),
+                _world(system, q, _other(jb, b), _pin(jb, _other(jb, b))))
+
+    pa0, pb0 = points(q0)
+    pm0 = _world(system, q0, a, _pin(m, a))
+    sigma = np.sign(cross(pb0 - pa0, pm0 - pa0))
+
+    def solve(q, psi):
+        pa, pb = points(q)
+        dv = pb - pa
+        d2 = np.sum(dv * dv, axis=-1)
+        d = np.sqrt(d2)
+        x = (la * la - lb * lb + d2) / (2 * d)
+        h2 = la * la - x * x
+        h = np.sqrt(np.maximum(h2, 0.0))
+        e = dv / d[..., None]
+        pm = pa + x[..., None] * e + (sigma * h)[..., None] * perp(e)
+        ta = _heading(pm - pa) - alpha_a
+        tb = _heading(pm - pb) - alpha_b
+        _place(system, q, a, ta, pa, _pin(ja, a))
+        _place(system, q, b, tb, pb, _pin(jb, b))
+        return q, np.where(h2 > 0, h, -1.0) / min(la, lb)
+    return solve
+
+
+def _rrp(system, plan, joints, q0) -> Solver | None:
+    """R (a, known) – R (a, b) – P (known link i carries the axis, b slides)."""
+    a, b = plan.group.links
+    gj = [joints[n] for n in plan.group.joints]
+    inner = [j for j in gj if set(j.links) == {a, b}]
+    ext_a = [j for j in gj if a in j.links and j not in inner]
+    ext_b = [j for j in gj if b in j.links and j not in inner]
+    if not (len(inner) == len(ext_a) == len(ext_b) == 1):
+        return None
+    m, ja, s = inner[0], ext_a[0], ext_b[0]
+    if not (isinstance(m, Revolute) and isinstance(ja, Revolute) and isinstance(s, Prismatic)
+            and s.links[1] == b):
+        return None
+    k = s.links[0]                              # known link carrying the axis
+    la_vec = _pin(m, a) - _pin(ja, a)
+    la = np.hypot(*la_vec)
+    alpha_a = np.arctan2(la_vec[1], la_vec[0])
+    offset = _pin(m, b) - s.p                   # from the sliding point to the pin, b's frame
+
+    def frame(q):
+        tk = _angle(system, q, k)
+        tb = tk + s.angle
+        u = rotate(tk, s.u)
+        w = _world(system, q, k, s.a) + rotate(tb, offset) - _world(system, q, _other(ja, a),
+                                                                     _pin(ja, _other(ja, a)))
+        return tb, u, w
+
+    tb0, u0, w0 = frame(q0)
+    pm0 = _world(system, q0, a, _pin(m, a))
+    pa0 = _world(system, q0, _other(ja, a), _pin(ja, _other(ja, a)))
+    wu0 = np.sum(w0 * u0, axis=-1)
+    s0 = np.sum((pm0 - pa0 - w0) * u0, axis=-1)
+    sigma = np.sign(s0 + wu0)
+
+    def solve(q, psi):
+        tb, u, w = frame(q)
+        wu = np.sum(w * u, axis=-1)
+        disc = wu * wu - np.sum(w * w, axis=-1) + la * la
+        sval = -wu + sigma * np.sqrt(np.maximum(disc, 0.0))
+        pa = _world(system, q, _other(ja, a), _pin(ja, _other(ja, a)))
+        pm = pa + w + sval[..., None] * u
+        ta = _heading(pm - pa) - alpha_a
+        _place(system, q, a, ta, pa, _pin(ja, a))
+        _place(system, q, b, tb, pm, _pin(m, b))
+        return q, np.where(disc > 0, np.sqrt(np.maximum(disc, 0.0)), -1.0) / la
+    return solve
+
+
+def _rpr(system, plan, joints, q0) -> Solver | None:
+    """R (a, known) – P (axis on b, a slides) – R (b, known)."""
+    a, b = plan.group.links
+    gj = [joints[n] for n in plan.group.joints]
+    inner = [j for j in gj if set(j.links) == {a, b}]
+    ext_a = [j for j in gj if a in j.links and j not in inner]
+    ext_b = [j for j in gj if b in j.links and j not in inner]
+    if not (len(inner) == len(ext_a) == len(ext_b) == 1):
+        return None
+    s = inner[0]
+    if not isinstance(s, Prismatic):
+        return None
+    b, a = s.links                              # b carries the axis, a slides on it
+    ja = next(j for j in gj if a in j.links and j is not s)
+    jb = next(j for j in gj if b in j.links and j is not s)
+    if not (isinstance(ja, Revolute) and isinstance(jb, Revolute)):
+        return None
+    delta = s.p - _pin(ja, a)                  # a's frame: pin -> sliding point
+    e = s.a - _pin(jb, b)                      # b's frame: pivot -> axis point
+    n_l = perp(s.u)
+    nu_ang = np.arctan2(n_l[1], n_l[0])
+    k_const = float(n_l @ e - n_l @ rotate(s.angle, delta))
+
+    def ends(q):
+        return (_world(system, q, _other(ja, a), _pin(ja, _other(ja, a))),
+                _world(system, q, _other(jb, b), _pin(jb, _other(jb, b))))
+
+    pa0, pb0 = ends(q0)
+    dv0 = pa0 - pb0
+    beta0 = np.arctan2(dv0[1], dv0[0])
+    tb0 = _angle(system, q0, b)
+    sigma = -np.sign(wrap_angle(beta0 - nu_ang - tb0))
+
+    def solve(q, psi):
+        pa, pb = ends(q)
+        dv = pa - pb
+        d = np.hypot(dv[..., 0], dv[..., 1])
+        beta = np.arctan2(dv[..., 1], dv[..., 0])
+        c = k_const / d
+        tb = beta - nu_ang + sigma * np.arccos(np.clip(c, -1.0, 1.0))
+        ta = tb + s.angle
+        _place(system, q, b, tb, pb, _pin(jb, b))
+        _place(system, q, a, ta, pa, _pin(ja, a))
+        return q, np.where(np.abs(c) < 1, np.sqrt(np.maximum(1 - c * c, 0.0)), -1.0)
+    return solve
+
+
+def _driven(system, plan, joints, q0) -> Solver | None:
+    """A single link on a revolute to a known link, its angle set by a driver."""
+    if len(plan.group.links) != 1 or len(plan.group.drivers) != 1 or len(plan.group.joints) != 1:
+        return None
+    (link,) = plan.group.links
+    j = joints[plan.group.joints[0]]
+    drivers = system.motion_drivers
+    d_index = [d.name for d in drivers].index(plan.group.drivers[0])
+    d = drivers[d_index]
+    if not isinstance(j, Revolute) or d.joint is not j:
+        return None
+    other = _other(j, link)
+    sign = 1.0 if j.links[1] == link else -1.0      # coordinate θ_j − θ_i
+
+    def solve(q, psi):
+        theta = _angle(system, q, other) + sign * (psi[..., d_index] - d.driver.offset)
+        _place(system, q, link, theta, _world(system, q, other, _pin(j, other)), _pin(j, link))
+        return q, np.ones(q.shape[:-1])
+    return solve
+
+
+def closed_form(system: System, plan: GroupPlan, q0: np.ndarray) -> Solver | None:
+    """The closed-form solver of a group, given its Newton solution ``q0`` at
+    the sketched pose (which fixes the branch), or ``None``."""
+    joints = {j.name: j for j in system.model.joints}
+    if plan.group.kind == "driven":
+        return _driven(system, plan, joints, q0)
+    if plan.group.kind != "dyad":
+        return None
+    return {"RRR": _rrr, "RRP": _rrp, "RPR": _rpr}.get(plan.group.letters, lambda *a: None)(
+        system, plan, joints, q0)
