@@ -423,8 +423,6 @@ def test_newton_euler_with_friction(case):
     assert worst <= 1e-9 * peak
 
 
-@pytest.mark.xfail(strict=True, reason="library bug: a prismatic pair's Fx_friction/Fy_friction "
-                   "omit the friction force along the axis (SPEC.md: Fx, Fy = N·n_i + friction·u_i)")
 def test_prismatic_reaction_with_friction_includes_the_friction_force():
     c = CASES["inverted"]
     result = ks.analyze(ks.load(MECH / c.file))

@@ -97,18 +97,22 @@ def _condition_rate(system: System, c: Condition, q, qd, qdd, psi, extremes):
 
 
 def _refine(system, drive, f, t0, tn, qn, qdn, qddn, max_iter=12):
-    """Newton on t for f(state) = 0 starting from the sample nearest the root."""
-    t = t0
+    """Newton on t for f(state) = 0, all roots at once.
+
+    ``t0 (k,)`` first guesses, ``tn`` and ``qn``/``qdn``/``qddn`` the solved
+    samples nearest to each (same branch).  Returns the roots ``(k,)``.
+    """
+    t = np.array(t0, dtype=float)
+    live = np.ones(t.shape, dtype=bool)
     for _ in range(max_iter):
-        q, qd, qdd = state_at(system, drive, np.array([t]), np.array([tn]), qn[None], qdn[None],
-                              qddn[None])
-        g, dg = f(q[0], qd[0], qdd[0])
-        if dg == 0:
+        if not live.any():
             break
-        dt = -g / dg
-        t += dt
-        if abs(dt) <= 1e-14 * max(abs(t), 1.0):
-            break
+        q, qd, qdd = state_at(system, drive, t[live], tn[live], qn[live], qdn[live], qddn[live])
+        g, dg = f(q, qd, qdd)
+        dt = np.divide(-g, dg, out=np.zeros_like(g), where=dg != 0)
+        t[live] += dt
+        idx = np.nonzero(live)[0]
+        live[idx[(np.abs(dt) <= 1e-14 * np.maximum(np.abs(t[live]), 1.0)) | (dg == 0)]] = False
     return t
 
 
@@ -116,23 +120,25 @@ def _find_roots(system, drive, t, q, qd, qdd, fvals, f, full, period_t):
     """Times where fvals changes sign between samples (cyclically if full), refined."""
     order = np.argsort(t)
     ts, fs_ = t[order], fvals[order]
-    pairs = list(zip(range(len(ts) - 1), range(1, len(ts))))
+    a = np.arange(len(ts) - 1)
+    b = a + 1
     if full:
-        pairs.append((len(ts) - 1, 0))
-    roots = []
-    for a, b in pairs:
-        fa, fb = fs_[a], fs_[b]
-        if fa == 0.0:
-            roots.append(ts[a])
-            continue
-        if np.sign(fa) * np.sign(fb) < 0:
-            tb = ts[b] + (period_t if b == 0 else 0.0)
-            n = order[a] if abs(fa) <= abs(fb) else order[b]
-            tn = t[n] + (period_t if (b == 0 and n == order[b]) else 0.0)
-            guess = ts[a] + (tb - ts[a]) * fa / (fa - fb)
-            r = _refine(system, drive, f, guess, tn, q[n], qd[n], qdd[n])
-            roots.append(r % period_t if full else r)
-    return roots
+        a, b = np.append(a, len(ts) - 1), np.append(b, 0)
+    exact = ts[a][fs_[a] == 0.0]
+    cross = np.nonzero(np.sign(fs_[a]) * np.sign(fs_[b]) < 0)[0]
+    if not cross.size:
+        return list(exact)
+    a, b = a[cross], b[cross]
+    wrap = (b == 0) * (period_t if full else 0.0)
+    tb = ts[b] + wrap
+    fa, fb = fs_[a], fs_[b]
+    near_b = np.abs(fb) < np.abs(fa)
+    n = np.where(near_b, order[b], order[a])
+    tn = t[n] + np.where(near_b, wrap, 0.0)
+    guess = ts[a] + (tb - ts[a]) * fa / (fa - fb)
+    roots = _refine(system, drive, f, guess, tn, q[n], qd[n], qdd[n])
+    roots = np.mod(roots, period_t) if full else roots
+    return sorted(list(exact) + list(roots))
 
 
 def _extremes_and_events(system, drive, sched, t, q, qd, qdd, full):
@@ -150,12 +156,12 @@ def _extremes_and_events(system, drive, sched, t, q, qd, qdd, full):
             pos, vel, acc = point_state(q, qd, qdd, k, p)
             s = pos @ c.axis
             n = int(np.argmin(s))
+            sl = slice(n, n + 1)
             tmin = _refine(system, drive, lambda a, b, cc, ax=c.axis, kk=k, pp=p:
                            (point_state(a, b, cc, kk, pp)[1] @ ax,
-                            point_state(a, b, cc, kk, pp)[2] @ ax), t[n], t[n], q[n], qd[n], qdd[n])
-            qm, _, _ = state_at(system, drive, np.array([tmin]), t[n:n + 1], q[n:n + 1],
-                                qd[n:n + 1], qdd[n:n + 1])
-            extremes[id(c)] = min(float(point_state(qm, qm * 0, None, k, p)[0][0] @ c.axis), s.min())
+                            point_state(a, b, cc, kk, pp)[2] @ ax), t[sl], t[sl], q[sl], qd[sl], qdd[sl])
+            qm, _, _ = state_at(system, drive, tmin, t[sl], q[sl], qd[sl], qdd[sl])
+            extremes[id(c)] = min(float(point_state(qm, qm, None, k, p)[0][0] @ c.axis), s.min())
     events: list = []
     for load in system.model.loads:
         for c in load.active:

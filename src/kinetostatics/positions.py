@@ -529,12 +529,38 @@ def state_at(system: System, drive: Drive, t: np.ndarray, t_near: np.ndarray, q_
     refine event positions; raises AssemblyError if a group does not converge.
     """
     h = (t - t_near)[..., None]
-    q = q_near + h * qd_near + 0.5 * h * h * qdd_near
+    guess = q_near + h * qd_near + 0.5 * h * h * qdd_near
     psi, psi_d, psi_dd = drive(t)
-    for plan in system.plans:
-        q, ok, _ = _newton(system, q, psi, plan)
-        if not np.all(ok):
-            raise AssemblyError(plan.group.label, _coordinate_text(system, psi.reshape(-1)[:1]),
-                                "Newton did not converge while locating an event")
-    qd = velocities(system, q, psi_d)
-    return q, qd, accelerations(system, q, qd, psi_dd)
+    q = _closed_form_at(system, drive, guess, psi)
+    if q is None:
+        q = guess
+        for plan in system.plans:
+            q, ok, _ = _newton(system, q, psi, plan)
+            if not np.all(ok):
+                raise AssemblyError(plan.group.label, _coordinate_text(system, psi.reshape(-1)[:1]),
+                                    "Newton did not converge while locating an event")
+    qd, qdd, _ = derivatives(system, q, psi_d, psi_dd)
+    return q, qd, qdd
+
+
+def _closed_form_at(system: System, drive: Drive, guess: np.ndarray, psi: np.ndarray):
+    """Closed-form positions near ``guess`` (angles taken nearest to it), or None."""
+    from .dyads import MARGIN
+    solvers = _solvers(system, drive)
+    if solvers is None:
+        return None
+    q = guess.copy()
+    for solve in solvers:
+        q, margin = solve(q, psi)
+        if not np.all(margin >= MARGIN):
+            return None
+    ang = slice(2, None, 3)
+    q[..., ang] += 2 * np.pi * np.round((guess[..., ang] - q[..., ang]) / (2 * np.pi))
+    return q
+
+
+def _solvers(system: System, drive: Drive):
+    from .dyads import closed_form
+    q0, _ = start_pose(system, drive)
+    solvers = [closed_form(system, plan, q0) for plan in system.plans]
+    return None if any(s is None for s in solvers) else solvers

@@ -119,6 +119,9 @@ def build_columns(system: System, t, psi, q, qd, qdd, x0, fric, power, cond, sha
                 put(f"{j.name}.friction_approx", fric["e_approx"][..., n_f[k]], unit)
                 put(f"{j.name}.friction", sol.e[..., n_f[k]], unit)
             reac_f = j.reaction(sol.x[..., block], qi, qj)
+            if k in n_f:                          # a friction force along a slide is a force too
+                for label, extra in j.effort_force(sol.e[..., n_f[k]], qi, qj).items():
+                    reac_f[label] = reac_f[label] + extra
             for label in j.reaction_labels:
                 put(f"{j.name}.{label}_friction", reac_f[label], force_unit.get(label, "N"))
     n_j = system.n_joint_rows

@@ -39,9 +39,9 @@ def output_strokes(result) -> dict[str, dict[str, Any]]:
         period = 2 * np.pi / sched.reference
 
         def f(q, qd, qdd, k=k):
-            g = coordinate_gradient(system, q[None], k)[0]
-            bias = _bias(system, q, qd, k)
-            return float(g @ qd), float(g @ qdd + bias)
+            g = coordinate_gradient(system, q, k)
+            return (np.einsum("...n,...n->...", g, qd),
+                    np.einsum("...n,...n->...", g, qdd) + _bias(system, q, qd, k))
 
         roots = _find_roots(system, sched, result.t, result.q, result.qd, result.qdd, ds, f,
                             True, period)
@@ -73,11 +73,11 @@ def _coordinate(system, q, k):
 
 
 def _bias(system, q, qd, k):
-    qe = np.concatenate((q, np.zeros(3)))
-    ve = np.concatenate((qd, np.zeros(3)))
+    qe = np.concatenate((q, np.zeros(q.shape[:-1] + (3,))), axis=-1)
+    ve = np.concatenate((qd, np.zeros(qd.shape[:-1] + (3,))), axis=-1)
     i, j = system.ends[k]
-    return float(system.constraints[k].coordinate_bias(qe[3 * i:3 * i + 3], qe[3 * j:3 * j + 3],
-                                                        ve[3 * i:3 * i + 3], ve[3 * j:3 * j + 3]))
+    return system.constraints[k].coordinate_bias(qe[..., 3 * i:3 * i + 3], qe[..., 3 * j:3 * j + 3],
+                                                  ve[..., 3 * i:3 * i + 3], ve[..., 3 * j:3 * j + 3])
 
 
 def summarize(result) -> dict[str, Any]:

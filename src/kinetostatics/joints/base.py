@@ -125,6 +125,14 @@ class Joint(ABC):
         gi, gj = self.motion_direction(qi, qj)
         return np.einsum("...k,...k->...", gi, vi) + np.einsum("...k,...k->...", gj, vj)
 
+    def effort_force(self, effort: np.ndarray, qi: np.ndarray, qj: np.ndarray) -> dict[str, np.ndarray]:
+        """What an effort along the coordinate (i on j) adds to the reaction labels.
+
+        A couple adds no force (revolute: {}); a force along a sliding axis adds
+        its components.  Used for the reactions of the friction solutions.
+        """
+        return {}
+
     # -- friction -----------------------------------------------------------
     @property
     def has_friction(self) -> bool:

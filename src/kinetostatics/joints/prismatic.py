@@ -130,6 +130,10 @@ class Prismatic(Joint, kind="prismatic"):
         n_force, couple = lam[..., 0], lam[..., 1]
         return {"Fx": n_force * N[..., 0], "Fy": n_force * N[..., 1], "N": n_force, "M": couple}
 
+    def effort_force(self, effort, qi, qj):
+        U = rotate(qi[..., 2], self.u)
+        return {"Fx": effort * U[..., 0], "Fy": effort * U[..., 1]}
+
     # -- relative coordinate --------------------------------------------------
     def coordinate(self, qi, qj):
         A, U, N, P, d = self._frame(qi, qj)
