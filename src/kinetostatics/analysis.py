@@ -104,16 +104,19 @@ def _refine(system, drive, f, t0, tn, qn, qdn, qddn, max_iter=12):
     """
     t = np.array(t0, dtype=float)
     live = np.ones(t.shape, dtype=bool)
+    states = [qn.copy(), qdn.copy(), qddn.copy()]
     for _ in range(max_iter):
         if not live.any():
             break
-        q, qd, qdd = state_at(system, drive, t[live], tn[live], qn[live], qdn[live], qddn[live])
+        idx = np.nonzero(live)[0]
+        q, qd, qdd = state_at(system, drive, t[idx], tn[idx], qn[idx], qdn[idx], qddn[idx])
+        for store, new in zip(states, (q, qd, qdd)):
+            store[idx] = new
         g, dg = f(q, qd, qdd)
         dt = np.divide(-g, dg, out=np.zeros_like(g), where=dg != 0)
-        t[live] += dt
-        idx = np.nonzero(live)[0]
-        live[idx[(np.abs(dt) <= 1e-14 * np.maximum(np.abs(t[live]), 1.0)) | (dg == 0)]] = False
-    return t
+        t[idx] += dt
+        live[idx[(np.abs(dt) <= 1e-14 * np.maximum(np.abs(t[idx]), 1.0)) | (dg == 0)]] = False
+    return t, states
 
 
 def _find_roots(system, drive, t, q, qd, qdd, fvals, f, full, period_t):
@@ -124,10 +127,9 @@ def _find_roots(system, drive, t, q, qd, qdd, fvals, f, full, period_t):
     b = a + 1
     if full:
         a, b = np.append(a, len(ts) - 1), np.append(b, 0)
-    exact = ts[a][fs_[a] == 0.0]
-    cross = np.nonzero(np.sign(fs_[a]) * np.sign(fs_[b]) < 0)[0]
+    cross = np.nonzero((np.sign(fs_[a]) * np.sign(fs_[b]) < 0) | (fs_[a] == 0.0))[0]
     if not cross.size:
-        return list(exact)
+        return np.zeros(0), [np.zeros((0,) + q.shape[1:])] * 3
     a, b = a[cross], b[cross]
     wrap = (b == 0) * (period_t if full else 0.0)
     tb = ts[b] + wrap
@@ -135,10 +137,10 @@ def _find_roots(system, drive, t, q, qd, qdd, fvals, f, full, period_t):
     near_b = np.abs(fb) < np.abs(fa)
     n = np.where(near_b, order[b], order[a])
     tn = t[n] + np.where(near_b, wrap, 0.0)
-    guess = ts[a] + (tb - ts[a]) * fa / (fa - fb)
-    roots = _refine(system, drive, f, guess, tn, q[n], qd[n], qdd[n])
-    roots = np.mod(roots, period_t) if full else roots
-    return sorted(list(exact) + list(roots))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        guess = np.where(fa == 0.0, ts[a], ts[a] + (tb - ts[a]) * fa / (fa - fb))
+    roots, states = _refine(system, drive, f, guess, tn, q[n], qd[n], qdd[n])
+    return (np.mod(roots, period_t) if full else roots), states
 
 
 def _extremes_and_events(system, drive, sched, t, q, qd, qdd, full):
@@ -157,10 +159,10 @@ def _extremes_and_events(system, drive, sched, t, q, qd, qdd, full):
             s = pos @ c.axis
             n = int(np.argmin(s))
             sl = slice(n, n + 1)
-            tmin = _refine(system, drive, lambda a, b, cc, ax=c.axis, kk=k, pp=p:
-                           (point_state(a, b, cc, kk, pp)[1] @ ax,
-                            point_state(a, b, cc, kk, pp)[2] @ ax), t[sl], t[sl], q[sl], qd[sl], qdd[sl])
-            qm, _, _ = state_at(system, drive, tmin, t[sl], q[sl], qd[sl], qdd[sl])
+            _, (qm, _, _) = _refine(system, drive, lambda a, b, cc, ax=c.axis, kk=k, pp=p:
+                                    (point_state(a, b, cc, kk, pp)[1] @ ax,
+                                     point_state(a, b, cc, kk, pp)[2] @ ax),
+                                    t[sl], t[sl], q[sl], qd[sl], qdd[sl])
             extremes[id(c)] = min(float(point_state(qm, qm, None, k, p)[0][0] @ c.axis), s.min())
     events: list = []
     for load in system.model.loads:
@@ -179,8 +181,9 @@ def _extremes_and_events(system, drive, sched, t, q, qd, qdd, full):
                     g, dg = _condition_rate(system, c, a, b, cc, None, extremes)
                     return g - offset, dg
                 vals = _condition_rate(system, c, q, qd, qdd, psi, extremes)[0] - offset
-                for r in _find_roots(system, drive, t, q, qd, qdd, vals, f, full, period_t):
-                    qr, qdr, qddr = _state_near(system, drive, r, t, q, qd, qdd)
+                roots, (qs, qds, qdds) = _find_roots(system, drive, t, q, qd, qdd, vals, f, full,
+                                                     period_t)
+                for r, qr, qdr, qddr in zip(roots, qs[:, None], qds[:, None], qdds[:, None]):
                     g, dg = f(qr[0], qdr[0], qddr[0])
                     psi_r = drive(np.array([r]))[0][..., 0]
                     if not _others_hold(system, load, c, qr, qdr, psi_r, extremes, sched):
@@ -299,7 +302,7 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
         power["input_friction"] = np.sum(cons.x[..., n_j:] * rel, axis=-1)
         power["residual_friction"] = (power["input_friction"] - power["kinetic"] - power["potential"]
                                       - power["external"] - loss)
-    cond = {p.group: group_condition(system, q, p) for p in system.plans}
+    cond = {p.group: group_condition(system, q, p) for p in system.plans if p.group.kind != "driven"}
     shaking = np.einsum("...ij,...j->...i", a_full[..., -3:, :], x0)
     columns, units = build_columns(system, t, psi, q, qd, qdd, x0, fric, power, cond, shaking, full)
     return Result(system=system, t=t, coordinate=psi[..., 0], q=q, qd=qd, qdd=qdd, lam=x0,

@@ -468,9 +468,9 @@ def _closed_form_path(system: System, q0: np.ndarray, sig0: np.ndarray, t: np.nd
     auxiliary points every ≤ 30° of the driver let the angles be unwrapped.
     The result is checked against Φ = 0; any doubt returns None (Newton path).
     """
-    from .dyads import MARGIN, closed_form
-    solvers = [closed_form(system, plan, q0) for plan in system.plans]
-    if any(s is None for s in solvers):
+    from .dyads import MARGIN
+    solvers = _solvers(system, drive)
+    if solvers is None:
         return None
     coarse = _max_dt(system, 0.0, drive, COARSE_STEP)
     lo, hi = min(0.0, float(t.min())), max(0.0, float(t.max()))
@@ -560,7 +560,12 @@ def _closed_form_at(system: System, drive: Drive, guess: np.ndarray, psi: np.nda
 
 
 def _solvers(system: System, drive: Drive):
+    """The closed-form solvers of every group (cached with the start pose), or None."""
     from .dyads import closed_form
-    q0, _ = start_pose(system, drive)
-    solvers = [closed_form(system, plan, q0) for plan in system.plans]
-    return None if any(s is None for s in solvers) else solvers
+    start_pose(system, drive)
+    cached = _STARTS[system]
+    if len(cached) == 3:
+        solvers = [closed_form(system, plan, cached[1]) for plan in system.plans]
+        cached = cached + (None if any(s is None for s in solvers) else solvers,)
+        _STARTS[system] = cached
+    return cached[3]

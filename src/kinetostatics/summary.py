@@ -22,7 +22,6 @@ def output_strokes(result) -> dict[str, dict[str, Any]]:
     machinery refines them); the time ratio K is the slower stroke's time
     over the faster's, from those exact positions (full cycles only).
     """
-    from .analysis import _refine, _state_near
     system = result.system
     out: dict[str, dict[str, Any]] = {}
     driven = {d.joint.name for d in system.motion_drivers}
@@ -43,14 +42,11 @@ def output_strokes(result) -> dict[str, dict[str, Any]]:
             return (np.einsum("...n,...n->...", g, qd),
                     np.einsum("...n,...n->...", g, qdd) + _bias(system, q, qd, k))
 
-        roots = _find_roots(system, sched, result.t, result.q, result.qd, result.qdd, ds, f,
-                            True, period)
+        roots, (qr, _, _) = _find_roots(system, sched, result.t, result.q, result.qd, result.qdd,
+                                        ds, f, True, period)
         if len(roots) != 2:
             continue
-        vals = []
-        for r in roots:
-            qr, _, _ = _state_near(system, sched, r, result.t, result.q, result.qd, result.qdd)
-            vals.append(float(_coordinate(system, qr, k)[0]))
+        vals = [float(v) for v in _coordinate(system, qr, k)]
         lo, hi = (0, 1) if vals[0] < vals[1] else (1, 0)
         t_up = (roots[hi] - roots[lo]) % period           # from the low to the high extreme
         t_down = period - t_up

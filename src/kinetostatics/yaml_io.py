@@ -358,8 +358,13 @@ def _count_nodes(node: yaml.Node, limit: int) -> int:
     return count
 
 
+_PLAIN_TAGS = frozenset(f"tag:yaml.org,2002:{t}" for t in (
+    "str", "int", "float", "bool", "null", "seq", "map", "merge", "timestamp", "value"))
+
+
 def _check_keys_and_duplicates(root: yaml.Node, file: str, problems: Collector) -> None:
-    """Every mapping key must be a plain scalar and appear once (iterative: no recursion)."""
+    """Every mapping key must be a plain scalar and appear once; no application tags
+    (``!!python/...``).  Iterative: no recursion."""
     stack: list[tuple[yaml.Node, str]] = [(root, "")]
     visited: set[int] = set()
     while stack:
@@ -367,6 +372,12 @@ def _check_keys_and_duplicates(root: yaml.Node, file: str, problems: Collector) 
         if id(node) in visited:                 # an alias: its node was checked already
             continue
         visited.add(id(node))
+        if node.tag not in _PLAIN_TAGS:
+            m = node.start_mark
+            tag = str(node.tag).replace("tag:yaml.org,2002:", "!!", 1)
+            problems.add(Location(file, m.line + 1, m.column + 1, path),
+                         f"YAML tags such as '{tag}' are not allowed")
+            continue
         if isinstance(node, yaml.MappingNode):
             seen: dict[str, int] = {}
             children = []
@@ -457,8 +468,10 @@ def _syntax_problem(exc: yaml.YAMLError, file: str) -> tuple[Location, str]:
     loc = Location(file, mark.line + 1, mark.column + 1) if mark else Location(file)
     context, cmark = getattr(exc, "context", None), getattr(exc, "context_mark", None)
     message = f"YAML syntax error: {problem}"
-    if context and cmark is not None and (mark is None or cmark.line != mark.line
-                                          or cmark.column != mark.column):
+    if context and not context.startswith("while "):
+        message = f"YAML syntax error: {context}, {problem}"
+    elif context and cmark is not None and (mark is None or cmark.line != mark.line
+                                            or cmark.column != mark.column):
         context = context.removeprefix("while ").replace("parsing ", "in ", 1) \
             .replace("scanning ", "in ", 1)
         message += f" ({context} that starts at line {cmark.line + 1}, column {cmark.column + 1})"
