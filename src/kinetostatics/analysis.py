@@ -15,8 +15,9 @@ from . import friction as fr
 from .errors import Location, StructureError
 from .forces import condition_values, external_forces, gravity_forces, inertia_forces, mass_vector
 from .model import Condition, Model
-from .positions import PositionSolution, derivatives, group_condition, solve_positions, state_at
-from .reactions import effort_joints, equilibrium_matrix, solve_equilibrium
+from .positions import (PositionSolution, condition_number, derivatives, group_condition,
+                        solve_positions, state_at)
+from .reactions import effort_joints, equilibrium_matrix, ground_reaction, solve_equilibrium
 from .results import Result, build_columns
 from .system import System, build_system
 
@@ -245,7 +246,7 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
     sol: PositionSolution = solve_positions(system, t, sched)
     q = sol.q
     psi, psi_d, psi_dd = sched(t)
-    qd, qdd, jac_inv = derivatives(system, q, psi_d, psi_dd)
+    qd, qdd, lu = derivatives(system, q, psi_d, psi_dd)
     extremes, evts = _extremes_and_events(system, sched, sched, t, q, qd, qdd, full)
     want_events = model.analysis.events if events is None else events
     if want_events and evts:
@@ -257,7 +258,7 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
         order = np.argsort(t, kind="stable")
         t, q, qd, qdd = t[order], q[order], qd[order], qdd[order]
         psi, psi_d, psi_dd = sched(t)
-        jac_inv = None
+        lu = None
     ref = sched.reference
     # loads
     shape = q.shape[:-1]
@@ -266,21 +267,19 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
     q_ext = external_forces(system, q, qd, psi[..., 0], extremes, ref)
     q_load = q_grav + q_inert + q_ext
     # reactions
-    a_full = equilibrium_matrix(system, q, ground=True)
-    a = a_full[..., :-3, :]
     own_efforts = all(d.driver.balance_at is None for d in system.motion_drivers)
-    if jac_inv is not None and own_efforts and a.shape[-1] == system.n_q:
-        a_inv = np.swapaxes(jac_inv, -1, -2)      # A = Φ_qᵀ: reuse the kinematic inverse
-        x0, indeterminate = np.einsum("...ij,...j->...i", a_inv, -q_load), False
+    if lu is not None and own_efforts:
+        a = np.swapaxes(lu.jac, -1, -2)           # A = Φ_qᵀ: reuse the kinematic factors
+        x0, indeterminate = lu.solve_transposed(-q_load), False
     else:
+        a = equilibrium_matrix(system, q)
         x0, indeterminate = solve_equilibrium(a, -q_load)
-        a_inv = None
     # friction
     fric = None
     if (model.has_friction if friction is None else friction) and model.has_friction:
         fs = fr.setup(system, q, qd, ref)
-        if a_inv is None:
-            a_inv = np.linalg.inv(a)
+        a_inv = (np.swapaxes(lu.inverse(), -1, -2) if lu is not None and own_efforts
+                 else np.linalg.inv(a))
         xa, ea = fr.approximate(system, fs, a_inv, q_load, x0)
         cons = fr.consistent(system, fs, a, a_inv, q_load, x0)
         fric = dict(setup=fs, x_approx=xa, e_approx=ea, solution=cons)
@@ -302,8 +301,10 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
         power["input_friction"] = np.sum(cons.x[..., n_j:] * rel, axis=-1)
         power["residual_friction"] = (power["input_friction"] - power["kinetic"] - power["potential"]
                                       - power["external"] - loss)
-    cond = {p.group: group_condition(system, q, p) for p in system.plans if p.group.kind != "driven"}
-    shaking = np.einsum("...ij,...j->...i", a_full[..., -3:, :], x0)
+    cond = {p.group: (condition_number(system, p, lu.jac[..., p.rows[:, None], p.cols], lu.inv[g])
+                      if lu is not None else group_condition(system, q, p))
+            for g, p in enumerate(system.plans) if p.group.kind != "driven"}
+    shaking = ground_reaction(system, q, x0)
     columns, units = build_columns(system, t, psi, q, qd, qdd, x0, fric, power, cond, shaking, full)
     return Result(system=system, t=t, coordinate=psi[..., 0], q=q, qd=qd, qdd=qdd, lam=x0,
                   columns=columns, units=units, events=tuple(evts), singular=tuple(sol.singular),

@@ -271,4 +271,8 @@ def structure(model: Model) -> Structure:
                                       f"({', '.join(d.name for d in motion)}) but the mobility "
                                       f"is {mobility}: give '{extra.name}' an effort instead "
                                       "of a motion, or remove it")])
-    return Structure(g, mobility, tuple(loops), assur_groups(model, g))
+    with warnings.catch_warnings():
+        if len(motion) < mobility:      # undriven links cannot decompose: no news, no warning
+            warnings.simplefilter("ignore")
+        groups = assur_groups(model, g)
+    return Structure(g, mobility, tuple(loops), groups)

@@ -15,7 +15,7 @@ import numpy as np
 
 from .system import System, coordinate_gradient, jacobian
 
-__all__ = ["effort_joints", "equilibrium_matrix", "solve_equilibrium"]
+__all__ = ["effort_joints", "equilibrium_matrix", "solve_equilibrium", "ground_reaction"]
 
 
 def effort_joints(system: System) -> list[int]:
@@ -45,3 +45,22 @@ def solve_equilibrium(a: np.ndarray, rhs: np.ndarray) -> tuple[np.ndarray, bool]
             warnings.warn("the equilibrium equations are singular at some positions; "
                           "minimum-norm reactions are reported there", stacklevel=2)
     return (np.linalg.pinv(a) @ rhs[..., None])[..., 0], True
+
+
+def ground_reaction(system: System, q: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """Force and moment (about the ground origin) that the moving links exert
+    on the ground through every joint and driver effort, ``(..., 3)``: the
+    shaking force and moment."""
+    ground = len(system.links)
+    out = np.zeros(q.shape[:-1] + (3,))
+    touching = [k for k in range(len(system.model.joints)) if ground in system.ends[k]]
+    if touching:
+        jac = jacobian(system, q, touching, ground=True)[..., -3:]
+        lam = np.concatenate([x[..., system.rows_of(k)] for k in touching], axis=-1)
+        out += np.einsum("...ij,...i->...j", jac, lam)
+    n_j = system.n_joint_rows
+    for d, k in enumerate(effort_joints(system)):
+        if ground in system.ends[k]:
+            g = coordinate_gradient(system, q, k, ground=True)[..., -3:]
+            out += g * x[..., n_j + d, None]
+    return out

@@ -421,8 +421,14 @@ def load(path: str | Path) -> Model:
                                f"the file is more than the limit of {MAX_FILE_BYTES} bytes; "
                                "refused")])
         text = data.decode("utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
+    except UnicodeDecodeError as exc:
+        line = data[:exc.start].count(b"\n") + 1
+        col = exc.start - (data.rfind(b"\n", 0, exc.start) + 1) + 1
+        raise ModelError([(Location(str(path), line, col),
+                           f"the file is not UTF-8 text (byte 0x{data[exc.start]:02x}); "
+                           "save it as UTF-8")]) from None
+    except OSError as exc:
+        reason = exc.strerror or str(exc)
         raise ModelError([(Location(str(path)), f"cannot read the file: {reason}")]) from None
     return loads(text, file=str(path))
 
@@ -447,14 +453,15 @@ def loads(text: str, file: str = "<string>") -> Model:
         raise ModelError([(Location(file, 1, 1), "the file has no content (only comments or "
                                                  "blank lines); expected a mapping with at "
                                                  "least links and joints")])
+    start = Location(file, root.start_mark.line + 1, root.start_mark.column + 1, "")
     if _count_nodes(root, MAX_NODES) > MAX_NODES:
-        raise ModelError([(Location(file, 1, 1),
+        raise ModelError([(start,
                            f"more than {MAX_NODES} YAML nodes once aliases are expanded "
                            "(an alias bomb?); refused")])
     ctx = _Context(file)
     _check_keys_and_duplicates(root, file, ctx.problems)
     ctx.problems.raise_if_any()
-    top = Entry(root, Location(file, 1, 1, ""), ctx)
+    top = Entry(root, start, ctx)
     if not top.is_mapping:
         raise ModelError([(top.where, "the file must be a mapping of keys (name, units, links, "
                                       f"joints, ...), got {_describe(root)}")])
@@ -468,6 +475,8 @@ def _syntax_problem(exc: yaml.YAMLError, file: str) -> tuple[Location, str]:
     loc = Location(file, mark.line + 1, mark.column + 1) if mark else Location(file)
     context, cmark = getattr(exc, "context", None), getattr(exc, "context_mark", None)
     message = f"YAML syntax error: {problem}"
+    if problem.startswith("found character '\\t'"):
+        return loc, "YAML syntax error: a tab character; indent with spaces"
     if context and not context.startswith("while "):
         message = f"YAML syntax error: {context}, {problem}"
     elif context and cmark is not None and (mark is None or cmark.line != mark.line
@@ -918,9 +927,6 @@ class _Builder:
             angles.append(float(np.arctan2(d[1], d[0])))
         return (chosen[0], chosen[1]), angles[1] - angles[0]
 
-    def _ground_name(self) -> str:
-        return self.ground or "ground"
-
     def _loads(self, links, joints, points, drivers) -> list[Load]:
         section = self.top.get("loads")
         if section is None or not section.mapping():
@@ -1143,6 +1149,9 @@ def _joint_point(joint: Joint, link: str) -> str:
     names = getattr(joint, "point_names", None)
     if names:
         return names[joint.links.index(link)]
+    axis = getattr(joint, "axis_names", None)
+    if axis and axis[0] and link == joint.links[0]:     # a prismatic's axis is on link i
+        return axis[0]
     return getattr(joint, "point_name", joint.name)
 
 
