@@ -23,6 +23,8 @@ def _check(args) -> int:
     model = load(args.file)
     system = build_system(model)
     st = system.structure
+    from .analysis import numerical_mobility
+    n_num = numerical_mobility(system)
     print(f"{model.name}: {len(model.moving_links)} moving links, {len(model.joints)} joints, "
           f"{len(model.drivers)} drivers")
     print(f"mobility (Grübler–Kutzbach): {st.mobility}")
@@ -34,8 +36,6 @@ def _check(args) -> int:
         g = plan.group
         via = ", ".join(g.joints + g.drivers)
         print(f"  {k}. {g.label} via {via}")
-    from .analysis import numerical_mobility
-    n_num = numerical_mobility(system)
     print(f"mobility (numerical, at the sketched pose): {n_num}")
     return 0
 
@@ -89,9 +89,13 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--out", default="out", help="output folder (default: out)")
     p.set_defaults(func=_run)
     args = parser.parse_args(argv)
+    def one_line(message, category, filename, lineno, file=None, line=None):
+        print(f"kinetostatics: warning: {message}", file=sys.stderr)
+
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("default")
+            warnings.showwarning = one_line
             return args.func(args)
     except KinetostaticsError as exc:
         for line in str(exc).splitlines():

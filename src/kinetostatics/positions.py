@@ -28,6 +28,7 @@ import numpy as np
 
 from ._geometry import rotate
 from ._linalg import BlockFactor
+from .drivers import DriverConstraint
 from .errors import AssemblyError, ModelError, SingularConfigurationError
 from .system import GroupPlan, System, gamma, jacobian, nu, phi
 
@@ -277,17 +278,18 @@ def _miss(system: System, q: np.ndarray, psi: np.ndarray, plan: GroupPlan) -> st
         else:
             mu *= 10.0
     r = phi(system, q, psi, plan.constraints)
-    worst, k_worst, row = 0.0, None, 0
-    for k in plan.constraints:
+    misses, row = [], 0
+    for k in plan.constraints:                 # a joint's gap: the norm of its residual
         c = system.constraints[k]
-        v = float(np.max(np.abs(r[row:row + c.n_eq]))) if c.n_eq else 0.0
-        if v > worst:
-            worst, k_worst = v, k
+        if not isinstance(c, DriverConstraint):
+            misses.append((float(np.linalg.norm(r[row:row + c.n_eq])), c.name))
         row += c.n_eq
-    if k_worst is None or worst <= TOL * 1e3 * system.l_ref:
+    total = sum(m for m, _ in misses)
+    if total <= TOL * 1e3 * system.l_ref:
         return "Newton did not converge (a singular position is near)"
-    name = system.constraints[k_worst].name
-    return f"joint {name} misses by {worst * 1e3:.4g} mm (the links cannot reach)"
+    open_ = ", ".join(f"{name} {m * 1e3:.4g}" for m, name in misses if m > 1e-3 * total)
+    return (f"the links cannot reach: they miss closing by {total * 1e3:.4g} mm "
+            f"(least-squares gaps at joints {open_} mm)")
 
 
 def _step(system: System, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, t: float, h: float,
