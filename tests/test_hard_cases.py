@@ -82,5 +82,5 @@ def test_links_that_cannot_reach_name_group_coordinate_and_miss():
     angle = float(re.search(r"motor = ([\d.]+)°", msg).group(1))
     # the rod reaches the guide while a sin φ + |e| ≤ b: first failure past asin(0.09/0.1)
     assert np.degrees(np.arcsin(0.09 / 0.1)) - 0.01 < angle < 90.0
-    miss = float(re.search(r"misses by ([\d.e+-]+) mm", msg).group(1))
+    miss = float(re.search(r"miss closing by ([\d.e+-]+) mm", msg).group(1))
     assert 0 < miss < 0.01 * 1e3
