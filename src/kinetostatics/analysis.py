@@ -7,11 +7,10 @@ events → loads → reactions → friction → power → result columns.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable
-
 import numpy as np
 
 from . import friction as fr
+from .differences import difference_derivatives
 from .errors import Location, StructureError
 from .forces import condition_values, external_forces, gravity_forces, inertia_forces, mass_vector
 from .model import Condition, Model
@@ -212,7 +211,7 @@ def _state_near(system, drive, r, t, q, qd, qdd):
 
 def analyze(model: Model | System, *, positions: np.ndarray | None = None,
             friction: bool | None = None, events: bool | None = None,
-            progress: Callable[[str], None] | None = None) -> Result:
+            derivatives_by: str = "jacobian", step: float = np.radians(1.0)) -> Result:
     """Kinematics and kinetostatics over the positions of ``model.analysis``.
 
     Parameters
@@ -227,6 +226,10 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
     events : bool, optional
         Add rows at the exact positions where loads switch (default
         ``analysis.events``).
+    derivatives_by : {"jacobian", "forward", "central"}
+        Velocities and accelerations from the constraint Jacobian (exact), or
+        — as a comparison mode only — by the source text's forward difference
+        quotients or by central differences with driver step ``step`` (rad or m).
 
     Returns
     -------
@@ -247,6 +250,9 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
     q = sol.q
     psi, psi_d, psi_dd = sched(t)
     qd, qdd, lu = derivatives(system, q, psi_d, psi_dd)
+    if derivatives_by != "jacobian":
+        qd, qdd = difference_derivatives(system, sched, t, q, derivatives_by, step)
+        lu = None                     # the kinematic factors no longer describe (qd, qdd)
     extremes, evts = _extremes_and_events(system, sched, sched, t, q, qd, qdd, full)
     want_events = model.analysis.events if events is None else events
     if want_events and evts:

@@ -61,6 +61,9 @@ def _run(args) -> int:
         print(f"event: {e['load']} {e['switch']} at {e['angle']:.3f}° ({e['condition']})")
     for sp in s["singular_positions"]:
         print(f"singular position: {sp['group']} at {sp['angle']:.4f}° (condition {sp['condition']:.3g})")
+    if s["indeterminate_reactions"]:
+        print("warning: redundant constraints: the reactions are the minimum-norm solution "
+              "(statically indeterminate)")
     for name, d in s["drivers"].items():
         line = f"{name}: mean {d['mean']:.4g} {d['unit']}, peak {d['peak']:.4g}"
         if "mean_friction" in d:

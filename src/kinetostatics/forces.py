@@ -92,20 +92,22 @@ def zero_speed(system: System, ref_speed: float) -> float:
 def external_forces(system: System, q, qd, psi, extremes, ref_speed: float) -> np.ndarray:
     """Generalized external forces of all loads, ``(..., n_q)``."""
     out = np.zeros(q.shape)
+    period = 2 * np.pi if system.motion_drivers and system.motion_drivers[0].joint.angular else None
     for load in system.model.loads:
+        value = load.value_at(psi, period)
         k = system.link_index(load.link)
         p = _reference_point(system, load.link, load.point)
         pos, vel, _ = point_state(q, qd, None, k, p)
         on = activity(system, load, q, qd, psi, extremes, ref_speed)
         if load.kind == "torque":
-            out[..., 3 * k + 2] += np.where(on, float(load.value), 0.0)
+            out[..., 3 * k + 2] += np.where(on, value, 0.0)
             continue
         if load.kind == "force":
-            force = np.broadcast_to(load.value, pos.shape)
+            force = value
         else:
             v = vel @ load.axis
             sign = np.where(np.abs(v) > zero_speed(system, ref_speed), np.sign(v), 0.0)
-            force = -float(load.value) * sign[..., None] * load.axis
+            force = -(value * sign)[..., None] * load.axis
         force = np.where(on[..., None], force, 0.0)
         arm = rotate(q[..., 3 * k + 2], p)
         out[..., 3 * k:3 * k + 2] += force

@@ -88,7 +88,8 @@ class Load:
 
     ``kind``: ``force`` (global vector ``value`` at ``point``, N), ``torque``
     (``value`` N·m) or ``resistance`` (magnitude ``value`` N along ``axis``
-    opposing the point's velocity component along it).  Active only while all
+    opposing the point's velocity component along it); ``table`` replaces the
+    constant by values over the driver coordinate.  Active only while all
     ``active`` conditions hold.
     """
 
@@ -100,6 +101,17 @@ class Load:
     axis: np.ndarray | None = None
     active: tuple[Condition, ...] = ()
     where: Location = field(default=Location(), compare=False, repr=False)
+    table: tuple[np.ndarray, np.ndarray] | None = None   # (driver coordinates, values)
+
+    def value_at(self, psi: np.ndarray, period: float | None) -> np.ndarray:
+        """The load's value at driver coordinates ``psi`` (...): constant, or the
+        table interpolated linearly (periodic over ``period`` for a revolute driver)."""
+        if self.table is None:
+            return np.broadcast_to(self.value, np.shape(psi) + self.value.shape)
+        at, vals = self.table
+        cols = vals.reshape(len(at), -1).T
+        out = np.stack([np.interp(psi, at, c, period=period) for c in cols], axis=-1)
+        return out.reshape(np.shape(psi) + vals.shape[1:])
 
 
 @dataclass(frozen=True)

@@ -118,6 +118,7 @@ def summarize(result) -> dict[str, Any]:
         "outputs": output_strokes(result),
         "events": [{"angle": float(np.degrees(e.coordinate) % 360), "time": e.t, "load": e.load,
                     "condition": e.condition, "switch": e.switch} for e in result.events],
+        "indeterminate_reactions": bool(result.indeterminate),
         "singular_positions": [{"group": s.group, "angle": float(np.degrees(s.coordinate) % 360),
                                 "condition": s.condition} for s in result.singular],
         "reaction_peaks": peaks,

@@ -935,15 +935,15 @@ class _Builder:
         for name, e in section.items():
             load = None
             if self._claim(section, name, "load") and e.check_keys(
-                    required=("type", "link", "value"), optional=("point", "axis", "active")):
-                load = self._load(name, e, links, points, drivers, section.key_where(name))
+                    required=("type", "link"), optional=("value", "table", "point", "axis", "active")):
+                load = self._load(name, e, links, joints, points, drivers, section.key_where(name))
             if load is None:
                 self.broken["load"].add(name)
             else:
                 out.append(load)
         return out
 
-    def _load(self, name: str, e: Entry, links, points, drivers,
+    def _load(self, name: str, e: Entry, links, joints, points, drivers,
               where: Location) -> Load | None:
         link_names = {link.name: link for link in links}
         kinds = ("force", "torque", "resistance")
@@ -967,8 +967,17 @@ class _Builder:
             point = pe.text()
             if e.point(link, point, points, key="point") is None:
                 return None
-        value = (e["value"].vector("force") if kind == "force"
-                 else e["value"].number("torque" if kind == "torque" else "force"))
+        if (e.get("value") is None) == (e.get("table") is None):
+            e.error("give exactly one of value (a constant) or table (values over the driver "
+                    "coordinate)")
+            return None
+        table = None
+        if e.get("value") is not None:
+            value = (e["value"].vector("force") if kind == "force"
+                     else e["value"].number("torque" if kind == "torque" else "force"))
+        else:
+            table = self._table(e["table"], kind, joints, drivers)
+            value = None if table is None else np.zeros(2 if kind == "force" else ())
         axis = None
         if kind == "resistance":
             if (ae := e.get("axis")) is None:
@@ -987,7 +996,32 @@ class _Builder:
         if value is None or conditions is None:
             return None
         return Load(name, kind, link, np.asarray(value, dtype=float), point, axis,
-                    tuple(conditions), where)
+                    tuple(conditions), where, table)
+
+    def _table(self, e: Entry, kind: str, joints, drivers) -> tuple[np.ndarray, np.ndarray] | None:
+        """``table: {at: [driver coordinates], value: [values]}``, sorted by coordinate."""
+        if not e.check_keys(required=("at", "value")):
+            return None
+        motion = [d for d in drivers if d.motion is not None]
+        joints = {j.name: j for j in joints}
+        angular = not motion or joints[motion[0].joint].angular
+        at_items, val_items = e["at"].seq(), e["value"].seq()
+        if at_items is None or val_items is None:
+            return None
+        if len(at_items) != len(val_items) or len(at_items) < 2:
+            e.error(f"at and value need the same number of entries, at least 2 "
+                    f"(got {len(at_items)} and {len(val_items)})")
+            return None
+        at = [x.number("angle" if angular else "length") for x in at_items]
+        unit = "force" if kind != "torque" else "torque"
+        vals = [x.vector(unit) if kind == "force" else x.number(unit) for x in val_items]
+        if any(v is None for v in at) or any(v is None for v in vals):
+            return None
+        at_arr = np.array(at, dtype=float)
+        if np.any(np.diff(at_arr) <= 0):
+            e["at"].error("the coordinates must increase")
+            return None
+        return at_arr, np.array(vals, dtype=float)
 
     def _point_ref(self, e: Entry, ref: str, points, allow_link: bool = False) -> bool:
         """Check ``link.point`` (or ``link`` alone when ``allow_link``); report a bad one."""
