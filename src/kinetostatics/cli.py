@@ -1,4 +1,4 @@
-"""The ``kinetostatics`` command: check, run.
+"""The ``kinetostatics`` command: check, run, and the subcommands of ``EXTENSIONS``.
 
 A user error prints one line per problem on stderr (``FILE:LINE:COL:
 key.path: message``) and exits with status 2.  ``run`` imports neither
@@ -80,7 +80,14 @@ def _run(args) -> int:
     return 0
 
 
+# Modules adding subcommands: each defines ``register(subparsers)`` that adds its
+# parsers with ``set_defaults(func=...)``.  They must not import matplotlib or
+# scipy at import time (``run`` stays light).
+EXTENSIONS: tuple[str, ...] = ()
+
+
 def main(argv: list[str] | None = None) -> int:
+    import importlib
     parser = argparse.ArgumentParser(prog="kinetostatics",
                                      description="Kinetostatic analysis of planar linkages described in YAML.")
     sub = parser.add_subparsers(dest="command", required=True)
@@ -91,6 +98,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("file", help="mechanism YAML file")
     p.add_argument("--out", default="out", help="output folder (default: out)")
     p.set_defaults(func=_run)
+    for name in EXTENSIONS:
+        importlib.import_module(name).register(sub)
     args = parser.parse_args(argv)
     def one_line(message, category, filename, lineno, file=None, line=None):
         print(f"kinetostatics: warning: {message}", file=sys.stderr)
