@@ -20,7 +20,7 @@ from .reactions import effort_joints, equilibrium_matrix, ground_reaction, solve
 from .results import Result, build_columns
 from .system import System, build_system
 
-__all__ = ["analyze", "Schedule", "Event"]
+__all__ = ["analyze", "kinetics", "Kinetics", "Schedule", "Event", "numerical_mobility"]
 
 
 @dataclass(frozen=True)
@@ -265,14 +265,54 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
         t, q, qd, qdd = t[order], q[order], qd[order], qdd[order]
         psi, psi_d, psi_dd = sched(t)
         lu = None
-    ref = sched.reference
-    # loads
-    shape = q.shape[:-1]
-    q_grav = gravity_forces(system, shape)
+    kin = kinetics(system, q, qd, qdd, psi, lu=lu, extremes=extremes, ref_speed=sched.reference,
+                   friction=model.has_friction if friction is None else friction)
+    x0, fric, power = kin.x0, kin.friction, kin.power
+    cond = {p.group: (condition_number(system, p, lu.jac[..., p.rows[:, None], p.cols], lu.inv[g])
+                      if lu is not None else group_condition(system, q, p))
+            for g, p in enumerate(system.plans) if p.group.kind != "driven"}
+    shaking = ground_reaction(system, q, x0)
+    columns, units = build_columns(system, t, psi, q, qd, qdd, x0, fric, power, cond, shaking, full)
+    return Result(system=system, t=t, coordinate=psi[..., 0], q=q, qd=qd, qdd=qdd, lam=x0,
+                  columns=columns, units=units, events=tuple(evts), singular=tuple(sol.singular),
+                  indeterminate=kin.indeterminate, full_cycle=full, extremes=extremes)
+
+
+@dataclass
+class Kinetics:
+    """Loads, reactions, friction and power at given states (arrays over positions)."""
+
+    q_gravity: np.ndarray
+    q_inertia: np.ndarray
+    q_external: np.ndarray
+    a: np.ndarray                 # equilibrium matrix A, (..., n_q, n_lam)
+    x0: np.ndarray                # frictionless multipliers and driver efforts
+    indeterminate: bool
+    friction: dict | None         # setup, x_approx, e_approx, solution (see friction.py)
+    power: dict
+
+    @property
+    def q_load(self) -> np.ndarray:
+        return self.q_gravity + self.q_inertia + self.q_external
+
+
+def kinetics(system: System, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, psi: np.ndarray, *,
+             ref_speed: float, lu=None, extremes: dict | None = None,
+             friction: bool = False) -> Kinetics:
+    """Inverse dynamics at states (q, q̇, q̈) with driver coordinates ``psi (..., n_d)``.
+
+    Loads (gravity, d'Alembert inertia, external loads active at these states),
+    the frictionless reactions and driver efforts, the friction solutions when
+    ``friction`` and the model has friction, and the power terms.  ``lu``: the
+    kinematic factorisation of Φ_q at q, if at hand; ``extremes``: the cycle
+    extremes of ``travel`` conditions (``Result.extremes``); ``ref_speed``: the
+    driver speed that scales the zero-speed thresholds.
+    """
+    model = system.model
+    q_grav = gravity_forces(system, q.shape[:-1])
     q_inert = inertia_forces(system, qdd)
-    q_ext = external_forces(system, q, qd, psi[..., 0], extremes, ref)
+    q_ext = external_forces(system, q, qd, psi[..., 0], extremes or {}, ref_speed)
     q_load = q_grav + q_inert + q_ext
-    # reactions
     own_efforts = all(d.driver.balance_at is None for d in system.motion_drivers)
     if lu is not None and own_efforts:
         a = np.swapaxes(lu.jac, -1, -2)           # A = Φ_qᵀ: reuse the kinematic factors
@@ -280,16 +320,14 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
     else:
         a = equilibrium_matrix(system, q)
         x0, indeterminate = solve_equilibrium(a, -q_load)
-    # friction
     fric = None
-    if (model.has_friction if friction is None else friction) and model.has_friction:
-        fs = fr.setup(system, q, qd, ref)
+    if friction and model.has_friction:
+        fs = fr.setup(system, q, qd, ref_speed)
         a_inv = (np.swapaxes(lu.inverse(), -1, -2) if lu is not None and own_efforts
                  else np.linalg.inv(a))
         xa, ea = fr.approximate(system, fs, a_inv, q_load, x0)
         cons = fr.consistent(system, fs, a, a_inv, q_load, x0)
         fric = dict(setup=fs, x_approx=xa, e_approx=ea, solution=cons)
-    # power
     eff = effort_joints(system)
     rel = np.stack([np.einsum("...n,...n->...", _grad(system, q, k), qd) for k in eff], axis=-1)
     n_j = system.n_joint_rows
@@ -307,14 +345,7 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
         power["input_friction"] = np.sum(cons.x[..., n_j:] * rel, axis=-1)
         power["residual_friction"] = (power["input_friction"] - power["kinetic"] - power["potential"]
                                       - power["external"] - loss)
-    cond = {p.group: (condition_number(system, p, lu.jac[..., p.rows[:, None], p.cols], lu.inv[g])
-                      if lu is not None else group_condition(system, q, p))
-            for g, p in enumerate(system.plans) if p.group.kind != "driven"}
-    shaking = ground_reaction(system, q, x0)
-    columns, units = build_columns(system, t, psi, q, qd, qdd, x0, fric, power, cond, shaking, full)
-    return Result(system=system, t=t, coordinate=psi[..., 0], q=q, qd=qd, qdd=qdd, lam=x0,
-                  columns=columns, units=units, events=tuple(evts), singular=tuple(sol.singular),
-                  indeterminate=indeterminate, full_cycle=full, extremes=extremes)
+    return Kinetics(q_grav, q_inert, q_ext, a, x0, indeterminate, fric, power)
 
 
 def _grad(system, q, k):

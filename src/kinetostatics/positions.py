@@ -33,7 +33,8 @@ from .errors import AssemblyError, ModelError, SingularConfigurationError
 from .system import GroupPlan, System, gamma, jacobian, nu, phi
 
 __all__ = ["Drive", "PositionSolution", "Singularity", "solve_positions", "initial_guess",
-           "group_condition", "velocities", "accelerations", "derivatives", "start_pose", "TOL"]
+           "group_condition", "velocities", "accelerations", "derivatives", "start_pose",
+           "positions_near", "TOL"]
 
 TOL = 1e-12                 # Newton tolerance relative to L_ref (and 1 rad)
 MAX_ITER = 25
@@ -563,6 +564,33 @@ def state_at(system: System, drive: Drive, t: np.ndarray, t_near: np.ndarray, q_
                                     "Newton did not converge while locating an event")
     qd, qdd, _ = derivatives(system, q, psi_d, psi_dd)
     return q, qd, qdd
+
+
+def positions_near(system: System, psi: np.ndarray, q_guess: np.ndarray) -> np.ndarray:
+    """Positions at driver coordinates ``psi (..., n_d)`` on the branch of a nearby
+    guess ``q_guess (..., n_q)`` (closed-form dyads where they apply, else Newton
+    per group).  Raises AssemblyError naming the group where Newton fails.
+
+    For stepping methods (forward dynamics): the guess is the previous state,
+    ideally advanced by q̇ h + ½ q̈ h².
+    """
+    drive = _unit_drive(system)
+    q = _closed_form_at(system, drive, q_guess, psi)
+    if q is not None:
+        return q
+    q = q_guess
+    for plan in system.plans:
+        q, ok, _ = _newton(system, q, psi, plan)
+        if not np.all(ok):
+            raise AssemblyError(plan.group.label, _coordinate_text(system, psi.reshape(-1)[:1]),
+                                "Newton did not converge from the given guess")
+    return q
+
+
+def _unit_drive(system: System) -> Drive:
+    """The drive whose start matches the model's analysis start (for the caches)."""
+    from .analysis import _schedule
+    return _schedule(system)
 
 
 def _closed_form_at(system: System, drive: Drive, guess: np.ndarray, psi: np.ndarray):
