@@ -62,16 +62,23 @@ def _other(j, link: str) -> str:
     return j.links[1] if j.links[0] == link else j.links[0]
 
 
-def _rrr(system, plan, joints, q0) -> Solver | None:
+def _split(plan, joints):
+    """(a, b, inner joint, a's external joint, b's external joint), or None."""
     a, b = plan.group.links
-    if not all(isinstance(joints[n], Revolute) for n in plan.group.joints):
+    gj = [joints[n] for n in plan.group.joints]
+    inner = [j for j in gj if set(j.links) == {a, b}]
+    ext_a = [j for j in gj if a in j.links and j not in inner]
+    ext_b = [j for j in gj if b in j.links and j not in inner]
+    if not (len(inner) == len(ext_a) == len(ext_b) == 1):
         return None
-    inner = [joints[n] for n in plan.group.joints if set(joints[n].links) == {a, b}]
-    ext_a = [joints[n] for n in plan.group.joints if a in joints[n].links and joints[n] not in inner]
-    ext_b = [joints[n] for n in plan.group.joints if b in joints[n].links and joints[n] not in inner]
-    if len(inner) != 1 or len(ext_a) != 1 or len(ext_b) != 1:
+    return a, b, inner[0], ext_a[0], ext_b[0]
+
+
+def _rrr(system, plan, joints, q0) -> Solver | None:
+    parts = _split(plan, joints)
+    if parts is None or not all(isinstance(j, Revolute) for j in parts[2:]):
         return None
-    m, ja, jb = inner[0], ext_a[0], ext_b[0]
+    a, b, m, ja, jb = parts
     la_vec, lb_vec = _pin(m, a) - _pin(ja, a), _pin(m, b) - _pin(jb, b)
     la, lb = np.hypot(*la_vec), np.hypot(*lb_vec)
     alpha_a, alpha_b = np.arctan2(la_vec[1], la_vec[0]), np.arctan2(lb_vec[1], lb_vec[0])
@@ -106,14 +113,10 @@ def _rrr(system, plan, joints, q0) -> Solver | None:
 
 def _rrp(system, plan, joints, q0) -> Solver | None:
     """R (a, known) – R (a, b) – P (known link i carries the axis, b slides)."""
-    a, b = plan.group.links
-    gj = [joints[n] for n in plan.group.joints]
-    inner = [j for j in gj if set(j.links) == {a, b}]
-    ext_a = [j for j in gj if a in j.links and j not in inner]
-    ext_b = [j for j in gj if b in j.links and j not in inner]
-    if not (len(inner) == len(ext_a) == len(ext_b) == 1):
+    parts = _split(plan, joints)
+    if parts is None:
         return None
-    m, ja, s = inner[0], ext_a[0], ext_b[0]
+    a, b, m, ja, s = parts
     if not (isinstance(m, Revolute) and isinstance(ja, Revolute) and isinstance(s, Prismatic)
             and s.links[1] == b):
         return None
@@ -154,19 +157,12 @@ def _rrp(system, plan, joints, q0) -> Solver | None:
 
 def _rpr(system, plan, joints, q0) -> Solver | None:
     """R (a, known) – P (axis on b, a slides) – R (b, known)."""
-    a, b = plan.group.links
-    gj = [joints[n] for n in plan.group.joints]
-    inner = [j for j in gj if set(j.links) == {a, b}]
-    ext_a = [j for j in gj if a in j.links and j not in inner]
-    ext_b = [j for j in gj if b in j.links and j not in inner]
-    if not (len(inner) == len(ext_a) == len(ext_b) == 1):
+    parts = _split(plan, joints)
+    if parts is None or not isinstance(parts[2], Prismatic):
         return None
-    s = inner[0]
-    if not isinstance(s, Prismatic):
-        return None
+    s = parts[2]
     b, a = s.links                              # b carries the axis, a slides on it
-    ja = next(j for j in gj if a in j.links and j is not s)
-    jb = next(j for j in gj if b in j.links and j is not s)
+    ja, jb = (parts[3], parts[4]) if parts[0] == a else (parts[4], parts[3])
     if not (isinstance(ja, Revolute) and isinstance(jb, Revolute)):
         return None
     delta = s.p - _pin(ja, a)                  # a's frame: pin -> sliding point

@@ -554,19 +554,13 @@ def state_at(system: System, drive: Drive, t: np.ndarray, t_near: np.ndarray, q_
     h = (t - t_near)[..., None]
     guess = q_near + h * qd_near + 0.5 * h * h * qdd_near
     psi, psi_d, psi_dd = drive(t)
-    q = _closed_form_at(system, drive, guess, psi)
-    if q is None:
-        q = guess
-        for plan in system.plans:
-            q, ok, _ = _newton(system, q, psi, plan)
-            if not np.all(ok):
-                raise AssemblyError(plan.group.label, _coordinate_text(system, psi.reshape(-1)[:1]),
-                                    "Newton did not converge while locating an event")
+    q = positions_near(system, psi, guess, drive)
     qd, qdd, _ = derivatives(system, q, psi_d, psi_dd)
     return q, qd, qdd
 
 
-def positions_near(system: System, psi: np.ndarray, q_guess: np.ndarray) -> np.ndarray:
+def positions_near(system: System, psi: np.ndarray, q_guess: np.ndarray,
+                   drive: Drive | None = None) -> np.ndarray:
     """Positions at driver coordinates ``psi (..., n_d)`` on the branch of a nearby
     guess ``q_guess (..., n_q)`` (closed-form dyads where they apply, else Newton
     per group).  Raises AssemblyError naming the group where Newton fails.
@@ -574,7 +568,7 @@ def positions_near(system: System, psi: np.ndarray, q_guess: np.ndarray) -> np.n
     For stepping methods (forward dynamics): the guess is the previous state,
     ideally advanced by q̇ h + ½ q̈ h².
     """
-    drive = _unit_drive(system)
+    drive = _unit_drive(system) if drive is None else drive
     q = _closed_form_at(system, drive, q_guess, psi)
     if q is not None:
         return q
