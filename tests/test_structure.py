@@ -1,6 +1,5 @@
 """Structure: mobility, loops (rank test), Assur groups and `check`."""
 
-import numpy as np
 import pytest
 
 import kinetostatics as ks

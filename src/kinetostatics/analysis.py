@@ -12,7 +12,7 @@ import numpy as np
 from . import friction as fr
 from .differences import difference_derivatives
 from .errors import Location, StructureError
-from .forces import condition_values, external_forces, gravity_forces, inertia_forces, mass_vector
+from .forces import external_forces, gravity_forces, inertia_forces, mass_vector
 from .model import Condition, Model
 from .positions import (PositionSolution, condition_number, derivatives, group_condition,
                         solve_positions, state_at)

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._geometry import perp, rotate
-from .model import Condition, Load, Model
+from .model import Condition, Load
 from .system import System
 
 __all__ = ["point_state", "mass_vector", "gravity_forces", "inertia_forces", "external_forces",

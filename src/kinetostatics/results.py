@@ -17,7 +17,6 @@ import numpy as np
 
 from ._geometry import rotate
 from .errors import did_you_mean
-from .joints import Prismatic, Revolute
 from .forces import point_state
 from .system import System
 
