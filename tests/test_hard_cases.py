@@ -84,3 +84,14 @@ def test_links_that_cannot_reach_name_group_coordinate_and_miss():
     assert np.degrees(np.arcsin(0.09 / 0.1)) - 0.01 < angle < 90.0
     miss = float(re.search(r"miss closing by ([\d.e+-]+) mm", msg).group(1))
     assert 0 < miss < 0.01 * 1e3
+
+
+def test_near_singular_rows_are_warned_about(change_point):
+    with pytest.warns(ks.NearSingularWarning, match=r"RRR dyad \{coupler, rocker\} is nearly "
+                                                    r"singular at 1 position\(s\), worst at motor = 180°"):
+        ks.analyze(change_point)
+
+
+def test_regular_mechanisms_raise_no_near_singular_warning(recwarn):
+    ks.analyze(ks.load("tests/hard/slider_crank_edge.yaml"))
+    assert not [w for w in recwarn if issubclass(w.category, ks.NearSingularWarning)]

@@ -271,11 +271,32 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
     cond = {p.group: (condition_number(system, p, lu.jac[..., p.rows[:, None], p.cols], lu.inv[g])
                       if lu is not None else group_condition(system, q, p))
             for g, p in enumerate(system.plans) if p.group.kind != "driven"}
+    _warn_near_singular(system, cond, psi[..., 0])
     shaking = ground_reaction(system, q, x0)
     columns, units = build_columns(system, t, psi, q, qd, qdd, x0, fric, power, cond, shaking, full)
     return Result(system=system, t=t, coordinate=psi[..., 0], q=q, qd=qd, qdd=qdd, lam=x0,
                   columns=columns, units=units, events=tuple(evts), singular=tuple(sol.singular),
                   indeterminate=kin.indeterminate, full_cycle=full, extremes=extremes)
+
+
+COND_WARN = 1e8
+"""A group condition number above this is warned about: relative errors of
+positions there can reach ~1e-16 × condition, and reactions grow like it."""
+
+
+def _warn_near_singular(system: System, cond: dict, coord: np.ndarray) -> None:
+    import warnings
+    from .errors import NearSingularWarning
+    for group, c in cond.items():
+        bad = np.nonzero(c > COND_WARN)[0]
+        if bad.size:
+            k = bad[np.argmax(c[bad])]
+            name = system.motion_drivers[0].name
+            where = (f"{np.degrees(coord[k]) % 360:.4g}°" if system.motion_drivers[0].joint.angular
+                     else f"{coord[k] * 1e3:.6g} mm")
+            warnings.warn(f"{group.label} is nearly singular at {bad.size} position(s), worst at "
+                          f"{name} = {where} (condition {c[k]:.3g} > {COND_WARN:.0e}); "
+                          "reactions there are unreliable", NearSingularWarning, stacklevel=3)
 
 
 @dataclass
