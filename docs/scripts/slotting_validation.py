@@ -113,6 +113,7 @@ def kinematics(r, labels) -> dict[str, np.ndarray]:
     k["rdot"] = rdot
     k["V_A3A2"] = np.abs(rdot)
     k["omega3"] = w3
+    k["omega3_abs"] = np.abs(w3)
     k["V_S3"] = _norm(_vec(r, "bar.S3", "v"))
     k["V_B"] = _norm(_vec(r, "bar.B", "v"))
     k["V_CB"] = _norm(_vec(r, "rod.C", "v") - _vec(r, "rod.B", "v"))
@@ -176,8 +177,11 @@ def _fmt(x, nd):
     return f"{round(float(x), nd) + 0.0:.{nd}f}"
 
 
-def table(header: list[str], rows: list[list]) -> str:
-    out = ["| " + " | ".join(header) + " |", "|" + "|".join("---:" for _ in header) + "|"]
+def table(header: list[str], rows: list[list], left: tuple[int, ...] = (0,)) -> str:
+    """A Markdown table; columns in ``left`` are left-aligned, the others right-aligned."""
+    n = len(header)
+    align = [":---" if c in left or c - n in left else "---:" for c in range(n)]
+    out = ["| " + " | ".join(header) + " |", "|" + "|".join(align) + "|"]
     out += ["| " + " | ".join(rows_i) + " |" for rows_i in rows]
     return "\n".join(out)
 
@@ -194,11 +198,11 @@ def _columns(labels, columns) -> str:
 # Values printed in the report (docs/report_values.md §4, §5), position → symbol → value.
 REPORT = {
     "7": {"L_O3A": 198.42, "V_A2": 0.47, "V_A3A2": 0.31, "V_A3": 0.36, "V_B": 0.18, "V_CB": 0.06,
-          "V_C": 0.17, "V_S3": 0.22, "omega3": 1.80, "a_A2": 2.96, "a_k": 1.11, "a_r": 1.60,
+          "V_C": 0.17, "V_S3": 0.22, "omega3_abs": 1.80, "a_A2": 2.96, "a_k": 1.11, "a_r": 1.60,
           "a_n_A3": 0.64, "a_t_A3": 3.05, "a_A3": 3.11, "a_B": 1.57, "a_n_CB": 0.03, "a_t_CB": 0.20,
           "a_C": -1.52, "a_S3": 1.96},
     "2": {"L_O3A": 167.72, "V_A2": 0.47, "V_A3A2": 0.42, "V_A3": 0.21, "V_B": 0.13, "V_CB": 0.06,
-          "V_C": 0.09, "V_S3": 0.16, "omega3": 1.26, "a_A2": 2.96, "a_k": 1.06, "a_r": 1.06,
+          "V_C": 0.09, "V_S3": 0.16, "omega3_abs": 1.26, "a_A2": 2.96, "a_k": 1.06, "a_r": 1.06,
           "a_n_A3": 0.26, "a_t_A3": 1.59, "a_A3": 1.61, "a_B": 0.96, "a_n_CB": 0.04, "a_t_CB": 0.28,
           "a_C": 0.94, "a_S3": 1.20},
 }
@@ -210,7 +214,7 @@ G3, G5, Q = 160.0, 320.0, 1000.0               # N (design data)
 KIN_ROWS = [  # (key, symbol, unit, decimals)
     ("L_O3A", "L_O3A", "mm", 3), ("V_A2", "V_A2", "m/s", 4), ("V_A3A2", "V_A3A2", "m/s", 4),
     ("V_A3", "V_A3", "m/s", 4), ("V_B", "V_B", "m/s", 4), ("V_CB", "V_CB", "m/s", 4),
-    ("V_C", "V_C (↓+)", "m/s", 4), ("V_S3", "V_S3", "m/s", 4), ("omega3", "ω3", "rad/s", 4),
+    ("V_C", "V_C (↓+)", "m/s", 4), ("V_S3", "V_S3", "m/s", 4), ("omega3_abs", "\\|ω3\\|", "rad/s", 4),
     ("a_A2", "a_A2", "m/s²", 4), ("a_k", "a^k_A3A2", "m/s²", 4), ("a_r", "a^r_A3A2", "m/s²", 4),
     ("a_n_A3", "a^n_A3", "m/s²", 4), ("a_t_A3", "a^t_A3", "m/s²", 4), ("a_A3", "a_A3", "m/s²", 4),
     ("a_B", "a_B", "m/s²", 4), ("a_n_CB", "a^n_CB", "m/s²", 4), ("a_t_CB", "a^t_CB", "m/s²", 4),
@@ -384,10 +388,10 @@ def blocks() -> dict[str, str]:
         else:
             rows = [row[:5] + row[6:] for row in rows]
         header.append("explanation")
-        b[f"compare_kinematics_{pos}"] = table(header, rows)
+        b[f"compare_kinematics_{pos}"] = table(header, rows, left=(0, -1))
     i = labels.index("7")
     redo = report_force_redo(r, k, f, i, model)
-    exact = {"F_I5": f["F_I5"][i], "F45": f["F45"][i], "F45x": f["F45x"][i], "F65x": f["F65x"][i],
+    exact = {"F_I5": f["F_I5"][i], "F45": f["F45"][i], "F45x": f["F45x"][i], "F65x": abs(f["F65x"][i]),
              "F_I3": f["F_I3"][i], "M_I3": abs(f["M_I3"][i]), "L1": _lever_F54(r, i),
              "L2": abs(r["bar.S3.x"][i] - r["bar.O3.x"][i]) * 1e3, "L3": k["L_O3A"][i],
              "F23": f["F23"][i], "F63": f["F63"][i], "F61": f["F61"][i], "M_b": f["M_b"][i]}
@@ -397,9 +401,10 @@ def blocks() -> dict[str, str]:
         rows.append([sym, unit, _fmt(rep, 2), _fmt(exact[key], nd), _fmt(rep - exact[key], nd),
                      _fmt(redo.get(key), 2), FORCE_NOTES[key]])
     b["compare_forces_7"] = table(["quantity", "unit", "report", "exact (no friction)", "report − exact",
-                                   "redone with the report's errors", "explanation"], rows)
+                                   "redone with the report's errors", "explanation"], rows,
+                                  left=(0, -1))
     poly = force_polygon_variants(r, i, redo["a_S3_vec"], model.link("bar").mass)
-    b["report_checks_7"] = table(["check at position 7 (report's own numbers)", "value"], [
+    b["report_checks_7"] = table(["check at position 7", "value"], [
         ["F45 with the report's a_C but the correct inertia sign (N)",
          _fmt(redo["F45_report_aC_right_sign"], 2)],
         ["α3 implied by the report's a^t_A3 (rad/s²)", _fmt(abs(redo["alpha3"]), 3)],
@@ -430,7 +435,7 @@ def _lever_F54(r, i) -> float:
 
 FORCE_ROWS = {  # key: (symbol, unit, decimals)
     "F_I5": ("F_I5 (report \"F5\", ↓+)", "N", 2), "F45": ("\\|F45\\|", "N", 2), "F45x": ("F45x", "N", 2),
-    "F65x": ("F65x", "N", 2), "F_I3": ("\\|F_I3\\| (report \"F3\")", "N", 2),
+    "F65x": ("\\|F65x\\|", "N", 2), "F_I3": ("\\|F_I3\\| (report \"F3\")", "N", 2),
     "M_I3": ("\\|M_I3\\| (report \"M3\")", "N·m", 3), "L1": ("L1 (lever of F54 about O3)", "mm", 3),
     "L2": ("L2 (lever of G3 about O3)", "mm", 3), "L3": ("L3 (lever of F23 about O3)", "mm", 3),
     "F23": ("\\|F23\\|", "N", 2), "F63": ("\\|F63\\|", "N", 2), "F61": ("\\|F61\\| = \\|F21\\|", "N", 2),
@@ -440,7 +445,7 @@ FORCE_NOTES = {
     "F_I5": "(K) a_C wrong, and (I) +m·a used instead of −m·a",
     "F45": "(K) + (I)",
     "F45x": "follows \\|F45\\| (rod at 90.68°); sign as ours",
-    "F65x": "follows F45; its own equation F65x = −F45x gives −8.66, ours is −7.91; plus couple M65 = −120 N·m",
+    "F65x": "follows F45; sign slip: its F65x = −F45x is −8.66 (exact F65x = −7.91); the couple M65 = −Q·d = −120 N·m is missing",
     "F_I3": "(K): m3 × wrong a_s3",
     "M_I3": "(M) a_s3·Js3 is not a moment; Js3·α3 is",
     "L1": "measured; matches",
