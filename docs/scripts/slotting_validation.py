@@ -475,7 +475,7 @@ def _note(pos, key, rep, ex) -> str:
 
 # -------------------------------------------------------------------- main
 
-BLOCK_RE = re.compile(r"<!-- BEGIN (\S+) -->\n(.*?)\n<!-- END \1 -->", re.S)
+BLOCK_RE = re.compile(r"<!-- BEGIN (\S+) -->\n(.*?)\n?<!-- END \1 -->", re.S)
 
 
 def render(bl: dict[str, str]) -> str:
