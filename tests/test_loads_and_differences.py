@@ -55,3 +55,32 @@ def test_difference_quotients_converge_at_their_order(scheme, order):
 def test_unknown_scheme_is_refused():
     with pytest.raises(ValueError, match="unknown difference scheme 'backward'"):
         ks.analyze(ks.load("mechanisms/slider_crank.yaml"), derivatives_by="backward")
+
+
+def test_effort_driver_is_an_applied_load():
+    """A constant effort of 10 N·m applied by the crank on the rod at A changes the
+    driving torque by the power it delivers: Δτ ω₁ = −e (ω_rod − ω_crank)."""
+    from .oracles import slider_crank_closed_form as cf
+    base = ks.analyze(ks.load("mechanisms/slider_crank.yaml"), friction=False)
+    model = variant("slider_crank", d=(r"\ndrivers:\n", "\ndrivers:\n  helper: {joint: A, effort: 10}\n"))
+    r = ks.analyze(model, friction=False)
+    w1 = cf.SliderCrank().omega1
+    k = cf.kinematics(cf.SliderCrank(), np.radians(r["angle"]))
+    np.testing.assert_allclose((r["motor.torque"] - base["motor.torque"]) * w1,
+                               -10.0 * (k["omega2"] - w1), atol=1e-9)
+    assert np.max(np.abs(r["power.residual"])) < 1e-9 * np.max(np.abs(r["power.input"]))
+
+
+def test_angle_band_runs_in_the_sense_of_motion():
+    """Slotting machine, crank clockwise from 300°: [300, 60] is the 240° cutting arc."""
+    model = variant("slotting_machine", load=(
+        r"\nloads:\n", "\nloads:\n  brake:\n    type: torque\n    link: crank\n    value: 5\n"
+                       "    active: [{angle: [300, 60]}]\n"))
+    base = ks.analyze(ks.load("mechanisms/slotting_machine.yaml"), friction=False)
+    r = ks.analyze(model, friction=False)
+    on = np.abs(r["motor.torque"] - base["motor.torque"]) > 1e-9
+    expected = np.arange(360) <= 240                  # rows 0…240: 300° down to 60°
+    np.testing.assert_array_equal(on, expected)
+    events = [(e.switch, round(float(np.degrees(e.coordinate)) % 360, 9)) for e in r.events
+              if e.load == "brake"]
+    assert events == [("on", 300.0), ("off", 60.0)]

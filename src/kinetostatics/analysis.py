@@ -12,7 +12,7 @@ import numpy as np
 from . import friction as fr
 from .differences import difference_derivatives
 from .errors import Location, StructureError
-from .forces import external_forces, gravity_forces, inertia_forces, mass_vector
+from .forces import angle_band, external_forces, gravity_forces, inertia_forces, mass_vector
 from .model import Condition, Model
 from .positions import (PositionSolution, condition_number, derivatives, group_condition,
                         solve_positions, state_at)
@@ -168,7 +168,10 @@ def _extremes_and_events(system, drive, sched, t, q, qd, qdd, full):
     for load in system.model.loads:
         for c in load.active:
             if c.kind == "angle":
-                for bound, sw in zip(c.bounds, ("on", "off")):
+                start, width = angle_band(system, c)
+                if width >= 2 * np.pi:
+                    continue                        # always on: no switch
+                for bound, sw in ((start, "on"), (start + width * np.sign(sched.speed[0]), "off")):
                     tt = np.mod((bound - sched.start[0]) * np.sign(sched.speed[0]), 2 * np.pi) / \
                         sched.reference
                     events.append(Event(float(tt), float(drive(np.array([tt]))[0][0, 0]),
@@ -246,6 +249,8 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
                                f"({system.structure.mobility}); the file has {n_motion}")])
     sched = _schedule(system)
     t, full = _times(system, sched, positions)
+    if positions is None and model.analysis.at:
+        t = np.sort(t, kind="stable")                 # `at` rows take their place in the run
     sol: PositionSolution = solve_positions(system, t, sched)
     q = sol.q
     psi, psi_d, psi_dd = sched(t)

@@ -15,7 +15,7 @@ from .model import Condition, Load
 from .system import System
 
 __all__ = ["point_state", "mass_vector", "gravity_forces", "inertia_forces", "external_forces",
-           "condition_values", "activity", "zero_speed"]
+           "effort_forces", "condition_values", "angle_band", "activity", "zero_speed"]
 
 ZERO_SPEED = 1e-9       # relative speeds below this × x_ref count as zero (SPEC.md)
 
@@ -55,13 +55,25 @@ def _reference_point(system: System, link: str, point: str | None) -> np.ndarray
     return system.model.link(link).points[point] if point else np.zeros(2)
 
 
+def _sense(system: System) -> float:
+    d = system.motion_drivers
+    return float(np.sign(d[0].driver.motion.speed)) if d else 1.0
+
+
+def angle_band(system: System, cond: Condition) -> tuple[float, float]:
+    """(from, width) of an angle condition, measured in the sense of motion (rad)."""
+    width = (cond.bounds[1] - cond.bounds[0]) * _sense(system)
+    return cond.bounds[0], (width if width >= 2 * np.pi else np.mod(width, 2 * np.pi))
+
+
 def condition_values(system: System, cond: Condition, q, qd, psi, extremes) -> np.ndarray:
     """The signed quantity whose sign or band decides a condition, ``(...)``.
 
-    moving: v·axis; travel: p·axis − min over the cycle; angle: ψ − from (mod 2π).
+    moving: v·axis; travel: p·axis − min over the cycle; angle: the driver
+    coordinate travelled from ``from`` in the sense of motion (mod 2π).
     """
     if cond.kind == "angle":
-        return np.mod(psi - cond.bounds[0], 2 * np.pi)
+        return np.mod((psi - cond.bounds[0]) * _sense(system), 2 * np.pi)
     k = system.link_index(cond.link)
     pos, vel, _ = point_state(q, qd, None, k, _reference_point(system, cond.link, cond.point))
     if cond.kind == "moving":
@@ -80,9 +92,19 @@ def activity(system: System, load: Load, q, qd, psi, extremes, ref_speed: float)
         elif c.kind == "travel":
             active &= (v >= c.bounds[0] - tol) & (v <= c.bounds[1] + tol)
         else:
-            width = np.mod(c.bounds[1] - c.bounds[0], 2 * np.pi)
-            active &= v <= width + 1e-12
+            active &= v <= angle_band(system, c)[1] + 1e-12
     return active
+
+
+def effort_forces(system: System, q: np.ndarray) -> np.ndarray:
+    """Generalized forces of the constant ``effort:`` drivers (applied by i on j)."""
+    from .system import coordinate_gradient
+    out = np.zeros(q.shape)
+    names = [j.name for j in system.model.joints]
+    for d in system.model.drivers:
+        if d.effort is not None:
+            out += d.effort * coordinate_gradient(system, q, names.index(d.joint))
+    return out
 
 
 def zero_speed(system: System, ref_speed: float) -> float:
@@ -91,7 +113,7 @@ def zero_speed(system: System, ref_speed: float) -> float:
 
 def external_forces(system: System, q, qd, psi, extremes, ref_speed: float) -> np.ndarray:
     """Generalized external forces of all loads, ``(..., n_q)``."""
-    out = np.zeros(q.shape)
+    out = effort_forces(system, q)
     period = 2 * np.pi if system.motion_drivers and system.motion_drivers[0].joint.angular else None
     for load in system.model.loads:
         value = load.value_at(psi, period)

@@ -29,7 +29,7 @@ MAX_DEPTH = 100
 MAX_LINKS = 200
 MAX_POSITIONS = 10_000_000
 NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
-RESERVED = frozenset({"time", "angle", "travel", "power", "friction"})
+RESERVED = frozenset({"time", "angle", "stroke", "travel", "power", "friction", "shaking"})
 TOP_KEYS = ("name", "units", "parameters", "gravity", "ground", "links", "joints", "loops",
             "drivers", "loads", "sketch", "analysis")
 
