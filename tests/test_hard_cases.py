@@ -96,3 +96,22 @@ def test_near_singular_rows_are_warned_about(change_point):
 def test_regular_mechanisms_raise_no_near_singular_warning(recwarn):
     ks.analyze(ks.load("tests/hard/slider_crank_edge.yaml"))
     assert not [w for w in recwarn if issubclass(w.category, ks.NearSingularWarning)]
+
+
+def test_crank_that_cannot_rotate_reports_its_reachable_range():
+    """Rocker driven four-bar: its angle β is limited where crank and coupler are
+    collinear, |OB| = 3.2 ± 1, i.e. cos β = (|OB|² − 3² − 2.5²)/(2·3·2.5)."""
+    model = ks.load("tests/hard/crank_rocker_reversed.yaml")
+    lo = np.degrees(np.arccos((4.2 ** 2 - 15.25) / 15))
+    hi = np.degrees(np.arccos((2.2 ** 2 - 15.25) / 15))
+    with pytest.raises(AssemblyError) as info:
+        ks.analyze(model)
+    np.testing.assert_allclose(np.degrees(info.value.reachable), [lo, hi], atol=1e-4)
+    assert f"the reachable range is motor from {lo:.4f}° to {hi:.4f}°" in str(info.value)
+    with pytest.warns(ks.NearSingularWarning, match=r"RRR dyad \{crank, coupler\} is nearly singular"):
+        r = ks.analyze(model, reachable=True)
+    assert len(r) == 180 and not r.full_cycle
+    assert lo < r["angle"].min() < lo + 1e-3 and hi - 1e-3 < r["angle"].max() < hi
+    # the effort to drive the rocker blows up towards the toggles
+    torque = np.abs(r["motor.torque"])
+    assert torque[0] > 1e3 * np.median(torque) and torque[-1] > 1e3 * np.median(torque)

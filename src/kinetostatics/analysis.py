@@ -11,11 +11,11 @@ import numpy as np
 
 from . import friction as fr
 from .differences import difference_derivatives
-from .errors import Location, StructureError
+from .errors import AssemblyError, Location, SingularConfigurationError, StructureError
 from .forces import angle_band, external_forces, gravity_forces, inertia_forces, mass_vector
 from .model import Condition, Model
 from .positions import (PositionSolution, condition_number, derivatives, group_condition,
-                        solve_positions, state_at)
+                        reachable_range, solve_positions, state_at)
 from .reactions import effort_joints, equilibrium_matrix, ground_reaction, solve_equilibrium
 from .results import Result, build_columns
 from .system import System, build_system
@@ -214,7 +214,8 @@ def _state_near(system, drive, r, t, q, qd, qdd):
 
 def analyze(model: Model | System, *, positions: np.ndarray | None = None,
             friction: bool | None = None, events: bool | None = None,
-            derivatives_by: str = "jacobian", step: float = np.radians(1.0)) -> Result:
+            derivatives_by: str = "jacobian", step: float = np.radians(1.0),
+            reachable: bool = False) -> Result:
     """Kinematics and kinetostatics over the positions of ``model.analysis``.
 
     Parameters
@@ -233,6 +234,10 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
         Velocities and accelerations from the constraint Jacobian (exact), or
         — as a comparison mode only — by the source text's forward difference
         quotients or by central differences with driver step ``step`` (rad or m).
+    reachable : bool
+        If the linkage cannot follow the whole sweep (a crank that cannot fully
+        rotate), analyse ``analysis.positions`` positions spread over the
+        reachable range between its limit positions instead of raising.
 
     Returns
     -------
@@ -251,7 +256,24 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
     t, full = _times(system, sched, positions)
     if positions is None and model.analysis.at:
         t = np.sort(t, kind="stable")                 # `at` rows take their place in the run
-    sol: PositionSolution = solve_positions(system, t, sched)
+    try:
+        sol: PositionSolution = solve_positions(system, t, sched)
+    except AssemblyError as exc:
+        if isinstance(exc, SingularConfigurationError) or positions is not None:
+            raise
+        try:
+            lo, hi = reachable_range(system, sched, float(np.max(t)) + 1e-9)
+        except AssemblyError:
+            raise exc from None                        # not even the start assembles
+        if not reachable:
+            exc.reachable = tuple(sched(np.array([lo, hi]))[0][:, 0])
+            exc.args = (f"{exc.args[0]}; the reachable range is {_range_text(system, sched, lo, hi)}"
+                        " (analyze(..., reachable=True) analyses it)",)
+            raise
+        margin = 1e-6 * (hi - lo)                      # the limits themselves are singular
+        t = np.linspace(lo + margin, hi - margin, model.analysis.positions)
+        full = False
+        sol = solve_positions(system, t, sched)
     q = sol.q
     psi, psi_d, psi_dd = sched(t)
     qd, qdd, lu = derivatives(system, q, psi_d, psi_dd)
@@ -302,6 +324,14 @@ def _warn_near_singular(system: System, cond: dict, coord: np.ndarray) -> None:
             warnings.warn(f"{group.label} is nearly singular at {bad.size} position(s), worst at "
                           f"{name} = {where} (condition {c[k]:.3g} > {COND_WARN:.0e}); "
                           "reactions there are unreliable", NearSingularWarning, stacklevel=3)
+
+
+def _range_text(system: System, sched: Schedule, lo: float, hi: float) -> str:
+    a, b = sched(np.array([lo, hi]))[0][:, 0]
+    d = system.motion_drivers[0]
+    if d.joint.angular:
+        return f"{d.name} from {np.degrees(a) % 360:.4f}° to {np.degrees(b) % 360:.4f}°"
+    return f"{d.name} from {a * 1e3:.6g} mm to {b * 1e3:.6g} mm"
 
 
 @dataclass

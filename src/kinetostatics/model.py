@@ -16,7 +16,8 @@ import numpy as np
 from .errors import Location
 from .joints import Joint
 
-__all__ = ["Link", "MotionLaw", "Driver", "Condition", "Load", "Analysis", "Model"]
+__all__ = ["Link", "MotionLaw", "EffortLaw", "Driver", "Condition", "Load", "Analysis",
+           "FlywheelSpec", "Model"]
 
 
 @dataclass(frozen=True)
@@ -45,6 +46,39 @@ class MotionLaw:
 
 
 @dataclass(frozen=True)
+class EffortLaw:
+    """A known applied effort (torque N·m or force N, by link i on j) of an ``effort:`` driver.
+
+    ``kind``: ``constant`` (``value``); ``table`` (``at`` driver coordinates,
+    ``values`` efforts; linear, periodic over 2π for a revolute); ``motor``, the
+    linear motor curve τ(ω) = ``value``·[1 + (``speed`` − ω)/(``slip``·``speed``)]
+    (``value`` the torque at the rated speed ``speed``, both signed in the
+    driver's sense); ``curve`` (τ over the driver speed: ``at`` speeds, ``values``
+    efforts; linear, held constant outside the table).
+    """
+
+    kind: str
+    value: float = 0.0
+    at: tuple[float, ...] = ()
+    values: tuple[float, ...] = ()
+    speed: float = 0.0
+    slip: float = 0.0
+
+    def __call__(self, psi, psi_d, period: float | None = 2.0 * np.pi):
+        """The effort at driver coordinates ``psi`` and speeds ``psi_d`` (arrays)."""
+        psi, psi_d = np.asarray(psi, dtype=float), np.asarray(psi_d, dtype=float)
+        shape = np.broadcast(psi, psi_d).shape
+        if self.kind == "constant":
+            return np.full(shape, self.value)
+        if self.kind == "table":
+            return np.broadcast_to(np.interp(psi, self.at, self.values, period=period), shape)
+        if self.kind == "motor":
+            return np.broadcast_to(self.value * (1.0 + (self.speed - psi_d) /
+                                                 (self.slip * self.speed)), shape)
+        return np.broadcast_to(np.interp(psi_d, self.at, self.values), shape)
+
+
+@dataclass(frozen=True)
 class Driver:
     """A driver acting on ``joint``; its effort is applied by the joint's link i on j.
 
@@ -57,7 +91,7 @@ class Driver:
     name: str
     joint: str
     motion: MotionLaw | None = None
-    effort: float | None = None           # constant applied torque (N·m) or force (N)
+    effort: float | EffortLaw | None = None   # applied torque (N·m) or force (N): constant or law
     offset: float = 0.0
     points: tuple[str | None, str | None] = (None, None)
     balance_at: str | None = None
@@ -126,6 +160,18 @@ class Analysis:
 
 
 @dataclass(frozen=True)
+class FlywheelSpec:
+    """``flywheel:`` — size a flywheel for the coefficient of speed fluctuation ``delta``;
+    ``ratio`` = motor speed / crank speed for the inertia referred to the motor shaft;
+    ``friction``: from the balancing moment with friction (default frictionless)."""
+
+    delta: float
+    ratio: float | None = None
+    friction: bool = False
+    where: Location = field(default=Location(), compare=False, repr=False)
+
+
+@dataclass(frozen=True)
 class Model:
     """A planar linkage in SI.  ``sketch`` maps point references (``joint`` or
     ``link.point``) to rough global positions that select the assembly branch."""
@@ -142,6 +188,7 @@ class Model:
     parameters: Mapping[str, float] = field(default_factory=dict)
     units: Mapping[str, str] = field(default_factory=dict)
     source: str = "<model>"
+    flywheel: FlywheelSpec | None = None
 
     @property
     def ground(self) -> Link:

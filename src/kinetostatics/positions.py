@@ -34,7 +34,7 @@ from .system import GroupPlan, System, gamma, jacobian, nu, phi
 
 __all__ = ["Drive", "PositionSolution", "Singularity", "solve_positions", "initial_guess",
            "group_condition", "velocities", "accelerations", "derivatives", "start_pose",
-           "positions_near", "TOL"]
+           "positions_near", "reachable_range", "TOL"]
 
 TOL = 1e-12                 # Newton tolerance relative to L_ref (and 1 rad)
 MAX_ITER = 25
@@ -364,7 +364,9 @@ def _continue(system: System, q: np.ndarray, sig: np.ndarray, t0: float, t1: flo
             reason = _miss(system, qp, psi, plan) if not ok else (
                 "the motion cannot be continued smoothly (singular position)")
             err = AssemblyError if not ok else SingularConfigurationError
-            raise err(plan.group.label, _coordinate_text(system, psi), reason)
+            exc = err(plan.group.label, _coordinate_text(system, psi), reason)
+            exc.t_reached = t                   # the last assembled time on the path
+            raise exc
         t = t + h
         q, sig, qd, qdd = qn, new_sig, qdn, qddn
         ts.append(t), qs.append(q), qds.append(qd), sigs.append(sig)
@@ -439,6 +441,23 @@ def start_pose(system: System, drive: Drive) -> tuple[np.ndarray, np.ndarray]:
         cached = (key, *_assemble_start(system, 0.0, drive))
         _STARTS[system] = cached
     return cached[1].copy(), cached[2].copy()
+
+
+def reachable_range(system: System, drive: Drive, t_span: float) -> tuple[float, float]:
+    """(t_min, t_max): how far the path assembles from t = 0 backwards and forwards
+    within ± ``t_span`` (the limit positions of a crank that cannot fully rotate)."""
+    q0, sig0 = start_pose(system, drive)
+    coarse = _max_dt(system, 0.0, drive, COARSE_STEP)
+    ends = []
+    for sign in (-1.0, 1.0):
+        try:
+            _continue(system, q0, sig0, 0.0, sign * t_span, drive, coarse, [])
+            ends.append(sign * t_span)
+        except AssemblyError as exc:
+            if isinstance(exc, SingularConfigurationError):
+                raise
+            ends.append(exc.t_reached)
+    return ends[0], ends[1]
 
 
 def solve_positions(system: System, t: np.ndarray, drive: Drive) -> PositionSolution:

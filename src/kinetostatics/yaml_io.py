@@ -19,7 +19,8 @@ import yaml
 from . import expressions, units
 from .errors import Collector, KinetostaticsError, Location, ModelError, did_you_mean
 from .joints import JOINT_TYPES, Joint
-from .model import Analysis, Condition, Driver, Link, Load, Model, MotionLaw
+from .model import (Analysis, Condition, Driver, EffortLaw, FlywheelSpec, Link, Load, Model,
+                    MotionLaw)
 
 __all__ = ["load", "loads", "Entry", "MAX_FILE_BYTES", "MAX_NODES", "dump"]
 
@@ -31,7 +32,7 @@ MAX_POSITIONS = 10_000_000
 NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 RESERVED = frozenset({"time", "angle", "stroke", "travel", "power", "friction", "shaking"})
 TOP_KEYS = ("name", "units", "parameters", "gravity", "ground", "links", "joints", "loops",
-            "drivers", "loads", "sketch", "analysis")
+            "drivers", "loads", "sketch", "analysis", "flywheel")
 
 
 class _TooDeep(Exception):
@@ -522,11 +523,13 @@ class _Builder:
         sketch = self._sketch(links, joints)
         analysis = self._analysis(joints, drivers)
         loops = self._loops(joints)
+        flywheel = self._flywheel()
         self.problems.raise_if_any()
         return Model(name=name or "mechanism", links=tuple(links), joints=tuple(joints),
                      drivers=tuple(drivers), loads=tuple(loads_), gravity=gravity,
                      sketch=sketch, analysis=analysis, loops=loops,
-                     parameters=dict(self.ctx.env), units=unit_names, source=self.ctx.file)
+                     parameters=dict(self.ctx.env), units=unit_names, source=self.ctx.file,
+                     flywheel=flywheel)
 
     # -- names ----------------------------------------------------------------
     def _claim(self, section: Entry, name: str, what: str) -> bool:
@@ -863,7 +866,7 @@ class _Builder:
                 return None
             motion = MotionLaw(v)
         else:
-            effort = f.number("torque" if joint.angular else "force")
+            effort = self._effort(f, joint)
             if effort is None:
                 return None
         pts: tuple[str | None, str | None] = (None, None)
@@ -887,6 +890,80 @@ class _Builder:
                 b.error("balance_at needs a motion driver")
                 return None
         return Driver(name, joint.name, motion, effort, offset, pts, balance, where)
+
+    def _effort(self, f: Entry, joint: Joint) -> float | EffortLaw | None:
+        """``effort:`` a number (constant), or one of ``{table: {at, value}}`` (over the
+        driver coordinate), ``{motor: {torque, speed, slip}}`` (the linear motor curve
+        τ(ω) = torque·[1 + (speed − ω)/(slip·speed)]) or ``{curve: {speed, torque}}``
+        (τ tabulated over the driver speed)."""
+        unit = "torque" if joint.angular else "force"
+        if not f.is_mapping:
+            return f.number(unit)
+        kinds = ("table", "motor", "curve")
+        if not f.check_keys(optional=kinds):
+            return None
+        given = [k for k in kinds if f.get(k) is not None]
+        if len(given) != 1:
+            f.error("give a number, or exactly one of table (over the driver coordinate), "
+                    "motor (a linear motor curve) or curve (effort over the driver speed)")
+            return None
+        e = f[given[0]]
+        speed_kind = "speed"
+        sunit = self.ctx.unit_names.get("speed")
+        if given[0] in ("motor", "curve") and sunit and units.is_angular_speed(sunit) != joint.angular:
+            e.error(f"the speed unit '{sunit}' (units.speed) does not suit {joint.kind} joint "
+                    f"'{joint.name}'")
+            return None
+        if given[0] == "motor":
+            if not e.check_keys(required=("torque", "speed", "slip")):
+                return None
+            torque, speed = e["torque"].number(unit), e["speed"].number(speed_kind)
+            slip = e["slip"].number(None, minimum=0.0, strict=True)
+            if speed is not None and speed == 0.0:
+                e["speed"].error("the rated speed must not be zero (its sign gives the sense)")
+                return None
+            if None in (torque, speed, slip):
+                return None
+            return EffortLaw("motor", value=torque, speed=speed, slip=slip)
+        keys = ("at", "value") if given[0] == "table" else ("speed", "torque")
+        if not e.check_keys(required=keys):
+            return None
+        xs, ys = e[keys[0]].seq(), e[keys[1]].seq()
+        if xs is None or ys is None:
+            return None
+        if len(xs) != len(ys) or len(xs) < 2:
+            e.error(f"{keys[0]} and {keys[1]} need the same number of entries, at least 2 "
+                    f"(got {len(xs)} and {len(ys)})")
+            return None
+        xkind = ("angle" if joint.angular else "length") if given[0] == "table" else speed_kind
+        x = [v.number(xkind) for v in xs]
+        y = [v.number(unit) for v in ys]
+        if any(v is None for v in x + y):
+            return None
+        if np.any(np.diff(x) <= 0):
+            e[keys[0]].error(f"the {keys[0]} values must increase")
+            return None
+        return EffortLaw(given[0], at=tuple(x), values=tuple(y))
+
+    def _flywheel(self) -> FlywheelSpec | None:
+        """``flywheel: {delta, ratio, friction}``: size a flywheel for δ (see docs/dynamics.md)."""
+        f = self.top.get("flywheel")
+        if f is None or not f.check_keys(required=("delta",), optional=("delta", "ratio",
+                                                                           "friction")):
+            return None
+        delta = f["delta"].number(None, minimum=0.0, strict=True)
+        if delta is not None and not delta < 1.0:
+            f["delta"].error(f"the coefficient of speed fluctuation must be below 1, got {delta:g}")
+            delta = None
+        ratio = None
+        if f.get("ratio") is not None:
+            ratio = f["ratio"].number(None, minimum=0.0, strict=True)
+            if ratio is None:
+                return None
+        friction = f["friction"].boolean() if f.get("friction") is not None else False
+        if delta is None or friction is None:
+            return None
+        return FlywheelSpec(delta, ratio, bool(friction), f.where)
 
     def _driver_offset(self, e: Entry, joint: Joint, joints, points):
         """(P_i, P_j) names and the offset α_j − α_i of the driver coordinate."""
@@ -1195,6 +1272,15 @@ def _joint_point_vec(joint: Joint, link: str) -> np.ndarray | None:
     return None
 
 
+def _effort_spec(law: EffortLaw) -> dict[str, Any]:
+    if law.kind == "constant":
+        return law.value
+    if law.kind == "motor":
+        return {"motor": {"torque": law.value, "speed": law.speed, "slip": law.slip}}
+    keys = ("at", "value") if law.kind == "table" else ("speed", "torque")
+    return {law.kind: {keys[0]: list(law.at), keys[1]: list(law.values)}}
+
+
 def dump(model: Model) -> str:
     """The model as YAML text in SI (a round trip through :func:`loads` gives an equal model)."""
     doc: dict[str, Any] = {"name": model.name, "gravity": [float(g) for g in model.gravity],
@@ -1213,7 +1299,9 @@ def dump(model: Model) -> str:
             spec = {"joint": d.joint}
             if d.motion is not None:
                 spec["motion"] = {"speed": d.motion.speed}
-            if d.effort is not None:
+            if isinstance(d.effort, EffortLaw):
+                spec["effort"] = _effort_spec(d.effort)
+            elif d.effort is not None:
                 spec["effort"] = d.effort
             if d.points != (None, None):
                 spec["points"] = [p or "x" for p in d.points]
@@ -1225,4 +1313,8 @@ def dump(model: Model) -> str:
     a = model.analysis
     doc["analysis"] = {"start": a.start, "sweep": a.sweep, "positions": a.positions,
                        "at": list(a.at), "events": a.events}
+    if model.flywheel is not None:
+        f = model.flywheel
+        doc["flywheel"] = {"delta": f.delta, "friction": f.friction,
+                           **({"ratio": f.ratio} if f.ratio is not None else {})}
     return yaml.safe_dump(doc, sort_keys=False)

@@ -1,0 +1,429 @@
+r"""Gear pair: two spur gears on links i and j mesh at their pitch point.
+
+A higher pair (one row of Φ, one reaction: the tooth force).  Every symbol
+below is in the code under the same name; ``docs/extending.md`` walks through
+the same derivation.
+
+Geometry
+--------
+Gear i turns with link i about its centre C_i (a point of link i), gear j
+with link j about C_j; the centres may move.  With D = C_j − C_i,
+
+    d = |D|,   β = atan2(D_y, D_x)   (the line of centres),   e = D/d,   t = e rotated +90°.
+
+Write the pitch point as P = C_i + ρ_i e = C_j + ρ_j e with signed radii:
+
+    external mesh             ρ_i = +r_i,  ρ_j = −r_j
+    internal, j the annulus   ρ_i = −r_i,  ρ_j = −r_j      (r_j > r_i)
+    internal, i the annulus   ρ_i = +r_i,  ρ_j = +r_j      (r_i > r_j)
+
+so the nominal centre distance is d₀ = ρ_i − ρ_j = r_i + r_j or |r_i − r_j|.
+The other joints of the linkage must hold d at d₀ (the type does not; see
+"the pressure-angle term" below).
+
+Rolling without slipping
+------------------------
+The material points of the two gears at P have the same velocity along the
+common tangent t:
+
+    t·(v_Cj + ω_j ρ_j t − v_Ci − ω_i ρ_i t) = d β̇ + ρ_j ω_j − ρ_i ω_i = 0,
+
+using t·(v_Cj − v_Ci) = t·Ḋ = d β̇.  With d = d₀ = ρ_i − ρ_j this is
+ρ_j(ω_j − β̇) − ρ_i(ω_i − β̇) = 0, which integrates to
+
+    ρ_j (θ_j − β) − ρ_i (θ_i − β) = const,
+
+i.e. r_i(θ_i − β) ± r_j(θ_j − β) = const (+ external, − internal): each gear's
+rotation measured from the line of centres, weighted by its radius.  For
+fixed centres it gives the kinematic ratio ω_j/ω_i = ρ_i/ρ_j = ∓ r_i/r_j.
+
+The pressure-angle term and the flank
+-------------------------------------
+The tooth force acts along the line of action, inclined by the pressure angle
+α to t.  A bilateral constraint with multiplier λ applies Φ_qᵀλ, so for the
+reaction to lie along the line of action the gradient of Φ with respect to
+C_j must point along it.  The row is therefore
+
+    Φ = κ cos α [ρ_j (θ_j − β − φ) − ρ_i (θ_i − β)] + k (d − d₀),
+
+with κ = ±1 and k = ±sin α.  Its gradient gives the force on link j
+
+    ∂Φ/∂D = G = −κ cos α (ρ_j − ρ_i) t/d + k e = κ cos α (d₀/d) t + k e
+
+applied at C_j together with the couple κ cos α ρ_j, which is the same as the
+force G applied at the pitch point P (the moment of G at P about C_j is
+ρ_j e × G = κ cos α ρ_j).  At d = d₀, |G| = 1: λ is the tooth force F along
+the line of action, and (Fx, Fy) = λ G is the force of gear i on gear j.
+
+- k e is the radial (separating) component.  Teeth push a gear with external
+  teeth towards its own centre and an annulus away from it:
+  k = −ε_j sgn(ρ_j) sin α (ε_j = −1 for an annulus, +1 otherwise), i.e.
+  k = +sin α for an external mesh and −sin α for an internal one.
+- κ chooses the loaded flank: ``flank: ccw`` means the tooth force of i turns
+  gear j counter-clockwise about C_j (κ ρ_j > 0), ``cw`` the other flank.
+  With the flank chosen, F ≥ 0 is a compressive tooth force.  F < 0 at a
+  position means the other flank carries the load there; the tangential
+  component and every torque are still right, but the radial component
+  (and so the bearing reactions) then has the wrong side.  The joint cannot
+  switch flanks by itself: the reaction direction would depend on the sign
+  of λ, which the linear Newton–Euler solve does not allow.
+- k (d − d₀) vanishes while the centre distance is held at d₀, so it does
+  not change the motion; it only turns the reaction onto the line of action.
+  It is the first-order term of the involute relation, where the contact
+  moves along the line of action as the centre distance changes.
+
+Phase and periodicity
+---------------------
+``phase`` φ fixes the constant: θ_j − β = φ when θ_i − β = 0.  Φ is a length
+along the line of action; turning either gear a full turn changes it by a
+multiple of the base pitch p_b = 2π r cos α / z, and so does a full turn of
+the line of centres.  Φ is therefore wrapped modulo p_b·gcd(z_i, z_j), which
+makes it a function of the links' poses alone (no unwrapped angles needed).
+Poses differing by a whole number of that period are the same teeth in mesh
+after whole turns; the sketch decides among them as for any assembly branch.
+
+Relative coordinate and friction
+--------------------------------
+The coordinate is the rolling coordinate c = r_i (θ_i − β), the pitch arc
+gear i rolls relative to the line of centres; ċ is the pitch-line speed in
+the frame that carries both axles, and λ cos α ċ is the power transmitted
+through the mesh.  Mesh friction is modelled by a mesh efficiency η: an
+effort of magnitude (1 − η) cos α |λ| along c opposing ċ, which dissipates
+(1 − η) times the transmitted power.  ``friction: {coefficient: μ}`` gives
+1 − η = (π/2) μ (1/z_i ± 1/z_j), the mean loss of one tooth pair sliding with
+speed |x|·|ω_j − ω_i| at distance x from the pitch point over one base pitch
+of contact (contact ratio 1, equal approach and recess).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+import numpy as np
+
+from .._geometry import perp, rotate
+from .base import Joint
+
+__all__ = ["Gear"]
+
+FLANKS = {"ccw": 1, "cw": -1}
+MESHES = ("external", "internal")
+
+
+def _dot(a, b):
+    return a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1]
+
+
+def _wrap(x, period):
+    """``x`` wrapped into [−period/2, period/2)."""
+    return (x + 0.5 * period) % period - 0.5 * period
+
+
+# -- YAML helpers shared with the rack ----------------------------------------
+def read_teeth(entry, n: int) -> list[int] | None:
+    """``n`` tooth numbers (positive integers) from a scalar or a list."""
+    items = [entry] if n == 1 else entry.seq()
+    if items is None:
+        return None
+    if len(items) != n:
+        entry.error(f"expected a list of {n} tooth numbers, got {len(items)}")
+        return None
+    out = []
+    for e in items:
+        z = e.number(None, minimum=1)
+        if z is None:
+            return None
+        if not (math.isfinite(z) and float(z).is_integer() and z <= 100000):
+            e.error(f"a number of teeth must be a whole number from 1 to 100000, got {z:g}")
+            return None
+        out.append(int(z))
+    return out
+
+
+def read_length(entry) -> float | None:
+    """A positive, finite length in SI."""
+    v = entry.number("length", minimum=0.0, strict=True)
+    if v is not None and not math.isfinite(v):
+        entry.error("must be a finite length")
+        return None
+    return v
+
+
+def read_pressure_angle(entry) -> float | None:
+    """``pressure_angle`` in rad (default 20°), from 0 up to 45°."""
+    if (e := entry.get("pressure_angle")) is None:
+        return math.radians(20.0)
+    a = e.number("angle", minimum=0.0)
+    if a is not None and not a < math.radians(45.0):
+        e.error(f"a pressure angle must be below 45°, got {math.degrees(a):g}°")
+        return None
+    return a
+
+
+def read_flank(entry) -> int | None:
+    if (e := entry.get("flank")) is None:
+        return 1
+    text = e.text()
+    if text is None:
+        return None
+    if text not in FLANKS:
+        e.error(f"flank must be ccw or cw (the sense in which the tooth force turns "
+                f"link j about its centre), got '{text}'")
+        return None
+    return FLANKS[text]
+
+
+def read_loss(entry, loss_per_mu: float | None) -> float | None:
+    """1 − η from ``friction: {efficiency: η}`` or ``{coefficient: μ}`` (0 without)."""
+    if (f := entry.get("friction")) is None:
+        return 0.0
+    if not f.check_keys(optional=("efficiency", "coefficient")):
+        return None
+    eff, mu = f.get("efficiency"), f.get("coefficient")
+    if (eff is None) == (mu is None):
+        f.error("give efficiency (the mesh efficiency η, 0 < η ≤ 1) or coefficient "
+                "(the tooth friction coefficient μ)")
+        return None
+    if eff is not None:
+        eta = eff.number(None, minimum=0.0, strict=True)
+        if eta is not None and not eta <= 1.0:
+            eff.error(f"a mesh efficiency must be in (0, 1], got {eta:g}")
+            return None
+        return None if eta is None else 1.0 - eta
+    m = mu.number(None, minimum=0.0)
+    if m is None:
+        return None
+    if loss_per_mu is None:
+        mu.error("a friction coefficient needs the number of teeth (key teeth); "
+                 "or give the mesh efficiency")
+        return None
+    loss = m * loss_per_mu
+    if not loss < 1.0:
+        mu.error(f"this coefficient gives a mesh loss of {loss:g} (≥ 1): "
+                 "too large for the model 1 − η = (π/2) μ (1/z_i ± 1/z_j)")
+        return None
+    return loss
+
+
+@dataclass(frozen=True)
+class Gear(Joint, kind="gear"):
+    """Spur gear pair.  ``c_i``, ``c_j``: the gear centres in each link's frame
+    (relative to its centre of mass); pitch radii ``r_i``, ``r_j``.
+
+    Φ = κ cos α [ρ_j (θ_j − β − φ) − ρ_i (θ_i − β)] + k (d − d₀) (1 row, wrapped
+    to the tooth period); λ = F, the tooth force of i on j along the line of
+    action.  See the module docstring for the derivation and the signs.
+    """
+
+    n_eq: ClassVar[int] = 1
+    reaction_labels: ClassVar[tuple[str, ...]] = ("F", "Fx", "Fy")
+    angular: ClassVar[bool] = False          # the rolling coordinate is an arc length
+
+    c_i: np.ndarray = None
+    c_j: np.ndarray = None
+    centre_names: tuple[str, str] = ("", "")
+    r_i: float = 0.0
+    r_j: float = 0.0
+    teeth: tuple[int, int] = (1, 1)
+    internal: bool = False
+    alpha: float = math.radians(20.0)        # pressure angle, rad
+    flank: int = 1                           # +1: ccw, −1: cw
+    phase: float = 0.0                       # rad
+    loss: float = 0.0                        # 1 − mesh efficiency
+
+    # -- YAML ---------------------------------------------------------------
+    @classmethod
+    def from_spec(cls, name, entry, links, points):
+        entry.check_keys(required=("type", "links", "centres", "teeth"),
+                         optional=("radii", "module", "mesh", "pressure_angle", "flank",
+                                   "phase", "friction"))
+        names = tuple(entry.require("centres").names(2))
+        c_i = entry.point(links[0], names[0], points, key="centres", index=0)
+        c_j = entry.point(links[1], names[1], points, key="centres", index=1)
+        teeth = read_teeth(entry["teeth"], 2) if entry.get("teeth") is not None else None
+        mesh = "external"
+        if (m := entry.get("mesh")) is not None:
+            mesh = m.text()
+            if mesh is not None and mesh not in MESHES:
+                m.error(f"mesh must be external or internal, got '{mesh}'")
+                mesh = None
+        radii = cls._radii(entry, teeth)
+        if teeth is not None and mesh == "internal" and teeth[0] == teeth[1]:
+            entry["teeth"].error("an internal mesh needs an annulus larger than its pinion: "
+                                 "the numbers of teeth must differ")
+            mesh = None
+        alpha = read_pressure_angle(entry)
+        flank = read_flank(entry)
+        phase = entry["phase"].number("angle") if entry.get("phase") is not None else 0.0
+        if phase is not None and not math.isfinite(phase):
+            entry["phase"].error("must be a finite angle")
+            phase = None
+        per_mu = None
+        if teeth is not None and mesh is not None:
+            inv = (1.0 / teeth[0] + (-1.0 if mesh == "internal" else 1.0) / teeth[1])
+            per_mu = 0.5 * math.pi * abs(inv)
+        loss = read_loss(entry, per_mu)
+        if any(v is None for v in (c_i, c_j, teeth, mesh, radii, alpha, flank, phase, loss)):
+            return None
+        return cls(name, links, entry.where, c_i, c_j, names, radii[0], radii[1], tuple(teeth),
+                   mesh == "internal", float(alpha), flank, float(phase), float(loss))
+
+    @staticmethod
+    def _radii(entry, teeth):
+        radii, module = entry.get("radii"), entry.get("module")
+        if (radii is None) == (module is None):
+            entry.error("give the pitch radii (radii: [r_i, r_j]) or the module (module: m, "
+                        "pitch radius m·z/2)")
+            return None
+        if module is not None:
+            m = read_length(module)
+            return None if m is None or teeth is None else (0.5 * m * teeth[0], 0.5 * m * teeth[1])
+        items = radii.seq()
+        if items is None:
+            return None
+        if len(items) != 2:
+            radii.error(f"expected a list of 2 pitch radii, got {len(items)}")
+            return None
+        r = [read_length(e) for e in items]
+        if None in r or teeth is None:
+            return None
+        if abs(r[0] * teeth[1] - r[1] * teeth[0]) > 1e-9 * max(r[0] * teeth[1], r[1] * teeth[0]):
+            radii.error(f"the pitch radii must be in the ratio of the teeth "
+                        f"{teeth[0]}:{teeth[1]} (equal modules), got "
+                        f"{r[0]:g} m : {r[1]:g} m")
+            return None
+        return r[0], r[1]
+
+    def to_spec(self) -> dict[str, Any]:
+        spec: dict[str, Any] = {
+            "centres": list(self.centre_names), "teeth": list(self.teeth),
+            "radii": [self.r_i, self.r_j], "mesh": "internal" if self.internal else "external",
+            "pressure_angle": self.alpha, "flank": "ccw" if self.flank > 0 else "cw",
+            "phase": self.phase}
+        if self.loss:
+            spec["friction"] = {"efficiency": 1.0 - self.loss}
+        return spec
+
+    # -- constants of the row -------------------------------------------------
+    @property
+    def rho(self) -> tuple[float, float]:
+        """Signed radii (ρ_i, ρ_j): the pitch point is C_i + ρ_i e = C_j + ρ_j e."""
+        if not self.internal:
+            return self.r_i, -self.r_j
+        if self.r_j > self.r_i:
+            return -self.r_i, -self.r_j
+        return self.r_i, self.r_j
+
+    @property
+    def d0(self) -> float:
+        """Nominal centre distance r_i + r_j (external) or |r_i − r_j| (internal)."""
+        rho_i, rho_j = self.rho
+        return rho_i - rho_j
+
+    def _coefficients(self):
+        """(K_i, K_j, k): Φ = K_j (θ_j − β − φ) − K_i (θ_i − β) + k (d − d₀)."""
+        rho_i, rho_j = self.rho
+        kappa = self.flank * (1.0 if rho_j > 0 else -1.0)
+        k = (-1.0 if self.internal else 1.0) * math.sin(self.alpha)
+        c = kappa * math.cos(self.alpha)
+        return c * rho_i, c * rho_j, k
+
+    @property
+    def period(self) -> float:
+        """Tooth period of Φ: the base pitch times gcd(z_i, z_j)."""
+        return (2.0 * math.pi * self.r_i * math.cos(self.alpha) / self.teeth[0]
+                * math.gcd(*self.teeth))
+
+    # -- geometry -------------------------------------------------------------
+    def _frame(self, qi, qj):
+        Ri = rotate(qi[..., 2], self.c_i)
+        Rj = rotate(qj[..., 2], self.c_j)
+        D = qj[..., :2] + Rj - qi[..., :2] - Ri
+        d = np.hypot(D[..., 0], D[..., 1])
+        e = D / d[..., None]
+        return Ri, Rj, D, d, e, perp(e)
+
+    def _gradient(self, d, e, t):
+        """G = ∂Φ/∂D, ``(..., 2)``."""
+        K_i, K_j, k = self._coefficients()
+        return -((K_j - K_i) / d)[..., None] * t + k * e
+
+    @staticmethod
+    def _rates(Ri, Rj, d, e, t, vi, vj):
+        wi, wj = vi[..., 2], vj[..., 2]
+        Dd = vj[..., :2] + wj[..., None] * perp(Rj) - vi[..., :2] - wi[..., None] * perp(Ri)
+        Ddd = -(wj ** 2)[..., None] * Rj + (wi ** 2)[..., None] * Ri   # velocity part of D̈
+        beta_d = _dot(t, Dd) / d
+        d_d = _dot(e, Dd)
+        return Ddd, beta_d, d_d
+
+    # -- kinematics ---------------------------------------------------------
+    def residual(self, qi, qj):
+        Ri, Rj, D, d, e, t = self._frame(qi, qj)
+        K_i, K_j, k = self._coefficients()
+        beta = np.arctan2(D[..., 1], D[..., 0])
+        phi = (K_j * (qj[..., 2] - beta - self.phase) - K_i * (qi[..., 2] - beta)
+               + k * (d - self.d0))
+        return _wrap(phi, self.period)[..., None]
+
+    def jacobian(self, qi, qj):
+        Ri, Rj, D, d, e, t = self._frame(qi, qj)
+        K_i, K_j, _ = self._coefficients()
+        G = self._gradient(d, e, t)
+        shape = d.shape + (1, 3)
+        ji, jj = np.zeros(shape), np.zeros(shape)
+        ji[..., 0, :2], ji[..., 0, 2] = -G, -K_i - _dot(G, perp(Ri))
+        jj[..., 0, :2], jj[..., 0, 2] = G, K_j + _dot(G, perp(Rj))
+        return ji, jj
+
+    def acceleration_rhs(self, qi, qj, vi, vj):
+        Ri, Rj, D, d, e, t = self._frame(qi, qj)
+        K_i, K_j, k = self._coefficients()
+        G = self._gradient(d, e, t)
+        Ddd, beta_d, d_d = self._rates(Ri, Rj, d, e, t, vi, vj)
+        K = K_j - K_i
+        # Φ̇ = G·Ḋ + K_j ω_j − K_i ω_i; its velocity-product part of Φ̈ is
+        # Ġ·Ḋ + G·D̈_vel = 2K β̇ ḋ/d + k d β̇² + G·D̈_vel.
+        return -(2.0 * K * beta_d * d_d / d + k * d * beta_d ** 2 + _dot(G, Ddd))[..., None]
+
+    def reaction(self, lam, qi, qj):
+        Ri, Rj, D, d, e, t = self._frame(qi, qj)
+        G = self._gradient(d, e, t)
+        f = lam[..., 0]
+        return {"F": f, "Fx": f * G[..., 0], "Fy": f * G[..., 1]}
+
+    # -- relative coordinate: the rolling coordinate c = r_i (θ_i − β) ------------
+    def coordinate(self, qi, qj):
+        Ri, Rj, D, d, e, t = self._frame(qi, qj)
+        return self.r_i * (qi[..., 2] - np.arctan2(D[..., 1], D[..., 0]))
+
+    def motion_direction(self, qi, qj):
+        Ri, Rj, D, d, e, t = self._frame(qi, qj)
+        g = -self.r_i * t / d[..., None]                       # ∂c/∂D
+        gi = np.concatenate((-g, (self.r_i - _dot(g, perp(Ri)))[..., None]), axis=-1)
+        gj = np.concatenate((g, _dot(g, perp(Rj))[..., None]), axis=-1)
+        return gi, gj
+
+    def coordinate_bias(self, qi, qj, vi, vj):
+        Ri, Rj, D, d, e, t = self._frame(qi, qj)
+        Ddd, beta_d, d_d = self._rates(Ri, Rj, d, e, t, vi, vj)
+        # β̈ = (t·D̈ − 2 ḋ β̇)/d, so the velocity part of c̈ = −r_i β̈ is:
+        return -self.r_i * (_dot(t, Ddd) - 2.0 * d_d * beta_d) / d
+
+    def effort_force(self, effort, qi, qj):
+        Ri, Rj, D, d, e, t = self._frame(qi, qj)
+        g = -self.r_i * t / d[..., None]
+        return {"Fx": effort * g[..., 0], "Fy": effort * g[..., 1]}
+
+    # -- friction: mesh efficiency -----------------------------------------------
+    @property
+    def has_friction(self) -> bool:
+        return self.loss > 0.0
+
+    def friction_magnitude(self, lam, qi, qj):
+        return self.loss * math.cos(self.alpha) * np.abs(lam[..., 0])
+
+    def friction_gradient(self, lam, qi, qj):
+        return self.loss * math.cos(self.alpha) * np.sign(lam)

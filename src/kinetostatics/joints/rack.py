@@ -1,0 +1,262 @@
+r"""Rack and pinion: a pinion (or sector) on link j rolls on the pitch line of a rack on link i.
+
+A higher pair (one row of Φ, one reaction: the tooth force).  The derivation
+follows the gear pair's (``gear.py``); ``docs/extending.md`` has both.
+
+Geometry
+--------
+The rack is link i: its pitch line passes through the point A_i with the unit
+direction u (both fixed in link i, like a prismatic axis); n = u rotated +90°.
+The pinion is link j with centre C_j and pitch radius r.  With D = C_j − A_i,
+
+    s = u·D   (where the pinion centre is along the rack),
+    h = n·D   (its signed distance from the pitch line),   ν = sign(h),
+
+so the pitch point is P = C_j − h n, and the other joints must hold |h| at r
+(the pinion on the +n side of the line has ν = +1, on the −n side ν = −1).
+
+Rolling without slipping
+------------------------
+In the frame of the rack the pinion's material point at P moves with
+ṡ u + ḣ n + (ω_j − ω_i) × (−ν r n) = (ṡ + ν r (ω_j − ω_i)) u + ḣ n; its
+component along the pitch line vanishes:
+
+    s + ν r (θ_j − θ_i) = const,
+
+so for a rack sliding in a ground guide under a pinion on a ground pivot the
+ratio is exact: v_rack = ν r ω_pinion (a pinion above the rack, ν = +1, turns
+counter-clockwise when the rack moves along +u).
+
+The pressure-angle term and the flank
+-------------------------------------
+As for the gear pair, the row is written so that its gradient lies along the
+line of action (inclined by α to the pitch line):
+
+    Φ = κ cos α [s − s₀ + ν r (θ_j − θ_i)] + sin α (ν h − r),
+
+whose gradient with respect to C_j, G = κ cos α u + sin α ν n, has unit
+length, and whose couple about C_j, κ cos α ν r, is the moment of G applied at
+the pitch point P.  So λ is the tooth force F along the line of action and
+(Fx, Fy) = λ G the force of the rack on the pinion.  sin α ν n pushes the
+pinion away from the rack (towards its own centre); κ = ±ν picks the loaded
+flank: ``flank: ccw`` (κ ν > 0) when the rack's tooth force turns the pinion
+counter-clockwise, ``cw`` otherwise.  F < 0 at a position means the other flank
+is loaded there (torques and forces along the rack stay right; the radial
+component has the wrong side).  ν h − r vanishes while the other joints hold
+the pinion at its pitch distance, so it does not change the motion.
+
+``phase`` s₀ fixes the constant: the pinion centre is at s = s₀ when
+θ_j − θ_i = 0.  Turning either link a full turn changes Φ by 2π r cos α, so
+Φ is wrapped modulo that length and needs no unwrapped angles.
+
+Relative coordinate and friction
+--------------------------------
+The coordinate is s, the pitch-line travel of the pinion along the rack; λ
+cos α ṡ is the power transmitted through the mesh.  Friction is a mesh
+efficiency η: an effort (1 − η) cos α |λ| along u opposing ṡ, or from a tooth
+friction coefficient 1 − η = (π/2) μ / z (z = ``teeth`` of the pinion; the
+gear-pair model with an infinite rack).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+import numpy as np
+
+from .._geometry import perp, rotate
+from .base import Joint
+from .gear import _dot, _wrap, read_flank, read_length, read_loss, read_pressure_angle, read_teeth
+
+__all__ = ["Rack"]
+
+
+@dataclass(frozen=True)
+class Rack(Joint, kind="rack"):
+    """Rack (link i: pitch-line point ``a`` and unit ``u``, local, ``a`` relative to
+    i's CoM) meshing with a pinion or sector (link j: centre ``c``, pitch radius ``r``).
+
+    Φ = κ cos α [s − s₀ + ν r (θ_j − θ_i)] + sin α (ν h − r) (1 row, wrapped to
+    2π r cos α); λ = F, the tooth force of the rack on the pinion along the line
+    of action.  See the module docstring for the derivation and the signs.
+    """
+
+    n_eq: ClassVar[int] = 1
+    reaction_labels: ClassVar[tuple[str, ...]] = ("F", "Fx", "Fy")
+    angular: ClassVar[bool] = False          # the coordinate is a travel along the rack
+
+    a: np.ndarray = None
+    u: np.ndarray = None
+    c: np.ndarray = None
+    axis_names: tuple[str, ...] = ()
+    centre_name: str = ""
+    r: float = 0.0
+    teeth: int | None = None
+    alpha: float = math.radians(20.0)        # pressure angle, rad
+    flank: int = 1                           # +1: ccw, −1: cw
+    phase: float = 0.0                       # s₀, m
+    loss: float = 0.0                        # 1 − mesh efficiency
+
+    # -- YAML ---------------------------------------------------------------
+    @classmethod
+    def from_spec(cls, name, entry, links, points):
+        entry.check_keys(required=("type", "links", "axis", "centre"),
+                         optional=("radius", "module", "teeth", "pressure_angle", "flank",
+                                   "phase", "friction"))
+        a, u, axis_names = cls._axis(entry.require("axis"), links, points)
+        cname = entry.require("centre").names(1)[0]
+        c = entry.point(links[1], cname, points, key="centre")
+        teeth = read_teeth(entry["teeth"], 1)[0:1] if entry.get("teeth") is not None else []
+        if teeth is None:
+            return None
+        z = teeth[0] if teeth else None
+        radius, module = entry.get("radius"), entry.get("module")
+        r = None
+        if (radius is None) == (module is None):
+            entry.error("give the pitch radius of the pinion (radius: r) or the module and "
+                        "its teeth (module: m, teeth: z; r = m·z/2)")
+        elif radius is not None:
+            r = read_length(radius)
+        elif z is None:
+            module.error("a module needs the pinion's number of teeth (key teeth)")
+        else:
+            m = read_length(module)
+            r = None if m is None else 0.5 * m * z
+        alpha = read_pressure_angle(entry)
+        flank = read_flank(entry)
+        phase = entry["phase"].number("length") if entry.get("phase") is not None else 0.0
+        if phase is not None and not math.isfinite(phase):
+            entry["phase"].error("must be a finite length")
+            phase = None
+        loss = read_loss(entry, None if z is None else 0.5 * math.pi / z)
+        if any(v is None for v in (a, u, c, r, alpha, flank, phase, loss)):
+            return None
+        return cls(name, links, entry.where, a, u, c, axis_names, cname, float(r), z,
+                   float(alpha), flank, float(phase), float(loss))
+
+    @staticmethod
+    def _axis(axis, links, points):
+        """(a, u, names) of ``axis: {point, direction}`` or ``axis: {points: [A, B]}`` on link i."""
+        if not axis:
+            return None, None, ()
+        if not axis.check_keys(optional=("point", "direction", "points")):
+            return None, None, ()
+        if axis.get("points") is not None:
+            pa, pb = axis["points"].names(2)
+            a = axis.point(links[0], pa, points, key="points", index=0)
+            b = axis.point(links[0], pb, points, key="points", index=1)
+            u = None if a is None or b is None else axis["points"].unit(b - a)
+            return a, u, (pa, pb)
+        pa = axis.require("point").names(1)[0]
+        a = axis.point(links[0], pa, points, key="point")
+        d = axis.require("direction").vector(None)
+        u = None if d is None else axis["direction"].unit(d)
+        if u is not None and not np.all(np.isfinite(u)):
+            axis["direction"].error("the direction must be finite")
+            u = None
+        return a, u, (pa,)
+
+    def to_spec(self) -> dict[str, Any]:
+        if len(self.axis_names) == 2:
+            axis: dict[str, Any] = {"points": list(self.axis_names)}
+        else:
+            axis = {"point": self.axis_names[0], "direction": [float(x) for x in self.u]}
+        spec: dict[str, Any] = {"axis": axis, "centre": self.centre_name, "radius": self.r,
+                                "pressure_angle": self.alpha,
+                                "flank": "ccw" if self.flank > 0 else "cw", "phase": self.phase}
+        if self.teeth is not None:
+            spec["teeth"] = self.teeth
+        if self.loss:
+            spec["friction"] = {"efficiency": 1.0 - self.loss}
+        return spec
+
+    # -- geometry -----------------------------------------------------------
+    def _frame(self, qi, qj):
+        A = rotate(qi[..., 2], self.a)
+        U = rotate(qi[..., 2], self.u)
+        C = rotate(qj[..., 2], self.c)
+        D = qj[..., :2] + C - qi[..., :2] - A
+        N = perp(U)
+        nu = np.where(_dot(N, D) >= 0.0, 1.0, -1.0)
+        return A, U, N, C, D, nu
+
+    def _gains(self, nu):
+        """(κ cos α, sin α ν) broadcast over positions."""
+        return self.flank * nu * math.cos(self.alpha), math.sin(self.alpha) * nu
+
+    @staticmethod
+    def _rates(A, U, N, C, D, vi, vj):
+        """Velocity-product parts of s̈ and ḧ (as for a prismatic axis)."""
+        wi, wj = vi[..., 2], vj[..., 2]
+        Dd = vj[..., :2] + wj[..., None] * perp(C) - vi[..., :2] - wi[..., None] * perp(A)
+        Ddd = -(wj ** 2)[..., None] * C + (wi ** 2)[..., None] * A
+        s_b = -wi ** 2 * _dot(U, D) + 2.0 * wi * _dot(N, Dd) + _dot(U, Ddd)
+        h_b = -wi ** 2 * _dot(N, D) - 2.0 * wi * _dot(U, Dd) + _dot(N, Ddd)
+        return s_b, h_b
+
+    # -- kinematics ---------------------------------------------------------
+    def residual(self, qi, qj):
+        A, U, N, C, D, nu = self._frame(qi, qj)
+        kc, ks = self._gains(nu)
+        phi = (kc * (_dot(U, D) - self.phase + nu * self.r * (qj[..., 2] - qi[..., 2]))
+               + ks * _dot(N, D) - math.sin(self.alpha) * self.r)
+        return _wrap(phi, 2.0 * math.pi * self.r * math.cos(self.alpha))[..., None]
+
+    def jacobian(self, qi, qj):
+        A, U, N, C, D, nu = self._frame(qi, qj)
+        kc, ks = self._gains(nu)
+        G = kc[..., None] * U + ks[..., None] * N               # ∂Φ/∂D
+        s, h = _dot(U, D), _dot(N, D)
+        shape = s.shape + (1, 3)
+        ji, jj = np.zeros(shape), np.zeros(shape)
+        # ∂s/∂θ_i = h − u·perp(A), ∂h/∂θ_i = −s − n·perp(A)
+        ji[..., 0, :2] = -G
+        ji[..., 0, 2] = kc * (h - nu * self.r) - ks * s - _dot(G, perp(A))
+        jj[..., 0, :2] = G
+        jj[..., 0, 2] = kc * nu * self.r + _dot(G, perp(C))
+        return ji, jj
+
+    def acceleration_rhs(self, qi, qj, vi, vj):
+        A, U, N, C, D, nu = self._frame(qi, qj)
+        kc, ks = self._gains(nu)
+        s_b, h_b = self._rates(A, U, N, C, D, vi, vj)
+        return -(kc * s_b + ks * h_b)[..., None]
+
+    def reaction(self, lam, qi, qj):
+        A, U, N, C, D, nu = self._frame(qi, qj)
+        kc, ks = self._gains(nu)
+        f = lam[..., 0]
+        return {"F": f, "Fx": f * (kc * U[..., 0] + ks * N[..., 0]),
+                "Fy": f * (kc * U[..., 1] + ks * N[..., 1])}
+
+    # -- relative coordinate: s, the travel of the pinion centre along the rack ----
+    def coordinate(self, qi, qj):
+        A, U, N, C, D, nu = self._frame(qi, qj)
+        return _dot(U, D)
+
+    def motion_direction(self, qi, qj):
+        A, U, N, C, D, nu = self._frame(qi, qj)
+        gi = np.concatenate((-U, (_dot(N, D) - _dot(U, perp(A)))[..., None]), axis=-1)
+        gj = np.concatenate((U, _dot(U, perp(C))[..., None]), axis=-1)
+        return gi, gj
+
+    def coordinate_bias(self, qi, qj, vi, vj):
+        A, U, N, C, D, nu = self._frame(qi, qj)
+        return self._rates(A, U, N, C, D, vi, vj)[0]
+
+    def effort_force(self, effort, qi, qj):
+        U = rotate(qi[..., 2], self.u)
+        return {"Fx": effort * U[..., 0], "Fy": effort * U[..., 1]}
+
+    # -- friction: mesh efficiency -----------------------------------------------
+    @property
+    def has_friction(self) -> bool:
+        return self.loss > 0.0
+
+    def friction_magnitude(self, lam, qi, qj):
+        return self.loss * math.cos(self.alpha) * np.abs(lam[..., 0])
+
+    def friction_gradient(self, lam, qi, qj):
+        return self.loss * math.cos(self.alpha) * np.sign(lam)
