@@ -14,8 +14,8 @@ from .differences import difference_derivatives
 from .errors import AssemblyError, Location, SingularConfigurationError, StructureError
 from .forces import angle_band, external_forces, gravity_forces, inertia_forces, mass_vector
 from .model import Condition, Model
-from .positions import (PositionSolution, condition_number, derivatives, group_condition,
-                        reachable_range, solve_positions, state_at)
+from .positions import (PositionSolution, Singularity, condition_number, derivatives,
+                        group_condition, reachable_range, solve_positions, state_at)
 from .reactions import effort_joints, equilibrium_matrix, ground_reaction, solve_equilibrium
 from .results import Result, build_columns
 from .system import System, build_system
@@ -274,6 +274,10 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
         t = np.linspace(lo + margin, hi - margin, model.analysis.positions)
         full = False
         sol = solve_positions(system, t, sched)
+        plan = next(p for p in system.plans if p.group.label == exc.group)
+        for k, tk in ((0, lo), (-1, hi)):             # the limit positions are singular positions
+            sol.singular.append(Singularity(exc.group, tk, float(sched(np.array([tk]))[0][0, 0]),
+                                            float(group_condition(system, sol.q[k], plan))))
     q = sol.q
     psi, psi_d, psi_dd = sched(t)
     qd, qdd, lu = derivatives(system, q, psi_d, psi_dd)

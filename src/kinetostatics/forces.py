@@ -96,14 +96,27 @@ def activity(system: System, load: Load, q, qd, psi, extremes, ref_speed: float)
     return active
 
 
-def effort_forces(system: System, q: np.ndarray) -> np.ndarray:
-    """Generalized forces of the constant ``effort:`` drivers (applied by i on j)."""
+def effort_forces(system: System, q: np.ndarray, qd: np.ndarray | None = None) -> np.ndarray:
+    """Generalized forces of the ``effort:`` drivers (applied by i on j): constants, or
+    laws (:class:`~kinetostatics.model.EffortLaw`) of the driver coordinate and speed."""
+    from .model import EffortLaw
     from .system import coordinate_gradient
     out = np.zeros(q.shape)
     names = [j.name for j in system.model.joints]
     for d in system.model.drivers:
-        if d.effort is not None:
-            out += d.effort * coordinate_gradient(system, q, names.index(d.joint))
+        if d.effort is None:
+            continue
+        k = names.index(d.joint)
+        grad = coordinate_gradient(system, q, k)
+        value = d.effort
+        if isinstance(value, EffortLaw):
+            joint = system.model.joints[k]
+            qe = np.concatenate((q, np.zeros(q.shape[:-1] + (3,))), axis=-1)
+            i, j = system.ends[k]
+            psi = joint.coordinate(qe[..., 3 * i:3 * i + 3], qe[..., 3 * j:3 * j + 3]) + d.offset
+            speed = np.zeros(q.shape[:-1]) if qd is None else np.einsum("...n,...n->...", grad, qd)
+            value = value(psi, speed, 2 * np.pi if joint.angular else None)[..., None]
+        out += value * grad
     return out
 
 
@@ -113,7 +126,7 @@ def zero_speed(system: System, ref_speed: float) -> float:
 
 def external_forces(system: System, q, qd, psi, extremes, ref_speed: float) -> np.ndarray:
     """Generalized external forces of all loads, ``(..., n_q)``."""
-    out = effort_forces(system, q)
+    out = effort_forces(system, q, qd)
     period = 2 * np.pi if system.motion_drivers and system.motion_drivers[0].joint.angular else None
     for load in system.model.loads:
         value = load.value_at(psi, period)

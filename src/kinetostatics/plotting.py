@@ -923,21 +923,61 @@ def output_motion(result, output: str | None = None) -> dict:
                        f"{did_you_mean(output, names)}")
 
 
-def _mark(ax, result, *, top: bool = True):
-    """Events as vertical lines; course positions on a top axis."""
-    x, _ = _abscissa(result)
-    for e in result.events:
-        xe = _event_travel(result, e)
-        ax.axvline(xe, color=EVENT_COLOR, lw=0.8, ls=(0, (4, 2)), zorder=1)
+def _active_spans(result) -> list[tuple[str, float, float]]:
+    """Travel intervals where each load with ``active:`` conditions acts."""
+    from .forces import activity
+    system = result.system
+    x, order, _ = _sorted(result)
+    ref = abs(_driver(result).driver.motion.speed)
+    spans = []
+    for load in system.model.loads:
+        if not load.active:
+            continue
+        on = activity(system, load, result.q, result.qd, result.coordinate, result.extremes,
+                      ref)[order]
+        ev = np.array([_is_event_row(result, int(i)) for i in order])
+        k = 0
+        while k < len(on):
+            if not on[k]:
+                k += 1
+                continue
+            m = k
+            while m + 1 < len(on) and on[m + 1]:
+                m += 1
+            x0 = x[k - 1] if k > 0 and ev[k - 1] else x[k]
+            x1 = x[m + 1] if m + 1 < len(on) and ev[m + 1] else x[m]
+            spans.append((load.name, float(x0), float(x1)))
+            k = m + 1
+    return spans
+
+
+def _is_event_row(result, k) -> bool:
+    return any(abs(result.t[k] - e.t) < 1e-9 * max(1.0, abs(e.t)) for e in result.events)
+
+
+def _mark(ax, result, *, top: bool = True, spans=None):
+    """Loads' active zones shaded, events as dashed lines (labelled 1′ … in the top
+    panel), course positions 1…12 on a top axis."""
+    spans = _active_spans(result) if spans is None else spans
+    for n, (name, x0, x1) in enumerate(spans):
+        ax.axvspan(x0, x1, color=EVENT_COLOR, alpha=0.07, lw=0, zorder=0)
     ticks = _course_ticks(result)
+    for xe, lab in ticks:
+        if "′" in lab:
+            ax.axvline(xe, color=EVENT_COLOR, lw=0.8, ls=(0, (4, 2)), zorder=1)
+            if top:
+                ax.text(xe, 0.97, f" {lab}", transform=ax.get_xaxis_transform(), color=EVENT_COLOR,
+                        fontsize=7, va="top", ha="left")
+    if not ticks:
+        for e in result.events:
+            ax.axvline(_event_travel(result, e), color=EVENT_COLOR, lw=0.8, ls=(0, (4, 2)), zorder=1)
     if top and ticks:
         sec = ax.secondary_xaxis("top")
-        sec.set_xticks([t for t, _ in ticks])
-        sec.set_xticklabels([lab for _, lab in ticks], fontsize=6.5)
+        numbered = [(t, lab) for t, lab in ticks if "′" not in lab]
+        sec.set_xticks([t for t, _ in numbered])
+        sec.set_xticklabels([lab for _, lab in numbered], fontsize=6.5)
         sec.tick_params(length=2, pad=1)
-        for lab in sec.get_xticklabels():
-            if "′" in lab.get_text():
-                lab.set_color(EVENT_COLOR)
+        sec.set_xlabel("course positions", fontsize=6.5, labelpad=2)
     if _angular(result) and result.full_cycle:
         ax.set_xlim(0, 360)
         ax.set_xticks(np.arange(0, 361, 30))
@@ -945,9 +985,29 @@ def _mark(ax, result, *, top: bool = True):
 
 def _event_legend(ax, result):
     if result.events:
-        names = sorted({f"{e.load} {e.switch}" for e in result.events})
         ax.plot([], [], color=EVENT_COLOR, lw=0.8, ls=(0, (4, 2)),
-                label="events: " + ", ".join(names))
+                label="load switches (" + ", ".join(sorted({e.load for e in result.events})) + ")")
+    names = sorted({name for name, _, _ in _active_spans(result)})
+    if names:
+        ax.fill_between([], [], color=EVENT_COLOR, alpha=0.1, lw=0,
+                        label=", ".join(names) + " acting")
+
+
+def _cycle_mean(result, values) -> float:
+    """Mean over the driver coordinate (trapezoids over the sorted rows, closed over
+    the cycle for a full cycle); NaN where a value is missing."""
+    x, order, _ = _sorted(result)
+    y = np.asarray(values, dtype=float)[order]
+    ok = np.isfinite(y)
+    if not ok.any():
+        return float("nan")
+    closed = bool(ok[0]) and result.full_cycle and _angular(result)
+    x, y = x[ok], y[ok]
+    if closed:
+        x, y = np.append(x, 360.0), np.append(y, y[0])
+    if len(x) < 2 or x[-1] == x[0]:
+        return float(np.mean(y))
+    return float(np.sum(0.5 * (y[1:] + y[:-1]) * np.diff(x)) / (x[-1] - x[0]))
 
 
 def _sorted(result):
@@ -958,35 +1018,35 @@ def _sorted(result):
 
 def motion_diagram(result, output: str | None = None, *, dpi: float = DPI):
     """The motion diagram of the output: position, velocity, acceleration over the
-    driver coordinate (three panels), events marked, course positions on top."""
+    driver coordinate (three panels), loads' zones and events marked, course
+    positions on top.  ``output`` as in :func:`output_motion`."""
     out = output_motion(result, output)
     x, order, xlabel = _sorted(result)
+    spans = _active_spans(result)
     with _rc():
         fig = _figure(165, 150, dpi)
         axes = fig.subplots(3, 1, sharex=True)
         for n, (ax, (label, unit, vals)) in enumerate(zip(axes, out["series"])):
             vals = np.asarray(vals)[order]
             if vals.ndim == 2:
-                ax.plot(x, vals[:, 0], color=CURVE_COLORS[0], label="x")
-                ax.plot(x, vals[:, 1], color=CURVE_COLORS[1], label="y")
+                ax.plot(x, vals[:, 0], color=CURVE_COLORS[0], label="x component")
+                ax.plot(x, vals[:, 1], color=CURVE_COLORS[1], label="y component")
             else:
-                ax.plot(x, vals, color=CURVE_COLORS[n], label=label)
-            ax.set_ylabel(f"{label.split(' of ')[0] if out['kind'] != 'point' else label.split(' of ')[0]}, {unit}")
+                ax.plot(x, vals, color=CURVE_COLORS[n])
+            ax.set_ylabel(f"{label.split(' of ')[0]}, {unit}")
             ax.axhline(0, color="black", lw=0.5)
-            _mark(ax, result, top=(n == 0))
-            if vals.ndim == 2:
-                ax.legend(loc="best")
+            _mark(ax, result, top=(n == 0), spans=spans)
         _event_legend(axes[-1], result)
-        if result.events:
-            axes[-1].legend(loc="best")
+        if axes[-1].get_legend_handles_labels()[0]:
+            axes[-1].legend(loc="lower left", fontsize=7)
         axes[-1].set_xlabel(xlabel)
-        what = {"slide": f"slider of {out['name']}", "link": f"link {out['name']}",
+        what = {"slide": "output slider", "link": f"link {out['name']}",
                 "point": f"point {out['name']}", "joint": f"joint {out['name']}"}[out["kind"]]
-        axes[0].set_title(f"{result.system.model.name}: motion diagram of the {what}"
-                          + (f" — {out['series'][0][0]}" if out["kind"] == "slide" else ""),
-                          loc="left")
+        fig.suptitle(f"{result.system.model.name}: motion diagram of the {what}"
+                     + (f" ({out['series'][0][0]})" if out["kind"] == "slide" else ""),
+                     x=0.02, ha="left", fontsize=9.5)
         fig.align_ylabels(axes)
-        fig.subplots_adjust(left=0.12, right=0.97, top=0.91, bottom=0.08, hspace=0.12)
+        fig.subplots_adjust(left=0.12, right=0.97, top=0.875, bottom=0.08, hspace=0.12)
     return fig
 
 
@@ -1017,10 +1077,10 @@ def reaction_curves(result, *, friction: bool = False, joints: Sequence[str] | N
         _event_legend(ax, result)
         ax.set_xlabel(xlabel)
         ax.set_ylabel("reaction magnitude |F|, N")
-        ax.set_title(f"{model.name}: joint reactions", loc="left")
+        fig.suptitle(f"{model.name}: joint reactions", x=0.02, ha="left", fontsize=9.5)
         ax.set_ylim(bottom=0)
         ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0))
-        fig.subplots_adjust(left=0.09, right=0.76, top=0.86, bottom=0.14)
+        fig.subplots_adjust(left=0.09, right=0.74, top=0.80, bottom=0.14)
     return fig
 
 
@@ -1052,9 +1112,9 @@ def torque_curves(result, driver: str | None = None, *, dpi: float = DPI):
             if key not in result.columns:
                 continue
             y = np.asarray(result[key])[order]
-            mean = np.nanmean(y)
-            ax.plot(x, y, color=c, ls=ls, lw=1.5 if ls == "-" else 1.3,
-                    label=f"{label} (mean {mean:.4g} {unit})")
+            mean = _cycle_mean(result, result[key])
+            ax.plot(x, y, color=c, ls=ls, lw=1.6 if ls == "-" else 1.3, zorder=3 if ls == "-" else 4,
+                    label=f"{label} (cycle mean {mean:.4g} {unit})")
         status = result.columns.get("friction.status")
         if status is not None and np.any(status[order] == 2):
             locked = x[status[order] == 2]
@@ -1066,9 +1126,10 @@ def torque_curves(result, driver: str | None = None, *, dpi: float = DPI):
         sym = "M" if word == "torque" else "F"
         ax.set_ylabel(f"driving {word} {sym}, {unit} (counter-clockwise +)" if word == "torque"
                       else f"driving force {sym}, {unit}")
-        ax.set_title(f"{result.system.model.name}: driving {word} of {d.name}", loc="left")
+        fig.suptitle(f"{result.system.model.name}: driving {word} of {d.name}", x=0.02, ha="left",
+                     fontsize=9.5)
         ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=1)
-        fig.subplots_adjust(left=0.1, right=0.97, top=0.88, bottom=0.34)
+        fig.subplots_adjust(left=0.1, right=0.97, top=0.81, bottom=0.36)
     return fig
 
 
@@ -1089,8 +1150,8 @@ def efficiency_curve(result, driver: str | None = None, *, dpi: float = DPI):
         pinf = None
         if f"{d.name}.{word}_friction" in result.columns and pin is not None:
             ok = np.isfinite(result[f"{d.name}.{word}_friction"])
-            m0 = np.nanmean(np.asarray(result[f"{d.name}.{word}"])[ok])
-            m1 = np.nanmean(np.asarray(result[f"{d.name}.{word}_friction"])[ok])
+            m0 = _cycle_mean(result, np.where(ok, result[f"{d.name}.{word}"], np.nan))
+            m1 = _cycle_mean(result, result[f"{d.name}.{word}_friction"])
             if m1 != 0 and result.full_cycle:
                 pinf = m0 / m1
                 ax.axhline(pinf, color="black", ls="--", lw=0.9,
@@ -1102,10 +1163,10 @@ def efficiency_curve(result, driver: str | None = None, *, dpi: float = DPI):
         _event_legend(ax, result)
         ax.set_xlabel(xlabel)
         ax.set_ylabel("efficiency η, 1")
-        ax.set_title(f"{result.system.model.name}: efficiency of the drive {d.name} "
-                     "(axis clipped where M_friction → 0)", loc="left")
+        fig.suptitle(f"{result.system.model.name}: efficiency of the drive {d.name} "
+                     "(axis clipped where M_friction → 0)", x=0.02, ha="left", fontsize=9.5)
         ax.legend(loc="lower left")
-        fig.subplots_adjust(left=0.1, right=0.97, top=0.86, bottom=0.15)
+        fig.subplots_adjust(left=0.1, right=0.97, top=0.79, bottom=0.15)
     return fig
 
 
@@ -1129,8 +1190,9 @@ def plot_result(result, *names: str, dpi: float = DPI):
             ax.legend(loc="best")
             _mark(ax, result, top=ax is axes[0])
         axes[-1].set_xlabel(xlabel)
-        axes[0].set_title(result.system.model.name, loc="left")
-        fig.subplots_adjust(left=0.11, right=0.97, top=0.9, bottom=0.1, hspace=0.15)
+        fig.suptitle(result.system.model.name, x=0.02, ha="left", fontsize=9.5)
+        fig.subplots_adjust(left=0.11, right=0.97, top=1 - 16 / (45 + 45 * len(units)), bottom=0.1,
+                            hspace=0.15)
     return fig
 
 

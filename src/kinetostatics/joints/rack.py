@@ -108,10 +108,12 @@ class Rack(Joint, kind="rack"):
         a, u, axis_names = cls._axis(entry.require("axis"), links, points)
         cname = entry.require("centre").names(1)[0]
         c = entry.point(links[1], cname, points, key="centre")
-        teeth = read_teeth(entry["teeth"], 1)[0:1] if entry.get("teeth") is not None else []
-        if teeth is None:
-            return None
-        z = teeth[0] if teeth else None
+        z = None
+        if entry.get("teeth") is not None:
+            teeth = read_teeth(entry["teeth"], 1)
+            if teeth is None:
+                return None
+            z = teeth[0]
         radius, module = entry.get("radius"), entry.get("module")
         r = None
         if (radius is None) == (module is None):
