@@ -213,7 +213,7 @@ def initial_guess(system: System) -> np.ndarray:
         q[3 * k:3 * k + 2] = np.mean(world - rotate(theta, local), axis=0)
     if missing:
         groups = {n: p.group.label for p in system.plans for n in p.group.links}
-        raise ModelError([(system.model.sketch and _where(system) or _where(system),
+        raise ModelError([(_where(system),
                            f"the sketch places no point of link '{n}' ({groups[n]}): "
                            "give the rough position of one of its joints") for n in missing])
     return q
@@ -295,17 +295,16 @@ def _miss(system: System, q: np.ndarray, psi: np.ndarray, plan: GroupPlan) -> st
 
 def _step(system: System, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, t: float, h: float,
           drive: Drive, sig: np.ndarray):
-    """One continuation step; returns (q, ok, reason, new signatures, jump ratio)."""
-    qp = q + h * qd + 0.5 * h * h * qdd
+    """One continuation step from t to t + h: (q, converged, signatures)."""
+    qn = q + h * qd + 0.5 * h * h * qdd
     psi = drive(np.array([t + h]))[0][0]
-    qn = qp
     new_sig = sig.copy()
     for g, plan in enumerate(system.plans):
         qn, ok, _ = _newton(system, qn, psi, plan)
         if not ok:
-            return qn, False, "newton", new_sig
+            return qn, False, new_sig
         new_sig[g] = _signature(system, qn, plan)
-    return qn, True, "", new_sig
+    return qn, True, new_sig
 
 
 def _jump(system: System, q0: np.ndarray, qp: np.ndarray, qn: np.ndarray) -> float:
@@ -326,8 +325,8 @@ def _kink(system: System, qd_pred: np.ndarray, qd_new: np.ndarray, qd_old: np.nd
 
 def _derivs(system: System, q: np.ndarray, t: float, drive: Drive):
     _, psi_d, psi_dd = (x[0] for x in drive(np.array([t])))
-    qd = velocities(system, q[None], psi_d[None])[0]
-    qdd = accelerations(system, q[None], qd[None], psi_dd[None])[0]
+    qd, qdd, _ = derivatives(system, q[None], psi_d[None], psi_dd[None])
+    qd, qdd = qd[0], qdd[0]
     return qd, qdd
 
 
@@ -346,7 +345,7 @@ def _continue(system: System, q: np.ndarray, sig: np.ndarray, t0: float, t1: flo
     while direction * (t1 - t) > 1e-12 * max(span, 1e-300):
         h = direction * min(abs(h), abs(t1 - t))
         qp = q + h * qd + 0.5 * h * h * qdd
-        qn, ok, _, new_sig = _step(system, q, qd, qdd, t, h, drive, sig)
+        qn, ok, new_sig = _step(system, q, qd, qdd, t, h, drive, sig)
         jump = _jump(system, q, qp, qn) if ok else np.inf
         if ok and jump <= JUMP_RATIO:           # C¹: the velocity must continue too
             qdn, qddn = _derivs(system, qn, t + h, drive)
