@@ -33,9 +33,9 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Iterable, Sequence
 
 import numpy as np
 
@@ -43,12 +43,31 @@ from ._geometry import perp, rotate
 from .errors import KinetostaticsError, did_you_mean
 from .forces import point_state
 
-__all__ = ["PictureError", "course_positions", "row_at", "analyze_for_pictures",
-           "mechanism_geometry", "MechanismGeometry", "polygon", "Polygon", "PolygonNode",
-           "PolygonChain", "link_frame_loads", "output_motion", "draw_mechanism",
-           "motion_diagram", "reaction_curves", "torque_curves", "efficiency_curve",
-           "polar_diagrams", "polygon_figure", "plot_result", "animate", "nice_scale",
-           "link_numbers"]
+__all__ = [
+    "MechanismGeometry",
+    "PictureError",
+    "Polygon",
+    "PolygonChain",
+    "PolygonNode",
+    "analyze_for_pictures",
+    "animate",
+    "course_positions",
+    "draw_mechanism",
+    "efficiency_curve",
+    "link_frame_loads",
+    "link_numbers",
+    "mechanism_geometry",
+    "motion_diagram",
+    "nice_scale",
+    "output_motion",
+    "plot_result",
+    "polar_diagrams",
+    "polygon",
+    "polygon_figure",
+    "reaction_curves",
+    "row_at",
+    "torque_curves",
+]
 
 
 class PictureError(KinetostaticsError, ValueError):
@@ -298,11 +317,41 @@ def _to_global(result, link, p, rows=slice(None)):
 
 
 def _joint_point(result, joint, rows=slice(None)):
-    """Global position of a joint: the pin of a revolute, the sliding point of a prismatic."""
-    from .joints import Prismatic
+    """Global position where a joint's reaction acts: the pin of a revolute, the
+    sliding point of a prismatic pair, the pitch point of a gear or rack pair;
+    ``None`` for a joint type the pictures do not know."""
+    from .joints import Prismatic, Revolute
     if isinstance(joint, Prismatic):
         return _to_global(result, joint.links[1], joint.p, rows)
-    return _to_global(result, joint.links[1], joint.p_j, rows)
+    if isinstance(joint, Revolute):
+        return _to_global(result, joint.links[1], joint.p_j, rows)
+    wheels = _wheels(result, joint, rows)
+    return None if wheels is None else wheels["pitch_point"]
+
+
+def _wheels(result, joint, rows=slice(None)):
+    """Pitch circles and lines of a toothed higher pair (gear: ``c_i, c_j, r_i, r_j``;
+    rack: ``a, u`` on link i and ``c, r`` on link j), found by their attributes;
+    ``None`` for other joint types.  Global, m."""
+    i_link, j_link = joint.links
+    if all(hasattr(joint, n) for n in ("c_i", "c_j", "r_i", "r_j")):
+        Ci = _to_global(result, i_link, joint.c_i, rows)
+        Cj = _to_global(result, j_link, joint.c_j, rows)
+        D = Cj - Ci
+        e = D / np.maximum(np.linalg.norm(D, axis=-1, keepdims=True), 1e-300)
+        rho_i = joint.signed_radii[0] if hasattr(joint, "signed_radii") else joint.r_i
+        return {"circles": [(i_link, Ci, float(joint.r_i)), (j_link, Cj, float(joint.r_j))],
+                "lines": [], "pitch_point": Ci + rho_i * e}
+    if all(hasattr(joint, n) for n in ("a", "u", "c", "r")):
+        r_i, th_i = _poses(result, i_link, rows)
+        A = r_i + rotate(th_i, np.asarray(joint.a, float))
+        U = rotate(th_i, np.asarray(joint.u, float))
+        C = _to_global(result, j_link, joint.c, rows)
+        N = perp(U)
+        h = np.sum(N * (C - A), axis=-1, keepdims=True)
+        return {"circles": [(j_link, C, float(joint.r))], "lines": [(i_link, A, U)],
+                "pitch_point": C - h * N}
+    return None
 
 
 def _collinear(pts: np.ndarray, tol: float) -> bool:
@@ -359,7 +408,8 @@ class MechanismGeometry:
     prismatic pair; ``outlines[link]`` the polyline (bars) or polygon (plates,
     in ``plates``) of each moving link; ``blocks`` the sliders; ``guides`` the
     frame's straight guides; ``pivots`` the frame's pins; ``com[link]`` the
-    centre of mass of each link with mass.
+    centre of mass of each link with mass; ``wheels`` the pitch circles and
+    pitch lines of gear and rack pairs.
     """
 
     row: int
@@ -371,6 +421,7 @@ class MechanismGeometry:
     guides: tuple
     pivots: dict
     com: dict
+    wheels: tuple = ()          # ("circle", joint, link, centre, r) | ("line", joint, link, p0, p1)
 
 
 class _Scene:
@@ -406,6 +457,27 @@ class _Scene:
                                           lo, hi, 0.5 * h + 0.004 * l_ref))
             else:
                 local[i_link] += [j.a + lo * j.u, j.a + hi * j.u]
+        self.wheels_local = []                # ("circle", joint, link, centre, r) / ("line", joint, link, p0, p1)
+        for j in model.joints:
+            if isinstance(j, (Prismatic, Revolute)):
+                continue
+            w = _wheels(result, j)
+            if w is None:
+                continue
+            for link, C, r in w["circles"]:
+                r_k, th_k = _poses(result, link)
+                self.wheels_local.append(("circle", j.name, link, rotate(-th_k[0], C[0] - r_k[0]), r))
+            for link, A, U in w["lines"]:
+                r_k, th_k = _poses(result, link)
+                P = rotate(-th_k, w["pitch_point"] - r_k)            # pitch points in link's frame
+                u_loc = rotate(-th_k[0], U[0])
+                a_loc = rotate(-th_k[0], A[0] - r_k[0])
+                s = (P - a_loc) @ u_loc
+                reach = max((r for _, _, r in w["circles"]), default=0.05 * l_ref)
+                p0, p1 = a_loc + (s.min() - reach) * u_loc, a_loc + (s.max() + reach) * u_loc
+                self.wheels_local.append(("line", j.name, link, p0, p1))
+                if link in local:
+                    local[link] += [p0, p1]
         self.outline_local: dict[str, np.ndarray] = {}
         self.plates: set[str] = set()
         for n, pts in local.items():
@@ -449,6 +521,12 @@ class _Scene:
                     chunks.append((a + s * u + w * half * nrm)[None])
         for pts in self.paths.values():
             chunks.append(pts)
+        for kind, _, link, p, q in self.wheels_local:
+            if kind == "circle":
+                C = _to_global(result, link, p)
+                chunks += [C - q, C + q]
+            else:
+                chunks += [_to_global(result, link, p), _to_global(result, link, q)]
         allp = np.concatenate(chunks)
         lo, hi = allp.min(axis=0), allp.max(axis=0)
         span = max(float(np.max(hi - lo)), l_ref, 1e-9)
@@ -463,7 +541,8 @@ class _Scene:
         for lk in model.links:
             for name, p in lk.points.items():
                 points[f"{lk.name}.{name}"] = _to_global(result, lk.name, p, row)
-        joints = {j.name: _joint_point(result, j, row) for j in model.joints}
+        joints = {j.name: P for j in model.joints
+                  if (P := _joint_point(result, j, row)) is not None}
         outlines = {n: _to_global(result, n, pts, row) for n, pts in self.outline_local.items()}
         blocks = []
         for j in model.joints:
@@ -477,8 +556,11 @@ class _Scene:
         for n in self.system.links:
             if model.link(n).mass > 0:
                 com[n] = _to_global(result, n, np.zeros(2), row)
+        wheels = tuple((kind, name, link, _to_global(result, link, p, row),
+                        q if kind == "circle" else _to_global(result, link, q, row))
+                       for kind, name, link, p, q in self.wheels_local)
         return MechanismGeometry(row, points, joints, outlines, frozenset(self.plates),
-                                 tuple(blocks), guides, dict(self.pivots), com)
+                                 tuple(blocks), guides, dict(self.pivots), com, wheels)
 
 
 def mechanism_geometry(result, row: int = 0) -> MechanismGeometry:
@@ -498,7 +580,6 @@ class _Arrow:
 
 def _loads_at(result, row: int, *, friction: bool = False) -> list[_Arrow]:
     from .forces import activity
-    from .joints import Prismatic
     system, model = result.system, result.system.model
     nums = link_numbers(system)
     out: list[_Arrow] = []
@@ -507,9 +588,11 @@ def _loads_at(result, row: int, *, friction: bool = False) -> list[_Arrow]:
         fx, fy = f"{j.name}.Fx{suffix}", f"{j.name}.Fy{suffix}"
         if fx not in result.columns:
             fx, fy = f"{j.name}.Fx", f"{j.name}.Fy"
+        at = _joint_point(result, j, row)
+        if at is None or fx not in result.columns:
+            continue
         F = np.array([result[fx][row], result[fy][row]])
-        out.append(_Arrow("reaction", f"F{nums[j.links[0]]}{nums[j.links[1]]}",
-                          _joint_point(result, j, row), F))
+        out.append(_Arrow("reaction", f"F{nums[j.links[0]]}{nums[j.links[1]]}", at, F))
     g = np.asarray(model.gravity, float)
     for k, n in enumerate(system.links):
         lk = model.link(n)
@@ -549,7 +632,7 @@ def _loads_at(result, row: int, *, friction: bool = False) -> list[_Arrow]:
         e = float(result[f"{d.name}.{word}{suffix}"][row]) if f"{d.name}.{word}{suffix}" in \
             result.columns else float(result[f"{d.name}.{word}"][row])
         at = _joint_point(result, joint, row)
-        if joint.angular:
+        if joint.angular and at is not None:
             out.append(_Arrow("effort", f"M_{d.name}", at, None, e))
     return out
 
@@ -614,7 +697,7 @@ def _arrow(ax, tail, vec, color, *, lw=1.2, head=2.2, zorder=6, ls="-"):
     a = FancyArrowPatch(tuple(tail), tuple(tip), arrowstyle=f"-|>,head_length={head * pts_per_mm:.2f},"
                         f"head_width={head * pts_per_mm * 0.38:.2f}", color=color, lw=lw,
                         shrinkA=0, shrinkB=0, zorder=zorder, linestyle=ls, mutation_scale=1)
-    ax.add_patch(a)
+    _add(ax, a)
     return a
 
 
@@ -628,8 +711,23 @@ def _moment_arc(ax, centre, radius, moment, color, zorder=6):
     a = FancyArrowPatch(path=MPath(pts), arrowstyle=f"-|>,head_length={2.2 * pts_per_mm:.2f},"
                         f"head_width={2.2 * pts_per_mm * 0.38:.2f}", color=color, lw=1.1,
                         zorder=zorder, mutation_scale=1)
-    ax.add_patch(a)
+    _add(ax, a)
     return a
+
+
+def _add(ax, patch):
+    """Add a patch without updating data limits (the drawings' limits are fixed)."""
+    ax.add_artist(patch)
+    return patch
+
+
+_SUBSCRIPT = str.maketrans("0123456789", "₀₁₂₃₄₅₆₇₈₉")
+
+
+def _sub(label: str) -> str:
+    """Trailing digits as Unicode subscripts: ``F12`` -> ``F₁₂`` (plain text, fast)."""
+    m = re.match(r"^(.*?)(\d+)$", label)
+    return label if not m else m.group(1) + m.group(2).translate(_SUBSCRIPT)
 
 
 def _label_offset(p, centre, dist):
@@ -643,13 +741,12 @@ def _draw_static(ax, scene: _Scene, paper: _Paper):
     """Frame pins, guides, hatching, traced paths, the length scale."""
     arts = []
     k = paper.k
-    r = 1.5 * k                             # pin radius: 1.5 mm of paper
     centre = 0.5 * (scene.lo + scene.hi) * 1e3
-    for name, p in scene.pivots.items():
+    for p in scene.pivots.values():
         c = p * 1e3
         tri = np.array([c, c + [-3.2 * k, -5.0 * k], c + [3.2 * k, -5.0 * k]])
         from matplotlib.patches import Polygon as MPoly
-        arts.append(ax.add_patch(MPoly(tri, closed=True, fc="white", ec="black", lw=0.9, zorder=3)))
+        arts.append(_add(ax, MPoly(tri, closed=True, fc="white", ec="black", lw=0.9, zorder=3)))
         arts += _hatch_line(ax, c + [-4.6 * k, -5.0 * k], c + [4.6 * k, -5.0 * k],
                             [0, -1], 1.6 * k, n=6, zorder=3)
     for g in scene_guides(scene):
@@ -663,8 +760,10 @@ def _draw_static(ax, scene: _Scene, paper: _Paper):
         arts += ax.plot(pts[:, 0] * 1e3, pts[:, 1] * 1e3, color="#777777", lw=0.8, ls=(0, (3, 2)),
                         zorder=1)
         end = pts[int(np.argmax(np.hypot(*(pts * 1e3 - centre).T)))] * 1e3
-        arts.append(ax.annotate(f"path of {ref}", end, xytext=(3, 3), textcoords="offset points",
-                                fontsize=6.5, color="#555555", zorder=1))
+        right = end[0] > centre[0]
+        arts.append(ax.annotate(f"path of {ref}", end, xytext=(-3 if right else 3, 3),
+                                textcoords="offset points", ha="right" if right else "left",
+                                fontsize=6.5, color="#555555", zorder=1, annotation_clip=True))
     # the length scale: a bar of a round length near the lower left corner
     L = nice_scale(0.25 * (scene.hi[0] - scene.lo[0]) * 1e3) / 2
     x0, y0 = scene.lo[0] * 1e3 + 0.3 * scene.pad * 1e3, scene.lo[1] * 1e3 + 0.35 * scene.pad * 1e3
@@ -685,7 +784,9 @@ def _draw_moving(ax, scene: _Scene, geo: MechanismGeometry, paper: _Paper, *, la
                  forces: list[_Arrow] | None = None, mu_f: float | None = None,
                  title_artist=None):
     """Links, blocks, pins, labels and (optionally) forces at one position."""
-    from matplotlib.patches import Circle, Polygon as MPoly
+    from matplotlib.patches import Circle
+    from matplotlib.patches import Polygon as MPoly
+
     from .joints import Revolute
     arts = []
     k = paper.k
@@ -694,7 +795,7 @@ def _draw_moving(ax, scene: _Scene, geo: MechanismGeometry, paper: _Paper, *, la
         c = scene.colors[n]
         P = pts * 1e3
         if n in geo.plates:
-            arts.append(ax.add_patch(MPoly(P, closed=True, fc=c, alpha=0.22, ec=c, lw=1.6,
+            arts.append(_add(ax, MPoly(P, closed=True, fc=c, alpha=0.22, ec=c, lw=1.6,
                                            zorder=4)))
         elif len(P) >= 2:
             arts += ax.plot(P[:, 0], P[:, 1], color=c, lw=3.2, solid_capstyle="round", zorder=4)
@@ -705,22 +806,30 @@ def _draw_moving(ax, scene: _Scene, geo: MechanismGeometry, paper: _Paper, *, la
         cen = b.centre * 1e3
         corners = np.array([cen + sx * L / 2 * u + sy * h / 2 * nrm
                             for sx, sy in ((-1, -1), (1, -1), (1, 1), (-1, 1))])
-        arts.append(ax.add_patch(MPoly(corners, closed=True, fc="white", ec=c, lw=1.4, zorder=5)))
-        arts.append(ax.add_patch(MPoly(corners, closed=True, fc=c, alpha=0.25, ec="none", zorder=5)))
+        arts.append(_add(ax, MPoly(corners, closed=True, fc="white", ec=c, lw=1.4, zorder=5)))
+        arts.append(_add(ax, MPoly(corners, closed=True, fc=c, alpha=0.25, ec="none", zorder=5)))
+    for kind, _, link, p, q in geo.wheels:
+        c = scene.colors.get(link, "black")
+        if kind == "circle":
+            arts.append(_add(ax, Circle(p * 1e3, q * 1e3, fc="none", ec=c, lw=1.0, ls="-.",
+                                        zorder=4)))
+        else:
+            arts += ax.plot([p[0] * 1e3, q[0] * 1e3], [p[1] * 1e3, q[1] * 1e3], color=c, lw=1.0,
+                            ls="-.", zorder=4)
     r = 1.5 * k
     for j in model.joints:
         if isinstance(j, Revolute):
             c = geo.joints[j.name] * 1e3
-            arts.append(ax.add_patch(Circle(c, r, fc="white", ec="black", lw=1.0, zorder=7)))
+            arts.append(_add(ax, Circle(c, r, fc="white", ec="black", lw=1.0, zorder=7)))
     pins = [geo.joints[j.name] for j in model.joints if isinstance(j, Revolute)]
     for n, S in geo.com.items():
         if any(np.hypot(*(S - pin)) * 1e3 < 1.5 * k for pin in pins):
             continue                                  # a pin already marks the spot
         from matplotlib.patches import Wedge
         c = S * 1e3
-        arts.append(ax.add_patch(Circle(c, 1.1 * k, fc="white", ec="black", lw=0.7, zorder=8)))
-        arts.append(ax.add_patch(Wedge(c, 1.1 * k, 0, 90, fc="black", ec="none", zorder=8)))
-        arts.append(ax.add_patch(Wedge(c, 1.1 * k, 180, 270, fc="black", ec="none", zorder=8)))
+        arts.append(_add(ax, Circle(c, 1.1 * k, fc="white", ec="black", lw=0.7, zorder=8)))
+        arts.append(_add(ax, Wedge(c, 1.1 * k, 0, 90, fc="black", ec="none", zorder=8)))
+        arts.append(_add(ax, Wedge(c, 1.1 * k, 180, 270, fc="black", ec="none", zorder=8)))
     if labels:
         centre = 0.5 * (scene.lo + scene.hi) * 1e3
         placed: list[list] = []                       # [position, names, clearance]
@@ -735,6 +844,8 @@ def _draw_moving(ax, scene: _Scene, geo: MechanismGeometry, paper: _Paper, *, la
             placed.append([p, [name], clearance])
         block_at = {b.joint: 0.5 * np.hypot(b.length, b.height) * 1e3 for b in geo.blocks}
         for j in model.joints:
+            if j.name not in geo.joints:
+                continue
             name = j.name if isinstance(j, Revolute) else getattr(j, "point_name", j.name)
             put(geo.joints[j.name] * 1e3, name, block_at.get(j.name, 0.0))
         for entry in placed:                          # a block sits on a pin at the same place
@@ -781,7 +892,7 @@ def _draw_moving(ax, scene: _Scene, geo: MechanismGeometry, paper: _Paper, *, la
                     continue
                 arts.append(_moment_arc(ax, at, 5.5 * k, a.moment, c))
                 arts.append(ax.text(at[0] + 6.5 * k, at[1] + 5.0 * k,
-                                    f"{_tex(a.label)} {a.moment:+.3g} N·m", fontsize=6.5, color=c,
+                                    f"{_sub(a.label)} {a.moment:+.3g} N·m", fontsize=6.5, color=c,
                                     zorder=10))
                 continue
             mag = float(np.hypot(*a.force))
@@ -790,7 +901,7 @@ def _draw_moving(ax, scene: _Scene, geo: MechanismGeometry, paper: _Paper, *, la
             vec = a.force / mu_f * k                 # paper mm -> data mm
             arts.append(_arrow(ax, at, vec, c, lw=1.2))
             tip = at + vec
-            arts.append(ax.text(tip[0], tip[1], f" {_tex(a.label)}", fontsize=6.5, color=c,
+            arts.append(ax.text(tip[0], tip[1], f" {_sub(a.label)}", fontsize=6.5, color=c,
                                 zorder=10, ha="left", va="bottom"))
     return arts
 
@@ -845,9 +956,8 @@ def draw_mechanism(result, position: float | None = None, *, row: int | None = N
         title = f"{scene.model.name}: {_position_title(result, k)}   {MU['l']} = {_fmt_scale(mu_l)} m/mm"
         if forces:
             title += f",  {MU['F']} = {_fmt_scale(mu_f)} N/mm"
-            title += ("\nreactions F_ij (link i on link j, at the joint), inertia forces FI and "
-                      "couples MI, weights G, loads, driving torque"
-                      + (" — with friction" if friction else ""))
+            title += ("\nF_ij: link i on link j at the joint; FI, MI: inertia; G: weight"
+                      + (" (with friction)" if friction else ""))
         ax.set_title(title, loc="left", fontsize=8.5)
     return fig
 
@@ -966,8 +1076,9 @@ def _mark(ax, result, *, top: bool = True, spans=None):
         if "′" in lab:
             ax.axvline(xe, color=EVENT_COLOR, lw=0.8, ls=(0, (4, 2)), zorder=1)
             if top:
-                ax.text(xe, 0.97, f" {lab}", transform=ax.get_xaxis_transform(), color=EVENT_COLOR,
-                        fontsize=7, va="top", ha="left")
+                right = xe > 0.9 * 360
+                ax.text(xe, 0.97, f"{lab} " if right else f" {lab}", transform=ax.get_xaxis_transform(),
+                        color=EVENT_COLOR, fontsize=7, va="top", ha="right" if right else "left")
     if not ticks:
         for e in result.events:
             ax.axvline(_event_travel(result, e), color=EVENT_COLOR, lw=0.8, ls=(0, (4, 2)), zorder=1)
@@ -1034,11 +1145,12 @@ def motion_diagram(result, output: str | None = None, *, dpi: float = DPI):
             else:
                 ax.plot(x, vals, color=CURVE_COLORS[n])
             ax.set_ylabel(f"{label.split(' of ')[0]}, {unit}")
-            ax.axhline(0, color="black", lw=0.5)
+            if n > 0:
+                ax.axhline(0, color="black", lw=0.5)
             _mark(ax, result, top=(n == 0), spans=spans)
-        _event_legend(axes[-1], result)
-        if axes[-1].get_legend_handles_labels()[0]:
-            axes[-1].legend(loc="lower left", fontsize=7)
+        _event_legend(axes[0], result)
+        if axes[0].get_legend_handles_labels()[0]:
+            axes[0].legend(loc="best", fontsize=7)
         axes[-1].set_xlabel(xlabel)
         what = {"slide": "output slider", "link": f"link {out['name']}",
                 "point": f"point {out['name']}", "joint": f"joint {out['name']}"}[out["kind"]]
@@ -1124,8 +1236,8 @@ def torque_curves(result, driver: str | None = None, *, dpi: float = DPI):
         _event_legend(ax, result)
         ax.set_xlabel(xlabel)
         sym = "M" if word == "torque" else "F"
-        ax.set_ylabel(f"driving {word} {sym}, {unit} (counter-clockwise +)" if word == "torque"
-                      else f"driving force {sym}, {unit}")
+        ax.set_ylabel(f"{sym}, {unit} (counter-clockwise +)" if word == "torque"
+                      else f"{sym}, {unit}")
         fig.suptitle(f"{result.system.model.name}: driving {word} of {d.name}", x=0.02, ha="left",
                      fontsize=9.5)
         ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=1)
@@ -1136,7 +1248,7 @@ def torque_curves(result, driver: str | None = None, *, dpi: float = DPI):
 def efficiency_curve(result, driver: str | None = None, *, dpi: float = DPI):
     """Instantaneous efficiency η = M / M_friction (frictionless over consistent
     driving torque) and the cycle efficiency (ratio of the mean input powers)."""
-    d, word, unit = _driver_effort(result, driver)
+    d, word, _ = _driver_effort(result, driver)
     key = f"{d.name}.efficiency"
     if key not in result.columns:
         raise PictureError(f"no friction in {result.system.model.name}: no efficiency to plot")
@@ -1293,7 +1405,7 @@ class PolygonChain:
 
     ``start`` is ``"p"`` (the pole) for a link pivoted on the frame.
     Components are ``(name, vector)``: ω×r (``v_CB``), or ω²r and α×r
-    (``an_CB``, ``at_CB``), the sliding velocity ``v_A2A3`` or the Coriolis
+    (``an_CB``, ``at_CB``), the sliding velocity ``vr_A2A3`` or the Coriolis
     and relative accelerations ``ak_A2A3``, ``ar_A2A3``.
     """
 
@@ -1372,8 +1484,6 @@ def polygon(result, row: int = 0, kind: str = "velocity") -> Polygon:
         uf.find(key)
     for n in system.links:                       # coincident named points of one link
         keys = [key for key in pts if key[0] == n]
-        for a_, b_ in zip(keys, keys[1:]):
-            pass
         for x in range(len(keys)):
             for y in range(x + 1, len(keys)):
                 if np.hypot(*(pts[keys[x]][0] - pts[keys[y]][0])) < 1e-9 * l_ref:
@@ -1480,7 +1590,7 @@ def polygon(result, row: int = 0, kind: str = "velocity") -> Polygon:
         start, end = label_of[i_key], label_of[j_key]
         if start == end:
             continue
-        c, cd, cdd = (v[row] for v in _joint_coordinate(result, j))
+        _, cd, cdd = (v[row] for v in _joint_coordinate(result, j))
         _, th = _poses(result, j.links[0], row)
         U = rotate(th, np.asarray(j.u, float))
         w_i = 0.0 if j.links[0] == ground else qd[3 * system.link_index(j.links[0]) + 2]
@@ -1488,7 +1598,7 @@ def polygon(result, row: int = 0, kind: str = "velocity") -> Polygon:
         if acc:
             comps = (("ak_" + sub, 2 * w_i * perp(cd * U)), ("ar_" + sub, cdd * U))
         else:
-            comps = (("v_" + sub, cd * U),)
+            comps = (("vr_" + sub, cd * U),)
         chains.append(PolygonChain(start, end, j.name, comps))
     return Polygon(kind, row, nodes, tuple(chains), fixed, "m/s²" if acc else "m/s")
 
@@ -1503,89 +1613,157 @@ def _node_position(pts, label_of, label, link):
     raise KeyError(label)
 
 
+def _drawn_chains(poly: Polygon, tol: float):
+    """Chains worth drawing: drop components below ``tol`` and chains from the pole
+    that repeat an absolute vector (a link pivoted on the frame, velocities)."""
+    out = []
+    for ch in poly.chains:
+        comps = [(n, v) for n, v in ch.components if np.hypot(*v) > tol]
+        if not comps:
+            continue
+        if ch.start == "p" and len(comps) == 1:
+            continue
+        out.append((ch, comps))
+    return out
+
+
+_DIRECTION = {"v": "⊥ {r}", "vr": "∥ axis of {j}", "an": "∥ {r}, towards {b}", "at": "⊥ {r}", "ak": "⊥ axis of {j}",
+              "ar": "∥ axis of {j}"}
+_PRETTY = {"v": "v", "vr": "v", "an": "a^n", "at": "a^t", "ak": "a^k", "ar": "a^r"}
+
+
 def polygon_figure(result, kind: str = "velocity", position: float | None = None, *,
                    row: int | None = None, dpi: float = DPI, max_size_mm: float = 105.0):
     """The velocity or acceleration polygon at one position, to a stated scale.
 
     Absolute vectors from the pole p (p′ for accelerations) to the lettered
-    points; relative vectors (thin, with intermediate points n for normal and k
-    for Coriolis components) that close it.  Axes in m/s or m/s²; printed at
-    100 %, 1 mm of paper is μ_v (μ_a) as stated.  A list of the vectors'
-    magnitudes is printed beside it.
+    points; relative vectors (thin; dashed components end at the intermediate
+    points n (normal) and k (Coriolis)) that close it.  Axes in m/s or m/s²;
+    printed at 100 %, 1 mm of paper is μ_v (μ_a) as stated.  The magnitudes
+    and directions of all vectors are listed beside it.
     """
     k = row if row is not None else row_at(result, position)
     poly = polygon(result, k, kind)
     acc = kind == "acceleration"
-    prime = "′" if acc else ""
+    prime = "'" if acc else ""
     nums = link_numbers(result.system)
-    # every point drawn
+    model = result.system.model
     tips = [np.zeros(2)] + [nd.vector for nd in poly.nodes.values()]
-    inter = []
-    for ch in poly.chains:
+    scale_ref = max([float(np.hypot(*t)) for t in tips] + [1e-300])
+    chains = _drawn_chains(poly, 1e-9 * scale_ref)
+    for ch, comps in chains:
         p = poly.tip(ch.start).copy()
-        for name, v in ch.components[:-1]:
+        for _, v in comps:
             p = p + v
-            inter.append((ch, name, p.copy()))
-        tips.append(p)
-    tips += [p for _, _, p in inter]
+            tips.append(p.copy())
     allp = np.array(tips)
     lo, hi = allp.min(axis=0), allp.max(axis=0)
     span = float(max(np.max(hi - lo), 1e-12))
     mu = nice_scale(span / max_size_mm)
-    pad = 0.12 * span + 6 * mu
+    pad = 0.1 * span + 7 * mu
     lo, hi = lo - pad, hi + pad
     colors = {n: LINK_COLORS[i % len(LINK_COLORS)] for i, n in enumerate(result.system.links)}
     sym = "a" if acc else "v"
+    # the list of vectors
+    rest = sorted({r.split(".")[1] for r in poly.fixed})
+    lines = [f"pole {_tex('p' + prime)}: points at rest" + (f" ({', '.join(rest)})" if rest else "")]
+    for lab, nd in poly.nodes.items():
+        pts = ", ".join(r.replace("@", " at ") for r in nd.refs)
+        lines.append(f"{_tex('p' + prime)}{_tex(lab + prime)}: {sym}({pts}) = "
+                     f"{np.hypot(*nd.vector):.4g} {poly.unit}")
+    for ch, comps in chains:
+        joint = model.joint(ch.link) if ch.link in [j.name for j in model.joints] else None
+        for name, v in comps:
+            kind_name, sub = name.split("_", 1)
+            pretty = _PRETTY[kind_name]
+            tex = pretty.split("^")
+            head = tex[0] + (f"^{{{tex[1]}}}" if len(tex) > 1 else "")
+            end = ch.end.upper()
+            start = ch.start.upper() if ch.start != "p" else "".join(
+                r.split(".")[1] for r in poly.fixed if r.split(".")[0] == ch.link)[:8] or "pivot"
+            direction = _DIRECTION[kind_name].format(r=f"{end}{start}", b=start, j=ch.link)
+            owner = ch.link if joint is None else f"{ch.link}, {type(joint).__name__.lower()}"
+            lines.append(f"${head}_{{\\mathrm{{{sub}}}}}$ = {np.hypot(*v):.4g} {poly.unit}, "
+                         f"{direction} ({owner})")
+    list_mm = 3.35 * len(lines) + 8
     with _rc():
-        fig, ax = _layout((lo[0], hi[0]), (lo[1], hi[1]), mu, extra_right=62.0, dpi=dpi,
-                          min_mm=(55.0, 55.0), top=13.0)
+        fig, ax = _layout((lo[0], hi[0]), (lo[1], hi[1]), mu, extra_right=66.0, dpi=dpi,
+                          min_mm=(60.0, max(60.0, list_mm - 24.0)), top=14.0)
         ax.set_xlabel(f"{sym}_x, {poly.unit}")
         ax.set_ylabel(f"{sym}_y, {poly.unit}")
         ax.axhline(0, color="#bbbbbb", lw=0.5, zorder=0)
         ax.axvline(0, color="#bbbbbb", lw=0.5, zorder=0)
-        k_mm = mu                                          # data units per paper mm
-        lines = [f"pole {_tex('p' + prime)}: points at rest"
-                 + (f" ({', '.join(sorted({r.split('.')[1] for r in poly.fixed}))})" if poly.fixed else "")]
+        k_mm = mu                                         # data units per paper mm
+        labels_at: list[list] = []
+
+        def put(p, text, color="black", size=8.5):
+            for entry in labels_at:
+                if np.hypot(*(entry[0] - p)) < 1.2 * k_mm:
+                    entry[1].append(text)
+                    return
+            labels_at.append([p, [text], color, size])
         for lab, nd in poly.nodes.items():
             link = nd.refs[0].split(".")[0].split("@")[0]
             c = colors.get(link, "black")
-            if np.hypot(*nd.vector) > 1e-12 * span + 1e-300:
+            norm = float(np.hypot(*nd.vector))
+            if norm > 1e-9 * scale_ref:
                 _arrow(ax, (0.0, 0.0), nd.vector, c, lw=1.5, head=2.6)
-            off = nd.vector / max(np.hypot(*nd.vector), 1e-300) * 3.2 * k_mm if \
-                np.hypot(*nd.vector) > 0 else np.array([2.5, 2.5]) * k_mm
-            ax.text(*(nd.vector + off), _tex(lab + prime), ha="center", va="center", fontsize=8.5,
-                    color="black", zorder=9)
-            pts = ", ".join(r.replace("@", " at ") for r in nd.refs)
-            lines.append(f"{_tex('p' + prime + lab + prime)} = {sym}({pts}) = "
-                         f"{np.hypot(*nd.vector):.4g} {poly.unit}")
-        ax.text(*(np.array([-2.8, -2.8]) * k_mm), _tex("p" + prime), ha="center", va="center",
-                fontsize=8.5, zorder=9)
+            put(nd.vector, lab + prime)
         ax.plot([0], [0], "o", color="black", ms=2.5, zorder=8)
-        for ch in poly.chains:
+        for ch, comps in chains:
             p = poly.tip(ch.start).copy()
             c = colors.get(ch.link, "#555555")
-            for m, (name, v) in enumerate(ch.components):
-                if np.hypot(*v) > 1e-9 * span:
-                    _arrow(ax, p, v, c, lw=0.9, head=2.0, ls=(0, (4, 1.5)) if len(ch.components) > 1
-                           and m < len(ch.components) - 1 else "-")
+            for m, (name, v) in enumerate(comps):
+                last = m == len(comps) - 1
+                _arrow(ax, p, v, c, lw=0.9, head=2.0, ls="-" if last else (0, (4, 1.5)))
                 p = p + v
-                if m < len(ch.components) - 1:
+                if not last:
                     tag = ("n" if name.startswith("an") else "k") + ch.end + prime
                     ax.plot(*p, "o", ms=1.8, color=c, zorder=8)
-                    ax.text(*(p + np.array([1.8, -2.4]) * k_mm), _tex(tag), fontsize=7, color=c,
-                            zorder=9)
-                kind_name, sub = name.split("_", 1)
-                pretty = {"v": "v", "an": "a^n", "at": "a^t", "ak": "a^k", "ar": "a^r"}[kind_name]
-                lines.append(f"${pretty.replace('^', '^{') + ('}' if '^' in pretty else '')}_{{{sub}}}$"
-                             f" = {np.hypot(*v):.4g} {poly.unit}  ({ch.link})")
-        title = (f"{result.system.model.name}: {kind} polygon, {_position_title(result, k)}\n"
-                 f"μ_{'a' if acc else 'v'} = {_fmt_scale(mu)} ({poly.unit})/mm; "
-                 f"link numbers: " + ", ".join(f"{v} {n}" for n, v in nums.items()))
+                    if min(np.hypot(*v), np.hypot(*comps[m + 1][1])) > 2.0 * k_mm:
+                        put(p.copy(), tag, c, 7)
+        centre = 0.5 * (lo + hi)
+        boxes = [(0.0, 0.0, 1.2, 1.2)] + [(e[0][0] / k_mm, e[0][1] / k_mm, 1.2, 1.2)
+                                          for e in labels_at]       # (x, y, half w, half h), mm
+        boxes.append((-2.6, -2.6, 1.6, 1.8))                      # the pole's label
+
+        def free(x, y, hw, hh):
+            return all(abs(x - bx) >= hw + bw or abs(y - by) >= hh + bh
+                       for bx, by, bw, bh in boxes)
+        for p, texts, c, size in labels_at:
+            text = ", ".join(_tex(t) for t in texts)
+            hw = 0.5 * 0.62 * size * 0.3528 * (sum(len(t) for t in texts) + 2 * (len(texts) - 1))
+            hh = 0.5 * 1.25 * size * 0.3528
+            d = p - centre
+            n = float(np.hypot(*d))
+            out = d / n if n > 0 else np.array([0.7071, 0.7071])
+            pm = p / k_mm
+            spot = pm + (hw + 1.5) * out
+            done = False
+            for dist in (1.5, 3.0, 5.0):
+                for turn in (0, 45, -45, 90, -90, 135, -135, 180):
+                    a_ = math.radians(turn)
+                    u = np.array([out[0] * math.cos(a_) - out[1] * math.sin(a_),
+                                  out[0] * math.sin(a_) + out[1] * math.cos(a_)])
+                    cand = pm + u * np.array([hw + dist, hh + dist])
+                    if free(cand[0], cand[1], hw, hh):
+                        spot, done = cand, True
+                        break
+                if done:
+                    break
+            boxes.append((spot[0], spot[1], hw, hh))
+            ax.text(*(spot * k_mm), text, ha="center", va="center", fontsize=size, color=c,
+                    zorder=9)
+        ax.text(*(np.array([-2.6, -2.6]) * k_mm), _tex("p" + prime), ha="center", va="center",
+                fontsize=8.5, zorder=9)
+        mu_name = MU["a" if acc else "v"]
+        title = (f"{model.name}: {kind} polygon, {_position_title(result, k)}\n"
+                 f"{mu_name} = {_fmt_scale(mu)} ({poly.unit})/mm;  links: "
+                 + ", ".join(f"{v} {n}" for n, v in nums.items()))
         ax.set_title(title, loc="left", fontsize=8)
-        W = fig.get_figwidth() / MM
-        x0 = 1 - 60.0 / W
-        fig.text(x0, 0.97, "\n".join(lines), va="top", ha="left", fontsize=6.3,
-                 linespacing=1.45)
+        W, H = fig.get_figwidth() / MM, fig.get_figheight() / MM
+        fig.text(1 - 64.0 / W, 1 - 15.0 / H, "\n".join(lines), va="top", ha="left", fontsize=6.2,
+                 linespacing=1.5)
     return fig
 
 
@@ -1609,7 +1787,7 @@ def animate(result, path: str | Path, *, forces: bool = False, friction: bool = 
     if suffix == ".mp4" and ffmpeg is None:
         raise PictureError(f"{path}: writing MP4 needs ffmpeg on the PATH; write a .gif instead")
     from matplotlib.backends.backend_agg import FigureCanvasAgg
-    x, order, _ = _sorted(result)
+    _, order, _ = _sorted(result)
     with _rc():
         scene = _Scene(result, paths)
         span = scene.hi - scene.lo
@@ -1650,10 +1828,11 @@ def animate(result, path: str | Path, *, forces: bool = False, friction: bool = 
             geo = scene.geometry(k)
             arts = _draw_moving(ax, scene, geo, paper, labels=True, forces=loads.get(k),
                                 mu_f=mu_f)
-            t = fig.text(0.99, 0.995, _position_title(result, k), ha="right", va="top", fontsize=8)
+            t = ax.text(0.99, 0.99, _position_title(result, k), ha="right", va="top", fontsize=8,
+                        transform=ax.transAxes, zorder=11)
             arts.append(t)
             for a in arts:
-                (fig.draw_artist if a is t else ax.draw_artist)(a)
+                ax.draw_artist(a)
             buf = np.asarray(canvas.buffer_rgba())
             if proc is not None:
                 proc.stdin.write(buf.tobytes())
