@@ -84,15 +84,20 @@ after whole turns; the sketch decides among them as for any assembly branch.
 
 Relative coordinate and friction
 --------------------------------
-The coordinate is the rolling coordinate c = r_i (θ_i − β), the pitch arc
-gear i rolls relative to the line of centres; ċ is the pitch-line speed in
-the frame that carries both axles, and λ cos α ċ is the power transmitted
-through the mesh.  Mesh friction is modelled by a mesh efficiency η: an
-effort of magnitude (1 − η) cos α |λ| along c opposing ċ, which dissipates
-(1 − η) times the transmitted power.  ``friction: {coefficient: μ}`` gives
-1 − η = (π/2) μ (1/z_i ± 1/z_j), the mean loss of one tooth pair sliding with
-speed |x|·|ω_j − ω_i| at distance x from the pitch point over one base pitch
-of contact (contact ratio 1, equal approach and recess).
+The coordinate is c = ½[ρ_i (θ_i − β) + ρ_j (θ_j − β)]: under rolling both
+halves advance at the same rate, the pitch-line speed ċ = ρ_i (ω_i − β̇) in the
+frame that carries both axles, and λ cos α ċ is the power the tooth force
+carries from one gear to the other.  An effort e along c loads each gear with
+half of it (a couple ½ e ρ about its centre, in that frame), so friction
+opposing ċ takes half its loss from each side.
+
+Friction is a mesh efficiency η: |e| = ζ cos α |λ| with ζ = 2(1 − η)/(1 + η),
+the loss over the power of the tooth force.  Then P_out/P_in =
+(1 − ζ/2)/(1 + ζ/2) = η exactly, whichever gear drives.  ``friction:
+{coefficient: μ}`` sets ζ = (π/2) μ (1/z_i ± 1/z_j): the mean loss of one
+tooth pair sliding at |x|·|ω_i − ω_j| (relative to the axles) a distance x
+from the pitch point, x spread evenly over one base pitch (contact ratio 1,
+equal approach and recess), over the power of the tooth force.
 """
 
 from __future__ import annotations
@@ -176,7 +181,10 @@ def read_flank(entry) -> int | None:
 
 
 def read_loss(entry, loss_per_mu: float | None) -> float | None:
-    """1 − η from ``friction: {efficiency: η}`` or ``{coefficient: μ}`` (0 without)."""
+    """1 − η from ``friction: {efficiency: η}`` or ``{coefficient: μ}`` (0 without).
+
+    ``loss_per_mu`` is the loss ratio ζ per unit μ (``None``: teeth unknown).
+    """
     if (f := entry.get("friction")) is None:
         return 0.0
     if not f.check_keys(optional=("efficiency", "coefficient")):
@@ -199,12 +207,12 @@ def read_loss(entry, loss_per_mu: float | None) -> float | None:
         mu.error("a friction coefficient needs the number of teeth (key teeth); "
                  "or give the mesh efficiency")
         return None
-    loss = m * loss_per_mu
-    if not loss < 1.0:
-        mu.error(f"this coefficient gives a mesh loss of {loss:g} (≥ 1): "
-                 "too large for the model 1 − η = (π/2) μ (1/z_i ± 1/z_j)")
+    zeta = m * loss_per_mu
+    if not zeta < 2.0:
+        mu.error(f"this coefficient gives a loss ratio ζ = {zeta:g} ≥ 2 (no efficiency "
+                 "left); the model is ζ = (π/2) μ (1/z_i ± 1/z_j)")
         return None
-    return loss
+    return 2.0 * zeta / (2.0 + zeta)                 # 1 − η with η = (2 − ζ)/(2 + ζ)
 
 
 @dataclass(frozen=True)
@@ -273,7 +281,10 @@ class Gear(Joint, kind="gear"):
     @staticmethod
     def _radii(entry, teeth):
         radii, module = entry.get("radii"), entry.get("module")
-        if (radii is None) == (module is None):
+        if radii is not None and module is not None:
+            module.error("give either the pitch radii (radii) or the module, not both")
+            return None
+        if radii is None and module is None:
             entry.error("give the pitch radii (radii: [r_i, r_j]) or the module (module: m, "
                         "pitch radius m·z/2)")
             return None
@@ -291,8 +302,8 @@ class Gear(Joint, kind="gear"):
             return None
         if abs(r[0] * teeth[1] - r[1] * teeth[0]) > 1e-9 * max(r[0] * teeth[1], r[1] * teeth[0]):
             radii.error(f"the pitch radii must be in the ratio of the teeth "
-                        f"{teeth[0]}:{teeth[1]} (equal modules), got "
-                        f"{r[0]:g} m : {r[1]:g} m")
+                        f"{teeth[0]}:{teeth[1]} = {teeth[0] / teeth[1]:.6g} (equal modules); "
+                        f"their ratio is {r[0] / r[1]:.6g}")
             return None
         return r[0], r[1]
 
@@ -308,7 +319,7 @@ class Gear(Joint, kind="gear"):
 
     # -- constants of the row -------------------------------------------------
     @property
-    def rho(self) -> tuple[float, float]:
+    def signed_radii(self) -> tuple[float, float]:
         """Signed radii (ρ_i, ρ_j): the pitch point is C_i + ρ_i e = C_j + ρ_j e."""
         if not self.internal:
             return self.r_i, -self.r_j
@@ -319,12 +330,12 @@ class Gear(Joint, kind="gear"):
     @property
     def d0(self) -> float:
         """Nominal centre distance r_i + r_j (external) or |r_i − r_j| (internal)."""
-        rho_i, rho_j = self.rho
+        rho_i, rho_j = self.signed_radii
         return rho_i - rho_j
 
     def _coefficients(self):
         """(K_i, K_j, k): Φ = K_j (θ_j − β − φ) − K_i (θ_i − β) + k (d − d₀)."""
-        rho_i, rho_j = self.rho
+        rho_i, rho_j = self.signed_radii
         kappa = self.flank * (1.0 if rho_j > 0 else -1.0)
         k = (-1.0 if self.internal else 1.0) * math.sin(self.alpha)
         c = kappa * math.cos(self.alpha)
@@ -394,27 +405,36 @@ class Gear(Joint, kind="gear"):
         f = lam[..., 0]
         return {"F": f, "Fx": f * G[..., 0], "Fy": f * G[..., 1]}
 
-    # -- relative coordinate: the rolling coordinate c = r_i (θ_i − β) ------------
+    # -- relative coordinate: c = ½[ρ_i (θ_i − β) + ρ_j (θ_j − β)] ------------------
     def coordinate(self, qi, qj):
         Ri, Rj, D, d, e, t = self._frame(qi, qj)
-        return self.r_i * (qi[..., 2] - np.arctan2(D[..., 1], D[..., 0]))
+        rho_i, rho_j = self.signed_radii
+        beta = np.arctan2(D[..., 1], D[..., 0])
+        return 0.5 * (rho_i * (qi[..., 2] - beta) + rho_j * (qj[..., 2] - beta))
+
+    def _c_gradient(self, d, t):
+        """∂c/∂D = −½(ρ_i + ρ_j) t/d."""
+        rho_i, rho_j = self.signed_radii
+        return (-0.5 * (rho_i + rho_j) / d)[..., None] * t
 
     def motion_direction(self, qi, qj):
         Ri, Rj, D, d, e, t = self._frame(qi, qj)
-        g = -self.r_i * t / d[..., None]                       # ∂c/∂D
-        gi = np.concatenate((-g, (self.r_i - _dot(g, perp(Ri)))[..., None]), axis=-1)
-        gj = np.concatenate((g, _dot(g, perp(Rj))[..., None]), axis=-1)
+        rho_i, rho_j = self.signed_radii
+        g = self._c_gradient(d, t)
+        gi = np.concatenate((-g, (0.5 * rho_i - _dot(g, perp(Ri)))[..., None]), axis=-1)
+        gj = np.concatenate((g, (0.5 * rho_j + _dot(g, perp(Rj)))[..., None]), axis=-1)
         return gi, gj
 
     def coordinate_bias(self, qi, qj, vi, vj):
         Ri, Rj, D, d, e, t = self._frame(qi, qj)
+        rho_i, rho_j = self.signed_radii
         Ddd, beta_d, d_d = self._rates(Ri, Rj, d, e, t, vi, vj)
-        # β̈ = (t·D̈ − 2 ḋ β̇)/d, so the velocity part of c̈ = −r_i β̈ is:
-        return -self.r_i * (_dot(t, Ddd) - 2.0 * d_d * beta_d) / d
+        # β̈ = (t·D̈ − 2 ḋ β̇)/d, so the velocity part of c̈ = −½(ρ_i + ρ_j) β̈ is:
+        return -0.5 * (rho_i + rho_j) * (_dot(t, Ddd) - 2.0 * d_d * beta_d) / d
 
     def effort_force(self, effort, qi, qj):
         Ri, Rj, D, d, e, t = self._frame(qi, qj)
-        g = -self.r_i * t / d[..., None]
+        g = self._c_gradient(d, t)
         return {"Fx": effort * g[..., 0], "Fy": effort * g[..., 1]}
 
     # -- friction: mesh efficiency -----------------------------------------------
@@ -422,8 +442,13 @@ class Gear(Joint, kind="gear"):
     def has_friction(self) -> bool:
         return self.loss > 0.0
 
+    @property
+    def loss_ratio(self) -> float:
+        """ζ: the friction loss over the power of the tooth force, 2(1 − η)/(1 + η)."""
+        return 2.0 * self.loss / (2.0 - self.loss)
+
     def friction_magnitude(self, lam, qi, qj):
-        return self.loss * math.cos(self.alpha) * np.abs(lam[..., 0])
+        return self.loss_ratio * math.cos(self.alpha) * np.abs(lam[..., 0])
 
     def friction_gradient(self, lam, qi, qj):
-        return self.loss * math.cos(self.alpha) * np.sign(lam)
+        return self.loss_ratio * math.cos(self.alpha) * np.sign(lam)

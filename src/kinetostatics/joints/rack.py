@@ -51,11 +51,14 @@ the pinion at its pitch distance, so it does not change the motion.
 
 Relative coordinate and friction
 --------------------------------
-The coordinate is s, the pitch-line travel of the pinion along the rack; λ
-cos α ṡ is the power transmitted through the mesh.  Friction is a mesh
-efficiency η: an effort (1 − η) cos α |λ| along u opposing ṡ, or from a tooth
-friction coefficient 1 − η = (π/2) μ / z (z = ``teeth`` of the pinion; the
-gear-pair model with an infinite rack).
+The coordinate is c = ½[s − ν r (θ_j − θ_i)]: under rolling both halves move
+at the pitch-line speed ṡ (the rack's travel past the pinion's axle), and
+λ cos α ṡ is the power of the tooth force.  An effort e along c is half a
+force ½ e along u on the rack and half a couple on the pinion, so friction
+takes half its loss from each side.  As for the gear pair, a mesh efficiency
+η gives |e| = ζ cos α |λ| with ζ = 2(1 − η)/(1 + η) (P_out/P_in = η, whichever
+side drives), and a tooth friction coefficient μ gives ζ = (π/2) μ / z
+(z = ``teeth`` of the pinion: the gear-pair model with an infinite rack).
 """
 
 from __future__ import annotations
@@ -68,7 +71,15 @@ import numpy as np
 
 from .._geometry import perp, rotate
 from .base import Joint
-from .gear import _dot, _wrap, read_flank, read_length, read_loss, read_pressure_angle, read_teeth
+from .gear import (
+    _dot,
+    _wrap,
+    read_flank,
+    read_length,
+    read_loss,
+    read_pressure_angle,
+    read_teeth,
+)
 
 __all__ = ["Rack"]
 
@@ -116,7 +127,9 @@ class Rack(Joint, kind="rack"):
             z = teeth[0]
         radius, module = entry.get("radius"), entry.get("module")
         r = None
-        if (radius is None) == (module is None):
+        if radius is not None and module is not None:
+            module.error("give either the pitch radius (radius) or the module, not both")
+        elif radius is None and module is None:
             entry.error("give the pitch radius of the pinion (radius: r) or the module and "
                         "its teeth (module: m, teeth: z; r = m·z/2)")
         elif radius is not None:
@@ -233,32 +246,39 @@ class Rack(Joint, kind="rack"):
         return {"F": f, "Fx": f * (kc * U[..., 0] + ks * N[..., 0]),
                 "Fy": f * (kc * U[..., 1] + ks * N[..., 1])}
 
-    # -- relative coordinate: s, the travel of the pinion centre along the rack ----
+    # -- relative coordinate: c = ½[s − ν r (θ_j − θ_i)] ----------------------------
     def coordinate(self, qi, qj):
         A, U, N, C, D, nu = self._frame(qi, qj)
-        return _dot(U, D)
+        return 0.5 * (_dot(U, D) - nu * self.r * (qj[..., 2] - qi[..., 2]))
 
     def motion_direction(self, qi, qj):
         A, U, N, C, D, nu = self._frame(qi, qj)
-        gi = np.concatenate((-U, (_dot(N, D) - _dot(U, perp(A)))[..., None]), axis=-1)
-        gj = np.concatenate((U, _dot(U, perp(C))[..., None]), axis=-1)
+        half = 0.5 * nu * self.r
+        gi = np.concatenate((-0.5 * U, (0.5 * (_dot(N, D) - _dot(U, perp(A))) + half)[..., None]),
+                            axis=-1)
+        gj = np.concatenate((0.5 * U, (0.5 * _dot(U, perp(C)) - half)[..., None]), axis=-1)
         return gi, gj
 
     def coordinate_bias(self, qi, qj, vi, vj):
         A, U, N, C, D, nu = self._frame(qi, qj)
-        return self._rates(A, U, N, C, D, vi, vj)[0]
+        return 0.5 * self._rates(A, U, N, C, D, vi, vj)[0]
 
     def effort_force(self, effort, qi, qj):
         U = rotate(qi[..., 2], self.u)
-        return {"Fx": effort * U[..., 0], "Fy": effort * U[..., 1]}
+        return {"Fx": 0.5 * effort * U[..., 0], "Fy": 0.5 * effort * U[..., 1]}
 
     # -- friction: mesh efficiency -----------------------------------------------
     @property
     def has_friction(self) -> bool:
         return self.loss > 0.0
 
+    @property
+    def loss_ratio(self) -> float:
+        """ζ: the friction loss over the power of the tooth force, 2(1 − η)/(1 + η)."""
+        return 2.0 * self.loss / (2.0 - self.loss)
+
     def friction_magnitude(self, lam, qi, qj):
-        return self.loss * math.cos(self.alpha) * np.abs(lam[..., 0])
+        return self.loss_ratio * math.cos(self.alpha) * np.abs(lam[..., 0])
 
     def friction_gradient(self, lam, qi, qj):
-        return self.loss * math.cos(self.alpha) * np.sign(lam)
+        return self.loss_ratio * math.cos(self.alpha) * np.sign(lam)
