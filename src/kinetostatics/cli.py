@@ -61,6 +61,14 @@ def _run(args) -> int:
         print(f"event: {e['load']} {e['switch']} at {e['angle']:.3f}° ({e['condition']})")
     for sp in s["singular_positions"]:
         print(f"singular position: {sp['group']} at {sp['angle']:.4f}° (condition {sp['condition']:.3g})")
+    if fw := s.get("flywheel"):
+        line = (f"flywheel for delta = {fw['delta']:g}: J_F = {fw['inertia']['crank']:.4g} "
+                f"kg*m^2 on the crank ({fw['inertia']['crank_net']:.4g} less the machine's "
+                f"mean {fw['machine_inertia']['mean']:.3g}); energy swing "
+                f"{fw['energy_swing']:.4g} J, mean driving torque {fw['mean_torque']:.4g} N*m")
+        if fw.get("ratio"):
+            line += f"; on the motor shaft (ratio {fw['ratio']:g}): {fw['inertia']['motor']:.4g} kg*m^2"
+        print(line)
     if s["indeterminate_reactions"]:
         print("warning: redundant constraints: the reactions are the minimum-norm solution "
               "(statically indeterminate)")
@@ -83,7 +91,7 @@ def _run(args) -> int:
 # Modules adding subcommands: each defines ``register(subparsers)`` that adds its
 # parsers with ``set_defaults(func=...)``.  They must not import matplotlib or
 # scipy at import time (``run`` stays light).
-EXTENSIONS: tuple[str, ...] = ("kinetostatics.cli_pictures",)
+EXTENSIONS: tuple[str, ...] = ("kinetostatics.cli_pictures", "kinetostatics.cli_dynamics")
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -125,4 +125,12 @@ def summarize(result) -> dict[str, Any]:
         "drivers": drivers,
         "extremes": extremes,
         "column_units": dict(result.units),
-    }
+    } | _flywheel(result)
+
+
+def _flywheel(result) -> dict[str, Any]:
+    """``{"flywheel": ...}`` when the model asks for it (``flywheel:``), else ``{}``."""
+    if getattr(result.system.model, "flywheel", None) is None:
+        return {}
+    from .flywheel import design
+    return {"flywheel": design(result).to_dict()}

@@ -29,6 +29,9 @@ MAX_NODES = 100_000
 MAX_DEPTH = 100
 MAX_LINKS = 200
 MAX_POSITIONS = 10_000_000
+MAX_TURNS = 100                # analysis.sweep of a revolute driver, in turns
+MAX_TRAVEL = 1000              # a prismatic driver's sweep (and at - start): x the largest link
+SPEED_RANGE = (1e-9, 1e9)      # |speed| of a motion driver, rad/s or m/s
 NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 RESERVED = frozenset({"time", "angle", "stroke", "travel", "power", "friction", "shaking"})
 TOP_KEYS = ("name", "units", "parameters", "gravity", "ground", "links", "joints", "loops",
@@ -521,7 +524,7 @@ class _Builder:
         drivers = self._drivers(links, joints, points)
         loads_ = self._loads(links, joints, points, drivers)
         sketch = self._sketch(links, joints)
-        analysis = self._analysis(joints, drivers)
+        analysis = self._analysis(joints, drivers, links)
         loops = self._loops(joints)
         flywheel = self._flywheel()
         self.problems.raise_if_any()
@@ -861,6 +864,14 @@ class _Builder:
             v = s.number("speed")
             if v is not None and v == 0.0:
                 s.error("the speed must not be zero (its sign gives the sense of motion)")
+                return None
+            if v is not None and not SPEED_RANGE[0] <= abs(v) <= SPEED_RANGE[1]:
+                si = "rad/s" if joint.angular else "m/s"
+                given = self.ctx.unit_names.get("speed", si)
+                written = f"{v / self.ctx.units['speed']:g} {given}" + (
+                    f" ({v:g} {si})" if given != si else "")
+                s.error(f"the speed is {written}; its magnitude must be from "
+                        f"{SPEED_RANGE[0]:g} to {SPEED_RANGE[1]:g} {si}")
                 return None
             if v is None:
                 return None
@@ -1203,7 +1214,7 @@ class _Builder:
                 out[ref] = v
         return out
 
-    def _analysis(self, joints, drivers) -> Analysis:
+    def _analysis(self, joints, drivers, links=()) -> Analysis:
         a = self.top.get("analysis")
         if a is None or not a.check_keys(optional=("start", "sweep", "positions", "at", "events")):
             return Analysis()
@@ -1220,6 +1231,9 @@ class _Builder:
                 se.error(f"the sweep must be positive, got {raw:g} {unit} (it is measured in "
                          "the sense of motion, which the sign of the driver's speed gives)")
                 sweep = None
+            elif raw is not None and (problem := self._too_far(raw, kind, unit, links)):
+                se.error(f"the sweep is {raw:g} {unit}, {problem}")
+                sweep = None
         elif kind == "length":
             a.error("a prismatic driver needs analysis.sweep (the travel to analyse)")
         n = 360
@@ -1232,9 +1246,36 @@ class _Builder:
         at: tuple[float, ...] = ()
         if (ae := a.get("at")) is not None and (items := ae.seq()) is not None:
             vals = [e.number(kind) for e in items]
+            if kind == "length" and start is not None:
+                for e, v in zip(items, vals):
+                    scale = self.ctx.units[kind]
+                    if v is not None and (problem := self._too_far((v - start) / scale, kind,
+                                                                   unit, links)):
+                        e.error(f"{v / scale:g} {unit} is {abs(v - start) / scale:g} {unit} "
+                                f"from analysis.start, {problem}")
             at = tuple(v for v in vals if v is not None)
         events = a["events"].boolean() if a.get("events") is not None else False
         return Analysis(start or 0.0, sweep or 2 * np.pi, n, at, bool(events))
+
+    def _too_far(self, raw: float, kind: str, unit: str, links) -> str | None:
+        """Why a driver-coordinate range ``raw`` (file units) is too long to analyse, if it is:
+        the path is followed in steps of 30 degrees, or of 30 degrees x the largest link."""
+        span = abs(raw) * self.ctx.units[kind]
+        if kind == "angle":
+            if span > MAX_TURNS * 2 * np.pi:
+                return f"more than the limit of {MAX_TURNS} turns"
+            return None
+        spans = [float(np.hypot(*np.ptp(np.array(list(link.points.values())), axis=0)))
+                 for link in links if len(link.points) > 1]
+        size = max(spans, default=0.0)
+        if size == 0.0:
+            return ("but no link has two points: the mechanism has no size to measure the "
+                    "travel of a prismatic driver by")
+        if span > MAX_TRAVEL * size:
+            scale = self.ctx.units[kind]
+            return (f"more than the limit of {MAX_TRAVEL} times the largest link "
+                    f"({size / scale:g} {unit})")
+        return None
 
     def _loops(self, joints):
         section = self.top.get("loops")
