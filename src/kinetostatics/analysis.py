@@ -215,7 +215,7 @@ def _state_near(system, drive, r, t, q, qd, qdd):
 def analyze(model: Model | System, *, positions: np.ndarray | None = None,
             friction: bool | None = None, events: bool | None = None,
             derivatives_by: str = "jacobian", step: float = np.radians(1.0),
-            reachable: bool = False) -> Result:
+            reachable: bool = False, kinematics_only: bool = False) -> Result:
     """Kinematics and kinetostatics over the positions of ``model.analysis``.
 
     Parameters
@@ -238,6 +238,9 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
         If the linkage cannot follow the whole sweep (a crank that cannot fully
         rotate), analyse ``analysis.positions`` positions spread over the
         reachable range between its limit positions instead of raising.
+    kinematics_only : bool
+        Positions, velocities and accelerations only: no loads, events,
+        reactions, friction or power are computed (and no such columns exist).
 
     Returns
     -------
@@ -284,6 +287,8 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
     if derivatives_by != "jacobian":
         qd, qdd = difference_derivatives(system, sched, t, q, derivatives_by, step)
         lu = None                     # the kinematic factors no longer describe (qd, qdd)
+    if kinematics_only:
+        return _kinematics_result(system, sol, t, psi, q, qd, qdd, lu, full)
     extremes, evts = _extremes_and_events(system, sched, sched, t, q, qd, qdd, full)
     want_events = model.analysis.events if events is None else events
     if want_events and evts:
@@ -299,9 +304,7 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
     kin = kinetics(system, q, qd, qdd, psi, lu=lu, extremes=extremes, ref_speed=sched.reference,
                    friction=model.has_friction if friction is None else friction)
     x0, fric, power = kin.x0, kin.friction, kin.power
-    cond = {p.group: (condition_number(system, p, lu.jac[..., p.rows[:, None], p.cols], lu.inv[g])
-                      if lu is not None else group_condition(system, q, p))
-            for g, p in enumerate(system.plans) if p.group.kind != "driven"}
+    cond = _conditions(system, q, lu)
     _warn_near_singular(system, cond, psi[..., 0])
     shaking = ground_reaction(system, q, x0)
     columns, units = build_columns(system, t, psi, q, qd, qdd, x0, fric, power, cond, shaking, full)
@@ -328,6 +331,21 @@ def _warn_near_singular(system: System, cond: dict, coord: np.ndarray) -> None:
             warnings.warn(f"{group.label} is nearly singular at {bad.size} position(s), worst at "
                           f"{name} = {where} (condition {c[k]:.3g} > {COND_WARN:.0e}); "
                           "reactions there are unreliable", NearSingularWarning, stacklevel=3)
+
+
+def _conditions(system: System, q: np.ndarray, lu) -> dict:
+    return {p.group: (condition_number(system, p, lu.jac[..., p.rows[:, None], p.cols], lu.inv[g])
+                      if lu is not None else group_condition(system, q, p))
+            for g, p in enumerate(system.plans) if p.group.kind != "driven"}
+
+
+def _kinematics_result(system, sol, t, psi, q, qd, qdd, lu, full) -> Result:
+    cond = _conditions(system, q, lu)
+    _warn_near_singular(system, cond, psi[..., 0])
+    columns, units = build_columns(system, t, psi, q, qd, qdd, None, None, None, cond, None, full)
+    return Result(system=system, t=t, coordinate=psi[..., 0], q=q, qd=qd, qdd=qdd,
+                  lam=np.zeros(q.shape[:-1] + (0,)), columns=columns, units=units,
+                  singular=tuple(sol.singular), full_cycle=full)
 
 
 def _range_text(system: System, sched: Schedule, lo: float, hi: float) -> str:

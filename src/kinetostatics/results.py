@@ -11,6 +11,7 @@ import csv
 import json
 from dataclasses import dataclass, field
 from pathlib import Path
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -35,6 +36,13 @@ def _joint_position(system: System, q: np.ndarray, name: str) -> np.ndarray:
         return np.broadcast_to(j.p_i, q.shape[:-1] + (2,))
     k = system.link_index(link)
     return point_state(q, q, None, k, j.p_i)[0]
+
+
+def _dyad_angle_names(system: System) -> list[tuple[str, str]]:
+    """(column prefix, label) of the dyads that have a transmission or pressure angle."""
+    label = {"RRR": "transmission_angle", "RRP": "pressure_angle"}
+    return [(group_column(p.group), label[p.group.letters]) for p in system.plans
+            if p.group.kind == "dyad" and p.group.letters in label]
 
 
 def _dyad_angles(system: System, q: np.ndarray) -> dict[str, tuple[str, np.ndarray]]:
@@ -65,89 +73,145 @@ def _dyad_angles(system: System, q: np.ndarray) -> dict[str, tuple[str, np.ndarr
     return out
 
 
+class Columns(Mapping):
+    """Named result columns in CSV order, each computed on first access.
+
+    Columns computed together (a point's six, a joint's reactions) share one
+    computation; asking for one joint's reaction builds only that joint's.
+    """
+
+    def __init__(self) -> None:
+        self._where: dict[str, tuple[int, int]] = {}
+        self._groups: list = []
+        self._done: dict[int, tuple] = {}
+
+    def add(self, names: list[str], compute) -> None:
+        """Register columns ``names`` whose arrays ``compute()`` returns, in order."""
+        g = len(self._groups)
+        self._groups.append(compute)
+        for k, name in enumerate(names):
+            self._where[name] = (g, k)
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        g, k = self._where[name]
+        if g not in self._done:
+            self._done[g] = tuple(np.asarray(a, dtype=float) for a in self._groups[g]())
+        return self._done[g][k]
+
+    def __iter__(self):
+        return iter(self._where)
+
+    def __len__(self) -> int:
+        return len(self._where)
+
+    @property
+    def computed(self) -> int:
+        """How many columns have been computed so far (for tests and measurements)."""
+        return sum(len(v) for v in self._done.values())
+
+
 def build_columns(system: System, t, psi, q, qd, qdd, x0, fric, power, cond, shaking, full):
-    """Ordered columns and units (see SPEC.md, Outputs)."""
+    """Ordered lazy columns and units (see SPEC.md, Outputs); ``x0`` None: kinematics only."""
     model = system.model
-    cols: dict[str, np.ndarray] = {}
+    cols = Columns()
     units: dict[str, str] = {}
 
-    def put(name, value, unit):
-        cols[name] = np.asarray(value, dtype=float)
-        units[name] = unit
+    def put(names_units, compute):
+        cols.add([n for n, _ in names_units], compute)
+        units.update(names_units)
 
     first = system.motion_drivers[0]
-    angular = first.joint.angular
     coord = psi[..., 0]
-    put("time", t - t[0] if len(t) else t, "s")
-    if angular:
-        put("angle", np.mod(np.degrees(coord), 360.0), "deg")
-        put("travel", np.degrees(np.abs(coord - coord[0])), "deg")
+    put([("time", "s")], lambda: (t - t[0] if len(t) else t,))
+    if first.joint.angular:
+        put([("angle", "deg"), ("travel", "deg")],
+            lambda: (np.mod(np.degrees(coord), 360.0), np.degrees(np.abs(coord - coord[0]))))
     else:
-        put("stroke", coord, "m")
-        put("travel", np.abs(coord - coord[0]), "m")
+        put([("stroke", "m"), ("travel", "m")], lambda: (coord, np.abs(coord - coord[0])))
+    link_units = (("x", "m"), ("y", "m"), ("theta", "deg"), ("vx", "m/s"), ("vy", "m/s"),
+                  ("omega", "rad/s"), ("ax", "m/s^2"), ("ay", "m/s^2"), ("alpha", "rad/s^2"))
     for k, name in enumerate(system.links):
         s = slice(3 * k, 3 * k + 3)
-        for label, arr, unit in (("x", q[..., s][..., 0], "m"), ("y", q[..., s][..., 1], "m"),
-                                 ("theta", np.degrees(q[..., s][..., 2]), "deg"),
-                                 ("vx", qd[..., s][..., 0], "m/s"), ("vy", qd[..., s][..., 1], "m/s"),
-                                 ("omega", qd[..., s][..., 2], "rad/s"),
-                                 ("ax", qdd[..., s][..., 0], "m/s^2"), ("ay", qdd[..., s][..., 1], "m/s^2"),
-                                 ("alpha", qdd[..., s][..., 2], "rad/s^2")):
-            put(f"{name}.{label}", arr, unit)
+        put([(f"{name}.{label}", unit) for label, unit in link_units],
+            lambda s=s: (q[..., s][..., 0], q[..., s][..., 1], np.degrees(q[..., s][..., 2]),
+                         qd[..., s][..., 0], qd[..., s][..., 1], qd[..., s][..., 2],
+                         qdd[..., s][..., 0], qdd[..., s][..., 1], qdd[..., s][..., 2]))
+    point_units = (("x", "m"), ("y", "m"), ("vx", "m/s"), ("vy", "m/s"), ("ax", "m/s^2"),
+                   ("ay", "m/s^2"))
+
+    def point(k, p):
+        pos, vel, acc = point_state(q, qd, qdd, k, p)
+        return pos[..., 0], pos[..., 1], vel[..., 0], vel[..., 1], acc[..., 0], acc[..., 1]
     for k, name in enumerate(system.links):
         for pname, p in model.link(name).points.items():
-            pos, vel, acc = point_state(q, qd, qdd, k, p)
-            for label, arr, unit in (("x", pos[..., 0], "m"), ("y", pos[..., 1], "m"),
-                                     ("vx", vel[..., 0], "m/s"), ("vy", vel[..., 1], "m/s"),
-                                     ("ax", acc[..., 0], "m/s^2"), ("ay", acc[..., 1], "m/s^2")):
-                put(f"{name}.{pname}.{label}", arr, unit)
+            put([(f"{name}.{pname}.{label}", unit) for label, unit in point_units],
+                lambda k=k, p=p: point(k, p))
+    if x0 is not None:
+        _kinetic_columns(system, put, q, x0, fric, power)
+    for g, c in cond.items():
+        put([(f"{group_column(g)}.cond", "1")], lambda c=c: (c,))
+    angles = {}
+
+    def dyad_angles():
+        if not angles:
+            angles.update(_dyad_angles(system, q))
+        return angles
+    for prefix, label in _dyad_angle_names(system):
+        put([(f"{prefix}.{label}", "deg")], lambda prefix=prefix: (dyad_angles()[prefix][1],))
+    if shaking is not None:
+        put([("shaking.Fx", "N"), ("shaking.Fy", "N"), ("shaking.M", "N*m")],
+            lambda: (shaking[..., 0], shaking[..., 1], shaking[..., 2]))
+    return cols, units
+
+
+def _kinetic_columns(system: System, put, q, x0, fric, power) -> None:
+    model = system.model
     qe = np.concatenate((q, np.zeros(q.shape[:-1] + (3,))), axis=-1)
     sol = fric["solution"] if fric else None
     n_f = {k: n for n, k in enumerate(fric["setup"].joints)} if fric else {}
+    force_unit = {"M": "N*m"}
     for k, j in enumerate(model.joints):
         i_, j_ = system.ends[k]
         qi, qj = qe[..., 3 * i_:3 * i_ + 3], qe[..., 3 * j_:3 * j_ + 3]
         block = system.rows_of(k)
-        reac = j.reaction(x0[..., block], qi, qj)
-        force_unit = {"M": "N*m"}
-        for label in j.reaction_labels:
-            put(f"{j.name}.{label}", reac[label], force_unit.get(label, "N"))
-        if fric:
-            unit = "N*m" if j.angular else "N"
-            if k in n_f:
-                put(f"{j.name}.friction_approx", fric["e_approx"][..., n_f[k]], unit)
-                put(f"{j.name}.friction", sol.e[..., n_f[k]], unit)
-            reac_f = j.reaction(sol.x[..., block], qi, qj)
+        labels = j.reaction_labels
+        put([(f"{j.name}.{label}", force_unit.get(label, "N")) for label in labels],
+            lambda j=j, qi=qi, qj=qj, block=block, labels=labels:
+                tuple(j.reaction(x0[..., block], qi, qj)[label] for label in labels))
+        if not fric:
+            continue
+        unit = "N*m" if j.angular else "N"
+        if k in n_f:
+            put([(f"{j.name}.friction_approx", unit), (f"{j.name}.friction", unit)],
+                lambda n=n_f[k]: (fric["e_approx"][..., n], sol.e[..., n]))
+
+        def with_friction(j=j, k=k, qi=qi, qj=qj, block=block, labels=labels):
+            reac = j.reaction(sol.x[..., block], qi, qj)
             if k in n_f:                          # a friction force along a slide is a force too
                 for label, extra in j.effort_force(sol.e[..., n_f[k]], qi, qj).items():
-                    reac_f[label] = reac_f[label] + extra
-            for label in j.reaction_labels:
-                put(f"{j.name}.{label}_friction", reac_f[label], force_unit.get(label, "N"))
+                    reac[label] = reac[label] + extra
+            return tuple(reac[label] for label in labels)
+        put([(f"{j.name}.{label}_friction", force_unit.get(label, "N")) for label in labels],
+            with_friction)
     n_j = system.n_joint_rows
     for d_index, d in enumerate(system.motion_drivers):
         effort_joint = model.joint(d.driver.balance_at) if d.driver.balance_at else d.joint
         word, unit = ("torque", "N*m") if effort_joint.angular else ("force", "N")
-        put(f"{d.name}.{word}", x0[..., n_j + d_index], unit)
+        col = n_j + d_index
+        put([(f"{d.name}.{word}", unit)], lambda col=col: (x0[..., col],))
         if fric:
-            put(f"{d.name}.{word}_friction_approx", fric["x_approx"][..., n_j + d_index], unit)
-            put(f"{d.name}.{word}_friction", sol.x[..., n_j + d_index], unit)
-            with np.errstate(divide="ignore", invalid="ignore"):
-                put(f"{d.name}.efficiency", x0[..., n_j + d_index] / sol.x[..., n_j + d_index], "1")
+            def efficiency(col=col):
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    return (x0[..., col] / sol.x[..., col],)
+            put([(f"{d.name}.{word}_friction_approx", unit), (f"{d.name}.{word}_friction", unit)],
+                lambda col=col: (fric["x_approx"][..., col], sol.x[..., col]))
+            put([(f"{d.name}.efficiency", "1")], efficiency)
     if fric:
-        put("friction.status", sol.status, "1")
-        put("friction.iterations", sol.iterations, "1")
-    for name in ("input", "kinetic", "potential", "external", "friction", "residual",
-                 "residual_friction"):
-        if name in power:
-            put(f"power.{name}", power[name], "W")
-    for g, c in cond.items():
-        put(f"{group_column(g)}.cond", c, "1")
-    for prefix, (label, arr) in _dyad_angles(system, q).items():
-        put(f"{prefix}.{label}", arr, "deg")
-    put("shaking.Fx", shaking[..., 0], "N")
-    put("shaking.Fy", shaking[..., 1], "N")
-    put("shaking.M", shaking[..., 2], "N*m")
-    return cols, units
+        put([("friction.status", "1"), ("friction.iterations", "1")],
+            lambda: (sol.status, sol.iterations))
+    names = [n for n in ("input", "kinetic", "potential", "external", "friction", "residual",
+                         "residual_friction") if n in power]
+    put([(f"power.{n}", "W") for n in names], lambda: tuple(power[n] for n in names))
 
 
 @dataclass(frozen=True)
@@ -167,7 +231,7 @@ class Result:
     qd: np.ndarray
     qdd: np.ndarray
     lam: np.ndarray
-    columns: dict[str, np.ndarray]
+    columns: Mapping[str, np.ndarray]
     units: dict[str, str]
     events: tuple = ()
     singular: tuple = ()

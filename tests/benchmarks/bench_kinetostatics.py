@@ -35,10 +35,19 @@ def main() -> None:
             return cf.friction_approx_torque_eq9(p, phi)
 
         t_cf, t_cf_f = best_of(closed), best_of(closed_friction)
-        frictionless = lambda: ks.analyze(system, positions=phi, friction=False)
-        full = lambda: ks.analyze(system, positions=phi)
+        # read what the closed form computes: every reaction and the torque (columns are lazy)
+        plain = ["O.Fx", "O.Fy", "A.Fx", "A.Fy", "B.Fx", "B.Fy", "slide.N", "slide.M", "motor.torque"]
+        with_f = plain + [n.replace("motor.torque", "motor.torque_friction_approx") for n in plain[-1:]]
+
+        def frictionless():
+            r = ks.analyze(system, positions=phi, friction=False)
+            return [r[n] for n in plain]
+
+        def full():
+            r = ks.analyze(system, positions=phi)
+            return [r[n] for n in with_f + ["motor.torque_friction"]]
         t0, t1 = best_of(frictionless, repeat=5), best_of(full, repeat=5)
-        r = full()
+        r = ks.analyze(system, positions=phi)
         ref = cf.reactions(p, phi)
         e0 = np.max(np.abs(r["motor.torque"] - ref["M1"])) / np.max(np.abs(ref["M1"]))
         eq9 = cf.friction_approx_torque_eq9(p, phi)

@@ -1,0 +1,40 @@
+"""An analysis computes only what its requested outputs need."""
+
+import numpy as np
+import kinetostatics as ks
+from kinetostatics import analysis
+
+
+def test_kinematics_only_assembles_no_loads(monkeypatch):
+    def forbidden(*args, **kwargs):
+        raise AssertionError("kinetics was called")
+    monkeypatch.setattr(analysis, "kinetics", forbidden)
+    monkeypatch.setattr(analysis, "_extremes_and_events", forbidden)
+    r = ks.analyze(ks.load("mechanisms/slotting_machine.yaml"), kinematics_only=True)
+    assert "ram.vy" in r.columns and "rod_ram.pressure_angle" in r.columns
+    assert not [c for c in r.columns if c.startswith(("power.", "motor.", "shaking."))]
+
+
+def test_kinematics_only_equals_the_full_analysis_kinematics():
+    model = ks.load("mechanisms/slotting_machine.yaml")
+    a, b = ks.analyze(model, kinematics_only=True), ks.analyze(model)
+    for name in a.columns:
+        np.testing.assert_array_equal(a[name], b[name])
+
+
+def test_a_file_without_friction_runs_no_friction_solve(monkeypatch):
+    def forbidden(*args, **kwargs):
+        raise AssertionError("a friction solve ran")
+    monkeypatch.setattr(analysis.fr, "consistent", forbidden)
+    monkeypatch.setattr(analysis.fr, "approximate", forbidden)
+    r = ks.analyze(ks.load("tests/hard/fourbar_change_point.yaml"), positions=np.radians([100.0]))
+    assert "friction.status" not in r.columns
+
+
+def test_one_reaction_builds_only_its_own_columns():
+    r = ks.analyze(ks.load("mechanisms/slotting_machine.yaml"))
+    assert r.columns.computed == 0
+    fx = r["O3.Fx"]
+    assert r.columns.computed == 2                 # O3.Fx and O3.Fy, nothing else
+    np.testing.assert_array_equal(fx, r["O3.Fx"])
+    assert len(r.columns) > 100
