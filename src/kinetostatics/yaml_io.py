@@ -1252,7 +1252,7 @@ class _Builder:
                     if v is not None and (problem := self._too_far((v - start) / scale, kind,
                                                                    unit, links)):
                         e.error(f"{v / scale:g} {unit} is {abs(v - start) / scale:g} {unit} "
-                                f"from analysis.start, {problem}")
+                                f"from analysis.start ({start / scale:g} {unit}), {problem}")
             at = tuple(v for v in vals if v is not None)
         events = a["events"].boolean() if a.get("events") is not None else False
         return Analysis(start or 0.0, sweep or 2 * np.pi, n, at, bool(events))
@@ -1263,7 +1263,8 @@ class _Builder:
         span = abs(raw) * self.ctx.units[kind]
         if kind == "angle":
             if span > MAX_TURNS * 2 * np.pi:
-                return f"more than the limit of {MAX_TURNS} turns"
+                return (f"more than the limit of {MAX_TURNS} turns "
+                        f"({MAX_TURNS * 2 * np.pi / self.ctx.units[kind]:g} {unit})")
             return None
         spans = [float(np.hypot(*np.ptp(np.array(list(link.points.values())), axis=0)))
                  for link in links if len(link.points) > 1]
