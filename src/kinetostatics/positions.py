@@ -68,7 +68,7 @@ class PositionSolution:
 
 def _scales(system: System, jac: np.ndarray, plan: GroupPlan) -> tuple[np.ndarray, np.ndarray]:
     """Column (unit) and row (equilibration) scales of a group block."""
-    col = np.where(np.arange(len(plan.cols)) % 3 == 2, 1.0, 1.0 / system.l_ref)
+    col = np.where(np.arange(len(plan.cols)) % 3 == 2, 1.0, system.l_ref)   # d/d(x/L) = L d/dx
     norm = np.max(np.abs(jac * col), axis=-1)
     return col, 1.0 / np.where(norm > 0, norm, 1.0)
 
