@@ -270,7 +270,9 @@ def _miss(system: System, q: np.ndarray, psi: np.ndarray, plan: GroupPlan) -> st
         r = phi(system, q, psi, plan.constraints)
         jac = jacobian(system, q, plan.constraints, plan.cols)
         a = jac.T @ jac
-        dx = np.linalg.solve(a + mu * np.diag(np.diag(a) + 1e-12), -jac.T @ r)
+        if not (np.all(np.isfinite(a)) and np.all(np.isfinite(r))):
+            return "the constraints cannot be evaluated here (a degenerate joint geometry)"
+        dx = np.linalg.lstsq(a + mu * np.diag(np.diag(a) + 1e-12), -jac.T @ r, rcond=None)[0]
         qn = q.copy()
         qn[plan.cols] += dx
         rn = phi(system, qn, psi, plan.constraints)
