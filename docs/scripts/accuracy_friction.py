@@ -1,0 +1,138 @@
+"""Friction: what the frictionless, the approximate and the consistent driving
+torque cost, and how far the first two are from the consistent one.
+
+All friction data of a shipped file are scaled by s (friction-circle radii and
+Coulomb coefficients; ``docs/scripts/friction_levels.py``).  Errors: the
+largest |τ − τ_consistent| over the 360 positions relative to the largest
+|τ_consistent| (positions where the consistent solution is self-locking are
+skipped).  For the slider-crank the approximate torque is also compared with
+the independent closed form of the source's eq. 9
+(tests/oracles/slider_crank_closed_form.py).
+
+Times: ``ks.analyze`` with ``friction=False`` and with the default (both
+friction solutions), and the friction stages alone, called on one system with
+the kinematics and frictionless reactions already solved: *approximate* =
+``friction.setup`` + Φ_q⁻¹ + ``friction.approximate``; *consistent* =
+``friction.consistent`` (fixed point, homotopy where it fails).
+
+    python docs/scripts/accuracy_friction.py [--quick] [--update]
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+import accuracy_common as ac
+from accuracy_common import Table, e, ms
+from friction_levels import scaled
+
+import kinetostatics as ks
+from kinetostatics import friction as fr
+from kinetostatics.analysis import _schedule, _times, kinetics
+from kinetostatics.positions import derivatives, solve_positions
+
+LEVELS = (0.01, 0.1, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0)
+NAMES = ("slider_crank", "slotting_machine")
+TIMES = ("friction=False [ms]", "full [ms]", "approximate stage [ms]", "consistent stage [ms]")
+
+
+def stages(system):
+    """Closures timing the approximate and the consistent friction stage."""
+    sched = _schedule(system)
+    t, _ = _times(system, sched, None)
+    q = solve_positions(system, t, sched).q
+    psi, psi_d, psi_dd = sched(t)
+    qd, qdd, lu = derivatives(system, q, psi_d, psi_dd)
+    # external loads need the cycle extremes of travel conditions: take them from analyze
+    res = ks.analyze(system, friction=False, events=False)
+    kin = kinetics(system, q, qd, qdd, psi, lu=lu, extremes=res.extremes,
+                   ref_speed=sched.reference, friction=False)
+    q_load, x0 = kin.q_load, kin.x0
+
+    def approximate():
+        fs = fr.setup(system, q, qd, sched.reference)
+        a_inv = np.swapaxes(lu.inverse(), -1, -2)
+        return fr.approximate(system, fs, a_inv, q_load, x0), fs, a_inv
+
+    _, fs, a_inv = approximate()
+    a = np.swapaxes(lu.jac, -1, -2)
+    return approximate, lambda: fr.consistent(system, fs, a, a_inv, q_load, x0)
+
+
+def build(timing: bool = True):
+    from tests.oracles import slider_crank_closed_form as cf
+    blocks, points = {}, {}
+    for name in NAMES:
+        head = ["friction × s", "frictionless τ error", "approximate τ error"]
+        if name == "slider_crank":
+            head.append("approximate vs eq. 9")
+        head += ["status 0 / 1 / 2 / 3", *TIMES]
+        tab = Table(head, timing=set(TIMES))
+        pts = []
+        for s in LEVELS:
+            system = ks.build_system(scaled(name, s))
+            driver = system.motion_drivers[0].name
+            r = ks.analyze(system)
+            tau, tau_a, tau_0 = (r[f"{driver}.torque{k}"] for k in ("_friction", "_friction_approx", ""))
+            ok = np.isfinite(tau)
+            scale = np.max(np.abs(tau[ok]))
+            err0 = np.max(np.abs(tau_0 - tau)[ok]) / scale
+            erra = np.max(np.abs(tau_a - tau)[ok]) / scale
+            cells = [f"{s:g}", e(err0), e(erra)]
+            if name == "slider_crank":
+                base = cf.SliderCrank()
+                p = replace(base, rho_O=base.rho_O * s, rho_A=base.rho_A * s, rho_B=base.rho_B * s,
+                            f=base.f * s, L_ref=system.l_ref)
+                eq9 = cf.friction_approx_torque_eq9(p, np.radians(r["angle"]))
+                cells.append(e(np.max(np.abs(tau_a - eq9)) / np.max(np.abs(eq9))))
+            counts = np.bincount(r["friction.status"].astype(int), minlength=4)
+            cells.append(" / ".join(str(c) for c in counts))
+            times = [None] * 4
+            if timing:
+                approx, cons = stages(system)
+                times = [ac.best_of(lambda: ks.analyze(system, friction=False)),
+                         ac.best_of(lambda: ks.analyze(system), repeat=3 if s > 8 else None),
+                         ac.best_of(approx),
+                         ac.best_of(cons, repeat=3 if s > 8 else None)]
+            tab.add(*cells, *(ms(x) for x in times))
+            pts.append((s, err0, erra, *times))
+        points[name] = pts
+        blocks[f"friction-{name}"] = f"**{name}**, 360 positions\n\n" + tab.markdown()
+
+    def plot():
+        import matplotlib.pyplot as plt
+        fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
+        for name, marker in zip(NAMES, ("o", "s")):
+            pts = points[name]
+            s = [p[0] for p in pts]
+            axes[0].loglog(s, [p[1] for p in pts], marker + "--", label=f"{name}: frictionless")
+            axes[0].loglog(s, [p[2] for p in pts], marker + "-", label=f"{name}: approximate")
+            t0 = [p[3] * 1e3 for p in pts]
+            ta = [(p[3] + p[5]) * 1e3 for p in pts]
+            axes[1].loglog(t0, [p[1] for p in pts], marker + "--", label=f"{name}: frictionless")
+            axes[1].loglog(ta, [p[2] for p in pts], marker + "-", label=f"{name}: approximate")
+            for p, x in zip(pts, ta):
+                axes[1].annotate(f"s={p[0]:g}", (x, p[2]), fontsize=6, xytext=(3, 2),
+                                 textcoords="offset points")
+        axes[0].set_xlabel("friction level s (× the file's friction)")
+        axes[0].set_ylabel("max |τ − τ_consistent| / max |τ_consistent|")
+        axes[0].set_title("driving torque error against friction level")
+        axes[0].legend(fontsize=7)
+        axes[0].grid(True, which="both", alpha=0.3)
+        axes[1].set_xlabel("wall time, 360 positions [ms]: friction=False run (+ approximate stage)")
+        axes[1].set_ylabel("max |τ − τ_consistent| / max |τ_consistent|")
+        axes[1].set_title("error against cost", fontsize=10)
+        axes[1].legend(fontsize=7)
+        axes[1].grid(True, which="both", alpha=0.3)
+        fig.tight_layout()
+        path = ac.IMG / "accuracy_friction.png"
+        fig.savefig(path, dpi=110)
+        plt.close(fig)
+        return [path]
+    return blocks, (plot if timing else None)
+
+
+if __name__ == "__main__":
+    ac.main(build)
