@@ -18,6 +18,7 @@ Examples
 from __future__ import annotations
 
 import ast
+import functools
 import difflib
 import math
 import numbers
@@ -254,7 +255,18 @@ def _check_node(node: ast.AST) -> None:
 
 
 def _parse(text: str) -> ast.Expression:
-    """Parse and validate an expression string, returning its syntax tree."""
+    """Parse and validate an expression string, returning its syntax tree.
+
+    Trees are cached by text (they are never modified): a batch of variants
+    re-reads the same expressions with other parameter values.
+    """
+    if not isinstance(text, str):
+        raise ExpressionError(f"expected a number or expression, got {type(text).__name__}")
+    return _parse_cached(text)
+
+
+@functools.lru_cache(maxsize=4096)
+def _parse_cached(text: str) -> ast.Expression:
     if not isinstance(text, str):
         raise ExpressionError(f"expected a number or expression, got {type(text).__name__}")
     if len(text) > MAX_EXPRESSION_LENGTH:

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import re
 from pathlib import Path
-from typing import Any, Iterable
+from typing import Any, Iterable, Mapping
 
 import numpy as np
 import yaml
@@ -77,6 +77,7 @@ class _Context:
         self.units: dict[str, float] = units.unit_table(None)
         self.unit_names: dict[str, str] = {}
         self.broken_parameters: set[str] = set()   # declared, but in error (already reported)
+        self.overrides: dict[str, float] = {}       # parameter values given from outside
 
 
 _EXPRESSION_HINT = ("; an expression may use numbers, parameter names, + - * / // % **, "
@@ -405,7 +406,7 @@ def _check_keys_and_duplicates(root: yaml.Node, file: str, problems: Collector) 
 
 
 # ---------------------------------------------------------------------------
-def load(path: str | Path) -> Model:
+def load(path: str | Path, parameters: Mapping[str, float] | None = None) -> Model:
     """Read a mechanism from a YAML file.
 
     Raises :class:`~kinetostatics.errors.ModelError` listing every problem
@@ -434,11 +435,21 @@ def load(path: str | Path) -> Model:
     except OSError as exc:
         reason = exc.strerror or str(exc)
         raise ModelError([(Location(str(path)), f"cannot read the file: {reason}")]) from None
-    return loads(text, file=str(path))
+    return loads(text, file=str(path), parameters=parameters)
 
 
-def loads(text: str, file: str = "<string>") -> Model:
+def loads(text: str, file: str = "<string>",
+          parameters: Mapping[str, float] | None = None) -> Model:
     """Read a mechanism from YAML text (see :func:`load`)."""
+    return build(compose(text, file), parameters)
+
+
+def compose(text: str, file: str = "<string>") -> Entry:
+    """The checked YAML tree of a mechanism (syntax, size, keys), not yet built.
+
+    :func:`build` turns it into a model; a batch builds one tree many times
+    with other parameter values.
+    """
     if len(text.encode("utf-8", "replace")) > MAX_FILE_BYTES:
         raise ModelError([(Location(file), f"the text is more than the limit of "
                                            f"{MAX_FILE_BYTES} bytes; refused")])
@@ -469,7 +480,16 @@ def loads(text: str, file: str = "<string>") -> Model:
     if not top.is_mapping:
         raise ModelError([(top.where, "the file must be a mapping of keys (name, units, links, "
                                       f"joints, ...), got {_describe(root)}")])
-    return _Builder(top, ctx).build()
+    return top
+
+
+def build(top: Entry, parameters: Mapping[str, float] | None = None) -> Model:
+    """The model of a composed tree, with ``parameters`` replacing the values of
+    the file's parameters of those names (numbers in the file's units; the
+    parameters computed from them follow).  Raises :class:`ModelError`."""
+    ctx = _Context(top.ctx.file)
+    ctx.overrides = dict(parameters or {})
+    return _Builder(Entry(top.node, top.where, ctx), ctx).build()
 
 
 def _syntax_problem(exc: yaml.YAMLError, file: str) -> tuple[Location, str]:
@@ -614,10 +634,14 @@ class _Builder:
         """Evaluate the parameters in dependency order, each problem reported at its
         parameter; a parameter that uses a broken one is skipped silently."""
         p = self.top.get("parameters")
+        overrides = self.ctx.overrides
         if p is None or not p.mapping():
+            if overrides:
+                self._unknown_overrides([])
             return
         broken = self.ctx.broken_parameters
         declared = p.keys()
+        self._unknown_overrides(declared)
         pending: dict[str, tuple[Entry, str, list[str]]] = {}
         for key, e in p.items():
             where = p.key_where(key)
@@ -635,6 +659,9 @@ class _Builder:
                 except expressions.ExpressionError as exc:
                     e.error(_expression_message(exc))
                 else:
+                    if key in overrides:
+                        pending[key] = (e, repr(float(overrides[key])), [])
+                        continue
                     pending[key] = (e, e.node.value, [n for n in used if n in declared])
                     undefined = [n for n in used
                                  if n not in declared and n not in expressions.CONSTANTS]
@@ -678,6 +705,14 @@ class _Builder:
             reported |= set(cycle)
         broken |= set(pending)
         self.ctx.env.update((k, env[k]) for k in declared if k in env)
+
+    def _unknown_overrides(self, declared: list[str]) -> None:
+        for key in self.ctx.overrides:
+            if key not in declared:
+                known = ", ".join(declared) or "none"
+                self.problems.add(Location(self.ctx.file, path="parameters"),
+                                  f"a variant sets the parameter '{key}', which the file does not "
+                                  f"declare{did_you_mean(key, declared)}; its parameters: {known}")
 
     def _links(self, gravity: np.ndarray) -> list[Link]:
         section = self.top.get("links")
