@@ -91,7 +91,8 @@ def _run(args) -> int:
 # Modules adding subcommands: each defines ``register(subparsers)`` that adds its
 # parsers with ``set_defaults(func=...)``.  They must not import matplotlib or
 # scipy at import time (``run`` stays light).
-EXTENSIONS: tuple[str, ...] = ("kinetostatics.cli_pictures", "kinetostatics.cli_dynamics")
+EXTENSIONS: tuple[str, ...] = ("kinetostatics.cli_pictures", "kinetostatics.cli_dynamics",
+                               "kinetostatics.cli_batch")
 
 
 def main(argv: list[str] | None = None) -> int:

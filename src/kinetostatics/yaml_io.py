@@ -35,7 +35,7 @@ SPEED_RANGE = (1e-9, 1e9)      # |speed| of a motion driver, rad/s or m/s
 NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 RESERVED = frozenset({"time", "angle", "stroke", "travel", "power", "friction", "shaking"})
 TOP_KEYS = ("name", "units", "parameters", "gravity", "ground", "links", "joints", "loops",
-            "drivers", "loads", "sketch", "analysis", "flywheel")
+            "drivers", "loads", "sketch", "analysis", "flywheel", "sweep")
 
 
 class _TooDeep(Exception):

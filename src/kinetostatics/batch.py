@@ -1,0 +1,552 @@
+"""Batches: many variants of one file (or every file of a folder) analysed in
+chunks, one summary table.
+
+:func:`run_batch` cuts the variants into memory-bounded chunks of one source
+file, hands each chunk to :func:`analyze_chunk` (which calls
+:func:`kinetostatics.variants.analyze_variants`) through a
+``concurrent.futures`` executor — processes by default, in-process
+(``"serial"``), or a Dask cluster given by its scheduler address — and
+appends each finished chunk's rows to ``DIR/summary.csv`` (flushed and
+synced), so an interrupted batch leaves its finished rows on disk.  Rows are
+appended in completion order; when the batch ends (or is interrupted) the file
+is rewritten in variant order.  A rerun with the same files, sweep and options
+(``DIR/batch.json`` holds their fingerprint) skips the variants already in the
+table.  A variant that fails is a row with ``status = failed`` and its reason;
+a chunk whose worker raised (a crash, a lost worker) gives rows with ``status
+= error``, which a rerun computes again.  Nothing stops the batch but an
+interrupt.
+"""
+
+from __future__ import annotations
+
+import csv
+import hashlib
+import io
+import json
+import math
+import os
+import sys
+import time
+from concurrent.futures import FIRST_COMPLETED, Executor, Future, wait
+from dataclasses import dataclass, field
+from functools import lru_cache
+from pathlib import Path
+from typing import Any, Callable, Iterable, Mapping, Sequence
+
+from .errors import KinetostaticsError
+
+__all__ = ["Source", "Task", "Chunk", "BatchSummary", "BatchError", "run_batch",
+           "analyze_chunk", "sources_of", "read_summary", "auto_chunk", "MEMORY_BUDGET",
+           "BYTES_PER_POSITION"]
+
+SUMMARY = "summary.csv"
+STATE = "batch.json"
+FIXED = ("status", "reason")
+# Memory bound of one chunk: a variant costs about BYTES_PER_POSITION per
+# position while it is analysed (result columns, q, q', q'', reactions).
+MEMORY_BUDGET = 256 * 2**20
+BYTES_PER_POSITION = 8 * 2**10
+
+
+class BatchError(KinetostaticsError, ValueError):
+    """A batch that cannot start (an output folder of another batch, a bad option)."""
+
+
+@dataclass(frozen=True)
+class Source:
+    """A mechanism file as read when the batch started."""
+
+    file: str
+    text: str
+
+
+@dataclass(frozen=True)
+class Task:
+    """One variant: its id, its source (index into the sources) and overrides."""
+
+    vid: str
+    source: int
+    overrides: Mapping[str, float]
+
+
+@dataclass(frozen=True)
+class Chunk:
+    """What a worker analyses: variants of one file, and the analysis options."""
+
+    source: Source
+    ids: tuple[str, ...]
+    overrides: tuple[Mapping[str, float], ...]
+    positions: int | None = None
+    friction: bool | None = None
+    flywheel: bool | None = None
+    results_dir: str | None = None
+
+
+@dataclass
+class BatchSummary:
+    """What a batch did: rows in the table, computed now, reused from before."""
+
+    out_dir: Path
+    total: int
+    computed: int
+    reused: int
+    failed: int
+    errors: int
+    seconds: float
+    chunk: int
+    workers: int
+
+    @property
+    def summary_csv(self) -> Path:
+        return self.out_dir / SUMMARY
+
+    @property
+    def rate(self) -> float:
+        """Variants computed per second of this run."""
+        return self.computed / self.seconds if self.seconds > 0 else math.nan
+
+
+# -- the worker ------------------------------------------------------------------------
+@lru_cache(maxsize=16)
+def _template(file: str, text: str):
+    from .variants import Template
+    return Template.loads(text, file)
+
+
+def analyze_chunk(chunk: Chunk) -> list[dict[str, Any]]:
+    """The rows of a chunk, in order (the function every executor runs).
+    With ``results_dir`` it also writes ``<results_dir>/<id>/results.csv`` and
+    ``summary.json`` of each variant that succeeded (a second, single analysis)."""
+    from . import variants
+    try:
+        template = _template(chunk.source.file, chunk.source.text)
+    except KinetostaticsError as exc:
+        return [variants.failure_row(exc) for _ in chunk.ids]
+    rows = variants.analyze_variants(template, chunk.overrides, positions=chunk.positions,
+                                     friction=chunk.friction, flywheel=chunk.flywheel)
+    if chunk.results_dir:
+        from .analysis import analyze
+        for vid, ov, row in zip(chunk.ids, chunk.overrides, rows):
+            if row["status"] == "ok":
+                result = analyze(template.model(ov, positions=chunk.positions),
+                                 friction=chunk.friction)
+                folder = Path(chunk.results_dir) / vid
+                folder.mkdir(parents=True, exist_ok=True)
+                result.to_csv(folder / "results.csv")
+                result.to_json(folder / "summary.json")
+    return rows
+
+
+def _error_row(exc: BaseException) -> dict[str, Any]:
+    text = str(exc).splitlines()[0] if str(exc) else ""
+    return {"status": "error", "reason": f"{type(exc).__name__}: {text}".rstrip(": "),
+            "full_cycle": False}
+
+
+# -- executors -------------------------------------------------------------------------
+class _Serial(Executor):
+    """Runs each call when it is submitted, in this process."""
+
+    def submit(self, fn, /, *args, **kwargs) -> Future:
+        f: Future = Future()
+        try:
+            f.set_result(fn(*args, **kwargs))
+        except Exception as exc:        # noqa: BLE001 - reported as the chunk's rows
+            f.set_exception(exc)
+        return f
+
+
+def _open_executor(executor: Any, workers: int | None) -> tuple[Executor, int, Callable[[], None]]:
+    """(executor, number of parallel slots, close)."""
+    if executor == "serial":
+        return _Serial(), 1, lambda: None
+    if executor in (None, "processes"):
+        from concurrent.futures import ProcessPoolExecutor
+        n = workers or os.cpu_count() or 1
+        ex = ProcessPoolExecutor(max_workers=n)
+        return ex, n, lambda: ex.shutdown(wait=False, cancel_futures=True)
+    if isinstance(executor, Executor):
+        return executor, workers or os.cpu_count() or 1, lambda: None
+    if isinstance(executor, str):
+        try:
+            from distributed import Client
+        except ImportError:
+            raise BatchError(f"--scheduler {executor}: Dask is not installed "
+                             "(pip install 'kinetostatics[dask]')") from None
+        try:
+            client = Client(executor, timeout=10)
+        except (OSError, TimeoutError) as exc:
+            raise BatchError(f"--scheduler {executor}: cannot connect ({exc})") from None
+        n = workers or max(1, sum(client.nthreads().values()))
+        ex = client.get_executor()
+
+        def close() -> None:
+            ex.shutdown(wait=False)
+            client.close()
+        return ex, n, close
+    raise BatchError(f"executor {executor!r}: use 'processes', 'serial', a Dask scheduler "
+                     "address or a concurrent.futures.Executor")
+
+
+def auto_chunk(n_todo: int, positions: int, workers: int) -> int:
+    """Variants per chunk: at most MEMORY_BUDGET of work in flight per chunk,
+    and at least four chunks per worker so the load balances and progress shows.
+
+    >>> auto_chunk(10_000, 72, 2), auto_chunk(10, 72, 2), auto_chunk(10**6, 3600, 2)
+    (455, 2, 9)
+    """
+    cap = max(1, MEMORY_BUDGET // (max(positions, 1) * BYTES_PER_POSITION))
+    return max(1, min(cap, math.ceil(n_todo / (4 * max(workers, 1)))))
+
+
+# -- the table on disk -----------------------------------------------------------------
+def _cell(v: Any) -> str:
+    if v is None:
+        return ""
+    if isinstance(v, (bool,)) or type(v).__name__ == "bool_":
+        return "True" if v else "False"
+    if isinstance(v, str):
+        return v
+    if isinstance(v, int) or type(v).__name__.startswith("int"):
+        return str(int(v))
+    x = float(v)
+    return "" if math.isnan(x) else repr(x)
+
+
+def column_unit(name: str, params: Iterable[str] = ()) -> str:
+    """The unit of a summary column: ``file`` for a parameter (the file's units),
+    :data:`variants.ROW_UNITS` for a metric, N·m / N for a driver effort."""
+    from .variants import ROW_UNITS
+    if name in params:
+        return "file"
+    if name == "full_cycle":
+        return "bool"
+    quantity = name.rsplit(".", 1)[-1]
+    if quantity in ROW_UNITS:
+        return ROW_UNITS[quantity]
+    if quantity.startswith("torque"):
+        return "N*m"
+    if quantity.startswith("force"):
+        return "N"
+    return ""
+
+
+def read_summary(path: str | Path) -> tuple[list[str], list[dict[str, str]]]:
+    """(header, rows as text) of a summary table; a row cut short by an
+    interrupt (fewer cells than the header) is left out."""
+    lines = [line for line in Path(path).read_text(encoding="utf-8").splitlines(keepends=True)
+             if not line.startswith("#")]
+    reader = csv.reader(lines)
+    header = next(reader, [])
+    rows = [dict(zip(header, cells)) for cells in reader if len(cells) == len(header)]
+    return header, rows
+
+
+class _Table:
+    """``summary.csv``: rows appended as chunks finish, the header grown (and
+    the file rewritten) when a row brings a new column."""
+
+    def __init__(self, path: Path, order: Mapping[str, int]):
+        self.path, self.order = path, order
+        self.params: list[str] = []
+        self.metrics: list[str] = []
+        self.rows: dict[str, dict[str, str]] = {}
+
+    @property
+    def columns(self) -> list[str]:
+        return ["variant", *self.params, *FIXED, *self.metrics]
+
+    def _learn(self, row: Mapping[str, str], params: Iterable[str]) -> bool:
+        new = False
+        for k in params:
+            if k not in self.params:
+                self.params.append(k)
+                new = True
+        for k in row:
+            if k not in self.params and k not in FIXED and k != "variant" and k not in self.metrics:
+                self.metrics.append(k)
+                new = True
+        return new
+
+    def resume(self) -> None:
+        header, rows = read_summary(self.path)
+        if "status" in header:
+            k = header.index("status")
+            self.params = [h for h in header[1:k]]
+        for row in rows:
+            if row.get("variant") in self.order and row.get("status") != "error":
+                self._learn(row, ())
+                self.rows[row["variant"]] = row
+        self.rewrite()
+
+    def _text(self, rows: Iterable[Mapping[str, str]], header: bool) -> str:
+        buf = io.StringIO()
+        if header:
+            buf.write("# units: " + ",".join(column_unit(c, self.params) for c in self.columns)
+                      + "\n")
+        w = csv.writer(buf, lineterminator="\n")
+        if header:
+            w.writerow(self.columns)
+        for row in rows:
+            w.writerow([row.get(c, "") for c in self.columns])
+        return buf.getvalue()
+
+    def _write(self, text: str, mode: str) -> None:
+        with open(self.path, mode, encoding="utf-8", newline="") as fh:
+            fh.write(text)
+            fh.flush()
+            os.fsync(fh.fileno())
+
+    def add(self, rows: Sequence[tuple[dict[str, str], Iterable[str]]]) -> None:
+        grown = False
+        for row, params in rows:
+            grown |= self._learn(row, params)
+            self.rows[row["variant"]] = row
+        if grown or not self.path.exists():
+            self.rewrite()
+        else:
+            self._write(self._text([r for r, _ in rows], header=False), "a")
+
+    def rewrite(self) -> None:
+        ordered = sorted(self.rows.values(), key=lambda r: self.order.get(r["variant"], 0))
+        tmp = self.path.with_suffix(".csv.tmp")
+        with open(tmp, "w", encoding="utf-8", newline="") as fh:
+            fh.write(self._text(ordered, header=True))
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, self.path)
+
+
+# -- parameters of a variant -----------------------------------------------------------
+def variant_parameters(template, overrides: Mapping[str, float]) -> dict[str, float]:
+    """All the file's parameters evaluated for a variant (file units); only the
+    overrides when the values cannot be evaluated (the row then says why)."""
+    from .expressions import evaluate_parameters
+    if not overrides:
+        return template.parameters
+    section = template.tree.get("parameters")
+    items = [(k, overrides[k] if k in overrides else e.node.value) for k, e in section.items()]
+    try:
+        return evaluate_parameters(items)
+    except (KinetostaticsError, ValueError, ArithmeticError):
+        return dict(overrides)
+
+
+# -- sources ---------------------------------------------------------------------------
+def sources_of(path: str | Path) -> list[Source]:
+    """The mechanism file, or every ``*.yaml``/``*.yml`` of a folder (sorted)."""
+    p = Path(path)
+    if p.is_dir():
+        files = sorted([*p.glob("*.yaml"), *p.glob("*.yml")])
+        if not files:
+            raise BatchError(f"{path}: no *.yaml files in this folder")
+    elif p.is_file():
+        files = [p]
+    else:
+        raise BatchError(f"{path}: no such file or folder")
+    return [Source(str(f), f.read_text(encoding="utf-8")) for f in files]
+
+
+def _fingerprint(sources: Sequence[Source], tasks: Sequence[Task], options: Mapping) -> str:
+    h = hashlib.sha256()
+    h.update(json.dumps([[s.file, s.text] for s in sources]).encode())
+    h.update(json.dumps([[t.vid, t.source, sorted(t.overrides.items())] for t in tasks]).encode())
+    h.update(json.dumps(options, sort_keys=True).encode())
+    return h.hexdigest()
+
+
+# -- progress --------------------------------------------------------------------------
+class _Progress:
+    """A one-line progress bar on stderr: done/total, variants/s, ETA, failures."""
+
+    def __init__(self, total: int, done: int, enabled: bool, stream=None):
+        self.total, self.start_done, self.done = total, done, done
+        self.enabled, self.stream = enabled, stream or sys.stderr
+        self.t0 = self.last = time.perf_counter()
+        self.failed = 0
+
+    def update(self, n: int, failed: int) -> None:
+        self.done += n
+        self.failed += failed
+        now = time.perf_counter()
+        if self.enabled and (now - self.last > 0.2 or self.done == self.total):
+            self.last = now
+            rate = (self.done - self.start_done) / max(now - self.t0, 1e-9)
+            eta = (self.total - self.done) / rate if rate > 0 else math.inf
+            frac = self.done / self.total if self.total else 1.0
+            bar = "#" * int(30 * frac)
+            eta_s = time.strftime("%H:%M:%S", time.gmtime(eta)) if math.isfinite(eta) else "?"
+            self.stream.write(f"\rbatch [{bar:<30}] {self.done}/{self.total} {100 * frac:3.0f}% "
+                              f"{rate:7.1f} variants/s ETA {eta_s} failed {self.failed} ")
+            self.stream.flush()
+
+    def close(self) -> None:
+        if self.enabled:
+            self.stream.write("\n")
+            self.stream.flush()
+
+
+# -- the batch -------------------------------------------------------------------------
+def run_batch(sources: Sequence[Source] | str | Path, tasks: Sequence[Task] | None,
+              out_dir: str | Path, *, chunk: int | None = None, executor: Any = None,
+              workers: int | None = None, positions: int | None = None,
+              friction: bool | None = None, flywheel: bool | None = None,
+              results: bool = False, progress: bool | None = None, overwrite: bool = False,
+              on_chunk: Callable[[int], None] | None = None) -> BatchSummary:
+    """Analyse ``tasks`` (default: each source as written, id = file stem) and
+    write ``out_dir/summary.csv`` (one row per task, in task order) and
+    ``out_dir/batch.json``.
+
+    Parameters
+    ----------
+    sources : the mechanism files (:func:`sources_of`), or a file/folder path.
+    tasks : the variants; ``Task.source`` indexes ``sources``.
+    chunk : variants per chunk (default :func:`auto_chunk`).
+    executor : ``"processes"`` (default; ``workers`` processes, default the number
+        of cores), ``"serial"`` (in this process), a Dask scheduler address
+        (``"tcp://host:8786"``), or any ``concurrent.futures.Executor``.
+    positions, friction, flywheel : as :func:`variants.analyze_variants`.
+    results : also write ``out_dir/variants/<id>/results.csv`` and ``summary.json``.
+    progress : the progress bar on stderr (default: when stderr is a terminal).
+    overwrite : start afresh in a folder that holds another batch.
+    on_chunk : called with the number of rows done after each chunk (a test
+        hook: raising there interrupts the batch like Ctrl-C).
+
+    Rows already in ``summary.csv`` from an interrupted run of the same batch
+    are kept and not computed again.  Raises :class:`BatchError` if ``out_dir``
+    holds a different batch (unless ``overwrite``).
+    """
+    t_start = time.perf_counter()
+    if isinstance(sources, (str, Path)):
+        sources = sources_of(sources)
+    sources = list(sources)
+    if tasks is None:
+        tasks = _one_per_file(sources)
+    tasks = list(tasks)
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    options = {"positions": positions, "friction": friction, "flywheel": flywheel}
+    fingerprint = _fingerprint(sources, tasks, options)
+    state_path, table_path = out / STATE, out / SUMMARY
+    state = {"fingerprint": fingerprint, "variants": len(tasks),
+             "sources": [s.file for s in sources], "options": options, "computed": 0, "runs": []}
+    order = {t.vid: k for k, t in enumerate(tasks)}
+    if len(order) != len(tasks):
+        raise BatchError("variant ids are not unique")
+    table = _Table(table_path, order)
+    if table_path.exists() and not overwrite:
+        old = json.loads(state_path.read_text()) if state_path.exists() else {}
+        if old.get("fingerprint") != fingerprint:
+            raise BatchError(f"{out}: holds another batch (other files, sweep or options); "
+                             "use another --out, or --overwrite to start afresh")
+        state = old
+        table.resume()
+    elif table_path.exists():
+        table_path.unlink()
+    reused = len(table.rows)
+
+    templates = _templates(sources)
+    todo = [t for t in tasks if t.vid not in table.rows]
+    broken = [t for t in todo if isinstance(templates[t.source], BaseException)]
+    todo = [t for t in todo if not isinstance(templates[t.source], BaseException)]
+
+    def record(task_rows: Sequence[tuple[Task, Mapping[str, Any]]]) -> int:
+        cells = []
+        for task, row in task_rows:
+            tpl = templates[task.source]
+            params = ({} if isinstance(tpl, BaseException) or row.get("status") == "error"
+                      else variant_parameters(tpl, task.overrides))
+            text = {"variant": task.vid, **{k: _cell(v) for k, v in params.items()},
+                    **{k: _cell(v) for k, v in row.items()}}
+            cells.append((text, params))
+        table.add(cells)
+        return sum(r.get("status") != "ok" for _, r in task_rows)
+
+    if not table_path.exists():
+        table.rewrite()
+    from .variants import failure_row
+    bar = _Progress(len(tasks), reused, sys.stderr.isatty() if progress is None else progress)
+    computed = 0
+    if broken:
+        bar.update(len(broken), record([(t, failure_row(templates[t.source])) for t in broken]))
+        computed += len(broken)
+    ex, slots, close = _open_executor(executor, workers)
+    n_pos = positions or max((tpl.base.analysis.positions for tpl in templates
+                              if not isinstance(tpl, BaseException)), default=1)
+    size = chunk or auto_chunk(len(todo), n_pos, slots)
+    chunks = _chunks(todo, size)
+    results_dir = str(out / "variants") if results else None
+    pending: dict[Future, list[Task]] = {}
+    it = iter(chunks)
+    t_run = time.perf_counter()
+    try:
+        while True:
+            while len(pending) < 2 * slots and (part := next(it, None)) is not None:
+                job = Chunk(sources[part[0].source], tuple(t.vid for t in part),
+                            tuple(dict(t.overrides) for t in part), positions, friction,
+                            flywheel, results_dir)
+                pending[ex.submit(analyze_chunk, job)] = part
+            if not pending:
+                break
+            done, _ = wait(list(pending), return_when=FIRST_COMPLETED)
+            for f in done:
+                part = pending.pop(f)
+                try:
+                    rows = f.result()
+                    if len(rows) != len(part):
+                        raise RuntimeError(f"{len(rows)} rows for {len(part)} variants")
+                except Exception as exc:     # noqa: BLE001 - a chunk's crash is its rows' error
+                    rows = [_error_row(exc) for _ in part]
+                bar.update(len(part), record(list(zip(part, rows))))
+                computed += len(part)
+                if on_chunk is not None:
+                    on_chunk(len(table.rows))
+    finally:
+        close()
+        bar.close()
+        table.rewrite()
+        seconds = time.perf_counter() - t_run
+        state["computed"] = state.get("computed", 0) + computed
+        state["runs"] = [*state.get("runs", []),
+                         {"computed": computed, "reused": reused, "seconds": round(seconds, 3),
+                          "chunk": size, "workers": slots,
+                          "executor": executor if isinstance(executor, (str, type(None)))
+                          else type(executor).__name__}]
+        state_path.write_text(json.dumps(state, indent=1))
+    statuses = [r.get("status") for r in table.rows.values()]
+    return BatchSummary(out, len(tasks), computed, reused, statuses.count("failed"),
+                        statuses.count("error"), time.perf_counter() - t_start, size, slots)
+
+
+def _one_per_file(sources: Sequence[Source]) -> list[Task]:
+    seen: set[str] = set()
+    tasks = []
+    for k, s in enumerate(sources):
+        vid = Path(s.file).stem
+        if vid in seen:
+            vid = Path(s.file).name
+        seen.add(vid)
+        tasks.append(Task(vid, k, {}))
+    return tasks
+
+
+def _templates(sources: Sequence[Source]) -> list[Any]:
+    """Each source's Template, or the error that stops it loading."""
+    out = []
+    for s in sources:
+        try:
+            out.append(_template(s.file, s.text))
+        except KinetostaticsError as exc:
+            out.append(exc)
+    return out
+
+
+def _chunks(tasks: Sequence[Task], size: int) -> list[list[Task]]:
+    """Consecutive runs of at most ``size`` tasks of one source."""
+    out: list[list[Task]] = []
+    for t in tasks:
+        if out and len(out[-1]) < size and out[-1][0].source == t.source:
+            out[-1].append(t)
+        else:
+            out.append([t])
+    return out
