@@ -291,8 +291,9 @@ class _Table:
             w.writerow([row.get(c, "") for c in self.columns])
         return buf.getvalue()
 
-    def _write(self, text: str, mode: str) -> None:
-        with open(self.path, mode, encoding="utf-8", newline="") as fh:
+    @staticmethod
+    def _write(path: Path, text: str, mode: str) -> None:
+        with open(path, mode, encoding="utf-8", newline="") as fh:
             fh.write(text)
             fh.flush()
             os.fsync(fh.fileno())
@@ -305,16 +306,13 @@ class _Table:
         if grown or not self.path.exists():
             self.rewrite()
         else:
-            self._write(self._text([r for r, _ in rows], header=False), "a")
+            self._write(self.path, self._text([r for r, _ in rows], header=False), "a")
 
     def rewrite(self) -> None:
         ordered = sorted(self.rows.values(), key=lambda r: self.order.get(r["variant"], 0))
         tmp = self.path.with_suffix(".csv.tmp")
-        with open(tmp, "w", encoding="utf-8", newline="") as fh:
-            fh.write(self._text(ordered, header=True))
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, self.path)
+        self._write(tmp, self._text(ordered, header=True), "w")
+        os.replace(tmp, self.path)              # never a half-written table
 
 
 # -- parameters of a variant -----------------------------------------------------------
