@@ -113,6 +113,11 @@ def test_unknown_parameter_fails_before_any_analysis(tmp_path, capsys):
     assert code == 2 and "\n" not in err
     assert "the sweep sets 'aa', which the file does not declare (did you mean 'a'?)" in err
     assert not (tmp_path / "summary.csv").exists()
+    with pytest.raises(sweeps.SweepError, match="sets 'bb'"):            # the API checks too
+        batch.run_batch(str(SLIDER), _tasks([("1", {"bb": 1.0})]), tmp_path / "api")
+    assert not (tmp_path / "api").exists()
+    assert main(["batch", str(SLIDER), "--out", str(tmp_path), "--flywheel"]) == 2
+    assert "--flywheel needs a flywheel: {delta: ...} section" in capsys.readouterr().err
 
 
 # -- the summary row against an independent single run ---------------------------------

@@ -422,7 +422,6 @@ def run_batch(sources: Sequence[Source] | str | Path, tasks: Sequence[Task] | No
         tasks = _one_per_file(sources)
     tasks = list(tasks)
     out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
     options = {"positions": positions, "friction": friction, "flywheel": flywheel}
     fingerprint = _fingerprint(sources, tasks, options)
     state_path, table_path = out / STATE, out / SUMMARY
@@ -431,6 +430,13 @@ def run_batch(sources: Sequence[Source] | str | Path, tasks: Sequence[Task] | No
     order = {t.vid: k for k, t in enumerate(tasks)}
     if len(order) != len(tasks):
         raise BatchError("variant ids are not unique")
+    templates = _templates(sources)
+    _check_names(tasks, sources, templates)
+    for source, tpl in zip(sources, templates):
+        if flywheel and not isinstance(tpl, BaseException) and tpl.base.flywheel is None:
+            raise BatchError(f"{source.file}: --flywheel needs a flywheel: {{delta: ...}} "
+                             "section in the file (docs/dynamics.md)")
+    out.mkdir(parents=True, exist_ok=True)
     table = _Table(table_path, order)
     if table_path.exists() and not overwrite:
         old = json.loads(state_path.read_text()) if state_path.exists() else {}
@@ -443,7 +449,6 @@ def run_batch(sources: Sequence[Source] | str | Path, tasks: Sequence[Task] | No
         table_path.unlink()
     reused = len(table.rows)
 
-    templates = _templates(sources)
     todo = [t for t in tasks if t.vid not in table.rows]
     broken = [t for t in todo if isinstance(templates[t.source], BaseException)]
     todo = [t for t in todo if not isinstance(templates[t.source], BaseException)]
@@ -537,6 +542,15 @@ def _templates(sources: Sequence[Source]) -> list[Any]:
         except KinetostaticsError as exc:
             out.append(exc)
     return out
+
+
+def _check_names(tasks: Sequence[Task], sources: Sequence[Source], templates: Sequence) -> None:
+    """Fail fast, before any analysis, on a parameter a file does not declare."""
+    from .sweeps import check_parameters
+    for k, (source, tpl) in enumerate(zip(sources, templates)):
+        if not isinstance(tpl, BaseException):
+            check_parameters([(t.vid, t.overrides) for t in tasks if t.source == k],
+                             tpl.parameters, source.file)
 
 
 def _chunks(tasks: Sequence[Task], size: int) -> list[list[Task]]:

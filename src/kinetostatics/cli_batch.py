@@ -106,9 +106,6 @@ def _variants(args, sources):
     variants = sweeps.expand([*blocks, *cli], base)
     if not variants:
         return None                           # the file as written
-    from .batch import _template
-    declared = list(_template(sources[0].file, sources[0].text).parameters)
-    sweeps.check_parameters(variants, declared, sources[0].file)
     return [Task(vid, 0, values) for vid, values in variants]
 
 
