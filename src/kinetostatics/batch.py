@@ -447,6 +447,7 @@ def run_batch(sources: Sequence[Source] | str | Path, tasks: Sequence[Task] | No
         table.resume()
     elif table_path.exists():
         table_path.unlink()
+    state_path.write_text(json.dumps(state, indent=1))     # before any row: a kill stays resumable
     reused = len(table.rows)
 
     todo = [t for t in tasks if t.vid not in table.rows]
@@ -457,8 +458,7 @@ def run_batch(sources: Sequence[Source] | str | Path, tasks: Sequence[Task] | No
         cells = []
         for task, row in task_rows:
             tpl = templates[task.source]
-            params = ({} if isinstance(tpl, BaseException) or row.get("status") == "error"
-                      else variant_parameters(tpl, task.overrides))
+            params = {} if isinstance(tpl, BaseException) else variant_parameters(tpl, task.overrides)
             text = {"variant": task.vid, **{k: _cell(v) for k, v in params.items()},
                     **{k: _cell(v) for k, v in row.items()}}
             cells.append((text, params))
