@@ -27,33 +27,44 @@ class BlockFactor:
         self.jac, self.blocks = jac, blocks
         self.inv = [_inv(jac[..., rows[:, None], cols]) for rows, cols in blocks]
         self.n = jac.shape[-1]
+        self._upper = None
+        self._lower = []                        # each group's rows × the earlier groups' columns
+        done = np.zeros(0, dtype=int)
+        for rows, cols in blocks:
+            self._lower.append((done, jac[..., rows[:, None], done] if done.size else None))
+            done = np.concatenate((done, cols))
 
     def solve(self, rhs: np.ndarray) -> np.ndarray:
         """x with Φ_q x = rhs (forward substitution)."""
-        x = np.zeros(rhs.shape[:-1] + (self.n,))
-        done = np.zeros(0, dtype=int)
-        for (rows, cols), inv in zip(self.blocks, self.inv):
-            r = rhs[..., rows]
-            if done.size:
-                r = r - np.einsum("...ij,...j->...i", self.jac[..., rows[:, None], done], x[..., done])
-            x[..., cols] = np.einsum("...ij,...j->...i", inv, r)
-            done = np.concatenate((done, cols))
+        return self.solve_many(rhs[..., None])[..., 0]
+
+    def solve_many(self, rhs: np.ndarray) -> np.ndarray:
+        """X with Φ_q X = rhs for ``rhs (..., n, k)`` (k right-hand sides at once)."""
+        x = np.zeros(rhs.shape[:-2] + (self.n, rhs.shape[-1]))
+        for (rows, cols), inv, (done, lower) in zip(self.blocks, self.inv, self._lower):
+            r = rhs[..., rows, :]
+            if lower is not None:
+                r = r - lower @ x[..., done, :]
+            x[..., cols, :] = inv @ r
         return x
 
     def solve_transposed(self, rhs: np.ndarray) -> np.ndarray:
         """y with Φ_qᵀ y = rhs (back substitution over the groups)."""
+        if self._upper is None:                 # each group's columns × the later groups' rows
+            self._upper, later = [], np.zeros(0, dtype=int)
+            for rows, cols in reversed(self.blocks):
+                self._upper.append((later, np.swapaxes(self.jac[..., later[:, None], cols], -1, -2)
+                                    if later.size else None))
+                later = np.concatenate((later, rows))
         y = np.zeros(rhs.shape[:-1] + (self.jac.shape[-2],))
-        later = np.zeros(0, dtype=int)
-        for (rows, cols), inv in zip(reversed(self.blocks), reversed(self.inv)):
+        for (rows, cols), inv, (later, upper) in zip(reversed(self.blocks), reversed(self.inv),
+                                                     self._upper):
             r = rhs[..., cols]
-            if later.size:
-                r = r - np.einsum("...ji,...j->...i", self.jac[..., later[:, None], cols], y[..., later])
+            if upper is not None:
+                r = r - np.einsum("...ij,...j->...i", upper, y[..., later])
             y[..., rows] = np.einsum("...ji,...j->...i", inv, r)
-            later = np.concatenate((later, rows))
         return y
 
     def inverse(self) -> np.ndarray:
         """Φ_q⁻¹ ``(..., n, n)`` (for the friction iteration)."""
-        eye = np.eye(self.n)
-        return np.stack([self.solve(np.broadcast_to(eye[k], self.jac.shape[:-1]))
-                         for k in range(self.n)], axis=-1)
+        return self.solve_many(np.broadcast_to(np.eye(self.n), self.jac.shape[:-2] + (self.n, self.n)))

@@ -401,17 +401,20 @@ def kinetics(system: System, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, psi
     fric = None
     if friction and model.has_friction:
         fs = fr.setup(system, q, qd, ref_speed)
-        a_inv = (np.swapaxes(lu.inverse(), -1, -2) if lu is not None and own_efforts
-                 else np.linalg.inv(a))
-        xa, ea = fr.approximate(system, fs, a_inv, q_load, x0)
-        cons = fr.consistent(system, fs, a, a_inv, q_load, x0)
+        if lu is not None and own_efforts:
+            solve_a = lu.solve_transposed          # A = Φ_qᵀ: back substitution over the groups
+        else:
+            a_inv = np.linalg.inv(a)
+            solve_a = lambda rhs: np.einsum("...ij,...j->...i", a_inv, rhs)  # noqa: E731
+        xa, ea = fr.approximate(system, fs, solve_a, q_load, x0)
+        cons = fr.consistent(system, fs, a, solve_a, q_load, x0)
         fric = dict(setup=fs, x_approx=xa, e_approx=ea, solution=cons)
     eff = effort_joints(system)
     rel = np.stack([np.einsum("...n,...n->...", _grad(system, q, k), qd) for k in eff], axis=-1)
     n_j = system.n_joint_rows
     power = {
         "input": np.sum(x0[..., n_j:] * rel, axis=-1),
-        "kinetic": np.einsum("...n,n,...n->...", qd, mass_vector(system), qdd),
+        "kinetic": np.einsum("...n,...n->...", qd, mass_vector(system) * qdd),
         "potential": -np.einsum("...n,...n->...", qd, q_grav),
         "external": -np.einsum("...n,...n->...", qd, q_ext),
     }

@@ -54,6 +54,10 @@ def _heading(v: np.ndarray) -> np.ndarray:
     return np.arctan2(v[..., 1], v[..., 0])
 
 
+def _norm(v: np.ndarray) -> np.ndarray:
+    return np.hypot(v[..., 0], v[..., 1])
+
+
 def _pin(j: Revolute, link: str) -> np.ndarray:
     return j.p_i if link == j.links[0] else j.p_j
 
@@ -80,9 +84,9 @@ def _rrr(system, plan, joints, q0) -> Solver | None:
         return None
     a, b, m, ja, jb = parts
     la_vec, lb_vec = _pin(m, a) - _pin(ja, a), _pin(m, b) - _pin(jb, b)
-    la, lb = np.hypot(*la_vec), np.hypot(*lb_vec)
-    alpha_a, alpha_b = np.arctan2(la_vec[1], la_vec[0]), np.arctan2(lb_vec[1], lb_vec[0])
-    if la == 0 or lb == 0:
+    la, lb = _norm(la_vec), _norm(lb_vec)
+    alpha_a, alpha_b = _heading(la_vec), _heading(lb_vec)
+    if np.any(la == 0) or np.any(lb == 0):
         return None
 
     def points(q):
@@ -107,7 +111,7 @@ def _rrr(system, plan, joints, q0) -> Solver | None:
         tb = _heading(pm - pb) - alpha_b
         _place(system, q, a, ta, pa, _pin(ja, a))
         _place(system, q, b, tb, pb, _pin(jb, b))
-        return q, np.where(h2 > 0, h, -1.0) / min(la, lb)
+        return q, np.where(h2 > 0, h, -1.0) / np.minimum(la, lb)
     return solve
 
 
@@ -122,8 +126,8 @@ def _rrp(system, plan, joints, q0) -> Solver | None:
         return None
     k = s.links[0]                              # known link carrying the axis
     la_vec = _pin(m, a) - _pin(ja, a)
-    la = np.hypot(*la_vec)
-    alpha_a = np.arctan2(la_vec[1], la_vec[0])
+    la = _norm(la_vec)
+    alpha_a = _heading(la_vec)
     offset = _pin(m, b) - s.p                   # from the sliding point to the pin, b's frame
 
     def frame(q):
@@ -168,8 +172,8 @@ def _rpr(system, plan, joints, q0) -> Solver | None:
     delta = s.p - _pin(ja, a)                  # a's frame: pin -> sliding point
     e = s.a - _pin(jb, b)                      # b's frame: pivot -> axis point
     n_l = perp(s.u)
-    nu_ang = np.arctan2(n_l[1], n_l[0])
-    k_const = float(n_l @ e - n_l @ rotate(s.angle, delta))
+    nu_ang = _heading(n_l)
+    k_const = np.sum(n_l * (e - rotate(s.angle, delta)), axis=-1)
 
     def ends(q):
         return (_world(system, q, _other(ja, a), _pin(ja, _other(ja, a))),
@@ -177,7 +181,7 @@ def _rpr(system, plan, joints, q0) -> Solver | None:
 
     pa0, pb0 = ends(q0)
     dv0 = pa0 - pb0
-    beta0 = np.arctan2(dv0[1], dv0[0])
+    beta0 = _heading(dv0)
     tb0 = _angle(system, q0, b)
     sigma = -np.sign(wrap_angle(beta0 - nu_ang - tb0))
 

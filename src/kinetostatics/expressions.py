@@ -330,7 +330,12 @@ def names_in(text: str) -> set[str]:
     ExpressionError
         On a syntax error or a forbidden construct.
     """
-    return set(_variable_names(_parse(text)))
+    return set(_names_of(text))
+
+
+@functools.lru_cache(maxsize=4096)
+def _names_of(text: str) -> tuple[str, ...]:
+    return tuple(_variable_names(_parse(text)))
 
 
 def _finite(value: float, what: str) -> float:
@@ -431,7 +436,7 @@ def evaluate(text: str | int | float, env: Mapping[str, float]) -> float:
     if not isinstance(text, str):
         return _to_float(text)
     tree = _parse(text)
-    _variable_names(tree)
+    _names_of(text)                       # refuses a function used as a variable
     return _eval_node(tree, env)
 
 

@@ -33,10 +33,11 @@ def point_state(q, qd, qdd, k: int, p: np.ndarray):
 
 
 def mass_vector(system: System) -> np.ndarray:
-    """Diagonal of the mass matrix, ``(n_q,)``: m, m, J per moving link."""
+    """Diagonal of the mass matrix, ``(n_q,)``: m, m, J per moving link
+    (``(V, 1, n_q)`` for stacked variants)."""
     model = system.model
-    return np.concatenate([[model.link(n).mass] * 2 + [model.link(n).inertia]
-                           for n in system.links])
+    values = [v for n in system.links for v in (model.link(n).mass,) * 2 + (model.link(n).inertia,)]
+    return np.stack(np.broadcast_arrays(*values), axis=-1).astype(float)
 
 
 def gravity_forces(system: System, shape: tuple[int, ...]) -> np.ndarray:
@@ -108,7 +109,8 @@ def effort_forces(system: System, q: np.ndarray, qd: np.ndarray | None = None) -
             continue
         k = names.index(d.joint)
         grad = coordinate_gradient(system, q, k)
-        value = d.effort
+        value = np.asarray(d.effort, dtype=float)[..., None] if not isinstance(d.effort, EffortLaw) \
+            else d.effort                             # (V, 1, 1) for stacked variants
         if isinstance(value, EffortLaw):
             joint = system.model.joints[k]
             qe = np.concatenate((q, np.zeros(q.shape[:-1] + (3,))), axis=-1)

@@ -19,7 +19,7 @@ of det J) or divergence before σ = 1 is self-locking (status 2, NaN values).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -42,6 +42,7 @@ class FrictionSetup:
     speed: np.ndarray              # (..., n_f) relative speeds
     zero: np.ndarray               # (...) any frictional joint at zero relative speed
     q: np.ndarray
+    pairs: dict = field(default_factory=dict, repr=False)   # joint -> (q_i, q_j), filled on use
 
 
 def setup(system: System, q: np.ndarray, qd: np.ndarray, ref_speed: float) -> FrictionSetup:
@@ -53,8 +54,8 @@ def setup(system: System, q: np.ndarray, qd: np.ndarray, ref_speed: float) -> Fr
                              np.zeros(q.shape[:-1], dtype=bool), q)
     grad = np.stack([coordinate_gradient(system, q, k) for k in joints], axis=-2)
     speed = np.einsum("...kn,...n->...k", grad, qd)
-    ref = np.array([ref_speed * (1.0 if system.model.joints[k].angular else system.l_ref)
-                    for k in joints])
+    ref = np.stack(np.broadcast_arrays(*[ref_speed * (1.0 if system.model.joints[k].angular
+                                                      else system.l_ref) for k in joints]), axis=-1)
     small = np.abs(speed) <= 1e-9 * ref
     sign = np.where(small, 0.0, np.sign(speed))
     return FrictionSetup(joints, blocks, grad, sign, speed, np.any(small, axis=-1), q)
@@ -65,15 +66,17 @@ def efforts(system: System, fs: FrictionSetup, x: np.ndarray, scale: float = 1.0
     out = np.zeros(x.shape[:-1] + (len(fs.joints),))
     for n, (k, b) in enumerate(zip(fs.joints, fs.blocks)):
         j = system.model.joints[k]
-        qi, qj = _link_q(system, fs.q, k)
+        qi, qj = _link_q(system, fs, k)
         out[..., n] = -fs.sign[..., n] * scale * j.friction_magnitude(x[..., b], qi, qj)
     return out
 
 
-def _link_q(system: System, q: np.ndarray, k: int):
-    qe = np.concatenate((q, np.zeros(q.shape[:-1] + (3,))), axis=-1)
-    i, j = system.ends[k]
-    return qe[..., 3 * i:3 * i + 3], qe[..., 3 * j:3 * j + 3]
+def _link_q(system: System, fs: FrictionSetup, k: int):
+    if k not in fs.pairs:
+        qe = np.concatenate((fs.q, np.zeros(fs.q.shape[:-1] + (3,))), axis=-1)
+        i, j = system.ends[k]
+        fs.pairs[k] = qe[..., 3 * i:3 * i + 3], qe[..., 3 * j:3 * j + 3]
+    return fs.pairs[k]
 
 
 def _generalized(fs: FrictionSetup, e: np.ndarray) -> np.ndarray:
@@ -86,17 +89,17 @@ def _jacobian(system: System, fs: FrictionSetup, a: np.ndarray, x: np.ndarray,
     jac = a.copy()
     for n, (k, b) in enumerate(zip(fs.joints, fs.blocks)):
         j = system.model.joints[k]
-        qi, qj = _link_q(system, fs.q, k)
+        qi, qj = _link_q(system, fs, k)
         de = -fs.sign[..., n, None] * scale * j.friction_gradient(x[..., b], qi, qj)
         jac[..., :, b] += fs.grad[..., n, :, None] * de[..., None, :]
     return jac
 
 
-def approximate(system: System, fs: FrictionSetup, a_inv: np.ndarray, q_load: np.ndarray,
+def approximate(system: System, fs: FrictionSetup, solve_a, q_load: np.ndarray,
                 x0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(x, friction efforts) of the approximate solution."""
     e = efforts(system, fs, x0)
-    x = np.einsum("...ij,...j->...i", a_inv, -q_load - _generalized(fs, e))
+    x = solve_a(-q_load - _generalized(fs, e))
     return x, e
 
 
@@ -108,7 +111,7 @@ class FrictionSolution:
     iterations: np.ndarray         # (...)
 
 
-def consistent(system: System, fs: FrictionSetup, a: np.ndarray, a_inv: np.ndarray,
+def consistent(system: System, fs: FrictionSetup, a: np.ndarray, solve_a,
                q_load: np.ndarray, x0: np.ndarray) -> FrictionSolution:
     """The consistent solution on the branch connected to x₀ (see module docs)."""
     x = x0.copy()
@@ -120,8 +123,7 @@ def consistent(system: System, fs: FrictionSetup, a: np.ndarray, a_inv: np.ndarr
         for _ in range(FIXED_POINT_ITER):
             if not live.any():
                 break
-            xn = np.einsum("...ij,...j->...i", a_inv,
-                           -q_load - _generalized(fs, efforts(system, fs, x)))
+            xn = solve_a(-q_load - _generalized(fs, efforts(system, fs, x)))
             step = np.max(np.abs(xn - x), axis=-1) / scale
             x = np.where(live[..., None], xn, x)
             it += live

@@ -140,8 +140,11 @@ class Load:
     def value_at(self, psi: np.ndarray, period: float | None) -> np.ndarray:
         """The load's value at driver coordinates ``psi`` (...): constant, or the
         table interpolated linearly (periodic over ``period`` for a revolute driver)."""
-        if self.table is None:
-            return np.broadcast_to(self.value, np.shape(psi) + self.value.shape)
+        if self.table is None:                 # value (V, 1, own) when variants are stacked
+            own = (2,) if self.kind == "force" else ()
+            v = np.asarray(self.value)
+            lead = v.shape[:v.ndim - len(own)]
+            return np.broadcast_to(v, np.broadcast_shapes(np.shape(psi), lead) + own)
         at, vals = self.table
         cols = vals.reshape(len(at), -1).T
         out = np.stack([np.interp(psi, at, c, period=period) for c in cols], axis=-1)

@@ -68,15 +68,16 @@ class PositionSolution:
 
 def _scales(system: System, jac: np.ndarray, plan: GroupPlan) -> tuple[np.ndarray, np.ndarray]:
     """Column (unit) and row (equilibration) scales of a group block."""
-    col = np.where(np.arange(len(plan.cols)) % 3 == 2, 1.0, system.l_ref)   # d/d(x/L) = L d/dx
-    norm = np.max(np.abs(jac * col), axis=-1)
+    l_ref = np.asarray(system.l_ref)[..., None]                  # (V, 1, 1) for stacked variants
+    col = np.where(np.arange(len(plan.cols)) % 3 == 2, 1.0, l_ref)  # d/d(x/L) = L d/dx
+    norm = np.max(np.abs(jac * col[..., None, :]), axis=-1)
     return col, 1.0 / np.where(norm > 0, norm, 1.0)
 
 
 def _scaled_group_jacobian(system: System, q: np.ndarray, plan: GroupPlan) -> np.ndarray:
     jac = jacobian(system, q, plan.constraints, plan.cols)
     col, row = _scales(system, jac, plan)
-    return jac * col * row[..., None]
+    return jac * col[..., None, :] * row[..., None]
 
 
 def condition_number(system: System, plan: GroupPlan, jac: np.ndarray,
@@ -87,8 +88,8 @@ def condition_number(system: System, plan: GroupPlan, jac: np.ndarray,
     It bounds the 2-norm condition number from above by at most the block size.
     """
     col, row = _scales(system, jac, plan)
-    s = jac * col * row[..., None]
-    s_inv = inv / col[:, None] / row[..., None, :]
+    s = jac * col[..., None, :] * row[..., None]
+    s_inv = inv / col[..., :, None] / row[..., None, :]
     with np.errstate(over="ignore", invalid="ignore"):
         c = np.linalg.norm(s, axis=(-2, -1)) * np.linalg.norm(s_inv, axis=(-2, -1))
     return np.where(np.isfinite(c), c, np.inf)

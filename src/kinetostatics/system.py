@@ -43,7 +43,7 @@ class System:
     ends: np.ndarray                          # (n_c, 2) link indices; ground = n_links
     row_start: np.ndarray                     # (n_c + 1,) first row of each constraint
     plans: tuple[GroupPlan, ...]
-    l_ref: float                              # longest link dimension, m
+    l_ref: float | np.ndarray                 # longest link dimension, m ((V, 1) stacked)
     n_joint_rows: int = field(default=0)
 
     @property
@@ -88,12 +88,20 @@ def build_system(model: Model) -> System:
         cons = tuple(by_name[n] for n in g.joints + g.drivers)
         rows = np.concatenate([np.arange(row_start[k], row_start[k + 1]) for k in cons])
         plans.append(GroupPlan(g, cols, rows.astype(int), cons))
-    extent = [np.ptp(np.array(list(link.points.values())), axis=0)
-              for link in model.links if len(link.points) > 1]
-    l_ref = max([float(np.hypot(*e)) for e in extent] + [1e-300])
+    l_ref = _reference_length(model)
     n_joint_rows = int(row_start[len(model.joints)])
     return System(model, st, links, tuple(constraints), ends, row_start, tuple(plans),
                   l_ref, n_joint_rows)
+
+
+def _reference_length(model: Model) -> float | np.ndarray:
+    """The largest extent of a link's points, m (``(V, 1)`` for stacked variants)."""
+    l_ref: float | np.ndarray = 1e-300
+    for link in model.links:
+        if len(link.points) > 1:
+            e = np.ptp(np.stack(np.broadcast_arrays(*link.points.values())), axis=0)
+            l_ref = np.maximum(l_ref, np.hypot(e[..., 0], e[..., 1]))
+    return float(l_ref) if np.ndim(l_ref) == 0 else l_ref
 
 
 # -- assembly over batches -----------------------------------------------------

@@ -92,33 +92,38 @@ def _ranges(angle: np.ndarray, mask: np.ndarray) -> str:
     return "; ".join(f"{angle[a]:.4g}–{angle[b]:.4g}" for a, b in zip(starts, ends))
 
 
-def summary_row(result, flywheel: bool | None = None) -> dict[str, Any]:
+def summary_row(result, flywheel: bool | None = None, strokes: dict | None = None
+                ) -> dict[str, Any]:
     """The batch row of one analysed variant (names ``<member>.<quantity>``,
     units :data:`ROW_UNITS`): strokes and time ratios of the outputs, peak
     output speed and acceleration, peak and RMS driving effort without and
     with friction, minimum efficiency, self-locking ranges, peak reaction per
-    joint, worst pressure/transmission angle, flywheel inertia when asked."""
-    from .summary import output_strokes
+    joint, worst pressure/transmission angle, flywheel inertia when asked.
+
+    Every quantity reduces over the last (positions) axis, so a stacked
+    result ``(V, N)`` gives arrays ``(V,)`` (:func:`split_rows` makes rows);
+    ``strokes`` are :func:`~kinetostatics.summary.output_strokes` (computed
+    when not given)."""
+    from .summary import _bias, output_strokes
+    from .system import coordinate_gradient
     system = result.system
     cols = result.columns
     row: dict[str, Any] = {"status": "ok", "reason": "",
                            "full_cycle": bool(result.full_cycle)}
-    strokes = output_strokes(result)
+    strokes = output_strokes(result) if strokes is None else strokes
     for kind, name, k in _outputs(system):
         if kind == "slide":
             s = strokes.get(name, {})
             row[f"{name}.stroke"] = s.get("stroke", np.nan)
             row[f"{name}.time_ratio"] = s.get("time_ratio", np.nan)
-            from .system import coordinate_gradient
             g = coordinate_gradient(system, result.q, k)
             v = np.einsum("...n,...n->...", g, result.qd)
-            from .summary import _bias
             a = np.einsum("...n,...n->...", g, result.qdd) + _bias(system, result.q, result.qd, k)
-            row[f"{name}.v_peak"] = float(np.max(np.abs(v)))
-            row[f"{name}.a_peak"] = float(np.max(np.abs(a)))
+            row[f"{name}.v_peak"] = np.max(np.abs(v), axis=-1)
+            row[f"{name}.a_peak"] = np.max(np.abs(a), axis=-1)
         else:
-            row[f"{name}.omega_peak"] = float(np.max(np.abs(cols[f"{name}.omega"])))
-            row[f"{name}.alpha_peak"] = float(np.max(np.abs(cols[f"{name}.alpha"])))
+            row[f"{name}.omega_peak"] = np.max(np.abs(cols[f"{name}.omega"]), axis=-1)
+            row[f"{name}.alpha_peak"] = np.max(np.abs(cols[f"{name}.alpha"]), axis=-1)
     angle = cols["angle"] if "angle" in cols else cols["stroke"]
     for d in system.motion_drivers:
         word = "torque" if d.joint.angular else "force"
@@ -126,40 +131,56 @@ def summary_row(result, flywheel: bool | None = None) -> dict[str, Any]:
         for suffix in ("", "_friction_approx", "_friction"):
             if key + suffix in cols:
                 arr = cols[key + suffix]
-                row[f"{key}{suffix}_peak"] = float(np.nanmax(np.abs(arr)))
-                row[f"{key}{suffix}_rms"] = float(np.sqrt(np.nanmean(arr * arr)))
+                row[f"{key}{suffix}_peak"] = np.nanmax(np.abs(arr), axis=-1)
+                row[f"{key}{suffix}_rms"] = np.sqrt(np.nanmean(arr * arr, axis=-1))
         if key + "_friction" in cols:
             # the driving phase: both efforts drive in the sense of motion
             tau, tau_f = cols[key], cols[key + "_friction"]
             sense = np.sign(d.driver.motion.speed)
             driving = (tau * sense > 0) & (tau_f * sense > 0)
-            row[f"{d.name}.efficiency_min"] = float(np.min(tau[driving] / tau_f[driving])) \
-                if driving.any() else np.nan
-            w_in, w_in_f = np.sum(tau) * sense, np.nansum(tau_f) * sense
-            row[f"{d.name}.efficiency_cycle"] = float(w_in / w_in_f) if w_in_f > 0 else np.nan
+            with np.errstate(divide="ignore", invalid="ignore"):
+                ratio = np.where(driving, tau / np.where(driving, tau_f, 1.0), np.inf)
+                e_min = np.min(ratio, axis=-1)
+                row[f"{d.name}.efficiency_min"] = np.where(np.isfinite(e_min), e_min, np.nan)
+                w_in = np.sum(tau, axis=-1) * sense
+                w_in_f = np.nansum(tau_f, axis=-1) * sense
+                row[f"{d.name}.efficiency_cycle"] = np.where(w_in_f > 0, w_in / w_in_f, np.nan)
     if "friction.status" in cols:
         locked = cols["friction.status"] == 2
-        row["friction.self_locking_positions"] = int(np.count_nonzero(locked))
-        row["friction.self_locking"] = _ranges(angle, locked)
+        row["friction.self_locking_positions"] = np.count_nonzero(locked, axis=-1)
+        row["friction.self_locking"] = (_ranges(angle, locked) if locked.ndim == 1 else
+                                        np.array([_ranges(a, m) for a, m in zip(angle, locked)],
+                                                 dtype=object))
     for j in system.model.joints:
         if f"{j.name}.Fx" not in cols:
             continue
-        row[f"{j.name}.reaction_peak"] = float(np.max(np.hypot(cols[f"{j.name}.Fx"],
-                                                               cols[f"{j.name}.Fy"])))
+        row[f"{j.name}.reaction_peak"] = np.max(np.hypot(cols[f"{j.name}.Fx"],
+                                                         cols[f"{j.name}.Fy"]), axis=-1)
         if f"{j.name}.Fx_friction" in cols:
             magf = np.hypot(cols[f"{j.name}.Fx_friction"], cols[f"{j.name}.Fy_friction"])
-            row[f"{j.name}.reaction_peak_friction"] = float(np.nanmax(magf)) \
-                if np.isfinite(magf).any() else np.nan
+            peak = np.max(np.where(np.isfinite(magf), magf, -np.inf), axis=-1)
+            row[f"{j.name}.reaction_peak_friction"] = np.where(peak > -np.inf, peak, np.nan)
     for name in cols:
         if name.endswith(".pressure_angle"):
-            row[name + "_max"] = float(np.max(cols[name]))
+            row[name + "_max"] = np.max(cols[name], axis=-1)
         elif name.endswith(".transmission_angle"):
-            row[name + "_min"] = float(np.min(np.minimum(cols[name], 180.0 - cols[name])))
+            row[name + "_min"] = np.min(np.minimum(cols[name], 180.0 - cols[name]), axis=-1)
     if flywheel or (flywheel is None and getattr(system.model, "flywheel", None) is not None):
         from .flywheel import design
         fw = design(result)
         row["flywheel.inertia"], row["flywheel.inertia_net"] = fw.inertia, fw.inertia_net
-    return row
+    return {k: (v.item() if isinstance(v, np.ndarray) and v.ndim == 0 else v)
+            for k, v in row.items()}
+
+
+def split_rows(row: dict[str, Any], n: int) -> list[dict[str, Any]]:
+    """Rows of ``n`` variants from one row of arrays ``(n,)`` (scalars repeat)."""
+    out = []
+    for v in range(n):
+        out.append({k: (val[v].item() if isinstance(val, np.ndarray) and val.dtype != object
+                         else val[v] if isinstance(val, np.ndarray) else val)
+                    for k, val in row.items()})
+    return out
 
 
 def failure_row(exc: BaseException) -> dict[str, Any]:
@@ -174,18 +195,62 @@ def failure_row(exc: BaseException) -> dict[str, Any]:
 
 def analyze_variants(template: Template, overrides: Iterable[Mapping[str, float]], *,
                      positions: int | None = None, friction: bool | None = None,
-                     flywheel: bool | None = None) -> list[dict[str, Any]]:
+                     flywheel: bool | None = None, vectorise: bool = True
+                     ) -> list[dict[str, Any]]:
     """One :func:`summary_row` per variant, in order; failures are rows with their reason.
 
     ``positions`` replaces the file's number of positions; ``friction``
     (default: as the file) solves the friction solutions; ``flywheel``
-    (default: when the file asks) adds the flywheel inertia."""
-    from .analysis import analyze
-    rows = []
-    for ov in overrides:
+    (default: when the file asks) adds the flywheel inertia.  Variants are
+    analysed all at once where :mod:`~kinetostatics.vectorised` can, one by
+    one otherwise (``vectorise=False``: always one by one) — with the same rows.
+    """
+    overrides = list(overrides)
+    rows: list[dict[str, Any] | None] = [None] * len(overrides)
+    models: dict[int, Model] = {}
+    for v, ov in enumerate(overrides):
         try:
-            result = analyze(template.model(ov, positions=positions), friction=friction)
-            rows.append(summary_row(result, flywheel=flywheel))
+            models[v] = template.model(ov, positions=positions)
+        except (KinetostaticsError, ValueError, ArithmeticError) as exc:
+            rows[v] = failure_row(exc)
+    wants_flywheel = flywheel or (flywheel is None and template.base.flywheel is not None)
+    if vectorise and not wants_flywheel and len(models) > 1:
+        _vectorised_rows(models, rows, friction)
+    from .analysis import analyze
+    for v, model in models.items():
+        if rows[v] is not None:
+            continue
+        try:
+            rows[v] = summary_row(analyze(model, friction=friction), flywheel=flywheel)
         except (KinetostaticsError, ValueError, ArithmeticError, np.linalg.LinAlgError) as exc:
-            rows.append(failure_row(exc))
+            rows[v] = failure_row(exc)
     return rows
+
+
+def _vectorised_rows(models: dict[int, Model], rows: list, friction: bool | None) -> None:
+    """Fill ``rows`` of the variants the vectorised analysis takes, group by topology."""
+    import warnings
+    from . import vectorised
+    from .stacking import TopologyMismatch, signature
+    groups: dict[tuple, list[int]] = {}
+    for v, m in models.items():
+        groups.setdefault(signature(m), []).append(v)
+    for members in groups.values():
+        if len(members) < 2:
+            continue
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                with np.errstate(all="ignore"):
+                    st = vectorised.analyze_stacked([models[v] for v in members],
+                                                    friction=friction)
+                    strokes = vectorised.output_strokes(st)
+                    row = summary_row(vectorised.as_result(st), flywheel=False,
+                                      strokes={k: {n: a for n, a in d.items()}
+                                               for k, d in strokes.items()})
+        except (vectorised.Unsupported, TopologyMismatch):
+            continue
+        for v, ok, r in zip(members, st.ok, split_rows(row, len(members))):
+            if ok:
+                r["full_cycle"] = True
+                rows[v] = r

@@ -153,7 +153,7 @@ class Prismatic(Joint, kind="prismatic"):
     # -- friction -----------------------------------------------------------
     @property
     def has_friction(self) -> bool:
-        return self.f > 0.0
+        return bool(np.any(self.f > 0.0))
 
     def _edges(self, lam):
         half = 0.5 * lam[..., 0]

@@ -97,7 +97,7 @@ class Revolute(Joint, kind="revolute"):
     # -- friction -----------------------------------------------------------
     @property
     def has_friction(self) -> bool:
-        return self.rho > 0.0
+        return bool(np.any(self.rho > 0.0))
 
     def friction_magnitude(self, lam, qi, qj):
         return self.rho * np.hypot(lam[..., 0], lam[..., 1])
