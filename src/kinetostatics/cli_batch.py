@@ -43,8 +43,12 @@ def register(sub) -> None:
     p.add_argument("--positions", type=int, help="positions per cycle (default: the file's)")
     p.add_argument("--no-friction", dest="friction", action="store_false", default=None,
                    help="skip the friction solutions")
-    p.add_argument("--flywheel", action="store_true", default=None,
-                   help="add the flywheel inertia (default: when the file has flywheel:)")
+    fw = p.add_mutually_exclusive_group()
+    fw.add_argument("--flywheel", action="store_true", default=None,
+                    help="add the flywheel inertia (default: when the file has flywheel:)")
+    fw.add_argument("--no-flywheel", dest="flywheel", action="store_false",
+                    help="skip the flywheel even if the file has flywheel: (faster: sizing "
+                         "it analyses the variants one by one)")
     p.add_argument("--results", action="store_true",
                    help="also write DIR/variants/<id>/results.csv and summary.json")
     ex = p.add_mutually_exclusive_group()

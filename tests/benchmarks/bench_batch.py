@@ -4,7 +4,8 @@ loop of single analyses (``ks.analyze`` + ``summary_row``, one process) over a
 sub-sample, both measured in the same run.
 
 Issue 10: 10,000 variants must complete on a 2-core machine; target ≥ 500
-variants/s.  The variants are a seeded random sample over K, H, L_O2O3,
+variants/s.  The file's flywheel is not sized (``--flywheel`` sizes it; that
+path analyses one variant at a time).  The variants are a seeded random sample over K, H, L_O2O3,
 BC_ratio, the weights and the cutting force, in ranges that assemble.
 
     python tests/benchmarks/bench_batch.py              # 10,000 variants, loop of 200
@@ -48,6 +49,8 @@ def main() -> None:
     ap.add_argument("--workers", type=int, default=None, help="default: the number of cores")
     ap.add_argument("--chunk", type=int, default=None, help="default: batch.auto_chunk")
     ap.add_argument("--out", default=None, help="output folder (default: a temporary one)")
+    ap.add_argument("--flywheel", action="store_true",
+                    help="also size the file's flywheel (not vectorised: one by one)")
     args = ap.parse_args()
     path = ROOT / "mechanisms" / "slotting_machine.yaml"
     variants = sweeps.expand(sweeps.load_sweep(SWEEP.format(n=args.n), "bench"))
@@ -56,7 +59,7 @@ def main() -> None:
 
     t0 = time.perf_counter()
     s = batch.run_batch(str(path), tasks, out, positions=args.positions, workers=args.workers,
-                        chunk=args.chunk, overwrite=True)
+                        chunk=args.chunk, flywheel=args.flywheel, overwrite=True)
     t_batch = time.perf_counter() - t0
 
     tpl = Template.load(path)
@@ -64,7 +67,8 @@ def main() -> None:
     t0 = time.perf_counter()
     for _, ov in variants[:args.loop]:
         try:
-            loop_rows.append(summary_row(ks.analyze(tpl.model(ov, positions=args.positions))))
+            result = ks.analyze(tpl.model(ov, positions=args.positions))
+            loop_rows.append(summary_row(result, flywheel=args.flywheel))
         except (ks.KinetostaticsError, ValueError, ArithmeticError) as exc:
             loop_rows.append(failure_row(exc))
     t_loop = time.perf_counter() - t0
@@ -77,7 +81,7 @@ def main() -> None:
                 worst = max(worst, abs(float(row[k]) - v) / abs(v))
     rate_batch, rate_loop = args.n / t_batch, args.loop / t_loop
     print(f"slotting machine, {args.positions} positions, friction (both solutions), "
-          f"{os.cpu_count()} cores")
+          f"flywheel {'sized' if args.flywheel else 'not sized'}, {os.cpu_count()} cores")
     print(f"batch: {args.n} variants in {t_batch:.1f} s = {rate_batch:.1f} variants/s "
           f"({s.workers} workers, chunks of {s.chunk}; {s.failed} failed, {s.errors} errors)"
           f" -> {s.summary_csv}")
