@@ -86,7 +86,8 @@ def format_table(rows: Sequence[Mapping[str, str]], columns: Sequence[str]) -> s
     def fmt(cell: str) -> str:
         x = _number(cell)
         return cell if math.isnan(x) or cell.strip() in ("True", "False") else f"{x:.6g}"
-    cells = [list(columns)] + [[fmt(r.get(c, "")) for c in columns] for r in rows]
+    cells = [list(columns)] + [[r.get(c, "") if c == "variant" else fmt(r.get(c, ""))
+                                for c in columns] for r in rows]
     widths = [max(len(row[k]) for row in cells) for k in range(len(columns))]
     return "\n".join("  ".join(c.rjust(w) for c, w in zip(row, widths)).rstrip() for row in cells)
 
