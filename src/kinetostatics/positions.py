@@ -507,6 +507,17 @@ def solve_positions(system: System, t: np.ndarray, drive: Drive) -> PositionSolu
     return PositionSolution(q, sig, iters, singular, len(bad))
 
 
+def path_times(system: System, t: np.ndarray, drive: Drive) -> tuple[np.ndarray, np.ndarray]:
+    """``t``, then t = 0 (the start pose), then auxiliary times every ≤ 30° of the
+    driver over the range, and the order that sorts them: the closed-form angles
+    are unwrapped along it."""
+    coarse = _max_dt(system, 0.0, drive, COARSE_STEP)
+    lo, hi = min(0.0, float(t.min())), max(0.0, float(t.max()))
+    aux = np.linspace(lo, hi, int(np.ceil((hi - lo) / coarse)) + 2)
+    tt = np.concatenate((t, [0.0], aux))
+    return tt, np.argsort(tt, kind="stable")
+
+
 def _closed_form_path(system: System, q0: np.ndarray, sig0: np.ndarray, t: np.ndarray,
                       drive: Drive) -> PositionSolution | None:
     """All positions at once by closed-form dyads, or None where they do not apply.
@@ -520,11 +531,7 @@ def _closed_form_path(system: System, q0: np.ndarray, sig0: np.ndarray, t: np.nd
     solvers = _solvers(system, drive)
     if solvers is None:
         return None
-    coarse = _max_dt(system, 0.0, drive, COARSE_STEP)
-    lo, hi = min(0.0, float(t.min())), max(0.0, float(t.max()))
-    aux = np.linspace(lo, hi, int(np.ceil((hi - lo) / coarse)) + 2)
-    tt = np.concatenate((t, [0.0], aux))
-    order = np.argsort(tt, kind="stable")
+    tt, order = path_times(system, t, drive)
     psi = drive(tt)[0]
     q = np.broadcast_to(q0, tt.shape + q0.shape).copy()
     for solve in solvers:
