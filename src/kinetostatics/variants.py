@@ -251,8 +251,9 @@ def _vectorised_rows(models: dict[int, Model], rows: list, friction: bool | None
                     row = summary_row(vectorised.as_result(st), flywheel=False,
                                       strokes={k: {n: a for n, a in d.items()}
                                                for k, d in strokes.items()})
-        except (vectorised.Unsupported, TopologyMismatch):
-            continue
+        except (vectorised.Unsupported, TopologyMismatch, ValueError, IndexError,
+                ArithmeticError, np.linalg.LinAlgError):
+            continue                      # the per-variant analysis takes them, exactly
         for v, ok, r in zip(members, st.ok, split_rows(row, len(members))):
             if ok:
                 r["full_cycle"] = True

@@ -96,7 +96,7 @@ def _start(system: System, models: Sequence[Model], sched: Schedule):
     """(q0 (V, 1, n_q), ok (V,)): each variant's sketch solved group by group on
     its branch; a variant whose sketch is ambiguous or that does not assemble is
     not ok (the per-variant analysis reports it)."""
-    q = np.stack([initial_guess(replace(system, model=m)) for m in models])[:, None]
+    q = np.broadcast_to(initial_guess(system), (len(models), system.n_q))[:, None].copy()
     psi = sched(np.zeros(1))[0][None]
     ok = np.ones(len(models), dtype=bool)
     for plan in system.plans:
