@@ -143,27 +143,31 @@ def _find_roots(system, drive, t, q, qd, qdd, fvals, f, full, period_t):
     return (np.mod(roots, period_t) if full else roots), states
 
 
+def travel_conditions(system: System):
+    """(condition, link index, local point) of every ``travel`` condition of a load."""
+    for load in system.model.loads:
+        for c in load.active:
+            if c.kind == "travel":
+                p = system.model.link(c.link).points[c.point] if c.point else np.zeros(2)
+                yield c, system.link_index(c.link), p
+
+
 def _extremes_and_events(system, drive, sched, t, q, qd, qdd, full):
     """Exact minima of travel conditions and the switching events of every load."""
     period_t = 2 * np.pi / sched.reference if full else np.inf
     psi = drive(t)[0][..., 0]
     extremes: dict[int, float] = {}
-    for load in system.model.loads:
-        for c in load.active:
-            if c.kind != "travel":
-                continue
-            k = system.link_index(c.link)
-            from .forces import point_state
-            p = system.model.link(c.link).points[c.point] if c.point else np.zeros(2)
-            pos, vel, acc = point_state(q, qd, qdd, k, p)
-            s = pos @ c.axis
-            n = int(np.argmin(s))
-            sl = slice(n, n + 1)
-            _, (qm, _, _) = _refine(system, drive, lambda a, b, cc, ax=c.axis, kk=k, pp=p:
-                                    (point_state(a, b, cc, kk, pp)[1] @ ax,
-                                     point_state(a, b, cc, kk, pp)[2] @ ax),
-                                    t[sl], t[sl], q[sl], qd[sl], qdd[sl])
-            extremes[id(c)] = min(float(point_state(qm, qm, None, k, p)[0][0] @ c.axis), s.min())
+    for c, k, p in travel_conditions(system):
+        from .forces import point_state
+        pos, vel, acc = point_state(q, qd, qdd, k, p)
+        s = pos @ c.axis
+        n = int(np.argmin(s))
+        sl = slice(n, n + 1)
+        _, (qm, _, _) = _refine(system, drive, lambda a, b, cc, ax=c.axis, kk=k, pp=p:
+                                (point_state(a, b, cc, kk, pp)[1] @ ax,
+                                 point_state(a, b, cc, kk, pp)[2] @ ax),
+                                t[sl], t[sl], q[sl], qd[sl], qdd[sl])
+        extremes[id(c)] = min(float(point_state(qm, qm, None, k, p)[0][0] @ c.axis), s.min())
     events: list = []
     for load in system.model.loads:
         for c in load.active:

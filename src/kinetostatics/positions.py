@@ -196,22 +196,25 @@ def initial_guess(system: System) -> np.ndarray:
     Raises ModelError naming the group of a link the sketch does not place.
     """
     known = _known_points(system)
-    q = np.zeros(system.n_q)
-    missing = []
-    for k, name in enumerate(system.links):
+    poses, missing = [], []                 # (x, y, θ) per link: (3,), or (V, 3) for variants
+    for name in system.links:
         pairs = known[name]
         if not pairs:
             missing.append(name)
+            poses.append(np.zeros(3))
             continue
-        local = np.array([p for p, _ in pairs])
-        world = np.array([w for _, w in pairs])
-        theta = 0.0
+        local, world = (np.stack(np.broadcast_arrays(*x), axis=-2)[..., 0, :, :]
+                        if any(np.ndim(v) > 1 for v in x) else np.array(x)
+                        for x in ([p for p, _ in pairs], [w for _, w in pairs]))
+        theta = np.zeros(np.broadcast_shapes(local.shape, world.shape)[:-2])
         if len(pairs) >= 2:
-            lc, wc = local - local.mean(0), world - world.mean(0)
-            theta = np.arctan2(np.sum(lc[:, 0] * wc[:, 1] - lc[:, 1] * wc[:, 0]),
-                               np.sum(lc[:, 0] * wc[:, 0] + lc[:, 1] * wc[:, 1]))
-        q[3 * k + 2] = theta
-        q[3 * k:3 * k + 2] = np.mean(world - rotate(theta, local), axis=0)
+            lc = local - local.mean(-2, keepdims=True)
+            wc = world - world.mean(-2, keepdims=True)
+            theta = np.arctan2(np.sum(lc[..., 0] * wc[..., 1] - lc[..., 1] * wc[..., 0], axis=-1),
+                               np.sum(lc[..., 0] * wc[..., 0] + lc[..., 1] * wc[..., 1], axis=-1))
+        xy = np.mean(world - rotate(theta[..., None], local), axis=-2)
+        poses.append(np.concatenate((xy, theta[..., None]), axis=-1))
+    q = np.concatenate(np.broadcast_arrays(*poses), axis=-1)
     if missing:
         groups = {n: p.group.label for p in system.plans for n in p.group.links}
         raise ModelError([(_where(system),
@@ -507,6 +510,17 @@ def solve_positions(system: System, t: np.ndarray, drive: Drive) -> PositionSolu
     return PositionSolution(q, sig, iters, singular, len(bad))
 
 
+def path_times(system: System, t: np.ndarray, drive: Drive) -> tuple[np.ndarray, np.ndarray]:
+    """``t``, then t = 0 (the start pose), then auxiliary times every ≤ 30° of the
+    driver over the range, and the order that sorts them: the closed-form angles
+    are unwrapped along it."""
+    coarse = _max_dt(system, 0.0, drive, COARSE_STEP)
+    lo, hi = min(0.0, float(t.min())), max(0.0, float(t.max()))
+    aux = np.linspace(lo, hi, int(np.ceil((hi - lo) / coarse)) + 2)
+    tt = np.concatenate((t, [0.0], aux))
+    return tt, np.argsort(tt, kind="stable")
+
+
 def _closed_form_path(system: System, q0: np.ndarray, sig0: np.ndarray, t: np.ndarray,
                       drive: Drive) -> PositionSolution | None:
     """All positions at once by closed-form dyads, or None where they do not apply.
@@ -520,11 +534,7 @@ def _closed_form_path(system: System, q0: np.ndarray, sig0: np.ndarray, t: np.nd
     solvers = _solvers(system, drive)
     if solvers is None:
         return None
-    coarse = _max_dt(system, 0.0, drive, COARSE_STEP)
-    lo, hi = min(0.0, float(t.min())), max(0.0, float(t.max()))
-    aux = np.linspace(lo, hi, int(np.ceil((hi - lo) / coarse)) + 2)
-    tt = np.concatenate((t, [0.0], aux))
-    order = np.argsort(tt, kind="stable")
+    tt, order = path_times(system, t, drive)
     psi = drive(tt)[0]
     q = np.broadcast_to(q0, tt.shape + q0.shape).copy()
     for solve in solvers:

@@ -33,17 +33,17 @@ def _stack(values: Sequence[Any], path: str) -> Any:
     if isinstance(first, np.ndarray) and first.dtype.kind == "f":
         if any(not isinstance(v, np.ndarray) or v.shape != first.shape for v in values):
             raise TopologyMismatch(f"{path}: shapes differ")
-        if all(np.array_equal(v, first) for v in values[1:]):
-            return first
-        return np.stack(values)[:, None]
+        arr = np.stack(values)
+        return first if np.array_equal(arr, np.broadcast_to(first, arr.shape)) else arr[:, None]
     if _is_number(first):
         if not all(_is_number(v) for v in values):
             raise TopologyMismatch(f"{path}: not all numbers")
-        if all(v == first for v in values[1:]):
+        arr = np.array(values, dtype=float)
+        if np.all(arr == arr[0]):
             return first
         if isinstance(first, (int, np.integer)) and not isinstance(first, float):
             raise TopologyMismatch(f"{path}: counts differ")
-        return np.array(values, dtype=float)[:, None]
+        return arr[:, None]
     if dataclasses.is_dataclass(first) and not isinstance(first, type):
         if any(type(v) is not type(first) for v in values):
             raise TopologyMismatch(f"{path}: kinds differ")

@@ -231,11 +231,14 @@ def _vectorised_rows(models: dict[int, Model], rows: list, friction: bool | None
     """Fill ``rows`` of the variants the vectorised analysis takes, group by topology."""
     import warnings
     from . import vectorised
-    from .stacking import TopologyMismatch, signature
-    groups: dict[tuple, list[int]] = {}
-    for v, m in models.items():
-        groups.setdefault(signature(m), []).append(v)
-    for members in groups.values():
+    from .stacking import TopologyMismatch, signature, stack
+    try:                                  # one topology (the usual case): no signatures needed
+        groups = {(): (list(models), stack(list(models.values())))}
+    except TopologyMismatch:
+        groups = {}
+        for v, m in models.items():
+            groups.setdefault(signature(m), ([], None))[0].append(v)
+    for members, stacked in groups.values():
         if len(members) < 2:
             continue
         try:
@@ -243,13 +246,14 @@ def _vectorised_rows(models: dict[int, Model], rows: list, friction: bool | None
                 warnings.simplefilter("ignore")
                 with np.errstate(all="ignore"):
                     st = vectorised.analyze_stacked([models[v] for v in members],
-                                                    friction=friction)
+                                                    friction=friction, stacked=stacked)
                     strokes = vectorised.output_strokes(st)
                     row = summary_row(vectorised.as_result(st), flywheel=False,
                                       strokes={k: {n: a for n, a in d.items()}
                                                for k, d in strokes.items()})
-        except (vectorised.Unsupported, TopologyMismatch):
-            continue
+        except (vectorised.Unsupported, TopologyMismatch, ValueError, IndexError,
+                ArithmeticError, np.linalg.LinAlgError):
+            continue                      # the per-variant analysis takes them, exactly
         for v, ok, r in zip(members, st.ok, split_rows(row, len(members))):
             if ok:
                 r["full_cycle"] = True

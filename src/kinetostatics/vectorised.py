@@ -96,7 +96,7 @@ def _start(system: System, models: Sequence[Model], sched: Schedule):
     """(q0 (V, 1, n_q), ok (V,)): each variant's sketch solved group by group on
     its branch; a variant whose sketch is ambiguous or that does not assemble is
     not ok (the per-variant analysis reports it)."""
-    q = np.stack([initial_guess(replace(system, model=m)) for m in models])[:, None]
+    q = np.broadcast_to(initial_guess(system), (len(models), system.n_q))[:, None].copy()
     psi = sched(np.zeros(1))[0][None]
     ok = np.ones(len(models), dtype=bool)
     for plan in system.plans:
@@ -111,12 +111,8 @@ def _start(system: System, models: Sequence[Model], sched: Schedule):
 
 def _positions(system: System, solvers, q0: np.ndarray, t: np.ndarray, sched: Schedule):
     """Closed-form positions at times ``t (N,)`` for all variants; (q, ok (V,))."""
-    from .positions import COARSE_STEP, _max_dt
-    coarse = _max_dt(system, 0.0, sched, COARSE_STEP)
-    lo, hi = min(0.0, float(t.min())), max(0.0, float(t.max()))
-    aux = np.linspace(lo, hi, int(np.ceil((hi - lo) / coarse)) + 2)
-    tt = np.concatenate((t, [0.0], aux))
-    order = np.argsort(tt, kind="stable")
+    from .positions import path_times
+    tt, order = path_times(system, t, sched)
     psi = sched(tt)[0]
     q = np.broadcast_to(q0, (len(q0), len(tt), q0.shape[-1])).copy()
     ok = np.ones(len(q0), dtype=bool)
@@ -171,24 +167,20 @@ def refine_roots(system, solvers, sched, f, t0, q0, qd0, qdd0, max_iter: int = 1
 
 def _extremes(system, solvers, sched, t, q, qd, qdd) -> dict:
     """Exact minima over the cycle of the ``travel`` conditions' p·axis, ``(V, 1)``."""
+    from .analysis import travel_conditions
     extremes: dict[int, np.ndarray] = {}
-    for load in system.model.loads:
-        for c in load.active:
-            if c.kind != "travel":
-                continue
-            k = system.link_index(c.link)
-            p = system.model.link(c.link).points[c.point] if c.point else np.zeros(2)
-            pos = point_state(q, qd, None, k, p)[0]
-            s = np.sum(pos * c.axis, axis=-1)
-            n = np.argmin(s, axis=-1)
-            take = lambda a: np.take_along_axis(a, n[:, None, None], axis=1)  # noqa: E731
-            _, (qm, _, _) = refine_roots(
-                system, solvers, sched,
-                lambda a, b, cc: (np.sum(point_state(a, b, cc, k, p)[1] * c.axis, axis=-1),
-                                  np.sum(point_state(a, b, cc, k, p)[2] * c.axis, axis=-1)),
-                t[n][:, None], take(q), take(qd), take(qdd))
-            sm = np.sum(point_state(qm, qm, None, k, p)[0] * c.axis, axis=-1)
-            extremes[id(c)] = np.minimum(sm, np.min(s, axis=-1, keepdims=True))
+    for c, k, p in travel_conditions(system):
+        pos = point_state(q, qd, None, k, p)[0]
+        s = np.sum(pos * c.axis, axis=-1)
+        n = np.argmin(s, axis=-1)
+        take = lambda a: np.take_along_axis(a, n[:, None, None], axis=1)  # noqa: E731
+        _, (qm, _, _) = refine_roots(
+            system, solvers, sched,
+            lambda a, b, cc: (np.sum(point_state(a, b, cc, k, p)[1] * c.axis, axis=-1),
+                              np.sum(point_state(a, b, cc, k, p)[2] * c.axis, axis=-1)),
+            t[n][:, None], take(q), take(qd), take(qdd))
+        sm = np.sum(point_state(qm, qm, None, k, p)[0] * c.axis, axis=-1)
+        extremes[id(c)] = np.minimum(sm, np.min(s, axis=-1, keepdims=True))
     return extremes
 
 
@@ -211,17 +203,21 @@ def _check_supported(sm: Model, friction: bool) -> None:
             at, vals = load.table
             if np.ndim(at) > 1 or np.ndim(vals) > (2 if load.kind == "force" else 1):
                 raise Unsupported(f"the table of load '{load.name}' differs between variants")
-        if any(c.kind == "angle" and _stacked(c.bounds) for c in load.active):
-            raise Unsupported(f"an angle condition of load '{load.name}' differs between variants")
+        if _stacked(load.axis) or any(_stacked(c.axis) or c.kind == "angle" and _stacked(c.bounds)
+                                      for c in load.active):
+            raise Unsupported(f"the directions or angle band of load '{load.name}' differ "
+                              "between variants")
     if friction and any(_stacked(getattr(j, name, 0.0)) for j in sm.joints
                         for name in ("rho", "f", "loss")):
         raise Unsupported("friction coefficients differ between variants")
 
 
-def analyze_stacked(models: Sequence[Model], *, friction: bool | None = None) -> Stacked:
-    """The analysis of every variant at once (see the module's text).  Raises
-    :class:`Unsupported` if the model is outside the vectorised case."""
-    sm = stack(models)
+def analyze_stacked(models: Sequence[Model], *, friction: bool | None = None,
+                    stacked: Model | None = None) -> Stacked:
+    """The analysis of every variant at once (see the module's text); ``stacked``:
+    ``stack(models)`` if at hand.  Raises :class:`Unsupported` if the model is
+    outside the vectorised case."""
+    sm = stack(models) if stacked is None else stacked
     if sm.analysis.at or sm.analysis.events:
         raise Unsupported("extra positions or event rows")
     _check_supported(sm, sm.has_friction if friction is None else friction)

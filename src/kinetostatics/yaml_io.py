@@ -109,7 +109,10 @@ class Entry:
     def _pairs(self) -> list[tuple[str, yaml.Node, yaml.Node]]:
         if not self.is_mapping:
             return []
-        return [(str(k.value), k, v) for k, v in self.node.value]
+        pairs = self.node.__dict__.get("_ks_pairs")      # a tree is built once per variant:
+        if pairs is None:                                 # keep what does not change on it
+            pairs = self.node._ks_pairs = [(str(k.value), k, v) for k, v in self.node.value]
+        return pairs
 
     def mapping(self) -> bool:
         if not self.is_mapping:
@@ -124,8 +127,12 @@ class Entry:
         return [key for key, _, _ in self._pairs()]
 
     def _child(self, key: str | int, node: yaml.Node) -> "Entry":
-        m = node.start_mark
-        return Entry(node, self.where.child(key, m.line + 1, m.column + 1), self.ctx)
+        cache = self.node.__dict__.setdefault("_ks_where", {})
+        where = cache.get((self.where, key))
+        if where is None:
+            m = node.start_mark
+            where = cache[(self.where, key)] = self.where.child(key, m.line + 1, m.column + 1)
+        return Entry(node, where, self.ctx)
 
     def key_where(self, key: str) -> Location:
         """The location of ``key`` itself (not of its value)."""
