@@ -339,3 +339,34 @@ def test_best_on_a_hand_made_table(tmp_path, capsys):
         best.best(tmp_path / "summary.csv", "min motor.torque_pk")
     assert main(["best", str(tmp_path), "--best", "min K", "--where", "K =< 2"]) == 2
     assert "expected 'COLUMN OP NUMBER'" in capsys.readouterr().err
+
+
+def test_ctrl_c_leaves_the_finished_rows_and_the_same_command_resumes(tmp_path):
+    """End to end: a real SIGINT to `kinetostatics batch`, then the same command."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+    out = tmp_path / "out"
+    cmd = [sys.executable, "-m", "kinetostatics.cli", "batch", str(SLIDER), "--out", str(out),
+           "--set", "a=80:120:600", "--positions", "12", "--serial", "--chunk", "1"]
+    env = dict(os.environ, PYTHONPATH=str(ROOT / "src"))
+    p = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline and p.poll() is None:
+        table = out / "summary.csv"
+        if table.exists() and len(batch.read_summary(table)[1]) >= 3:
+            break
+        time.sleep(0.05)
+    p.send_signal(signal.SIGINT)
+    _, err = p.communicate(timeout=60)
+    assert p.returncode == 130, err
+    assert err.strip().splitlines()[-1].startswith("kinetostatics: interrupted; the finished rows")
+    done = len(_rows(out))
+    assert 3 <= done < 600
+    assert main(cmd[3:-2]) == 0                 # chunks do not change results: any size resumes
+    runs = json.loads((out / "batch.json").read_text())["runs"]
+    assert [r["computed"] for r in runs] == [done, 600 - done]
+    assert len(_rows(out)) == 600
