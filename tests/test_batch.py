@@ -172,6 +172,8 @@ def test_a_variant_that_cannot_assemble_is_a_row_with_its_reason(tmp_path):
     assert (s.total, s.failed) == (3, 1)
     assert [rows[k]["status"] for k in "123"] == ["ok", "failed", "ok"]
     assert "RRP dyad {rod, slider} cannot assemble" in rows["2"]["reason"]
+    assert rows["2"]["failed.group"] == "RRP dyad {rod, slider}" and rows["1"]["failed.group"] == ""
+    assert rows["1"]["full_cycle"] == "True" and rows["2"]["full_cycle"] == "False"
     assert rows["2"]["motor.torque_peak"] == "" and float(rows["3"]["motor.torque_peak"]) > 0
 
 

@@ -33,6 +33,8 @@ from functools import lru_cache
 from pathlib import Path
 from typing import Any, Callable, Iterable, Mapping, Sequence
 
+import numpy as np
+
 from .errors import KinetostaticsError
 
 __all__ = ["Source", "Task", "Chunk", "BatchSummary", "BatchError", "run_batch",
@@ -206,13 +208,18 @@ def auto_chunk(n_todo: int, positions: int, workers: int) -> int:
 
 # -- the table on disk -----------------------------------------------------------------
 def _cell(v: Any) -> str:
+    """A CSV cell: numbers at full precision, NaN empty, booleans True/False.
+
+    >>> [_cell(x) for x in (np.float64(0.1), np.nan, np.True_, np.int64(3), "a–b", None)]
+    ['0.1', '', 'True', '3', 'a–b', '']
+    """
     if v is None:
         return ""
-    if isinstance(v, (bool,)) or type(v).__name__ == "bool_":
+    if isinstance(v, (bool, np.bool_)):
         return "True" if v else "False"
     if isinstance(v, str):
         return v
-    if isinstance(v, int) or type(v).__name__.startswith("int"):
+    if isinstance(v, (int, np.integer)):
         return str(int(v))
     x = float(v)
     return "" if math.isnan(x) else repr(x)
