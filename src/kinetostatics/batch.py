@@ -521,6 +521,7 @@ def run_batch(sources: Sequence[Source] | str | Path, tasks: Sequence[Task] | No
         bar.close()
         table.rewrite()
         seconds = time.perf_counter() - t_run
+        computed = len(table.rows) - reused    # rows written now (an interrupt may fall anywhere)
         state["computed"] = state.get("computed", 0) + computed
         state["runs"] = [*state.get("runs", []),
                          {"computed": computed, "reused": reused, "seconds": round(seconds, 3),
