@@ -1,4 +1,4 @@
-"""docs/accuracy.md shows what the docs/scripts/accuracy_*.py scripts compute.
+"""docs/accuracy.md shows what the tests/benchmarks/accuracy_*.py scripts compute.
 
 Each script's ``build(timing=False)`` gives its Markdown blocks with the wall
 times left out; every table cell outside the timing columns must match the
@@ -18,7 +18,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
-SCRIPTS = ROOT / "docs" / "scripts"
+SCRIPTS = ROOT / "tests" / "benchmarks"
 NUMBER = re.compile(r"[-+]?\d+(?:\.\d+)?(?:e[-+]?\d+)?")
 
 

@@ -14,11 +14,11 @@ Iterations: *batch* = Newton iterations of the final batch per position (summed
 over the groups; mean / max); *all* = every Newton iteration of the solve
 (continuation, batch, fallback) per position.  Errors against the closed form
 of tests/oracles/slider_crank_closed_form.py: pose = max |Δx|, |Δy| / L_ref and
-|Δθ| (rad); q̇, q̈ as in docs/scripts/accuracy_derivatives.py (from the exact
+|Δθ| (rad); q̇, q̈ as in tests/benchmarks/accuracy_derivatives.py (from the exact
 Jacobian solve at the computed positions).  For the slotting machine the
 reference is the fast path.
 
-    python docs/scripts/accuracy_positions.py [--quick] [--update]
+    python tests/benchmarks/accuracy_positions.py [--quick] [--update]
 """
 
 from __future__ import annotations
@@ -159,11 +159,7 @@ def build(timing: bool = True):
         ax.set_title("slider-crank: cost against TOL")
         ax.legend(fontsize=7, loc="upper right")
         ax.grid(True, which="both", alpha=0.3)
-        fig.tight_layout()
-        path = ac.IMG / "accuracy_positions.png"
-        fig.savefig(path, dpi=110)
-        plt.close(fig)
-        return [path]
+        return ac.save_figure(fig, "accuracy_positions.png")
     return blocks, (plot if timing else None)
 
 

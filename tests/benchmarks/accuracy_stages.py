@@ -8,7 +8,7 @@ stages.  The model is the shipped file with ``analysis.positions`` set to n
 divides every row by n.  The last rows time the whole ``ks.analyze`` and the
 ``run`` outputs (results.csv, summary.json) for comparison with the sum.
 
-    python docs/scripts/accuracy_stages.py [--quick] [--update]
+    python tests/benchmarks/accuracy_stages.py [--quick] [--update]
 """
 
 from __future__ import annotations
@@ -180,11 +180,7 @@ def build(timing: bool = True):
             ax.set_title(name)
             ax.grid(True, axis="x", which="both", alpha=0.3)
             ax.legend(fontsize=7)
-        fig.tight_layout()
-        path = ac.IMG / "accuracy_stages.png"
-        fig.savefig(path, dpi=110)
-        plt.close(fig)
-        return [path]
+        return ac.save_figure(fig, "accuracy_stages.png")
     return blocks, (plot if timing else None)
 
 

@@ -15,7 +15,7 @@ the kinematics and frictionless reactions already solved: *approximate* =
 ``friction.setup`` + Φ_q⁻¹ + ``friction.approximate``; *consistent* =
 ``friction.consistent`` (fixed point, homotopy where it fails).
 
-    python docs/scripts/accuracy_friction.py [--quick] [--update]
+    python tests/benchmarks/accuracy_friction.py [--quick] [--update]
 """
 
 from __future__ import annotations
@@ -133,11 +133,7 @@ def build(timing: bool = True):
         axes[1].set_title("error against cost", fontsize=10)
         axes[1].legend(fontsize=7)
         axes[1].grid(True, which="both", alpha=0.3)
-        fig.tight_layout()
-        path = ac.IMG / "accuracy_friction.png"
-        fig.savefig(path, dpi=110)
-        plt.close(fig)
-        return [path]
+        return ac.save_figure(fig, "accuracy_friction.png")
     return blocks, (plot if timing else None)
 
 

@@ -12,7 +12,7 @@ max|error| / max|reference| over the cycle (coordinates identically zero are
 skipped).  Reference: the closed form (tests/oracles/slider_crank_closed_form.py)
 for the slider-crank, the exact solution for the others.
 
-    python docs/scripts/accuracy_derivatives.py [--quick] [--update]
+    python tests/benchmarks/accuracy_derivatives.py [--quick] [--update]
 """
 
 from __future__ import annotations
@@ -166,11 +166,7 @@ def build(timing: bool = True):
             ax.set_ylabel("relative error")
             ax.grid(True, which="both", alpha=0.3)
             ax.legend(fontsize=6)
-        fig.tight_layout()
-        path = ac.IMG / "accuracy_derivatives.png"
-        fig.savefig(path, dpi=110)
-        plt.close(fig)
-        return [path]
+        return ac.save_figure(fig, "accuracy_derivatives.png")
     return blocks, (plot if timing else None)
 
 
