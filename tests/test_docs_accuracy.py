@@ -59,7 +59,7 @@ def _doc_block(doc: str, name: str) -> str:
     return m.group(1)
 
 
-@pytest.mark.parametrize("name", ["derivatives", "friction", "positions", "scales", "stages"])
+@pytest.mark.parametrize("name", ["derivatives", "friction", "needs", "positions", "scales", "stages"])
 def test_accuracy_tables_are_current(name):
     module = _script(name)
     blocks, _ = module.build(timing=False)
