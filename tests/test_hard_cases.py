@@ -139,6 +139,9 @@ def test_rocker_driven_into_its_toggle_reports_the_singular_position_and_the_blo
     assert np.degrees(s.coordinate) == pytest.approx(PSI_TOGGLE, abs=1e-6)
     assert s.t == pytest.approx(T_TOGGLE, abs=1e-6)
     assert s.condition > 1e6
+    # past the dead centre the linkage is in its other assembly: one period of the law
+    # does not bring it back, so the run is not a cycle
+    assert not r.full_cycle
     for name in r.columns:
         assert np.all(np.isfinite(r[name])), name                  # no NaN, no inf
     # no branch jump: the crank keeps turning the same way through the dead centre

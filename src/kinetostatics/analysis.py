@@ -6,7 +6,7 @@ events → loads → reactions → friction → power → result columns.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 import numpy as np
 
 from . import friction as fr
@@ -308,8 +308,10 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
         t, full = _times(system, sched, positions)
     if positions is None and times is None and model.analysis.at:
         t = np.sort(t, kind="stable")                 # `at` rows take their place in the run
+    closing = full and sched.law is not None     # one period of the law: does the pose repeat?
     try:
-        sol: PositionSolution = solve_positions(system, t, sched)
+        sol: PositionSolution = solve_positions(system, np.append(t, sched.law.duration)
+                                                if closing else t, sched)
     except AssemblyError as exc:
         if sched.law is not None:
             raise _law_out_of_reach(system, sched, exc) from None
@@ -332,6 +334,9 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
         for k, tk in ((0, lo), (-1, hi)):             # the limit positions are singular positions
             sol.singular.append(Singularity(exc.group, tk, float(sched(np.array([tk]))[0][0, 0]),
                                             float(group_condition(system, sol.q[k], plan))))
+    if closing:
+        full = _same_pose(system, sol.q[-1], sol.q[0])
+        sol = replace(sol, q=sol.q[:-1], signatures=sol.signatures[:-1], iterations=sol.iterations[:-1])
     q = sol.q
     psi, psi_d, psi_dd = sched(t)
     qd, qdd, lu = derivatives(system, q, psi_d, psi_dd)
@@ -362,6 +367,16 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
     return Result(system=system, t=t, coordinate=psi[..., 0], q=q, qd=qd, qdd=qdd, lam=x0,
                   columns=columns, units=units, events=tuple(evts), singular=tuple(sol.singular),
                   indeterminate=kin.indeterminate, full_cycle=full, extremes=extremes)
+
+
+def _same_pose(system: System, qa: np.ndarray, qb: np.ndarray) -> bool:
+    """Whether two poses agree (lengths to 1e-9·L_ref, angles to 1e-9 rad, modulo 2π): a law
+    that is periodic need not bring the linkage back (it may cross to the other assembly)."""
+    d = qa - qb
+    d[2::3] = (d[2::3] + np.pi) % (2 * np.pi) - np.pi
+    d[0::3] /= system.l_ref
+    d[1::3] /= system.l_ref
+    return bool(np.max(np.abs(d)) <= 1e-9)
 
 
 COND_WARN = 1e8
