@@ -87,6 +87,12 @@ def test_a_harmonic_run_covers_one_period_and_a_polynomial_its_duration():
     r = ks.analyze(_model(LAWS["polynomial"], "{positions: 9}"), friction=False)
     assert not r.full_cycle
     np.testing.assert_allclose(r["time"], np.linspace(0, 0.8, 9), atol=1e-15)
+    periodic = "{law: table, time: [0, 0.1, 0.2, 0.3], value: [0, 90, 30, 0], periodic: true}"
+    r = ks.analyze(_model(periodic, "{positions: 12}"), friction=False)
+    assert r.full_cycle and len(r) == 12                 # the crank swings back to its start
+    law = r.system.motion_drivers[0].driver.motion
+    # ψ, ψ̇, ψ̈ of a periodic spline agree at both ends (C² across the period)
+    np.testing.assert_allclose(*(np.array(law.value(0.0, [x]))[:, 0] for x in (0.0, 0.3)), atol=1e-9)
     r = ks.analyze(_model(LAWS["polynomial"]), times=[0.2, 0.7], friction=False)
     np.testing.assert_allclose(r["time"], [0.0, 0.5])
 
@@ -140,3 +146,28 @@ def test_a_law_round_trips_through_dump():
         t = np.linspace(0, model.drivers[0].motion.duration, 11)
         np.testing.assert_allclose(again.drivers[0].motion.value(0.0, t),
                                    model.drivers[0].motion.value(0.0, t), rtol=1e-12, atol=1e-12)
+
+
+def _boom(motion: str, analysis: str) -> ks.Model:
+    """The luffing boom of docs/yaml.md (prismatic driver `extend`) with another motion."""
+    doc = open("docs/yaml.md").read()
+    text = re.search(r"```yaml\n(name: luffing boom.*?)```", doc, re.S).group(1)
+    text = text.replace("extend: {joint: cyl, motion: {speed: 50}}", f"extend: {{joint: cyl, motion: {motion}}}")
+    text = re.sub(r"analysis: \{[^}]*\}", f"analysis: {analysis}", text)
+    return ks.loads(text.replace("speed: mm/s, ", ""), file="boom.yaml")
+
+
+def test_a_law_on_a_prismatic_driver_follows_the_chain_rule():
+    """s = 450 mm + 50 mm/s² · t² over 2 s against the constant-speed run at the same
+    strokes: same poses, q̇ = J ṡ and q̈ = J s̈ + H ṡ² with J, H from the run at 50 mm/s."""
+    law = ks.analyze(_boom("{law: polynomial, coefficients: [450, 0, 50], duration: 2}",
+                           "{positions: 11}"), friction=False)
+    s = law["stroke"]
+    np.testing.assert_allclose(s, 0.450 + 0.050 * law.t ** 2, atol=1e-15)
+    const = ks.analyze(_boom("{speed: 0.05}", "{start: 450, sweep: 200, positions: 2}"),
+                       positions=s, friction=False)
+    sd, sdd = 0.1 * law.t, np.full_like(law.t, 0.1)
+    jac, hess = const.qd / 0.05, const.qdd / 0.05 ** 2
+    np.testing.assert_allclose(law.q, const.q, atol=1e-12)
+    np.testing.assert_allclose(law.qd, jac * sd[:, None], atol=1e-12)
+    np.testing.assert_allclose(law.qdd, jac * sdd[:, None] + hess * (sd ** 2)[:, None], atol=1e-10)
