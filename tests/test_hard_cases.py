@@ -139,6 +139,10 @@ def test_rocker_driven_into_its_toggle_reports_the_singular_position_and_the_blo
     assert np.degrees(s.coordinate) == pytest.approx(PSI_TOGGLE, abs=1e-6)
     assert s.t == pytest.approx(T_TOGGLE, abs=1e-6)
     assert s.condition > 1e6
+    from kinetostatics.summary import summarize
+    assert summarize(r)["singular_positions"] == [{"group": s.group, "angle": pytest.approx(PSI_TOGGLE),
+                                                   "time": pytest.approx(T_TOGGLE),
+                                                   "condition": s.condition}]
     # past the dead centre the linkage is in its other assembly: one period of the law
     # does not bring it back, so the run is not a cycle
     assert not r.full_cycle

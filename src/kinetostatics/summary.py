@@ -120,6 +120,7 @@ def summarize(result) -> dict[str, Any]:
                     "condition": e.condition, "switch": e.switch} for e in result.events],
         "indeterminate_reactions": bool(result.indeterminate),
         "singular_positions": [{"group": s.group, "angle": float(np.degrees(s.coordinate) % 360),
+                                "time": float(s.t),
                                 "condition": s.condition} for s in result.singular],
         "reaction_peaks": peaks,
         "drivers": drivers,
