@@ -339,10 +339,11 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
         sol = replace(sol, q=sol.q[:-1], signatures=sol.signatures[:-1], iterations=sol.iterations[:-1])
     q = sol.q
     psi, psi_d, psi_dd = sched(t)
-    qd, qdd, lu = derivatives(system, q, psi_d, psi_dd)
-    if derivatives_by != "jacobian":
+    if derivatives_by == "jacobian":
+        qd, qdd, lu = derivatives(system, q, psi_d, psi_dd)
+    else:                             # no kinematic factors: the reactions build their own
         qd, qdd = difference_derivatives(system, sched, t, q, derivatives_by, step)
-        lu = None                     # the kinematic factors no longer describe (qd, qdd)
+        lu = None
     if kinematics_only:
         return _kinematics_result(system, sol, t, psi, q, qd, qdd, lu, full)
     extremes, evts = _extremes_and_events(system, sched, sched, t, q, qd, qdd, full)
