@@ -1,6 +1,8 @@
 """Friction: the consistent solution against the approximate one, self-locking,
 and the zero-speed rule."""
 
+import re
+
 import numpy as np
 import pytest
 
@@ -27,11 +29,15 @@ def test_consistent_converges_quadratically_to_approximate():
         assert 50 < ratio < 200, ratios         # ≈ 100 for a tenfold smaller friction
 
 
+LOCKING = "tests/hard/slider_crank_self_locking.yaml"
+
+
 def _locking(s: float) -> ks.Model:
-    """Crank motion prescribed, effort balanced at the slide; short rod, large friction."""
-    return _scaled(s * 3.0, drv=(r"motor: \{joint: O, motion: \{speed: 300\}\}",
-                                 "motor: {joint: O, motion: {speed: 300}, balance_at: slide}"),
-                   b=(r"b: 350", "b: 150"), sk=(r"B: \[440, -20\]", "B: [240, -20]"))
+    """Crank motion prescribed, effort balanced at the slide; short rod, large friction
+    (tests/hard/slider_crank_self_locking.yaml, its friction level ``s: 3`` times ``s``)."""
+    text, n = re.subn(r"\n  s: 3 ", f"\n  s: {3.0 * s:g} ", open(LOCKING).read())
+    assert n == 1
+    return ks.loads(text, file="slider_crank_self_locking.yaml")
 
 
 @pytest.fixture(scope="module")

@@ -118,3 +118,65 @@ def test_crank_that_cannot_rotate_reports_its_reachable_range():
     # the effort to drive the rocker blows up towards the toggles
     torque = np.abs(r["motor.torque"])
     assert torque[0] > 1e3 * np.median(torque) and torque[-1] > 1e3 * np.median(torque)
+
+
+TOGGLE = "tests/hard/rocker_into_toggle.yaml"
+PSI_TOGGLE = np.degrees(np.arccos((4.2 ** 2 - 3 ** 2 - 2.5 ** 2) / (2 * 3 * 2.5)))   # crank ∥ coupler
+T_TOGGLE = 1.5          # ψ = ψ* + 20° + 20°·sin(π t) is lowest at t = 3/4 of the 2 s period
+
+
+def test_rocker_driven_into_its_toggle_reports_the_singular_position_and_the_blow_up():
+    """The motion law touches the toggle ψ* with zero speed at t* = 1.5 s.  Near the
+    fold ψ − ψ* ∝ (θ_crank − θ*)², and ψ − ψ* = ½ψ̈(t*)(t − t*)², so the crank passes
+    the dead centre at a finite speed (the C¹ path crosses to the other assembly) and
+    the rocker torque τ = (power of the loads)/ψ̇ grows like 1/|t − t*|, i.e. like
+    (ψ − ψ*)^(−1/2): log-slopes −1 and −1/2, independent of our solver."""
+    model = ks.load(TOGGLE)
+    r = ks.analyze(model)
+    assert len(r.singular) == 1
+    s = r.singular[0]
+    assert s.group == "RRR dyad {crank, coupler}"
+    assert np.degrees(s.coordinate) == pytest.approx(PSI_TOGGLE, abs=1e-6)
+    assert s.t == pytest.approx(T_TOGGLE, abs=1e-6)
+    assert s.condition > 1e6
+    from kinetostatics.summary import summarize
+    assert summarize(r)["singular_positions"] == [{"group": s.group, "angle": pytest.approx(PSI_TOGGLE),
+                                                   "time": pytest.approx(T_TOGGLE),
+                                                   "condition": s.condition}]
+    # past the dead centre the linkage is in its other assembly: one period of the law
+    # does not bring it back, so the run is not a cycle
+    assert not r.full_cycle
+    for name in r.columns:
+        assert np.all(np.isfinite(r[name])), name                  # no NaN, no inf
+    # no branch jump: the crank keeps turning the same way through the dead centre
+    omega = r["crank.omega"]
+    near = np.abs(r.t - T_TOGGLE) < 0.2
+    assert np.all(omega[near] < 0)
+    assert np.max(np.abs(np.diff(omega[near]))) < 0.05 * np.max(np.abs(omega))   # a jump: ~4 rad/s
+    # the blow-up and its growth rate, approached from both sides
+    d = np.array([1e-2, 3e-3, 1e-3, 3e-4, 1e-4])
+    for side in (-1.0, 1.0):
+        t = T_TOGGLE + side * d
+        tau = np.abs(ks.analyze(model, times=t)["motor.torque"])
+        dpsi = np.radians(20.0) * (1.0 + np.sin(np.pi * t))          # ψ − ψ*, from the law
+        assert np.polyfit(np.log(d), np.log(tau), 1)[0] == pytest.approx(-1.0, abs=0.02)
+        assert np.polyfit(np.log(dpsi), np.log(tau), 1)[0] == pytest.approx(-0.5, abs=0.01)
+        assert tau[-1] > 1e3 * np.median(np.abs(r["motor.torque"]))
+
+
+def test_a_law_past_the_toggle_names_the_coordinate_and_the_reachable_range():
+    text = open(TOGGLE).read().replace("amplitude: swing,", "amplitude: swing + 1,")
+    with pytest.raises(AssemblyError) as info:
+        ks.analyze(ks.loads(text, file="past.yaml"))
+    msg = str(info.value)
+    assert msg.startswith("RRR dyad {crank, coupler} cannot assemble at motor = ")
+    angle = float(re.search(r"motor = ([\d.]+)°", msg).group(1))
+    assert PSI_TOGGLE - 1.0 <= angle <= PSI_TOGGLE + 1e-4          # printed to 6 digits
+    # ψ = ψ* + 20° + 21°·sin(π t) first passes ψ* at t = 1 + asin(20/21)/π
+    t_cross = 1.0 + np.arcsin(20 / 21) / np.pi
+    t_reached = float(re.search(r"the linkage assembles up to t = ([\d.]+) s", msg).group(1))
+    assert t_cross - 1e-3 < t_reached <= t_cross
+    hi = np.degrees(np.arccos((2.2 ** 2 - 15.25) / 15))
+    np.testing.assert_allclose(np.degrees(info.value.reachable), [PSI_TOGGLE, hi], atol=1e-4)
+    assert (f"the law spans motor from {PSI_TOGGLE - 1:.4f}° to {PSI_TOGGLE + 41:.4f}°, the linkage "
+            f"reaches only motor from {PSI_TOGGLE:.4f}° to {hi:.4f}°") in msg

@@ -14,7 +14,7 @@ model.  Errors (the worst over the cycle):
   against the source's eq. 9, each relative to its largest magnitude.
 
 Every error must stay ≤ ``LIMIT`` = 1e-12.  The measured worst is about 1e-15
-(round-off; docs/accuracy.md, from ``python docs/scripts/accuracy_scales.py``):
+(round-off; docs/accuracy.md, from ``python tests/benchmarks/accuracy_scales.py``):
 the limit is tighter than the general 1e-9 so that a loss of more than three
 digits at an extreme scale fails, with a thousandfold margin for other
 platforms.
@@ -118,13 +118,7 @@ def errors(m: ks.Model, general: bool = False) -> Errors:
         dyads.closed_form = saved
     p = oracle(system)
     phi = r.coordinate
-    k = cf.kinematics(p, phi)
-    zero = np.zeros_like(phi)
-    q = np.stack([k["S1_x"], k["S1_y"], phi, k["S2_x"], k["S2_y"], k["phi2"], k["xB"], k["yB"], zero], -1)
-    qd = np.stack([k["S1_vx"], k["S1_vy"], k["omega1"], k["S2_vx"], k["S2_vy"], k["omega2"],
-                   k["vB"], zero, zero], -1)
-    qdd = np.stack([k["S1_ax"], k["S1_ay"], k["alpha1"], k["S2_ax"], k["S2_ay"], k["alpha2"],
-                    k["aB"], zero, zero], -1)
+    q, qd, qdd = cf.state(p, phi)
     d = r.q - q
     d[:, 2::3] = (d[:, 2::3] + np.pi) % (2 * np.pi) - np.pi
     d[:, 0::3] /= system.l_ref

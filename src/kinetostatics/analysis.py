@@ -6,14 +6,14 @@ events → loads → reactions → friction → power → result columns.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 import numpy as np
 
 from . import friction as fr
 from .differences import difference_derivatives
 from .errors import AssemblyError, Location, SingularConfigurationError, StructureError
 from .forces import angle_band, external_forces, gravity_forces, inertia_forces, mass_vector
-from .model import Condition, Model
+from .model import Condition, Model, MotionLaw
 from .positions import (PositionSolution, Singularity, condition_number, derivatives,
                         group_condition, reachable_range, solve_positions, state_at)
 from .reactions import effort_joints, equilibrium_matrix, ground_reaction, solve_equilibrium
@@ -25,19 +25,47 @@ __all__ = ["analyze", "kinetics", "Kinetics", "Schedule", "Event", "numerical_mo
 
 @dataclass(frozen=True)
 class Schedule:
-    """Motion drivers' laws: ψ_d(t) = start_d + speed_d·t."""
+    """Motion drivers' laws: ψ_d(t) = start_d + speed_d·t (constant speed), or the
+    driver's motion law (``laws[d]``, :mod:`kinetostatics.motion`) where one is given."""
 
-    start: np.ndarray          # (n_d,)
-    speed: np.ndarray          # (n_d,)
+    start: np.ndarray          # (n_d,) ψ(0)
+    speed: np.ndarray          # (n_d,) constant speed, or a law's signed reference speed
+    laws: tuple = ()           # per driver: a motion law, or None for constant speed; () if none
 
     def __call__(self, t):
         t = np.asarray(t, dtype=float)[..., None]
-        return (self.start + self.speed * t, np.broadcast_to(self.speed, t.shape[:-1] + self.speed.shape),
-                np.zeros(t.shape[:-1] + self.speed.shape))
+        psi = self.start + self.speed * t
+        psi_d = np.broadcast_to(self.speed, t.shape[:-1] + self.speed.shape)
+        psi_dd = np.zeros(t.shape[:-1] + self.speed.shape)
+        if self.laws:
+            psi_d = psi_d.copy()
+            for k, law in enumerate(self.laws):
+                if law is not None:
+                    psi[..., k], psi_d[..., k], psi_dd[..., k] = law.value(0.0, t[..., 0])
+        return psi, psi_d, psi_dd
 
     @property
     def reference(self) -> float:
+        """|speed| of the first driver (a law's largest |ψ̇|), rad/s or m/s."""
         return float(abs(self.speed[0]))
+
+    @property
+    def law(self):
+        """The first driver's motion law, or None for constant speed."""
+        return self.laws[0] if self.laws else None
+
+    def turning_times(self, lo: float, hi: float) -> np.ndarray:
+        """Times in [lo, hi] where a driver's law turns back (ψ̇ = 0); none at constant speed."""
+        from .motion import turning_times
+        return np.concatenate([np.zeros(0)] + [turning_times(law, lo, hi) for law in self.laws
+                                               if law is not None])
+
+    @property
+    def period(self) -> float:
+        """Time of one cycle (s): one turn at constant speed, a cyclic law's duration."""
+        if self.law is not None:
+            return self.law.duration if self.law.cyclic else np.inf
+        return 2 * np.pi / self.reference
 
 
 @dataclass(frozen=True)
@@ -63,12 +91,25 @@ def _schedule(system: System) -> Schedule:
             qe = np.concatenate((q0, np.zeros(3)))
             i, j = system.ends[system.constraints.index(d)]
             starts.append(float(d.coordinate(qe[3 * i:3 * i + 3], qe[3 * j:3 * j + 3])))
-    return Schedule(np.array(starts), np.array([d.driver.motion.speed for d in drivers]))
+    laws = tuple(None if isinstance(d.driver.motion, MotionLaw) else d.driver.motion for d in drivers)
+    for k, law in enumerate(laws):
+        if law is not None:
+            starts[k] = law.start
+    return Schedule(np.array(starts), np.array([d.driver.motion.speed for d in drivers]),
+                    laws if any(law is not None for law in laws) else ())
 
 
 def _times(system: System, sched: Schedule, coordinates: np.ndarray | None) -> tuple[np.ndarray, bool]:
     """Times of the requested positions; whether they cover a full cycle."""
     a = system.model.analysis
+    if sched.law is not None:
+        if coordinates is not None:
+            raise ValueError(f"driver '{system.motion_drivers[0].name}' follows a {sched.law.kind} "
+                             "motion law: give the positions as times, analyze(..., times=...)")
+        n, law = a.positions, sched.law
+        t = (np.arange(n) * law.duration / n if law.cyclic
+             else np.linspace(0.0, law.duration, n) if n > 1 else np.zeros(1))
+        return t, law.cyclic
     w = sched.speed[0]
     period = 2 * np.pi if system.motion_drivers[0].joint.angular else np.inf
     if coordinates is not None:
@@ -154,7 +195,7 @@ def travel_conditions(system: System):
 
 def _extremes_and_events(system, drive, sched, t, q, qd, qdd, full):
     """Exact minima of travel conditions and the switching events of every load."""
-    period_t = 2 * np.pi / sched.reference if full else np.inf
+    period_t = sched.period if full else np.inf
     psi = drive(t)[0][..., 0]
     extremes: dict[int, float] = {}
     for c, k, p in travel_conditions(system):
@@ -217,7 +258,7 @@ def _state_near(system, drive, r, t, q, qd, qdd):
 
 
 def analyze(model: Model | System, *, positions: np.ndarray | None = None,
-            friction: bool | None = None, events: bool | None = None,
+            times: np.ndarray | None = None, friction: bool | None = None, events: bool | None = None,
             derivatives_by: str = "jacobian", step: float = np.radians(1.0),
             reachable: bool = False, kinematics_only: bool = False) -> Result:
     """Kinematics and kinetostatics over the positions of ``model.analysis``.
@@ -228,7 +269,10 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
         A loaded model, or a system built from one with ``build_system`` (reused).
     positions : array, optional
         Driver coordinates (rad, or m for a prismatic driver) to analyse instead
-        of ``analysis.positions``/``at``.
+        of ``analysis.positions``/``at`` (constant-speed drivers only).
+    times : array, optional
+        Times (s, from the start of the run) to analyse instead — for any
+        motion law; a non-monotone law is followed in time.
     friction : bool, optional
         Solve the friction solutions (default: when the model has friction).
     events : bool, optional
@@ -260,13 +304,22 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
                                f"analyze needs as many motion drivers as the mobility "
                                f"({system.structure.mobility}); the file has {n_motion}")])
     sched = _schedule(system)
-    t, full = _times(system, sched, positions)
-    if positions is None and model.analysis.at:
+    if times is not None and positions is not None:
+        raise ValueError("give positions (driver coordinates) or times, not both")
+    if times is not None:
+        t, full = np.asarray(times, dtype=float), False
+    else:
+        t, full = _times(system, sched, positions)
+    if positions is None and times is None and model.analysis.at:
         t = np.sort(t, kind="stable")                 # `at` rows take their place in the run
+    closing = full and sched.law is not None     # one period of the law: does the pose repeat?
     try:
-        sol: PositionSolution = solve_positions(system, t, sched)
+        sol: PositionSolution = solve_positions(system, np.append(t, sched.law.duration)
+                                                if closing else t, sched)
     except AssemblyError as exc:
-        if isinstance(exc, SingularConfigurationError) or positions is not None:
+        if sched.law is not None:
+            raise _law_out_of_reach(system, sched, exc) from None
+        if isinstance(exc, SingularConfigurationError) or positions is not None or times is not None:
             raise
         try:
             lo, hi = reachable_range(system, sched, float(np.max(t)) + 1e-9)
@@ -285,12 +338,16 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
         for k, tk in ((0, lo), (-1, hi)):             # the limit positions are singular positions
             sol.singular.append(Singularity(exc.group, tk, float(sched(np.array([tk]))[0][0, 0]),
                                             float(group_condition(system, sol.q[k], plan))))
+    if closing:
+        full = _same_pose(system, sol.q[-1], sol.q[0])
+        sol = replace(sol, q=sol.q[:-1], signatures=sol.signatures[:-1], iterations=sol.iterations[:-1])
     q = sol.q
     psi, psi_d, psi_dd = sched(t)
-    qd, qdd, lu = derivatives(system, q, psi_d, psi_dd)
-    if derivatives_by != "jacobian":
+    if derivatives_by == "jacobian":
+        qd, qdd, lu = derivatives(system, q, psi_d, psi_dd)
+    else:                             # no kinematic factors: the reactions build their own
         qd, qdd = difference_derivatives(system, sched, t, q, derivatives_by, step)
-        lu = None                     # the kinematic factors no longer describe (qd, qdd)
+        lu = None
     if kinematics_only:
         return _kinematics_result(system, sol, t, psi, q, qd, qdd, lu, full)
     extremes, evts = _extremes_and_events(system, sched, sched, t, q, qd, qdd, full)
@@ -315,6 +372,16 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
     return Result(system=system, t=t, coordinate=psi[..., 0], q=q, qd=qd, qdd=qdd, lam=x0,
                   columns=columns, units=units, events=tuple(evts), singular=tuple(sol.singular),
                   indeterminate=kin.indeterminate, full_cycle=full, extremes=extremes)
+
+
+def _same_pose(system: System, qa: np.ndarray, qb: np.ndarray) -> bool:
+    """Whether two poses agree (lengths to 1e-9·L_ref, angles to 1e-9 rad, modulo 2π): a law
+    that is periodic need not bring the linkage back (it may cross to the other assembly)."""
+    d = qa - qb
+    d[2::3] = (d[2::3] + np.pi) % (2 * np.pi) - np.pi
+    d[0::3] /= system.l_ref
+    d[1::3] /= system.l_ref
+    return bool(np.max(np.abs(d)) <= 1e-9)
 
 
 COND_WARN = 1e8
@@ -350,6 +417,34 @@ def _kinematics_result(system, sol, t, psi, q, qd, qdd, lu, full) -> Result:
     return Result(system=system, t=t, coordinate=psi[..., 0], q=q, qd=qd, qdd=qdd,
                   lam=np.zeros(q.shape[:-1] + (0,)), columns=columns, units=units,
                   singular=tuple(sol.singular), full_cycle=full)
+
+
+def _law_out_of_reach(system: System, sched: Schedule, exc: AssemblyError) -> AssemblyError:
+    """``exc`` with the law's range and the linkage's reachable range of the driver coordinate
+    added (from a constant-speed sweep of the first driver from the law's start)."""
+    law, d = sched.law, system.motion_drivers[0]
+    psi = law.value(0.0, np.linspace(0.0, law.duration, 4097))[0]
+    text = (f"{exc.args[0]}; following the {law.kind} law of {d.name} in time, the linkage "
+            f"assembles up to t = {getattr(exc, 't_reached', float('nan')):.6g} s; the law spans "
+            f"{_coordinate_range(d, psi.min(), psi.max())}")
+    if len(system.motion_drivers) == 1:
+        sweep = Schedule(np.array([law.start]), np.array([1.0]))
+        span = 2 * np.pi if d.joint.angular else 2 * float(np.ptp(psi)) + system.l_ref
+        try:
+            lo, hi = reachable_range(system, sweep, span)
+        except AssemblyError:
+            lo = hi = None
+        if lo is not None:
+            exc.reachable = (law.start + lo, law.start + hi)
+            text += f", the linkage reaches only {_coordinate_range(d, *exc.reachable)}"
+    exc.args = (text,)
+    return exc
+
+
+def _coordinate_range(d, a: float, b: float) -> str:
+    if d.joint.angular:
+        return f"{d.name} from {np.degrees(a):.4f}° to {np.degrees(b):.4f}°"
+    return f"{d.name} from {a * 1e3:.6g} mm to {b * 1e3:.6g} mm"
 
 
 def _range_text(system: System, sched: Schedule, lo: float, hi: float) -> str:

@@ -60,7 +60,8 @@ def _run(args) -> int:
     for e in s["events"]:
         print(f"event: {e['load']} {e['switch']} at {e['angle']:.3f}° ({e['condition']})")
     for sp in s["singular_positions"]:
-        print(f"singular position: {sp['group']} at {sp['angle']:.4f}° (condition {sp['condition']:.3g})")
+        print(f"singular position: {sp['group']} at {sp['angle']:.4f}°, t = {sp['time']:.6g} s "
+              f"(condition {sp['condition']:.3g})")
     if fw := s.get("flywheel"):
         line = (f"flywheel for delta = {fw['delta']:g}: J_F = {fw['inertia']['crank']:.4g} "
                 f"kg*m^2 on the crank ({fw['inertia']['crank_net']:.4g} less the machine's "

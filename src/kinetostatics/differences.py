@@ -30,7 +30,8 @@ def difference_derivatives(system: System, drive: Drive, t: np.ndarray, q: np.nd
         raise ValueError(f"unknown difference scheme '{scheme}'; choose one of {', '.join(SCHEMES)}")
     if not step > 0:
         raise ValueError(f"the difference step must be positive, got {step:g}")
-    rate = abs(float(drive(np.array([0.0]))[1][0, 0]))
+    reference = getattr(drive, "reference", None)      # a motion law's largest |ψ̇|
+    rate = reference if reference is not None else abs(float(drive(np.array([0.0]))[1][0, 0]))
     h = step / rate
     offsets = (1.0, 2.0) if scheme == "forward" else (-1.0, 1.0)
     tn = np.concatenate([t + o * h for o in offsets])

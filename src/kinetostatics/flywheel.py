@@ -28,7 +28,7 @@ import numpy as np
 
 from .analysis import analyze
 from .errors import Location, StructureError
-from .model import EffortLaw, Model
+from .model import EffortLaw, Model, MotionLaw
 from .results import Result
 from .system import System, build_system
 
@@ -95,7 +95,8 @@ class FlywheelDesign:
 def _one_dof(system: System):
     drivers = system.motion_drivers
     model = system.model
-    if len(drivers) != 1 or system.structure.mobility != 1 or not drivers[0].joint.angular:
+    if (len(drivers) != 1 or system.structure.mobility != 1 or not drivers[0].joint.angular
+            or not isinstance(drivers[0].driver.motion, MotionLaw)):
         raise StructureError([(Location(model.source, path="flywheel"),
                                "a flywheel needs a 1-DOF machine driven by one revolute "
                                "motion driver (a crank at constant speed)")])

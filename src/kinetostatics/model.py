@@ -35,7 +35,10 @@ class Link:
 
 @dataclass(frozen=True)
 class MotionLaw:
-    """A prescribed driver coordinate: constant ``speed`` (rad/s or m/s, signed)."""
+    """A prescribed driver coordinate: constant ``speed`` (rad/s or m/s, signed).
+
+    The other motion laws (harmonic, polynomial, table) are in
+    :mod:`kinetostatics.motion`, with the same ``value``/``speed`` interface."""
 
     speed: float
 
@@ -90,7 +93,7 @@ class Driver:
 
     name: str
     joint: str
-    motion: MotionLaw | None = None
+    motion: MotionLaw | None = None          # or a law of kinetostatics.motion
     effort: float | EffortLaw | None = None   # applied torque (N·m) or force (N): constant or law
     offset: float = 0.0
     points: tuple[str | None, str | None] = (None, None)

@@ -230,6 +230,8 @@ def analyze_for_pictures(model, *, positions: Sequence[float] = (), frames: int 
 
 def _abscissa(result) -> tuple[np.ndarray, str]:
     d = _driver(result)
+    if getattr(d.driver.motion, "kind", None) is not None:     # a motion law: ψ may reverse
+        return np.asarray(result["time"], dtype=float), f"time, s ({d.name}: {d.driver.motion.kind} law)"
     if d.joint.angular:
         start = math.degrees(result.system.model.analysis.start) % 360.0
         sense = "clockwise" if d.driver.motion.speed < 0 else "counter-clockwise"

@@ -427,9 +427,12 @@ def _hermite(ts, qs, qds, t):
 
 
 def _max_dt(system: System, t0: float, drive: Drive, step: float) -> float:
-    _, psi_d, _ = drive(np.array([t0]))
+    """The time step in which no driver moves by more than ``step`` (rad, or × L_ref):
+    from the drivers' reference speeds (a motion law's largest |ψ̇|), else from ψ̇(t0)."""
+    speeds = getattr(drive, "speed", None)
+    psi_d = np.atleast_1d(speeds) if speeds is not None else drive(np.array([t0]))[1][0]
     rates = [abs(v) if d.joint.angular else abs(v) / system.l_ref
-             for d, v in zip(system.motion_drivers, psi_d[0])]
+             for d, v in zip(system.motion_drivers, psi_d)]
     rate = max(rates, default=0.0)
     return step / rate if rate > 0 else step
 
@@ -517,6 +520,8 @@ def path_times(system: System, t: np.ndarray, drive: Drive) -> tuple[np.ndarray,
     coarse = _max_dt(system, 0.0, drive, COARSE_STEP)
     lo, hi = min(0.0, float(t.min())), max(0.0, float(t.max()))
     aux = np.linspace(lo, hi, int(np.ceil((hi - lo) / coarse)) + 2)
+    if getattr(drive, "laws", ()):              # where a law turns back, a group may touch a toggle
+        aux = np.concatenate((aux, drive.turning_times(lo, hi)))
     tt = np.concatenate((t, [0.0], aux))
     return tt, np.argsort(tt, kind="stable")
 

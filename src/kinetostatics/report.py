@@ -291,8 +291,10 @@ def _data_blocks(model, system) -> list:
     for d in model.drivers:
         if d.motion is not None:
             sp = d.motion.speed
-            rows.append([d.name, d.joint, f"{sp:+.6g} rad/s ({sp * 30 / math.pi:+.6g} rpm)"
-                         if model.joint(d.joint).angular else f"{sp:+.6g} m/s",
+            speed = (f"{sp:+.6g} rad/s ({sp * 30 / math.pi:+.6g} rpm)" if model.joint(d.joint).angular
+                     else f"{sp:+.6g} m/s")
+            law = getattr(d.motion, "kind", None)
+            rows.append([d.name, d.joint, f"{law} law, peak speed {speed}" if law else speed,
                          d.balance_at or d.joint])
         else:
             rows.append([d.name, d.joint, f"effort {d.effort}", ""])

@@ -35,7 +35,7 @@ def output_strokes(result) -> dict[str, dict[str, Any]]:
         ds = np.einsum("...n,...n->...", coordinate_gradient(system, result.q, k), result.qd)
         from .analysis import _find_roots, _schedule
         sched = _schedule(system)
-        period = 2 * np.pi / sched.reference
+        period = sched.period
 
         def f(q, qd, qdd, k=k):
             g = coordinate_gradient(system, q, k)
@@ -120,6 +120,7 @@ def summarize(result) -> dict[str, Any]:
                     "condition": e.condition, "switch": e.switch} for e in result.events],
         "indeterminate_reactions": bool(result.indeterminate),
         "singular_positions": [{"group": s.group, "angle": float(np.degrees(s.coordinate) % 360),
+                                "time": float(s.t),
                                 "condition": s.condition} for s in result.singular],
         "reaction_peaks": peaks,
         "drivers": drivers,

@@ -21,6 +21,7 @@ from .errors import Collector, KinetostaticsError, Location, ModelError, did_you
 from .joints import JOINT_TYPES, Joint
 from .model import (Analysis, Condition, Driver, EffortLaw, FlywheelSpec, Link, Load, Model,
                     MotionLaw)
+from .motion import HarmonicLaw, PolynomialLaw, TableLaw
 
 __all__ = ["load", "loads", "Entry", "MAX_FILE_BYTES", "MAX_NODES", "dump"]
 
@@ -888,36 +889,16 @@ class _Builder:
                     "or force)")
             return None
         motion = effort = None
-        if m is not None:
+        if m is not None and m.is_mapping and m.get("law") is not None:
+            motion = self._motion_law(m, joint)
+            if motion is None:
+                return None
+        elif m is not None:
             if not m.check_keys(required=("speed",)):
                 return None
-            s = m["speed"]
-            unit = self.ctx.unit_names.get("speed")
-            if unit and units.is_angular_speed(unit) != joint.angular:
-                if joint.angular:
-                    s.error(f"the speed unit '{unit}' (units.speed) is linear, but joint "
-                            f"'{joint.name}' is {joint.kind}: give units.speed as rpm, "
-                            "rad/s, deg/s or rev/s")
-                else:
-                    s.error(f"the speed unit '{unit}' (units.speed) is angular, but joint "
-                            f"'{joint.name}' is {joint.kind}: give units.speed as m/s, "
-                            "mm/s or cm/s")
+            motion = self._constant_speed(m, joint)
+            if motion is None:
                 return None
-            v = s.number("speed")
-            if v is not None and v == 0.0:
-                s.error("the speed must not be zero (its sign gives the sense of motion)")
-                return None
-            if v is not None and not SPEED_RANGE[0] <= abs(v) <= SPEED_RANGE[1]:
-                si = "rad/s" if joint.angular else "m/s"
-                given = self.ctx.unit_names.get("speed", si)
-                written = f"{v / self.ctx.units['speed']:g} {given}" + (
-                    f" ({v:g} {si})" if given != si else "")
-                s.error(f"the speed is {written}; its magnitude must be from "
-                        f"{SPEED_RANGE[0]:g} to {SPEED_RANGE[1]:g} {si}")
-                return None
-            if v is None:
-                return None
-            motion = MotionLaw(v)
         else:
             effort = self._effort(f, joint)
             if effort is None:
@@ -943,6 +924,106 @@ class _Builder:
                 b.error("balance_at needs a motion driver")
                 return None
         return Driver(name, joint.name, motion, effort, offset, pts, balance, where)
+
+    def _constant_speed(self, m: Entry, joint: Joint) -> MotionLaw | None:
+        """``motion: {speed: v}``: constant speed, signed (rad/s or m/s)."""
+        s = m["speed"]
+        unit = self.ctx.unit_names.get("speed")
+        if unit and units.is_angular_speed(unit) != joint.angular:
+            if joint.angular:
+                s.error(f"the speed unit '{unit}' (units.speed) is linear, but joint "
+                        f"'{joint.name}' is {joint.kind}: give units.speed as rpm, "
+                        "rad/s, deg/s or rev/s")
+            else:
+                s.error(f"the speed unit '{unit}' (units.speed) is angular, but joint "
+                        f"'{joint.name}' is {joint.kind}: give units.speed as m/s, "
+                        "mm/s or cm/s")
+            return None
+        v = s.number("speed")
+        if v is not None and v == 0.0:
+            s.error("the speed must not be zero (its sign gives the sense of motion)")
+            return None
+        if v is not None and not SPEED_RANGE[0] <= abs(v) <= SPEED_RANGE[1]:
+            si = "rad/s" if joint.angular else "m/s"
+            given = self.ctx.unit_names.get("speed", si)
+            written = f"{v / self.ctx.units['speed']:g} {given}" + (
+                f" ({v:g} {si})" if given != si else "")
+            s.error(f"the speed is {written}; its magnitude must be from "
+                    f"{SPEED_RANGE[0]:g} to {SPEED_RANGE[1]:g} {si}")
+            return None
+        if v is None:
+            return None
+        return MotionLaw(v)
+
+    def _motion_law(self, m: Entry, joint: Joint):
+        """``motion: {law: constant | harmonic | polynomial | table, ...}`` (see docs/yaml.md)."""
+        law = m["law"].text()
+        keys = {"constant": (("speed",), ()), "harmonic": (("centre", "amplitude", "period"), ("phase",)),
+                "polynomial": (("coefficients", "duration"), ()), "table": (("time", "value"), ("periodic",))}
+        if law not in keys:
+            if law is not None:
+                m["law"].error(f"unknown motion law '{law}'{did_you_mean(law, keys)}; "
+                               f"expected one of: {', '.join(keys)}")
+            return None
+        required, optional = keys[law]
+        if not m.check_keys(required=required, optional=("law",) + required + optional):
+            return None
+        if law == "constant":
+            return self._constant_speed(m, joint)
+        kind = "angle" if joint.angular else "length"
+        si = "rad" if joint.angular else "m"
+        if law == "harmonic":
+            centre, amplitude = m["centre"].number(kind), m["amplitude"].number(kind)
+            period = m["period"].number("time", minimum=0.0, strict=True)
+            phase = m["phase"].number("angle") if m.get("phase") is not None else 0.0
+            if amplitude is not None and amplitude == 0.0:
+                m["amplitude"].error("the amplitude must not be zero (the driver would not move)")
+                return None
+            if None in (centre, amplitude, period, phase):
+                return None
+            return HarmonicLaw(centre, amplitude, period, phase)
+        if law == "polynomial":
+            items = m["coefficients"].seq()
+            duration = m["duration"].number("time", minimum=0.0, strict=True)
+            if items is None or duration is None:
+                return None
+            if not 2 <= len(items) <= 11:
+                m["coefficients"].error(f"give from 2 to 11 coefficients c0, c1, … (ψ = c0 + c1·t + "
+                                        f"c2·t² + …), got {len(items)}")
+                return None
+            raw = [x.raw_number() for x in items]
+            if any(v is None for v in raw):
+                return None
+            scale, tscale = self.ctx.units[kind], self.ctx.units["time"]
+            coef = tuple(v * scale / tscale ** k for k, v in enumerate(raw))
+            if not any(coef[1:]):
+                m["coefficients"].error("the coefficients c1, c2, … are all zero: the driver would "
+                                        "not move")
+                return None
+            return PolynomialLaw(coef, duration)
+        t_items, v_items = m["time"].seq(), m["value"].seq()
+        periodic = m["periodic"].boolean() if m.get("periodic") is not None else False
+        if t_items is None or v_items is None or periodic is None:
+            return None
+        if len(t_items) != len(v_items) or len(t_items) < 3:
+            m.error(f"time and value need the same number of entries, at least 3 "
+                    f"(got {len(t_items)} and {len(v_items)})")
+            return None
+        times = [x.number("time") for x in t_items]
+        values = [x.number(kind) for x in v_items]
+        if any(v is None for v in times + values):
+            return None
+        if np.any(np.diff(times) <= 0):
+            m["time"].error("the times must increase")
+            return None
+        if periodic and abs(values[-1] - values[0]) > 1e-12 * max(map(abs, values)):
+            m["value"].error(f"a periodic table must end where it starts: first value "
+                             f"{values[0]:g} {si}, last {values[-1]:g} {si} (SI)")
+            return None
+        if np.ptp(values) == 0.0:
+            m["value"].error("all values are equal: the driver would not move")
+            return None
+        return TableLaw(tuple(times), tuple(values), bool(periodic))
 
     def _effort(self, f: Entry, joint: Joint) -> float | EffortLaw | None:
         """``effort:`` a number (constant), or one of ``{table: {at, value}}`` (over the
@@ -1227,6 +1308,12 @@ class _Builder:
                     if not self.broken["driver"] and "driver" not in self.lost:
                         c["angle"].error("an angle condition needs a motion driver")
                     return None
+                first = next(d for d in drivers if d.motion is not None)
+                if not isinstance(first.motion, MotionLaw):
+                    c["angle"].error(f"an angle condition needs a constant-speed driver; "
+                                     f"'{first.name}' follows a {first.motion.kind} law (use a "
+                                     "travel or moving condition)")
+                    return None
                 out.append(Condition("angle", bounds=(b[0], b[1]), where=c.where))
         return out
 
@@ -1258,10 +1345,12 @@ class _Builder:
 
     def _analysis(self, joints, drivers, links=()) -> Analysis:
         a = self.top.get("analysis")
+        motion = [d for d in drivers if d.motion is not None]
+        if motion and not isinstance(motion[0].motion, MotionLaw):
+            return self._law_analysis(a, motion[0])
         if a is None or not a.check_keys(optional=("start", "sweep", "positions", "at", "events")):
             return Analysis()
         by_name = {j.name: j for j in joints}
-        motion = [d for d in drivers if d.motion is not None]
         kind = "angle" if not motion or by_name[motion[0].joint].angular else "length"
         unit = self.ctx.unit_names.get(kind, units.SI_UNITS[kind])
         start = a["start"].number(kind) if a.get("start") is not None else 0.0
@@ -1278,13 +1367,7 @@ class _Builder:
                 sweep = None
         elif kind == "length":
             a.error("a prismatic driver needs analysis.sweep (the travel to analyse)")
-        n = 360
-        if (pe := a.get("positions")) is not None:
-            v = pe.number(None)
-            if v is not None and (v != int(v) or not 1 <= v <= MAX_POSITIONS):
-                pe.error(f"positions must be a whole number from 1 to {MAX_POSITIONS}, got {v:g}")
-            elif v is not None:
-                n = int(v)
+        n = self._positions(a)
         at: tuple[float, ...] = ()
         if (ae := a.get("at")) is not None and (items := ae.seq()) is not None:
             vals = [e.number(kind) for e in items]
@@ -1298,6 +1381,32 @@ class _Builder:
             at = tuple(v for v in vals if v is not None)
         events = a["events"].boolean() if a.get("events") is not None else False
         return Analysis(start or 0.0, sweep or 2 * np.pi, n, at, bool(events))
+
+    def _positions(self, a: Entry) -> int:
+        """``analysis.positions`` (default 360)."""
+        if (pe := a.get("positions")) is not None:
+            v = pe.number(None)
+            if v is not None and (v != int(v) or not 1 <= v <= MAX_POSITIONS):
+                pe.error(f"positions must be a whole number from 1 to {MAX_POSITIONS}, got {v:g}")
+            elif v is not None:
+                return int(v)
+        return 360
+
+    def _law_analysis(self, a: Entry | None, driver: Driver) -> Analysis:
+        """``analysis`` when the first driver follows a motion law: the law fixes where the run
+        starts and what it covers, so only ``positions`` and ``events`` apply."""
+        if a is None or not a.check_keys(optional=("start", "sweep", "positions", "at", "events")):
+            return Analysis(driver.motion.start)
+        for key in ("start", "sweep", "at"):
+            if a.get(key) is not None:
+                self.ctx.problems.add(
+                    a.key_where(key), f"{key} does not apply: driver '{driver.name}' follows a "
+                    f"{driver.motion.kind} motion law, which gives the coordinate at every time "
+                    f"(the run covers {'one period' if driver.motion.cyclic else 'its duration'}; "
+                    "set analysis.positions, or analyze(..., times=...))")
+        n = self._positions(a)
+        events = a["events"].boolean() if a.get("events") is not None else False
+        return Analysis(driver.motion.start, 2 * np.pi, n, (), bool(events))
 
     def _too_far(self, raw: float, kind: str, unit: str, links) -> str | None:
         """Why a driver-coordinate range ``raw`` (file units) is too long to analyse, if it is:
@@ -1382,7 +1491,8 @@ def dump(model: Model) -> str:
         for d in model.drivers:
             spec = {"joint": d.joint}
             if d.motion is not None:
-                spec["motion"] = {"speed": d.motion.speed}
+                spec["motion"] = ({"speed": d.motion.speed} if isinstance(d.motion, MotionLaw)
+                                  else d.motion.to_spec())
             if isinstance(d.effort, EffortLaw):
                 spec["effort"] = _effort_spec(d.effort)
             elif d.effort is not None:
@@ -1395,8 +1505,12 @@ def dump(model: Model) -> str:
     if model.sketch:
         doc["sketch"] = {k: [float(c) for c in v] for k, v in model.sketch.items()}
     a = model.analysis
-    doc["analysis"] = {"start": a.start, "sweep": a.sweep, "positions": a.positions,
-                       "at": list(a.at), "events": a.events}
+    motion = [d for d in model.drivers if d.motion is not None]
+    if motion and not isinstance(motion[0].motion, MotionLaw):    # the law fixes start and span
+        doc["analysis"] = {"positions": a.positions, "events": a.events}
+    else:
+        doc["analysis"] = {"start": a.start, "sweep": a.sweep, "positions": a.positions,
+                           "at": list(a.at), "events": a.events}
     if model.flywheel is not None:
         f = model.flywheel
         doc["flywheel"] = {"delta": f.delta, "friction": f.friction,

@@ -169,6 +169,20 @@ def kinematics(p: SliderCrank, phi1) -> dict:
     }
 
 
+def state(p: SliderCrank, phi1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(q, q̇, q̈) ``(n, 9)`` in the library's coordinate layout: crank, rod,
+    slider, each (x, y of the centre of mass, θ of the link's local x axis)."""
+    k = kinematics(p, phi1)
+    z = np.zeros_like(k["phi2"])
+    q = np.stack([k["S1_x"], k["S1_y"], k["phi1"], k["S2_x"], k["S2_y"],
+                  k["phi2"], k["xB"], k["yB"], z], -1)
+    qd = np.stack([k["S1_vx"], k["S1_vy"], k["omega1"], k["S2_vx"], k["S2_vy"], k["omega2"],
+                   k["vB"], z, z], -1)
+    qdd = np.stack([k["S1_ax"], k["S1_ay"], k["alpha1"], k["S2_ax"], k["S2_ay"], k["alpha2"],
+                    k["aB"], z, z], -1)
+    return q, qd, qdd
+
+
 def relative_speeds(p: SliderCrank, phi1) -> dict:
     """Relative speeds of the joints, second link minus first link.
 

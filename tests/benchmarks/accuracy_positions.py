@@ -14,11 +14,11 @@ Iterations: *batch* = Newton iterations of the final batch per position (summed
 over the groups; mean / max); *all* = every Newton iteration of the solve
 (continuation, batch, fallback) per position.  Errors against the closed form
 of tests/oracles/slider_crank_closed_form.py: pose = max |Δx|, |Δy| / L_ref and
-|Δθ| (rad); q̇, q̈ as in docs/scripts/accuracy_derivatives.py (from the exact
+|Δθ| (rad); q̇, q̈ as in tests/benchmarks/accuracy_derivatives.py (from the exact
 Jacobian solve at the computed positions).  For the slotting machine the
 reference is the fast path.
 
-    python docs/scripts/accuracy_positions.py [--quick] [--update]
+    python tests/benchmarks/accuracy_positions.py [--quick] [--update]
 """
 
 from __future__ import annotations
@@ -117,13 +117,18 @@ def build(timing: bool = True):
         m = measure("slider_crank", True, timing, TOL=tol)
         row(tab, "general (Newton)", f"{tol:.0e}", "30°", *m[:3])
         pts_tol.append((tol, *m[:3]))
+    pts_step = []
     for deg in STEPS_DEG:
         if deg == 30:
+            m = next(p[1:] for p in pts_tol if p[0] == positions.TOL)
+            pts_step.append((deg, *m))
             continue
         m = measure("slider_crank", True, timing, COARSE_STEP=np.radians(deg))
         row(tab, "general (Newton)", "1e-12", f"{deg}°", *m[:3])
+        pts_step.append((deg, *m[:3]))
     blocks["positions-slider_crank"] = tab.markdown()
     points["tol"] = (fast, pts_tol)
+    points["step"] = pts_step
     # hard case and a mechanism without an independent oracle
     tab = header()
     for name, label in (("tests/hard/slider_crank_edge.yaml", "slider-crank at the edge of assembly"),
@@ -138,32 +143,40 @@ def build(timing: bool = True):
     def plot():
         import matplotlib.pyplot as plt
         fast, pts = points["tol"]
-        fig, axes = plt.subplots(1, 2, figsize=(10.5, 4))
+        fig, axes = plt.subplots(1, 3, figsize=(15, 4.3))
         tol = [p[0] for p in pts]
         for k, label in enumerate(("pose", "q̇", "q̈")):
-            axes[0].loglog(tol, [max(p[2][k], 1e-17) for p in pts], "o-", label=f"general: {label}")
+            axes[0].loglog(tol, [max(p[2][k], 1e-17) for p in pts], "o-", color=f"C{k}",
+                           label=f"general: {label}")
             axes[0].axhline(max(fast[1][k], 1e-17), ls=":", color=f"C{k}", label=f"fast path: {label}")
-        axes[0].set_xlabel("Newton tolerance TOL (× L_ref, rad)")
-        axes[0].set_ylabel("error against the closed form")
-        axes[0].set_title("slider-crank: error against TOL")
+        axes[0].set_xlabel("Newton tolerance TOL (× L_ref for lengths, rad)")
+        axes[0].set_ylabel("relative error against the closed form")
+        axes[0].set_title("slider-crank, 360 positions: error against TOL", fontsize=10)
         axes[0].legend(fontsize=7)
         axes[0].grid(True, which="both", alpha=0.3)
-        ax = axes[1]
-        ax.semilogx(tol, [p[3][0] * 1e3 for p in pts], "o-", label="general path")
-        ax.axhline(fast[2][0] * 1e3, ls=":", color="k", label="fast path")
-        ax2 = ax.twinx()
-        ax2.semilogx(tol, [p[1][2] for p in pts], "s--", color="C3", label="all iterations / position")
-        ax.set_xlabel("Newton tolerance TOL")
-        ax.set_ylabel("positions, 360 [ms]")
-        ax2.set_ylabel("Newton iterations per position", color="C3")
-        ax.set_title("slider-crank: cost against TOL")
-        ax.legend(fontsize=7, loc="upper right")
-        ax.grid(True, which="both", alpha=0.3)
-        fig.tight_layout()
-        path = ac.IMG / "accuracy_positions.png"
-        fig.savefig(path, dpi=110)
-        plt.close(fig)
-        return [path]
+
+        def cost(ax, x, times, iters, xlabel, title, logx=True):
+            (ax.loglog if logx else ax.semilogy)(x, [t * 1e3 for t in times], "o-", color="C0",
+                                                 label="general path (Newton), 360 positions")
+            ax.axhline(fast[2][0] * 1e3, ls=":", color="k", label="fast path (closed-form dyads)")
+            ax.set_xlabel(xlabel)
+            ax.set_ylabel("positions stage, 360 positions [ms] (log)")
+            ax.set_title(title, fontsize=10)
+            ax.grid(True, which="both", alpha=0.3)
+            tw = ax.twinx()
+            tw.plot(x, iters, "s--", color="C3", label="Newton iterations per position (all)")
+            tw.set_ylabel("Newton iterations per position", color="C3")
+            tw.set_ylim(0, max(iters) * 1.2)
+            h1, l1 = ax.get_legend_handles_labels()
+            h2, l2 = tw.get_legend_handles_labels()
+            ax.legend(h1 + h2, l1 + l2, fontsize=7, loc="lower left")
+        cost(axes[1], tol, [p[3][0] for p in pts], [p[1][2] for p in pts],
+             "Newton tolerance TOL", "cost against TOL (coarse step 30°)")
+        steps = points["step"]
+        cost(axes[2], [p[0] for p in steps], [p[3][0] for p in steps], [p[1][2] for p in steps],
+             "prediction (coarse continuation) step [deg]", "cost against the prediction step "
+             "(TOL 1e-12)", logx=False)
+        return ac.save_figure(fig, "accuracy_positions.png")
     return blocks, (plot if timing else None)
 
 

@@ -8,7 +8,7 @@ stages.  The model is the shipped file with ``analysis.positions`` set to n
 divides every row by n.  The last rows time the whole ``ks.analyze`` and the
 ``run`` outputs (results.csv, summary.json) for comparison with the sum.
 
-    python docs/scripts/accuracy_stages.py [--quick] [--update]
+    python tests/benchmarks/accuracy_stages.py [--quick] [--update]
 """
 
 from __future__ import annotations
@@ -29,7 +29,8 @@ from kinetostatics.positions import (_assemble_start, condition_number, derivati
                                      solve_positions)
 from kinetostatics.reactions import effort_joints, ground_reaction
 from kinetostatics.results import Result, build_columns
-from kinetostatics.system import coordinate_gradient
+from kinetostatics._linalg import BlockFactor
+from kinetostatics.system import coordinate_gradient, gamma, jacobian, nu
 
 NAMES = ("slider_crank", "slotting_machine")
 SIZES = (360, 36_000)
@@ -77,8 +78,16 @@ def stage_times(name: str, n: int, timing: bool):
     rows.append(("positions", T(lambda: solve_positions(system, t, sched)), False))
     q = sol.q
     psi, psi_d, psi_dd = sched(t)
-    rows.append(("velocities + accelerations", T(lambda: derivatives(system, q, psi_d, psi_dd)), False))
-    qd, qdd, lu = derivatives(system, q, psi_d, psi_dd)
+    blocks = [(p.rows, p.cols) for p in system.plans]
+
+    def velocities():
+        lu = BlockFactor(jacobian(system, q), blocks)
+        return lu, lu.solve(nu(system, psi_d))
+    rows.append(("velocities (Φ_q, block inverses, solve ν)", T(velocities), False))
+    lu, qd = velocities()
+    rows.append(("accelerations (γ, solve)", T(lambda: lu.solve(gamma(system, q, qd, psi_dd))), False))
+    qdd = lu.solve(gamma(system, q, qd, psi_dd))
+    assert all(np.array_equal(a, b) for a, b in zip((qd, qdd), derivatives(system, q, psi_d, psi_dd)))
     ev = lambda: _extremes_and_events(system, sched, sched, t, q, qd, qdd, full)  # noqa: E731
     rows.append(("load switching events, travel extremes", T(ev), False))
     extremes, _ = ev()
@@ -96,12 +105,11 @@ def stage_times(name: str, n: int, timing: bool):
 
     def approx():
         fs = fr.setup(system, q, qd, sched.reference)
-        a_inv = np.swapaxes(lu.inverse(), -1, -2)
-        return fs, a_inv, fr.approximate(system, fs, a_inv, q_load, x0)
-    rows.append(("friction: approximate (setup, Φ_q⁻¹, one solve)", T(approx), False))
-    fs, a_inv, (xa, ea) = approx()
+        return fs, fr.approximate(system, fs, lu.solve_transposed, q_load, x0)
+    rows.append(("friction: approximate (setup, one back substitution)", T(approx), False))
+    fs, (xa, ea) = approx()
     a = np.swapaxes(lu.jac, -1, -2)
-    cons_f = lambda: fr.consistent(system, fs, a, a_inv, q_load, x0)  # noqa: E731
+    cons_f = lambda: fr.consistent(system, fs, a, lu.solve_transposed, q_load, x0)  # noqa: E731
     rows.append(("friction: consistent", T(cons_f), False))
     cons = cons_f()
     rows.append(("power balance", T(lambda: power_terms(system, q, qd, qdd, x0, q_grav, q_ext, cons, fs)),
@@ -164,7 +172,7 @@ def build(timing: bool = True):
 
     def plot():
         import matplotlib.pyplot as plt
-        fig, axes = plt.subplots(1, len(NAMES), figsize=(12, 5), sharex=False)
+        fig, axes = plt.subplots(1, len(NAMES), figsize=(14, 5.5), sharex=False)
         for ax, name in zip(np.atleast_1d(axes), NAMES):
             rows = data[name]
             labels = [s for s, _, once in rows[360] if once is False]
@@ -176,15 +184,11 @@ def build(timing: bool = True):
             ax.set_yticks(y, labels, fontsize=7)
             ax.invert_yaxis()
             ax.set_xscale("log")
-            ax.set_xlabel("µs per position")
-            ax.set_title(name)
+            ax.set_xlabel("wall time per position [µs] (log scale)")
+            ax.set_title(f"{name}: cost of each stage")
             ax.grid(True, axis="x", which="both", alpha=0.3)
             ax.legend(fontsize=7)
-        fig.tight_layout()
-        path = ac.IMG / "accuracy_stages.png"
-        fig.savefig(path, dpi=110)
-        plt.close(fig)
-        return [path]
+        return ac.save_figure(fig, "accuracy_stages.png")
     return blocks, (plot if timing else None)
 
 

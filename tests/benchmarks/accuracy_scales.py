@@ -7,7 +7,7 @@ largest condition number of the RRP dyad over the cycle when every length of
 the micro slider-crank is multiplied by a factor (the mechanism is the same up
 to scale).
 
-    python docs/scripts/accuracy_scales.py [--update]
+    python tests/benchmarks/accuracy_scales.py [--update]
 """
 
 from __future__ import annotations

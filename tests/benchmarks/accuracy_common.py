@@ -1,4 +1,4 @@
-"""Shared helpers of the ``docs/scripts/accuracy_*.py`` scripts (docs/accuracy.md).
+"""Shared helpers of the ``tests/benchmarks/accuracy_*.py`` scripts (docs/accuracy.md).
 
 Each script prints Markdown blocks between ``<!-- BEGIN accuracy:<name> -->``
 and ``<!-- END accuracy:<name> -->``; ``--update`` rewrites the same blocks in
@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[2]
-for p in (ROOT, ROOT / "tests" / "benchmarks"):
+for p in (ROOT, ROOT / "tests" / "benchmarks", ROOT / "docs" / "scripts"):
     if str(p) not in sys.path:
         sys.path.insert(0, str(p))
 
@@ -90,17 +90,9 @@ def pose_error(system: ks.System, q: np.ndarray, ref: np.ndarray) -> float:
 
 
 def slider_crank_state(p, phi: np.ndarray):
-    """(q, q̇, q̈) of the closed form in the library's layout: crank, rod, slider
-    (x, y of the centre of mass, θ of the link's local x axis)."""
+    """(q, q̇, q̈) of the closed form in the library's layout (tests/oracles)."""
     from tests.oracles import slider_crank_closed_form as cf
-    k = cf.kinematics(p, phi)
-    z = np.zeros_like(phi)
-    q = np.stack([k["S1_x"], k["S1_y"], phi, k["S2_x"], k["S2_y"], k["phi2"], k["xB"], k["yB"], z], -1)
-    qd = np.stack([k["S1_vx"], k["S1_vy"], k["omega1"], k["S2_vx"], k["S2_vy"], k["omega2"],
-                   k["vB"], z, z], -1)
-    qdd = np.stack([k["S1_ax"], k["S1_ay"], k["alpha1"], k["S2_ax"], k["S2_ay"], k["alpha2"],
-                    k["aB"], z, z], -1)
-    return q, qd, qdd
+    return cf.state(p, phi)
 
 
 # ------------------------------------------------------------------ tables
@@ -147,6 +139,16 @@ def update_doc(blocks: dict[str, str]) -> None:
             raise SystemExit(f"docs/accuracy.md has no block accuracy:{name}")
         text = pat.sub(lambda m: block(name, body), text)
     DOC.write_text(text)
+
+
+def save_figure(fig, name: str) -> list[Path]:
+    """Lay out, write ``docs/img/<name>`` and close a figure; the list of paths written."""
+    import matplotlib.pyplot as plt
+    fig.tight_layout()
+    path = IMG / name
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return [path]
 
 
 def main(build, argv=None) -> None:

@@ -1,0 +1,177 @@
+"""Motion laws of a driver other than constant speed: ψ(t), ψ̇(t), ψ̈(t) exactly.
+
+Constant speed is :class:`kinetostatics.model.MotionLaw`.  The laws here give
+the driver coordinate ψ (rad, or m for a prismatic driver) as a function of
+the time t (s) from the first position of the run, with its first and second
+derivatives in closed form (no differences).  Each is plain frozen data
+(built by ``yaml_io`` from ``drivers.<name>.motion``) with the same small
+interface:
+
+* ``value(start, t) -> (ψ, ψ̇, ψ̈)`` — ``start`` is ignored (the law fixes ψ(0));
+* ``start`` — ψ(0);
+* ``speed`` — the *reference speed* (rad/s or m/s), signed: the largest |ψ̇|
+  over the run, with the sign of the first motion (it scales the zero-speed
+  thresholds and the continuation step, as the speed of a constant-speed law);
+* ``duration`` (s) — the time a run covers; ``cyclic`` — whether ψ(duration)
+  = ψ(0) with the same derivatives (a run then does not repeat its end point);
+* ``to_spec()`` — the YAML ``motion:`` mapping in SI.
+
+>>> law = HarmonicLaw(centre=1.0, amplitude=0.5, period=2.0)
+>>> [round(float(x), 12) for x in law.value(0.0, 0.5)]
+[1.5, 0.0, -4.934802200545]
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import numpy as np
+
+__all__ = ["HarmonicLaw", "PolynomialLaw", "TableLaw", "LAWS", "turning_times"]
+
+_SAMPLES = 4097            # points at which the peak speed of a polynomial/table law is sampled
+
+
+def _peak(law, t: np.ndarray) -> float:
+    """Signed reference speed: max |ψ̇| on the samples, sign of the first non-zero ψ̇."""
+    psi_d = law.value(0.0, t)[1]
+    moving = np.nonzero(np.abs(psi_d) > 1e-12 * np.max(np.abs(psi_d), initial=0.0))[0]
+    sign = np.sign(psi_d[moving[0]]) if moving.size else 1.0
+    return float(sign * np.max(np.abs(psi_d), initial=0.0))
+
+
+@dataclass(frozen=True)
+class HarmonicLaw:
+    """ψ = centre + amplitude·sin(2π t / period + phase); one period is one cycle."""
+
+    centre: float
+    amplitude: float
+    period: float                # s
+    phase: float = 0.0           # rad
+    kind = "harmonic"
+    cyclic = True
+
+    @property
+    def omega(self) -> float:
+        return 2.0 * np.pi / self.period
+
+    def value(self, start, t):
+        arg = self.omega * np.asarray(t, dtype=float) + self.phase
+        s, c = np.sin(arg), np.cos(arg)
+        a, w = self.amplitude, self.omega
+        return self.centre + a * s, a * w * c, -a * w * w * s
+
+    @property
+    def start(self) -> float:
+        return float(self.value(0.0, 0.0)[0])
+
+    @property
+    def speed(self) -> float:
+        c = np.cos(self.phase)
+        sign = np.sign(self.amplitude * c) if abs(c) > 1e-12 else -np.sign(self.amplitude * np.sin(self.phase))
+        return float(sign * abs(self.amplitude) * self.omega)
+
+    @property
+    def duration(self) -> float:
+        return self.period
+
+    def to_spec(self) -> dict:
+        return {"law": "harmonic", "centre": self.centre, "amplitude": self.amplitude,
+                "period": self.period, "phase": self.phase}
+
+
+@dataclass(frozen=True)
+class PolynomialLaw:
+    """ψ = Σ_k c_k t^k over 0 ≤ t ≤ ``duration``."""
+
+    coefficients: tuple[float, ...]
+    duration: float              # s
+    kind = "polynomial"
+    cyclic = False
+
+    def value(self, start, t):
+        t = np.asarray(t, dtype=float)
+        c = np.asarray(self.coefficients, dtype=float)
+        d1 = c[1:] * np.arange(1, len(c))
+        d2 = d1[1:] * np.arange(1, len(d1))
+        ev = lambda p: np.polynomial.polynomial.polyval(t, p) if len(p) else np.zeros_like(t)  # noqa: E731
+        return ev(c), ev(d1), ev(d2)
+
+    @property
+    def start(self) -> float:
+        return float(self.coefficients[0])
+
+    @cached_property
+    def speed(self) -> float:
+        return _peak(self, np.linspace(0.0, self.duration, _SAMPLES))
+
+    def to_spec(self) -> dict:
+        return {"law": "polynomial", "coefficients": list(self.coefficients), "duration": self.duration}
+
+
+@dataclass(frozen=True)
+class TableLaw:
+    """ψ through the points (``time``, ``values``): a C² cubic spline (not-a-knot
+    ends, or periodic when ``periodic``); time 0 of the run is ``time[0]``."""
+
+    time: tuple[float, ...]
+    values: tuple[float, ...]
+    periodic: bool = False
+    kind = "table"
+    _spline: object = field(default=None, init=False, repr=False, compare=False)
+
+    def __post_init__(self):
+        from scipy.interpolate import CubicSpline        # only a table law needs it
+        t = np.asarray(self.time, dtype=float)
+        spline = CubicSpline(t - t[0], np.asarray(self.values, dtype=float),
+                             bc_type="periodic" if self.periodic else "not-a-knot")
+        object.__setattr__(self, "_spline", spline)
+
+    @property
+    def cyclic(self) -> bool:
+        return self.periodic
+
+    def value(self, start, t):
+        t = np.asarray(t, dtype=float)
+        s = self._spline
+        return s(t), s(t, 1), s(t, 2)
+
+    @property
+    def start(self) -> float:
+        return float(self.values[0])
+
+    @property
+    def duration(self) -> float:
+        return float(self.time[-1] - self.time[0])
+
+    @cached_property
+    def speed(self) -> float:
+        return _peak(self, np.linspace(0.0, self.duration, _SAMPLES))
+
+    def to_spec(self) -> dict:
+        spec = {"law": "table", "time": list(self.time), "value": list(self.values)}
+        if self.periodic:
+            spec["periodic"] = True
+        return spec
+
+
+def turning_times(law, lo: float, hi: float, samples: int = 4097) -> np.ndarray:
+    """Times in [lo, hi] where ψ̇ = 0 (the law turns back): sign changes of ψ̇ on
+    ``samples`` points, refined by Newton's method on ψ̇ with the exact ψ̈.
+
+    >>> turning_times(HarmonicLaw(0.0, 1.0, 4.0), 0.0, 4.0)
+    array([1., 3.])
+    """
+    t = np.linspace(lo, hi, samples)
+    v = law.value(0.0, t)[1]
+    k = np.nonzero((v[:-1] * v[1:] < 0) | (v[:-1] == 0))[0]
+    a, b = t[k], t[k + 1]
+    r = np.where(v[k] == 0, a, a - v[k] * (b - a) / np.where(v[k + 1] != v[k], v[k + 1] - v[k], 1.0))
+    for _ in range(8):
+        _, vd, vdd = law.value(0.0, r)
+        r = np.clip(r - np.divide(vd, vdd, out=np.zeros_like(r), where=vdd != 0), a, b)
+    return r
+
+
+LAWS = {law.kind: law for law in (HarmonicLaw, PolynomialLaw, TableLaw)}
