@@ -24,7 +24,7 @@ import numpy as np
 from .analysis import Schedule, _times, kinetics
 from .dyads import MARGIN, closed_form
 from .forces import point_state
-from .model import Model
+from .model import Model, MotionLaw
 from .positions import TOL, _signature, derivatives, group_condition, initial_guess
 from .stacking import stack
 from .system import System, build_system, jacobian, phi
@@ -61,7 +61,11 @@ def _schedule(system: System) -> Schedule:
     drivers = system.motion_drivers
     if len(drivers) != 1 or system.structure.mobility != 1:
         raise Unsupported("more than one motion driver")
-    speed = drivers[0].driver.motion.speed
+    motion = drivers[0].driver.motion
+    if not isinstance(motion, MotionLaw) or getattr(motion, "acceleration", 0.0) \
+            or getattr(motion, "start", None) is not None:
+        raise Unsupported("a motion law other than constant speed")
+    speed = motion.speed
     start = model.analysis.start
     if np.ndim(speed) or np.ndim(start) or np.ndim(model.analysis.sweep):
         raise Unsupported("the driver's speed or the analysed range differs between variants")
