@@ -25,15 +25,21 @@ __all__ = ["analyze", "kinetics", "Kinetics", "Schedule", "Event", "numerical_mo
 
 @dataclass(frozen=True)
 class Schedule:
-    """Motion drivers' laws: ψ_d(t) = start_d + speed_d·t."""
+    """Motion drivers' laws: ψ_d(t) = start_d + speed_d·t + ½·acceleration_d·t²."""
 
     start: np.ndarray          # (n_d,)
     speed: np.ndarray          # (n_d,)
+    acceleration: np.ndarray | None = None   # (n_d,); None: constant speeds
 
     def __call__(self, t):
         t = np.asarray(t, dtype=float)[..., None]
-        return (self.start + self.speed * t, np.broadcast_to(self.speed, t.shape[:-1] + self.speed.shape),
-                np.zeros(t.shape[:-1] + self.speed.shape))
+        shape = t.shape[:-1] + self.speed.shape
+        if self.acceleration is None:
+            return (self.start + self.speed * t, np.broadcast_to(self.speed, shape),
+                    np.zeros(shape))
+        a = self.acceleration
+        return (self.start + self.speed * t + 0.5 * a * t * t, self.speed + a * t,
+                np.broadcast_to(a, shape).copy())
 
     @property
     def reference(self) -> float:
@@ -57,13 +63,17 @@ def _schedule(system: System) -> Schedule:
     q0 = initial_guess(system)
     starts = []
     for k, d in enumerate(drivers):
-        if k == 0:
+        if d.driver.motion.start is not None:
+            starts.append(d.driver.motion.start)
+        elif k == 0:
             starts.append(system.model.analysis.start)
         else:
             qe = np.concatenate((q0, np.zeros(3)))
             i, j = system.ends[system.constraints.index(d)]
             starts.append(float(d.coordinate(qe[3 * i:3 * i + 3], qe[3 * j:3 * j + 3])))
-    return Schedule(np.array(starts), np.array([d.driver.motion.speed for d in drivers]))
+    accel = np.array([d.driver.motion.acceleration for d in drivers])
+    return Schedule(np.array(starts), np.array([d.driver.motion.speed for d in drivers]),
+                    accel if np.any(accel) else None)
 
 
 def _times(system: System, sched: Schedule, coordinates: np.ndarray | None) -> tuple[np.ndarray, bool]:
