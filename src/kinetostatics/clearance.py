@@ -6,14 +6,14 @@ link i to the pin on link j (docs/clearance.md):
 
 - ``prescribed`` (model a1, the source text's "continuous contact" model):
   the link has the fixed length e, two revolutes (``<joint>`` on i's side,
-  ``<joint>_j`` on j's side) and a motion driver ``<joint>_gap`` that
+  ``<joint>_j`` on j's side) and a motion driver ``<joint>_turn`` that
   prescribes its rotation relative to link i (speed and constant
   acceleration).  That driver's effort is the torque the prescription needs;
   its power is reported (it injects energy).
 - ``contact`` (model b): the link's length s is free too: a second massless
   link ``<joint>_end`` slides along it (prismatic ``<joint>_slide``) and is
   pinned to j.  Two effort drivers make the relative position of the pins
-  free coordinates: ``<joint>_gap`` (the link's angle relative to i, effort 0)
+  free coordinates: ``<joint>_turn`` (the link's angle relative to i, effort 0)
   and ``<joint>_contact`` (s, effort the Lankarani–Nikravesh contact force
   of :mod:`kinetostatics.contact` when s > e).
 
@@ -65,7 +65,7 @@ class Clearance:
 
 def _names(joint: str) -> dict[str, str]:
     return {"link": f"{joint}_gap", "end": f"{joint}_end", "joint_j": f"{joint}_j",
-            "slide": f"{joint}_slide", "driver": f"{joint}_gap", "contact": f"{joint}_contact"}
+            "slide": f"{joint}_slide", "driver": f"{joint}_turn", "contact": f"{joint}_contact"}
 
 
 def ideal(model: Model) -> Model:
@@ -207,60 +207,83 @@ def expand(model: Model, clearances) -> Model:
             sketch[f"{n['end']}.j"] = centre + e * axis
             drivers.append(Driver(n["driver"], j.name, None, 0.0, offset, (ref_name, "ref"),
                                   where=c.where))
-            drivers.append(Driver(n["contact"], n["slide"], None, c.contact.at(e),
+            drivers.append(Driver(n["contact"], n["slide"], None, c.contact.for_clearance(e),
                                   where=c.where))
     return replace(model, links=tuple(links), joints=tuple(joints), drivers=tuple(drivers),
                    sketch=sketch, clearances=clearances, ideal=model)
 
 
-def two_force_member(model: Model, sizes, *, iterations: int = 50, tol: float = 1e-12,
-                     **analyze_kw):
-    """Model (a2): kinetostatics with the journal on the bearing circle along the
+@dataclass
+class TwoForceResult:
+    """Model (a2) over the positions: ``coordinate`` (n_pos,) driver coordinates,
+    ``beta`` (n_pos, n_clearance) global angles of the clearance links (p_i → p_j),
+    ``iterations`` (n_pos,), ``results`` the expanded model's analysis per position
+    (one row each), ``ideal`` the ideal model's analysis."""
+
+    coordinate: np.ndarray
+    beta: np.ndarray
+    iterations: np.ndarray
+    results: list
+    ideal: object
+
+    def column(self, name: str) -> np.ndarray:
+        """A result column over the positions (e.g. ``"A.Fx"``, ``"motor.torque"``)."""
+        return np.array([r[name][0] for r in self.results])
+
+
+def _sketch_from(system, q) -> dict[str, np.ndarray]:
+    """Global positions of every moving link's points at ``q``: an exact sketch."""
+    out = {}
+    for k, name in enumerate(system.links):
+        for pt, p in system.model.link(name).points.items():
+            out[f"{name}.{pt}"] = q[3 * k:3 * k + 2] + rotate(q[3 * k + 2], p)
+    return out
+
+
+def two_force_member(model: Model, sizes, *, positions=None, iterations: int = 30,
+                     tol: float = 1e-10) -> TwoForceResult:
+    """Model (a2): kinetostatics with each journal on its bearing circle along the
     joint's reaction, positions and forces iterated to consistency.
 
-    ``model``: an ideal model with motion drivers equal to its mobility; ``sizes``:
-    {joint: e (m)}.  At every position the clearance links' global angles β
-    start along −F_ij of the ideal joint; the positions are solved with the
-    links held at β (their rotation relative to link i frozen over the
-    position: the quasi-static reading, docs/clearance.md), the reactions
-    recomputed, β set along the new −F_ij, until |Δβ| ≤ ``tol``.
-    Returns (result, beta (n_pos, n_clearance), iterations used).
+    ``model``: an ideal model whose motion drivers equal its mobility; ``sizes``:
+    {revolute: e (m)}; ``positions``: driver coordinates (default the analysis).
+    At each position the clearance links (length e, frictionless pins: two-force
+    members) start along −F_ij of the ideal joint; the expanded linkage is solved
+    with each link held at its global angle β (its rotation relative to link i
+    frozen over the instant: the quasi-static reading, docs/clearance.md), the
+    reactions recomputed and β set along the new −F_ij, until |Δβ| ≤ ``tol`` rad.
+    At the fixed point the link carries no couple: the effort of its driver is 0.
     """
     from .analysis import analyze
+    from .errors import AssemblyError
     names = list(sizes)
-    res0 = analyze(model, friction=False, **analyze_kw)
+    res0 = analyze(model, friction=False, positions=positions)
     n = res0.q.shape[0]
     beta = np.stack([np.arctan2(-res0[f"{k}.Fy"], -res0[f"{k}.Fx"]) for k in names], axis=-1)
-    out = [None] * n
-    used = 0
+    used = np.zeros(n, dtype=int)
+    out = []
     for p in range(n):
+        c0 = float(res0.coordinate[p])
+        base = replace(model, sketch=_sketch_from(res0.system, res0.q[p]),
+                       analysis=replace(model.analysis, start=c0))
         b = beta[p].copy()
         for it in range(iterations):
             specs = [Clearance(k, float(sizes[k]), angle=float(bk)) for k, bk in zip(names, b)]
-            m = expand(_at_row(model, res0, p), specs)
-            m = replace(m, drivers=tuple(replace(d, motion=replace(d.motion, speed=_frozen(d)))
-                                         if d.name.endswith("_gap") else d for d in m.drivers))
-            r = analyze(m, friction=False, angles=[_angle(res0, p)])
+            r = analyze(expand(base, specs), friction=False, positions=np.array([c0]))
             nb = np.array([np.arctan2(-r[f"{k}.Fy"][0], -r[f"{k}.Fx"][0]) for k in names])
-            step = np.angle(np.exp(1j * (nb - b)))
+            # the links' actual angles (a link on a moved link i is turned with it)
+            now = np.array([r.q[0, 3 * r.system.link_index(f"{k}_gap") + 2] for k in names])
+            step = np.angle(np.exp(1j * (nb - now)))
             b = b + step
             if np.max(np.abs(step)) <= tol:
                 break
-        used = max(used, it + 1)
-        beta[p], out[p] = b, r
-    return out, beta, used
-
-
-def _frozen(d):
-    return d.motion.speed
-
-
-def _angle(res, p):
-    return float(res.coordinate[p]) if hasattr(res, "coordinate") else float(res.angle[p])
-
-
-def _at_row(model, res, p):
-    return model
+        else:
+            raise AssemblyError("clearance links", f"{np.degrees(c0):.6g}°",
+                                f"the two-force-member iteration did not converge in "
+                                f"{iterations} steps (last change {np.max(np.abs(step)):.3g} rad)")
+        used[p], beta[p] = it + 1, nb
+        out.append(r)
+    return TwoForceResult(np.asarray(res0.coordinate), beta, used, out, res0)
 
 
 def motion_over_time(run, link: str, t) -> dict[str, np.ndarray]:

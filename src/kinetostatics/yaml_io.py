@@ -1374,7 +1374,27 @@ def _effort_spec(law: EffortLaw) -> dict[str, Any]:
 
 
 def dump(model: Model) -> str:
-    """The model as YAML text in SI (a round trip through :func:`loads` gives an equal model)."""
+    """The model as YAML text in SI (a round trip through :func:`loads` gives an equal model).
+
+    A model expanded with clearances is written as its ideal model plus the
+    ``clearance:`` section that expands it again.
+    """
+    if model.ideal is not None:
+        doc = yaml.safe_load(dump(model.ideal))
+        doc["clearance"] = {}
+        for c in model.clearances:
+            spec = {"size": c.size, "model": c.model, "speed": c.speed,
+                    "acceleration": c.acceleration}
+            if c.angle is not None:
+                spec["angle"] = c.angle
+            if c.contact is not None:
+                law = c.contact
+                spec["contact"] = {"journal_radius": law.journal_radius,
+                                   "young": list(law.young), "poisson": list(law.poisson),
+                                   "restitution": law.restitution, "floor": law.floor,
+                                   **({"stiffness": law.stiffness} if law.stiffness else {})}
+            doc["clearance"][c.joint] = spec
+        return yaml.safe_dump(doc, sort_keys=False)
     doc: dict[str, Any] = {"name": model.name, "gravity": [float(g) for g in model.gravity],
                            "ground": model.ground.name, "links": {}, "joints": {}}
     for link in model.links:
