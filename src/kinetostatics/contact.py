@@ -42,7 +42,7 @@ class ContactLaw(EffortLaw):
     """The Lankarani–Nikravesh contact effort of a clearance (see the module docstring).
 
     ``stiffness`` None: from ``journal_radius``, ``young``, ``poisson`` and the
-    clearance by :func:`hertz_stiffness` (:meth:`at`); ``scale`` multiplies it.
+    clearance by :func:`hertz_stiffness` (:meth:`for_clearance`); ``scale`` multiplies it.
     """
 
     kind: str = "contact"
@@ -57,7 +57,7 @@ class ContactLaw(EffortLaw):
     impact_speed: float = 0.0
     floor: float = 1e-3
 
-    def at(self, clearance: float) -> "ContactLaw":
+    def for_clearance(self, clearance: float) -> "ContactLaw":
         """This law for clearance ``clearance`` (m), with its Hertzian stiffness."""
         return replace(self, clearance=float(clearance))
 
