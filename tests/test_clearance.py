@@ -38,6 +38,14 @@ def test_structure_mobility_3(swing):
     assert len(ideal(swing).moving_links) == 4
 
 
+def test_calibration_ideal_arm_turns_100_degrees_in_0_8_s(swing):
+    """The arm's inertia (183.8 kg·m²) was calibrated so that the e = 0 run under
+    M1 = 1450 N·m turns the arm about 100° in 0.8 s (the source's statement)."""
+    sim = simulate(ideal(swing), 0.8, rtol=1e-8)
+    th = motion_over_time(sim, "arm", [0.0, 0.8])["theta"]
+    assert np.degrees(th[1] - th[0]) == pytest.approx(100.0, abs=0.05)
+
+
 def test_zero_clearance_is_the_ideal_joint(swing):
     _, ref = _arm(ideal(swing))
     _, a1 = _arm(with_clearance(swing, size=0.0))
