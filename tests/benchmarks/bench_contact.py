@@ -1,0 +1,74 @@
+"""Speed against error of the contact–impact clearance model (b): the swing mechanism
+(mechanisms/ammunition_swing.yaml) with e1 = e2 = 0.5 mm, Hertzian stiffness, over its
+start-up 0–30 ms (the unloaded start and the contacts settling; the costliest part of
+a run).  Errors of the arm's angle, velocity and acceleration at 61 times against a
+tight reference (BDF, rtol 1e-8, checked against Radau at rtol 1e-8).  Rows with the
+stiffness scaled down show what a softer contact saves and costs (error against the
+Hertzian reference).
+
+    python tests/benchmarks/bench_contact.py            # print the table (~10 min)
+    python tests/benchmarks/bench_contact.py --write    # and put it into docs/clearance.md
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+
+import numpy as np
+
+from _common import ROOT
+
+import kinetostatics as ks
+from kinetostatics.clearance import motion_over_time, with_clearance
+from kinetostatics.contact import ContactLaw, simulate_contact
+
+SWING = ROOT / "mechanisms" / "ammunition_swing.yaml"
+T_END, E = 0.03, 0.5e-3
+CASES = [("RK45", 1e-4, 1.0), ("RK45", 1e-5, 1.0), ("LSODA", 1e-5, 1.0), ("Radau", 1e-5, 1.0),
+         ("BDF", 1e-3, 1.0), ("BDF", 1e-4, 1.0), ("BDF", 1e-5, 1.0), ("BDF", 1e-6, 1.0),
+         ("BDF", 1e-7, 1.0), ("BDF", 1e-5, 0.1), ("BDF", 1e-5, 0.01)]
+BEGIN, END = "<!-- bench_contact: begin -->", "<!-- bench_contact: end -->"
+
+
+def run(method: str, rtol: float, scale: float = 1.0):
+    law = ContactLaw(journal_radius=0.02, restitution=0.9, scale=scale)
+    model = with_clearance(ks.load(SWING), size=E, kind="contact", contact=law)
+    t0 = time.perf_counter()
+    r = simulate_contact(model, T_END, method=method, rtol=rtol)
+    wall = time.perf_counter() - t0
+    t = np.linspace(0.0, T_END, 61)
+    return motion_over_time(r, "arm", t), wall, r.nfev
+
+
+def main() -> None:
+    ref, wall_ref, n_ref = run("BDF", 1e-8)
+    check, _, _ = run("Radau", 1e-8)
+    a_scale = np.max(np.abs(ref["alpha"]))
+
+    def errors(r):
+        return (np.max(np.abs(r["theta"] - ref["theta"])),
+                np.max(np.abs(r["omega"] - ref["omega"])),
+                np.max(np.abs(r["alpha"] - ref["alpha"])) / a_scale)
+    lines = [f"Reference: BDF, rtol 1e-8 ({wall_ref:.0f} s, {n_ref} evaluations); against "
+             "Radau at rtol 1e-8: max |Δθ| = {:.1e} rad, max |Δω| = {:.1e} rad/s, "
+             "max |Δα| / max |α| = {:.1e}.".format(*errors(check)), "",
+             "| method | rtol | stiffness × | wall time (s) | RHS evaluations | "
+             "max \\|Δθ\\| (rad) | max \\|Δω\\| (rad/s) | max \\|Δα\\| / max \\|α\\| |",
+             "|---|---|---|---|---|---|---|---|"]
+    for method, rtol, scale in CASES:
+        r, wall, nfev = run(method, rtol, scale)
+        lines.append(f"| {method} | {rtol:.0e} | {scale:g} | {wall:.1f} | {nfev} | "
+                     "{:.1e} | {:.1e} | {:.1e} |".format(*errors(r)))
+        print(lines[-1], file=sys.stderr, flush=True)
+    text = "\n".join(lines)
+    print(text)
+    if "--write" in sys.argv:
+        doc = ROOT / "docs" / "clearance.md"
+        old = doc.read_text(encoding="utf-8")
+        i, j = old.index(BEGIN) + len(BEGIN), old.index(END)
+        doc.write_text(old[:i] + "\n" + text + "\n" + old[j:], encoding="utf-8")
+
+
+if __name__ == "__main__":
+    main()
