@@ -217,7 +217,7 @@ def text(r: dict) -> str:
             lines.append(f"| {kind} | {e * 1e3:g} | " + " | ".join(f"{c:.3f}" for c in cells)
                          + " |")
     lines += ["", "Model (a1): energy injected by the clearance drivers (their power integrated "
-              "over 0–0.8 s) against the motor's work.", "",
+              "over 0–0.8 s).", "",
               "| e (mm) | clearance drivers' energy (J) | their peak power (W) |", "|---|---|---|"]
     t = r["a1_t"]
     for e in SIZES[1:]:
