@@ -254,10 +254,14 @@ def main() -> None:
     block = text(r)
     print(block)
     if "--write" in sys.argv:
-        doc = ROOT / "docs" / "clearance.md"
-        s = doc.read_text(encoding="utf-8")
-        a, b = s.index(BEGIN) + len(BEGIN), s.index(END)
-        doc.write_text(s[:a] + "\n" + block + "\n" + s[b:], encoding="utf-8")
+        write_block(BEGIN, END, block)
+
+
+def write_block(begin: str, end: str, block: str, doc=ROOT / "docs" / "clearance.md") -> None:
+    """Replace the text between the markers ``begin`` and ``end`` of ``doc``."""
+    s = doc.read_text(encoding="utf-8")
+    a, b = s.index(begin) + len(begin), s.index(end)
+    doc.write_text(s[:a] + "\n" + block + "\n" + s[b:], encoding="utf-8")
 
 
 if __name__ == "__main__":

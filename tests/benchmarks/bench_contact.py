@@ -13,17 +13,16 @@ Hertzian reference).
 from __future__ import annotations
 
 import sys
-import time
 
 import numpy as np
 
 from _common import ROOT
 
-import kinetostatics as ks
-from kinetostatics.clearance import motion_over_time, with_clearance
-from kinetostatics.contact import ContactLaw, simulate_contact
+sys.path.insert(0, str(ROOT / "docs" / "scripts"))
+from clearance_values import b_run, write_block  # noqa: E402
 
-SWING = ROOT / "mechanisms" / "ammunition_swing.yaml"
+from kinetostatics.contact import ContactLaw  # noqa: E402
+
 T_END, E = 0.03, 0.5e-3
 CASES = [("RK45", 1e-4, 1.0), ("RK45", 1e-5, 1.0), ("LSODA", 1e-5, 1.0), ("Radau", 1e-5, 1.0),
          ("BDF", 1e-3, 1.0), ("BDF", 1e-4, 1.0), ("BDF", 1e-5, 1.0), ("BDF", 1e-6, 1.0),
@@ -33,12 +32,8 @@ BEGIN, END = "<!-- bench_contact: begin -->", "<!-- bench_contact: end -->"
 
 def run(method: str, rtol: float, scale: float = 1.0):
     law = ContactLaw(journal_radius=0.02, restitution=0.9, scale=scale)
-    model = with_clearance(ks.load(SWING), size=E, kind="contact", contact=law)
-    t0 = time.perf_counter()
-    r = simulate_contact(model, T_END, method=method, rtol=rtol)
-    wall = time.perf_counter() - t0
-    t = np.linspace(0.0, T_END, 61)
-    return motion_over_time(r, "arm", t), wall, r.nfev
+    r = b_run(E, np.linspace(0.0, T_END, 61), until=T_END, law=law, method=method, rtol=rtol)
+    return r, float(r["wall"][0]), int(r["nfev"][0])
 
 
 def main() -> None:
@@ -64,10 +59,7 @@ def main() -> None:
     text = "\n".join(lines)
     print(text)
     if "--write" in sys.argv:
-        doc = ROOT / "docs" / "clearance.md"
-        old = doc.read_text(encoding="utf-8")
-        i, j = old.index(BEGIN) + len(BEGIN), old.index(END)
-        doc.write_text(old[:i] + "\n" + text + "\n" + old[j:], encoding="utf-8")
+        write_block(BEGIN, END, text)
 
 
 if __name__ == "__main__":
