@@ -84,18 +84,39 @@ QUIET = 0.1                      # s: "settled" needs the last QUIET s inside th
 
 
 def settle(t, alpha, ref, band):
-    """Last time |alpha − ref| exceeds ``band`` (0 if never)."""
+    """The first sample time after the last one at which |alpha − ref| exceeds ``band``
+    (0 if never)."""
     bad = np.nonzero(np.abs(alpha - ref) > band)[0]
-    return float(t[bad[-1]]) if bad.size else 0.0
+    return float(t[min(bad[-1] + 1, len(t) - 1)]) if bad.size else 0.0
+
+
+def first_quiet(t, alpha, ref, band, quiet=QUIET) -> str:
+    """The first time from which |alpha − ref| stays within ``band`` for ``quiet`` s."""
+    ok = np.abs(alpha - ref) <= band
+    n = int(round(quiet / (t[1] - t[0])))
+    run = np.convolve(ok.astype(int), np.ones(n + 1, int), "valid") == n + 1
+    k = np.nonzero(run)[0]
+    return f"{t[k[0]]:.3f}" if k.size else "never"
+
+
+def ringing(t, d) -> float:
+    """Dominant frequency (Hz, above 20 Hz) of ``d`` over 0.1 s to the end, a cubic
+    trend removed."""
+    sel = t >= 0.1
+    x = d[sel] - np.polyval(np.polyfit(t[sel], d[sel], 3), t[sel])
+    f = np.fft.rfftfreq(x.size, t[1] - t[0])
+    high = f > 20.0
+    return float(f[high][np.argmax(np.abs(np.fft.rfft(x))[high])])
 
 
 def settling_text(t, alpha, ref, band) -> str:
     ts = settle(t, alpha, ref, band)
     if ts == 0.0:
         return "never outside the band"
-    return f"{ts:.3f}" if ts <= t[-1] - QUIET else "not settled"
+    return f"{ts:.4f}" if ts <= t[-1] - QUIET else "not settled"
 
 
+START = {"a1": 0.1, "b": 0.01}   # s: the zoom on the start of each model
 STYLES = {0.0: ("k", "-", 1.6), 0.5e-3: ("tab:blue", "--", 1.2), 1e-3: ("tab:red", ":", 1.4)}
 QUANTITIES = (("alpha", "arm angular acceleration ε5 (rad/s²)", 1.0),
               ("omega", "arm angular velocity ω5 (rad/s)", 1.0),
@@ -132,10 +153,21 @@ def figures(r: dict) -> None:
                             lw=lw if kind == "a1" or panel == "start" else 0.6 * lw,
                             label="e = 0 (ideal joint)" if e == 0 else f"e = {e * 1e3:g} mm")
                 name = {"curves": title, "difference": f"{title}: minus the ideal joint",
-                        "start": f"{title}: start, 0–0.1 s"}[panel]
-                ax.set_title(name, fontsize=9)
+                        "start": ""}[panel]
+                if name:
+                    ax.set_title(name, fontsize=9)
                 if panel == "start":
-                    ax.set_xlim(0, 0.1)
+                    ax.set_xlim(0, START[kind])
+                    ax.set_title(f"{title}: start, 0–{START[kind]:g} s", fontsize=9)
+                if panel == "difference" and kind == "b":   # the start-up jolt: off scale
+                    late = t >= 0.01
+                    d = np.array([_curve(r, kind, e, key, conv) - ideal for e in SIZES[1:]])
+                    top = 1.5 * np.max(np.abs(d[:, late]))
+                    ax.set_ylim(-top, top)
+                    if np.max(np.abs(d)) > top:
+                        ax.text(0.02, 0.04, f"off scale in 0–10 ms: {np.min(d):.3g} to "
+                                f"{np.max(d):.3g} (the unloaded start)", fontsize=8,
+                                transform=ax.transAxes)
                 ax.set_xlabel("time t (s)")
                 ax.set_ylabel(label if panel != "difference" else "Δ " + label, fontsize=9)
                 ax.grid(True, alpha=0.3)
@@ -184,8 +216,9 @@ def text(r: dict) -> str:
              "| model | e (mm) | arm turn at 0.8 s (°) | Δ turn at 0.8 s (°) | max \\|Δω\\| (rad/s) | "
              "max \\|Δε5\\| 0–0.1 s (rad/s²) | max \\|Δε5\\| 0.4–0.8 s (rad/s²) | "
              + " | ".join(f"settles by, {b:.0%} band (s)" for b in BANDS)
-             + " | impacts / separations | RHS evaluations, wall (s) |",
-             "|---|---|---|---|---|---|---|---|---|---|---|"]
+             + f" | first {QUIET:g} s inside the {BANDS[-1]:.0%} band from (s) | ringing (Hz) "
+             "| impacts / separations | RHS evaluations, wall (s) |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for kind in ("a1", "b"):
         for e in SIZES[1:]:
             p, t = f"{kind}_{e * 1e3:g}_", r[f"{kind}_t"]
@@ -202,6 +235,8 @@ def text(r: dict) -> str:
                 f"{np.max(np.abs(r[p + 'omega'] - ref['omega'])):.4f} | {np.max(da[early]):.3f} | "
                 f"{np.max(da[late]):.3f} | "
                 + " | ".join(settling_text(t, r[p + "alpha"], ref["alpha"], b) for b in bands)
+                + f" | {first_quiet(t, r[p + 'alpha'], ref['alpha'], bands[-1])} | "
+                + (f"{ringing(t, r[p + 'alpha'] - ref['alpha']):.0f}" if kind == "b" else "–")
                 + " | "
                 f"{extra[0]} | {extra[1]} |")
     edges = np.arange(0.0, T_END + 1e-9, 0.1)
