@@ -2,7 +2,8 @@
 (mechanisms/ammunition_swing.yaml) with e1 = e2 = 0.5 mm, Hertzian stiffness, over its
 start-up 0–30 ms (the unloaded start and the contacts settling; the costliest part of
 a run).  Errors of the arm's angle, velocity and acceleration at 61 times against a
-tight reference (BDF, rtol 1e-8, checked against Radau at rtol 1e-8).  Rows with the
+tight reference (BDF, rtol 1e-8, checked against Radau at rtol 1e-7; Radau at 1e-8
+needs ~10× BDF's evaluations).  Rows with the
 stiffness scaled down show what a softer contact saves and costs (error against the
 Hertzian reference).
 
@@ -38,7 +39,7 @@ def run(method: str, rtol: float, scale: float = 1.0):
 
 def main() -> None:
     ref, wall_ref, n_ref = run("BDF", 1e-8)
-    check, _, _ = run("Radau", 1e-8)
+    check, _, _ = run("Radau", 1e-7)
     a_scale = np.max(np.abs(ref["alpha"]))
 
     def errors(r):
@@ -46,7 +47,7 @@ def main() -> None:
                 np.max(np.abs(r["omega"] - ref["omega"])),
                 np.max(np.abs(r["alpha"] - ref["alpha"])) / a_scale)
     lines = [f"Reference: BDF, rtol 1e-8 ({wall_ref:.0f} s, {n_ref} evaluations); against "
-             "Radau at rtol 1e-8: max |Δθ| = {:.1e} rad, max |Δω| = {:.1e} rad/s, "
+             "Radau at rtol 1e-7: max |Δθ| = {:.1e} rad, max |Δω| = {:.1e} rad/s, "
              "max |Δα| / max |α| = {:.1e}.".format(*errors(check)), "",
              "| method | rtol | stiffness × | wall time (s) | RHS evaluations | "
              "max \\|Δθ\\| (rad) | max \\|Δω\\| (rad/s) | max \\|Δα\\| / max \\|α\\| |",
