@@ -174,13 +174,15 @@ def _stiff_jacobian(dyn, contacts):
 
 def simulate_contact(model, until: float, *, initial=None, method: str = "Radau",
                      rtol: float = 1e-6, atol: float | None = None, max_step: float = np.inf,
-                     max_pieces: int = 20000) -> ContactRun:
+                     max_pieces: int = 20000, jacobian: bool = True) -> ContactRun:
     """Forward dynamics of a model with ``contact`` clearances: contact starts and ends
     are terminal events; at each start the impact speed δ̇⁻ of that contact is set.
 
     ``initial``: {free driver: coordinate or (coordinate, speed)}; the clearance
     coordinates default to their expanded pose (in contact, at rest).  ``atol``
-    defaults to ``rtol``·(1 rad, L_ref, and those per second).
+    defaults to ``rtol``·(1 rad, L_ref, and those per second).  ``jacobian``: give the
+    implicit methods (BDF, Radau, LSODA) the contact terms' analytic Jacobian (else
+    solve_ivp's finite differences).
     """
     from scipy.integrate import solve_ivp
 
@@ -198,7 +200,7 @@ def simulate_contact(model, until: float, *, initial=None, method: str = "Radau"
     clear = {k: dyn.laws[k].clearance for k in contacts}
     inside = {k: y[k] - clear[k] >= 0 for k in contacts}
     pieces, impacts, separations = [], [], []
-    jacobian = _stiff_jacobian(dyn, contacts)
+    jac = _stiff_jacobian(dyn, contacts) if jacobian and method in IMPLICIT else None
     t = 0.0
     ev0 = dyn.evaluations
     for _ in range(max_pieces):
@@ -210,7 +212,7 @@ def simulate_contact(model, until: float, *, initial=None, method: str = "Radau"
             f.terminal, f.direction = True, (-1.0 if inside[k] else 1.0)
             events.append(f)
         dyn._cache.clear()
-        opts = {"jac": jacobian} if method in IMPLICIT else {}
+        opts = {"jac": jac} if jac is not None else {}
         sol = solve_ivp(lambda tt, yy: dyn.rhs(tt, yy), (t, until), y, method=method,
                         rtol=rtol, atol=atol_v, dense_output=True, events=events or None,
                         max_step=max_step, **opts)

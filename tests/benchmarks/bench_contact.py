@@ -9,11 +9,13 @@ Hertzian reference).
 
     python tests/benchmarks/bench_contact.py            # print the table (~10 min)
     python tests/benchmarks/bench_contact.py --write    # and put it into docs/clearance.md
+    python tests/benchmarks/bench_contact.py --profile [--write]   # one RHS's cost (~1 min)
 """
 
 from __future__ import annotations
 
 import sys
+import time
 
 import numpy as np
 
@@ -37,7 +39,52 @@ def run(method: str, rtol: float, scale: float = 1.0):
     return r, float(r["wall"][0]), int(r["nfev"][0])
 
 
+def profile(until: float = 0.01) -> str:
+    """Cost of one right-hand side and where it goes (cProfile, BDF rtol 1e-5 over
+    0–``until`` s), and the evaluations with the finite-difference Jacobian instead."""
+    import cProfile
+    import pstats
+
+    import kinetostatics as ks
+    from kinetostatics.clearance import with_clearance
+    from kinetostatics.contact import simulate_contact
+    law = ContactLaw(journal_radius=0.02, restitution=0.9)
+    model = with_clearance(ks.load(ROOT / "mechanisms" / "ammunition_swing.yaml"), size=E,
+                           kind="contact", contact=law)
+    counts = {}
+    for jac in (True, False):
+        t0 = time.perf_counter()
+        n = simulate_contact(model, until, method="BDF", rtol=1e-5, jacobian=jac).nfev
+        counts[jac] = (n, time.perf_counter() - t0)
+    prof = cProfile.Profile()
+    prof.enable()
+    n = simulate_contact(model, until, method="BDF", rtol=1e-5).nfev
+    prof.disable()
+    stats = pstats.Stats(prof).stats
+
+    def cumulative(module: str, name: str) -> float:
+        return sum(v[3] for f, v in stats.items() if f[0].endswith(module) and f[2] == name)
+    total = cumulative("dynamics.py", "evaluate")
+    share = {"positions": cumulative("dynamics.py", "positions") / total,
+             "derivatives": cumulative("positions.py", "derivatives") / total,
+             "kinetics": cumulative("analysis.py", "kinetics") / total}
+    return (f"Swing, e = 0.5 mm, BDF rtol 1e-5, 0–{until * 1e3:g} ms: one right-hand side "
+            f"{counts[True][1] / counts[True][0] * 1e3:.1f} ms; of an evaluation (cProfile, "
+            f"{n} of them) positions {share['positions']:.0%}, velocities and "
+            f"accelerations {share['derivatives']:.0%}, Newton–Euler "
+            f"{share['kinetics']:.0%}. Evaluations with the analytic contact Jacobian: "
+            f"{counts[True][0]} ({counts[True][1]:.1f} s); with solve_ivp's finite "
+            f"differences: {counts[False][0]} ({counts[False][1]:.1f} s).")
+
+
 def main() -> None:
+    if "--profile" in sys.argv:
+        text = profile()
+        print(text)
+        if "--write" in sys.argv:
+            write_block("<!-- bench_contact_profile: begin -->",
+                        "<!-- bench_contact_profile: end -->", text)
+        return
     ref, wall_ref, n_ref = run("BDF", 1e-8)
     check, _, _ = run("Radau", 1e-7)
     a_scale = np.max(np.abs(ref["alpha"]))
