@@ -15,8 +15,9 @@ def rotate(theta: np.ndarray, p: np.ndarray) -> np.ndarray:
     """
     c, s = np.cos(theta), np.sin(theta)
     px, py = p[..., 0], p[..., 1]
-    out = np.empty(np.broadcast_shapes(np.shape(theta), p.shape[:-1]) + (2,))
-    out[..., 0] = c * px - s * py
+    x = c * px - s * py                 # its shape is the broadcast one (cheaper than asking)
+    out = np.empty(np.shape(x) + (2,))
+    out[..., 0] = x
     out[..., 1] = s * px + c * py
     return out
 

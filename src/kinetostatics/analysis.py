@@ -25,18 +25,23 @@ __all__ = ["analyze", "kinetics", "Kinetics", "Schedule", "Event", "numerical_mo
 
 @dataclass(frozen=True)
 class Schedule:
-    """Motion drivers' laws: ψ_d(t) = start_d + speed_d·t (constant speed), or the
-    driver's motion law (``laws[d]``, :mod:`kinetostatics.motion`) where one is given."""
+    """Motion drivers' laws: ψ_d(t) = start_d + speed_d·t + ½·acceleration_d·t² (constant
+    speed or acceleration), or the driver's motion law (``laws[d]``,
+    :mod:`kinetostatics.motion`) where one is given."""
 
     start: np.ndarray          # (n_d,) ψ(0)
-    speed: np.ndarray          # (n_d,) constant speed, or a law's signed reference speed
+    speed: np.ndarray          # (n_d,) speed at t = 0, or a law's signed reference speed
     laws: tuple = ()           # per driver: a motion law, or None for constant speed; () if none
+    acceleration: np.ndarray | None = None   # (n_d,); None: constant speeds
 
     def __call__(self, t):
         t = np.asarray(t, dtype=float)[..., None]
         psi = self.start + self.speed * t
         psi_d = np.broadcast_to(self.speed, t.shape[:-1] + self.speed.shape)
         psi_dd = np.zeros(t.shape[:-1] + self.speed.shape)
+        if self.acceleration is not None:
+            a = self.acceleration
+            psi, psi_d, psi_dd = psi + 0.5 * a * t * t, psi_d + a * t, psi_dd + a
         if self.laws:
             psi_d = psi_d.copy()
             for k, law in enumerate(self.laws):
@@ -85,7 +90,9 @@ def _schedule(system: System) -> Schedule:
     q0 = initial_guess(system)
     starts = []
     for k, d in enumerate(drivers):
-        if k == 0:
+        if d.driver.motion.start is not None:
+            starts.append(d.driver.motion.start)
+        elif k == 0:
             starts.append(system.model.analysis.start)
         else:
             qe = np.concatenate((q0, np.zeros(3)))
@@ -95,8 +102,11 @@ def _schedule(system: System) -> Schedule:
     for k, law in enumerate(laws):
         if law is not None:
             starts[k] = law.start
+    accel = np.array([getattr(d.driver.motion, "acceleration", 0.0) if law is None else 0.0
+                      for d, law in zip(drivers, laws)])
     return Schedule(np.array(starts), np.array([d.driver.motion.speed for d in drivers]),
-                    laws if any(law is not None for law in laws) else ())
+                    laws if any(law is not None for law in laws) else (),
+                    accel if np.any(accel) else None)
 
 
 def _times(system: System, sched: Schedule, coordinates: np.ndarray | None) -> tuple[np.ndarray, bool]:

@@ -298,6 +298,7 @@ class Dynamics:
         qb = np.broadcast_to(q, (nb, q.size)).copy()
         pd = np.concatenate((np.broadcast_to(psid, (1 + nf, nd)), np.eye(nd)))
         pdd = np.zeros((nb, nd))
+        pdd[:1 + nf, self.fixed] = self.drive(np.array([t]))[2][0][self.fixed]
         pdd[1 + np.arange(nf), self.free] = 1.0
         qd, qdd, lu = derivatives(self.system, qb, pd, pdd)
         self._anchor = (psi, q, qd[1 + nf:], qdd[1 + nf:])

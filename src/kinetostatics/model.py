@@ -35,17 +35,23 @@ class Link:
 
 @dataclass(frozen=True)
 class MotionLaw:
-    """A prescribed driver coordinate: constant ``speed`` (rad/s or m/s, signed).
+    """A prescribed driver coordinate: ``speed`` (rad/s or m/s, signed) at t = 0 and a
+    constant ``acceleration`` (rad/s² or m/s², default 0: constant speed);
+    ``start``, when given, is ψ(0) (otherwise the analysis start or the sketch).
 
     The other motion laws (harmonic, polynomial, table) are in
     :mod:`kinetostatics.motion`, with the same ``value``/``speed`` interface."""
 
     speed: float
+    acceleration: float = 0.0
+    start: float | None = None
 
     def value(self, start: float, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(ψ, ψ̇, ψ̈) at times ``t`` for ψ(0) = ``start``."""
         t = np.asarray(t, dtype=float)
-        return start + self.speed * t, np.full_like(t, self.speed), np.zeros_like(t)
+        a = self.acceleration
+        return (start + self.speed * t + 0.5 * a * t * t, self.speed + a * t,
+                np.full_like(t, a))
 
 
 @dataclass(frozen=True)
@@ -195,6 +201,8 @@ class Model:
     units: Mapping[str, str] = field(default_factory=dict)
     source: str = "<model>"
     flywheel: FlywheelSpec | None = None
+    clearances: tuple = ()            # clearance.Clearance specs this model was expanded with
+    ideal: "Model | None" = field(default=None, compare=False, repr=False)  # before expansion
 
     @property
     def ground(self) -> Link:

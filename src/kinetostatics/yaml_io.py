@@ -36,7 +36,8 @@ SPEED_RANGE = (1e-9, 1e9)      # |speed| of a motion driver, rad/s or m/s
 NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 RESERVED = frozenset({"time", "angle", "stroke", "travel", "power", "friction", "shaking"})
 TOP_KEYS = ("name", "units", "parameters", "gravity", "ground", "links", "joints", "loops",
-            "drivers", "loads", "sketch", "analysis", "flywheel", "sweep")
+            "drivers", "loads", "sketch", "analysis", "flywheel", "sweep",
+            "clearance")
 
 
 class _TooDeep(Exception):
@@ -555,12 +556,62 @@ class _Builder:
         analysis = self._analysis(joints, drivers, links)
         loops = self._loops(joints)
         flywheel = self._flywheel()
+        clearances = self._clearances(joints)
         self.problems.raise_if_any()
-        return Model(name=name or "mechanism", links=tuple(links), joints=tuple(joints),
-                     drivers=tuple(drivers), loads=tuple(loads_), gravity=gravity,
-                     sketch=sketch, analysis=analysis, loops=loops,
-                     parameters=dict(self.ctx.env), units=unit_names, source=self.ctx.file,
-                     flywheel=flywheel)
+        model = Model(name=name or "mechanism", links=tuple(links), joints=tuple(joints),
+                      drivers=tuple(drivers), loads=tuple(loads_), gravity=gravity,
+                      sketch=sketch, analysis=analysis, loops=loops,
+                      parameters=dict(self.ctx.env), units=unit_names, source=self.ctx.file,
+                      flywheel=flywheel)
+        if clearances:
+            from .clearance import expand
+            model = expand(model, clearances)
+        return model
+
+    def _clearances(self, joints) -> list:
+        """The ``clearance:`` section: {joint: {size, model, speed, acceleration,
+        angle, contact}} (docs/clearance.md)."""
+        from .clearance import Clearance
+        from .contact import read_contact
+        section = self.top.get("clearance")
+        if section is None or not section.mapping():
+            return []
+        by_name = {j.name: j for j in joints}
+        out = []
+        for name, e in section.items():
+            if not e.mapping():
+                continue
+            if name not in by_name:
+                if not self._broken("joint", name):
+                    section.error(self._not_a("joint", name, by_name))
+                continue
+            if by_name[name].kind != "revolute":
+                e.error(f"clearance applies to a revolute; '{name}' is {by_name[name].kind}")
+                continue
+            e.check_keys(required=("size",), optional=("model", "speed", "acceleration",
+                                                       "angle", "contact"))
+            size = e["size"].number("length", minimum=0.0)
+            kind = e["model"].text() if e.get("model") is not None else "prescribed"
+            if kind not in (None, "prescribed", "contact"):
+                e["model"].error(f"unknown clearance model '{kind}'"
+                                 f"{did_you_mean(kind, ('prescribed', 'contact'))}; "
+                                 "known: contact, prescribed")
+                continue
+            rates = {}
+            for key in ("speed", "acceleration"):      # the angle unit per s, per s²
+                rates[key] = e[key].number("angle") if e.get(key) is not None else 0.0
+            angle = e["angle"].number("angle") if e.get("angle") is not None else None
+            contact = None
+            if kind == "contact":
+                contact = read_contact(e.require("contact"))
+            elif e.get("contact") is not None:
+                e["contact"].error("contact applies to model: contact")
+            if size is None or kind is None or None in rates.values() or \
+                    (kind == "contact" and contact is None):
+                continue
+            out.append(Clearance(name, size, kind, rates["speed"], rates["acceleration"],
+                                 angle, contact, e.where))
+        return out
 
     # -- names ----------------------------------------------------------------
     def _claim(self, section: Entry, name: str, what: str) -> bool:
@@ -1475,7 +1526,27 @@ def _effort_spec(law: EffortLaw) -> dict[str, Any]:
 
 
 def dump(model: Model) -> str:
-    """The model as YAML text in SI (a round trip through :func:`loads` gives an equal model)."""
+    """The model as YAML text in SI (a round trip through :func:`loads` gives an equal model).
+
+    A model expanded with clearances is written as its ideal model plus the
+    ``clearance:`` section that expands it again.
+    """
+    if model.ideal is not None:
+        doc = yaml.safe_load(dump(model.ideal))
+        doc["clearance"] = {}
+        for c in model.clearances:
+            spec = {"size": c.size, "model": c.model, "speed": c.speed,
+                    "acceleration": c.acceleration}
+            if c.angle is not None:
+                spec["angle"] = c.angle
+            if c.contact is not None:
+                law = c.contact
+                spec["contact"] = {"journal_radius": law.journal_radius,
+                                   "young": list(law.young), "poisson": list(law.poisson),
+                                   "restitution": law.restitution, "floor": law.floor,
+                                   **({"stiffness": law.stiffness} if law.stiffness else {})}
+            doc["clearance"][c.joint] = spec
+        return yaml.safe_dump(doc, sort_keys=False)
     doc: dict[str, Any] = {"name": model.name, "gravity": [float(g) for g in model.gravity],
                            "ground": model.ground.name, "links": {}, "joints": {}}
     for link in model.links:

@@ -1,0 +1,241 @@
+"""Contact–impact in a clearance joint (model b): the Lankarani–Nikravesh force.
+
+With the clearance expanded by :func:`kinetostatics.clearance.expand`
+(``model: contact``), the distance s between the journal and bushing centres
+is a free coordinate (the ``<joint>_contact`` effort driver on the slide of
+the clearance link).  Penetration δ = s − e; the normal contact force is
+
+    F_n = K δ^n [1 + 3(1 − c_e²)/4 · δ̇/δ̇⁻]   (δ > 0; 0 otherwise, never pulling)
+
+(Lankarani & Nikravesh 1990), K the Hertzian stiffness
+K = (4/3) E* √R*, 1/E* = (1 − ν_i²)/E_i + (1 − ν_j²)/E_j,
+R* = R_j R_b/(R_b − R_j) (journal R_j, bushing R_b = R_j + e), n = 3/2, c_e the
+coefficient of restitution and δ̇⁻ the normal speed at the start of this
+contact (at least ``floor``, for a contact that starts at rest).  The driver's
+effort is −F_n (the force of the clearance link on its slider end pushes the
+pins together).  :func:`simulate_contact` integrates the motion with every
+contact start and end as a terminal event, so that δ̇⁻ is known in each contact
+and every integration piece has a smooth right-hand side.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from .model import EffortLaw
+
+__all__ = ["ContactLaw", "hertz_stiffness", "read_contact", "simulate_contact", "ContactRun"]
+
+
+def hertz_stiffness(journal_radius: float, clearance: float, young=(2.07e11, 2.07e11),
+                    poisson=(0.3, 0.3)) -> float:
+    """K = (4/3) E* √R* (N/m^1.5) of a journal of radius R_j in a bushing of R_j + e."""
+    e_star = 1.0 / sum((1.0 - nu ** 2) / E for E, nu in zip(young, poisson))
+    rb = journal_radius + clearance
+    return 4.0 / 3.0 * e_star * np.sqrt(journal_radius * rb / clearance)
+
+
+@dataclass(frozen=True)
+class ContactLaw(EffortLaw):
+    """The Lankarani–Nikravesh contact effort of a clearance (see the module docstring).
+
+    ``stiffness`` None: from ``journal_radius``, ``young``, ``poisson`` and the
+    clearance by :func:`hertz_stiffness` (:meth:`for_clearance`); ``scale`` multiplies it.
+    """
+
+    kind: str = "contact"
+    clearance: float = 0.0
+    journal_radius: float = 0.02
+    young: tuple = (2.07e11, 2.07e11)
+    poisson: tuple = (0.3, 0.3)
+    restitution: float = 0.9
+    exponent: float = 1.5
+    stiffness: float | None = None
+    scale: float = 1.0
+    impact_speed: float = 0.0
+    floor: float = 1e-3
+
+    def for_clearance(self, clearance: float) -> "ContactLaw":
+        """This law for clearance ``clearance`` (m), with its Hertzian stiffness."""
+        return replace(self, clearance=float(clearance))
+
+    @property
+    def k(self) -> float:
+        base = self.stiffness if self.stiffness is not None else (
+            hertz_stiffness(self.journal_radius, self.clearance, self.young, self.poisson)
+            if self.clearance > 0 else np.inf)
+        return base * self.scale
+
+    def force(self, delta, delta_d):
+        """F_n ≥ 0 at penetration ``delta`` and its rate (arrays)."""
+        delta, delta_d = np.asarray(delta, float), np.asarray(delta_d, float)
+        v0 = max(self.impact_speed, self.floor)
+        damp = 1.0 + 0.75 * (1.0 - self.restitution ** 2) * delta_d / v0
+        pen = np.maximum(delta, 0.0)
+        return np.where(delta > 0, np.maximum(self.k * pen ** self.exponent * damp, 0.0), 0.0)
+
+    def partials(self, delta: float, delta_d: float) -> tuple[float, float]:
+        """(∂F_n/∂δ, ∂F_n/∂δ̇) at one state (0 where the force is 0): the stiff part of
+        the equations of motion, for an implicit integrator's Jacobian."""
+        if delta <= 0:
+            return 0.0, 0.0
+        v0 = max(self.impact_speed, self.floor)
+        c = 0.75 * (1.0 - self.restitution ** 2) / v0
+        damp = 1.0 + c * delta_d
+        if damp <= 0:
+            return 0.0, 0.0
+        k = self.k
+        return (k * self.exponent * delta ** (self.exponent - 1.0) * damp,
+                k * delta ** self.exponent * c)
+
+    def __call__(self, psi, psi_d, period=None):
+        return -self.force(np.asarray(psi, float) - self.clearance, psi_d)
+
+
+def read_contact(e):
+    """A :class:`ContactLaw` from the YAML entry ``contact: {journal_radius, young,
+    poisson, restitution, stiffness, floor}`` (young in Pa, one value or [E_i, E_j])."""
+    if not e.check_keys(optional=("journal_radius", "young", "poisson", "restitution",
+                                  "stiffness", "floor")):
+        return None
+    kw = {}
+    if e.get("journal_radius") is not None:
+        kw["journal_radius"] = e["journal_radius"].number("length", minimum=0.0, strict=True)
+    for key in ("young", "poisson"):
+        if (x := e.get(key)) is not None:
+            vals = x.seq()
+            vals = [v.number(None) for v in vals] if vals is not None else [x.number(None)]
+            if None in vals or len(vals) not in (1, 2):
+                x.error(f"{key}: one value or two [link i, link j]")
+                return None
+            kw[key] = tuple(vals * (3 - len(vals)))[:2]
+    if (x := e.get("restitution")) is not None:
+        kw["restitution"] = x.number(None, minimum=0.0)
+        if kw["restitution"] is not None and kw["restitution"] > 1:
+            x.error("the coefficient of restitution must be from 0 to 1")
+            return None
+    if (x := e.get("stiffness")) is not None:
+        kw["stiffness"] = x.number(None, minimum=0.0, strict=True)
+    if (x := e.get("floor")) is not None:
+        kw["floor"] = x.number(None, minimum=0.0, strict=True)
+    if None in kw.values():
+        return None
+    return ContactLaw(**kw)
+
+
+@dataclass
+class ContactRun:
+    """A contact simulation: ``sample(t)`` the states (ψ_f, ψ̇_f, W); ``impacts`` the
+    contact starts (time, joint, impact speed); ``nfev`` right-hand-side evaluations."""
+
+    dynamics: object
+    pieces: list
+    impacts: list
+    separations: list
+    nfev: int
+
+    def sample(self, t) -> np.ndarray:
+        t = np.atleast_1d(np.asarray(t, dtype=float))
+        starts = np.array([p[0] for p in self.pieces])
+        idx = np.clip(np.searchsorted(starts, t, side="right") - 1, 0, len(self.pieces) - 1)
+        out = np.empty((t.size, self.pieces[0][2](self.pieces[0][0]).size))
+        for k in np.unique(idx):
+            sel = idx == k
+            out[sel] = self.pieces[k][2](t[sel]).T
+        return out
+
+
+IMPLICIT = ("BDF", "Radau", "LSODA")      # the solve_ivp methods given _stiff_jacobian
+
+
+def _stiff_jacobian(dyn, contacts):
+    """∂(ψ̇_f, ψ̈_f, Ẇ)/∂(ψ_f, ψ̇_f, W) keeping only the contact forces' dependence:
+    ψ̈_f = M⁻¹(τ_app − h), ∂ψ̈_f/∂(δ, δ̇) = −M⁻¹ e_k ∂F_n/∂(δ, δ̇).  M and h change
+    slowly; the contact terms carry the stiffness (a finite-difference Jacobian would
+    cost 2 n_f + 1 evaluations of the right-hand side each time)."""
+    nf = dyn.n_f
+
+    def jac(t, y):
+        ev = dyn.state(t, y)
+        mass = ev.dtau[:, dyn.free].T + np.diag(dyn.added)
+        d_app = np.zeros((nf, 2 * nf))
+        for k in contacts:
+            law = dyn.laws[k]
+            kd, kv = law.partials(float(y[k]) - law.clearance, float(y[nf + k]))
+            d_app[k, k], d_app[k, nf + k] = -kd, -kv
+        out = np.zeros((2 * nf + 1, 2 * nf + 1))
+        out[:nf, nf:2 * nf] = np.eye(nf)
+        out[nf:2 * nf, :2 * nf] = np.linalg.solve(mass, d_app)
+        return out
+    return jac
+
+
+def simulate_contact(model, until: float, *, initial=None, method: str = "Radau",
+                     rtol: float = 1e-6, atol: float | None = None, max_step: float = np.inf,
+                     max_pieces: int = 20000, jacobian: bool = True) -> ContactRun:
+    """Forward dynamics of a model with ``contact`` clearances: contact starts and ends
+    are terminal events; at each start the impact speed δ̇⁻ of that contact is set.
+
+    ``initial``: {free driver: coordinate or (coordinate, speed)}; the clearance
+    coordinates default to their expanded pose (in contact, at rest).  ``atol``
+    defaults to ``rtol``·(1 rad, L_ref, and those per second).  ``jacobian``: give the
+    implicit methods (BDF, Radau, LSODA) the contact terms' analytic Jacobian (else
+    solve_ivp's finite differences).
+    """
+    from scipy.integrate import solve_ivp
+
+    from .dynamics import Dynamics
+    dyn = Dynamics(model)
+    nf = dyn.n_f
+    contacts = [k for k, law in enumerate(dyn.laws) if isinstance(law, ContactLaw)]
+    y = np.concatenate((dyn.start(), np.zeros(nf), [0.0]))
+    for name, v in (initial or {}).items():
+        k = dyn.free_names.index(name)
+        y[k], y[nf + k] = v if isinstance(v, (tuple, list)) else (v, 0.0)
+    scale = dyn.scale[dyn.free]
+    tol = rtol if atol is None else atol
+    atol_v = np.concatenate((tol * scale, tol * scale, [np.inf]))
+    clear = {k: dyn.laws[k].clearance for k in contacts}
+    inside = {k: y[k] - clear[k] >= 0 for k in contacts}
+    pieces, impacts, separations = [], [], []
+    jac = _stiff_jacobian(dyn, contacts) if jacobian and method in IMPLICIT else None
+    t = 0.0
+    ev0 = dyn.evaluations
+    for _ in range(max_pieces):
+        if t >= until:
+            break
+        events = []
+        for k in contacts:
+            f = (lambda tt, yy, k=k: yy[k] - clear[k])
+            f.terminal, f.direction = True, (-1.0 if inside[k] else 1.0)
+            events.append(f)
+        dyn._cache.clear()
+        opts = {"jac": jac} if jac is not None else {}
+        sol = solve_ivp(lambda tt, yy: dyn.rhs(tt, yy), (t, until), y, method=method,
+                        rtol=rtol, atol=atol_v, dense_output=True, events=events or None,
+                        max_step=max_step, **opts)
+        if sol.status == -1:
+            raise RuntimeError(f"contact integration failed at t = {sol.t[-1]:.6g} s: "
+                               f"{sol.message}")
+        t_e = float(sol.t[-1])
+        pieces.append((t, t_e, sol.sol))
+        y = sol.y[:, -1].copy()
+        if sol.status == 0:
+            t = t_e
+            break
+        for n, k in enumerate(contacts):
+            if sol.t_events[n].size:
+                if inside[k]:
+                    separations.append((t_e, dyn.free_names[k]))
+                    inside[k] = False
+                else:
+                    v = float(y[nf + k])
+                    impacts.append((t_e, dyn.free_names[k], v))
+                    dyn.laws[k] = replace(dyn.laws[k], impact_speed=abs(v))
+                    inside[k] = True
+        t = t_e
+    else:
+        raise RuntimeError("too many contact events (chattering?)")
+    return ContactRun(dyn, pieces, impacts, separations, dyn.evaluations - ev0)
