@@ -90,7 +90,7 @@ def _schedule(system: System) -> Schedule:
     q0 = initial_guess(system)
     starts = []
     for k, d in enumerate(drivers):
-        if d.driver.motion.start is not None:
+        if d.driver.motion.start is not None:       # a constant-speed law's own start, or a law's
             starts.append(d.driver.motion.start)
         elif k == 0:
             starts.append(system.model.analysis.start)
@@ -99,9 +99,6 @@ def _schedule(system: System) -> Schedule:
             i, j = system.ends[system.constraints.index(d)]
             starts.append(float(d.coordinate(qe[3 * i:3 * i + 3], qe[3 * j:3 * j + 3])))
     laws = tuple(None if isinstance(d.driver.motion, MotionLaw) else d.driver.motion for d in drivers)
-    for k, law in enumerate(laws):
-        if law is not None:
-            starts[k] = law.start
     accel = np.array([getattr(d.driver.motion, "acceleration", 0.0) if law is None else 0.0
                       for d, law in zip(drivers, laws)])
     return Schedule(np.array(starts), np.array([d.driver.motion.speed for d in drivers]),
