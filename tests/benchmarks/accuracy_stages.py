@@ -23,7 +23,7 @@ from accuracy_common import Table
 
 import kinetostatics as ks
 from kinetostatics import friction as fr
-from kinetostatics.analysis import _extremes_and_events, _schedule, _times, kinetics
+from kinetostatics.analysis import _extremes_and_events, _schedule, _times
 from kinetostatics.forces import external_forces, gravity_forces, inertia_forces, mass_vector
 from kinetostatics.positions import (_assemble_start, condition_number, derivatives,
                                      solve_positions)
