@@ -531,33 +531,45 @@ def _closed_form_path(system: System, q0: np.ndarray, sig0: np.ndarray, t: np.nd
     """All positions at once by closed-form dyads, or None where they do not apply.
 
     Applies when every group has a closed form and no group comes near a
-    singular position over the path (its margin stays above ``dyads.MARGIN``);
-    auxiliary points every ≤ 30° of the driver let the angles be unwrapped.
-    The result is checked against Φ = 0; any doubt returns None (Newton path).
+    singular position over the path (see :func:`closed_form_path`); any doubt
+    returns None (Newton path).
     """
-    from .dyads import MARGIN
     solvers = _solvers(system, drive)
     if solvers is None:
         return None
+    q, ok = closed_form_path(system, solvers, q0[None, None], t, drive)
+    if not ok[0]:
+        return None
+    return PositionSolution(q[0], np.broadcast_to(sig0, (len(t), len(sig0))),
+                            np.zeros(len(t), dtype=int))
+
+
+def closed_form_path(system: System, solvers, q0: np.ndarray, t: np.ndarray,
+                     drive: Drive) -> tuple[np.ndarray, np.ndarray]:
+    """Closed-form positions at times ``t (N,)`` from start poses ``q0 (V, 1, n_q)``
+    (V variants, stacked or not): ``(q (V, N, n_q), ok (V,))``.
+
+    ``ok`` where every group's margin stays above ``dyads.MARGIN`` along the path
+    and a sample of the positions satisfies Φ = 0 (the closed forms are exact).
+    Auxiliary points every ≤ 30° of the driver (:func:`path_times`) let the
+    angles be unwrapped continuously from the start pose.
+    """
     tt, order = path_times(system, t, drive)
     psi = drive(tt)[0]
-    q = np.broadcast_to(q0, tt.shape + q0.shape).copy()
-    for solve in solvers:
-        q, margin = solve(q, psi)
-        if not np.all(margin >= MARGIN):
-            return None
+    n_v = len(q0)
+    q, ok = closed_form_near(solvers, np.broadcast_to(q0, (n_v, len(tt), q0.shape[-1])), psi)
+    ok = np.all(ok, axis=-1)
     start = len(t)
     for k in range(len(system.links)):              # unwrap angles along the path
         col = 3 * k + 2
-        th = np.unwrap(q[order, col])
-        q[order, col] = th
-        q[:, col] += 2 * np.pi * np.round((q0[col] - q[start, col]) / (2 * np.pi))
-    q = q[:start]
-    probe = slice(None, None, max(1, start // 32))     # the closed forms are exact: a sample checks them
-    if np.max(np.abs(phi(system, q[probe], psi[:start][probe]))) > 1e3 * TOL * system.l_ref:
-        return None
-    return PositionSolution(q, np.broadcast_to(sig0, (len(t), len(sig0))),
-                            np.zeros(len(t), dtype=int))
+        q[:, order, col] = np.unwrap(q[:, order, col], axis=-1)
+        q[:, :, col] += (2 * np.pi * np.round((q0[:, 0, col] - q[:, start, col]) / (2 * np.pi))
+                         )[:, None]
+    q = q[:, :start]
+    probe = slice(None, None, max(1, start // 32))
+    res = np.max(np.abs(phi(system, q[:, probe], psi[:start][probe])), axis=(-2, -1))
+    ok &= res <= 1e3 * TOL * np.ravel(np.broadcast_to(system.l_ref, (n_v, 1)))
+    return q, ok
 
 
 # -- velocities and accelerations ----------------------------------------------------
@@ -625,18 +637,26 @@ def _unit_drive(system: System) -> Drive:
 
 def _closed_form_at(system: System, drive: Drive, guess: np.ndarray, psi: np.ndarray):
     """Closed-form positions near ``guess`` (angles taken nearest to it), or None."""
-    from .dyads import MARGIN
     solvers = _solvers(system, drive)
     if solvers is None:
         return None
+    q, ok = closed_form_near(solvers, guess, psi)
+    return q if np.all(ok) else None
+
+
+def closed_form_near(solvers, guess: np.ndarray, psi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(q, ok): the closed-form solvers applied in solve order at driver coordinates
+    ``psi``, angles taken nearest to ``guess``; ``ok (...)`` where every group's
+    margin stays above ``dyads.MARGIN``."""
+    from .dyads import MARGIN
     q = guess.copy()
+    ok = np.ones(guess.shape[:-1], dtype=bool)
     for solve in solvers:
         q, margin = solve(q, psi)
-        if not np.all(margin >= MARGIN):
-            return None
+        ok &= margin >= MARGIN
     ang = slice(2, None, 3)
     q[..., ang] += 2 * np.pi * np.round((guess[..., ang] - q[..., ang]) / (2 * np.pi))
-    return q
+    return q, ok
 
 
 def _solvers(system: System, drive: Drive):

@@ -16,16 +16,17 @@ functions evaluate the same formulas, only over one more leading axis.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import Sequence
 
 import numpy as np
 
 from .analysis import Schedule, _times, kinetics
-from .dyads import MARGIN, closed_form
+from .dyads import closed_form
 from .forces import point_state
 from .model import Model, MotionLaw
-from .positions import TOL, _signature, derivatives, group_condition, initial_guess
+from .positions import (TOL, _signature, closed_form_near, closed_form_path, derivatives,
+                        group_condition, initial_guess)
 from .stacking import stack
 from .system import System, build_system, jacobian, phi
 
@@ -113,38 +114,10 @@ def _start(system: System, models: Sequence[Model], sched: Schedule):
     return q, ok
 
 
-def _positions(system: System, solvers, q0: np.ndarray, t: np.ndarray, sched: Schedule):
-    """Closed-form positions at times ``t (N,)`` for all variants; (q, ok (V,))."""
-    from .positions import path_times
-    tt, order = path_times(system, t, sched)
-    psi = sched(tt)[0]
-    q = np.broadcast_to(q0, (len(q0), len(tt), q0.shape[-1])).copy()
-    ok = np.ones(len(q0), dtype=bool)
-    for solve in solvers:
-        q, margin = solve(q, psi)
-        ok &= np.all(margin >= MARGIN, axis=-1)
-    start = len(t)
-    for k in range(len(system.links)):              # unwrap angles along the path
-        col = 3 * k + 2
-        th = np.unwrap(q[:, order, col], axis=-1)
-        q[:, order, col] = th
-        q[:, :, col] += (2 * np.pi * np.round((q0[:, 0, col] - q[:, start, col]) / (2 * np.pi))
-                         )[:, None]
-    q = q[:, :start]
-    probe = slice(None, None, max(1, start // 32))
-    res = np.max(np.abs(phi(system, q[:, probe], psi[:start][probe])), axis=(-2, -1))
-    ok &= res <= 1e3 * TOL * np.ravel(np.broadcast_to(system.l_ref, (len(q0), 1)))
-    return q, ok
-
-
 def _state(system: System, solvers, sched: Schedule, t: np.ndarray, guess: np.ndarray):
     """(q, q̇, q̈) at times ``t (V, M)`` by the closed forms, angles nearest ``guess``."""
     psi, psi_d, psi_dd = sched(t)
-    q = guess.copy()
-    for solve in solvers:
-        q, _ = solve(q, psi)
-    ang = slice(2, None, 3)
-    q[..., ang] += 2 * np.pi * np.round((guess[..., ang] - q[..., ang]) / (2 * np.pi))
+    q, _ = closed_form_near(solvers, guess, psi)
     qd, qdd, _ = derivatives(system, q, psi_d, psi_dd)
     return q, qd, qdd
 
@@ -234,7 +207,7 @@ def analyze_stacked(models: Sequence[Model], *, friction: bool | None = None,
     solvers = [closed_form(system, plan, q0) for plan in system.plans]
     if any(s is None for s in solvers):
         raise Unsupported("a group without a closed form")
-    q, ok_path = _positions(system, solvers, q0, t, sched)
+    q, ok_path = closed_form_path(system, solvers, q0, t, sched)
     ok &= ok_path
     psi, psi_d, psi_dd = sched(t)
     psi, psi_d, psi_dd = (np.broadcast_to(x, q.shape[:-1] + (1,)) for x in (psi, psi_d, psi_dd))
