@@ -32,10 +32,7 @@ class Template:
 
     @classmethod
     def load(cls, path: str | Path) -> "Template":
-        text = Path(path).read_text(encoding="utf-8") if Path(path).is_file() else None
-        if text is None:
-            yaml_io.load(path)                      # raises the loader's message
-        tree = yaml_io.compose(text, str(path))
+        tree = yaml_io.compose(yaml_io.read_text(path), str(path))
         return cls(tree, yaml_io.build(tree))
 
     @classmethod
@@ -249,12 +246,10 @@ def _vectorised_rows(models: dict[int, Model], rows: list, friction: bool | None
                                                     friction=friction, stacked=stacked)
                     strokes = vectorised.output_strokes(st)
                     row = summary_row(vectorised.as_result(st), flywheel=False,
-                                      strokes={k: {n: a for n, a in d.items()}
-                                               for k, d in strokes.items()})
+                                      strokes=strokes)
         except (vectorised.Unsupported, TopologyMismatch, ValueError, IndexError,
                 ArithmeticError, np.linalg.LinAlgError):
             continue                      # the per-variant analysis takes them, exactly
         for v, ok, r in zip(members, st.ok, split_rows(row, len(members))):
             if ok:
-                r["full_cycle"] = True
                 rows[v] = r

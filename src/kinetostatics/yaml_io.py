@@ -421,6 +421,11 @@ def load(path: str | Path, parameters: Mapping[str, float] | None = None) -> Mod
     Raises :class:`~kinetostatics.errors.ModelError` listing every problem
     as ``FILE:LINE:COL: key.path: message``.
     """
+    return loads(read_text(path), file=str(path), parameters=parameters)
+
+
+def read_text(path: str | Path) -> str:
+    """A mechanism file's text, with the size cap and UTF-8 checked (``ModelError``)."""
     path = Path(path)
     try:
         size = path.stat().st_size
@@ -444,7 +449,7 @@ def load(path: str | Path, parameters: Mapping[str, float] | None = None) -> Mod
     except OSError as exc:
         reason = exc.strerror or str(exc)
         raise ModelError([(Location(str(path)), f"cannot read the file: {reason}")]) from None
-    return loads(text, file=str(path), parameters=parameters)
+    return text
 
 
 def loads(text: str, file: str = "<string>",
