@@ -288,11 +288,14 @@ def test_a_folder_batch_runs_each_file_and_reports_a_broken_one(tmp_path):
     (folder / "ann.yaml").write_text(SLIDER.read_text())
     (folder / "bob.yaml").write_text(SLIDER.read_text().replace("  b: 350 ", "  b: 80 "))
     (folder / "cid.yaml").write_text("links: {ground: {}}\njoints: 3\n")
+    (folder / "dan.yaml").write_bytes(b"name: caf\xe9\n")          # not UTF-8
     code = main(["batch", str(folder), "--out", str(tmp_path / "out"), "--positions", "12",
                  "--serial", "--results"])
     assert code == 0
     rows = _rows(tmp_path / "out")
-    assert [rows[k]["status"] for k in ("ann", "bob", "cid")] == ["ok", "failed", "failed"]
+    assert [rows[k]["status"] for k in ("ann", "bob", "cid", "dan")] == ["ok", "failed", "failed",
+                                                                          "failed"]
+    assert "dan.yaml:1:10: the file is not UTF-8 text" in rows["dan"]["reason"]
     assert rows["bob"]["b"] == "80.0" and "cannot assemble" in rows["bob"]["reason"]
     assert "cid.yaml:2:" in rows["cid"]["reason"]
     assert (tmp_path / "out" / "variants" / "ann" / "results.csv").is_file()

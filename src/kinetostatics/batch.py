@@ -35,6 +35,7 @@ from typing import Any, Callable, Iterable, Mapping, Sequence
 
 import numpy as np
 
+from . import yaml_io
 from .errors import KinetostaticsError
 
 __all__ = ["Source", "Task", "Chunk", "BatchSummary", "BatchError", "run_batch",
@@ -64,6 +65,7 @@ class Source:
 
     file: str
     text: str
+    problem: KinetostaticsError | None = None    # why the file could not be read
 
 
 @dataclass(frozen=True)
@@ -351,10 +353,16 @@ def sources_of(path: str | Path) -> list[Source]:
         if not files:
             raise BatchError(f"{path}: no *.yaml files in this folder")
     elif p.is_file():
-        files = [p]
+        return [Source(str(p), yaml_io.read_text(p))]
     else:
         raise BatchError(f"{path}: no such file or folder")
-    return [Source(str(f), f.read_text(encoding="utf-8")) for f in files]
+    out = []
+    for f in files:                  # in a folder, an unreadable file is a row with its reason
+        try:
+            out.append(Source(str(f), yaml_io.read_text(f)))
+        except KinetostaticsError as exc:
+            out.append(Source(str(f), "", exc))
+    return out
 
 
 def _fingerprint(sources: Sequence[Source], tasks: Sequence[Task], options: Mapping) -> str:
@@ -550,6 +558,9 @@ def _templates(sources: Sequence[Source]) -> list[Any]:
     """Each source's Template, or the error that stops it loading."""
     out = []
     for s in sources:
+        if s.problem is not None:
+            out.append(s.problem)
+            continue
         try:
             out.append(_template(s.file, s.text))
         except KinetostaticsError as exc:
