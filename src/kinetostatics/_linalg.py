@@ -64,7 +64,3 @@ class BlockFactor:
                 r = r - np.einsum("...ij,...j->...i", upper, y[..., later])
             y[..., rows] = np.einsum("...ji,...j->...i", inv, r)
         return y
-
-    def inverse(self) -> np.ndarray:
-        """Φ_q⁻¹ ``(..., n, n)`` (for the friction iteration)."""
-        return self.solve_many(np.broadcast_to(np.eye(self.n), self.jac.shape[:-2] + (self.n, self.n)))
