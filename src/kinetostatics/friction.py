@@ -11,8 +11,8 @@ force it is ``g e`` with g the coordinate gradient, so equilibrium reads
 (a) *approximate*: e from the frictionless x₀, then one solve.
 (b) *consistent*: the solution of the nonlinear equation on the branch
 connected to x₀ by the homotopy μ → σμ, σ: 0 → 1.  A fixed-point iteration
-from x₀ (A⁻¹ factorised once per position, only the right-hand side
-changes) is accepted where it converges (status 0); elsewhere the homotopy
+from x₀ (A factorised once per position — the kinematic block factors
+when A = Φ_qᵀ — only the right-hand side changes) is accepted where it converges (status 0); elsewhere the homotopy
 is run with Newton at each σ (status 1).  A fold of the branch (sign change
 of det J) or divergence before σ = 1 is self-locking (status 2, NaN values).
 """
