@@ -17,7 +17,7 @@ import numpy as np
 
 from .model import Model
 
-__all__ = ["stack", "signature", "TopologyMismatch"]
+__all__ = ["stack", "signature", "is_stacked", "TopologyMismatch"]
 
 
 class TopologyMismatch(ValueError):
@@ -84,6 +84,15 @@ def stack(models: Sequence[Model]) -> Model:
     parameters = models[0].parameters
     out = _stack([dataclasses.replace(m, parameters={}) for m in models], "model")
     return dataclasses.replace(out, parameters=parameters)
+
+
+def is_stacked(x: Any) -> bool:
+    """Whether a model value carries the variant axis (numbers (V, 1), vectors (V, 1, 2))."""
+    if dataclasses.is_dataclass(x):
+        return any(is_stacked(getattr(x, f.name)) for f in dataclasses.fields(x) if f.compare)
+    if isinstance(x, (tuple, list)):
+        return any(is_stacked(v) for v in x)
+    return np.ndim(x) > 1
 
 
 def signature(model: Model) -> tuple:

@@ -27,7 +27,7 @@ from .forces import point_state
 from .model import Model, MotionLaw
 from .positions import (TOL, _signature, closed_form_near, closed_form_path, derivatives,
                         group_condition, initial_guess)
-from .stacking import stack
+from .stacking import is_stacked, stack
 from .system import System, build_system, jacobian, phi
 
 __all__ = ["analyze_stacked", "Stacked"]
@@ -161,30 +161,21 @@ def _extremes(system, solvers, sched, t, q, qd, qdd) -> dict:
     return extremes
 
 
-def _stacked(x) -> bool:
-    """Whether a model value carries the variant axis (numbers (V, 1), vectors (V, 1, 2))."""
-    import dataclasses
-    if dataclasses.is_dataclass(x):
-        return any(_stacked(getattr(x, f.name)) for f in dataclasses.fields(x) if f.compare)
-    if isinstance(x, (tuple, list)):
-        return any(_stacked(v) for v in x)
-    return np.ndim(x) > 1
-
-
 def _check_supported(sm: Model, friction: bool) -> None:
     """Refuse what the stacked stages do not broadcast (the loop takes it)."""
-    if _stacked(sm.gravity) or any(_stacked(d.offset) or _stacked(d.effort) for d in sm.drivers):
+    if is_stacked(sm.gravity) or any(is_stacked(d.offset) or is_stacked(d.effort)
+                                     for d in sm.drivers):
         raise Unsupported("gravity or a driver's constants differ between variants")
     for load in sm.loads:
         if load.table is not None:
             at, vals = load.table
             if np.ndim(at) > 1 or np.ndim(vals) > (2 if load.kind == "force" else 1):
                 raise Unsupported(f"the table of load '{load.name}' differs between variants")
-        if _stacked(load.axis) or any(_stacked(c.axis) or c.kind == "angle" and _stacked(c.bounds)
-                                      for c in load.active):
+        if is_stacked(load.axis) or any(is_stacked(c.axis) or c.kind == "angle"
+                                        and is_stacked(c.bounds) for c in load.active):
             raise Unsupported(f"the directions or angle band of load '{load.name}' differ "
                               "between variants")
-    if friction and any(_stacked(getattr(j, name, 0.0)) for j in sm.joints
+    if friction and any(is_stacked(getattr(j, name, 0.0)) for j in sm.joints
                         for name in ("rho", "f", "loss")):
         raise Unsupported("friction coefficients differ between variants")
 
@@ -228,7 +219,7 @@ def output_strokes(st: Stacked) -> dict[str, dict[str, np.ndarray]]:
     system, out = st.system, {}
     driven = {d.joint.name for d in system.motion_drivers}
     period = 2 * np.pi / st.sched.reference
-    n_v, n = st.q.shape[:2]
+    n = st.q.shape[1]
     for k, j in enumerate(system.model.joints):
         if not isinstance(j, Prismatic) or j.name in driven:
             continue
@@ -259,7 +250,8 @@ def output_strokes(st: Stacked) -> dict[str, dict[str, np.ndarray]]:
         vals = _coordinate(system, qr, k)
         lo = np.argmin(vals, axis=-1)[:, None]
         hi = 1 - lo
-        r_lo, r_hi = np.take_along_axis(roots, lo, -1)[:, 0], np.take_along_axis(roots, hi, -1)[:, 0]
+        r_lo = np.take_along_axis(roots, lo, -1)[:, 0]
+        r_hi = np.take_along_axis(roots, hi, -1)[:, 0]
         t_up = np.mod(r_hi - r_lo, period)
         t_down = period - t_up
         stroke = np.abs(vals[:, 1] - vals[:, 0])
