@@ -24,7 +24,7 @@ import pytest
 
 import kinetostatics as ks
 from kinetostatics.analysis import kinetics
-from kinetostatics.dynamics import equivalent
+from kinetostatics.dynamics import equivalent, simulate
 from kinetostatics.flywheel import design, verify
 from kinetostatics.positions import derivatives
 from kinetostatics.variants import summary_row
@@ -186,3 +186,27 @@ def test_the_batch_row_carries_the_same_flywheel():
     assert rows[1]["flywheel.inertia"] == pytest.approx(rows[0]["flywheel.inertia"], rel=1e-9)
     assert rows[1]["flywheel.inertia_net"] == pytest.approx(rows[0]["flywheel.inertia_net"],
                                                             rel=1e-9)
+
+
+def test_simulated_work_of_a_prescribed_driver_with_its_effort_at_a_pinion():
+    """A pendulum on a crank pin, the crank turned at 60 rpm through a pinion
+    (z = 20 on z = 80) with the effort taken at the pinion, the arm free: without
+    friction or loads the drivers' work is the change of the machine's energy."""
+    text = (ROOT / "tests" / "dynamics" / "driven_pendulum.yaml").read_text()
+    for old, new in (
+            ("    points: {O: [0, 0]}\n", "    points: {O: [0, 0], Om: [0, 100]}\n"
+             "  pinion:\n    points: {Om: [0, 0]}\n    inertia: 0.0002\n"),
+            ("  A: {type: revolute, links: [crank, arm]}\n",
+             "  A: {type: revolute, links: [crank, arm]}\n"
+             "  Om: {type: revolute, links: [ground, pinion]}\n"
+             "  mesh: {type: gear, links: [pinion, crank], centres: [Om, O], teeth: [20, 80],"
+             " module: 2, mesh: external}\n"),
+            ("motion: {speed: 60}}", "motion: {speed: 60}, points: [x, A], balance_at: Om}")):
+        assert old in text
+        text = text.replace(old, new)
+    sim = simulate(ks.loads(text, file="geared_pendulum.yaml"), 1.0, method="DOP853",
+                   rtol=1e-10)
+    cols, _ = sim.table(points=21)
+    energy, work = cols["energy.total"], cols["work.drivers"]
+    assert np.ptp(energy) > 1.0                                   # the crank does work
+    assert np.max(np.abs((work - work[0]) - (energy - energy[0]))) <= 1e-5 * np.ptp(energy)

@@ -53,6 +53,7 @@ from .errors import (KinetostaticsError, Location, SelfLockingError, SingularCon
 from .forces import ZERO_SPEED, mass_vector, point_state
 from .model import EffortLaw, Model, MotionLaw
 from .positions import derivatives, positions_near, start_pose
+from .reactions import effort_joints, effort_ratio
 from .system import System, build_system, coordinate_gradient
 
 __all__ = ["Dynamics", "Simulation", "simulate", "with_effort", "equivalent",
@@ -97,7 +98,6 @@ def equivalent(system: System, q: np.ndarray, psi: np.ndarray, *, speed: float =
     The effort needed for a motion (ψ, ψ̇, ψ̈), referred to ψ (the effort times ρ), is
     then J_e ψ̈ + ½ J_e' ψ̇² − torque.
     """
-    from .reactions import effort_ratio
     if len(system.motion_drivers) != 1:
         raise ValueError("equivalent quantities need exactly one motion driver")
     q = np.asarray(q, dtype=float)
@@ -206,6 +206,10 @@ class Dynamics:
         speeds = [abs(d.motion.speed) for d in motion]
         self.ref_speed = float(ref_speed or max(speeds, default=0.0) or 1.0)
         self.n_j = system.n_joint_rows
+        # prescribed drivers whose effort is taken at another joint (balance_at): their
+        # effort's power is effort × that joint's relative speed, not × the driver speed
+        self._moved = [(d, k) for d, (c, k) in enumerate(zip(cons, effort_joints(system)))
+                       if c.driver.balance_at not in (None, c.joint.name)]
         self.mass_vector = mass_vector(system)
         self.extremes = self._extremes()
         q0, _ = start_pose(system, self.drive)
@@ -387,7 +391,7 @@ class Dynamics:
         """d/dt (ψ_f, ψ̇_f, W): W the work of all drivers."""
         nf = self.n_f
         ev = self.state(t, y, direction)
-        power = float(ev.effort @ self._speeds(t, y))
+        power = float(ev.effort @ self._effort_speeds(ev, self._speeds(t, y)))
         return np.concatenate((y[nf:2 * nf], ev.accel, [power]))
 
     def _speeds(self, t, y):
@@ -395,6 +399,13 @@ class Dynamics:
         s[self.fixed] = self.prescribed(t)[1]
         s[self.free] = y[self.n_f:2 * self.n_f]
         return s
+
+    def _effort_speeds(self, ev: _Eval, speeds: np.ndarray) -> np.ndarray:
+        """The relative speeds of the joints that carry the efforts: the driver speeds,
+        except for a driver whose effort is taken at another joint (``balance_at``)."""
+        for d, k in self._moved:
+            speeds[d] = float(coordinate_gradient(self.system, ev.q, k) @ ev.qd)
+        return speeds
 
     # -- breakaway -------------------------------------------------------------------
     def breakaway(self, t: float, psi_f) -> dict[str, Any]:
