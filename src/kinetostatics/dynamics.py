@@ -53,6 +53,7 @@ from .errors import (KinetostaticsError, Location, SelfLockingError, SingularCon
 from .forces import ZERO_SPEED, mass_vector, point_state
 from .model import EffortLaw, Model, MotionLaw
 from .positions import derivatives, positions_near, start_pose
+from .reactions import effort_joints, effort_ratio
 from .system import System, build_system, coordinate_gradient
 
 __all__ = ["Dynamics", "Simulation", "simulate", "with_effort", "equivalent",
@@ -80,32 +81,39 @@ def _law(effort) -> EffortLaw:
 def equivalent(system: System, q: np.ndarray, psi: np.ndarray, *, speed: float = 1.0,
                extremes: dict | None = None) -> dict[str, np.ndarray]:
     """Equivalent (reduced) quantities of a 1-DOF, fully driven system at positions
-    ``q (n, n_q)`` with driver coordinates ``psi (n,)``, from :func:`kinetics`:
+    ``q (n, n_q)`` with driver coordinates ``psi (n,)``, all referred to the driver's
+    coordinate ψ (the crank), wherever its effort is taken (``balance_at``):
 
-    - ``inertia`` J_e = τ(ψ̈ = 1) − τ(ψ̈ = 0) (= Σ m|v_S/ψ̇|² + J(ω/ψ̇)²);
+    - ``inertia`` J_e = Σ m|v_S/ψ̇|² + J(ω/ψ̇)² = 2T/ψ̇² (> 0), from the masses and the
+      velocities per unit ψ̇; by virtual power it equals ρ·[τ(ψ̈ = 1) − τ(ψ̈ = 0)] of
+      :func:`kinetics`, without that product's loss of digits where ρ is small;
     - ``inertia_derivative`` dJ_e/dψ = 2 Σ (m v_S·a_S + J ω α)/ψ̇³ at ψ̈ = 0;
     - ``torque`` the equivalent torque (force) of gravity and the external loads
       at driver speed ``speed`` (the sign matters for loads opposing the velocity):
-      their power divided by ψ̇.
+      their power divided by ψ̇;
+    - ``effort_ratio`` ρ, the relative speed of the joint that carries the driver's
+      effort τ per unit ψ̇ (1 without ``balance_at``; −z2/z1 at a pinion driving the
+      crank's gear through an external mesh).
 
-    The effort needed for a motion (ψ, ψ̇, ψ̈) is then J_e ψ̈ + ½ J_e' ψ̇² − torque.
+    The effort needed for a motion (ψ, ψ̇, ψ̈), referred to ψ (the effort times ρ), is
+    then J_e ψ̈ + ½ J_e' ψ̇² − torque.
     """
     if len(system.motion_drivers) != 1:
         raise ValueError("equivalent quantities need exactly one motion driver")
     q = np.asarray(q, dtype=float)
     n = q.shape[0]
-    qb = np.concatenate((q, q, q))
-    pd = np.concatenate((np.full(n, speed), np.full(n, speed), np.ones(n)))[:, None]
-    pdd = np.concatenate((np.zeros(n), np.ones(n), np.zeros(n)))[:, None]
-    psib = np.concatenate((psi, psi, psi))[:, None]
+    qb = np.concatenate((q, q))
+    pd = np.concatenate((np.full(n, speed), np.ones(n)))[:, None]
+    pdd = np.zeros((2 * n, 1))
+    psib = np.concatenate((psi, psi))[:, None]
     qd, qdd, lu = derivatives(system, qb, pd, pdd)
     kin = kinetics(system, qb, qd, qdd, psib, lu=lu, ref_speed=abs(speed), extremes=extremes)
-    tau = kin.x0[:, -1]
-    tangent = qd[2 * n:]
+    tangent = qd[n:]
     loads = (kin.q_gravity + kin.q_external)[:n]
-    return {"inertia": tau[n:2 * n] - tau[:n],
+    return {"inertia": np.einsum("...n,...n->...", tangent, mass_vector(system) * tangent),
+            "effort_ratio": effort_ratio(system, q, tangent),
             "inertia_derivative": -2.0 * np.einsum("...n,...n->...", tangent,
-                                                   kin.q_inertia[2 * n:]),
+                                                   kin.q_inertia[n:]),
             "torque": np.einsum("...n,...n->...", tangent, loads)}
 
 
@@ -198,6 +206,10 @@ class Dynamics:
         speeds = [abs(d.motion.speed) for d in motion]
         self.ref_speed = float(ref_speed or max(speeds, default=0.0) or 1.0)
         self.n_j = system.n_joint_rows
+        # prescribed drivers whose effort is taken at another joint (balance_at): their
+        # effort's power is effort × that joint's relative speed, not × the driver speed
+        self._moved = [(d, k) for d, (c, k) in enumerate(zip(cons, effort_joints(system)))
+                       if c.driver.balance_at not in (None, c.joint.name)]
         self.mass_vector = mass_vector(system)
         self.extremes = self._extremes()
         q0, _ = start_pose(system, self.drive)
@@ -379,7 +391,7 @@ class Dynamics:
         """d/dt (ψ_f, ψ̇_f, W): W the work of all drivers."""
         nf = self.n_f
         ev = self.state(t, y, direction)
-        power = float(ev.effort @ self._speeds(t, y))
+        power = float(ev.effort @ self._effort_speeds(ev, self._speeds(t, y)))
         return np.concatenate((y[nf:2 * nf], ev.accel, [power]))
 
     def _speeds(self, t, y):
@@ -387,6 +399,13 @@ class Dynamics:
         s[self.fixed] = self.prescribed(t)[1]
         s[self.free] = y[self.n_f:2 * self.n_f]
         return s
+
+    def _effort_speeds(self, ev: _Eval, speeds: np.ndarray) -> np.ndarray:
+        """The relative speeds of the joints that carry the efforts: the driver speeds,
+        except for a driver whose effort is taken at another joint (``balance_at``)."""
+        for d, k in self._moved:
+            speeds[d] = float(coordinate_gradient(self.system, ev.q, k) @ ev.qd)
+        return speeds
 
     # -- breakaway -------------------------------------------------------------------
     def breakaway(self, t: float, psi_f) -> dict[str, Any]:

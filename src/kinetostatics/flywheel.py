@@ -107,7 +107,12 @@ def energy_curve(system: System, events: list[float], *, friction: bool = False,
                  positions: int = 3600) -> dict[str, np.ndarray]:
     """The driving moment over a cycle, sorted by travel φ ∈ [0, 2π) from the start,
     with the one-sided values at every event (φ_e ∓ EPS).  Keys: ``travel``,
-    ``coordinate``, ``moment`` (in the sense of motion), ``inertia`` (J_e), ``result``."""
+    ``coordinate``, ``moment`` (in the sense of motion), ``inertia`` (J_e), ``result``.
+
+    ``moment`` is the balancing moment referred to the driver's (crank) shaft: with
+    ``balance_at`` the effort τ at that joint times its relative speed per unit crank
+    speed ρ (the input power over the crank speed), so the moment, the energy swing and
+    J_F do not depend on where the effort is taken."""
     from .dynamics import equivalent
     drv = _one_dof(system)
     sense = float(np.sign(drv.driver.motion.speed))
@@ -122,10 +127,12 @@ def energy_curve(system: System, events: list[float], *, friction: bool = False,
     coords = start + sense * phi
     r = analyze(system, positions=coords, friction=friction, events=False)
     name = drv.name
-    tau = r[f"{name}.torque_friction"] if friction else r[f"{name}.torque"]
+    model = system.model
+    word = "torque" if model.joint(drv.driver.balance_at or drv.joint.name).angular else "force"
+    tau = r[f"{name}.{word}_friction"] if friction else r[f"{name}.{word}"]
     eq = equivalent(system, r.q, r.coordinate, speed=drv.driver.motion.speed,
                     extremes=r.extremes)
-    return {"travel": phi, "coordinate": coords, "moment": sense * tau,
+    return {"travel": phi, "coordinate": coords, "moment": sense * tau * eq["effort_ratio"],
             "inertia": eq["inertia"], "result": r, "events": phi_e}
 
 

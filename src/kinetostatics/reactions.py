@@ -15,13 +15,29 @@ import numpy as np
 
 from .system import System, coordinate_gradient, jacobian
 
-__all__ = ["effort_joints", "equilibrium_matrix", "solve_equilibrium", "ground_reaction"]
+__all__ = ["effort_joints", "effort_ratio", "equilibrium_matrix", "solve_equilibrium",
+           "ground_reaction"]
 
 
 def effort_joints(system: System) -> list[int]:
     """For each motion driver, the index of the joint that carries its effort."""
     names = [j.name for j in system.model.joints]
     return [names.index(d.driver.balance_at or d.joint.name) for d in system.motion_drivers]
+
+
+def effort_ratio(system: System, q: np.ndarray, tangent: np.ndarray) -> np.ndarray:
+    """For the first motion driver, the relative speed of the joint that carries its
+    effort per unit driver speed, ``(...,)``: c_k,q · ∂q/∂ψ with ``tangent`` = ∂q/∂ψ
+    (q̇ at ψ̇ = 1).  Exactly 1 when the effort is the driver's own (no ``balance_at``).
+
+    By virtual power the effort τ at that joint is the effort τ·ratio at the driver's
+    joint: e.g. −4 for a pinion (z = 20) driving the crank's gear (z = 80) through an
+    external mesh, dx_B/dφ for a slider-crank driven from the slide."""
+    d = system.motion_drivers[0]
+    if d.driver.balance_at is None or d.driver.balance_at == d.joint.name:
+        return np.ones(np.shape(q)[:-1])
+    k = effort_joints(system)[0]
+    return np.einsum("...n,...n->...", coordinate_gradient(system, q, k), tangent)
 
 
 def equilibrium_matrix(system: System, q: np.ndarray, ground: bool = False) -> np.ndarray:
