@@ -540,6 +540,7 @@ class _Builder:
                                             "load": set()}
         self.ground: str | None = None
         self.lost: set[str] = set()        # kinds whose whole section is missing or unreadable
+        self.sketch_where: dict[str, Location] = {}        # sketch key -> where written
 
     def build(self) -> Model:
         top = self.top
@@ -567,7 +568,7 @@ class _Builder:
                       drivers=tuple(drivers), loads=tuple(loads_), gravity=gravity,
                       sketch=sketch, analysis=analysis, loops=loops,
                       parameters=dict(self.ctx.env), units=unit_names, source=self.ctx.file,
-                      flywheel=flywheel)
+                      flywheel=flywheel, sketch_where=self.sketch_where)
         if clearances:
             from .clearance import expand
             model = expand(model, clearances)
@@ -1397,6 +1398,7 @@ class _Builder:
             v = e.vector("length")
             if v is not None:
                 out[ref] = v
+                self.sketch_where[ref] = where
         return out
 
     def _analysis(self, joints, drivers, links=()) -> Analysis:
