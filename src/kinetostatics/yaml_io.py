@@ -542,6 +542,7 @@ class _Builder:
         self.lost: set[str] = set()        # kinds whose whole section is missing or unreadable
         self.sketch_where: dict[str, Location] = {}        # sketch key -> where written
         self.pins: dict[str, list[str]] = {}               # pin -> the revolutes it expands to
+        self.generated: dict[str, tuple[str, str, str]] = {}   # revolute -> (pin, hub, link)
 
     def build(self) -> Model:
         top = self.top
@@ -634,9 +635,15 @@ class _Builder:
                                      f"reserved: {', '.join(sorted(RESERVED))}")
         elif name in self.names:
             other, first = self.names[name]
-            self.problems.add(where, f"duplicate name '{name}': the {other} at line {first.line} "
-                                     "has it already; names must be unique across links, "
-                                     "joints, drivers and loads")
+            if name in self.generated:
+                pin, hub, link = self.generated[name]
+                self.problems.add(where, f"duplicate name '{name}': the pin '{pin}' at line "
+                                         f"{first.line} names its revolute {hub}-{link} so; "
+                                         "rename one")
+            else:
+                self.problems.add(where, f"duplicate name '{name}': the {other} at line "
+                                         f"{first.line} has it already; names must be unique "
+                                         "across links, joints, drivers and loads")
         else:
             self.names[name] = (what, where)
             return True
@@ -962,6 +969,7 @@ class _Builder:
                 bad = True
                 continue
             self.names[gen] = ("joint", e.where)
+            self.generated[gen] = (name, hub, names[k])
             gens.append(gen)
             if p_hub is not None and p_k is not None:
                 out.append(Revolute(gen, (hub, names[k]), e.where, p_hub, p_k,
