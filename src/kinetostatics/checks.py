@@ -137,7 +137,7 @@ def _constraints(system, q, psi) -> tuple[float, int]:
 
 
 def _constraint_check(value: float, where: str) -> Check:
-    return Check("constraints", value, CONSTRAINT_TOL, where, f"constraints {value:.1e}")
+    return Check("constraints", value, CONSTRAINT_TOL, where, f"constraints {value:.0e}")
 
 
 def _sketch_check(system, q0) -> Check | None:
@@ -156,7 +156,7 @@ def _sketch_check(system, q0) -> Check | None:
 
 
 def _cond_check(value: float, where: str, group: str) -> Check:
-    return Check("cond", value, COND_TOL, where, f"cond ≤ {value:.1e}", (("group", group),))
+    return Check("cond", value, COND_TOL, where, f"cond ≤ {value:.2g}", (("group", group),))
 
 
 def _start(system):
@@ -197,7 +197,7 @@ def result_checks(result) -> Checks:
             k = int(np.argmax(r)) if r.size else 0
             v = float(r[k]) if r.size else 0.0
             label = "power" if name == "power" else "power (friction)"
-            checks[name] = Check(name, v, POWER_TOL, _row_text(result, k), f"{label} {v:.1e}")
+            checks[name] = Check(name, v, POWER_TOL, _row_text(result, k), f"{label} {v:.0e}")
     worst, where = 0.0, ""
     for p in system.plans:
         col = f"{group_column(p.group)}.cond"
