@@ -37,7 +37,17 @@ def _check(args) -> int:
         via = ", ".join(g.joints + g.drivers)
         print(f"  {k}. {g.label} via {via}")
     print(f"mobility (numerical, at the sketched pose): {n_num}")
+    if system.motion_drivers and len(system.motion_drivers) == st.mobility:
+        from .checks import start_checks
+        _print_checks(start_checks(system), " (start pose)")
     return 0
+
+
+def _print_checks(checks, label: str = "") -> None:
+    """The self-checks in one line; a failed one also as a warning on stderr."""
+    print(checks.line().replace("checks:", f"checks{label}:", 1))
+    if not checks.ok:
+        print(f"kinetostatics: warning: {checks.warning()}", file=sys.stderr)
 
 
 def _run(args) -> int:
@@ -86,6 +96,7 @@ def _run(args) -> int:
         locked = int(np.sum(st == 2))
         if locked:
             print(f"self-locking at {locked} positions (friction.status = 2)")
+    _print_checks(result.checks)
     return 0
 
 

@@ -186,7 +186,8 @@ class FlywheelSpec:
 @dataclass(frozen=True)
 class Model:
     """A planar linkage in SI.  ``sketch`` maps point references (``joint`` or
-    ``link.point``) to rough global positions that select the assembly branch."""
+    ``link.point``) to rough global positions that select the assembly branch;
+    ``sketch_where`` where each was written (for the messages of the sketch check)."""
 
     name: str
     links: tuple[Link, ...]
@@ -203,6 +204,7 @@ class Model:
     flywheel: FlywheelSpec | None = None
     clearances: tuple = ()            # clearance.Clearance specs this model was expanded with
     ideal: "Model | None" = field(default=None, compare=False, repr=False)  # before expansion
+    sketch_where: Mapping[str, Location] = field(default_factory=dict, compare=False, repr=False)
 
     @property
     def ground(self) -> Link:

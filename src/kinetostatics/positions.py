@@ -34,7 +34,8 @@ from .system import GroupPlan, System, gamma, jacobian, nu, phi
 
 __all__ = ["Drive", "PositionSolution", "Singularity", "solve_positions", "initial_guess",
            "group_condition", "velocities", "accelerations", "derivatives", "start_pose",
-           "positions_near", "reachable_range", "TOL"]
+           "positions_near", "reachable_range", "TOL", "SKETCH_TOL", "SketchPoint",
+           "sketch_distances"]
 
 TOL = 1e-12                 # Newton tolerance relative to L_ref (and 1 rad)
 MAX_ITER = 25
@@ -42,6 +43,7 @@ COARSE_STEP = np.radians(30.0)
 FINE_STEP = np.radians(5.0)
 MIN_STEP = 1e-7             # rad of driver coordinate (or × L_ref for a prismatic)
 JUMP_RATIO = 0.35           # |corrector| / |step| above which a step is a suspected jump
+SKETCH_TOL = 0.25           # a sketched point may lie this × L_ref from where it assembled
 
 Drive = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]]
 """t (...) -> (ψ, ψ̇, ψ̈), each (..., n_motion_drivers)."""
@@ -263,7 +265,71 @@ def _assemble_start(system: System, t0: float, drive: Drive) -> tuple[np.ndarray
                                f"{plan.group.label}: sketch its joints closer to the intended pose")])
         q = qn
         sig.append(float(s1))
+    _check_sketch(system, q)
     return q, np.array(sig)
+
+
+@dataclass(frozen=True)
+class SketchPoint:
+    """A sketched point at an assembled pose: its sketch key, how far (m) it was
+    assembled from its sketched position, and the Assur group that placed it."""
+
+    key: str
+    distance: float | np.ndarray
+    group: str
+
+
+def sketch_distances(system: System, q: np.ndarray) -> list[SketchPoint]:
+    """How far each sketched point lies from where it is at the pose ``q``.
+
+    A joint key is measured at its point on the moving link solved first (that
+    link's group placed it); a ``link.point`` key at that point.  Keys that name
+    no point of a moving link (a gear) are left out."""
+    from .forces import point_state
+    model = system.model
+    order = {n: g for g, p in enumerate(system.plans) for n in p.group.links}
+    out = []
+    for key, pos in model.sketch.items():
+        link, dot, pname = key.partition(".")
+        if dot:
+            pairs = [(link, model.link(link).points[pname])] if link in order else []
+        else:
+            pairs = [(n, p) for n, p in _joint_points(model.joint(key)) if n in order]
+        if not pairs:
+            continue
+        link, p = min(pairs, key=lambda pair: order[pair[0]])
+        x = point_state(q, q, None, system.link_index(link), p)[0]
+        out.append(SketchPoint(key, np.linalg.norm(x - pos, axis=-1),
+                               system.plans[order[link]].group.label))
+    return out
+
+
+def _check_sketch(system: System, q: np.ndarray) -> None:
+    """A sketched point farther than ``SKETCH_TOL``·L_ref from where the start pose put
+    it is a model error: the linkage assembled on a branch other than the sketched one
+    (the sketch was not specific enough: e.g. one revolute of a pin shared by three
+    links left unsketched)."""
+    from .errors import Location
+    from .units import factor
+    model = system.model
+    unit = model.units.get("length", "m")
+    scale = factor("length", unit)
+    tol = SKETCH_TOL * np.asarray(system.l_ref)
+    worst: dict = {}
+    for sp in sketch_distances(system, q):
+        where = model.sketch_where.get(sp.key, Location(model.source, path=f"sketch.{sp.key}"))
+        if np.all(sp.distance <= tol) or (where in worst and
+                                          np.max(worst[where].distance) >= np.max(sp.distance)):
+            continue
+        worst[where] = sp
+    if worst:
+        raise ModelError([(where, f"{where.path.removeprefix('sketch.')} is assembled "
+                           f"{np.max(sp.distance) / scale:.4g} {unit} from its sketched position "
+                           f"(placed by {sp.group}; the tolerance is {SKETCH_TOL:g} L_ref = "
+                           f"{np.max(tol) / scale:.4g} {unit}): the linkage assembled on another "
+                           "branch than sketched; sketch the joints of that group (every revolute "
+                           "of a pin shared by three links) closer to the intended pose at "
+                           "analysis.start") for where, sp in worst.items()])
 
 
 def _miss(system: System, q: np.ndarray, psi: np.ndarray, plan: GroupPlan) -> str:

@@ -10,6 +10,7 @@ from __future__ import annotations
 import csv
 import json
 from dataclasses import dataclass, field
+from functools import cached_property
 from pathlib import Path
 from collections.abc import Mapping
 from typing import Any
@@ -247,6 +248,14 @@ class Result:
 
     def __len__(self) -> int:
         return len(self.t)
+
+    @cached_property
+    def checks(self):
+        """Self-checks (:class:`~kinetostatics.checks.Checks`): constraint and power-balance
+        residuals, sketch distance, group condition, friction status, each against its
+        tolerance; ``checks.ok``, ``checks.failed()``.  Computed on first use."""
+        from .checks import result_checks
+        return result_checks(self)
 
     @property
     def names(self) -> list[str]:

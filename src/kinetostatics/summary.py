@@ -126,6 +126,7 @@ def summarize(result) -> dict[str, Any]:
         "drivers": drivers,
         "extremes": extremes,
         "column_units": dict(result.units),
+        "checks": result.checks.to_dict(),
     } | _flywheel(result)
 
 

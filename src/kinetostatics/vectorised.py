@@ -25,8 +25,8 @@ from .analysis import Schedule, _times, kinetics
 from .dyads import closed_form
 from .forces import point_state
 from .model import Model, MotionLaw
-from .positions import (TOL, _signature, closed_form_near, closed_form_path, derivatives,
-                        group_condition, initial_guess)
+from .positions import (SKETCH_TOL, TOL, _signature, closed_form_near, closed_form_path,
+                        derivatives, group_condition, initial_guess, sketch_distances)
 from .stacking import is_stacked, stack
 from .system import System, build_system, jacobian, phi
 
@@ -111,6 +111,9 @@ def _start(system: System, models: Sequence[Model], sched: Schedule):
         s1 = _signature(system, qn, plan)[:, 0]
         ok &= (s0 != 0) & (cond0 <= 1e10) & conv[:, 0] & (s1 == s0)
         q = np.where(ok[:, None, None], qn, q)
+    tol = SKETCH_TOL * np.broadcast_to(system.l_ref, (len(models), 1))
+    for sp in sketch_distances(system, q):          # assembled far from the sketch: refused
+        ok &= np.broadcast_to(sp.distance, (len(models), 1))[:, 0] <= tol[:, 0]
     return q, ok
 
 

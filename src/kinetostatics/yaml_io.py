@@ -540,6 +540,9 @@ class _Builder:
                                             "load": set()}
         self.ground: str | None = None
         self.lost: set[str] = set()        # kinds whose whole section is missing or unreadable
+        self.sketch_where: dict[str, Location] = {}        # sketch key -> where written
+        self.pins: dict[str, list[str]] = {}               # pin -> the revolutes it expands to
+        self.generated: dict[str, tuple[str, str, str]] = {}   # revolute -> (pin, hub, link)
 
     def build(self) -> Model:
         top = self.top
@@ -567,7 +570,7 @@ class _Builder:
                       drivers=tuple(drivers), loads=tuple(loads_), gravity=gravity,
                       sketch=sketch, analysis=analysis, loops=loops,
                       parameters=dict(self.ctx.env), units=unit_names, source=self.ctx.file,
-                      flywheel=flywheel)
+                      flywheel=flywheel, sketch_where=self.sketch_where)
         if clearances:
             from .clearance import expand
             model = expand(model, clearances)
@@ -632,9 +635,15 @@ class _Builder:
                                      f"reserved: {', '.join(sorted(RESERVED))}")
         elif name in self.names:
             other, first = self.names[name]
-            self.problems.add(where, f"duplicate name '{name}': the {other} at line {first.line} "
-                                     "has it already; names must be unique across links, "
-                                     "joints, drivers and loads")
+            if name in self.generated:
+                pin, hub, link = self.generated[name]
+                self.problems.add(where, f"duplicate name '{name}': the pin '{pin}' at line "
+                                         f"{first.line} names its revolute {hub}-{link} so; "
+                                         "rename one")
+            else:
+                self.problems.add(where, f"duplicate name '{name}': the {other} at line "
+                                         f"{first.line} has it already; names must be unique "
+                                         "across links, joints, drivers and loads")
         else:
             self.names[name] = (what, where)
             return True
@@ -663,6 +672,9 @@ class _Builder:
         other = self._what(name)
         known = list(known)
         listing = f"; the {what}s are: {', '.join(known)}" if known else ""
+        if what == "joint" and name in self.pins:
+            return (f"'{name}' is a pin shared by {len(self.pins[name]) + 1} links, not one joint: "
+                    f"name one of its revolutes ({', '.join(self.pins[name])})")
         if other is not None and other != what:
             return f"'{name}' is a {other}, not a {what}{listing}"
         owners = [link.name for link in links if name in link.points]
@@ -868,6 +880,12 @@ class _Builder:
         for name, e in section.items():
             joint = None
             if self._claim(section, name, "joint") and e.mapping():
+                if _is_pin(e):
+                    pin = self._pin(name, e, links, link_names, points)
+                    joints += pin or []
+                    if pin is None:
+                        self.broken["joint"].add(name)
+                    continue
                 joint = self._joint(name, e, links, link_names, points)
             if joint is None:
                 self.broken["joint"].add(name)
@@ -907,6 +925,60 @@ class _Builder:
             e.error(f"cannot read this {kind} joint ({type(exc).__name__}: {exc}); "
                     "this is a bug in the joint type, please report it")
             return None
+
+    def _pin(self, name: str, e: Entry, links, link_names, points) -> list[Joint] | None:
+        """A pin shared by the links of ``links: [hub, a, b, ...]``: the revolutes
+        ``<name>_a`` = [hub, a], ``<name>_b`` = [hub, b], ... at the points of
+        ``points`` (default: the point ``<name>`` on each link), each with the
+        pin's ``friction`` (docs/yaml.md, "Pins shared by three or more links")."""
+        from .joints import Revolute
+        e.check_keys(required=("type", "links"), optional=("points", "friction"))
+        le = e["links"]
+        items = le.seq() or []
+        if len(items) < 2:
+            le.error(f"a revolute connects two links, or three or more that share one pin; "
+                     f"got {len(items)}")
+            return None
+        names = [x.text() for x in items]
+        if None in names:
+            return None
+        bad = False
+        for k, ln in enumerate(names):
+            if ln not in link_names:
+                if not self._broken("link", ln):
+                    items[k].error(self._not_a("link", ln, link_names, links))
+                bad = True
+            elif ln in names[:k]:
+                items[k].error(f"link '{ln}' is listed twice; each link of a pin once")
+                bad = True
+        pts = e["points"].names(len(names)) if e.get("points") is not None else [name] * len(names)
+        rho = Revolute.friction_radius(e)
+        if bad or None in pts or rho is None:
+            return None
+        hub = names[0]
+        p_hub = e.point(hub, pts[0], points, key="points", index=0)
+        out, gens = [], []
+        for k in range(1, len(names)):
+            gen = f"{name}_{names[k]}"
+            p_k = e.point(names[k], pts[k], points, key="points", index=k)
+            if gen in self.names:
+                other, first = self.names[gen]
+                self.problems.add(self.top["joints"].key_where(name),
+                                  f"the pin's revolute {hub}-{names[k]} is named '{gen}', but the "
+                                  f"{other} at line {first.line} has that name; rename one")
+                bad = True
+                continue
+            self.names[gen] = ("joint", e.where)
+            self.generated[gen] = (name, hub, names[k])
+            gens.append(gen)
+            if p_hub is not None and p_k is not None:
+                out.append(Revolute(gen, (hub, names[k]), e.where, p_hub, p_k,
+                                    (pts[0], pts[k]), float(rho)))
+        self.pins[name] = gens
+        if bad or len(out) != len(names) - 1:
+            self.broken["joint"].update(gens)
+            return None
+        return out
 
     def _drivers(self, links, joints, points) -> list[Driver]:
         section = self.top.get("drivers")
@@ -1385,6 +1457,12 @@ class _Builder:
             if "." in ref:
                 if not self._point_ref(Entry(e.node, where, self.ctx), ref, pts):
                     continue
+            elif ref in self.pins:                        # a pin places all its revolutes
+                v = e.vector("length")
+                for gen in self.pins[ref] if v is not None else ():
+                    out[gen] = v
+                    self.sketch_where[gen] = where
+                continue
             elif ref not in by_joint:
                 if self._broken("joint", ref):
                     continue
@@ -1397,6 +1475,7 @@ class _Builder:
             v = e.vector("length")
             if v is not None:
                 out[ref] = v
+                self.sketch_where[ref] = where
         return out
 
     def _analysis(self, joints, drivers, links=()) -> Analysis:
@@ -1503,6 +1582,15 @@ class _Builder:
                 loop.append(t)
             loops.append(tuple(loop))
         return tuple(loops)
+
+
+def _is_pin(e: Entry) -> bool:
+    """Whether a joint entry is a revolute whose ``links`` is not a pair (a pin shared
+    by three or more links, or a list too short, reported by ``_pin``)."""
+    t, links_ = e.get("type"), e.get("links")
+    return (t is not None and isinstance(t.node, yaml.ScalarNode) and t.node.value == "revolute"
+            and links_ is not None and isinstance(links_.node, yaml.SequenceNode)
+            and len(links_.node.value) != 2)
 
 
 def _joint_point(joint: Joint, link: str) -> str:

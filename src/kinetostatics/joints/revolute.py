@@ -40,6 +40,14 @@ class Revolute(Joint, kind="revolute"):
             names = tuple(e.names(2))
         p_i = entry.point(links[0], names[0], points, key="points", index=0)
         p_j = entry.point(links[1], names[1], points, key="points", index=1)
+        rho = cls.friction_radius(entry)
+        if p_i is None or p_j is None or rho is None:
+            return None
+        return cls(name, links, entry.where, p_i, p_j, names, float(rho))
+
+    @staticmethod
+    def friction_radius(entry) -> float | None:
+        """ρ (m) of the entry's ``friction:`` (0 without one), or None where it is in error."""
         rho = 0.0
         if (f := entry.get("friction")) is not None:
             f.check_keys(optional=("radius", "journal_radius", "coefficient"))
@@ -53,9 +61,7 @@ class Revolute(Joint, kind="revolute"):
                 rho = None if r is None or fv is None else r * fv
             else:
                 f.error("give radius (the friction-circle radius), or journal_radius and coefficient")
-        if p_i is None or p_j is None or rho is None:
-            return None
-        return cls(name, links, entry.where, p_i, p_j, names, float(rho))
+        return rho
 
     def to_spec(self) -> dict[str, Any]:
         spec: dict[str, Any] = {"points": list(self.point_names)}
