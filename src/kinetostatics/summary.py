@@ -90,7 +90,7 @@ def summarize(result) -> dict[str, Any]:
     peaks = {}
     for j in system.model.joints:
         mag = np.hypot(result[f"{j.name}.Fx"], result[f"{j.name}.Fy"])
-        k = int(np.argmax(mag))
+        k = int(np.argmax(np.where(np.isfinite(mag), mag, -np.inf)))   # NaN: singular rows
         peaks[j.name] = {"peak": float(mag[k]), "at": _at(result, k), "unit": "N"}
         if f"{j.name}.Fx_friction" in result.columns:
             magf = np.hypot(result[f"{j.name}.Fx_friction"], result[f"{j.name}.Fy_friction"])
