@@ -109,7 +109,7 @@ class FrictionSolution:
     e: np.ndarray                  # (..., n_f) friction efforts
     status: np.ndarray             # (...) 0 fixed point, 1 homotopy, 2 self-locking, 3 zero speed
     iterations: np.ndarray         # (...)
-    reach: np.ndarray | None = None   # (...) signed margin t(σ=1)/t(0): 1 frictionless, 0 at
+    reach: np.ndarray | None = None   # (...) signed margin ±|x₀|/|x|: 1 frictionless, 0 at
                                       # the edge of a self-locked zone, < 0 inside (NaN unknown)
 
 
@@ -141,8 +141,8 @@ def consistent(system: System, fs: FrictionSetup, a: np.ndarray, solve_a,
     dead = ~np.all(np.isfinite(x0), axis=-1)
     x[dead], status[dead] = np.nan, 2
     failed &= ~dead
-    with np.errstate(all="ignore"):              # t/t₀ with ĉ = x₀/|x₀| (see _homotopy)
-        reach = np.sum(x0 * x0, axis=-1) / np.sum(x0 * x, axis=-1)
+    with np.errstate(all="ignore"):              # |x₀|/|x| (see _homotopy)
+        reach = np.linalg.norm(x0, axis=-1) / np.linalg.norm(x, axis=-1)
     reach[dead] = np.nan
     flat = np.argwhere(failed)
     for index in map(tuple, flat):
@@ -163,40 +163,42 @@ def _homotopy(system: System, fs: FrictionSetup, a: np.ndarray, q_load: np.ndarr
               x0: np.ndarray, index: tuple) -> tuple[np.ndarray, int, int, float]:
     """Follow σ: 0 → 1 at one position; returns (x, status 1 or 2, Newton iterations, reach).
 
-    The branch is followed in projective coordinates x = y/t (ĉ·y = 1, ĉ = x₀/|x₀|),
-    where it stays smooth as the reactions grow without bound: μ is positively
-    homogeneous of degree 1 in λ, so A x + Σ g e(x) + Q = 0 reads
+    The branch is followed in projective coordinates x = y/t (ĉ·y = 1, ĉ the
+    direction of the last point, so the chart follows the path), where it stays
+    smooth as the reactions grow without bound: μ is positively homogeneous of
+    degree 1 in λ, so A x + Σ g e(x) + Q = 0 reads
 
         A y + σ Σ g e(y) + Q t = 0,   ĉ·y = 1,
 
     and the reactions diverge exactly where t crosses 0 — self-locking, decided
     by the sign of t, however close to the edge of a locked zone the position
     is.  The path is continued past such a crossing to σ = 1 where it can be, so
-    ``reach`` = t(σ = 1)/t(0) is a signed margin that changes sign at the edge
-    (1 without friction, → 0 at the edge, < 0 inside; NaN where unknown).
-    A fold (det of the Jacobian changing sign with t > 0) is self-locking too.
+    ``reach`` = sign(t)·|x₀|/|x| at σ = 1 is a signed margin that changes sign
+    at the edge (1 without friction, → 0 at the edge, < 0 past it; NaN where
+    unknown).  A fold (det of the Jacobian changing sign with t > 0) is
+    self-locking too.
     """
     sub = FrictionSetup(fs.joints, fs.blocks, fs.grad[index], fs.sign[index], fs.speed[index],
                         fs.zero[index], fs.q[index])
     a, ql, x0 = a[index], q_load[index], x0[index]
     n = len(x0)
     qs = max(np.max(np.abs(ql)), 1e-300)
-    qh = ql / qs                                  # t scaled by |Q|: τ = t·|Q|
-    c = x0 / np.linalg.norm(x0)
-    y, tau = c.copy(), qs / np.linalg.norm(x0)    # A y + Q̂ τ = 0 at σ = 0
-    tau0 = tau
+    qh = ql / qs                                  # t scaled by |Q|: τ = t·|Q|, x = y·|Q|/τ
+    n0 = np.linalg.norm(x0)
+    y, tau = x0 / n0, qs / n0                     # A y + Q̂ τ = 0 at σ = 0, |y| = 1
     det0 = np.sign(np.linalg.det(a))
     sigma, h, iters, crossed = 0.0, 0.05, 0, False
     aug = np.zeros((n + 1, n + 1))
-    aug[n, :n], aug[:n, n] = c, qh
+    aug[:n, n] = qh
     while sigma < 1.0:
         h = min(h, 1.0 - sigma)
         s = sigma + h
+        aug[n, :n] = y                            # chart ĉ = y (|y| = 1): ĉ·y = 1 at the start
         yn, tn, ok = y.copy(), tau, False
         for _ in range(30):
             iters += 1
             r = np.append(a @ yn + _generalized(sub, efforts(system, sub, yn, s)) + qh * tn,
-                          c @ yn - 1.0)
+                          y @ yn - 1.0)
             aug[:n, :n] = _jacobian(system, sub, a, yn, s)
             try:
                 dz = np.linalg.solve(aug, -r)
@@ -206,13 +208,18 @@ def _homotopy(system: System, fs: FrictionSetup, a: np.ndarray, q_load: np.ndarr
                 break
             yn += dz[:n]
             tn += dz[n]
-            if np.max(np.abs(dz[:n])) <= TOL and abs(dz[n]) <= TOL * tau0:
+            if (np.max(np.abs(dz[:n])) <= TOL * np.max(np.abs(yn))
+                    and abs(dz[n]) <= TOL * max(abs(tn), abs(tau))):
                 ok = True
                 break
-        jump = ok and np.max(np.abs(yn - y)) > 0.5 * np.max(np.abs(y))   # keep to the path
-        folded = (ok and tn > 0 and not crossed
-                  and np.sign(np.linalg.det(_jacobian(system, sub, a, yn, s))) != det0)
-        if ok and not jump and not folded:
+        if ok:
+            norm = np.linalg.norm(yn)
+            yn, tn = yn / norm, tn / norm
+            # t changing sign with a large turn of y is a jump of the chart, not a crossing
+            chart = (tn > 0.0) == (tau > 0.0) or np.max(np.abs(yn - y)) <= 0.1
+            folded = (tn > 0.0 and not crossed
+                      and np.sign(np.linalg.det(_jacobian(system, sub, a, yn, s))) != det0)
+        if ok and chart and not folded:
             crossed |= tn <= 0.0                  # the reactions went through infinity
             sigma, y, tau = s, yn, tn
             h = min(2.0 * h, 0.25)
@@ -220,6 +227,7 @@ def _homotopy(system: System, fs: FrictionSetup, a: np.ndarray, q_load: np.ndarr
             h *= 0.5
         else:
             return np.full(n, np.nan), 2, iters, np.nan
+    reach = tau * n0 / qs                         # sign(t)·|x₀|/|x|, |y| = 1
     if crossed:
-        return np.full(n, np.nan), 2, iters, tau / tau0
-    return y * (qs / tau), 1, iters, tau / tau0
+        return np.full(n, np.nan), 2, iters, reach
+    return y * (qs / tau), 1, iters, reach
