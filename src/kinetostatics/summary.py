@@ -72,6 +72,9 @@ def locking_zones(result) -> list[dict[str, Any]]:
     edge, < 0 past it) is a smooth function of time, and the edge is its zero,
     found by regula falsi / secant steps from the solved side, bracketed by the
     status, to 1e-12 of the period (of the run's span if not a full cycle).
+    Where the branch folds instead (the margin stays finite: no sign change to
+    go by), the edge is bisected on the status to 1e-9 of the period, about
+    the resolution of the homotopy's smallest σ step there.
     Each state is continued from the nearest row (the events' refinement).
     A zone's edge at the start or end of a run that is not a full cycle is
     None (the zone continues beyond the run).  Returns ``[{"from", "to",
@@ -149,9 +152,11 @@ def _locking_edge(result, sched, t_ok, t_lock, span) -> float:
             (t0, r0), (t1, r1) = solved[-2], solved[-1]
             if np.isfinite(r0) and np.isfinite(r1) and r1 != r0:
                 cand = t1 - r1 * (t1 - t0) / (r1 - r0)
-        if cand is None or not 0.0 < (cand - lo) / w < 1.0:
-            cand = lo + 0.5 * w
-        if abs(w) <= tol or (last is not None and abs(cand - last) <= tol):
+        halving = cand is None or not 0.0 < (cand - lo) / w < 1.0
+        if halving:                                  # no margin to go by (a fold of the branch:
+            cand = lo + 0.5 * w                      # the homotopy's own resolution, ~1e-9)
+        if (abs(w) <= (1e3 * tol if halving else tol)
+                or (last is not None and abs(cand - last) <= tol)):
             return cand
         status, reach = probe(cand)
         if status == 2:
