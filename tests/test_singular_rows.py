@@ -111,8 +111,9 @@ def test_locked_rows_on_the_grid_match_the_closed_form(grid):
     inside = (ang < e) | (ang > 360 - e)
     locked = grid["friction.status"] == 2
     assert np.array_equal(locked[inside], np.ones(inside.sum(), bool))
-    # around 180° the loads brake the crank: the branch stays finite through
+    # around 180° the slide absorbs power: the branch stays finite through
     # the dead centre, where only the singular row itself is flagged
+    assert (grid["power.input"][[178, 179, 181]] < 0).all()
     near = np.abs(ang - 180) <= 3
     assert list(np.nonzero(locked & near)[0]) == [180]
     assert locked.sum() == inside.sum() + 1
