@@ -511,7 +511,10 @@ def kinetics(system: System, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, psi
         a = equilibrium_matrix(system, q)
         if a.shape[-1] == a.shape[-2]:            # singular positions: NaN rows, the rest intact
             a_inv, singular, condition = invert_equilibrium(a, system.l_ref)
-            x0, indeterminate = np.einsum("...ij,...j->...i", a_inv, -q_load), False
+            bad = ~np.isfinite(a_inv[..., 0, 0])
+            x0 = np.linalg.solve(np.where(bad[..., None, None], np.eye(a.shape[-1]), a),
+                                 -q_load[..., None])[..., 0]
+            x0[bad], indeterminate = np.nan, False
             if singular.any():
                 _warn_singular_equilibrium(system, singular, psi[..., 0])
         else:

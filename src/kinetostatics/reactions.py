@@ -59,25 +59,27 @@ def invert_equilibrium(a: np.ndarray, l_ref) -> tuple[np.ndarray, np.ndarray, np
     divided by L_ref, columns normalised to unit length — has a reciprocal
     2-norm condition number ≤ :data:`SINGULAR_RCOND`: no finite effort
     balances the loads there (e.g. a dead centre of a linkage whose effort is
-    balanced at a joint that does not move there).  Its A⁻¹ is NaN, the other
-    positions are untouched.  ``condition`` is the scaled condition number,
-    capped at 1/ε (beyond that it is not resolved).  ``l_ref``: a float, or
-    ``(V, 1)`` for stacked variants.
+    balanced at a joint that does not move there).  Its A⁻¹ is NaN (also where
+    A is not finite, unflagged), the other positions are untouched.
+    ``condition`` is the scaled condition number, capped at 1/ε (beyond that it
+    is not resolved).  ``l_ref``: a float, or ``(V, 1)`` for stacked variants.
     """
-    s = np.array(a, dtype=float)
+    finite = np.all(np.isfinite(a), axis=(-2, -1))
+    eye = np.eye(a.shape[-1])
+    s = np.where(finite[..., None, None], a, eye)
     s[..., 2::3, :] /= np.asarray(l_ref, dtype=float)[..., None, None]
     norms = np.linalg.norm(s, axis=-2, keepdims=True)
     s /= np.where(norms > 0, norms, 1.0)
     sv = np.linalg.svd(s, compute_uv=False)
     big, small = sv[..., 0], sv[..., -1]
-    singular = ~(small > SINGULAR_RCOND * big)               # NaN counts as singular
+    singular = finite & ~(small > SINGULAR_RCOND * big)
     eps = np.finfo(float).eps
     with np.errstate(divide="ignore", invalid="ignore"):
-        condition = np.where(singular & ~(small > eps * big), 1.0 / eps, big / small)
-    safe = np.where(singular[..., None, None], np.eye(a.shape[-1]), a)
-    inv = np.linalg.inv(safe)
-    inv[singular] = np.nan
-    return inv, singular, condition
+        condition = np.where(small > eps * big, big / small, 1.0 / eps)
+    bad = singular | ~finite
+    inv = np.linalg.inv(np.where(bad[..., None, None], eye, a))
+    inv[bad] = np.nan
+    return inv, singular, np.where(finite, condition, np.nan)
 
 
 def ground_reaction(system: System, q: np.ndarray, x: np.ndarray) -> np.ndarray:

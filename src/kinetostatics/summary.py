@@ -126,12 +126,16 @@ def _locking_edge(result, sched, t_ok, t_lock, span) -> float:
     """Time of the edge of a locked zone between a solved row and a locked one."""
     import warnings
     from .analysis import _state_near, kinetics
+    from .errors import AssemblyError
     system = result.system
     period = sched.period if result.full_cycle else np.inf
 
     def probe(tc):
         tm = tc % period if np.isfinite(period) else tc
-        q, qd, qdd = _state_near(system, sched, tm, result.t, result.q, result.qd, result.qdd)
+        try:
+            q, qd, qdd = _state_near(system, sched, tm, result.t, result.q, result.qd, result.qdd)
+        except AssemblyError:                     # no state there: no margin either
+            return -1, np.nan
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             kin = kinetics(system, q, qd, qdd, sched(np.array([tm]))[0],
@@ -159,6 +163,8 @@ def _locking_edge(result, sched, t_ok, t_lock, span) -> float:
                 or (last is not None and abs(cand - last) <= tol)):
             return cand
         status, reach = probe(cand)
+        if status < 0:
+            return 0.5 * (lo + hi)
         if status == 2:
             hi, r_hi = cand, (reach if reach < 0.0 else np.nan)
         else:
