@@ -80,6 +80,8 @@ def test_dead_centres_are_flagged_rows_not_a_crash(grid):
     summary = grid.summary()
     assert [s["group"] for s in summary["singular_positions"]] == ["equilibrium"] * 2
     assert np.isfinite(summary["reaction_peaks"]["O"]["peak"])
+    from kinetostatics.variants import summary_row
+    assert np.isfinite(summary_row(grid)["O.reaction_peak"])
 
 
 def test_other_rows_are_intact(grid):
