@@ -67,7 +67,7 @@ def locking_zones(result) -> list[dict[str, Any]]:
 
     Each zone is a run of consecutive locked rows (cyclically on a full cycle)
     and its edges lie between its outer rows and their solved neighbours.
-    There the consistent friction solution's signed margin t(σ=1)/t(0)
+    There the consistent friction solution's signed margin sign(t)·|x₀|/|x|
     (``FrictionSolution.reach``: > 0 solved, → 0 as the reactions diverge at the
     edge, < 0 past it) is a smooth function of time, and the edge is its zero,
     found by regula falsi / secant steps from the solved side, bracketed by the
