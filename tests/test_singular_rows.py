@@ -162,3 +162,19 @@ def test_reported_zone_edges_match_the_closed_form(grid):
     dead = [z for z in zones if z["rows"] == 1]         # 180°: the singular row alone
     assert len(dead) == 1 and dead[0]["from"] == pytest.approx(180, abs=1e-6) \
         and dead[0]["to"] == pytest.approx(180, abs=1e-6)
+
+
+def test_run_reports_the_rows_and_zones(tmp_path, capsys):
+    from kinetostatics.cli import main
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert main(["run", CASE, "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "singular position: equilibrium at 0.0000°" in out
+    assert "singular position: equilibrium at 180.0000°" in out
+    e = _edge_deg()
+    assert f"self-locked zone from {360 - e:.9g}° to {e:.9g}° (3 rows)" in out
+    lines = (tmp_path / "results.csv").read_text().splitlines()
+    header = lines[1].split(",")
+    row0 = dict(zip(header, lines[2].split(",")))
+    assert row0["motor.force"] == "" and row0["friction.status"] == "2.0"
