@@ -16,7 +16,8 @@ from .forces import angle_band, external_forces, gravity_forces, inertia_forces,
 from .model import Condition, Model, MotionLaw
 from .positions import (PositionSolution, Singularity, condition_number, derivatives,
                         group_condition, reachable_range, solve_positions, state_at)
-from .reactions import effort_joints, equilibrium_matrix, ground_reaction, solve_equilibrium
+from .reactions import (effort_joints, equilibrium_matrix, ground_reaction, invert_equilibrium,
+                        solve_equilibrium)
 from .results import Result, build_columns
 from .system import System, build_system
 
@@ -372,6 +373,8 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
     kin = kinetics(system, q, qd, qdd, psi, lu=lu, extremes=extremes, ref_speed=sched.reference,
                    friction=model.has_friction if friction is None else friction)
     x0, fric, power = kin.x0, kin.friction, kin.power
+    sol.singular.extend(Singularity("equilibrium", float(t[k]), float(psi[k, 0]),
+                                    float(kin.condition[k])) for k in np.nonzero(kin.singular)[0])
     cond = _conditions(system, q, lu)
     _warn_near_singular(system, cond, psi[..., 0])
     shaking = ground_reaction(system, q, x0)
@@ -474,6 +477,8 @@ class Kinetics:
     indeterminate: bool
     friction: dict | None         # setup, x_approx, e_approx, solution (see friction.py)
     power: dict
+    singular: np.ndarray | None = None    # (...) A singular there: x0 NaN, friction.status 2
+    condition: np.ndarray | None = None   # (...) scaled condition number of a square A
 
     @property
     def q_load(self) -> np.ndarray:
@@ -498,19 +503,30 @@ def kinetics(system: System, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, psi
     q_ext = external_forces(system, q, qd, psi[..., 0], extremes or {}, ref_speed)
     q_load = q_grav + q_inert + q_ext
     own_efforts = all(d.driver.balance_at is None for d in system.motion_drivers)
+    singular, condition, a_inv = np.zeros(q.shape[:-1], dtype=bool), None, None
     if lu is not None and own_efforts:
         a = np.swapaxes(lu.jac, -1, -2)           # A = Φ_qᵀ: reuse the kinematic factors
         x0, indeterminate = lu.solve_transposed(-q_load), False
     else:
         a = equilibrium_matrix(system, q)
-        x0, indeterminate = solve_equilibrium(a, -q_load)
+        if a.shape[-1] == a.shape[-2]:            # singular positions: NaN rows, the rest intact
+            a_inv, singular, condition = invert_equilibrium(a, system.l_ref)
+            bad = ~np.isfinite(a_inv[..., 0, 0])
+            x0 = np.linalg.solve(np.where(bad[..., None, None], np.eye(a.shape[-1]), a),
+                                 -q_load[..., None])[..., 0]
+            x0[bad], indeterminate = np.nan, False
+            if singular.any():
+                _warn_singular_equilibrium(system, singular, psi[..., 0])
+        else:
+            x0, indeterminate = solve_equilibrium(a, -q_load)
     fric = None
     if friction and model.has_friction:
         fs = fr.setup(system, q, qd, ref_speed)
         if lu is not None and own_efforts:
             solve_a = lu.solve_transposed          # A = Φ_qᵀ: back substitution over the groups
         else:
-            a_inv = np.linalg.inv(a)
+            if a_inv is None:
+                a_inv = np.linalg.inv(a)
             solve_a = lambda rhs: np.einsum("...ij,...j->...i", a_inv, rhs)  # noqa: E731
         xa, ea = fr.approximate(system, fs, solve_a, q_load, x0)
         cons = fr.consistent(system, fs, a, solve_a, q_load, x0)
@@ -532,7 +548,22 @@ def kinetics(system: System, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, psi
         power["input_friction"] = np.sum(cons.x[..., n_j:] * rel, axis=-1)
         power["residual_friction"] = (power["input_friction"] - power["kinetic"] - power["potential"]
                                       - power["external"] - loss)
-    return Kinetics(q_grav, q_inert, q_ext, a, x0, indeterminate, fric, power)
+    return Kinetics(q_grav, q_inert, q_ext, a, x0, indeterminate, fric, power, singular, condition)
+
+
+def _warn_singular_equilibrium(system: System, singular: np.ndarray, coord: np.ndarray) -> None:
+    """Warn of the positions where no finite effort balances the loads, naming them."""
+    import warnings
+    from .errors import SingularEquilibriumWarning
+    d = system.motion_drivers[0]
+    at = np.broadcast_to(coord, singular.shape)[singular]
+    where = ", ".join(f"{np.degrees(c) % 360:.6g}°" if d.joint.angular else f"{c * 1e3:.6g} mm"
+                      for c in at[:8]) + (f" and {at.size - 8} more" if at.size > 8 else "")
+    joints = sorted({(m.driver.balance_at or m.joint.name) for m in system.motion_drivers})
+    warnings.warn(f"the equilibrium is singular at {d.name} = {where}: the effort at "
+                  f"{', '.join(joints)} cannot balance the loads there (a dead centre); the "
+                  "reactions and efforts there are NaN, friction.status 2, listed among the "
+                  "singular positions as 'equilibrium'", SingularEquilibriumWarning, stacklevel=3)
 
 
 def _grad(system, q, k):

@@ -96,6 +96,11 @@ def _run(args) -> int:
         locked = int(np.sum(st == 2))
         if locked:
             print(f"self-locking at {locked} positions (friction.status = 2)")
+        for z in s.get("self_locking", ()):
+            ends = ["beyond the run" if v is None else
+                    (f"{v:.9g}°" if z["unit"] == "deg" else f"{v * 1e3:.9g} mm")
+                    for v in (z["from"], z["to"])]
+            print(f"self-locked zone from {ends[0]} to {ends[1]} ({z['rows']} rows)")
     _print_checks(result.checks)
     return 0
 

@@ -17,7 +17,7 @@ from typing import Iterable
 __all__ = [
     "Location", "KinetostaticsError", "ModelError", "StructureError",
     "AssemblyError", "SingularConfigurationError", "SelfLockingError",
-    "NearSingularWarning", "Collector", "did_you_mean",
+    "NearSingularWarning", "SingularEquilibriumWarning", "Collector", "did_you_mean",
 ]
 
 
@@ -79,6 +79,11 @@ class SelfLockingError(KinetostaticsError, RuntimeError):
 
 class NearSingularWarning(UserWarning):
     """A group is near a singular position (large condition number)."""
+
+
+class SingularEquilibriumWarning(NearSingularWarning):
+    """No finite driver effort balances the loads at some positions (a dead centre
+    for the joint that carries the effort); those rows are NaN."""
 
 
 def did_you_mean(word: str, choices: Iterable[str]) -> str:

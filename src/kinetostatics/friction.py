@@ -109,6 +109,8 @@ class FrictionSolution:
     e: np.ndarray                  # (..., n_f) friction efforts
     status: np.ndarray             # (...) 0 fixed point, 1 homotopy, 2 self-locking, 3 zero speed
     iterations: np.ndarray         # (...)
+    reach: np.ndarray | None = None   # (...) signed margin ±|x₀|/|x|: 1 frictionless, 0 at
+                                      # the edge of a self-locked zone, < 0 inside (NaN unknown)
 
 
 def consistent(system: System, fs: FrictionSetup, a: np.ndarray, solve_a,
@@ -134,14 +136,22 @@ def consistent(system: System, fs: FrictionSetup, a: np.ndarray, solve_a,
     with np.errstate(all="ignore"):
         failed |= ~(_residual(system, fs, a, q_load, x)
                     <= 1e-10 * np.maximum(1.0, np.max(np.abs(q_load), axis=-1)))
+    # no frictionless solution (A singular: a dead centre of the effort's joint): the branch
+    # has nowhere to start, its reactions are unbounded already at σ = 0 — self-locking
+    dead = ~np.all(np.isfinite(x0), axis=-1)
+    x[dead], status[dead] = np.nan, 2
+    failed &= ~dead
+    with np.errstate(all="ignore"):              # |x₀|/|x| (see _homotopy)
+        reach = np.linalg.norm(x0, axis=-1) / np.linalg.norm(x, axis=-1)
+    reach[dead] = np.nan
     flat = np.argwhere(failed)
     for index in map(tuple, flat):
-        xi, st, n = _homotopy(system, fs, a, q_load, x0, index)
+        xi, st, n, reach[index] = _homotopy(system, fs, a, q_load, x0, index)
         x[index] = xi
         status[index] = st if not fs.zero[index] or st == 2 else 3
         it[index] += n
     e = efforts(system, fs, x)
-    return FrictionSolution(x, e, status, it)
+    return FrictionSolution(x, e, status, it, reach)
 
 
 def _residual(system, fs, a, q_load, x):
@@ -150,36 +160,74 @@ def _residual(system, fs, a, q_load, x):
 
 
 def _homotopy(system: System, fs: FrictionSetup, a: np.ndarray, q_load: np.ndarray,
-              x0: np.ndarray, index: tuple) -> tuple[np.ndarray, int, int]:
-    """Follow σ: 0 → 1 at one position; returns (x, status 1 or 2, Newton iterations)."""
+              x0: np.ndarray, index: tuple) -> tuple[np.ndarray, int, int, float]:
+    """Follow σ: 0 → 1 at one position; returns (x, status 1 or 2, Newton iterations, reach).
+
+    The branch is followed in projective coordinates x = y/t (ĉ·y = 1, ĉ the
+    direction of the last point, so the chart follows the path), where it stays
+    smooth as the reactions grow without bound: μ is positively homogeneous of
+    degree 1 in λ, so A x + Σ g e(x) + Q = 0 reads
+
+        A y + σ Σ g e(y) + Q t = 0,   ĉ·y = 1,
+
+    and the reactions diverge exactly where t crosses 0 — self-locking, decided
+    by the sign of t, however close to the edge of a locked zone the position
+    is.  The path is continued past such a crossing to σ = 1 where it can be, so
+    ``reach`` = sign(t)·|x₀|/|x| at σ = 1 is a signed margin that changes sign
+    at the edge (1 without friction, → 0 at the edge, < 0 past it; NaN where
+    unknown).  A fold (det of the Jacobian changing sign with t > 0) is
+    self-locking too.
+    """
     sub = FrictionSetup(fs.joints, fs.blocks, fs.grad[index], fs.sign[index], fs.speed[index],
                         fs.zero[index], fs.q[index])
-    a, ql, x = a[index], q_load[index], x0[index].copy()
-    big = 1e8 * max(np.max(np.abs(x0[index])), 1.0)
+    a, ql, x0 = a[index], q_load[index], x0[index]
+    n = len(x0)
+    qs = max(np.max(np.abs(ql)), 1e-300)
+    qh = ql / qs                                  # t scaled by |Q|: τ = t·|Q|, x = y·|Q|/τ
+    n0 = np.linalg.norm(x0)
+    y, tau = x0 / n0, qs / n0                     # A y + Q̂ τ = 0 at σ = 0, |y| = 1
     det0 = np.sign(np.linalg.det(a))
-    sigma, h, iters = 0.0, 0.05, 0
+    sigma, h, iters, crossed = 0.0, 0.05, 0, False
+    aug = np.zeros((n + 1, n + 1))
+    aug[:n, n] = qh
     while sigma < 1.0:
         h = min(h, 1.0 - sigma)
         s = sigma + h
-        xn, ok = x.copy(), False
+        aug[n, :n] = y                            # chart ĉ = y (|y| = 1): ĉ·y = 1 at the start
+        yn, tn, ok = y.copy(), tau, False
         for _ in range(30):
             iters += 1
-            r = a @ xn + ql + _generalized(sub, efforts(system, sub, xn, s))
-            jac = _jacobian(system, sub, a, xn, s)
+            r = np.append(a @ yn + _generalized(sub, efforts(system, sub, yn, s)) + qh * tn,
+                          y @ yn - 1.0)
+            aug[:n, :n] = _jacobian(system, sub, a, yn, s)
             try:
-                dx = np.linalg.solve(jac, -r)
+                dz = np.linalg.solve(aug, -r)
             except np.linalg.LinAlgError:
                 break
-            xn += dx
-            if np.max(np.abs(dx)) <= TOL * max(np.max(np.abs(xn)), 1.0):
+            if not np.all(np.isfinite(dz)):
+                break
+            yn += dz[:n]
+            tn += dz[n]
+            if (np.max(np.abs(dz[:n])) <= TOL * np.max(np.abs(yn))
+                    and abs(dz[n]) <= TOL * max(abs(tn), abs(tau))):
                 ok = True
                 break
-        folded = ok and np.sign(np.linalg.det(_jacobian(system, sub, a, xn, s))) != det0
-        if ok and not folded and np.max(np.abs(xn)) < big:
-            sigma, x = s, xn
+        if ok:
+            norm = np.linalg.norm(yn)
+            yn, tn = yn / norm, tn / norm
+            # t changing sign with a large turn of y is a jump of the chart, not a crossing
+            chart = (tn > 0.0) == (tau > 0.0) or np.max(np.abs(yn - y)) <= 0.1
+            folded = (tn > 0.0 and not crossed
+                      and np.sign(np.linalg.det(_jacobian(system, sub, a, yn, s))) != det0)
+        if ok and chart and not folded:
+            crossed |= tn <= 0.0                  # the reactions went through infinity
+            sigma, y, tau = s, yn, tn
             h = min(2.0 * h, 0.25)
         elif h > 1e-7:
             h *= 0.5
         else:
-            return np.full_like(x, np.nan), 2, iters
-    return x, 1, iters
+            return np.full(n, np.nan), 2, iters, np.nan
+    reach = tau * n0 / qs                         # sign(t)·|x₀|/|x|, |y| = 1
+    if crossed:
+        return np.full(n, np.nan), 2, iters, reach
+    return y * (qs / tau), 1, iters, reach

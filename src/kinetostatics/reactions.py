@@ -16,7 +16,11 @@ import numpy as np
 from .system import System, coordinate_gradient, jacobian
 
 __all__ = ["effort_joints", "effort_ratio", "equilibrium_matrix", "solve_equilibrium",
-           "ground_reaction"]
+           "invert_equilibrium", "ground_reaction", "SINGULAR_RCOND"]
+
+SINGULAR_RCOND = 1e-12
+"""A square A whose scaled reciprocal condition number is at most this is
+singular at that position (:func:`invert_equilibrium`)."""
 
 
 def effort_joints(system: System) -> list[int]:
@@ -61,6 +65,36 @@ def solve_equilibrium(a: np.ndarray, rhs: np.ndarray) -> tuple[np.ndarray, bool]
             warnings.warn("the equilibrium equations are singular at some positions; "
                           "minimum-norm reactions are reported there", stacklevel=2)
     return (np.linalg.pinv(a) @ rhs[..., None])[..., 0], True
+
+
+def invert_equilibrium(a: np.ndarray, l_ref) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Position by position inverse of a square A, ``(A⁻¹, singular, condition)``.
+
+    A position is *singular* where the scaled A — moment rows (the θ rows)
+    divided by L_ref, columns normalised to unit length — has a reciprocal
+    2-norm condition number ≤ :data:`SINGULAR_RCOND`: no finite effort
+    balances the loads there (e.g. a dead centre of a linkage whose effort is
+    balanced at a joint that does not move there).  Its A⁻¹ is NaN (also where
+    A is not finite, unflagged), the other positions are untouched.
+    ``condition`` is the scaled condition number, capped at 1/ε (beyond that it
+    is not resolved).  ``l_ref``: a float, or ``(V, 1)`` for stacked variants.
+    """
+    finite = np.all(np.isfinite(a), axis=(-2, -1))
+    eye = np.eye(a.shape[-1])
+    s = np.where(finite[..., None, None], a, eye)
+    s[..., 2::3, :] /= np.asarray(l_ref, dtype=float)[..., None, None]
+    norms = np.linalg.norm(s, axis=-2, keepdims=True)
+    s /= np.where(norms > 0, norms, 1.0)
+    sv = np.linalg.svd(s, compute_uv=False)
+    big, small = sv[..., 0], sv[..., -1]
+    singular = finite & ~(small > SINGULAR_RCOND * big)
+    eps = np.finfo(float).eps
+    with np.errstate(divide="ignore", invalid="ignore"):
+        condition = np.where(small > eps * big, big / small, 1.0 / eps)
+    bad = singular | ~finite
+    inv = np.linalg.inv(np.where(bad[..., None, None], eye, a))
+    inv[bad] = np.nan
+    return inv, singular, np.where(finite, condition, np.nan)
 
 
 def ground_reaction(system: System, q: np.ndarray, x: np.ndarray) -> np.ndarray:

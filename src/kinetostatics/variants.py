@@ -151,8 +151,9 @@ def summary_row(result, flywheel: bool | None = None, strokes: dict | None = Non
     for j in system.model.joints:
         if f"{j.name}.Fx" not in cols:
             continue
-        row[f"{j.name}.reaction_peak"] = np.max(np.hypot(cols[f"{j.name}.Fx"],
-                                                         cols[f"{j.name}.Fy"]), axis=-1)
+        mag = np.hypot(cols[f"{j.name}.Fx"], cols[f"{j.name}.Fy"])   # NaN: singular rows
+        peak = np.max(np.where(np.isfinite(mag), mag, -np.inf), axis=-1)
+        row[f"{j.name}.reaction_peak"] = np.where(peak > -np.inf, peak, np.nan)
         if f"{j.name}.Fx_friction" in cols:
             magf = np.hypot(cols[f"{j.name}.Fx_friction"], cols[f"{j.name}.Fy_friction"])
             peak = np.max(np.where(np.isfinite(magf), magf, -np.inf), axis=-1)
