@@ -33,12 +33,13 @@ MAX_POSITIONS = 10_000_000
 MAX_TURNS = 100                # analysis.sweep of a revolute driver, in turns
 MAX_TRAVEL = 1000              # a prismatic driver's sweep (and at - start): x the largest link
 SPEED_RANGE = (1e-9, 1e9)      # |speed| of a motion driver, rad/s or m/s
+MAX_LAW_ACCELERATION = 1e18     # |second derivative| of a motion law, rad/s^2 or m/s^2
 MAGNITUDE = {                  # SI: |value| <= upper, and a value that is not 0 has |value| >= lower
     "length": (1e-30, 1e9),          # m
     "mass": (1e-30, 1e12),           # kg
     "inertia": (1e-30, 1e30),        # kg*m^2 (mass limit x length limit^2)
-    "force": (1e-30, 1e18),          # N
-    "torque": (1e-30, 1e27),         # N*m (force limit x length limit)
+    "force": (1e-30, 1e24),          # N (mass limit x gravity limit)
+    "torque": (1e-30, 1e33),         # N*m (force limit x length limit)
     "acceleration": (1e-30, 1e12),   # m/s^2: gravity
     "time": (1e-30, 1e9),            # s
     "speed": (1e-30, 1e9),           # rad/s or m/s (a motion driver: SPEED_RANGE)
@@ -46,8 +47,9 @@ MAGNITUDE = {                  # SI: |value| <= upper, and a value that is not 0
     None: (1e-30, 1e18),             # dimensionless: friction coefficients, directions, ratios
 }
 """Bounds on every number of a file, by quantity kind, in SI.  The products the
-analysis forms from them (m*omega^2*L, J*omega^2, m*g*L, F*L, power F*v) stay below
-1e60, and their squares (norms) below 1e120: far from overflow (1.8e308).  A
+analysis forms from them (m*omega^2*L, J*omega^2, m*g*L, F*L, power F*v; with a
+driver speed of at most 1e9 and a law's acceleration of at most 1e18 in SI) stay
+below 1e60, and their squares (norms) below 1e120: far from overflow (1.8e308).  A
 non-zero value below the lower bound (1e-300 kg) is refused as well: it only
 arises by mistake, and its products underflow."""
 NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
@@ -1099,6 +1101,11 @@ class _Builder:
                 and np.all(np.isfinite(psi_dd))) or not SPEED_RANGE[0] <= peak <= SPEED_RANGE[1]:
             m.error(f"the {law.kind} law reaches a speed of {peak:g} {si}; its peak speed must "
                     f"be from {SPEED_RANGE[0]:g} to {SPEED_RANGE[1]:g} {si}")
+            return False
+        if float(np.max(np.abs(psi_dd))) > MAX_LAW_ACCELERATION:
+            m.error(f"the {law.kind} law reaches an acceleration of "
+                    f"{float(np.max(np.abs(psi_dd))):g} {si}^2; its magnitude must be at most "
+                    f"{MAX_LAW_ACCELERATION:g} {si}^2")
             return False
         worst = float(np.max(np.abs(psi)))
         if worst > MAGNITUDE[kind][1]:
