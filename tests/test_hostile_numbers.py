@@ -263,3 +263,22 @@ def test_polar_diagrams_of_an_all_self_locked_friction_solution_do_not_crash(loc
     fig = polar_diagrams(locked, friction=True)
     assert any("no consistent friction solution" in ax.get_title() for ax in fig.axes)
     plt.close(fig)
+
+
+def test_docs_state_the_limits_of_the_code():
+    from kinetostatics.yaml_io import MAGNITUDE, MAX_LAW_ACCELERATION
+    doc = open("docs/errors.md", encoding="utf-8").read()
+    stated = {"length": (1e9, "length 10⁹ m"), "mass": (1e12, "mass 10¹² kg"),
+              "inertia": (1e30, "inertia 10³⁰ kg·m²"), "force": (1e24, "force 10²⁴ N"),
+              "torque": (1e33, "torque 10³³ N·m"),
+              "acceleration": (1e12, "gravity (each component) 10¹² m/s²"),
+              "time": (1e9, "time 10⁹ s"), "angle": (1e6, "angle 10⁶ rad"),
+              "speed": (1e9, "speed (effort curves) 10⁹ rad/s"),
+              None: (1e18, "directions, ratios) 10¹⁸")}
+    assert set(stated) == set(MAGNITUDE)
+    for kind, (upper, text) in stated.items():
+        assert MAGNITUDE[kind][1] == upper and text in doc, kind
+        assert MAGNITUDE[kind][0] in ((0.0,) if kind == "angle" else (1e-30,))
+    assert "at least 1e-30 in magnitude" in doc
+    assert MAX_LAW_ACCELERATION == 1e18 and "peak \\|ψ̈\\| ≤ 1e+18" in doc
+    assert "`NonFiniteResultError`" in doc
