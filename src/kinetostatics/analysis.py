@@ -303,6 +303,15 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
     Result
         Named arrays over the positions (CSV names and units), raw arrays
         ``q``, ``qd``, ``qdd``, ``lam``, the events and the structure.
+
+    Raises
+    ------
+    ValueError
+        ``positions`` or ``times`` not a non-empty 1-D list of finite real numbers
+        in range (times from 0; limits in docs/errors.md), naming the entry.
+    NonFiniteResultError
+        A NaN or infinity in the results that neither self-locking nor a singular
+        position explains (a model built in Python beyond the file limits).
     """
     system = model if isinstance(model, System) else build_system(model)
     model = system.model
