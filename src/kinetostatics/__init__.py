@@ -7,13 +7,14 @@
 """
 
 from .errors import (AssemblyError, KinetostaticsError, ModelError, NearSingularWarning,
-                     SelfLockingError, SingularConfigurationError, StructureError)
+                     NonFiniteResultError, SelfLockingError, SingularConfigurationError,
+                     StructureError)
 from .model import Model
 from .yaml_io import load, loads
 
 __all__ = ["load", "loads", "analyze", "Model", "Result", "KinetostaticsError", "ModelError",
            "StructureError", "AssemblyError", "SingularConfigurationError", "SelfLockingError",
-           "NearSingularWarning", "build_system"]
+           "NonFiniteResultError", "NearSingularWarning", "build_system"]
 
 
 def __getattr__(name):          # keep `import kinetostatics` light: load stages on use

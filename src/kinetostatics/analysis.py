@@ -10,6 +10,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from . import friction as fr
+from ._checks import real_array
 from .differences import difference_derivatives
 from .errors import AssemblyError, Location, SingularConfigurationError, StructureError
 from .forces import angle_band, external_forces, gravity_forces, inertia_forces, mass_vector
@@ -303,6 +304,15 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
     Result
         Named arrays over the positions (CSV names and units), raw arrays
         ``q``, ``qd``, ``qdd``, ``lam``, the events and the structure.
+
+    Raises
+    ------
+    ValueError
+        ``positions`` or ``times`` not a non-empty 1-D list of finite real numbers
+        in range (times from 0; limits in docs/errors.md), naming the entry.
+    NonFiniteResultError
+        A NaN or infinity in the results that neither self-locking nor a singular
+        position explains (a model built in Python beyond the file limits).
     """
     system = model if isinstance(model, System) else build_system(model)
     model = system.model
@@ -314,8 +324,10 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
     sched = _schedule(system)
     if times is not None and positions is not None:
         raise ValueError("give positions (driver coordinates) or times, not both")
+    if positions is not None:
+        positions = _checked_positions(system, positions)
     if times is not None:
-        t, full = np.asarray(times, dtype=float), False
+        t, full = _checked_times(system, sched, times), False
     else:
         t, full = _times(system, sched, positions)
     if positions is None and times is None and model.analysis.at:
@@ -378,10 +390,120 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
     cond = _conditions(system, q, lu)
     _warn_near_singular(system, cond, psi[..., 0])
     shaking = ground_reaction(system, q, x0)
+    _check_finite(system, t, psi, cond, sol.singular, q=q, qd=qd, qdd=qdd, x0=x0, fric=fric,
+                  power=power)
     columns, units = build_columns(system, t, psi, q, qd, qdd, x0, fric, power, cond, shaking, full)
     return Result(system=system, t=t, coordinate=psi[..., 0], q=q, qd=qd, qdd=qdd, lam=x0,
                   columns=columns, units=units, events=tuple(evts), singular=tuple(sol.singular),
                   indeterminate=kin.indeterminate, full_cycle=full, extremes=extremes)
+
+
+def _checked_positions(system: System, positions) -> np.ndarray:
+    """``analyze(positions=...)``: finite driver coordinates within the file's limits (a revolute's
+    |ψ| as an angle of the file, a prismatic's distance from ``analysis.start`` as its sweep)."""
+    from .yaml_io import MAGNITUDE, MAX_TRAVEL
+    if system.motion_drivers[0].joint.angular:
+        limit = MAGNITUDE["angle"][1]
+        return real_array("positions", positions, low=-limit, high=limit,
+                          why="rad; larger angles have lost their precision")
+    start, reach = system.model.analysis.start, MAX_TRAVEL * float(np.max(system.l_ref))
+    return real_array("positions", positions, low=start - reach, high=start + reach,
+                      why=f"m: at most {MAX_TRAVEL} times the largest link from analysis.start")
+
+
+def _checked_times(system: System, sched: Schedule, times) -> np.ndarray:
+    """``analyze(times=...)``: finite times from 0 (the start of the run: a motion law is not
+    defined before it) to the time of the longest run a file may ask for
+    (:data:`~kinetostatics.yaml_io.MAX_TURNS` periods of a law or turns of a crank,
+    :data:`~kinetostatics.yaml_io.MAX_TRAVEL` times the largest link of a slider)."""
+    from .yaml_io import MAX_TRAVEL, MAX_TURNS
+    if sched.law is not None:
+        high, why = MAX_TURNS * sched.law.duration, f"s: {MAX_TURNS} times the law's duration"
+    elif system.motion_drivers[0].joint.angular:
+        high = MAX_TURNS * 2 * np.pi / sched.reference
+        why = f"s: {MAX_TURNS} turns of the driver"
+    else:
+        high = MAX_TRAVEL * float(np.max(system.l_ref)) / sched.reference
+        why = f"s: a travel of {MAX_TRAVEL} times the largest link"
+    return real_array("times", times, low=0.0, high=high,
+                      why=why + "; times count from the start of the run, t = 0")
+
+
+SINGULAR_COND = 1e15
+"""A row whose group condition number is above this (or infinite) is at a singular
+position: non-finite velocities or reactions there are explained, not a defect."""
+
+
+def _check_finite(system: System, t, psi, cond: dict, singular, *, q, qd, qdd, x0=None,
+                  fric=None, power=None) -> None:
+    """The last guard of :func:`analyze`: a NaN or infinity that no status explains raises
+    :class:`~kinetostatics.errors.NonFiniteResultError` naming the column and the row.
+
+    Explained are the consistent friction solution where it self-locks
+    (``friction.status`` 2: its columns are empty there) and every value at a
+    singular position (a reported one, or a group condition number above
+    :data:`SINGULAR_COND`).  Nothing else may be non-finite: the file's limits
+    (``yaml_io.MAGNITUDE``) keep the products of a model far from overflow, so a
+    NaN here comes from a model built in Python with values beyond them.
+    """
+    n = len(t)
+    excused = np.zeros(n, dtype=bool)
+    for c in cond.values():
+        c = np.asarray(c, dtype=float).reshape(-1)
+        if c.size == n:
+            excused |= ~(c <= SINGULAR_COND)
+    for sp in singular:
+        excused |= np.isclose(t, sp.t, rtol=0.0, atol=1e-9 * max(1.0, abs(sp.t)))
+    locked = excused.copy()
+    if fric is not None:
+        locked |= np.asarray(fric["solution"].status).reshape(-1) == 2
+    names = [f"{name}.{label}" for name in system.links for label in ("x", "y", "theta")]
+    rate = {"x": "vx", "y": "vy", "theta": "omega"}
+    acc = {"x": "ax", "y": "ay", "theta": "alpha"}
+    arrays = [(q, names, excused), (qd, [n.rsplit(".", 1)[0] + "." + rate[n.rsplit(".", 1)[1]]
+                                         for n in names], excused),
+              (qdd, [n.rsplit(".", 1)[0] + "." + acc[n.rsplit(".", 1)[1]] for n in names], excused)]
+    if x0 is not None:
+        n_j = system.n_joint_rows
+        labels = [""] * x0.shape[-1]
+        for k, j in enumerate(system.model.joints):
+            for r in range(x0.shape[-1])[system.rows_of(k)]:
+                labels[r] = (f"the reaction of joint {j.name} "
+                             f"({', '.join(f'{j.name}.{x}' for x in j.reaction_labels)})")
+        for d_index, d in enumerate(system.motion_drivers):
+            effort_joint = (system.model.joint(d.driver.balance_at) if d.driver.balance_at
+                            else d.joint)
+            labels[n_j + d_index] = f"{d.name}.{'torque' if effort_joint.angular else 'force'}"
+        arrays.append((x0, labels, excused))
+    if fric is not None:
+        sol = fric["solution"]
+        arrays.append((sol.x, [f"{x} (with friction)" for x in labels], locked))
+        arrays.append((sol.e, [f"{system.model.joints[k].name}.friction"
+                               for k in fric["setup"].joints], locked))
+        arrays.append((fric["x_approx"], [f"{x} (approximate friction)" for x in labels],
+                       excused))
+    for key, value in (power or {}).items():
+        late = key in ("friction", "input_friction", "residual_friction")
+        arrays.append((np.asarray(value)[..., None], [f"power.{key}"], locked if late else excused))
+    for arr, labels, ok in arrays:
+        arr = np.asarray(arr, dtype=float)
+        if arr.ndim != 2 or arr.shape[0] != n:
+            continue                                # stacked variants: not checked here
+        bad = ~np.isfinite(arr) & ~ok[:, None]
+        if bad.any():
+            row, col = (int(i) for i in np.argwhere(bad)[0])
+            label = labels[col] if col < len(labels) else f"column {col}"
+            d = system.motion_drivers[0]
+            where = (f"{d.name} = {np.degrees(psi[row, 0]) % 360:.6g}°" if d.joint.angular
+                     else f"{d.name} = {psi[row, 0] * 1e3:.6g} mm")
+            from .errors import NonFiniteResultError
+            raise NonFiniteResultError(
+                label, row,
+                f"the analysis gave {arr[row, col]} in {label} at row {row} ({where}, t = "
+                f"{t[row]:.6g} s), with no self-locking or singular position to explain it: "
+                "the model's numbers overflow (masses, "
+                "lengths, loads or gravity too large or too small; see the input limits in "
+                "docs/errors.md)")
 
 
 def _same_pose(system: System, qa: np.ndarray, qb: np.ndarray) -> bool:
@@ -423,6 +545,7 @@ def _conditions(system: System, q: np.ndarray, lu) -> dict:
 def _kinematics_result(system, sol, t, psi, q, qd, qdd, lu, full) -> Result:
     cond = _conditions(system, q, lu)
     _warn_near_singular(system, cond, psi[..., 0])
+    _check_finite(system, t, psi, cond, sol.singular, q=q, qd=qd, qdd=qdd)
     columns, units = build_columns(system, t, psi, q, qd, qdd, None, None, None, cond, None, full)
     return Result(system=system, t=t, coordinate=psi[..., 0], q=q, qd=qd, qdd=qdd,
                   lam=np.zeros(q.shape[:-1] + (0,)), columns=columns, units=units,

@@ -85,7 +85,9 @@ def _run(args) -> int:
               "(statically indeterminate)")
     for name, d in s["drivers"].items():
         line = f"{name}: mean {d['mean']:.4g} {d['unit']}, peak {d['peak']:.4g}"
-        if "mean_friction" in d:
+        if "mean_friction" in d and not np.isfinite(d["mean_friction"]):
+            line += "; with friction: no consistent solution at any position (self-locking)"
+        elif "mean_friction" in d:
             line += (f"; with friction mean {d['mean_friction']:.4g}, peak {d['peak_friction']:.4g}"
                      f" (approximate mean {d['mean_friction_approx']:.4g})")
         print(line)

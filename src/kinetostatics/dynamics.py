@@ -618,7 +618,22 @@ def simulate(model: Model | Dynamics, until: float, *,
         for a revolute): the cycle boundaries, ``Simulation.marks``.
     """
     from scipy.integrate import solve_ivp
+    from ._checks import real_number
+    until = real_number("until", until, low=0.0, strict_low=True, why="s")
+    rtol = real_number("rtol", rtol, low=0.0, high=1.0, strict_low=True)
+    if atol is not None:
+        atol = real_number("atol", atol, low=0.0, strict_low=True)
+    if not (isinstance(max_step, (int, float, np.integer, np.floating)) and max_step > 0):
+        raise ValueError(f"max_step = {max_step!r}: expected a positive number (or inf)")
+    for name, v in (("stop_at", stop_at), ("mark", mark)):
+        if v is not None:
+            real_number(name, v)
+    if ref_speed is not None:
+        real_number("ref_speed", ref_speed, low=0.0, strict_low=True)
     initial = dict(initial or {})
+    for name, v in initial.items():
+        for k, x in enumerate(v if isinstance(v, (tuple, list)) else (v,)):
+            real_number(f"initial['{name}']" + (f"[{k}]" if isinstance(v, (tuple, list)) else ""), x)
     first_speed = 0.0
     if isinstance(model, Dynamics):
         dyn = model

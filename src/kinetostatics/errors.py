@@ -17,7 +17,8 @@ from typing import Iterable
 __all__ = [
     "Location", "KinetostaticsError", "ModelError", "StructureError",
     "AssemblyError", "SingularConfigurationError", "SelfLockingError",
-    "NearSingularWarning", "SingularEquilibriumWarning", "Collector", "did_you_mean",
+    "NonFiniteResultError", "NearSingularWarning", "SingularEquilibriumWarning", "Collector",
+    "did_you_mean",
 ]
 
 
@@ -75,6 +76,16 @@ class SingularConfigurationError(AssemblyError):
 
 class SelfLockingError(KinetostaticsError, RuntimeError):
     """The consistent friction solution does not exist (the mechanism self-locks)."""
+
+
+class NonFiniteResultError(KinetostaticsError, RuntimeError):
+    """An analysis produced a NaN or infinite value that no status explains (not a
+    self-locked friction solution, not a singular position): the numbers of the model
+    overflow.  ``column``: the result column; ``row``: the row (0-based)."""
+
+    def __init__(self, column: str, row: int, message: str):
+        self.column, self.row = column, row
+        super().__init__(message)
 
 
 class NearSingularWarning(UserWarning):

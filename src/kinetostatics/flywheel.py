@@ -171,6 +171,11 @@ def design(source: Result | Model | System, delta: float | None = None, *,
     delta = delta if delta is not None else (spec.delta if spec else None)
     if delta is None:
         raise ValueError("no delta: give flywheel: {delta: ...} in the file or delta=")
+    from ._checks import real_number
+    delta = real_number("delta", delta, low=0.0, high=1.0, strict_low=True,
+                        why="the coefficient of speed fluctuation")
+    if ratio is not None:
+        ratio = real_number("ratio", ratio, low=0.0, strict_low=True)
     ratio = ratio if ratio is not None else (spec.ratio if spec else None)
     friction = bool(friction if friction is not None else (spec.friction if spec else False))
     drv = _one_dof(system)

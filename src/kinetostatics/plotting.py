@@ -1371,6 +1371,11 @@ def polar_diagrams(result, joints: Sequence[str] | None = None, *, friction: boo
                 ax.annotate(lab, p, xytext=(2, 2), textcoords="offset points", fontsize=6,
                             color=EVENT_COLOR if "′" in lab else "black")
             mag = np.hypot(F[:, 0], F[:, 1])
+            if not np.isfinite(mag).any():            # friction solution self-locked throughout
+                ax.text(0.5, 0.5, "no values:\nself-locking at\nevery position",
+                        transform=ax.transAxes, ha="center", va="center", fontsize=7)
+                ax.set_title(f"{name}: no consistent friction solution", fontsize=7.5)
+                continue
             kmax = int(np.nanargmax(mag))
             ax.plot([0, F[kmax, 0]], [0, F[kmax, 1]], color=CURVE_COLORS[3], lw=1.0)
             lim = 1.12 * float(np.nanmax(mag)) if np.nanmax(mag) > 0 else 1.0

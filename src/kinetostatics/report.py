@@ -351,17 +351,27 @@ def _summary_blocks(result, summary) -> list:
                      f"({e['condition']})")
     for name, d in summary["drivers"].items():
         line = f"driver {name}: mean {d['mean']:.4g} {d['unit']}, peak |·| {d['peak']:.4g}"
-        if "mean_friction" in d:
+        if "mean_friction" in d and not math.isfinite(d["mean_friction"]):
+            line += (f"; with friction: no consistent solution at any position (self-locking; "
+                     f"approximate mean {d['mean_friction_approx']:.4g})")
+        elif "mean_friction" in d:
             line += (f"; with friction mean {d['mean_friction']:.4g} (approximate "
                      f"{d['mean_friction_approx']:.4g}), peak {d['peak_friction']:.4g}")
         items.append(line + " (means over the analysed rows)")
+    if "friction.status" in result.columns:
+        locked = int(np.sum(result["friction.status"] == 2))
+        if locked:
+            items.append(f"self-locking at {locked} of {len(result)} positions (friction.status "
+                         "2): the consistent friction columns are empty there and the means and "
+                         "peaks with friction are over the other rows"
+                         + (" — here there are none" if locked == len(result) else ""))
     for sp in summary["singular_positions"]:
         items.append(f"singular position: {sp['group']} at {sp['angle']:.4f}° "
                      f"(condition {sp['condition']:.3g})")
     if summary["indeterminate_reactions"]:
         items.append("redundant constraints: reactions are the minimum-norm solution")
     blocks.append(_List(items))
-    rows = [[n, f"{p['peak']:.5g}", f"{p['at']:.4g}", f"{p.get('peak_friction', float('nan')):.5g}"]
+    rows = [[n, f"{p['peak']:.5g}", f"{p['at']:.4g}", _fmt(p.get('peak_friction', math.nan), 0.0)]
             for n, p in summary["reaction_peaks"].items()]
     blocks.append(_Table(["joint", "peak |F| without friction (N)", "at driver coordinate (deg)",
                           "peak |F| with friction (N)"], rows, "Peak joint reactions"))

@@ -188,6 +188,14 @@ def _bias(system, q, qd, k):
                                                   ve[..., 3 * i:3 * i + 3], ve[..., 3 * j:3 * j + 3])
 
 
+def _finite(f, arr) -> float:
+    """``f`` over the finite values of ``arr`` (the rows that have them), NaN when there are
+    none (a friction column of a machine that self-locks at every position)."""
+    arr = np.asarray(arr, dtype=float)
+    ok = np.isfinite(arr)
+    return float(f(arr[ok])) if ok.any() else float("nan")
+
+
 def summarize(result) -> dict[str, Any]:
     system = result.system
     extremes = {}
@@ -206,7 +214,7 @@ def summarize(result) -> dict[str, Any]:
         peaks[j.name] = {"peak": float(mag[k]), "at": _at(result, k), "unit": "N"}
         if f"{j.name}.Fx_friction" in result.columns:
             magf = np.hypot(result[f"{j.name}.Fx_friction"], result[f"{j.name}.Fy_friction"])
-            peaks[j.name]["peak_friction"] = float(np.nanmax(magf))
+            peaks[j.name]["peak_friction"] = _finite(np.max, magf)
     drivers = {}
     for d in system.motion_drivers:
         for word in ("torque", "force"):
@@ -217,8 +225,8 @@ def summarize(result) -> dict[str, Any]:
             for suffix in ("", "_friction_approx", "_friction"):
                 if key + suffix in result.columns:
                     arr = result[key + suffix]
-                    entry["mean" + suffix] = float(np.nanmean(arr))
-                    entry["peak" + suffix] = float(np.nanmax(np.abs(arr)))
+                    entry["mean" + suffix] = _finite(np.mean, arr)
+                    entry["peak" + suffix] = _finite(np.max, np.abs(arr))
             drivers[d.name] = entry
     units = {"angle": "deg", "time": "s", "length": "m", "force": "N", "torque": "N*m"}
     return {

@@ -33,6 +33,25 @@ MAX_POSITIONS = 10_000_000
 MAX_TURNS = 100                # analysis.sweep of a revolute driver, in turns
 MAX_TRAVEL = 1000              # a prismatic driver's sweep (and at - start): x the largest link
 SPEED_RANGE = (1e-9, 1e9)      # |speed| of a motion driver, rad/s or m/s
+MAX_LAW_ACCELERATION = 1e18     # |second derivative| of a motion law, rad/s^2 or m/s^2
+MAGNITUDE = {                  # SI: |value| <= upper, and a value that is not 0 has |value| >= lower
+    "length": (1e-30, 1e9),          # m
+    "mass": (1e-30, 1e12),           # kg
+    "inertia": (1e-30, 1e30),        # kg*m^2 (mass limit x length limit^2)
+    "force": (1e-30, 1e24),          # N (mass limit x gravity limit)
+    "torque": (1e-30, 1e33),         # N*m (force limit x length limit)
+    "acceleration": (1e-30, 1e12),   # m/s^2: gravity
+    "time": (1e-30, 1e9),            # s
+    "speed": (1e-30, 1e9),           # rad/s or m/s (a motion driver: SPEED_RANGE)
+    "angle": (0.0, 1e6),             # rad
+    None: (1e-30, 1e18),             # dimensionless: friction coefficients, directions, ratios
+}
+"""Bounds on every number of a file, by quantity kind, in SI.  The products the
+analysis forms from them (m*omega^2*L, J*omega^2, m*g*L, F*L, power F*v; with a
+driver speed of at most 1e9 and a law's acceleration of at most 1e18 in SI) stay
+below 1e60, and their squares (norms) below 1e120: far from overflow (1.8e308).  A
+non-zero value below the lower bound (1e-300 kg) is refused as well: it only
+arises by mistake, and its products underflow."""
 NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 RESERVED = frozenset({"time", "angle", "stroke", "travel", "power", "friction", "shaking"})
 TOP_KEYS = ("name", "units", "parameters", "gravity", "ground", "links", "joints", "loops",
@@ -209,9 +228,10 @@ class Entry:
         return None
 
     def number(self, kind: str | None, *, minimum: float | None = None,
-               strict: bool = False) -> float | None:
+               strict: bool = False, bounded: bool = True) -> float | None:
         """The scalar's value (a number or a parameter expression) times the
-        file's unit factor for ``kind`` (``None``: dimensionless)."""
+        file's unit factor for ``kind`` (``None``: dimensionless), within
+        :data:`MAGNITUDE` (``bounded=False``: the caller applies its own limit)."""
         value = self.raw_number()
         if value is None:
             return None
@@ -223,7 +243,37 @@ class Entry:
                 self.error(f"must be {'greater than' if strict else 'at least'} {minimum:g}, "
                            f"got {value:g}")
             return None
-        return value * (self.ctx.units[kind] if kind else 1.0)
+        scale = self.ctx.units[kind] if kind else 1.0
+        if bounded and not self.within(value * scale, kind, value):
+            return None
+        return value * scale
+
+    def within(self, value: float, kind: str | None, written: float | None = None,
+               unit: str | None = None) -> bool:
+        """Whether ``value`` (SI) is within :data:`MAGNITUDE` of ``kind``; if not, report it
+        (``written``: the value in the file's ``unit``) and return False."""
+        lower, upper = MAGNITUDE[kind]
+        size = abs(value)
+        if size <= upper and (size == 0.0 or size >= lower):
+            return True
+        si = units.SI_UNITS.get(kind, "") if kind not in ("acceleration",) else "m/s^2"
+        if kind is None:
+            text, limit = f"{value:g}", ""
+        else:
+            unit = unit or self.ctx.unit_names.get(kind, si)
+            text = f"{written if written is not None else value:g} {unit}".rstrip()
+            if unit != si:
+                text += f" ({value:g} {si})"
+            limit = f" {si}"
+        what = (f"{'an' if kind[0] in 'aeiou' else 'a'} {kind}" if kind
+                else "a dimensionless number")
+        if size > upper:
+            self.error(f"{text} is too large: the magnitude of {what} must be at most "
+                       f"{upper:g}{limit} (larger values overflow in the analysis)")
+        else:
+            self.error(f"{text} is too small: the magnitude of {what} must be 0 or at least "
+                       f"{lower:g}{limit} (smaller values underflow in the analysis)")
+        return False
 
     def raw_number(self) -> float | None:
         """The scalar's value as written (no unit conversion)."""
@@ -249,7 +299,9 @@ class Entry:
             self.error(_expression_message(exc))
             return None
 
-    def vector(self, kind: str | None, n: int = 2) -> np.ndarray | None:
+    def vector(self, kind: str | None, n: int = 2, bound: str | None = None) -> np.ndarray | None:
+        """``n`` numbers of ``kind``; ``bound``: the :data:`MAGNITUDE` entry that limits them
+        when it is not ``kind``'s (gravity: numbers in m/s², bounded as an acceleration)."""
         shape = "[x, y]" if n == 2 else f"a list of {n} numbers"
         if not isinstance(self.node, yaml.SequenceNode):
             self.error(f"expected {shape}, got {_describe(self.node)}")
@@ -259,7 +311,10 @@ class Entry:
             self.error(f"expected {shape} ({n} numbers), got {len(items)} "
                        f"number{'s' if len(items) != 1 else ''}")
             return None
-        values = [e.number(kind) for e in items]
+        values = [e.number(kind, bounded=bound is None) for e in items]
+        if bound is not None:
+            values = [v if v is None or e.within(v, bound) else None
+                      for e, v in zip(items, values)]
         return None if any(v is None for v in values) else np.array(values, dtype=float)
 
     def unit(self, v: np.ndarray) -> np.ndarray | None:
@@ -343,7 +398,7 @@ class _Missing(Entry):
     def raw_number(self) -> None:
         return None
 
-    def vector(self, kind: str | None, n: int = 2) -> None:
+    def vector(self, kind: str | None, n: int = 2, bound: str | None = None) -> None:
         return None
 
     def names(self, n: int) -> list[None]:
@@ -552,7 +607,7 @@ class _Builder:
         self._parameters()
         gravity = np.array([0.0, -9.81])
         if (g := top.get("gravity")) is not None:
-            gravity = g.vector(None)
+            gravity = g.vector(None, bound="acceleration")
             if gravity is None:
                 gravity = np.array([0.0, -9.81])
         links = self._links(gravity)
@@ -861,6 +916,11 @@ class _Builder:
                                   "(gravity is [0, 0]); give the mass instead")
                 w = None
             mass = None if w is None else (w / g if w else 0.0)
+            if mass and not MAGNITUDE["mass"][0] <= mass <= MAGNITUDE["mass"][1]:
+                e["weight"].error(f"a weight of {w:g} N with |gravity| = {g:g} m/s^2 gives a mass "
+                                  f"of {mass:g} kg; the mass must be from "
+                                  f"{MAGNITUDE['mass'][0]:g} to {MAGNITUDE['mass'][1]:g} kg")
+                mass = None
         if e.get("inertia") is not None:
             inertia = e["inertia"].number("inertia", minimum=0.0)
         if is_ground and (mass or inertia):
@@ -1067,7 +1127,7 @@ class _Builder:
                         f"'{joint.name}' is {joint.kind}: give units.speed as m/s, "
                         "mm/s or cm/s")
             return None
-        v = s.number("speed")
+        v = s.number("speed", bounded=False)              # SPEED_RANGE below
         if v is not None and v == 0.0:
             s.error("the speed must not be zero (its sign gives the sense of motion)")
             return None
@@ -1098,6 +1158,36 @@ class _Builder:
             return None
         if law == "constant":
             return self._constant_speed(m, joint)
+        made = self._law(m, law, joint)
+        return None if made is None or not self._law_in_range(m, made, joint) else made
+
+    def _law_in_range(self, m: Entry, law, joint: Joint) -> bool:
+        """A motion law's coordinate within :data:`MAGNITUDE` and its peak speed within
+        :data:`SPEED_RANGE` (sampled over its duration), as for a constant speed."""
+        kind, si = ("angle", "rad/s") if joint.angular else ("length", "m/s")
+        t = np.linspace(0.0, law.duration, 4097)
+        with np.errstate(all="ignore"):
+            psi, psi_d, psi_dd = (np.asarray(a, dtype=float) for a in law.value(0.0, t))
+            peak = float(np.max(np.abs(psi_d)))
+        if not (np.all(np.isfinite(psi)) and np.all(np.isfinite(psi_d))
+                and np.all(np.isfinite(psi_dd))) or not SPEED_RANGE[0] <= peak <= SPEED_RANGE[1]:
+            m.error(f"the {law.kind} law reaches a speed of {peak:g} {si}; its peak speed must "
+                    f"be from {SPEED_RANGE[0]:g} to {SPEED_RANGE[1]:g} {si}")
+            return False
+        if float(np.max(np.abs(psi_dd))) > MAX_LAW_ACCELERATION:
+            m.error(f"the {law.kind} law reaches an acceleration of "
+                    f"{float(np.max(np.abs(psi_dd))):g} {si}^2; its magnitude must be at most "
+                    f"{MAX_LAW_ACCELERATION:g} {si}^2")
+            return False
+        worst = float(np.max(np.abs(psi)))
+        if worst > MAGNITUDE[kind][1]:
+            m.error(f"the {law.kind} law reaches {worst:g} {'rad' if joint.angular else 'm'}; "
+                    f"the magnitude of a driver coordinate must be at most {MAGNITUDE[kind][1]:g}")
+            return False
+        return True
+
+    def _law(self, m: Entry, law: str, joint: Joint):
+        """The harmonic, polynomial or table law of ``motion:`` (its keys checked)."""
         kind = "angle" if joint.angular else "length"
         si = "rad" if joint.angular else "m"
         if law == "harmonic":
@@ -1505,7 +1595,7 @@ class _Builder:
         n = self._positions(a)
         at: tuple[float, ...] = ()
         if (ae := a.get("at")) is not None and (items := ae.seq()) is not None:
-            vals = [e.number(kind) for e in items]
+            vals = [e.number(kind, bounded=kind == "angle") for e in items]   # lengths: below
             if kind == "length" and start is not None:
                 for e, v in zip(items, vals):
                     scale = self.ctx.units[kind]
