@@ -9,7 +9,8 @@ Each :class:`~kinetostatics.results.Result` carries ``result.checks`` (a
 - ``power`` and ``power_friction``: the largest |power.residual| (frictionless)
   and |power.residual_friction| (consistent friction solution, rows where it
   exists) over the rows, divided by the largest |power.input| (or, where no
-  power is put in, by the largest |power| term); tolerance :data:`POWER_TOL`;
+  power is put in, by the largest |power| term); rows at a reported singular
+  position (no finite effort there) are left out; tolerance :data:`POWER_TOL`;
 - ``sketch``: the largest distance between a sketched point and where the start
   pose put it, and which point; tolerance ``SKETCH_TOL``·L_ref (the start
   refuses a larger one, see docs/yaml.md);
@@ -187,10 +188,14 @@ def result_checks(result) -> Checks:
                        for n in ("kinetic", "potential", "external", "friction")
                        if f"power.{n}" in cols), default=0.0)
         ref = ref if ref > 0.0 else 1.0
+        t = np.asarray(result.t)
+        singular = np.zeros(t.shape, dtype=bool)         # reported singular rows: no effort there
+        for sp in result.singular:
+            singular |= np.isclose(t, sp.t, rtol=0.0, atol=1e-9 * max(1.0, abs(sp.t)))
         for name, col in (("power", "power.residual"), ("power_friction", "power.residual_friction")):
             if col not in cols:
                 continue
-            r = np.abs(np.asarray(cols[col]))
+            r = np.where(singular, 0.0, np.abs(np.asarray(cols[col])))
             if name == "power_friction" and "friction.status" in cols:
                 r = np.where(cols["friction.status"] == 2, 0.0, r)     # no solution there
             r = np.where(np.isnan(r), np.inf, r) / ref
