@@ -42,6 +42,9 @@ COARSE_STEP = np.radians(30.0)
 FINE_STEP = np.radians(5.0)
 MIN_STEP = 1e-7             # rad of driver coordinate (or × L_ref for a prismatic)
 JUMP_RATIO = 0.35           # |corrector| / |step| above which a step is a suspected jump
+DISC_TOL = 100 * TOL        # a closed-form dyad's normalised discriminant D at or below which it
+                            # is singular (its lengths within ~50·TOL of its own scale of a toggle)
+DISC_SCAN = np.radians(5.0)  # sample spacing of the discriminants along a closed-form path
 
 Drive = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]]
 """t (...) -> (ψ, ψ̇, ψ̈), each (..., n_motion_drivers)."""
@@ -530,35 +533,45 @@ def _closed_form_path(system: System, q0: np.ndarray, sig0: np.ndarray, t: np.nd
                       drive: Drive) -> PositionSolution | None:
     """All positions at once by closed-form dyads, or None where they do not apply.
 
-    Applies when every group has a closed form and no group comes near a
-    singular position over the path (see :func:`closed_form_path`); any doubt
-    returns None (Newton path).
+    Applies when every group has a closed form and every group assembles along
+    the path (see :func:`closed_form_path`, which also locates the change points
+    the path passes: they are the singular positions); any doubt returns None
+    (Newton path).
     """
     solvers = _solvers(system, drive)
     if solvers is None:
         return None
-    q, ok = closed_form_path(system, solvers, q0[None, None], t, drive)
+    singular: list[Singularity] = []
+    q, ok, signs = closed_form_path(system, solvers, q0[None, None], t, drive, singular)
     if not ok[0]:
         return None
-    return PositionSolution(q[0], np.broadcast_to(sig0, (len(t), len(sig0))),
-                            np.zeros(len(t), dtype=int))
+    return PositionSolution(q[0], sig0 * signs[0], np.zeros(len(t), dtype=int), singular)
 
 
-def closed_form_path(system: System, solvers, q0: np.ndarray, t: np.ndarray,
-                     drive: Drive) -> tuple[np.ndarray, np.ndarray]:
+def closed_form_path(system: System, solvers, q0: np.ndarray, t: np.ndarray, drive: Drive,
+                     singular: list | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Closed-form positions at times ``t (N,)`` from start poses ``q0 (V, 1, n_q)``
-    (V variants, stacked or not): ``(q (V, N, n_q), ok (V,))``.
+    (V variants, stacked or not): ``(q (V, N, n_q), ok (V,), signs (V, N, n_groups))``.
 
-    ``ok`` where every group's margin stays above ``dyads.MARGIN`` along the path
-    and a sample of the positions satisfies Φ = 0 (the closed forms are exact).
-    Auxiliary points every ≤ 30° of the driver (:func:`path_times`) let the
-    angles be unwrapped continuously from the start pose.
+    Each group is solved with the closed-form sign of its start pose times
+    ``signs``: the sign changes at every *change point* of the group, where its
+    discriminant D touches zero (:func:`_change_points`, located between the rows
+    and independently of them), so that the path is C¹.  With ``singular`` a list
+    (one model, V = 1) the change points are appended to it as singular
+    positions; without, a variant that passes one is not ok (its own analysis
+    reports it).  ``ok`` also needs D ≥ −``DISC_TOL`` along the path (the links
+    reach; else the Newton path reports where they do not) and a sample of the
+    positions to satisfy Φ = 0.  Auxiliary points every ≤ 30° of the driver
+    (:func:`path_times`) let the angles be unwrapped continuously from the start pose.
     """
+    n_v = len(q0)
+    lo, hi = min(0.0, float(t.min())), max(0.0, float(t.max()))
+    flips, ok = _change_points(system, solvers, q0, lo, hi, drive)
     tt, order = path_times(system, t, drive)
     psi = drive(tt)[0]
-    n_v = len(q0)
-    q, ok = closed_form_near(solvers, np.broadcast_to(q0, (n_v, len(tt), q0.shape[-1])), psi)
-    ok = np.all(ok, axis=-1)
+    signs = _branch_signs(flips, np.broadcast_to(tt, (n_v, len(tt))))
+    q, disc = _closed_forms(solvers, np.broadcast_to(q0, (n_v, len(tt), q0.shape[-1])), psi, signs)
+    ok &= np.all(disc >= -DISC_TOL, axis=(-2, -1))
     start = len(t)
     for k in range(len(system.links)):              # unwrap angles along the path
         col = 3 * k + 2
@@ -569,7 +582,118 @@ def closed_form_path(system: System, solvers, q0: np.ndarray, t: np.ndarray,
     probe = slice(None, None, max(1, start // 32))
     res = np.max(np.abs(phi(system, q[:, probe], psi[:start][probe])), axis=(-2, -1))
     ok &= res <= 1e3 * TOL * np.ravel(np.broadcast_to(system.l_ref, (n_v, 1)))
-    return q, ok
+    if singular is None:
+        for f in flips:
+            ok &= np.all(np.isnan(f), axis=-1)
+    else:
+        found = [(ts, g) for g, f in enumerate(flips) for ts in f[0] if not np.isnan(ts)]
+        for ts, g in sorted(found):
+            at = np.array([[ts]])
+            qs, _ = _closed_forms(solvers, q0, drive(at)[0], _branch_signs(flips, at))
+            coord = float(drive(at)[0][0, 0, 0]) if system.motion_drivers else ts
+            singular.append(Singularity(system.plans[g].group.label, float(ts), coord,
+                                        float(group_condition(system, qs[0, 0], system.plans[g]))))
+    return q, ok, signs[:, :start]
+
+
+def _closed_forms(solvers, q: np.ndarray, psi: np.ndarray,
+                  signs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The closed forms in solve order, group g on its start sign × ``signs[..., g]``:
+    (q, the groups' discriminants D ``(..., n_groups)``)."""
+    q = np.array(q, dtype=float)
+    disc = []
+    for g, solve in enumerate(solvers):
+        q, d = solve(q, psi, signs[..., g])
+        disc.append(np.broadcast_to(d, q.shape[:-1]))
+    return q, np.stack(disc, axis=-1)
+
+
+def _branch_signs(flips: list, t: np.ndarray) -> np.ndarray:
+    """±1 per group at times ``t (V, M)``: −1 where an odd number of the group's
+    change points ``flips[g] (V, K)`` (NaN: none) lie between t = 0 and t."""
+    out = []
+    for f in flips:
+        f, tt = f[:, None, :], t[..., None]
+        with np.errstate(invalid="ignore"):
+            n = np.sum(((f > 0) & (f <= tt)) | ((f < 0) & (f >= tt)), axis=-1)
+        out.append(np.where(n % 2, -1.0, 1.0))
+    return np.stack(out, axis=-1) if out else np.ones(t.shape + (0,))
+
+
+def _change_points(system: System, solvers, q0: np.ndarray, lo: float, hi: float,
+                   drive: Drive) -> tuple[list, np.ndarray]:
+    """The change points of every group over ``[lo, hi]``: ``(flips, ok)``, flips[g]
+    ``(V, K)`` their times (NaN padding), ``ok (V,)`` where no local minimum of a
+    discriminant lies below −``DISC_TOL`` (the links reach everywhere).
+
+    A group's discriminant D(t) is smooth along the path.  It is sampled every
+    ≤ ``DISC_SCAN`` of the driver (plus t = 0 and the times a motion law turns
+    back), never at the output rows, with slopes by central differences; the
+    interior minima of the cubic Hermite interpolant between samples are added
+    as samples, and every sign change − to + of the slope brackets a local
+    minimum of D, refined by a safeguarded Newton iteration on D' = 0.  A
+    minimum with |D| ≤ ``DISC_TOL`` is a change point: D touches zero there
+    (D ≈ c (t − t*)²), the two assemblies meet, and the C¹ continuation is the
+    other closed-form sign (√D ∝ |t − t*| changes its signed form).  A minimum
+    above ``DISC_TOL``, however small (a near-toggle), keeps the sign.
+    Groups are taken in solve order: a group's change points enter the
+    closed forms of the later groups.
+    """
+    n_v = len(q0)
+    fine = _max_dt(system, 0.0, drive, DISC_SCAN)
+    eta = 1e-4 * fine
+    ts = np.linspace(lo, hi, int(np.ceil((hi - lo) / fine)) + 1)
+    if getattr(drive, "laws", ()):
+        ts = np.concatenate((ts, drive.turning_times(lo, hi)))
+    ts = np.broadcast_to(np.unique(np.append(ts, 0.0)), (n_v, len(np.unique(np.append(ts, 0.0)))))
+    flips = [np.full((n_v, 0), np.nan) for _ in solvers]
+    ok = np.ones(n_v, dtype=bool)
+
+    def disc(g, t):                         # D_g at times t (V, M), 3 offsets -> (3, V, M)
+        at = t[None] + np.array([-eta, 0.0, eta])[:, None, None]
+        at = np.moveaxis(at, 0, -1).reshape(n_v, -1)
+        _, d = _closed_forms(solvers, np.broadcast_to(q0, at.shape + q0.shape[-1:]), drive(at)[0],
+                             _branch_signs(flips, at))
+        d = d[..., g].reshape(t.shape + (3,))
+        return d[..., 1], (d[..., 2] - d[..., 0]) / (2 * eta), (d[..., 2] - 2 * d[..., 1] + d[..., 0]) / eta ** 2
+
+    for g in range(len(solvers)):
+        d, m, _ = disc(g, ts)
+        h = np.diff(ts, axis=-1)
+        d0, d1, m0, m1 = d[:, :-1], d[:, 1:], m[:, :-1] * h, m[:, 1:] * h
+        b = -6 * d0 - 4 * m0 + 6 * d1 - 2 * m1     # Hermite p'(s) = a s² + b s + c, p'' > 0 root
+        a = 6 * d0 + 3 * m0 - 6 * d1 + 3 * m1
+        with np.errstate(all="ignore"):
+            s = 2 * m0 / (-b - np.sqrt(b * b - 4 * a * m0))
+        inner = (s > 0) & (s < 1)
+        extra = np.where(inner, ts[:, :-1] + np.where(inner, s, 0.0) * h, ts[:, :-1])
+        tg = np.sort(np.concatenate((ts, extra), axis=-1), axis=-1)
+        d, m, _ = disc(g, tg)
+        ok &= np.all(d >= -DISC_TOL, axis=-1)
+        br = (m[:, :-1] < 0) & (m[:, 1:] >= 0)
+        n_k = int(br.sum(axis=-1).max())
+        if n_k == 0:
+            continue
+        idx = np.argsort(~br, axis=-1, kind="stable")[:, :n_k]
+        valid = np.take_along_axis(br, idx, -1)
+        a_t = np.take_along_axis(tg[:, :-1], idx, -1)
+        b_t = np.take_along_axis(tg[:, 1:], idx, -1)
+        tm = 0.5 * (a_t + b_t)
+        for _ in range(MAX_ITER):               # safeguarded Newton on D'(t) = 0
+            _, m, c = disc(g, tm)
+            a_t, b_t = np.where(m < 0, tm, a_t), np.where(m < 0, b_t, tm)
+            with np.errstate(all="ignore"):
+                tn = tm - m / c
+            inside = (c > 0) & (tn > a_t) & (tn < b_t)
+            tn = np.where(inside, tn, 0.5 * (a_t + b_t))
+            if np.all(np.abs(tn - tm) <= 1e-13 * fine):
+                tm = tn
+                break
+            tm = tn
+        dm, _, _ = disc(g, tm)
+        ok &= np.all(~valid | (dm >= -DISC_TOL), axis=-1)
+        flips[g] = np.where(valid & (np.abs(dm) <= DISC_TOL), tm, np.nan)
+    return flips, ok
 
 
 # -- velocities and accelerations ----------------------------------------------------
@@ -647,13 +771,13 @@ def _closed_form_at(system: System, drive: Drive, guess: np.ndarray, psi: np.nda
 def closed_form_near(solvers, guess: np.ndarray, psi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(q, ok): the closed-form solvers applied in solve order at driver coordinates
     ``psi``, angles taken nearest to ``guess``; ``ok (...)`` where every group's
-    margin stays above ``dyads.MARGIN``."""
+    margin √D stays above ``dyads.MARGIN``."""
     from .dyads import MARGIN
     q = guess.copy()
     ok = np.ones(guess.shape[:-1], dtype=bool)
     for solve in solvers:
-        q, margin = solve(q, psi)
-        ok &= margin >= MARGIN
+        q, disc = solve(q, psi)
+        ok &= disc >= MARGIN ** 2
     ang = slice(2, None, 3)
     q[..., ang] += 2 * np.pi * np.round((guess[..., ang] - q[..., ang]) / (2 * np.pi))
     return q, ok

@@ -198,7 +198,7 @@ def analyze_stacked(models: Sequence[Model], *, friction: bool | None = None,
     solvers = [closed_form(system, plan, q0) for plan in system.plans]
     if any(s is None for s in solvers):
         raise Unsupported("a group without a closed form")
-    q, ok_path = closed_form_path(system, solvers, q0, t, sched)
+    q, ok_path, _ = closed_form_path(system, solvers, q0, t, sched)
     ok &= ok_path
     psi, psi_d, psi_dd = sched(t)
     psi, psi_d, psi_dd = (np.broadcast_to(x, q.shape[:-1] + (1,)) for x in (psi, psi_d, psi_dd))
