@@ -104,7 +104,7 @@ def _rrr(system, plan, joints, q0) -> Solver | None:
     sigma = np.sign(cross(pb0 - pa0, pm0 - pa0))
 
     def solve(q, psi, sign=None):
-        s = sigma if sign is None else sigma * sign
+        sg = sigma if sign is None else sigma * sign
         pa, pb = points(q)
         dv = pb - pa
         d2 = np.sum(dv * dv, axis=-1)
@@ -113,7 +113,7 @@ def _rrr(system, plan, joints, q0) -> Solver | None:
         h2 = la * la - x * x
         h = np.sqrt(np.maximum(h2, 0.0))
         e = dv / d[..., None]
-        pm = pa + x[..., None] * e + (s * h)[..., None] * perp(e)
+        pm = pa + x[..., None] * e + (sg * h)[..., None] * perp(e)
         ta = _heading(pm - pa) - alpha_a
         tb = _heading(pm - pb) - alpha_b
         _place(system, q, a, ta, pa, _pin(ja, a))
@@ -153,11 +153,11 @@ def _rrp(system, plan, joints, q0) -> Solver | None:
     sigma = np.sign(s0 + wu0)
 
     def solve(q, psi, sign=None):
-        s = sigma if sign is None else sigma * sign
+        sg = sigma if sign is None else sigma * sign
         tb, u, w = frame(q)
         wu = np.sum(w * u, axis=-1)
         disc = wu * wu - np.sum(w * w, axis=-1) + la * la
-        sval = -wu + s * np.sqrt(np.maximum(disc, 0.0))
+        sval = -wu + sg * np.sqrt(np.maximum(disc, 0.0))
         pa = _world(system, q, _other(ja, a), _pin(ja, _other(ja, a)))
         pm = pa + w + sval[..., None] * u
         ta = _heading(pm - pa) - alpha_a
@@ -194,13 +194,13 @@ def _rpr(system, plan, joints, q0) -> Solver | None:
     sigma = -np.sign(wrap_angle(beta0 - nu_ang - tb0))
 
     def solve(q, psi, sign=None):
-        s = sigma if sign is None else sigma * sign
+        sg = sigma if sign is None else sigma * sign
         pa, pb = ends(q)
         dv = pa - pb
         d = np.hypot(dv[..., 0], dv[..., 1])
         beta = np.arctan2(dv[..., 1], dv[..., 0])
         c = k_const / d
-        tb = beta - nu_ang + s * np.arccos(np.clip(c, -1.0, 1.0))
+        tb = beta - nu_ang + sg * np.arccos(np.clip(c, -1.0, 1.0))
         ta = tb + s.angle
         _place(system, q, b, tb, pb, _pin(jb, b))
         _place(system, q, a, ta, pa, _pin(ja, a))
