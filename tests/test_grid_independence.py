@@ -16,8 +16,18 @@ import numpy as np
 import pytest
 
 import kinetostatics as ks
+from kinetostatics import positions
 
 CHANGE_POINT = "tests/hard/fourbar_change_point.yaml"
+
+
+@pytest.fixture(params=["fast", "general"])
+def path(request, monkeypatch):
+    """Both position paths: the closed forms (fast) and Newton with continuation
+    (general, the closed forms switched off)."""
+    if request.param == "general":
+        monkeypatch.setattr(positions, "_solvers", lambda system, drive: None)
+    return request.param
 GRIDS = [(24, 360), (360, 360), (361, 360), (720, 720)]      # (positions, sweep)
 RNG = np.random.default_rng(20261123)
 TIMES = np.sort(RNG.uniform(-0.8, 1.3, 37))                  # 60 rpm: ψ = 90° + 360°·t
@@ -63,13 +73,13 @@ def _crossings(lo_deg, hi_deg, at=(180.0,)):
     return sorted(c for c in out if lo_deg <= c <= hi_deg)
 
 
-def _runs(text, start=90.0, rpm=60.0):
-    """(label, crank angle of each row in degrees, result) for every grid, for
+def _runs(text, start=90.0, rpm=60.0, grids=GRIDS):
+    """(label, crank angle of each row in degrees, result) for the grids, for
     random times (before and after the start) and for random crank angles."""
     model = ks.loads(text, file="grid.yaml")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ks.NearSingularWarning)
-        for n, sweep in GRIDS:
+        for n, sweep in grids:
             r = ks.analyze(ks.loads(_grid(text, n, sweep), file="grid.yaml"), kinematics_only=True)
             yield f"{n} positions over {sweep}°", start + r["travel"], r
         times = TIMES * 60.0 / rpm
@@ -80,7 +90,7 @@ def _runs(text, start=90.0, rpm=60.0):
 
 
 @pytest.mark.parametrize("which", ["change point", "parallelogram"])
-def test_four_bar_follows_the_c1_branch_and_reports_the_same_change_points_on_every_grid(which):
+def test_four_bar_follows_the_c1_branch_and_reports_the_same_change_points_on_every_grid(which, path):
     parallelogram = which == "parallelogram"
     text, at = (_parallelogram_text(), (0.0, 180.0)) if parallelogram else (_change_point_text(), (180.0,))
     for label, phi, r in _runs(text):
@@ -98,7 +108,7 @@ def test_four_bar_follows_the_c1_branch_and_reports_the_same_change_points_on_ev
         assert all(s.condition > 1e8 for s in r.singular), label
 
 
-def test_change_point_between_rows_gives_the_rows_of_the_grid_that_hits_it():
+def test_change_point_between_rows_gives_the_rows_of_the_grid_that_hits_it(path):
     """361 positions step over 180°; its rows agree with the 360-position run's
     C¹ path at the same angles (interpolated in closed form above) and with a run
     at exactly those angles."""
@@ -122,9 +132,10 @@ def _near_toggle_text() -> str:
             .replace("r2: 120", "r2: 60"))
 
 
-def test_near_toggle_slider_crank_keeps_its_branch_on_every_grid():
+def test_near_toggle_slider_crank_keeps_its_branch_on_every_grid(path):
     a, b, e = 0.1, 0.12000001, -0.02
-    for label, phi, r in _runs(_near_toggle_text(), start=0.0, rpm=300.0):
+    grids = GRIDS if path == "fast" else [(24, 360), (361, 360)]     # Newton: slower
+    for label, phi, r in _runs(_near_toggle_text(), start=0.0, rpm=300.0, grids=grids):
         p1 = np.radians(phi)
         s2 = (e - a * np.sin(p1)) / b
         x_b = a * np.cos(p1) + b * np.sqrt(1.0 - s2 * s2)
@@ -135,7 +146,7 @@ def test_near_toggle_slider_crank_keeps_its_branch_on_every_grid():
         assert np.max(np.abs(y_rod - 0.06 * s2)) < 1e-12, label
 
 
-def test_near_toggle_as_shipped_start_is_exact_at_every_row():
+def test_near_toggle_as_shipped_start_is_exact_at_every_row(path):
     """The file as shipped (start 0°, 360 positions): 90° is a row; no singular
     position and the slider on the closed form at every row."""
     a, b, e = 0.1, 0.12000001, -0.02

@@ -45,6 +45,8 @@ JUMP_RATIO = 0.35           # |corrector| / |step| above which a step is a suspe
 DISC_TOL = 100 * TOL        # a closed-form dyad's normalised discriminant D at or below which it
                             # is singular (its lengths within ~50·TOL of its own scale of a toggle)
 DISC_SCAN = np.radians(5.0)  # sample spacing of the discriminants along a closed-form path
+SINGULAR_COND = DISC_TOL ** -0.5   # a group's condition number from which a located sign change of
+                                   # its determinant is a singular position (a dyad's: ~1/√D)
 
 Drive = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]]
 """t (...) -> (ψ, ψ̇, ψ̈), each (..., n_motion_drivers)."""
@@ -360,9 +362,11 @@ def _continue(system: System, q: np.ndarray, sig: np.ndarray, t0: float, t1: flo
             qdn, qddn = _derivs(system, qn, t + h, drive)
             jump = max(jump, _kink(system, qd + h * qdd, qdn, qd))
         flipped = ok and np.any(new_sig != sig)
-        if ok and jump <= JUMP_RATIO and (not flipped or abs(h) <= fine_h):
-            for g in np.nonzero(new_sig != sig)[0] if flipped else ():
-                singular.append(_locate_singular(system, drive, g, t, q, qd, t + h, qn, qdn))
+        smooth = ok and jump <= JUMP_RATIO and (not flipped or abs(h) <= fine_h)
+        found = [_locate_singular(system, drive, g, t, q, qd, t + h, qn, qdn)
+                 for g in (np.nonzero(new_sig != sig)[0] if smooth and flipped else ())]
+        if smooth and all(f.condition >= SINGULAR_COND for f in found):
+            singular.extend(found)              # a sign change only where det really vanishes
         elif abs(h) > min_h:
             h *= 0.5
             continue
@@ -402,7 +406,7 @@ def _locate_singular(system: System, drive: Drive, g: int, ta: float, qa: np.nda
             lo = mid
         else:
             hi = mid
-        if hi - lo <= 1e-12 * max(abs(tb - ta), 1e-300) * 1e3:
+        if abs(hi - lo) <= 1e-12 * max(abs(tb - ta), 1e-300) * 1e3:   # either direction
             break
     t_s = 0.5 * (lo + hi)
     coord = float(drive(np.array([t_s]))[0][0][0]) if system.motion_drivers else t_s
@@ -501,12 +505,20 @@ def solve_positions(system: System, t: np.ndarray, drive: Drive) -> PositionSolu
     ok_all = np.ones(len(t), dtype=bool)
     iters = np.zeros(len(t), dtype=int)
     sig = np.zeros((len(t), len(system.plans)))
+    node = np.where(t - ts[k] <= ts[k + 1] - t, k, k + 1)
+    width = 1e-6 * coarse                      # a row this close to a singular position: either sign
     for g, plan in enumerate(system.plans):
         q, ok, it = _newton(system, q, psi, plan)
         iters += it
         sig[:, g] = _signature(system, q, plan)
-        nearer = np.where(t - ts[k] <= ts[k + 1] - t, sgs[k, g], sgs[k + 1, g])
-        ok_all &= ok & (sig[:, g] == nearer)
+        expected, at_singular = sgs[node, g].copy(), np.zeros(len(t), dtype=bool)
+        for s_ in singular:                    # the node's signature, changed by the singular
+            if s_.group == plan.group.label:   # positions between the node and the row
+                between = (np.minimum(ts[node], t) < s_.t) & (s_.t < np.maximum(ts[node], t))
+                expected[between] *= -1
+                at_singular |= np.abs(t - s_.t) <= width
+        ok_all &= ok & ((sig[:, g] == expected) | at_singular)
+    singular.sort(key=lambda s_: s_.t)                 # backward part first: in time order
     bad = np.nonzero(~ok_all)[0]
     fine = _max_dt(system, 0.0, drive, FINE_STEP)
     for n in bad:                                       # sequential fallback
