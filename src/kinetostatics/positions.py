@@ -45,6 +45,7 @@ JUMP_RATIO = 0.35           # |corrector| / |step| above which a step is a suspe
 DISC_TOL = 100 * TOL        # a closed-form dyad's normalised discriminant D at or below which it
                             # is singular (its lengths within ~50·TOL of its own scale of a toggle)
 DISC_SCAN = np.radians(5.0)  # sample spacing of the discriminants along a closed-form path
+DISC_NEAR = 1e-3            # a local minimum of D is refined if a sample beside it is this low
 SINGULAR_COND = DISC_TOL ** -0.5   # a group's condition number from which a located sign change of
                                    # its determinant is a singular position (a dyad's: ~1/√D)
 
@@ -642,8 +643,10 @@ def _change_points(system: System, solvers, q0: np.ndarray, lo: float, hi: float
     ≤ ``DISC_SCAN`` of the driver (plus t = 0 and the times a motion law turns
     back), never at the output rows, with slopes by central differences; the
     interior minima of the cubic Hermite interpolant between samples are added
-    as samples, and every sign change − to + of the slope brackets a local
-    minimum of D, refined by a safeguarded Newton iteration on D' = 0.  A
+    as samples where they are low (so a sample lies next to every low minimum,
+    to the interpolant's O(h⁴) error), and every sign change − to + of the slope with a sample
+    beside it at D ≤ ``DISC_NEAR`` brackets a local minimum of D, refined by a
+    safeguarded Newton iteration on D' = 0.  A
     minimum with |D| ≤ ``DISC_TOL`` is a change point: D touches zero there
     (D ≈ c (t − t*)²), the two assemblies meet, and the C¹ continuation is the
     other closed-form sign (√D ∝ |t − t*| changes its signed form).  A minimum
@@ -661,50 +664,63 @@ def _change_points(system: System, solvers, q0: np.ndarray, lo: float, hi: float
     flips = [np.full((n_v, 0), np.nan) for _ in solvers]
     ok = np.ones(n_v, dtype=bool)
 
-    def disc(g, t):                         # D_g at times t (V, M), 3 offsets -> (3, V, M)
+    def disc(t):                 # D, D', D'' of every group at times t (V, M): (V, M, G) each
         at = t[None] + np.array([-eta, 0.0, eta])[:, None, None]
         at = np.moveaxis(at, 0, -1).reshape(n_v, -1)
         _, d = _closed_forms(solvers, np.broadcast_to(q0, at.shape + q0.shape[-1:]), drive(at)[0],
                              _branch_signs(flips, at))
-        d = d[..., g].reshape(t.shape + (3,))
-        return d[..., 1], (d[..., 2] - d[..., 0]) / (2 * eta), (d[..., 2] - 2 * d[..., 1] + d[..., 0]) / eta ** 2
+        d = d.reshape(t.shape + (3, -1))
+        return (d[..., 1, :], (d[..., 2, :] - d[..., 0, :]) / (2 * eta),
+                (d[..., 2, :] - 2 * d[..., 1, :] + d[..., 0, :]) / eta ** 2)
 
-    for g in range(len(solvers)):
-        d, m, _ = disc(g, ts)
-        h = np.diff(ts, axis=-1)
+    g0 = 0
+    while g0 < len(solvers):           # again from a group past which the signs changed
+        d, m, _ = disc(ts)
+        h = np.diff(ts, axis=-1)[..., None]
         d0, d1, m0, m1 = d[:, :-1], d[:, 1:], m[:, :-1] * h, m[:, 1:] * h
         b = -6 * d0 - 4 * m0 + 6 * d1 - 2 * m1     # Hermite p'(s) = a s² + b s + c, p'' > 0 root
         a = 6 * d0 + 3 * m0 - 6 * d1 + 3 * m1
         with np.errstate(all="ignore"):
             s = 2 * m0 / (-b - np.sqrt(b * b - 4 * a * m0))
-        inner = (s > 0) & (s < 1)
-        extra = np.where(inner, ts[:, :-1] + np.where(inner, s, 0.0) * h, ts[:, :-1])
-        tg = np.sort(np.concatenate((ts, extra), axis=-1), axis=-1)
-        d, m, _ = disc(g, tg)
-        ok &= np.all(d >= -DISC_TOL, axis=-1)
-        br = (m[:, :-1] < 0) & (m[:, 1:] >= 0)
-        n_k = int(br.sum(axis=-1).max())
-        if n_k == 0:
-            continue
-        idx = np.argsort(~br, axis=-1, kind="stable")[:, :n_k]
-        valid = np.take_along_axis(br, idx, -1)
-        a_t = np.take_along_axis(tg[:, :-1], idx, -1)
-        b_t = np.take_along_axis(tg[:, 1:], idx, -1)
-        tm = 0.5 * (a_t + b_t)
-        for _ in range(MAX_ITER):               # safeguarded Newton on D'(t) = 0
-            _, m, c = disc(g, tm)
-            a_t, b_t = np.where(m < 0, tm, a_t), np.where(m < 0, b_t, tm)
-            with np.errstate(all="ignore"):
-                tn = tm - m / c
-            inside = (c > 0) & (tn > a_t) & (tn < b_t)
-            tn = np.where(inside, tn, 0.5 * (a_t + b_t))
-            if np.all(np.abs(tn - tm) <= 1e-13 * fine):
+        low = (s * s * (2 * s - 3) + 1) * d0 + s * (s - 1) ** 2 * m0 + s * s * (3 - 2 * s) * d1 \
+            + s * s * (s - 1) * m1                  # the interpolant's minimum
+        inner = (s > 0) & (s < 1) & (low <= 10 * DISC_NEAR)
+        inner[..., :g0] = False
+        tg = ts
+        if inner.any():
+            extra = np.where(inner, ts[:, :-1, None] + np.where(inner, s, 0.0) * h, np.nan)
+            extra = np.sort(extra.reshape(n_v, -1), axis=-1)[:, :int(inner.sum((-2, -1)).max())]
+            tg = np.sort(np.concatenate((ts, np.where(np.isnan(extra), hi, extra)), axis=-1), axis=-1)
+            d, m, _ = disc(tg)
+        ok &= np.all(d[..., g0:] >= -DISC_TOL, axis=(-2, -1))
+        for g in range(g0, len(solvers)):
+            dg, mg = d[..., g], m[..., g]
+            br = (mg[:, :-1] < 0) & (mg[:, 1:] >= 0) & (np.minimum(dg[:, :-1], dg[:, 1:]) <= DISC_NEAR)
+            n_k = int(br.sum(axis=-1).max())
+            if n_k == 0:
+                continue
+            idx = np.argsort(~br, axis=-1, kind="stable")[:, :n_k]
+            valid = np.take_along_axis(br, idx, -1)
+            a_t = np.take_along_axis(tg[:, :-1], idx, -1)
+            b_t = np.take_along_axis(tg[:, 1:], idx, -1)
+            tm = 0.5 * (a_t + b_t)
+            for _ in range(MAX_ITER):               # safeguarded Newton on D'(t) = 0
+                _, mm, c = (x[..., g] for x in disc(tm))
+                a_t, b_t = np.where(mm < 0, tm, a_t), np.where(mm < 0, b_t, tm)
+                with np.errstate(all="ignore"):
+                    tn = tm - mm / c
+                inside = (c > 0) & (tn > a_t) & (tn < b_t)
+                tn = np.where(inside, tn, 0.5 * (a_t + b_t))
+                done = np.all(np.abs(tn - tm) <= 1e-9 * fine)
                 tm = tn
-                break
-            tm = tn
-        dm, _, _ = disc(g, tm)
-        ok &= np.all(~valid | (dm >= -DISC_TOL), axis=-1)
-        flips[g] = np.where(valid & (np.abs(dm) <= DISC_TOL), tm, np.nan)
+                if done:
+                    break
+            dm = disc(tm)[0][..., g]
+            ok &= np.all(~valid | (dm >= -DISC_TOL), axis=-1)
+            flips[g] = np.where(valid & (np.abs(dm) <= DISC_TOL), tm, np.nan)
+            if not np.all(np.isnan(flips[g])):
+                break                           # the later groups see these change points
+        g0 = g + 1
     return flips, ok
 
 
