@@ -10,12 +10,19 @@ The path is parametrised by time t (the drivers' laws give ψ(t)).  The solve:
    driver steps ≤ 30°, a second-order Taylor predictor from the exact q̇, q̈,
    and step halving where Newton fails, the correction is large compared
    with the step (a jump), or the signature changes.  A signature change that
-   persists as the step shrinks to ``MIN_STEP`` while the path stays smooth is
-   a *singular position*: recorded with its coordinate and condition number.
+   persists as the step shrinks to ``MIN_STEP`` while the path stays smooth,
+   and where the located determinant really vanishes (condition ≥
+   ``SINGULAR_COND``), is a *singular position*: recorded with its coordinate
+   and condition number.
 3. *Batch*: all requested positions predicted by cubic Hermite interpolation
    between the coarse nodes, one vectorised Newton per group over all of
    them, signatures checked against the enclosing nodes.  Positions that fail
    are solved by continuation from the nearest node with steps ≤ 5°.
+
+Where every group has a closed form (:mod:`kinetostatics.dyads`) the fast
+path :func:`closed_form_path` replaces 2.–3.: the branch is decided by the
+dyads' discriminants along the whole path, independently of the rows
+(:func:`_change_points`).
 """
 
 from __future__ import annotations
@@ -585,6 +592,8 @@ def closed_form_path(system: System, solvers, q0: np.ndarray, t: np.ndarray, dri
     signs = _branch_signs(flips, np.broadcast_to(tt, (n_v, len(tt))))
     q, disc = _closed_forms(solvers, np.broadcast_to(q0, (n_v, len(tt), q0.shape[-1])), psi, signs)
     ok &= np.all(disc >= -DISC_TOL, axis=(-2, -1))
+    ang = slice(2, None, 3)                         # angles nearest the start pose's, then
+    q[..., ang] += 2 * np.pi * np.round((q0[..., ang] - q[..., ang]) / (2 * np.pi))
     start = len(t)
     for k in range(len(system.links)):              # unwrap angles along the path
         col = 3 * k + 2
