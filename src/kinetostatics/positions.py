@@ -592,7 +592,7 @@ def closed_form_path(system: System, solvers, q0: np.ndarray, t: np.ndarray, dri
     signs = _branch_signs(flips, np.broadcast_to(tt, (n_v, len(tt))))
     q, disc = _closed_forms(solvers, np.broadcast_to(q0, (n_v, len(tt), q0.shape[-1])), psi, signs)
     ok &= np.all(disc >= -DISC_TOL, axis=(-2, -1))
-    ang = slice(2, None, 3)                         # angles nearest the start pose's, then
+    ang = slice(2, None, 3)                         # angles nearest the start pose, as the guess
     q[..., ang] += 2 * np.pi * np.round((q0[..., ang] - q[..., ang]) / (2 * np.pi))
     start = len(t)
     for k in range(len(system.links)):              # unwrap angles along the path
