@@ -4,9 +4,9 @@
 for many variants at once on a model stacked by
 :func:`kinetostatics.stacking.stack`, for the common case it can vectorise:
 one constant-speed motion driver over a full cycle, every Assur group with
-a closed form (RRR, RRP, RPR dyads and driven links) that stays clear of
-singular positions, no event rows.  Variants it cannot take — they do not
-assemble at the start, come near a singular position, or the model is
+a closed form (RRR, RRP, RPR dyads and driven links) that passes no
+singular position, no event rows.  Variants it cannot take — they do not
+assemble at the start, pass a singular position, or the model is
 outside that case — are returned as *left over*, for the per-variant
 analysis, which reports or handles them exactly as a single run would.
 
