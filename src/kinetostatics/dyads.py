@@ -4,12 +4,18 @@ For RRR, RRP (slide axis on a known link) and RPR (slide axis on the dyad's
 pivoted link) dyads, and for a link driven about a revolute on a known link,
 the positions of every requested time follow in closed form from the known
 links, vectorised over all positions at once.  The assembly branch is the
-sign ``σ`` read off the Newton solution at the sketched pose.  Each solver
-also returns a *margin* (the discriminant relative to its scale); where the
-margin comes near zero the path may reach a singular position, and the
-caller falls back to the general Newton path, which tracks it.
+sign ``σ`` read off the Newton solution at the sketched pose; an optional
+per-position factor ``sign`` (±1) multiplies it, so a path can change to the
+other closed-form sign where it passes a change point (see
+:func:`kinetostatics.positions.closed_form_path`).  Each solver also returns
+the dyad's *discriminant* ``D``, normalised to its scale: ``D > 0`` where the
+dyad assembles, ``D = 0`` at its singular positions (the two assemblies
+meet), ``D < 0`` where the links cannot reach.  ``D`` is a smooth function
+of the known links' poses (no square root is taken), so it can be
+interpolated and minimised along a path: ``√D`` is the distance of the
+assembly from the singular pose (the margin).
 
-A solver is ``f(q, psi) -> (q, margin)`` filling the group's columns of ``q``.
+A solver is ``f(q, psi, sign=None) -> (q, D)`` filling the group's columns of ``q``.
 """
 
 from __future__ import annotations
@@ -24,7 +30,7 @@ from .system import GroupPlan, System
 
 __all__ = ["closed_form", "MARGIN"]
 
-MARGIN = 1e-3          # below this relative discriminant the Newton path takes over
+MARGIN = 1e-3          # below this margin √D a solve near a guess hands over to Newton
 
 Solver = Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]
 
@@ -97,7 +103,8 @@ def _rrr(system, plan, joints, q0) -> Solver | None:
     pm0 = _world(system, q0, a, _pin(m, a))
     sigma = np.sign(cross(pb0 - pa0, pm0 - pa0))
 
-    def solve(q, psi):
+    def solve(q, psi, sign=None):
+        sg = sigma if sign is None else sigma * sign
         pa, pb = points(q)
         dv = pb - pa
         d2 = np.sum(dv * dv, axis=-1)
@@ -106,12 +113,12 @@ def _rrr(system, plan, joints, q0) -> Solver | None:
         h2 = la * la - x * x
         h = np.sqrt(np.maximum(h2, 0.0))
         e = dv / d[..., None]
-        pm = pa + x[..., None] * e + (sigma * h)[..., None] * perp(e)
+        pm = pa + x[..., None] * e + (sg * h)[..., None] * perp(e)
         ta = _heading(pm - pa) - alpha_a
         tb = _heading(pm - pb) - alpha_b
         _place(system, q, a, ta, pa, _pin(ja, a))
         _place(system, q, b, tb, pb, _pin(jb, b))
-        return q, np.where(h2 > 0, h, -1.0) / np.minimum(la, lb)
+        return q, h2 / np.minimum(la, lb) ** 2
     return solve
 
 
@@ -145,17 +152,18 @@ def _rrp(system, plan, joints, q0) -> Solver | None:
     s0 = np.sum((pm0 - pa0 - w0) * u0, axis=-1)
     sigma = np.sign(s0 + wu0)
 
-    def solve(q, psi):
+    def solve(q, psi, sign=None):
+        sg = sigma if sign is None else sigma * sign
         tb, u, w = frame(q)
         wu = np.sum(w * u, axis=-1)
         disc = wu * wu - np.sum(w * w, axis=-1) + la * la
-        sval = -wu + sigma * np.sqrt(np.maximum(disc, 0.0))
+        sval = -wu + sg * np.sqrt(np.maximum(disc, 0.0))
         pa = _world(system, q, _other(ja, a), _pin(ja, _other(ja, a)))
         pm = pa + w + sval[..., None] * u
         ta = _heading(pm - pa) - alpha_a
         _place(system, q, a, ta, pa, _pin(ja, a))
         _place(system, q, b, tb, pm, _pin(m, b))
-        return q, np.where(disc > 0, np.sqrt(np.maximum(disc, 0.0)), -1.0) / la
+        return q, disc / (la * la)
     return solve
 
 
@@ -185,17 +193,18 @@ def _rpr(system, plan, joints, q0) -> Solver | None:
     tb0 = _angle(system, q0, b)
     sigma = -np.sign(wrap_angle(beta0 - nu_ang - tb0))
 
-    def solve(q, psi):
+    def solve(q, psi, sign=None):
+        sg = sigma if sign is None else sigma * sign
         pa, pb = ends(q)
         dv = pa - pb
         d = np.hypot(dv[..., 0], dv[..., 1])
         beta = np.arctan2(dv[..., 1], dv[..., 0])
         c = k_const / d
-        tb = beta - nu_ang + sigma * np.arccos(np.clip(c, -1.0, 1.0))
+        tb = beta - nu_ang + sg * np.arccos(np.clip(c, -1.0, 1.0))
         ta = tb + s.angle
         _place(system, q, b, tb, pb, _pin(jb, b))
         _place(system, q, a, ta, pa, _pin(ja, a))
-        return q, np.where(np.abs(c) < 1, np.sqrt(np.maximum(1 - c * c, 0.0)), -1.0)
+        return q, 1.0 - c * c
     return solve
 
 
@@ -211,10 +220,10 @@ def _driven(system, plan, joints, q0) -> Solver | None:
     if not isinstance(j, Revolute) or d.joint is not j:
         return None
     other = _other(j, link)
-    sign = 1.0 if j.links[1] == link else -1.0      # coordinate θ_j − θ_i
+    turn = 1.0 if j.links[1] == link else -1.0      # coordinate θ_j − θ_i
 
-    def solve(q, psi):
-        theta = _angle(system, q, other) + sign * (psi[..., d_index] - d.driver.offset)
+    def solve(q, psi, sign=None):
+        theta = _angle(system, q, other) + turn * (psi[..., d_index] - d.driver.offset)
         _place(system, q, link, theta, _world(system, q, other, _pin(j, other)), _pin(j, link))
         return q, np.ones(q.shape[:-1])
     return solve

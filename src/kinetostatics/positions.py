@@ -10,12 +10,19 @@ The path is parametrised by time t (the drivers' laws give ψ(t)).  The solve:
    driver steps ≤ 30°, a second-order Taylor predictor from the exact q̇, q̈,
    and step halving where Newton fails, the correction is large compared
    with the step (a jump), or the signature changes.  A signature change that
-   persists as the step shrinks to ``MIN_STEP`` while the path stays smooth is
-   a *singular position*: recorded with its coordinate and condition number.
+   persists as the step shrinks to ``MIN_STEP`` while the path stays smooth,
+   and where the located determinant really vanishes (condition ≥
+   ``SINGULAR_COND``), is a *singular position*: recorded with its coordinate
+   and condition number.
 3. *Batch*: all requested positions predicted by cubic Hermite interpolation
    between the coarse nodes, one vectorised Newton per group over all of
    them, signatures checked against the enclosing nodes.  Positions that fail
    are solved by continuation from the nearest node with steps ≤ 5°.
+
+Where every group has a closed form (:mod:`kinetostatics.dyads`) the fast
+path :func:`closed_form_path` replaces 2.–3.: the branch is decided by the
+dyads' discriminants along the whole path, independently of the rows
+(:func:`_change_points`).
 """
 
 from __future__ import annotations
@@ -44,6 +51,12 @@ FINE_STEP = np.radians(5.0)
 MIN_STEP = 1e-7             # rad of driver coordinate (or × L_ref for a prismatic)
 JUMP_RATIO = 0.35           # |corrector| / |step| above which a step is a suspected jump
 SKETCH_TOL = 0.25           # a sketched point may lie this × L_ref from where it assembled
+DISC_TOL = 100 * TOL        # a closed-form dyad's normalised discriminant D at or below which it
+                            # is singular (its lengths within ~50·TOL of its own scale of a toggle)
+DISC_SCAN = np.radians(5.0)  # sample spacing of the discriminants along a closed-form path
+DISC_NEAR = 1e-3            # a local minimum of D is refined if a sample beside it is this low
+SINGULAR_COND = DISC_TOL ** -0.5   # a group's condition number from which a located sign change of
+                                   # its determinant is a singular position (a dyad's: ~1/√D)
 
 Drive = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]]
 """t (...) -> (ψ, ψ̇, ψ̈), each (..., n_motion_drivers)."""
@@ -423,9 +436,11 @@ def _continue(system: System, q: np.ndarray, sig: np.ndarray, t0: float, t1: flo
             qdn, qddn = _derivs(system, qn, t + h, drive)
             jump = max(jump, _kink(system, qd + h * qdd, qdn, qd))
         flipped = ok and np.any(new_sig != sig)
-        if ok and jump <= JUMP_RATIO and (not flipped or abs(h) <= fine_h):
-            for g in np.nonzero(new_sig != sig)[0] if flipped else ():
-                singular.append(_locate_singular(system, drive, g, t, q, qd, t + h, qn, qdn))
+        smooth = ok and jump <= JUMP_RATIO and (not flipped or abs(h) <= fine_h)
+        found = [_locate_singular(system, drive, g, t, q, qd, t + h, qn, qdn)
+                 for g in (np.nonzero(new_sig != sig)[0] if smooth and flipped else ())]
+        if smooth and all(f.condition >= SINGULAR_COND for f in found):
+            singular.extend(found)              # a sign change only where det really vanishes
         elif abs(h) > min_h:
             h *= 0.5
             continue
@@ -465,7 +480,7 @@ def _locate_singular(system: System, drive: Drive, g: int, ta: float, qa: np.nda
             lo = mid
         else:
             hi = mid
-        if hi - lo <= 1e-12 * max(abs(tb - ta), 1e-300) * 1e3:
+        if abs(hi - lo) <= 1e-12 * max(abs(tb - ta), 1e-300) * 1e3:   # either direction
             break
     t_s = 0.5 * (lo + hi)
     coord = float(drive(np.array([t_s]))[0][0][0]) if system.motion_drivers else t_s
@@ -564,12 +579,20 @@ def solve_positions(system: System, t: np.ndarray, drive: Drive) -> PositionSolu
     ok_all = np.ones(len(t), dtype=bool)
     iters = np.zeros(len(t), dtype=int)
     sig = np.zeros((len(t), len(system.plans)))
+    node = np.where(t - ts[k] <= ts[k + 1] - t, k, k + 1)
+    width = 1e-6 * coarse                      # a row this close to a singular position: either sign
     for g, plan in enumerate(system.plans):
         q, ok, it = _newton(system, q, psi, plan)
         iters += it
         sig[:, g] = _signature(system, q, plan)
-        nearer = np.where(t - ts[k] <= ts[k + 1] - t, sgs[k, g], sgs[k + 1, g])
-        ok_all &= ok & (sig[:, g] == nearer)
+        expected, at_singular = sgs[node, g].copy(), np.zeros(len(t), dtype=bool)
+        for s_ in singular:                    # the node's signature, changed by the singular
+            if s_.group == plan.group.label:   # positions between the node and the row
+                between = (np.minimum(ts[node], t) < s_.t) & (s_.t < np.maximum(ts[node], t))
+                expected[between] *= -1
+                at_singular |= np.abs(t - s_.t) <= width
+        ok_all &= ok & ((sig[:, g] == expected) | at_singular)
+    singular.sort(key=lambda s_: s_.t)                 # backward part first: in time order
     bad = np.nonzero(~ok_all)[0]
     fine = _max_dt(system, 0.0, drive, FINE_STEP)
     for n in bad:                                       # sequential fallback
@@ -596,35 +619,47 @@ def _closed_form_path(system: System, q0: np.ndarray, sig0: np.ndarray, t: np.nd
                       drive: Drive) -> PositionSolution | None:
     """All positions at once by closed-form dyads, or None where they do not apply.
 
-    Applies when every group has a closed form and no group comes near a
-    singular position over the path (see :func:`closed_form_path`); any doubt
-    returns None (Newton path).
+    Applies when every group has a closed form and every group assembles along
+    the path (see :func:`closed_form_path`, which also locates the change points
+    the path passes: they are the singular positions); any doubt returns None
+    (Newton path).
     """
     solvers = _solvers(system, drive)
     if solvers is None:
         return None
-    q, ok = closed_form_path(system, solvers, q0[None, None], t, drive)
+    singular: list[Singularity] = []
+    q, ok, signs = closed_form_path(system, solvers, q0[None, None], t, drive, singular)
     if not ok[0]:
         return None
-    return PositionSolution(q[0], np.broadcast_to(sig0, (len(t), len(sig0))),
-                            np.zeros(len(t), dtype=int))
+    return PositionSolution(q[0], sig0 * signs[0], np.zeros(len(t), dtype=int), singular)
 
 
-def closed_form_path(system: System, solvers, q0: np.ndarray, t: np.ndarray,
-                     drive: Drive) -> tuple[np.ndarray, np.ndarray]:
+def closed_form_path(system: System, solvers, q0: np.ndarray, t: np.ndarray, drive: Drive,
+                     singular: list | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Closed-form positions at times ``t (N,)`` from start poses ``q0 (V, 1, n_q)``
-    (V variants, stacked or not): ``(q (V, N, n_q), ok (V,))``.
+    (V variants, stacked or not): ``(q (V, N, n_q), ok (V,), signs (V, N, n_groups))``.
 
-    ``ok`` where every group's margin stays above ``dyads.MARGIN`` along the path
-    and a sample of the positions satisfies Φ = 0 (the closed forms are exact).
-    Auxiliary points every ≤ 30° of the driver (:func:`path_times`) let the
-    angles be unwrapped continuously from the start pose.
+    Each group is solved with the closed-form sign of its start pose times
+    ``signs``: the sign changes at every *change point* of the group, where its
+    discriminant D touches zero (:func:`_change_points`, located between the rows
+    and independently of them), so that the path is C¹.  With ``singular`` a list
+    (one model, V = 1) the change points are appended to it as singular
+    positions; without, a variant that passes one is not ok (its own analysis
+    reports it).  ``ok`` also needs D ≥ −``DISC_TOL`` along the path (the links
+    reach; else the Newton path reports where they do not) and a sample of the
+    positions to satisfy Φ = 0.  Auxiliary points every ≤ 30° of the driver
+    (:func:`path_times`) let the angles be unwrapped continuously from the start pose.
     """
+    n_v = len(q0)
+    lo, hi = min(0.0, float(t.min())), max(0.0, float(t.max()))
+    flips, ok = _change_points(system, solvers, q0, lo, hi, drive)
     tt, order = path_times(system, t, drive)
     psi = drive(tt)[0]
-    n_v = len(q0)
-    q, ok = closed_form_near(solvers, np.broadcast_to(q0, (n_v, len(tt), q0.shape[-1])), psi)
-    ok = np.all(ok, axis=-1)
+    signs = _branch_signs(flips, np.broadcast_to(tt, (n_v, len(tt))))
+    q, disc = _closed_forms(solvers, np.broadcast_to(q0, (n_v, len(tt), q0.shape[-1])), psi, signs)
+    ok &= np.all(disc >= -DISC_TOL, axis=(-2, -1))
+    ang = slice(2, None, 3)                         # angles nearest the start pose, as the guess
+    q[..., ang] += 2 * np.pi * np.round((q0[..., ang] - q[..., ang]) / (2 * np.pi))
     start = len(t)
     for k in range(len(system.links)):              # unwrap angles along the path
         col = 3 * k + 2
@@ -635,7 +670,133 @@ def closed_form_path(system: System, solvers, q0: np.ndarray, t: np.ndarray,
     probe = slice(None, None, max(1, start // 32))
     res = np.max(np.abs(phi(system, q[:, probe], psi[:start][probe])), axis=(-2, -1))
     ok &= res <= 1e3 * TOL * np.ravel(np.broadcast_to(system.l_ref, (n_v, 1)))
-    return q, ok
+    if singular is None:
+        for f in flips:
+            ok &= np.all(np.isnan(f), axis=-1)
+    else:
+        found = [(ts, g) for g, f in enumerate(flips) for ts in f[0] if not np.isnan(ts)]
+        for ts, g in sorted(found):
+            at = np.array([[ts]])
+            qs, _ = _closed_forms(solvers, q0, drive(at)[0], _branch_signs(flips, at))
+            coord = float(drive(at)[0][0, 0, 0]) if system.motion_drivers else ts
+            singular.append(Singularity(system.plans[g].group.label, float(ts), coord,
+                                        float(group_condition(system, qs[0, 0], system.plans[g]))))
+    return q, ok, signs[:, :start]
+
+
+def _closed_forms(solvers, q: np.ndarray, psi: np.ndarray,
+                  signs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The closed forms in solve order, group g on its start sign × ``signs[..., g]``:
+    (q, the groups' discriminants D ``(..., n_groups)``)."""
+    q = np.array(q, dtype=float)
+    disc = []
+    for g, solve in enumerate(solvers):
+        q, d = solve(q, psi, signs[..., g])
+        disc.append(np.broadcast_to(d, q.shape[:-1]))
+    return q, np.stack(disc, axis=-1)
+
+
+def _branch_signs(flips: list, t: np.ndarray) -> np.ndarray:
+    """±1 per group at times ``t (V, M)``: −1 where an odd number of the group's
+    change points ``flips[g] (V, K)`` (NaN: none) lie between t = 0 and t."""
+    out = []
+    for f in flips:
+        f, tt = f[:, None, :], t[..., None]
+        with np.errstate(invalid="ignore"):
+            n = np.sum(((f > 0) & (f <= tt)) | ((f < 0) & (f >= tt)), axis=-1)
+        out.append(np.where(n % 2, -1.0, 1.0))
+    return np.stack(out, axis=-1) if out else np.ones(t.shape + (0,))
+
+
+def _change_points(system: System, solvers, q0: np.ndarray, lo: float, hi: float,
+                   drive: Drive) -> tuple[list, np.ndarray]:
+    """The change points of every group over ``[lo, hi]``: ``(flips, ok)``, flips[g]
+    ``(V, K)`` their times (NaN padding), ``ok (V,)`` where no local minimum of a
+    discriminant lies below −``DISC_TOL`` (the links reach everywhere).
+
+    A group's discriminant D(t) is smooth along the path.  It is sampled every
+    ≤ ``DISC_SCAN`` of the driver (plus t = 0 and the times a motion law turns
+    back), never at the output rows, with slopes by central differences; the
+    interior minima of the cubic Hermite interpolant between samples are added
+    as samples where they are low (so a sample lies next to every low minimum,
+    to the interpolant's O(h⁴) error), and every sign change − to + of the slope with a sample
+    beside it at D ≤ ``DISC_NEAR`` brackets a local minimum of D, refined by a
+    safeguarded Newton iteration on D' = 0.  A
+    minimum with |D| ≤ ``DISC_TOL`` is a change point: D touches zero there
+    (D ≈ c (t − t*)²), the two assemblies meet, and the C¹ continuation is the
+    other closed-form sign (√D ∝ |t − t*| changes its signed form).  A minimum
+    above ``DISC_TOL``, however small (a near-toggle), keeps the sign.
+    Groups are taken in solve order: a group's change points enter the
+    closed forms of the later groups.
+    """
+    n_v = len(q0)
+    fine = _max_dt(system, 0.0, drive, DISC_SCAN)
+    eta = 1e-4 * fine
+    ts = np.linspace(lo, hi, int(np.ceil((hi - lo) / fine)) + 1)
+    if getattr(drive, "laws", ()):
+        ts = np.concatenate((ts, drive.turning_times(lo, hi)))
+    ts = np.broadcast_to(np.unique(np.append(ts, 0.0)), (n_v, len(np.unique(np.append(ts, 0.0)))))
+    flips = [np.full((n_v, 0), np.nan) for _ in solvers]
+    ok = np.ones(n_v, dtype=bool)
+
+    def disc(t):                 # D, D', D'' of every group at times t (V, M): (V, M, G) each
+        at = t[None] + np.array([-eta, 0.0, eta])[:, None, None]
+        at = np.moveaxis(at, 0, -1).reshape(n_v, -1)
+        _, d = _closed_forms(solvers, np.broadcast_to(q0, at.shape + q0.shape[-1:]), drive(at)[0],
+                             _branch_signs(flips, at))
+        d = d.reshape(t.shape + (3, -1))
+        return (d[..., 1, :], (d[..., 2, :] - d[..., 0, :]) / (2 * eta),
+                (d[..., 2, :] - 2 * d[..., 1, :] + d[..., 0, :]) / eta ** 2)
+
+    g0 = 0
+    while g0 < len(solvers):           # again from a group past which the signs changed
+        d, m, _ = disc(ts)
+        h = np.diff(ts, axis=-1)[..., None]
+        d0, d1, m0, m1 = d[:, :-1], d[:, 1:], m[:, :-1] * h, m[:, 1:] * h
+        b = -6 * d0 - 4 * m0 + 6 * d1 - 2 * m1     # Hermite p'(s) = a s² + b s + c, p'' > 0 root
+        a = 6 * d0 + 3 * m0 - 6 * d1 + 3 * m1
+        with np.errstate(all="ignore"):
+            s = 2 * m0 / (-b - np.sqrt(b * b - 4 * a * m0))
+        low = (s * s * (2 * s - 3) + 1) * d0 + s * (s - 1) ** 2 * m0 + s * s * (3 - 2 * s) * d1 \
+            + s * s * (s - 1) * m1                  # the interpolant's minimum
+        inner = (s > 0) & (s < 1) & (low <= 10 * DISC_NEAR)
+        inner[..., :g0] = False
+        tg = ts
+        if inner.any():
+            extra = np.where(inner, ts[:, :-1, None] + np.where(inner, s, 0.0) * h, np.nan)
+            extra = np.sort(extra.reshape(n_v, -1), axis=-1)[:, :int(inner.sum((-2, -1)).max())]
+            tg = np.sort(np.concatenate((ts, np.where(np.isnan(extra), hi, extra)), axis=-1), axis=-1)
+            d, m, _ = disc(tg)
+        ok &= np.all(d[..., g0:] >= -DISC_TOL, axis=(-2, -1))
+        for g in range(g0, len(solvers)):
+            dg, mg = d[..., g], m[..., g]
+            br = (mg[:, :-1] < 0) & (mg[:, 1:] >= 0) & (np.minimum(dg[:, :-1], dg[:, 1:]) <= DISC_NEAR)
+            n_k = int(br.sum(axis=-1).max())
+            if n_k == 0:
+                continue
+            idx = np.argsort(~br, axis=-1, kind="stable")[:, :n_k]
+            valid = np.take_along_axis(br, idx, -1)
+            a_t = np.take_along_axis(tg[:, :-1], idx, -1)
+            b_t = np.take_along_axis(tg[:, 1:], idx, -1)
+            tm = 0.5 * (a_t + b_t)
+            for _ in range(MAX_ITER):               # safeguarded Newton on D'(t) = 0
+                _, mm, c = (x[..., g] for x in disc(tm))
+                a_t, b_t = np.where(mm < 0, tm, a_t), np.where(mm < 0, b_t, tm)
+                with np.errstate(all="ignore"):
+                    tn = tm - mm / c
+                inside = (c > 0) & (tn > a_t) & (tn < b_t)
+                tn = np.where(inside, tn, 0.5 * (a_t + b_t))
+                done = np.all(np.abs(tn - tm) <= 1e-9 * fine)
+                tm = tn
+                if done:
+                    break
+            dm = disc(tm)[0][..., g]
+            ok &= np.all(~valid | (dm >= -DISC_TOL), axis=-1)
+            flips[g] = np.where(valid & (np.abs(dm) <= DISC_TOL), tm, np.nan)
+            if not np.all(np.isnan(flips[g])):
+                break                           # the later groups see these change points
+        g0 = g + 1
+    return flips, ok
 
 
 # -- velocities and accelerations ----------------------------------------------------
@@ -713,13 +874,13 @@ def _closed_form_at(system: System, drive: Drive, guess: np.ndarray, psi: np.nda
 def closed_form_near(solvers, guess: np.ndarray, psi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(q, ok): the closed-form solvers applied in solve order at driver coordinates
     ``psi``, angles taken nearest to ``guess``; ``ok (...)`` where every group's
-    margin stays above ``dyads.MARGIN``."""
+    margin √D stays above ``dyads.MARGIN``."""
     from .dyads import MARGIN
     q = guess.copy()
     ok = np.ones(guess.shape[:-1], dtype=bool)
     for solve in solvers:
-        q, margin = solve(q, psi)
-        ok &= margin >= MARGIN
+        q, disc = solve(q, psi)
+        ok &= disc >= MARGIN ** 2
     ang = slice(2, None, 3)
     q[..., ang] += 2 * np.pi * np.round((guess[..., ang] - q[..., ang]) / (2 * np.pi))
     return q, ok

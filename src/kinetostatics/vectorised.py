@@ -4,9 +4,9 @@
 for many variants at once on a model stacked by
 :func:`kinetostatics.stacking.stack`, for the common case it can vectorise:
 one constant-speed motion driver over a full cycle, every Assur group with
-a closed form (RRR, RRP, RPR dyads and driven links) that stays clear of
-singular positions, no event rows.  Variants it cannot take — they do not
-assemble at the start, come near a singular position, or the model is
+a closed form (RRR, RRP, RPR dyads and driven links) that passes no
+singular position, no event rows.  Variants it cannot take — they do not
+assemble at the start, pass a singular position, or the model is
 outside that case — are returned as *left over*, for the per-variant
 analysis, which reports or handles them exactly as a single run would.
 
@@ -201,7 +201,7 @@ def analyze_stacked(models: Sequence[Model], *, friction: bool | None = None,
     solvers = [closed_form(system, plan, q0) for plan in system.plans]
     if any(s is None for s in solvers):
         raise Unsupported("a group without a closed form")
-    q, ok_path = closed_form_path(system, solvers, q0, t, sched)
+    q, ok_path, _ = closed_form_path(system, solvers, q0, t, sched)
     ok &= ok_path
     psi, psi_d, psi_dd = sched(t)
     psi, psi_d, psi_dd = (np.broadcast_to(x, q.shape[:-1] + (1,)) for x in (psi, psi_d, psi_dd))
