@@ -412,10 +412,12 @@ def _checked_positions(system: System, positions) -> np.ndarray:
 
 
 def _checked_times(system: System, sched: Schedule, times) -> np.ndarray:
-    """``analyze(times=...)``: finite times from 0 (the start of the run: a motion law is not
-    defined before it) to the time of the longest run a file may ask for
-    (:data:`~kinetostatics.yaml_io.MAX_TURNS` periods of a law or turns of a crank,
-    :data:`~kinetostatics.yaml_io.MAX_TRAVEL` times the largest link of a slider)."""
+    """``analyze(times=...)``: finite times up to the time of the longest run a file may ask
+    for (:data:`~kinetostatics.yaml_io.MAX_TURNS` periods of a law or turns of a crank,
+    :data:`~kinetostatics.yaml_io.MAX_TRAVEL` times the largest link of a slider).  A motion
+    law is not defined before its start: its times count from 0.  A constant-speed driver is:
+    a negative time is a position before the start, reached by running the linkage backwards
+    (as far back as forwards)."""
     from .yaml_io import MAX_TRAVEL, MAX_TURNS
     if sched.law is not None:
         high, why = MAX_TURNS * sched.law.duration, f"s: {MAX_TURNS} times the law's duration"
@@ -425,8 +427,11 @@ def _checked_times(system: System, sched: Schedule, times) -> np.ndarray:
     else:
         high = MAX_TRAVEL * float(np.max(system.l_ref)) / sched.reference
         why = f"s: a travel of {MAX_TRAVEL} times the largest link"
-    return real_array("times", times, low=0.0, high=high,
-                      why=why + "; times count from the start of the run, t = 0")
+    if sched.law is not None:
+        return real_array("times", times, low=0.0, high=high,
+                          why=why + "; a motion law's times count from its start, t = 0")
+    return real_array("times", times, low=-high, high=high,
+                      why=why + " either side of the start of the run, t = 0")
 
 
 SINGULAR_COND = 1e15
