@@ -7,6 +7,8 @@ events → loads → reactions → friction → power → result columns.
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+import weakref
+
 import numpy as np
 
 from . import friction as fr
@@ -20,7 +22,8 @@ from .reactions import effort_joints, equilibrium_matrix, ground_reaction, solve
 from .results import Result, build_columns
 from .system import System, build_system
 
-__all__ = ["analyze", "kinetics", "Kinetics", "Schedule", "Event", "numerical_mobility"]
+__all__ = ["analyze", "kinetics", "Kinetics", "Schedule", "Event", "numerical_mobility",
+           "travel_extremes", "whole_motion"]
 
 
 @dataclass(frozen=True)
@@ -200,22 +203,101 @@ def travel_conditions(system: System):
                 yield c, system.link_index(c.link), p
 
 
+EXTREME_GRID = 120
+"""Samples of the whole motion (3° steps of a turn) that bracket the travel extremes; the
+grid is fixed, independent of the analysed positions, and every local minimum on it is
+refined exactly."""
+
+_EXTREMES: "weakref.WeakKeyDictionary[System, dict]" = weakref.WeakKeyDictionary()
+
+
+def whole_motion(system: System, sched: Schedule | None = None):
+    """The time span of the whole motion, on which travel extremes are taken:
+    ``(t0, t1, periodic, drive)``.
+
+    - constant speed, revolute first driver: one turn of it, t ∈ [0, 2π/|ω|) (periodic);
+      a constant acceleration is dropped (for one driver the poses depend on ψ only);
+    - a motion law: its run t ∈ [0, duration] (one period of a cyclic law);
+    - constant speed, prismatic first driver: the file's run, ``analysis.sweep``.
+    Where the linkage cannot follow it, :func:`travel_extremes` narrows it to the
+    reachable range.
+    """
+    sched = _schedule(system) if sched is None else sched
+    if sched.law is not None:
+        return 0.0, float(sched.law.duration), False, sched
+    drive = sched if sched.acceleration is None else Schedule(sched.start, sched.speed)
+    w = abs(float(sched.speed[0]))
+    if system.motion_drivers[0].joint.angular:
+        return 0.0, 2 * np.pi / w, True, drive
+    return 0.0, float(system.model.analysis.sweep) / w, False, drive
+
+
+def travel_extremes(system: System, sched: Schedule | None = None) -> dict:
+    """Exact minima of p·axis of every ``travel`` condition over the whole motion
+    (:func:`whole_motion`), ``{id(condition): value}``; computed once per system.
+
+    The motion is sampled on a fixed grid (:data:`EXTREME_GRID`), every discrete local
+    minimum (and a motion law's turning points) is refined by Newton on t for v·axis = 0,
+    and the least value is kept, so a row's loads never depend on which other rows an
+    analysis asks for.
+    """
+    from .forces import point_state
+    conds = list(travel_conditions(system))
+    if not conds:
+        return {}
+    cached = _EXTREMES.get(system)
+    if cached is not None:
+        return dict(cached)
+    t0, t1, periodic, drive = whole_motion(system, sched)
+    n = EXTREME_GRID
+    t = t0 + (t1 - t0) * np.arange(n) / n if periodic else np.linspace(t0, t1, n + 1)
+    try:
+        sol = solve_positions(system, t, drive)
+    except AssemblyError as exc:
+        if isinstance(exc, SingularConfigurationError) or drive.law is not None:
+            raise
+        lo, hi = reachable_range(system, drive, t1)    # a crank that cannot turn fully
+        margin = 1e-6 * (hi - lo)                     # the limits themselves are singular
+        t, periodic = np.linspace(lo + margin, hi - margin, n + 1), False
+        sol = solve_positions(system, t, drive)
+    q = sol.q
+    _, psi_d, psi_dd = drive(t)
+    qd, qdd, _ = derivatives(system, q, psi_d, psi_dd)
+    step = (t[-1] - t[0]) / (len(t) - 1)
+    turning = drive.turning_times(t[0], t[-1]) if drive.laws else np.zeros(0)
+    out: dict[int, float] = {}
+    for c, k, p in conds:
+        s = point_state(q, qd, None, k, p)[0] @ c.axis
+        if periodic:
+            low = (s <= np.roll(s, 1)) & (s <= np.roll(s, -1))
+        else:
+            low = np.ones(s.shape, dtype=bool)
+            low[1:] &= s[1:] <= s[:-1]
+            low[:-1] &= s[:-1] <= s[1:]
+        idx = np.nonzero(low)[0]
+        near = np.abs(turning[:, None] - t[None, :]).argmin(axis=1) if turning.size else idx[:0]
+        start = np.concatenate((t[idx], turning))
+        base = np.concatenate((idx, near))
+
+        def f(a, b, cc, ax=c.axis, kk=k, pp=p):
+            _, v, acc = point_state(a, b, cc, kk, pp)
+            return v @ ax, acc @ ax
+        tm, (qm, _, _) = _refine(system, drive, f, start, t[base], q[base], qd[base], qdd[base])
+        sm = point_state(qm, qm, None, k, p)[0] @ c.axis
+        ok = np.isfinite(sm) & (np.abs(tm - start) <= 1.5 * step)   # stayed in its bracket
+        if not periodic:
+            ok &= (tm >= t[0] - 1e-12 * step) & (tm <= t[-1] + 1e-12 * step)
+        out[id(c)] = float(min(np.min(sm[ok], initial=np.inf), s.min()))
+    _EXTREMES[system] = out
+    return dict(out)
+
+
 def _extremes_and_events(system, drive, sched, t, q, qd, qdd, full):
-    """Exact minima of travel conditions and the switching events of every load."""
+    """Exact minima of travel conditions over the whole motion (:func:`travel_extremes`, not
+    over the analysed rows) and the switching events of every load among the rows."""
     period_t = sched.period if full else np.inf
     psi = drive(t)[0][..., 0]
-    extremes: dict[int, float] = {}
-    for c, k, p in travel_conditions(system):
-        from .forces import point_state
-        pos, vel, acc = point_state(q, qd, qdd, k, p)
-        s = pos @ c.axis
-        n = int(np.argmin(s))
-        sl = slice(n, n + 1)
-        _, (qm, _, _) = _refine(system, drive, lambda a, b, cc, ax=c.axis, kk=k, pp=p:
-                                (point_state(a, b, cc, kk, pp)[1] @ ax,
-                                 point_state(a, b, cc, kk, pp)[2] @ ax),
-                                t[sl], t[sl], q[sl], qd[sl], qdd[sl])
-        extremes[id(c)] = min(float(point_state(qm, qm, None, k, p)[0][0] @ c.axis), s.min())
+    extremes = travel_extremes(system, sched)
     events: list = []
     for load in system.model.loads:
         for c in load.active:
