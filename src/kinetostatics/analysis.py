@@ -270,24 +270,28 @@ def travel_extremes(system: System, sched: Schedule | None = None) -> dict:
         s = point_state(q, qd, None, k, p)[0] @ c.axis
         if periodic:
             low = (s <= np.roll(s, 1)) & (s <= np.roll(s, -1))
-        else:
-            low = np.ones(s.shape, dtype=bool)
-            low[1:] &= s[1:] <= s[:-1]
-            low[:-1] &= s[:-1] <= s[1:]
+        else:                       # interior minima: an end of the span counts as sampled
+            low = np.zeros(s.shape, dtype=bool)
+            low[1:-1] = (s[1:-1] <= s[:-2]) & (s[1:-1] <= s[2:])
         idx = np.nonzero(low)[0]
         near = np.abs(turning[:, None] - t[None, :]).argmin(axis=1) if turning.size else idx[:0]
-        start = np.concatenate((t[idx], turning))
-        base = np.concatenate((idx, near))
+        best = float(s.min())
+        for t_start, b in zip(np.concatenate((t[idx], turning)), np.concatenate((idx, near))):
+            sl = slice(b, b + 1)
 
-        def f(a, b, cc, ax=c.axis, kk=k, pp=p):
-            _, v, acc = point_state(a, b, cc, kk, pp)
-            return v @ ax, acc @ ax
-        tm, (qm, _, _) = _refine(system, drive, f, start, t[base], q[base], qd[base], qdd[base])
-        sm = point_state(qm, qm, None, k, p)[0] @ c.axis
-        ok = np.isfinite(sm) & (np.abs(tm - start) <= 1.5 * step)   # stayed in its bracket
-        if not periodic:
-            ok &= (tm >= t[0] - 1e-12 * step) & (tm <= t[-1] + 1e-12 * step)
-        out[id(c)] = float(min(np.min(sm[ok], initial=np.inf), s.min()))
+            def f(a, bb, cc, ax=c.axis, kk=k, pp=p):
+                _, v, acc = point_state(a, bb, cc, kk, pp)
+                return v @ ax, acc @ ax
+            try:
+                tm, (qm, _, _) = _refine(system, drive, f, np.array([t_start]), t[sl], q[sl],
+                                         qd[sl], qdd[sl])
+            except AssemblyError:   # Newton left the reachable poses: keep the samples
+                continue
+            sm = float(point_state(qm, qm, None, k, p)[0][0] @ c.axis)
+            inside = abs(tm[0] - t_start) <= 1.5 * step and (periodic or t[0] <= tm[0] <= t[-1])
+            if np.isfinite(sm) and inside:                       # stayed in its bracket
+                best = min(best, sm)
+        out[id(c)] = best
     _EXTREMES[system] = out
     return dict(out)
 
