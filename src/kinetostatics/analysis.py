@@ -574,14 +574,16 @@ def kinetics(system: System, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, psi
     Loads (gravity, d'Alembert inertia, external loads active at these states),
     the frictionless reactions and driver efforts, the friction solutions when
     ``friction`` and the model has friction, and the power terms.  ``lu``: the
-    kinematic factorisation of Φ_q at q, if at hand; ``extremes``: the cycle
-    extremes of ``travel`` conditions (``Result.extremes``); ``ref_speed``: the
-    driver speed that scales the zero-speed thresholds.
+    kinematic factorisation of Φ_q at q, if at hand; ``extremes``: the extremes of
+    ``travel`` conditions (``Result.extremes``; by default :func:`travel_extremes`, over
+    the whole motion); ``ref_speed``: the driver speed that scales the zero-speed thresholds.
     """
     model = system.model
+    if extremes is None:
+        extremes = travel_extremes(system)
     q_grav = gravity_forces(system, q.shape[:-1])
     q_inert = inertia_forces(system, qdd)
-    q_ext = external_forces(system, q, qd, psi[..., 0], extremes or {}, ref_speed)
+    q_ext = external_forces(system, q, qd, psi[..., 0], extremes, ref_speed)
     q_load = q_grav + q_inert + q_ext
     own_efforts = all(d.driver.balance_at is None for d in system.motion_drivers)
     if lu is not None and own_efforts:
