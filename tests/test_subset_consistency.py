@@ -107,3 +107,21 @@ def test_at_rows_and_event_rows(reference):
         ev = ks.analyze(model, positions=coords)
         mine = [int(np.argmin(np.abs(run.t - e.t))) for e in run.events]
         _compare(ev, np.arange(len(coords)), run, mine, scale, "event rows")
+
+
+def test_events_of_a_partial_run_are_the_full_cycle_events_within_it(reference):
+    """Sparse rows (here 4 rows 100° apart) find the same switches as the full cycle
+    between their first and last row, not only those the rows happen to bracket (two
+    switches of one condition between two rows cancel in a sign test)."""
+    path, model, ref, scale = reference
+    full = ks.analyze(model, events=True)
+    period = 2 * np.pi / abs(model.drivers[0].motion.speed)
+    rows = np.array([0, 20, 40, 60])
+    part = ks.analyze(model, positions=ref.coordinate[rows], events=True)
+    lo, hi = ref.t[rows[0]], ref.t[rows[-1]]
+    want = [(e.load, e.condition, e.switch, e.t) for e in full.events
+            if lo <= e.t <= hi]
+    got = [(e.load, e.condition, e.switch, e.t) for e in part.events]
+    assert [w[:3] for w in want] == [g[:3] for g in got]
+    np.testing.assert_allclose([g[3] for g in got], [w[3] for w in want], rtol=0,
+                               atol=1e-9 * period)
