@@ -326,11 +326,12 @@ def travel_extremes(system: System, sched: Schedule | None = None) -> dict:
     return dict(out)
 
 
-def _extremes_and_events(system, drive, sched, t, q, qd, qdd, full):
+def _extremes_and_events(system, drive, sched, t, q, qd, qdd, full, states=False):
     """Exact minima of travel conditions over the whole motion (:func:`travel_extremes`, not
-    over the analysed rows) and the switching events of every load within the run."""
-    extremes, events, _ = _events_of_run(system, drive, sched, t, q, qd, qdd, full)
-    return extremes, events
+    over the analysed rows) and the switching events of every load within the run (with
+    ``states``: also the events' states, see :func:`_events_of_run`)."""
+    extremes, events, at = _events_of_run(system, drive, sched, t, q, qd, qdd, full)
+    return (extremes, events, at) if states else (extremes, events)
 
 
 def _events_of_run(system, drive, sched, t, q, qd, qdd, full):
@@ -529,7 +530,8 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
         lu = None
     if kinematics_only:
         return _kinematics_result(system, sol, t, psi, q, qd, qdd, lu, full)
-    extremes, evts, states = _events_of_run(system, sched, sched, t, q, qd, qdd, full)
+    extremes, evts, states = _extremes_and_events(system, sched, sched, t, q, qd, qdd, full,
+                                                  states=True)
     want_events = model.analysis.events if events is None else events
     if want_events and evts:
         te = np.array([e.t for e in evts])
