@@ -196,3 +196,27 @@ def test_motion_law_measures_from_its_whole_run(tmp_path):
     np.testing.assert_allclose(r["motor.torque"] - r0["motor.torque"], extra, atol=1e-9)
     full = ks.analyze(model, friction=False)
     assert sorted(full.extremes.values()) == ext
+
+
+def test_times_over_several_turns(slotting):
+    """``times=`` beyond one turn (60 rpm clockwise from 300°: ψ = 300° − 360°·t/s):
+    the cutting force where the closed form says, and every switch of the 2.4 turns
+    between the first and the last row listed, each at its band edge."""
+    model, idle = slotting
+    t = np.array([0.1, 1.2, 1.9, 2.5])
+    r = ks.analyze(model, times=t, events=True, friction=False)
+    phi = np.radians(300.0 - 360.0 * r.t)
+    r0 = ks.analyze(idle, times=r.t, friction=False)
+    extra, on = cutting_torque(phi)
+    assert on.any() and not on.all()
+    np.testing.assert_allclose(r["motor.torque"] - r0["motor.torque"], extra, rtol=1e-8,
+                               atol=1e-9 * Q * 0.1)
+    switches = [(e.condition, e.switch) for e in r.events]
+    assert switches == [("travel to", "off"), ("travel from", "on")] * 2
+    for e in r.events:
+        edge = 0.95 * H if e.switch == "off" else 0.05 * H
+        assert Y_TOP - ram_y(e.coordinate) == pytest.approx(edge, rel=1e-9)
+        assert 0.1 < e.t < 2.5
+    theta = r["crank.theta"]
+    assert np.all(np.diff(theta) < 0)                   # unwrapped along the run
+    np.testing.assert_allclose(np.diff(theta) / np.diff(r.t), -360.0, rtol=1e-9)
