@@ -289,7 +289,13 @@ def travel_extremes(system: System, sched: Schedule | None = None) -> dict:
     conds = list(travel_conditions(system))
     if not conds:
         return {}
-    m = _motion_grid(system, sched)
+    try:
+        m = _motion_grid(system, sched)
+    except AssemblyError as exc:
+        exc.args = (f"{exc.args[0]}; a travel band is measured from its extreme over the whole "
+                    "motion (one turn of the driver, or a motion law's run), which must "
+                    "assemble",)
+        raise
     if m.extremes is not None:
         return dict(m.extremes)
     t, q, qd, qdd, periodic, drive = m.t, m.q, m.qd, m.qdd, m.periodic, m.drive
