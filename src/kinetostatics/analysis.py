@@ -7,6 +7,8 @@ events → loads → reactions → friction → power → result columns.
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+import weakref
+
 import numpy as np
 
 from . import friction as fr
@@ -22,7 +24,8 @@ from .reactions import (effort_joints, equilibrium_matrix, ground_reaction, inve
 from .results import Result, build_columns
 from .system import System, build_system
 
-__all__ = ["analyze", "kinetics", "Kinetics", "Schedule", "Event", "numerical_mobility"]
+__all__ = ["analyze", "kinetics", "Kinetics", "Schedule", "Event", "numerical_mobility",
+           "travel_extremes", "whole_motion"]
 
 
 @dataclass(frozen=True)
@@ -202,22 +205,197 @@ def travel_conditions(system: System):
                 yield c, system.link_index(c.link), p
 
 
-def _extremes_and_events(system, drive, sched, t, q, qd, qdd, full):
-    """Exact minima of travel conditions and the switching events of every load."""
+MOTION_GRID = 360
+"""Samples of the whole motion (1° steps of a turn) that bracket the travel extremes and the
+load switches; the grid is fixed, independent of the analysed positions, and every local
+minimum and sign change on it is refined exactly."""
+
+_MOTION: "weakref.WeakKeyDictionary[System, _Motion]" = weakref.WeakKeyDictionary()
+
+
+def whole_motion(system: System, sched: Schedule | None = None):
+    """The time span of the whole motion, on which travel extremes are taken:
+    ``(t0, t1, periodic, drive)``.
+
+    - constant speed, revolute first driver: one turn of it, t ∈ [0, 2π/|ω|) (periodic);
+      a constant acceleration is dropped (for one driver the poses depend on ψ only);
+    - a motion law: its run t ∈ [0, duration] (one period of a cyclic law);
+    - constant speed, prismatic first driver: the file's run, ``analysis.sweep``.
+    Where the linkage cannot follow it, :func:`travel_extremes` narrows it to the
+    reachable range.
+    """
+    sched = _schedule(system) if sched is None else sched
+    if sched.law is not None:
+        return 0.0, float(sched.law.duration), False, sched
+    drive = sched if sched.acceleration is None else Schedule(sched.start, sched.speed)
+    w = abs(float(sched.speed[0]))
+    if system.motion_drivers[0].joint.angular:
+        return 0.0, 2 * np.pi / w, True, drive
+    return 0.0, float(system.model.analysis.sweep) / w, False, drive
+
+
+@dataclass
+class _Motion:
+    """The whole motion sampled on the fixed grid, and what is found on it (cached)."""
+
+    t: np.ndarray
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+    periodic: bool
+    drive: Schedule
+    turns: np.ndarray               # (n_q,): 2π × turns of each link angle per period
+    extremes: dict | None = None
+    events: list | None = None      # [(Event, (q, qd, qdd))] over the grid's span
+
+
+def _motion_grid(system: System, sched: Schedule | None) -> _Motion:
+    m = _MOTION.get(system)
+    if m is not None:
+        return m
+    t0, t1, periodic, drive = whole_motion(system, sched)
+    n = MOTION_GRID
+    t = t0 + (t1 - t0) * np.arange(n) / n if periodic else np.linspace(t0, t1, n + 1)
+    try:
+        sol = solve_positions(system, t, drive)
+    except AssemblyError as exc:
+        if isinstance(exc, SingularConfigurationError) or drive.law is not None:
+            raise
+        lo, hi = reachable_range(system, drive, t1)    # a crank that cannot turn fully
+        margin = 1e-6 * (hi - lo)                     # the limits themselves are singular
+        t, periodic = np.linspace(lo + margin, hi - margin, n + 1), False
+        sol = solve_positions(system, t, drive)
+    q = sol.q
+    _, psi_d, psi_dd = drive(t)
+    qd, qdd, _ = derivatives(system, q, psi_d, psi_dd)
+    turns = np.zeros(q.shape[-1])
+    if periodic:                     # q(t + T) = q(t) + turns on the angle slots
+        h = t[1] - t[0]
+        end = q[-1] + h * qd[-1] + 0.5 * h * h * qdd[-1]
+        turns[2::3] = 2 * np.pi * np.round((end - q[0])[2::3] / (2 * np.pi))
+    m = _Motion(t, q, qd, qdd, periodic, drive, turns)
+    _MOTION[system] = m
+    return m
+
+
+def travel_extremes(system: System, sched: Schedule | None = None) -> dict:
+    """Exact minima of p·axis of every ``travel`` condition over the whole motion
+    (:func:`whole_motion`), ``{id(condition): value}``; computed once per system.
+
+    The motion is sampled on a fixed grid (:data:`MOTION_GRID`), every discrete local
+    minimum (and a motion law's turning points) is refined by Newton on t for v·axis = 0,
+    and the least value is kept, so a row's loads never depend on which other rows an
+    analysis asks for.
+    """
+    from .forces import point_state
+    conds = list(travel_conditions(system))
+    if not conds:
+        return {}
+    try:
+        m = _motion_grid(system, sched)
+    except AssemblyError as exc:
+        exc.args = (f"{exc.args[0]}; a travel band is measured from its extreme over the whole "
+                    "motion (one turn of the driver, or a motion law's run), which must "
+                    "assemble",)
+        raise
+    if m.extremes is not None:
+        return dict(m.extremes)
+    t, q, qd, qdd, periodic, drive = m.t, m.q, m.qd, m.qdd, m.periodic, m.drive
+    step = (t[-1] - t[0]) / (len(t) - 1)
+    turning = drive.turning_times(t[0], t[-1]) if drive.laws else np.zeros(0)
+    out: dict[int, float] = {}
+    for c, k, p in conds:
+        s = point_state(q, qd, None, k, p)[0] @ c.axis
+        if periodic:
+            low = (s <= np.roll(s, 1)) & (s <= np.roll(s, -1))
+        else:                       # interior minima: an end of the span counts as sampled
+            low = np.zeros(s.shape, dtype=bool)
+            low[1:-1] = (s[1:-1] <= s[:-2]) & (s[1:-1] <= s[2:])
+        idx = np.nonzero(low)[0]
+        near = np.abs(turning[:, None] - t[None, :]).argmin(axis=1) if turning.size else idx[:0]
+        best = float(s.min())
+        for t_start, b in zip(np.concatenate((t[idx], turning)), np.concatenate((idx, near))):
+            sl = slice(b, b + 1)
+
+            def f(a, bb, cc, ax=c.axis, kk=k, pp=p):
+                _, v, acc = point_state(a, bb, cc, kk, pp)
+                return v @ ax, acc @ ax
+            try:
+                tm, (qm, _, _) = _refine(system, drive, f, np.array([t_start]), t[sl], q[sl],
+                                         qd[sl], qdd[sl])
+            except AssemblyError:   # Newton left the reachable poses: keep the samples
+                continue
+            sm = float(point_state(qm, qm, None, k, p)[0][0] @ c.axis)
+            inside = abs(tm[0] - t_start) <= 1.5 * step and (periodic or t[0] <= tm[0] <= t[-1])
+            if np.isfinite(sm) and inside:                       # stayed in its bracket
+                best = min(best, sm)
+        out[id(c)] = best
+    m.extremes = out
+    return dict(out)
+
+
+def _extremes_and_events(system, drive, sched, t, q, qd, qdd, full, states=False):
+    """Exact minima of travel conditions over the whole motion (:func:`travel_extremes`, not
+    over the analysed rows) and the switching events of every load within the run (with
+    ``states``: also the events' states, see :func:`_events_of_run`)."""
+    extremes, events, at = _events_of_run(system, drive, sched, t, q, qd, qdd, full)
+    return (extremes, events, at) if states else (extremes, events)
+
+
+def _events_of_run(system, drive, sched, t, q, qd, qdd, full):
+    """(extremes, events, states): the load switches of the whole motion (found once on its
+    fixed grid) that fall within the run — every one for a full cycle — with their states
+    (q, q̇, q̈); where the whole motion does not cover the run (a law or a prismatic
+    driver's run left, several drivers, a constant acceleration), the switches found
+    between the analysed rows, with states None."""
+    extremes = travel_extremes(system, sched)
+    m = None
+    switching = any(c.kind != "angle" for load in system.model.loads for c in load.active)
+    if switching and len(system.motion_drivers) == 1 and sched.acceleration is None:
+        try:
+            m = _motion_grid(system, sched)
+        except AssemblyError:       # the whole motion does not assemble (a change point)
+            m = None
+    if m is not None and m.events is None:
+        period_t = m.t[-1] - m.t[0] + (m.t[1] - m.t[0]) if m.periodic else np.inf
+        found = _switches(system, m.drive, sched, m.t, m.q, m.qd, m.qdd, m.periodic, period_t,
+                          extremes)
+        m.events = [(e, st if st is not None else tuple(
+            x[0] for x in _state_near(system, m.drive, e.t, m.t, m.q, m.qd, m.qdd)))
+            for e, st in found]
+    if m is not None:
+        lo, hi = float(np.min(t)), float(np.max(t))
+        tol = 1e-9 * (m.t[-1] - m.t[0])
+        picked = []
+        if m.periodic:
+            period_t = m.t[-1] - m.t[0] + (m.t[1] - m.t[0])
+            for e, (qe, qde, qdde) in m.events:
+                if full:
+                    picked.append((e, (qe, qde, qdde)))
+                    continue
+                for k in range(int(np.ceil((lo - tol - e.t) / period_t)),
+                               int(np.floor((hi + tol - e.t) / period_t)) + 1):
+                    te = e.t + k * period_t
+                    picked.append((replace(e, t=te, coordinate=float(drive(np.array([te]))[0][0, 0])),
+                                   (qe + k * m.turns, qde, qdde)))
+        elif m.t[0] - tol <= lo and hi <= m.t[-1] + tol:
+            top = m.t[-1] - tol if full else hi + tol      # a full cycle does not repeat its end
+            picked = [(e, st) for e, st in m.events if lo - tol <= e.t <= top or
+                      (full and e.t < lo)]
+        else:
+            m = None
+        if m is not None:
+            picked.sort(key=lambda x: x[0].t)
+            return extremes, [e for e, _ in picked], [st for _, st in picked]
     period_t = sched.period if full else np.inf
+    found = _switches(system, drive, sched, t, q, qd, qdd, full, period_t, extremes)
+    return extremes, [e for e, _ in found], [None] * len(found)
+
+
+def _switches(system, drive, sched, t, q, qd, qdd, full, period_t, extremes):
+    """[(Event, state or None)]: angle-band switches (from the schedule) and the sign
+    changes of the other conditions between the samples ``t``, refined, sorted by time."""
     psi = drive(t)[0][..., 0]
-    extremes: dict[int, float] = {}
-    for c, k, p in travel_conditions(system):
-        from .forces import point_state
-        pos, vel, acc = point_state(q, qd, qdd, k, p)
-        s = pos @ c.axis
-        n = int(np.argmin(s))
-        sl = slice(n, n + 1)
-        _, (qm, _, _) = _refine(system, drive, lambda a, b, cc, ax=c.axis, kk=k, pp=p:
-                                (point_state(a, b, cc, kk, pp)[1] @ ax,
-                                 point_state(a, b, cc, kk, pp)[2] @ ax),
-                                t[sl], t[sl], q[sl], qd[sl], qdd[sl])
-        extremes[id(c)] = min(float(point_state(qm, qm, None, k, p)[0][0] @ c.axis), s.min())
     events: list = []
     for load in system.model.loads:
         for c in load.active:
@@ -228,8 +406,8 @@ def _extremes_and_events(system, drive, sched, t, q, qd, qdd, full):
                 for bound, sw in ((start, "on"), (start + width * np.sign(sched.speed[0]), "off")):
                     tt = np.mod((bound - sched.start[0]) * np.sign(sched.speed[0]), 2 * np.pi) / \
                         sched.reference
-                    events.append(Event(float(tt), float(drive(np.array([tt]))[0][0, 0]),
-                                        load.name, "angle", sw))
+                    events.append((Event(float(tt), float(drive(np.array([tt]))[0][0, 0]),
+                                         load.name, "angle", sw), None))
                 continue
             funcs = [(0.0, "moving")] if c.kind == "moving" else [(c.bounds[0], "travel from"),
                                                                 (c.bounds[1], "travel to")]
@@ -246,10 +424,11 @@ def _extremes_and_events(system, drive, sched, t, q, qd, qdd, full):
                     if not _others_hold(system, load, c, qr, qdr, psi_r, extremes, sched):
                         continue
                     inside_up = dg > 0 if c.kind == "moving" or offset == c.bounds[0] else dg < 0
-                    events.append(Event(float(r), float(drive(np.array([r]))[0][0, 0]), load.name,
-                                        label, "on" if inside_up else "off"))
-    events.sort(key=lambda e: e.t)
-    return extremes, events
+                    events.append((Event(float(r), float(drive(np.array([r]))[0][0, 0]), load.name,
+                                         label, "on" if inside_up else "off"),
+                                   (qr[0], qdr[0], qddr[0])))
+    events.sort(key=lambda e: e[0].t)
+    return events
 
 
 def _others_hold(system, load, cond, q, qd, psi, extremes, sched) -> bool:
@@ -370,11 +549,14 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
         lu = None
     if kinematics_only:
         return _kinematics_result(system, sol, t, psi, q, qd, qdd, lu, full)
-    extremes, evts = _extremes_and_events(system, sched, sched, t, q, qd, qdd, full)
+    extremes, evts, states = _extremes_and_events(system, sched, sched, t, q, qd, qdd, full,
+                                                  states=True)
     want_events = model.analysis.events if events is None else events
     if want_events and evts:
         te = np.array([e.t for e in evts])
-        qe, qde, qdde = zip(*(_state_near(system, sched, r, t, q, qd, qdd) for r in te))
+        qe, qde, qdde = zip(*(tuple(x[None] for x in st) if st is not None else
+                              _state_near(system, sched, e.t, t, q, qd, qdd)
+                              for e, st in zip(evts, states)))
         t = np.concatenate((t, te))
         q, qd, qdd = (np.concatenate((a, np.concatenate(b))) for a, b in
                       ((q, qe), (qd, qde), (qdd, qdde)))
@@ -621,14 +803,16 @@ def kinetics(system: System, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, psi
     Loads (gravity, d'Alembert inertia, external loads active at these states),
     the frictionless reactions and driver efforts, the friction solutions when
     ``friction`` and the model has friction, and the power terms.  ``lu``: the
-    kinematic factorisation of Φ_q at q, if at hand; ``extremes``: the cycle
-    extremes of ``travel`` conditions (``Result.extremes``); ``ref_speed``: the
-    driver speed that scales the zero-speed thresholds.
+    kinematic factorisation of Φ_q at q, if at hand; ``extremes``: the extremes of
+    ``travel`` conditions (``Result.extremes``; by default :func:`travel_extremes`, over
+    the whole motion); ``ref_speed``: the driver speed that scales the zero-speed thresholds.
     """
     model = system.model
+    if extremes is None:
+        extremes = travel_extremes(system)
     q_grav = gravity_forces(system, q.shape[:-1])
     q_inert = inertia_forces(system, qdd)
-    q_ext = external_forces(system, q, qd, psi[..., 0], extremes or {}, ref_speed)
+    q_ext = external_forces(system, q, qd, psi[..., 0], extremes, ref_speed)
     q_load = q_grav + q_inert + q_ext
     own_efforts = all(d.driver.balance_at is None for d in system.motion_drivers)
     singular, condition, a_inv = np.zeros(q.shape[:-1], dtype=bool), None, None

@@ -47,7 +47,7 @@ from typing import Any, Callable, Mapping
 
 import numpy as np
 
-from .analysis import _schedule, analyze, kinetics
+from .analysis import _schedule, kinetics, travel_extremes
 from .errors import (KinetostaticsError, Location, SelfLockingError, SingularConfigurationError,
                      StructureError)
 from .forces import ZERO_SPEED, mass_vector, point_state
@@ -97,6 +97,8 @@ def equivalent(system: System, q: np.ndarray, psi: np.ndarray, *, speed: float =
 
     The effort needed for a motion (ψ, ψ̇, ψ̈), referred to ψ (the effort times ρ), is
     then J_e ψ̈ + ½ J_e' ψ̇² − torque.
+    ``extremes``: the extremes of ``travel`` conditions (``Result.extremes``); by default
+    they are located over the whole motion (:func:`~kinetostatics.analysis.travel_extremes`).
     """
     if len(system.motion_drivers) != 1:
         raise ValueError("equivalent quantities need exactly one motion driver")
@@ -107,6 +109,8 @@ def equivalent(system: System, q: np.ndarray, psi: np.ndarray, *, speed: float =
     pdd = np.zeros((2 * n, 1))
     psib = np.concatenate((psi, psi))[:, None]
     qd, qdd, lu = derivatives(system, qb, pd, pdd)
+    if extremes is None:
+        extremes = travel_extremes(system)
     kin = kinetics(system, qb, qd, qdd, psib, lu=lu, ref_speed=abs(speed), extremes=extremes)
     tangent = qd[n:]
     loads = (kin.q_gravity + kin.q_external)[:n]
@@ -220,10 +224,9 @@ class Dynamics:
 
     # -- set-up ------------------------------------------------------------------
     def _extremes(self) -> dict:
-        """Cycle extremes of ``travel`` conditions (a cycle of the first driver)."""
-        if not any(c.kind == "travel" for load in self.model.loads for c in load.active):
-            return {}
-        return analyze(self.system, friction=False).extremes
+        """Extremes of ``travel`` conditions over the whole motion (a cycle of the first
+        driver, :func:`~kinetostatics.analysis.travel_extremes`)."""
+        return travel_extremes(self.system, self.drive)
 
     def prescribed(self, t: float) -> tuple[np.ndarray, np.ndarray]:
         p, pd, _ = self.drive(np.array([t]))
