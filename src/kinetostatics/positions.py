@@ -33,10 +33,10 @@ from typing import Callable
 
 import numpy as np
 
-from ._geometry import rotate
+from ._geometry import rotate, wrap_angle
 from ._linalg import BlockFactor
 from .drivers import DriverConstraint
-from .errors import AssemblyError, ModelError, SingularConfigurationError
+from .errors import AssemblyError, KinetostaticsError, ModelError, SingularConfigurationError
 from .system import GroupPlan, System, gamma, jacobian, nu, phi
 
 __all__ = ["Drive", "PositionSolution", "Singularity", "solve_positions", "initial_guess",
@@ -256,8 +256,55 @@ def _coordinate_text(system: System, psi: np.ndarray) -> str:
 
 
 def _assemble_start(system: System, t0: float, drive: Drive) -> tuple[np.ndarray, np.ndarray]:
-    q = initial_guess(system)
+    """The pose at ``t0`` on the sketched branch.  The sketch is a rough pose at
+    ``analysis.start``; when the pose assembled there lies far from it (the start was
+    moved, or the sketch is of another position), the linkage is assembled where the
+    sketch is — at the driver coordinates of the sketched pose — checked against the
+    sketch there, and carried along its branch to ``t0``."""
+    guess = initial_guess(system)
     psi = drive(np.array([t0]))[0][0]
+    try:
+        return _assemble_at(system, guess, psi, check=True)
+    except ModelError as exc:
+        if not getattr(exc, "sketch_far", False):
+            raise
+        psi_s = _sketch_coordinates(system, guess)
+        step = psi - psi_s
+        angular = np.array([d.joint.angular for d in system.motion_drivers])
+        step = np.where(angular, wrap_angle(step), step)
+        if np.all(np.abs(step) <= 1e-9 * np.where(angular, 1.0, np.max(system.l_ref))):
+            raise                                    # the sketched pose is the start: refused
+        try:
+            q, sig = _assemble_at(system, guess, psi_s, check=True)
+        except KinetostaticsError:
+            raise exc from None
+        def homotopy(t):                             # noqa: E306 — ψ from the sketch's to ψ(t0)
+            t = np.asarray(t, dtype=float)[..., None]
+            return psi_s + t * step, np.broadcast_to(step, t.shape[:-1] + step.shape), \
+                np.zeros(t.shape[:-1] + step.shape)
+        max_dt = COARSE_STEP / max(float(np.max(np.abs(np.where(angular, step, step / np.max(
+            system.l_ref))))), COARSE_STEP)
+        try:
+            _, qs, _, sigs = _continue(system, q, sig, 0.0, 1.0, homotopy, max_dt, [])
+        except AssemblyError:
+            raise exc from None
+        return qs[-1], np.array([float(_signature(system, qs[-1], p)) for p in system.plans])
+
+
+def _sketch_coordinates(system: System, q: np.ndarray) -> np.ndarray:
+    """The motion drivers' coordinates at the pose ``q`` (the sketched pose)."""
+    qe = np.concatenate((q, np.zeros(3)))
+    out = []
+    for d in system.motion_drivers:
+        i, j = system.ends[system.constraints.index(d)]
+        out.append(float(d.coordinate(qe[3 * i:3 * i + 3], qe[3 * j:3 * j + 3])))
+    return np.array(out)
+
+
+def _assemble_at(system: System, q: np.ndarray, psi: np.ndarray, *,
+                 check: bool) -> tuple[np.ndarray, np.ndarray]:
+    """Group by group Newton from the pose ``q`` at driver coordinates ``psi``, each group
+    on the branch the sketch gives; then the sketched points checked (``check``)."""
     sig = []
     for plan in system.plans:
         s0 = _signature(system, q, plan)
@@ -278,7 +325,8 @@ def _assemble_start(system: System, t0: float, drive: Drive) -> tuple[np.ndarray
                                f"{plan.group.label}: sketch its joints closer to the intended pose")])
         q = qn
         sig.append(float(s1))
-    _check_sketch(system, q)
+    if check:
+        _check_sketch(system, q)
     return q, np.array(sig)
 
 
@@ -336,13 +384,15 @@ def _check_sketch(system: System, q: np.ndarray) -> None:
             continue
         worst[where] = sp
     if worst:
-        raise ModelError([(where, f"{where.path.removeprefix('sketch.')} is assembled "
+        exc = ModelError([(where, f"{where.path.removeprefix('sketch.')} is assembled "
                            f"{np.max(sp.distance) / scale:.4g} {unit} from its sketched position "
                            f"(placed by {sp.group}; the tolerance is {SKETCH_TOL:g} L_ref = "
                            f"{np.max(tol) / scale:.4g} {unit}): the linkage assembled on another "
                            "branch than sketched; sketch the joints of that group (every revolute "
                            "of a pin shared by three links) closer to the intended pose at "
                            "analysis.start") for where, sp in worst.items()])
+        exc.sketch_far = True
+        raise exc
 
 
 def _miss(system: System, q: np.ndarray, psi: np.ndarray, plan: GroupPlan) -> str:
