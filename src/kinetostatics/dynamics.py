@@ -874,11 +874,15 @@ def speed_fluctuation(sim: Simulation, t0: float, t1: float, samples: int = 4001
         candidates += [w[0], w[-1]]     # the piece's own values at its ends
         if seg.sol is None:
             continue
-        for k in range(1, n - 1):
+        for k in range(n):
             for sign in (1.0, -1.0):
-                if sign * (w[k] - w[k - 1]) > 0 and sign * (w[k] - w[k + 1]) >= 0:
+                # a sampled local extreme, or an extreme just inside a piece end (where
+                # ω may turn within the first or last sampling interval)
+                if (k == 0 or k == n - 1 or sign * (w[k] - w[k - 1]) > 0
+                        and sign * (w[k] - w[k + 1]) >= 0):
+                    lo, hi = t[max(k - 1, 0)], t[min(k + 1, n - 1)]
                     r = minimize_scalar(lambda tt: -sign * abs(float(seg.sol(tt)[nf])),
-                                        bounds=(t[k - 1], t[k + 1]), method="bounded",
+                                        bounds=(lo, hi), method="bounded",
                                         options={"xatol": 1e-14 * max(1.0, abs(b))})
                     candidates.append(max(w[k], -r.fun) if sign > 0 else min(w[k], r.fun))
     w_max, w_min = max(candidates), min(candidates)
