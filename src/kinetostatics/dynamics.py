@@ -709,6 +709,9 @@ def simulate(model: Model | Dynamics, until: float, *,
         mark_event = _event((lambda tt, yy: np.sin(0.5 * (yy[0] - mark)))
                             if dyn.angular[dyn.free[0]] else (lambda tt, yy: yy[0] - mark), False)
 
+    stop_event = None if stop_at is None else _event(lambda tt, yy: yy[0] - stop_at, True)
+    short = [e for e in (mark_event, stop_event) if e is not None]   # watched on a nudge too
+
     def add_marks(found):
         for x in found:                      # a mark at a switch is seen by both pieces
             if not marks or abs(float(x) - marks[-1]) > 1e-9 * max(1.0, abs(float(x))):
@@ -737,7 +740,9 @@ def simulate(model: Model | Dynamics, until: float, *,
                 tau = min(tau, until - t)
                 sol0 = solve_ivp(rhs(direction, pending), (t, t + tau), y, method=method,
                                  rtol=rtol, atol=atol_v, dense_output=True,
-                                 events=mark_event)
+                                 events=short or None)
+                if sol0.status == 1:                 # the stop lies in the nudge
+                    break
                 y0 = sol0.y[:, -1]
                 g0 = dyn.switching_values(t + tau, y0, direction)
                 if np.all(np.abs(g0[near]) > 2 * thresholds[near]) or t + tau >= until:
@@ -745,6 +750,13 @@ def simulate(model: Model | Dynamics, until: float, *,
                 tau *= 4.0
             if mark_event is not None:
                 add_marks(sol0.t_events[0])
+            if sol0.status == 1:
+                t_s = float(sol0.t[-1])
+                sim.segments.append(_Segment(t, t_s, sol0.sol, mode=pending))
+                sim.events.append({"t": t_s, "kind": "stop"})
+                t, y = t_s, sol0.y[:, -1].copy()
+                sim.status = "stopped"
+                break
             sim.segments.append(_Segment(t, t + tau, sol0.sol, mode=pending))
             t, y = t + tau, y0.copy()
             near &= np.abs(g0) <= 2 * thresholds          # still on zero: not watched here
@@ -766,8 +778,8 @@ def simulate(model: Model | Dynamics, until: float, *,
             s = direction or np.sign(y[nf])
             events.append(_event(lambda tt, yy: yy[nf], True, -s))
             kinds.append(("rest", None))
-        if stop_at is not None:
-            events.append(_event(lambda tt, yy: yy[0] - stop_at, True))
+        if stop_event is not None:
+            events.append(stop_event)
             kinds.append(("stop", None))
         if mark_event is not None:
             events.append(mark_event)
