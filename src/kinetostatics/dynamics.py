@@ -34,8 +34,12 @@ second-order Taylor prediction from the last solved state along ψ, in steps
 
 Loads switch (``active:`` conditions, a resistance reversing, a friction joint's
 relative speed through zero) at exactly located times: each switching function
-is a terminal event of ``solve_ivp``; the integration restarts just past the
-switch, so every integration piece has a smooth right-hand side.
+is a terminal event of ``solve_ivp``.  An integration piece holds the loads'
+switching state it started with (:meth:`Dynamics.load_mode`), so its right-hand
+side is smooth and continues smoothly past the switch; the switch is the root on
+the piece's dense output and the next piece starts from the state there, with the
+loads' state read a little past it on the old piece's continuation.  (Friction
+senses still come from the state inside the friction solution.)
 
 ``scipy.integrate`` is imported only by :func:`simulate`.
 """
