@@ -34,8 +34,12 @@ second-order Taylor prediction from the last solved state along ψ, in steps
 
 Loads switch (``active:`` conditions, a resistance reversing, a friction joint's
 relative speed through zero) at exactly located times: each switching function
-is a terminal event of ``solve_ivp``; the integration restarts just past the
-switch, so every integration piece has a smooth right-hand side.
+is a terminal event of ``solve_ivp``.  An integration piece holds the loads'
+switching state it started with (:meth:`Dynamics.load_mode`), so its right-hand
+side is smooth and continues smoothly past the switch; the switch is the root on
+the piece's dense output and the next piece starts from the state there, with the
+loads' state read a little past it on the old piece's continuation.  (Friction
+senses still come from the state inside the friction solution.)
 
 ``scipy.integrate`` is imported only by :func:`simulate`.
 """
@@ -50,7 +54,7 @@ import numpy as np
 from .analysis import _schedule, kinetics, travel_extremes
 from .errors import (KinetostaticsError, Location, SelfLockingError, SingularConfigurationError,
                      StructureError)
-from .forces import ZERO_SPEED, mass_vector, point_state
+from .forces import ZERO_SPEED, activity, mass_vector, point_state, zero_speed
 from .model import EffortLaw, Model, MotionLaw
 from .positions import derivatives, positions_near, start_pose
 from .reactions import effort_joints, effort_ratio
@@ -139,6 +143,7 @@ class _Eval:
     tau: np.ndarray | None = None     # efforts the linkage needs at accel (without J_x a)
     applied: np.ndarray | None = None
     effort: np.ndarray | None = None  # efforts applied: the laws (free), the required (prescribed)
+    mode: tuple | None = None         # the loads' frozen switching state (None: from the state)
 
 
 class Dynamics:
@@ -219,6 +224,7 @@ class Dynamics:
         q0, _ = start_pose(system, self.drive)
         self._anchor = self._with_tangent(self.drive(np.array([0.0]))[0][0], q0)
         self._cache: dict = {}
+        self._modes: dict = {}
         self.evaluations = 0
         self._switches = self._switching_functions()
 
@@ -296,11 +302,14 @@ class Dynamics:
             limit = min(STEP, 2 * limit)
 
     # -- the terms of the equations of motion -------------------------------------
-    def evaluate(self, t: float, psi_f, psid_f, direction: float = 0.0) -> _Eval:
+    def evaluate(self, t: float, psi_f, psid_f, direction: float = 0.0,
+                 mode: tuple | None = None) -> _Eval:
         """Positions, velocities, M, h and the efforts at a state (no accelerations yet).
 
         ``direction``: at rest (|ψ̇_f| below the zero-speed threshold) the probe sense
         of the free coordinate used for friction and velocity-opposing loads.
+        ``mode``: the loads' switching state frozen for an integration piece
+        (:meth:`load_mode`); None decides it from the state.
         """
         psi_f = np.atleast_1d(np.asarray(psi_f, dtype=float))
         psid_f = np.atleast_1d(np.asarray(psid_f, dtype=float)).copy()
@@ -317,12 +326,58 @@ class Dynamics:
         pdd[1 + np.arange(nf), self.free] = 1.0
         qd, qdd, lu = derivatives(self.system, qb, pd, pdd)
         self._anchor = (psi, q, qd[1 + nf:], qdd[1 + nf:])
-        kin = kinetics(self.system, qb, qd, qdd, np.broadcast_to(psi, (nb, nd)), lu=lu,
+        kin = kinetics(self._loaded(mode), qb, qd, qdd, np.broadcast_to(psi, (nb, nd)), lu=lu,
                        ref_speed=self.ref_speed, extremes=self.extremes)
         tau = kin.x0[:, self.n_j:]
         self.evaluations += 1
         return _Eval(t, psi, psid, q, qd[0], qdd[0], qdd[1:1 + nf] - qdd[0], tau[0],
-                     tau[1:1 + nf] - tau[0], qd[1 + nf:])
+                     tau[1:1 + nf] - tau[0], qd[1 + nf:], mode=mode)
+
+    # -- loads frozen on an integration piece ------------------------------------------
+    def load_mode(self, ev: _Eval) -> tuple:
+        """The loads' switching state at an evaluated state: per load, whether it is
+        active and (a resistance) the sign of the velocity it opposes."""
+        system = self.system
+        out = []
+        for load in self.model.loads:
+            on = bool(activity(system, load, ev.q, ev.qd, ev.psi[0], self.extremes,
+                               self.ref_speed))
+            sign = 0.0
+            if load.kind == "resistance":
+                k = system.link_index(load.link)
+                p = system.model.link(load.link).points[load.point] if load.point else np.zeros(2)
+                v = float(point_state(ev.q, ev.qd, None, k, p)[1] @ load.axis)
+                sign = float(np.sign(v)) if abs(v) > zero_speed(system, self.ref_speed) else 0.0
+            out.append((on, sign))
+        return tuple(out)
+
+    def _loaded(self, mode: tuple | None) -> System:
+        """The system whose loads are those of ``mode``, held fixed: an active load
+        without its conditions (a resistance as the constant force it is on this
+        piece), an inactive one left out; so the right-hand side is smooth on a piece
+        and continues smoothly past its end (where the events are located)."""
+        if mode is None or not self.model.loads:
+            return self.system
+        cached = self._modes.get(mode)
+        if cached is None:
+            loads = []
+            for load, (on, sign) in zip(self.model.loads, mode):
+                if not on or (load.kind == "resistance" and sign == 0.0):
+                    continue
+                if load.kind == "resistance":
+                    direction = -sign * np.asarray(load.axis, dtype=float)
+                    table = None if load.table is None else (
+                        load.table[0], np.asarray(load.table[1], dtype=float)[..., None]
+                        * direction)
+                    load = replace(load, kind="force", active=(), table=table,
+                                   value=np.asarray(load.value, dtype=float)[..., None]
+                                   * direction)
+                else:
+                    load = replace(load, active=())
+                loads.append(load)
+            cached = replace(self.system, model=replace(self.system.model, loads=tuple(loads)))
+            self._modes[mode] = cached
+        return cached
 
     def _at_rest(self, psid_f) -> bool:
         thr = ZERO_SPEED * self.ref_speed * self.scale[self.free]
@@ -336,7 +391,7 @@ class Dynamics:
     def _required_friction(self, ev: _Eval, accel: np.ndarray) -> np.ndarray:
         """Efforts of all drivers with friction (consistent solution) at ``accel``."""
         qdd = ev.qdd0 + accel @ ev.dqdd
-        kin = kinetics(self.system, ev.q[None], ev.qd[None], qdd[None], ev.psi[None],
+        kin = kinetics(self._loaded(ev.mode), ev.q[None], ev.qd[None], qdd[None], ev.psi[None],
                        ref_speed=self.ref_speed, extremes=self.extremes, friction=True)
         x = kin.friction["solution"].x[0, self.n_j:]
         if not np.all(np.isfinite(x)):
@@ -377,23 +432,26 @@ class Dynamics:
         ev.effort[free] = applied
         return ev
 
-    def state(self, t: float, y: np.ndarray, direction: float = 0.0) -> _Eval:
+    def state(self, t: float, y: np.ndarray, direction: float = 0.0,
+              mode: tuple | None = None) -> _Eval:
         """The solved state (accelerations and efforts) at (t, y), cached."""
         nf = self.n_f
-        key = (t, y[:2 * nf].tobytes(), direction)
+        key = (t, y[:2 * nf].tobytes(), direction, mode)
         ev = self._cache.get(key)
         if ev is None or ev.accel is None:
             psid_f = y[nf:2 * nf]
-            ev = self.accelerations(ev or self.evaluate(t, y[:nf], psid_f, direction), psid_f)
+            ev = self.accelerations(ev or self.evaluate(t, y[:nf], psid_f, direction, mode),
+                                    psid_f)
             if len(self._cache) > 8:
                 self._cache.clear()
             self._cache[key] = ev
         return ev
 
-    def rhs(self, t: float, y: np.ndarray, direction: float = 0.0) -> np.ndarray:
+    def rhs(self, t: float, y: np.ndarray, direction: float = 0.0,
+            mode: tuple | None = None) -> np.ndarray:
         """d/dt (ψ_f, ψ̇_f, W): W the work of all drivers."""
         nf = self.n_f
-        ev = self.state(t, y, direction)
+        ev = self.state(t, y, direction, mode)
         power = float(ev.effort @ self._effort_speeds(ev, self._speeds(t, y)))
         return np.concatenate((y[nf:2 * nf], ev.accel, [power]))
 
@@ -464,14 +522,25 @@ class Dynamics:
                                 coordinate_gradient(system, q, k) @ qd, thr))
         return out
 
-    def switching_values(self, t: float, y: np.ndarray, direction: float = 0.0) -> np.ndarray:
+    def switching_values(self, t: float, y: np.ndarray, direction: float = 0.0,
+                         mode: tuple | None = None) -> np.ndarray:
         if not self._switches:
             return np.zeros(0)
-        ev = self._cache.get((t, y[:2 * self.n_f].tobytes(), direction))
-        if ev is None:
-            ev = self.evaluate(t, y[:self.n_f], y[self.n_f:2 * self.n_f], direction)
-            self._cache[(t, y[:2 * self.n_f].tobytes(), direction)] = ev
+        ev = self._evaluated(t, y, direction, mode)
         return np.array([f(ev.q, ev.qd, ev.psi) for _, f, _ in self._switches])
+
+    def _evaluated(self, t: float, y: np.ndarray, direction: float = 0.0,
+                   mode: tuple | None = None) -> _Eval:
+        key = (t, y[:2 * self.n_f].tobytes(), direction, mode)
+        ev = self._cache.get(key)
+        if ev is None:
+            ev = self.evaluate(t, y[:self.n_f], y[self.n_f:2 * self.n_f], direction, mode)
+            self._cache[key] = ev
+        return ev
+
+    def mode_at(self, t: float, y: np.ndarray, direction: float = 0.0) -> tuple:
+        """The loads' switching state decided from the state (t, y)."""
+        return self.load_mode(self._evaluated(t, y, direction))
 
     # -- energy -----------------------------------------------------------------------
     def energy(self, ev: _Eval) -> tuple[float, float]:
@@ -488,6 +557,7 @@ class _Segment:
     t1: float
     sol: Callable | None            # OdeSolution, or None for a constant state
     y: np.ndarray | None = None     # the constant state
+    mode: tuple | None = None       # the loads' switching state on this piece
 
 
 @dataclass
@@ -519,13 +589,17 @@ class Simulation:
         """States (len(t), 2 n_f + 1) at times t (within [0, t_end])."""
         t = np.atleast_1d(np.asarray(t, dtype=float))
         out = np.empty((t.size, 2 * self.dynamics.n_f + 1))
-        starts = np.array([s.t0 for s in self.segments])
-        idx = np.clip(np.searchsorted(starts, t, side="right") - 1, 0, len(self.segments) - 1)
+        idx = self._pieces(t)
         for k in np.unique(idx):
             seg, sel = self.segments[k], idx == k
             out[sel] = (np.broadcast_to(seg.y, (int(sel.sum()), seg.y.size)) if seg.sol is None
                         else seg.sol(t[sel]).T)
         return out
+
+    def _pieces(self, t: np.ndarray) -> np.ndarray:
+        """Index of the piece holding each time (a piece's start belongs to it)."""
+        starts = np.array([s.t0 for s in self.segments])
+        return np.clip(np.searchsorted(starts, t, side="right") - 1, 0, len(self.segments) - 1)
 
     def table(self, t=None, points: int = 501) -> tuple[dict[str, np.ndarray], dict[str, str]]:
         """Columns over time: driver coordinates, speeds, accelerations and efforts
@@ -538,9 +612,9 @@ class Simulation:
         cols: dict[str, list] = {}
         units: dict[str, str] = {"time": "s"}
         cons = dyn.system.motion_drivers
-        for tk, yk in zip(t, y):
+        for tk, yk, piece in zip(t, y, self._pieces(np.atleast_1d(t))):
             direction = self._direction_at(tk)
-            ev = dyn.state(float(tk), yk, direction)
+            ev = dyn.state(float(tk), yk, direction, self.segments[piece].mode)
             acc = np.zeros(dyn.n_d)
             acc[dyn.free] = ev.accel
             speeds = dyn._speeds(tk, yk)
@@ -667,8 +741,22 @@ def simulate(model: Model | Dynamics, until: float, *,
     evaluations0 = dyn.evaluations
     thresholds = np.array([thr for _, _, thr in dyn._switches])
 
-    def rhs(d):
-        return lambda tt, yy: dyn.rhs(tt, yy, d)
+    def rhs(d, m):
+        return lambda tt, yy: dyn.rhs(tt, yy, d, m)
+
+    pending = None          # the loads' state just past a switch (known from the last piece)
+    mark_event = None
+    if mark is not None:
+        mark_event = _event((lambda tt, yy: np.sin(0.5 * (yy[0] - mark)))
+                            if dyn.angular[dyn.free[0]] else (lambda tt, yy: yy[0] - mark), False)
+
+    stop_event = None if stop_at is None else _event(lambda tt, yy: yy[0] - stop_at, True)
+    short = [e for e in (mark_event, stop_event) if e is not None]   # watched on a nudge too
+
+    def add_marks(found):
+        for x in found:                      # a mark at a switch is seen by both pieces
+            if not marks or abs(float(x) - marks[-1]) > 1e-9 * max(1.0, abs(float(x))):
+                marks.append(float(x))
 
     for _ in range(100_000):
         if t >= until:
@@ -691,85 +779,97 @@ def simulate(model: Model | Dynamics, until: float, *,
             tau = 1e-10 / dyn.ref_speed
             for _ in range(30):
                 tau = min(tau, until - t)
-                sol0 = solve_ivp(rhs(direction), (t, t + tau), y, method=method, rtol=rtol,
-                                 atol=atol_v, dense_output=True)
+                sol0 = solve_ivp(rhs(direction, pending), (t, t + tau), y, method=method,
+                                 rtol=rtol, atol=atol_v, dense_output=True,
+                                 events=short or None)
+                if sol0.status == 1:                 # the stop lies in the nudge
+                    break
                 y0 = sol0.y[:, -1]
                 g0 = dyn.switching_values(t + tau, y0, direction)
                 if np.all(np.abs(g0[near]) > 2 * thresholds[near]) or t + tau >= until:
                     break
                 tau *= 4.0
-            sim.segments.append(_Segment(t, t + tau, sol0.sol))
+            if mark_event is not None:
+                add_marks(sol0.t_events[0])
+            if sol0.status == 1:
+                t_s = float(sol0.t[-1])
+                sim.segments.append(_Segment(t, t_s, sol0.sol, mode=pending))
+                sim.events.append({"t": t_s, "kind": "stop"})
+                t, y = t_s, sol0.y[:, -1].copy()
+                sim.status = "stopped"
+                break
+            sim.segments.append(_Segment(t, t + tau, sol0.sol, mode=pending))
             t, y = t + tau, y0.copy()
             near &= np.abs(g0) <= 2 * thresholds          # still on zero: not watched here
             if not dyn._at_rest(y[nf:2 * nf]):
                 direction = 0.0
             if t >= until:
                 break
+        # the loads' state is held fixed on the piece: its right-hand side is smooth and
+        # extends smoothly past the next switch, where the event is located
+        mode = pending if pending is not None else dyn.mode_at(t, y, direction)
+        pending = None
         events, kinds = [], []
         for k in range(len(dyn._switches)):
             if not near[k]:
-                events.append(_event(lambda tt, yy, k=k, d=direction:
-                                     dyn.switching_values(tt, yy, d)[k], True))
+                events.append(_event(lambda tt, yy, k=k, d=direction, m=mode:
+                                     dyn.switching_values(tt, yy, d, m)[k], True))
                 kinds.append(("switch", k))
         if dyn.coulomb and nf == 1:
             s = direction or np.sign(y[nf])
             events.append(_event(lambda tt, yy: yy[nf], True, -s))
             kinds.append(("rest", None))
-        if stop_at is not None:
-            events.append(_event(lambda tt, yy: yy[0] - stop_at, True))
+        if stop_event is not None:
+            events.append(stop_event)
             kinds.append(("stop", None))
-        if mark is not None:
-            angular = dyn.angular[dyn.free[0]]
-            events.append(_event((lambda tt, yy: np.sin(0.5 * (yy[0] - mark))) if angular
-                                 else (lambda tt, yy: yy[0] - mark), False))
+        if mark_event is not None:
+            events.append(mark_event)
             kinds.append(("mark", None))
         opts = {} if first_step is None else {"first_step": min(first_step, until - t)}
-        sol = solve_ivp(rhs(direction), (t, until), y, method=method, rtol=rtol, atol=atol_v,
+        sol = solve_ivp(rhs(direction, mode), (t, until), y, method=method, rtol=rtol, atol=atol_v,
                         dense_output=True, events=events or None, max_step=max_step, **opts)
         if sol.status == -1:
             raise RuntimeError(f"integration failed at t = {sol.t[-1]:.6g} s: {sol.message}")
         for (kind, _), te in zip(kinds, sol.t_events or []):
             if kind == "mark":
-                marks.extend(float(x) for x in te)
+                add_marks(te)
         if len(sol.t) > 2:
             first_step = float(sol.t[-2] - sol.t[-3]) or None
         t_e, y_e = float(sol.t[-1]), sol.y[:, -1].copy()
         if sol.status == 0:
-            sim.segments.append(_Segment(t, t_e, sol.sol))
+            sim.segments.append(_Segment(t, t_e, sol.sol, mode=mode))
             t, y = t_e, y_e
             break
         fired = [(kind, k) for (kind, k), te in zip(kinds, sol.t_events)
                  if kind != "mark" and te.size and abs(te[-1] - t_e) <= 1e-12 * max(1.0, t_e)]
         if any(kind == "stop" for kind, _ in fired):
-            sim.segments.append(_Segment(t, t_e, sol.sol))
+            sim.segments.append(_Segment(t, t_e, sol.sol, mode=mode))
             sim.events.append({"t": t_e, "kind": "stop"})
             t, y = t_e, y_e
             sim.status = "stopped"
             break
         if any(kind == "rest" for kind, _ in fired):
-            sim.segments.append(_Segment(t, t_e, sol.sol))
+            sim.segments.append(_Segment(t, t_e, sol.sol, mode=mode))
             y_e[nf:2 * nf] = 0.0
             t, y = t_e, y_e
             continue
-        # a load switch: restart just past it, so that the new piece sees the new side
+        # a load switch: the piece ends at the event and the next one starts from the
+        # state there (the root found on this piece's dense output: its right-hand side is
+        # smooth through the event).  Which side the loads take next is read a little past
+        # the event on this piece's smooth continuation; the state is not moved there.
         idx = [k for kind, k in fired if kind == "switch"]
+        sim.segments.append(_Segment(t, t_e, sol.sol, mode=mode))
+        sim.events.append({"t": t_e, "kind": "switch",
+                           "what": [dyn._switches[k][0] for k in idx]})
         tau = 1e-10 / dyn.ref_speed
         for _ in range(17):                  # at most ~1e-5 s × (1 rad/s / ref_speed)
-            y_n = sol.sol(t_e + tau)
-            g = dyn.switching_values(t_e + tau, y_n, direction)
+            y_p = np.asarray(sol.sol(t_e + tau), dtype=float)
+            g = dyn.switching_values(t_e + tau, y_p, direction, mode)
             if all(abs(g[k]) > 2 * thresholds[k] for k in idx):
                 break
             tau *= 2.0
-        sim.segments.append(_Segment(t, t_e + tau, sol.sol))
-        sim.events.append({"t": t_e, "kind": "switch",
-                           "what": [dyn._switches[k][0] for k in idx]})
-        if stop_at is not None and (y[0] - stop_at) * (y_n[0] - stop_at) <= 0:
-            t_s = _bisect(lambda tt: sol.sol(tt)[0] - stop_at, t_e, t_e + tau)
-            sim.segments[-1].t1 = t_s                    # the stop lies in the nudge
-            sim.events.append({"t": t_s, "kind": "stop"})
-            sim.status = "stopped"
-            break
-        t, y = t_e + tau, np.asarray(y_n, dtype=float)
+        pending = dyn.load_mode(dyn._evaluated(t_e + tau, y_p, direction, mode))
+        t, y = t_e, y_e
     else:
         raise RuntimeError("too many integration pieces (chattering load switches?)")
     sim.nfev = dyn.evaluations - evaluations0
@@ -806,22 +906,41 @@ def _event(f, terminal: bool, direction: float = 0.0):
 
 def speed_fluctuation(sim: Simulation, t0: float, t1: float, samples: int = 4001) -> dict:
     """ω_max, ω_min, ω_mean (= travel / time) and δ = (ω_max − ω_min)/ω_mean of the first
-    free coordinate over [t0, t1] (dense output; extremes refined by a parabola)."""
-    t = np.linspace(t0, t1, samples)
-    y = sim.sample(t)
-    w = np.abs(y[:, sim.dynamics.n_f])
+    free coordinate over [t0, t1].
 
-    def refine(k, sign):
-        if 0 < k < len(t) - 1:
-            a, b, c = w[k - 1], w[k], w[k + 1]
-            den = a - 2 * b + c
-            if den != 0:
-                return b - 0.125 * (a - c) ** 2 / den
-        return w[k]
-    w_max, w_min = refine(int(np.argmax(w)), 1), refine(int(np.argmin(w)), -1)
-    mean = abs(y[-1, 0] - y[0, 0]) / (t1 - t0)
+    The extremes are those of the solution itself: on every integration piece the
+    speed is smooth, so its extremes are the piece's ends (the load switches, where ω
+    has a corner, and t0, t1) and the interior stationary points (ω̇ = 0), each located
+    on the piece's dense output by a bounded scalar search around the sampled local
+    extreme; ``samples`` (spread over [t0, t1]) only brackets them.
+    """
+    from scipy.optimize import minimize_scalar
+    nf = sim.dynamics.n_f
+    bounds = [s.t0 for s in sim.segments[1:]]
+    edges = np.unique(np.clip([t0, t1] + [b for b in bounds if t0 < b < t1], t0, t1))
+    candidates: list[float] = []
+    for a, b in zip(edges[:-1], edges[1:]):
+        seg = sim.segments[int(sim._pieces(np.array([0.5 * (a + b)]))[0])]
+        n = max(16, int(np.ceil(samples * (b - a) / (t1 - t0))))
+        t = np.linspace(a, b, n)
+        w = np.abs(seg.sol(t)[nf]) if seg.sol is not None else np.full(n, abs(seg.y[nf]))
+        candidates += [w[0], w[-1]]     # the piece's own values at its ends
+        if seg.sol is None:
+            continue
+        for k in range(n):
+            for sign in (1.0, -1.0):
+                # a sampled local extreme, or an extreme just inside a piece end (where
+                # ω may turn within the first or last sampling interval)
+                if (k == 0 or k == n - 1 or sign * (w[k] - w[k - 1]) > 0
+                        and sign * (w[k] - w[k + 1]) >= 0):
+                    lo, hi = t[max(k - 1, 0)], t[min(k + 1, n - 1)]
+                    r = minimize_scalar(lambda tt: -sign * abs(float(seg.sol(tt)[nf])),
+                                        bounds=(lo, hi), method="bounded",
+                                        options={"xatol": 1e-14 * max(1.0, abs(b))})
+                    candidates.append(max(w[k], -r.fun) if sign > 0 else min(w[k], r.fun))
+    w_max, w_min = max(candidates), min(candidates)
+    travel = sim.sample([t0, t1])[:, 0]
+    mean = abs(travel[-1] - travel[0]) / (t1 - t0)
     return {"omega_max": float(w_max), "omega_min": float(w_min), "omega_mean": float(mean),
             "omega_average": 0.5 * float(w_max + w_min), "delta": float((w_max - w_min) / mean),
             "t0": float(t0), "t1": float(t1)}
-
-
