@@ -1,0 +1,160 @@
+"""The verification net: invariants and metamorphic relations (docs/verification.md).
+
+Every relation of ``relations.py`` runs on the shipped mechanisms (where it
+applies) and on generated ones (``generate.py``), each relation on its own
+seeds, so the default run checks ``sum(COUNTS.values())`` distinct generated
+mechanisms.  ``KINETOSTATICS_NET_MECHANISMS=N`` scales that total to about N.
+Known defects being fixed elsewhere are ``xfail(strict=False)`` on the cases
+they affect (``KNOWN``), so the marks can be dropped once the fixes are in.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from pathlib import Path
+
+import pytest
+
+from . import generate as G
+from . import relations as R
+
+ROOT = Path(__file__).resolve().parents[2]
+SHIPPED = sorted(p.name for p in (ROOT / "mechanisms").glob("*.yaml")
+                 if p.name != "ammunition_swing.yaml")          # an effort driver: simulate only
+
+# generated mechanisms per relation in the default run (cost-weighted)
+COUNTS = {"subset": 16, "rigid": 24, "units": 24, "mirror": 24, "power": 30, "power_fd": 16,
+          "balance_at": 20, "sketch": 30, "grid": 14, "derivatives": 20, "energy": 4}
+_total = sum(COUNTS.values())
+_want = int(os.environ.get("KINETOSTATICS_NET_MECHANISMS", _total))
+SCALE = _want / _total
+SEED_BASE = {name: 100_000 * (k + 1) for k, name in enumerate(COUNTS)}
+
+# (relation, case) -> reason; case is a shipped file name or "seed:<n>"
+KNOWN: dict[tuple[str, str], str] = {}
+
+
+def _known_for_generated(relation: str, doc: dict) -> str | None:
+    """Known defects that a generated mechanism can hit in a relation."""
+    travel = any("travel" in c for load in doc.get("loads", {}).values() for c in load.get("active", []))
+    if relation in ("subset", "grid") and travel:
+        return "defect 1: a partial analysis searches travel-band extremes among the sampled rows only"
+    return None
+
+
+def _cases(relation: str):
+    out = []
+    if relation not in ("energy",):
+        for name in SHIPPED:
+            reason = KNOWN.get((relation, name))
+            marks = [pytest.mark.xfail(reason=reason, strict=False)] if reason else []
+            out.append(pytest.param(f"shipped:{name}", marks=marks, id=name))
+    n = max(1, round(COUNTS[relation] * SCALE))
+    for seed in range(SEED_BASE[relation], SEED_BASE[relation] + n):
+        out.append(pytest.param(f"seed:{seed}", id=f"seed{seed}"))
+    return out
+
+
+def _doc(case: str) -> dict:
+    kind, _, key = case.partition(":")
+    return R.shipped(ROOT / "mechanisms" / key) if kind == "shipped" else G.generate(int(key))
+
+
+def _run(relation: str, case: str):
+    doc = _doc(case)
+    if case.startswith("seed:"):
+        reason = KNOWN.get((relation, case)) or _known_for_generated(relation, doc)
+    else:
+        reason = KNOWN.get((relation, case.partition(":")[2]))
+    R.WORST[:] = [0.0, ""]
+    try:
+        value = R.RELATIONS[relation](doc, _seed(case))
+    except Exception as exc:          # noqa: BLE001 - an error is a failure of the relation
+        if reason:
+            pytest.xfail(f"{reason} ({type(exc).__name__})")
+        raise
+    if value is None:
+        pytest.skip(f"{relation} does not apply to {case}")
+    tol = R.TOLERANCE[relation]
+    if case.startswith("shipped:") and relation == "sketch":
+        tol = 0.05                    # the shipped sketches are rough, a few % of the links
+    if not value <= tol and reason:
+        pytest.xfail(reason)
+    assert value <= tol, (f"{relation} on {case}: discrepancy {value:.3g} > {tol:g} "
+                          f"(worst column {R.WORST[1]!r}; reproduce with relations.relation_{relation}"
+                          f"(generate.generate(seed), seed))")
+
+
+def _seed(case: str) -> int:
+    kind, _, key = case.partition(":")
+    return int(key) if kind == "seed" else sum(map(ord, key))
+
+
+@pytest.mark.parametrize("case", _cases("subset"))
+def test_subset_consistency(case):
+    _run("subset", case)
+
+
+@pytest.mark.parametrize("case", _cases("rigid"))
+def test_rigid_motion_of_the_frame(case):
+    _run("rigid", case)
+
+
+@pytest.mark.parametrize("case", _cases("units"))
+def test_units(case):
+    _run("units", case)
+
+
+@pytest.mark.parametrize("case", _cases("mirror"))
+def test_mirror(case):
+    _run("mirror", case)
+
+
+@pytest.mark.parametrize("case", _cases("power"))
+def test_power_identity(case):
+    _run("power", case)
+
+
+@pytest.mark.parametrize("case", _cases("power_fd"))
+def test_power_from_energy_differences(case):
+    _run("power_fd", case)
+
+
+@pytest.mark.parametrize("case", _cases("balance_at"))
+def test_balance_at_another_joint(case):
+    _run("balance_at", case)
+
+
+@pytest.mark.parametrize("case", _cases("sketch"))
+def test_sketch_adherence(case):
+    _run("sketch", case)
+
+
+@pytest.mark.parametrize("case", _cases("grid"))
+def test_grid_independence(case):
+    _run("grid", case)
+
+
+@pytest.mark.parametrize("case", _cases("derivatives"))
+def test_derivatives(case):
+    _run("derivatives", case)
+
+
+@pytest.mark.parametrize("case", _cases("energy"))
+def test_energy_conservation(case):
+    _run("energy", case)
+
+
+def test_generator_is_deterministic_and_mostly_accepts():
+    a, b = G.generate(7), G.generate(7)
+    assert a == b
+    rejected = sum(G.rejections(s) for s in range(SEED_BASE["sketch"], SEED_BASE["sketch"] + 10))
+    assert rejected < 30, f"{rejected} rejections for 10 mechanisms"
+
+
+def test_units_round_trip_of_the_writer():
+    doc = G.generate(3)
+    mm = G.in_units(doc, "mm", "deg", "rpm")
+    assert mm["units"] == {"length": "mm", "angle": "deg", "speed": "rpm"}
+    assert math.isclose(mm["analysis"]["sweep"], 360.0)
