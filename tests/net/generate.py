@@ -105,7 +105,9 @@ class _Builder:
 
     def attach_point(self, exclude=(), moving=True):
         """A point on an earlier moving link: an existing one or a new one nearby."""
-        choices = [m for m in self.moving_points if m[0] not in exclude]
+        fixed = [np.asarray(v) for v in self.links["ground"]["points"].values()]
+        choices = [m for m in self.moving_points if m[0] not in exclude        # not on a pivot:
+                   and all(np.linalg.norm(m[2] - f) > 1e-6 for f in fixed)]   # it would not move
         link, point, pos = choices[self.rng.integers(len(choices))]
         if self.rng.random() < 0.4:          # a new point on that link, near the old one
             new = pos + self.rng.normal(0, 0.05, 2)
@@ -167,10 +169,12 @@ def _pin(B, link, point, other, pos):
     return j
 
 
-def _axis_link(B, rng, moving_ok=True):
-    """The link carrying a guide: the ground mostly, sometimes an earlier moving link."""
-    if moving_ok and rng.random() < 0.3:
-        link, _, _ = B.moving_points[rng.integers(len(B.moving_points))]
+def _axis_link(B, rng, moving_ok=True, exclude=()):
+    """The link carrying a guide: the ground mostly, sometimes an earlier moving
+    link (not one in ``exclude``: a dyad with both ends on one link is rigid)."""
+    choices = [m for m in B.moving_points if m[0] not in exclude]
+    if moving_ok and choices and rng.random() < 0.3:
+        link, _, _ = choices[rng.integers(len(choices))]
         return link
     return "ground"
 
@@ -192,7 +196,7 @@ def rng_offset(B):
 
 def _rrp(B, rng):
     L1, p1, P1 = B.attach_point()
-    guide = _axis_link(B, rng)
+    guide = _axis_link(B, rng, exclude=(L1,))
     rod_dir = rng.uniform(0, 2 * math.pi)
     C = P1 + rng.uniform(0.3, 0.7) * _unit(rod_dir)
     u = _unit(rod_dir + rng.choice([-1, 1]) * rng.uniform(0, math.radians(45)) + rng.choice([0, math.pi]))
@@ -406,7 +410,7 @@ def in_units(doc: dict, length: str = "m", angle: str = "rad", speed: str = "rad
             fr["radius"] = L(fr["radius"])
         if "length" in j:
             j["length"] = L(j["length"])
-        for key in ("module", "radii"):
+        for key in ("module", "radii", "radius"):
             if key in j:
                 j[key] = L(j[key])
         if "pressure_angle" in j:

@@ -65,6 +65,11 @@ def _wrap(d):
     return (d + 180.0) % 360.0 - 180.0
 
 
+def _family(c):
+    """The kind of a column: its last name part (all ``.ax`` columns ...), all powers."""
+    return "power" if c.startswith("power.") else c.rpartition(".")[2]
+
+
 def compare(a, b, rows_a=None, rows_b=None, columns=None, floor=1e-9):
     """Max over columns of max_k |a_k − b_k| / (max_k |b_k| + floor·scale)."""
     rows_a = slice(None) if rows_a is None else rows_a
@@ -75,7 +80,7 @@ def compare(a, b, rows_a=None, rows_b=None, columns=None, floor=1e-9):
     for c in b.names:
         v = np.asarray(b[c], float)
         if v.size and np.any(np.isfinite(v)):
-            t = c.rpartition(".")[2]
+            t = _family(c)
             family[t] = max(family.get(t, 0.0), float(np.nanmax(np.abs(v))))
     worst = 0.0
     for c in names:
@@ -93,7 +98,7 @@ def compare(a, b, rows_a=None, rows_b=None, columns=None, floor=1e-9):
             d = np.abs(_wrap(x - y)) / 360.0
         else:
             scale = (np.nanmax(np.abs(np.asarray(b[c], float)))
-                     + max(FAMILY_FLOOR * family.get(c.rpartition(".")[2], 0.0), floor))
+                     + max(FAMILY_FLOOR * family.get(_family(c), 0.0), floor))
             d = np.abs(x - y) / scale
         if float(np.max(d)) > worst:
             worst = float(np.max(d))
@@ -191,6 +196,7 @@ def transformed(doc, phi=0.0, shift=(0.0, 0.0), mirror=False):
                 j["angle"] = j.get("angle", 0.0) + phi
         if j["type"] == "gear" and mirror:
             j["phase"] = -j.get("phase", 0.0)
+        if j["type"] in ("gear", "rack") and mirror:
             j["flank"] = {"cw": "ccw", "ccw": "cw"}[j.get("flank", "ccw")]
     d["gravity"] = V(d.get("gravity", [0, -9.81]))
     drv = d["drivers"]["motor"]
@@ -350,7 +356,8 @@ def relation_power_fd(doc, seed, h=1e-4, k=3):
     psi = grid(doc, 36)[rng.choice(np.arange(2, 34), k, replace=False)]
     worst = 0.0
     ref = analyze(doc, positions=grid(doc, 36))
-    scale = max(np.max(np.abs(ref["power.kinetic"])), np.max(np.abs(ref["power.potential"])), 1e-12)
+    scale = max(max(np.max(np.abs(ref[c])) for c in ref.names if c.startswith("power.")),
+                abs(w) * np.max(kinetic_energy(doc, ref)), 1e-12)
     for p in np.sort(psi * np.sign(w)) * np.sign(w):
         pos = p + np.sign(w) * np.array([-h, 0.0, h])
         r = analyze(doc, positions=pos)
@@ -478,8 +485,10 @@ def relation_derivatives(doc, seed, h=2e-2, k=2):
                 a_name = f"{base}.{'alpha' if tail == 'theta' else 'a' + tail}"
                 v_fd = (x[2] - x[0]) / (2 * dt)
                 a_fd = (x[2] - 2 * x[1] + x[0]) / dt ** 2
-                sv = np.max(np.abs(full[v_name])) + 1e-3 * (fam["omega"] if tail == "theta" else vmax)
-                sa = np.max(np.abs(full[a_name])) + 1e-3 * (fam["alpha"] if tail == "theta" else amax)
+                sv = (np.max(np.abs(full[v_name])) + 1e-3 * (fam["omega"] if tail == "theta" else vmax)
+                      + 1e-12 * abs(w))
+                sa = (np.max(np.abs(full[a_name])) + 1e-3 * (fam["alpha"] if tail == "theta" else amax)
+                      + 1e-12 * w * w)
                 e = max(e, abs(v_fd - r[v_name][1]) / sv, abs(a_fd - r[a_name][1]) / sa)
             errs.append(e)
         worst = max(worst, errs[0])
@@ -511,6 +520,21 @@ def relation_energy(doc, seed, turns=0.3):
     E = cols["energy.total"]
     scale = max(np.max(np.abs(cols["energy.kinetic"])), 1e-12)
     return float(np.max(np.abs(E - E[0]))) / scale
+
+
+def without_conditions(doc, kinds=("moving", "travel")):
+    """The mechanism with the ``active:`` conditions of these kinds removed."""
+    d = copy.deepcopy(doc)
+    for load in d.get("loads", {}).values():
+        load["active"] = [c for c in load.get("active", []) if not any(k in c for k in kinds)]
+        if not load["active"]:
+            load.pop("active")
+    return d
+
+
+def has_conditions(doc, kinds=("moving", "travel")):
+    return any(k in c for load in doc.get("loads", {}).values() for c in load.get("active", [])
+               for k in kinds)
 
 
 RELATIONS = {
