@@ -491,7 +491,7 @@ def relation_derivatives(doc, seed, h=2e-2, k=2):
                       + 1e-12 * w * w)
                 e = max(e, abs(v_fd - r[v_name][1]) / sv, abs(a_fd - r[a_name][1]) / sa)
             errs.append(e)
-        worst = max(worst, errs[0])
+        worst = max(worst, errs[1])
         if errs[0] > 1e-5 and errs[1] > errs[0] / 2.5:       # no h² convergence
             worst = max(worst, math.inf)
         DERIV.append(errs)

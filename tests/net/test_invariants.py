@@ -24,8 +24,8 @@ SHIPPED = sorted(p.name for p in (ROOT / "mechanisms").glob("*.yaml")
                  if p.name != "ammunition_swing.yaml")          # an effort driver: simulate only
 
 # generated mechanisms per relation in the default run (cost-weighted)
-COUNTS = {"subset": 16, "rigid": 24, "units": 24, "mirror": 24, "power": 30, "power_fd": 16,
-          "balance_at": 20, "sketch": 30, "grid": 14, "derivatives": 20, "energy": 4}
+COUNTS = {"subset": 12, "rigid": 22, "units": 22, "mirror": 22, "power": 28, "power_fd": 12,
+          "balance_at": 18, "sketch": 34, "grid": 10, "derivatives": 17, "energy": 3}
 _total = sum(COUNTS.values())
 _want = int(os.environ.get("KINETOSTATICS_NET_MECHANISMS", _total))
 SCALE = _want / _total
