@@ -444,8 +444,19 @@ def random_units(doc: dict, seed: int) -> dict:
 
 # ------------------------------------------------------------------ loading
 
+_Dumper = getattr(yaml, "CSafeDumper", yaml.SafeDumper)
+_Loader = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+
+
 def to_text(doc: dict) -> str:
-    return yaml.safe_dump(doc, sort_keys=False)
+    return yaml.dump(doc, Dumper=_Dumper, sort_keys=False)
+
+
+@functools.lru_cache(maxsize=64)
+def system_of(text: str):
+    """The built system of a document's text (cached: the relations reuse it)."""
+    import kinetostatics as ks
+    return ks.build_system(ks.loads(text))
 
 
 def load(doc: dict):
@@ -459,8 +470,7 @@ def check(doc: dict, positions: int = 36):
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            model = load(doc)
-            system = ks.build_system(model)
+            system = system_of(to_text(doc))
             res = ks.analyze(system, positions=_grid(doc, positions), kinematics_only=True)
     except ks.KinetostaticsError as exc:
         raise Rejected(f"{type(exc).__name__}: {str(exc)[:120]}") from None
@@ -500,7 +510,7 @@ def _generate(seed: int) -> tuple[str, int]:
 def generate(seed: int) -> dict:
     """An accepted random mechanism (SI units), deterministic in ``seed``."""
     text, attempts = _generate(seed)
-    return yaml.safe_load(text)
+    return yaml.load(text, Loader=_Loader)
 
 
 def rejections(seed: int) -> int:

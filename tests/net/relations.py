@@ -34,10 +34,11 @@ SKIP = {"time", "travel", "friction.iterations", "power.residual", "power.residu
 
 
 def analyze(doc, **kw):
+    """``kinetostatics.analyze`` of a document (the built system cached per text)."""
     import kinetostatics as ks
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        return ks.analyze(ks.build_system(G.load(doc)), **kw)
+        return ks.analyze(G.system_of(G.to_text(doc)), **kw)
 
 
 def speed(doc):

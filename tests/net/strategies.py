@@ -15,10 +15,11 @@ def mechanisms(draw, seeds=st.integers(min_value=0, max_value=2**31 - 1)):
 
 
 @st.composite
-def mechanisms_in_units(draw):
-    """A generated mechanism written in random length/angle/speed units."""
-    seed, doc = draw(mechanisms())
+def mechanisms_in_units(draw, seeds=st.integers(min_value=0, max_value=2**31 - 1)):
+    """A generated mechanism and the same one written in random length/angle/speed
+    units: ``(seed, si_doc, doc_in_units)``."""
+    seed, doc = draw(mechanisms(seeds))
     length = draw(st.sampled_from(sorted(G.LENGTH_UNITS)))
     angle = draw(st.sampled_from(sorted(G.ANGLE_UNITS)))
     speed = draw(st.sampled_from(sorted(G.SPEED_UNITS)))
-    return seed, G.in_units(doc, length, angle, speed)
+    return seed, doc, G.in_units(doc, length, angle, speed)
