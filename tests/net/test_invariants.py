@@ -35,34 +35,9 @@ SEED_BASE = {name: 100_000 * (k + 1) for k, name in enumerate(COUNTS)}
 KNOWN: dict[tuple[str, str], str] = {}
 
 
-DEFECT_1 = "defect 1: a partial analysis searches travel-band extremes among the sampled rows only"
-NEW_DEFECT_REFINE = ("new defect (net-1): analysis._refine, the Newton iteration on t that locates travel "
-                     "extremes and load-switching events, is not bracketed; it can leave its interval and "
-                     "raise AssemblyError ('driven link {crank} cannot assemble ... Newton did not converge "
-                     "from the given guess') on a mechanism that runs without moving/travel conditions")
-
-
-def _explain(relation: str, doc: dict, seed: int, failure) -> str | None:
-    """A known defect that explains a failure of a relation, or None.
-
-    Checked only after a failure: the relation passes on the same mechanism
-    without its ``moving``/``travel`` conditions -> the refinement defect (an
-    AssemblyError) or defect 1 (a wrong number in a subset or grid relation
-    with a travel band)."""
-    import kinetostatics as ks
-    if not R.has_conditions(doc):
-        return None
-    try:
-        value = R.RELATIONS[relation](R.without_conditions(doc), seed)
-    except Exception:                 # noqa: BLE001
-        return None
-    if value is not None and value > R.TOLERANCE[relation]:
-        return None
-    if isinstance(failure, ks.AssemblyError):
-        return NEW_DEFECT_REFINE
-    if relation in ("subset", "grid") and R.has_conditions(doc, ("travel",)):
-        return DEFECT_1
-    return None
+DEFECT_1 = R.DEFECT_1
+NEW_DEFECT_REFINE = R.NEW_DEFECT_REFINE
+_explain = R.explain
 
 
 def _cases(relation: str):
