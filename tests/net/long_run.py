@@ -115,6 +115,7 @@ def main(argv=None):
         lines.append(f"| {name} | {s['checked']} | {s['na']} | {s['known']} | {s['failed']} | "
                      f"{s['max']:.2g} | {R.TOLERANCE[name]:g} |")
     fails = [(n, seed, v, col) for n, s in stats.items() for seed, v, col in s["seeds"]]
+    fails.sort(key=lambda f: f[3].startswith("["))            # the unexplained first
     lines += ["", "Failures (relation, seed, discrepancy, [known defect] worst column or error):"
               if fails else "Failures: none.", ""]
     for n, seed, v, col in fails[:60]:

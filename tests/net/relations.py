@@ -66,9 +66,16 @@ def _wrap(d):
     return (d + 180.0) % 360.0 - 180.0
 
 
+_FORCES = {"F", "N", "Fx", "Fy", "F_friction", "N_friction", "Fx_friction", "Fy_friction"}
+
+
 def _family(c):
-    """The kind of a column: its last name part (all ``.ax`` columns ...), all powers."""
-    return "power" if c.startswith("power.") else c.rpartition(".")[2]
+    """The kind of a column: its last name part (all ``.ax`` columns ...); all
+    powers are one kind, and so are all reaction forces."""
+    if c.startswith("power."):
+        return "power"
+    tail = c.rpartition(".")[2]
+    return "force" if tail in _FORCES else tail
 
 
 def compare(a, b, rows_a=None, rows_b=None, columns=None, floor=1e-9):
