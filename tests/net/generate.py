@@ -1,0 +1,518 @@
+"""Random planar linkages for the verification net (docs/verification.md).
+
+``generate(seed)`` returns a mechanism as a YAML-like dict (fed through
+``kinetostatics.loads(yaml.safe_dump(doc))``) that assembles over a full turn
+of its crank with every Assur group's condition number below ``COND_MAX``.
+It is deterministic in ``seed``.
+
+How a mechanism is built (all in SI, then written in random units):
+
+* a crank pivoted on the ground, driven at a constant speed of random sign;
+  optionally a second crank coupled to it by a gear pair (equal teeth, or the
+  second gear half the size so it turns twice per cycle — the pose is then
+  periodic in the crank angle);
+* a chain of 1 to 3 Assur groups, each attached to points of earlier links
+  (new points are added to those links) or to new ground points: dyads RRR,
+  RRP, RPR, PRP, and in about a quarter of the mechanisms a class-III triad
+  (a ternary link held by three binary links, as in a Stephenson six-bar).
+
+The start pose is drawn first (joint positions) and the links are drawn
+from it: every moving link's local frame is the global frame at the start
+pose, so its local points *are* the start positions, the sketch is exact and
+the start assembles by construction.  The groups are shaped so that their
+triangles are far from flat at the start (transmission angles of 40°–140°)
+and the crank is short compared with the links it drives, which makes most
+of them run through a full turn; candidates that do not (assembly error,
+singular position, condition number above ``COND_MAX`` at 36 positions over
+the turn) are rejected and the next attempt of the same seed is drawn.
+
+Loads: constant forces at link points, torques, resistances along a slider's
+axis, with random ``active:`` windows (angle bands, ``moving:``, ``travel:``
+bands); random masses, centres of mass, inertias and gravity (magnitude 0 or
+9.81 in a random direction); friction at some joints (friction circles of
+0.3–2 mm, Coulomb coefficients 0.02–0.12, mesh efficiency 0.97).
+"""
+
+from __future__ import annotations
+
+import copy
+import functools
+import math
+import warnings
+
+import numpy as np
+import yaml
+
+COND_MAX = 1e6
+DEFAULT_POSITIONS = 24
+MAX_ATTEMPTS = 60
+
+LENGTH_UNITS = {"m": 1.0, "mm": 1e-3}
+ANGLE_UNITS = {"rad": 1.0, "deg": math.pi / 180}
+SPEED_UNITS = {"rad/s": 1.0, "rpm": 2 * math.pi / 60}
+
+
+class Rejected(Exception):
+    """A candidate that does not meet the generator's acceptance rules."""
+
+
+def _unit(a):
+    return np.array([math.cos(a), math.sin(a)])
+
+
+def _round(x):
+    return float(f"{float(x):.12g}")
+
+
+class _Builder:
+    def __init__(self, rng):
+        self.rng = rng
+        self.links = {"ground": {"points": {}}}
+        self.joints = {}
+        self.sketch = {}
+        self.moving_points = []          # (link, point, position) on moving links
+        self.sliders = []                # (slider link, point, axis unit) for resistances
+        self.n = 0
+        self.kinds = []
+
+    def name(self, prefix):
+        self.n += 1
+        return f"{prefix}{self.n}"
+
+    def add_point(self, link, point, pos):
+        self.links[link]["points"][point] = [float(pos[0]), float(pos[1])]
+        if link != "ground":
+            self.moving_points.append((link, point, np.asarray(pos, float)))
+
+    def new_link(self, name, points):
+        L = max((np.linalg.norm(np.subtract(p, q)) for p in points.values() for q in points.values()),
+                default=0.0) or 0.05
+        rng = self.rng
+        pts = np.array(list(points.values()))
+        com = pts.mean(axis=0) + rng.normal(0, 0.1 * L, 2)
+        mass = rng.uniform(0.2, 3.0)
+        self.links[name] = {"points": {}, "com": [float(com[0]), float(com[1])], "mass": mass,
+                            "inertia": mass * max(L, 0.05) ** 2 / 12 * rng.uniform(0.5, 1.5)}
+        for p, pos in points.items():
+            self.add_point(name, p, pos)
+
+    def revolute(self, links, pos):
+        j = self.name("J")
+        self.joints[j] = {"type": "revolute", "links": list(links)}
+        if links[0] != "ground":
+            self.sketch[j] = [float(pos[0]), float(pos[1])]
+        return j
+
+    def attach_point(self, exclude=(), moving=True):
+        """A point on an earlier moving link: an existing one or a new one nearby."""
+        fixed = [np.asarray(v) for v in self.links["ground"]["points"].values()]
+        choices = [m for m in self.moving_points if m[0] not in exclude        # not on a pivot:
+                   and all(np.linalg.norm(m[2] - f) > 1e-6 for f in fixed)]   # it would not move
+        link, point, pos = choices[self.rng.integers(len(choices))]
+        if self.rng.random() < 0.4:          # a new point on that link, near the old one
+            new = pos + self.rng.normal(0, 0.05, 2)
+            point = self.name("p")
+            self.add_point(link, point, new)
+            pos = new
+        return link, point, np.asarray(pos)
+
+    def ground_point(self, pos):
+        point = self.name("G")
+        self.add_point("ground", point, pos)
+        return "ground", point, np.asarray(pos)
+
+
+def _triangle_ok(P1, C, P2, lo=40, hi=140):
+    a, b = P1 - C, P2 - C
+    ang = math.degrees(math.acos(np.clip(a @ b / (np.linalg.norm(a) * np.linalg.norm(b)), -1, 1)))
+    return lo <= ang <= hi
+
+
+def _rrr(B, rng):
+    L1, p1, P1 = B.attach_point()
+    for _ in range(50):
+        if rng.random() < 0.6:
+            P2 = P1 + rng.uniform(0.3, 0.7) * _unit(rng.uniform(0, 2 * math.pi))
+            second = None
+        else:
+            second = B.attach_point(exclude=(L1,)) if len({m[0] for m in B.moving_points}) > 1 else None
+            if second is None:
+                continue
+            P2 = second[2]
+        d = np.linalg.norm(P2 - P1)
+        if d < 0.15:
+            continue
+        phi = math.atan2(*(P2 - P1)[::-1]) + rng.choice([-1, 1]) * rng.uniform(0.4, 1.2)
+        C = P1 + rng.uniform(0.5, 1.1) * d * _unit(phi)
+        if _triangle_ok(P1, C, P2):
+            break
+    else:
+        raise Rejected("no RRR triangle")
+    L2, p2, P2 = second if second is not None else B.ground_point(P2)
+    b1, b2 = B.name("b"), B.name("b")
+    jC = B.name("J")
+    B.new_link(b1, {p1: P1, jC: C})
+    B.new_link(b2, {p2: P2, jC: C})
+    B.joints[jC] = {"type": "revolute", "links": [b1, b2]}
+    B.sketch[jC] = [float(C[0]), float(C[1])]
+    _pin(B, L1, p1, b1, P1)
+    _pin(B, L2, p2, b2, P2)
+    B.kinds.append("RRR")
+
+
+def _pin(B, link, point, other, pos):
+    """A revolute between ``link`` (its point ``point``) and ``other``'s point of that name."""
+    j = B.name("J")
+    B.joints[j] = {"type": "revolute", "links": [link, other], "points": [point, point]}
+    if link != "ground":
+        B.sketch[f"{other}.{point}"] = [float(pos[0]), float(pos[1])]
+    return j
+
+
+def _axis_link(B, rng, moving_ok=True, exclude=()):
+    """The link carrying a guide: the ground mostly, sometimes an earlier moving
+    link (not one in ``exclude``: a dyad with both ends on one link is rigid)."""
+    choices = [m for m in B.moving_points if m[0] not in exclude]
+    if moving_ok and choices and rng.random() < 0.3:
+        link, _, _ = choices[rng.integers(len(choices))]
+        return link
+    return "ground"
+
+
+def _prismatic(B, guide, slider, P, u, point):
+    j = B.name("S")
+    A = P - rng_offset(B) * u
+    a = B.name("a")
+    B.links[guide]["points"][a] = [float(A[0]), float(A[1])]
+    B.joints[j] = {"type": "prismatic", "links": [guide, slider],
+                   "axis": {"point": a, "direction": [float(u[0]), float(u[1])]}, "point": point}
+    B.sketch[j] = [float(P[0]), float(P[1])]
+    return j
+
+
+def rng_offset(B):
+    return B.rng.uniform(-0.2, 0.2)
+
+
+def _rrp(B, rng):
+    L1, p1, P1 = B.attach_point()
+    guide = _axis_link(B, rng, exclude=(L1,))
+    rod_dir = rng.uniform(0, 2 * math.pi)
+    C = P1 + rng.uniform(0.3, 0.7) * _unit(rod_dir)
+    u = _unit(rod_dir + rng.choice([-1, 1]) * rng.uniform(0, math.radians(45)) + rng.choice([0, math.pi]))
+    rod, sl = B.name("b"), B.name("b")
+    jC = B.name("C")
+    B.new_link(rod, {p1: P1, jC: C})
+    B.new_link(sl, {jC: C})
+    B.joints[jC] = {"type": "revolute", "links": [rod, sl]}
+    B.sketch[jC] = [float(C[0]), float(C[1])]
+    _pin(B, L1, p1, rod, P1)
+    _prismatic(B, guide, sl, C, u, jC)
+    B.sliders.append((sl, jC, u))
+    B.kinds.append("RRP")
+
+
+def _rpr(B, rng):
+    L1, p1, P1 = B.attach_point()
+    d = rng.uniform(0.25, 0.6)
+    P2 = P1 + d * _unit(rng.uniform(0, 2 * math.pi))
+    L2, p2, P2 = B.ground_point(P2)
+    delta = rng.uniform(-1, 1) * math.radians(15)
+    v = (P1 - P2) / d
+    u = np.array([v[0] * math.cos(delta) - v[1] * math.sin(delta), v[0] * math.sin(delta) + v[1] * math.cos(delta)])
+    block, slot = B.name("b"), B.name("b")
+    B.new_link(block, {p1: P1})
+    tip = B.name("tip")
+    B.new_link(slot, {p2: P2, tip: P2 + 1.5 * d * u})
+    B.sketch[f"{slot}.{tip}"] = [float(x) for x in P2 + 1.5 * d * u]     # decides the slot's branch
+    _pin(B, L1, p1, block, P1)
+    _pin(B, L2, p2, slot, P2)
+    _prismatic(B, slot, block, P1, u, p1)
+    B.kinds.append("RPR")
+
+
+def _prp(B, rng):
+    L1, _, P1 = B.attach_point()
+    guide2 = _axis_link(B, rng, moving_ok=False)
+    C = P1 + rng.uniform(0.1, 0.4) * _unit(rng.uniform(0, 2 * math.pi))
+    a1 = rng.uniform(0, 2 * math.pi)
+    a2 = a1 + rng.choice([-1, 1]) * rng.uniform(math.radians(50), math.radians(130))
+    s1, s2 = B.name("b"), B.name("b")
+    jC = B.name("C")
+    B.new_link(s1, {jC: C})
+    B.new_link(s2, {jC: C})
+    B.joints[jC] = {"type": "revolute", "links": [s1, s2]}
+    B.sketch[jC] = [float(C[0]), float(C[1])]
+    _prismatic(B, L1, s1, C, _unit(a1), jC)
+    _prismatic(B, guide2, s2, C, _unit(a2), jC)
+    B.sliders.append((s2, jC, _unit(a2)))
+    B.kinds.append("PRP")
+
+
+def _triad(B, rng):
+    D1 = B.moving_points[0][2] + rng.uniform(0.3, 0.5) * _unit(rng.uniform(0, 2 * math.pi))
+    side = rng.uniform(0.1, 0.25)
+    phi = rng.uniform(0, 2 * math.pi)
+    D = [D1, D1 + side * _unit(phi), D1 + side * _unit(phi + rng.uniform(1.0, 2.1))]
+    attach = [B.attach_point()]
+    for k in (1, 2):
+        ang = rng.uniform(0, 2 * math.pi)
+        attach.append(B.ground_point(D[k] + rng.uniform(0.25, 0.5) * _unit(ang)))
+    beam = B.name("t")
+    names = [B.name("D") for _ in range(3)]
+    B.new_link(beam, dict(zip(names, D)))
+    for (L, p, P), dn, Dk in zip(attach, names, D):
+        c = B.name("b")
+        B.new_link(c, {p: P, dn: Dk})
+        B.joints[dn] = {"type": "revolute", "links": [c, beam]}
+        B.sketch[dn] = [float(Dk[0]), float(Dk[1])]
+        _pin(B, L, p, c, P)
+    B.kinds.append("triad")
+
+
+def candidate(seed: int, attempt: int = 0) -> dict:
+    """One unchecked candidate (SI units); ``generate`` filters them."""
+    rng = np.random.default_rng([seed, attempt])
+    B = _Builder(rng)
+    O = rng.uniform(-0.2, 0.2, 2)
+    r = rng.uniform(0.03, 0.09)
+    psi0 = rng.uniform(0, 2 * math.pi)
+    A = O + r * _unit(psi0)
+    B.add_point("ground", "O", O)
+    B.new_link("crank", {"O": O, "A": A})
+    B.joints["O"] = {"type": "revolute", "links": ["ground", "crank"]}
+    B.sketch["crank.A"] = [float(A[0]), float(A[1])]
+    B.kinds.append("crank")
+    omega = rng.choice([-1, 1]) * rng.uniform(3, 30)
+    if rng.random() < 0.2:                           # a second crank through a gear pair
+        z1 = int(rng.choice([20, 30, 40]))
+        z2 = int(rng.choice([z1, z1 // 2]))
+        m = rng.uniform(0.002, 0.004)
+        d = m * (z1 + z2) / 2
+        beta = rng.uniform(0, 2 * math.pi)
+        O2 = O + d * _unit(beta)
+        B2 = O2 + rng.uniform(0.03, 0.08) * _unit(rng.uniform(0, 2 * math.pi))
+        B.add_point("ground", "O2", O2)
+        B.new_link("crank2", {"O2": O2, "B": B2})
+        B.joints["O2"] = {"type": "revolute", "links": ["ground", "crank2"]}
+        B.sketch["crank2.B"] = [float(B2[0]), float(B2[1])]
+        r1, r2 = m * z1 / 2, m * z2 / 2
+        phase = -beta * (1 + r1 / r2)        # θ_j − β = φ when θ_i − β = 0, both θ = 0 now
+        phase = math.remainder(phase, 2 * math.pi * math.gcd(z1, z2) / z2)
+        B.joints["mesh"] = {"type": "gear", "links": ["crank", "crank2"], "centres": ["O", "O2"],
+                            "teeth": [z1, z2], "module": m, "mesh": "external",
+                            "flank": str(rng.choice(["cw", "ccw"])), "phase": phase}
+        B.kinds.append(f"gear{z1}:{z2}")
+    builders = [_rrr, _rrp, _rpr, _prp]
+    weights = np.array([0.4, 0.25, 0.2, 0.15])
+    n_groups = int(rng.integers(1, 4))
+    triad_at = int(rng.integers(n_groups)) if rng.random() < 0.25 else -1
+    for k in range(n_groups):
+        if k == triad_at:
+            _triad(B, rng)
+        else:
+            builders[rng.choice(4, p=weights)](B, rng)
+    doc = {"name": f"generated {seed}/{attempt}", "units": {"length": "m", "angle": "rad", "speed": "rad/s"}}
+    g = 0.0 if rng.random() < 0.15 else 9.81
+    ga = rng.uniform(0, 2 * math.pi) if rng.random() < 0.5 else -math.pi / 2
+    doc["gravity"] = [g * math.cos(ga), g * math.sin(ga)]
+    doc["links"] = B.links
+    doc["joints"] = B.joints
+    if rng.random() < 0.5:                           # friction at some joints
+        for j in B.joints.values():
+            if rng.random() < 0.7:
+                if j["type"] == "revolute":
+                    j["friction"] = {"radius": rng.uniform(0.0003, 0.002)}
+                elif j["type"] == "prismatic":
+                    j["friction"] = {"coefficient": rng.uniform(0.02, 0.12)}
+                elif j["type"] == "gear":
+                    j["friction"] = {"efficiency": 0.97}
+    doc["drivers"] = {"motor": {"joint": "O", "motion": {"speed": float(omega)}, "points": ["x", "A"]}}
+    doc["loads"] = _loads(B, rng, r)
+    doc["sketch"] = B.sketch
+    doc["analysis"] = {"start": psi0, "sweep": 2 * math.pi, "positions": DEFAULT_POSITIONS}
+    return _clean(doc)
+
+
+def _band(rng):
+    a = rng.uniform(0, 2 * math.pi)
+    return [a, a + rng.uniform(0.5, 3.5)]
+
+
+def _loads(B, rng, r):
+    loads = {}
+    moving = [m for m in B.moving_points]
+    for k in range(int(rng.integers(1, 4))):
+        kind = rng.choice(["force", "torque", "resistance"] if B.sliders else ["force", "torque"])
+        name = f"L{k}"
+        if kind == "force":
+            link, point, _ = moving[rng.integers(len(moving))]
+            F = rng.uniform(10, 200) * _unit(rng.uniform(0, 2 * math.pi))
+            load = {"type": "force", "link": link, "point": point, "value": [float(F[0]), float(F[1])]}
+        elif kind == "torque":
+            link, _, _ = moving[rng.integers(len(moving))]
+            load = {"type": "torque", "link": link, "value": float(rng.choice([-1, 1]) * rng.uniform(1, 20))}
+        else:
+            sl, point, u = B.sliders[rng.integers(len(B.sliders))]
+            load = {"type": "resistance", "link": sl, "point": point, "value": float(rng.uniform(50, 300)),
+                    "axis": [float(u[0]), float(u[1])]}
+        active = []
+        for _ in range(int(rng.integers(0, 3))):
+            which = rng.choice(["angle", "moving", "travel"])
+            link, point, _ = moving[rng.integers(len(moving))]
+            a = _unit(rng.uniform(0, 2 * math.pi))
+            if which == "angle":
+                active.append({"angle": _band(rng)})
+            elif which == "moving":
+                active.append({"moving": [float(a[0]), float(a[1])], "point": f"{link}.{point}"})
+            else:
+                lo = rng.uniform(0, 0.8) * r
+                active.append({"travel": [lo, lo + rng.uniform(0.3, 1.2) * r], "along": [float(a[0]), float(a[1])],
+                               "point": f"{link}.{point}"})
+        if active:
+            load["active"] = active
+        loads[name] = load
+    return loads
+
+
+def _clean(x):
+    if isinstance(x, dict):
+        return {k: _clean(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_clean(v) for v in x]
+    if isinstance(x, (np.floating, float)):
+        return _round(x)
+    if isinstance(x, np.integer):
+        return int(x)
+    if isinstance(x, np.str_):
+        return str(x)
+    return x
+
+
+# --------------------------------------------------------------------- units
+
+def in_units(doc: dict, length: str = "m", angle: str = "rad", speed: str = "rad/s") -> dict:
+    """The same SI mechanism written with other length, angle and speed units."""
+    fl, fa, fs = 1 / LENGTH_UNITS[length], 1 / ANGLE_UNITS[angle], 1 / SPEED_UNITS[speed]
+    d = copy.deepcopy(doc)
+    assert d.get("units", {"length": "m", "angle": "rad", "speed": "rad/s"}) == {
+        "length": "m", "angle": "rad", "speed": "rad/s"}, "in_units needs an SI document"
+    d["units"] = {"length": length, "angle": angle, "speed": speed}
+    L = lambda v: [_round(x * fl) for x in v] if isinstance(v, list) else _round(v * fl)  # noqa: E731
+    A = lambda v: [_round(x * fa) for x in v] if isinstance(v, list) else _round(v * fa)  # noqa: E731
+    for link in d["links"].values():
+        link["points"] = {k: L(v) for k, v in link["points"].items()}
+        if "com" in link:
+            link["com"] = L(link["com"])
+    for j in d["joints"].values():
+        fr = j.get("friction", {})
+        if "radius" in fr:
+            fr["radius"] = L(fr["radius"])
+        if "length" in j:
+            j["length"] = L(j["length"])
+        for key in ("module", "radii", "radius"):
+            if key in j:
+                j[key] = L(j[key])
+        if "pressure_angle" in j:
+            j["pressure_angle"] = A(j["pressure_angle"])
+        if "phase" in j:
+            j["phase"] = (A if j["type"] == "gear" else L)(j["phase"])
+    for drv in d["drivers"].values():
+        if "speed" in drv.get("motion", {}):
+            drv["motion"]["speed"] = _round(drv["motion"]["speed"] * fs)
+    for load in d.get("loads", {}).values():
+        for c in load.get("active", []):
+            if "angle" in c:
+                c["angle"] = A(c["angle"])
+            if "travel" in c:
+                c["travel"] = L(c["travel"])
+    d["sketch"] = {k: L(v) for k, v in d["sketch"].items()}
+    an = d["analysis"]
+    for k in ("start", "sweep"):
+        if k in an:
+            an[k] = A(an[k])
+    if an.get("at"):
+        an["at"] = A(an["at"])
+    return d
+
+
+def random_units(doc: dict, seed: int) -> dict:
+    rng = np.random.default_rng([seed, 7])
+    return in_units(doc, str(rng.choice(list(LENGTH_UNITS))), str(rng.choice(list(ANGLE_UNITS))),
+                    str(rng.choice(list(SPEED_UNITS))))
+
+
+# ------------------------------------------------------------------ loading
+
+_Dumper = getattr(yaml, "CSafeDumper", yaml.SafeDumper)
+_Loader = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+
+
+def to_text(doc: dict) -> str:
+    return yaml.dump(doc, Dumper=_Dumper, sort_keys=False)
+
+
+@functools.lru_cache(maxsize=64)
+def system_of(text: str):
+    """The built system of a document's text (cached: the relations reuse it)."""
+    import kinetostatics as ks
+    return ks.build_system(ks.loads(text))
+
+
+def load(doc: dict):
+    import kinetostatics as ks
+    return ks.loads(to_text(doc))
+
+
+def check(doc: dict, positions: int = 36):
+    """Raise Rejected unless ``doc`` runs through a full turn well-conditioned."""
+    import kinetostatics as ks
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            system = system_of(to_text(doc))
+            res = ks.analyze(system, positions=_grid(doc, positions), kinematics_only=True)
+    except ks.KinetostaticsError as exc:
+        raise Rejected(f"{type(exc).__name__}: {str(exc)[:120]}") from None
+    conds = [c for c in res.names if c.endswith(".cond")]
+    cmax = max((float(np.nanmax(res[c])) for c in conds), default=1.0)
+    if not cmax < COND_MAX:
+        raise Rejected(f"cond {cmax:.3g}")
+    if getattr(res, "singular", None):
+        raise Rejected("singular positions")
+    for c in res.names:
+        if not np.all(np.isfinite(res[c])):
+            raise Rejected(f"non-finite {c}")
+    return res
+
+
+def _grid(doc, n):
+    an = doc["analysis"]
+    sign = math.copysign(1, doc["drivers"]["motor"]["motion"]["speed"])
+    return an["start"] + sign * an["sweep"] * np.arange(n) / n
+
+
+STATS = {"generated": 0, "rejected": 0}
+
+
+@functools.lru_cache(maxsize=None)
+def _generate(seed: int) -> tuple[str, int]:
+    for attempt in range(MAX_ATTEMPTS):
+        doc = candidate(seed, attempt)
+        try:
+            check(doc)
+        except Rejected:
+            continue
+        return to_text(doc), attempt
+    raise RuntimeError(f"seed {seed}: no acceptable mechanism in {MAX_ATTEMPTS} attempts")
+
+
+def generate(seed: int) -> dict:
+    """An accepted random mechanism (SI units), deterministic in ``seed``."""
+    text, attempts = _generate(seed)
+    return yaml.load(text, Loader=_Loader)
+
+
+def rejections(seed: int) -> int:
+    """How many candidates ``generate(seed)`` rejected before accepting one."""
+    return _generate(seed)[1]

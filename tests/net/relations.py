@@ -1,0 +1,590 @@
+"""The verification net's relations (docs/verification.md).
+
+Each ``relation_*(doc, seed)`` takes a mechanism as a YAML-like dict (SI
+units as written by ``generate``, or a shipped file read with
+``yaml.safe_load``) and returns the largest relative discrepancy it finds
+(0 when the relation does not apply is reported as ``None``).  Relative means:
+per result column, |a − b| / (max over the reference column of |b| + floor),
+the accuracy measure of SPEC.md.  ``TOLERANCE`` gives the bound each relation
+is held to; the tests and ``long_run.py`` share both.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import warnings
+
+import numpy as np
+
+try:
+    from . import generate as G
+except ImportError:                 # run as a script from tests/net
+    import generate as G
+
+TOLERANCE = {
+    "subset": 1e-7, "rigid": 1e-7, "units": 1e-7, "mirror": 1e-7, "power": 1e-7,
+    "power_fd": 1e-4, "balance_at": 1e-6, "sketch": 1e-7, "grid": 1e-7, "derivatives": 1e-3,
+    "energy": 1e-4,
+}
+FAMILY_FLOOR = 1e-6        # a column's scale is at least this much of its kind's largest
+WORST = [0.0, ""]
+DERIV = []          # the worst column seen (for messages)
+SKIP = {"time", "travel", "friction.iterations", "power.residual", "power.residual_friction"}
+
+
+def analyze(doc, **kw):
+    """``kinetostatics.analyze`` of a document (the built system cached per text)."""
+    import kinetostatics as ks
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return ks.analyze(G.system_of(G.to_text(doc)), **kw)
+
+
+def speed(doc):
+    return float(doc["drivers"]["motor"]["motion"]["speed"])
+
+
+def shipped(path):
+    """A shipped mechanism file as an SI document (the loader's own ``dump``)."""
+    import yaml
+    import kinetostatics as ks
+    from kinetostatics.yaml_io import dump
+    doc = yaml.safe_load(dump(ks.load(path)))
+    return doc
+
+
+def grid(doc, n):
+    return G._grid(doc, n)
+
+
+def _angle_cols(names):
+    return {c for c in names if c == "angle" or c.endswith(".theta")}
+
+
+def _wrap(d):
+    return (d + 180.0) % 360.0 - 180.0
+
+
+_FORCES = {"F", "N", "Fx", "Fy", "F_friction", "N_friction", "Fx_friction", "Fy_friction"}
+
+
+def _family(c):
+    """The kind of a column: its last name part (all ``.ax`` columns ...); all
+    powers are one kind, and so are all reaction forces."""
+    if c.startswith("power."):
+        return "power"
+    tail = c.rpartition(".")[2]
+    return "force" if tail in _FORCES else tail
+
+
+def compare(a, b, rows_a=None, rows_b=None, columns=None, floor=1e-9):
+    """Max over columns of max_k |a_k − b_k| / (max_k |b_k| + floor·scale)."""
+    rows_a = slice(None) if rows_a is None else rows_a
+    rows_b = slice(None) if rows_b is None else rows_b
+    names = [c for c in (columns or b.names) if c not in SKIP and c in a.names]
+    ang = _angle_cols(names)
+    family = {}
+    for c in b.names:
+        v = np.asarray(b[c], float)
+        if v.size and np.any(np.isfinite(v)):
+            t = _family(c)
+            family[t] = max(family.get(t, 0.0), float(np.nanmax(np.abs(v))))
+    worst = 0.0
+    for c in names:
+        x, y = np.asarray(a[c], float)[rows_a], np.asarray(b[c], float)[rows_b]
+        if x.size == 0:
+            continue
+        both_nan = np.isnan(x) & np.isnan(y)
+        if np.any(np.isnan(x) != np.isnan(y)):
+            WORST[:] = [math.inf, c + " (nan)"]
+            return math.inf
+        x, y = x[~both_nan], y[~both_nan]
+        if x.size == 0:
+            continue
+        if c in ang:
+            d = np.abs(_wrap(x - y)) / 360.0
+        else:
+            kind = family.get(_family(c), 0.0)
+            if _family(c) == "alpha":     # α ~ ω² where every α is zero in exact arithmetic
+                kind = max(kind, family.get("omega", 0.0) ** 2)
+            scale = (np.nanmax(np.abs(np.asarray(b[c], float))) + max(FAMILY_FLOOR * kind, floor))
+            d = np.abs(x - y) / scale
+        if float(np.max(d)) > worst:
+            worst = float(np.max(d))
+            if worst > WORST[0]:
+                WORST[:] = [worst, c]
+    return worst
+
+
+def match_rows(a, b, tol=1e-7):
+    """Pairs of rows (i in a, j in b) with the same driver angle."""
+    ia, ib = [], []
+    ang_b = np.asarray(b["angle"], float)
+    for i, x in enumerate(np.asarray(a["angle"], float)):
+        d = np.abs(_wrap(ang_b - x))
+        j = int(np.argmin(d))
+        if d[j] < tol:
+            ia.append(i)
+            ib.append(j)
+    return np.array(ia, int), np.array(ib, int)
+
+
+# ------------------------------------------------------------------ relations
+
+def relation_subset(doc, seed, n=24):
+    """A random subset, another start, ``at:`` rows and ``events: true`` give
+    the same numbers row for row as the full cycle."""
+    rng = np.random.default_rng([seed, 11])
+    full = analyze(doc, positions=grid(doc, n))
+    psi = grid(doc, n)
+    worst = 0.0
+    idx = np.sort(rng.choice(n, size=max(2, n // 4), replace=False))
+    part = analyze(doc, positions=psi[idx])
+    worst = max(worst, compare(part, full, rows_b=idx))
+    k = int(rng.integers(1, n))
+    rolled = analyze(doc, positions=np.roll(psi, -k))
+    ia, ib = match_rows(rolled, full)
+    if len(ia) != n:
+        return math.inf
+    worst = max(worst, compare(rolled, full, ia, ib))
+    d2 = copy.deepcopy(doc)
+    d2["analysis"]["at"] = [float(x) for x in psi[rng.choice(n, 2, replace=False)] + 1e-3]
+    d2["analysis"]["positions"] = n
+    d2["analysis"]["events"] = True
+    withat = analyze(d2)
+    ia, ib = match_rows(withat, full)
+    if len(ia) < n:
+        return math.inf
+    worst = max(worst, compare(withat, full, ia, ib))
+    extra = np.setdiff1d(np.arange(len(withat["angle"])), ia)
+    if extra.size:                   # at: and event rows against an exact analysis there
+        ex = analyze(doc, positions=np.radians(np.asarray(withat["angle"])[extra]) + 0.0)
+        kin = [c for c in ex.names if c.split(".")[-1] in ("x", "y", "theta", "vx", "vy", "omega",
+                                                            "ax", "ay", "alpha")]
+        worst = max(worst, compare(withat, ex, extra, np.arange(extra.size), columns=kin))
+        at_rows = [i for i in extra if np.min(np.abs(_wrap(np.degrees(d2["analysis"]["at"])
+                                                          - withat["angle"][i]))) < 1e-7]
+        if at_rows:                  # the at: rows (not events, where loads switch) in full
+            ex2 = analyze(doc, positions=np.radians(np.asarray(withat["angle"])[at_rows]))
+            worst = max(worst, compare(withat, ex2, np.array(at_rows), np.arange(len(at_rows))))
+    return worst
+
+
+def _rot(v, phi):
+    c, s = math.cos(phi), math.sin(phi)
+    return [c * v[0] - s * v[1], s * v[0] + c * v[1]]
+
+
+def transformed(doc, phi=0.0, shift=(0.0, 0.0), mirror=False):
+    """The mechanism rotated by phi and shifted (ground, sketch, directions in
+    global axes, gravity, angle bands and start), or mirrored y → −y (then
+    also moving links' local points, speeds, torques, gear phase and flank)."""
+    d = copy.deepcopy(doc)
+    M = (lambda v: [v[0], -v[1]]) if mirror else (lambda v: v)
+    P = lambda v: [a + b for a, b in zip(_rot(M(v), phi), shift)]       # noqa: E731
+    V = lambda v: _rot(M(v), phi)                                          # noqa: E731
+    ground = d.get("ground", "ground")
+    for name, link in d["links"].items():
+        if name == ground:
+            link["points"] = {k: P(v) for k, v in link["points"].items()}
+        elif mirror:
+            link["points"] = {k: M(v) for k, v in link["points"].items()}
+            if "com" in link:
+                link["com"] = M(link["com"])
+    for j in d["joints"].values():
+        if j["type"] == "prismatic":
+            ax = j["axis"]
+            if j["links"][0] == ground:
+                if "direction" in ax:
+                    ax["direction"] = V(ax["direction"])
+            elif mirror and "direction" in ax:
+                ax["direction"] = M(ax["direction"])
+            if mirror and "angle" in j:
+                j["angle"] = -j["angle"]
+            if j["links"][0] == ground:      # the slider's frame turns with the guide
+                j["angle"] = j.get("angle", 0.0) + phi
+        if j["type"] == "gear" and mirror:
+            j["phase"] = -j.get("phase", 0.0)
+        if j["type"] in ("gear", "rack") and mirror:
+            j["flank"] = {"cw": "ccw", "ccw": "cw"}[j.get("flank", "ccw")]
+    d["gravity"] = V(d.get("gravity", [0, -9.81]))
+    drv = d["drivers"]["motor"]
+    if mirror:
+        drv["motion"]["speed"] = -drv["motion"]["speed"]
+    sgn = -1 if mirror else 1
+    for load in d.get("loads", {}).values():
+        if load["type"] == "force":
+            load["value"] = V(load["value"])
+        elif load["type"] == "torque" and mirror:
+            load["value"] = -load["value"]
+        if "axis" in load:
+            load["axis"] = V(load["axis"])
+        for c in load.get("active", []):
+            for key in ("moving", "along"):
+                if key in c:
+                    c[key] = V(c[key])
+            if "angle" in c:
+                a, b = c["angle"]
+                c["angle"] = [sgn * a + phi, sgn * b + phi]
+    d["sketch"] = {k: P(v) for k, v in d["sketch"].items()}
+    an = d["analysis"]
+    an["start"] = sgn * an.get("start", 0.0) + phi
+    return d
+
+
+def _vector_pairs(names):
+    pairs = []
+    for c in names:
+        for sx, sy in ((".x", ".y"), (".vx", ".vy"), (".ax", ".ay"), (".Fx", ".Fy"),
+                       (".Fx_friction", ".Fy_friction")):
+            if c.endswith(sx) and c[: -len(sx)] + sy in names:
+                pairs.append((c, c[: -len(sx)] + sy, sx == ".x"))
+    return pairs
+
+
+def _expected(res, doc, phi, shift, mirror):
+    """The original results carried through the transformation (a dict of columns)."""
+    names = res.names
+    out = {c: np.asarray(res[c], float).copy() for c in names}
+    pairs = _vector_pairs(names)
+    sg = -1.0 if mirror else 1.0
+    paired = set()
+    for cx, cy, is_pos in pairs:
+        x, y = out[cx], sg * out[cy]
+        c, s = math.cos(phi), math.sin(phi)
+        out[cx], out[cy] = c * x - s * y, s * x + c * y
+        if is_pos:
+            out[cx] += shift[0]
+            out[cy] += shift[1]
+        paired |= {cx, cy}
+    kinds = {j: v["type"] for j, v in doc["joints"].items()}
+    for c in names:
+        if c in paired or c in SKIP:
+            continue
+        head, _, tail = c.rpartition(".")
+        if c == "angle" or tail == "theta":
+            out[c] = sg * out[c] + math.degrees(phi)
+        elif not mirror:
+            continue
+        elif tail in ("omega", "alpha", "torque", "torque_friction", "torque_friction_approx",
+                      "M", "M_friction", "N", "N_friction"):
+            out[c] = -out[c]
+        elif tail in ("friction", "friction_approx") and kinds.get(head) in ("revolute", "gear"):
+            out[c] = -out[c]
+    return out
+
+
+class _Cols:
+    def __init__(self, cols):
+        self.cols = cols
+        self.names = list(cols)
+
+    def __getitem__(self, c):
+        return self.cols[c]
+
+
+def relation_rigid(doc, seed, n=12):
+    """Rotating and shifting the whole mechanism rotates the vectors and leaves
+    torques, powers and efforts unchanged."""
+    rng = np.random.default_rng([seed, 13])
+    phi = float(rng.uniform(-math.pi, math.pi))
+    L = max(abs(x) for link in doc["links"].values() for p in link["points"].values() for x in p) or 1.0
+    shift = tuple(float(x) for x in rng.uniform(-2 * L, 2 * L, 2))
+    base = analyze(doc, positions=grid(doc, n))
+    moved = analyze(transformed(doc, phi, shift), positions=grid(transformed(doc, phi, shift), n))
+    exp = _Cols(_expected(base, doc, phi, shift, False))
+    # shaking.M is a moment about the origin; the groups' condition numbers
+    # depend on the orientation of the axes (docs/verification.md)
+    cols = [c for c in base.names if c != "shaking.M" and not c.endswith(".cond")]
+    return compare(moved, exp, columns=cols, floor=1e-9)
+
+
+def relation_mirror(doc, seed, n=12):
+    """The mirror image (y → −y, hence the crank turning the other way) gives
+    the mirrored results: CCW quantities change sign, y components flip."""
+    base = analyze(doc, positions=grid(doc, n))
+    m = transformed(doc, mirror=True)
+    res = analyze(m, positions=grid(m, n))
+    exp = _Cols(_expected(base, doc, 0.0, (0.0, 0.0), True))
+    cols = [c for c in base.names if c != "shaking.M"]
+    return compare(res, exp, columns=cols)
+
+
+def relation_units(doc, seed, n=12):
+    """The same generated mechanism in mm/deg/rpm and in m/rad/(rad/s)."""
+    d = copy.deepcopy(doc)
+    d["analysis"]["positions"] = n
+    a = analyze(d)
+    b = analyze(G.in_units(d, "mm", "deg", "rpm"))
+    return compare(b, a)
+
+
+def _masses(doc):
+    ground = doc.get("ground", "ground")
+    out = {}
+    for name, link in doc["links"].items():
+        if name != ground:
+            out[name] = (float(link.get("mass", 0.0)), float(link.get("inertia", 0.0)))
+    return out
+
+
+def relation_power(doc, seed, n=12):
+    """Σ driver power = dT/dt + dV/dt + P_ext (+ friction loss), from the
+    power columns; dT/dt also from finite differences of the kinetic energy."""
+    res = analyze(doc, positions=grid(doc, n))
+    scale = max(np.max(np.abs(res["power.input"])), np.max(np.abs(res["power.kinetic"])),
+                np.max(np.abs(res["power.potential"])), np.max(np.abs(res["power.external"])), 1e-12)
+    w = speed(doc)
+    worst = float(np.max(np.abs(res["power.input"] - res["power.kinetic"] - res["power.potential"]
+                                - res["power.external"]))) / scale
+    worst = max(worst, float(np.max(np.abs(res["motor.torque"] * w - res["power.input"]))) / scale)
+    if "power.friction" in res.names and "motor.torque_friction" in res.names:
+        ok = np.isfinite(res["motor.torque_friction"])
+        pin_f = res["motor.torque_friction"][ok] * w
+        bal = (pin_f - res["power.kinetic"][ok] - res["power.potential"][ok] - res["power.external"][ok]
+               - res["power.friction"][ok])
+        worst = max(worst, float(np.max(np.abs(bal), initial=0.0)) / scale)
+        if np.any(res["power.friction"][ok] < -1e-9 * scale):
+            worst = math.inf
+    return worst
+
+
+def kinetic_energy(doc, res):
+    T = 0.0
+    for name, (m, J) in _masses(doc).items():
+        T = T + 0.5 * m * (res[f"{name}.vx"] ** 2 + res[f"{name}.vy"] ** 2) + 0.5 * J * res[f"{name}.omega"] ** 2
+    return T
+
+
+def relation_power_fd(doc, seed, h=1e-4, k=3):
+    """dT/dt by central differences of T along the motion = power.kinetic; the
+    potential power likewise from V = −Σ m g·r_S."""
+    rng = np.random.default_rng([seed, 17])
+    w = speed(doc)
+    g = np.asarray(doc.get("gravity", [0, -9.81]), float)
+    psi = grid(doc, 36)[rng.choice(np.arange(2, 34), k, replace=False)]
+    worst = 0.0
+    ref = analyze(doc, positions=grid(doc, 36))
+    scale = max(max(np.max(np.abs(ref[c])) for c in ref.names if c.startswith("power.")),
+                abs(w) * np.max(kinetic_energy(doc, ref)), 1e-12)
+    for p in np.sort(psi * np.sign(w)) * np.sign(w):
+        pos = p + np.sign(w) * np.array([-h, 0.0, h])
+        r = analyze(doc, positions=pos)
+        dt = (r["time"][2] - r["time"][0])
+        T = kinetic_energy(doc, r)
+        V = -sum(m * (g[0] * r[f"{name}.x"] + g[1] * r[f"{name}.y"]) for name, (m, _) in _masses(doc).items())
+        worst = max(worst, abs((T[2] - T[0]) / dt - r["power.kinetic"][1]) / scale,
+                    abs((V[2] - V[0]) / dt - r["power.potential"][1]) / scale)
+    return worst
+
+
+def _balance_joints(doc):
+    """Revolutes other than the driver's whose relative rotation follows the crank."""
+    own = doc["drivers"]["motor"]["joint"]
+    return [j for j, v in doc["joints"].items() if v["type"] == "revolute" and j != own]
+
+
+def relation_balance_at(doc, seed, n=12):
+    """The effort taken at another revolute (``balance_at``) gives the same
+    input power at rows where that joint's relative speed is not small."""
+    rng = np.random.default_rng([seed, 19])
+    cand = _balance_joints(doc)
+    if not cand:
+        return None
+    j = cand[int(rng.integers(len(cand)))]
+    base = analyze(doc, positions=grid(doc, n), friction=False)
+    d2 = copy.deepcopy(doc)
+    d2["drivers"]["motor"]["balance_at"] = j
+    li, lj = doc["joints"][j]["links"]
+    ground = doc.get("ground", "ground")
+    wrel = ((base[f"{lj}.omega"] if lj != ground else 0.0) - (base[f"{li}.omega"] if li != ground else 0.0))
+    if np.max(np.abs(wrel)) < 1e-6 * abs(speed(doc)):
+        return None                       # a joint that does not turn cannot take the effort
+    ok = np.abs(wrel) > 0.2 * np.max(np.abs(wrel))
+    import kinetostatics as ks
+    try:
+        other = analyze(d2, positions=grid(doc, n), friction=False)
+    except ks.KinetostaticsError:
+        return None                       # not admissible (the effort cannot balance there)
+    if other.indeterminate:
+        return None                       # singular there: minimum-norm reactions, flagged
+    scale = np.max(np.abs(base["power.input"])) + 1e-12
+    p_other = other["motor.torque"] * wrel
+    return max(float(np.max(np.abs(p_other[ok] - base["power.input"][ok]))) / scale,
+               float(np.max(np.abs(other["power.input"][ok] - base["power.input"][ok]))) / scale)
+
+
+def relation_sketch(doc, seed, tol_rel=None):
+    """Every sketched point is assembled where it was sketched (exactly, for a
+    generated mechanism; for a shipped file its rough sketch is compared with
+    ``tol_rel``) — returns max distance / longest link."""
+    res = analyze(doc, positions=grid(doc, 1)[:1])
+    L = _lref(doc)
+    worst = 0.0
+    ground = doc.get("ground", "ground")
+    for key, xy in doc["sketch"].items():
+        pts = []
+        if "." in key:
+            pts.append(key)
+        else:
+            j = doc["joints"][key]
+            if j["type"] == "revolute":
+                pi, pj = j.get("points", [key, key])
+                pts += [f"{l}.{p}" for l, p in zip(j["links"], (pi, pj)) if l != ground]
+            else:
+                pts.append(f"{j['links'][1]}.{j.get('point', key)}")
+        for p in pts:
+            x, y = float(res[p + ".x"][0]), float(res[p + ".y"][0])
+            worst = max(worst, math.hypot(x - xy[0], y - xy[1]) / L)
+    return worst
+
+
+def _lref(doc):
+    best = 0.0
+    for link in doc["links"].values():
+        pts = list(link["points"].values())
+        for a in pts:
+            for b in pts:
+                best = max(best, math.hypot(a[0] - b[0], a[1] - b[1]))
+    return best or 1.0
+
+
+def relation_grid(doc, seed, n=24):
+    """N, N+1 and random positions give the same values at each row as an
+    exact re-analysis at that row's angle alone."""
+    rng = np.random.default_rng([seed, 23])
+    worst = 0.0
+    sign = np.sign(speed(doc))
+    start = doc["analysis"].get("start", 0.0)
+    rand = start + sign * np.sort(rng.uniform(0, 2 * math.pi, 5))
+    for pos in (grid(doc, n), grid(doc, n + 1), rand):
+        res = analyze(doc, positions=pos)
+        for i in rng.choice(len(pos), 2, replace=False):
+            single = analyze(doc, positions=np.array([pos[i]]))
+            worst = max(worst, compare(res, single, np.array([i]), np.array([0]), columns=[
+                c for c in single.names]))
+    return worst
+
+
+def relation_derivatives(doc, seed, h=2e-2, k=2):
+    """Central differences of positions in time agree with the exact velocities
+    and accelerations; the error is O(h²) (checked against h/2)."""
+    rng = np.random.default_rng([seed, 29])
+    w = speed(doc)
+    sign = np.sign(w)
+    start = doc["analysis"].get("start", 0.0)
+    full = analyze(doc, positions=grid(doc, 24), kinematics_only=True)
+    fam = {}
+    for c in full.names:
+        t = c.rpartition(".")[2]
+        fam[t] = max(fam.get(t, 0.0), float(np.max(np.abs(full[c]))))
+    vmax, amax = max(fam.get("vx", 0), fam.get("vy", 0)), max(fam.get("ax", 0), fam.get("ay", 0))
+    worst = 0.0
+    for u in rng.uniform(0.3, 2 * math.pi - 0.3, k):
+        errs = []
+        for hh in (h, h / 2):
+            pos = start + sign * (u + np.array([-hh, 0.0, hh]))
+            r = analyze(doc, positions=pos, kinematics_only=True)
+            dt = hh / abs(w)
+            e = 0.0
+            for c in r.names:
+                base, _, tail = c.rpartition(".")
+                if tail not in ("x", "y", "theta"):
+                    continue
+                x = np.asarray(r[c], float) * (math.pi / 180 if tail == "theta" else 1.0)
+                v_name = f"{base}.{'omega' if tail == 'theta' else 'v' + tail}"
+                a_name = f"{base}.{'alpha' if tail == 'theta' else 'a' + tail}"
+                v_fd = (x[2] - x[0]) / (2 * dt)
+                a_fd = (x[2] - 2 * x[1] + x[0]) / dt ** 2
+                sv = (np.max(np.abs(full[v_name])) + 1e-3 * (fam["omega"] if tail == "theta" else vmax)
+                      + 1e-12 * abs(w))
+                sa = (np.max(np.abs(full[a_name])) + 1e-3 * (fam["alpha"] if tail == "theta" else amax)
+                      + 1e-12 * w * w)
+                e = max(e, abs(v_fd - r[v_name][1]) / sv, abs(a_fd - r[a_name][1]) / sa)
+            errs.append(e)
+        worst = max(worst, errs[1])
+        if errs[0] > 1e-5 and errs[1] > errs[0] / 2.5:       # no h² convergence
+            worst = max(worst, math.inf)
+        DERIV.append(errs)
+    return worst
+
+
+def relation_energy(doc, seed, turns=0.3):
+    """Frictionless forward dynamics with only gravity conserves T + V."""
+    from kinetostatics import dynamics
+    d = copy.deepcopy(doc)
+    for j in d["joints"].values():
+        j.pop("friction", None)
+    d["loads"] = {}
+    w = speed(d)
+    drv = d["drivers"]["motor"]
+    drv.pop("motion")
+    drv.pop("balance_at", None)
+    drv["effort"] = 0.0
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        model = G.load(d)
+        start = d["analysis"].get("start", 0.0)
+        sim = dynamics.simulate(model, turns * 2 * math.pi / abs(w), initial={"motor": (start, w)},
+                                rtol=1e-9)
+        cols, _ = sim.table(points=21)
+    E = cols["energy.total"]
+    scale = max(np.max(np.abs(cols["energy.kinetic"])), 1e-12)
+    return float(np.max(np.abs(E - E[0]))) / scale
+
+
+def without_conditions(doc, kinds=("moving", "travel")):
+    """The mechanism with the ``active:`` conditions of these kinds removed."""
+    d = copy.deepcopy(doc)
+    for load in d.get("loads", {}).values():
+        load["active"] = [c for c in load.get("active", []) if not any(k in c for k in kinds)]
+        if not load["active"]:
+            load.pop("active")
+    return d
+
+
+def has_conditions(doc, kinds=("moving", "travel")):
+    return any(k in c for load in doc.get("loads", {}).values() for c in load.get("active", [])
+               for k in kinds)
+
+
+RELATIONS = {
+    "subset": relation_subset, "rigid": relation_rigid, "units": relation_units,
+    "mirror": relation_mirror, "power": relation_power, "power_fd": relation_power_fd,
+    "balance_at": relation_balance_at, "sketch": relation_sketch, "grid": relation_grid,
+    "derivatives": relation_derivatives, "energy": relation_energy,
+}
+
+
+DEFECT_1 = "defect 1: a partial analysis searches travel-band extremes among the sampled rows only"
+NEW_DEFECT_REFINE = ("new defect (net-1): analysis._refine, the Newton iteration on t that locates travel "
+                     "extremes and load-switching events, is not bracketed; it can leave its interval and "
+                     "raise AssemblyError ('driven link {crank} cannot assemble ... Newton did not converge "
+                     "from the given guess') on a mechanism that runs without moving/travel conditions")
+
+
+def explain(relation: str, doc: dict, seed: int, failure) -> str | None:
+    """A known defect that explains a failure of a relation, or None.
+
+    Checked only after a failure, by re-running the relation on the same
+    mechanism without some ``active:`` conditions: an AssemblyError that goes
+    away without the ``moving``/``travel`` conditions is the refinement defect;
+    a wrong number in the subset or grid relation that goes away without the
+    ``travel`` conditions is defect 1."""
+    import kinetostatics as ks
+    if isinstance(failure, ks.AssemblyError):
+        kinds, reason = ("moving", "travel"), NEW_DEFECT_REFINE
+    elif failure is None and relation in ("subset", "grid"):
+        kinds, reason = ("travel",), DEFECT_1
+    else:
+        return None
+    if not has_conditions(doc, kinds):
+        return None
+    try:
+        value = RELATIONS[relation](without_conditions(doc, kinds), seed)
+    except Exception:                 # noqa: BLE001
+        return None
+    if value is not None and value > TOLERANCE[relation]:
+        return None
+    return reason

@@ -1,0 +1,25 @@
+"""Hypothesis strategies over the generated mechanisms (tests/net/generate.py)."""
+
+from __future__ import annotations
+
+from hypothesis import strategies as st
+
+from . import generate as G
+
+
+@st.composite
+def mechanisms(draw, seeds=st.integers(min_value=0, max_value=2**31 - 1)):
+    """An accepted random mechanism (an SI YAML-like dict) and its seed."""
+    seed = draw(seeds)
+    return seed, G.generate(seed)
+
+
+@st.composite
+def mechanisms_in_units(draw, seeds=st.integers(min_value=0, max_value=2**31 - 1)):
+    """A generated mechanism and the same one written in random length/angle/speed
+    units: ``(seed, si_doc, doc_in_units)``."""
+    seed, doc = draw(mechanisms(seeds))
+    length = draw(st.sampled_from(sorted(G.LENGTH_UNITS)))
+    angle = draw(st.sampled_from(sorted(G.ANGLE_UNITS)))
+    speed = draw(st.sampled_from(sorted(G.SPEED_UNITS)))
+    return seed, doc, G.in_units(doc, length, angle, speed)

@@ -1,0 +1,36 @@
+"""Minimal reproducers of defects the verification net found (docs/verification.md)."""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+import kinetostatics as ks
+
+from . import relations as R
+from .test_invariants import NEW_DEFECT_REFINE
+
+CASES = Path(__file__).resolve().parent / "cases"
+
+
+def _analyze(doc):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return ks.analyze(ks.loads(yaml.safe_dump(doc)), friction=False)
+
+
+def test_refine_case_runs_without_its_switching_conditions():
+    doc = yaml.safe_load((CASES / "refine_jumps.yaml").read_text(encoding="utf-8"))
+    res = _analyze(R.without_conditions(doc))
+    assert len(res["angle"]) == 12 and np.all(np.isfinite(res["motor.torque"]))
+
+
+@pytest.mark.xfail(reason=NEW_DEFECT_REFINE, strict=False)
+def test_refine_case_with_its_switching_conditions():
+    doc = yaml.safe_load((CASES / "refine_jumps.yaml").read_text(encoding="utf-8"))
+    res = _analyze(doc)
+    assert len(res["angle"]) == 12 and np.all(np.isfinite(res["motor.torque"]))
