@@ -335,19 +335,36 @@ def relation_power(doc, seed, n=12):
     res = analyze(doc, positions=grid(doc, n))
     scale = max(np.max(np.abs(res["power.input"])), np.max(np.abs(res["power.kinetic"])),
                 np.max(np.abs(res["power.potential"])), np.max(np.abs(res["power.external"])), 1e-12)
-    w = speed(doc)
+    w = effort_speed(doc, res)
     worst = float(np.max(np.abs(res["power.input"] - res["power.kinetic"] - res["power.potential"]
                                 - res["power.external"]))) / scale
+    if w is None:                         # the effort at a slide: power.input is the check
+        return worst
     worst = max(worst, float(np.max(np.abs(res["motor.torque"] * w - res["power.input"]))) / scale)
     if "power.friction" in res.names and "motor.torque_friction" in res.names:
         ok = np.isfinite(res["motor.torque_friction"])
-        pin_f = res["motor.torque_friction"][ok] * w
+        pin_f = res["motor.torque_friction"][ok] * w[ok]
         bal = (pin_f - res["power.kinetic"][ok] - res["power.potential"][ok] - res["power.external"][ok]
                - res["power.friction"][ok])
         worst = max(worst, float(np.max(np.abs(bal), initial=0.0)) / scale)
         if np.any(res["power.friction"][ok] < -1e-9 * scale):
             worst = math.inf
     return worst
+
+
+def effort_speed(doc, res):
+    """The relative angular speed of the joint that carries the motor's effort, per row,
+    from the links' ω columns (the driver's own joint, or ``balance_at``); None for a
+    joint that does not turn (a slide)."""
+    joint = doc["drivers"]["motor"].get("balance_at", doc["drivers"]["motor"]["joint"])
+    spec = doc["joints"][joint]
+    if spec["type"] != "revolute":
+        return None
+    ground = doc.get("ground", "ground")
+    li, lj = spec["links"][:2]
+    omega = [np.zeros(len(res)) if name == ground else np.asarray(res[f"{name}.omega"])
+             for name in (li, lj)]
+    return omega[1] - omega[0]
 
 
 def kinetic_energy(doc, res):
