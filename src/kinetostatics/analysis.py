@@ -149,15 +149,23 @@ def _condition_rate(system: System, c: Condition, q, qd, qdd, psi, extremes):
     return pos @ c.axis - extremes[id(c)], vel @ c.axis
 
 
-def _refine(system, drive, f, t0, tn, qn, qdn, qddn, max_iter=12):
+def _refine(system, drive, f, t0, tn, qn, qdn, qddn, max_iter=12, bracket=None):
     """Newton on t for f(state) = 0, all roots at once.
 
     ``t0 (k,)`` first guesses, ``tn`` and ``qn``/``qdn``/``qddn`` the solved
-    samples nearest to each (same branch).  Returns the roots ``(k,)``.
+    samples nearest to each (same branch).  ``bracket``, optional, is
+    ``(lo, hi, sign_lo)``: each root lies in [lo, hi], where f has the sign
+    ``sign_lo`` at lo and the other at hi; a Newton step that would leave the
+    bracket (which shrinks with every evaluation) is replaced by bisection, so
+    the iteration never wanders to another part of the motion.  Returns the
+    roots ``(k,)`` and their states.
     """
     t = np.array(t0, dtype=float)
     live = np.ones(t.shape, dtype=bool)
     states = [qn.copy(), qdn.copy(), qddn.copy()]
+    if bracket is not None:
+        lo, hi, sign_lo = (np.array(x, dtype=float) for x in bracket)
+        max_iter = max(max_iter, 64)            # bisection halves the bracket each time
     for _ in range(max_iter):
         if not live.any():
             break
@@ -167,8 +175,20 @@ def _refine(system, drive, f, t0, tn, qn, qdn, qddn, max_iter=12):
             store[idx] = new
         g, dg = f(q, qd, qdd)
         dt = np.divide(-g, dg, out=np.zeros_like(g), where=dg != 0)
-        t[idx] += dt
-        live[idx[(np.abs(dt) <= 1e-14 * np.maximum(np.abs(t[idx]), 1.0)) | (dg == 0)]] = False
+        tol = 1e-14 * np.maximum(np.abs(t[idx]), 1.0)
+        done = (np.abs(dt) <= tol) | (g == 0)
+        if bracket is None:
+            done |= dg == 0
+            t[idx] += dt
+        else:
+            below = np.sign(g) == sign_lo[idx]
+            lo[idx] = np.where(below, t[idx], lo[idx])
+            hi[idx] = np.where(below, hi[idx], t[idx])
+            step = t[idx] + dt
+            out = ~((step > lo[idx]) & (step < hi[idx])) | (dg == 0)
+            done |= hi[idx] - lo[idx] <= tol
+            t[idx] = np.where(done, t[idx], np.where(out, 0.5 * (lo[idx] + hi[idx]), step))
+        live[idx[done]] = False
     return t, states
 
 
@@ -192,7 +212,9 @@ def _find_roots(system, drive, t, q, qd, qdd, fvals, f, full, period_t):
     tn = t[n] + np.where(near_b, wrap, 0.0)
     with np.errstate(invalid="ignore", divide="ignore"):
         guess = np.where(fa == 0.0, ts[a], ts[a] + (tb - ts[a]) * fa / (fa - fb))
-    roots, states = _refine(system, drive, f, guess, tn, q[n], qd[n], qdd[n])
+    sign_a = np.where(fa == 0.0, -np.sign(fb), np.sign(fa))
+    roots, states = _refine(system, drive, f, guess, tn, q[n], qd[n], qdd[n],
+                            bracket=(ts[a], tb, sign_a))
     return (np.mod(roots, period_t) if full else roots), states
 
 
@@ -314,15 +336,17 @@ def travel_extremes(system: System, sched: Schedule | None = None) -> dict:
         idx = np.nonzero(low)[0]
         near = np.abs(turning[:, None] - t[None, :]).argmin(axis=1) if turning.size else idx[:0]
         best = float(s.min())
+        v = point_state(q, qd, None, k, p)[1] @ c.axis
         for t_start, b in zip(np.concatenate((t[idx], turning)), np.concatenate((idx, near))):
             sl = slice(b, b + 1)
 
             def f(a, bb, cc, ax=c.axis, kk=k, pp=p):
                 _, v, acc = point_state(a, bb, cc, kk, pp)
                 return v @ ax, acc @ ax
+            bracket = (_minimum_bracket(t, v, b, step, periodic) if t_start == t[b] else None)
             try:
                 tm, (qm, _, _) = _refine(system, drive, f, np.array([t_start]), t[sl], q[sl],
-                                         qd[sl], qdd[sl])
+                                         qd[sl], qdd[sl], bracket=bracket)
             except AssemblyError:   # Newton left the reachable poses: keep the samples
                 continue
             sm = float(point_state(qm, qm, None, k, p)[0][0] @ c.axis)
@@ -332,6 +356,24 @@ def travel_extremes(system: System, sched: Schedule | None = None) -> dict:
         out[id(c)] = best
     m.extremes = out
     return dict(out)
+
+
+def _minimum_bracket(t, v, b, step, periodic):
+    """([lo], [hi], [−1]) around the sampled minimum ``b`` of a position whose rate is
+    ``v``: the sample interval beside it where v turns from negative to positive, or
+    None where the samples show no such turn (the refinement then stays unbracketed)."""
+    n = len(t)
+    if v[b] == 0.0:
+        return None
+    if v[b] > 0.0:                  # the minimum lies before the sample
+        a = b - 1
+        if a < 0 and not periodic or v[a % n] >= 0.0:
+            return None
+        return np.array([t[b] - step]), np.array([t[b]]), np.array([-1.0])
+    a = b + 1
+    if a >= n and not periodic or v[a % n] <= 0.0:
+        return None
+    return np.array([t[b]]), np.array([t[b] + step]), np.array([-1.0])
 
 
 def _extremes_and_events(system, drive, sched, t, q, qd, qdd, full, states=False):

@@ -46,17 +46,15 @@ def check_one(args):
         if name == "energy" and not energy:
             continue
         R.WORST[:] = [0.0, ""]
-        failure = None
         try:
             v = rel(doc, seed)
             col = R.WORST[1]
         except Exception as exc:      # noqa: BLE001
-            v, col, failure = math.inf, f"{type(exc).__name__}: {str(exc)[:120]}", exc
-        known = None
+            v, col = math.inf, f"{type(exc).__name__}: {str(exc)[:120]}"
+        hint = None
         if v is not None and not v <= R.TOLERANCE[name]:
-            known = R.explain(name, doc, seed, failure)
-            known = known.split(":")[0] if known else None
-        out["results"][name] = (v, col, known)
+            hint = R.diagnose(name, doc, seed)
+        out["results"][name] = (v, col if hint is None else f"{col} [{hint}]")
     return out
 
 
@@ -71,7 +69,7 @@ def main(argv=None):
     _setup()
     import relations as R
     jobs = [(a.first_seed + k, k % a.energy_every == 0) for k in range(a.mechanisms)]
-    stats = {n: {"checked": 0, "failed": 0, "known": 0, "na": 0, "max": 0.0, "seeds": []}
+    stats = {n: {"checked": 0, "failed": 0, "na": 0, "max": 0.0, "seeds": []}
              for n in R.RELATIONS}
     generated = rejected = errors = 0
     t0 = time.time()
@@ -82,25 +80,21 @@ def main(argv=None):
             else:
                 generated += 1
                 rejected += out["rejected"]
-            for name, (v, col, known) in out["results"].items():
+            for name, (v, col) in out["results"].items():
                 s = stats[name]
                 if v is None:
                     s["na"] += 1
                     continue
                 s["checked"] += 1
-                if known:
-                    s["known"] += 1
-                    s["seeds"].append((out["seed"], v, f"[{known}] {col}"))
-                elif v > R.TOLERANCE[name] or not math.isfinite(v):
+                if v > R.TOLERANCE[name] or not math.isfinite(v):
                     s["failed"] += 1
                     s["seeds"].append((out["seed"], v, col))
                 elif v > s["max"]:
                     s["max"] = v
             if k % 10 == 0 or k == len(jobs):
                 el = time.time() - t0
-                print(f"\r{k}/{len(jobs)} mechanisms, {el:.0f} s, unexplained failures "
-                      f"{sum(s['failed'] for s in stats.values())}, known defects "
-                      f"{sum(s['known'] for s in stats.values())}", end="", flush=True)
+                print(f"\r{k}/{len(jobs)} mechanisms, {el:.0f} s, failures "
+                      f"{sum(s['failed'] for s in stats.values())}", end="", flush=True)
     print()
     lines = [BEGIN, "",
              f"Last long run: `python tests/net/long_run.py --mechanisms {a.mechanisms}` "
@@ -108,15 +102,14 @@ def main(argv=None):
              f"on {a.workers} workers).", "",
              f"- mechanisms generated: {generated}; candidates rejected on the way: {rejected}; "
              f"seeds without an acceptable mechanism: {errors}", "",
-             "| relation | checked | not applicable | failed, a known defect | failed, unexplained "
+             "| relation | checked | not applicable | failed "
              "| largest discrepancy among the passing | tolerance |",
-             "|---|---|---|---|---|---|---|"]
+             "|---|---|---|---|---|---|"]
     for name, s in stats.items():
-        lines.append(f"| {name} | {s['checked']} | {s['na']} | {s['known']} | {s['failed']} | "
+        lines.append(f"| {name} | {s['checked']} | {s['na']} | {s['failed']} | "
                      f"{s['max']:.2g} | {R.TOLERANCE[name]:g} |")
     fails = [(n, seed, v, col) for n, s in stats.items() for seed, v, col in s["seeds"]]
-    fails.sort(key=lambda f: f[3].startswith("["))            # the unexplained first
-    lines += ["", "Failures (relation, seed, discrepancy, [known defect] worst column or error):"
+    lines += ["", "Failures (relation, seed, discrepancy, worst column or error [hint]):"
               if fails else "Failures: none.", ""]
     for n, seed, v, col in fails[:60]:
         lines.append(f"- {n}, seed {seed}: {v:.3g} — {col}")

@@ -574,34 +574,17 @@ RELATIONS = {
 }
 
 
-DEFECT_1 = "defect 1: a partial analysis searches travel-band extremes among the sampled rows only"
-NEW_DEFECT_REFINE = ("new defect (net-1): analysis._refine, the Newton iteration on t that locates travel "
-                     "extremes and load-switching events, is not bracketed; it can leave its interval and "
-                     "raise AssemblyError ('driven link {crank} cannot assemble ... Newton did not converge "
-                     "from the given guess') on a mechanism that runs without moving/travel conditions")
-
-
-def explain(relation: str, doc: dict, seed: int, failure) -> str | None:
-    """A known defect that explains a failure of a relation, or None.
-
-    Checked only after a failure, by re-running the relation on the same
-    mechanism without some ``active:`` conditions: an AssemblyError that goes
-    away without the ``moving``/``travel`` conditions is the refinement defect;
-    a wrong number in the subset or grid relation that goes away without the
-    ``travel`` conditions is defect 1."""
-    import kinetostatics as ks
-    if isinstance(failure, ks.AssemblyError):
-        kinds, reason = ("moving", "travel"), NEW_DEFECT_REFINE
-    elif failure is None and relation in ("subset", "grid"):
-        kinds, reason = ("travel",), DEFECT_1
-    else:
-        return None
-    if not has_conditions(doc, kinds):
-        return None
-    try:
-        value = RELATIONS[relation](without_conditions(doc, kinds), seed)
-    except Exception:                 # noqa: BLE001
-        return None
-    if value is not None and value > TOLERANCE[relation]:
-        return None
-    return reason
+def diagnose(relation: str, doc: dict, seed: int) -> str | None:
+    """A hint for triaging a failure of a relation (the long run prints it beside the
+    failure): whether the relation passes on the same mechanism without its ``moving`` or
+    ``travel`` load conditions (a fault in locating switches and extremes), or None."""
+    for kinds in (("travel",), ("moving", "travel")):
+        if not has_conditions(doc, kinds):
+            continue
+        try:
+            value = RELATIONS[relation](without_conditions(doc, kinds), seed)
+        except Exception:             # noqa: BLE001
+            continue
+        if value is None or value <= TOLERANCE[relation]:
+            return f"passes without its {'/'.join(kinds)} conditions"
+    return None
