@@ -172,7 +172,7 @@ def design(source: Result | Model | System, delta: float | None = None, *,
     if delta is None:
         raise ValueError("no delta: give flywheel: {delta: ...} in the file or delta=")
     from ._checks import real_number
-    delta = real_number("delta", delta, low=0.0, high=1.0, strict_low=True,
+    delta = real_number("delta", delta, low=0.0, high=1.0, strict_low=True, strict_high=True,
                         why="the coefficient of speed fluctuation")
     if ratio is not None:
         ratio = real_number("ratio", ratio, low=0.0, strict_low=True)
