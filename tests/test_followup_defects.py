@@ -49,3 +49,43 @@ def test_flywheel_delta_below_one_as_in_a_file(delta):
     model = ks.load(ROOT / "mechanisms" / "slider_crank.yaml")
     with pytest.raises(ValueError, match="delta"):
         flywheel.design(model, delta=delta)
+
+
+# -- 7. batch rows: balance_at at a prismatic joint, self-locked zones ------------------------
+
+SLIDER_DRIVEN = ROOT / "tests" / "hard" / "slider_crank_slider_driven.yaml"
+A_SC, B_SC = 100.0, 350.0
+
+
+def _locking_edge_deg(rho_o=1.5, rho_a=1.2, rho_b=1.0) -> float:
+    """Upper edge of the friction-circle locked zone around crank 0° of the slider-driven
+    slider-crank (closed form, see tests/test_singular_rows.py); the lower is its negative."""
+    g = np.arcsin((rho_o + rho_a) / A_SC) + np.arcsin((rho_a + rho_b) / B_SC)
+    return float(np.degrees(np.arctan2(B_SC * np.sin(g), A_SC + B_SC * np.cos(g))))
+
+
+def test_batch_row_of_a_slide_balanced_driver():
+    from kinetostatics.variants import summary_row
+    text = SLIDER_DRIVEN.read_text().replace("positions: 360", "positions: 36")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = ks.analyze(ks.loads(text, file="slider_driven_36.yaml"))
+    row = summary_row(r)
+    # the effort is a force at the slide: its peak is the largest |force| of the rows
+    assert row["motor.force_peak"] == pytest.approx(np.nanmax(np.abs(r["motor.force"])))
+    assert row["motor.force_friction_peak"] == pytest.approx(
+        np.nanmax(np.abs(r["motor.force_friction"])))
+    assert "motor.torque_peak" not in row
+    # input work over the cycle by the slide: Σ F·ẋ_B (ẋ_B = the slider's vx)
+    f, ff, v = r["motor.force"], r["motor.force_friction"], r["slider.vx"]
+    both = np.isfinite(f) & np.isfinite(ff)
+    assert row["motor.efficiency_cycle"] == pytest.approx(
+        np.sum((f * v)[both]) / np.sum((ff * v)[both]), rel=1e-9)
+    # the zones with located edges: one zone across 0° (closed form ±1.4835°), and the
+    # dead centre at 180°, not grid rows
+    e = _locking_edge_deg()
+    zones = [tuple(float(x) for x in z.split("–")) for z in row["friction.self_locking"].split("; ")]
+    assert len(zones) == 2
+    assert zones[0][0] == pytest.approx(360.0 - e, abs=1e-6)
+    assert zones[0][1] == pytest.approx(e, abs=1e-6)
+    assert zones[1] == pytest.approx((180.0, 180.0), abs=1e-6)
