@@ -89,3 +89,36 @@ def test_batch_row_of_a_slide_balanced_driver():
     assert zones[0][0] == pytest.approx(360.0 - e, abs=1e-6)
     assert zones[0][1] == pytest.approx(e, abs=1e-6)
     assert zones[1] == pytest.approx((180.0, 180.0), abs=1e-6)
+
+
+# -- 6. a crank that cannot fully turn: its limit is a fold, not a change point ---------------
+
+def _non_grashof_fourbar() -> ks.Model:
+    """tests/hard/fourbar_change_point.yaml with coupler 2.4 (crank 1, ground 3, rocker 1.5):
+    1 + 3 > 2.4 + 1.5, the crank stops where coupler and rocker stretch out in line."""
+    text = (ROOT / "tests" / "hard" / "fourbar_change_point.yaml").read_text()
+    text = text.replace("B: [2.5, 0]}, com: [1.25", "B: [2.4, 0]}, com: [1.2")
+    return ks.loads(text, file="fourbar_limit.yaml")
+
+
+def _limit_deg() -> float:
+    """|OA − D|² = a² + d² − 2ad cos φ = (b + c)²  (a = 1, d = 3, b + c = 3.9)."""
+    return float(np.degrees(np.arccos((1.0 + 9.0 - 3.9 ** 2) / 6.0)))
+
+
+def test_limit_position_reports_the_reachable_range():
+    lim = _limit_deg()                                        # 150.2655°
+    with pytest.raises(ks.AssemblyError) as info:
+        ks.analyze(_non_grashof_fourbar())
+    exc = info.value
+    assert not isinstance(exc, ks.SingularConfigurationError)
+    assert "reachable range" in str(exc) and "reachable=True" in str(exc)
+    lo, hi = np.degrees(exc.reachable)
+    assert hi == pytest.approx(lim, abs=1e-4)                 # forwards from 90°
+    assert lo == pytest.approx(-lim, abs=1e-4)                # backwards through 0°
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = ks.analyze(_non_grashof_fourbar(), reachable=True)
+    span = 2 * lim
+    assert (r["travel"][-1] - r["travel"][0]) == pytest.approx(span, rel=1e-5)
+    assert r.checks.constraints.ok and r.checks.power.ok
