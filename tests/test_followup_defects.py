@@ -122,3 +122,42 @@ def test_limit_position_reports_the_reachable_range():
     span = 2 * lim
     assert (r["travel"][-1] - r["travel"][0]) == pytest.approx(span, rel=1e-5)
     assert r.checks.constraints.ok and r.checks.power.ok
+
+
+# -- 5. positions behind the start of a crank that cannot turn fully --------------------------
+
+ROCKER = ROOT / "tests" / "hard" / "crank_rocker_reversed.yaml"   # driven at the rocker D
+
+
+def _crank_angle_deg(rocker_deg: float, near_deg: float) -> float:
+    """The four-bar of crank_rocker_reversed.yaml driven at its rocker (O = 0, D = (3, 0),
+    OA = 1, AB = 3.2, DB = 2.5): A is where the circles about O (1) and B (3.2) meet, the
+    one nearer the crank angle ``near_deg`` (the sketch's branch, continued)."""
+    b = np.array([3.0, 0.0]) + 2.5 * np.array([np.cos(np.radians(rocker_deg)),
+                                               np.sin(np.radians(rocker_deg))])
+    d = np.hypot(*b)
+    base = np.arctan2(b[1], b[0])
+    off = np.arccos((1.0 + d * d - 3.2 ** 2) / (2.0 * d))
+    cands = np.degrees([base + off, base - off])
+    return float(min(cands, key=lambda c: abs((c - near_deg + 180.0) % 360.0 - 180.0)))
+
+
+def test_positions_behind_the_start_of_a_rocker():
+    model = ks.load(ROCKER)                        # start 100°, CCW, swings between toggles
+    r = ks.analyze(model, positions=np.radians([95.0, 100.0, 130.0, -265.0]))
+    np.testing.assert_allclose(r["angle"], [95.0, 100.0, 130.0, 95.0], atol=1e-9)
+    crank0 = _crank_angle_deg(100.0, 105.0)                  # the sketch: A at (−0.45, 0.9)...
+    start = ks.analyze(model, positions=np.radians([100.0]))["crank.theta"][0]
+    assert start % 360.0 == pytest.approx(crank0 % 360.0, abs=1e-9)
+    for row, rocker in ((0, 95.0), (2, 130.0), (3, 95.0)):
+        # the branch continued from the start: the nearer intersection to the start's crank
+        want = _crank_angle_deg(rocker, crank0)
+        assert r["crank.theta"][row] % 360.0 == pytest.approx(want % 360.0, abs=1e-8)
+    # the row 5° behind is reached running backwards: 5° at 30 rpm before the start
+    assert r["time"][1] - r["time"][0] == pytest.approx(np.radians(5.0) / np.pi, rel=1e-12)
+    assert r.checks.constraints.ok and r.checks.power.ok
+
+
+def test_positions_out_of_reach_either_way_name_the_range():
+    with pytest.raises(ks.AssemblyError, match="reachable range"):
+        ks.analyze(ks.load(ROCKER), positions=np.radians([250.0]))

@@ -509,8 +509,14 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
         t, full = _checked_times(system, sched, times), False
     else:
         t, full = _times(system, sched, positions)
-    if positions is None and times is None and model.analysis.at:
-        t = np.sort(t, kind="stable")                 # `at` rows take their place in the run
+    # rows given as driver coordinates (positions=, `at`), placed a turn ahead by _times
+    given = np.zeros(len(t), dtype=bool)
+    if positions is not None:
+        given[:] = True
+    elif times is None and model.analysis.at:
+        given[len(t) - len(model.analysis.at):] = True
+        order = np.argsort(t, kind="stable")          # `at` rows take their place in the run
+        t, given = t[order], given[order]
     closing = full and sched.law is not None     # one period of the law: does the pose repeat?
     try:
         sol: PositionSolution = solve_positions(system, np.append(t, sched.law.duration)
@@ -518,25 +524,16 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
     except AssemblyError as exc:
         if sched.law is not None:
             raise _law_out_of_reach(system, sched, exc) from None
-        if isinstance(exc, SingularConfigurationError) or positions is not None or times is not None:
+        if isinstance(exc, SingularConfigurationError) or times is not None:
             raise
-        try:
-            lo, hi = reachable_range(system, sched, float(np.max(t)) + 1e-9)
-        except AssemblyError:
-            raise exc from None                        # not even the start assembles
-        if not reachable:
-            exc.reachable = tuple(sched(np.array([lo, hi]))[0][:, 0])
-            exc.args = (f"{exc.args[0]}; the reachable range is {_range_text(system, sched, lo, hi)}"
-                        " (analyze(..., reachable=True) analyses it)",)
+        behind = (_positions_behind(system, sched, t, given, exc, sort=positions is None)
+                  if given.any() else None)
+        if behind is not None:
+            t, sol = behind
+        elif positions is not None:
             raise
-        margin = 1e-6 * (hi - lo)                      # the limits themselves are singular
-        t = np.linspace(lo + margin, hi - margin, model.analysis.positions)
-        full = False
-        sol = solve_positions(system, t, sched)
-        plan = next(p for p in system.plans if p.group.label == exc.group)
-        for k, tk in ((0, lo), (-1, hi)):             # the limit positions are singular positions
-            sol.singular.append(Singularity(exc.group, tk, float(sched(np.array([tk]))[0][0, 0]),
-                                            float(group_condition(system, sol.q[k], plan))))
+        else:
+            t, sol, full = _reachable_run(system, sched, t, exc, reachable)
     if closing:
         full = _same_pose(system, sol.q[-1], sol.q[0])
         sol = replace(sol, q=sol.q[:-1], signatures=sol.signatures[:-1], iterations=sol.iterations[:-1])
@@ -578,6 +575,69 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
     return Result(system=system, t=t, coordinate=psi[..., 0], q=q, qd=qd, qdd=qdd, lam=x0,
                   columns=columns, units=units, events=tuple(evts), singular=tuple(sol.singular),
                   indeterminate=kin.indeterminate, full_cycle=full, extremes=extremes)
+
+
+def _reachable_run(system: System, sched: Schedule, t: np.ndarray, exc: AssemblyError,
+                   reachable: bool):
+    """The run of a crank that cannot follow the sweep: ``exc`` with the reachable range
+    added, or (``reachable``) (t, solution, full) over that range."""
+    try:
+        lo, hi = reachable_range(system, sched, float(np.max(t)) + 1e-9)
+    except AssemblyError:
+        raise exc from None                        # not even the start assembles
+    if not reachable:
+        exc.reachable = tuple(sched(np.array([lo, hi]))[0][:, 0])
+        exc.args = (f"{exc.args[0]}; the reachable range is {_range_text(system, sched, lo, hi)}"
+                    " (analyze(..., reachable=True) analyses it)",)
+        raise exc
+    margin = 1e-6 * (hi - lo)                      # the limits themselves are singular
+    t = np.linspace(lo + margin, hi - margin, system.model.analysis.positions)
+    sol = solve_positions(system, t, sched)
+    plan = next(p for p in system.plans if p.group.label == exc.group)
+    for k, tk in ((0, lo), (-1, hi)):             # the limit positions are singular positions
+        sol.singular.append(Singularity(exc.group, tk, float(sched(np.array([tk]))[0][0, 0]),
+                                        float(group_condition(system, sol.q[k], plan))))
+    return t, sol, False
+
+
+def _positions_behind(system: System, sched: Schedule, t: np.ndarray, given: np.ndarray,
+                      exc: AssemblyError, sort: bool):
+    """Rows given as driver coordinates (``positions=``, ``at``) for a constant-speed crank
+    that cannot turn fully: ``_times`` placed them up to a turn ahead of the start, where
+    the linkage does not reach; a coordinate behind the start is reached running
+    backwards on the same branch (a negative time).  Each given row beyond the reachable
+    range [lo, hi] is moved a turn back when that lands inside it (otherwise to whichever
+    of the two is nearer the start).  Returns (t, solution), sorted by time if ``sort``,
+    or None where that does not apply (a full-turn crank, a prismatic driver); raises
+    ``exc`` with the reachable range when a given row lies outside it either way."""
+    if not system.motion_drivers[0].joint.angular or len(system.motion_drivers) != 1:
+        return None
+    period = 2 * np.pi / sched.reference
+    try:
+        lo, hi = reachable_range(system, sched, period)
+    except AssemblyError:
+        return None
+    if hi - lo >= period:
+        return None                                # it turns fully: the failure is elsewhere
+    tol = 1e-12 * period
+    inside = lambda x: (x >= lo - tol) & (x <= hi + tol)      # noqa: E731
+    back = t - period
+    move = given & ~inside(t) & (inside(back) | (~inside(back) & (np.abs(back) < np.abs(t))))
+    t = np.where(move, back, t)
+    if np.any(~given & ~inside(t)):
+        return None                                # the grid itself leaves the range
+    if np.any(given & ~inside(t)):
+        k = int(np.argmax(given & ~inside(t)))
+        far = float(sched(t[k:k + 1])[0][0, 0])
+        exc.reachable = tuple(sched(np.array([lo, hi]))[0][:, 0])
+        exc.args = (f"{system.motion_drivers[0].name} = {np.degrees(far) % 360:.6g}° is out of "
+                    f"reach ({exc.args[0]}); the reachable range is "
+                    f"{_range_text(system, sched, lo, hi)}, running forwards or backwards from "
+                    "analysis.start",)
+        raise exc
+    if sort:
+        t = np.sort(t, kind="stable")
+    return t, solve_positions(system, t, sched)
 
 
 def _checked_positions(system: System, positions) -> np.ndarray:
