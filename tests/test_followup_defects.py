@@ -161,3 +161,44 @@ def test_positions_behind_the_start_of_a_rocker():
 def test_positions_out_of_reach_either_way_name_the_range():
     with pytest.raises(ks.AssemblyError, match="reachable range"):
         ks.analyze(ks.load(ROCKER), positions=np.radians([250.0]))
+
+
+# -- 1. effort at a joint (nearly) at rest: flagged, or exact to the power balance ------------
+
+JAW = ROOT / "mechanisms" / "jaw_crusher.yaml"
+OMEGA_CRANK = 250.0 * np.pi / 30.0                 # rad/s (the crank's -250 rpm)
+
+
+@pytest.mark.parametrize("joint, link", [("O3", "rear"), ("O2", "jaw")])
+def test_effort_at_a_pivot_where_the_jaw_reverses(joint, link):
+    text = JAW.read_text().replace("balance_at: Om", f"balance_at: {joint}")
+    model = ks.loads(text, file=f"jaw_crusher_{joint}.yaml")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        coarse = ks.loads(text.replace("positions: 360", "positions: 12"), file="coarse.yaml")
+        events = ks.analyze(coarse, friction=False).events
+        reversal = [e.coordinate for e in events]          # the jaw's speed is zero there
+        assert len(reversal) == 2
+        rows = [c + d for c in reversal
+                for d in (-1e-3, -1e-5, -1e-7, -1e-9, -1e-12, 0.0, 1e-12, 1e-9, 1e-7, 1e-5, 1e-3)]
+        r = ks.analyze(model, positions=rows)
+    effort = r["motor.torque"]
+    # the pivot's relative speed is the link's ω (the other link is the ground)
+    ratio = np.abs(r[f"{link}.omega"]) / OMEGA_CRANK
+    flagged = np.isnan(effort)
+    assert flagged.any() and (~flagged).any()
+    # every row whose pivot moves by more than 1e-7 of the crank is computed, the others
+    # are flagged: NaN, a singular 'equilibrium' position, friction.status 2
+    np.testing.assert_array_equal(flagged, ratio <= 1e-7)
+    singular_t = sorted(s.t for s in r.singular if s.group == "equilibrium")
+    np.testing.assert_allclose(singular_t, np.sort(r.t[flagged]), atol=1e-12)
+    assert (r["friction.status"][flagged] == 2).all()
+    # the power balance (virtual power, independent of the reactions' equations) on every
+    # computed row: τ·ω_pivot = dT/dt + dV/dt + P_ext, to 1e-9 of the loads' power there
+    scale = np.max(np.abs([r["power.kinetic"], r["power.potential"], r["power.external"]]),
+                   axis=0)
+    tau_w = effort * r[f"{link}.omega"]
+    balance = r["power.kinetic"] + r["power.potential"] + r["power.external"]
+    ok = ~flagged
+    assert np.all(np.abs(tau_w[ok] - balance[ok]) <= 1e-9 * scale[ok])
+    assert r.checks.power.ok and r.checks.power_friction.ok

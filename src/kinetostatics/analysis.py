@@ -19,8 +19,8 @@ from .forces import angle_band, external_forces, gravity_forces, inertia_forces,
 from .model import Condition, Model, MotionLaw
 from .positions import (PositionSolution, Singularity, condition_number, derivatives,
                         group_condition, reachable_range, solve_positions, state_at)
-from .reactions import (effort_joints, equilibrium_matrix, ground_reaction, invert_equilibrium,
-                        solve_equilibrium)
+from .reactions import (EFFORT_SPEED_TOL, effort_joints, effort_speed_ratio, equilibrium_matrix,
+                        ground_reaction, invert_equilibrium, solve_equilibrium)
 from .results import Result, build_columns
 from .system import System, build_system
 
@@ -883,6 +883,11 @@ def kinetics(system: System, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, psi
         a = equilibrium_matrix(system, q)
         if a.shape[-1] == a.shape[-2]:            # singular positions: NaN rows, the rest intact
             a_inv, singular, condition = invert_equilibrium(a, system.l_ref)
+            if not own_efforts and len(system.motion_drivers) == 1:
+                # the effort's joint (nearly) at rest: no effort to round-off accuracy there
+                near = effort_speed_ratio(system, q, qd) <= EFFORT_SPEED_TOL
+                singular |= near
+                a_inv[near] = np.nan
             bad = ~np.isfinite(a_inv[..., 0, 0])
             x0 = np.linalg.solve(np.where(bad[..., None, None], np.eye(a.shape[-1]), a),
                                  -q_load[..., None])[..., 0]
