@@ -88,7 +88,11 @@ def test_batch_row_of_a_slide_balanced_driver():
     assert len(zones) == 2
     assert zones[0][0] == pytest.approx(360.0 - e, abs=1e-6)
     assert zones[0][1] == pytest.approx(e, abs=1e-6)
-    assert zones[1] == pytest.approx((180.0, 180.0), abs=1e-6)
+    # 180°: the dead centre and the rows where the slide's speed per unit crank speed,
+    # ≈ a δ (1 − a/b)/L_ref (L_ref = b), is at most EFFORT_SPEED_TOL (no effort there)
+    from kinetostatics.reactions import EFFORT_SPEED_TOL
+    half = np.degrees(EFFORT_SPEED_TOL * B_SC / (A_SC * (1 - A_SC / B_SC)))
+    assert zones[1] == pytest.approx((180.0 - half, 180.0 + half), abs=1e-6)
 
 
 # -- 6. a crank that cannot fully turn: its limit is a fold, not a change point ---------------

@@ -897,6 +897,9 @@ def kinetics(system: System, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, psi
         else:
             x0, indeterminate = solve_equilibrium(a, -q_load)
     fric = None
+    if friction and model.has_friction and a.shape[-1] != a.shape[-2]:
+        raise StructureError([(Location(model.source, path="joints"),
+                               _not_square(system, a))])
     if friction and model.has_friction:
         fs = fr.setup(system, q, qd, ref_speed)
         if lu is not None and own_efforts:
@@ -926,6 +929,46 @@ def kinetics(system: System, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, psi
         power["residual_friction"] = (power["input_friction"] - power["kinetic"] - power["potential"]
                                       - power["external"] - loss)
     return Kinetics(q_grav, q_inert, q_ext, a, x0, indeterminate, fric, power, singular, condition)
+
+
+def _not_square(system: System, a: np.ndarray) -> str:
+    """Why friction cannot be solved with a non-square equilibrium matrix A (n_q × n_λ)."""
+    n_q, n_lam = a.shape[-2:]
+    n_m, mob = len(system.motion_drivers), system.structure.mobility
+    if n_lam < n_q:
+        return (f"friction needs the efforts of as many motion drivers as the mobility ({mob}); "
+                f"there are {n_m}: the loads are not balanced by unknown efforts (the "
+                f"equilibrium has {n_q} equations and {n_lam} unknowns)")
+    redundant = redundant_joints(system, a.reshape((-1,) + a.shape[-2:])[0])
+    return (f"the linkage is overconstrained: joint(s) {', '.join(redundant) or '?'} "
+            f"are redundant ({n_lam} unknown reactions and efforts for {n_q} equations), so "
+            "their reactions are statically indeterminate (the frictionless analysis reports "
+            "the minimum-norm ones, flagged indeterminate) and the friction that depends on "
+            "them is not determined either: analyse without friction (friction=False) or "
+            "remove the redundant joints")
+
+
+def redundant_joints(system: System, a: np.ndarray) -> list[str]:
+    """Joints whose constraint columns of A (one position, ``(n_q, n_λ)``) add nothing to
+    the rank of those before them (in file order): the redundant ones.  A is scaled as in
+    :func:`~kinetostatics.reactions.invert_equilibrium` (moment rows / L_ref, unit
+    columns); a column adds rank where its residual from the earlier ones exceeds 1e-9."""
+    s = np.array(a, dtype=float)
+    s[2::3, :] /= float(np.max(system.l_ref))
+    norms = np.linalg.norm(s, axis=0)
+    s /= np.where(norms > 0, norms, 1.0)
+    basis = np.zeros((s.shape[0], 0))
+    out = []
+    for k, j in enumerate(system.model.joints):
+        cols = s[:, system.rows_of(k)]
+        if basis.shape[1]:
+            cols = cols - basis @ (basis.T @ cols)
+        u, sv, _ = np.linalg.svd(cols, full_matrices=False)
+        keep = sv > 1e-9
+        if not keep.all():
+            out.append(j.name)
+        basis = np.concatenate((basis, u[:, keep]), axis=1)
+    return out
 
 
 def _warn_singular_equilibrium(system: System, singular: np.ndarray, coord: np.ndarray) -> None:
