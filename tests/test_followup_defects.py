@@ -206,3 +206,68 @@ def test_effort_at_a_pivot_where_the_jaw_reverses(joint, link):
     ok = ~flagged
     assert np.all(np.abs(tau_w[ok] - balance[ok]) <= 1e-9 * scale[ok])
     assert r.checks.power.ok and r.checks.power_friction.ok
+
+
+# -- 2. redundant constraints, friction and a non-square equilibrium ------------------------
+
+PARALLELOGRAM = """
+name: parallelogram with a redundant crank
+units: {length: m, angle: deg, speed: rpm}
+links:
+  ground: {points: {O: [0, 0], D: [3, 0], E: [1.5, 0]}}
+  crank: {points: {O: [0, 0], A: [1, 0]}, com: [0.5, 0], mass: 1, inertia: 0.1}
+  coupler: {points: {A: [0, 0], B: [3, 0], F: [1.5, 0]}, com: [1.5, 0], mass: 2, inertia: 1.5}
+  rocker: {points: {D: [0, 0], B: [1, 0]}, com: [0.5, 0], mass: 1, inertia: 0.1}
+  crank2: {points: {E: [0, 0], F: [1, 0]}, com: [0.5, 0], mass: 1, inertia: 0.1}
+joints:
+  O: {type: revolute, links: [ground, crank], friction: {radius: 0.01}}
+  A: {type: revolute, links: [crank, coupler], friction: {radius: 0.01}}
+  B: {type: revolute, links: [coupler, rocker], friction: {radius: 0.01}}
+  D: {type: revolute, links: [ground, rocker], friction: {radius: 0.01}}
+  E: {type: revolute, links: [ground, crank2], friction: {radius: 0.01}}
+  F: {type: revolute, links: [crank2, coupler], friction: {radius: 0.01}}
+DRIVERS
+sketch: {A: [0.7, 0.7], B: [3.7, 0.7], F: [2.2, 0.7]}
+analysis: {start: 45, sweep: 360, positions: 12}
+"""
+
+
+def test_overconstrained_parallelogram_is_refused_clearly():
+    # 4 moving links, 6 revolutes: Grübler–Kutzbach 3·4 − 2·6 = 0, yet it moves (the
+    # third crank is parallel to the others)
+    model = ks.loads(PARALLELOGRAM.replace("DRIVERS", "drivers:\n  motor: {joint: O, motion: "
+                                                      "{speed: 60}}"), file="parallelogram.yaml")
+    with pytest.raises(ks.StructureError, match="overconstrained.*redundant"):
+        ks.analyze(model)
+
+
+def test_redundant_joint_named_from_the_equilibrium_matrix():
+    from kinetostatics.analysis import redundant_joints
+    from kinetostatics.reactions import equilibrium_matrix
+    from kinetostatics.system import build_system, phi
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        system = build_system(ks.loads(PARALLELOGRAM.replace("DRIVERS", ""), file="p.yaml"))
+    c, s = np.cos(np.radians(40.0)), np.sin(np.radians(40.0))
+    # the pose at crank 40° by geometry (centres of mass): cranks parallel, coupler level
+    q = np.array([0.5 * c, 0.5 * s, np.radians(40.0), c + 1.5, s, 0.0,
+                  3 + 0.5 * c, 0.5 * s, np.radians(40.0), 1.5 + 0.5 * c, 0.5 * s, np.radians(40.0)])
+    assert np.max(np.abs(phi(system, q, np.zeros(0), range(6)))) < 1e-15
+    a = equilibrium_matrix(system, q)
+    assert np.linalg.matrix_rank(a) == a.shape[1] - 1          # one redundant constraint
+    assert redundant_joints(system, a) == ["F"]                # the last joint closing it
+
+
+def test_friction_with_a_non_square_equilibrium_is_a_clear_error():
+    from kinetostatics.analysis import kinetics
+    from kinetostatics.system import build_system
+    # the slider-crank with an applied torque instead of a prescribed motion: no unknown
+    # effort, 9 equations for 8 reactions; friction needs the equilibrium solved
+    text = (ROOT / "mechanisms" / "slider_crank.yaml").read_text().replace(
+        "motor: {joint: O, motion: {speed: 300}}", "motor: {joint: O, effort: 10}")
+    system = build_system(ks.loads(text, file="slider_crank_effort.yaml"))
+    ref = ks.analyze(ks.load(ROOT / "mechanisms" / "slider_crank.yaml"), positions=[0.3, 1.0],
+                     kinematics_only=True)
+    with pytest.raises(ks.StructureError, match="motion drivers as the mobility"):
+        kinetics(system, ref.q, ref.qd, ref.qdd, ref.coordinate[:, None], ref_speed=10 * np.pi,
+                 friction=True)
