@@ -42,16 +42,21 @@ def real_array(name: str, values, *, low: float | None = None, high: float | Non
 
 
 def real_number(name: str, value, *, low: float | None = None, high: float | None = None,
-                strict_low: bool = False, why: str = "") -> float:
-    """``value`` as a finite real float in [low, high] (``strict_low``: > low)."""
+                strict_low: bool = False, strict_high: bool = False, why: str = "") -> float:
+    """``value`` as a finite real float in [low, high] (``strict_low``: > low,
+    ``strict_high``: < high)."""
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer,
                                                                       np.floating)):
         raise ValueError(f"{name} must be a real number, got {value!r}")
     v = float(value)
     if not math.isfinite(v) or (low is not None and (v < low or (strict_low and v == low))) \
-            or (high is not None and v > high):
-        bounds = _expected(low, high, why).replace("at least", "greater than", 1) \
-            if strict_low else _expected(low, high, why)
+            or (high is not None and (v > high or (strict_high and v == high))):
+        bounds = _expected(low, high, why)
+        if strict_low and strict_high and low is not None and high is not None:
+            bounds = bounds.replace(f"from {low:g} to {high:g}",
+                                    f"greater than {low:g} and below {high:g}", 1)
+        elif strict_low:
+            bounds = bounds.replace("at least", "greater than", 1)
         raise ValueError(f"{name} = {v!r}: {bounds}")
     return v
 

@@ -19,8 +19,8 @@ from .forces import angle_band, external_forces, gravity_forces, inertia_forces,
 from .model import Condition, Model, MotionLaw
 from .positions import (PositionSolution, Singularity, condition_number, derivatives,
                         group_condition, reachable_range, solve_positions, state_at)
-from .reactions import (effort_joints, equilibrium_matrix, ground_reaction, invert_equilibrium,
-                        solve_equilibrium)
+from .reactions import (EFFORT_SPEED_TOL, effort_joints, effort_speed_ratio, equilibrium_matrix,
+                        ground_reaction, invert_equilibrium, solve_equilibrium)
 from .results import Result, build_columns
 from .system import System, build_system
 
@@ -551,8 +551,14 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
         t, full = _checked_times(system, sched, times), False
     else:
         t, full = _times(system, sched, positions)
-    if positions is None and times is None and model.analysis.at:
-        t = np.sort(t, kind="stable")                 # `at` rows take their place in the run
+    # rows given as driver coordinates (positions=, `at`), placed a turn ahead by _times
+    given = np.zeros(len(t), dtype=bool)
+    if positions is not None:
+        given[:] = True
+    elif times is None and model.analysis.at:
+        given[len(t) - len(model.analysis.at):] = True
+        order = np.argsort(t, kind="stable")          # `at` rows take their place in the run
+        t, given = t[order], given[order]
     closing = full and sched.law is not None     # one period of the law: does the pose repeat?
     try:
         sol: PositionSolution = solve_positions(system, np.append(t, sched.law.duration)
@@ -560,25 +566,16 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
     except AssemblyError as exc:
         if sched.law is not None:
             raise _law_out_of_reach(system, sched, exc) from None
-        if isinstance(exc, SingularConfigurationError) or positions is not None or times is not None:
+        if isinstance(exc, SingularConfigurationError) or times is not None:
             raise
-        try:
-            lo, hi = reachable_range(system, sched, float(np.max(t)) + 1e-9)
-        except AssemblyError:
-            raise exc from None                        # not even the start assembles
-        if not reachable:
-            exc.reachable = tuple(sched(np.array([lo, hi]))[0][:, 0])
-            exc.args = (f"{exc.args[0]}; the reachable range is {_range_text(system, sched, lo, hi)}"
-                        " (analyze(..., reachable=True) analyses it)",)
+        behind = (_positions_behind(system, sched, t, given, exc, sort=positions is None)
+                  if given.any() else None)
+        if behind is not None:
+            t, sol = behind
+        elif positions is not None:
             raise
-        margin = 1e-6 * (hi - lo)                      # the limits themselves are singular
-        t = np.linspace(lo + margin, hi - margin, model.analysis.positions)
-        full = False
-        sol = solve_positions(system, t, sched)
-        plan = next(p for p in system.plans if p.group.label == exc.group)
-        for k, tk in ((0, lo), (-1, hi)):             # the limit positions are singular positions
-            sol.singular.append(Singularity(exc.group, tk, float(sched(np.array([tk]))[0][0, 0]),
-                                            float(group_condition(system, sol.q[k], plan))))
+        else:
+            t, sol, full = _reachable_run(system, sched, t, exc, reachable)
     if closing:
         full = _same_pose(system, sol.q[-1], sol.q[0])
         sol = replace(sol, q=sol.q[:-1], signatures=sol.signatures[:-1], iterations=sol.iterations[:-1])
@@ -620,6 +617,69 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
     return Result(system=system, t=t, coordinate=psi[..., 0], q=q, qd=qd, qdd=qdd, lam=x0,
                   columns=columns, units=units, events=tuple(evts), singular=tuple(sol.singular),
                   indeterminate=kin.indeterminate, full_cycle=full, extremes=extremes)
+
+
+def _reachable_run(system: System, sched: Schedule, t: np.ndarray, exc: AssemblyError,
+                   reachable: bool):
+    """The run of a crank that cannot follow the sweep: ``exc`` with the reachable range
+    added, or (``reachable``) (t, solution, full) over that range."""
+    try:
+        lo, hi = reachable_range(system, sched, float(np.max(t)) + 1e-9)
+    except AssemblyError:
+        raise exc from None                        # not even the start assembles
+    if not reachable:
+        exc.reachable = tuple(sched(np.array([lo, hi]))[0][:, 0])
+        exc.args = (f"{exc.args[0]}; the reachable range is {_range_text(system, sched, lo, hi)}"
+                    " (analyze(..., reachable=True) analyses it)",)
+        raise exc
+    margin = 1e-6 * (hi - lo)                      # the limits themselves are singular
+    t = np.linspace(lo + margin, hi - margin, system.model.analysis.positions)
+    sol = solve_positions(system, t, sched)
+    plan = next(p for p in system.plans if p.group.label == exc.group)
+    for k, tk in ((0, lo), (-1, hi)):             # the limit positions are singular positions
+        sol.singular.append(Singularity(exc.group, tk, float(sched(np.array([tk]))[0][0, 0]),
+                                        float(group_condition(system, sol.q[k], plan))))
+    return t, sol, False
+
+
+def _positions_behind(system: System, sched: Schedule, t: np.ndarray, given: np.ndarray,
+                      exc: AssemblyError, sort: bool):
+    """Rows given as driver coordinates (``positions=``, ``at``) for a constant-speed crank
+    that cannot turn fully: ``_times`` placed them up to a turn ahead of the start, where
+    the linkage does not reach; a coordinate behind the start is reached running
+    backwards on the same branch (a negative time).  Each given row beyond the reachable
+    range [lo, hi] is moved a turn back when that lands inside it (otherwise to whichever
+    of the two is nearer the start).  Returns (t, solution), sorted by time if ``sort``,
+    or None where that does not apply (a full-turn crank, a prismatic driver); raises
+    ``exc`` with the reachable range when a given row lies outside it either way."""
+    if not system.motion_drivers[0].joint.angular or len(system.motion_drivers) != 1:
+        return None
+    period = 2 * np.pi / sched.reference
+    try:
+        lo, hi = reachable_range(system, sched, period)
+    except AssemblyError:
+        return None
+    if hi - lo >= period:
+        return None                                # it turns fully: the failure is elsewhere
+    tol = 1e-12 * period
+    inside = lambda x: (x >= lo - tol) & (x <= hi + tol)      # noqa: E731
+    back = t - period
+    move = given & ~inside(t) & (inside(back) | (~inside(back) & (np.abs(back) < np.abs(t))))
+    t = np.where(move, back, t)
+    if np.any(~given & ~inside(t)):
+        return None                                # the grid itself leaves the range
+    if np.any(given & ~inside(t)):
+        k = int(np.argmax(given & ~inside(t)))
+        far = float(sched(t[k:k + 1])[0][0, 0])
+        exc.reachable = tuple(sched(np.array([lo, hi]))[0][:, 0])
+        exc.args = (f"{system.motion_drivers[0].name} = {np.degrees(far) % 360:.6g}° is out of "
+                    f"reach ({exc.args[0]}); the reachable range is "
+                    f"{_range_text(system, sched, lo, hi)}, running forwards or backwards from "
+                    "analysis.start",)
+        raise exc
+    if sort:
+        t = np.sort(t, kind="stable")
+    return t, solve_positions(system, t, sched)
 
 
 def _checked_positions(system: System, positions) -> np.ndarray:
@@ -865,6 +925,11 @@ def kinetics(system: System, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, psi
         a = equilibrium_matrix(system, q)
         if a.shape[-1] == a.shape[-2]:            # singular positions: NaN rows, the rest intact
             a_inv, singular, condition = invert_equilibrium(a, system.l_ref)
+            if not own_efforts and len(system.motion_drivers) == 1:
+                # the effort's joint (nearly) at rest: no effort to round-off accuracy there
+                near = effort_speed_ratio(system, q, qd) <= EFFORT_SPEED_TOL
+                singular |= near
+                a_inv[near] = np.nan
             bad = ~np.isfinite(a_inv[..., 0, 0])
             x0 = np.linalg.solve(np.where(bad[..., None, None], np.eye(a.shape[-1]), a),
                                  -q_load[..., None])[..., 0]
@@ -874,6 +939,9 @@ def kinetics(system: System, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, psi
         else:
             x0, indeterminate = solve_equilibrium(a, -q_load)
     fric = None
+    if friction and model.has_friction and a.shape[-1] != a.shape[-2]:
+        raise StructureError([(Location(model.source, path="joints"),
+                               _not_square(system, a))])
     if friction and model.has_friction:
         fs = fr.setup(system, q, qd, ref_speed)
         if lu is not None and own_efforts:
@@ -903,6 +971,46 @@ def kinetics(system: System, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, psi
         power["residual_friction"] = (power["input_friction"] - power["kinetic"] - power["potential"]
                                       - power["external"] - loss)
     return Kinetics(q_grav, q_inert, q_ext, a, x0, indeterminate, fric, power, singular, condition)
+
+
+def _not_square(system: System, a: np.ndarray) -> str:
+    """Why friction cannot be solved with a non-square equilibrium matrix A (n_q × n_λ)."""
+    n_q, n_lam = a.shape[-2:]
+    n_m, mob = len(system.motion_drivers), system.structure.mobility
+    if n_lam < n_q:
+        return (f"friction needs the efforts of as many motion drivers as the mobility ({mob}); "
+                f"there are {n_m}: the loads are not balanced by unknown efforts (the "
+                f"equilibrium has {n_q} equations and {n_lam} unknowns)")
+    redundant = redundant_joints(system, a.reshape((-1,) + a.shape[-2:])[0])
+    return (f"the linkage is overconstrained: joint(s) {', '.join(redundant) or '?'} "
+            f"are redundant ({n_lam} unknown reactions and efforts for {n_q} equations), so "
+            "their reactions are statically indeterminate (the frictionless analysis reports "
+            "the minimum-norm ones, flagged indeterminate) and the friction that depends on "
+            "them is not determined either: analyse without friction (friction=False) or "
+            "remove the redundant joints")
+
+
+def redundant_joints(system: System, a: np.ndarray) -> list[str]:
+    """Joints whose constraint columns of A (one position, ``(n_q, n_λ)``) add nothing to
+    the rank of those before them (in file order): the redundant ones.  A is scaled as in
+    :func:`~kinetostatics.reactions.invert_equilibrium` (moment rows / L_ref, unit
+    columns); a column adds rank where its residual from the earlier ones exceeds 1e-9."""
+    s = np.array(a, dtype=float)
+    s[2::3, :] /= float(np.max(system.l_ref))
+    norms = np.linalg.norm(s, axis=0)
+    s /= np.where(norms > 0, norms, 1.0)
+    basis = np.zeros((s.shape[0], 0))
+    out = []
+    for k, j in enumerate(system.model.joints):
+        cols = s[:, system.rows_of(k)]
+        if basis.shape[1]:
+            cols = cols - basis @ (basis.T @ cols)
+        u, sv, _ = np.linalg.svd(cols, full_matrices=False)
+        keep = sv > 1e-9
+        if not keep.all():
+            out.append(j.name)
+        basis = np.concatenate((basis, u[:, keep]), axis=1)
+    return out
 
 
 def _warn_singular_equilibrium(system: System, singular: np.ndarray, coord: np.ndarray) -> None:

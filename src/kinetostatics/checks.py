@@ -18,7 +18,9 @@ Each :class:`~kinetostatics.results.Result` carries ``result.checks`` (a
   group and where; tolerance :data:`COND_TOL` (the near-singular warning's);
 - ``friction``: the rows per ``friction.status`` (0 converged, 1 by homotopy,
   2 self-locking, 3 a relative speed is zero); fails where a row self-locks
-  (its friction values are empty).
+  (its friction values are empty).  It also counts the other rows whose
+  ``<driver>.efficiency`` is undefined (empty: the effort with friction is 0),
+  ``efficiency_undefined`` in summary.json; they do not fail it.
 
 A check that does not apply (no power columns in a kinematics-only result, no
 friction, no sketch) is ``None`` and passes.  Documented in docs/theory.md
@@ -219,9 +221,20 @@ def result_checks(result) -> Checks:
         st = np.asarray(cols["friction.status"])
         status = tuple(int(np.sum(st == s)) for s in range(4))
         parts = [f"{n} {w}" for n, w in zip(status, STATUS_WORDS) if n]
+        # rows whose <driver>.efficiency is undefined although the friction solution exists:
+        # the effort with friction is 0 there (no effort through the drive, docs/friction.md)
+        undefined = np.zeros(st.shape, dtype=bool)
+        for d in system.motion_drivers:
+            if f"{d.name}.efficiency" in cols:
+                undefined |= np.isnan(np.asarray(cols[f"{d.name}.efficiency"]))
+        undefined &= st != 2
+        n_undef = int(np.sum(undefined))
+        if n_undef:
+            parts.append(f"efficiency undefined at {n_undef}")
         checks["friction"] = Check("friction", float(status[2]), 0.0,
                                    f"{status[2]} row(s) self-locking" if status[2] else "",
-                                   "friction " + (", ".join(parts) or "no rows"))
+                                   "friction " + (", ".join(parts) or "no rows"),
+                                   (("efficiency_undefined", n_undef),))
     return Checks(**checks, friction_status=status)
 
 

@@ -112,7 +112,9 @@ def energy_curve(system: System, events: list[float], *, friction: bool = False,
     ``moment`` is the balancing moment referred to the driver's (crank) shaft: with
     ``balance_at`` the effort τ at that joint times its relative speed per unit crank
     speed ρ (the input power over the crank speed), so the moment, the energy swing and
-    J_F do not depend on where the effort is taken."""
+    J_F do not depend on where the effort is taken.  Where that joint is (nearly) at rest
+    (a singular equilibrium row, no effort there) the frictionless moment is the input
+    power from the power balance over the crank speed."""
     from .dynamics import equivalent
     drv = _one_dof(system)
     sense = float(np.sign(drv.driver.motion.speed))
@@ -132,7 +134,14 @@ def energy_curve(system: System, events: list[float], *, friction: bool = False,
     tau = r[f"{name}.{word}_friction"] if friction else r[f"{name}.{word}"]
     eq = equivalent(system, r.q, r.coordinate, speed=drv.driver.motion.speed,
                     extremes=r.extremes)
-    return {"travel": phi, "coordinate": coords, "moment": sense * tau * eq["effort_ratio"],
+    moment = sense * tau * eq["effort_ratio"]
+    if not friction:                 # singular equilibrium rows (the balance_at joint at or
+        # next to rest, no effort there): the moment on the crank is still the input power
+        # over the crank speed, which the power balance gives, (dT/dt + dV/dt + P_ext)/|ω|
+        gap = ~np.isfinite(moment)
+        power = r["power.kinetic"] + r["power.potential"] + r["power.external"]
+        moment = np.where(gap, power / abs(drv.driver.motion.speed), moment)
+    return {"travel": phi, "coordinate": coords, "moment": moment,
             "inertia": eq["inertia"], "result": r, "events": phi_e}
 
 
@@ -172,7 +181,7 @@ def design(source: Result | Model | System, delta: float | None = None, *,
     if delta is None:
         raise ValueError("no delta: give flywheel: {delta: ...} in the file or delta=")
     from ._checks import real_number
-    delta = real_number("delta", delta, low=0.0, high=1.0, strict_low=True,
+    delta = real_number("delta", delta, low=0.0, high=1.0, strict_low=True, strict_high=True,
                         why="the coefficient of speed fluctuation")
     if ratio is not None:
         ratio = real_number("ratio", ratio, low=0.0, strict_low=True)

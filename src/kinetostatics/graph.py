@@ -230,6 +230,19 @@ def assur_groups(model: Model, g: nx.MultiGraph | None = None) -> tuple[Group, .
     return tuple(groups)
 
 
+def _overconstrained_hint(model: Model, g: nx.MultiGraph, mobility: int) -> str:
+    """For a linkage whose Grübler–Kutzbach count is below 1 but which may move (it has
+    loops): overconstrained linkages (redundant joints, e.g. a parallelogram with an extra
+    crank) are not supported — their reactions, and the friction that depends on them,
+    are statically indeterminate."""
+    if mobility >= 1 or cyclomatic_number(g) == 0:
+        return ""
+    return (f" (if the linkage does move although Grübler–Kutzbach counts {mobility}, it is "
+            "overconstrained: some joints are redundant, e.g. an extra crank or coupler of a "
+            "parallelogram, and their reactions are statically indeterminate; such linkages "
+            "are not supported: remove the redundant joints)")
+
+
 def structure(model: Model) -> Structure:
     """Graph, Grübler mobility, loops and Assur groups of a model.
 
@@ -270,7 +283,8 @@ def structure(model: Model) -> Structure:
         raise StructureError([(where, f"{len(motion)} motion drivers "
                                       f"({', '.join(d.name for d in motion)}) but the mobility "
                                       f"is {mobility}: give '{extra.name}' an effort instead "
-                                      "of a motion, or remove it")])
+                                      "of a motion, or remove it" + _overconstrained_hint(model, g,
+                                                                                         mobility))])
     with warnings.catch_warnings():
         if len(motion) < mobility:      # undriven links cannot decompose: no news, no warning
             warnings.simplefilter("ignore")

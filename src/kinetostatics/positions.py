@@ -500,6 +500,10 @@ def _continue(system: System, q: np.ndarray, sig: np.ndarray, t0: float, t1: flo
             reason = _miss(system, qp, psi, plan) if not ok else (
                 "the motion cannot be continued smoothly (singular position)")
             err = AssemblyError if not ok else SingularConfigurationError
+            if ok:                              # a limit position (a fold: ψ turns back)?
+                fold = _fold_beyond(system, q, t, direction * fine_h * 1e-3, drive)
+                if fold is not None:
+                    err, (plan, reason, psi) = AssemblyError, fold
             exc = err(plan.group.label, _coordinate_text(system, psi), reason)
             exc.t_reached = t                   # the last assembled time on the path
             raise exc
@@ -508,6 +512,29 @@ def _continue(system: System, q: np.ndarray, sig: np.ndarray, t0: float, t1: flo
         ts.append(t), qs.append(q), qds.append(qd), sigs.append(sig)
         h = direction * min(max_dt, abs(h) * 2.0)
     return np.array(ts), np.array(qs), np.array(qds), np.array(sigs)
+
+
+def _fold_beyond(system: System, q: np.ndarray, t: float, delta: float, drive: Drive):
+    """Whether the path that cannot be continued smoothly at t ends in a *limit position*
+    (a fold: the driver coordinate turns back, as a crank that cannot fully rotate at
+    its toggle) rather than a change point (where the branches cross and the linkage
+    assembles beyond).  The pose at t lies within ~MIN_STEP/JUMP_RATIO of the singular
+    position; a little beyond it, at t + ``delta`` (~1e-3 × FINE_STEP of the driver), a
+    fold leaves no pose — the least-squares gap of the failing group is of order
+    L_ref·|δψ| there, far above round-off — while a change point's branches still close.
+    Returns (plan, reason, ψ) of the group that cannot reach, or None."""
+    psi = drive(np.array([t + delta]))[0][0]
+    qn = q.copy()
+    for plan in system.plans:
+        qn, ok, _ = _newton(system, qn, psi, plan)
+        if ok:
+            continue
+        reason = _miss(system, qn, psi, plan)
+        if reason.startswith("the links cannot reach"):
+            return plan, ("a limit position: the driver coordinate cannot go further (the path "
+                          f"folds back there); {reason}"), psi
+        return None
+    return None
 
 
 def _locate_singular(system: System, drive: Drive, g: int, ta: float, qa: np.ndarray,

@@ -16,11 +16,25 @@ import numpy as np
 from .system import System, coordinate_gradient, jacobian
 
 __all__ = ["effort_joints", "effort_ratio", "equilibrium_matrix", "solve_equilibrium",
-           "invert_equilibrium", "ground_reaction", "SINGULAR_RCOND"]
+           "invert_equilibrium", "ground_reaction", "SINGULAR_RCOND", "EFFORT_SPEED_TOL",
+           "effort_speed_ratio"]
 
 SINGULAR_RCOND = 1e-12
 """A square A whose scaled reciprocal condition number is at most this is
 singular at that position (:func:`invert_equilibrium`)."""
+
+EFFORT_SPEED_TOL = 1e-7
+"""An effort moved by ``balance_at`` to a joint whose relative speed per unit driver
+speed (:func:`effort_speed_ratio`) is at most this is not computed: the position is
+a singular one of the equilibrium, as where A is exactly singular.  The effort
+there is the loads' power divided by that joint's speed, τ ≈ P/(ratio·ψ̇), and the
+relative speed, computed from positions and velocities exact to round-off, carries
+an absolute error of ~1e-16; so τ's relative error, and the power balance's, is
+~1e-16/ratio (measured on the jaw crusher balanced at its toggle and jaw pivots and
+on the slider-crank driven from its slide): at most ~1e-9 beyond this tolerance,
+ten times below the power self-check's 1e-8, but up to 1e-6 and more (a power
+residual of watts) between it and the exact zero, where A's condition number
+(~1/ratio) is still far from 1/:data:`SINGULAR_RCOND`."""
 
 
 def effort_joints(system: System) -> list[int]:
@@ -42,6 +56,36 @@ def effort_ratio(system: System, q: np.ndarray, tangent: np.ndarray) -> np.ndarr
         return np.ones(np.shape(q)[:-1])
     k = effort_joints(system)[0]
     return np.einsum("...n,...n->...", coordinate_gradient(system, q, k), tangent)
+
+
+def effort_speed_ratio(system: System, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
+    """|relative speed of the first motion driver's effort joint| per unit driver speed,
+    ``(...,)``, dimensionless (a prismatic joint's speed divided by L_ref, a prismatic
+    driver's likewise): |c_eff·q̇| / |c_drv·q̇|, or from ∂q/∂ψ where the driver is at
+    rest (a motion law's turning point).  1 where the effort is the driver's own."""
+    d = system.motion_drivers[0]
+    if d.driver.balance_at is None or d.driver.balance_at == d.joint.name:
+        return np.ones(np.shape(q)[:-1])
+    names = [j.name for j in system.model.joints]
+    k_e, k_d = effort_joints(system)[0], names.index(d.joint.name)
+    r_e = np.einsum("...n,...n->...", coordinate_gradient(system, q, k_e), qd)
+    r_d = np.einsum("...n,...n->...", coordinate_gradient(system, q, k_d), qd)
+    scale = ((1.0 if system.model.joints[k_d].angular else np.asarray(system.l_ref)) /
+             (1.0 if system.model.joints[k_e].angular else np.asarray(system.l_ref)))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.abs(r_e / r_d) * scale
+    rest = ~np.isfinite(ratio)
+    if np.any(rest):                            # the driver at rest: the tangent ∂q/∂ψ
+        from .positions import velocities
+        n_d = len(system.motion_drivers)
+        unit = np.zeros(np.shape(q)[:-1] + (n_d,))
+        unit[..., 0] = 1.0
+        try:
+            tangent = velocities(system, q, unit)
+            ratio = np.where(rest, np.abs(effort_ratio(system, q, tangent)) * scale, ratio)
+        except np.linalg.LinAlgError:           # a singular pose: left to the other tests
+            pass
+    return ratio
 
 
 def equilibrium_matrix(system: System, q: np.ndarray, ground: bool = False) -> np.ndarray:

@@ -202,8 +202,11 @@ def _kinetic_columns(system: System, put, q, x0, fric, power) -> None:
         put([(f"{d.name}.{word}", unit)], lambda col=col: (x0[..., col],))
         if fric:
             def efficiency(col=col):
+                # undefined (NaN, empty) where the effort with friction is 0 or empty: no
+                # effort goes through the drive, 0/0 or x/0 is no efficiency (docs/friction.md)
+                den = sol.x[..., col]
                 with np.errstate(divide="ignore", invalid="ignore"):
-                    return (x0[..., col] / sol.x[..., col],)
+                    return (np.where(den != 0.0, x0[..., col] / den, np.nan),)
             put([(f"{d.name}.{word}_friction_approx", unit), (f"{d.name}.{word}_friction", unit)],
                 lambda col=col: (fric["x_approx"][..., col], sol.x[..., col]))
             put([(f"{d.name}.efficiency", "1")], efficiency)

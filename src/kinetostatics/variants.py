@@ -89,6 +89,16 @@ def _ranges(angle: np.ndarray, mask: np.ndarray) -> str:
     return "; ".join(f"{angle[a]:.4g}–{angle[b]:.4g}" for a, b in zip(starts, ends))
 
 
+def _zones(result) -> str:
+    """The self-locked zones of one result with their located edges
+    (:func:`~kinetostatics.summary.locking_zones`, summary.json ``self_locking``), as
+    'a–b; c–d' (a zone wrapping past 360° is one zone, e.g. '358.516494–1.483505980'); an edge
+    beyond a run that is not a full cycle is '…'."""
+    from .summary import locking_zones
+    text = lambda v: "…" if v is None else f"{v:.10g}"    # noqa: E731
+    return "; ".join(f"{text(z['from'])}–{text(z['to'])}" for z in locking_zones(result))
+
+
 def summary_row(result, flywheel: bool | None = None, strokes: dict | None = None
                 ) -> dict[str, Any]:
     """The batch row of one analysed variant (names ``<member>.<quantity>``,
@@ -122,8 +132,9 @@ def summary_row(result, flywheel: bool | None = None, strokes: dict | None = Non
             row[f"{name}.omega_peak"] = np.max(np.abs(cols[f"{name}.omega"]), axis=-1)
             row[f"{name}.alpha_peak"] = np.max(np.abs(cols[f"{name}.alpha"]), axis=-1)
     angle = cols["angle"] if "angle" in cols else cols["stroke"]
-    for d in system.motion_drivers:
-        word = "torque" if d.joint.angular else "force"
+    from .reactions import effort_joints
+    for d, k_eff in zip(system.motion_drivers, effort_joints(system)):
+        word = "torque" if system.model.joints[k_eff].angular else "force"   # at balance_at
         key = f"{d.name}.{word}"
         for suffix in ("", "_friction_approx", "_friction"):
             if key + suffix in cols:
@@ -131,21 +142,25 @@ def summary_row(result, flywheel: bool | None = None, strokes: dict | None = Non
                 row[f"{key}{suffix}_peak"] = np.nanmax(np.abs(arr), axis=-1)
                 row[f"{key}{suffix}_rms"] = np.sqrt(np.nanmean(arr * arr, axis=-1))
         if key + "_friction" in cols:
-            # the driving phase: both efforts drive in the sense of motion
+            # the driving phase: both efforts drive in the sense of motion of the joint that
+            # carries them (the driver's own, or balance_at: its relative speed changes sign)
             tau, tau_f = cols[key], cols[key + "_friction"]
-            sense = np.sign(d.driver.motion.speed)
+            rel = np.einsum("...n,...n->...", coordinate_gradient(system, result.q, k_eff),
+                            result.qd)
+            sense = np.sign(rel)
             driving = (tau * sense > 0) & (tau_f * sense > 0)
             with np.errstate(divide="ignore", invalid="ignore"):
                 ratio = np.where(driving, tau / np.where(driving, tau_f, 1.0), np.inf)
                 e_min = np.min(ratio, axis=-1)
                 row[f"{d.name}.efficiency_min"] = np.where(np.isfinite(e_min), e_min, np.nan)
-                w_in = np.sum(tau, axis=-1) * sense
-                w_in_f = np.nansum(tau_f, axis=-1) * sense
+                both = np.isfinite(tau) & np.isfinite(tau_f)  # input work ∝ Σ effort·speed
+                w_in = np.sum(np.where(both, tau * rel, 0.0), axis=-1)   # over the rows
+                w_in_f = np.sum(np.where(both, tau_f * rel, 0.0), axis=-1)   # with both
                 row[f"{d.name}.efficiency_cycle"] = np.where(w_in_f > 0, w_in / w_in_f, np.nan)
     if "friction.status" in cols:
         locked = cols["friction.status"] == 2
         row["friction.self_locking_positions"] = np.count_nonzero(locked, axis=-1)
-        row["friction.self_locking"] = (_ranges(angle, locked) if locked.ndim == 1 else
+        row["friction.self_locking"] = (_zones(result) if locked.ndim == 1 else
                                         np.array([_ranges(a, m) for a, m in zip(angle, locked)],
                                                  dtype=object))
     for j in system.model.joints:
@@ -252,5 +267,6 @@ def _vectorised_rows(models: dict[int, Model], rows: list, friction: bool | None
                 ArithmeticError, np.linalg.LinAlgError):
             continue                      # the per-variant analysis takes them, exactly
         for v, ok, r in zip(members, st.ok, split_rows(row, len(members))):
-            if ok:
+            if ok and not r.get("friction.self_locking_positions"):   # a locked zone's edges
+                                                                      # are located one by one
                 rows[v] = r
