@@ -30,6 +30,7 @@ ROOT = Path(__file__).resolve().parent.parent
 Q, H = 1000.0, 0.100
 X = 0.1 * (1 + np.cos(np.radians(30))) / 2
 Y_TOP = 0.05 + np.sqrt(0.1 ** 2 - (X - 0.1 * np.cos(np.radians(30))) ** 2)
+L_REF = float(ks.build_system(ks.load(ROOT / "mechanisms" / "slotting_machine.yaml")).l_ref)
 
 
 def ram_y(phi):
@@ -45,7 +46,8 @@ def cutting_torque(phi):
     dy = (ram_y(phi + h) - ram_y(phi - h)) / (2 * h)      # dy_C/dφ
     down = dy > 0                                         # φ decreases: y falls if dy/dφ > 0
     travel = Y_TOP - ram_y(phi)
-    on = down & (travel >= 0.05 * H) & (travel <= 0.95 * H)
+    edge = 1e-9 * L_REF        # bands are closed, to 1e-9 L_ref (docs/yaml.md): event rows
+    on = down & (travel >= 0.05 * H - edge) & (travel <= 0.95 * H + edge)   # at an edge are in
     return np.where(on, -Q * np.abs(dy), 0.0), on
 
 
