@@ -702,6 +702,11 @@ def _run_locked(sources, tasks, out: Path, where: str, templates, state, fingerp
                     retry.append((part, attempt))
                     ex, close = _reopen(executor, workers, ex, close)
                 except Exception as exc:    # noqa: BLE001 - the executor itself failed
+                    for f in [f for f in pending if f.done() and not f.cancelled()
+                              and f.exception() is None]:
+                        part, _ = pending.pop(f)      # keep the rows already computed
+                        if len(rows := f.result()) == len(part):
+                            bar.update(len(part), record(list(zip(part, rows))))
                     raise _executor_error(executor, exc, out) from None
             if not pending:
                 break
