@@ -574,7 +574,7 @@ def run_batch(sources: Sequence[Source] | str | Path, tasks: Sequence[Task] | No
     if tasks is None:
         tasks = _one_per_file(sources)
     tasks = list(tasks)
-    _check_memory(len(tasks), positions, workers if executor in (None, "processes") else 1)
+    _check_memory(len(tasks), None, 1)
     out = Path(out_dir)
     options = {"positions": positions, "friction": friction, "flywheel": flywheel}
     fingerprint = _fingerprint(sources, tasks, options)
@@ -589,6 +589,10 @@ def run_batch(sources: Sequence[Source] | str | Path, tasks: Sequence[Task] | No
         if flywheel and not isinstance(tpl, BaseException) and tpl.base.flywheel is None:
             raise BatchError(f"{source.file}: --flywheel needs a flywheel: {{delta: ...}} "
                              "section in the file (docs/dynamics.md)")
+    n_pos = positions or max((tpl.base.analysis.positions for tpl in templates
+                              if not isinstance(tpl, BaseException)), default=None)
+    _check_memory(0, n_pos, (workers or os.cpu_count() or 1)
+                  if executor in (None, "processes") else 1, bool(positions))
     where = f"--out {out_dir}"
     if out.exists() and not out.is_dir():
         raise OutputError(f"{where}: is a file, not a folder")
@@ -611,7 +615,8 @@ def run_batch(sources: Sequence[Source] | str | Path, tasks: Sequence[Task] | No
         lock.release()
 
 
-def _check_memory(n_tasks: int, positions: int | None, workers: int | None) -> None:
+def _check_memory(n_tasks: int, positions: int | None, workers: int,
+                  option: bool = True) -> None:
     """Refuse, before any allocation, a batch whose table or one variant's analysis
     would not fit in the memory available (``sweeps.available_memory``)."""
     from .sweeps import BYTES_PER_VARIANT, available_memory, gigabytes
@@ -621,14 +626,11 @@ def _check_memory(n_tasks: int, positions: int | None, workers: int | None) -> N
         raise BatchError(f"{n_tasks} variants: the table needs about {gigabytes(need)} of "
                          f"memory, more than the {gigabytes(free)} available; split the sweep "
                          "into several batches (one --out each)")
-    if positions:
-        slots = workers or os.cpu_count() or 1
-        need = positions * BYTES_PER_POSITION * slots
-        if need > free:
-            raise BatchError(f"--positions {positions}: one variant at {positions} positions "
-                             f"needs about {gigabytes(positions * BYTES_PER_POSITION)} of memory "
-                             f"per worker ({slots} workers), more than the {gigabytes(free)} "
-                             "available")
+    if positions and positions * BYTES_PER_POSITION * workers > free:
+        raise BatchError(f"{'--positions' if option else 'analysis.positions'} {positions}: "
+                         f"one variant at {positions} positions needs about "
+                         f"{gigabytes(positions * BYTES_PER_POSITION)} of memory per worker "
+                         f"({workers} at once), more than the {gigabytes(free)} available")
 
 
 def _run_locked(sources, tasks, out: Path, where: str, templates, state, fingerprint, order, *,
@@ -742,7 +744,10 @@ def _run_locked(sources, tasks, out: Path, where: str, templates, state, fingerp
         failure = exc
         raise
     finally:
-        close()
+        try:
+            close()
+        except Exception:                   # noqa: BLE001 - e.g. a Dask client already lost
+            pass
         bar.close()
         seconds = time.perf_counter() - t_run
         computed = len(table.rows) - reused    # rows written now (an interrupt may fall anywhere)
