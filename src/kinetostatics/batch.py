@@ -12,9 +12,13 @@ appended in completion order; when the batch ends (or is interrupted) the file
 is rewritten in variant order.  A rerun with the same files, sweep and options
 (``DIR/batch.json`` holds their fingerprint) skips the variants already in the
 table.  A variant that fails is a row with ``status = failed`` and its reason;
-a chunk whose worker raised (a crash, a lost worker) gives rows with ``status
-= error``, which a rerun computes again.  Nothing stops the batch but an
-interrupt.
+a chunk whose worker raised (a crash) gives rows with ``status = error``,
+which a rerun computes again; a chunk whose worker process died is submitted
+again to a fresh pool.  Workers die with the batch, even a killed one.  Only one
+batch writes to an output folder at a time (``DIR/batch.lock``).  Nothing stops
+the batch but an interrupt or an environment failure (a full disk, a folder
+that cannot be written, a lost Dask scheduler: :class:`OutputError`, one line);
+the rows on disk then stay valid and the same batch resumes.
 """
 
 from __future__ import annotations
@@ -565,7 +569,10 @@ def run_batch(sources: Sequence[Source] | str | Path, tasks: Sequence[Task] | No
 
     Rows already in ``summary.csv`` from an interrupted run of the same batch
     are kept and not computed again.  Raises :class:`BatchError` if ``out_dir``
-    holds a different batch (unless ``overwrite``).
+    holds a different batch (unless ``overwrite``), if another batch is writing
+    to it, or if the variants or one variant's positions would not fit in the
+    memory available; :class:`OutputError` if ``out_dir`` cannot be written
+    (a file, no permission, a full disk) or the executor fails as a whole.
     """
     t_start = time.perf_counter()
     if isinstance(sources, (str, Path)):
