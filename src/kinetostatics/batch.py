@@ -374,11 +374,13 @@ def _replace(path: Path, text: str, write: Callable[[Path, str, str], None]) -> 
     try:
         write(tmp, text, "w")
         os.replace(tmp, path)
-    except BaseException:
+    except BaseException as exc:
         try:
             tmp.unlink()
         except OSError:
             pass
+        if isinstance(exc, OSError) and exc.filename == str(tmp):
+            exc.filename = str(path)            # name the file meant, not its temporary
         raise
 
 

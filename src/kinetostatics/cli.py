@@ -128,6 +128,8 @@ def _write_outputs(out: Path, what: str, writers) -> None:
                 tmp.unlink()
             except OSError:
                 pass
+            if exc.filename == str(tmp):
+                exc.filename = str(path)        # name the file meant, not its temporary
             raise output_error(exc, what) from None
 
 
