@@ -359,3 +359,35 @@ def test_failing_variants_do_not_reach_the_stacked_friction_solution(monkeypatch
         assert a.keys() == b.keys()
         for k in a:
             assert a[k] == b[k] or a[k] == pytest.approx(b[k], rel=1e-12), k
+
+
+class _Cancelling(Executor):
+    """Runs ``n`` chunks, then cancels every later one (a Dask client that lost
+    its scheduler cancels the futures it holds)."""
+
+    def __init__(self, n: int):
+        self.n = n
+
+    def submit(self, fn, /, *args, **kwargs):
+        f: Future = Future()
+        if self.n == 0:
+            f.cancel()
+            f.set_running_or_notify_cancel()
+            return f
+        self.n -= 1
+        f.set_result(fn(*args, **kwargs))
+        return f
+
+
+def test_futures_cancelled_by_the_executor_stop_the_batch_with_one_line(tmp_path):
+    vs = sweeps.expand(sweeps.from_options(["a=90:110:6"]))
+    tasks = [batch.Task(v, 0, o) for v, o in vs]
+    with pytest.raises(batch.OutputError, match=r"^the executor: failed \(CancelledError\); "
+                                                r"the finished rows are in"):
+        batch.run_batch(str(SLIDER), tasks, tmp_path, executor=_Cancelling(3), chunk=1,
+                        positions=12)
+    done = _ids(tmp_path)
+    assert set(done) < {v for v, _ in vs} and all(r["status"] == "ok"
+                                                  for r in _rows(tmp_path).values())
+    batch.run_batch(str(SLIDER), tasks, tmp_path, executor="serial", chunk=1, positions=12)
+    assert _ids(tmp_path) == [v for v, _ in vs]

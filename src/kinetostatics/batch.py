@@ -31,7 +31,8 @@ import math
 import os
 import sys
 import time
-from concurrent.futures import FIRST_COMPLETED, BrokenExecutor, Executor, Future, wait
+from concurrent.futures import (FIRST_COMPLETED, BrokenExecutor, CancelledError, Executor,
+                                Future, wait)
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
@@ -732,6 +733,8 @@ def _run_locked(sources, tasks, out: Path, where: str, templates, state, fingerp
                     rows = f.result()
                     if len(rows) != len(part):
                         raise RuntimeError(f"{len(rows)} rows for {len(part)} variants")
+                except CancelledError as exc:   # not by us: the executor gave up (a lost
+                    raise _executor_error(executor, exc, out) from None    # scheduler)
                 except BrokenExecutor as exc:   # its worker died: again, in a fresh pool
                     lost = True
                     if attempt < ATTEMPTS and executor in (None, "processes"):
