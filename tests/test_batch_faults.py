@@ -391,3 +391,19 @@ def test_futures_cancelled_by_the_executor_stop_the_batch_with_one_line(tmp_path
                                                   for r in _rows(tmp_path).values())
     batch.run_batch(str(SLIDER), tasks, tmp_path, executor="serial", chunk=1, positions=12)
     assert _ids(tmp_path) == [v for v, _ in vs]
+
+
+def test_without_flock_the_lock_file_names_a_live_or_a_dead_holder(tmp_path, monkeypatch):
+    fcntl = pytest.importorskip("fcntl")
+
+    def no_locks(fd, op):
+        raise OSError(errno.ENOLCK, "No locks available")
+    monkeypatch.setattr(fcntl, "flock", no_locks)
+    (tmp_path / "batch.lock").write_text(f"pid {os.getppid()} on here since today\n")
+    with pytest.raises(batch.BatchError, match=f"another batch is writing to this folder "
+                                               f"\\(pid {os.getppid()} on here"):
+        batch.run_batch(str(SLIDER), None, tmp_path, executor="serial", positions=12)
+    (tmp_path / "batch.lock").write_text("pid 999999999 on here since yesterday\n")
+    assert batch.run_batch(str(SLIDER), None, tmp_path, executor="serial",
+                           positions=12).computed == 1
+    assert not (tmp_path / "batch.lock").exists()

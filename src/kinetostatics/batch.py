@@ -24,6 +24,7 @@ the rows on disk then stay valid and the same batch resumes.
 from __future__ import annotations
 
 import csv
+import errno
 import hashlib
 import io
 import json
@@ -417,7 +418,13 @@ class _Lock:
             fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o644)
             try:
                 if fcntl is not None:
-                    fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                    try:
+                        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                    except OSError as exc:     # a file system without flock (some NFS)
+                        if exc.errno not in (errno.ENOLCK, errno.EOPNOTSUPP, errno.EINVAL):
+                            raise
+                        if not self._stale(fd):
+                            raise BlockingIOError from None
                 elif not self._stale(fd):      # pragma: no cover
                     raise BlockingIOError
             except BlockingIOError:
