@@ -7,14 +7,14 @@
 """
 
 from .errors import (AssemblyError, KinetostaticsError, ModelError, NearSingularWarning,
-                     NonFiniteResultError, SelfLockingError, SingularConfigurationError,
-                     StructureError)
+                     NonFiniteResultError, OutputError, SelfLockingError,
+                     SingularConfigurationError, StructureError)
 from .model import Model
 from .yaml_io import load, loads
 
 __all__ = ["load", "loads", "analyze", "Model", "Result", "KinetostaticsError", "ModelError",
            "StructureError", "AssemblyError", "SingularConfigurationError", "SelfLockingError",
-           "NonFiniteResultError", "NearSingularWarning", "build_system"]
+           "NonFiniteResultError", "OutputError", "NearSingularWarning", "build_system"]
 
 
 def __getattr__(name):          # keep `import kinetostatics` light: load stages on use

@@ -12,14 +12,19 @@ appended in completion order; when the batch ends (or is interrupted) the file
 is rewritten in variant order.  A rerun with the same files, sweep and options
 (``DIR/batch.json`` holds their fingerprint) skips the variants already in the
 table.  A variant that fails is a row with ``status = failed`` and its reason;
-a chunk whose worker raised (a crash, a lost worker) gives rows with ``status
-= error``, which a rerun computes again.  Nothing stops the batch but an
-interrupt.
+a chunk whose worker raised (a crash) gives rows with ``status = error``,
+which a rerun computes again; a chunk whose worker process died is submitted
+again to a fresh pool.  Workers die with the batch, even a killed one.  Only one
+batch writes to an output folder at a time (``DIR/batch.lock``).  Nothing stops
+the batch but an interrupt or an environment failure (a full disk, a folder
+that cannot be written, a lost Dask scheduler: :class:`OutputError`, one line);
+the rows on disk then stay valid and the same batch resumes.
 """
 
 from __future__ import annotations
 
 import csv
+import errno
 import hashlib
 import io
 import json
@@ -27,7 +32,8 @@ import math
 import os
 import sys
 import time
-from concurrent.futures import FIRST_COMPLETED, Executor, Future, wait
+from concurrent.futures import (FIRST_COMPLETED, BrokenExecutor, CancelledError, Executor,
+                                Future, wait)
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
@@ -36,7 +42,7 @@ from typing import Any, Callable, Iterable, Mapping, Sequence
 import numpy as np
 
 from . import yaml_io
-from .errors import KinetostaticsError
+from .errors import KinetostaticsError, OutputError, output_error
 
 __all__ = ["Source", "Task", "Chunk", "BatchSummary", "BatchError", "run_batch",
            "analyze_chunk", "sources_of", "read_summary", "auto_chunk", "MEMORY_BUDGET",
@@ -44,6 +50,10 @@ __all__ = ["Source", "Task", "Chunk", "BatchSummary", "BatchError", "run_batch",
 
 SUMMARY = "summary.csv"
 STATE = "batch.json"
+LOCK = "batch.lock"
+# A chunk whose worker process died (killed, out of memory) is submitted again
+# to a fresh pool, at most this many times in all, before its rows are errors.
+ATTEMPTS = 3
 FIXED = ("status", "reason")
 # Memory bound of one chunk: a variant costs about BYTES_PER_POSITION per
 # position while it is analysed (result columns, q, q', q'', reactions).
@@ -152,6 +162,30 @@ def _error_row(exc: BaseException) -> dict[str, Any]:
 
 
 # -- executors -------------------------------------------------------------------------
+def _die_with_parent(parent: int) -> None:
+    """Pool initializer: a worker dies with the batch that started it, even when
+    the batch is killed (SIGKILL runs no clean-up).  On Linux the kernel sends
+    SIGKILL at the parent's death (``prctl(PR_SET_PDEATHSIG)``); everywhere a
+    daemon thread checks once a second that the parent is still there."""
+    import threading
+    if sys.platform.startswith("linux"):
+        try:
+            import ctypes
+            import signal
+            ctypes.CDLL(None, use_errno=True).prctl(1, int(signal.SIGKILL), 0, 0, 0)
+        except (OSError, AttributeError):          # pragma: no cover - no libc prctl
+            pass
+    if os.getppid() != parent:                     # the parent died before prctl
+        os._exit(1)
+
+    def watch() -> None:
+        while True:
+            time.sleep(1.0)
+            if os.getppid() != parent:
+                os._exit(1)
+    threading.Thread(target=watch, name="kinetostatics-parent-watch", daemon=True).start()
+
+
 class _Serial(Executor):
     """Runs each call when it is submitted, in this process."""
 
@@ -171,7 +205,8 @@ def _open_executor(executor: Any, workers: int | None) -> tuple[Executor, int, C
     if executor in (None, "processes"):
         from concurrent.futures import ProcessPoolExecutor
         n = workers or os.cpu_count() or 1
-        ex = ProcessPoolExecutor(max_workers=n)
+        ex = ProcessPoolExecutor(max_workers=n, initializer=_die_with_parent,
+                                 initargs=(os.getpid(),))
         return ex, n, lambda: ex.shutdown(wait=False, cancel_futures=True)
     if isinstance(executor, Executor):
         return executor, workers or os.cpu_count() or 1, lambda: None
@@ -246,10 +281,16 @@ def column_unit(name: str, params: Iterable[str] = ()) -> str:
 
 
 def read_summary(path: str | Path) -> tuple[list[str], list[dict[str, str]]]:
-    """(header, rows as text) of a summary table; a row cut short by an
-    interrupt (fewer cells than the header) is left out."""
-    lines = [line for line in Path(path).read_text(encoding="utf-8").splitlines(keepends=True)
-             if not line.startswith("#")]
+    """(header, rows as text) of a summary table; a row cut short by a kill or a
+    full disk is left out.  Every row is written with its line end, the row's
+    sentinel: rows are only ever appended, so only the last line can be cut, and
+    it was cut exactly when its line end is missing (even if the cut fell inside
+    its last cell, where the cells still count right).  A row with another
+    number of cells than the header is left out too."""
+    lines = Path(path).read_text(encoding="utf-8").splitlines(keepends=True)
+    if lines and not lines[-1].endswith("\n"):
+        lines.pop()                     # its end never reached the disk
+    lines = [line for line in lines if not line.startswith("#")]
     reader = csv.reader(lines)
     header = next(reader, [])
     rows = [dict(zip(header, cells)) for cells in reader if len(cells) == len(header)]
@@ -324,9 +365,115 @@ class _Table:
 
     def rewrite(self) -> None:
         ordered = sorted(self.rows.values(), key=lambda r: self.order.get(r["variant"], 0))
-        tmp = self.path.with_suffix(".csv.tmp")
-        self._write(tmp, self._text(ordered, header=True), "w")
-        os.replace(tmp, self.path)              # never a half-written table
+        _replace(self.path, self._text(ordered, header=True), self._write)
+
+
+def _replace(path: Path, text: str, write: Callable[[Path, str, str], None]) -> None:
+    """Write ``path`` through a temporary file and ``os.replace``: never a
+    half-written file, and no temporary file left when the write fails (a full
+    disk, a read-only folder)."""
+    tmp = path.with_name(f"{path.name}.{os.getpid()}.tmp")
+    try:
+        write(tmp, text, "w")
+        os.replace(tmp, path)
+    except BaseException as exc:
+        try:
+            tmp.unlink()
+        except OSError:
+            pass
+        if isinstance(exc, OSError) and exc.filename == str(tmp):
+            exc.filename = str(path)            # name the file meant, not its temporary
+        raise
+
+
+def _write_state(path: Path, state: Mapping) -> None:
+    _replace(path, json.dumps(state, indent=1), _Table._write)
+
+
+def _read_state(path: Path) -> dict:
+    try:
+        state = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return {}
+    return state if isinstance(state, dict) else {}
+
+
+# -- one batch per output folder -------------------------------------------------------
+class _Lock:
+    """``DIR/batch.lock``: one batch writes to a folder at a time.  The lock is an
+    advisory ``flock`` on that file, which the system releases when its process
+    dies however it dies, so the lock of a killed batch is simply taken over; the
+    file names the holder (pid, host, start time) for the message to the second."""
+
+    def __init__(self, folder: Path):
+        self.path = folder / LOCK
+        self.fd: int | None = None
+
+    def acquire(self) -> None:
+        try:
+            import fcntl
+        except ImportError:                    # pragma: no cover - not POSIX
+            fcntl = None
+        for _ in range(10):
+            fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o644)
+            try:
+                if fcntl is not None:
+                    try:
+                        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                    except OSError as exc:     # a file system without flock (some NFS)
+                        if exc.errno not in (errno.ENOLCK, errno.EOPNOTSUPP, errno.EINVAL):
+                            raise
+                        if not self._stale(fd):
+                            raise BlockingIOError from None
+                elif not self._stale(fd):      # pragma: no cover
+                    raise BlockingIOError
+            except BlockingIOError:
+                holder = os.read(fd, 200).decode("utf-8", "replace").strip()
+                os.close(fd)
+                raise BatchError(f"{self.path.parent}: another batch is writing to this "
+                                 f"folder ({holder or 'batch.lock is held'}); wait for it "
+                                 "to finish, or use another --out") from None
+            except BaseException:
+                os.close(fd)
+                raise
+            try:                               # the file may have been removed meanwhile
+                same = os.stat(self.path).st_ino == os.fstat(fd).st_ino
+            except FileNotFoundError:
+                same = False
+            if same:
+                self.fd = fd
+                os.ftruncate(fd, 0)
+                os.write(fd, (f"pid {os.getpid()} on {_host()} since "
+                              f"{time.strftime('%Y-%m-%d %H:%M:%S')}\n").encode())
+                return
+            os.close(fd)
+        raise BatchError(f"{self.path}: cannot take the lock")   # pragma: no cover
+
+    def _stale(self, fd: int) -> bool:             # pragma: no cover - without flock
+        words = os.read(fd, 200).decode("utf-8", "replace").split()
+        os.lseek(fd, 0, os.SEEK_SET)
+        try:
+            os.kill(int(words[1]), 0)
+        except (IndexError, ValueError, ProcessLookupError):
+            return True
+        except PermissionError:
+            return False
+        return False
+
+    def release(self) -> None:
+        if self.fd is None:
+            return
+        try:
+            self.path.unlink()
+        except OSError:
+            pass
+        os.close(self.fd)                      # releases the flock
+        self.fd = None
+
+
+def _host() -> str:
+    import socket
+    return socket.gethostname()
 
 
 # -- parameters of a variant -----------------------------------------------------------
@@ -432,7 +579,10 @@ def run_batch(sources: Sequence[Source] | str | Path, tasks: Sequence[Task] | No
 
     Rows already in ``summary.csv`` from an interrupted run of the same batch
     are kept and not computed again.  Raises :class:`BatchError` if ``out_dir``
-    holds a different batch (unless ``overwrite``).
+    holds a different batch (unless ``overwrite``), if another batch is writing
+    to it, or if the variants or one variant's positions would not fit in the
+    memory available; :class:`OutputError` if ``out_dir`` cannot be written
+    (a file, no permission, a full disk) or the executor fails as a whole.
     """
     t_start = time.perf_counter()
     if isinstance(sources, (str, Path)):
@@ -441,10 +591,10 @@ def run_batch(sources: Sequence[Source] | str | Path, tasks: Sequence[Task] | No
     if tasks is None:
         tasks = _one_per_file(sources)
     tasks = list(tasks)
+    _check_memory(len(tasks), None, 1)
     out = Path(out_dir)
     options = {"positions": positions, "friction": friction, "flywheel": flywheel}
     fingerprint = _fingerprint(sources, tasks, options)
-    state_path, table_path = out / STATE, out / SUMMARY
     state = {"fingerprint": fingerprint, "variants": len(tasks),
              "sources": [s.file for s in sources], "options": options, "computed": 0, "runs": []}
     order = {t.vid: k for k, t in enumerate(tasks)}
@@ -456,18 +606,72 @@ def run_batch(sources: Sequence[Source] | str | Path, tasks: Sequence[Task] | No
         if flywheel and not isinstance(tpl, BaseException) and tpl.base.flywheel is None:
             raise BatchError(f"{source.file}: --flywheel needs a flywheel: {{delta: ...}} "
                              "section in the file (docs/dynamics.md)")
-    out.mkdir(parents=True, exist_ok=True)
+    n_pos = positions or max((tpl.base.analysis.positions for tpl in templates
+                              if not isinstance(tpl, BaseException)), default=None)
+    _check_memory(0, n_pos, (workers or os.cpu_count() or 1)
+                  if executor in (None, "processes") else 1, bool(positions))
+    where = f"--out {out_dir}"
+    if out.exists() and not out.is_dir():
+        raise OutputError(f"{where}: is a file, not a folder")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise output_error(exc, where) from None
+    lock = _Lock(out)
+    try:
+        lock.acquire()
+    except OSError as exc:
+        raise output_error(exc, where) from None
+    try:
+        return _run_locked(sources, tasks, out, where, templates, state, fingerprint, order,
+                           chunk=chunk, executor=executor, workers=workers,
+                           positions=positions, friction=friction, flywheel=flywheel,
+                           results=results, progress=progress, overwrite=overwrite,
+                           on_chunk=on_chunk, t_start=t_start)
+    finally:
+        lock.release()
+
+
+def _check_memory(n_tasks: int, positions: int | None, workers: int,
+                  option: bool = True) -> None:
+    """Refuse, before any allocation, a batch whose table or one variant's analysis
+    would not fit in the memory available (``sweeps.available_memory``)."""
+    from .sweeps import BYTES_PER_VARIANT, available_memory, gigabytes
+    free = available_memory()
+    need = n_tasks * BYTES_PER_VARIANT
+    if need > free:
+        raise BatchError(f"{n_tasks} variants: the table needs about {gigabytes(need)} of "
+                         f"memory, more than the {gigabytes(free)} available; split the sweep "
+                         "into several batches (one --out each)")
+    if positions and positions * BYTES_PER_POSITION * workers > free:
+        raise BatchError(f"{'--positions' if option else 'analysis.positions'} {positions}: "
+                         f"one variant at {positions} positions needs about "
+                         f"{gigabytes(positions * BYTES_PER_POSITION)} of memory per worker "
+                         f"({workers} at once), more than the {gigabytes(free)} available")
+
+
+def _run_locked(sources, tasks, out: Path, where: str, templates, state, fingerprint, order, *,
+                chunk, executor, workers, positions, friction, flywheel, results, progress,
+                overwrite, on_chunk, t_start) -> BatchSummary:
+    """The batch, with ``out`` locked: resume or start the table, run the chunks."""
+    state_path, table_path = out / STATE, out / SUMMARY
     table = _Table(table_path, order)
-    if table_path.exists() and not overwrite:
-        old = json.loads(state_path.read_text()) if state_path.exists() else {}
-        if old.get("fingerprint") != fingerprint:
-            raise BatchError(f"{out}: holds another batch (other files, sweep or options); "
-                             "use another --out, or --overwrite to start afresh")
-        state = old
-        table.resume()
-    elif table_path.exists():
-        table_path.unlink()
-    state_path.write_text(json.dumps(state, indent=1))     # before any row: a kill stays resumable
+    try:
+        if table_path.exists() and not overwrite:
+            old = _read_state(state_path)
+            if old.get("fingerprint") != fingerprint:
+                raise BatchError(f"{out}: holds another batch (other files, sweep or options"
+                                 f"{'' if old else '; batch.json is missing or unreadable'}); "
+                                 "use another --out, or --overwrite to start afresh")
+            state = old
+            table.resume()
+        elif table_path.exists():
+            table_path.unlink()
+        _write_state(state_path, state)         # before any row: a kill stays resumable
+        if not table_path.exists():
+            table.rewrite()
+    except OSError as exc:
+        raise output_error(exc, where) from None
     reused = len(table.rows)
 
     todo = [t for t in tasks if t.vid not in table.rows]
@@ -482,52 +686,88 @@ def run_batch(sources: Sequence[Source] | str | Path, tasks: Sequence[Task] | No
             text = {"variant": task.vid, **{k: _cell(v) for k, v in params.items()},
                     **{k: _cell(v) for k, v in row.items()}}
             cells.append((text, params))
-        table.add(cells)
+        try:
+            table.add(cells)
+        except OSError as exc:              # a full disk: stop; the rows on disk stay valid
+            raise output_error(exc, where) from None
         return sum(r.get("status") != "ok" for _, r in task_rows)
 
-    if not table_path.exists():
-        table.rewrite()
     from .variants import failure_row
     bar = _Progress(len(tasks), reused, sys.stderr.isatty() if progress is None else progress)
-    computed = 0
     if broken:
         bar.update(len(broken), record([(t, failure_row(templates[t.source])) for t in broken]))
-        computed += len(broken)
     ex, slots, close = _open_executor(executor, workers)
     n_pos = positions or max((tpl.base.analysis.positions for tpl in templates
                               if not isinstance(tpl, BaseException)), default=1)
     size = chunk or auto_chunk(len(todo), n_pos, slots)
-    chunks = _chunks(todo, size)
     results_dir = str(out / "variants") if results else None
-    pending: dict[Future, list[Task]] = {}
-    it = iter(chunks)
+    pending: dict[Future, tuple[list[Task], int]] = {}
+    retry: list[tuple[list[Task], int]] = []
+    it = iter(_chunks(todo, size))
     t_run = time.perf_counter()
+    failure: BaseException | None = None
     try:
         while True:
-            while len(pending) < 2 * slots and (part := next(it, None)) is not None:
+            while len(pending) < 2 * slots and (
+                    (nxt := retry.pop() if retry else
+                     ((p, 1) if (p := next(it, None)) is not None else None)) is not None):
+                part, attempt = nxt
                 job = Chunk(sources[part[0].source], tuple(t.vid for t in part),
                             tuple(dict(t.overrides) for t in part), positions, friction,
                             flywheel, results_dir)
-                pending[ex.submit(analyze_chunk, job)] = part
+                try:
+                    pending[ex.submit(analyze_chunk, job)] = (part, attempt)
+                except BrokenExecutor:
+                    retry.append((part, attempt))
+                    ex, close = _reopen(executor, workers, ex, close)
+                except Exception as exc:    # noqa: BLE001 - the executor itself failed
+                    for f in [f for f in pending if f.done() and not f.cancelled()
+                              and f.exception() is None]:
+                        part, _ = pending.pop(f)      # keep the rows already computed
+                        if len(rows := f.result()) == len(part):
+                            bar.update(len(part), record(list(zip(part, rows))))
+                    raise _executor_error(executor, exc, out) from None
             if not pending:
                 break
-            done, _ = wait(list(pending), return_when=FIRST_COMPLETED)
+            try:
+                done, _ = wait(list(pending), return_when=FIRST_COMPLETED)
+            except Exception as exc:        # noqa: BLE001
+                raise _executor_error(executor, exc, out) from None
+            lost = False
             for f in done:
-                part = pending.pop(f)
+                part, attempt = pending.pop(f)
                 try:
                     rows = f.result()
                     if len(rows) != len(part):
                         raise RuntimeError(f"{len(rows)} rows for {len(part)} variants")
+                except CancelledError as exc:   # not by us: the executor gave up (a lost
+                    raise _executor_error(executor, exc, out) from None    # scheduler)
+                except BrokenExecutor as exc:   # its worker died: again, in a fresh pool
+                    lost = True
+                    if attempt < ATTEMPTS and executor in (None, "processes"):
+                        retry.append((part, attempt + 1))
+                        continue
+                    rows = [_error_row(exc) for _ in part]
                 except Exception as exc:     # noqa: BLE001 - a chunk's crash is its rows' error
                     rows = [_error_row(exc) for _ in part]
                 bar.update(len(part), record(list(zip(part, rows))))
-                computed += len(part)
                 if on_chunk is not None:
                     on_chunk(len(table.rows))
+            if lost and executor in (None, "processes"):
+                for f, job in list(pending.items()):    # the others in the broken pool
+                    if f.done() and isinstance(f.exception(), BrokenExecutor):
+                        pending.pop(f)
+                        retry.append(job)
+                ex, close = _reopen(executor, workers, ex, close)
+    except BaseException as exc:
+        failure = exc
+        raise
     finally:
-        close()
+        try:
+            close()
+        except Exception:                   # noqa: BLE001 - e.g. a Dask client already lost
+            pass
         bar.close()
-        table.rewrite()
         seconds = time.perf_counter() - t_run
         computed = len(table.rows) - reused    # rows written now (an interrupt may fall anywhere)
         state["computed"] = state.get("computed", 0) + computed
@@ -536,11 +776,34 @@ def run_batch(sources: Sequence[Source] | str | Path, tasks: Sequence[Task] | No
                           "chunk": size, "workers": slots,
                           "executor": executor if isinstance(executor, (str, type(None)))
                           else type(executor).__name__}]
-        state_path.write_text(json.dumps(state, indent=1))
+        try:
+            table.rewrite()
+            _write_state(state_path, state)
+        except OSError as exc:
+            # the appended rows stay on disk, each whole or recognisably cut; the
+            # first failure is the one reported
+            if failure is None:
+                raise output_error(exc, where) from None
     statuses = [r.get("status") for r in table.rows.values()]
     return BatchSummary(out, len(tasks), computed, reused, statuses.count("failed"),
                         statuses.count("error"), time.perf_counter() - t_start, size, slots)
 
+
+def _reopen(executor, workers, ex, close):
+    """A fresh process pool in place of a broken one (a worker was killed)."""
+    close()
+    ex, _, close = _open_executor(executor, workers)
+    return ex, close
+
+
+def _executor_error(executor: Any, exc: BaseException, out: Path) -> OutputError:
+    """One line for an executor that failed as a whole (a lost Dask scheduler)."""
+    what = f"--scheduler {executor}" if isinstance(executor, str) and executor not in (
+        "processes", "serial") else "the executor"
+    text = str(exc).splitlines()[0] if str(exc) else ""
+    return OutputError(f"{what}: failed ({type(exc).__name__}{': ' + text if text else ''}); "
+                       f"the finished rows are in {out / SUMMARY}; run the same command "
+                       "again to resume")
 
 def _one_per_file(sources: Sequence[Source]) -> list[Task]:
     seen: set[str] = set()

@@ -57,9 +57,8 @@ def _run(args) -> int:
     model = load(args.file)
     result = analyze(model)
     out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    result.to_csv(out / "results.csv")
-    result.to_json(out / "summary.json")
+    _write_outputs(out, f"--out {args.out}", [(out / "results.csv", result.to_csv),
+                                              (out / "summary.json", result.to_json)])
     s = result.summary()
     print(f"{model.name}: {len(result)} positions -> {out / 'results.csv'}, {out / 'summary.json'}")
     print("groups: " + "; ".join(s["structure"]["groups"]))
@@ -105,6 +104,33 @@ def _run(args) -> int:
             print(f"self-locked zone from {ends[0]} to {ends[1]} ({z['rows']} rows)")
     _print_checks(result.checks)
     return 0
+
+
+def _write_outputs(out: Path, what: str, writers) -> None:
+    """Make the folder ``out`` and write each ``(path, write)``; an ``OSError`` (a
+    folder that is a file or read-only, a full disk) is one line naming the path,
+    and no file is left half-written: each is written to a temporary name first."""
+    import os
+    from .errors import OutputError, output_error
+    if out.exists() and not out.is_dir():
+        raise OutputError(f"{what}: is a file, not a folder")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise output_error(exc, what) from None
+    for path, write in writers:
+        tmp = path.with_name(f"{path.name}.{os.getpid()}.tmp")
+        try:
+            write(tmp)
+            os.replace(tmp, path)
+        except OSError as exc:
+            try:
+                tmp.unlink()
+            except OSError:
+                pass
+            if exc.filename == str(tmp):
+                exc.filename = str(path)        # name the file meant, not its temporary
+            raise output_error(exc, what) from None
 
 
 # Modules adding subcommands: each defines ``register(subparsers)`` that adds its

@@ -113,16 +113,27 @@ def _variants(args, sources):
     return [Task(vid, 0, values) for vid, values in variants]
 
 
+def _ranges() -> tuple[tuple[str, int, int], ...]:
+    from .sweeps import MAX_VARIANTS
+    from .yaml_io import MAX_POSITIONS
+    return (("positions", 1, MAX_POSITIONS), ("chunk", 1, MAX_VARIANTS),
+            ("workers", 1, MAX_WORKERS), ("random", 1, MAX_VARIANTS),
+            ("seed", 0, 2**63 - 1), ("top", 1, MAX_VARIANTS))
+
+
+# More worker processes than this are refused: each holds a copy of the
+# interpreter and numpy (about 60 MB) and two chunks in flight.
+MAX_WORKERS = 1024
+
+
 def _batch(args) -> int:
     from .batch import BatchError, _template, run_batch, sources_of
     if args.where and not args.best:
         raise BatchError("--where needs --best")
-    if args.positions is not None and args.positions < 1:
-        raise BatchError(f"--positions {args.positions}: must be >= 1")
-    if args.chunk is not None and args.chunk < 1:
-        raise BatchError(f"--chunk {args.chunk}: must be >= 1")
-    if args.workers is not None and args.workers < 1:
-        raise BatchError(f"--workers {args.workers}: must be >= 1")
+    for option, lo, hi in _ranges():
+        v = getattr(args, option)
+        if v is not None and not lo <= v <= hi:
+            raise BatchError(f"--{option} {v}: must be from {lo} to {hi}")
     sources = sources_of(args.file)
     if len(sources) == 1:
         _template(sources[0].file, sources[0].text)        # a broken file stops here

@@ -18,7 +18,7 @@ __all__ = [
     "Location", "KinetostaticsError", "ModelError", "StructureError",
     "AssemblyError", "SingularConfigurationError", "SelfLockingError",
     "NonFiniteResultError", "NearSingularWarning", "SingularEquilibriumWarning", "Collector",
-    "did_you_mean",
+    "did_you_mean", "OutputError", "output_error",
 ]
 
 
@@ -86,6 +86,20 @@ class NonFiniteResultError(KinetostaticsError, RuntimeError):
     def __init__(self, column: str, row: int, message: str):
         self.column, self.row = column, row
         super().__init__(message)
+
+
+class OutputError(KinetostaticsError, RuntimeError):
+    """An output cannot be written or a batch's machinery failed: an ``--out`` that
+    is a file, a folder without write permission, a full disk, a lost Dask
+    scheduler.  The message is one line naming the path (or the scheduler)."""
+
+
+def output_error(exc: OSError, what: str) -> OutputError:
+    """An :class:`OutputError` for an ``OSError`` met writing ``what`` (e.g.
+    ``"--out out"``): ``what: cannot write PATH: reason``."""
+    path = exc.filename if exc.filename is not None else ""
+    reason = exc.strerror or str(exc) or type(exc).__name__
+    return OutputError(f"{what}: cannot write {path}: {reason}" if path else f"{what}: {reason}")
 
 
 class NearSingularWarning(UserWarning):

@@ -34,6 +34,7 @@ from __future__ import annotations
 import csv
 import itertools
 import math
+import os
 import re
 from dataclasses import dataclass
 from pathlib import Path
@@ -45,12 +46,19 @@ import yaml
 from .errors import Location, ModelError, did_you_mean
 
 __all__ = ["Variant", "SweepError", "load_sweep", "expand", "parse_set", "from_options",
-           "read_table", "check_parameters", "MAX_VARIANTS"]
+           "read_table", "check_parameters", "MAX_VARIANTS", "BYTES_PER_VARIANT",
+           "available_memory", "check_size"]
 
 Variant = tuple[str, dict[str, float]]
 BLOCKS = ("grid", "zip", "random", "table")
 DISTRIBUTIONS = ("uniform", "normal", "loguniform", "integers", "choice")
 MAX_VARIANTS = 10_000_000
+# What one variant costs while a batch holds it: its id and values, its task, and
+# its row of the summary table as text (measured with tracemalloc on the slotting
+# machine with friction, 3 swept parameters, 36 columns: 5.2 KiB; the rest is
+# headroom for the fingerprint and the chunk lists).  A sweep whose variants would
+# need more than the memory available is refused before any is made.
+BYTES_PER_VARIANT = 8 * 2**10
 NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 ID = re.compile(r"[A-Za-z0-9_.\-]+\Z")
 
@@ -60,6 +68,54 @@ class SweepError(ModelError):
 
     def __init__(self, where: Location, message: str):
         super().__init__([(where, message)])
+
+
+def available_memory() -> int:
+    """Bytes of memory available now: ``MemAvailable`` of ``/proc/meminfo`` (and at
+    most what a cgroup limit leaves), else the free physical pages; 2**62 when
+    the system does not say."""
+    free = None
+    try:
+        with open("/proc/meminfo", encoding="ascii") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    free = int(line.split()[1]) * 1024
+                    break
+    except (OSError, ValueError, IndexError):
+        pass
+    if free is None:
+        try:
+            free = os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+        except (ValueError, OSError, AttributeError):
+            return 2**62
+    try:
+        with open("/sys/fs/cgroup/memory.max", encoding="ascii") as fh:
+            limit = fh.read().strip()
+        with open("/sys/fs/cgroup/memory.current", encoding="ascii") as fh:
+            used = int(fh.read().strip())
+        if limit != "max":
+            free = min(free, max(int(limit) - used, 0))
+    except (OSError, ValueError):
+        pass
+    return free
+
+
+def gigabytes(n: float) -> str:
+    """``n`` bytes as ``'1.2 GB'`` (GiB)."""
+    return f"{n / 2**30:.1f} GB"
+
+
+def check_size(n: int, where: Location, what: str = "the sweep") -> None:
+    """Refuse ``n`` variants before making them: more than :data:`MAX_VARIANTS`,
+    or more than the memory available holds at :data:`BYTES_PER_VARIANT` each."""
+    if n > MAX_VARIANTS:
+        raise SweepError(where, f"{what} has {n} variants, more than the limit of "
+                                f"{MAX_VARIANTS}")
+    need, free = n * BYTES_PER_VARIANT, available_memory()
+    if need > free:
+        raise SweepError(where, f"{what} has {n} variants: about {gigabytes(need)} of memory "
+                                f"to hold them and their rows, more than the {gigabytes(free)} "
+                                "available; split it into several batches (one --out each)")
 
 
 # -- YAML with locations ---------------------------------------------------------------
@@ -180,12 +236,14 @@ def _values(n: Node) -> list[float]:
             raise SweepError(m["step"].where, f"step {step:g} does not lead from {start:g} to {stop:g}")
         if (stop - start) / step + 1 > MAX_VARIANTS:
             raise SweepError(m["step"].where, f"more than {MAX_VARIANTS} values")
+        check_size(int((stop - start) / step + 1 + 1e-9), m["step"].where, "the range")
         return arange(start, stop, step)
     if form == "linspace":
         m = _mapping(spec, ("from", "to", "num"))
         num = _count(m["num"], "num")
         if num > MAX_VARIANTS:
             raise SweepError(m["num"].where, f"more than {MAX_VARIANTS} values")
+        check_size(num, m["num"].where, "the linspace")
         return [float(x) for x in np.linspace(_number(m["from"]), _number(m["to"]), num)]
     raise SweepError(spec.where, f"unknown form '{form}'"
                                  f"{did_you_mean(form, ('values', 'range', 'linspace'))}; "
@@ -207,6 +265,7 @@ def _grid(n: Node) -> list[dict[str, float]]:
     axes = [_values(v) for v in m.values()]
     if math.prod(len(a) for a in axes) > MAX_VARIANTS:
         raise SweepError(n.where, f"the grid has more than {MAX_VARIANTS} variants")
+    check_size(math.prod(len(a) for a in axes), n.where, "the grid")
     return [dict(zip(names, combo)) for combo in itertools.product(*axes)]
 
 
@@ -220,6 +279,7 @@ def _zip(n: Node) -> list[dict[str, float]]:
         raise SweepError(n.where, "zip lists differ in length: "
                                   + ", ".join(f"{k} {v}" for k, v in lengths.items()))
     names = list(cols)
+    check_size(next(iter(lengths.values())), n.where, "the zip")
     return [dict(zip(names, vals)) for vals in zip(*cols.values())]
 
 
@@ -269,6 +329,7 @@ def _random(n: Node) -> list[dict[str, float]]:
     count = _count(m["n"], "n")
     if count > MAX_VARIANTS:
         raise SweepError(m["n"].where, f"more than {MAX_VARIANTS} variants")
+    check_size(count, m["n"].where, "the random sample")
     seed = m["seed"].value
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise SweepError(m["seed"].where, f"seed must be a whole number >= 0, got {seed!r}")
@@ -366,6 +427,7 @@ def expand(blocks: Iterable[Node | Mapping[str, Any]], base: str | Path = ".") -
     if math.prod(len(p) for p in parts) > MAX_VARIANTS:
         raise SweepError(next(iter(owner.values()), Location()),
                          f"the sweep has more than {MAX_VARIANTS} variants")
+    check_size(math.prod(len(p) for p in parts), next(iter(owner.values()), Location()))
     combos = itertools.product(*parts)
     if len(parts) == 1 and all(vid for vid, _ in parts[0]):
         return [(vid, dict(values)) for vid, values in parts[0]]
@@ -410,8 +472,10 @@ def parse_set(text: str, *, random: bool = False) -> tuple[str, Any]:
             raise bad("a range is FROM:TO:NUM" + (" (or LO:HI with --random)" if not random
                                                   else "; with --random give LO:HI"))
         count = num(parts[2])
-        if count != int(count) or count < 1 or count > MAX_VARIANTS:
+        if count != int(count) or count < 1:
             raise bad(f"NUM must be a whole number of values >= 1, got '{parts[2]}'")
+        if count > MAX_VARIANTS:
+            raise bad(f"NUM {parts[2]} is more than the limit of {MAX_VARIANTS} values")
         return name, {"linspace": {"from": num(parts[0]), "to": num(parts[1]), "num": int(count)}}
     values = [num(s) for s in spec.split(",")]
     if random:
@@ -425,8 +489,9 @@ def from_options(sets: Sequence[str] = (), table: str | None = None,
     ``--random N``, as the sampled parameters), then ``--table``."""
     blocks: list[dict[str, Any]] = []
     if random is not None:
-        if random < 1:
-            raise SweepError(Location("--random"), f"N must be >= 1, got {random}")
+        if not 1 <= random <= MAX_VARIANTS:
+            raise SweepError(Location("--random"), f"N must be from 1 to {MAX_VARIANTS}, "
+                                                   f"got {random}")
         if not sets:
             raise SweepError(Location("--random"), "needs --set NAME=LO:HI for each sampled parameter")
         blocks.append({"random": {"n": random, "seed": 0 if seed is None else seed,

@@ -57,6 +57,19 @@ class Unsupported(Exception):
     """The model is outside the vectorised case (the reason is the message)."""
 
 
+class LeftOver(Unsupported):
+    """Some variants do not assemble at the start or leave the closed forms' path;
+    ``ok (V,)`` marks the others.  Raised before the costly stages (derivatives,
+    loads, friction solutions), which a failing variant would only slow down (its
+    NaN rows send the friction solution into its homotopy): analyse the ``ok``
+    variants again on their own, the others one by one."""
+
+    def __init__(self, ok: np.ndarray):
+        self.ok = ok
+        super().__init__(f"{int(np.count_nonzero(~ok))} of {len(ok)} variants leave the "
+                         "vectorised path")
+
+
 def _schedule(system: System) -> Schedule:
     model = system.model
     drivers = system.motion_drivers
@@ -203,6 +216,8 @@ def analyze_stacked(models: Sequence[Model], *, friction: bool | None = None,
         raise Unsupported("a group without a closed form")
     q, ok_path, _ = closed_form_path(system, solvers, q0, t, sched)
     ok &= ok_path
+    if not ok.all():
+        raise LeftOver(ok)
     psi, psi_d, psi_dd = sched(t)
     psi, psi_d, psi_dd = (np.broadcast_to(x, q.shape[:-1] + (1,)) for x in (psi, psi_d, psi_dd))
     qd, qdd, lu = derivatives(system, q, psi_d, psi_dd)
