@@ -5,23 +5,32 @@
 Mechanism k (seed k) is generated and put through every relation of
 ``relations.RELATIONS`` (the energy check on one mechanism in ``--energy-every``,
 it integrates the motion).  Work is spread over ``--workers`` processes; a
-progress line is printed.  The counts (mechanisms generated, candidates
-rejected, relations checked / failed / not applicable, the largest
-discrepancy per relation and the failing seeds) are printed, and with
-``--write`` replace the block between the markers in docs/verification.md.
+progress line is printed.  Each mechanism's outcome is appended as one JSON line
+to ``--results`` (default ``tests/net/long_run/results.jsonl``, with the commit it
+ran at), so an interrupted run resumes where it stopped: seeds already in the
+file are not run again (``--fresh`` starts over).  The counts (mechanisms
+generated, candidates rejected, relations checked / failed / not applicable, the
+largest discrepancy per relation and the failing seeds), taken over every seed of
+the requested range found in the file, are printed, and with ``--write`` replace
+the block between the markers in docs/verification.md; ``--report`` only does
+that, computing nothing.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import multiprocessing as mp
+import os
+import subprocess
 import sys
 import time
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parents[1]
+RESULTS = HERE / "long_run" / "results.jsonl"
 BEGIN = "<!-- long-run:begin -->"
 END = "<!-- long-run:end -->"
 
@@ -54,8 +63,31 @@ def check_one(args):
         hint = None
         if v is not None and not v <= R.TOLERANCE[name]:
             hint = R.diagnose(name, doc, seed)
-        out["results"][name] = (v, col if hint is None else f"{col} [{hint}]")
+        failed = v is not None and not v <= R.TOLERANCE[name]
+        out["results"][name] = ([v, (col if hint is None else f"{col} [{hint}]")[:160]]
+                                if failed else v)
     return out
+
+
+def _commit() -> str:
+    try:
+        return subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, text=True,
+                              capture_output=True, check=True).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown"
+
+
+def _load(path: Path) -> dict[int, dict]:
+    """The outcomes already in the results file, by seed (a cut last line is dropped)."""
+    done = {}
+    if path.exists():
+        for line in path.read_text(encoding="utf-8").splitlines():
+            try:
+                out = json.loads(line)
+            except ValueError:
+                continue
+            done[out["seed"]] = out
+    return done
 
 
 def main(argv=None):
@@ -64,42 +96,72 @@ def main(argv=None):
     ap.add_argument("--first-seed", type=int, default=1_000_000)
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--energy-every", type=int, default=20)
+    ap.add_argument("--results", type=Path, default=RESULTS)
+    ap.add_argument("--fresh", action="store_true", help="forget the results file")
+    ap.add_argument("--report", action="store_true", help="only report what the file holds")
     ap.add_argument("--write", action="store_true", help="update docs/verification.md")
     a = ap.parse_args(argv)
     _setup()
     import relations as R
-    jobs = [(a.first_seed + k, k % a.energy_every == 0) for k in range(a.mechanisms)]
+    seeds = range(a.first_seed, a.first_seed + a.mechanisms)
+    a.results.parent.mkdir(parents=True, exist_ok=True)
+    if a.fresh and a.results.exists():
+        a.results.unlink()
+    done = _load(a.results)
+    jobs = [(s, (s - a.first_seed) % a.energy_every == 0) for s in seeds if s not in done]
+    commit = _commit()
+    t0 = time.time()
+    if jobs and not a.report:
+        print(f"{len(done)} mechanisms already in {a.results.name}; {len(jobs)} to run")
+        with mp.Pool(a.workers) as pool, a.results.open("a", encoding="utf-8") as f:
+            for k, out in enumerate(pool.imap_unordered(check_one, jobs, chunksize=4), 1):
+                out["commit"] = commit
+                f.write(json.dumps(out) + "\n")
+                f.flush()
+                done[out["seed"]] = out
+                if k % 10 == 0 or k == len(jobs):
+                    os.fsync(f.fileno())
+                    el = time.time() - t0
+                    print(f"\r{k}/{len(jobs)} mechanisms, {el:.0f} s", end="", flush=True)
+        print()
+    block = _block(a, R, [done[s] for s in seeds if s in done])
+    print(block)
+    if a.write:
+        doc = ROOT / "docs" / "verification.md"
+        text = doc.read_text(encoding="utf-8")
+        i, j = text.index(BEGIN), text.index(END) + len(END)
+        doc.write_text(text[:i] + block + text[j:], encoding="utf-8")
+    return 0
+
+
+def _block(a, R, outs: list[dict]) -> str:
     stats = {n: {"checked": 0, "failed": 0, "na": 0, "max": 0.0, "seeds": []}
              for n in R.RELATIONS}
     generated = rejected = errors = 0
-    t0 = time.time()
-    with mp.Pool(a.workers) as pool:
-        for k, out in enumerate(pool.imap_unordered(check_one, jobs, chunksize=4), 1):
-            if "error" in out:
-                errors += 1
-            else:
-                generated += 1
-                rejected += out["rejected"]
-            for name, (v, col) in out["results"].items():
-                s = stats[name]
-                if v is None:
-                    s["na"] += 1
-                    continue
-                s["checked"] += 1
-                if v > R.TOLERANCE[name] or not math.isfinite(v):
-                    s["failed"] += 1
-                    s["seeds"].append((out["seed"], v, col))
-                elif v > s["max"]:
-                    s["max"] = v
-            if k % 10 == 0 or k == len(jobs):
-                el = time.time() - t0
-                print(f"\r{k}/{len(jobs)} mechanisms, {el:.0f} s, failures "
-                      f"{sum(s['failed'] for s in stats.values())}", end="", flush=True)
-    print()
+    commits = sorted({out.get("commit", "unknown") for out in outs})
+    for out in outs:
+        if "error" in out:
+            errors += 1
+            continue
+        generated += 1
+        rejected += out["rejected"]
+        for name, res in out["results"].items():
+            s = stats[name]
+            v, col = (res if isinstance(res, list) else (res, ""))
+            if v is None:
+                s["na"] += 1
+                continue
+            s["checked"] += 1
+            if v > R.TOLERANCE[name] or not math.isfinite(v):
+                s["failed"] += 1
+                s["seeds"].append((out["seed"], v, col))
+            elif v > s["max"]:
+                s["max"] = v
     lines = [BEGIN, "",
              f"Last long run: `python tests/net/long_run.py --mechanisms {a.mechanisms}` "
-             f"(seeds {a.first_seed}…{a.first_seed + a.mechanisms - 1}, {time.time() - t0:.0f} s "
-             f"on {a.workers} workers).", "",
+             f"(seeds {a.first_seed}…{a.first_seed + a.mechanisms - 1}; "
+             f"{len(outs)} of {a.mechanisms} done, at commit{'s' * (len(commits) > 1)} "
+             f"{', '.join(commits)}).", "",
              f"- mechanisms generated: {generated}; candidates rejected on the way: {rejected}; "
              f"seeds without an acceptable mechanism: {errors}", "",
              "| relation | checked | not applicable | failed "
@@ -116,14 +178,7 @@ def main(argv=None):
     if len(fails) > 60:
         lines.append(f"- … and {len(fails) - 60} more")
     lines += ["", END]
-    block = "\n".join(lines)
-    print(block)
-    if a.write:
-        doc = ROOT / "docs" / "verification.md"
-        text = doc.read_text(encoding="utf-8")
-        i, j = text.index(BEGIN), text.index(END) + len(END)
-        doc.write_text(text[:i] + block + text[j:], encoding="utf-8")
-    return 0
+    return "\n".join(lines)
 
 
 if __name__ == "__main__":
