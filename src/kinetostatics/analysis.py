@@ -200,7 +200,10 @@ def _find_roots(system, drive, t, q, qd, qdd, fvals, f, full, period_t):
     b = a + 1
     if full:
         a, b = np.append(a, len(ts) - 1), np.append(b, 0)
-    cross = np.nonzero((np.sign(fs_[a]) * np.sign(fs_[b]) < 0) | (fs_[a] == 0.0))[0]
+    sa, sb = np.sign(fs_[a]), np.sign(fs_[b])
+    # a sign change, or a zero sample that starts one (a value held at zero is no switch)
+    prev = np.sign(fs_[np.r_[a[:1] - 1, a[:-1]] % len(fs_)]) if full else np.r_[0.0, sa[:-1]]
+    cross = np.nonzero((sa * sb < 0) | ((sa == 0) & (sb != 0) & (prev != sb)))[0]
     if not cross.size:
         return np.zeros(0), [np.zeros((0,) + q.shape[1:])] * 3
     a, b = a[cross], b[cross]
@@ -327,32 +330,44 @@ def travel_extremes(system: System, sched: Schedule | None = None) -> dict:
     turning = drive.turning_times(t[0], t[-1]) if drive.laws else np.zeros(0)
     out: dict[int, float] = {}
     for c, k, p in conds:
-        s = point_state(q, qd, None, k, p)[0] @ c.axis
-        if periodic:
-            low = (s <= np.roll(s, 1)) & (s <= np.roll(s, -1))
+        pos, vel, _ = point_state(q, qd, None, k, p)
+        s, v = pos @ c.axis, vel @ c.axis
+        best = float(s.min())
+        flat = float(s.max()) - best <= 1e-12 * float(np.max(system.l_ref))
+        if periodic:                # strict on one side: a plateau is not a row of minima
+            low = (s < np.roll(s, 1)) & (s <= np.roll(s, -1))
         else:                       # interior minima: an end of the span counts as sampled
             low = np.zeros(s.shape, dtype=bool)
-            low[1:-1] = (s[1:-1] <= s[:-2]) & (s[1:-1] <= s[2:])
-        idx = np.nonzero(low)[0]
+            low[1:-1] = (s[1:-1] < s[:-2]) & (s[1:-1] <= s[2:])
+        idx = np.nonzero(low & ~flat)[0]
         near = np.abs(turning[:, None] - t[None, :]).argmin(axis=1) if turning.size else idx[:0]
-        best = float(s.min())
-        v = point_state(q, qd, None, k, p)[1] @ c.axis
-        for t_start, b in zip(np.concatenate((t[idx], turning)), np.concatenate((idx, near))):
-            sl = slice(b, b + 1)
 
-            def f(a, bb, cc, ax=c.axis, kk=k, pp=p):
-                _, v, acc = point_state(a, bb, cc, kk, pp)
-                return v @ ax, acc @ ax
-            bracket = (_minimum_bracket(t, v, b, step, periodic) if t_start == t[b] else None)
+        def f(a, bb, cc, ax=c.axis, kk=k, pp=p):
+            _, v, acc = point_state(a, bb, cc, kk, pp)
+            return v @ ax, acc @ ax
+        brackets = [_minimum_bracket(t, v, b, step, periodic) for b in idx]
+        sets = [(t[idx[[i for i, br in enumerate(brackets) if br is not None]]],
+                 idx[[i for i, br in enumerate(brackets) if br is not None]],
+                 [br for br in brackets if br is not None]),
+                (np.concatenate((t[idx[[i for i, br in enumerate(brackets) if br is None]]],
+                                 turning)),
+                 np.concatenate((idx[[i for i, br in enumerate(brackets) if br is None]], near)),
+                 None)]
+        for t_start, b, br in sets:
+            if not t_start.size:
+                continue
+            bracket = None if br is None else tuple(np.concatenate(x) for x in zip(*br))
             try:
-                tm, (qm, _, _) = _refine(system, drive, f, np.array([t_start]), t[sl], q[sl],
-                                         qd[sl], qdd[sl], bracket=bracket)
+                tm, (qm, _, _) = _refine(system, drive, f, t_start, t[b], q[b], qd[b], qdd[b],
+                                         bracket=bracket)
             except AssemblyError:   # Newton left the reachable poses: keep the samples
                 continue
-            sm = float(point_state(qm, qm, None, k, p)[0][0] @ c.axis)
-            inside = abs(tm[0] - t_start) <= 1.5 * step and (periodic or t[0] <= tm[0] <= t[-1])
-            if np.isfinite(sm) and inside:                       # stayed in its bracket
-                best = min(best, sm)
+            sm = point_state(qm, qm, None, k, p)[0] @ c.axis
+            inside = (np.abs(tm - t_start) <= 1.5 * step) & (
+                periodic | ((t[0] <= tm) & (tm <= t[-1])))
+            ok = np.isfinite(sm) & inside                          # stayed in its bracket
+            if ok.any():
+                best = min(best, float(np.min(sm[ok])))
         out[id(c)] = best
     m.extremes = out
     return dict(out)
@@ -458,6 +473,9 @@ def _switches(system, drive, sched, t, q, qd, qdd, full, period_t, extremes):
                     g, dg = _condition_rate(system, c, a, b, cc, None, extremes)
                     return g - offset, dg
                 vals = _condition_rate(system, c, q, qd, qdd, psi, extremes)[0] - offset
+                noise = 1e-12 * float(np.max(system.l_ref)) * (sched.reference
+                                                                 if c.kind == "moving" else 1.0)
+                vals = np.where(np.abs(vals) <= noise, 0.0, vals)   # round-off is no switch
                 roots, (qs, qds, qdds) = _find_roots(system, drive, t, q, qd, qdd, vals, f, full,
                                                      period_t)
                 for r, qr, qdr, qddr in zip(roots, qs[:, None], qds[:, None], qdds[:, None]):
