@@ -55,12 +55,21 @@ def _run(args) -> int:
     from .analysis import analyze
     from .yaml_io import load
     model = load(args.file)
+    import json
     result = analyze(model)
+    s = result.summary()          # before anything is written: a failed run writes nothing
+    summary = json.dumps(s, indent=2)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    result.to_csv(out / "results.csv")
-    result.to_json(out / "summary.json")
-    s = result.summary()
+    names = [(out / f".{name}.partial", out / name) for name in ("results.csv", "summary.json")]
+    try:
+        result.to_csv(names[0][0])
+        names[1][0].write_text(summary)
+        for partial, final in names:
+            partial.replace(final)
+    finally:
+        for partial, _ in names:
+            partial.unlink(missing_ok=True)
     print(f"{model.name}: {len(result)} positions -> {out / 'results.csv'}, {out / 'summary.json'}")
     print("groups: " + "; ".join(s["structure"]["groups"]))
     for name, o in s["outputs"].items():
@@ -138,8 +147,11 @@ def main(argv: list[str] | None = None) -> int:
             warnings.showwarning = one_line
             return args.func(args)
     except KinetostaticsError as exc:
+        from .errors import printable
+        file = printable(str(args.file))
         for line in str(exc).splitlines():
-            print(f"kinetostatics: {line}" if not line.startswith(str(args.file)) else line,
+            line = printable(line)              # no control characters reach the terminal
+            print(f"kinetostatics: {line}" if not line.startswith(file) else line,
                   file=sys.stderr)
         return 2
 

@@ -52,6 +52,19 @@ driver speed of at most 1e9 and a law's acceleration of at most 1e18 in SI) stay
 below 1e60, and their squares (norms) below 1e120: far from overflow (1.8e308).  A
 non-zero value below the lower bound (1e-300 kg) is refused as well: it only
 arises by mistake, and its products underflow."""
+OWN_LIMITS = {
+    "analysis.sweep": "MAX_TURNS (revolute driver), MAX_TRAVEL (prismatic driver)",
+    "analysis.at[]": "MAGNITUDE['angle'] (revolute driver), MAX_TRAVEL from analysis.start "
+                     "(prismatic driver)",
+    "drivers.*.motion.speed": "SPEED_RANGE",
+    "drivers.*.motion.coefficients[]": "finite in SI; the law's SPEED_RANGE, "
+                                       "MAX_LAW_ACCELERATION, MAGNITUDE of its coordinate, "
+                                       "MAX_TURNS or MAX_TRAVEL of its path",
+}
+"""The numbers of a file that are bounded by a limit of their own instead of (or besides)
+:data:`MAGNITUDE`: key pattern (names as ``*``, indices as ``[]``) -> the limit.  Every other
+number is read through :meth:`Entry.number` and bounded by :data:`MAGNITUDE`
+(``tests/test_hostile_keys.py`` walks the loader to check it)."""
 NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 RESERVED = frozenset({"time", "angle", "stroke", "travel", "power", "friction", "shaking"})
 TOP_KEYS = ("name", "units", "parameters", "gravity", "ground", "links", "joints", "loops",
@@ -64,6 +77,10 @@ class _TooDeep(Exception):
         self.mark = mark
 
 
+class _TooMany(_TooDeep):
+    pass
+
+
 class _Loader(yaml.SafeLoader):
     """The safe composer, refusing nesting deeper than :data:`MAX_DEPTH` (before
     Python's recursion limit is reached)."""
@@ -71,11 +88,19 @@ class _Loader(yaml.SafeLoader):
     def __init__(self, stream):
         super().__init__(stream)
         self._depth = 0
+        self._nodes = 0
 
     def compose_node(self, parent, index):
+        # A level is a list or a mapping (a scalar inside the 100th level is fine); the
+        # nodes are counted as they are composed, so that a long flat list is refused
+        # before all of it is built (aliases are counted expanded after composing).
         self._depth += 1
+        self._nodes += 1
         try:
-            if self._depth > MAX_DEPTH:
+            if self._nodes > MAX_NODES:
+                raise _TooMany(self.peek_event().start_mark)
+            if self._depth > MAX_DEPTH and self.check_event(yaml.SequenceStartEvent,
+                                                            yaml.MappingStartEvent):
                 raise _TooDeep(self.peek_event().start_mark)
             return super().compose_node(parent, index)
         finally:
@@ -526,6 +551,9 @@ def compose(text: str, file: str = "<string>") -> Entry:
         root = yaml.compose(text, Loader=_Loader)
     except yaml.YAMLError as exc:
         raise ModelError([_syntax_problem(exc, file)]) from None
+    except _TooMany as exc:
+        raise ModelError([(Location(file, exc.mark.line + 1, exc.mark.column + 1),
+                           f"more than {MAX_NODES} YAML nodes; refused")]) from None
     except _TooDeep as exc:
         raise ModelError([(Location(file, exc.mark.line + 1, exc.mark.column + 1),
                            f"lists and mappings nested more than {MAX_DEPTH} deep; "
@@ -1078,7 +1106,7 @@ class _Builder:
             return None
         motion = effort = None
         if m is not None and m.is_mapping and m.get("law") is not None:
-            motion = self._motion_law(m, joint)
+            motion = self._motion_law(m, joint, links)
             if motion is None:
                 return None
         elif m is not None:
@@ -1143,7 +1171,7 @@ class _Builder:
             return None
         return MotionLaw(v)
 
-    def _motion_law(self, m: Entry, joint: Joint):
+    def _motion_law(self, m: Entry, joint: Joint, links=()):
         """``motion: {law: constant | harmonic | polynomial | table, ...}`` (see docs/yaml.md)."""
         law = m["law"].text()
         keys = {"constant": (("speed",), ()), "harmonic": (("centre", "amplitude", "period"), ("phase",)),
@@ -1159,11 +1187,13 @@ class _Builder:
         if law == "constant":
             return self._constant_speed(m, joint)
         made = self._law(m, law, joint)
-        return None if made is None or not self._law_in_range(m, made, joint) else made
+        return None if made is None or not self._law_in_range(m, made, joint, links) else made
 
-    def _law_in_range(self, m: Entry, law, joint: Joint) -> bool:
-        """A motion law's coordinate within :data:`MAGNITUDE` and its peak speed within
-        :data:`SPEED_RANGE` (sampled over its duration), as for a constant speed."""
+    def _law_in_range(self, m: Entry, law, joint: Joint, links=()) -> bool:
+        """A motion law's coordinate within :data:`MAGNITUDE`, its peak speed within
+        :data:`SPEED_RANGE` (sampled over its duration), as for a constant speed, and the
+        path it makes the driver travel within the sweep limits of a constant-speed driver
+        (:data:`MAX_TURNS`, :data:`MAX_TRAVEL`): the positions are followed along it."""
         kind, si = ("angle", "rad/s") if joint.angular else ("length", "m/s")
         t = np.linspace(0.0, law.duration, 4097)
         with np.errstate(all="ignore"):
@@ -1183,6 +1213,12 @@ class _Builder:
         if worst > MAGNITUDE[kind][1]:
             m.error(f"the {law.kind} law reaches {worst:g} {'rad' if joint.angular else 'm'}; "
                     f"the magnitude of a driver coordinate must be at most {MAGNITUDE[kind][1]:g}")
+            return False
+        path = float(np.sum(np.abs(np.diff(psi))))        # the travel, back and forth
+        unit = self.ctx.unit_names.get(kind, units.SI_UNITS[kind])
+        if (problem := self._too_far(path / self.ctx.units[kind], kind, unit, links)):
+            m.error(f"the {law.kind} law moves the driver {path / self.ctx.units[kind]:g} "
+                    f"{unit} over its {'period' if law.cyclic else 'duration'}, {problem}")
             return False
         return True
 
@@ -1213,7 +1249,15 @@ class _Builder:
             if any(v is None for v in raw):
                 return None
             scale, tscale = self.ctx.units[kind], self.ctx.units["time"]
-            coef = tuple(v * scale / tscale ** k for k, v in enumerate(raw))
+            with np.errstate(all="ignore"):
+                coef = tuple(float(np.float64(v) * scale / np.float64(tscale) ** k)
+                             for k, v in enumerate(raw))
+            for k, (x, c) in enumerate(zip(items, coef)):
+                if not np.isfinite(c):          # the law's limits below bound the rest
+                    x.error(f"c{k} = {raw[k]:g} is too large: it overflows in SI "
+                            f"({si}/s^{k}); the law's peak speed must be at most "
+                            f"{SPEED_RANGE[1]:g} {si}/s")
+                    return None
             if not any(coef[1:]):
                 m["coefficients"].error("the coefficients c1, c2, … are all zero: the driver would "
                                         "not move")
@@ -1238,10 +1282,16 @@ class _Builder:
             m["value"].error(f"a periodic table must end where it starts: first value "
                              f"{values[0]:g} {si}, last {values[-1]:g} {si} (SI)")
             return None
+        if periodic:
+            values[-1] = values[0]      # equal to round-off (the unit conversion): made exact
         if np.ptp(values) == 0.0:
             m["value"].error("all values are equal: the driver would not move")
             return None
-        return TableLaw(tuple(times), tuple(values), bool(periodic))
+        try:
+            return TableLaw(tuple(times), tuple(values), bool(periodic))
+        except ValueError as exc:       # the spline refuses the points
+            m.error(f"the table cannot be interpolated: {exc}")
+            return None
 
     def _effort(self, f: Entry, joint: Joint) -> float | EffortLaw | None:
         """``effort:`` a number (constant), or one of ``{table: {at, value}}`` (over the
