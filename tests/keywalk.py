@@ -15,7 +15,10 @@ NAMED = ("parameters", "links", "joints", "drivers", "loads", "clearance", "sket
 def pattern(path: str) -> str:
     """A key path with its names and indices made generic: ``links.rod.points.B[0]`` ->
     ``links.*.points.*[]``."""
-    parts = re.sub(r"\[\d+\]", "[]", path).split(".")
+    path = re.sub(r"\[\d+\]", "[]", path)
+    if path.startswith("sketch."):                  # a sketch key may be link.point
+        return "sketch.*" + path[len(path.rstrip("[]")):]
+    parts = path.split(".")
     if parts and parts[0].split("[")[0] in NAMED and len(parts) > 1:
         parts[1] = "*" + parts[1][len(parts[1].split("[")[0]):]
     if len(parts) > 3 and parts[0] == "links" and parts[2] == "points":
@@ -30,8 +33,13 @@ class Walk:
         self.allowed: dict[str, set[str]] = defaultdict(set)   # mapping pattern -> keys accepted
         self.present: dict[str, set[str]] = defaultdict(set)   # mapping pattern -> keys given
         self.numbers: dict[str, set] = defaultdict(set)        # number pattern -> kinds
-        self.bounded: set[str] = set()                         # patterns checked by MAGNITUDE
-        self.raw: set[str] = set()                             # patterns read as numbers
+        self.read: dict[int, tuple] = {}        # id(node) -> (node, pattern): every number read
+        self.checked: set[int] = set()          # id(node) of the numbers bounded by MAGNITUDE
+
+    @property
+    def unbounded(self) -> set[str]:
+        """Patterns of the numbers read somewhere without a MAGNITUDE check."""
+        return {p for k, (_, p) in self.read.items() if k not in self.checked}
 
 
 @contextmanager
@@ -52,11 +60,11 @@ def instrumented():
         return number(self, kind, **kw)
 
     def within_(self, value, kind, *a, **kw):
-        walk.bounded.add(pattern(self.where.path))
+        walk.checked.add(id(self.node))
         return within(self, value, kind, *a, **kw)
 
     def raw_number_(self):
-        walk.raw.add(pattern(self.where.path))
+        walk.read[id(self.node)] = (self.node, pattern(self.where.path))
         return raw_number(self)
 
     Entry.check_keys, Entry.number, Entry.within, Entry.raw_number = (
