@@ -25,7 +25,9 @@ def _check(args) -> int:
     st = system.structure
     from .analysis import numerical_mobility
     n_num = numerical_mobility(system)
-    print(f"{model.name}: {len(model.moving_links)} moving links, {len(model.joints)} joints, "
+    from .errors import printable
+    print(f"{printable(model.name)}: {len(model.moving_links)} moving links, "
+          f"{len(model.joints)} joints, "
           f"{len(model.drivers)} drivers")
     print(f"mobility (Grübler–Kutzbach): {st.mobility}")
     print(f"independent loops: {len(st.loops)}")
@@ -70,7 +72,9 @@ def _run(args) -> int:
     finally:
         for partial, _ in names:
             partial.unlink(missing_ok=True)
-    print(f"{model.name}: {len(result)} positions -> {out / 'results.csv'}, {out / 'summary.json'}")
+    from .errors import printable
+    print(f"{printable(model.name)}: {len(result)} positions -> {out / 'results.csv'}, "
+          f"{out / 'summary.json'}")
     print("groups: " + "; ".join(s["structure"]["groups"]))
     for name, o in s["outputs"].items():
         print(f"{name}: stroke {o['stroke'] * 1e3:.4f} mm, time ratio {o['time_ratio']:.4f}, "
