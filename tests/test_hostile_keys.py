@@ -46,9 +46,9 @@ def _refused(text: str) -> str:
 # -- 1. motion laws within the sweep limits -------------------------------------------------
 @pytest.mark.parametrize("spec, slider, expected", [
     # 2e5 degrees back and forth: each value within the angle limit, the path 5.6 turns x 100
-    ("{law: table, time: [0, 1, 2], value: [0, 100000, 0]}", False,
-     "h.yaml:40:29: drivers.motor.motion: the table law moves the driver 200000 deg over its "
-     "duration, more than the limit of 100 turns (36000 deg)"),
+    # (the spline through the points overshoots them: the path is at least 120000 deg)
+    ("{law: table, time: [0, 1, 2, 3, 4], value: [0, 30000, 0, 30000, 0]}", False,
+     "deg over its duration, more than the limit of 100 turns (36000 deg)"),
     ("{law: harmonic, centre: 0, amplitude: 20000, period: 100}", False,
      "the harmonic law moves the driver 80000 deg over its period, more than the limit of "
      "100 turns"),
@@ -62,6 +62,9 @@ def test_a_motion_law_travels_no_farther_than_a_sweep_may(spec, slider, expected
     the driver travel farther than analysis.sweep may (MAX_TURNS, MAX_TRAVEL)."""
     message = _refused(_law(spec, slider))
     assert expected in message
+    assert message.startswith(f"h.yaml:40:{33 if slider else 29}: drivers.motor.motion: the ")
+    moved = float(re.search(r"moves the driver (\S+) ", message).group(1))
+    assert moved > (350 * 1000 if slider else 36000)
     assert len(message.splitlines()) == 1
 
 
@@ -158,6 +161,32 @@ def test_ansi_escapes_in_keys_and_names_are_escaped(tmp_path, capsys):
     assert "\x1b" not in err and "\u2028" not in err
     assert "r1\\x1b[31mRED\\u2028x" in err and "sl\\x1b[2Jider" in err
     assert all(line.startswith(str(path)) for line in err.splitlines())
+
+
+@pytest.mark.parametrize("analysis, key, what", [
+    ("start: 40000, sweep: 360", "analysis.start", "the start is 40000 deg"),
+    ("start: 35900, sweep: 360", "analysis.sweep",
+     "the end of the sweep (start + sweep) is 36260 deg"),
+    ("start: 0, sweep: 360, at: [40000]", "analysis.at[0]", "the position is 40000 deg"),
+])
+def test_a_revolute_run_stays_within_100_turns_of_zero(analysis, key, what):
+    """Far from 0 the rounding of the driver angle (|ψ| × 2.2e-16) reaches the solver's
+    tolerance (1e-12 L_ref): a start of 10^4 turns gave 'Newton did not converge (a
+    singular position is near)' on the slider-crank, 200 turns on the geared five-bar."""
+    message = _refused(TEXT.replace("start: 0, sweep: 360", analysis))
+    assert f"{key}: {what}; a revolute driver's coordinate must stay within ±100 turns " \
+           "(±36000 deg) of 0" in message
+    law = _law("{law: harmonic, centre: 3.6e6, amplitude: 10, period: 1}")
+    assert "the harmonic law reaches 3.60001e+06 deg; a revolute driver's coordinate must " \
+           "stay within ±100 turns" in _refused(law)
+    # the limit itself: 100 turns either side, analysed on the geared five-bar
+    gear = (ROOT / "mechanisms" / "geared_fivebar.yaml").read_text()
+    model = ks.loads(gear, file="g.yaml")
+    start = np.degrees(model.analysis.start)
+    for s0, sweep in [(35990 - start, 10), (-36000, 10)]:
+        text = re.sub(r"analysis: \{[^}]*\}", f"analysis: {{start: {s0 + start}, sweep: {sweep}, "
+                      "positions: 3}", gear)
+        assert len(ks.analyze(ks.loads(text, file="g.yaml"))) == 3
 
 
 def test_analysis_start_beyond_the_angle_limit_is_refused_at_the_key():

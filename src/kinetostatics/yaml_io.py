@@ -53,9 +53,10 @@ below 1e60, and their squares (norms) below 1e120: far from overflow (1.8e308). 
 non-zero value below the lower bound (1e-300 kg) is refused as well: it only
 arises by mistake, and its products underflow."""
 OWN_LIMITS = {
-    "analysis.sweep": "MAX_TURNS (revolute driver), MAX_TRAVEL (prismatic driver)",
-    "analysis.at[]": "MAGNITUDE['angle'] (revolute driver), MAX_TRAVEL from analysis.start "
-                     "(prismatic driver)",
+    "analysis.sweep": "MAX_TURNS (revolute driver; start + sweep within ±MAX_TURNS turns of "
+                      "0), MAX_TRAVEL (prismatic driver)",
+    "analysis.at[]": "within ±MAX_TURNS turns of 0 (revolute driver), MAX_TRAVEL from "
+                     "analysis.start (prismatic driver)",
     "drivers.*.motion.speed": "SPEED_RANGE",
     "drivers.*.motion.coefficients[]": "finite in SI; the law's SPEED_RANGE, "
                                        "MAX_LAW_ACCELERATION, MAGNITUDE of its coordinate, "
@@ -1210,6 +1211,14 @@ class _Builder:
                     f"{MAX_LAW_ACCELERATION:g} {si}^2")
             return False
         worst = float(np.max(np.abs(psi)))
+        if joint.angular and worst > MAX_TURNS * 2 * np.pi:
+            scale = self.ctx.units["angle"]
+            unit = self.ctx.unit_names.get("angle", "rad")
+            m.error(f"the {law.kind} law reaches {worst / scale:g} {unit}; a revolute driver's "
+                    f"coordinate must stay within ±{MAX_TURNS} turns "
+                    f"(±{MAX_TURNS * 2 * np.pi / scale:g} {unit}) of 0 (farther, the positions "
+                    "lose the precision they are solved to)")
+            return False
         if worst > MAGNITUDE[kind][1]:
             m.error(f"the {law.kind} law reaches {worst:g} {'rad' if joint.angular else 'm'}; "
                     f"the magnitude of a driver coordinate must be at most {MAGNITUDE[kind][1]:g}")
@@ -1642,10 +1651,21 @@ class _Builder:
                 sweep = None
         elif kind == "length":
             a.error("a prismatic driver needs analysis.sweep (the travel to analyse)")
+        if kind == "angle" and start is not None:
+            start = self._within_turns(a["start"] if a.get("start") is not None else a, start,
+                                       "the start", unit)
+            sense = np.sign(motion[0].motion.speed) if motion else 1.0
+            if start is not None and sweep is not None and (se := a.get("sweep")) is not None \
+                    and self._within_turns(se, start + sense * sweep,
+                                           "the end of the sweep (start + sweep)", unit) is None:
+                sweep = None
         n = self._positions(a)
         at: tuple[float, ...] = ()
         if (ae := a.get("at")) is not None and (items := ae.seq()) is not None:
             vals = [e.number(kind, bounded=kind == "angle") for e in items]   # lengths: below
+            if kind == "angle":
+                vals = [None if v is None else self._within_turns(e, v, "the position", unit)
+                        for e, v in zip(items, vals)]
             if kind == "length" and start is not None:
                 for e, v in zip(items, vals):
                     scale = self.ctx.units[kind]
@@ -1656,6 +1676,19 @@ class _Builder:
             at = tuple(v for v in vals if v is not None)
         events = a["events"].boolean() if a.get("events") is not None else False
         return Analysis(start or 0.0, sweep or 2 * np.pi, n, at, bool(events))
+
+    def _within_turns(self, e: Entry, value: float, what: str, unit: str) -> float | None:
+        """``value`` (rad), a revolute driver's coordinate in a run, if within ±MAX_TURNS
+        turns of 0: farther, its rounding (|value| × 2.2e-16) approaches the tolerance of the
+        position solver (1e-12) and the positions no longer converge."""
+        limit = MAX_TURNS * 2 * np.pi
+        if abs(value) <= limit * (1 + 1e-12):
+            return value
+        scale = self.ctx.units["angle"]
+        e.error(f"{what} is {value / scale:g} {unit}; a revolute driver's coordinate must stay "
+                f"within ±{MAX_TURNS} turns (±{limit / scale:g} {unit}) of 0 over the run "
+                "(farther, the positions lose the precision they are solved to)")
+        return None
 
     def _positions(self, a: Entry) -> int:
         """``analysis.positions`` (default 360)."""
