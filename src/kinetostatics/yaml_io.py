@@ -1263,9 +1263,8 @@ class _Builder:
                              for k, v in enumerate(raw))
             for k, (x, c) in enumerate(zip(items, coef)):
                 if not np.isfinite(c):          # the law's limits below bound the rest
-                    x.error(f"c{k} = {raw[k]:g} is too large: it overflows in SI "
-                            f"({si}/s^{k}); the law's peak speed must be at most "
-                            f"{SPEED_RANGE[1]:g} {si}/s")
+                    x.error(f"c{k} = {raw[k]:g} is too large: it overflows once converted "
+                            f"to SI ({si}/s^{k})")
                     return None
             if not any(coef[1:]):
                 m["coefficients"].error("the coefficients c1, c2, … are all zero: the driver would "
