@@ -281,3 +281,14 @@ def test_every_number_the_loader_reads_has_a_range(walk):
     assert len(read) > 50
     missing = sorted(p for p in read if f"`{p}`" not in doc)
     assert not missing, f"docs/errors.md does not list {missing}"
+
+
+def test_a_clearance_without_size_is_a_located_problem():
+    """Found by the fuzz once its seeds reached the clearance section: a clearance entry
+    without ``size`` raised a bare KeyError from the loader."""
+    text = (ROOT / "mechanisms" / "ammunition_swing.yaml").read_text()
+    assert "  B: {size: e2, " in text
+    text = text.replace("  B: {size: e2, ", "  B: {", 1)
+    message = _refused(text)
+    assert re.search(r"h\.yaml:\d+:\d+: clearance\.B: missing required key 'size'", message), \
+        message

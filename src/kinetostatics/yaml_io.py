@@ -682,7 +682,7 @@ class _Builder:
                 continue
             e.check_keys(required=("size",), optional=("model", "speed", "acceleration",
                                                        "angle", "contact"))
-            size = e["size"].number("length", minimum=0.0)
+            size = e.require("size").number("length", minimum=0.0)
             kind = e["model"].text() if e.get("model") is not None else "prescribed"
             if kind not in (None, "prescribed", "contact"):
                 e["model"].error(f"unknown clearance model '{kind}'"
