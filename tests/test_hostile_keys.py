@@ -227,7 +227,7 @@ def test_a_long_flat_list_is_refused_while_it_is_read():
     text = "junk: [" + ", ".join(["1"] * 200_000) + "]\n"
     t0 = time.perf_counter()
     message = _refused(text)
-    assert time.perf_counter() - t0 < 10
+    assert time.perf_counter() - t0 < 30          # 3 s here; the position shows it stopped early
     assert re.match(rf"h\.yaml:1:\d+: more than {yaml_io.MAX_NODES} YAML nodes; refused$",
                     message), message
     assert int(message.split(":")[2]) > 100_000

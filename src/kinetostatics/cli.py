@@ -143,7 +143,8 @@ def main(argv: list[str] | None = None) -> int:
         importlib.import_module(name).register(sub)
     args = parser.parse_args(argv)
     def one_line(message, category, filename, lineno, file=None, line=None):
-        print(f"kinetostatics: warning: {message}", file=sys.stderr)
+        from .errors import printable
+        print(f"kinetostatics: warning: {printable(str(message))}", file=sys.stderr)
 
     try:
         with warnings.catch_warnings():
