@@ -173,7 +173,7 @@ def test_a_read_only_out_is_one_line_exit_2(tmp_path, capsys, monkeypatch):
 
 
 def test_a_full_disk_in_run_leaves_no_file_behind(tmp_path, capsys, monkeypatch):
-    def full(self, path):
+    def full(self, path, summary=None):
         Path(path).write_text('{"half": ')
         raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(path))
     monkeypatch.setattr(results.Result, "to_json", full)

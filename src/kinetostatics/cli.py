@@ -25,7 +25,9 @@ def _check(args) -> int:
     st = system.structure
     from .analysis import numerical_mobility
     n_num = numerical_mobility(system)
-    print(f"{model.name}: {len(model.moving_links)} moving links, {len(model.joints)} joints, "
+    from .errors import printable
+    print(f"{printable(model.name)}: {len(model.moving_links)} moving links, "
+          f"{len(model.joints)} joints, "
           f"{len(model.drivers)} drivers")
     print(f"mobility (Grübler–Kutzbach): {st.mobility}")
     print(f"independent loops: {len(st.loops)}")
@@ -56,11 +58,14 @@ def _run(args) -> int:
     from .yaml_io import load
     model = load(args.file)
     result = analyze(model)
+    s = result.summary()          # before anything is written: a failed run writes nothing
     out = Path(args.out)
     _write_outputs(out, f"--out {args.out}", [(out / "results.csv", result.to_csv),
-                                              (out / "summary.json", result.to_json)])
-    s = result.summary()
-    print(f"{model.name}: {len(result)} positions -> {out / 'results.csv'}, {out / 'summary.json'}")
+                                              (out / "summary.json",
+                                               lambda path: result.to_json(path, s))])
+    from .errors import printable
+    print(f"{printable(model.name)}: {len(result)} positions -> {out / 'results.csv'}, "
+          f"{out / 'summary.json'}")
     print("groups: " + "; ".join(s["structure"]["groups"]))
     for name, o in s["outputs"].items():
         print(f"{name}: stroke {o['stroke'] * 1e3:.4f} mm, time ratio {o['time_ratio']:.4f}, "
@@ -156,7 +161,8 @@ def main(argv: list[str] | None = None) -> int:
         importlib.import_module(name).register(sub)
     args = parser.parse_args(argv)
     def one_line(message, category, filename, lineno, file=None, line=None):
-        print(f"kinetostatics: warning: {message}", file=sys.stderr)
+        from .errors import printable
+        print(f"kinetostatics: warning: {printable(str(message))}", file=sys.stderr)
 
     try:
         with warnings.catch_warnings():
@@ -164,8 +170,11 @@ def main(argv: list[str] | None = None) -> int:
             warnings.showwarning = one_line
             return args.func(args)
     except KinetostaticsError as exc:
+        from .errors import printable
+        file = printable(str(args.file))
         for line in str(exc).splitlines():
-            print(f"kinetostatics: {line}" if not line.startswith(str(args.file)) else line,
+            line = printable(line)              # no control characters reach the terminal
+            print(f"kinetostatics: {line}" if not line.startswith(file) else line,
                   file=sys.stderr)
         return 2
 

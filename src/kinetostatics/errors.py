@@ -18,7 +18,7 @@ __all__ = [
     "Location", "KinetostaticsError", "ModelError", "StructureError",
     "AssemblyError", "SingularConfigurationError", "SelfLockingError",
     "NonFiniteResultError", "NearSingularWarning", "SingularEquilibriumWarning", "Collector",
-    "did_you_mean", "OutputError", "output_error",
+    "did_you_mean", "OutputError", "output_error", "printable",
 ]
 
 
@@ -45,6 +45,20 @@ class Location:
         return f"{where}: {self.path}" if self.path else where
 
 
+def printable(text: str) -> str:
+    """``text`` with every character that is not printable escaped as in Python
+    (``\\n``, ``\\x1b``, ``\\u2028``, bidirectional overrides, unassigned code points):
+    a message quoting what a file holds stays on one line and cannot move the cursor,
+    colour the terminal or reorder the text it is printed in.
+
+    >>> printable("r1\\nx\\x1b[31m")
+    'r1\\\\nx\\\\x1b[31m'
+    """
+    if text.isprintable():
+        return text
+    return "".join(ch if ch.isprintable() else ascii(ch)[1:-1] for ch in text)
+
+
 class KinetostaticsError(Exception):
     """Base class of every user-caused error."""
 
@@ -55,7 +69,7 @@ class ModelError(KinetostaticsError, ValueError):
     def __init__(self, problems: Iterable[tuple[Location, str]]):
         self.problems = list(problems)
         self.location = self.problems[0][0] if self.problems else Location()
-        super().__init__("\n".join(f"{loc}: {msg}" for loc, msg in self.problems))
+        super().__init__("\n".join(printable(f"{loc}: {msg}") for loc, msg in self.problems))
 
 
 class StructureError(ModelError):

@@ -204,12 +204,16 @@ def _to_float(value: object) -> float:
 
 def _check_depth(tree: ast.AST) -> None:
     """Refuse syntax trees nested deeper than :data:`MAX_DEPTH` (iteratively)."""
-    stack: list[tuple[ast.AST, int]] = [(tree, 0)]
+    # A level is an operation (an expression node with operands): ``-(-1)`` is nested 2
+    # deep, ``1`` 0 deep; operator and context nodes (``USub``, ``Load``) are not levels.
+    stack: list[tuple[ast.AST, int, int]] = [(tree, 0, 0)]
     while stack:
-        node, depth = stack.pop()
-        if depth > MAX_DEPTH:
+        node, depth, nodes = stack.pop()
+        level = depth + (isinstance(node, ast.expr) and not isinstance(node, (ast.Constant,
+                                                                               ast.Name)))
+        if level > MAX_DEPTH or nodes > 4 * MAX_DEPTH:
             raise ExpressionError(f"expression is nested too deeply (more than {MAX_DEPTH} levels)")
-        stack.extend((child, depth + 1) for child in ast.iter_child_nodes(node))
+        stack.extend((child, level, nodes + 1) for child in ast.iter_child_nodes(node))
 
 
 def _check_node(node: ast.AST) -> None:
@@ -275,6 +279,14 @@ def _parse_cached(text: str) -> ast.Expression:
         )
     if not text.strip():
         raise ExpressionError("empty expression")
+    if not text.isascii():
+        # Python folds non-ASCII letters of a name (NFKC): '100*ℯ' would read as '100*e'
+        k = next(i for i, ch in enumerate(text) if ord(ch) > 127)
+        ch = text[k]
+        shown = f"'{ch}'" if ch.isprintable() else ascii(ch)[1:-1]
+        raise ExpressionError(f"the character {shown} (U+{ord(ch):04X}) at position "
+                              f"{k + 1} is not allowed in an expression: numbers, names and "
+                              "operators are plain ASCII")
     depth = max_depth = 0
     for ch in text:
         if ch in "([{":

@@ -286,5 +286,7 @@ class Result:
         from .summary import summarize
         return summarize(self)
 
-    def to_json(self, path: str | Path) -> None:
-        Path(path).write_text(json.dumps(self.summary(), indent=2))
+    def to_json(self, path: str | Path, summary: dict[str, Any] | None = None) -> None:
+        """Write :meth:`summary` (or the one given, already computed) as JSON."""
+        Path(path).write_text(json.dumps(self.summary() if summary is None else summary,
+                                         indent=2))

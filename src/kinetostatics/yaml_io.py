@@ -52,6 +52,20 @@ driver speed of at most 1e9 and a law's acceleration of at most 1e18 in SI) stay
 below 1e60, and their squares (norms) below 1e120: far from overflow (1.8e308).  A
 non-zero value below the lower bound (1e-300 kg) is refused as well: it only
 arises by mistake, and its products underflow."""
+OWN_LIMITS = {
+    "analysis.sweep": "MAX_TURNS (revolute driver; start + sweep within ±MAX_TURNS turns of "
+                      "0), MAX_TRAVEL (prismatic driver)",
+    "analysis.at[]": "within ±MAX_TURNS turns of 0 (revolute driver), MAX_TRAVEL from "
+                     "analysis.start (prismatic driver)",
+    "drivers.*.motion.speed": "SPEED_RANGE",
+    "drivers.*.motion.coefficients[]": "finite in SI; the law's SPEED_RANGE, "
+                                       "MAX_LAW_ACCELERATION, MAGNITUDE of its coordinate, "
+                                       "MAX_TURNS or MAX_TRAVEL of its path",
+}
+"""The numbers of a file that are bounded by a limit of their own instead of (or besides)
+:data:`MAGNITUDE`: key pattern (names as ``*``, indices as ``[]``) -> the limit.  Every other
+number is read through :meth:`Entry.number` and bounded by :data:`MAGNITUDE`
+(``tests/test_hostile_keys.py`` walks the loader to check it)."""
 NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 RESERVED = frozenset({"time", "angle", "stroke", "travel", "power", "friction", "shaking"})
 TOP_KEYS = ("name", "units", "parameters", "gravity", "ground", "links", "joints", "loops",
@@ -64,6 +78,10 @@ class _TooDeep(Exception):
         self.mark = mark
 
 
+class _TooMany(_TooDeep):
+    pass
+
+
 class _Loader(yaml.SafeLoader):
     """The safe composer, refusing nesting deeper than :data:`MAX_DEPTH` (before
     Python's recursion limit is reached)."""
@@ -71,11 +89,19 @@ class _Loader(yaml.SafeLoader):
     def __init__(self, stream):
         super().__init__(stream)
         self._depth = 0
+        self._nodes = 0
 
     def compose_node(self, parent, index):
+        # A level is a list or a mapping (a scalar inside the 100th level is fine); the
+        # nodes are counted as they are composed, so that a long flat list is refused
+        # before all of it is built (aliases are counted expanded after composing).
         self._depth += 1
+        self._nodes += 1
         try:
-            if self._depth > MAX_DEPTH:
+            if self._nodes > MAX_NODES:
+                raise _TooMany(self.peek_event().start_mark)
+            if self._depth > MAX_DEPTH and self.check_event(yaml.SequenceStartEvent,
+                                                            yaml.MappingStartEvent):
                 raise _TooDeep(self.peek_event().start_mark)
             return super().compose_node(parent, index)
         finally:
@@ -526,6 +552,9 @@ def compose(text: str, file: str = "<string>") -> Entry:
         root = yaml.compose(text, Loader=_Loader)
     except yaml.YAMLError as exc:
         raise ModelError([_syntax_problem(exc, file)]) from None
+    except _TooMany as exc:
+        raise ModelError([(Location(file, exc.mark.line + 1, exc.mark.column + 1),
+                           f"more than {MAX_NODES} YAML nodes; refused")]) from None
     except _TooDeep as exc:
         raise ModelError([(Location(file, exc.mark.line + 1, exc.mark.column + 1),
                            f"lists and mappings nested more than {MAX_DEPTH} deep; "
@@ -653,7 +682,7 @@ class _Builder:
                 continue
             e.check_keys(required=("size",), optional=("model", "speed", "acceleration",
                                                        "angle", "contact"))
-            size = e["size"].number("length", minimum=0.0)
+            size = e.require("size").number("length", minimum=0.0)
             kind = e["model"].text() if e.get("model") is not None else "prescribed"
             if kind not in (None, "prescribed", "contact"):
                 e["model"].error(f"unknown clearance model '{kind}'"
@@ -1078,7 +1107,7 @@ class _Builder:
             return None
         motion = effort = None
         if m is not None and m.is_mapping and m.get("law") is not None:
-            motion = self._motion_law(m, joint)
+            motion = self._motion_law(m, joint, links)
             if motion is None:
                 return None
         elif m is not None:
@@ -1143,7 +1172,7 @@ class _Builder:
             return None
         return MotionLaw(v)
 
-    def _motion_law(self, m: Entry, joint: Joint):
+    def _motion_law(self, m: Entry, joint: Joint, links=()):
         """``motion: {law: constant | harmonic | polynomial | table, ...}`` (see docs/yaml.md)."""
         law = m["law"].text()
         keys = {"constant": (("speed",), ()), "harmonic": (("centre", "amplitude", "period"), ("phase",)),
@@ -1159,11 +1188,13 @@ class _Builder:
         if law == "constant":
             return self._constant_speed(m, joint)
         made = self._law(m, law, joint)
-        return None if made is None or not self._law_in_range(m, made, joint) else made
+        return None if made is None or not self._law_in_range(m, made, joint, links) else made
 
-    def _law_in_range(self, m: Entry, law, joint: Joint) -> bool:
-        """A motion law's coordinate within :data:`MAGNITUDE` and its peak speed within
-        :data:`SPEED_RANGE` (sampled over its duration), as for a constant speed."""
+    def _law_in_range(self, m: Entry, law, joint: Joint, links=()) -> bool:
+        """A motion law's coordinate within :data:`MAGNITUDE`, its peak speed within
+        :data:`SPEED_RANGE` (sampled over its duration), as for a constant speed, and the
+        path it makes the driver travel within the sweep limits of a constant-speed driver
+        (:data:`MAX_TURNS`, :data:`MAX_TRAVEL`): the positions are followed along it."""
         kind, si = ("angle", "rad/s") if joint.angular else ("length", "m/s")
         t = np.linspace(0.0, law.duration, 4097)
         with np.errstate(all="ignore"):
@@ -1180,9 +1211,23 @@ class _Builder:
                     f"{MAX_LAW_ACCELERATION:g} {si}^2")
             return False
         worst = float(np.max(np.abs(psi)))
+        if joint.angular and worst > MAX_TURNS * 2 * np.pi:
+            scale = self.ctx.units["angle"]
+            unit = self.ctx.unit_names.get("angle", "rad")
+            m.error(f"the {law.kind} law reaches {worst / scale:g} {unit}; a revolute driver's "
+                    f"coordinate must stay within ±{MAX_TURNS} turns "
+                    f"(±{MAX_TURNS * 2 * np.pi / scale:g} {unit}) of 0 (farther, the positions "
+                    "lose the precision they are solved to)")
+            return False
         if worst > MAGNITUDE[kind][1]:
             m.error(f"the {law.kind} law reaches {worst:g} {'rad' if joint.angular else 'm'}; "
                     f"the magnitude of a driver coordinate must be at most {MAGNITUDE[kind][1]:g}")
+            return False
+        path = float(np.sum(np.abs(np.diff(psi))))        # the travel, back and forth
+        unit = self.ctx.unit_names.get(kind, units.SI_UNITS[kind])
+        if (problem := self._too_far(path / self.ctx.units[kind], kind, unit, links)):
+            m.error(f"the {law.kind} law moves the driver {path / self.ctx.units[kind]:g} "
+                    f"{unit} over its {'period' if law.cyclic else 'duration'}, {problem}")
             return False
         return True
 
@@ -1213,7 +1258,14 @@ class _Builder:
             if any(v is None for v in raw):
                 return None
             scale, tscale = self.ctx.units[kind], self.ctx.units["time"]
-            coef = tuple(v * scale / tscale ** k for k, v in enumerate(raw))
+            with np.errstate(all="ignore"):
+                coef = tuple(float(np.float64(v) * scale / np.float64(tscale) ** k)
+                             for k, v in enumerate(raw))
+            for k, (x, c) in enumerate(zip(items, coef)):
+                if not np.isfinite(c):          # the law's limits below bound the rest
+                    x.error(f"c{k} = {raw[k]:g} is too large: it overflows once converted "
+                            f"to SI ({si}/s^{k})")
+                    return None
             if not any(coef[1:]):
                 m["coefficients"].error("the coefficients c1, c2, … are all zero: the driver would "
                                         "not move")
@@ -1238,10 +1290,16 @@ class _Builder:
             m["value"].error(f"a periodic table must end where it starts: first value "
                              f"{values[0]:g} {si}, last {values[-1]:g} {si} (SI)")
             return None
+        if periodic:
+            values[-1] = values[0]      # equal to round-off (the unit conversion): made exact
         if np.ptp(values) == 0.0:
             m["value"].error("all values are equal: the driver would not move")
             return None
-        return TableLaw(tuple(times), tuple(values), bool(periodic))
+        try:
+            return TableLaw(tuple(times), tuple(values), bool(periodic))
+        except ValueError as exc:       # the spline refuses the points
+            m.error(f"the table cannot be interpolated: {exc}")
+            return None
 
     def _effort(self, f: Entry, joint: Joint) -> float | EffortLaw | None:
         """``effort:`` a number (constant), or one of ``{table: {at, value}}`` (over the
@@ -1592,10 +1650,21 @@ class _Builder:
                 sweep = None
         elif kind == "length":
             a.error("a prismatic driver needs analysis.sweep (the travel to analyse)")
+        if kind == "angle" and start is not None:
+            start = self._within_turns(a["start"] if a.get("start") is not None else a, start,
+                                       "the start", unit)
+            sense = np.sign(motion[0].motion.speed) if motion else 1.0
+            if start is not None and sweep is not None and (se := a.get("sweep")) is not None \
+                    and self._within_turns(se, start + sense * sweep,
+                                           "the end of the sweep (start + sweep)", unit) is None:
+                sweep = None
         n = self._positions(a)
         at: tuple[float, ...] = ()
         if (ae := a.get("at")) is not None and (items := ae.seq()) is not None:
             vals = [e.number(kind, bounded=kind == "angle") for e in items]   # lengths: below
+            if kind == "angle":
+                vals = [None if v is None else self._within_turns(e, v, "the position", unit)
+                        for e, v in zip(items, vals)]
             if kind == "length" and start is not None:
                 for e, v in zip(items, vals):
                     scale = self.ctx.units[kind]
@@ -1606,6 +1675,19 @@ class _Builder:
             at = tuple(v for v in vals if v is not None)
         events = a["events"].boolean() if a.get("events") is not None else False
         return Analysis(start or 0.0, sweep or 2 * np.pi, n, at, bool(events))
+
+    def _within_turns(self, e: Entry, value: float, what: str, unit: str) -> float | None:
+        """``value`` (rad), a revolute driver's coordinate in a run, if within ±MAX_TURNS
+        turns of 0: farther, its rounding (|value| × 2.2e-16) approaches the tolerance of the
+        position solver (1e-12) and the positions no longer converge."""
+        limit = MAX_TURNS * 2 * np.pi
+        if abs(value) <= limit * (1 + 1e-12):
+            return value
+        scale = self.ctx.units["angle"]
+        e.error(f"{what} is {value / scale:g} {unit}; a revolute driver's coordinate must stay "
+                f"within ±{MAX_TURNS} turns (±{limit / scale:g} {unit}) of 0 over the run "
+                "(farther, the positions lose the precision they are solved to)")
+        return None
 
     def _positions(self, a: Entry) -> int:
         """``analysis.positions`` (default 360)."""
