@@ -417,6 +417,8 @@ def _events_of_run(system, drive, sched, t, q, qd, qdd, full):
         period_t = m.t[-1] - m.t[0] + (m.t[1] - m.t[0]) if m.periodic else np.inf
         found = _switches(system, m.drive, sched, m.t, m.q, m.qd, m.qdd, m.periodic, period_t,
                           extremes)
+        if not m.periodic:          # a reachable range: angle bands' edges within it, if any
+            found = [(e, st) for e, st in (_into_span(m, e, st) for e, st in found) if e]
         m.events = [(e, st if st is not None else tuple(
             x[0] for x in _state_near(system, m.drive, e.t, m.t, m.q, m.qd, m.qdd)))
             for e, st in found]
@@ -447,6 +449,20 @@ def _events_of_run(system, drive, sched, t, q, qd, qdd, full):
     period_t = sched.period if full else np.inf
     found = _switches(system, drive, sched, t, q, qd, qdd, full, period_t, extremes)
     return extremes, [e for e, _ in found], [None] * len(found)
+
+
+def _into_span(m: _Motion, e: Event, st):
+    """An angle band's switch (placed in the first turn, no state yet) moved by whole turns
+    into the span of a motion that is not a full turn, or (None, None) where no turn of it
+    falls there (the driver never reaches that angle)."""
+    if st is not None or m.drive.law is not None or not (len(m.t) and m.t[-1] > m.t[0]):
+        return e, st
+    turn = 2 * np.pi / m.drive.reference
+    k = np.ceil((m.t[0] - e.t) / turn)
+    te = e.t + k * turn
+    if te > m.t[-1]:
+        return None, None
+    return replace(e, t=float(te), coordinate=float(m.drive(np.array([te]))[0][0, 0])), None
 
 
 def _switches(system, drive, sched, t, q, qd, qdd, full, period_t, extremes):

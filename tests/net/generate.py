@@ -471,7 +471,9 @@ def check(doc: dict, positions: int = 36):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             system = system_of(to_text(doc))
-            res = ks.analyze(system, positions=_grid(doc, positions), kinematics_only=True)
+            turn = 2 * math.pi / abs(float(doc["drivers"]["motor"]["motion"]["speed"]))
+            res = ks.analyze(system, times=np.arange(positions) * turn / positions,
+                             kinematics_only=True)         # followed through the whole turn
     except ks.KinetostaticsError as exc:
         raise Rejected(f"{type(exc).__name__}: {str(exc)[:120]}") from None
     conds = [c for c in res.names if c.endswith(".cond")]

@@ -35,3 +35,12 @@ def test_refine_case_with_its_switching_conditions():
     doc = yaml.safe_load((CASES / "refine_jumps.yaml").read_text(encoding="utf-8"))
     res = _analyze(doc)
     assert len(res["angle"]) == 12 and np.all(np.isfinite(res["motor.torque"]))
+
+
+def test_angle_band_edges_of_a_crank_that_cannot_turn_fully():
+    """Angle-band switches of a crank with an unreachable zone are taken within its reachable
+    range (or dropped where it never gets): they were placed in the first turn, outside the
+    range's span, and refined from a far sample ('cannot assemble')."""
+    doc = yaml.safe_load((CASES / "reachable_angle_bands.yaml").read_text(encoding="utf-8"))
+    assert R.relation_power_fd(doc, 600009) <= R.TOLERANCE["power_fd"]
+    assert R.relation_power(doc, 600009) <= R.TOLERANCE["power"]
