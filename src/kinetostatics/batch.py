@@ -42,6 +42,7 @@ from typing import Any, Callable, Iterable, Mapping, Sequence
 import numpy as np
 
 from . import yaml_io
+from ._files import write_whole
 from .errors import KinetostaticsError, OutputError, output_error
 
 __all__ = ["Source", "Task", "Chunk", "BatchSummary", "BatchError", "run_batch",
@@ -369,21 +370,8 @@ class _Table:
 
 
 def _replace(path: Path, text: str, write: Callable[[Path, str, str], None]) -> None:
-    """Write ``path`` through a temporary file and ``os.replace``: never a
-    half-written file, and no temporary file left when the write fails (a full
-    disk, a read-only folder)."""
-    tmp = path.with_name(f"{path.name}.{os.getpid()}.tmp")
-    try:
-        write(tmp, text, "w")
-        os.replace(tmp, path)
-    except BaseException as exc:
-        try:
-            tmp.unlink()
-        except OSError:
-            pass
-        if isinstance(exc, OSError) and exc.filename == str(tmp):
-            exc.filename = str(path)            # name the file meant, not its temporary
-        raise
+    """Write ``text`` to ``path`` whole or not at all (:func:`~kinetostatics._files.write_whole`)."""
+    write_whole(path, lambda tmp: write(tmp, text, "w"))
 
 
 def _write_state(path: Path, state: Mapping) -> None:

@@ -115,7 +115,7 @@ def _write_outputs(out: Path, what: str, writers) -> None:
     """Make the folder ``out`` and write each ``(path, write)``; an ``OSError`` (a
     folder that is a file or read-only, a full disk) is one line naming the path,
     and no file is left half-written: each is written to a temporary name first."""
-    import os
+    from ._files import write_whole
     from .errors import OutputError, output_error
     if out.exists() and not out.is_dir():
         raise OutputError(f"{what}: is a file, not a folder")
@@ -124,17 +124,9 @@ def _write_outputs(out: Path, what: str, writers) -> None:
     except OSError as exc:
         raise output_error(exc, what) from None
     for path, write in writers:
-        tmp = path.with_name(f"{path.name}.{os.getpid()}.tmp")
         try:
-            write(tmp)
-            os.replace(tmp, path)
+            write_whole(path, write)
         except OSError as exc:
-            try:
-                tmp.unlink()
-            except OSError:
-                pass
-            if exc.filename == str(tmp):
-                exc.filename = str(path)        # name the file meant, not its temporary
             raise output_error(exc, what) from None
 
 
