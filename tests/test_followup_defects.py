@@ -6,7 +6,6 @@ the program's own output."""
 from __future__ import annotations
 
 import warnings
-from pathlib import Path
 
 import numpy as np
 import pytest

@@ -164,7 +164,6 @@ def test_random_units_give_the_same_si_results():
         a["analysis"] = {**si["analysis"], "positions": 6}
         b["analysis"] = {**other["analysis"], "positions": 6}
         R.WORST[:] = [0.0, ""]
-        import kinetostatics as ks
         value = R.compare(R.analyze(b), R.analyze(a))
         assert value <= R.TOLERANCE["units"], (seed, other["units"], R.WORST)
 
