@@ -752,7 +752,7 @@ def _checked_times(system: System, sched: Schedule, times) -> np.ndarray:
                       why=why + " either side of the start of the run, t = 0")
 
 
-SINGULAR_COND = 1e15
+NONFINITE_COND = 1e15
 """A row whose group condition number is above this (or infinite) is at a singular
 position: non-finite velocities or reactions there are explained, not a defect."""
 
@@ -765,7 +765,7 @@ def _check_finite(system: System, t, psi, cond: dict, singular, *, q, qd, qdd, x
     Explained are the consistent friction solution where it self-locks
     (``friction.status`` 2: its columns are empty there) and every value at a
     singular position (a reported one, or a group condition number above
-    :data:`SINGULAR_COND`).  Nothing else may be non-finite: the file's limits
+    :data:`NONFINITE_COND`).  Nothing else may be non-finite: the file's limits
     (``yaml_io.MAGNITUDE``) keep the products of a model far from overflow, so a
     NaN here comes from a model built in Python with values beyond them.
     """
@@ -774,7 +774,7 @@ def _check_finite(system: System, t, psi, cond: dict, singular, *, q, qd, qdd, x
     for c in cond.values():
         c = np.asarray(c, dtype=float).reshape(-1)
         if c.size == n:
-            excused |= ~(c <= SINGULAR_COND)
+            excused |= ~(c <= NONFINITE_COND)
     for sp in singular:
         excused |= np.isclose(t, sp.t, rtol=0.0, atol=1e-9 * max(1.0, abs(sp.t)))
     locked = excused.copy()
