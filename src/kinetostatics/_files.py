@@ -6,7 +6,7 @@ import os
 from pathlib import Path
 from typing import Callable
 
-__all__ = ["write_whole"]
+__all__ = ["make_folder", "write_whole"]
 
 
 def write_whole(path: Path, write: Callable[[Path], None]) -> None:
@@ -25,3 +25,16 @@ def write_whole(path: Path, write: Callable[[Path], None]) -> None:
         if isinstance(exc, OSError) and exc.filename == str(tmp):
             exc.filename = str(path)
         raise
+
+
+def make_folder(out: Path, what: str) -> None:
+    """Make the output folder ``out`` (``what`` names it in messages, e.g. ``--out DIR``);
+    a path that is a file, or an ``OSError`` (read-only, full disk), is one
+    :class:`~kinetostatics.errors.OutputError` line."""
+    from .errors import OutputError, output_error
+    if out.exists() and not out.is_dir():
+        raise OutputError(f"{what}: is a file, not a folder")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise output_error(exc, what) from None

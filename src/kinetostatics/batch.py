@@ -42,7 +42,7 @@ from typing import Any, Callable, Iterable, Mapping, Sequence
 import numpy as np
 
 from . import yaml_io
-from ._files import write_whole
+from ._files import make_folder, write_whole
 from .errors import KinetostaticsError, OutputError, output_error
 
 __all__ = ["Source", "Task", "Chunk", "BatchSummary", "BatchError", "run_batch",
@@ -599,12 +599,7 @@ def run_batch(sources: Sequence[Source] | str | Path, tasks: Sequence[Task] | No
     _check_memory(0, n_pos, (workers or os.cpu_count() or 1)
                   if executor in (None, "processes") else 1, bool(positions))
     where = f"--out {out_dir}"
-    if out.exists() and not out.is_dir():
-        raise OutputError(f"{where}: is a file, not a folder")
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise output_error(exc, where) from None
+    make_folder(out, where)
     lock = _Lock(out)
     try:
         lock.acquire()

@@ -115,14 +115,9 @@ def _write_outputs(out: Path, what: str, writers) -> None:
     """Make the folder ``out`` and write each ``(path, write)``; an ``OSError`` (a
     folder that is a file or read-only, a full disk) is one line naming the path,
     and no file is left half-written: each is written to a temporary name first."""
-    from ._files import write_whole
-    from .errors import OutputError, output_error
-    if out.exists() and not out.is_dir():
-        raise OutputError(f"{what}: is a file, not a folder")
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise output_error(exc, what) from None
+    from ._files import make_folder, write_whole
+    from .errors import output_error
+    make_folder(out, what)
     for path, write in writers:
         try:
             write_whole(path, write)
