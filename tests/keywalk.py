@@ -16,13 +16,13 @@ def pattern(path: str) -> str:
     """A key path with its names and indices made generic: ``links.rod.points.B[0]`` ->
     ``links.*.points.*[]``."""
     path = re.sub(r"\[\d+\]", "[]", path)
-    if path.startswith("sketch."):                  # a sketch key may be link.point
-        return "sketch.*" + path[len(path.rstrip("[]")):]
+    if path.startswith("sketch."):  # a sketch key may be link.point
+        return "sketch.*" + path[len(path.rstrip("[]")) :]
     parts = path.split(".")
     if parts and parts[0].split("[")[0] in NAMED and len(parts) > 1:
-        parts[1] = "*" + parts[1][len(parts[1].split("[")[0]):]
+        parts[1] = "*" + parts[1][len(parts[1].split("[")[0]) :]
     if len(parts) > 3 and parts[0] == "links" and parts[2] == "points":
-        parts[3] = "*" + parts[3][len(parts[3].split("[")[0]):]
+        parts[3] = "*" + parts[3][len(parts[3].split("[")[0]) :]
     return ".".join(parts)
 
 
@@ -30,11 +30,11 @@ class Walk:
     """What the loader did while instrumented."""
 
     def __init__(self):
-        self.allowed: dict[str, set[str]] = defaultdict(set)   # mapping pattern -> keys accepted
-        self.present: dict[str, set[str]] = defaultdict(set)   # mapping pattern -> keys given
-        self.numbers: dict[str, set] = defaultdict(set)        # number pattern -> kinds
-        self.read: dict[int, tuple] = {}        # id(node) -> (node, pattern): every number read
-        self.checked: set[int] = set()          # id(node) of the numbers bounded by MAGNITUDE
+        self.allowed: dict[str, set[str]] = defaultdict(set)  # mapping pattern -> keys accepted
+        self.present: dict[str, set[str]] = defaultdict(set)  # mapping pattern -> keys given
+        self.numbers: dict[str, set] = defaultdict(set)  # number pattern -> kinds
+        self.read: dict[int, tuple] = {}  # id(node) -> (node, pattern): every number read
+        self.checked: set[int] = set()  # id(node) of the numbers bounded by MAGNITUDE
 
     @property
     def unbounded(self) -> set[str]:
@@ -46,8 +46,12 @@ class Walk:
 def instrumented():
     walk = Walk()
     Entry = yaml_io.Entry
-    check_keys, number, within, raw_number = (Entry.check_keys, Entry.number, Entry.within,
-                                              Entry.raw_number)
+    check_keys, number, within, raw_number = (
+        Entry.check_keys,
+        Entry.number,
+        Entry.within,
+        Entry.raw_number,
+    )
 
     def check_keys_(self, required=(), optional=()):
         p = pattern(self.where.path)
@@ -68,9 +72,17 @@ def instrumented():
         return raw_number(self)
 
     Entry.check_keys, Entry.number, Entry.within, Entry.raw_number = (
-        check_keys_, number_, within_, raw_number_)
+        check_keys_,
+        number_,
+        within_,
+        raw_number_,
+    )
     try:
         yield walk
     finally:
         Entry.check_keys, Entry.number, Entry.within, Entry.raw_number = (
-            check_keys, number, within, raw_number)
+            check_keys,
+            number,
+            within,
+            raw_number,
+        )

@@ -49,18 +49,23 @@ zip: {c: [100, 125], d: {linspace: {from: 100, to: 120, num: 2}}}
 """
     vs = sweeps.expand(sweeps.load_sweep(text, "s.yaml"))
     assert len(vs) == 3 * 2 * 2
-    assert [v for _, v in vs[:3]] == [{"K": 1.5, "H": 90.0, "c": 100.0, "d": 100.0},
-                                      {"K": 1.5, "H": 90.0, "c": 125.0, "d": 120.0},
-                                      {"K": 1.5, "H": 110.0, "c": 100.0, "d": 100.0}]
-    assert vs[-1][1]["K"] == 2.0                         # the range includes its end
+    assert [v for _, v in vs[:3]] == [
+        {"K": 1.5, "H": 90.0, "c": 100.0, "d": 100.0},
+        {"K": 1.5, "H": 90.0, "c": 125.0, "d": 120.0},
+        {"K": 1.5, "H": 110.0, "c": 100.0, "d": 100.0},
+    ]
+    assert vs[-1][1]["K"] == 2.0  # the range includes its end
     assert [vid for vid, _ in vs][:2] == ["01", "02"]
 
 
 def test_random_is_reproducible_and_in_range():
     def draw(seed):
-        text = f"random: {{n: 50, seed: {seed}, params: {{K: {{uniform: [1.5, 2.5]}}, " \
-               "H: {normal: [100, 5]}, Q: {choice: [800, 1000]}, n_teeth: {integers: [1, 3]}}}"
+        text = (
+            f"random: {{n: 50, seed: {seed}, params: {{K: {{uniform: [1.5, 2.5]}}, "
+            "H: {normal: [100, 5]}, Q: {choice: [800, 1000]}, n_teeth: {integers: [1, 3]}}}"
+        )
         return sweeps.expand(sweeps.load_sweep(text, "s.yaml"))
+
     a, b, c = draw(7), draw(7), draw(8)
     assert a == b and a != c
     K = np.array([v["K"] for _, v in a])
@@ -68,12 +73,13 @@ def test_random_is_reproducible_and_in_range():
     assert {v["Q"] for _, v in a} == {800.0, 1000.0}
     assert {v["n_teeth"] for _, v in a} <= {1.0, 2.0, 3.0}
     cli = sweeps.expand(sweeps.from_options(["K=1.5:2.5"], random=50, seed=7))
-    assert [v["K"] for _, v in cli] == list(K)           # the same generator, the same draws
+    assert [v["K"] for _, v in cli] == list(K)  # the same generator, the same draws
 
 
 def test_table_with_ids_comments_and_blanks(tmp_path):
-    (tmp_path / "class.csv").write_text("# course design 2026\nvariant,K,H\nann,1.8,100\n"
-                                        "bob,2.1,\n")
+    (tmp_path / "class.csv").write_text(
+        "# course design 2026\nvariant,K,H\nann,1.8,100\nbob,2.1,\n"
+    )
     vs = sweeps.expand(sweeps.load_sweep("table: class.csv", "s.yaml"), tmp_path)
     assert vs == [("ann", {"K": 1.8, "H": 100.0}), ("bob", {"K": 2.1})]
 
@@ -83,18 +89,28 @@ def test_cli_sets_make_a_grid():
     assert [v for _, v in vs] == [{"K": k, "H": h} for k in (1.5, 2.0, 2.5) for h in (90.0, 100.0)]
 
 
-@pytest.mark.parametrize("text, message", [
-    ("grid: {K: {rang: {from: 1, to: 2, step: 1}}}",
-     "s.yaml:1:18: grid.K.rang: unknown form 'rang' (did you mean 'range'?)"),
-    ("gird: {K: [1]}", "unknown sweep block 'gird' (did you mean 'grid'?)"),
-    ("grid:\n  K: {range: {from: 1, to: 2, step: -1}}",
-     "s.yaml:2:37: grid.K.range.step: step -1 does not lead from 1 to 2"),
-    ("zip: {a: [1, 2], b: [1]}", "zip lists differ in length: a 2, b 1"),
-    ("grid: {a: [1, x]}", "s.yaml:1:15: grid.a[1]: expected a number, got 'x'"),
-    ("random: {n: 3, seed: 1, params: {Q: {uniform: [2, 1]}}}", "uniform of 'Q' needs lo < hi"),
-    ("random: {n: 3, params: {Q: {uniform: [1, 2]}}}", "random: missing 'seed'"),
-    ("grid: {a: [1]}\nzip: {a: [2]}", "parameter 'a' is swept twice (also at s.yaml:1:7: grid)"),
-])
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        (
+            "grid: {K: {rang: {from: 1, to: 2, step: 1}}}",
+            "s.yaml:1:18: grid.K.rang: unknown form 'rang' (did you mean 'range'?)",
+        ),
+        ("gird: {K: [1]}", "unknown sweep block 'gird' (did you mean 'grid'?)"),
+        (
+            "grid:\n  K: {range: {from: 1, to: 2, step: -1}}",
+            "s.yaml:2:37: grid.K.range.step: step -1 does not lead from 1 to 2",
+        ),
+        ("zip: {a: [1, 2], b: [1]}", "zip lists differ in length: a 2, b 1"),
+        ("grid: {a: [1, x]}", "s.yaml:1:15: grid.a[1]: expected a number, got 'x'"),
+        ("random: {n: 3, seed: 1, params: {Q: {uniform: [2, 1]}}}", "uniform of 'Q' needs lo < hi"),
+        ("random: {n: 3, params: {Q: {uniform: [1, 2]}}}", "random: missing 'seed'"),
+        (
+            "grid: {a: [1]}\nzip: {a: [2]}",
+            "parameter 'a' is swept twice (also at s.yaml:1:7: grid)",
+        ),
+    ],
+)
 def test_bad_sweeps_name_the_place(text, message):
     with pytest.raises(sweeps.SweepError) as exc:
         sweeps.expand(sweeps.load_sweep(text, "s.yaml"))
@@ -113,7 +129,7 @@ def test_unknown_parameter_fails_before_any_analysis(tmp_path, capsys):
     assert code == 2 and "\n" not in err
     assert "the sweep sets 'aa', which the file does not declare (did you mean 'a'?)" in err
     assert not (tmp_path / "summary.csv").exists()
-    with pytest.raises(sweeps.SweepError, match="sets 'bb'"):            # the API checks too
+    with pytest.raises(sweeps.SweepError, match="sets 'bb'"):  # the API checks too
         batch.run_batch(str(SLIDER), _tasks([("1", {"bb": 1.0})]), tmp_path / "api")
     assert not (tmp_path / "api").exists()
     assert main(["batch", str(SLIDER), "--out", str(tmp_path), "--flywheel"]) == 2
@@ -138,13 +154,17 @@ def test_summary_row_equals_a_single_run(tmp_path):
     rows = _rows(tmp_path / "b")
     for vid, ov in vs:
         out = tmp_path / f"run_{vid}"
-        assert main(["run", str(_variant_file(tmp_path, vid, ov["a"], ov["b"])),
-                     "--out", str(out)]) == 0
+        assert (
+            main(["run", str(_variant_file(tmp_path, vid, ov["a"], ov["b"])), "--out", str(out)])
+            == 0
+        )
         s = json.loads((out / "summary.json").read_text())
         with open(out / "results.csv") as fh:
             lines = [l for l in fh if not l.startswith("#")]
-        cols = {k: np.array([float(x) if x else np.nan for x in v])
-                for k, v in zip(next(csv.reader(lines[:1])), zip(*csv.reader(lines[1:])))}
+        cols = {
+            k: np.array([float(x) if x else np.nan for x in v])
+            for k, v in zip(next(csv.reader(lines[:1])), zip(*csv.reader(lines[1:])))
+        }
         row = rows[vid]
         assert row["status"] == "ok" and float(row["a"]) == ov["a"]
         expect = {
@@ -157,17 +177,18 @@ def test_summary_row_equals_a_single_run(tmp_path):
             "motor.torque_friction_rms": np.sqrt(np.mean(cols["motor.torque_friction"] ** 2)),
             "rod_slider.pressure_angle_max": np.max(cols["rod_slider.pressure_angle"]),
             **{f"{j}.reaction_peak": p["peak"] for j, p in s["reaction_peaks"].items()},
-            **{f"{j}.reaction_peak_friction": p["peak_friction"]
-               for j, p in s["reaction_peaks"].items()},
+            **{
+                f"{j}.reaction_peak_friction": p["peak_friction"]
+                for j, p in s["reaction_peaks"].items()
+            },
         }
         for name, value in expect.items():
             assert float(row[name]) == pytest.approx(value, rel=1e-12), name
 
 
 def test_a_variant_that_cannot_assemble_is_a_row_with_its_reason(tmp_path):
-    vs = [("1", {"b": 350.0}), ("2", {"b": 80.0}), ("3", {"b": 400.0})]   # 2: rod < crank
-    s = batch.run_batch(str(SLIDER), _tasks(vs), tmp_path, executor="serial", positions=24,
-                        chunk=3)
+    vs = [("1", {"b": 350.0}), ("2", {"b": 80.0}), ("3", {"b": 400.0})]  # 2: rod < crank
+    s = batch.run_batch(str(SLIDER), _tasks(vs), tmp_path, executor="serial", positions=24, chunk=3)
     rows = _rows(tmp_path)
     assert (s.total, s.failed) == (3, 1)
     assert [rows[k]["status"] for k in "123"] == ["ok", "failed", "ok"]
@@ -179,18 +200,19 @@ def test_a_variant_that_cannot_assemble_is_a_row_with_its_reason(tmp_path):
 
 # -- resume ----------------------------------------------------------------------------
 def test_an_interrupted_batch_resumes_without_recomputing(tmp_path, monkeypatch):
-    vs = sweeps.expand(sweeps.from_options(["a=90:110:5", "b=300,350"]))        # 10 variants
+    vs = sweeps.expand(sweeps.from_options(["a=90:110:5", "b=300,350"]))  # 10 variants
     tasks = _tasks(vs)
     opts = dict(executor="serial", positions=24, chunk=2)
 
     def stop_after_two_chunks(done):
         if done >= 4:
             raise KeyboardInterrupt
+
     with pytest.raises(KeyboardInterrupt):
         batch.run_batch(str(SLIDER), tasks, tmp_path / "b", on_chunk=stop_after_two_chunks, **opts)
     assert sorted(_rows(tmp_path / "b")) == ["01", "02", "03", "04"]
     with open(tmp_path / "b" / "summary.csv", "a") as fh:
-        fh.write("05,95.0,300")                  # a row cut short by the interrupt
+        fh.write("05,95.0,300")  # a row cut short by the interrupt
     seen = []
     real = variants.analyze_variants
 
@@ -198,17 +220,19 @@ def test_an_interrupted_batch_resumes_without_recomputing(tmp_path, monkeypatch)
         overrides = list(overrides)
         seen.extend(overrides)
         return real(template, overrides, **kw)
+
     monkeypatch.setattr(variants, "analyze_variants", counting)
     s = batch.run_batch(str(SLIDER), tasks, tmp_path / "b", **opts)
     assert (s.reused, s.computed) == (4, 6)
-    assert seen == [ov for _, ov in vs[4:]]      # only the unfinished ones, 05 included
+    assert seen == [ov for _, ov in vs[4:]]  # only the unfinished ones, 05 included
     assert json.loads((tmp_path / "b" / "batch.json").read_text())["computed"] == 10
     monkeypatch.setattr(variants, "analyze_variants", real)
     batch.run_batch(str(SLIDER), tasks, tmp_path / "fresh", **opts)
     assert _rows(tmp_path / "b") == _rows(tmp_path / "fresh")
     header = (tmp_path / "b" / "summary.csv").read_text().splitlines()
-    assert header[0].startswith("# units: ,file,file,") and [l.split(",")[0] for l in header[2:]] \
-        == [vid for vid, _ in vs]               # in variant order at the end
+    assert header[0].startswith("# units: ,file,file,") and [
+        l.split(",")[0] for l in header[2:]
+    ] == [vid for vid, _ in vs]  # in variant order at the end
 
 
 def test_a_rerun_with_another_sweep_is_refused(tmp_path):
@@ -216,14 +240,18 @@ def test_a_rerun_with_another_sweep_is_refused(tmp_path):
     batch.run_batch(str(SLIDER), _tasks([("1", {"a": 90.0})]), tmp_path, **opts)
     with pytest.raises(batch.BatchError, match="holds another batch"):
         batch.run_batch(str(SLIDER), _tasks([("1", {"a": 95.0})]), tmp_path, **opts)
-    s = batch.run_batch(str(SLIDER), _tasks([("1", {"a": 95.0})]), tmp_path, overwrite=True,
-                        **opts)
+    s = batch.run_batch(str(SLIDER), _tasks([("1", {"a": 95.0})]), tmp_path, overwrite=True, **opts)
     assert s.computed == 1 and float(_rows(tmp_path)["1"]["a"]) == 95.0
 
 
 # -- executors and chunking ------------------------------------------------------------
-SLOTTER_VARIANTS = [("1", {"K": 1.8}), ("2", {"K": 2.2, "H": 120.0}), ("3", {"K": 1.0}),
-                    ("4", {"L_O2O3": 120.0}), ("5", {"Q": 1500.0, "G5": 400.0})]
+SLOTTER_VARIANTS = [
+    ("1", {"K": 1.8}),
+    ("2", {"K": 2.2, "H": 120.0}),
+    ("3", {"K": 1.0}),
+    ("4", {"L_O2O3": 120.0}),
+    ("5", {"Q": 1500.0, "G5": 400.0}),
+]
 
 
 def _same_rows(a, b):
@@ -241,10 +269,18 @@ def test_executors_and_chunk_sizes_give_the_same_rows(tmp_path):
     rows = _rows(ref)
     assert rows["3"]["status"] == "failed" and "division by zero" in rows["3"]["reason"]
     assert rows["1"]["status"] == "ok" and rows["1"]["flywheel.inertia"] != ""
-    batch.run_batch(str(SLOTTER), tasks, tmp_path / "serial5", executor="serial", chunk=5,
-                    positions=24)
-    s = batch.run_batch(str(SLOTTER), tasks, tmp_path / "proc", executor="processes",
-                        workers=2, chunk=2, positions=24)
+    batch.run_batch(
+        str(SLOTTER), tasks, tmp_path / "serial5", executor="serial", chunk=5, positions=24
+    )
+    s = batch.run_batch(
+        str(SLOTTER),
+        tasks,
+        tmp_path / "proc",
+        executor="processes",
+        workers=2,
+        chunk=2,
+        positions=24,
+    )
     assert (s.workers, s.chunk) == (2, 2)
     _same_rows(rows, _rows(tmp_path / "serial5"))
     _same_rows(rows, _rows(tmp_path / "proc"))
@@ -254,10 +290,17 @@ def test_a_local_dask_cluster_gives_the_same_rows(tmp_path):
     distributed = pytest.importorskip("distributed")
     tasks = _tasks(SLOTTER_VARIANTS[:3])
     batch.run_batch(str(SLOTTER), tasks, tmp_path / "ref", executor="serial", positions=24)
-    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
-                                  dashboard_address=None) as cluster:
-        s = batch.run_batch(str(SLOTTER), tasks, tmp_path / "dask",
-                            executor=cluster.scheduler_address, chunk=2, positions=24)
+    with distributed.LocalCluster(
+        n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None
+    ) as cluster:
+        s = batch.run_batch(
+            str(SLOTTER),
+            tasks,
+            tmp_path / "dask",
+            executor=cluster.scheduler_address,
+            chunk=2,
+            positions=24,
+        )
     assert s.total == 3
     _same_rows(_rows(tmp_path / "ref"), _rows(tmp_path / "dask"))
 
@@ -270,6 +313,7 @@ def test_a_crashing_chunk_is_an_error_row_and_a_rerun_retries_it(tmp_path, monke
         if any(ov.get("a") == 95.0 for ov in overrides):
             raise MemoryError("worker lost")
         return real(template, overrides, **kw)
+
     monkeypatch.setattr(variants, "analyze_variants", crash_on_k2)
     tasks = _tasks([("1", {"a": 90.0}), ("2", {"a": 95.0}), ("3", {"a": 100.0})])
     s = batch.run_batch(str(SLIDER), tasks, tmp_path, executor="serial", chunk=1, positions=12)
@@ -288,13 +332,27 @@ def test_a_folder_batch_runs_each_file_and_reports_a_broken_one(tmp_path):
     (folder / "ann.yaml").write_text(SLIDER.read_text())
     (folder / "bob.yaml").write_text(SLIDER.read_text().replace("  b: 350 ", "  b: 80 "))
     (folder / "cid.yaml").write_text("links: {ground: {}}\njoints: 3\n")
-    (folder / "dan.yaml").write_bytes(b"name: caf\xe9\n")          # not UTF-8
-    code = main(["batch", str(folder), "--out", str(tmp_path / "out"), "--positions", "12",
-                 "--serial", "--results"])
+    (folder / "dan.yaml").write_bytes(b"name: caf\xe9\n")  # not UTF-8
+    code = main(
+        [
+            "batch",
+            str(folder),
+            "--out",
+            str(tmp_path / "out"),
+            "--positions",
+            "12",
+            "--serial",
+            "--results",
+        ]
+    )
     assert code == 0
     rows = _rows(tmp_path / "out")
-    assert [rows[k]["status"] for k in ("ann", "bob", "cid", "dan")] == ["ok", "failed", "failed",
-                                                                          "failed"]
+    assert [rows[k]["status"] for k in ("ann", "bob", "cid", "dan")] == [
+        "ok",
+        "failed",
+        "failed",
+        "failed",
+    ]
     assert "dan.yaml:1:10: the file is not UTF-8 text" in rows["dan"]["reason"]
     assert rows["bob"]["b"] == "80.0" and "cannot assemble" in rows["bob"]["reason"]
     assert "cid.yaml:2:" in rows["cid"]["reason"]
@@ -306,10 +364,24 @@ def test_a_folder_batch_runs_each_file_and_reports_a_broken_one(tmp_path):
 def test_the_file_sweep_section_is_used_and_best_prints_the_top_row(tmp_path, capsys):
     path = tmp_path / "slider.yaml"
     path.write_text(SLIDER.read_text() + "sweep:\n  grid: {a: [90, 100, 110]}\n")
-    assert ks.load(path).parameters["a"] == 100.0           # the loader ignores it
-    code = main(["batch", str(path), "--out", str(tmp_path / "out"), "--positions", "12",
-                 "--serial", "--best", "min motor.torque_friction_peak",
-                 "--where", "rod_slider.pressure_angle_max <= 30", "--top", "1"])
+    assert ks.load(path).parameters["a"] == 100.0  # the loader ignores it
+    code = main(
+        [
+            "batch",
+            str(path),
+            "--out",
+            str(tmp_path / "out"),
+            "--positions",
+            "12",
+            "--serial",
+            "--best",
+            "min motor.torque_friction_peak",
+            "--where",
+            "rod_slider.pressure_angle_max <= 30",
+            "--top",
+            "1",
+        ]
+    )
     out = capsys.readouterr().out
     assert code == 0 and "3 variants" in out
     table = out.strip().splitlines()[-2:]
@@ -330,17 +402,22 @@ def test_best_on_a_hand_made_table(tmp_path, capsys):
     (tmp_path / "summary.csv").write_text(
         "# units: ,file,,,N*m,deg\n"
         "variant,K,status,reason,motor.torque_peak,ram.pressure_angle_max\n"
-        "a,1.5,ok,,30.0,12.0\n"          # smallest torque, but violates the constraint
+        "a,1.5,ok,,30.0,12.0\n"  # smallest torque, but violates the constraint
         "b,1.8,ok,,40.0,8.0\n"
         "c,2.0,failed,cannot assemble,,\n"
-        "d,2.2,ok,,35.0,9.5\n")
-    table = best.best(tmp_path / "summary.csv", "min motor.torque_peak",
-                      ["ram.pressure_angle_max <= 10"], top=5)
+        "d,2.2,ok,,35.0,9.5\n"
+    )
+    table = best.best(
+        tmp_path / "summary.csv", "min motor.torque_peak", ["ram.pressure_angle_max <= 10"], top=5
+    )
     assert [l.split()[0] for l in table.splitlines()[1:]] == ["d", "b"]
     assert main(["best", str(tmp_path), "--best", "max motor.torque_peak", "--top", "1"]) == 0
     assert capsys.readouterr().out.splitlines()[1].split()[:3] == ["b", "1.8", "40"]
-    with pytest.raises(best.BestError, match=r"no column 'motor.torque_pk' \(did you mean "
-                                             r"'motor.torque_peak'\?\)"):
+    with pytest.raises(
+        best.BestError,
+        match=r"no column 'motor.torque_pk' \(did you mean "
+        r"'motor.torque_peak'\?\)",
+    ):
         best.best(tmp_path / "summary.csv", "min motor.torque_pk")
     assert main(["best", str(tmp_path), "--best", "min K", "--where", "K =< 2"]) == 2
     assert "expected 'COLUMN OP NUMBER'" in capsys.readouterr().err
@@ -353,12 +430,33 @@ def test_ctrl_c_leaves_the_finished_rows_and_the_same_command_resumes(tmp_path):
     import subprocess
     import sys
     import time
+
     out = tmp_path / "out"
-    cmd = [sys.executable, "-m", "kinetostatics.cli", "batch", str(SLIDER), "--out", str(out),
-           "--set", "a=80:120:600", "--positions", "12", "--serial", "--chunk", "1"]
+    cmd = [
+        sys.executable,
+        "-m",
+        "kinetostatics.cli",
+        "batch",
+        str(SLIDER),
+        "--out",
+        str(out),
+        "--set",
+        "a=80:120:600",
+        "--positions",
+        "12",
+        "--serial",
+        "--chunk",
+        "1",
+    ]
     env = dict(os.environ, PYTHONPATH=str(ROOT / "src"))
-    p = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    p = subprocess.Popen(
+        cmd,
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
     deadline = time.monotonic() + 60
     while time.monotonic() < deadline and p.poll() is None:
         table = out / "summary.csv"
@@ -371,7 +469,7 @@ def test_ctrl_c_leaves_the_finished_rows_and_the_same_command_resumes(tmp_path):
     assert err.strip().splitlines()[-1].startswith("kinetostatics: interrupted; the finished rows")
     done = len(_rows(out))
     assert 3 <= done < 600
-    assert main(cmd[3:-2]) == 0                 # chunks do not change results: any size resumes
+    assert main(cmd[3:-2]) == 0  # chunks do not change results: any size resumes
     runs = json.loads((out / "batch.json").read_text())["runs"]
     assert [r["computed"] for r in runs] == [done, 600 - done]
     assert len(_rows(out)) == 600

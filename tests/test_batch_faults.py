@@ -49,8 +49,9 @@ def _same_rows(a: dict, b: dict) -> bool:
                 if x != y:
                     return False
                 continue
-            if not (fx == fy or abs(fx - fy) <= 1e-12 * max(abs(fx), abs(fy))
-                    or (fx != fx and fy != fy)):                     # both empty (NaN)
+            if not (
+                fx == fy or abs(fx - fy) <= 1e-12 * max(abs(fx), abs(fy)) or (fx != fx and fy != fy)
+            ):  # both empty (NaN)
                 return False
     return True
 
@@ -71,18 +72,29 @@ def _leftovers(folder: Path) -> list[str]:
 
 
 # -- limits ----------------------------------------------------------------------------
-@pytest.mark.parametrize("option, value, message", [
-    ("--positions", "1000000000", "--positions 1000000000: must be from 1 to 10000000"),
-    ("--positions", "0", "--positions 0: must be from 1 to 10000000"),
-    ("--workers", "0", "--workers 0: must be from 1 to 1024"),
-    ("--workers", "100000", "--workers 100000: must be from 1 to 1024"),
-    ("--chunk", "0", "--chunk 0: must be from 1 to 10000000"),
-    ("--seed", "-1", "--seed -1: must be from 0 to"),
-])
-def test_batch_options_out_of_range_are_refused_up_front(tmp_path, capsys, option, value,
-                                                         message):
-    args = ["batch", str(SLIDER), "--out", str(tmp_path / "o"), "--serial", "--set", "a=90,95",
-            option, value]
+@pytest.mark.parametrize(
+    "option, value, message",
+    [
+        ("--positions", "1000000000", "--positions 1000000000: must be from 1 to 10000000"),
+        ("--positions", "0", "--positions 0: must be from 1 to 10000000"),
+        ("--workers", "0", "--workers 0: must be from 1 to 1024"),
+        ("--workers", "100000", "--workers 100000: must be from 1 to 1024"),
+        ("--chunk", "0", "--chunk 0: must be from 1 to 10000000"),
+        ("--seed", "-1", "--seed -1: must be from 0 to"),
+    ],
+)
+def test_batch_options_out_of_range_are_refused_up_front(tmp_path, capsys, option, value, message):
+    args = [
+        "batch",
+        str(SLIDER),
+        "--out",
+        str(tmp_path / "o"),
+        "--serial",
+        "--set",
+        "a=90,95",
+        option,
+        value,
+    ]
     if option == "--seed":
         args += ["--random", "2"]
         args[args.index("a=90,95")] = "a=90:95"
@@ -90,13 +102,15 @@ def test_batch_options_out_of_range_are_refused_up_front(tmp_path, capsys, optio
         args.remove("--serial")
     assert main(args) == 2
     assert message in _one_line(capsys.readouterr().err)
-    assert not (tmp_path / "o").exists()                   # nothing computed
+    assert not (tmp_path / "o").exists()  # nothing computed
 
 
 def test_random_beyond_the_limit_and_a_set_beyond_it_name_the_limit(tmp_path, capsys):
     out = str(tmp_path / "o")
-    assert main(["batch", str(SLIDER), "--out", out, "--set", "a=90:110", "--random",
-                 "100000000"]) == 2
+    assert (
+        main(["batch", str(SLIDER), "--out", out, "--set", "a=90:110", "--random", "100000000"])
+        == 2
+    )
     assert "--random 100000000: must be from 1 to 10000000" in _one_line(capsys.readouterr().err)
     assert main(["batch", str(SLIDER), "--out", out, "--set", "a=90:110:100000000"]) == 2
     line = _one_line(capsys.readouterr().err)
@@ -104,15 +118,29 @@ def test_random_beyond_the_limit_and_a_set_beyond_it_name_the_limit(tmp_path, ca
 
 
 def test_a_sweep_larger_than_memory_is_refused_before_it_is_made(tmp_path, capsys, monkeypatch):
-    monkeypatch.setattr(sweeps, "available_memory", lambda: 2**20)         # 1 MiB free
+    monkeypatch.setattr(sweeps, "available_memory", lambda: 2**20)  # 1 MiB free
     t0 = time.perf_counter()
     with pytest.raises(sweeps.SweepError, match="10000000 variants: about 76.3 GB"):
-        sweeps.expand(sweeps.from_options(["a=90:110:10000000"]))     # the documented maximum
+        sweeps.expand(sweeps.from_options(["a=90:110:10000000"]))  # the documented maximum
     with pytest.raises(sweeps.SweepError, match="the grid has 1000 variants"):
         sweeps.expand(sweeps.from_options(["a=90:110:10", "b=300:400:100"]))
     assert time.perf_counter() - t0 < 5
-    assert main(["batch", str(SLIDER), "--out", str(tmp_path / "o"), "--serial",
-                 "--set", "a=90:110:200", "--positions", "12"]) == 2
+    assert (
+        main(
+            [
+                "batch",
+                str(SLIDER),
+                "--out",
+                str(tmp_path / "o"),
+                "--serial",
+                "--set",
+                "a=90:110:200",
+                "--positions",
+                "12",
+            ]
+        )
+        == 2
+    )
     line = _one_line(capsys.readouterr().err)
     assert "200 variants" in line and "more than the 0.0 GB available" in line, line
     assert not (tmp_path / "o").exists()
@@ -125,13 +153,33 @@ def test_out_naming_a_file_is_one_line_exit_2(tmp_path, capsys):
     f = tmp_path / "file"
     f.write_text("x")
     assert main(["run", str(SLIDER), "--out", str(f)]) == 2
-    assert _one_line(capsys.readouterr().err) == f"kinetostatics: --out {f}: is a file, not a folder"
-    assert main(["batch", str(SLIDER), "--out", str(f), "--serial", "--set", "a=90,95",
-                 "--positions", "12"]) == 2
-    assert _one_line(capsys.readouterr().err) == f"kinetostatics: --out {f}: is a file, not a folder"
+    assert (
+        _one_line(capsys.readouterr().err) == f"kinetostatics: --out {f}: is a file, not a folder"
+    )
+    assert (
+        main(
+            [
+                "batch",
+                str(SLIDER),
+                "--out",
+                str(f),
+                "--serial",
+                "--set",
+                "a=90,95",
+                "--positions",
+                "12",
+            ]
+        )
+        == 2
+    )
+    assert (
+        _one_line(capsys.readouterr().err) == f"kinetostatics: --out {f}: is a file, not a folder"
+    )
     assert main(["run", str(SLIDER), "--out", str(f / "sub")]) == 2
-    assert _one_line(capsys.readouterr().err) == \
-        f"kinetostatics: --out {f / 'sub'}: cannot write {f / 'sub'}: Not a directory"
+    assert (
+        _one_line(capsys.readouterr().err)
+        == f"kinetostatics: --out {f / 'sub'}: cannot write {f / 'sub'}: Not a directory"
+    )
     assert f.read_text() == "x"
 
 
@@ -149,6 +197,7 @@ def _refuse(err: int, after: int = 0, partial: bool = True):
                     fh.write(text[: len(text) // 2])
             raise OSError(err, os.strerror(err), str(path))
         real(path, text, mode)
+
     return write
 
 
@@ -156,19 +205,36 @@ def test_a_read_only_out_is_one_line_exit_2(tmp_path, capsys, monkeypatch):
     # root ignores permissions, so the refusal is injected where the files are written
     monkeypatch.setattr(batch._Table, "_write", staticmethod(_refuse(errno.EACCES, 0, False)))
     out = tmp_path / "ro"
-    assert main(["batch", str(SLIDER), "--out", str(out), "--serial", "--set", "a=90,95",
-                 "--positions", "12"]) == 2
+    assert (
+        main(
+            [
+                "batch",
+                str(SLIDER),
+                "--out",
+                str(out),
+                "--serial",
+                "--set",
+                "a=90,95",
+                "--positions",
+                "12",
+            ]
+        )
+        == 2
+    )
     line = _one_line(capsys.readouterr().err)
     assert line == f"kinetostatics: --out {out}: cannot write {out}/batch.json: Permission denied"
     assert _leftovers(out) == []
 
     def denied(self, path):
         raise PermissionError(errno.EACCES, "Permission denied", str(path))
+
     monkeypatch.setattr(results.Result, "to_csv", denied)
     assert main(["run", str(SLIDER), "--out", str(tmp_path / "r")]) == 2
     line = _one_line(capsys.readouterr().err)
-    assert line == (f"kinetostatics: --out {tmp_path / 'r'}: cannot write "
-                    f"{tmp_path / 'r' / 'results.csv'}: Permission denied"), line
+    assert line == (
+        f"kinetostatics: --out {tmp_path / 'r'}: cannot write "
+        f"{tmp_path / 'r' / 'results.csv'}: Permission denied"
+    ), line
     assert _leftovers(tmp_path / "r") == []
 
 
@@ -176,6 +242,7 @@ def test_a_full_disk_in_run_leaves_no_file_behind(tmp_path, capsys, monkeypatch)
     def full(self, path, summary=None):
         Path(path).write_text('{"half": ')
         raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(path))
+
     monkeypatch.setattr(results.Result, "to_json", full)
     out = tmp_path / "r"
     assert main(["run", str(SLIDER), "--out", str(out)]) == 2
@@ -184,11 +251,23 @@ def test_a_full_disk_in_run_leaves_no_file_behind(tmp_path, capsys, monkeypatch)
 
 
 @pytest.mark.parametrize("after", [1, 3, 5])
-def test_a_full_disk_stops_the_batch_and_a_rerun_finds_every_row_once(tmp_path, capsys,
-                                                                     monkeypatch, after):
+def test_a_full_disk_stops_the_batch_and_a_rerun_finds_every_row_once(
+    tmp_path, capsys, monkeypatch, after
+):
     """ENOSPC at the header, in the middle of the appended rows, at the final rewrite."""
-    cmd = ["batch", str(SLIDER), "--out", str(tmp_path / "o"), "--serial", "--chunk", "2",
-           "--set", "a=90:110:6", "--positions", "12"]
+    cmd = [
+        "batch",
+        str(SLIDER),
+        "--out",
+        str(tmp_path / "o"),
+        "--serial",
+        "--chunk",
+        "2",
+        "--set",
+        "a=90:110:6",
+        "--positions",
+        "12",
+    ]
     monkeypatch.setattr(batch._Table, "_write", staticmethod(_refuse(errno.ENOSPC, after)))
     assert main(cmd) == 2
     line = _one_line(capsys.readouterr().err)
@@ -221,10 +300,10 @@ def test_a_lost_executor_is_one_line_and_the_rows_so_far_are_kept(tmp_path):
     vs = sweeps.expand(sweeps.from_options(["a=90:110:6"]))
     tasks = [batch.Task(v, 0, o) for v, o in vs]
     with pytest.raises(batch.OutputError) as info:
-        batch.run_batch(str(SLIDER), tasks, tmp_path, executor=_Losing(2), chunk=1,
-                        positions=12)
-    assert str(info.value).startswith("the executor: failed (OSError: Timed out") and \
-        "run the same command again to resume" in str(info.value)
+        batch.run_batch(str(SLIDER), tasks, tmp_path, executor=_Losing(2), chunk=1, positions=12)
+    assert str(info.value).startswith(
+        "the executor: failed (OSError: Timed out"
+    ) and "run the same command again to resume" in str(info.value)
     assert _ids(tmp_path) == ["1", "2"]
     s = batch.run_batch(str(SLIDER), tasks, tmp_path, executor="serial", chunk=1, positions=12)
     assert (s.reused, s.computed) == (2, 4) and _ids(tmp_path) == [v for v, _ in vs]
@@ -237,13 +316,25 @@ def test_a_lost_dask_scheduler_is_one_line():
 
 
 # -- one batch per folder ----------------------------------------------------------------
-def test_a_second_batch_on_the_same_out_is_refused_and_a_stale_lock_taken_over(tmp_path,
-                                                                               capsys):
+def test_a_second_batch_on_the_same_out_is_refused_and_a_stale_lock_taken_over(tmp_path, capsys):
     out = tmp_path / "o"
-    cmd = [sys.executable, "-m", "kinetostatics.cli", "batch", str(SLIDER), "--out", str(out),
-           "--set", "a=80:120:60", "--positions", "12", "--serial", "--chunk", "1"]
-    p = subprocess.Popen(cmd, env=ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                         text=True)
+    cmd = [
+        sys.executable,
+        "-m",
+        "kinetostatics.cli",
+        "batch",
+        str(SLIDER),
+        "--out",
+        str(out),
+        "--set",
+        "a=80:120:60",
+        "--positions",
+        "12",
+        "--serial",
+        "--chunk",
+        "1",
+    ]
+    p = subprocess.Popen(cmd, env=ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
         deadline = time.monotonic() + 60
         while time.monotonic() < deadline and p.poll() is None:
@@ -253,8 +344,12 @@ def test_a_second_batch_on_the_same_out_is_refused_and_a_stale_lock_taken_over(t
         assert p.poll() is None, p.communicate()
         assert main(cmd[3:]) == 2
         line = _one_line(capsys.readouterr().err)
-        assert line.startswith(f"kinetostatics: {out}: another batch is writing to this "
-                               f"folder (pid {p.pid} on ") and "use another --out" in line, line
+        assert (
+            line.startswith(
+                f"kinetostatics: {out}: another batch is writing to this folder (pid {p.pid} on "
+            )
+            and "use another --out" in line
+        ), line
     finally:
         _, err = p.communicate(timeout=120)
     assert p.returncode == 0, err
@@ -276,8 +371,9 @@ def test_a_held_lock_refuses_the_python_api_too(tmp_path):
             batch.run_batch(str(SLIDER), None, tmp_path, executor="serial", positions=12)
     finally:
         lock.release()
-    assert batch.run_batch(str(SLIDER), None, tmp_path, executor="serial",
-                           positions=12).computed == 1
+    assert (
+        batch.run_batch(str(SLIDER), None, tmp_path, executor="serial", positions=12).computed == 1
+    )
 
 
 # -- resume ------------------------------------------------------------------------------
@@ -291,7 +387,7 @@ def test_resume_drops_a_row_cut_inside_its_last_cell(tmp_path):
     text = table.read_text()
     last = text.rstrip("\n").rsplit("\n", 1)[1]
     assert last.startswith("4,") and len(last.split(",")[-1]) > 3
-    table.write_text(text.rstrip("\n")[:-2])          # the cut falls inside the last cell
+    table.write_text(text.rstrip("\n")[:-2])  # the cut falls inside the last cell
     cut = batch.read_summary(table)[1]
     assert [r["variant"] for r in cut] == ["1", "2", "3"]
     s = batch.run_batch(str(SLIDER), tasks, tmp_path / "b", **opts)
@@ -317,15 +413,28 @@ def _alive(pid: int) -> bool:
 
 
 def _start_batch(out: Path, n: int, rows: int) -> subprocess.Popen:
-    cmd = [sys.executable, "-m", "kinetostatics.cli", "batch", str(SLIDER), "--out", str(out),
-           "--set", f"a=80:120:{n}", "--positions", "12", "--workers", "2", "--chunk", "1"]
-    p = subprocess.Popen(cmd, env=ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                         text=True)
+    cmd = [
+        sys.executable,
+        "-m",
+        "kinetostatics.cli",
+        "batch",
+        str(SLIDER),
+        "--out",
+        str(out),
+        "--set",
+        f"a=80:120:{n}",
+        "--positions",
+        "12",
+        "--workers",
+        "2",
+        "--chunk",
+        "1",
+    ]
+    p = subprocess.Popen(cmd, env=ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     p.args_list = cmd
     deadline = time.monotonic() + 60
     while time.monotonic() < deadline and p.poll() is None:
-        if (out / "summary.csv").exists() and len(_ids(out)) >= rows \
-                and len(_children(p.pid)) >= 2:
+        if (out / "summary.csv").exists() and len(_ids(out)) >= rows and len(_children(p.pid)) >= 2:
             break
         time.sleep(0.02)
     assert p.poll() is None, p.communicate()
@@ -345,7 +454,7 @@ def test_sigkill_of_the_batch_kills_its_workers_and_the_rerun_finds_every_row_on
     assert not any(_alive(w) for w in workers), "orphan workers"
     done = len(_ids(out))
     assert 3 <= done < 400
-    assert main([*p.args_list[3:-4], "--serial", "--chunk", "50"]) == 0   # lock taken over
+    assert main([*p.args_list[3:-4], "--serial", "--chunk", "50"]) == 0  # lock taken over
     assert _ids(out) == [f"{k:03d}" for k in range(1, 401)]
     assert {r["status"] for r in _rows(out).values()} == {"ok"}
 
@@ -365,18 +474,23 @@ def test_a_killed_worker_is_replaced_and_every_row_is_computed_once(tmp_path):
 def test_failing_variants_do_not_reach_the_stacked_friction_solution(monkeypatch):
     tpl = variants.Template.load(SLOTTER)
     # 1 and 3 do not assemble (the ram's guide out of reach), 2 and 4 do
-    ovs = [{"K": 1.2, "H": 140.0, "L_O2O3": 180.0}, {"K": 2.8, "H": 140.0, "L_O2O3": 120.0},
-           {"K": 1.2, "H": 140.0, "L_O2O3": 170.0}, {"K": 2.8, "H": 140.0, "L_O2O3": 180.0}]
+    ovs = [
+        {"K": 1.2, "H": 140.0, "L_O2O3": 180.0},
+        {"K": 2.8, "H": 140.0, "L_O2O3": 120.0},
+        {"K": 1.2, "H": 140.0, "L_O2O3": 170.0},
+        {"K": 2.8, "H": 140.0, "L_O2O3": 180.0},
+    ]
     calls = {"n": 0}
     real = friction._jacobian
 
     def counting(*a, **k):
         calls["n"] += 1
         return real(*a, **k)
+
     monkeypatch.setattr(friction, "_jacobian", counting)
     rows = variants.analyze_variants(tpl, ovs, positions=24, flywheel=False)
     assert [r["status"] for r in rows] == ["failed", "ok", "failed", "ok"]
-    assert calls["n"] == 0                        # no homotopy on a failed variant's NaN rows
+    assert calls["n"] == 0  # no homotopy on a failed variant's NaN rows
     one = variants.analyze_variants(tpl, ovs, positions=24, flywheel=False, vectorise=False)
     for a, b in zip(rows, one):
         assert a.keys() == b.keys()
@@ -405,13 +519,18 @@ class _Cancelling(Executor):
 def test_futures_cancelled_by_the_executor_stop_the_batch_with_one_line(tmp_path):
     vs = sweeps.expand(sweeps.from_options(["a=90:110:6"]))
     tasks = [batch.Task(v, 0, o) for v, o in vs]
-    with pytest.raises(batch.OutputError, match=r"^the executor: failed \(CancelledError\); "
-                                                r"the finished rows are in"):
-        batch.run_batch(str(SLIDER), tasks, tmp_path, executor=_Cancelling(3), chunk=1,
-                        positions=12)
+    with pytest.raises(
+        batch.OutputError,
+        match=r"^the executor: failed \(CancelledError\); "
+        r"the finished rows are in",
+    ):
+        batch.run_batch(
+            str(SLIDER), tasks, tmp_path, executor=_Cancelling(3), chunk=1, positions=12
+        )
     done = _ids(tmp_path)
-    assert set(done) < {v for v, _ in vs} and all(r["status"] == "ok"
-                                                  for r in _rows(tmp_path).values())
+    assert set(done) < {v for v, _ in vs} and all(
+        r["status"] == "ok" for r in _rows(tmp_path).values()
+    )
     batch.run_batch(str(SLIDER), tasks, tmp_path, executor="serial", chunk=1, positions=12)
     assert _ids(tmp_path) == [v for v, _ in vs]
 
@@ -421,12 +540,16 @@ def test_without_flock_the_lock_file_names_a_live_or_a_dead_holder(tmp_path, mon
 
     def no_locks(fd, op):
         raise OSError(errno.ENOLCK, "No locks available")
+
     monkeypatch.setattr(fcntl, "flock", no_locks)
     (tmp_path / "batch.lock").write_text(f"pid {os.getppid()} on here since today\n")
-    with pytest.raises(batch.BatchError, match=f"another batch is writing to this folder "
-                                               f"\\(pid {os.getppid()} on here"):
+    with pytest.raises(
+        batch.BatchError,
+        match=f"another batch is writing to this folder \\(pid {os.getppid()} on here",
+    ):
         batch.run_batch(str(SLIDER), None, tmp_path, executor="serial", positions=12)
     (tmp_path / "batch.lock").write_text("pid 999999999 on here since yesterday\n")
-    assert batch.run_batch(str(SLIDER), None, tmp_path, executor="serial",
-                           positions=12).computed == 1
+    assert (
+        batch.run_batch(str(SLIDER), None, tmp_path, executor="serial", positions=12).computed == 1
+    )
     assert not (tmp_path / "batch.lock").exists()

@@ -53,7 +53,7 @@ STAGES = ("load", "structure", "analyze")
 
 @dataclass(frozen=True)
 class Expectation:
-    lines: tuple[str, ...]          # exact lines or regular expressions
+    lines: tuple[str, ...]  # exact lines or regular expressions
     regex: bool
     stage: str
 
@@ -65,11 +65,11 @@ def expectation(name: str) -> Expectation:
         if not line.startswith("#"):
             break
         if line.startswith("# expect: "):
-            exact.append(line[len("# expect: "):])
+            exact.append(line[len("# expect: ") :])
         elif line.startswith("# expect-re: "):
-            regex.append(line[len("# expect-re: "):])
+            regex.append(line[len("# expect-re: ") :])
         elif line.startswith("# stage: "):
-            stage = line[len("# stage: "):].strip()
+            stage = line[len("# stage: ") :].strip()
     assert bool(exact) != bool(regex), f"{name}: give '# expect:' or '# expect-re:' lines"
     assert stage in STAGES, f"{name}: unknown stage '{stage}'"
     return Expectation(tuple(exact or regex), bool(regex), stage)
@@ -159,8 +159,9 @@ def test_file_over_size_limit(tmp_path, monkeypatch):
     with pytest.raises(ks.ModelError) as info:
         ks.load(name)
     assert time.perf_counter() - t0 < 1.0
-    assert str(info.value) == (f"{name}: the file is {size} bytes, more than the limit of "
-                               f"{MAX_FILE_BYTES} bytes; refused")
+    assert str(info.value) == (
+        f"{name}: the file is {size} bytes, more than the limit of {MAX_FILE_BYTES} bytes; refused"
+    )
 
 
 def test_file_over_size_limit_cli(tmp_path, monkeypatch, capsys):
@@ -169,8 +170,9 @@ def test_file_over_size_limit_cli(tmp_path, monkeypatch, capsys):
     assert main(["check", name]) == 2
     out, err = capsys.readouterr()
     assert "Traceback" not in err
-    assert err.splitlines() == [f"{name}: the file is {size} bytes, more than the limit of "
-                                f"{MAX_FILE_BYTES} bytes; refused"]
+    assert err.splitlines() == [
+        f"{name}: the file is {size} bytes, more than the limit of {MAX_FILE_BYTES} bytes; refused"
+    ]
 
 
 def test_missing_file(tmp_path, monkeypatch):

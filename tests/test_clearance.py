@@ -64,7 +64,7 @@ def test_a1_converges_linearly_and_energy_balances(swing):
         # work of all drivers (motor + clearance drivers) = change of kinetic + potential energy
         de = cols["energy.total"] - cols["energy.total"][0]
         assert np.max(np.abs(cols["work.drivers"] - de)) < 1e-6 * np.max(np.abs(de))
-        assert np.max(np.abs(r["A_turn.power"])) > 0          # the prescription injects power
+        assert np.max(np.abs(r["A_turn.power"])) > 0  # the prescription injects power
         if e == 1e-3:
             # the source's findings under its own model: angle and speed barely affected,
             # and no start-up disturbance of the arm's acceleration (docs/clearance.md)
@@ -74,7 +74,7 @@ def test_a1_converges_linearly_and_energy_balances(swing):
             assert np.max(np.abs(turn - turn_ref)) < 0.01 * np.max(np.abs(turn_ref))
             assert np.max(np.abs(r["omega"] - ref["omega"])) < 0.01 * np.max(np.abs(ref["omega"]))
     assert 0 < errs[1] < errs[0]
-    assert errs[0] / errs[1] == pytest.approx(10.0, rel=0.05)   # first order in e
+    assert errs[0] / errs[1] == pytest.approx(10.0, rel=0.05)  # first order in e
 
 
 def test_a2_two_force_member_on_the_slider_crank():
@@ -88,22 +88,33 @@ def test_a2_two_force_member_on_the_slider_crank():
             # a two-force member: no couple on the clearance link, the force along it
             f = np.hypot(r.column(f"{k}.Fx"), r.column(f"{k}.Fy"))
             assert np.max(np.abs(r.column(f"{k}_turn.torque"))) < 1e-9 * np.max(f) * e
-            np.testing.assert_allclose(np.angle(np.exp(1j * (np.arctan2(-r.column(f"{k}.Fy"),
-                                                                        -r.column(f"{k}.Fx"))
-                                                             - r.beta[:, "AB".index(k)]))),
-                                       0.0, atol=1e-9)
+            np.testing.assert_allclose(
+                np.angle(
+                    np.exp(
+                        1j
+                        * (
+                            np.arctan2(-r.column(f"{k}.Fy"), -r.column(f"{k}.Fx"))
+                            - r.beta[:, "AB".index(k)]
+                        )
+                    )
+                ),
+                0.0,
+                atol=1e-9,
+            )
         diffs.append(np.max(np.abs(r.column("motor.torque") - r.ideal["motor.torque"])))
     assert diffs[0] / diffs[1] == pytest.approx(10.0, rel=0.05)
 
 
 def test_hertz_stiffness_closed_form():
-    e_star = 1.0 / (2 * (1 - 0.3 ** 2) / 2.07e11)
+    e_star = 1.0 / (2 * (1 - 0.3**2) / 2.07e11)
     r = 0.02
-    assert hertz_stiffness(r, 5e-4) == pytest.approx(4 / 3 * e_star * np.sqrt(r * (r + 5e-4) / 5e-4))
+    assert hertz_stiffness(r, 5e-4) == pytest.approx(
+        4 / 3 * e_star * np.sqrt(r * (r + 5e-4) / 5e-4)
+    )
     law = ContactLaw(clearance=5e-4, stiffness=1e9, restitution=0.9, impact_speed=0.5)
-    assert law(5e-4 - 1e-6, 1.0) == 0.0                          # separated: no force
-    assert law(5e-4 + 1e-5, 0.0) == pytest.approx(-1e9 * 1e-5 ** 1.5)
-    assert law(5e-4 + 1e-5, -100.0) == 0.0                       # never pulls
+    assert law(5e-4 - 1e-6, 1.0) == 0.0  # separated: no force
+    assert law(5e-4 + 1e-5, 0.0) == pytest.approx(-1e9 * 1e-5**1.5)
+    assert law(5e-4 + 1e-5, -100.0) == 0.0  # never pulls
 
 
 @pytest.mark.parametrize("ce", [0.95, 0.8])
@@ -111,17 +122,20 @@ def test_lankarani_nikravesh_restitution(ce):
     """A mass hitting the contact at v0 leaves it at ≈ c_e·v0 (the law's design, accurate
     for c_e near 1: Lankarani & Nikravesh 1990)."""
     from scipy.integrate import solve_ivp
+
     m, v0 = 2.0, 0.3
     law = ContactLaw(clearance=0.0, stiffness=1e9, restitution=ce, impact_speed=v0)
 
     def rhs(t, y):
         return [y[1], float(law(y[0], y[1])) / m]
-    leave = lambda t, y: y[0]          # noqa: E731
+
+    leave = lambda t, y: y[0]  # noqa: E731
     leave.terminal, leave.direction = True, -1
-    sol = solve_ivp(rhs, (0, 1.0), [1e-12, v0], rtol=1e-10, atol=1e-14, events=leave,
-                    method="DOP853")
+    sol = solve_ivp(
+        rhs, (0, 1.0), [1e-12, v0], rtol=1e-10, atol=1e-14, events=leave, method="DOP853"
+    )
     out = -sol.y[1, -1] / v0
     if ce >= 0.95:
         assert out == pytest.approx(ce, abs=0.005)
-    else:               # the law's known bias away from c_e → 1: it dissipates too little
+    else:  # the law's known bias away from c_e → 1: it dissipates too little
         assert ce < out < ce + 0.06

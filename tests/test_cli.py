@@ -21,18 +21,38 @@ def test_run_writes_csv_and_summary(tmp_path, capsys):
     assert lines[0].startswith("# units: s,deg,deg,")
     header = next(csv.reader([lines[1]]))
     assert header[:3] == ["time", "angle", "travel"]
-    for name in ("crank.x", "rod.theta", "slider.B.vx", "O.Fx", "slide.N", "slide.M",
-                 "A.friction_approx", "A.friction", "slide.N_friction", "motor.torque",
-                 "motor.torque_friction_approx", "motor.torque_friction", "motor.efficiency",
-                 "friction.status", "friction.iterations", "power.input", "power.kinetic",
-                 "power.potential", "power.external", "power.friction", "power.residual",
-                 "power.residual_friction", "rod_slider.cond", "rod_slider.pressure_angle"):
+    for name in (
+        "crank.x",
+        "rod.theta",
+        "slider.B.vx",
+        "O.Fx",
+        "slide.N",
+        "slide.M",
+        "A.friction_approx",
+        "A.friction",
+        "slide.N_friction",
+        "motor.torque",
+        "motor.torque_friction_approx",
+        "motor.torque_friction",
+        "motor.efficiency",
+        "friction.status",
+        "friction.iterations",
+        "power.input",
+        "power.kinetic",
+        "power.potential",
+        "power.external",
+        "power.friction",
+        "power.residual",
+        "power.residual_friction",
+        "rod_slider.cond",
+        "rod_slider.pressure_angle",
+    ):
         assert name in header, name
     assert len(lines) == 2 + 360
     r = ks.analyze(ks.load("mechanisms/slider_crank.yaml"))
     row = next(csv.reader([lines[2 + 37]]))
     for name in ("motor.torque", "B.Fy", "rod.alpha"):
-        assert float(row[header.index(name)]) == r[name][37]      # written at full precision
+        assert float(row[header.index(name)]) == r[name][37]  # written at full precision
     summary = json.loads((tmp_path / "summary.json").read_text())
     assert summary["outputs"]["slide"]["stroke"] == pytest.approx(np.ptp(r["slider.x"]), rel=1e-4)
     assert len(summary["events"]) == 2
@@ -41,8 +61,11 @@ def test_run_writes_csv_and_summary(tmp_path, capsys):
 
 def test_user_error_is_one_line_and_exit_2(tmp_path, capsys):
     bad = tmp_path / "bad.yaml"
-    bad.write_text((open("mechanisms/slider_crank.yaml").read()).replace("links: [crank, rod]",
-                                                                         "links: [crank, rood]"))
+    bad.write_text(
+        (open("mechanisms/slider_crank.yaml").read()).replace(
+            "links: [crank, rod]", "links: [crank, rood]"
+        )
+    )
     assert main(["check", str(bad)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1
@@ -50,10 +73,23 @@ def test_user_error_is_one_line_and_exit_2(tmp_path, capsys):
 
 
 def test_run_imports_no_plotting_or_solvers(tmp_path):
-    proc = subprocess.run([sys.executable, "-X", "importtime", "-m", "kinetostatics.cli", "run",
-                           "mechanisms/slotting_machine.yaml", "--out", str(tmp_path)],
-                          capture_output=True, text=True, check=True)
+    proc = subprocess.run(
+        [
+            sys.executable,
+            "-X",
+            "importtime",
+            "-m",
+            "kinetostatics.cli",
+            "run",
+            "mechanisms/slotting_machine.yaml",
+            "--out",
+            str(tmp_path),
+        ],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
     imported = {line.split("|")[-1].strip() for line in proc.stderr.splitlines() if "|" in line}
-    assert "kinetostatics.analysis" in imported          # the guard sees our imports
+    assert "kinetostatics.analysis" in imported  # the guard sees our imports
     for forbidden in ("matplotlib", "scipy.optimize", "scipy.integrate", "scipy.interpolate"):
         assert not any(m == forbidden or m.startswith(forbidden + ".") for m in imported), forbidden

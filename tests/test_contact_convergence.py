@@ -45,7 +45,7 @@ sketch: {A: [86.6025, 50], B: [433.0127, 0]}
 analysis: {start: 30, sweep: 360, positions: 36}
 """
 A, B, OMEGA, THETA0, PUSH = 0.1, 0.35, 2 * np.pi, np.radians(30.0), 200.0
-T = 0.02                                   # s: the start-up transient and ~10 ms settled
+T = 0.02  # s: the start-up transient and ~10 ms settled
 
 
 @pytest.fixture(scope="module")
@@ -55,7 +55,7 @@ def model():
 
 def _ideal(t):
     th = THETA0 + OMEGA * t
-    root = np.sqrt(B ** 2 - (A * np.sin(th)) ** 2)
+    root = np.sqrt(B**2 - (A * np.sin(th)) ** 2)
     x = A * np.cos(th) + root
     v = -A * OMEGA * np.sin(th) * (1.0 + A * np.cos(th) / root)
     return x, v
@@ -69,8 +69,9 @@ def deviation(model, e: float, k: float) -> dict:
     (second half), max |Δv|, max |Δa| (m, m/s, m/s²)."""
     if (e, k) not in _RUNS:
         law = ContactLaw(journal_radius=0.01, restitution=0.9, stiffness=k)
-        run = simulate_contact(with_clearance(model, size=e, contact=law), T, rtol=1e-5,
-                               method="RK45")
+        run = simulate_contact(
+            with_clearance(model, size=e, contact=law), T, rtol=1e-5, method="RK45"
+        )
         dyn = run.dynamics
         t = np.linspace(0.0, T, 101)
         j = 3 * dyn.system.link_index("slider")
@@ -81,9 +82,13 @@ def deviation(model, e: float, k: float) -> dict:
         xi, vi = _ideal(t)
         ai = np.gradient(vi, t)
         late = t >= T / 2
-        _RUNS[e, k] = {"dx": np.max(np.abs(x - xi)), "settled": float(np.mean((x - xi)[late])),
-                       "dv": np.max(np.abs(v - vi)), "da": np.max(np.abs(a - ai)),
-                       "separations": len(run.separations)}
+        _RUNS[e, k] = {
+            "dx": np.max(np.abs(x - xi)),
+            "settled": float(np.mean((x - xi)[late])),
+            "dv": np.max(np.abs(v - vi)),
+            "da": np.max(np.abs(a - ai)),
+            "separations": len(run.separations),
+        }
     return _RUNS[e, k]
 
 

@@ -53,13 +53,18 @@ def _same(a: str, b: str) -> bool:
 
 
 def _doc_block(doc: str, name: str) -> str:
-    m = re.search(rf"<!-- BEGIN accuracy:{re.escape(name)} -->(.*?)<!-- END accuracy:{re.escape(name)} -->",
-                  doc, re.S)
+    m = re.search(
+        rf"<!-- BEGIN accuracy:{re.escape(name)} -->(.*?)<!-- END accuracy:{re.escape(name)} -->",
+        doc,
+        re.S,
+    )
     assert m, f"docs/accuracy.md has no block accuracy:{name}"
     return m.group(1)
 
 
-@pytest.mark.parametrize("name", ["derivatives", "friction", "needs", "positions", "scales", "stages"])
+@pytest.mark.parametrize(
+    "name", ["derivatives", "friction", "needs", "positions", "scales", "stages"]
+)
 def test_accuracy_tables_are_current(name):
     module = _script(name)
     blocks, _ = module.build(timing=False)
@@ -73,6 +78,6 @@ def test_accuracy_tables_are_current(name):
             assert len(t_doc) == len(t_ours), (block_name, "rows")
             for r_ours, r_doc in zip(t_ours[2:], t_doc[2:]):
                 for col, a, b in zip(header, r_ours, r_doc):
-                    if a == "·":                   # a wall time: not reproducible
+                    if a == "·":  # a wall time: not reproducible
                         continue
                     assert _same(a, b), f"{block_name}: column '{col}': script {a!r}, doc {b!r}"

@@ -8,7 +8,11 @@ ROOT = Path(__file__).resolve().parent.parent
 
 
 def test_friction_tables_are_current():
-    out = subprocess.run([sys.executable, str(ROOT / "docs/scripts/friction_levels.py")],
-                         capture_output=True, text=True, check=True).stdout
+    out = subprocess.run(
+        [sys.executable, str(ROOT / "docs/scripts/friction_levels.py")],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
     doc = (ROOT / "docs/friction.md").read_text()
     assert out.strip() in doc

@@ -25,8 +25,10 @@ FENCE = re.compile(r"^```([^\n`]*)\n(.*?)^```[ \t]*$", re.S | re.M)
 def _blocks() -> list[tuple[str, str, int]]:
     """(info string, body, line number) of every fenced block."""
     text = DOC.read_text(encoding="utf-8")
-    return [(m.group(1).strip(), m.group(2), text.count("\n", 0, m.start()) + 1)
-            for m in FENCE.finditer(text)]
+    return [
+        (m.group(1).strip(), m.group(2), text.count("\n", 0, m.start()) + 1)
+        for m in FENCE.finditer(text)
+    ]
 
 
 def _has_top_level(body: str, key: str) -> bool:
@@ -34,15 +36,18 @@ def _has_top_level(body: str, key: str) -> bool:
 
 
 def _examples() -> list:
-    return [pytest.param(body, id=f"line{line}") for info, body, line in _blocks()
-            if info == "yaml" and _has_top_level(body, "links")]
+    return [
+        pytest.param(body, id=f"line{line}")
+        for info, body, line in _blocks()
+        if info == "yaml" and _has_top_level(body, "links")
+    ]
 
 
 def _broken() -> list:
     blocks, out = _blocks(), []
     for k, (info, body, line) in enumerate(blocks):
         if info.split() == ["yaml", "broken"]:
-            following = [b for b in blocks[k + 1:] if b[0] == "text"]
+            following = [b for b in blocks[k + 1 :] if b[0] == "text"]
             assert following, f"docs/yaml.md:{line}: a broken example needs its output after it"
             out.append(pytest.param(body, following[0][1], id=f"line{line}"))
     return out
@@ -92,16 +97,16 @@ def test_quantity_kinds_reserved_names_and_functions_are_documented(doc):
     for name in yaml_io.RESERVED:
         assert f"`{name}`" in doc, name
     for name in expressions.FUNCTIONS:
-        assert f"`{name}" in doc, name      # `sqrt` or `log(x)`
+        assert f"`{name}" in doc, name  # `sqrt` or `log(x)`
     for name in expressions.CONSTANTS:
         assert f"`{name}`" in doc, name
 
 
 def test_limits_are_documented(doc):
-    for value in (yaml_io.MAX_FILE_BYTES, yaml_io.MAX_NODES, yaml_io.MAX_LINKS,
-                  yaml_io.MAX_DEPTH):
+    for value in (yaml_io.MAX_FILE_BYTES, yaml_io.MAX_NODES, yaml_io.MAX_LINKS, yaml_io.MAX_DEPTH):
         assert f"{value:,}" in doc, value
-    assert f"{yaml_io.MAX_POSITIONS:,}".replace(",", " ") in doc or \
-        f"{yaml_io.MAX_POSITIONS:,}" in doc
+    assert (
+        f"{yaml_io.MAX_POSITIONS:,}".replace(",", " ") in doc or f"{yaml_io.MAX_POSITIONS:,}" in doc
+    )
     assert str(expressions.MAX_EXPRESSION_LENGTH) in doc
     assert f"{expressions.MAX_DEPTH} levels" in doc

@@ -22,20 +22,20 @@ from .helpers import ROOT, variant
 from .oracles import slider_crank_closed_form as cf
 
 SWITCHED = ROOT / "tests" / "dynamics" / "switched_pendulum.yaml"
-F, X1, X2 = 5.0, -0.1, 0.1                 # the push: N along +x on x_tip in [X1, X2] (m)
-J_O, MGR, TIP = 0.02 + 2 * 0.3 ** 2, 2 * 9.81 * 0.3, 0.5
+F, X1, X2 = 5.0, -0.1, 0.1  # the push: N along +x on x_tip in [X1, X2] (m)
+J_O, MGR, TIP = 0.02 + 2 * 0.3**2, 2 * 9.81 * 0.3, 0.5
 
 
 # -- a pendulum with a force that switches on and off with the position --------------
 @pytest.fixture(scope="module")
 def pendulum():
-    return simulate(ks.load(SWITCHED), 3.0)             # the default RK45, rtol 1e-8
+    return simulate(ks.load(SWITCHED), 3.0)  # the default RK45, rtol 1e-8
 
 
 def test_switched_pendulum_conserves_energy_across_the_switches(pendulum):
     cols, _ = pendulum.table(points=301)
     x = TIP * np.cos(np.radians(cols["hinge.angle"]))
-    assert x.min() < X2 < x.max()                        # it enters and leaves the band
+    assert x.min() < X2 < x.max()  # it enters and leaves the band
     assert sum(e["kind"] == "switch" for e in pendulum.events) >= 6
     work = F * (np.clip(x, X1, X2) - np.clip(x[0], X1, X2))
     e = cols["energy.kinetic"] + cols["energy.potential"] - work
@@ -46,16 +46,27 @@ def reference_pendulum(t_end):
     """J_O ψ̈ = −m g r cos ψ − F·TIP sin ψ·[x_tip < X2], written by hand and integrated
     piecewise: each piece stops at the band edge (x_tip = X2, crossed in the sense
     that leaves its side) and the next starts from the state there on the other side."""
+
     def edge(t, y):
         return TIP * np.cos(y[0]) - X2
+
     edge.terminal = True
     t, y, on, pieces = 0.0, np.array([np.radians(-60.0), 0.0]), 0.0, []
     while True:
         edge.direction = 1.0 if on else -1.0
-        sol = solve_ivp(lambda tt, yy, on=on: [yy[1], (-MGR * np.cos(yy[0])
-                                                      - on * F * TIP * np.sin(yy[0])) / J_O],
-                        (t, t_end), y, method="DOP853", rtol=1e-13, atol=1e-13,
-                        dense_output=True, events=edge)
+        sol = solve_ivp(
+            lambda tt, yy, on=on: [
+                yy[1],
+                (-MGR * np.cos(yy[0]) - on * F * TIP * np.sin(yy[0])) / J_O,
+            ],
+            (t, t_end),
+            y,
+            method="DOP853",
+            rtol=1e-13,
+            atol=1e-13,
+            dense_output=True,
+            events=edge,
+        )
         pieces.append((t, sol.sol))
         if sol.status != 1:
             break
@@ -65,6 +76,7 @@ def reference_pendulum(t_end):
         starts = np.array([p[0] for p in pieces])
         k = np.clip(np.searchsorted(starts, tt, side="right") - 1, 0, len(pieces) - 1)
         return np.array([pieces[i][1](x) for i, x in zip(k, tt)]).T
+
     return state, len(pieces) - 1
 
 
@@ -73,13 +85,13 @@ def test_switched_pendulum_restarts_from_the_exact_state(pendulum):
     assert switches >= 6
     t = np.linspace(0.0, 3.0, 601)
     ours, ref = pendulum.sample(t), state(t)
-    assert np.min(TIP * np.cos(ref[0])) > X1             # the far edge is never reached
+    assert np.min(TIP * np.cos(ref[0])) > X1  # the far edge is never reached
     assert np.max(np.abs(ours[:, 0] - ref[0])) <= 1e-6
     assert np.max(np.abs(ours[:, 1] - ref[1])) <= 1e-6 * np.max(np.abs(ref[1]))
 
 
 # -- the slotting machine with its flywheel under a constant moment -----------------
-Q, H = 1000.0, 0.100                   # the cutting force (N) over 0.9 H (m) per cycle
+Q, H = 1000.0, 0.100  # the cutting force (N) over 0.9 H (m) per cycle
 
 
 def flywheel_run(until, **options):
@@ -88,29 +100,37 @@ def flywheel_run(until, **options):
     start of cutting: frictionless, each cycle returns to the state it started from."""
     model = ks.load(ROOT / "mechanisms" / "slotting_machine.yaml")
     fw = design(model)
-    free = with_effort(model, fw.driver, EffortLaw("constant", value=fw.sense * Q * 0.9 * H
-                                                   / (2 * np.pi)))
-    sim = simulate(free, until, initial={fw.driver: (fw.at_max, fw.sense * fw.omega_m)},
-                   inertia={fw.driver: fw.inertia_net}, friction=False, mark=fw.at_max,
-                   **options)
+    free = with_effort(
+        model, fw.driver, EffortLaw("constant", value=fw.sense * Q * 0.9 * H / (2 * np.pi))
+    )
+    sim = simulate(
+        free,
+        until,
+        initial={fw.driver: (fw.at_max, fw.sense * fw.omega_m)},
+        inertia={fw.driver: fw.inertia_net},
+        friction=False,
+        mark=fw.at_max,
+        **options,
+    )
     return sim, fw
 
 
 @pytest.fixture(scope="module")
 def slotting():
-    return flywheel_run(2.06)                            # the defaults: RK45, rtol 1e-8
+    return flywheel_run(2.06)  # the defaults: RK45, rtol 1e-8
 
 
 def test_slotting_machine_energy_across_the_cutting_switches(slotting):
     sim, fw = slotting
-    assert len(sim.marks) == 3 and sim.marks[0] == 0.0   # two full turns
+    assert len(sim.marks) == 3 and sim.marks[0] == 0.0  # two full turns
     period = sim.marks[1]
-    t = np.concatenate([np.linspace(k * period + 0.53, (k + 1) * period - 0.01, 40)
-                        for k in range(2)])              # the idle part of each turn
+    t = np.concatenate(
+        [np.linspace(k * period + 0.53, (k + 1) * period - 0.01, 40) for k in range(2)]
+    )  # the idle part of each turn
     t = np.concatenate(([0.0], t, sim.marks[1:]))
     cols, _ = sim.table(t)
     e = cols["energy.kinetic"] + cols["energy.potential"] - cols["work.drivers"]
-    done = np.concatenate(([0], np.repeat([1, 2], 40), [1, 2]))     # cuts completed
+    done = np.concatenate(([0], np.repeat([1, 2], 40), [1, 2]))  # cuts completed
     assert np.max(np.abs(e - (e[0] - Q * 0.9 * H * done))) <= 1e-6 * e[0]
 
 
@@ -119,17 +139,18 @@ def tight():
     return flywheel_run(2.06, method="DOP853", rtol=1e-12)
 
 
-def test_slotting_machine_speed_returns_each_turn_and_is_continuous_at_the_switches(slotting,
-                                                                                     tight):
+def test_slotting_machine_speed_returns_each_turn_and_is_continuous_at_the_switches(
+    slotting, tight
+):
     for (sim, fw), rel in ((slotting, 1e-6), (tight, 1e-9)):
         t = np.linspace(0.0, sim.t_end, 20001)
         w = np.abs(sim.sample(t)[:, 1])
-        assert w.max() <= fw.omega_m * (1 + rel)             # the start is the top speed
+        assert w.max() <= fw.omega_m * (1 + rel)  # the start is the top speed
         ends = np.abs(sim.sample(sim.marks)[:, 1])
         assert ends == pytest.approx(fw.omega_m, rel=rel)
         switches = [e["t"] for e in sim.events if e["kind"] == "switch"]
         assert len(switches) >= 10
-        for te in switches:                                  # |ω̇| < 2 rad/s²: no jump in ω
+        for te in switches:  # |ω̇| < 2 rad/s²: no jump in ω
             before, after = sim.sample([te - 1e-7, te + 1e-7])[:, 1]
             assert abs(after - before) <= 1e-6
 
@@ -178,12 +199,13 @@ def test_slider_crank_energy_across_the_working_stroke_switches():
     cols, _ = sim.table(t)
     p = cf.SliderCrank(omega1=1.0)
     phi = np.radians(cols["motor.angle"])
-    v = cf.kinematics(p, phi)["vB"] * cols["motor.speed"]            # closed-form slider speed
+    v = cf.kinematics(p, phi)["vB"] * cols["motor.speed"]  # closed-form slider speed
     assert cols["motor.speed"].min() >= 0
-    done = np.concatenate(([0], np.cumsum((v[:-1] > 0) & (v[1:] <= 0))))   # right dead centres
+    done = np.concatenate(([0], np.cumsum((v[:-1] > 0) & (v[1:] <= 0))))  # right dead centres
     back = v < 0
-    stroke = np.sqrt((p.a + p.b) ** 2 - p.e ** 2) - np.sqrt((p.b - p.a) ** 2 - p.e ** 2)
+    stroke = np.sqrt((p.a + p.b) ** 2 - p.e**2) - np.sqrt((p.b - p.a) ** 2 - p.e**2)
     e = cols["energy.kinetic"] + cols["energy.potential"] - cols["work.drivers"]
     assert done[-1] >= 3 and back.sum() > 100
     assert np.max(np.abs(e - (e[0] - 1000.0 * stroke * done))[back]) <= (
-        1e-6 * cols["energy.kinetic"].max())
+        1e-6 * cols["energy.kinetic"].max()
+    )

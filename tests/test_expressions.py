@@ -119,7 +119,10 @@ def test_parameter_shadowing_constant():
     [
         ([("a", "b"), ("b", "a")], "parameters form a cycle: a -> b -> a"),
         ([("a", "a + 1")], "parameters form a cycle: a -> a"),
-        ([("x", 1), ("a", "b"), ("b", "c"), ("c", "a")], "parameters form a cycle: a -> b -> c -> a"),
+        (
+            [("x", 1), ("a", "b"), ("b", "c"), ("c", "a")],
+            "parameters form a cycle: a -> b -> c -> a",
+        ),
     ],
 )
 def test_cycles(items, message):
@@ -136,7 +139,9 @@ def test_undefined_name_with_suggestion():
 
 
 def test_undefined_name_in_evaluate():
-    with pytest.raises(ExpressionError, match=r"undefined name 'lenght' \(did you mean 'length'\?\)"):
+    with pytest.raises(
+        ExpressionError, match=r"undefined name 'lenght' \(did you mean 'length'\?\)"
+    ):
         evaluate("lenght * 2", {"length": 1.0})
     with pytest.raises(ExpressionError, match="undefined name 'zzz'$"):
         evaluate("zzz", {})

@@ -29,17 +29,17 @@ def test_flywheel_inertia_with_its_assumptions(machine):
     assert fw.work_per_cycle == pytest.approx(90.0, rel=1e-6)
     assert fw.mean_torque == pytest.approx(90.0 / (2 * np.pi), rel=1e-6)
     assert fw.omega_m == pytest.approx(2 * np.pi) and fw.sense == -1.0
-    assert fw.inertia == pytest.approx(fw.energy_swing / (fw.omega_m ** 2 * 0.04), rel=1e-12)
+    assert fw.inertia == pytest.approx(fw.energy_swing / (fw.omega_m**2 * 0.04), rel=1e-12)
     assert fw.inertia_net == pytest.approx(fw.inertia - fw.machine_inertia["mean"], rel=1e-12)
-    assert fw.motor_inertia == pytest.approx(fw.inertia / 24 ** 2)
+    assert fw.motor_inertia == pytest.approx(fw.inertia / 24**2)
     assert 0 < fw.machine_inertia["mean"] < 0.01 * fw.inertia
-    assert fw.machine_inertia["min"] == pytest.approx(0.0, abs=1e-9)   # links at rest at the limits
+    assert fw.machine_inertia["min"] == pytest.approx(0.0, abs=1e-9)  # links at rest at the limits
     # the maximum stored energy is where cutting starts (the moment jumps there)
     cut_on = next(e.coordinate for e in ks.analyze(model).events if e.switch == "on")
     assert (np.degrees(fw.at_max - cut_on) + 180) % 360 - 180 == pytest.approx(0.0, abs=1e-4)
     assert any("constant" in a for a in fw.assumptions) and len(fw.assumptions) >= 4
     coarse = design(model, positions=1800)
-    assert coarse.energy_swing == pytest.approx(fw.energy_swing, rel=1e-6)   # trapezoid O(h²)
+    assert coarse.energy_swing == pytest.approx(fw.energy_swing, rel=1e-6)  # trapezoid O(h²)
     assert 30 < fw.energy_swing < 40 and 18 < fw.inertia < 25
 
 
@@ -49,24 +49,25 @@ def test_energy_swing_agrees_with_the_equivalent_torque_form(machine):
     model, fw = machine
     c = fw.curve
     from kinetostatics.dynamics import equivalent
+
     r = c["result"]
     eq = equivalent(r.system, r.q, r.coordinate, speed=-fw.omega_m, extremes=r.extremes)
     phi = c["travel"]
-    applied = fw.sense * eq["torque"]              # the loads' moment in the sense of motion
+    applied = fw.sense * eq["torque"]  # the loads' moment in the sense of motion
     x = np.append(phi, phi[0] + 2 * np.pi)
     f = np.append(fw.mean_torque + applied, fw.mean_torque + applied[0])
     w_applied = np.concatenate(([0.0], np.cumsum(0.5 * np.diff(x) * (f[:-1] + f[1:]))))
     je = np.append(eq["inertia"], eq["inertia"][0])
-    stored = w_applied - 0.5 * (je - je[0]) * fw.omega_m ** 2
+    stored = w_applied - 0.5 * (je - je[0]) * fw.omega_m**2
     assert np.ptp(stored) == pytest.approx(fw.energy_swing, rel=1e-4)
 
 
 def test_simulated_speed_fluctuation_under_the_mean_torque(machine):
     model, fw = machine
-    check = verify(model, fw)                       # from max stored energy at ω_m, one cycle
+    check = verify(model, fw)  # from max stored energy at ω_m, one cycle
     assert check["delta"] == pytest.approx(0.04, rel=0.10)
     last = check["last_cycle"]
-    assert last["omega_max"] == pytest.approx(fw.omega_m, rel=1e-6)   # it started there
+    assert last["omega_max"] == pytest.approx(fw.omega_m, rel=1e-6)  # it started there
     # started at ω_m(1 + δ/2) instead, the mean speed is ω_m and δ comes closer
     check = verify(model, fw, speed=fw.omega_m * 1.02)
     assert check["delta"] == pytest.approx(0.04, rel=0.02)
@@ -75,18 +76,26 @@ def test_simulated_speed_fluctuation_under_the_mean_torque(machine):
 
 def test_run_reports_the_flywheel(tmp_path, capsys):
     from kinetostatics.cli import main
+
     assert main(["run", str(SLOTTING), "--out", str(tmp_path)]) == 0
     assert "flywheel for delta = 0.04: J_F = " in capsys.readouterr().out
     fw = json.loads((tmp_path / "summary.json").read_text())["flywheel"]
     assert fw["inertia"]["crank"] == pytest.approx(design(ks.load(SLOTTING)).inertia)
     assert fw["assumptions"] and fw["units"]["inertia"] == "kg*m^2"
-    ks.loads(SLOTTING.read_text().replace("flywheel: {delta: 0.04}", "flywheel: {delta: 0.04, "
-                                          "ratio: 24, friction: true}"))
+    ks.loads(
+        SLOTTING.read_text().replace(
+            "flywheel: {delta: 0.04}", "flywheel: {delta: 0.04, ratio: 24, friction: true}"
+        )
+    )
     with pytest.raises(ks.ModelError, match="flywheel.delta: must be positive"):
         ks.loads(SLOTTING.read_text().replace("delta: 0.04", "delta: 0"), file="s.yaml")
 
 
 def test_docs_show_the_script_numbers():
-    out = subprocess.run([sys.executable, str(ROOT / "docs/scripts/dynamics_values.py"),
-                          "--design"], capture_output=True, text=True, check=True).stdout
+    out = subprocess.run(
+        [sys.executable, str(ROOT / "docs/scripts/dynamics_values.py"), "--design"],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
     assert out.strip() and out.strip() in (ROOT / "docs/dynamics.md").read_text()

@@ -12,9 +12,14 @@ from .helpers import variant
 
 
 def _scaled(s: float, **extra) -> ks.Model:
-    return variant("slider_crank", r1=(r"radius: 1.5", f"radius: {1.5 * s}"),
-                   r2=(r"radius: 1.2", f"radius: {1.2 * s}"), r3=(r"radius: 1.0", f"radius: {1.0 * s}"),
-                   f=(r"coefficient: 0.10", f"coefficient: {0.1 * s}"), **extra)
+    return variant(
+        "slider_crank",
+        r1=(r"radius: 1.5", f"radius: {1.5 * s}"),
+        r2=(r"radius: 1.2", f"radius: {1.2 * s}"),
+        r3=(r"radius: 1.0", f"radius: {1.0 * s}"),
+        f=(r"coefficient: 0.10", f"coefficient: {0.1 * s}"),
+        **extra,
+    )
 
 
 def test_consistent_converges_quadratically_to_approximate():
@@ -23,10 +28,12 @@ def test_consistent_converges_quadratically_to_approximate():
     for s in (1.0, 0.1, 0.01):
         r = ks.analyze(_scaled(s))
         ok = r["friction.status"] < 2
-        errs.append(np.max(np.abs(r["motor.torque_friction"] - r["motor.torque_friction_approx"])[ok]))
+        errs.append(
+            np.max(np.abs(r["motor.torque_friction"] - r["motor.torque_friction_approx"])[ok])
+        )
     ratios = [errs[0] / errs[1], errs[1] / errs[2]]
     for ratio in ratios:
-        assert 50 < ratio < 200, ratios         # ≈ 100 for a tenfold smaller friction
+        assert 50 < ratio < 200, ratios  # ≈ 100 for a tenfold smaller friction
 
 
 LOCKING = "tests/hard/slider_crank_self_locking.yaml"
@@ -75,7 +82,7 @@ def test_self_locking_rows_are_empty_in_csv(locking, tmp_path):
 def test_zero_relative_speed_gives_status_3_and_no_friction_there():
     model = ks.load("mechanisms/slider_crank.yaml")
     r0 = ks.analyze(model)
-    dead = [e.coordinate for e in r0.events]            # slider at rest
+    dead = [e.coordinate for e in r0.events]  # slider at rest
     r = ks.analyze(model, positions=dead)
     assert list(r["friction.status"]) == [3, 3]
     np.testing.assert_array_equal(r["slide.friction"], 0.0)

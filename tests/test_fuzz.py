@@ -62,7 +62,9 @@ from hypothesis import strategies as st  # noqa: E402
 import kinetostatics as ks  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
-SOURCES = {p.name: p.read_text(encoding="utf-8") for p in sorted((ROOT / "mechanisms").glob("*.yaml"))}
+SOURCES = {
+    p.name: p.read_text(encoding="utf-8") for p in sorted((ROOT / "mechanisms").glob("*.yaml"))
+}
 DATA = {name: yaml.safe_load(text) for name, text in SOURCES.items()}
 
 
@@ -75,17 +77,20 @@ for _name, _doc in SEEDS.items():
     SOURCES[_name] = yaml.safe_dump(_doc, sort_keys=False)
 
 
-DEFAULT_EXAMPLES = 350                  # data level (most of the time: it analyses more)
-DEFAULT_TEXT_EXAMPLES = 650             # text level: 1,000 cases in all by default
+DEFAULT_EXAMPLES = 350  # data level (most of the time: it analyses more)
+DEFAULT_TEXT_EXAMPLES = 650  # text level: 1,000 cases in all by default
 TOTAL = int(os.environ.get("KINETOSTATICS_FUZZ_EXAMPLES", "0") or 0)
 LONG = TOTAL > 0
 DATA_EXAMPLES = max(1, round(0.6 * TOTAL)) if LONG else DEFAULT_EXAMPLES
 TEXT_EXAMPLES = max(1, TOTAL - DATA_EXAMPLES) if LONG else DEFAULT_TEXT_EXAMPLES
-DEADLINE = float(os.environ.get("KINETOSTATICS_FUZZ_DEADLINE", "20"))   # s per example
+DEADLINE = float(os.environ.get("KINETOSTATICS_FUZZ_DEADLINE", "20"))  # s per example
 ANALYSED_POSITIONS = 4
 SEED = os.environ.get("KINETOSTATICS_FUZZ_SEED")
-KEEP = Path(os.environ["KINETOSTATICS_FUZZ_KEEP"]) if os.environ.get("KINETOSTATICS_FUZZ_KEEP") \
-    else None                               # folder for the cases slower than 1 s (and crashes)
+KEEP = (
+    Path(os.environ["KINETOSTATICS_FUZZ_KEEP"])
+    if os.environ.get("KINETOSTATICS_FUZZ_KEEP")
+    else None
+)  # folder for the cases slower than 1 s (and crashes)
 CONTINUE = os.environ.get("KINETOSTATICS_FUZZ_CONTINUE", "") not in ("", "0")
 """Count crashes and hangs and go on (the test fails at the end) instead of stopping at the
 first one and shrinking it: for long runs, to see every kind of crash at once."""
@@ -108,8 +113,14 @@ def _alarm(signum, frame):
 
 
 def _settings(n: int):
-    return settings(max_examples=n, deadline=None, database=None, derandomize=not LONG,
-                    print_blob=True, suppress_health_check=list(HealthCheck))
+    return settings(
+        max_examples=n,
+        deadline=None,
+        database=None,
+        derandomize=not LONG,
+        print_blob=True,
+        suppress_health_check=list(HealthCheck),
+    )
 
 
 def _seeded(f):
@@ -136,8 +147,9 @@ def exercise(counter: Counter, *, text: str | None = None, path: Path | None = N
                 model = ks.loads(text, file="fuzz.yaml") if path is None else ks.load(path)
                 stage = "structure"
                 a = model.analysis
-                small = dataclasses.replace(a, positions=min(a.positions, ANALYSED_POSITIONS),
-                                            at=a.at[:2])
+                small = dataclasses.replace(
+                    a, positions=min(a.positions, ANALYSED_POSITIONS), at=a.at[:2]
+                )
                 model = dataclasses.replace(model, analysis=small)
                 system = ks.build_system(model)
                 stage = "analyze"
@@ -145,20 +157,24 @@ def exercise(counter: Counter, *, text: str | None = None, path: Path | None = N
                 assert len(result) >= 1
                 stage = "accepted"
             except ks.NonFiniteResultError:
-                raise      # the file's limits promise that a file that loads does not overflow
+                raise  # the file's limits promise that a file that loads does not overflow
             except ks.KinetostaticsError as exc:
                 assert str(exc).strip(), f"empty message from {type(exc).__name__}"
                 stage = "refused at " + stage
     except _Hang:
         if not CONTINUE:
-            raise AssertionError(f"no answer after {DEADLINE:g} s (stage {stage}): a hang") \
-                from None
+            raise AssertionError(
+                f"no answer after {DEADLINE:g} s (stage {stage}): a hang"
+            ) from None
         stage = f"CRASH: hang in {stage}"
     except Exception as exc:
         if not CONTINUE:
             raise
-        frames = [f for f in traceback.extract_tb(exc.__traceback__)
-                  if "kinetostatics" in f.filename and "tests" not in Path(f.filename).parts]
+        frames = [
+            f
+            for f in traceback.extract_tb(exc.__traceback__)
+            if "kinetostatics" in f.filename and "tests" not in Path(f.filename).parts
+        ]
         where = f" at {Path(frames[-1].filename).name}:{frames[-1].lineno}" if frames else ""
         stage = f"CRASH: {type(exc).__name__}{where} in {stage}"
     finally:
@@ -169,22 +185,29 @@ def exercise(counter: Counter, *, text: str | None = None, path: Path | None = N
     elapsed = time.perf_counter() - t0
     counter["slowest"] = max(counter["slowest"], elapsed)
     crashed = stage.startswith("CRASH")
-    if KEEP and (elapsed > 1.0 or crashed):     # for the record of a long run
+    if KEEP and (elapsed > 1.0 or crashed):  # for the record of a long run
         KEEP.mkdir(parents=True, exist_ok=True)
-        name = (f"crash-{counter['cases']}.yaml" if crashed else
-                f"slow-{elapsed:06.2f}s-{counter['cases']}.yaml")
-        (KEEP / name).write_bytes((f"# {stage}\n" if crashed else "").encode() +
-                                  (path.read_bytes() if path else
-                                   text.encode("utf-8", "surrogatepass")))
+        name = (
+            f"crash-{counter['cases']}.yaml"
+            if crashed
+            else f"slow-{elapsed:06.2f}s-{counter['cases']}.yaml"
+        )
+        (KEEP / name).write_bytes(
+            (f"# {stage}\n" if crashed else "").encode()
+            + (path.read_bytes() if path else text.encode("utf-8", "surrogatepass"))
+        )
     return stage
 
 
 def report(counter: Counter, what: str, wall: float) -> None:
     """Warn (visibly) how many cases ran and with which outcomes; fail on collected crashes."""
-    outcomes = ", ".join(f"{k} {v}" for k, v in sorted(counter.items())
-                         if k not in ("cases", "slowest"))
-    message = (f"{what}: {counter['cases']} cases run in {wall:.1f} s ({outcomes}); "
-               f"slowest example {counter['slowest']:.2f} s")
+    outcomes = ", ".join(
+        f"{k} {v}" for k, v in sorted(counter.items()) if k not in ("cases", "slowest")
+    )
+    message = (
+        f"{what}: {counter['cases']} cases run in {wall:.1f} s ({outcomes}); "
+        f"slowest example {counter['slowest']:.2f} s"
+    )
     print(message)
     warnings.warn(FuzzReport(message), stacklevel=2)
     crashes = [k for k in counter if k.startswith("CRASH")]
@@ -192,17 +215,89 @@ def report(counter: Counter, what: str, wall: float) -> None:
 
 
 # -- values ---------------------------------------------------------------------------
-ODD_NUMBERS = [float("nan"), float("inf"), -float("inf"), 1e308, -1e308, 1.7976931348623157e308,
-               5e-324, -5e-324, 0, 0.0, -0.0, -1, -1e-9, 1e-300, 10**400, -(10**400), 2**63,
-               True, False, 1e15, 360, -360, 1e6]
-ODD_STRINGS = ["", " ", "nan", ".nan", ".inf", "-.inf", "1e999", "0x10", "1_000", "~", "null",
-               "yes", "no", "on", "1/0", "asin(2)", "sqrt(-1)", "log(0)", "9**9**9",
-               "10**308*10", "__import__('os').system('echo hi')", "().__class__",
-               "(lambda: 1)()", "[x for x in ()]", "a.b", "open('x')", "e" * 1200,
-               "(" * 80 + "1" + ")" * 80, "-" * 200 + "1", "1" + "+1" * 400, "é", "名前",
-               "\u202e", "\x00", "\ufeff", "𝔞", "a\u0301", "'quoted'", "- item", "{a: 1}",
-               "rev\u043elute", "revolute", "prismatic", "ground", "x", "+x", "mm", "deg",
-               "rpm", "kg", "N", "N*m", "kg*m^2", "furlong", "m/s", "rad/s"]
+ODD_NUMBERS = [
+    float("nan"),
+    float("inf"),
+    -float("inf"),
+    1e308,
+    -1e308,
+    1.7976931348623157e308,
+    5e-324,
+    -5e-324,
+    0,
+    0.0,
+    -0.0,
+    -1,
+    -1e-9,
+    1e-300,
+    10**400,
+    -(10**400),
+    2**63,
+    True,
+    False,
+    1e15,
+    360,
+    -360,
+    1e6,
+]
+ODD_STRINGS = [
+    "",
+    " ",
+    "nan",
+    ".nan",
+    ".inf",
+    "-.inf",
+    "1e999",
+    "0x10",
+    "1_000",
+    "~",
+    "null",
+    "yes",
+    "no",
+    "on",
+    "1/0",
+    "asin(2)",
+    "sqrt(-1)",
+    "log(0)",
+    "9**9**9",
+    "10**308*10",
+    "__import__('os').system('echo hi')",
+    "().__class__",
+    "(lambda: 1)()",
+    "[x for x in ()]",
+    "a.b",
+    "open('x')",
+    "e" * 1200,
+    "(" * 80 + "1" + ")" * 80,
+    "-" * 200 + "1",
+    "1" + "+1" * 400,
+    "é",
+    "名前",
+    "\u202e",
+    "\x00",
+    "\ufeff",
+    "𝔞",
+    "a\u0301",
+    "'quoted'",
+    "- item",
+    "{a: 1}",
+    "rev\u043elute",
+    "revolute",
+    "prismatic",
+    "ground",
+    "x",
+    "+x",
+    "mm",
+    "deg",
+    "rpm",
+    "kg",
+    "N",
+    "N*m",
+    "kg*m^2",
+    "furlong",
+    "m/s",
+    "rad/s",
+]
 
 unicode_text = st.text(st.characters(codec=None), max_size=30)
 names_like = st.from_regex(r"[A-Za-z_][A-Za-z0-9_]{0,12}", fullmatch=True)
@@ -212,8 +307,9 @@ numbers = st.one_of(
     st.floats(allow_nan=True, allow_infinity=True),
     st.floats(min_value=-1e3, max_value=1e3),
 )
-scalars = st.one_of(numbers, st.sampled_from(ODD_STRINGS), unicode_text, names_like,
-                    st.none(), st.booleans())
+scalars = st.one_of(
+    numbers, st.sampled_from(ODD_STRINGS), unicode_text, names_like, st.none(), st.booleans()
+)
 
 
 def expressions(names: list[str]) -> st.SearchStrategy[str]:
@@ -221,26 +317,75 @@ def expressions(names: list[str]) -> st.SearchStrategy[str]:
     leaf = st.one_of(
         st.integers(-1000, 10**20).map(str),
         st.floats(allow_nan=False, allow_infinity=False).map(repr),
-        st.sampled_from(["1e308", "1e-308", "0", "0.0", "pi", "e", "tau", "nan", "inf",
-                         "True", "None", "'s'", "x", "__builtins__", "1j"]),
+        st.sampled_from(
+            [
+                "1e308",
+                "1e-308",
+                "0",
+                "0.0",
+                "pi",
+                "e",
+                "tau",
+                "nan",
+                "inf",
+                "True",
+                "None",
+                "'s'",
+                "x",
+                "__builtins__",
+                "1j",
+            ]
+        ),
         st.sampled_from(names or ["a"]).map(str),
     )
-    good = ["sqrt", "sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sind", "cosd",
-            "tand", "asind", "acosd", "atand", "atan2d", "radians", "degrees", "exp", "log",
-            "log10", "abs", "min", "max", "hypot", "floor", "ceil", "round"]
+    good = [
+        "sqrt",
+        "sin",
+        "cos",
+        "tan",
+        "asin",
+        "acos",
+        "atan",
+        "atan2",
+        "sind",
+        "cosd",
+        "tand",
+        "asind",
+        "acosd",
+        "atand",
+        "atan2d",
+        "radians",
+        "degrees",
+        "exp",
+        "log",
+        "log10",
+        "abs",
+        "min",
+        "max",
+        "hypot",
+        "floor",
+        "ceil",
+        "round",
+    ]
     bad = ["__import__", "eval", "exec", "open", "getattr", "print", "pow", "sinn"]
 
     def extend(inner):
         return st.one_of(
-            st.tuples(inner, st.sampled_from(["+", "-", "*", "/", "**", "%", "//", "<<", "&",
-                                              " and ", "<", "@", "|"]), inner)
-            .map(lambda t: f"{t[0]} {t[1]} {t[2]}"),
+            st.tuples(
+                inner,
+                st.sampled_from(
+                    ["+", "-", "*", "/", "**", "%", "//", "<<", "&", " and ", "<", "@", "|"]
+                ),
+                inner,
+            ).map(lambda t: f"{t[0]} {t[1]} {t[2]}"),
             inner.map(lambda x: f"({x})"),
             inner.map(lambda x: f"-{x}"),
-            st.tuples(st.sampled_from(good + bad), st.lists(inner, max_size=3))
-            .map(lambda t: f"{t[0]}({', '.join(t[1])})"),
-            st.tuples(inner, st.sampled_from([".__class__", "[0]", ".real", "()"]))
-            .map(lambda t: f"({t[0]}){t[1]}"),
+            st.tuples(st.sampled_from(good + bad), st.lists(inner, max_size=3)).map(
+                lambda t: f"{t[0]}({', '.join(t[1])})"
+            ),
+            st.tuples(inner, st.sampled_from([".__class__", "[0]", ".real", "()"])).map(
+                lambda t: f"({t[0]}){t[1]}"
+            ),
             inner.map(lambda x: f"lambda: {x}"),
             st.tuples(inner, inner).map(lambda t: f"{t[0]} if {t[1]} else 0"),
         )
@@ -306,10 +451,48 @@ def _nest(value, depth: int, kind: str):
     return value
 
 
-MUTATIONS = ("delete", "type", "number", "string", "unicode_key", "nest", "reference",
-             "rename_link", "expression", "junk_key", "copy_subtree", "analysis", "scale")
-SCALES = [10.0 ** k for k in (-320, -300, -200, -160, -40, -31, -30, -29, -12, -9, -3, 3, 9, 12,
-                              18, 19, 30, 31, 60, 200, 300, 308)]
+MUTATIONS = (
+    "delete",
+    "type",
+    "number",
+    "string",
+    "unicode_key",
+    "nest",
+    "reference",
+    "rename_link",
+    "expression",
+    "junk_key",
+    "copy_subtree",
+    "analysis",
+    "scale",
+)
+SCALES = [
+    10.0**k
+    for k in (
+        -320,
+        -300,
+        -200,
+        -160,
+        -40,
+        -31,
+        -30,
+        -29,
+        -12,
+        -9,
+        -3,
+        3,
+        9,
+        12,
+        18,
+        19,
+        30,
+        31,
+        60,
+        200,
+        300,
+        308,
+    )
+]
 ANALYSIS_KEYS = ("start", "sweep", "positions", "at", "events")
 
 
@@ -317,17 +500,20 @@ ANALYSIS_KEYS = ("start", "sweep", "positions", "at", "events")
 def mutated_documents(draw):
     name = draw(st.sampled_from(sorted(DATA)))
     doc = copy.deepcopy(DATA[name])
-    for _ in range(draw(st.sampled_from([1, 1, 1, 2, 3, 4]))):   # mostly one: it may still load
+    for _ in range(draw(st.sampled_from([1, 1, 1, 2, 3, 4]))):  # mostly one: it may still load
         kind = draw(st.sampled_from(MUTATIONS + ("number", "reference", "analysis", "scale")))
         paths = _paths(doc)
         leaves = [p for p in paths if not isinstance(_get(doc, p), (dict, list))]
-        if leaves and draw(st.booleans()):      # values are where most of the checks are
+        if leaves and draw(st.booleans()):  # values are where most of the checks are
             path = draw(st.sampled_from(leaves))
         else:
             path = draw(st.sampled_from(paths[1:] if len(paths) > 1 else paths))
         names = _strings(doc)
-        params = list(doc.get("parameters") or {}) if isinstance(doc, dict) and \
-            isinstance(doc.get("parameters"), dict) else []
+        params = (
+            list(doc.get("parameters") or {})
+            if isinstance(doc, dict) and isinstance(doc.get("parameters"), dict)
+            else []
+        )
         try:
             target = _get(doc, path)
         except (KeyError, IndexError, TypeError):
@@ -336,9 +522,22 @@ def mutated_documents(draw):
             parent = _get(doc, path[:-1])
             del parent[path[-1]]
         elif kind == "type":
-            value = draw(st.sampled_from([
-                draw(numbers), str(target), [target], {"x": target}, None, True,
-                [], {}, [1, 2, 3], {"type": "revolute"}]))
+            value = draw(
+                st.sampled_from(
+                    [
+                        draw(numbers),
+                        str(target),
+                        [target],
+                        {"x": target},
+                        None,
+                        True,
+                        [],
+                        {},
+                        [1, 2, 3],
+                        {"type": "revolute"},
+                    ]
+                )
+            )
             doc = _set(doc, path, value)
         elif kind == "number":
             doc = _set(doc, path, draw(numbers))
@@ -348,9 +547,18 @@ def mutated_documents(draw):
             parent_path = path[:-1]
             parent = _get(doc, parent_path)
             if isinstance(parent, dict):
-                key = draw(st.one_of(unicode_text, st.sampled_from(
-                    ["time", "angle", "friction", "1abc", "a b", "ground", "", "<<"]),
-                    st.integers(), st.none(), st.booleans(), st.floats()))
+                key = draw(
+                    st.one_of(
+                        unicode_text,
+                        st.sampled_from(
+                            ["time", "angle", "friction", "1abc", "a b", "ground", "", "<<"]
+                        ),
+                        st.integers(),
+                        st.none(),
+                        st.booleans(),
+                        st.floats(),
+                    )
+                )
                 value = parent.pop(path[-1])
                 parent[key] = value
         elif kind == "nest":
@@ -375,14 +583,24 @@ def mutated_documents(draw):
             if not isinstance(doc.get("analysis"), dict):
                 doc["analysis"] = {}
             key = draw(st.sampled_from(ANALYSIS_KEYS))
-            doc["analysis"][key] = draw(st.one_of(
-                numbers, numbers, numbers, expressions(params), st.lists(numbers, max_size=4),
-                scalars))
+            doc["analysis"][key] = draw(
+                st.one_of(
+                    numbers,
+                    numbers,
+                    numbers,
+                    expressions(params),
+                    st.lists(numbers, max_size=4),
+                    scalars,
+                )
+            )
         elif kind == "scale":
             # a number of the file times a power of ten (or its negative): each key near and
             # beyond its limits, the laws, flywheel and efforts included
-            numeric = [p for p in leaves if isinstance(_get(doc, p), (int, float))
-                       and not isinstance(_get(doc, p), bool)]
+            numeric = [
+                p
+                for p in leaves
+                if isinstance(_get(doc, p), (int, float)) and not isinstance(_get(doc, p), bool)
+            ]
             if numeric:
                 p = draw(st.sampled_from(numeric))
                 factor = draw(st.sampled_from(SCALES)) * draw(st.sampled_from([1, 1, -1]))
@@ -400,7 +618,7 @@ def _dump(doc, allow_unicode: bool) -> str | None:
     try:
         return yaml.safe_dump(doc, allow_unicode=allow_unicode, sort_keys=False, width=80)
     except (yaml.YAMLError, RecursionError, ValueError):
-        return None     # not representable (e.g. a nested structure past the dumper's limits)
+        return None  # not representable (e.g. a nested structure past the dumper's limits)
 
 
 def test_fuzz_data_level():
@@ -426,12 +644,27 @@ def test_fuzz_data_level():
 
 
 # -- text-level mutation ---------------------------------------------------------------
-PUNCTUATION = list(":-[]{},#&*!|>'\"%@`?\t\n\r ") + ["\x00", "\x85", "\u2028", "\ufeff", "\ud800",
-                                                    "é", "名", "𝔞", "\u202e", "<<: *a", "&a ",
-                                                    "*a", "!!python/object:os.system ", "---\n",
-                                                    "...\n", "? "]
-chars = st.one_of(st.sampled_from(PUNCTUATION), st.characters(codec=None),
-                  st.sampled_from(string.printable))
+PUNCTUATION = list(":-[]{},#&*!|>'\"%@`?\t\n\r ") + [
+    "\x00",
+    "\x85",
+    "\u2028",
+    "\ufeff",
+    "\ud800",
+    "é",
+    "名",
+    "𝔞",
+    "\u202e",
+    "<<: *a",
+    "&a ",
+    "*a",
+    "!!python/object:os.system ",
+    "---\n",
+    "...\n",
+    "? ",
+]
+chars = st.one_of(
+    st.sampled_from(PUNCTUATION), st.characters(codec=None), st.sampled_from(string.printable)
+)
 
 
 @st.composite
@@ -439,17 +672,20 @@ def mutated_texts(draw):
     name = draw(st.sampled_from(sorted(SOURCES)))
     text = SOURCES[name]
     for _ in range(draw(st.integers(1, 6))):
-        kind = draw(st.sampled_from(["insert", "delete", "replace", "dup_line", "swap_lines",
-                                     "truncate", "indent"]))
+        kind = draw(
+            st.sampled_from(
+                ["insert", "delete", "replace", "dup_line", "swap_lines", "truncate", "indent"]
+            )
+        )
         n = len(text)
         i = draw(st.integers(0, max(n - 1, 0)))
         lines = text.splitlines(keepends=True)
         if kind == "insert":
             text = text[:i] + "".join(draw(st.lists(chars, min_size=1, max_size=8))) + text[i:]
         elif kind == "delete":
-            text = text[:i] + text[i + draw(st.integers(1, 40)):]
+            text = text[:i] + text[i + draw(st.integers(1, 40)) :]
         elif kind == "replace":
-            text = text[:i] + draw(chars) + text[i + 1:]
+            text = text[:i] + draw(chars) + text[i + 1 :]
         elif kind == "dup_line" and lines:
             k = draw(st.integers(0, len(lines) - 1))
             lines.insert(k, lines[k])
@@ -507,12 +743,15 @@ def test_fuzz_text_level():
 BROKEN = ROOT / "tests" / "broken"
 
 
-@pytest.mark.parametrize("name, message", [
-    ("forbidden_import.yaml", "attribute access is not allowed"),
-    ("forbidden_attribute.yaml", "attribute access is not allowed"),
-    ("forbidden_huge_power.yaml", "exponent too large"),
-    ("alias_bomb.yaml", "alias bomb"),
-])
+@pytest.mark.parametrize(
+    "name, message",
+    [
+        ("forbidden_import.yaml", "attribute access is not allowed"),
+        ("forbidden_attribute.yaml", "attribute access is not allowed"),
+        ("forbidden_huge_power.yaml", "exponent too large"),
+        ("alias_bomb.yaml", "alias bomb"),
+    ],
+)
 def test_dangerous_files_refused_quickly_and_run_nothing(name, message, monkeypatch):
     """The whole pipeline, not just the evaluator: refused by ``load`` within a bounded
     time, and no process is started on the way."""
@@ -525,16 +764,19 @@ def test_dangerous_files_refused_quickly_and_run_nothing(name, message, monkeypa
     assert not ran
 
 
-@pytest.mark.parametrize("expression", [
-    "__import__('os').system('touch PWNED')",
-    "__import__('os')",
-    "().__class__",
-    "().__class__.__base__.__subclasses__()",
-    "9**9**9",
-    "(9**9)**(9**9)",
-    "10**10**10**10",
-    "exp(exp(exp(10)))",
-])
+@pytest.mark.parametrize(
+    "expression",
+    [
+        "__import__('os').system('touch PWNED')",
+        "__import__('os')",
+        "().__class__",
+        "().__class__.__base__.__subclasses__()",
+        "9**9**9",
+        "(9**9)**(9**9)",
+        "10**10**10**10",
+        "exp(exp(exp(10)))",
+    ],
+)
 @pytest.mark.parametrize("where", ["parameter", "value"])
 def test_dangerous_expression_in_a_file_refused_quickly(expression, where, tmp_path, monkeypatch):
     """Each as a parameter and directly as a typed value (a link's mass)."""
@@ -562,9 +804,14 @@ def test_billion_laughs_variants_refused_quickly(depth):
         prev = f"*a{k - 1}"
         lines.append(f"a{k}: &a{k} [{', '.join([prev] * 10)}]")
     text = "\n".join(lines) + f"\nlinks: {{ground: {{points: {{O: [0, 0]}}}}}}\njoints: *a{depth}\n"
-    merge = "m0: &m0 {x: 1}\n" + "".join(
-        f"m{k}: &m{k} {{<<: [{', '.join([f'*m{k - 1}'] * 10)}], y{k}: 1}}\n"
-        for k in range(1, depth + 1)) + "links: {}\njoints: {}\n"
+    merge = (
+        "m0: &m0 {x: 1}\n"
+        + "".join(
+            f"m{k}: &m{k} {{<<: [{', '.join([f'*m{k - 1}'] * 10)}], y{k}: 1}}\n"
+            for k in range(1, depth + 1)
+        )
+        + "links: {}\njoints: {}\n"
+    )
     for source in (text, merge):
         t0 = time.perf_counter()
         try:
@@ -604,17 +851,21 @@ def test_cli_user_error_in_the_solver_is_one_line(monkeypatch, tmp_path, capsys)
     """Assembly failure at run time: one line naming the group, the driver coordinate and
     the reason; exit status 2 (also checked for every broken file in test_broken_files)."""
     from kinetostatics.cli import main
+
     monkeypatch.chdir(BROKEN)
     assert main(["run", "rod_too_short.yaml", "--out", str(tmp_path)]) == 2
     out, err = capsys.readouterr()
     lines = err.splitlines()
     assert len(lines) == 1 and "Traceback" not in err
-    assert lines[0].startswith("kinetostatics: RRP dyad {rod, slider} cannot assemble at "
-                               "motor = 0°: the links cannot reach")
+    assert lines[0].startswith(
+        "kinetostatics: RRP dyad {rod, slider} cannot assemble at "
+        "motor = 0°: the links cannot reach"
+    )
 
 
 def test_errors_doc_states_the_limits_of_the_code():
     from kinetostatics import expressions, yaml_io
+
     doc = (ROOT / "docs" / "errors.md").read_text(encoding="utf-8")
     for value, text in [
         (yaml_io.MAX_FILE_BYTES, f"{yaml_io.MAX_FILE_BYTES:,} bytes"),
@@ -624,13 +875,22 @@ def test_errors_doc_states_the_limits_of_the_code():
         (yaml_io.MAX_POSITIONS, f"1 to {yaml_io.MAX_POSITIONS:,}"),
         (yaml_io.MAX_TURNS, f"at most {yaml_io.MAX_TURNS} turns"),
         (yaml_io.MAX_TRAVEL, f"at most {yaml_io.MAX_TRAVEL} × the largest link"),
-        (yaml_io.SPEED_RANGE, f"{yaml_io.SPEED_RANGE[0]:g} ≤ \\|speed\\| ≤ "
-                              f"{yaml_io.SPEED_RANGE[1]:g}"),
+        (
+            yaml_io.SPEED_RANGE,
+            f"{yaml_io.SPEED_RANGE[0]:g} ≤ \\|speed\\| ≤ {yaml_io.SPEED_RANGE[1]:g}",
+        ),
         (expressions.MAX_EXPRESSION_LENGTH, f"{expressions.MAX_EXPRESSION_LENGTH} characters"),
         (expressions.MAX_DEPTH, f"{expressions.MAX_DEPTH} levels"),
         (expressions.MAX_EXPONENT, f"≤ {expressions.MAX_EXPONENT:g}"),
     ]:
         assert text in doc, f"docs/errors.md does not state {value!r} as '{text}'"
-    for name in ("KinetostaticsError", "ModelError", "StructureError", "AssemblyError",
-                 "SingularConfigurationError", "SelfLockingError", "NonFiniteResultError"):
+    for name in (
+        "KinetostaticsError",
+        "ModelError",
+        "StructureError",
+        "AssemblyError",
+        "SingularConfigurationError",
+        "SelfLockingError",
+        "NonFiniteResultError",
+    ):
         assert f"`{name}`" in doc

@@ -122,13 +122,19 @@ def train(mesh="external", flank="ccw", torque=2.0):
 def planetary(mesh="internal"):
     """A planet (z = 20) on an arm, meshing with a fixed annulus (z = 60) or sun (z = 40)."""
     z_sun, arm = (60, 40) if mesh == "internal" else (40, 60)
-    return loads(PLANETARY.format(z_sun=z_sun, arm=arm, tip=arm + 15, mesh=mesh),
-                 file="planetary.yaml")
+    return loads(
+        PLANETARY.format(z_sun=z_sun, arm=arm, tip=arm + 15, mesh=mesh), file="planetary.yaml"
+    )
 
 
 # -- structure ---------------------------------------------------------------------
-@pytest.mark.parametrize("name, group", [("geared_fivebar", "1-link group {crank2} via O2, mesh"),
-                                         ("rack_rocker", "1-link group {rocker} via O3, mesh")])
+@pytest.mark.parametrize(
+    "name, group",
+    [
+        ("geared_fivebar", "1-link group {crank2} via O2, mesh"),
+        ("rack_rocker", "1-link group {rocker} via O3, mesh"),
+    ],
+)
 def test_check_counts_each_higher_pair_once(name, group, capsys):
     assert main(["check", str(ROOT / "mechanisms" / f"{name}.yaml")]) == 0
     out = capsys.readouterr().out
@@ -185,8 +191,9 @@ def test_rack_speed_is_r_omega(rocker):
     assert rel_err(r["rack.vx"], radius * r["rocker.omega"]) < 1e-13
     assert rel_err(r["rack.ax"], radius * r["rocker.alpha"]) < 1e-12
     # phase 0: the lever is horizontal when P0 (x of the pin B) is under O3 (x = 160 mm)
-    np.testing.assert_allclose(np.radians(r["rocker.theta"]),
-                               (r["rack.B.x"] - 0.160) / radius, atol=1e-12)
+    np.testing.assert_allclose(
+        np.radians(r["rocker.theta"]), (r["rack.B.x"] - 0.160) / radius, atol=1e-12
+    )
 
 
 # -- power -------------------------------------------------------------------------------
@@ -195,7 +202,7 @@ def test_power_balance_of_the_shipped_mechanisms(name, fivebar, rocker):
     _, r = fivebar if name == "geared_fivebar" else rocker
     scale = np.max(np.abs(r["power.input"]))
     assert np.max(np.abs(r["power.residual"])) <= 1e-9 * scale
-    ok = r["friction.status"] != 2                # 3: a pin at rest, friction there is 0
+    ok = r["friction.status"] != 2  # 3: a pin at rest, friction there is 0
     assert ok.all()
     assert np.max(np.abs(r["power.residual_friction"][ok])) <= 1e-9 * scale
 
@@ -213,7 +220,7 @@ def test_pitch_points_roll_and_the_tooth_force_does_no_net_work(fivebar):
     np.testing.assert_allclose(vj, vi, atol=1e-12 * speed)
     f = np.stack((r["mesh.Fx"], r["mesh.Fy"]), axis=-1)
     power_on_j, power_on_i = np.sum(f * vj, axis=-1), np.sum(-f * vi, axis=-1)
-    assert np.max(np.abs(power_on_j)) > 1.0                     # the mesh carries power
+    assert np.max(np.abs(power_on_j)) > 1.0  # the mesh carries power
     assert np.max(np.abs(power_on_j + power_on_i)) <= 1e-12 * np.max(np.abs(power_on_j))
 
 
@@ -227,14 +234,16 @@ def test_mesh_efficiency_is_exact_in_either_direction_of_power_flow(flank, torqu
     r = ks.analyze(train("external", flank, torque))
     eta = 0.97
     assert (r["mesh.F"] > 0).all()
-    np.testing.assert_allclose(r["motor.efficiency"], eta if expect == "eta" else 1 / eta,
-                               rtol=1e-12)
+    np.testing.assert_allclose(
+        r["motor.efficiency"], eta if expect == "eta" else 1 / eta, rtol=1e-12
+    )
     scale = np.max(np.abs(r["power.input"]))
     assert np.max(np.abs(r["power.residual_friction"])) <= 1e-9 * scale
     # the loss: P_out (1/η − 1) when the motor drives, P_in (1 − η) when the load does
     out = np.abs(r["power.external"])
-    np.testing.assert_allclose(r["power.friction"], out * (1 / eta - 1) if expect == "eta"
-                               else out * (1 - eta), rtol=1e-9)
+    np.testing.assert_allclose(
+        r["power.friction"], out * (1 / eta - 1) if expect == "eta" else out * (1 - eta), rtol=1e-9
+    )
 
 
 # -- the tooth force along the line of action ---------------------------------------------
@@ -244,11 +253,11 @@ def test_gear_tooth_force_lies_on_the_line_of_action(fivebar):
     joint = model.joint("mesh")
     ri, rj = joint.r_i, joint.r_j
     e = (o2 - o1) / np.linalg.norm(o2 - o1)
-    p = o1 + ri * e                                   # pitch point
+    p = o1 + ri * e  # pitch point
     f = np.stack((r["mesh.Fx"], r["mesh.Fy"]), axis=-1)
     mag = np.hypot(*f.T)
-    np.testing.assert_allclose(mag, r["mesh.F"], rtol=1e-12)     # F is the tooth force
-    assert (r["mesh.F"] > 0).all()                    # the chosen flank carries the load
+    np.testing.assert_allclose(mag, r["mesh.F"], rtol=1e-12)  # F is the tooth force
+    assert (r["mesh.F"] > 0).all()  # the chosen flank carries the load
     u = f / mag[:, None]
     # the line through P along F is tangent to both base circles (radius r cos α) ...
     np.testing.assert_allclose(np.abs(_cross(u, p - o1)), ri * math.cos(ALPHA), rtol=1e-12)
@@ -263,14 +272,14 @@ def test_rack_tooth_force_lies_on_the_line_of_action(rocker):
     model, r = rocker
     o3 = model.link("ground").points["O3"]
     radius = model.joint("mesh").r
-    p = o3 - radius * np.array([0.0, 1.0])            # below O3 on the horizontal pitch line
+    p = o3 - radius * np.array([0.0, 1.0])  # below O3 on the horizontal pitch line
     f = np.stack((r["mesh.Fx"], r["mesh.Fy"]), axis=-1)
     assert (r["mesh.F"] > 0).all()
     np.testing.assert_allclose(np.hypot(*f.T), r["mesh.F"], rtol=1e-12)
     np.testing.assert_allclose(np.abs(f[:, 0]), r["mesh.F"] * math.cos(ALPHA), rtol=1e-12)
     # the radial component lifts the sector (pushes it away from the rack)
     np.testing.assert_allclose(f[:, 1], r["mesh.F"] * math.sin(ALPHA), rtol=1e-12)
-    assert (_cross(p - o3, f) > 0).all()              # flank: ccw
+    assert (_cross(p - o3, f) > 0).all()  # flank: ccw
 
 
 def test_sector_moment_balance_with_the_tooth_force_at_the_pitch_point(rocker):
@@ -284,8 +293,12 @@ def test_sector_moment_balance_with_the_tooth_force_at_the_pitch_point(rocker):
     s, d = _xy(r, "rocker"), _xy(r, "rocker.D")
     a = np.stack((r["rocker.ax"], r["rocker.ay"]), axis=-1)
     body = link.mass * (model.gravity - a)
-    moment = (_cross(p - o3, f) + _cross(d - o3, np.array([0.0, -100.0]))
-              + _cross(s - o3, body) - link.inertia * r["rocker.alpha"])
+    moment = (
+        _cross(p - o3, f)
+        + _cross(d - o3, np.array([0.0, -100.0]))
+        + _cross(s - o3, body)
+        - link.inertia * r["rocker.alpha"]
+    )
     assert np.max(np.abs(moment)) <= 1e-10 * np.max(np.abs(_cross(p - o3, f)))
 
 
@@ -295,12 +308,17 @@ def test_crank2_moment_balance_with_the_tooth_force_at_the_pitch_point(fivebar):
     o1, o2 = model.link("ground").points["O1"], model.link("ground").points["O2"]
     p = o1 + model.joint("mesh").r_i * (o2 - o1) / np.linalg.norm(o2 - o1)
     f = np.stack((r["mesh.Fx"], r["mesh.Fy"]), axis=-1)
-    f_b = -np.stack((r["B.Fx"], r["B.Fy"]), axis=-1)     # B reports crank2 on coupler2
+    f_b = -np.stack((r["B.Fx"], r["B.Fy"]), axis=-1)  # B reports crank2 on coupler2
     s, b = _xy(r, "crank2"), _xy(r, "crank2.B")
     a = np.stack((r["crank2.ax"], r["crank2.ay"]), axis=-1)
     body = link.mass * (model.gravity - a)
-    moment = (_cross(p - o2, f) + _cross(b - o2, f_b) + 12.0
-              + _cross(s - o2, body) - link.inertia * r["crank2.alpha"])
+    moment = (
+        _cross(p - o2, f)
+        + _cross(b - o2, f_b)
+        + 12.0
+        + _cross(s - o2, body)
+        - link.inertia * r["crank2.alpha"]
+    )
     assert np.max(np.abs(moment)) <= 1e-10 * np.max(np.abs(_cross(p - o2, f)))
 
 
@@ -311,10 +329,12 @@ VARIANTS = {
     "internal, i annulus, moving": lambda: planetary("internal").joint("mesh"),
     "external, moving": lambda: planetary("external").joint("mesh"),
     "rack, cw, pinion below": lambda: ks.loads(
-        (ROOT / "mechanisms" / "rack_rocker.yaml").read_text()
-        .replace("flank: ccw", "flank: cw").replace("direction: [1, 0]}   #",
-                                                    "direction: [-1, 0]}   #"),
-        file="r.yaml").joint("mesh"),
+        (ROOT / "mechanisms" / "rack_rocker.yaml")
+        .read_text()
+        .replace("flank: ccw", "flank: cw")
+        .replace("direction: [1, 0]}   #", "direction: [-1, 0]}   #"),
+        file="r.yaml",
+    ).joint("mesh"),
 }
 
 
@@ -332,16 +352,20 @@ def test_variant_jacobian_gamma_and_coordinate_match_finite_differences(name):
         a, b = joint.jacobian(qi + s * vi, qj + s * vj)
         return np.einsum("...ij,...j->...i", a, vi) + np.einsum("...ij,...j->...i", b, vj)
 
-    np.testing.assert_allclose(joint.acceleration_rhs(qi, qj, vi, vj),
-                               -(phiq_qd(h) - phiq_qd(-h)) / (2 * h), atol=1e-6)
+    np.testing.assert_allclose(
+        joint.acceleration_rhs(qi, qj, vi, vj), -(phiq_qd(h) - phiq_qd(-h)) / (2 * h), atol=1e-6
+    )
     gi, gj = joint.motion_direction(qi, qj)
     ci, cj = _fd(lambda a, b: joint.coordinate(a, b)[..., None], qi, qj)
     np.testing.assert_allclose(gi, ci[..., 0, :], atol=1e-7)
     np.testing.assert_allclose(gj, cj[..., 0, :], atol=1e-7)
     lam = np.random.default_rng(3).normal(size=qi.shape[:-1] + (1,))
     reac = joint.reaction(lam, qi, qj)
-    np.testing.assert_allclose(np.einsum("...ij,...i->...j", jj, lam)[..., :2],
-                               np.stack((reac["Fx"], reac["Fy"]), axis=-1), atol=1e-12)
+    np.testing.assert_allclose(
+        np.einsum("...ij,...i->...j", jj, lam)[..., :2],
+        np.stack((reac["Fx"], reac["Fy"]), axis=-1),
+        atol=1e-12,
+    )
 
 
 @pytest.mark.parametrize("name", sorted(VARIANTS))
@@ -360,26 +384,45 @@ def test_variants_round_trip_through_yaml():
         model = make()
         again = loads(dump(model))
         a, b = model.joint("mesh"), again.joint("mesh")
-        assert (a.teeth, a.internal, a.flank, a.centre_names) == \
-            (b.teeth, b.internal, b.flank, b.centre_names)
+        assert (a.teeth, a.internal, a.flank, a.centre_names) == (
+            b.teeth,
+            b.internal,
+            b.flank,
+            b.centre_names,
+        )
         for name in ("r_i", "r_j", "alpha", "phase", "loss"):
             assert getattr(a, name) == pytest.approx(getattr(b, name), rel=1e-14)
 
 
 # -- YAML errors --------------------------------------------------------------------------
-@pytest.mark.parametrize("old, new, message", [
-    ("teeth: [20, 45]", "teeth: [20, 45.5]",
-     "mesh.teeth[1]: a number of teeth must be a whole number"),
-    ("module: 2", "module: 2\n    radii: [20, 45]", "mesh.module: give either the pitch radii"),
-    ("module: 2", "radii: [20, 40]",
-     "mesh.radii: the pitch radii must be in the ratio of the teeth"),
-    ("mesh: external", "mesh: outer", "mesh.mesh: mesh must be external or internal"),
-    ("flank: ccw", "flank: left", "mesh.flank: flank must be ccw or cw"),
-    ("centres: [O1, O2]", "centres: [O1, O3]",
-     "mesh.centres[1]: unknown point 'O3' on link 'wheel'"),
-    ("efficiency: 0.97", "efficiency: 1.2",
-     "mesh.friction.efficiency: a mesh efficiency must be in"),
-])
+@pytest.mark.parametrize(
+    "old, new, message",
+    [
+        (
+            "teeth: [20, 45]",
+            "teeth: [20, 45.5]",
+            "mesh.teeth[1]: a number of teeth must be a whole number",
+        ),
+        ("module: 2", "module: 2\n    radii: [20, 45]", "mesh.module: give either the pitch radii"),
+        (
+            "module: 2",
+            "radii: [20, 40]",
+            "mesh.radii: the pitch radii must be in the ratio of the teeth",
+        ),
+        ("mesh: external", "mesh: outer", "mesh.mesh: mesh must be external or internal"),
+        ("flank: ccw", "flank: left", "mesh.flank: flank must be ccw or cw"),
+        (
+            "centres: [O1, O2]",
+            "centres: [O1, O3]",
+            "mesh.centres[1]: unknown point 'O3' on link 'wheel'",
+        ),
+        (
+            "efficiency: 0.97",
+            "efficiency: 1.2",
+            "mesh.friction.efficiency: a mesh efficiency must be in",
+        ),
+    ],
+)
 def test_yaml_errors_name_the_key(old, new, message):
     text = TRAIN.format(d=65, mesh="external", flank="ccw", torque=2.0)
     assert old in text

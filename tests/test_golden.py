@@ -73,8 +73,11 @@ def _compare_json(a, b, rel: float, where: str = "") -> list[str]:
         out = []
         for k, (x, y) in enumerate(zip(a, b)):
             if isinstance(y, float) and isinstance(x, (int, float)):
-                if not (x == y or abs(x - y) <= rel * max(scale, abs(y))
-                        or (math.isnan(x) and math.isnan(y))):
+                if not (
+                    x == y
+                    or abs(x - y) <= rel * max(scale, abs(y))
+                    or (math.isnan(x) and math.isnan(y))
+                ):
                     out.append(f"{where}[{k}]: {x!r} != {y!r}")
             else:
                 out += _compare_json(x, y, rel, f"{where}[{k}]")

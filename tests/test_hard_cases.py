@@ -38,7 +38,7 @@ def test_change_point_is_reported_and_crossed_smoothly(change_point):
 
 def test_change_point_on_the_output_grid_gives_finite_results(change_point):
     with pytest.warns(ks.NearSingularWarning):
-        r = ks.analyze(change_point)    # 90 + k°, so 180° is a row
+        r = ks.analyze(change_point)  # 90 + k°, so 180° is a row
     row = int(np.argmin(np.abs(r["angle"] - 180.0)))
     assert r["angle"][row] == pytest.approx(180.0)
     assert np.isfinite(r["rocker.omega"]).all()
@@ -50,9 +50,9 @@ def test_edge_of_assembly_matches_closed_form():
     p = cf.SliderCrank(a=0.1, b=0.1201, e=-0.02)
     k = cf.kinematics(p, np.radians(r["angle"]))
     assert r.singular == ()
-    cond = r["rod_slider.cond"]                        # nearly singular at 90°: cos φ2 = 0.041
+    cond = r["rod_slider.cond"]  # nearly singular at 90°: cos φ2 = 0.041
     assert r["angle"][np.argmax(cond)] == pytest.approx(90.0)
-    assert cond[90] > 10 * cond[270]                   # cos φ2 = 0.75 at 270°
+    assert cond[90] > 10 * cond[270]  # cos φ2 = 0.75 at 270°
     for ours, theirs in (("slider.x", "xB"), ("rod.omega", "omega2"), ("rod.alpha", "alpha2")):
         assert rel_err(r[ours], k[theirs]) < 1e-9
 
@@ -71,8 +71,11 @@ def test_sketch_selects_the_branch():
 
 def test_ambiguous_sketch_names_the_group():
     # B sketched on the line A–D: coupler and rocker collinear, no branch chosen
-    with pytest.raises(ModelError, match=r"sketch: the sketch does not decide the assembly "
-                                         r"branch of RRR dyad \{coupler, rocker\}"):
+    with pytest.raises(
+        ModelError,
+        match=r"sketch: the sketch does not decide the assembly "
+        r"branch of RRR dyad \{coupler, rocker\}",
+    ):
         ks.analyze(_with_sketch("[1.8, 0.4]"))
 
 
@@ -90,8 +93,11 @@ def test_links_that_cannot_reach_name_group_coordinate_and_miss():
 
 
 def test_near_singular_rows_are_warned_about(change_point):
-    with pytest.warns(ks.NearSingularWarning, match=r"RRR dyad \{coupler, rocker\} is nearly "
-                                                    r"singular at 1 position\(s\), worst at motor = 180°"):
+    with pytest.warns(
+        ks.NearSingularWarning,
+        match=r"RRR dyad \{coupler, rocker\} is nearly "
+        r"singular at 1 position\(s\), worst at motor = 180°",
+    ):
         ks.analyze(change_point)
 
 
@@ -104,8 +110,8 @@ def test_crank_that_cannot_rotate_reports_its_reachable_range():
     """Rocker driven four-bar: its angle β is limited where crank and coupler are
     collinear, |OB| = 3.2 ± 1, i.e. cos β = (|OB|² − 3² − 2.5²)/(2·3·2.5)."""
     model = ks.load("tests/hard/crank_rocker_reversed.yaml")
-    lo = np.degrees(np.arccos((4.2 ** 2 - 15.25) / 15))
-    hi = np.degrees(np.arccos((2.2 ** 2 - 15.25) / 15))
+    lo = np.degrees(np.arccos((4.2**2 - 15.25) / 15))
+    hi = np.degrees(np.arccos((2.2**2 - 15.25) / 15))
     with pytest.raises(AssemblyError) as info:
         ks.analyze(model)
     np.testing.assert_allclose(np.degrees(info.value.reachable), [lo, hi], atol=1e-4)
@@ -121,8 +127,8 @@ def test_crank_that_cannot_rotate_reports_its_reachable_range():
 
 
 TOGGLE = "tests/hard/rocker_into_toggle.yaml"
-PSI_TOGGLE = np.degrees(np.arccos((4.2 ** 2 - 3 ** 2 - 2.5 ** 2) / (2 * 3 * 2.5)))   # crank ∥ coupler
-T_TOGGLE = 1.5          # ψ = ψ* + 20° + 20°·sin(π t) is lowest at t = 3/4 of the 2 s period
+PSI_TOGGLE = np.degrees(np.arccos((4.2**2 - 3**2 - 2.5**2) / (2 * 3 * 2.5)))  # crank ∥ coupler
+T_TOGGLE = 1.5  # ψ = ψ* + 20° + 20°·sin(π t) is lowest at t = 3/4 of the 2 s period
 
 
 def test_rocker_driven_into_its_toggle_reports_the_singular_position_and_the_blow_up():
@@ -140,25 +146,31 @@ def test_rocker_driven_into_its_toggle_reports_the_singular_position_and_the_blo
     assert s.t == pytest.approx(T_TOGGLE, abs=1e-6)
     assert s.condition > 1e6
     from kinetostatics.summary import summarize
-    assert summarize(r)["singular_positions"] == [{"group": s.group, "angle": pytest.approx(PSI_TOGGLE),
-                                                   "time": pytest.approx(T_TOGGLE),
-                                                   "condition": s.condition}]
+
+    assert summarize(r)["singular_positions"] == [
+        {
+            "group": s.group,
+            "angle": pytest.approx(PSI_TOGGLE),
+            "time": pytest.approx(T_TOGGLE),
+            "condition": s.condition,
+        }
+    ]
     # past the dead centre the linkage is in its other assembly: one period of the law
     # does not bring it back, so the run is not a cycle
     assert not r.full_cycle
     for name in r.columns:
-        assert np.all(np.isfinite(r[name])), name                  # no NaN, no inf
+        assert np.all(np.isfinite(r[name])), name  # no NaN, no inf
     # no branch jump: the crank keeps turning the same way through the dead centre
     omega = r["crank.omega"]
     near = np.abs(r.t - T_TOGGLE) < 0.2
     assert np.all(omega[near] < 0)
-    assert np.max(np.abs(np.diff(omega[near]))) < 0.05 * np.max(np.abs(omega))   # a jump: ~4 rad/s
+    assert np.max(np.abs(np.diff(omega[near]))) < 0.05 * np.max(np.abs(omega))  # a jump: ~4 rad/s
     # the blow-up and its growth rate, approached from both sides
     d = np.array([1e-2, 3e-3, 1e-3, 3e-4, 1e-4])
     for side in (-1.0, 1.0):
         t = T_TOGGLE + side * d
         tau = np.abs(ks.analyze(model, times=t)["motor.torque"])
-        dpsi = np.radians(20.0) * (1.0 + np.sin(np.pi * t))          # ψ − ψ*, from the law
+        dpsi = np.radians(20.0) * (1.0 + np.sin(np.pi * t))  # ψ − ψ*, from the law
         assert np.polyfit(np.log(d), np.log(tau), 1)[0] == pytest.approx(-1.0, abs=0.02)
         assert np.polyfit(np.log(dpsi), np.log(tau), 1)[0] == pytest.approx(-0.5, abs=0.01)
         assert tau[-1] > 1e3 * np.median(np.abs(r["motor.torque"]))
@@ -171,12 +183,14 @@ def test_a_law_past_the_toggle_names_the_coordinate_and_the_reachable_range():
     msg = str(info.value)
     assert msg.startswith("RRR dyad {crank, coupler} cannot assemble at motor = ")
     angle = float(re.search(r"motor = ([\d.]+)°", msg).group(1))
-    assert PSI_TOGGLE - 1.0 <= angle <= PSI_TOGGLE + 1e-4          # printed to 6 digits
+    assert PSI_TOGGLE - 1.0 <= angle <= PSI_TOGGLE + 1e-4  # printed to 6 digits
     # ψ = ψ* + 20° + 21°·sin(π t) first passes ψ* at t = 1 + asin(20/21)/π
     t_cross = 1.0 + np.arcsin(20 / 21) / np.pi
     t_reached = float(re.search(r"the linkage assembles up to t = ([\d.]+) s", msg).group(1))
     assert t_cross - 1e-3 < t_reached <= t_cross
-    hi = np.degrees(np.arccos((2.2 ** 2 - 15.25) / 15))
+    hi = np.degrees(np.arccos((2.2**2 - 15.25) / 15))
     np.testing.assert_allclose(np.degrees(info.value.reachable), [PSI_TOGGLE, hi], atol=1e-4)
-    assert (f"the law spans motor from {PSI_TOGGLE - 1:.4f}° to {PSI_TOGGLE + 41:.4f}°, the linkage "
-            f"reaches only motor from {PSI_TOGGLE:.4f}° to {hi:.4f}°") in msg
+    assert (
+        f"the law spans motor from {PSI_TOGGLE - 1:.4f}° to {PSI_TOGGLE + 41:.4f}°, the linkage "
+        f"reaches only motor from {PSI_TOGGLE:.4f}° to {hi:.4f}°"
+    ) in msg

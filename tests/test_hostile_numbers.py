@@ -37,21 +37,28 @@ def _refused(text: str) -> str:
 
 
 # -- the loader ------------------------------------------------------------------
-@pytest.mark.parametrize("old, new, written, path, value", [
-    ("gravity: [0, -9.81]", "gravity: [0, -1e308]", "-1e308", "gravity[1]", "-1e+308 m/s^2"),
-    ("gravity: [0, -9.81]", "gravity: [0, -2e12]", "-2e12", "gravity[1]", "-2e+12 m/s^2"),
-    ("B: [b, 0]", "B: [1e300, 0]", "1e300", "links.rod.points.B[0]", "1e+300 mm (1e+297 m)"),
-    ("B: [b, 0]", "B: [1e-300, 0]", "1e-300", "links.rod.points.B[0]", "1e-300 mm"),
-    ("mass: 3", "mass: 1e300", "1e300", "links.rod.mass", "1e+300 kg"),
-    ("mass: 3", "mass: 1e-300", "1e-300", "links.rod.mass", "1e-300 kg"),
-    ("inertia: 0.031", "inertia: 1e40", "1e40", "links.rod.inertia", "1e+40 kg*m^2"),
-    ("value: 1000", "value: 1e300", "1e300", "loads.resistance.value", "1e+300 N"),
-    ("radius: 1.2", "radius: 1e300", "1e300", "joints.A.friction.radius", "1e+300 mm"),
-    ("coefficient: 0.10", "coefficient: 1e300", "1e300", "joints.slide.friction.coefficient",
-     "1e+300"),
-])
-def test_the_loader_refuses_magnitudes_that_overflow_or_underflow(old, new, written, path,
-                                                                  value):
+@pytest.mark.parametrize(
+    "old, new, written, path, value",
+    [
+        ("gravity: [0, -9.81]", "gravity: [0, -1e308]", "-1e308", "gravity[1]", "-1e+308 m/s^2"),
+        ("gravity: [0, -9.81]", "gravity: [0, -2e12]", "-2e12", "gravity[1]", "-2e+12 m/s^2"),
+        ("B: [b, 0]", "B: [1e300, 0]", "1e300", "links.rod.points.B[0]", "1e+300 mm (1e+297 m)"),
+        ("B: [b, 0]", "B: [1e-300, 0]", "1e-300", "links.rod.points.B[0]", "1e-300 mm"),
+        ("mass: 3", "mass: 1e300", "1e300", "links.rod.mass", "1e+300 kg"),
+        ("mass: 3", "mass: 1e-300", "1e-300", "links.rod.mass", "1e-300 kg"),
+        ("inertia: 0.031", "inertia: 1e40", "1e40", "links.rod.inertia", "1e+40 kg*m^2"),
+        ("value: 1000", "value: 1e300", "1e300", "loads.resistance.value", "1e+300 N"),
+        ("radius: 1.2", "radius: 1e300", "1e300", "joints.A.friction.radius", "1e+300 mm"),
+        (
+            "coefficient: 0.10",
+            "coefficient: 1e300",
+            "1e300",
+            "joints.slide.friction.coefficient",
+            "1e+300",
+        ),
+    ],
+)
+def test_the_loader_refuses_magnitudes_that_overflow_or_underflow(old, new, written, path, value):
     """FILE:LINE:COL (at the number as written): key.path: the value, in the file's unit."""
     assert old in TEXT
     text = TEXT.replace(old, new, 1)
@@ -69,18 +76,22 @@ def test_a_parameter_that_overflows_is_reported_where_it_is_used():
 
 
 def test_a_mass_from_a_weight_is_checked_after_the_conversion():
-    text = TEXT.replace("gravity: [0, -9.81]", "gravity: [0, -1e-25]") \
-        .replace("    mass: 3\n", "    weight: 1e20\n", 1)
+    text = TEXT.replace("gravity: [0, -9.81]", "gravity: [0, -1e-25]").replace(
+        "    mass: 3\n", "    weight: 1e20\n", 1
+    )
     message = _refused(text)
     line, col = _where(text, "weight: 1e20", len("weight: "))
-    assert message.startswith(f"hostile.yaml:{line}:{col}: links.rod.weight: a weight of "
-                              "1e+20 N with |gravity| = 1e-25 m/s^2 gives a mass of 1e+45 kg")
+    assert message.startswith(
+        f"hostile.yaml:{line}:{col}: links.rod.weight: a weight of "
+        "1e+20 N with |gravity| = 1e-25 m/s^2 gives a mass of 1e+45 kg"
+    )
 
 
 def test_a_motion_law_that_reaches_an_absurd_speed_is_refused():
-    text = TEXT.replace("motor: {joint: O, motion: {speed: 300}}",
-                        "motor: {joint: O, motion: {law: polynomial, coefficients: [0, 1, 1e300],"
-                        " duration: 1}}")
+    text = TEXT.replace(
+        "motor: {joint: O, motion: {speed: 300}}",
+        "motor: {joint: O, motion: {law: polynomial, coefficients: [0, 1, 1e300], duration: 1}}",
+    )
     text = text.replace("analysis: {start: 0, sweep: 360, positions: 360}", "")
     message = _refused(text)
     assert "drivers.motor.motion: the polynomial law reaches a speed of" in message
@@ -91,15 +102,24 @@ def test_the_limits_keep_the_products_of_the_analysis_far_from_overflow():
     """The documented claim: with every input at its limit, m·ω²·L, J·ω², m·g·L, F·L and
     the powers stay below 1e60 (and their squares far from the 1.8e308 overflow)."""
     from kinetostatics.yaml_io import MAGNITUDE, MAX_LAW_ACCELERATION, SPEED_RANGE
+
     L, m, J = MAGNITUDE["length"][1], MAGNITUDE["mass"][1], MAGNITUDE["inertia"][1]
     F, T, g = MAGNITUDE["force"][1], MAGNITUDE["torque"][1], MAGNITUDE["acceleration"][1]
     w, alpha = SPEED_RANGE[1], MAX_LAW_ACCELERATION
-    a = (w * w + alpha) * L                        # a point's acceleration
-    products = {"m·a": m * a, "m·a·L": m * a * L, "J·(ω²+α)": J * (w * w + alpha),
-                "m·g·L": m * g * L, "F·L": F * L, "T·ω": T * w, "F·v": F * w * L,
-                "(m·a)·v": m * a * w * L, "J·α·ω": J * alpha * w}
+    a = (w * w + alpha) * L  # a point's acceleration
+    products = {
+        "m·a": m * a,
+        "m·a·L": m * a * L,
+        "J·(ω²+α)": J * (w * w + alpha),
+        "m·g·L": m * g * L,
+        "F·L": F * L,
+        "T·ω": T * w,
+        "F·v": F * w * L,
+        "(m·a)·v": m * a * w * L,
+        "J·α·ω": J * alpha * w,
+    }
     assert max(products.values()) < 1e60, products
-    assert 1e60 ** 2 < 1e308
+    assert 1e60**2 < 1e308
 
 
 # -- the last guard of analyze ----------------------------------------------------------
@@ -122,25 +142,27 @@ def slider():
     return ks.load(SLIDER)
 
 
-@pytest.mark.parametrize("kwargs, text", [
-    (dict(positions=[float("nan")]), "positions[0] = nan"),
-    (dict(positions=[0.0, 1.0, float("inf")]), "positions[2] = inf"),
-    (dict(positions=[-1e300]), "positions[0] = -1e+300"),
-    (dict(positions=[]), "positions is empty"),
-    (dict(positions=[[0.0, 1.0]]), "positions must be a 1-D sequence"),
-    (dict(positions=[1j]), "positions must be a 1-D sequence of real numbers"),
-    (dict(positions=["0"]), "positions must be a 1-D sequence of real numbers"),
-    (dict(times=[float("nan")]), "times[0] = nan"),
-    (dict(times=[0.0, -20.5]), "times[1] = -20.5"),
-    (dict(times=[1e300]), "times[0] = 1e+300"),
-    (dict(times=[]), "times is empty"),
-])
-def test_analyze_refuses_positions_and_times_that_are_not_finite_real_numbers(slider, kwargs,
-                                                                                text):
+@pytest.mark.parametrize(
+    "kwargs, text",
+    [
+        (dict(positions=[float("nan")]), "positions[0] = nan"),
+        (dict(positions=[0.0, 1.0, float("inf")]), "positions[2] = inf"),
+        (dict(positions=[-1e300]), "positions[0] = -1e+300"),
+        (dict(positions=[]), "positions is empty"),
+        (dict(positions=[[0.0, 1.0]]), "positions must be a 1-D sequence"),
+        (dict(positions=[1j]), "positions must be a 1-D sequence of real numbers"),
+        (dict(positions=["0"]), "positions must be a 1-D sequence of real numbers"),
+        (dict(times=[float("nan")]), "times[0] = nan"),
+        (dict(times=[0.0, -20.5]), "times[1] = -20.5"),
+        (dict(times=[1e300]), "times[0] = 1e+300"),
+        (dict(times=[]), "times is empty"),
+    ],
+)
+def test_analyze_refuses_positions_and_times_that_are_not_finite_real_numbers(slider, kwargs, text):
     with pytest.raises(ValueError) as info:
         ks.analyze(slider, **kwargs)
     assert text in str(info.value)
-    assert not isinstance(info.value, ks.KinetostaticsError)      # a call, not a file error
+    assert not isinstance(info.value, ks.KinetostaticsError)  # a call, not a file error
 
 
 def test_times_up_to_the_limit_are_analysed(slider):
@@ -154,10 +176,13 @@ def test_times_up_to_the_limit_are_analysed(slider):
 def test_simulate_and_flywheel_refuse_hostile_arguments(slider):
     from kinetostatics.dynamics import simulate
     from kinetostatics.flywheel import design
-    for kwargs, text in ((dict(until=float("nan")), "until = nan"),
-                         (dict(until=-1.0), "until = -1.0"),
-                         (dict(until=1.0, rtol=0.0), "rtol = 0.0"),
-                         (dict(until=1.0, rtol=float("inf")), "rtol = inf")):
+
+    for kwargs, text in (
+        (dict(until=float("nan")), "until = nan"),
+        (dict(until=-1.0), "until = -1.0"),
+        (dict(until=1.0, rtol=0.0), "rtol = 0.0"),
+        (dict(until=1.0, rtol=float("inf")), "rtol = inf"),
+    ):
         with pytest.raises(ValueError, match=re.escape(text)):
             simulate(slider, **kwargs)
     for delta in (float("nan"), 0.0, 2.0):
@@ -210,11 +235,18 @@ def test_scaled_mechanisms_give_the_scaled_results(base, lam, mu):
     scaled: positions × λ, forces × μλ, torques × μλ², powers × μλ²."""
     r = _scaled(lam, mu)
     assert np.all(np.isfinite(r["motor.torque_friction"]))
-    scale = {"m": lam, "N": mu * lam, "N*m": mu * lam ** 2, "W": mu * lam ** 2,
-             "m/s": lam, "m/s^2": lam}
-    names = [n for n in base.names if base.units[n] in scale
-             and not n.startswith("power.residual")]          # round-off, not a quantity
-    size: dict[str, float] = {}                               # round-off is judged per unit
+    scale = {
+        "m": lam,
+        "N": mu * lam,
+        "N*m": mu * lam**2,
+        "W": mu * lam**2,
+        "m/s": lam,
+        "m/s^2": lam,
+    }
+    names = [
+        n for n in base.names if base.units[n] in scale and not n.startswith("power.residual")
+    ]  # round-off, not a quantity
+    size: dict[str, float] = {}  # round-off is judged per unit
     for name in names:
         unit = base.units[name]
         v = np.abs(base[name] * scale[unit])
@@ -242,10 +274,11 @@ def locked():
 
 def test_the_summary_and_report_of_an_all_self_locked_result_do_not_crash(locked):
     from kinetostatics.report import _summary_blocks
+
     assert np.all(locked["friction.status"] == 2)
     assert np.all(np.isnan(locked["motor.force_friction"]))
     with warnings.catch_warnings():
-        warnings.simplefilter("error")                  # no "All-NaN slice encountered"
+        warnings.simplefilter("error")  # no "All-NaN slice encountered"
         summary = locked.summary()
     d = summary["drivers"]["motor"]
     assert np.isnan(d["mean_friction"]) and np.isfinite(d["mean"])
@@ -257,9 +290,12 @@ def test_the_summary_and_report_of_an_all_self_locked_result_do_not_crash(locked
 def test_polar_diagrams_of_an_all_self_locked_friction_solution_do_not_crash(locked):
     pytest.importorskip("matplotlib")
     import matplotlib
+
     matplotlib.use("Agg")
-    from kinetostatics.plotting import polar_diagrams
     import matplotlib.pyplot as plt
+
+    from kinetostatics.plotting import polar_diagrams
+
     fig = polar_diagrams(locked, friction=True)
     assert any("no consistent friction solution" in ax.get_title() for ax in fig.axes)
     plt.close(fig)
@@ -267,14 +303,20 @@ def test_polar_diagrams_of_an_all_self_locked_friction_solution_do_not_crash(loc
 
 def test_docs_state_the_limits_of_the_code():
     from kinetostatics.yaml_io import MAGNITUDE, MAX_LAW_ACCELERATION
+
     doc = open("docs/errors.md", encoding="utf-8").read()
-    stated = {"length": (1e9, "length 10⁹ m"), "mass": (1e12, "mass 10¹² kg"),
-              "inertia": (1e30, "inertia 10³⁰ kg·m²"), "force": (1e24, "force 10²⁴ N"),
-              "torque": (1e33, "torque 10³³ N·m"),
-              "acceleration": (1e12, "gravity (each component) 10¹² m/s²"),
-              "time": (1e9, "time 10⁹ s"), "angle": (1e6, "angle 10⁶ rad"),
-              "speed": (1e9, "speed (effort curves) 10⁹ rad/s"),
-              None: (1e18, "directions, ratios) 10¹⁸")}
+    stated = {
+        "length": (1e9, "length 10⁹ m"),
+        "mass": (1e12, "mass 10¹² kg"),
+        "inertia": (1e30, "inertia 10³⁰ kg·m²"),
+        "force": (1e24, "force 10²⁴ N"),
+        "torque": (1e33, "torque 10³³ N·m"),
+        "acceleration": (1e12, "gravity (each component) 10¹² m/s²"),
+        "time": (1e9, "time 10⁹ s"),
+        "angle": (1e6, "angle 10⁶ rad"),
+        "speed": (1e9, "speed (effort curves) 10⁹ rad/s"),
+        None: (1e18, "directions, ratios) 10¹⁸"),
+    }
     assert set(stated) == set(MAGNITUDE)
     for kind, (upper, text) in stated.items():
         assert MAGNITUDE[kind][1] == upper and text in doc, kind
@@ -284,8 +326,9 @@ def test_docs_state_the_limits_of_the_code():
     assert "`NonFiniteResultError`" in doc
 
 
-def test_negative_times_are_refused_for_a_motion_law_and_run_backwards_at_constant_speed(slider,
-                                                                                      root):
+def test_negative_times_are_refused_for_a_motion_law_and_run_backwards_at_constant_speed(
+    slider, root
+):
     """A motion law is not defined before its start; a constant-speed crank is: t = -1/60 s at
     300 rpm is the pose 30° before the start, the same row as ``positions=`` gives there."""
     law = ks.load(root / "tests" / "hard" / "rocker_into_toggle.yaml")

@@ -24,9 +24,13 @@ def test_torque_increment_is_equivalent_inertia_times_crank_acceleration():
         taus.append(kin.x0[:, -1])
     p = cf.SliderCrank(omega1=1.0)
     k = cf.kinematics(p, phi)
-    j_e = (p.m1 * (k["S1_vx"] ** 2 + k["S1_vy"] ** 2) + p.J1
-           + p.m2 * (k["S2_vx"] ** 2 + k["S2_vy"] ** 2) + p.J2 * k["omega2"] ** 2
-           + p.m3 * k["vB"] ** 2)
+    j_e = (
+        p.m1 * (k["S1_vx"] ** 2 + k["S1_vy"] ** 2)
+        + p.J1
+        + p.m2 * (k["S2_vx"] ** 2 + k["S2_vy"] ** 2)
+        + p.J2 * k["omega2"] ** 2
+        + p.m3 * k["vB"] ** 2
+    )
     np.testing.assert_allclose(taus[1] - taus[0], j_e * alpha, rtol=1e-10)
 
 
@@ -34,5 +38,5 @@ def test_positions_near_follows_the_guess_branch():
     system = ks.build_system(ks.load("tests/hard/fourbar_change_point.yaml"))
     r = ks.analyze(system, positions=np.radians([100.0]))
     q = positions_near(system, np.radians([[101.0]]), r.q)
-    assert np.max(np.abs(q - r.q)) < 0.05          # one degree away: a nearby pose
+    assert np.max(np.abs(q - r.q)) < 0.05  # one degree away: a nearby pose
     assert np.max(np.abs(ks.system.phi(system, q, np.radians([[101.0]])))) < 1e-12

@@ -96,10 +96,11 @@ def test_motion_direction_and_bias_match_the_coordinate(joint):
     fi, fj = _fd(lambda a, b: joint.coordinate(a, b)[..., None], qi, qj)
     np.testing.assert_allclose(gi, fi[..., 0, :], atol=1e-7)
     np.testing.assert_allclose(gj, fj[..., 0, :], atol=1e-7)
-    h = 1e-4                       # second derivative along q(t) = q + t q̇ is the bias
+    h = 1e-4  # second derivative along q(t) = q + t q̇ is the bias
     c = [joint.coordinate(qi + s * vi, qj + s * vj) for s in (-h, 0.0, h)]
-    np.testing.assert_allclose(joint.coordinate_bias(qi, qj, vi, vj),
-                               (c[0] - 2 * c[1] + c[2]) / h**2, rtol=1e-5, atol=1e-5)
+    np.testing.assert_allclose(
+        joint.coordinate_bias(qi, qj, vi, vj), (c[0] - 2 * c[1] + c[2]) / h**2, rtol=1e-5, atol=1e-5
+    )
 
 
 @pytest.mark.parametrize("joint", JOINTS, ids=IDS)
@@ -116,22 +117,27 @@ def test_reaction_is_the_force_of_i_on_j_and_third_law_holds(joint):
     np.testing.assert_allclose(on_i[..., :2], -on_j[..., :2], atol=1e-12)
 
 
-@pytest.mark.parametrize("joint", [j for j in JOINTS if j.has_friction],
-                         ids=[i for i, j in zip(IDS, JOINTS) if j.has_friction])
+@pytest.mark.parametrize(
+    "joint",
+    [j for j in JOINTS if j.has_friction],
+    ids=[i for i, j in zip(IDS, JOINTS) if j.has_friction],
+)
 def test_friction_dissipates_and_gradient_matches(joint):
     qi, qj, vi, vj = _states()
     lam = RNG.normal(size=(2, 3, joint.n_eq)) * 100
     mag = joint.friction_magnitude(lam, qi, qj)
     assert np.all(mag >= 0)
     speed = joint.relative_speed(qi, qj, vi, vj)
-    effort = -np.sign(speed) * mag             # the rule of friction.efforts
+    effort = -np.sign(speed) * mag  # the rule of friction.efforts
     assert np.all(effort * speed <= 0)
     h = 1e-6
     grad = joint.friction_gradient(lam, qi, qj)
     for k in range(joint.n_eq):
         e = np.zeros(joint.n_eq)
         e[k] = h
-        fd = (joint.friction_magnitude(lam + e, qi, qj) - joint.friction_magnitude(lam - e, qi, qj)) / (2 * h)
+        fd = (
+            joint.friction_magnitude(lam + e, qi, qj) - joint.friction_magnitude(lam - e, qi, qj)
+        ) / (2 * h)
         np.testing.assert_allclose(grad[..., k], fd, rtol=1e-6, atol=1e-12 * np.max(mag) / h)
 
 

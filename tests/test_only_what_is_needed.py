@@ -1,6 +1,7 @@
 """An analysis computes only what its requested outputs need."""
 
 import numpy as np
+
 import kinetostatics as ks
 from kinetostatics import analysis
 
@@ -8,6 +9,7 @@ from kinetostatics import analysis
 def test_kinematics_only_assembles_no_loads(monkeypatch):
     def forbidden(*args, **kwargs):
         raise AssertionError("kinetics was called")
+
     monkeypatch.setattr(analysis, "kinetics", forbidden)
     monkeypatch.setattr(analysis, "_extremes_and_events", forbidden)
     r = ks.analyze(ks.load("mechanisms/slotting_machine.yaml"), kinematics_only=True)
@@ -25,6 +27,7 @@ def test_kinematics_only_equals_the_full_analysis_kinematics():
 def test_a_file_without_friction_runs_no_friction_solve(monkeypatch):
     def forbidden(*args, **kwargs):
         raise AssertionError("a friction solve ran")
+
     monkeypatch.setattr(analysis.fr, "consistent", forbidden)
     monkeypatch.setattr(analysis.fr, "approximate", forbidden)
     r = ks.analyze(ks.load("tests/hard/fourbar_change_point.yaml"), positions=np.radians([100.0]))
@@ -35,6 +38,6 @@ def test_one_reaction_builds_only_its_own_columns():
     r = ks.analyze(ks.load("mechanisms/slotting_machine.yaml"))
     assert r.columns.computed == 0
     fx = r["O3.Fx"]
-    assert r.columns.computed == 2                 # O3.Fx and O3.Fy, nothing else
+    assert r.columns.computed == 2  # O3.Fx and O3.Fy, nothing else
     np.testing.assert_array_equal(fx, r["O3.Fx"])
     assert len(r.columns) > 100

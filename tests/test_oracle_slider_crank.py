@@ -135,20 +135,26 @@ def test_reactions_match_generic_linear_solve(p):
         # unknowns: FOx FOy FAx FAy FBx FBy N M1   (M_slide = 0 by symmetry)
         M = np.zeros((8, 8))
         rhs = np.zeros(8)
-        M[0, [0, 2]] = [1, -1]; rhs[0] = p.m1 * (a1[0] - g[0])
-        M[1, [1, 3]] = [1, -1]; rhs[1] = p.m1 * (a1[1] - g[1])
+        M[0, [0, 2]] = [1, -1]
+        rhs[0] = p.m1 * (a1[0] - g[0])
+        M[1, [1, 3]] = [1, -1]
+        rhs[1] = p.m1 * (a1[1] - g[1])
         # crank moments about S1
-        M[2, 0], M[2, 1] = S1[1], -S1[0]                      # (O - S1) x F_O
-        M[2, 2], M[2, 3] = (A - S1)[1], -(A - S1)[0]          # (A - S1) x (-F_A)
+        M[2, 0], M[2, 1] = S1[1], -S1[0]  # (O - S1) x F_O
+        M[2, 2], M[2, 3] = (A - S1)[1], -(A - S1)[0]  # (A - S1) x (-F_A)
         M[2, 7] = 1.0
         rhs[2] = p.J1 * k["alpha1"][i]
-        M[3, [2, 4]] = [1, -1]; rhs[3] = p.m2 * (a2[0] - g[0])
-        M[4, [3, 5]] = [1, -1]; rhs[4] = p.m2 * (a2[1] - g[1])
+        M[3, [2, 4]] = [1, -1]
+        rhs[3] = p.m2 * (a2[0] - g[0])
+        M[4, [3, 5]] = [1, -1]
+        rhs[4] = p.m2 * (a2[1] - g[1])
         M[5, 2], M[5, 3] = -(A - S2)[1], (A - S2)[0]
         M[5, 4], M[5, 5] = (B - S2)[1], -(B - S2)[0]
         rhs[5] = p.J2 * k["alpha2"][i]
-        M[6, 4] = 1; rhs[6] = p.m3 * (k["aB"][i] - g[0]) - r["F_res"][i]
-        M[7, [5, 6]] = [1, 1]; rhs[7] = -p.m3 * g[1]
+        M[6, 4] = 1
+        rhs[6] = p.m3 * (k["aB"][i] - g[0]) - r["F_res"][i]
+        M[7, [5, 6]] = [1, 1]
+        rhs[7] = -p.m3 * g[1]
         x = np.linalg.solve(M, rhs)
         want = [r[key][i] for key in ("F_Ox", "F_Oy", "F_Ax", "F_Ay", "F_Bx", "F_By", "N", "M1")]
         assert np.allclose(x, want, rtol=1e-10, atol=1e-9)

@@ -18,14 +18,16 @@ from tests.oracles import slider_crank_closed_form as cf
 
 @pytest.fixture(scope="module")
 def slotting():
-    return pl.analyze_for_pictures(ks.load(ROOT / "mechanisms" / "slotting_machine.yaml"),
-                                   course=True)
+    return pl.analyze_for_pictures(
+        ks.load(ROOT / "mechanisms" / "slotting_machine.yaml"), course=True
+    )
 
 
 @pytest.fixture(scope="module")
 def slider_crank():
-    return pl.analyze_for_pictures(ks.load(ROOT / "mechanisms" / "slider_crank.yaml"),
-                                   positions=[47.5], course=True)
+    return pl.analyze_for_pictures(
+        ks.load(ROOT / "mechanisms" / "slider_crank.yaml"), positions=[47.5], course=True
+    )
 
 
 def _xy(result, ref, kind, row):
@@ -43,8 +45,9 @@ def test_slotting_polygon_closes_onto_the_computed_vectors(slotting, kind, label
     for node in poly.nodes.values():
         for ref in node.refs:
             if "@" not in ref:
-                np.testing.assert_allclose(node.vector, _xy(slotting, ref, kind, row),
-                                           rtol=0, atol=1e-12 * scale)
+                np.testing.assert_allclose(
+                    node.vector, _xy(slotting, ref, kind, row), rtol=0, atol=1e-12 * scale
+                )
     # every relative-vector chain closes: start + Σ components = end
     for ch in poly.chains:
         closing = poly.tip(ch.start) + sum(v for _, v in ch.components)
@@ -54,15 +57,22 @@ def test_slotting_polygon_closes_onto_the_computed_vectors(slotting, kind, label
     assert ("b", "c") in ends and ("a3", "a2") in ends
     assert poly.fixed == ("crank.O2", "bar.O3")
     ch = next(c for c in poly.chains if (c.start, c.end) == ("b", "c"))
-    np.testing.assert_allclose(_xy(slotting, "bar.B", kind, row) + sum(v for _, v in ch.components),
-                               _xy(slotting, "ram.C", kind, row), rtol=0, atol=1e-9 * scale)
+    np.testing.assert_allclose(
+        _xy(slotting, "bar.B", kind, row) + sum(v for _, v in ch.components),
+        _xy(slotting, "ram.C", kind, row),
+        rtol=0,
+        atol=1e-9 * scale,
+    )
     if kind == "acceleration":
         slide = next(c for c in poly.chains if (c.start, c.end) == ("a3", "a2"))
         assert [n for n, _ in slide.components] == ["ak_A2A3", "ar_A2A3"]
         k = slide.components[0][1]
         w3 = slotting["bar.omega"][row]
-        vr = next(c for c in pl.polygon(slotting, row, "velocity").chains
-                  if (c.start, c.end) == ("a3", "a2")).components[0][1]
+        vr = next(
+            c
+            for c in pl.polygon(slotting, row, "velocity").chains
+            if (c.start, c.end) == ("a3", "a2")
+        ).components[0][1]
         np.testing.assert_allclose(k, 2 * w3 * np.array([-vr[1], vr[0]]), atol=1e-12 * scale)
 
 
@@ -93,14 +103,19 @@ def test_drawn_joints_are_the_computed_positions(path):
             continue
         point = j.point_names[1] if j.kind == "revolute" else j.point_name
         link = j.links[1]
-        np.testing.assert_allclose(geo.joints[j.name], _xy(result, f"{link}.{point}", "position", row),
-                                   atol=1e-12)
+        np.testing.assert_allclose(
+            geo.joints[j.name], _xy(result, f"{link}.{point}", "position", row), atol=1e-12
+        )
     for lk in model.moving_links:
         for name in lk.points:
-            np.testing.assert_allclose(geo.points[f"{lk.name}.{name}"],
-                                       _xy(result, f"{lk.name}.{name}", "position", row), atol=1e-12)
+            np.testing.assert_allclose(
+                geo.points[f"{lk.name}.{name}"],
+                _xy(result, f"{lk.name}.{name}", "position", row),
+                atol=1e-12,
+            )
     # and the figure's pins are drawn there (axes in mm)
     from matplotlib.patches import Circle
+
     fig = pl.draw_mechanism(result, row=row, dpi=40)
     ax = fig.axes[0]
     centres = [np.array(c.center) for c in ax.get_children() if isinstance(c, Circle)]
@@ -116,11 +131,12 @@ def test_drawing_with_forces_and_paths(slotting):
     ax = fig.axes[0]
     assert ax.get_xlabel() == "x, mm" and ax.get_ylabel() == "y, mm"
     texts = [t.get_text() for t in ax.texts]
-    assert any(t.startswith(" F₄₅") for t in texts)           # rod 4 on ram 5
-    assert any("cutting" in t for t in texts)                  # the cutting force acts at 7
+    assert any(t.startswith(" F₄₅") for t in texts)  # rod 4 on ram 5
+    assert any("cutting" in t for t in texts)  # the cutting force acts at 7
     path = [ln for ln in ax.lines if len(ln.get_xdata()) == len(slotting)][0]
-    np.testing.assert_allclose(path.get_xydata() / 1e3,
-                               np.column_stack((slotting["rod.C.x"], slotting["rod.C.y"])))
+    np.testing.assert_allclose(
+        path.get_xydata() / 1e3, np.column_stack((slotting["rod.C.x"], slotting["rod.C.y"]))
+    )
     with pytest.raises(pl.PictureError, match="did you mean 'rod.C'"):
         pl.draw_mechanism(slotting, paths=["rod.CC"])
 
@@ -131,13 +147,18 @@ def test_curves_carry_the_result_columns(slotting):
     fig = pl.torque_curves(slotting, dpi=40)
     ax = fig.axes[0]
     curves = {ln.get_label().split(" (")[0]: ln for ln in ax.lines if len(ln.get_xdata()) == len(x)}
-    np.testing.assert_array_equal(curves["without friction"].get_ydata(), slotting["motor.torque"][order])
-    np.testing.assert_array_equal(curves["with friction, consistent"].get_ydata(),
-                                  slotting["motor.torque_friction"][order])
+    np.testing.assert_array_equal(
+        curves["without friction"].get_ydata(), slotting["motor.torque"][order]
+    )
+    np.testing.assert_array_equal(
+        curves["with friction, consistent"].get_ydata(), slotting["motor.torque_friction"][order]
+    )
     assert "N·m" in ax.get_ylabel() and "deg" in ax.get_xlabel()
     fig = pl.motion_diagram(slotting, dpi=40)
     s, v, a = (ax.lines[0].get_ydata() for ax in fig.axes[:3])
-    np.testing.assert_allclose(s, (slotting["ram.C.y"][order]) * 1e3, atol=1e-9)   # guide point y = 0
+    np.testing.assert_allclose(
+        s, (slotting["ram.C.y"][order]) * 1e3, atol=1e-9
+    )  # guide point y = 0
     np.testing.assert_allclose(v, slotting["ram.C.vy"][order], atol=1e-12)
     np.testing.assert_allclose(a, slotting["ram.C.ay"][order], atol=1e-12)
     assert [ax.get_ylabel().split(", ")[-1] for ax in fig.axes[:3]] == ["mm", "m/s", "m/s²"]
@@ -170,7 +191,7 @@ def test_polar_diagrams_in_the_link_frame(slotting):
     along = slotting["B.Fx"] * np.cos(th) + slotting["B.Fy"] * np.sin(th)
     np.testing.assert_allclose(F[:, 0], along, atol=1e-9)
     fig = pl.polar_diagrams(slotting, dpi=40)
-    assert len([ax for ax in fig.axes if ax.lines]) == 5            # the revolute joints
+    assert len([ax for ax in fig.axes if ax.lines]) == 5  # the revolute joints
 
 
 def test_polygon_figure_states_its_scale(slotting):
@@ -190,9 +211,24 @@ def test_polygon_figure_states_its_scale(slotting):
 
 def test_animation_has_the_requested_frames(tmp_path, capsys):
     from PIL import Image
+
     out = tmp_path / "cycle.gif"
-    assert main(["animate", str(ROOT / "mechanisms" / "slotting_machine.yaml"), "--out", str(out),
-                 "--frames", "5", "--forces", "--dpi", "40"]) == 0
+    assert (
+        main(
+            [
+                "animate",
+                str(ROOT / "mechanisms" / "slotting_machine.yaml"),
+                "--out",
+                str(out),
+                "--frames",
+                "5",
+                "--forces",
+                "--dpi",
+                "40",
+            ]
+        )
+        == 0
+    )
     with Image.open(out) as im:
         assert im.n_frames == 5
     assert "5 frames" in capsys.readouterr().out
@@ -200,24 +236,57 @@ def test_animation_has_the_requested_frames(tmp_path, capsys):
 
 def test_mp4_needs_ffmpeg(slider_crank, tmp_path, monkeypatch):
     import shutil
+
     monkeypatch.setattr(shutil, "which", lambda name: None)
     with pytest.raises(pl.PictureError, match="needs ffmpeg"):
         pl.animate(slider_crank, tmp_path / "a.mp4")
 
 
 def test_cli_plot_at_a_position_between_rows(tmp_path, capsys):
-    assert main(["plot", str(ROOT / "mechanisms" / "slider_crank.yaml"), "--out", str(tmp_path),
-                 "--what", "drawing", "velocity", "--position", "47.5", "--dpi", "40"]) == 0
+    assert (
+        main(
+            [
+                "plot",
+                str(ROOT / "mechanisms" / "slider_crank.yaml"),
+                "--out",
+                str(tmp_path),
+                "--what",
+                "drawing",
+                "velocity",
+                "--position",
+                "47.5",
+                "--dpi",
+                "40",
+            ]
+        )
+        == 0
+    )
     assert sorted(p.name for p in tmp_path.iterdir()) == ["drawing.png", "velocity.png"]
-    assert main(["plot", str(ROOT / "mechanisms" / "slider_crank.yaml"), "--out", str(tmp_path),
-                 "--what", "motion", "--output", "rodd"]) == 2
+    assert (
+        main(
+            [
+                "plot",
+                str(ROOT / "mechanisms" / "slider_crank.yaml"),
+                "--out",
+                str(tmp_path),
+                "--what",
+                "motion",
+                "--output",
+                "rodd",
+            ]
+        )
+        == 2
+    )
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "did you mean 'rod'" in err[0]
 
 
 def test_importing_the_picture_modules_is_light():
     import subprocess
-    code = ("import sys, kinetostatics.plotting, kinetostatics.report, kinetostatics.cli_pictures;"
-            "print(any(m.startswith('matplotlib') for m in sys.modules))")
+
+    code = (
+        "import sys, kinetostatics.plotting, kinetostatics.report, kinetostatics.cli_pictures;"
+        "print(any(m.startswith('matplotlib') for m in sys.modules))"
+    )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"

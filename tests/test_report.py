@@ -24,7 +24,9 @@ def _md_tables(text):
     tables, cur = [], None
     for line in text.splitlines():
         if line.startswith("|"):
-            cells = [c.strip().replace("\\|", "|") for c in re.split(r"(?<!\\)\|", line.strip())[1:-1]]
+            cells = [
+                c.strip().replace("\\|", "|") for c in re.split(r"(?<!\\)\|", line.strip())[1:-1]
+            ]
             if cur is None:
                 cur = [cells]
             elif not set("".join(cells)) <= set("-"):
@@ -73,7 +75,7 @@ def _check_against_csv(tables, header, rows):
         names = [h.rsplit(" (", 1)[0] for h in t[0][2:]]
         units = [h.rsplit(" (", 1)[1] for h in t[0][2:]]
         cols = [header.index(n) for n in names]
-        scale = {}                          # "0" stands for round-off: ≤ 1e-9 of the unit's largest
+        scale = {}  # "0" stands for round-off: ≤ 1e-9 of the unit's largest
         for u, c in zip(units, cols):
             vals = [abs(float(r[c])) for r in rows if r[c] != ""]
             scale[u] = max(scale.get(u, 0.0), max(vals) if vals else 0.0)
@@ -95,8 +97,21 @@ def _check_against_csv(tables, header, rows):
 @pytest.fixture(scope="module")
 def slotting_report(tmp_path_factory):
     out = tmp_path_factory.mktemp("report")
-    assert main(["report", str(ROOT / "mechanisms" / "slotting_machine.yaml"), "--out", str(out),
-                 "--polygons", "8'", "--dpi", "30"]) == 0
+    assert (
+        main(
+            [
+                "report",
+                str(ROOT / "mechanisms" / "slotting_machine.yaml"),
+                "--out",
+                str(out),
+                "--polygons",
+                "8'",
+                "--dpi",
+                "30",
+            ]
+        )
+        == 0
+    )
     return out
 
 
@@ -106,17 +121,39 @@ def test_markdown_tables_are_the_csv_rows(slotting_report):
     tables = _md_tables(md)
     assert _check_against_csv(tables, header, rows) > 500
     positions = next(t for t in tables if t[0][:2] == ["pos.", "CSV row"])
-    assert [r[0] for r in positions[1:]] == ["1", "1′", "2", "3", "4", "5", "6", "7", "8", "8′",
-                                             "9", "10", "11", "12"]
+    assert [r[0] for r in positions[1:]] == [
+        "1",
+        "1′",
+        "2",
+        "3",
+        "4",
+        "5",
+        "6",
+        "7",
+        "8",
+        "8′",
+        "9",
+        "10",
+        "11",
+        "12",
+    ]
     angle = positions[0].index("angle (deg)")
     got = {r[0]: float(r[angle]) for r in positions[1:]}
     assert got["7"] == pytest.approx(120) and got["1"] == pytest.approx(300)
-    assert got["1′"] == pytest.approx(270.42, abs=0.01) and got["8′"] == pytest.approx(88.632, abs=1e-3)
-    for section in ("Data", "Structure", "RPR dyad {block, bar}", "RRP dyad {rod, ram}",
-                    "Velocity and acceleration polygons", "Polar diagrams"):
+    assert got["1′"] == pytest.approx(270.42, abs=0.01) and got["8′"] == pytest.approx(
+        88.632, abs=1e-3
+    )
+    for section in (
+        "Data",
+        "Structure",
+        "RPR dyad {block, bar}",
+        "RRP dyad {rod, ram}",
+        "Velocity and acceleration polygons",
+        "Polar diagrams",
+    ):
         assert section in md
     asks = "\nflywheel:" in (ROOT / "mechanisms" / "slotting_machine.yaml").read_text()
-    assert ("## 9. Flywheel" in md) == asks           # the section follows the file's request
+    assert ("## 9. Flywheel" in md) == asks  # the section follows the file's request
     for ref in re.findall(r"\]\((img/[^)]+)\)", md):
         assert (slotting_report / ref).is_file(), ref
     assert "img/velocity_8p.png" in md and "img/acceleration_8p.png" in md
@@ -134,16 +171,25 @@ def test_html_is_self_contained_and_equals_the_csv(slotting_report):
 
 def test_flywheel_section_when_the_summary_has_one(tmp_path, monkeypatch):
     from kinetostatics.results import Result
+
     original = Result.summary
 
     def with_flywheel(self):
         s = original(self)
-        s["flywheel"] = {"delta": 0.04, "inertia": 1.2345, "unit": "kg*m^2",
-                         "omega": {"max": 31.9, "min": 30.9}}
+        s["flywheel"] = {
+            "delta": 0.04,
+            "inertia": 1.2345,
+            "unit": "kg*m^2",
+            "omega": {"max": 31.9, "min": 30.9},
+        }
         return s
+
     monkeypatch.setattr(Result, "summary", with_flywheel)
     from kinetostatics.report import write_report
-    paths = write_report(ROOT / "mechanisms" / "slider_crank.yaml", tmp_path, polygons=["2"], dpi=30)
+
+    paths = write_report(
+        ROOT / "mechanisms" / "slider_crank.yaml", tmp_path, polygons=["2"], dpi=30
+    )
     md = paths["markdown"].read_text()
     assert "## 9. Flywheel" in md
     assert "| inertia | 1.2345 |" in md and "| omega.max | 31.9 |" in md
@@ -153,7 +199,18 @@ def test_flywheel_section_when_the_summary_has_one(tmp_path, monkeypatch):
 
 
 def test_unknown_polygon_position_is_one_line(tmp_path, capsys):
-    assert main(["report", str(ROOT / "mechanisms" / "slider_crank.yaml"), "--out", str(tmp_path),
-                 "--polygons", "13"]) == 2
+    assert (
+        main(
+            [
+                "report",
+                str(ROOT / "mechanisms" / "slider_crank.yaml"),
+                "--out",
+                str(tmp_path),
+                "--polygons",
+                "13",
+            ]
+        )
+        == 2
+    )
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "no course position '13'" in err[0]

@@ -51,10 +51,12 @@ CASES = {
     "10 rpm": ("mechanisms/slider_crank.yaml", ("speed: 300", "speed: 10")),
     "20,000 rpm": ("mechanisms/slider_crank.yaml", ("speed: 300", "speed: 20000")),
     "heavy slider, light rod (1e6)": ("tests/hard/slider_crank_mass_ratio.yaml",),
-    "light slider, heavy rod (1e6)": ("tests/hard/slider_crank_mass_ratio.yaml",
-                                      ("m_rod: 1.0e-3", "m_rod: 1000"),
-                                      ("J_rod: 1.0e-5", "J_rod: 10"),
-                                      ("m_slider: 1000", "m_slider: 1.0e-3")),
+    "light slider, heavy rod (1e6)": (
+        "tests/hard/slider_crank_mass_ratio.yaml",
+        ("m_rod: 1.0e-3", "m_rod: 1000"),
+        ("J_rod: 1.0e-5", "J_rod: 10"),
+        ("m_slider: 1000", "m_slider: 1.0e-3"),
+    ),
 }
 
 
@@ -74,12 +76,22 @@ def oracle(system: ks.System) -> cf.SliderCrank:
         a=float(crank.points["A"][0] - crank.points["O"][0]),
         b=float(rod.points["B"][0] - rod.points["A"][0]),
         e=float(m.link(m.ground.name).points["guide"][1]),
-        r1=float(-crank.points["O"][0]), r2=float(-rod.points["A"][0]),
-        m1=crank.mass, m2=rod.mass, m3=slider.mass, J1=crank.inertia, J2=rod.inertia,
-        omega1=float(m.drivers[0].motion.speed), g=tuple(float(x) for x in m.gravity),
+        r1=float(-crank.points["O"][0]),
+        r2=float(-rod.points["A"][0]),
+        m1=crank.mass,
+        m2=rod.mass,
+        m3=slider.mass,
+        J1=crank.inertia,
+        J2=rod.inertia,
+        omega1=float(m.drivers[0].motion.speed),
+        g=tuple(float(x) for x in m.gravity),
         Fr=float(np.ravel(load.value)[0]),
-        rho_O=m.joint("O").rho, rho_A=m.joint("A").rho, rho_B=m.joint("B").rho,
-        f=m.joint("slide").f, L_ref=system.l_ref)
+        rho_O=m.joint("O").rho,
+        rho_A=m.joint("A").rho,
+        rho_B=m.joint("B").rho,
+        f=m.joint("slide").f,
+        L_ref=system.l_ref,
+    )
 
 
 def _columns(x, ref) -> float:
@@ -129,11 +141,14 @@ def errors(m: ks.Model, general: bool = False) -> Errors:
     eq9 = cf.friction_approx_torque_eq9(p, phi)
     return Errors(
         pose=float(np.max(np.abs(d))),
-        velocity=_columns(r.qd, qd), acceleration=_columns(r.qdd, qdd),
+        velocity=_columns(r.qd, qd),
+        acceleration=_columns(r.qdd, qdd),
         reactions=max(rel),
         torque=float(np.max(np.abs(r["motor.torque"] - reac["M1"])) / np.max(np.abs(reac["M1"]))),
-        torque_friction=float(np.max(np.abs(r["motor.torque_friction_approx"] - eq9))
-                              / np.max(np.abs(eq9))))
+        torque_friction=float(
+            np.max(np.abs(r["motor.torque_friction_approx"] - eq9)) / np.max(np.abs(eq9))
+        ),
+    )
 
 
 @pytest.mark.parametrize("general", [False, True], ids=["fast path", "Newton path"])
@@ -150,8 +165,10 @@ def test_the_cases_are_extreme():
     assert sizes["20 m (10 rpm)"] == pytest.approx(20.0)
     speeds = {c: abs(model(c).drivers[0].motion.speed) * 60 / (2 * np.pi) for c in CASES}
     assert speeds["10 rpm"] == pytest.approx(10) and speeds["20,000 rpm"] == pytest.approx(20000)
-    for c, heavy, light in (("heavy slider, light rod (1e6)", "slider", "rod"),
-                            ("light slider, heavy rod (1e6)", "rod", "slider")):
+    for c, heavy, light in (
+        ("heavy slider, light rod (1e6)", "slider", "rod"),
+        ("light slider, heavy rod (1e6)", "rod", "slider"),
+    ):
         m = model(c)
         assert m.link(heavy).mass / m.link(light).mass == pytest.approx(1e6)
 
@@ -160,6 +177,7 @@ def test_general_path_really_runs_newton(monkeypatch):
     """With the closed forms disabled the solve iterates (the Newton path is tested)."""
     from kinetostatics.analysis import _schedule, _times
     from kinetostatics.positions import solve_positions
+
     monkeypatch.setattr(dyads, "closed_form", lambda *a, **k: None)
     system = ks.build_system(model("micro (µm, 20,000 rpm)"))
     sched = _schedule(system)
@@ -169,19 +187,24 @@ def test_general_path_really_runs_newton(monkeypatch):
 
 def _micro(scale: str) -> ks.Model:
     """The micro slider-crank with every length multiplied by ``scale``."""
-    text, name = _sub("tests/hard/slider_crank_micro.yaml",
-                      ("{a: 100, b: 350, e: -20, r1: 30, r2: 120}",
-                       "{s: %s, a: 100*s, b: 350*s, e: -20*s, r1: 30*s, r2: 120*s}" % scale),
-                      ("{A: [100, 0], B: [440, -20]}", "{A: [100*s, 0], B: [440*s, -20*s]}"),
-                      ("radius: 1.5}", "radius: 1.5*s}"), ("radius: 1.2}", "radius: 1.2*s}"),
-                      ("radius: 1.0}", "radius: 1.0*s}"))
+    text, name = _sub(
+        "tests/hard/slider_crank_micro.yaml",
+        (
+            "{a: 100, b: 350, e: -20, r1: 30, r2: 120}",
+            "{s: %s, a: 100*s, b: 350*s, e: -20*s, r1: 30*s, r2: 120*s}" % scale,
+        ),
+        ("{A: [100, 0], B: [440, -20]}", "{A: [100*s, 0], B: [440*s, -20*s]}"),
+        ("radius: 1.5}", "radius: 1.5*s}"),
+        ("radius: 1.2}", "radius: 1.2*s}"),
+        ("radius: 1.0}", "radius: 1.0*s}"),
+    )
     return ks.loads(text, file=name)
 
 
 def test_condition_number_does_not_depend_on_scale(recwarn):
-    base = ks.analyze(_micro("1"))["rod_slider.cond"]            # 350 µm rod
-    small = ks.analyze(_micro("0.1"))["rod_slider.cond"]         # 35 µm rod
+    base = ks.analyze(_micro("1"))["rod_slider.cond"]  # 350 µm rod
+    small = ks.analyze(_micro("0.1"))["rod_slider.cond"]  # 35 µm rod
     assert not [w for w in recwarn if issubclass(w.category, ks.NearSingularWarning)]
     np.testing.assert_allclose(small, base, rtol=1e-6)
-    tiny = errors(_micro("0.01"))                                # 3.5 µm rod: must assemble
+    tiny = errors(_micro("0.01"))  # 3.5 µm rod: must assemble
     assert tiny.worst <= LIMIT

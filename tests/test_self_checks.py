@@ -48,10 +48,11 @@ def slider():
 def test_the_numbers_behind_the_checks(slider):
     c = slider.checks
     l_ref = slider.system.l_ref
-    assert c.power.value == pytest.approx(np.max(np.abs(slider["power.residual"]))
-                                          / np.max(np.abs(slider["power.input"])))
+    assert c.power.value == pytest.approx(
+        np.max(np.abs(slider["power.residual"])) / np.max(np.abs(slider["power.input"]))
+    )
     # B sketched at [440, -20] mm; assembled at crank 0 it is at a + sqrt(b² − e²)
-    b_x = 0.1 + np.sqrt(0.35 ** 2 - 0.02 ** 2)
+    b_x = 0.1 + np.sqrt(0.35**2 - 0.02**2)
     assert c.sketch.value * l_ref == pytest.approx(abs(0.44 - b_x), rel=1e-9)
     assert c.sketch.to_dict()["point"] == "B"
     assert c.cond.value == pytest.approx(np.max(slider["rod_slider.cond"]))
@@ -62,13 +63,13 @@ def test_the_numbers_behind_the_checks(slider):
 
 def test_a_corrupted_result_fails_the_constraint_check(slider):
     q = slider.q.copy()
-    q[17, 3 * slider.system.link_index("rod")] += 1e-6          # the rod moved by 1 µm
+    q[17, 3 * slider.system.link_index("rod")] += 1e-6  # the rod moved by 1 µm
     bad = dataclasses.replace(slider, q=q).checks
     assert not bad.ok
     assert [c.name for c in bad.failed()] == ["constraints"]
     assert bad.constraints.value == pytest.approx(1e-6 / slider.system.l_ref, rel=1e-6)
     assert bad.constraints.where == f"angle {slider['angle'][17]:.4g}°"
-    assert "constraints" in bad.warning() and slider.checks.ok     # the original is untouched
+    assert "constraints" in bad.warning() and slider.checks.ok  # the original is untouched
 
 
 def test_kinematics_only_has_no_power_or_friction_check():
@@ -81,12 +82,15 @@ def test_self_locking_fails_the_friction_check():
     c = ks.analyze(ks.load(ROOT / "tests" / "hard" / "slider_crank_self_locking.yaml")).checks
     assert c.friction_status[2] > 0
     assert [x.name for x in c.failed()] == ["friction"]
-    assert c.power_friction.ok                  # the rows that have a solution balance
+    assert c.power_friction.ok  # the rows that have a solution balance
 
 
 def test_the_mirrored_jaw_crusher_is_refused_with_the_point_named():
-    with pytest.raises(ModelError, match=r"jaw_crusher_mirrored\.yaml:78:3: sketch\.C: C is "
-                                         r"assembled 5\d\d\.\d mm from its sketched position"):
+    with pytest.raises(
+        ModelError,
+        match=r"jaw_crusher_mirrored\.yaml:78:3: sketch\.C: C is "
+        r"assembled 5\d\d\.\d mm from its sketched position",
+    ):
         ks.analyze(ks.load(ROOT / "tests" / "hard" / "jaw_crusher_mirrored.yaml"))
 
 

@@ -81,6 +81,7 @@ def test_dead_centres_are_flagged_rows_not_a_crash(grid):
     assert [s["group"] for s in summary["singular_positions"]] == ["equilibrium"] * 2
     assert np.isfinite(summary["reaction_peaks"]["O"]["peak"])
     from kinetostatics.variants import summary_row
+
     assert np.isfinite(summary_row(grid)["O.reaction_peak"])
 
 
@@ -108,7 +109,7 @@ def test_frictionless_run_flags_the_same_rows():
 
 
 def test_locked_rows_on_the_grid_match_the_closed_form(grid):
-    e = _edge_deg()                                     # 1.4835°: rows 359, 0, 1 locked
+    e = _edge_deg()  # 1.4835°: rows 359, 0, 1 locked
     ang = grid["angle"]
     inside = (ang < e) | (ang > 360 - e)
     locked = grid["friction.status"] == 2
@@ -124,8 +125,12 @@ def test_locked_rows_on_the_grid_match_the_closed_form(grid):
 @pytest.mark.parametrize("slide_f", [None, "0.30"])
 @pytest.mark.parametrize("eps", [1e-4, 1e-6, 1e-7])
 def test_rows_beside_the_edges_are_solved_or_locked_as_the_closed_form_says(eps, slide_f):
-    model = ks.load(CASE) if slide_f is None else _model(**{r"coefficient: 0.10": f"coefficient: {slide_f}"})
-    e = _edge_deg()                                     # the slide's friction does not move it
+    model = (
+        ks.load(CASE)
+        if slide_f is None
+        else _model(**{r"coefficient: 0.10": f"coefficient: {slide_f}"})
+    )
+    e = _edge_deg()  # the slide's friction does not move it
     outside = np.array([e + eps, -e - eps])
     inside = np.array([e - eps, -e + eps])
     r = _quiet(model, positions=np.radians(np.concatenate((outside, inside))))
@@ -142,8 +147,13 @@ def test_rows_beside_the_edges_are_solved_or_locked_as_the_closed_form_says(eps,
 
 def test_friction_only_at_the_slide_locks_only_the_dead_centres():
     # reduced case: ρ = 0 at O, A, B; then γ = 0: the edges are the dead centres
-    model = _model(**{r"radius: 1.5\}": "radius: 0.0}", r"radius: 1.2\}": "radius: 0.0}",
-                      r"radius: 1.0\}": "radius: 0.0}"})
+    model = _model(
+        **{
+            r"radius: 1.5\}": "radius: 0.0}",
+            r"radius: 1.2\}": "radius: 0.0}",
+            r"radius: 1.0\}": "radius: 0.0}",
+        }
+    )
     assert _edge_deg(0.0, 0.0, 0.0) == 0.0
     ang = np.array([-1e-4, 1e-4, 0.0, 180 - 1e-4, 180 + 1e-4, 180.0])
     r = _quiet(model, positions=np.radians(ang))
@@ -163,14 +173,19 @@ def test_reported_zone_edges_match_the_closed_form(grid):
     # crank speed, ẋ_B/(ω L_ref) = a sin δ (1 − a cos δ/√(b² − a² sin² δ))/L_ref ≈ a δ (1 − a/b)
     # /L_ref (L_ref = b), is at most reactions.EFFORT_SPEED_TOL: no effort to round-off there
     from kinetostatics.reactions import EFFORT_SPEED_TOL
-    half = np.degrees(EFFORT_SPEED_TOL * B / (A * (1 - A / B)))        # 2.8e-5°
+
+    half = np.degrees(EFFORT_SPEED_TOL * B / (A * (1 - A / B)))  # 2.8e-5°
     dead = [z for z in zones if z["rows"] == 1]
-    assert len(dead) == 1 and dead[0]["from"] == pytest.approx(180 - half, abs=1e-6) \
+    assert (
+        len(dead) == 1
+        and dead[0]["from"] == pytest.approx(180 - half, abs=1e-6)
         and dead[0]["to"] == pytest.approx(180 + half, abs=1e-6)
+    )
 
 
 def test_run_reports_the_rows_and_zones(tmp_path, capsys):
     from kinetostatics.cli import main
+
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         assert main(["run", CASE, "--out", str(tmp_path)]) == 0

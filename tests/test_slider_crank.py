@@ -32,11 +32,23 @@ def test_kinematics_match_closed_form(case):
     k = cf.kinematics(p, phi1)
     assert rel_err(r["crank.omega"], np.full_like(phi1, p.omega1)) < 1e-12
     assert rel_err(np.unwrap(np.radians(r["rod.theta"])), np.unwrap(k["phi2"])) < 1e-9
-    for ours, theirs in [("rod.omega", "omega2"), ("rod.alpha", "alpha2"), ("slider.x", "xB"),
-                         ("slider.vx", "vB"), ("slider.ax", "aB"), ("rod.x", "S2_x"),
-                         ("rod.y", "S2_y"), ("rod.vx", "S2_vx"), ("rod.vy", "S2_vy"),
-                         ("rod.ax", "S2_ax"), ("rod.ay", "S2_ay"), ("crank.ax", "S1_ax"),
-                         ("crank.A.x", "A_x"), ("crank.A.vy", "A_vy"), ("rod.A.ay", "A_ay")]:
+    for ours, theirs in [
+        ("rod.omega", "omega2"),
+        ("rod.alpha", "alpha2"),
+        ("slider.x", "xB"),
+        ("slider.vx", "vB"),
+        ("slider.ax", "aB"),
+        ("rod.x", "S2_x"),
+        ("rod.y", "S2_y"),
+        ("rod.vx", "S2_vx"),
+        ("rod.vy", "S2_vy"),
+        ("rod.ax", "S2_ax"),
+        ("rod.ay", "S2_ay"),
+        ("crank.ax", "S1_ax"),
+        ("crank.A.x", "A_x"),
+        ("crank.A.vy", "A_vy"),
+        ("rod.A.ay", "A_ay"),
+    ]:
         assert rel_err(r[ours], k[theirs]) < 1e-9, ours
 
 
@@ -53,13 +65,20 @@ def test_reactions_and_torque_match_closed_form(case):
 
 def test_approximate_friction_torque_is_eq9(case):
     r, p = case
-    assert rel_err(r["motor.torque_friction_approx"],
-                   cf.friction_approx_torque_eq9(p, np.radians(r["angle"]))) < 1e-9
+    assert (
+        rel_err(
+            r["motor.torque_friction_approx"],
+            cf.friction_approx_torque_eq9(p, np.radians(r["angle"])),
+        )
+        < 1e-9
+    )
 
 
 def test_power_balance_frictionless_and_consistent(case):
     r, _ = case
-    scale = max(np.max(np.abs(r[f"power.{k}"])) for k in ("input", "kinetic", "potential", "external"))
+    scale = max(
+        np.max(np.abs(r[f"power.{k}"])) for k in ("input", "kinetic", "potential", "external")
+    )
     assert np.max(np.abs(r["power.residual"])) <= 1e-9 * scale
     ok = np.isin(r["friction.status"], (0, 1, 3))
     assert ok.all()

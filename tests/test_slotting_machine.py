@@ -43,8 +43,8 @@ def test_course_design_positions(result):
     expected = (300.0 - 30.0 * np.arange(12)) % 360.0
     np.testing.assert_allclose(result["angle"][rows], expected, atol=1e-9)
     y = result["ram.y"]
-    assert np.argmax(y) == 0                      # position 1: ram at the top
-    assert np.argmin(y) == 240                    # position 9 (row 240): at the bottom
+    assert np.argmax(y) == 0  # position 1: ram at the top
+    assert np.argmin(y) == 240  # position 9 (row 240): at the bottom
     # O2A ⟂ O3A at position 1 (the guide bar is tangent to the crank circle)
     a = np.array([result["crank.A.x"][0], result["crank.A.y"][0]])
     o2 = np.array([-0.150, 0.0])
@@ -72,6 +72,11 @@ def test_derivatives_match_central_differences(model):
 
 
 def test_frictionless_power_balance(result):
-    scale = max(np.max(np.abs(result[f"power.{k}"])) for k in ("input", "kinetic", "potential", "external"))
+    scale = max(
+        np.max(np.abs(result[f"power.{k}"])) for k in ("input", "kinetic", "potential", "external")
+    )
     assert np.max(np.abs(result["power.residual"])) <= 1e-9 * scale
-    assert np.max(np.abs(result["power.residual_friction"][result["friction.status"] < 2])) <= 1e-9 * scale
+    assert (
+        np.max(np.abs(result["power.residual_friction"][result["friction.status"] < 2]))
+        <= 1e-9 * scale
+    )

@@ -39,8 +39,8 @@ def test_loops_rank_test_accepts_any_basis_and_rejects_dependent_sets():
     where = ks.errors.Location("m.yaml", path="loops")
     small = ("O3", "B", "C", "guide")
     big = ("O2", "A", "slot", "B", "C", "guide")
-    other = ("O2", "A", "slot", "O3")               # the crank–bar loop
-    check_loops(g, (small, other), where)           # a different basis passes
+    other = ("O2", "A", "slot", "O3")  # the crank–bar loop
+    check_loops(g, (small, other), where)  # a different basis passes
     check_loops(g, (big, other), where)
     with pytest.raises(StructureError, match="not independent"):
         check_loops(g, (small, small[::-1]), where)
@@ -53,4 +53,3 @@ def test_loops_rank_test_accepts_any_basis_and_rejects_dependent_sets():
 def test_user_loops_in_yaml_are_checked():
     model = variant("slider_crank", loops=(r"\ndrivers:", "\nloops: [[O, A, B, slide]]\ndrivers:"))
     assert ks.build_system(model).structure.loops == (("O", "A", "B", "slide"),)
-

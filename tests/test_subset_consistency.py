@@ -17,9 +17,9 @@ import pytest
 import kinetostatics as ks
 from tests.conftest import MECHANISMS
 
-N = 72                       # positions of the reference run (5° steps)
+N = 72  # positions of the reference run (5° steps)
 RTOL = 1e-9
-SKIP = ("time", "travel", "friction.iterations")   # run-relative or solver bookkeeping
+SKIP = ("time", "travel", "friction.iterations")  # run-relative or solver bookkeeping
 
 
 def _analysable(path):
@@ -43,14 +43,16 @@ def _compare(ref, rows, other, other_rows, scale, what):
         if name in SKIP:
             continue
         a, b = np.asarray(ref[name])[rows], np.asarray(other[name])[other_rows]
-        if name.endswith(".theta") or name == "angle":      # unwrapped along each run
+        if name.endswith(".theta") or name == "angle":  # unwrapped along each run
             d = (a - b + 180.0) % 360.0 - 180.0
         else:
             d = a - b
         both_nan = np.isnan(a) & np.isnan(b)
         bad = ~both_nan & ~(np.abs(d) <= RTOL * scale[name] + 1e-300)
-        assert not bad.any(), (f"{what}: {name} differs at {np.count_nonzero(bad)} row(s), "
-                               f"e.g. {a[bad][0]!r} vs {b[bad][0]!r} (scale {scale[name]:.3g})")
+        assert not bad.any(), (
+            f"{what}: {name} differs at {np.count_nonzero(bad)} row(s), "
+            f"e.g. {a[bad][0]!r} vs {b[bad][0]!r} (scale {scale[name]:.3g})"
+        )
 
 
 @pytest.fixture(scope="module", params=CASES, ids=[p.stem for p in CASES])
@@ -62,12 +64,18 @@ def reference(request):
     for name in ref.columns:
         col = np.asarray(ref[name], dtype=float)
         scale[name] = float(np.nanmax(np.abs(col), initial=0.0)) if np.isfinite(col).any() else 0.0
-    unit = {}                  # a column that stays ~0 (a fixed pivot) takes its unit's scale
+    unit = {}  # a column that stays ~0 (a fixed pivot) takes its unit's scale
     for name, s in scale.items():
         u = ref.units.get(name)
         unit[u] = max(unit.get(u, 0.0), s)
-    scale = {name: max(s, (1.0 if name.startswith("power.residual") else 1e-6)  # a residual's
-                       * unit[ref.units.get(name)]) for name, s in scale.items()}  # scale: power's
+    scale = {
+        name: max(
+            s,
+            (1.0 if name.startswith("power.residual") else 1e-6)  # a residual's
+            * unit[ref.units.get(name)],
+        )
+        for name, s in scale.items()
+    }  # scale: power's
     return request.param, model, ref, scale
 
 
@@ -77,7 +85,7 @@ def test_a_random_subset_of_positions(reference):
     sub = ks.analyze(model, positions=ref.coordinate[rows])
     _compare(ref, rows, sub, np.arange(len(rows)), scale, "positions= subset")
     for k in rows[::2]:
-        one = ks.analyze(model, positions=ref.coordinate[k:k + 1])
+        one = ks.analyze(model, positions=ref.coordinate[k : k + 1])
         _compare(ref, [k], one, [0], scale, f"the single position of row {k}")
 
 
@@ -86,14 +94,18 @@ def _sketch_at(result, k):
     sketch is a rough pose at ``analysis.start``: another start needs its own)."""
     from kinetostatics.forces import point_state
     from kinetostatics.positions import _joint_points
+
     system = result.system
     model = system.model
     moving = set(system.links)
     sketch = {}
     for key, pos in model.sketch.items():
         link, dot, name = key.partition(".")
-        pairs = ([(link, model.link(link).points[name])] if dot else
-                 list(_joint_points(model.joint(key))))
+        pairs = (
+            [(link, model.link(link).points[name])]
+            if dot
+            else list(_joint_points(model.joint(key)))
+        )
         pairs = [(n, p) for n, p in pairs if n in moving]
         if not pairs:
             sketch[key] = pos
@@ -107,8 +119,15 @@ def test_another_start_and_a_short_sweep(reference):
     path, model, ref, scale = reference
     k0, n = 41, 6
     step = 2 * np.pi / N
-    short = ks.analyze(replace(model, sketch=_sketch_at(ref, k0), analysis=replace(
-        model.analysis, start=float(ref.coordinate[k0]), sweep=n * step, positions=n)))
+    short = ks.analyze(
+        replace(
+            model,
+            sketch=_sketch_at(ref, k0),
+            analysis=replace(
+                model.analysis, start=float(ref.coordinate[k0]), sweep=n * step, positions=n
+            ),
+        )
+    )
     _compare(ref, (k0 + np.arange(n)) % N, short, np.arange(n), scale, "start/sweep")
 
 
@@ -141,12 +160,12 @@ def test_events_of_a_partial_run_are_the_full_cycle_events_within_it(reference):
     rows = np.array([0, 20, 40, 60])
     part = ks.analyze(model, positions=ref.coordinate[rows], events=True)
     lo, hi = ref.t[rows[0]], ref.t[rows[-1]]
-    want = [(e.load, e.condition, e.switch, e.t) for e in full.events
-            if lo <= e.t <= hi]
+    want = [(e.load, e.condition, e.switch, e.t) for e in full.events if lo <= e.t <= hi]
     got = [(e.load, e.condition, e.switch, e.t) for e in part.events]
     assert [w[:3] for w in want] == [g[:3] for g in got]
-    np.testing.assert_allclose([g[3] for g in got], [w[3] for w in want], rtol=0,
-                               atol=1e-9 * period)
+    np.testing.assert_allclose(
+        [g[3] for g in got], [w[3] for w in want], rtol=0, atol=1e-9 * period
+    )
 
 
 def test_a_start_moved_away_from_the_sketch_keeps_the_sketched_branch(reference):
@@ -156,8 +175,14 @@ def test_a_start_moved_away_from_the_sketch_keeps_the_sketched_branch(reference)
     path, model, ref, scale = reference
     k0, n = 41, 4
     step = 2 * np.pi / N
-    moved = ks.analyze(replace(model, analysis=replace(
-        model.analysis, start=float(ref.coordinate[k0]), sweep=n * step, positions=n)))
+    moved = ks.analyze(
+        replace(
+            model,
+            analysis=replace(
+                model.analysis, start=float(ref.coordinate[k0]), sweep=n * step, positions=n
+            ),
+        )
+    )
     _compare(ref, (k0 + np.arange(n)) % N, moved, np.arange(n), scale, "moved start")
 
 
@@ -167,5 +192,7 @@ def test_the_mirrored_pin_is_refused_whatever_the_start(root):
     model = ks.load(root / "tests" / "hard" / "jaw_crusher_mirrored.yaml")
     for start in (90.0, 200.0):
         with pytest.raises(ks.ModelError, match="sketch.C: C is assembled"):
-            ks.analyze(replace(model, analysis=replace(model.analysis, start=np.radians(start))),
-                       friction=False)
+            ks.analyze(
+                replace(model, analysis=replace(model.analysis, start=np.radians(start))),
+                friction=False,
+            )

@@ -22,21 +22,23 @@ from kinetostatics.system import jacobian, nu
 
 ROOT = Path(__file__).resolve().parents[1]
 MECH = ROOT / "mechanisms"
-GRID = np.radians(np.arange(0.0, 360.0, 0.25))      # driver coordinates, rad
+GRID = np.radians(np.arange(0.0, 360.0, 0.25))  # driver coordinates, rad
 G = np.array([0.0, -9.81])
-L_REF = 0.5                                          # m, the size of every mechanism here
+L_REF = 0.5  # m, the size of every mechanism here
 
 
 @dataclass(frozen=True)
 class Case:
     file: str
     labels: list[str]
-    speed: float                                     # crank speed, rad/s (signed)
+    speed: float  # crank speed, rad/s (signed)
     crank: str
-    mass: dict[str, tuple[float, float]]             # link -> (kg, kg·m²)
-    torques: dict[str, float] = field(default_factory=dict)               # link -> N·m
+    mass: dict[str, tuple[float, float]]  # link -> (kg, kg·m²)
+    torques: dict[str, float] = field(default_factory=dict)  # link -> N·m
     forces: dict[str, tuple[str, tuple[float, float]]] = field(default_factory=dict)
-    revolutes: dict[str, tuple[str, str, float]] = field(default_factory=dict)  # joint -> (i, j, ρ m)
+    revolutes: dict[str, tuple[str, str, float]] = field(
+        default_factory=dict
+    )  # joint -> (i, j, ρ m)
     # prismatic joint -> (axis link i, axis points, slider link j, its point, f, bearing length m)
     prismatics: dict[str, tuple] = field(default_factory=dict)
 
@@ -46,34 +48,63 @@ CASES = {
     "watt": Case(
         "watt_sixbar.yaml",
         ["driven link {crank}", "RRR dyad {coupler, rocker}", "RRR dyad {rod, output}"],
-        120 * RPM, "crank",
-        {"crank": (1.2, 0.0016), "coupler": (2.0, 0.0105), "rocker": (3.0, 0.0120),
-         "rod": (1.8, 0.0095), "output": (1.0, 0.0022)},
+        120 * RPM,
+        "crank",
+        {
+            "crank": (1.2, 0.0016),
+            "coupler": (2.0, 0.0105),
+            "rocker": (3.0, 0.0120),
+            "rod": (1.8, 0.0095),
+            "output": (1.0, 0.0022),
+        },
         torques={"output": -12.0},
-        revolutes={"O2": ("ground", "crank", 1.5e-3), "A": ("crank", "coupler", 10e-3 * 0.12),
-                   "B": ("coupler", "rocker", 1.2e-3), "O4": ("ground", "rocker", 1.5e-3),
-                   "C": ("rocker", "rod", 1.2e-3), "D": ("rod", "output", 1.0e-3),
-                   "O6": ("ground", "output", 1.5e-3)}),
+        revolutes={
+            "O2": ("ground", "crank", 1.5e-3),
+            "A": ("crank", "coupler", 10e-3 * 0.12),
+            "B": ("coupler", "rocker", 1.2e-3),
+            "O4": ("ground", "rocker", 1.5e-3),
+            "C": ("rocker", "rod", 1.2e-3),
+            "D": ("rod", "output", 1.0e-3),
+            "O6": ("ground", "output", 1.5e-3),
+        },
+    ),
     "inverted": Case(
         "inverted_slider_crank.yaml",
         ["driven link {crank}", "RPR dyad {block, rocker}"],
-        -90 * RPM, "crank",
+        -90 * RPM,
+        "crank",
         {"crank": (1.5, 0.0020), "block": (0.6, 0.0002), "rocker": (4.0, 0.068)},
         torques={"rocker": -25.0},
-        revolutes={"O2": ("ground", "crank", 1.5e-3), "A": ("crank", "block", 1.0e-3),
-                   "O4": ("ground", "rocker", 12e-3 * 0.1)},
-        prismatics={"slot": ("rocker", ("slot0", "slot1"), "block", "A", 0.12, 0.040)}),
+        revolutes={
+            "O2": ("ground", "crank", 1.5e-3),
+            "A": ("crank", "block", 1.0e-3),
+            "O4": ("ground", "rocker", 12e-3 * 0.1),
+        },
+        prismatics={"slot": ("rocker", ("slot0", "slot1"), "block", "A", 0.12, 0.040)},
+    ),
     "stephenson": Case(
         "stephenson_sixbar.yaml",
         ["driven link {crank}", "triad {rod, beam, upper, lower}"],
-        200 * RPM, "crank",
-        {"crank": (1.0, 0.0008), "rod": (1.5, 0.0066), "beam": (2.0, 0.0043),
-         "upper": (1.2, 0.0040), "lower": (1.2, 0.0040)},
+        200 * RPM,
+        "crank",
+        {
+            "crank": (1.0, 0.0008),
+            "rod": (1.5, 0.0066),
+            "beam": (2.0, 0.0043),
+            "upper": (1.2, 0.0040),
+            "lower": (1.2, 0.0040),
+        },
         forces={"beam": ("D1", (0.0, -300.0))},
-        revolutes={"O1": ("ground", "crank", 1.5e-3), "A": ("crank", "rod", 1.2e-3),
-                   "D1": ("rod", "beam", 1.0e-3), "D2": ("upper", "beam", 1.0e-3),
-                   "D3": ("lower", "beam", 1.0e-3), "O2": ("ground", "upper", 1.2e-3),
-                   "O3": ("ground", "lower", 1.2e-3)}),
+        revolutes={
+            "O1": ("ground", "crank", 1.5e-3),
+            "A": ("crank", "rod", 1.2e-3),
+            "D1": ("rod", "beam", 1.0e-3),
+            "D2": ("upper", "beam", 1.0e-3),
+            "D3": ("lower", "beam", 1.0e-3),
+            "O2": ("ground", "upper", 1.2e-3),
+            "O3": ("ground", "lower", 1.2e-3),
+        },
+    ),
 }
 IDS = list(CASES)
 
@@ -101,8 +132,13 @@ def omega(result, link, order):
 
 
 def point(result, link, name, order, what=""):
-    return np.stack([col(result, f"{link}.{name}.{what}x", order),
-                     col(result, f"{link}.{name}.{what}y", order)], axis=-1)
+    return np.stack(
+        [
+            col(result, f"{link}.{name}.{what}x", order),
+            col(result, f"{link}.{name}.{what}y", order),
+        ],
+        axis=-1,
+    )
 
 
 # -- structure -------------------------------------------------------------------
@@ -123,7 +159,7 @@ def test_check_command_prints_groups(key, capsys):
     assert main(["check", str(MECH / c.file)]) == 0
     out = capsys.readouterr().out
     at = [out.find(label) for label in c.labels]
-    assert -1 not in at and at == sorted(at), out           # every group, in solve order
+    assert -1 not in at and at == sorted(at), out  # every group, in solve order
 
 
 @pytest.mark.parametrize("key", IDS)
@@ -151,14 +187,23 @@ def test_numerical_mobility_and_closed_loops(case):
     # every revolute: the two links' copies of the pin coincide (ground pins fixed)
     for name, (i, j, _) in c.revolutes.items():
         pj = point(result, j, name, order)
-        pi = (np.broadcast_to(model.link(i).points[name] + model.link(i).com, pj.shape)
-              if i == model.ground.name else point(result, i, name, order))
+        pi = (
+            np.broadcast_to(model.link(i).points[name] + model.link(i).com, pj.shape)
+            if i == model.ground.name
+            else point(result, i, name, order)
+        )
         assert np.max(np.abs(pi - pj)) <= 1e-10 * L_REF, name
     # every prismatic: the slider point on the axis line, no relative rotation
     for name, (i, (a0, a1), j, p, _, _) in c.prismatics.items():
-        a, b, pj = point(result, i, a0, order), point(result, i, a1, order), point(result, j, p, order)
+        a, b, pj = (
+            point(result, i, a0, order),
+            point(result, i, a1, order),
+            point(result, j, p, order),
+        )
         u = (b - a) / np.linalg.norm(b - a, axis=-1, keepdims=True)
-        assert np.max(np.abs(u[:, 0] * (pj - a)[:, 1] - u[:, 1] * (pj - a)[:, 0])) <= 1e-10 * L_REF, name
+        assert (
+            np.max(np.abs(u[:, 0] * (pj - a)[:, 1] - u[:, 1] * (pj - a)[:, 0])) <= 1e-10 * L_REF
+        ), name
         dth = col(result, f"{j}.theta", order) - col(result, f"{i}.theta", order)
         assert np.ptp(dth) <= 1e-9, name
 
@@ -213,7 +258,7 @@ def test_phi_q_qdot_equals_nu(case):
     lhs = np.einsum("nij,nj->ni", jac, qd)
     scale = np.einsum("nij,nj->ni", np.abs(jac), np.abs(qd)).max()
     assert np.max(np.abs(lhs - rhs)) <= 1e-12 * scale
-    assert np.max(np.abs(rhs)) == pytest.approx(abs(c.speed))       # the driver row is live
+    assert np.max(np.abs(rhs)) == pytest.approx(abs(c.speed))  # the driver row is live
     # the crank turns at the prescribed speed
     assert np.allclose(col(result, f"{c.crank}.omega", order), c.speed, rtol=1e-13, atol=0)
 
@@ -246,7 +291,9 @@ def test_frictionless_power_balance(case):
     assert np.max(np.abs(col(result, "power.residual", order))) <= 1e-9 * scale
     # recomputed here: input = torque × crank speed; the other terms from the link columns
     kin, pot, ext, energy = _powers(c, model, result, order)
-    assert np.allclose(p_in, col(result, "motor.torque", order) * c.speed, rtol=0, atol=1e-12 * scale)
+    assert np.allclose(
+        p_in, col(result, "motor.torque", order) * c.speed, rtol=0, atol=1e-12 * scale
+    )
     assert np.max(np.abs(p_in - kin - pot - ext)) <= 1e-9 * scale
     assert rel(col(result, "power.kinetic", order), kin) <= 1e-12
     assert rel(col(result, "power.potential", order), pot) <= 1e-12
@@ -255,7 +302,7 @@ def test_frictionless_power_balance(case):
     assert rel(_central(energy, h), kin[2:-2]) <= 1e-5
     # all loads are conservative over a cycle: the mean input power is zero
     assert abs(np.mean(p_in)) <= 1e-9 * scale
-    assert np.max(np.abs(p_in)) > 1.0                                  # not trivially zero
+    assert np.max(np.abs(p_in)) > 1.0  # not trivially zero
 
 
 def _relative_speeds(c, result, order):
@@ -268,8 +315,9 @@ def _relative_speeds(c, result, order):
         u = (b - a) / np.linalg.norm(b - a, axis=-1, keepdims=True)
         va, vp = point(result, i, a0, order, "v"), point(result, j, p, order, "v")
         perp = np.stack([-u[:, 1], u[:, 0]], -1)
-        rate = np.sum((vp - va) * u, -1) + np.sum((point(result, j, p, order) - a)
-                                                   * perp, -1) * omega(result, i, order)
+        rate = np.sum((vp - va) * u, -1) + np.sum(
+            (point(result, j, p, order) - a) * perp, -1
+        ) * omega(result, i, order)
         out[name] = rate
     return out
 
@@ -278,7 +326,7 @@ def test_friction_laws_and_power_balance(case):
     c, model, result, order = case
     status = col(result, "friction.status", order)
     ok = (status == 0) | (status == 1)
-    assert ok.mean() > 0.99                     # zero relative speed only at isolated positions
+    assert ok.mean() > 0.99  # zero relative speed only at isolated positions
     assert not np.any(status == 2)
     speeds = _relative_speeds(c, result, order)
     # the ṡ computed here is the derivative of s = (P − A)·u
@@ -298,14 +346,17 @@ def test_friction_laws_and_power_balance(case):
     loss = np.zeros(len(order))
     for name, (i, j, rho) in c.revolutes.items():
         mf = col(result, f"{name}.friction", order)
-        fr = np.hypot(col(result, f"{name}.Fx_friction", order), col(result, f"{name}.Fy_friction", order))
+        fr = np.hypot(
+            col(result, f"{name}.Fx_friction", order), col(result, f"{name}.Fy_friction", order)
+        )
         f0 = np.hypot(col(result, f"{name}.Fx", order), col(result, f"{name}.Fy", order))
         moving = ok & (np.abs(speeds[name]) > 1e-6 * abs(c.speed))
         assert np.allclose(np.abs(mf[ok]), rho * fr[ok], rtol=1e-10, atol=1e-14), name
         assert np.all(np.sign(mf[moving]) == -np.sign(speeds[name][moving])), name
         ma = col(result, f"{name}.friction_approx", order)
-        assert np.allclose(ma[moving], -np.sign(speeds[name][moving]) * rho * f0[moving],
-                           rtol=1e-10, atol=1e-14), name
+        assert np.allclose(
+            ma[moving], -np.sign(speeds[name][moving]) * rho * f0[moving], rtol=1e-10, atol=1e-14
+        ), name
         loss += np.abs(mf * speeds[name])
     for name, (i, _, j, p, f, length) in c.prismatics.items():
         ff = col(result, f"{name}.friction", order)
@@ -319,8 +370,12 @@ def test_friction_laws_and_power_balance(case):
         assert np.all(np.abs(m[ok]) < np.abs(n[ok]) * length / 2), name
         n0, m0 = col(result, f"{name}.N", order), col(result, f"{name}.M", order)
         approx = f * (np.abs(n0 / 2 + m0 / length) + np.abs(n0 / 2 - m0 / length))
-        assert np.allclose(col(result, f"{name}.friction_approx", order)[moving],
-                           -np.sign(speeds[name][moving]) * approx[moving], rtol=1e-10, atol=1e-12)
+        assert np.allclose(
+            col(result, f"{name}.friction_approx", order)[moving],
+            -np.sign(speeds[name][moving]) * approx[moving],
+            rtol=1e-10,
+            atol=1e-12,
+        )
         loss += np.abs(ff * speeds[name])
     p_fric = col(result, "power.friction", order)
     assert np.all(p_fric[ok] >= 0)
@@ -354,7 +409,10 @@ def _link_balance(c, model, result, order, friction, prismatic_force):
     n_pos = len(order)
     force = {k: np.zeros((n_pos, 2)) for k in c.mass}
     moment = {k: np.zeros(n_pos) for k in c.mass}
-    com = {k: np.stack([col(result, f"{k}.x", order), col(result, f"{k}.y", order)], -1) for k in c.mass}
+    com = {
+        k: np.stack([col(result, f"{k}.x", order), col(result, f"{k}.y", order)], -1)
+        for k in c.mass
+    }
     sfx = "_friction" if friction else ""
     peak = 0.0
 
@@ -364,7 +422,9 @@ def _link_balance(c, model, result, order, friction, prismatic_force):
             moment[link] += _cross(p - com[link], f) + m
 
     for name, (i, j, _) in c.revolutes.items():
-        f = np.stack([col(result, f"{name}.Fx{sfx}", order), col(result, f"{name}.Fy{sfx}", order)], -1)
+        f = np.stack(
+            [col(result, f"{name}.Fx{sfx}", order), col(result, f"{name}.Fy{sfx}", order)], -1
+        )
         p = point(result, j, name, order)
         mf = col(result, f"{name}.friction", order) if friction else 0.0
         apply(j, f, p, mf)
@@ -402,7 +462,7 @@ def test_newton_euler_frictionless(case):
     worst, peak = _link_balance(c, model, result, order, False, prismatic)
     assert peak > 10.0
     assert worst <= 1e-9 * peak
-    for name in c.prismatics:        # Fx, Fy are N along the axis normal
+    for name in c.prismatics:  # Fx, Fy are N along the axis normal
         _, n = _axis(c, result, name, order)
         f = np.stack([col(result, f"{name}.Fx", order), col(result, f"{name}.Fy", order)], -1)
         assert np.max(np.abs(f - prismatic(name, None, n))) <= 1e-12 * peak
@@ -414,8 +474,10 @@ def test_newton_euler_with_friction(case):
     ok = np.isin(col(result, "friction.status", order), (0, 1))
 
     def prismatic(name, u, n, order):
-        return (col(result, f"{name}.N_friction", order)[:, None] * n
-                + col(result, f"{name}.friction", order)[:, None] * u)
+        return (
+            col(result, f"{name}.N_friction", order)[:, None] * n
+            + col(result, f"{name}.friction", order)[:, None] * u
+        )
 
     sub = order[ok]
     worst, peak = _link_balance(c, model, result, sub, True, prismatic)
@@ -429,8 +491,12 @@ def test_prismatic_reaction_with_friction_includes_the_friction_force():
     order = np.argsort(result.t, kind="stable")
     ok = np.isin(col(result, "friction.status", order), (0, 1))
     u, n = _axis(c, result, "slot", order)
-    expect = (col(result, "slot.N_friction", order)[:, None] * n
-              + col(result, "slot.friction", order)[:, None] * u)
-    got = np.stack([col(result, "slot.Fx_friction", order), col(result, "slot.Fy_friction", order)], -1)
+    expect = (
+        col(result, "slot.N_friction", order)[:, None] * n
+        + col(result, "slot.friction", order)[:, None] * u
+    )
+    got = np.stack(
+        [col(result, "slot.Fx_friction", order), col(result, "slot.Fy_friction", order)], -1
+    )
     assert np.max(np.abs(col(result, "slot.friction", order)[ok])) > 1.0
     assert np.allclose(got[ok], expect[ok], rtol=1e-10, atol=1e-9)

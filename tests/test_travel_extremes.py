@@ -29,7 +29,7 @@ from kinetostatics.dynamics import equivalent
 ROOT = Path(__file__).resolve().parent.parent
 Q, H = 1000.0, 0.100
 X = 0.1 * (1 + np.cos(np.radians(30))) / 2
-Y_TOP = 0.05 + np.sqrt(0.1 ** 2 - (X - 0.1 * np.cos(np.radians(30))) ** 2)
+Y_TOP = 0.05 + np.sqrt(0.1**2 - (X - 0.1 * np.cos(np.radians(30))) ** 2)
 L_REF = float(ks.build_system(ks.load(ROOT / "mechanisms" / "slotting_machine.yaml")).l_ref)
 
 
@@ -37,17 +37,17 @@ def ram_y(phi):
     ax, ay = -0.150 + 0.075 * np.cos(phi), 0.075 * np.sin(phi)
     beta = np.arctan2(ay, ax) + np.pi
     xb, yb = 0.1 * np.cos(beta), 0.1 * np.sin(beta)
-    return yb + np.sqrt(0.1 ** 2 - (X - xb) ** 2)
+    return yb + np.sqrt(0.1**2 - (X - xb) ** 2)
 
 
 def cutting_torque(phi):
     """The cutting force's share of the motor torque at crank angles ``phi`` (ω < 0)."""
     h = 1e-6
-    dy = (ram_y(phi + h) - ram_y(phi - h)) / (2 * h)      # dy_C/dφ
-    down = dy > 0                                         # φ decreases: y falls if dy/dφ > 0
+    dy = (ram_y(phi + h) - ram_y(phi - h)) / (2 * h)  # dy_C/dφ
+    down = dy > 0  # φ decreases: y falls if dy/dφ > 0
     travel = Y_TOP - ram_y(phi)
-    edge = 1e-9 * L_REF        # bands are closed, to 1e-9 L_ref (docs/yaml.md): event rows
-    on = down & (travel >= 0.05 * H - edge) & (travel <= 0.95 * H + edge)   # at an edge are in
+    edge = 1e-9 * L_REF  # bands are closed, to 1e-9 L_ref (docs/yaml.md): event rows
+    on = down & (travel >= 0.05 * H - edge) & (travel <= 0.95 * H + edge)  # at an edge are in
     return np.where(on, -Q * np.abs(dy), 0.0), on
 
 
@@ -87,11 +87,11 @@ def test_a_short_sweep_keeps_the_cutting_force(slotting):
     r0 = ks.analyze(replace(idle, analysis=a), friction=False)
     extra, on = cutting_torque(r.coordinate)
     assert list(on) == [True, True, True, True, False]
-    np.testing.assert_allclose(r["motor.torque"] - r0["motor.torque"], extra, rtol=1e-8,
-                               atol=1e-9 * Q * 0.1)
+    np.testing.assert_allclose(
+        r["motor.torque"] - r0["motor.torque"], extra, rtol=1e-8, atol=1e-9 * Q * 0.1
+    )
     off = [e for e in r.events if e.switch == "off"]
-    assert len(off) == 1 and Y_TOP - ram_y(off[0].coordinate) == pytest.approx(0.95 * H,
-                                                                             rel=1e-9)
+    assert len(off) == 1 and Y_TOP - ram_y(off[0].coordinate) == pytest.approx(0.95 * H, rel=1e-9)
 
 
 def test_at_rows_keep_the_cutting_force(slotting):
@@ -101,9 +101,10 @@ def test_at_rows_keep_the_cutting_force(slotting):
     r = ks.analyze(replace(model, analysis=a), friction=False)
     r0 = ks.analyze(replace(idle, analysis=a), friction=False)
     extra, on = cutting_torque(r.coordinate)
-    assert on.sum() == 4                                  # all but 20°
-    np.testing.assert_allclose(r["motor.torque"] - r0["motor.torque"], extra, rtol=1e-8,
-                               atol=1e-9 * Q * 0.1)
+    assert on.sum() == 4  # all but 20°
+    np.testing.assert_allclose(
+        r["motor.torque"] - r0["motor.torque"], extra, rtol=1e-8, atol=1e-9 * Q * 0.1
+    )
 
 
 def test_equivalent_as_documented(slotting):
@@ -120,8 +121,9 @@ def test_equivalent_as_documented(slotting):
         out[m is model] = equivalent(system, r.q, r.coordinate, speed=w)
     extra, on = cutting_torque(phi)
     assert on.tolist() == [True, True, False, True]
-    np.testing.assert_allclose(out[True]["torque"] - out[False]["torque"], -extra, rtol=1e-8,
-                               atol=1e-9 * Q * 0.1)
+    np.testing.assert_allclose(
+        out[True]["torque"] - out[False]["torque"], -extra, rtol=1e-8, atol=1e-9 * Q * 0.1
+    )
     np.testing.assert_allclose(out[True]["inertia"], out[False]["inertia"], rtol=1e-12)
 
 
@@ -149,8 +151,9 @@ def _rocker(tmp_path, name):
         text = text.replace("\nsketch:", ROCKER_LOADS + "sketch:", 1)
     path.write_text(text, encoding="utf-8")
     model = ks.load(path)
-    return model, replace(model, loads=tuple(ld for ld in model.loads if ld.name not in
-                                             ("low", "high")))
+    return model, replace(
+        model, loads=tuple(ld for ld in model.loads if ld.name not in ("low", "high"))
+    )
 
 
 def _rocker_expected(theta, y_min):
@@ -164,14 +167,14 @@ def test_rocker_that_cannot_turn_measures_from_its_reachable_range(tmp_path):
     """Constant speed at the rocker: the whole motion is the reachable range between the
     toggles; the lowest B is at the toggle |OB| = 2.2, the highest at θ = 90°."""
     model, bare = _rocker(tmp_path, "crank_rocker_reversed.yaml")
-    theta_hi = np.arccos((2.2 ** 2 - 15.25) / 15)
+    theta_hi = np.arccos((2.2**2 - 15.25) / 15)
     y_min = 2.5 * np.sin(theta_hi)
-    theta = np.radians([100.0, 104.0, 112.0, 120.0, 125.0, 130.0])   # forward from the start
+    theta = np.radians([100.0, 104.0, 112.0, 120.0, 125.0, 130.0])  # forward from the start
     r = ks.analyze(model, positions=theta, friction=False)
     r0 = ks.analyze(bare, positions=theta, friction=False)
     ext = sorted(r.extremes.values())
     assert ext[0] == pytest.approx(-2.5, rel=1e-12)
-    assert ext[1] == pytest.approx(y_min, abs=1e-5)       # at a limit, within its margin
+    assert ext[1] == pytest.approx(y_min, abs=1e-5)  # at a limit, within its margin
     extra, low, high = _rocker_expected(theta, y_min)
     assert low.tolist() == [False, False, False, True, False, False]
     assert high.tolist() == [True, True, False, False, False, False]
@@ -185,9 +188,9 @@ def test_motion_law_measures_from_its_whole_run(tmp_path):
     whole motion is one period; B is lowest at the law's turning point θ = toggle + 40°
     and highest at θ = 90°.  ``times=`` rows agree with the default run."""
     model, bare = _rocker(tmp_path, "rocker_into_toggle.yaml")
-    toggle = np.arccos((4.2 ** 2 - 15.25) / 15)
+    toggle = np.arccos((4.2**2 - 15.25) / 15)
     y_min = 2.5 * np.sin(toggle + np.radians(40.0))
-    t = np.array([1.05, 1.1, 1.3, 1.4, 1.7])      # the return half only: θ < 98°
+    t = np.array([1.05, 1.1, 1.3, 1.4, 1.7])  # the return half only: θ < 98°
     r = ks.analyze(model, times=t, friction=False)
     r0 = ks.analyze(bare, times=t, friction=False)
     ext = sorted(r.extremes.values())
@@ -211,8 +214,9 @@ def test_times_over_several_turns(slotting):
     r0 = ks.analyze(idle, times=r.t, friction=False)
     extra, on = cutting_torque(phi)
     assert on.any() and not on.all()
-    np.testing.assert_allclose(r["motor.torque"] - r0["motor.torque"], extra, rtol=1e-8,
-                               atol=1e-9 * Q * 0.1)
+    np.testing.assert_allclose(
+        r["motor.torque"] - r0["motor.torque"], extra, rtol=1e-8, atol=1e-9 * Q * 0.1
+    )
     switches = [(e.condition, e.switch) for e in r.events]
     assert switches == [("travel to", "off"), ("travel from", "on")] * 2
     for e in r.events:
@@ -220,5 +224,5 @@ def test_times_over_several_turns(slotting):
         assert Y_TOP - ram_y(e.coordinate) == pytest.approx(edge, rel=1e-9)
         assert 0.1 < e.t < 2.5
     theta = r["crank.theta"]
-    assert np.all(np.diff(theta) < 0)                   # unwrapped along the run
+    assert np.all(np.diff(theta) < 0)  # unwrapped along the run
     np.testing.assert_allclose(np.diff(theta) / np.diff(r.t), -360.0, rtol=1e-9)

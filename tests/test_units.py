@@ -16,7 +16,16 @@ from kinetostatics.units import (
 
 
 def test_kinds_and_si_units():
-    assert QUANTITY_KINDS == ("length", "angle", "speed", "time", "mass", "force", "torque", "inertia")
+    assert QUANTITY_KINDS == (
+        "length",
+        "angle",
+        "speed",
+        "time",
+        "mass",
+        "force",
+        "torque",
+        "inertia",
+    )
     assert set(SI_UNITS) == set(QUANTITY_KINDS) == set(UNITS)
     for kind, unit in SI_UNITS.items():
         assert factor(kind, unit) == 1.0
@@ -86,7 +95,9 @@ def test_unknown_unit_with_suggestion():
 
 
 def test_unknown_kind_with_suggestion():
-    with pytest.raises(UnitError, match=r"^unknown quantity kind 'lenght' \(did you mean 'length'\?\)"):
+    with pytest.raises(
+        UnitError, match=r"^unknown quantity kind 'lenght' \(did you mean 'length'\?\)"
+    ):
         factor("lenght", "m")
     with pytest.raises(UnitError, match="unknown quantity kind 'acceleration'"):
         factor("acceleration", "m/s^2")

@@ -34,8 +34,10 @@ def test_doc_tables_equal_script_output(sv):
     out = sv.blocks()
     assert list(doc) == list(out), "the blocks of docs/validation.md differ from the script's"
     stale = [name for name in out if doc[name] != out[name]]
-    assert not stale, (f"docs/validation.md is stale in {stale}: run "
-                       f"`python docs/scripts/slotting_validation.py --update` and re-check the text")
+    assert not stale, (
+        f"docs/validation.md is stale in {stale}: run "
+        f"`python docs/scripts/slotting_validation.py --update` and re-check the text"
+    )
 
 
 def test_printed_output_is_the_blocks(sv, capsys):
@@ -79,16 +81,16 @@ def test_velocities_by_hand(run):
     _, r, labels = run
     a, l_o2o3, l_o3b, l_bc = 0.075, 0.150, 0.100, 0.100
     x_ram = l_o3b * (1 + np.cos(np.radians(30))) / 2
-    w1 = -2 * np.pi                                       # 60 rpm clockwise
+    w1 = -2 * np.pi  # 60 rpm clockwise
     phi = np.radians(r["angle"])
-    ax, ay = -l_o2o3 + a * np.cos(phi), a * np.sin(phi)   # A, with O3 at the origin
-    th3 = np.arctan2(ay, ax)                              # direction O3→A
+    ax, ay = -l_o2o3 + a * np.cos(phi), a * np.sin(phi)  # A, with O3 at the origin
+    th3 = np.arctan2(ay, ax)  # direction O3→A
     L = np.hypot(ax, ay)
     w3 = a * w1 * np.cos(phi - th3) / L
-    bx, by = -l_o3b * np.cos(th3), -l_o3b * np.sin(th3)   # B opposite A
+    bx, by = -l_o3b * np.cos(th3), -l_o3b * np.sin(th3)  # B opposite A
     vbx, vby = -w3 * by, w3 * bx
-    th4 = np.arccos((x_ram - bx) / l_bc)                  # C above B on the line x = X
-    vc = vby + vbx * np.cos(th4) / np.sin(th4)            # from v_Cx = 0
+    th4 = np.arccos((x_ram - bx) / l_bc)  # C above B on the line x = X
+    vc = vby + vbx * np.cos(th4) / np.sin(th4)  # from v_Cx = 0
     assert np.max(np.abs(w3 - r["bar.omega"])) < 1e-9
     assert np.max(np.abs(vc - r["ram.vy"])) < 1e-9
     assert np.max(np.abs(by + l_bc * np.sin(th4) - r["ram.C.y"])) < 1e-12
@@ -120,7 +122,9 @@ def test_reactions_by_hand(sv, run):
     for a, b in (("O2", "A"), ("B", "C")):
         assert np.allclose(r[f"{a}.Fx"], r[f"{b}.Fx"], atol=1e-9)
         assert np.allclose(r[f"{a}.Fy"], r[f"{b}.Fy"], atol=1e-9)
-    assert np.allclose(r["A.Fx"], f["F23x"], atol=1e-9) and np.allclose(r["A.Fy"], f["F23y"], atol=1e-9)
+    assert np.allclose(r["A.Fx"], f["F23x"], atol=1e-9) and np.allclose(
+        r["A.Fy"], f["F23y"], atol=1e-9
+    )
 
     def cross(p, q):
         return p[..., 0] * q[..., 1] - p[..., 1] * q[..., 0]
@@ -133,8 +137,12 @@ def test_reactions_by_hand(sv, run):
     F23 = np.stack([f["F23x"], f["F23y"]], -1)
     G3 = np.array([0.0, -m3 * g])
     FI3 = -m3 * np.stack([r["bar.ax"], r["bar.ay"]], -1)
-    moment = (cross(vec("bar.B"), F54) + cross(vec("bar.S3"), G3 + FI3) - J3 * r["bar.alpha"]
-              + cross(vec("crank.A"), F23))
+    moment = (
+        cross(vec("bar.B"), F54)
+        + cross(vec("bar.S3"), G3 + FI3)
+        - J3 * r["bar.alpha"]
+        + cross(vec("crank.A"), F23)
+    )
     assert np.max(np.abs(moment)) < 1e-9
     # F23 is normal to the bar (no friction)
     e = vec("crank.A") / np.hypot(*vec("crank.A").T)[:, None]

@@ -24,7 +24,9 @@ def _same(a: dict, b: dict, rtol: float = 1e-12) -> list[str]:
     for k in set(a) & set(b):
         x, y = a[k], b[k]
         if isinstance(x, (float, int, np.floating)) and not isinstance(x, bool):
-            if (math.isnan(x) and math.isnan(y)) or abs(x - y) <= rtol * max(abs(x), abs(y), 1e-300):
+            if (math.isnan(x) and math.isnan(y)) or abs(x - y) <= rtol * max(
+                abs(x), abs(y), 1e-300
+            ):
                 continue
             bad.append(k)
         elif x != y:
@@ -43,14 +45,18 @@ def test_override_recomputes_the_parameters_that_depend_on_it():
     m = tpl.model({"K": 1.5})
     theta = 180 * 0.5 / 2.5
     assert m.parameters["theta"] == pytest.approx(theta, rel=1e-15)
-    assert m.parameters["L_O2A"] == pytest.approx(150 * math.sin(math.radians(theta / 2)), rel=1e-15)
+    assert m.parameters["L_O2A"] == pytest.approx(
+        150 * math.sin(math.radians(theta / 2)), rel=1e-15
+    )
     crank_pin = m.joint("A").p_i
     assert np.hypot(*crank_pin) == pytest.approx(m.parameters["L_O2A"] / 1e3, rel=1e-15)
 
 
 def test_unknown_parameter_is_named_with_a_suggestion():
     tpl = Template.load(MECH / "slotting_machine.yaml")
-    with pytest.raises(ModelError, match=r"parameters: a variant sets the parameter 'KK'.*did you mean 'K'"):
+    with pytest.raises(
+        ModelError, match=r"parameters: a variant sets the parameter 'KK'.*did you mean 'K'"
+    ):
         tpl.model({"KK": 2})
 
 
@@ -64,15 +70,23 @@ def test_stack_keeps_equal_numbers_and_stacks_the_others():
     tpl = Template.load(MECH / "slotting_machine.yaml")
     a, b = tpl.model({"K": 1.6}), tpl.model({"K": 2.0})
     s = stack([a, b])
-    assert s.joint("O2").p_i is a.joint("O2").p_i                 # the frame pivot does not move
+    assert s.joint("O2").p_i is a.joint("O2").p_i  # the frame pivot does not move
     assert s.joint("A").p_i.shape == (2, 1, 2)
     np.testing.assert_array_equal(s.joint("A").p_i[1, 0], b.joint("A").p_i)
     with pytest.raises(TopologyMismatch):
         stack([a, ks.load(MECH / "slider_crank.yaml")])
 
 
-@pytest.mark.parametrize("name", ["slider_crank", "slotting_machine", "watt_sixbar",
-                                  "inverted_slider_crank", "stephenson_sixbar"])
+@pytest.mark.parametrize(
+    "name",
+    [
+        "slider_crank",
+        "slotting_machine",
+        "watt_sixbar",
+        "inverted_slider_crank",
+        "stephenson_sixbar",
+    ],
+)
 def test_vectorised_rows_equal_single_runs(name):
     tpl = Template.load(MECH / f"{name}.yaml")
     rng = np.random.default_rng(7)
@@ -85,18 +99,20 @@ def test_vectorised_rows_equal_single_runs(name):
 
 def test_vectorised_path_is_taken_for_the_slotting_machine(monkeypatch):
     from kinetostatics import analysis
+
     calls = []
     real = analysis.analyze
     monkeypatch.setattr(analysis, "analyze", lambda *a, **k: calls.append(1) or real(*a, **k))
     tpl = Template.load(MECH / "slotting_machine.yaml")
-    rows = analyze_variants(tpl, _perturbed(tpl, np.random.default_rng(1), 5), positions=24,
-                            flywheel=False)
+    rows = analyze_variants(
+        tpl, _perturbed(tpl, np.random.default_rng(1), 5), positions=24, flywheel=False
+    )
     assert all(r["status"] == "ok" for r in rows) and not calls
 
 
 def test_a_variant_that_cannot_assemble_is_a_row_with_its_reason():
     tpl = Template.load(MECH / "slider_crank.yaml")
-    ovs = [{"b": 350}, {"b": 60}, {"b": 400}]           # a rod shorter than the crank (a = 100)
+    ovs = [{"b": 350}, {"b": 60}, {"b": 400}]  # a rod shorter than the crank (a = 100)
     rows = analyze_variants(tpl, ovs, positions=36)
     assert [r["status"] for r in rows] == ["ok", "failed", "ok"]
     assert "RRP dyad" in rows[1]["reason"] and "cannot reach" in rows[1]["reason"]
@@ -106,12 +122,14 @@ def test_a_variant_that_cannot_assemble_is_a_row_with_its_reason():
 
 def test_row_matches_the_independent_slider_crank_closed_form():
     from tests.oracles import slider_crank_closed_form as oracle
+
     tpl = Template.load(MECH / "slider_crank.yaml")
-    rows = analyze_variants(tpl, [{"a": 90.0, "b": 300.0}, {"a": 110.0, "b": 420.0}],
-                            positions=72, friction=False)
+    rows = analyze_variants(
+        tpl, [{"a": 90.0, "b": 300.0}, {"a": 110.0, "b": 420.0}], positions=72, friction=False
+    )
     for (a, b), row in zip(((0.09, 0.3), (0.11, 0.42)), rows):
         e = tpl.base.parameters["e"] / 1e3
-        stroke = math.sqrt((a + b) ** 2 - e ** 2) - math.sqrt((b - a) ** 2 - e ** 2)
+        stroke = math.sqrt((a + b) ** 2 - e**2) - math.sqrt((b - a) ** 2 - e**2)
         slide = next(k for k in row if k.endswith(".stroke"))
         assert row[slide] == pytest.approx(stroke, rel=1e-12)
     assert oracle is not None

@@ -30,6 +30,7 @@ def scaled(name: str, s: float) -> ks.Model:
 
     def mul(m: re.Match) -> str:
         return f"{m.group(1)}{float(m.group(2)) * s:g}"
+
     text = re.sub(r"(radius: )([\d.]+)", mul, text)
     text = re.sub(r"(coefficient: )([\d.]+)", mul, text)
     return ks.loads(text, file=f"{name}.yaml")
@@ -37,8 +38,11 @@ def scaled(name: str, s: float) -> ks.Model:
 
 def table(name: str) -> str:
     driver = ks.load(ROOT / "mechanisms" / f"{name}.yaml").drivers[0].name
-    rows = ["| friction × s | max \\|τ − τ_approx\\| (N·m) | relative to max \\|τ\\| | at crank angle (°) "
-            "| status 0 / 1 / 2 / 3 |", "|---|---|---|---|---|"]
+    rows = [
+        "| friction × s | max \\|τ − τ_approx\\| (N·m) | relative to max \\|τ\\| | at crank angle (°) "
+        "| status 0 / 1 / 2 / 3 |",
+        "|---|---|---|---|---|",
+    ]
     for s in SCALES:
         r = ks.analyze(scaled(name, s))
         tau, tau_a = r[f"{driver}.torque_friction"], r[f"{driver}.torque_friction_approx"]
@@ -46,8 +50,10 @@ def table(name: str) -> str:
         diff = np.abs(tau - tau_a)
         k = int(np.nanargmax(np.where(ok, diff, -1)))
         counts = np.bincount(r["friction.status"].astype(int), minlength=4)
-        rows.append(f"| {s:g} | {diff[k]:.3e} | {diff[k] / np.max(np.abs(tau[ok])):.3e} | "
-                    f"{r['angle'][k]:.0f} | {' / '.join(str(c) for c in counts)} |")
+        rows.append(
+            f"| {s:g} | {diff[k]:.3e} | {diff[k] / np.max(np.abs(tau[ok])):.3e} | "
+            f"{r['angle'][k]:.0f} | {' / '.join(str(c) for c in counts)} |"
+        )
     return "\n".join(rows)
 
 

@@ -6,25 +6,50 @@
 >>> result["motor.torque"].max()                         # doctest: +SKIP
 """
 
-from .errors import (AssemblyError, KinetostaticsError, ModelError, NearSingularWarning,
-                     NonFiniteResultError, OutputError, SelfLockingError,
-                     SingularConfigurationError, StructureError)
+from .errors import (
+    AssemblyError,
+    KinetostaticsError,
+    ModelError,
+    NearSingularWarning,
+    NonFiniteResultError,
+    OutputError,
+    SelfLockingError,
+    SingularConfigurationError,
+    StructureError,
+)
 from .model import Model
 from .yaml_io import load, loads
 
-__all__ = ["load", "loads", "analyze", "Model", "Result", "KinetostaticsError", "ModelError",
-           "StructureError", "AssemblyError", "SingularConfigurationError", "SelfLockingError",
-           "NonFiniteResultError", "OutputError", "NearSingularWarning", "build_system"]
+__all__ = [
+    "load",
+    "loads",
+    "analyze",
+    "Model",
+    "Result",
+    "KinetostaticsError",
+    "ModelError",
+    "StructureError",
+    "AssemblyError",
+    "SingularConfigurationError",
+    "SelfLockingError",
+    "NonFiniteResultError",
+    "OutputError",
+    "NearSingularWarning",
+    "build_system",
+]
 
 
-def __getattr__(name):          # keep `import kinetostatics` light: load stages on use
+def __getattr__(name):  # keep `import kinetostatics` light: load stages on use
     if name == "analyze":
         from .analysis import analyze
+
         return analyze
     if name == "Result":
         from .results import Result
+
         return Result
     if name == "build_system":
         from .system import build_system
+
         return build_system
     raise AttributeError(f"module 'kinetostatics' has no attribute '{name}'")

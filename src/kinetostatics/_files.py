@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable
 
 __all__ = ["make_folder", "write_whole"]
 
@@ -32,6 +32,7 @@ def make_folder(out: Path, what: str) -> None:
     a path that is a file, or an ``OSError`` (read-only, full disk), is one
     :class:`~kinetostatics.errors.OutputError` line."""
     from .errors import OutputError, output_error
+
     if out.exists() and not out.is_dir():
         raise OutputError(f"{what}: is a file, not a folder")
     try:

@@ -15,7 +15,7 @@ def rotate(theta: np.ndarray, p: np.ndarray) -> np.ndarray:
     """
     c, s = np.cos(theta), np.sin(theta)
     px, py = p[..., 0], p[..., 1]
-    x = c * px - s * py                 # its shape is the broadcast one (cheaper than asking)
+    x = c * px - s * py  # its shape is the broadcast one (cheaper than asking)
     out = np.empty(np.shape(x) + (2,))
     out[..., 0] = x
     out[..., 1] = s * px + c * py

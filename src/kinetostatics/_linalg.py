@@ -16,7 +16,7 @@ __all__ = ["BlockFactor"]
 def _inv(a: np.ndarray) -> np.ndarray:
     try:
         return np.linalg.inv(a)
-    except np.linalg.LinAlgError:            # exactly singular somewhere: least squares there
+    except np.linalg.LinAlgError:  # exactly singular somewhere: least squares there
         return np.linalg.pinv(a)
 
 
@@ -28,7 +28,7 @@ class BlockFactor:
         self.inv = [_inv(jac[..., rows[:, None], cols]) for rows, cols in blocks]
         self.n = jac.shape[-1]
         self._upper = None
-        self._lower = []                        # each group's rows × the earlier groups' columns
+        self._lower = []  # each group's rows × the earlier groups' columns
         done = np.zeros(0, dtype=int)
         for rows, cols in blocks:
             self._lower.append((done, jac[..., rows[:, None], done] if done.size else None))
@@ -50,15 +50,22 @@ class BlockFactor:
 
     def solve_transposed(self, rhs: np.ndarray) -> np.ndarray:
         """y with Φ_qᵀ y = rhs (back substitution over the groups)."""
-        if self._upper is None:                 # each group's columns × the later groups' rows
+        if self._upper is None:  # each group's columns × the later groups' rows
             self._upper, later = [], np.zeros(0, dtype=int)
             for rows, cols in reversed(self.blocks):
-                self._upper.append((later, np.swapaxes(self.jac[..., later[:, None], cols], -1, -2)
-                                    if later.size else None))
+                self._upper.append(
+                    (
+                        later,
+                        np.swapaxes(self.jac[..., later[:, None], cols], -1, -2)
+                        if later.size
+                        else None,
+                    )
+                )
                 later = np.concatenate((later, rows))
         y = np.zeros(rhs.shape[:-1] + (self.jac.shape[-2],))
-        for (rows, cols), inv, (later, upper) in zip(reversed(self.blocks), reversed(self.inv),
-                                                     self._upper):
+        for (rows, cols), inv, (later, upper) in zip(
+            reversed(self.blocks), reversed(self.inv), self._upper
+        ):
             r = rhs[..., cols]
             if upper is not None:
                 r = r - np.einsum("...ij,...j->...i", upper, y[..., later])

@@ -6,8 +6,8 @@ events → loads → reactions → friction → power → result columns.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
 import weakref
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -17,15 +17,38 @@ from .differences import difference_derivatives
 from .errors import AssemblyError, Location, SingularConfigurationError, StructureError
 from .forces import angle_band, external_forces, gravity_forces, inertia_forces, mass_vector
 from .model import Condition, Model, MotionLaw
-from .positions import (PositionSolution, Singularity, condition_number, derivatives,
-                        group_condition, reachable_range, solve_positions, state_at)
-from .reactions import (EFFORT_SPEED_TOL, effort_joints, effort_speed_ratio, equilibrium_matrix,
-                        ground_reaction, invert_equilibrium, solve_equilibrium)
+from .positions import (
+    PositionSolution,
+    Singularity,
+    condition_number,
+    derivatives,
+    group_condition,
+    reachable_range,
+    solve_positions,
+    state_at,
+)
+from .reactions import (
+    EFFORT_SPEED_TOL,
+    effort_joints,
+    effort_speed_ratio,
+    equilibrium_matrix,
+    ground_reaction,
+    invert_equilibrium,
+    solve_equilibrium,
+)
 from .results import Result, build_columns
 from .system import System, build_system
 
-__all__ = ["analyze", "kinetics", "Kinetics", "Schedule", "Event", "numerical_mobility",
-           "travel_extremes", "whole_motion"]
+__all__ = [
+    "analyze",
+    "kinetics",
+    "Kinetics",
+    "Schedule",
+    "Event",
+    "numerical_mobility",
+    "travel_extremes",
+    "whole_motion",
+]
 
 
 @dataclass(frozen=True)
@@ -34,10 +57,10 @@ class Schedule:
     speed or acceleration), or the driver's motion law (``laws[d]``,
     :mod:`kinetostatics.motion`) where one is given."""
 
-    start: np.ndarray          # (n_d,) ψ(0)
-    speed: np.ndarray          # (n_d,) speed at t = 0, or a law's signed reference speed
-    laws: tuple = ()           # per driver: a motion law, or None for constant speed; () if none
-    acceleration: np.ndarray | None = None   # (n_d,); None: constant speeds
+    start: np.ndarray  # (n_d,) ψ(0)
+    speed: np.ndarray  # (n_d,) speed at t = 0, or a law's signed reference speed
+    laws: tuple = ()  # per driver: a motion law, or None for constant speed; () if none
+    acceleration: np.ndarray | None = None  # (n_d,); None: constant speeds
 
     def __call__(self, t):
         t = np.asarray(t, dtype=float)[..., None]
@@ -67,8 +90,10 @@ class Schedule:
     def turning_times(self, lo: float, hi: float) -> np.ndarray:
         """Times in [lo, hi] where a driver's law turns back (ψ̇ = 0); none at constant speed."""
         from .motion import turning_times
-        return np.concatenate([np.zeros(0)] + [turning_times(law, lo, hi) for law in self.laws
-                                               if law is not None])
+
+        return np.concatenate(
+            [np.zeros(0)] + [turning_times(law, lo, hi) for law in self.laws if law is not None]
+        )
 
     @property
     def period(self) -> float:
@@ -83,44 +108,63 @@ class Event:
     """A load switching on or off, located exactly."""
 
     t: float
-    coordinate: float            # driver coordinate, rad (or m)
+    coordinate: float  # driver coordinate, rad (or m)
     load: str
     condition: str
-    switch: str                  # "on" or "off"
+    switch: str  # "on" or "off"
 
 
 def _schedule(system: System) -> Schedule:
     from .positions import initial_guess
+
     drivers = system.motion_drivers
     q0 = initial_guess(system)
     starts = []
     for k, d in enumerate(drivers):
-        if d.driver.motion.start is not None:       # a constant-speed law's own start, or a law's
+        if d.driver.motion.start is not None:  # a constant-speed law's own start, or a law's
             starts.append(d.driver.motion.start)
         elif k == 0:
             starts.append(system.model.analysis.start)
         else:
             qe = np.concatenate((q0, np.zeros(3)))
             i, j = system.ends[system.constraints.index(d)]
-            starts.append(float(d.coordinate(qe[3 * i:3 * i + 3], qe[3 * j:3 * j + 3])))
-    laws = tuple(None if isinstance(d.driver.motion, MotionLaw) else d.driver.motion for d in drivers)
-    accel = np.array([getattr(d.driver.motion, "acceleration", 0.0) if law is None else 0.0
-                      for d, law in zip(drivers, laws)])
-    return Schedule(np.array(starts), np.array([d.driver.motion.speed for d in drivers]),
-                    laws if any(law is not None for law in laws) else (),
-                    accel if np.any(accel) else None)
+            starts.append(float(d.coordinate(qe[3 * i : 3 * i + 3], qe[3 * j : 3 * j + 3])))
+    laws = tuple(
+        None if isinstance(d.driver.motion, MotionLaw) else d.driver.motion for d in drivers
+    )
+    accel = np.array(
+        [
+            getattr(d.driver.motion, "acceleration", 0.0) if law is None else 0.0
+            for d, law in zip(drivers, laws)
+        ]
+    )
+    return Schedule(
+        np.array(starts),
+        np.array([d.driver.motion.speed for d in drivers]),
+        laws if any(law is not None for law in laws) else (),
+        accel if np.any(accel) else None,
+    )
 
 
-def _times(system: System, sched: Schedule, coordinates: np.ndarray | None) -> tuple[np.ndarray, bool]:
+def _times(
+    system: System, sched: Schedule, coordinates: np.ndarray | None
+) -> tuple[np.ndarray, bool]:
     """Times of the requested positions; whether they cover a full cycle."""
     a = system.model.analysis
     if sched.law is not None:
         if coordinates is not None:
-            raise ValueError(f"driver '{system.motion_drivers[0].name}' follows a {sched.law.kind} "
-                             "motion law: give the positions as times, analyze(..., times=...)")
+            raise ValueError(
+                f"driver '{system.motion_drivers[0].name}' follows a {sched.law.kind} "
+                "motion law: give the positions as times, analyze(..., times=...)"
+            )
         n, law = a.positions, sched.law
-        t = (np.arange(n) * law.duration / n if law.cyclic
-             else np.linspace(0.0, law.duration, n) if n > 1 else np.zeros(1))
+        t = (
+            np.arange(n) * law.duration / n
+            if law.cyclic
+            else np.linspace(0.0, law.duration, n)
+            if n > 1
+            else np.zeros(1)
+        )
         return t, law.cyclic
     w = sched.speed[0]
     period = 2 * np.pi if system.motion_drivers[0].joint.angular else np.inf
@@ -141,6 +185,7 @@ def _times(system: System, sched: Schedule, coordinates: np.ndarray | None) -> t
 def _condition_rate(system: System, c: Condition, q, qd, qdd, psi, extremes):
     """(value, d value/dt) of a condition's switching function."""
     from .forces import point_state
+
     k = system.link_index(c.link)
     p = system.model.link(c.link).points[c.point] if c.point else np.zeros(2)
     pos, vel, acc = point_state(q, qd, qdd, k, p)
@@ -165,7 +210,7 @@ def _refine(system, drive, f, t0, tn, qn, qdn, qddn, max_iter=12, bracket=None):
     states = [qn.copy(), qdn.copy(), qddn.copy()]
     if bracket is not None:
         lo, hi, sign_lo = (np.array(x, dtype=float) for x in bracket)
-        max_iter = max(max_iter, 64)            # bisection halves the bracket each time
+        max_iter = max(max_iter, 64)  # bisection halves the bracket each time
     for _ in range(max_iter):
         if not live.any():
             break
@@ -216,8 +261,9 @@ def _find_roots(system, drive, t, q, qd, qdd, fvals, f, full, period_t):
     with np.errstate(invalid="ignore", divide="ignore"):
         guess = np.where(fa == 0.0, ts[a], ts[a] + (tb - ts[a]) * fa / (fa - fb))
     sign_a = np.where(fa == 0.0, -np.sign(fb), np.sign(fa))
-    roots, states = _refine(system, drive, f, guess, tn, q[n], qd[n], qdd[n],
-                            bracket=(ts[a], tb, sign_a))
+    roots, states = _refine(
+        system, drive, f, guess, tn, q[n], qd[n], qdd[n], bracket=(ts[a], tb, sign_a)
+    )
     return (np.mod(roots, period_t) if full else roots), states
 
 
@@ -235,7 +281,7 @@ MOTION_GRID = 360
 load switches; the grid is fixed, independent of the analysed positions, and every local
 minimum and sign change on it is refined exactly."""
 
-_MOTION: "weakref.WeakKeyDictionary[System, _Motion]" = weakref.WeakKeyDictionary()
+_MOTION: weakref.WeakKeyDictionary[System, _Motion] = weakref.WeakKeyDictionary()
 
 
 def whole_motion(system: System, sched: Schedule | None = None):
@@ -269,9 +315,9 @@ class _Motion:
     qdd: np.ndarray
     periodic: bool
     drive: Schedule
-    turns: np.ndarray               # (n_q,): 2π × turns of each link angle per period
+    turns: np.ndarray  # (n_q,): 2π × turns of each link angle per period
     extremes: dict | None = None
-    events: list | None = None      # [(Event, (q, qd, qdd))] over the grid's span
+    events: list | None = None  # [(Event, (q, qd, qdd))] over the grid's span
 
 
 def _motion_grid(system: System, sched: Schedule | None) -> _Motion:
@@ -286,15 +332,15 @@ def _motion_grid(system: System, sched: Schedule | None) -> _Motion:
     except AssemblyError as exc:
         if isinstance(exc, SingularConfigurationError) or drive.law is not None:
             raise
-        lo, hi = reachable_range(system, drive, t1)    # a crank that cannot turn fully
-        margin = 1e-6 * (hi - lo)                     # the limits themselves are singular
+        lo, hi = reachable_range(system, drive, t1)  # a crank that cannot turn fully
+        margin = 1e-6 * (hi - lo)  # the limits themselves are singular
         t, periodic = np.linspace(lo + margin, hi - margin, n + 1), False
         sol = solve_positions(system, t, drive)
     q = sol.q
     _, psi_d, psi_dd = drive(t)
     qd, qdd, _ = derivatives(system, q, psi_d, psi_dd)
     turns = np.zeros(q.shape[-1])
-    if periodic:                     # q(t + T) = q(t) + turns on the angle slots
+    if periodic:  # q(t + T) = q(t) + turns on the angle slots
         h = t[1] - t[0]
         end = q[-1] + h * qd[-1] + 0.5 * h * h * qdd[-1]
         turns[2::3] = 2 * np.pi * np.round((end - q[0])[2::3] / (2 * np.pi))
@@ -313,15 +359,18 @@ def travel_extremes(system: System, sched: Schedule | None = None) -> dict:
     analysis asks for.
     """
     from .forces import point_state
+
     conds = list(travel_conditions(system))
     if not conds:
         return {}
     try:
         m = _motion_grid(system, sched)
     except AssemblyError as exc:
-        exc.args = (f"{exc.args[0]}; a travel band is measured from its extreme over the whole "
-                    "motion (one turn of the driver, or a motion law's run), which must "
-                    "assemble",)
+        exc.args = (
+            f"{exc.args[0]}; a travel band is measured from its extreme over the whole "
+            "motion (one turn of the driver, or a motion law's run), which must "
+            "assemble",
+        )
         raise
     if m.extremes is not None:
         return dict(m.extremes)
@@ -334,9 +383,9 @@ def travel_extremes(system: System, sched: Schedule | None = None) -> dict:
         s, v = pos @ c.axis, vel @ c.axis
         best = float(s.min())
         flat = float(s.max()) - best <= 1e-12 * float(np.max(system.l_ref))
-        if periodic:                # strict on one side: a plateau is not a row of minima
+        if periodic:  # strict on one side: a plateau is not a row of minima
             low = (s < np.roll(s, 1)) & (s <= np.roll(s, -1))
-        else:                       # interior minima: an end of the span counts as sampled
+        else:  # interior minima: an end of the span counts as sampled
             low = np.zeros(s.shape, dtype=bool)
             low[1:-1] = (s[1:-1] < s[:-2]) & (s[1:-1] <= s[2:])
         idx = np.nonzero(low & ~flat)[0]
@@ -345,27 +394,37 @@ def travel_extremes(system: System, sched: Schedule | None = None) -> dict:
         def f(a, bb, cc, ax=c.axis, kk=k, pp=p):
             _, v, acc = point_state(a, bb, cc, kk, pp)
             return v @ ax, acc @ ax
+
         brackets = [_minimum_bracket(t, v, b, step, periodic) for b in idx]
-        sets = [(t[idx[[i for i, br in enumerate(brackets) if br is not None]]],
-                 idx[[i for i, br in enumerate(brackets) if br is not None]],
-                 [br for br in brackets if br is not None]),
-                (np.concatenate((t[idx[[i for i, br in enumerate(brackets) if br is None]]],
-                                 turning)),
-                 np.concatenate((idx[[i for i, br in enumerate(brackets) if br is None]], near)),
-                 None)]
+        sets = [
+            (
+                t[idx[[i for i, br in enumerate(brackets) if br is not None]]],
+                idx[[i for i, br in enumerate(brackets) if br is not None]],
+                [br for br in brackets if br is not None],
+            ),
+            (
+                np.concatenate(
+                    (t[idx[[i for i, br in enumerate(brackets) if br is None]]], turning)
+                ),
+                np.concatenate((idx[[i for i, br in enumerate(brackets) if br is None]], near)),
+                None,
+            ),
+        ]
         for t_start, b, br in sets:
             if not t_start.size:
                 continue
             bracket = None if br is None else tuple(np.concatenate(x) for x in zip(*br))
             try:
-                tm, (qm, _, _) = _refine(system, drive, f, t_start, t[b], q[b], qd[b], qdd[b],
-                                         bracket=bracket)
-            except AssemblyError:   # Newton left the reachable poses: keep the samples
+                tm, (qm, _, _) = _refine(
+                    system, drive, f, t_start, t[b], q[b], qd[b], qdd[b], bracket=bracket
+                )
+            except AssemblyError:  # Newton left the reachable poses: keep the samples
                 continue
             sm = point_state(qm, qm, None, k, p)[0] @ c.axis
             inside = (np.abs(tm - t_start) <= 1.5 * step) & (
-                periodic | ((t[0] <= tm) & (tm <= t[-1])))
-            ok = np.isfinite(sm) & inside                          # stayed in its bracket
+                periodic | ((t[0] <= tm) & (tm <= t[-1]))
+            )
+            ok = np.isfinite(sm) & inside  # stayed in its bracket
             if ok.any():
                 best = min(best, float(np.min(sm[ok])))
         out[id(c)] = best
@@ -380,7 +439,7 @@ def _minimum_bracket(t, v, b, step, periodic):
     n = len(t)
     if v[b] == 0.0:
         return None
-    if v[b] > 0.0:                  # the minimum lies before the sample
+    if v[b] > 0.0:  # the minimum lies before the sample
         a = b - 1
         if a < 0 and not periodic or v[a % n] >= 0.0:
             return None
@@ -411,17 +470,24 @@ def _events_of_run(system, drive, sched, t, q, qd, qdd, full):
     if switching and len(system.motion_drivers) == 1 and sched.acceleration is None:
         try:
             m = _motion_grid(system, sched)
-        except AssemblyError:       # the whole motion does not assemble (a change point)
+        except AssemblyError:  # the whole motion does not assemble (a change point)
             m = None
     if m is not None and m.events is None:
         period_t = m.t[-1] - m.t[0] + (m.t[1] - m.t[0]) if m.periodic else np.inf
-        found = _switches(system, m.drive, sched, m.t, m.q, m.qd, m.qdd, m.periodic, period_t,
-                          extremes)
-        if not m.periodic:          # a reachable range: angle bands' edges within it, if any
+        found = _switches(
+            system, m.drive, sched, m.t, m.q, m.qd, m.qdd, m.periodic, period_t, extremes
+        )
+        if not m.periodic:  # a reachable range: angle bands' edges within it, if any
             found = [(e, st) for e, st in (_into_span(m, e, st) for e, st in found) if e]
-        m.events = [(e, st if st is not None else tuple(
-            x[0] for x in _state_near(system, m.drive, e.t, m.t, m.q, m.qd, m.qdd)))
-            for e, st in found]
+        m.events = [
+            (
+                e,
+                st
+                if st is not None
+                else tuple(x[0] for x in _state_near(system, m.drive, e.t, m.t, m.q, m.qd, m.qdd)),
+            )
+            for e, st in found
+        ]
     if m is not None:
         lo, hi = float(np.min(t)), float(np.max(t))
         tol = 1e-9 * (m.t[-1] - m.t[0])
@@ -432,15 +498,22 @@ def _events_of_run(system, drive, sched, t, q, qd, qdd, full):
                 if full:
                     picked.append((e, (qe, qde, qdde)))
                     continue
-                for k in range(int(np.ceil((lo - tol - e.t) / period_t)),
-                               int(np.floor((hi + tol - e.t) / period_t)) + 1):
+                for k in range(
+                    int(np.ceil((lo - tol - e.t) / period_t)),
+                    int(np.floor((hi + tol - e.t) / period_t)) + 1,
+                ):
                     te = e.t + k * period_t
-                    picked.append((replace(e, t=te, coordinate=float(drive(np.array([te]))[0][0, 0])),
-                                   (qe + k * m.turns, qde, qdde)))
+                    picked.append(
+                        (
+                            replace(e, t=te, coordinate=float(drive(np.array([te]))[0][0, 0])),
+                            (qe + k * m.turns, qde, qdde),
+                        )
+                    )
         elif m.t[0] - tol <= lo and hi <= m.t[-1] + tol:
-            top = m.t[-1] - tol if full else hi + tol      # a full cycle does not repeat its end
-            picked = [(e, st) for e, st in m.events if lo - tol <= e.t <= top or
-                      (full and e.t < lo)]
+            top = m.t[-1] - tol if full else hi + tol  # a full cycle does not repeat its end
+            picked = [
+                (e, st) for e, st in m.events if lo - tol <= e.t <= top or (full and e.t < lo)
+            ]
         else:
             m = None
         if m is not None:
@@ -475,34 +548,64 @@ def _switches(system, drive, sched, t, q, qd, qdd, full, period_t, extremes):
             if c.kind == "angle":
                 start, width = angle_band(system, c)
                 if width >= 2 * np.pi:
-                    continue                        # always on: no switch
+                    continue  # always on: no switch
                 for bound, sw in ((start, "on"), (start + width * np.sign(sched.speed[0]), "off")):
-                    tt = np.mod((bound - sched.start[0]) * np.sign(sched.speed[0]), 2 * np.pi) / \
-                        sched.reference
-                    events.append((Event(float(tt), float(drive(np.array([tt]))[0][0, 0]),
-                                         load.name, "angle", sw), None))
+                    tt = (
+                        np.mod((bound - sched.start[0]) * np.sign(sched.speed[0]), 2 * np.pi)
+                        / sched.reference
+                    )
+                    events.append(
+                        (
+                            Event(
+                                float(tt),
+                                float(drive(np.array([tt]))[0][0, 0]),
+                                load.name,
+                                "angle",
+                                sw,
+                            ),
+                            None,
+                        )
+                    )
                 continue
-            funcs = [(0.0, "moving")] if c.kind == "moving" else [(c.bounds[0], "travel from"),
-                                                                (c.bounds[1], "travel to")]
+            funcs = (
+                [(0.0, "moving")]
+                if c.kind == "moving"
+                else [(c.bounds[0], "travel from"), (c.bounds[1], "travel to")]
+            )
             for offset, label in funcs:
+
                 def f(a, b, cc, c=c, offset=offset):
                     g, dg = _condition_rate(system, c, a, b, cc, None, extremes)
                     return g - offset, dg
+
                 vals = _condition_rate(system, c, q, qd, qdd, psi, extremes)[0] - offset
-                noise = 1e-12 * float(np.max(system.l_ref)) * (sched.reference
-                                                                 if c.kind == "moving" else 1.0)
-                vals = np.where(np.abs(vals) <= noise, 0.0, vals)   # round-off is no switch
-                roots, (qs, qds, qdds) = _find_roots(system, drive, t, q, qd, qdd, vals, f, full,
-                                                     period_t)
+                noise = (
+                    1e-12
+                    * float(np.max(system.l_ref))
+                    * (sched.reference if c.kind == "moving" else 1.0)
+                )
+                vals = np.where(np.abs(vals) <= noise, 0.0, vals)  # round-off is no switch
+                roots, (qs, qds, qdds) = _find_roots(
+                    system, drive, t, q, qd, qdd, vals, f, full, period_t
+                )
                 for r, qr, qdr, qddr in zip(roots, qs[:, None], qds[:, None], qdds[:, None]):
                     g, dg = f(qr[0], qdr[0], qddr[0])
                     psi_r = drive(np.array([r]))[0][..., 0]
                     if not _others_hold(system, load, c, qr, qdr, psi_r, extremes, sched):
                         continue
                     inside_up = dg > 0 if c.kind == "moving" or offset == c.bounds[0] else dg < 0
-                    events.append((Event(float(r), float(drive(np.array([r]))[0][0, 0]), load.name,
-                                         label, "on" if inside_up else "off"),
-                                   (qr[0], qdr[0], qddr[0])))
+                    events.append(
+                        (
+                            Event(
+                                float(r),
+                                float(drive(np.array([r]))[0][0, 0]),
+                                load.name,
+                                label,
+                                "on" if inside_up else "off",
+                            ),
+                            (qr[0], qdr[0], qddr[0]),
+                        )
+                    )
     events.sort(key=lambda e: e[0].t)
     return events
 
@@ -511,6 +614,7 @@ def _others_hold(system, load, cond, q, qd, psi, extremes, sched) -> bool:
     """Whether every other condition of ``load`` holds (bands inclusive) at a state."""
     from .forces import activity
     from .model import Load
+
     others = tuple(c for c in load.active if c is not cond)
     probe = Load(load.name, load.kind, load.link, load.value, load.point, load.axis, others)
     return bool(activity(system, probe, q, qd, psi, extremes, sched.reference)[0])
@@ -518,13 +622,23 @@ def _others_hold(system, load, cond, q, qd, psi, extremes, sched) -> bool:
 
 def _state_near(system, drive, r, t, q, qd, qdd):
     n = int(np.argmin(np.abs(t - r)))
-    return state_at(system, drive, np.array([r]), t[n:n + 1], q[n:n + 1], qd[n:n + 1], qdd[n:n + 1])
+    return state_at(
+        system, drive, np.array([r]), t[n : n + 1], q[n : n + 1], qd[n : n + 1], qdd[n : n + 1]
+    )
 
 
-def analyze(model: Model | System, *, positions: np.ndarray | None = None,
-            times: np.ndarray | None = None, friction: bool | None = None, events: bool | None = None,
-            derivatives_by: str = "jacobian", step: float = np.radians(1.0),
-            reachable: bool = False, kinematics_only: bool = False) -> Result:
+def analyze(
+    model: Model | System,
+    *,
+    positions: np.ndarray | None = None,
+    times: np.ndarray | None = None,
+    friction: bool | None = None,
+    events: bool | None = None,
+    derivatives_by: str = "jacobian",
+    step: float = np.radians(1.0),
+    reachable: bool = False,
+    kinematics_only: bool = False,
+) -> Result:
     """Kinematics and kinetostatics over the positions of ``model.analysis``.
 
     Parameters
@@ -573,9 +687,15 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
     model = system.model
     n_motion = len(system.motion_drivers)
     if n_motion != system.structure.mobility or n_motion == 0:
-        raise StructureError([(Location(model.source, path="drivers"),
-                               f"analyze needs as many motion drivers as the mobility "
-                               f"({system.structure.mobility}); the file has {n_motion}")])
+        raise StructureError(
+            [
+                (
+                    Location(model.source, path="drivers"),
+                    f"analyze needs as many motion drivers as the mobility "
+                    f"({system.structure.mobility}); the file has {n_motion}",
+                )
+            ]
+        )
     sched = _schedule(system)
     if times is not None and positions is not None:
         raise ValueError("give positions (driver coordinates) or times, not both")
@@ -590,20 +710,24 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
     if positions is not None:
         given[:] = True
     elif times is None and model.analysis.at:
-        given[len(t) - len(model.analysis.at):] = True
-        order = np.argsort(t, kind="stable")          # `at` rows take their place in the run
+        given[len(t) - len(model.analysis.at) :] = True
+        order = np.argsort(t, kind="stable")  # `at` rows take their place in the run
         t, given = t[order], given[order]
-    closing = full and sched.law is not None     # one period of the law: does the pose repeat?
+    closing = full and sched.law is not None  # one period of the law: does the pose repeat?
     try:
-        sol: PositionSolution = solve_positions(system, np.append(t, sched.law.duration)
-                                                if closing else t, sched)
+        sol: PositionSolution = solve_positions(
+            system, np.append(t, sched.law.duration) if closing else t, sched
+        )
     except AssemblyError as exc:
         if sched.law is not None:
             raise _law_out_of_reach(system, sched, exc) from None
         if isinstance(exc, SingularConfigurationError) or times is not None:
             raise
-        behind = (_positions_behind(system, sched, t, given, exc, sort=positions is None)
-                  if given.any() else None)
+        behind = (
+            _positions_behind(system, sched, t, given, exc, sort=positions is None)
+            if given.any()
+            else None
+        )
         if behind is not None:
             t, sol = behind
         elif positions is not None:
@@ -612,72 +736,121 @@ def analyze(model: Model | System, *, positions: np.ndarray | None = None,
             t, sol, full = _reachable_run(system, sched, t, exc, reachable)
     if closing:
         full = _same_pose(system, sol.q[-1], sol.q[0])
-        sol = replace(sol, q=sol.q[:-1], signatures=sol.signatures[:-1], iterations=sol.iterations[:-1])
+        sol = replace(
+            sol, q=sol.q[:-1], signatures=sol.signatures[:-1], iterations=sol.iterations[:-1]
+        )
     q = sol.q
     psi, psi_d, psi_dd = sched(t)
     if derivatives_by == "jacobian":
         qd, qdd, lu = derivatives(system, q, psi_d, psi_dd)
-    else:                             # no kinematic factors: the reactions build their own
+    else:  # no kinematic factors: the reactions build their own
         qd, qdd = difference_derivatives(system, sched, t, q, derivatives_by, step)
         lu = None
     if kinematics_only:
         return _kinematics_result(system, sol, t, psi, q, qd, qdd, lu, full)
-    extremes, evts, states = _extremes_and_events(system, sched, sched, t, q, qd, qdd, full,
-                                                  states=True)
+    extremes, evts, states = _extremes_and_events(
+        system, sched, sched, t, q, qd, qdd, full, states=True
+    )
     want_events = model.analysis.events if events is None else events
     if want_events and evts:
         te = np.array([e.t for e in evts])
-        qe, qde, qdde = zip(*(tuple(x[None] for x in st) if st is not None else
-                              _state_near(system, sched, e.t, t, q, qd, qdd)
-                              for e, st in zip(evts, states)))
+        qe, qde, qdde = zip(
+            *(
+                tuple(x[None] for x in st)
+                if st is not None
+                else _state_near(system, sched, e.t, t, q, qd, qdd)
+                for e, st in zip(evts, states)
+            )
+        )
         t = np.concatenate((t, te))
-        q, qd, qdd = (np.concatenate((a, np.concatenate(b))) for a, b in
-                      ((q, qe), (qd, qde), (qdd, qdde)))
+        q, qd, qdd = (
+            np.concatenate((a, np.concatenate(b))) for a, b in ((q, qe), (qd, qde), (qdd, qdde))
+        )
         order = np.argsort(t, kind="stable")
         t, q, qd, qdd = t[order], q[order], qd[order], qdd[order]
         psi, psi_d, psi_dd = sched(t)
         lu = None
-    kin = kinetics(system, q, qd, qdd, psi, lu=lu, extremes=extremes, ref_speed=sched.reference,
-                   friction=model.has_friction if friction is None else friction)
+    kin = kinetics(
+        system,
+        q,
+        qd,
+        qdd,
+        psi,
+        lu=lu,
+        extremes=extremes,
+        ref_speed=sched.reference,
+        friction=model.has_friction if friction is None else friction,
+    )
     x0, fric, power = kin.x0, kin.friction, kin.power
-    sol.singular.extend(Singularity("equilibrium", float(t[k]), float(psi[k, 0]),
-                                    float(kin.condition[k])) for k in np.nonzero(kin.singular)[0])
+    sol.singular.extend(
+        Singularity("equilibrium", float(t[k]), float(psi[k, 0]), float(kin.condition[k]))
+        for k in np.nonzero(kin.singular)[0]
+    )
     cond = _conditions(system, q, lu)
     _warn_near_singular(system, cond, psi[..., 0])
     shaking = ground_reaction(system, q, x0)
-    _check_finite(system, t, psi, cond, sol.singular, q=q, qd=qd, qdd=qdd, x0=x0, fric=fric,
-                  power=power)
+    _check_finite(
+        system, t, psi, cond, sol.singular, q=q, qd=qd, qdd=qdd, x0=x0, fric=fric, power=power
+    )
     columns, units = build_columns(system, t, psi, q, qd, qdd, x0, fric, power, cond, shaking, full)
-    return Result(system=system, t=t, coordinate=psi[..., 0], q=q, qd=qd, qdd=qdd, lam=x0,
-                  columns=columns, units=units, events=tuple(evts), singular=tuple(sol.singular),
-                  indeterminate=kin.indeterminate, full_cycle=full, extremes=extremes)
+    return Result(
+        system=system,
+        t=t,
+        coordinate=psi[..., 0],
+        q=q,
+        qd=qd,
+        qdd=qdd,
+        lam=x0,
+        columns=columns,
+        units=units,
+        events=tuple(evts),
+        singular=tuple(sol.singular),
+        indeterminate=kin.indeterminate,
+        full_cycle=full,
+        extremes=extremes,
+    )
 
 
-def _reachable_run(system: System, sched: Schedule, t: np.ndarray, exc: AssemblyError,
-                   reachable: bool):
+def _reachable_run(
+    system: System, sched: Schedule, t: np.ndarray, exc: AssemblyError, reachable: bool
+):
     """The run of a crank that cannot follow the sweep: ``exc`` with the reachable range
     added, or (``reachable``) (t, solution, full) over that range."""
     try:
         lo, hi = reachable_range(system, sched, float(np.max(t)) + 1e-9)
     except AssemblyError:
-        raise exc from None                        # not even the start assembles
+        raise exc from None  # not even the start assembles
     if not reachable:
         exc.reachable = tuple(sched(np.array([lo, hi]))[0][:, 0])
-        exc.args = (f"{exc.args[0]}; the reachable range is {_range_text(system, sched, lo, hi)}"
-                    " (analyze(..., reachable=True) analyses it)",)
+        exc.args = (
+            f"{exc.args[0]}; the reachable range is {_range_text(system, sched, lo, hi)}"
+            " (analyze(..., reachable=True) analyses it)",
+        )
         raise exc
-    margin = 1e-6 * (hi - lo)                      # the limits themselves are singular
+    margin = 1e-6 * (hi - lo)  # the limits themselves are singular
     t = np.linspace(lo + margin, hi - margin, system.model.analysis.positions)
     sol = solve_positions(system, t, sched)
     plan = next(p for p in system.plans if p.group.label == exc.group)
-    for k, tk in ((0, lo), (-1, hi)):             # the limit positions are singular positions
-        sol.singular.append(Singularity(exc.group, tk, float(sched(np.array([tk]))[0][0, 0]),
-                                        float(group_condition(system, sol.q[k], plan))))
+    for k, tk in ((0, lo), (-1, hi)):  # the limit positions are singular positions
+        sol.singular.append(
+            Singularity(
+                exc.group,
+                tk,
+                float(sched(np.array([tk]))[0][0, 0]),
+                float(group_condition(system, sol.q[k], plan)),
+            )
+        )
     return t, sol, False
 
 
-def _positions_behind(system: System, sched: Schedule, t: np.ndarray, given: np.ndarray,
-                      exc: AssemblyError, sort: bool):
+def _positions_behind(
+    system: System,
+    sched: Schedule,
+    t: np.ndarray,
+    given: np.ndarray,
+    exc: AssemblyError,
+    sort: bool,
+):
     """Rows given as driver coordinates (``positions=``, ``at``) for a constant-speed crank
     that cannot turn fully: ``_times`` placed them up to a turn ahead of the start, where
     the linkage does not reach; a coordinate behind the start is reached running
@@ -694,22 +867,24 @@ def _positions_behind(system: System, sched: Schedule, t: np.ndarray, given: np.
     except AssemblyError:
         return None
     if hi - lo >= period:
-        return None                                # it turns fully: the failure is elsewhere
+        return None  # it turns fully: the failure is elsewhere
     tol = 1e-12 * period
-    inside = lambda x: (x >= lo - tol) & (x <= hi + tol)      # noqa: E731
+    inside = lambda x: (x >= lo - tol) & (x <= hi + tol)  # noqa: E731
     back = t - period
     move = given & ~inside(t) & (inside(back) | (~inside(back) & (np.abs(back) < np.abs(t))))
     t = np.where(move, back, t)
     if np.any(~given & ~inside(t)):
-        return None                                # the grid itself leaves the range
+        return None  # the grid itself leaves the range
     if np.any(given & ~inside(t)):
         k = int(np.argmax(given & ~inside(t)))
-        far = float(sched(t[k:k + 1])[0][0, 0])
+        far = float(sched(t[k : k + 1])[0][0, 0])
         exc.reachable = tuple(sched(np.array([lo, hi]))[0][:, 0])
-        exc.args = (f"{system.motion_drivers[0].name} = {np.degrees(far) % 360:.6g}° is out of "
-                    f"reach ({exc.args[0]}); the reachable range is "
-                    f"{_range_text(system, sched, lo, hi)}, running forwards or backwards from "
-                    "analysis.start",)
+        exc.args = (
+            f"{system.motion_drivers[0].name} = {np.degrees(far) % 360:.6g}° is out of "
+            f"reach ({exc.args[0]}); the reachable range is "
+            f"{_range_text(system, sched, lo, hi)}, running forwards or backwards from "
+            "analysis.start",
+        )
         raise exc
     if sort:
         t = np.sort(t, kind="stable")
@@ -720,13 +895,24 @@ def _checked_positions(system: System, positions) -> np.ndarray:
     """``analyze(positions=...)``: finite driver coordinates within the file's limits (a revolute's
     |ψ| as an angle of the file, a prismatic's distance from ``analysis.start`` as its sweep)."""
     from .yaml_io import MAGNITUDE, MAX_TRAVEL
+
     if system.motion_drivers[0].joint.angular:
         limit = MAGNITUDE["angle"][1]
-        return real_array("positions", positions, low=-limit, high=limit,
-                          why="rad; larger angles have lost their precision")
+        return real_array(
+            "positions",
+            positions,
+            low=-limit,
+            high=limit,
+            why="rad; larger angles have lost their precision",
+        )
     start, reach = system.model.analysis.start, MAX_TRAVEL * float(np.max(system.l_ref))
-    return real_array("positions", positions, low=start - reach, high=start + reach,
-                      why=f"m: at most {MAX_TRAVEL} times the largest link from analysis.start")
+    return real_array(
+        "positions",
+        positions,
+        low=start - reach,
+        high=start + reach,
+        why=f"m: at most {MAX_TRAVEL} times the largest link from analysis.start",
+    )
 
 
 def _checked_times(system: System, sched: Schedule, times) -> np.ndarray:
@@ -737,6 +923,7 @@ def _checked_times(system: System, sched: Schedule, times) -> np.ndarray:
     a negative time is a position before the start, reached by running the linkage backwards
     (as far back as forwards)."""
     from .yaml_io import MAX_TRAVEL, MAX_TURNS
+
     if sched.law is not None:
         high, why = MAX_TURNS * sched.law.duration, f"s: {MAX_TURNS} times the law's duration"
     elif system.motion_drivers[0].joint.angular:
@@ -746,10 +933,20 @@ def _checked_times(system: System, sched: Schedule, times) -> np.ndarray:
         high = MAX_TRAVEL * float(np.max(system.l_ref)) / sched.reference
         why = f"s: a travel of {MAX_TRAVEL} times the largest link"
     if sched.law is not None:
-        return real_array("times", times, low=0.0, high=high,
-                          why=why + "; a motion law's times count from its start, t = 0")
-    return real_array("times", times, low=-high, high=high,
-                      why=why + " either side of the start of the run, t = 0")
+        return real_array(
+            "times",
+            times,
+            low=0.0,
+            high=high,
+            why=why + "; a motion law's times count from its start, t = 0",
+        )
+    return real_array(
+        "times",
+        times,
+        low=-high,
+        high=high,
+        why=why + " either side of the start of the run, t = 0",
+    )
 
 
 NONFINITE_COND = 1e15
@@ -757,8 +954,9 @@ NONFINITE_COND = 1e15
 position: non-finite velocities or reactions there are explained, not a defect."""
 
 
-def _check_finite(system: System, t, psi, cond: dict, singular, *, q, qd, qdd, x0=None,
-                  fric=None, power=None) -> None:
+def _check_finite(
+    system: System, t, psi, cond: dict, singular, *, q, qd, qdd, x0=None, fric=None, power=None
+) -> None:
     """The last guard of :func:`analyze`: a NaN or infinity that no status explains raises
     :class:`~kinetostatics.errors.NonFiniteResultError` naming the column and the row.
 
@@ -783,50 +981,65 @@ def _check_finite(system: System, t, psi, cond: dict, singular, *, q, qd, qdd, x
     names = [f"{name}.{label}" for name in system.links for label in ("x", "y", "theta")]
     rate = {"x": "vx", "y": "vy", "theta": "omega"}
     acc = {"x": "ax", "y": "ay", "theta": "alpha"}
-    arrays = [(q, names, excused), (qd, [n.rsplit(".", 1)[0] + "." + rate[n.rsplit(".", 1)[1]]
-                                         for n in names], excused),
-              (qdd, [n.rsplit(".", 1)[0] + "." + acc[n.rsplit(".", 1)[1]] for n in names], excused)]
+    arrays = [
+        (q, names, excused),
+        (qd, [n.rsplit(".", 1)[0] + "." + rate[n.rsplit(".", 1)[1]] for n in names], excused),
+        (qdd, [n.rsplit(".", 1)[0] + "." + acc[n.rsplit(".", 1)[1]] for n in names], excused),
+    ]
     if x0 is not None:
         n_j = system.n_joint_rows
         labels = [""] * x0.shape[-1]
         for k, j in enumerate(system.model.joints):
             for r in range(x0.shape[-1])[system.rows_of(k)]:
-                labels[r] = (f"the reaction of joint {j.name} "
-                             f"({', '.join(f'{j.name}.{x}' for x in j.reaction_labels)})")
+                labels[r] = (
+                    f"the reaction of joint {j.name} "
+                    f"({', '.join(f'{j.name}.{x}' for x in j.reaction_labels)})"
+                )
         for d_index, d in enumerate(system.motion_drivers):
-            effort_joint = (system.model.joint(d.driver.balance_at) if d.driver.balance_at
-                            else d.joint)
+            effort_joint = (
+                system.model.joint(d.driver.balance_at) if d.driver.balance_at else d.joint
+            )
             labels[n_j + d_index] = f"{d.name}.{'torque' if effort_joint.angular else 'force'}"
         arrays.append((x0, labels, excused))
     if fric is not None:
         sol = fric["solution"]
         arrays.append((sol.x, [f"{x} (with friction)" for x in labels], locked))
-        arrays.append((sol.e, [f"{system.model.joints[k].name}.friction"
-                               for k in fric["setup"].joints], locked))
-        arrays.append((fric["x_approx"], [f"{x} (approximate friction)" for x in labels],
-                       excused))
+        arrays.append(
+            (
+                sol.e,
+                [f"{system.model.joints[k].name}.friction" for k in fric["setup"].joints],
+                locked,
+            )
+        )
+        arrays.append((fric["x_approx"], [f"{x} (approximate friction)" for x in labels], excused))
     for key, value in (power or {}).items():
         late = key in ("friction", "input_friction", "residual_friction")
         arrays.append((np.asarray(value)[..., None], [f"power.{key}"], locked if late else excused))
     for arr, labels, ok in arrays:
         arr = np.asarray(arr, dtype=float)
         if arr.ndim != 2 or arr.shape[0] != n:
-            continue                                # stacked variants: not checked here
+            continue  # stacked variants: not checked here
         bad = ~np.isfinite(arr) & ~ok[:, None]
         if bad.any():
             row, col = (int(i) for i in np.argwhere(bad)[0])
             label = labels[col] if col < len(labels) else f"column {col}"
             d = system.motion_drivers[0]
-            where = (f"{d.name} = {np.degrees(psi[row, 0]) % 360:.6g}°" if d.joint.angular
-                     else f"{d.name} = {psi[row, 0] * 1e3:.6g} mm")
+            where = (
+                f"{d.name} = {np.degrees(psi[row, 0]) % 360:.6g}°"
+                if d.joint.angular
+                else f"{d.name} = {psi[row, 0] * 1e3:.6g} mm"
+            )
             from .errors import NonFiniteResultError
+
             raise NonFiniteResultError(
-                label, row,
+                label,
+                row,
                 f"the analysis gave {arr[row, col]} in {label} at row {row} ({where}, t = "
                 f"{t[row]:.6g} s), with no self-locking or singular position to explain it: "
                 "the model's numbers overflow (masses, "
                 "lengths, loads or gravity too large or too small; see the input limits in "
-                "docs/errors.md)")
+                "docs/errors.md)",
+            )
 
 
 def _same_pose(system: System, qa: np.ndarray, qb: np.ndarray) -> bool:
@@ -846,23 +1059,38 @@ positions there can reach ~1e-16 × condition, and reactions grow like it."""
 
 def _warn_near_singular(system: System, cond: dict, coord: np.ndarray) -> None:
     import warnings
+
     from .errors import NearSingularWarning
+
     for group, c in cond.items():
         bad = np.nonzero(c > COND_WARN)[0]
         if bad.size:
             k = bad[np.argmax(c[bad])]
             name = system.motion_drivers[0].name
-            where = (f"{np.degrees(coord[k]) % 360:.4g}°" if system.motion_drivers[0].joint.angular
-                     else f"{coord[k] * 1e3:.6g} mm")
-            warnings.warn(f"{group.label} is nearly singular at {bad.size} position(s), worst at "
-                          f"{name} = {where} (condition {c[k]:.3g} > {COND_WARN:.0e}); "
-                          "reactions there are unreliable", NearSingularWarning, stacklevel=3)
+            where = (
+                f"{np.degrees(coord[k]) % 360:.4g}°"
+                if system.motion_drivers[0].joint.angular
+                else f"{coord[k] * 1e3:.6g} mm"
+            )
+            warnings.warn(
+                f"{group.label} is nearly singular at {bad.size} position(s), worst at "
+                f"{name} = {where} (condition {c[k]:.3g} > {COND_WARN:.0e}); "
+                "reactions there are unreliable",
+                NearSingularWarning,
+                stacklevel=3,
+            )
 
 
 def _conditions(system: System, q: np.ndarray, lu) -> dict:
-    return {p.group: (condition_number(system, p, lu.jac[..., p.rows[:, None], p.cols], lu.inv[g])
-                      if lu is not None else group_condition(system, q, p))
-            for g, p in enumerate(system.plans) if p.group.kind != "driven"}
+    return {
+        p.group: (
+            condition_number(system, p, lu.jac[..., p.rows[:, None], p.cols], lu.inv[g])
+            if lu is not None
+            else group_condition(system, q, p)
+        )
+        for g, p in enumerate(system.plans)
+        if p.group.kind != "driven"
+    }
 
 
 def _kinematics_result(system, sol, t, psi, q, qd, qdd, lu, full) -> Result:
@@ -870,9 +1098,19 @@ def _kinematics_result(system, sol, t, psi, q, qd, qdd, lu, full) -> Result:
     _warn_near_singular(system, cond, psi[..., 0])
     _check_finite(system, t, psi, cond, sol.singular, q=q, qd=qd, qdd=qdd)
     columns, units = build_columns(system, t, psi, q, qd, qdd, None, None, None, cond, None, full)
-    return Result(system=system, t=t, coordinate=psi[..., 0], q=q, qd=qd, qdd=qdd,
-                  lam=np.zeros(q.shape[:-1] + (0,)), columns=columns, units=units,
-                  singular=tuple(sol.singular), full_cycle=full)
+    return Result(
+        system=system,
+        t=t,
+        coordinate=psi[..., 0],
+        q=q,
+        qd=qd,
+        qdd=qdd,
+        lam=np.zeros(q.shape[:-1] + (0,)),
+        columns=columns,
+        units=units,
+        singular=tuple(sol.singular),
+        full_cycle=full,
+    )
 
 
 def _law_out_of_reach(system: System, sched: Schedule, exc: AssemblyError) -> AssemblyError:
@@ -880,9 +1118,11 @@ def _law_out_of_reach(system: System, sched: Schedule, exc: AssemblyError) -> As
     added (from a constant-speed sweep of the first driver from the law's start)."""
     law, d = sched.law, system.motion_drivers[0]
     psi = law.value(0.0, np.linspace(0.0, law.duration, 4097))[0]
-    text = (f"{exc.args[0]}; following the {law.kind} law of {d.name} in time, the linkage "
-            f"assembles up to t = {getattr(exc, 't_reached', float('nan')):.6g} s; the law spans "
-            f"{_coordinate_range(d, psi.min(), psi.max())}")
+    text = (
+        f"{exc.args[0]}; following the {law.kind} law of {d.name} in time, the linkage "
+        f"assembles up to t = {getattr(exc, 't_reached', float('nan')):.6g} s; the law spans "
+        f"{_coordinate_range(d, psi.min(), psi.max())}"
+    )
     if len(system.motion_drivers) == 1:
         sweep = Schedule(np.array([law.start]), np.array([1.0]))
         span = 2 * np.pi if d.joint.angular else 2 * float(np.ptp(psi)) + system.l_ref
@@ -918,22 +1158,31 @@ class Kinetics:
     q_gravity: np.ndarray
     q_inertia: np.ndarray
     q_external: np.ndarray
-    a: np.ndarray                 # equilibrium matrix A, (..., n_q, n_lam)
-    x0: np.ndarray                # frictionless multipliers and driver efforts
+    a: np.ndarray  # equilibrium matrix A, (..., n_q, n_lam)
+    x0: np.ndarray  # frictionless multipliers and driver efforts
     indeterminate: bool
-    friction: dict | None         # setup, x_approx, e_approx, solution (see friction.py)
+    friction: dict | None  # setup, x_approx, e_approx, solution (see friction.py)
     power: dict
-    singular: np.ndarray | None = None    # (...) A singular there: x0 NaN, friction.status 2
-    condition: np.ndarray | None = None   # (...) scaled condition number of a square A
+    singular: np.ndarray | None = None  # (...) A singular there: x0 NaN, friction.status 2
+    condition: np.ndarray | None = None  # (...) scaled condition number of a square A
 
     @property
     def q_load(self) -> np.ndarray:
         return self.q_gravity + self.q_inertia + self.q_external
 
 
-def kinetics(system: System, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, psi: np.ndarray, *,
-             ref_speed: float, lu=None, extremes: dict | None = None,
-             friction: bool = False) -> Kinetics:
+def kinetics(
+    system: System,
+    q: np.ndarray,
+    qd: np.ndarray,
+    qdd: np.ndarray,
+    psi: np.ndarray,
+    *,
+    ref_speed: float,
+    lu=None,
+    extremes: dict | None = None,
+    friction: bool = False,
+) -> Kinetics:
     """Inverse dynamics at states (q, q̇, q̈) with driver coordinates ``psi (..., n_d)``.
 
     Loads (gravity, d'Alembert inertia, external loads active at these states),
@@ -953,11 +1202,11 @@ def kinetics(system: System, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, psi
     own_efforts = all(d.driver.balance_at is None for d in system.motion_drivers)
     singular, condition, a_inv = np.zeros(q.shape[:-1], dtype=bool), None, None
     if lu is not None and own_efforts:
-        a = np.swapaxes(lu.jac, -1, -2)           # A = Φ_qᵀ: reuse the kinematic factors
+        a = np.swapaxes(lu.jac, -1, -2)  # A = Φ_qᵀ: reuse the kinematic factors
         x0, indeterminate = lu.solve_transposed(-q_load), False
     else:
         a = equilibrium_matrix(system, q)
-        if a.shape[-1] == a.shape[-2]:            # singular positions: NaN rows, the rest intact
+        if a.shape[-1] == a.shape[-2]:  # singular positions: NaN rows, the rest intact
             a_inv, singular, condition = invert_equilibrium(a, system.l_ref)
             if not own_efforts and len(system.motion_drivers) == 1:
                 # the effort's joint (nearly) at rest: no effort to round-off accuracy there
@@ -965,8 +1214,9 @@ def kinetics(system: System, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, psi
                 singular |= near
                 a_inv[near] = np.nan
             bad = ~np.isfinite(a_inv[..., 0, 0])
-            x0 = np.linalg.solve(np.where(bad[..., None, None], np.eye(a.shape[-1]), a),
-                                 -q_load[..., None])[..., 0]
+            x0 = np.linalg.solve(
+                np.where(bad[..., None, None], np.eye(a.shape[-1]), a), -q_load[..., None]
+            )[..., 0]
             x0[bad], indeterminate = np.nan, False
             if singular.any():
                 _warn_singular_equilibrium(system, singular, psi[..., 0])
@@ -974,12 +1224,11 @@ def kinetics(system: System, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, psi
             x0, indeterminate = solve_equilibrium(a, -q_load)
     fric = None
     if friction and model.has_friction and a.shape[-1] != a.shape[-2]:
-        raise StructureError([(Location(model.source, path="joints"),
-                               _not_square(system, a))])
+        raise StructureError([(Location(model.source, path="joints"), _not_square(system, a))])
     if friction and model.has_friction:
         fs = fr.setup(system, q, qd, ref_speed)
         if lu is not None and own_efforts:
-            solve_a = lu.solve_transposed          # A = Φ_qᵀ: back substitution over the groups
+            solve_a = lu.solve_transposed  # A = Φ_qᵀ: back substitution over the groups
         else:
             if a_inv is None:
                 a_inv = np.linalg.inv(a)
@@ -1002,8 +1251,13 @@ def kinetics(system: System, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, psi
         loss = np.sum(np.abs(cons.e * fric["setup"].speed), axis=-1)
         power["friction"] = loss
         power["input_friction"] = np.sum(cons.x[..., n_j:] * rel, axis=-1)
-        power["residual_friction"] = (power["input_friction"] - power["kinetic"] - power["potential"]
-                                      - power["external"] - loss)
+        power["residual_friction"] = (
+            power["input_friction"]
+            - power["kinetic"]
+            - power["potential"]
+            - power["external"]
+            - loss
+        )
     return Kinetics(q_grav, q_inert, q_ext, a, x0, indeterminate, fric, power, singular, condition)
 
 
@@ -1012,16 +1266,20 @@ def _not_square(system: System, a: np.ndarray) -> str:
     n_q, n_lam = a.shape[-2:]
     n_m, mob = len(system.motion_drivers), system.structure.mobility
     if n_lam < n_q:
-        return (f"friction needs the efforts of as many motion drivers as the mobility ({mob}); "
-                f"there are {n_m}: the loads are not balanced by unknown efforts (the "
-                f"equilibrium has {n_q} equations and {n_lam} unknowns)")
+        return (
+            f"friction needs the efforts of as many motion drivers as the mobility ({mob}); "
+            f"there are {n_m}: the loads are not balanced by unknown efforts (the "
+            f"equilibrium has {n_q} equations and {n_lam} unknowns)"
+        )
     redundant = redundant_joints(system, a.reshape((-1,) + a.shape[-2:])[0])
-    return (f"the linkage is overconstrained: joint(s) {', '.join(redundant) or '?'} "
-            f"are redundant ({n_lam} unknown reactions and efforts for {n_q} equations), so "
-            "their reactions are statically indeterminate (the frictionless analysis reports "
-            "the minimum-norm ones, flagged indeterminate) and the friction that depends on "
-            "them is not determined either: analyse without friction (friction=False) or "
-            "remove the redundant joints")
+    return (
+        f"the linkage is overconstrained: joint(s) {', '.join(redundant) or '?'} "
+        f"are redundant ({n_lam} unknown reactions and efforts for {n_q} equations), so "
+        "their reactions are statically indeterminate (the frictionless analysis reports "
+        "the minimum-norm ones, flagged indeterminate) and the friction that depends on "
+        "them is not determined either: analyse without friction (friction=False) or "
+        "remove the redundant joints"
+    )
 
 
 def redundant_joints(system: System, a: np.ndarray) -> list[str]:
@@ -1050,20 +1308,28 @@ def redundant_joints(system: System, a: np.ndarray) -> list[str]:
 def _warn_singular_equilibrium(system: System, singular: np.ndarray, coord: np.ndarray) -> None:
     """Warn of the positions where no finite effort balances the loads, naming them."""
     import warnings
+
     from .errors import SingularEquilibriumWarning
+
     d = system.motion_drivers[0]
     at = np.broadcast_to(coord, singular.shape)[singular]
-    where = ", ".join(f"{np.degrees(c) % 360:.6g}°" if d.joint.angular else f"{c * 1e3:.6g} mm"
-                      for c in at[:8]) + (f" and {at.size - 8} more" if at.size > 8 else "")
+    where = ", ".join(
+        f"{np.degrees(c) % 360:.6g}°" if d.joint.angular else f"{c * 1e3:.6g} mm" for c in at[:8]
+    ) + (f" and {at.size - 8} more" if at.size > 8 else "")
     joints = sorted({(m.driver.balance_at or m.joint.name) for m in system.motion_drivers})
-    warnings.warn(f"the equilibrium is singular at {d.name} = {where}: the effort at "
-                  f"{', '.join(joints)} cannot balance the loads there (a dead centre); the "
-                  "reactions and efforts there are NaN, friction.status 2, listed among the "
-                  "singular positions as 'equilibrium'", SingularEquilibriumWarning, stacklevel=3)
+    warnings.warn(
+        f"the equilibrium is singular at {d.name} = {where}: the effort at "
+        f"{', '.join(joints)} cannot balance the loads there (a dead centre); the "
+        "reactions and efforts there are NaN, friction.status 2, listed among the "
+        "singular positions as 'equilibrium'",
+        SingularEquilibriumWarning,
+        stacklevel=3,
+    )
 
 
 def _grad(system, q, k):
     from .system import coordinate_gradient
+
     return coordinate_gradient(system, q, k)
 
 
@@ -1071,8 +1337,10 @@ def numerical_mobility(system: System) -> int:
     """n_q − rank Φ_q (joints only) at the first assembled position; warns if it
     differs from Grübler–Kutzbach (an overconstrained or special linkage)."""
     import warnings
+
     from .positions import initial_guess
     from .system import jacobian as _jac
+
     n_j = len(system.model.joints)
     q = initial_guess(system)
     if system.motion_drivers and len(system.motion_drivers) == system.structure.mobility:
@@ -1083,7 +1351,9 @@ def numerical_mobility(system: System) -> int:
     rank = int(np.sum(s > 1e-9 * max(s.max(initial=0.0), 1.0)))
     n = system.n_q - rank
     if n != system.structure.mobility:
-        warnings.warn(f"numerical mobility {n} differs from Grübler–Kutzbach "
-                      f"{system.structure.mobility}: the linkage is overconstrained or special",
-                      stacklevel=2)
+        warnings.warn(
+            f"numerical mobility {n} differs from Grübler–Kutzbach "
+            f"{system.structure.mobility}: the linkage is overconstrained or special",
+            stacklevel=2,
+        )
     return n

@@ -32,12 +32,19 @@ import math
 import os
 import sys
 import time
-from concurrent.futures import (FIRST_COMPLETED, BrokenExecutor, CancelledError, Executor,
-                                Future, wait)
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from concurrent.futures import (
+    FIRST_COMPLETED,
+    BrokenExecutor,
+    CancelledError,
+    Executor,
+    Future,
+    wait,
+)
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
-from typing import Any, Callable, Iterable, Mapping, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -45,9 +52,20 @@ from . import yaml_io
 from ._files import make_folder, write_whole
 from .errors import KinetostaticsError, OutputError, output_error
 
-__all__ = ["Source", "Task", "Chunk", "BatchSummary", "BatchError", "run_batch",
-           "analyze_chunk", "sources_of", "read_summary", "auto_chunk", "MEMORY_BUDGET",
-           "BYTES_PER_POSITION"]
+__all__ = [
+    "Source",
+    "Task",
+    "Chunk",
+    "BatchSummary",
+    "BatchError",
+    "run_batch",
+    "analyze_chunk",
+    "sources_of",
+    "read_summary",
+    "auto_chunk",
+    "MEMORY_BUDGET",
+    "BYTES_PER_POSITION",
+]
 
 SUMMARY = "summary.csv"
 STATE = "batch.json"
@@ -76,7 +94,7 @@ class Source:
 
     file: str
     text: str
-    problem: KinetostaticsError | None = None    # why the file could not be read
+    problem: KinetostaticsError | None = None  # why the file could not be read
 
 
 @dataclass(frozen=True)
@@ -129,6 +147,7 @@ class BatchSummary:
 @lru_cache(maxsize=16)
 def _template(file: str, text: str):
     from .variants import Template
+
     return Template.loads(text, file)
 
 
@@ -137,18 +156,26 @@ def analyze_chunk(chunk: Chunk) -> list[dict[str, Any]]:
     With ``results_dir`` it also writes ``<results_dir>/<id>/results.csv`` and
     ``summary.json`` of each variant that succeeded (a second, single analysis)."""
     from . import variants
+
     try:
         template = _template(chunk.source.file, chunk.source.text)
     except KinetostaticsError as exc:
         return [variants.failure_row(exc) for _ in chunk.ids]
-    rows = variants.analyze_variants(template, chunk.overrides, positions=chunk.positions,
-                                     friction=chunk.friction, flywheel=chunk.flywheel)
+    rows = variants.analyze_variants(
+        template,
+        chunk.overrides,
+        positions=chunk.positions,
+        friction=chunk.friction,
+        flywheel=chunk.flywheel,
+    )
     if chunk.results_dir:
         from .analysis import analyze
+
         for vid, ov, row in zip(chunk.ids, chunk.overrides, rows):
             if row["status"] == "ok":
-                result = analyze(template.model(ov, positions=chunk.positions),
-                                 friction=chunk.friction)
+                result = analyze(
+                    template.model(ov, positions=chunk.positions), friction=chunk.friction
+                )
                 folder = Path(chunk.results_dir) / vid
                 folder.mkdir(parents=True, exist_ok=True)
                 result.to_csv(folder / "results.csv")
@@ -158,8 +185,11 @@ def analyze_chunk(chunk: Chunk) -> list[dict[str, Any]]:
 
 def _error_row(exc: BaseException) -> dict[str, Any]:
     text = str(exc).splitlines()[0] if str(exc) else ""
-    return {"status": "error", "reason": f"{type(exc).__name__}: {text}".rstrip(": "),
-            "full_cycle": False}
+    return {
+        "status": "error",
+        "reason": f"{type(exc).__name__}: {text}".rstrip(": "),
+        "full_cycle": False,
+    }
 
 
 # -- executors -------------------------------------------------------------------------
@@ -169,14 +199,16 @@ def _die_with_parent(parent: int) -> None:
     SIGKILL at the parent's death (``prctl(PR_SET_PDEATHSIG)``); everywhere a
     daemon thread checks once a second that the parent is still there."""
     import threading
+
     if sys.platform.startswith("linux"):
         try:
             import ctypes
             import signal
+
             ctypes.CDLL(None, use_errno=True).prctl(1, int(signal.SIGKILL), 0, 0, 0)
-        except (OSError, AttributeError):          # pragma: no cover - no libc prctl
+        except (OSError, AttributeError):  # pragma: no cover - no libc prctl
             pass
-    if os.getppid() != parent:                     # the parent died before prctl
+    if os.getppid() != parent:  # the parent died before prctl
         os._exit(1)
 
     def watch() -> None:
@@ -184,6 +216,7 @@ def _die_with_parent(parent: int) -> None:
             time.sleep(1.0)
             if os.getppid() != parent:
                 os._exit(1)
+
     threading.Thread(target=watch, name="kinetostatics-parent-watch", daemon=True).start()
 
 
@@ -194,7 +227,7 @@ class _Serial(Executor):
         f: Future = Future()
         try:
             f.set_result(fn(*args, **kwargs))
-        except Exception as exc:        # noqa: BLE001 - reported as the chunk's rows
+        except Exception as exc:  # noqa: BLE001 - reported as the chunk's rows
             f.set_exception(exc)
         return f
 
@@ -205,9 +238,11 @@ def _open_executor(executor: Any, workers: int | None) -> tuple[Executor, int, C
         return _Serial(), 1, lambda: None
     if executor in (None, "processes"):
         from concurrent.futures import ProcessPoolExecutor
+
         n = workers or os.cpu_count() or 1
-        ex = ProcessPoolExecutor(max_workers=n, initializer=_die_with_parent,
-                                 initargs=(os.getpid(),))
+        ex = ProcessPoolExecutor(
+            max_workers=n, initializer=_die_with_parent, initargs=(os.getpid(),)
+        )
         return ex, n, lambda: ex.shutdown(wait=False, cancel_futures=True)
     if isinstance(executor, Executor):
         return executor, workers or os.cpu_count() or 1, lambda: None
@@ -215,8 +250,9 @@ def _open_executor(executor: Any, workers: int | None) -> tuple[Executor, int, C
         try:
             from distributed import Client
         except ImportError:
-            raise BatchError(f"--scheduler {executor}: Dask is not installed "
-                             "(pip install 'kinetostatics[dask]')") from None
+            raise BatchError(
+                f"--scheduler {executor}: Dask is not installed (pip install 'kinetostatics[dask]')"
+            ) from None
         try:
             client = Client(executor, timeout=10)
         except (OSError, TimeoutError) as exc:
@@ -227,9 +263,12 @@ def _open_executor(executor: Any, workers: int | None) -> tuple[Executor, int, C
         def close() -> None:
             ex.shutdown(wait=False)
             client.close()
+
         return ex, n, close
-    raise BatchError(f"executor {executor!r}: use 'processes', 'serial', a Dask scheduler "
-                     "address or a concurrent.futures.Executor")
+    raise BatchError(
+        f"executor {executor!r}: use 'processes', 'serial', a Dask scheduler "
+        "address or a concurrent.futures.Executor"
+    )
 
 
 def auto_chunk(n_todo: int, positions: int, workers: int) -> int:
@@ -267,6 +306,7 @@ def column_unit(name: str, params: Iterable[str] = ()) -> str:
     """The unit of a summary column: ``file`` for a parameter (the file's units),
     :data:`variants.ROW_UNITS` for a metric, N·m / N for a driver effort."""
     from .variants import ROW_UNITS
+
     if name in params:
         return "file"
     if name == "full_cycle":
@@ -290,7 +330,7 @@ def read_summary(path: str | Path) -> tuple[list[str], list[dict[str, str]]]:
     number of cells than the header is left out too."""
     lines = Path(path).read_text(encoding="utf-8").splitlines(keepends=True)
     if lines and not lines[-1].endswith("\n"):
-        lines.pop()                     # its end never reached the disk
+        lines.pop()  # its end never reached the disk
     lines = [line for line in lines if not line.startswith("#")]
     reader = csv.reader(lines)
     header = next(reader, [])
@@ -338,8 +378,9 @@ class _Table:
     def _text(self, rows: Iterable[Mapping[str, str]], header: bool) -> str:
         buf = io.StringIO()
         if header:
-            buf.write("# units: " + ",".join(column_unit(c, self.params) for c in self.columns)
-                      + "\n")
+            buf.write(
+                "# units: " + ",".join(column_unit(c, self.params) for c in self.columns) + "\n"
+            )
         w = csv.writer(buf, lineterminator="\n")
         if header:
             w.writerow(self.columns)
@@ -400,7 +441,7 @@ class _Lock:
     def acquire(self) -> None:
         try:
             import fcntl
-        except ImportError:                    # pragma: no cover - not POSIX
+        except ImportError:  # pragma: no cover - not POSIX
             fcntl = None
         for _ in range(10):
             fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o644)
@@ -408,36 +449,43 @@ class _Lock:
                 if fcntl is not None:
                     try:
                         fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-                    except OSError as exc:     # a file system without flock (some NFS)
+                    except OSError as exc:  # a file system without flock (some NFS)
                         if exc.errno not in (errno.ENOLCK, errno.EOPNOTSUPP, errno.EINVAL):
                             raise
                         if not self._stale(fd):
                             raise BlockingIOError from None
-                elif not self._stale(fd):      # pragma: no cover
+                elif not self._stale(fd):  # pragma: no cover
                     raise BlockingIOError
             except BlockingIOError:
                 holder = os.read(fd, 200).decode("utf-8", "replace").strip()
                 os.close(fd)
-                raise BatchError(f"{self.path.parent}: another batch is writing to this "
-                                 f"folder ({holder or 'batch.lock is held'}); wait for it "
-                                 "to finish, or use another --out") from None
+                raise BatchError(
+                    f"{self.path.parent}: another batch is writing to this "
+                    f"folder ({holder or 'batch.lock is held'}); wait for it "
+                    "to finish, or use another --out"
+                ) from None
             except BaseException:
                 os.close(fd)
                 raise
-            try:                               # the file may have been removed meanwhile
+            try:  # the file may have been removed meanwhile
                 same = os.stat(self.path).st_ino == os.fstat(fd).st_ino
             except FileNotFoundError:
                 same = False
             if same:
                 self.fd = fd
                 os.ftruncate(fd, 0)
-                os.write(fd, (f"pid {os.getpid()} on {_host()} since "
-                              f"{time.strftime('%Y-%m-%d %H:%M:%S')}\n").encode())
+                os.write(
+                    fd,
+                    (
+                        f"pid {os.getpid()} on {_host()} since "
+                        f"{time.strftime('%Y-%m-%d %H:%M:%S')}\n"
+                    ).encode(),
+                )
                 return
             os.close(fd)
-        raise BatchError(f"{self.path}: cannot take the lock")   # pragma: no cover
+        raise BatchError(f"{self.path}: cannot take the lock")  # pragma: no cover
 
-    def _stale(self, fd: int) -> bool:             # pragma: no cover - without flock
+    def _stale(self, fd: int) -> bool:  # pragma: no cover - without flock
         words = os.read(fd, 200).decode("utf-8", "replace").split()
         os.lseek(fd, 0, os.SEEK_SET)
         try:
@@ -455,12 +503,13 @@ class _Lock:
             self.path.unlink()
         except OSError:
             pass
-        os.close(self.fd)                      # releases the flock
+        os.close(self.fd)  # releases the flock
         self.fd = None
 
 
 def _host() -> str:
     import socket
+
     return socket.gethostname()
 
 
@@ -469,6 +518,7 @@ def variant_parameters(template, overrides: Mapping[str, float]) -> dict[str, fl
     """All the file's parameters evaluated for a variant (file units); only the
     overrides when the values cannot be evaluated (the row then says why)."""
     from .expressions import evaluate_parameters
+
     if not overrides:
         return template.parameters
     section = template.tree.get("parameters")
@@ -492,7 +542,7 @@ def sources_of(path: str | Path) -> list[Source]:
     else:
         raise BatchError(f"{path}: no such file or folder")
     out = []
-    for f in files:                  # in a folder, an unreadable file is a row with its reason
+    for f in files:  # in a folder, an unreadable file is a row with its reason
         try:
             out.append(Source(str(f), yaml_io.read_text(f)))
         except KinetostaticsError as exc:
@@ -529,8 +579,10 @@ class _Progress:
             frac = self.done / self.total if self.total else 1.0
             bar = "#" * int(30 * frac)
             eta_s = time.strftime("%H:%M:%S", time.gmtime(eta)) if math.isfinite(eta) else "?"
-            self.stream.write(f"\rbatch [{bar:<30}] {self.done}/{self.total} {100 * frac:3.0f}% "
-                              f"{rate:7.1f} variants/s ETA {eta_s} failed {self.failed} ")
+            self.stream.write(
+                f"\rbatch [{bar:<30}] {self.done}/{self.total} {100 * frac:3.0f}% "
+                f"{rate:7.1f} variants/s ETA {eta_s} failed {self.failed} "
+            )
             self.stream.flush()
 
     def close(self) -> None:
@@ -540,12 +592,22 @@ class _Progress:
 
 
 # -- the batch -------------------------------------------------------------------------
-def run_batch(sources: Sequence[Source] | str | Path, tasks: Sequence[Task] | None,
-              out_dir: str | Path, *, chunk: int | None = None, executor: Any = None,
-              workers: int | None = None, positions: int | None = None,
-              friction: bool | None = None, flywheel: bool | None = None,
-              results: bool = False, progress: bool | None = None, overwrite: bool = False,
-              on_chunk: Callable[[int], None] | None = None) -> BatchSummary:
+def run_batch(
+    sources: Sequence[Source] | str | Path,
+    tasks: Sequence[Task] | None,
+    out_dir: str | Path,
+    *,
+    chunk: int | None = None,
+    executor: Any = None,
+    workers: int | None = None,
+    positions: int | None = None,
+    friction: bool | None = None,
+    flywheel: bool | None = None,
+    results: bool = False,
+    progress: bool | None = None,
+    overwrite: bool = False,
+    on_chunk: Callable[[int], None] | None = None,
+) -> BatchSummary:
     """Analyse ``tasks`` (default: each source as written, id = file stem) and
     write ``out_dir/summary.csv`` (one row per task, in task order) and
     ``out_dir/batch.json``.
@@ -583,8 +645,14 @@ def run_batch(sources: Sequence[Source] | str | Path, tasks: Sequence[Task] | No
     out = Path(out_dir)
     options = {"positions": positions, "friction": friction, "flywheel": flywheel}
     fingerprint = _fingerprint(sources, tasks, options)
-    state = {"fingerprint": fingerprint, "variants": len(tasks),
-             "sources": [s.file for s in sources], "options": options, "computed": 0, "runs": []}
+    state = {
+        "fingerprint": fingerprint,
+        "variants": len(tasks),
+        "sources": [s.file for s in sources],
+        "options": options,
+        "computed": 0,
+        "runs": [],
+    }
     order = {t.vid: k for k, t in enumerate(tasks)}
     if len(order) != len(tasks):
         raise BatchError("variant ids are not unique")
@@ -592,12 +660,20 @@ def run_batch(sources: Sequence[Source] | str | Path, tasks: Sequence[Task] | No
     _check_names(tasks, sources, templates)
     for source, tpl in zip(sources, templates):
         if flywheel and not isinstance(tpl, BaseException) and tpl.base.flywheel is None:
-            raise BatchError(f"{source.file}: --flywheel needs a flywheel: {{delta: ...}} "
-                             "section in the file (docs/dynamics.md)")
-    n_pos = positions or max((tpl.base.analysis.positions for tpl in templates
-                              if not isinstance(tpl, BaseException)), default=None)
-    _check_memory(0, n_pos, (workers or os.cpu_count() or 1)
-                  if executor in (None, "processes") else 1, bool(positions))
+            raise BatchError(
+                f"{source.file}: --flywheel needs a flywheel: {{delta: ...}} "
+                "section in the file (docs/dynamics.md)"
+            )
+    n_pos = positions or max(
+        (tpl.base.analysis.positions for tpl in templates if not isinstance(tpl, BaseException)),
+        default=None,
+    )
+    _check_memory(
+        0,
+        n_pos,
+        (workers or os.cpu_count() or 1) if executor in (None, "processes") else 1,
+        bool(positions),
+    )
     where = f"--out {out_dir}"
     make_folder(out, where)
     lock = _Lock(out)
@@ -606,36 +682,75 @@ def run_batch(sources: Sequence[Source] | str | Path, tasks: Sequence[Task] | No
     except OSError as exc:
         raise output_error(exc, where) from None
     try:
-        return _run_locked(sources, tasks, out, where, templates, state, fingerprint, order,
-                           chunk=chunk, executor=executor, workers=workers,
-                           positions=positions, friction=friction, flywheel=flywheel,
-                           results=results, progress=progress, overwrite=overwrite,
-                           on_chunk=on_chunk, t_start=t_start)
+        return _run_locked(
+            sources,
+            tasks,
+            out,
+            where,
+            templates,
+            state,
+            fingerprint,
+            order,
+            chunk=chunk,
+            executor=executor,
+            workers=workers,
+            positions=positions,
+            friction=friction,
+            flywheel=flywheel,
+            results=results,
+            progress=progress,
+            overwrite=overwrite,
+            on_chunk=on_chunk,
+            t_start=t_start,
+        )
     finally:
         lock.release()
 
 
-def _check_memory(n_tasks: int, positions: int | None, workers: int,
-                  option: bool = True) -> None:
+def _check_memory(n_tasks: int, positions: int | None, workers: int, option: bool = True) -> None:
     """Refuse, before any allocation, a batch whose table or one variant's analysis
     would not fit in the memory available (``sweeps.available_memory``)."""
     from .sweeps import BYTES_PER_VARIANT, available_memory, gigabytes
+
     free = available_memory()
     need = n_tasks * BYTES_PER_VARIANT
     if need > free:
-        raise BatchError(f"{n_tasks} variants: the table needs about {gigabytes(need)} of "
-                         f"memory, more than the {gigabytes(free)} available; split the sweep "
-                         "into several batches (one --out each)")
+        raise BatchError(
+            f"{n_tasks} variants: the table needs about {gigabytes(need)} of "
+            f"memory, more than the {gigabytes(free)} available; split the sweep "
+            "into several batches (one --out each)"
+        )
     if positions and positions * BYTES_PER_POSITION * workers > free:
-        raise BatchError(f"{'--positions' if option else 'analysis.positions'} {positions}: "
-                         f"one variant at {positions} positions needs about "
-                         f"{gigabytes(positions * BYTES_PER_POSITION)} of memory per worker "
-                         f"({workers} at once), more than the {gigabytes(free)} available")
+        raise BatchError(
+            f"{'--positions' if option else 'analysis.positions'} {positions}: "
+            f"one variant at {positions} positions needs about "
+            f"{gigabytes(positions * BYTES_PER_POSITION)} of memory per worker "
+            f"({workers} at once), more than the {gigabytes(free)} available"
+        )
 
 
-def _run_locked(sources, tasks, out: Path, where: str, templates, state, fingerprint, order, *,
-                chunk, executor, workers, positions, friction, flywheel, results, progress,
-                overwrite, on_chunk, t_start) -> BatchSummary:
+def _run_locked(
+    sources,
+    tasks,
+    out: Path,
+    where: str,
+    templates,
+    state,
+    fingerprint,
+    order,
+    *,
+    chunk,
+    executor,
+    workers,
+    positions,
+    friction,
+    flywheel,
+    results,
+    progress,
+    overwrite,
+    on_chunk,
+    t_start,
+) -> BatchSummary:
     """The batch, with ``out`` locked: resume or start the table, run the chunks."""
     state_path, table_path = out / STATE, out / SUMMARY
     table = _Table(table_path, order)
@@ -643,14 +758,16 @@ def _run_locked(sources, tasks, out: Path, where: str, templates, state, fingerp
         if table_path.exists() and not overwrite:
             old = _read_state(state_path)
             if old.get("fingerprint") != fingerprint:
-                raise BatchError(f"{out}: holds another batch (other files, sweep or options"
-                                 f"{'' if old else '; batch.json is missing or unreadable'}); "
-                                 "use another --out, or --overwrite to start afresh")
+                raise BatchError(
+                    f"{out}: holds another batch (other files, sweep or options"
+                    f"{'' if old else '; batch.json is missing or unreadable'}); "
+                    "use another --out, or --overwrite to start afresh"
+                )
             state = old
             table.resume()
         elif table_path.exists():
             table_path.unlink()
-        _write_state(state_path, state)         # before any row: a kill stays resumable
+        _write_state(state_path, state)  # before any row: a kill stays resumable
         if not table_path.exists():
             table.rewrite()
     except OSError as exc:
@@ -665,23 +782,31 @@ def _run_locked(sources, tasks, out: Path, where: str, templates, state, fingerp
         cells = []
         for task, row in task_rows:
             tpl = templates[task.source]
-            params = {} if isinstance(tpl, BaseException) else variant_parameters(tpl, task.overrides)
-            text = {"variant": task.vid, **{k: _cell(v) for k, v in params.items()},
-                    **{k: _cell(v) for k, v in row.items()}}
+            params = (
+                {} if isinstance(tpl, BaseException) else variant_parameters(tpl, task.overrides)
+            )
+            text = {
+                "variant": task.vid,
+                **{k: _cell(v) for k, v in params.items()},
+                **{k: _cell(v) for k, v in row.items()},
+            }
             cells.append((text, params))
         try:
             table.add(cells)
-        except OSError as exc:              # a full disk: stop; the rows on disk stay valid
+        except OSError as exc:  # a full disk: stop; the rows on disk stay valid
             raise output_error(exc, where) from None
         return sum(r.get("status") != "ok" for _, r in task_rows)
 
     from .variants import failure_row
+
     bar = _Progress(len(tasks), reused, sys.stderr.isatty() if progress is None else progress)
     if broken:
         bar.update(len(broken), record([(t, failure_row(templates[t.source])) for t in broken]))
     ex, slots, close = _open_executor(executor, workers)
-    n_pos = positions or max((tpl.base.analysis.positions for tpl in templates
-                              if not isinstance(tpl, BaseException)), default=1)
+    n_pos = positions or max(
+        (tpl.base.analysis.positions for tpl in templates if not isinstance(tpl, BaseException)),
+        default=1,
+    )
     size = chunk or auto_chunk(len(todo), n_pos, slots)
     results_dir = str(out / "variants") if results else None
     pending: dict[Future, tuple[list[Task], int]] = {}
@@ -692,21 +817,35 @@ def _run_locked(sources, tasks, out: Path, where: str, templates, state, fingerp
     try:
         while True:
             while len(pending) < 2 * slots and (
-                    (nxt := retry.pop() if retry else
-                     ((p, 1) if (p := next(it, None)) is not None else None)) is not None):
+                (
+                    nxt := retry.pop()
+                    if retry
+                    else ((p, 1) if (p := next(it, None)) is not None else None)
+                )
+                is not None
+            ):
                 part, attempt = nxt
-                job = Chunk(sources[part[0].source], tuple(t.vid for t in part),
-                            tuple(dict(t.overrides) for t in part), positions, friction,
-                            flywheel, results_dir)
+                job = Chunk(
+                    sources[part[0].source],
+                    tuple(t.vid for t in part),
+                    tuple(dict(t.overrides) for t in part),
+                    positions,
+                    friction,
+                    flywheel,
+                    results_dir,
+                )
                 try:
                     pending[ex.submit(analyze_chunk, job)] = (part, attempt)
                 except BrokenExecutor:
                     retry.append((part, attempt))
                     ex, close = _reopen(executor, workers, ex, close)
-                except Exception as exc:    # noqa: BLE001 - the executor itself failed
-                    for f in [f for f in pending if f.done() and not f.cancelled()
-                              and f.exception() is None]:
-                        part, _ = pending.pop(f)      # keep the rows already computed
+                except Exception as exc:  # noqa: BLE001 - the executor itself failed
+                    for f in [
+                        f
+                        for f in pending
+                        if f.done() and not f.cancelled() and f.exception() is None
+                    ]:
+                        part, _ = pending.pop(f)  # keep the rows already computed
                         if len(rows := f.result()) == len(part):
                             bar.update(len(part), record(list(zip(part, rows))))
                     raise _executor_error(executor, exc, out) from None
@@ -714,7 +853,7 @@ def _run_locked(sources, tasks, out: Path, where: str, templates, state, fingerp
                 break
             try:
                 done, _ = wait(list(pending), return_when=FIRST_COMPLETED)
-            except Exception as exc:        # noqa: BLE001
+            except Exception as exc:  # noqa: BLE001
                 raise _executor_error(executor, exc, out) from None
             lost = False
             for f in done:
@@ -723,21 +862,21 @@ def _run_locked(sources, tasks, out: Path, where: str, templates, state, fingerp
                     rows = f.result()
                     if len(rows) != len(part):
                         raise RuntimeError(f"{len(rows)} rows for {len(part)} variants")
-                except CancelledError as exc:   # not by us: the executor gave up (a lost
-                    raise _executor_error(executor, exc, out) from None    # scheduler)
-                except BrokenExecutor as exc:   # its worker died: again, in a fresh pool
+                except CancelledError as exc:  # not by us: the executor gave up (a lost
+                    raise _executor_error(executor, exc, out) from None  # scheduler)
+                except BrokenExecutor as exc:  # its worker died: again, in a fresh pool
                     lost = True
                     if attempt < ATTEMPTS and executor in (None, "processes"):
                         retry.append((part, attempt + 1))
                         continue
                     rows = [_error_row(exc) for _ in part]
-                except Exception as exc:     # noqa: BLE001 - a chunk's crash is its rows' error
+                except Exception as exc:  # noqa: BLE001 - a chunk's crash is its rows' error
                     rows = [_error_row(exc) for _ in part]
                 bar.update(len(part), record(list(zip(part, rows))))
                 if on_chunk is not None:
                     on_chunk(len(table.rows))
             if lost and executor in (None, "processes"):
-                for f, job in list(pending.items()):    # the others in the broken pool
+                for f, job in list(pending.items()):  # the others in the broken pool
                     if f.done() and isinstance(f.exception(), BrokenExecutor):
                         pending.pop(f)
                         retry.append(job)
@@ -748,17 +887,25 @@ def _run_locked(sources, tasks, out: Path, where: str, templates, state, fingerp
     finally:
         try:
             close()
-        except Exception:                   # noqa: BLE001 - e.g. a Dask client already lost
+        except Exception:  # noqa: BLE001 - e.g. a Dask client already lost
             pass
         bar.close()
         seconds = time.perf_counter() - t_run
-        computed = len(table.rows) - reused    # rows written now (an interrupt may fall anywhere)
+        computed = len(table.rows) - reused  # rows written now (an interrupt may fall anywhere)
         state["computed"] = state.get("computed", 0) + computed
-        state["runs"] = [*state.get("runs", []),
-                         {"computed": computed, "reused": reused, "seconds": round(seconds, 3),
-                          "chunk": size, "workers": slots,
-                          "executor": executor if isinstance(executor, (str, type(None)))
-                          else type(executor).__name__}]
+        state["runs"] = [
+            *state.get("runs", []),
+            {
+                "computed": computed,
+                "reused": reused,
+                "seconds": round(seconds, 3),
+                "chunk": size,
+                "workers": slots,
+                "executor": executor
+                if isinstance(executor, (str, type(None)))
+                else type(executor).__name__,
+            },
+        ]
         try:
             table.rewrite()
             _write_state(state_path, state)
@@ -768,8 +915,17 @@ def _run_locked(sources, tasks, out: Path, where: str, templates, state, fingerp
             if failure is None:
                 raise output_error(exc, where) from None
     statuses = [r.get("status") for r in table.rows.values()]
-    return BatchSummary(out, len(tasks), computed, reused, statuses.count("failed"),
-                        statuses.count("error"), time.perf_counter() - t_start, size, slots)
+    return BatchSummary(
+        out,
+        len(tasks),
+        computed,
+        reused,
+        statuses.count("failed"),
+        statuses.count("error"),
+        time.perf_counter() - t_start,
+        size,
+        slots,
+    )
 
 
 def _reopen(executor, workers, ex, close):
@@ -781,12 +937,18 @@ def _reopen(executor, workers, ex, close):
 
 def _executor_error(executor: Any, exc: BaseException, out: Path) -> OutputError:
     """One line for an executor that failed as a whole (a lost Dask scheduler)."""
-    what = f"--scheduler {executor}" if isinstance(executor, str) and executor not in (
-        "processes", "serial") else "the executor"
+    what = (
+        f"--scheduler {executor}"
+        if isinstance(executor, str) and executor not in ("processes", "serial")
+        else "the executor"
+    )
     text = str(exc).splitlines()[0] if str(exc) else ""
-    return OutputError(f"{what}: failed ({type(exc).__name__}{': ' + text if text else ''}); "
-                       f"the finished rows are in {out / SUMMARY}; run the same command "
-                       "again to resume")
+    return OutputError(
+        f"{what}: failed ({type(exc).__name__}{': ' + text if text else ''}); "
+        f"the finished rows are in {out / SUMMARY}; run the same command "
+        "again to resume"
+    )
+
 
 def _one_per_file(sources: Sequence[Source]) -> list[Task]:
     seen: set[str] = set()
@@ -817,10 +979,12 @@ def _templates(sources: Sequence[Source]) -> list[Any]:
 def _check_names(tasks: Sequence[Task], sources: Sequence[Source], templates: Sequence) -> None:
     """Fail fast, before any analysis, on a parameter a file does not declare."""
     from .sweeps import check_parameters
+
     for k, (source, tpl) in enumerate(zip(sources, templates)):
         if not isinstance(tpl, BaseException):
-            check_parameters([(t.vid, t.overrides) for t in tasks if t.source == k],
-                             tpl.parameters, source.file)
+            check_parameters(
+                [(t.vid, t.overrides) for t in tasks if t.source == k], tpl.parameters, source.file
+            )
 
 
 def _chunks(tasks: Sequence[Task], size: int) -> list[list[Task]]:

@@ -12,15 +12,21 @@ from __future__ import annotations
 import math
 import operator
 import re
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
-from typing import Iterable, Mapping, Sequence
 
 from .errors import KinetostaticsError, did_you_mean
 
 __all__ = ["BestError", "parse_objective", "parse_condition", "select", "best", "format_table"]
 
-OPS = {"<=": operator.le, ">=": operator.ge, "==": operator.eq, "!=": operator.ne,
-       "<": operator.lt, ">": operator.gt}
+OPS = {
+    "<=": operator.le,
+    ">=": operator.ge,
+    "==": operator.eq,
+    "!=": operator.ne,
+    "<": operator.lt,
+    ">": operator.gt,
+}
 CONDITION = re.compile(r"^\s*(\S+?)\s*(<=|>=|==|!=|<|>)\s*(\S+)\s*$")
 
 
@@ -47,8 +53,9 @@ def parse_condition(text: str, columns: Sequence[str]) -> tuple[str, str, float]
     """``"COLUMN OP NUMBER"`` with OP one of <= >= < > == != → (column, op, value)."""
     m = CONDITION.match(text)
     if not m:
-        raise BestError(f"--where {text!r}: expected 'COLUMN OP NUMBER', OP one of "
-                        + " ".join(OPS))
+        raise BestError(
+            f"--where {text!r}: expected 'COLUMN OP NUMBER', OP one of " + " ".join(OPS)
+        )
     name, op, value = m.groups()
     try:
         number = float(value)
@@ -59,13 +66,14 @@ def parse_condition(text: str, columns: Sequence[str]) -> tuple[str, str, float]
 
 def _number(cell: object) -> float:
     try:
-        return float(cell)                       # "" and text give nan
+        return float(cell)  # "" and text give nan
     except (TypeError, ValueError):
         return math.nan
 
 
-def select(rows: Sequence[Mapping[str, str]], objective: str,
-           where: Iterable[str] = (), top: int = 5) -> list[Mapping[str, str]]:
+def select(
+    rows: Sequence[Mapping[str, str]], objective: str, where: Iterable[str] = (), top: int = 5
+) -> list[Mapping[str, str]]:
     """The ``top`` rows with status ok that meet every condition, best first
     (rows with an empty objective value are left out)."""
     columns = list(rows[0]) if rows else []
@@ -83,21 +91,30 @@ def select(rows: Sequence[Mapping[str, str]], objective: str,
 
 def format_table(rows: Sequence[Mapping[str, str]], columns: Sequence[str]) -> str:
     """A plain text table, numbers to 6 significant digits."""
+
     def fmt(cell: str) -> str:
         x = _number(cell)
         return cell if math.isnan(x) or cell.strip() in ("True", "False") else f"{x:.6g}"
-    cells = [list(columns)] + [[r.get(c, "") if c == "variant" else fmt(r.get(c, ""))
-                                for c in columns] for r in rows]
+
+    cells = [list(columns)] + [
+        [r.get(c, "") if c == "variant" else fmt(r.get(c, "")) for c in columns] for r in rows
+    ]
     widths = [max(len(row[k]) for row in cells) for k in range(len(columns))]
     return "\n".join("  ".join(c.rjust(w) for c, w in zip(row, widths)).rstrip() for row in cells)
 
 
-def best(summary_csv: str | Path, objective: str, where: Iterable[str] = (), top: int = 5,
-         params: Sequence[str] | None = None) -> str:
+def best(
+    summary_csv: str | Path,
+    objective: str,
+    where: Iterable[str] = (),
+    top: int = 5,
+    params: Sequence[str] | None = None,
+) -> str:
     """The top rows of a batch's summary table as a text table: the variant,
     its parameters (``params``, default those that vary), the objective and the constrained
     columns."""
     from .batch import read_summary
+
     header, rows = read_summary(summary_csv)
     where = list(where)
     chosen = select(rows, objective, where, top)
@@ -105,7 +122,7 @@ def best(summary_csv: str | Path, objective: str, where: Iterable[str] = (), top
     constrained = [parse_condition(c, header)[0] for c in where]
     if params is None:
         k = header.index("status") if "status" in header else 1
-        params = [p for p in header[1:k] if len({r[p] for r in rows}) > 1]   # the swept ones
+        params = [p for p in header[1:k] if len({r[p] for r in rows}) > 1]  # the swept ones
     columns = ["variant", *params, col, *[c for c in constrained if c != col]]
     if not chosen:
         return f"no variant with status ok meets {' and '.join(where) or 'the objective'}"

@@ -34,12 +34,19 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["Check", "Checks", "result_checks", "start_checks", "CONSTRAINT_TOL", "POWER_TOL",
-           "COND_TOL"]
+__all__ = [
+    "Check",
+    "Checks",
+    "result_checks",
+    "start_checks",
+    "CONSTRAINT_TOL",
+    "POWER_TOL",
+    "COND_TOL",
+]
 
-CONSTRAINT_TOL = 1e-9     # max|Φ| / L_ref (Newton stops at 1e-12)
-POWER_TOL = 1e-8          # max|power residual| / max|power.input|
-COND_TOL = 1e8            # group condition number (analysis.COND_WARN)
+CONSTRAINT_TOL = 1e-9  # max|Φ| / L_ref (Newton stops at 1e-12)
+POWER_TOL = 1e-8  # max|power residual| / max|power.input|
+COND_TOL = 1e8  # group condition number (analysis.COND_WARN)
 STATUS_WORDS = ("ok", "homotopy", "self-locking", "zero-speed")
 
 
@@ -53,16 +60,21 @@ class Check:
     tolerance: float
     where: str = ""
     text: str = ""
-    detail: tuple = ()          # further (key, value) pairs for summary.json
+    detail: tuple = ()  # further (key, value) pairs for summary.json
 
     @property
     def ok(self) -> bool:
-        return bool(self.value <= self.tolerance)     # NaN fails
+        return bool(self.value <= self.tolerance)  # NaN fails
 
     def to_dict(self) -> dict[str, Any]:
         value = float(self.value)
-        return {"value": value if np.isfinite(value) else None, "tolerance": self.tolerance,
-                "ok": self.ok, "where": self.where, **dict(self.detail)}
+        return {
+            "value": value if np.isfinite(value) else None,
+            "tolerance": self.tolerance,
+            "ok": self.ok,
+            "where": self.where,
+            **dict(self.detail),
+        }
 
 
 @dataclass(frozen=True)
@@ -75,7 +87,7 @@ class Checks:
     sketch: Check | None = None
     cond: Check | None = None
     friction: Check | None = None
-    friction_status: tuple[int, int, int, int] | None = None   # rows with status 0, 1, 2, 3
+    friction_status: tuple[int, int, int, int] | None = None  # rows with status 0, 1, 2, 3
 
     def __iter__(self):
         for f in fields(self):
@@ -102,7 +114,8 @@ class Checks:
             return ""
         return "self-check failed: " + "; ".join(
             f"{c.name} {c.value:.3g} > {c.tolerance:.3g}" + (f" ({c.where})" if c.where else "")
-            for c in bad)
+            for c in bad
+        )
 
     def to_dict(self) -> dict[str, Any]:
         out: dict[str, Any] = {"ok": self.ok, "failed": [c.name for c in self.failed()]}
@@ -123,12 +136,14 @@ def _row_text(result, k: int) -> str:
 
 def _length(system, metres: float) -> str:
     from .units import factor
+
     unit = system.model.units.get("length", "m")
     return f"{metres / factor('length', unit):.3g} {unit}"
 
 
 def _constraints(system, q, psi) -> tuple[float, int]:
     from .system import phi
+
     n_j = len(system.model.joints)
     which = range(len(system.constraints)) if psi is not None else range(n_j)
     if psi is None:
@@ -145,6 +160,7 @@ def _constraint_check(value: float, where: str) -> Check:
 
 def _sketch_check(system, q0) -> Check | None:
     from .positions import SKETCH_TOL, sketch_distances
+
     points = sketch_distances(system, q0)
     if not points:
         return None
@@ -153,9 +169,14 @@ def _sketch_check(system, q0) -> Check | None:
     l_ref = float(np.max(system.l_ref))
     where = system.model.sketch_where.get(worst.key)
     key = where.path.removeprefix("sketch.") if where is not None else worst.key
-    return Check("sketch", d / l_ref, SKETCH_TOL, f"{key}, placed by {worst.group}",
-                 f"sketch {_length(system, d)} ({key})",
-                 (("distance", d), ("point", key), ("group", worst.group)))
+    return Check(
+        "sketch",
+        d / l_ref,
+        SKETCH_TOL,
+        f"{key}, placed by {worst.group}",
+        f"sketch {_length(system, d)} ({key})",
+        (("distance", d), ("point", key), ("group", worst.group)),
+    )
 
 
 def _cond_check(value: float, where: str, group: str) -> Check:
@@ -165,6 +186,7 @@ def _cond_check(value: float, where: str, group: str) -> Check:
 def _start(system):
     from .analysis import _schedule
     from .positions import start_pose
+
     sched = _schedule(system)
     return sched, start_pose(system, sched)[0]
 
@@ -172,34 +194,45 @@ def _start(system):
 def result_checks(result) -> Checks:
     """The self-checks of ``result`` (see the module's docstring)."""
     from .results import group_column
+
     system = result.system
     sched, q0 = _start(system)
     q = np.asarray(result.q)
     try:
         psi = sched(result.t)[0] if system.motion_drivers else None
-    except (ValueError, IndexError):        # times not of this schedule: joints only
+    except (ValueError, IndexError):  # times not of this schedule: joints only
         psi = None
     value, k = _constraints(system, q, psi)
-    checks: dict[str, Any] = {"constraints": _constraint_check(value, _row_text(result, k)),
-                              "sketch": _sketch_check(system, q0)}
+    checks: dict[str, Any] = {
+        "constraints": _constraint_check(value, _row_text(result, k)),
+        "sketch": _sketch_check(system, q0),
+    }
     cols = result.columns
     if "power.residual" in cols:
         ref = np.nanmax(np.abs(cols["power.input"]), initial=0.0)
-        if ref == 0.0:                      # nothing put in: the largest power term instead
-            ref = max((np.nanmax(np.abs(cols[f"power.{n}"]), initial=0.0)
-                       for n in ("kinetic", "potential", "external", "friction")
-                       if f"power.{n}" in cols), default=0.0)
+        if ref == 0.0:  # nothing put in: the largest power term instead
+            ref = max(
+                (
+                    np.nanmax(np.abs(cols[f"power.{n}"]), initial=0.0)
+                    for n in ("kinetic", "potential", "external", "friction")
+                    if f"power.{n}" in cols
+                ),
+                default=0.0,
+            )
         ref = ref if ref > 0.0 else 1.0
         t = np.asarray(result.t)
-        singular = np.zeros(t.shape, dtype=bool)         # reported singular rows: no effort there
+        singular = np.zeros(t.shape, dtype=bool)  # reported singular rows: no effort there
         for sp in result.singular:
             singular |= np.isclose(t, sp.t, rtol=0.0, atol=1e-9 * max(1.0, abs(sp.t)))
-        for name, col in (("power", "power.residual"), ("power_friction", "power.residual_friction")):
+        for name, col in (
+            ("power", "power.residual"),
+            ("power_friction", "power.residual_friction"),
+        ):
             if col not in cols:
                 continue
             r = np.where(singular, 0.0, np.abs(np.asarray(cols[col])))
             if name == "power_friction" and "friction.status" in cols:
-                r = np.where(cols["friction.status"] == 2, 0.0, r)     # no solution there
+                r = np.where(cols["friction.status"] == 2, 0.0, r)  # no solution there
             r = np.where(np.isnan(r), np.inf, r) / ref
             k = int(np.argmax(r)) if r.size else 0
             v = float(r[k]) if r.size else 0.0
@@ -213,7 +246,11 @@ def result_checks(result) -> Checks:
         c = np.where(np.isnan(cols[col]), np.inf, cols[col])
         k = int(np.argmax(c))
         if c[k] >= worst:
-            worst, where, group = float(c[k]), f"{p.group.label}, {_row_text(result, k)}", p.group.label
+            worst, where, group = (
+                float(c[k]),
+                f"{p.group.label}, {_row_text(result, k)}",
+                p.group.label,
+            )
     if where:
         checks["cond"] = _cond_check(worst, where, group)
     status = None
@@ -231,10 +268,14 @@ def result_checks(result) -> Checks:
         n_undef = int(np.sum(undefined))
         if n_undef:
             parts.append(f"efficiency undefined at {n_undef}")
-        checks["friction"] = Check("friction", float(status[2]), 0.0,
-                                   f"{status[2]} row(s) self-locking" if status[2] else "",
-                                   "friction " + (", ".join(parts) or "no rows"),
-                                   (("efficiency_undefined", n_undef),))
+        checks["friction"] = Check(
+            "friction",
+            float(status[2]),
+            0.0,
+            f"{status[2]} row(s) self-locking" if status[2] else "",
+            "friction " + (", ".join(parts) or "no rows"),
+            (("efficiency_undefined", n_undef),),
+        )
     return Checks(**checks, friction_status=status)
 
 
@@ -242,6 +283,7 @@ def start_checks(system) -> Checks:
     """The checks that apply at the start pose alone (``kinetostatics check``):
     constraints, sketch and the groups' condition numbers there."""
     from .positions import group_condition
+
     sched, q0 = _start(system)
     value, _ = _constraints(system, q0, sched(np.zeros(1))[0][0])
     worst, where = 0.0, ""
@@ -251,6 +293,8 @@ def start_checks(system) -> Checks:
         c = float(group_condition(system, q0, p))
         if not c < worst:
             worst, where = c, p.group.label
-    return Checks(constraints=_constraint_check(value, "start pose"),
-                  sketch=_sketch_check(system, q0),
-                  cond=_cond_check(worst, where, where) if where else None)
+    return Checks(
+        constraints=_constraint_check(value, "start pose"),
+        sketch=_sketch_check(system, q0),
+        cond=_cond_check(worst, where, where) if where else None,
+    )

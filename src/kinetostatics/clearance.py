@@ -36,10 +36,17 @@ from .joints.prismatic import Prismatic
 from .joints.revolute import Revolute
 from .model import Driver, Link, Model, MotionLaw
 
-__all__ = ["Clearance", "expand", "ideal", "with_clearance", "ideal_force", "two_force_member",
-           "REFERENCE"]
+__all__ = [
+    "Clearance",
+    "expand",
+    "ideal",
+    "with_clearance",
+    "ideal_force",
+    "two_force_member",
+    "REFERENCE",
+]
 
-REFERENCE = 0.01        # m: the clearance link's reference point for its angle
+REFERENCE = 0.01  # m: the clearance link's reference point for its angle
 
 
 @dataclass(frozen=True)
@@ -64,8 +71,14 @@ class Clearance:
 
 
 def _names(joint: str) -> dict[str, str]:
-    return {"link": f"{joint}_gap", "end": f"{joint}_end", "joint_j": f"{joint}_j",
-            "slide": f"{joint}_slide", "driver": f"{joint}_turn", "contact": f"{joint}_contact"}
+    return {
+        "link": f"{joint}_gap",
+        "end": f"{joint}_end",
+        "joint_j": f"{joint}_j",
+        "slide": f"{joint}_slide",
+        "driver": f"{joint}_turn",
+        "contact": f"{joint}_contact",
+    }
 
 
 def ideal(model: Model) -> Model:
@@ -73,8 +86,9 @@ def ideal(model: Model) -> Model:
     return model.ideal if model.ideal is not None else model
 
 
-def with_clearance(model: Model, size: float | None = None, kind: str | None = None,
-                   **changes) -> Model:
+def with_clearance(
+    model: Model, size: float | None = None, kind: str | None = None, **changes
+) -> Model:
     """The ideal model expanded with the file's clearances changed: every ``size``
     (m) and/or ``model`` (``kind``), and any other :class:`Clearance` fields."""
     base = ideal(model)
@@ -94,12 +108,15 @@ def _start_state(model: Model):
     at rest under the effort drivers (forward dynamics' first evaluation)."""
     from .positions import derivatives, start_pose
     from .system import build_system
+
     if any(d.motion is None for d in model.drivers):
         from .dynamics import Dynamics
+
         dyn = Dynamics(model)
         ev = dyn.state(0.0, np.concatenate((dyn.start(), np.zeros(dyn.n_f), [0.0])))
         return dyn.system, ev.q, ev.qd, ev.qdd0 + ev.accel @ ev.dqdd, ev.psi
     from .analysis import _schedule
+
     system = build_system(model)
     drive = _schedule(system)
     q, _ = start_pose(system, drive)
@@ -112,6 +129,7 @@ def ideal_force(model: Model, joints, state=None) -> dict[str, np.ndarray]:
     """Force of i on j (N, global) in each revolute of ``joints`` at t = 0
     (see :func:`_start_state`)."""
     from .analysis import kinetics
+
     system, q, qd, qdd, psi = state or _start_state(model)
     kin = kinetics(system, q[None], qd[None], qdd[None], psi[None], ref_speed=1.0)
     names = [c.name for c in system.constraints]
@@ -128,7 +146,7 @@ def _global(model, q, index, link: str, p_local) -> tuple[np.ndarray, float]:
     if model.link(link).ground:
         return np.asarray(p_local, dtype=float), 0.0
     k = index[link]
-    return q[3 * k:3 * k + 2] + rotate(q[3 * k + 2], np.asarray(p_local, float)), q[3 * k + 2]
+    return q[3 * k : 3 * k + 2] + rotate(q[3 * k + 2], np.asarray(p_local, float)), q[3 * k + 2]
 
 
 def expand(model: Model, clearances) -> Model:
@@ -144,11 +162,21 @@ def expand(model: Model, clearances) -> Model:
     for c in clearances:
         j = next((x for x in model.joints if x.name == c.joint), None)
         if not isinstance(j, Revolute):
-            problems.append((c.where, f"clearance at '{c.joint}': not a revolute joint of the "
-                             "model (clearance applies to revolutes)"))
+            problems.append(
+                (
+                    c.where,
+                    f"clearance at '{c.joint}': not a revolute joint of the "
+                    "model (clearance applies to revolutes)",
+                )
+            )
         elif any(d.joint == c.joint for d in model.drivers):
-            problems.append((c.where, f"clearance at '{c.joint}': a driver acts on this joint; "
-                             "give the clearance to an undriven revolute"))
+            problems.append(
+                (
+                    c.where,
+                    f"clearance at '{c.joint}': a driver acts on this joint; "
+                    "give the clearance to an undriven revolute",
+                )
+            )
         if c.model not in ("prescribed", "contact"):
             problems.append((c.where, f"clearance model '{c.model}': use prescribed or contact"))
         if not (np.isfinite(c.size) and c.size >= 0):
@@ -183,34 +211,83 @@ def expand(model: Model, clearances) -> Model:
         d_local = pts[ref_name] - j.p_i
         offset = -float(np.arctan2(d_local[1], d_local[0]))
         psi0 = beta - (th_i - offset)
-        gap = Link(n["link"], {"i": np.zeros(2), "ref": np.array([REFERENCE, 0.0]),
-                               "j": np.array([e, 0.0])}, where=c.where)
+        gap = Link(
+            n["link"],
+            {"i": np.zeros(2), "ref": np.array([REFERENCE, 0.0]), "j": np.array([e, 0.0])},
+            where=c.where,
+        )
         links.append(gap)
-        joints.append(Revolute(j.name, (i_link, n["link"]), j.where, j.p_i, np.zeros(2),
-                               (j.point_names[0], "i"), j.rho))
+        joints.append(
+            Revolute(
+                j.name,
+                (i_link, n["link"]),
+                j.where,
+                j.p_i,
+                np.zeros(2),
+                (j.point_names[0], "i"),
+                j.rho,
+            )
+        )
         sketch[f"{n['link']}.i"] = centre
         sketch[f"{n['link']}.ref"] = centre + REFERENCE * axis
         sketch[f"{j_link}.{j.point_names[1]}"] = centre + e * axis
         if c.model == "prescribed":
-            joints.append(Revolute(n["joint_j"], (n["link"], j_link), j.where,
-                                   np.array([e, 0.0]), j.p_j, ("j", j.point_names[1])))
+            joints.append(
+                Revolute(
+                    n["joint_j"],
+                    (n["link"], j_link),
+                    j.where,
+                    np.array([e, 0.0]),
+                    j.p_j,
+                    ("j", j.point_names[1]),
+                )
+            )
             law = MotionLaw(c.speed, c.acceleration, start=psi0)
-            drivers.append(Driver(n["driver"], j.name, law, None, offset, (ref_name, "ref"),
-                                  where=c.where))
+            drivers.append(
+                Driver(n["driver"], j.name, law, None, offset, (ref_name, "ref"), where=c.where)
+            )
         else:
             end = Link(n["end"], {"j": np.zeros(2)}, where=c.where)
             links.append(end)
-            joints.append(Prismatic(n["slide"], (n["link"], n["end"]), j.where, np.zeros(2),
-                                    np.array([1.0, 0.0]), np.zeros(2), 0.0, ("i",), "j"))
-            joints.append(Revolute(n["joint_j"], (n["end"], j_link), j.where, np.zeros(2), j.p_j,
-                                   ("j", j.point_names[1])))
+            joints.append(
+                Prismatic(
+                    n["slide"],
+                    (n["link"], n["end"]),
+                    j.where,
+                    np.zeros(2),
+                    np.array([1.0, 0.0]),
+                    np.zeros(2),
+                    0.0,
+                    ("i",),
+                    "j",
+                )
+            )
+            joints.append(
+                Revolute(
+                    n["joint_j"],
+                    (n["end"], j_link),
+                    j.where,
+                    np.zeros(2),
+                    j.p_j,
+                    ("j", j.point_names[1]),
+                )
+            )
             sketch[f"{n['end']}.j"] = centre + e * axis
-            drivers.append(Driver(n["driver"], j.name, None, 0.0, offset, (ref_name, "ref"),
-                                  where=c.where))
-            drivers.append(Driver(n["contact"], n["slide"], None, c.contact.for_clearance(e),
-                                  where=c.where))
-    return replace(model, links=tuple(links), joints=tuple(joints), drivers=tuple(drivers),
-                   sketch=sketch, clearances=clearances, ideal=model)
+            drivers.append(
+                Driver(n["driver"], j.name, None, 0.0, offset, (ref_name, "ref"), where=c.where)
+            )
+            drivers.append(
+                Driver(n["contact"], n["slide"], None, c.contact.for_clearance(e), where=c.where)
+            )
+    return replace(
+        model,
+        links=tuple(links),
+        joints=tuple(joints),
+        drivers=tuple(drivers),
+        sketch=sketch,
+        clearances=clearances,
+        ideal=model,
+    )
 
 
 @dataclass
@@ -236,12 +313,13 @@ def _sketch_from(system, q) -> dict[str, np.ndarray]:
     out = {}
     for k, name in enumerate(system.links):
         for pt, p in system.model.link(name).points.items():
-            out[f"{name}.{pt}"] = q[3 * k:3 * k + 2] + rotate(q[3 * k + 2], p)
+            out[f"{name}.{pt}"] = q[3 * k : 3 * k + 2] + rotate(q[3 * k + 2], p)
     return out
 
 
-def two_force_member(model: Model, sizes, *, positions=None, iterations: int = 30,
-                     tol: float = 1e-10) -> TwoForceResult:
+def two_force_member(
+    model: Model, sizes, *, positions=None, iterations: int = 30, tol: float = 1e-10
+) -> TwoForceResult:
     """Model (a2): kinetostatics with each journal on its bearing circle along the
     joint's reaction, positions and forces iterated to consistency.
 
@@ -256,6 +334,7 @@ def two_force_member(model: Model, sizes, *, positions=None, iterations: int = 3
     """
     from .analysis import analyze
     from .errors import AssemblyError
+
     names = list(sizes)
     res0 = analyze(model, friction=False, positions=positions)
     n = res0.q.shape[0]
@@ -264,8 +343,11 @@ def two_force_member(model: Model, sizes, *, positions=None, iterations: int = 3
     out = []
     for p in range(n):
         c0 = float(res0.coordinate[p])
-        base = replace(model, sketch=_sketch_from(res0.system, res0.q[p]),
-                       analysis=replace(model.analysis, start=c0))
+        base = replace(
+            model,
+            sketch=_sketch_from(res0.system, res0.q[p]),
+            analysis=replace(model.analysis, start=c0),
+        )
         b = beta[p].copy()
         for it in range(iterations):
             specs = [Clearance(k, float(sizes[k]), angle=float(bk)) for k, bk in zip(names, b)]
@@ -278,9 +360,12 @@ def two_force_member(model: Model, sizes, *, positions=None, iterations: int = 3
             if np.max(np.abs(step)) <= tol:
                 break
         else:
-            raise AssemblyError("clearance links", f"{np.degrees(c0):.6g}°",
-                                f"the two-force-member iteration did not converge in "
-                                f"{iterations} steps (last change {np.max(np.abs(step)):.3g} rad)")
+            raise AssemblyError(
+                "clearance links",
+                f"{np.degrees(c0):.6g}°",
+                f"the two-force-member iteration did not converge in "
+                f"{iterations} steps (last change {np.max(np.abs(step)):.3g} rad)",
+            )
         used[p], beta[p] = it + 1, nb
         out.append(r)
     return TwoForceResult(np.asarray(res0.coordinate), beta, used, out, res0)

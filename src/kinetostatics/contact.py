@@ -29,10 +29,11 @@ from .model import EffortLaw
 __all__ = ["ContactLaw", "hertz_stiffness", "read_contact", "simulate_contact", "ContactRun"]
 
 
-def hertz_stiffness(journal_radius: float, clearance: float, young=(2.07e11, 2.07e11),
-                    poisson=(0.3, 0.3)) -> float:
+def hertz_stiffness(
+    journal_radius: float, clearance: float, young=(2.07e11, 2.07e11), poisson=(0.3, 0.3)
+) -> float:
     """K = (4/3) E* √R* (N/m^1.5) of a journal of radius R_j in a bushing of R_j + e."""
-    e_star = 1.0 / sum((1.0 - nu ** 2) / E for E, nu in zip(young, poisson))
+    e_star = 1.0 / sum((1.0 - nu**2) / E for E, nu in zip(young, poisson))
     rb = journal_radius + clearance
     return 4.0 / 3.0 * e_star * np.sqrt(journal_radius * rb / clearance)
 
@@ -57,24 +58,30 @@ class ContactLaw(EffortLaw):
     impact_speed: float = 0.0
     floor: float = 1e-3
 
-    def for_clearance(self, clearance: float) -> "ContactLaw":
+    def for_clearance(self, clearance: float) -> ContactLaw:
         """This law for clearance ``clearance`` (m), with its Hertzian stiffness."""
         return replace(self, clearance=float(clearance))
 
     @property
     def k(self) -> float:
-        base = self.stiffness if self.stiffness is not None else (
-            hertz_stiffness(self.journal_radius, self.clearance, self.young, self.poisson)
-            if self.clearance > 0 else np.inf)
+        base = (
+            self.stiffness
+            if self.stiffness is not None
+            else (
+                hertz_stiffness(self.journal_radius, self.clearance, self.young, self.poisson)
+                if self.clearance > 0
+                else np.inf
+            )
+        )
         return base * self.scale
 
     def force(self, delta, delta_d):
         """F_n ≥ 0 at penetration ``delta`` and its rate (arrays)."""
         delta, delta_d = np.asarray(delta, float), np.asarray(delta_d, float)
         v0 = max(self.impact_speed, self.floor)
-        damp = 1.0 + 0.75 * (1.0 - self.restitution ** 2) * delta_d / v0
+        damp = 1.0 + 0.75 * (1.0 - self.restitution**2) * delta_d / v0
         pen = np.maximum(delta, 0.0)
-        return np.where(delta > 0, np.maximum(self.k * pen ** self.exponent * damp, 0.0), 0.0)
+        return np.where(delta > 0, np.maximum(self.k * pen**self.exponent * damp, 0.0), 0.0)
 
     def partials(self, delta: float, delta_d: float) -> tuple[float, float]:
         """(∂F_n/∂δ, ∂F_n/∂δ̇) at one state (0 where the force is 0): the stiff part of
@@ -82,13 +89,15 @@ class ContactLaw(EffortLaw):
         if delta <= 0:
             return 0.0, 0.0
         v0 = max(self.impact_speed, self.floor)
-        c = 0.75 * (1.0 - self.restitution ** 2) / v0
+        c = 0.75 * (1.0 - self.restitution**2) / v0
         damp = 1.0 + c * delta_d
         if damp <= 0:
             return 0.0, 0.0
         k = self.k
-        return (k * self.exponent * delta ** (self.exponent - 1.0) * damp,
-                k * delta ** self.exponent * c)
+        return (
+            k * self.exponent * delta ** (self.exponent - 1.0) * damp,
+            k * delta**self.exponent * c,
+        )
 
     def __call__(self, psi, psi_d, period=None):
         return -self.force(np.asarray(psi, float) - self.clearance, psi_d)
@@ -97,8 +106,9 @@ class ContactLaw(EffortLaw):
 def read_contact(e):
     """A :class:`ContactLaw` from the YAML entry ``contact: {journal_radius, young,
     poisson, restitution, stiffness, floor}`` (young in Pa, one value or [E_i, E_j])."""
-    if not e.check_keys(optional=("journal_radius", "young", "poisson", "restitution",
-                                  "stiffness", "floor")):
+    if not e.check_keys(
+        optional=("journal_radius", "young", "poisson", "restitution", "stiffness", "floor")
+    ):
         return None
     kw = {}
     if e.get("journal_radius") is not None:
@@ -147,7 +157,7 @@ class ContactRun:
         return out
 
 
-IMPLICIT = ("BDF", "Radau", "LSODA")      # the solve_ivp methods given _stiff_jacobian
+IMPLICIT = ("BDF", "Radau", "LSODA")  # the solve_ivp methods given _stiff_jacobian
 
 
 def _stiff_jacobian(dyn, contacts):
@@ -166,15 +176,25 @@ def _stiff_jacobian(dyn, contacts):
             kd, kv = law.partials(float(y[k]) - law.clearance, float(y[nf + k]))
             d_app[k, k], d_app[k, nf + k] = -kd, -kv
         out = np.zeros((2 * nf + 1, 2 * nf + 1))
-        out[:nf, nf:2 * nf] = np.eye(nf)
-        out[nf:2 * nf, :2 * nf] = np.linalg.solve(mass, d_app)
+        out[:nf, nf : 2 * nf] = np.eye(nf)
+        out[nf : 2 * nf, : 2 * nf] = np.linalg.solve(mass, d_app)
         return out
+
     return jac
 
 
-def simulate_contact(model, until: float, *, initial=None, method: str = "Radau",
-                     rtol: float = 1e-6, atol: float | None = None, max_step: float = np.inf,
-                     max_pieces: int = 20000, jacobian: bool = True) -> ContactRun:
+def simulate_contact(
+    model,
+    until: float,
+    *,
+    initial=None,
+    method: str = "Radau",
+    rtol: float = 1e-6,
+    atol: float | None = None,
+    max_step: float = np.inf,
+    max_pieces: int = 20000,
+    jacobian: bool = True,
+) -> ContactRun:
     """Forward dynamics of a model with ``contact`` clearances: contact starts and ends
     are terminal events; at each start the impact speed δ̇⁻ of that contact is set.
 
@@ -187,6 +207,7 @@ def simulate_contact(model, until: float, *, initial=None, method: str = "Radau"
     from scipy.integrate import solve_ivp
 
     from .dynamics import Dynamics
+
     dyn = Dynamics(model)
     nf = dyn.n_f
     contacts = [k for k, law in enumerate(dyn.laws) if isinstance(law, ContactLaw)]
@@ -208,17 +229,27 @@ def simulate_contact(model, until: float, *, initial=None, method: str = "Radau"
             break
         events = []
         for k in contacts:
-            f = (lambda tt, yy, k=k: yy[k] - clear[k])
+            f = lambda tt, yy, k=k: yy[k] - clear[k]
             f.terminal, f.direction = True, (-1.0 if inside[k] else 1.0)
             events.append(f)
         dyn._cache.clear()
         opts = {"jac": jac} if jac is not None else {}
-        sol = solve_ivp(lambda tt, yy: dyn.rhs(tt, yy), (t, until), y, method=method,
-                        rtol=rtol, atol=atol_v, dense_output=True, events=events or None,
-                        max_step=max_step, **opts)
+        sol = solve_ivp(
+            lambda tt, yy: dyn.rhs(tt, yy),
+            (t, until),
+            y,
+            method=method,
+            rtol=rtol,
+            atol=atol_v,
+            dense_output=True,
+            events=events or None,
+            max_step=max_step,
+            **opts,
+        )
         if sol.status == -1:
-            raise RuntimeError(f"contact integration failed at t = {sol.t[-1]:.6g} s: "
-                               f"{sol.message}")
+            raise RuntimeError(
+                f"contact integration failed at t = {sol.t[-1]:.6g} s: {sol.message}"
+            )
         t_e = float(sol.t[-1])
         pieces.append((t, t_e, sol.sol))
         y = sol.y[:, -1].copy()

@@ -19,25 +19,28 @@ __all__ = ["SCHEMES", "difference_derivatives"]
 SCHEMES = ("forward", "central")
 
 
-def difference_derivatives(system: System, drive: Drive, t: np.ndarray, q: np.ndarray,
-                           scheme: str, step: float) -> tuple[np.ndarray, np.ndarray]:
+def difference_derivatives(
+    system: System, drive: Drive, t: np.ndarray, q: np.ndarray, scheme: str, step: float
+) -> tuple[np.ndarray, np.ndarray]:
     """(q̇, q̈) by difference quotients with a driver step ``step`` (rad, or m).
 
     ``t (n,)`` and ``q (n, n_q)`` are the solved positions; the neighbours are
     solved on the same branch.  Angles are unwrapped against ``q``.
     """
     if scheme not in SCHEMES:
-        raise ValueError(f"unknown difference scheme '{scheme}'; choose one of {', '.join(SCHEMES)}")
+        raise ValueError(
+            f"unknown difference scheme '{scheme}'; choose one of {', '.join(SCHEMES)}"
+        )
     if not step > 0:
         raise ValueError(f"the difference step must be positive, got {step:g}")
-    reference = getattr(drive, "reference", None)      # a motion law's largest |ψ̇|
+    reference = getattr(drive, "reference", None)  # a motion law's largest |ψ̇|
     rate = reference if reference is not None else abs(float(drive(np.array([0.0]))[1][0, 0]))
     h = step / rate
     offsets = (1.0, 2.0) if scheme == "forward" else (-1.0, 1.0)
     tn = np.concatenate([t + o * h for o in offsets])
     qn = solve_positions(system, tn, drive).q.reshape(len(offsets), *q.shape)
     ang = slice(2, None, 3)
-    for k in range(len(offsets)):                # same turn as the centre point
+    for k in range(len(offsets)):  # same turn as the centre point
         qn[k][..., ang] += 2 * np.pi * np.round((q[..., ang] - qn[k][..., ang]) / (2 * np.pi))
     if scheme == "forward":
         q1, q2 = qn

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-
 from ._geometry import wrap_angle
 from .joints import Joint
 from .model import Driver

@@ -20,7 +20,7 @@ A solver is ``f(q, psi, sign=None) -> (q, D)`` filling the group's columns of ``
 
 from __future__ import annotations
 
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 
@@ -30,7 +30,7 @@ from .system import GroupPlan, System
 
 __all__ = ["closed_form", "MARGIN"]
 
-MARGIN = 1e-3          # below this margin √D a solve near a guess hands over to Newton
+MARGIN = 1e-3  # below this margin √D a solve near a guess hands over to Newton
 
 Solver = Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]
 
@@ -39,7 +39,7 @@ def _world(system: System, q: np.ndarray, link: str, p: np.ndarray) -> np.ndarra
     if link == system.model.ground.name:
         return np.broadcast_to(p, q.shape[:-1] + (2,))
     k = system.link_index(link)
-    return q[..., 3 * k:3 * k + 2] + rotate(q[..., 3 * k + 2], p)
+    return q[..., 3 * k : 3 * k + 2] + rotate(q[..., 3 * k + 2], p)
 
 
 def _angle(system: System, q: np.ndarray, link: str):
@@ -48,12 +48,18 @@ def _angle(system: System, q: np.ndarray, link: str):
     return q[..., 3 * system.link_index(link) + 2]
 
 
-def _place(system: System, q: np.ndarray, link: str, theta: np.ndarray, world: np.ndarray,
-           local: np.ndarray) -> None:
+def _place(
+    system: System,
+    q: np.ndarray,
+    link: str,
+    theta: np.ndarray,
+    world: np.ndarray,
+    local: np.ndarray,
+) -> None:
     """Set link's pose so that local point ``local`` lies at ``world``."""
     k = system.link_index(link)
     q[..., 3 * k + 2] = theta
-    q[..., 3 * k:3 * k + 2] = world - rotate(theta, local)
+    q[..., 3 * k : 3 * k + 2] = world - rotate(theta, local)
 
 
 def _heading(v: np.ndarray) -> np.ndarray:
@@ -96,8 +102,10 @@ def _rrr(system, plan, joints, q0) -> Solver | None:
         return None
 
     def points(q):
-        return (_world(system, q, _other(ja, a), _pin(ja, _other(ja, a))),
-                _world(system, q, _other(jb, b), _pin(jb, _other(jb, b))))
+        return (
+            _world(system, q, _other(ja, a), _pin(ja, _other(ja, a))),
+            _world(system, q, _other(jb, b), _pin(jb, _other(jb, b))),
+        )
 
     pa0, pb0 = points(q0)
     pm0 = _world(system, q0, a, _pin(m, a))
@@ -119,6 +127,7 @@ def _rrr(system, plan, joints, q0) -> Solver | None:
         _place(system, q, a, ta, pa, _pin(ja, a))
         _place(system, q, b, tb, pb, _pin(jb, b))
         return q, h2 / np.minimum(la, lb) ** 2
+
     return solve
 
 
@@ -128,21 +137,28 @@ def _rrp(system, plan, joints, q0) -> Solver | None:
     if parts is None:
         return None
     a, b, m, ja, s = parts
-    if not (isinstance(m, Revolute) and isinstance(ja, Revolute) and isinstance(s, Prismatic)
-            and s.links[1] == b):
+    if not (
+        isinstance(m, Revolute)
+        and isinstance(ja, Revolute)
+        and isinstance(s, Prismatic)
+        and s.links[1] == b
+    ):
         return None
-    k = s.links[0]                              # known link carrying the axis
+    k = s.links[0]  # known link carrying the axis
     la_vec = _pin(m, a) - _pin(ja, a)
     la = _norm(la_vec)
     alpha_a = _heading(la_vec)
-    offset = _pin(m, b) - s.p                   # from the sliding point to the pin, b's frame
+    offset = _pin(m, b) - s.p  # from the sliding point to the pin, b's frame
 
     def frame(q):
         tk = _angle(system, q, k)
         tb = tk + s.angle
         u = rotate(tk, s.u)
-        w = _world(system, q, k, s.a) + rotate(tb, offset) - _world(system, q, _other(ja, a),
-                                                                     _pin(ja, _other(ja, a)))
+        w = (
+            _world(system, q, k, s.a)
+            + rotate(tb, offset)
+            - _world(system, q, _other(ja, a), _pin(ja, _other(ja, a)))
+        )
         return tb, u, w
 
     tb0, u0, w0 = frame(q0)
@@ -164,6 +180,7 @@ def _rrp(system, plan, joints, q0) -> Solver | None:
         _place(system, q, a, ta, pa, _pin(ja, a))
         _place(system, q, b, tb, pm, _pin(m, b))
         return q, disc / (la * la)
+
     return solve
 
 
@@ -173,19 +190,21 @@ def _rpr(system, plan, joints, q0) -> Solver | None:
     if parts is None or not isinstance(parts[2], Prismatic):
         return None
     s = parts[2]
-    b, a = s.links                              # b carries the axis, a slides on it
+    b, a = s.links  # b carries the axis, a slides on it
     ja, jb = (parts[3], parts[4]) if parts[0] == a else (parts[4], parts[3])
     if not (isinstance(ja, Revolute) and isinstance(jb, Revolute)):
         return None
-    delta = s.p - _pin(ja, a)                  # a's frame: pin -> sliding point
-    e = s.a - _pin(jb, b)                      # b's frame: pivot -> axis point
+    delta = s.p - _pin(ja, a)  # a's frame: pin -> sliding point
+    e = s.a - _pin(jb, b)  # b's frame: pivot -> axis point
     n_l = perp(s.u)
     nu_ang = _heading(n_l)
     k_const = np.sum(n_l * (e - rotate(s.angle, delta)), axis=-1)
 
     def ends(q):
-        return (_world(system, q, _other(ja, a), _pin(ja, _other(ja, a))),
-                _world(system, q, _other(jb, b), _pin(jb, _other(jb, b))))
+        return (
+            _world(system, q, _other(ja, a), _pin(ja, _other(ja, a))),
+            _world(system, q, _other(jb, b), _pin(jb, _other(jb, b))),
+        )
 
     pa0, pb0 = ends(q0)
     dv0 = pa0 - pb0
@@ -205,6 +224,7 @@ def _rpr(system, plan, joints, q0) -> Solver | None:
         _place(system, q, b, tb, pb, _pin(jb, b))
         _place(system, q, a, ta, pa, _pin(ja, a))
         return q, 1.0 - c * c
+
     return solve
 
 
@@ -220,12 +240,13 @@ def _driven(system, plan, joints, q0) -> Solver | None:
     if not isinstance(j, Revolute) or d.joint is not j:
         return None
     other = _other(j, link)
-    turn = 1.0 if j.links[1] == link else -1.0      # coordinate θ_j − θ_i
+    turn = 1.0 if j.links[1] == link else -1.0  # coordinate θ_j − θ_i
 
     def solve(q, psi, sign=None):
         theta = _angle(system, q, other) + turn * (psi[..., d_index] - d.driver.offset)
         _place(system, q, link, theta, _world(system, q, other, _pin(j, other)), _pin(j, link))
         return q, np.ones(q.shape[:-1])
+
     return solve
 
 
@@ -238,4 +259,5 @@ def closed_form(system: System, plan: GroupPlan, q0: np.ndarray) -> Solver | Non
     if plan.group.kind != "dyad":
         return None
     return {"RRR": _rrr, "RRP": _rrp, "RPR": _rpr}.get(plan.group.letters, lambda *a: None)(
-        system, plan, joints, q0)
+        system, plan, joints, q0
+    )

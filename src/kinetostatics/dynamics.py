@@ -46,26 +46,40 @@ senses still come from the state inside the friction solution.)
 
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
-from typing import Any, Callable, Mapping
+from typing import Any
 
 import numpy as np
 
 from .analysis import _schedule, kinetics, travel_extremes
-from .errors import (KinetostaticsError, Location, SelfLockingError, SingularConfigurationError,
-                     StructureError)
+from .errors import (
+    KinetostaticsError,
+    Location,
+    SelfLockingError,
+    SingularConfigurationError,
+    StructureError,
+)
 from .forces import ZERO_SPEED, activity, mass_vector, point_state, zero_speed
 from .model import EffortLaw, Model, MotionLaw
 from .positions import derivatives, positions_near, start_pose
 from .reactions import effort_joints, effort_ratio
 from .system import System, build_system, coordinate_gradient
 
-__all__ = ["Dynamics", "Simulation", "simulate", "with_effort", "equivalent",
-           "speed_fluctuation", "write_csv", "STEP"]
+__all__ = [
+    "Dynamics",
+    "Simulation",
+    "simulate",
+    "with_effort",
+    "equivalent",
+    "speed_fluctuation",
+    "write_csv",
+    "STEP",
+]
 
-STEP = np.radians(10.0)        # largest driver step of one position projection
-JUMP = 0.35                    # |corrector| / |move| above which a projection is a jump
-PROBE = 1e-6                   # probe speed at rest, × the reference speed
+STEP = np.radians(10.0)  # largest driver step of one position projection
+JUMP = 0.35  # |corrector| / |move| above which a projection is a jump
+PROBE = 1e-6  # probe speed at rest, × the reference speed
 
 
 def with_effort(model: Model, driver: str, effort: float | EffortLaw) -> Model:
@@ -73,8 +87,10 @@ def with_effort(model: Model, driver: str, effort: float | EffortLaw) -> Model:
     names = [d.name for d in model.drivers]
     if driver not in names:
         raise KeyError(f"no driver '{driver}'; the drivers are: {', '.join(names)}")
-    drivers = tuple(replace(d, motion=None, effort=effort, balance_at=None) if d.name == driver
-                    else d for d in model.drivers)
+    drivers = tuple(
+        replace(d, motion=None, effort=effort, balance_at=None) if d.name == driver else d
+        for d in model.drivers
+    )
     return replace(model, drivers=drivers)
 
 
@@ -82,8 +98,14 @@ def _law(effort) -> EffortLaw:
     return effort if isinstance(effort, EffortLaw) else EffortLaw("constant", value=float(effort))
 
 
-def equivalent(system: System, q: np.ndarray, psi: np.ndarray, *, speed: float = 1.0,
-               extremes: dict | None = None) -> dict[str, np.ndarray]:
+def equivalent(
+    system: System,
+    q: np.ndarray,
+    psi: np.ndarray,
+    *,
+    speed: float = 1.0,
+    extremes: dict | None = None,
+) -> dict[str, np.ndarray]:
     """Equivalent (reduced) quantities of a 1-DOF, fully driven system at positions
     ``q (n, n_q)`` with driver coordinates ``psi (n,)``, all referred to the driver's
     coordinate ψ (the crank), wherever its effort is taken (``balance_at``):
@@ -118,11 +140,12 @@ def equivalent(system: System, q: np.ndarray, psi: np.ndarray, *, speed: float =
     kin = kinetics(system, qb, qd, qdd, psib, lu=lu, ref_speed=abs(speed), extremes=extremes)
     tangent = qd[n:]
     loads = (kin.q_gravity + kin.q_external)[:n]
-    return {"inertia": np.einsum("...n,...n->...", tangent, mass_vector(system) * tangent),
-            "effort_ratio": effort_ratio(system, q, tangent),
-            "inertia_derivative": -2.0 * np.einsum("...n,...n->...", tangent,
-                                                   kin.q_inertia[n:]),
-            "torque": np.einsum("...n,...n->...", tangent, loads)}
+    return {
+        "inertia": np.einsum("...n,...n->...", tangent, mass_vector(system) * tangent),
+        "effort_ratio": effort_ratio(system, q, tangent),
+        "inertia_derivative": -2.0 * np.einsum("...n,...n->...", tangent, kin.q_inertia[n:]),
+        "torque": np.einsum("...n,...n->...", tangent, loads),
+    }
 
 
 @dataclass
@@ -130,20 +153,20 @@ class _Eval:
     """The terms of the equations of motion at one state."""
 
     t: float
-    psi: np.ndarray          # (n_d,) all driver coordinates
-    psi_d: np.ndarray        # (n_d,) speeds used (a probe speed at rest)
+    psi: np.ndarray  # (n_d,) all driver coordinates
+    psi_d: np.ndarray  # (n_d,) speeds used (a probe speed at rest)
     q: np.ndarray
     qd: np.ndarray
-    qdd0: np.ndarray         # q̈ at zero free accelerations
-    dqdd: np.ndarray         # (n_f, n_q) q̈ per unit free acceleration
-    tau0: np.ndarray         # (n_d,) efforts at zero free accelerations
-    dtau: np.ndarray         # (n_f, n_d) efforts per unit free acceleration
-    tangent: np.ndarray      # (n_d, n_q) ∂q/∂ψ
-    accel: np.ndarray | None = None   # free accelerations, once solved
-    tau: np.ndarray | None = None     # efforts the linkage needs at accel (without J_x a)
+    qdd0: np.ndarray  # q̈ at zero free accelerations
+    dqdd: np.ndarray  # (n_f, n_q) q̈ per unit free acceleration
+    tau0: np.ndarray  # (n_d,) efforts at zero free accelerations
+    dtau: np.ndarray  # (n_f, n_d) efforts per unit free acceleration
+    tangent: np.ndarray  # (n_d, n_q) ∂q/∂ψ
+    accel: np.ndarray | None = None  # free accelerations, once solved
+    tau: np.ndarray | None = None  # efforts the linkage needs at accel (without J_x a)
     applied: np.ndarray | None = None
     effort: np.ndarray | None = None  # efforts applied: the laws (free), the required (prescribed)
-    mode: tuple | None = None         # the loads' frozen switching state (None: from the state)
+    mode: tuple | None = None  # the loads' frozen switching state (None: from the state)
 
 
 class Dynamics:
@@ -167,28 +190,47 @@ class Dynamics:
         counts as zero); default the largest prescribed speed, else 1 rad/s.
     """
 
-    def __init__(self, model: Model, *, inertia: Mapping[str, float] | None = None,
-                 friction: bool | None = None, sense: float = 1.0,
-                 ref_speed: float | None = None):
+    def __init__(
+        self,
+        model: Model,
+        *,
+        inertia: Mapping[str, float] | None = None,
+        friction: bool | None = None,
+        sense: float = 1.0,
+        ref_speed: float | None = None,
+    ):
         motion = [d for d in model.drivers if d.motion is not None]
         free = [d for d in model.drivers if d.motion is None]
         if not free:
-            raise StructureError([(Location(model.source, path="drivers"),
-                                   "nothing to simulate: every driver prescribes a motion; give "
-                                   "the driver(s) to be set free an effort: instead of a motion:")])
+            raise StructureError(
+                [
+                    (
+                        Location(model.source, path="drivers"),
+                        "nothing to simulate: every driver prescribes a motion; give "
+                        "the driver(s) to be set free an effort: instead of a motion:",
+                    )
+                ]
+            )
         self.original = model
         sense = 1.0 if sense >= 0 else -1.0
-        drivers = tuple(motion) + tuple(replace(d, motion=MotionLaw(sense), effort=None)
-                                        for d in free)
+        drivers = tuple(motion) + tuple(
+            replace(d, motion=MotionLaw(sense), effort=None) for d in free
+        )
         self.model = replace(model, drivers=drivers)
         self.system = system = build_system(self.model)
         mobility = system.structure.mobility
         if len(drivers) != mobility:
-            raise StructureError([(Location(model.source, path="drivers"),
-                                   f"simulate needs one driver per degree of freedom (mobility "
-                                   f"{mobility}); the file has {len(drivers)}: each free "
-                                   "coordinate is an effort driver's (effort: 0 for a passive "
-                                   "joint)")])
+            raise StructureError(
+                [
+                    (
+                        Location(model.source, path="drivers"),
+                        f"simulate needs one driver per degree of freedom (mobility "
+                        f"{mobility}); the file has {len(drivers)}: each free "
+                        "coordinate is an effort driver's (effort: 0 for a passive "
+                        "joint)",
+                    )
+                ]
+            )
         self.names = [d.name for d in drivers]
         self.free_names = [d.name for d in free]
         self.n_d, self.n_f = len(drivers), len(free)
@@ -202,23 +244,35 @@ class Dynamics:
         self.added = np.zeros(self.n_f)
         for name, value in (inertia or {}).items():
             if name not in self.free_names:
-                raise KeyError(f"added inertia on '{name}': not a free (effort) driver; the free "
-                               f"drivers are: {', '.join(self.free_names)}")
+                raise KeyError(
+                    f"added inertia on '{name}': not a free (effort) driver; the free "
+                    f"drivers are: {', '.join(self.free_names)}"
+                )
             self.added[self.free_names.index(name)] += float(value)
-        self.friction = bool(model.has_friction if friction is None else friction) and \
-            model.has_friction
+        self.friction = (
+            bool(model.has_friction if friction is None else friction) and model.has_friction
+        )
         self.coulomb = self.friction or any(load.kind == "resistance" for load in model.loads)
         if self.friction and (self.n_f != 1 or motion):
-            raise StructureError([(Location(model.source, path="drivers"),
-                                   "forward dynamics with friction needs one free coordinate and "
-                                   "no prescribed motion; simulate with friction: false")])
+            raise StructureError(
+                [
+                    (
+                        Location(model.source, path="drivers"),
+                        "forward dynamics with friction needs one free coordinate and "
+                        "no prescribed motion; simulate with friction: false",
+                    )
+                ]
+            )
         speeds = [abs(d.motion.speed) for d in motion]
         self.ref_speed = float(ref_speed or max(speeds, default=0.0) or 1.0)
         self.n_j = system.n_joint_rows
         # prescribed drivers whose effort is taken at another joint (balance_at): their
         # effort's power is effort × that joint's relative speed, not × the driver speed
-        self._moved = [(d, k) for d, (c, k) in enumerate(zip(cons, effort_joints(system)))
-                       if c.driver.balance_at not in (None, c.joint.name)]
+        self._moved = [
+            (d, k)
+            for d, (c, k) in enumerate(zip(cons, effort_joints(system)))
+            if c.driver.balance_at not in (None, c.joint.name)
+        ]
         self.mass_vector = mass_vector(system)
         self.extremes = self._extremes()
         q0, _ = start_pose(system, self.drive)
@@ -251,13 +305,18 @@ class Dynamics:
     # -- positions on the manifold and on the branch ----------------------------------
     def _with_tangent(self, psi, q):
         eye = np.eye(self.n_d)
-        qd, qdd, _ = derivatives(self.system, np.broadcast_to(q, (self.n_d, q.size)).copy(), eye,
-                                 np.zeros((self.n_d, self.n_d)))
+        qd, qdd, _ = derivatives(
+            self.system,
+            np.broadcast_to(q, (self.n_d, q.size)).copy(),
+            eye,
+            np.zeros((self.n_d, self.n_d)),
+        )
         return psi.copy(), q.copy(), qd, qdd
 
     def _weights(self):
-        return np.tile([1.0 / self.system.l_ref, 1.0 / self.system.l_ref, 1.0],
-                       len(self.system.links))
+        return np.tile(
+            [1.0 / self.system.l_ref, 1.0 / self.system.l_ref, 1.0], len(self.system.links)
+        )
 
     def positions(self, psi: np.ndarray) -> np.ndarray:
         """q at driver coordinates ``psi (n_d,)`` on the branch followed so far.
@@ -277,7 +336,7 @@ class Dynamics:
                 return q
             if size > limit:
                 d = d * (limit / size)
-            pred = q + d @ tan + 0.5 * (d ** 2) @ curv
+            pred = q + d @ tan + 0.5 * (d**2) @ curv
             try:
                 qn = positions_near(self.system, (p + d)[None], pred[None], self.drive)[0]
                 corr = np.max(np.abs((qn - pred) * w))
@@ -289,10 +348,11 @@ class Dynamics:
                 limit = min(limit, size) * 0.5
                 if limit < 1e-7:
                     raise SingularConfigurationError(
-                        "free coordinates", ", ".join(f"{n} = {v:.6g}" for n, v in
-                                                      zip(self.names, p + d)),
+                        "free coordinates",
+                        ", ".join(f"{n} = {v:.6g}" for n, v in zip(self.names, p + d)),
                         "the positions cannot be continued smoothly (a singular position: "
-                        "the free coordinates do not describe the motion here)")
+                        "the free coordinates do not describe the motion here)",
+                    )
                 continue
             p, q = p + d, qn
             if np.allclose(p, target, rtol=0, atol=1e-15):
@@ -302,8 +362,9 @@ class Dynamics:
             limit = min(STEP, 2 * limit)
 
     # -- the terms of the equations of motion -------------------------------------
-    def evaluate(self, t: float, psi_f, psid_f, direction: float = 0.0,
-                 mode: tuple | None = None) -> _Eval:
+    def evaluate(
+        self, t: float, psi_f, psid_f, direction: float = 0.0, mode: tuple | None = None
+    ) -> _Eval:
         """Positions, velocities, M, h and the efforts at a state (no accelerations yet).
 
         ``direction``: at rest (|ψ̇_f| below the zero-speed threshold) the probe sense
@@ -322,16 +383,35 @@ class Dynamics:
         qb = np.broadcast_to(q, (nb, q.size)).copy()
         pd = np.concatenate((np.broadcast_to(psid, (1 + nf, nd)), np.eye(nd)))
         pdd = np.zeros((nb, nd))
-        pdd[:1 + nf, self.fixed] = self.drive(np.array([t]))[2][0][self.fixed]
+        pdd[: 1 + nf, self.fixed] = self.drive(np.array([t]))[2][0][self.fixed]
         pdd[1 + np.arange(nf), self.free] = 1.0
         qd, qdd, lu = derivatives(self.system, qb, pd, pdd)
-        self._anchor = (psi, q, qd[1 + nf:], qdd[1 + nf:])
-        kin = kinetics(self._loaded(mode), qb, qd, qdd, np.broadcast_to(psi, (nb, nd)), lu=lu,
-                       ref_speed=self.ref_speed, extremes=self.extremes)
-        tau = kin.x0[:, self.n_j:]
+        self._anchor = (psi, q, qd[1 + nf :], qdd[1 + nf :])
+        kin = kinetics(
+            self._loaded(mode),
+            qb,
+            qd,
+            qdd,
+            np.broadcast_to(psi, (nb, nd)),
+            lu=lu,
+            ref_speed=self.ref_speed,
+            extremes=self.extremes,
+        )
+        tau = kin.x0[:, self.n_j :]
         self.evaluations += 1
-        return _Eval(t, psi, psid, q, qd[0], qdd[0], qdd[1:1 + nf] - qdd[0], tau[0],
-                     tau[1:1 + nf] - tau[0], qd[1 + nf:], mode=mode)
+        return _Eval(
+            t,
+            psi,
+            psid,
+            q,
+            qd[0],
+            qdd[0],
+            qdd[1 : 1 + nf] - qdd[0],
+            tau[0],
+            tau[1 : 1 + nf] - tau[0],
+            qd[1 + nf :],
+            mode=mode,
+        )
 
     # -- loads frozen on an integration piece ------------------------------------------
     def load_mode(self, ev: _Eval) -> tuple:
@@ -340,8 +420,7 @@ class Dynamics:
         system = self.system
         out = []
         for load in self.model.loads:
-            on = bool(activity(system, load, ev.q, ev.qd, ev.psi[0], self.extremes,
-                               self.ref_speed))
+            on = bool(activity(system, load, ev.q, ev.qd, ev.psi[0], self.extremes, self.ref_speed))
             sign = 0.0
             if load.kind == "resistance":
                 k = system.link_index(load.link)
@@ -366,12 +445,21 @@ class Dynamics:
                     continue
                 if load.kind == "resistance":
                     direction = -sign * np.asarray(load.axis, dtype=float)
-                    table = None if load.table is None else (
-                        load.table[0], np.asarray(load.table[1], dtype=float)[..., None]
-                        * direction)
-                    load = replace(load, kind="force", active=(), table=table,
-                                   value=np.asarray(load.value, dtype=float)[..., None]
-                                   * direction)
+                    table = (
+                        None
+                        if load.table is None
+                        else (
+                            load.table[0],
+                            np.asarray(load.table[1], dtype=float)[..., None] * direction,
+                        )
+                    )
+                    load = replace(
+                        load,
+                        kind="force",
+                        active=(),
+                        table=table,
+                        value=np.asarray(load.value, dtype=float)[..., None] * direction,
+                    )
                 else:
                     load = replace(load, active=())
                 loads.append(load)
@@ -385,19 +473,33 @@ class Dynamics:
 
     def applied(self, psi_f, psid_f) -> np.ndarray:
         """The applied efforts of the free drivers (their laws)."""
-        return np.array([law(p, v, 2 * np.pi if a else None) for law, p, v, a in
-                         zip(self.laws, psi_f, psid_f, self.angular[self.free])], dtype=float)
+        return np.array(
+            [
+                law(p, v, 2 * np.pi if a else None)
+                for law, p, v, a in zip(self.laws, psi_f, psid_f, self.angular[self.free])
+            ],
+            dtype=float,
+        )
 
     def _required_friction(self, ev: _Eval, accel: np.ndarray) -> np.ndarray:
         """Efforts of all drivers with friction (consistent solution) at ``accel``."""
         qdd = ev.qdd0 + accel @ ev.dqdd
-        kin = kinetics(self._loaded(ev.mode), ev.q[None], ev.qd[None], qdd[None], ev.psi[None],
-                       ref_speed=self.ref_speed, extremes=self.extremes, friction=True)
-        x = kin.friction["solution"].x[0, self.n_j:]
+        kin = kinetics(
+            self._loaded(ev.mode),
+            ev.q[None],
+            ev.qd[None],
+            qdd[None],
+            ev.psi[None],
+            ref_speed=self.ref_speed,
+            extremes=self.extremes,
+            friction=True,
+        )
+        x = kin.friction["solution"].x[0, self.n_j :]
         if not np.all(np.isfinite(x)):
             at = ", ".join(f"{n} = {v:.6g}" for n, v in zip(self.names, ev.psi))
-            raise SelfLockingError(f"self-locking at {at}: the consistent friction solution "
-                                   "does not exist")
+            raise SelfLockingError(
+                f"self-locking at {at}: the consistent friction solution does not exist"
+            )
         return x
 
     def accelerations(self, ev: _Eval, psid_f) -> _Eval:
@@ -413,8 +515,12 @@ class Dynamics:
             tau = self._required_friction(ev, accel)
             r = applied - self.added * accel - tau[free]
             for _ in range(50):
-                scale = max(np.max(np.abs(applied)), np.max(np.abs(tau)),
-                            np.max(np.abs(mass @ accel)), 1e-300)
+                scale = max(
+                    np.max(np.abs(applied)),
+                    np.max(np.abs(tau)),
+                    np.max(np.abs(mass @ accel)),
+                    1e-300,
+                )
                 if np.max(np.abs(r)) <= 1e-11 * scale:
                     break
                 step = -np.linalg.solve(jac, r)
@@ -424,41 +530,43 @@ class Dynamics:
                 jac = jac + np.outer(rn - r - jac @ step, step) / (step @ step)
                 r = rn
             else:
-                raise SelfLockingError("the acceleration with friction did not converge at "
-                                       + ", ".join(f"{n} = {v:.6g}" for n, v in
-                                                   zip(self.names, ev.psi)))
+                raise SelfLockingError(
+                    "the acceleration with friction did not converge at "
+                    + ", ".join(f"{n} = {v:.6g}" for n, v in zip(self.names, ev.psi))
+                )
         ev.accel, ev.tau, ev.applied = accel, tau, applied
         ev.effort = tau.copy()
         ev.effort[free] = applied
         return ev
 
-    def state(self, t: float, y: np.ndarray, direction: float = 0.0,
-              mode: tuple | None = None) -> _Eval:
+    def state(
+        self, t: float, y: np.ndarray, direction: float = 0.0, mode: tuple | None = None
+    ) -> _Eval:
         """The solved state (accelerations and efforts) at (t, y), cached."""
         nf = self.n_f
-        key = (t, y[:2 * nf].tobytes(), direction, mode)
+        key = (t, y[: 2 * nf].tobytes(), direction, mode)
         ev = self._cache.get(key)
         if ev is None or ev.accel is None:
-            psid_f = y[nf:2 * nf]
-            ev = self.accelerations(ev or self.evaluate(t, y[:nf], psid_f, direction, mode),
-                                    psid_f)
+            psid_f = y[nf : 2 * nf]
+            ev = self.accelerations(ev or self.evaluate(t, y[:nf], psid_f, direction, mode), psid_f)
             if len(self._cache) > 8:
                 self._cache.clear()
             self._cache[key] = ev
         return ev
 
-    def rhs(self, t: float, y: np.ndarray, direction: float = 0.0,
-            mode: tuple | None = None) -> np.ndarray:
+    def rhs(
+        self, t: float, y: np.ndarray, direction: float = 0.0, mode: tuple | None = None
+    ) -> np.ndarray:
         """d/dt (ψ_f, ψ̇_f, W): W the work of all drivers."""
         nf = self.n_f
         ev = self.state(t, y, direction, mode)
         power = float(ev.effort @ self._effort_speeds(ev, self._speeds(t, y)))
-        return np.concatenate((y[nf:2 * nf], ev.accel, [power]))
+        return np.concatenate((y[nf : 2 * nf], ev.accel, [power]))
 
     def _speeds(self, t, y):
         s = np.empty(self.n_d)
         s[self.fixed] = self.prescribed(t)[1]
-        s[self.free] = y[self.n_f:2 * self.n_f]
+        s[self.free] = y[self.n_f : 2 * self.n_f]
         return s
 
     def _effort_speeds(self, ev: _Eval, speeds: np.ndarray) -> np.ndarray:
@@ -483,8 +591,13 @@ class Dynamics:
             need[s] = float(tau[self.free][0])
         applied = float(self.applied(psi_f, zero)[0])
         sense = 1.0 if applied > need[1.0] else -1.0 if applied < need[-1.0] else 0.0
-        return {"sense": sense, "applied": applied, "to_start_positive": need[1.0],
-                "to_start_negative": need[-1.0], "checked": True}
+        return {
+            "sense": sense,
+            "applied": applied,
+            "to_start_positive": need[1.0],
+            "to_start_negative": need[-1.0],
+            "checked": True,
+        }
 
     # -- switching functions ----------------------------------------------------------
     def _switching_functions(self) -> list[tuple[str, Callable, float]]:
@@ -495,46 +608,79 @@ class Dynamics:
             for c in load.active:
                 if c.kind == "angle":
                     for b in c.bounds:
-                        out.append((f"{load.name}: angle {np.degrees(b):g}°",
-                                    lambda q, qd, psi, b=b: np.sin(psi[0] - b), 1e-12))
+                        out.append(
+                            (
+                                f"{load.name}: angle {np.degrees(b):g}°",
+                                lambda q, qd, psi, b=b: np.sin(psi[0] - b),
+                                1e-12,
+                            )
+                        )
                     continue
                 k = system.link_index(c.link)
                 p = system.model.link(c.link).points[c.point] if c.point else np.zeros(2)
                 if c.kind == "moving":
-                    out.append((f"{load.name}: moving", lambda q, qd, psi, k=k, p=p, c=c:
-                                point_state(q, qd, None, k, p)[1] @ c.axis, vthr))
+                    out.append(
+                        (
+                            f"{load.name}: moving",
+                            lambda q, qd, psi, k=k, p=p, c=c: (
+                                point_state(q, qd, None, k, p)[1] @ c.axis
+                            ),
+                            vthr,
+                        )
+                    )
                 else:
                     for b in c.bounds:
-                        out.append((f"{load.name}: travel {b * 1e3:g} mm",
-                                    lambda q, qd, psi, k=k, p=p, c=c, b=b:
+                        out.append(
+                            (
+                                f"{load.name}: travel {b * 1e3:g} mm",
+                                lambda q, qd, psi, k=k, p=p, c=c, b=b: (
                                     point_state(q, qd, None, k, p)[0] @ c.axis
-                                    - self.extremes[id(c)] - b, 1e-9 * system.l_ref))
+                                    - self.extremes[id(c)]
+                                    - b
+                                ),
+                                1e-9 * system.l_ref,
+                            )
+                        )
             if load.kind == "resistance":
                 k = system.link_index(load.link)
                 p = system.model.link(load.link).points[load.point] if load.point else np.zeros(2)
-                out.append((f"{load.name}: reverses", lambda q, qd, psi, k=k, p=p, a=load.axis:
-                            point_state(q, qd, None, k, p)[1] @ a, vthr))
+                out.append(
+                    (
+                        f"{load.name}: reverses",
+                        lambda q, qd, psi, k=k, p=p, a=load.axis: (
+                            point_state(q, qd, None, k, p)[1] @ a
+                        ),
+                        vthr,
+                    )
+                )
         if self.friction:
             for k, j in enumerate(system.model.joints):
                 if j.has_friction:
                     thr = ZERO_SPEED * self.ref_speed * (1.0 if j.angular else system.l_ref)
-                    out.append((f"{j.name}: friction reverses", lambda q, qd, psi, k=k:
-                                coordinate_gradient(system, q, k) @ qd, thr))
+                    out.append(
+                        (
+                            f"{j.name}: friction reverses",
+                            lambda q, qd, psi, k=k: coordinate_gradient(system, q, k) @ qd,
+                            thr,
+                        )
+                    )
         return out
 
-    def switching_values(self, t: float, y: np.ndarray, direction: float = 0.0,
-                         mode: tuple | None = None) -> np.ndarray:
+    def switching_values(
+        self, t: float, y: np.ndarray, direction: float = 0.0, mode: tuple | None = None
+    ) -> np.ndarray:
         if not self._switches:
             return np.zeros(0)
         ev = self._evaluated(t, y, direction, mode)
         return np.array([f(ev.q, ev.qd, ev.psi) for _, f, _ in self._switches])
 
-    def _evaluated(self, t: float, y: np.ndarray, direction: float = 0.0,
-                   mode: tuple | None = None) -> _Eval:
-        key = (t, y[:2 * self.n_f].tobytes(), direction, mode)
+    def _evaluated(
+        self, t: float, y: np.ndarray, direction: float = 0.0, mode: tuple | None = None
+    ) -> _Eval:
+        key = (t, y[: 2 * self.n_f].tobytes(), direction, mode)
         ev = self._cache.get(key)
         if ev is None:
-            ev = self.evaluate(t, y[:self.n_f], y[self.n_f:2 * self.n_f], direction, mode)
+            ev = self.evaluate(t, y[: self.n_f], y[self.n_f : 2 * self.n_f], direction, mode)
             self._cache[key] = ev
         return ev
 
@@ -545,8 +691,9 @@ class Dynamics:
     # -- energy -----------------------------------------------------------------------
     def energy(self, ev: _Eval) -> tuple[float, float]:
         """(kinetic, potential) energy at a state: ½ q̇ᵀMq̇ + ½ J_x ψ̇_f², −Σ m g·r_S."""
-        kinetic = 0.5 * float(np.sum(self.mass_vector * ev.qd ** 2)
-                              + np.sum(self.added * ev.psi_d[self.free] ** 2))
+        kinetic = 0.5 * float(
+            np.sum(self.mass_vector * ev.qd**2) + np.sum(self.added * ev.psi_d[self.free] ** 2)
+        )
         g = np.tile(np.append(self.system.model.gravity, 0.0), len(self.system.links))
         return kinetic, -float(np.sum(self.mass_vector * g * ev.q))
 
@@ -555,9 +702,9 @@ class Dynamics:
 class _Segment:
     t0: float
     t1: float
-    sol: Callable | None            # OdeSolution, or None for a constant state
-    y: np.ndarray | None = None     # the constant state
-    mode: tuple | None = None       # the loads' switching state on this piece
+    sol: Callable | None  # OdeSolution, or None for a constant state
+    y: np.ndarray | None = None  # the constant state
+    mode: tuple | None = None  # the loads' switching state on this piece
 
 
 @dataclass
@@ -592,8 +739,11 @@ class Simulation:
         idx = self._pieces(t)
         for k in np.unique(idx):
             seg, sel = self.segments[k], idx == k
-            out[sel] = (np.broadcast_to(seg.y, (int(sel.sum()), seg.y.size)) if seg.sol is None
-                        else seg.sol(t[sel]).T)
+            out[sel] = (
+                np.broadcast_to(seg.y, (int(sel.sum()), seg.y.size))
+                if seg.sol is None
+                else seg.sol(t[sel]).T
+            )
         return out
 
     def _pieces(self, t: np.ndarray) -> np.ndarray:
@@ -621,29 +771,48 @@ class Simulation:
             row = {"time": tk}
             for d, name in enumerate(dyn.names):
                 ang = cons[d].joint.angular
-                row[f"{name}.{'angle' if ang else 'position'}"] = (np.degrees(ev.psi[d]) if ang
-                                                                   else ev.psi[d])
+                row[f"{name}.{'angle' if ang else 'position'}"] = (
+                    np.degrees(ev.psi[d]) if ang else ev.psi[d]
+                )
                 row[f"{name}.speed"] = speeds[d]
                 row[f"{name}.acceleration"] = acc[d]
-                word = 'torque' if ang else 'force'
+                word = "torque" if ang else "force"
                 row[f"{name}.{word}"] = ev.effort[d]
                 if d in dyn.free:
                     row[f"{name}.{word}_linkage"] = ev.tau[d]
                     units[f"{name}.{word}_linkage"] = "N*m" if ang else "N"
-                units.update({f"{name}.angle": "deg", f"{name}.position": "m",
-                              f"{name}.speed": "rad/s" if ang else "m/s",
-                              f"{name}.acceleration": "rad/s^2" if ang else "m/s^2",
-                              f"{name}.torque": "N*m", f"{name}.force": "N"})
+                units.update(
+                    {
+                        f"{name}.angle": "deg",
+                        f"{name}.position": "m",
+                        f"{name}.speed": "rad/s" if ang else "m/s",
+                        f"{name}.acceleration": "rad/s^2" if ang else "m/s^2",
+                        f"{name}.torque": "N*m",
+                        f"{name}.force": "N",
+                    }
+                )
             if dyn.n_f == 1:
                 row["equivalent.inertia"] = float(ev.dtau[0, dyn.free[0]])
-                units["equivalent.inertia"] = ("kg*m^2" if dyn.angular[dyn.free[0]] else "kg")
+                units["equivalent.inertia"] = "kg*m^2" if dyn.angular[dyn.free[0]] else "kg"
             kin, pot = dyn.energy(replace(ev, psi_d=speeds))
-            row.update({"energy.kinetic": kin, "energy.potential": pot,
-                        "energy.total": kin + pot, "work.drivers": yk[-1]})
+            row.update(
+                {
+                    "energy.kinetic": kin,
+                    "energy.potential": pot,
+                    "energy.total": kin + pot,
+                    "work.drivers": yk[-1],
+                }
+            )
             for k, v in row.items():
                 cols.setdefault(k, []).append(float(v))
-        units.update({"energy.kinetic": "J", "energy.potential": "J", "energy.total": "J",
-                      "work.drivers": "J"})
+        units.update(
+            {
+                "energy.kinetic": "J",
+                "energy.potential": "J",
+                "energy.total": "J",
+                "work.drivers": "J",
+            }
+        )
         return {k: np.array(v) for k, v in cols.items()}, {k: units[k] for k in cols}
 
     def _direction_at(self, t: float) -> float:
@@ -660,6 +829,7 @@ class Simulation:
 def write_csv(path, cols: dict, units: dict) -> None:
     """Columns (see :meth:`Simulation.table`) as CSV with a ``# units:`` line."""
     import csv
+
     names = list(cols)
     with open(path, "w", newline="") as fh:
         fh.write("# units: " + ",".join(units[n] for n in names) + "\n")
@@ -669,12 +839,21 @@ def write_csv(path, cols: dict, units: dict) -> None:
             w.writerow([repr(float(v)) for v in row])
 
 
-def simulate(model: Model | Dynamics, until: float, *,
-             initial: Mapping[str, float | tuple[float, float]] | None = None,
-             inertia: Mapping[str, float] | None = None, friction: bool | None = None,
-             method: str = "RK45", rtol: float = 1e-8, atol: float | None = None,
-             max_step: float = np.inf, stop_at: float | None = None,
-             mark: float | None = None, ref_speed: float | None = None) -> Simulation:
+def simulate(
+    model: Model | Dynamics,
+    until: float,
+    *,
+    initial: Mapping[str, float | tuple[float, float]] | None = None,
+    inertia: Mapping[str, float] | None = None,
+    friction: bool | None = None,
+    method: str = "RK45",
+    rtol: float = 1e-8,
+    atol: float | None = None,
+    max_step: float = np.inf,
+    stop_at: float | None = None,
+    mark: float | None = None,
+    ref_speed: float | None = None,
+) -> Simulation:
     """Integrate the motion of the free (``effort:``) coordinates from t = 0 to ``until`` s.
 
     Parameters
@@ -695,7 +874,9 @@ def simulate(model: Model | Dynamics, until: float, *,
         for a revolute): the cycle boundaries, ``Simulation.marks``.
     """
     from scipy.integrate import solve_ivp
+
     from ._checks import real_number
+
     until = real_number("until", until, low=0.0, strict_low=True, why="s")
     rtol = real_number("rtol", rtol, low=0.0, high=1.0, strict_low=True)
     if atol is not None:
@@ -710,7 +891,9 @@ def simulate(model: Model | Dynamics, until: float, *,
     initial = dict(initial or {})
     for name, v in initial.items():
         for k, x in enumerate(v if isinstance(v, (tuple, list)) else (v,)):
-            real_number(f"initial['{name}']" + (f"[{k}]" if isinstance(v, (tuple, list)) else ""), x)
+            real_number(
+                f"initial['{name}']" + (f"[{k}]" if isinstance(v, (tuple, list)) else ""), x
+            )
     first_speed = 0.0
     if isinstance(model, Dynamics):
         dyn = model
@@ -719,16 +902,23 @@ def simulate(model: Model | Dynamics, until: float, *,
         v = initial.get(free[0]) if free else None
         first_speed = float(v[1]) if isinstance(v, (tuple, list)) else 0.0
         sense = np.sign(first_speed) or _sense_of_effort(model, free)
-        dyn = Dynamics(model, inertia=inertia, friction=friction, sense=sense,
-                       ref_speed=ref_speed or (abs(first_speed) or None))
+        dyn = Dynamics(
+            model,
+            inertia=inertia,
+            friction=friction,
+            sense=sense,
+            ref_speed=ref_speed or (abs(first_speed) or None),
+        )
     nf = dyn.n_f
     psi0, psid0 = dyn.start(), np.zeros(nf)
     for name, v in initial.items():
         if name not in dyn.free_names:
-            raise KeyError(f"initial state of '{name}': not a free (effort) driver; the free "
-                           f"drivers are: {', '.join(dyn.free_names)}")
+            raise KeyError(
+                f"initial state of '{name}': not a free (effort) driver; the free "
+                f"drivers are: {', '.join(dyn.free_names)}"
+            )
         k = dyn.free_names.index(name)
-        psi0[k], psid0[k] = (v if isinstance(v, (tuple, list)) else (v, 0.0))
+        psi0[k], psid0[k] = v if isinstance(v, (tuple, list)) else (v, 0.0)
     y = np.concatenate((psi0, psid0, [0.0]))
     scale = dyn.scale[dyn.free]
     if atol is None:
@@ -744,33 +934,37 @@ def simulate(model: Model | Dynamics, until: float, *,
     def rhs(d, m):
         return lambda tt, yy: dyn.rhs(tt, yy, d, m)
 
-    pending = None          # the loads' state just past a switch (known from the last piece)
+    pending = None  # the loads' state just past a switch (known from the last piece)
     mark_event = None
     if mark is not None:
-        mark_event = _event((lambda tt, yy: np.sin(0.5 * (yy[0] - mark)))
-                            if dyn.angular[dyn.free[0]] else (lambda tt, yy: yy[0] - mark), False)
+        mark_event = _event(
+            (lambda tt, yy: np.sin(0.5 * (yy[0] - mark)))
+            if dyn.angular[dyn.free[0]]
+            else (lambda tt, yy: yy[0] - mark),
+            False,
+        )
 
     stop_event = None if stop_at is None else _event(lambda tt, yy: yy[0] - stop_at, True)
-    short = [e for e in (mark_event, stop_event) if e is not None]   # watched on a nudge too
+    short = [e for e in (mark_event, stop_event) if e is not None]  # watched on a nudge too
 
     def add_marks(found):
-        for x in found:                      # a mark at a switch is seen by both pieces
+        for x in found:  # a mark at a switch is seen by both pieces
             if not marks or abs(float(x) - marks[-1]) > 1e-9 * max(1.0, abs(float(x))):
                 marks.append(float(x))
 
     for _ in range(100_000):
         if t >= until:
             break
-        if nf == 1 and dyn._at_rest(y[nf:2 * nf]):
+        if nf == 1 and dyn._at_rest(y[nf : 2 * nf]):
             check = dyn.breakaway(t, y[:nf])
             direction = check.pop("sense")
             sim.events.append({"t": t, "kind": "rest", "sense": direction, **check})
-            y[nf:2 * nf] = 0.0
+            y[nf : 2 * nf] = 0.0
             if direction == 0.0:
                 sim.segments.append(_Segment(t, until, None, y.copy()))
                 sim.status = "stuck"
                 break
-        elif not dyn._at_rest(y[nf:2 * nf]):
+        elif not dyn._at_rest(y[nf : 2 * nf]):
             direction = 0.0
         # switching functions at their threshold now (a start at rest, or on a band
         # edge): first a short piece without events carries them off zero
@@ -779,10 +973,17 @@ def simulate(model: Model | Dynamics, until: float, *,
             tau = 1e-10 / dyn.ref_speed
             for _ in range(30):
                 tau = min(tau, until - t)
-                sol0 = solve_ivp(rhs(direction, pending), (t, t + tau), y, method=method,
-                                 rtol=rtol, atol=atol_v, dense_output=True,
-                                 events=short or None)
-                if sol0.status == 1:                 # the stop lies in the nudge
+                sol0 = solve_ivp(
+                    rhs(direction, pending),
+                    (t, t + tau),
+                    y,
+                    method=method,
+                    rtol=rtol,
+                    atol=atol_v,
+                    dense_output=True,
+                    events=short or None,
+                )
+                if sol0.status == 1:  # the stop lies in the nudge
                     break
                 y0 = sol0.y[:, -1]
                 g0 = dyn.switching_values(t + tau, y0, direction)
@@ -800,8 +1001,8 @@ def simulate(model: Model | Dynamics, until: float, *,
                 break
             sim.segments.append(_Segment(t, t + tau, sol0.sol, mode=pending))
             t, y = t + tau, y0.copy()
-            near &= np.abs(g0) <= 2 * thresholds          # still on zero: not watched here
-            if not dyn._at_rest(y[nf:2 * nf]):
+            near &= np.abs(g0) <= 2 * thresholds  # still on zero: not watched here
+            if not dyn._at_rest(y[nf : 2 * nf]):
                 direction = 0.0
             if t >= until:
                 break
@@ -812,8 +1013,14 @@ def simulate(model: Model | Dynamics, until: float, *,
         events, kinds = [], []
         for k in range(len(dyn._switches)):
             if not near[k]:
-                events.append(_event(lambda tt, yy, k=k, d=direction, m=mode:
-                                     dyn.switching_values(tt, yy, d, m)[k], True))
+                events.append(
+                    _event(
+                        lambda tt, yy, k=k, d=direction, m=mode: dyn.switching_values(tt, yy, d, m)[
+                            k
+                        ],
+                        True,
+                    )
+                )
                 kinds.append(("switch", k))
         if dyn.coulomb and nf == 1:
             s = direction or np.sign(y[nf])
@@ -826,8 +1033,18 @@ def simulate(model: Model | Dynamics, until: float, *,
             events.append(mark_event)
             kinds.append(("mark", None))
         opts = {} if first_step is None else {"first_step": min(first_step, until - t)}
-        sol = solve_ivp(rhs(direction, mode), (t, until), y, method=method, rtol=rtol, atol=atol_v,
-                        dense_output=True, events=events or None, max_step=max_step, **opts)
+        sol = solve_ivp(
+            rhs(direction, mode),
+            (t, until),
+            y,
+            method=method,
+            rtol=rtol,
+            atol=atol_v,
+            dense_output=True,
+            events=events or None,
+            max_step=max_step,
+            **opts,
+        )
         if sol.status == -1:
             raise RuntimeError(f"integration failed at t = {sol.t[-1]:.6g} s: {sol.message}")
         for (kind, _), te in zip(kinds, sol.t_events or []):
@@ -840,8 +1057,11 @@ def simulate(model: Model | Dynamics, until: float, *,
             sim.segments.append(_Segment(t, t_e, sol.sol, mode=mode))
             t, y = t_e, y_e
             break
-        fired = [(kind, k) for (kind, k), te in zip(kinds, sol.t_events)
-                 if kind != "mark" and te.size and abs(te[-1] - t_e) <= 1e-12 * max(1.0, t_e)]
+        fired = [
+            (kind, k)
+            for (kind, k), te in zip(kinds, sol.t_events)
+            if kind != "mark" and te.size and abs(te[-1] - t_e) <= 1e-12 * max(1.0, t_e)
+        ]
         if any(kind == "stop" for kind, _ in fired):
             sim.segments.append(_Segment(t, t_e, sol.sol, mode=mode))
             sim.events.append({"t": t_e, "kind": "stop"})
@@ -850,7 +1070,7 @@ def simulate(model: Model | Dynamics, until: float, *,
             break
         if any(kind == "rest" for kind, _ in fired):
             sim.segments.append(_Segment(t, t_e, sol.sol, mode=mode))
-            y_e[nf:2 * nf] = 0.0
+            y_e[nf : 2 * nf] = 0.0
             t, y = t_e, y_e
             continue
         # a load switch: the piece ends at the event and the next one starts from the
@@ -859,10 +1079,9 @@ def simulate(model: Model | Dynamics, until: float, *,
         # the event on this piece's smooth continuation; the state is not moved there.
         idx = [k for kind, k in fired if kind == "switch"]
         sim.segments.append(_Segment(t, t_e, sol.sol, mode=mode))
-        sim.events.append({"t": t_e, "kind": "switch",
-                           "what": [dyn._switches[k][0] for k in idx]})
+        sim.events.append({"t": t_e, "kind": "switch", "what": [dyn._switches[k][0] for k in idx]})
         tau = 1e-10 / dyn.ref_speed
-        for _ in range(17):                  # at most ~1e-5 s × (1 rad/s / ref_speed)
+        for _ in range(17):  # at most ~1e-5 s × (1 rad/s / ref_speed)
             y_p = np.asarray(sol.sol(t_e + tau), dtype=float)
             g = dyn.switching_values(t_e + tau, y_p, direction, mode)
             if all(abs(g[k]) > 2 * thresholds[k] for k in idx):
@@ -915,6 +1134,7 @@ def speed_fluctuation(sim: Simulation, t0: float, t1: float, samples: int = 4001
     extreme; ``samples`` (spread over [t0, t1]) only brackets them.
     """
     from scipy.optimize import minimize_scalar
+
     nf = sim.dynamics.n_f
     bounds = [s.t0 for s in sim.segments[1:]]
     edges = np.unique(np.clip([t0, t1] + [b for b in bounds if t0 < b < t1], t0, t1))
@@ -924,23 +1144,36 @@ def speed_fluctuation(sim: Simulation, t0: float, t1: float, samples: int = 4001
         n = max(16, int(np.ceil(samples * (b - a) / (t1 - t0))))
         t = np.linspace(a, b, n)
         w = np.abs(seg.sol(t)[nf]) if seg.sol is not None else np.full(n, abs(seg.y[nf]))
-        candidates += [w[0], w[-1]]     # the piece's own values at its ends
+        candidates += [w[0], w[-1]]  # the piece's own values at its ends
         if seg.sol is None:
             continue
         for k in range(n):
             for sign in (1.0, -1.0):
                 # a sampled local extreme, or an extreme just inside a piece end (where
                 # ω may turn within the first or last sampling interval)
-                if (k == 0 or k == n - 1 or sign * (w[k] - w[k - 1]) > 0
-                        and sign * (w[k] - w[k + 1]) >= 0):
+                if (
+                    k == 0
+                    or k == n - 1
+                    or sign * (w[k] - w[k - 1]) > 0
+                    and sign * (w[k] - w[k + 1]) >= 0
+                ):
                     lo, hi = t[max(k - 1, 0)], t[min(k + 1, n - 1)]
-                    r = minimize_scalar(lambda tt: -sign * abs(float(seg.sol(tt)[nf])),
-                                        bounds=(lo, hi), method="bounded",
-                                        options={"xatol": 1e-14 * max(1.0, abs(b))})
+                    r = minimize_scalar(
+                        lambda tt: -sign * abs(float(seg.sol(tt)[nf])),
+                        bounds=(lo, hi),
+                        method="bounded",
+                        options={"xatol": 1e-14 * max(1.0, abs(b))},
+                    )
                     candidates.append(max(w[k], -r.fun) if sign > 0 else min(w[k], r.fun))
     w_max, w_min = max(candidates), min(candidates)
     travel = sim.sample([t0, t1])[:, 0]
     mean = abs(travel[-1] - travel[0]) / (t1 - t0)
-    return {"omega_max": float(w_max), "omega_min": float(w_min), "omega_mean": float(mean),
-            "omega_average": 0.5 * float(w_max + w_min), "delta": float((w_max - w_min) / mean),
-            "t0": float(t0), "t1": float(t1)}
+    return {
+        "omega_max": float(w_max),
+        "omega_min": float(w_min),
+        "omega_mean": float(mean),
+        "omega_average": 0.5 * float(w_max + w_min),
+        "delta": float((w_max - w_min) / mean),
+        "t0": float(t0),
+        "t1": float(t1),
+    }

@@ -11,14 +11,25 @@ built-in exception so ``except ValueError`` keeps working.
 from __future__ import annotations
 
 import difflib
+from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import Iterable
 
 __all__ = [
-    "Location", "KinetostaticsError", "ModelError", "StructureError",
-    "AssemblyError", "SingularConfigurationError", "SelfLockingError",
-    "NonFiniteResultError", "NearSingularWarning", "SingularEquilibriumWarning", "Collector",
-    "did_you_mean", "OutputError", "output_error", "printable",
+    "Location",
+    "KinetostaticsError",
+    "ModelError",
+    "StructureError",
+    "AssemblyError",
+    "SingularConfigurationError",
+    "SelfLockingError",
+    "NonFiniteResultError",
+    "NearSingularWarning",
+    "SingularEquilibriumWarning",
+    "Collector",
+    "did_you_mean",
+    "OutputError",
+    "output_error",
+    "printable",
 ]
 
 
@@ -31,12 +42,19 @@ class Location:
     col: int | None = None
     path: str = ""
 
-    def child(self, key: object, line: int | None = None, col: int | None = None) -> "Location":
+    def child(self, key: object, line: int | None = None, col: int | None = None) -> Location:
         """The location of ``key`` below this one (list indices as ``[k]``)."""
-        path = f"{self.path}[{key}]" if isinstance(key, int) else (
-            f"{self.path}.{key}" if self.path else str(key))
-        return Location(self.file, line if line is not None else self.line,
-                        col if col is not None else self.col, path)
+        path = (
+            f"{self.path}[{key}]"
+            if isinstance(key, int)
+            else (f"{self.path}.{key}" if self.path else str(key))
+        )
+        return Location(
+            self.file,
+            line if line is not None else self.line,
+            col if col is not None else self.col,
+            path,
+        )
 
     def __str__(self) -> str:
         where = self.file

@@ -18,8 +18,8 @@ Examples
 from __future__ import annotations
 
 import ast
-import functools
 import difflib
+import functools
 import math
 import numbers
 from collections.abc import Callable, Iterable, Mapping, Sequence
@@ -209,8 +209,9 @@ def _check_depth(tree: ast.AST) -> None:
     stack: list[tuple[ast.AST, int, int]] = [(tree, 0, 0)]
     while stack:
         node, depth, nodes = stack.pop()
-        level = depth + (isinstance(node, ast.expr) and not isinstance(node, (ast.Constant,
-                                                                               ast.Name)))
+        level = depth + (
+            isinstance(node, ast.expr) and not isinstance(node, (ast.Constant, ast.Name))
+        )
         if level > MAX_DEPTH or nodes > 4 * MAX_DEPTH:
             raise ExpressionError(f"expression is nested too deeply (more than {MAX_DEPTH} levels)")
         stack.extend((child, level, nodes + 1) for child in ast.iter_child_nodes(node))
@@ -250,7 +251,9 @@ def _check_node(node: ast.AST) -> None:
         _, lo, hi = _SIGNATURES[fname]
         n = len(node.args)
         if n < lo or (hi is not None and n > hi):
-            expected = str(lo) if lo == hi else (f"{lo} or {hi}" if hi is not None else f"at least {lo}")
+            expected = (
+                str(lo) if lo == hi else (f"{lo} or {hi}" if hi is not None else f"at least {lo}")
+            )
             raise ExpressionError(f"{fname}() takes {expected} argument(s), got {n}")
     elif isinstance(node, ast.Name):
         pass
@@ -284,9 +287,11 @@ def _parse_cached(text: str) -> ast.Expression:
         k = next(i for i, ch in enumerate(text) if ord(ch) > 127)
         ch = text[k]
         shown = f"'{ch}'" if ch.isprintable() else ascii(ch)[1:-1]
-        raise ExpressionError(f"the character {shown} (U+{ord(ch):04X}) at position "
-                              f"{k + 1} is not allowed in an expression: numbers, names and "
-                              "operators are plain ASCII")
+        raise ExpressionError(
+            f"the character {shown} (U+{ord(ch):04X}) at position "
+            f"{k + 1} is not allowed in an expression: numbers, names and "
+            "operators are plain ASCII"
+        )
     depth = max_depth = 0
     for ch in text:
         if ch in "([{":
@@ -367,9 +372,7 @@ def _eval_node(node: ast.AST, env: Mapping[str, float]) -> float:
             return _to_float(env[node.id])
         if node.id in CONSTANTS:
             return CONSTANTS[node.id]
-        raise ExpressionError(
-            f"undefined name '{node.id}'" + _suggest(node.id, [*env, *CONSTANTS])
-        )
+        raise ExpressionError(f"undefined name '{node.id}'" + _suggest(node.id, [*env, *CONSTANTS]))
     if isinstance(node, ast.UnaryOp):
         operand = _eval_node(node.operand, env)
         return -operand if isinstance(node.op, ast.USub) else operand
@@ -413,7 +416,9 @@ def _eval_binop(node: ast.BinOp, env: Mapping[str, float]) -> float:
             result = left // right
         else:
             if abs(right) > MAX_EXPONENT:
-                raise ExpressionError(f"exponent too large in {what} (|exponent| > {MAX_EXPONENT:g})")
+                raise ExpressionError(
+                    f"exponent too large in {what} (|exponent| > {MAX_EXPONENT:g})"
+                )
             if left < 0 and not right.is_integer():
                 raise ExpressionError(f"math domain error in {what}")
             result = left**right
@@ -448,7 +453,7 @@ def evaluate(text: str | int | float, env: Mapping[str, float]) -> float:
     if not isinstance(text, str):
         return _to_float(text)
     tree = _parse(text)
-    _names_of(text)                       # refuses a function used as a variable
+    _names_of(text)  # refuses a function used as a variable
     return _eval_node(tree, env)
 
 
@@ -479,7 +484,7 @@ def _dependency_order(deps: Mapping[str, list[str]]) -> list[str]:
                 done.add(node)
                 order.append(node)
             elif child in on_path:
-                cycle = path[path.index(child):] + [child]
+                cycle = path[path.index(child) :] + [child]
                 raise ExpressionError(f"parameters form a cycle: {' -> '.join(cycle)}", child)
             elif child not in done:
                 path.append(child)

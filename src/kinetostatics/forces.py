@@ -14,21 +14,33 @@ from ._geometry import perp, rotate
 from .model import Condition, Load
 from .system import System
 
-__all__ = ["point_state", "mass_vector", "gravity_forces", "inertia_forces", "external_forces",
-           "effort_forces", "condition_values", "angle_band", "activity", "zero_speed"]
+__all__ = [
+    "point_state",
+    "mass_vector",
+    "gravity_forces",
+    "inertia_forces",
+    "external_forces",
+    "effort_forces",
+    "condition_values",
+    "angle_band",
+    "activity",
+    "zero_speed",
+]
 
-ZERO_SPEED = 1e-9       # relative speeds below this × x_ref count as zero (SPEC.md)
+ZERO_SPEED = 1e-9  # relative speeds below this × x_ref count as zero (SPEC.md)
 
 
 def point_state(q, qd, qdd, k: int, p: np.ndarray):
     """Global position, velocity, acceleration of local point ``p`` of moving link ``k``."""
     th, w = q[..., 3 * k + 2], qd[..., 3 * k + 2]
     rp = rotate(th, p)
-    pos = q[..., 3 * k:3 * k + 2] + rp
-    vel = qd[..., 3 * k:3 * k + 2] + w[..., None] * perp(rp)
+    pos = q[..., 3 * k : 3 * k + 2] + rp
+    vel = qd[..., 3 * k : 3 * k + 2] + w[..., None] * perp(rp)
     if qdd is None:
         return pos, vel, None
-    acc = qdd[..., 3 * k:3 * k + 2] + qdd[..., 3 * k + 2, None] * perp(rp) - (w ** 2)[..., None] * rp
+    acc = (
+        qdd[..., 3 * k : 3 * k + 2] + qdd[..., 3 * k + 2, None] * perp(rp) - (w**2)[..., None] * rp
+    )
     return pos, vel, acc
 
 
@@ -102,6 +114,7 @@ def effort_forces(system: System, q: np.ndarray, qd: np.ndarray | None = None) -
     laws (:class:`~kinetostatics.model.EffortLaw`) of the driver coordinate and speed."""
     from .model import EffortLaw
     from .system import coordinate_gradient
+
     out = np.zeros(q.shape)
     names = [j.name for j in system.model.joints]
     for d in system.model.drivers:
@@ -109,13 +122,18 @@ def effort_forces(system: System, q: np.ndarray, qd: np.ndarray | None = None) -
             continue
         k = names.index(d.joint)
         grad = coordinate_gradient(system, q, k)
-        value = np.asarray(d.effort, dtype=float)[..., None] if not isinstance(d.effort, EffortLaw) \
-            else d.effort                             # (V, 1, 1) for stacked variants
+        value = (
+            np.asarray(d.effort, dtype=float)[..., None]
+            if not isinstance(d.effort, EffortLaw)
+            else d.effort
+        )  # (V, 1, 1) for stacked variants
         if isinstance(value, EffortLaw):
             joint = system.model.joints[k]
             qe = np.concatenate((q, np.zeros(q.shape[:-1] + (3,))), axis=-1)
             i, j = system.ends[k]
-            psi = joint.coordinate(qe[..., 3 * i:3 * i + 3], qe[..., 3 * j:3 * j + 3]) + d.offset
+            psi = (
+                joint.coordinate(qe[..., 3 * i : 3 * i + 3], qe[..., 3 * j : 3 * j + 3]) + d.offset
+            )
             speed = np.zeros(q.shape[:-1]) if qd is None else np.einsum("...n,...n->...", grad, qd)
             value = value(psi, speed, 2 * np.pi if joint.angular else None)[..., None]
         out += value * grad
@@ -147,6 +165,6 @@ def external_forces(system: System, q, qd, psi, extremes, ref_speed: float) -> n
             force = -(value * sign)[..., None] * load.axis
         force = np.where(on[..., None], force, 0.0)
         arm = rotate(q[..., 3 * k + 2], p)
-        out[..., 3 * k:3 * k + 2] += force
+        out[..., 3 * k : 3 * k + 2] += force
         out[..., 3 * k + 2] += arm[..., 0] * force[..., 1] - arm[..., 1] * force[..., 0]
     return out

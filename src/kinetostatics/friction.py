@@ -35,14 +35,14 @@ TOL = 1e-13
 class FrictionSetup:
     """Per-position data that does not change while iterating."""
 
-    joints: list[int]              # indices of joints with friction
-    blocks: list[slice]            # their λ slices in x
-    grad: np.ndarray               # (..., n_f, n_q) coordinate gradients
-    sign: np.ndarray               # (..., n_f) sign of the relative speed (0 at zero speed)
-    speed: np.ndarray              # (..., n_f) relative speeds
-    zero: np.ndarray               # (...) any frictional joint at zero relative speed
+    joints: list[int]  # indices of joints with friction
+    blocks: list[slice]  # their λ slices in x
+    grad: np.ndarray  # (..., n_f, n_q) coordinate gradients
+    sign: np.ndarray  # (..., n_f) sign of the relative speed (0 at zero speed)
+    speed: np.ndarray  # (..., n_f) relative speeds
+    zero: np.ndarray  # (...) any frictional joint at zero relative speed
     q: np.ndarray
-    pairs: dict = field(default_factory=dict, repr=False)   # joint -> (q_i, q_j), filled on use
+    pairs: dict = field(default_factory=dict, repr=False)  # joint -> (q_i, q_j), filled on use
 
 
 def setup(system: System, q: np.ndarray, qd: np.ndarray, ref_speed: float) -> FrictionSetup:
@@ -50,12 +50,23 @@ def setup(system: System, q: np.ndarray, qd: np.ndarray, ref_speed: float) -> Fr
     blocks = [system.rows_of(k) for k in joints]
     if not joints:
         empty = np.zeros(q.shape[:-1] + (0,))
-        return FrictionSetup([], [], np.zeros(q.shape[:-1] + (0, system.n_q)), empty, empty,
-                             np.zeros(q.shape[:-1], dtype=bool), q)
+        return FrictionSetup(
+            [],
+            [],
+            np.zeros(q.shape[:-1] + (0, system.n_q)),
+            empty,
+            empty,
+            np.zeros(q.shape[:-1], dtype=bool),
+            q,
+        )
     grad = np.stack([coordinate_gradient(system, q, k) for k in joints], axis=-2)
     speed = np.einsum("...kn,...n->...k", grad, qd)
-    ref = np.stack(np.broadcast_arrays(*[ref_speed * (1.0 if system.model.joints[k].angular
-                                                      else system.l_ref) for k in joints]), axis=-1)
+    ref = np.stack(
+        np.broadcast_arrays(
+            *[ref_speed * (1.0 if system.model.joints[k].angular else system.l_ref) for k in joints]
+        ),
+        axis=-1,
+    )
     small = np.abs(speed) <= 1e-9 * ref
     sign = np.where(small, 0.0, np.sign(speed))
     return FrictionSetup(joints, blocks, grad, sign, speed, np.any(small, axis=-1), q)
@@ -75,7 +86,7 @@ def _link_q(system: System, fs: FrictionSetup, k: int):
     if k not in fs.pairs:
         qe = np.concatenate((fs.q, np.zeros(fs.q.shape[:-1] + (3,))), axis=-1)
         i, j = system.ends[k]
-        fs.pairs[k] = qe[..., 3 * i:3 * i + 3], qe[..., 3 * j:3 * j + 3]
+        fs.pairs[k] = qe[..., 3 * i : 3 * i + 3], qe[..., 3 * j : 3 * j + 3]
     return fs.pairs[k]
 
 
@@ -83,8 +94,9 @@ def _generalized(fs: FrictionSetup, e: np.ndarray) -> np.ndarray:
     return np.einsum("...kn,...k->...n", fs.grad, e)
 
 
-def _jacobian(system: System, fs: FrictionSetup, a: np.ndarray, x: np.ndarray,
-              scale: float) -> np.ndarray:
+def _jacobian(
+    system: System, fs: FrictionSetup, a: np.ndarray, x: np.ndarray, scale: float
+) -> np.ndarray:
     """∂/∂x of A x + Σ g_k e_k(x)."""
     jac = a.copy()
     for n, (k, b) in enumerate(zip(fs.joints, fs.blocks)):
@@ -95,8 +107,9 @@ def _jacobian(system: System, fs: FrictionSetup, a: np.ndarray, x: np.ndarray,
     return jac
 
 
-def approximate(system: System, fs: FrictionSetup, solve_a, q_load: np.ndarray,
-                x0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def approximate(
+    system: System, fs: FrictionSetup, solve_a, q_load: np.ndarray, x0: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """(x, friction efforts) of the approximate solution."""
     e = efforts(system, fs, x0)
     x = solve_a(-q_load - _generalized(fs, e))
@@ -105,16 +118,17 @@ def approximate(system: System, fs: FrictionSetup, solve_a, q_load: np.ndarray,
 
 @dataclass
 class FrictionSolution:
-    x: np.ndarray                  # (..., n_lam), NaN where self-locking
-    e: np.ndarray                  # (..., n_f) friction efforts
-    status: np.ndarray             # (...) 0 fixed point, 1 homotopy, 2 self-locking, 3 zero speed
-    iterations: np.ndarray         # (...)
-    reach: np.ndarray | None = None   # (...) signed margin ±|x₀|/|x|: 1 frictionless, 0 at
-                                      # the edge of a self-locked zone, < 0 inside (NaN unknown)
+    x: np.ndarray  # (..., n_lam), NaN where self-locking
+    e: np.ndarray  # (..., n_f) friction efforts
+    status: np.ndarray  # (...) 0 fixed point, 1 homotopy, 2 self-locking, 3 zero speed
+    iterations: np.ndarray  # (...)
+    reach: np.ndarray | None = None  # (...) signed margin ±|x₀|/|x|: 1 frictionless, 0 at
+    # the edge of a self-locked zone, < 0 inside (NaN unknown)
 
 
-def consistent(system: System, fs: FrictionSetup, a: np.ndarray, solve_a,
-               q_load: np.ndarray, x0: np.ndarray) -> FrictionSolution:
+def consistent(
+    system: System, fs: FrictionSetup, a: np.ndarray, solve_a, q_load: np.ndarray, x0: np.ndarray
+) -> FrictionSolution:
     """The consistent solution on the branch connected to x₀ (see module docs)."""
     x = x0.copy()
     scale = np.maximum(np.max(np.abs(x0), axis=-1), 1e-300)
@@ -134,14 +148,16 @@ def consistent(system: System, fs: FrictionSetup, a: np.ndarray, solve_a,
     status = np.where(fs.zero, 3, 0)
     failed = ~converged
     with np.errstate(all="ignore"):
-        failed |= ~(_residual(system, fs, a, q_load, x)
-                    <= 1e-10 * np.maximum(1.0, np.max(np.abs(q_load), axis=-1)))
+        failed |= ~(
+            _residual(system, fs, a, q_load, x)
+            <= 1e-10 * np.maximum(1.0, np.max(np.abs(q_load), axis=-1))
+        )
     # no frictionless solution (A singular: a dead centre of the effort's joint): the branch
     # has nowhere to start, its reactions are unbounded already at σ = 0 — self-locking
     dead = ~np.all(np.isfinite(x0), axis=-1)
     x[dead], status[dead] = np.nan, 2
     failed &= ~dead
-    with np.errstate(all="ignore"):              # |x₀|/|x| (see _homotopy)
+    with np.errstate(all="ignore"):  # |x₀|/|x| (see _homotopy)
         reach = np.linalg.norm(x0, axis=-1) / np.linalg.norm(x, axis=-1)
     reach[dead] = np.nan
     flat = np.argwhere(failed)
@@ -159,8 +175,14 @@ def _residual(system, fs, a, q_load, x):
     return np.max(np.abs(r), axis=-1)
 
 
-def _homotopy(system: System, fs: FrictionSetup, a: np.ndarray, q_load: np.ndarray,
-              x0: np.ndarray, index: tuple) -> tuple[np.ndarray, int, int, float]:
+def _homotopy(
+    system: System,
+    fs: FrictionSetup,
+    a: np.ndarray,
+    q_load: np.ndarray,
+    x0: np.ndarray,
+    index: tuple,
+) -> tuple[np.ndarray, int, int, float]:
     """Follow σ: 0 → 1 at one position; returns (x, status 1 or 2, Newton iterations, reach).
 
     The branch is followed in projective coordinates x = y/t (ĉ·y = 1, ĉ the
@@ -178,14 +200,21 @@ def _homotopy(system: System, fs: FrictionSetup, a: np.ndarray, q_load: np.ndarr
     unknown).  A fold (det of the Jacobian changing sign with t > 0) is
     self-locking too.
     """
-    sub = FrictionSetup(fs.joints, fs.blocks, fs.grad[index], fs.sign[index], fs.speed[index],
-                        fs.zero[index], fs.q[index])
+    sub = FrictionSetup(
+        fs.joints,
+        fs.blocks,
+        fs.grad[index],
+        fs.sign[index],
+        fs.speed[index],
+        fs.zero[index],
+        fs.q[index],
+    )
     a, ql, x0 = a[index], q_load[index], x0[index]
     n = len(x0)
     qs = max(np.max(np.abs(ql)), 1e-300)
-    qh = ql / qs                                  # t scaled by |Q|: τ = t·|Q|, x = y·|Q|/τ
+    qh = ql / qs  # t scaled by |Q|: τ = t·|Q|, x = y·|Q|/τ
     n0 = np.linalg.norm(x0)
-    y, tau = x0 / n0, qs / n0                     # A y + Q̂ τ = 0 at σ = 0, |y| = 1
+    y, tau = x0 / n0, qs / n0  # A y + Q̂ τ = 0 at σ = 0, |y| = 1
     det0 = np.sign(np.linalg.det(a))
     sigma, h, iters, crossed = 0.0, 0.05, 0, False
     aug = np.zeros((n + 1, n + 1))
@@ -193,12 +222,13 @@ def _homotopy(system: System, fs: FrictionSetup, a: np.ndarray, q_load: np.ndarr
     while sigma < 1.0:
         h = min(h, 1.0 - sigma)
         s = sigma + h
-        aug[n, :n] = y                            # chart ĉ = y (|y| = 1): ĉ·y = 1 at the start
+        aug[n, :n] = y  # chart ĉ = y (|y| = 1): ĉ·y = 1 at the start
         yn, tn, ok = y.copy(), tau, False
         for _ in range(30):
             iters += 1
-            r = np.append(a @ yn + _generalized(sub, efforts(system, sub, yn, s)) + qh * tn,
-                          y @ yn - 1.0)
+            r = np.append(
+                a @ yn + _generalized(sub, efforts(system, sub, yn, s)) + qh * tn, y @ yn - 1.0
+            )
             aug[:n, :n] = _jacobian(system, sub, a, yn, s)
             try:
                 dz = np.linalg.solve(aug, -r)
@@ -208,8 +238,9 @@ def _homotopy(system: System, fs: FrictionSetup, a: np.ndarray, q_load: np.ndarr
                 break
             yn += dz[:n]
             tn += dz[n]
-            if (np.max(np.abs(dz[:n])) <= TOL * np.max(np.abs(yn))
-                    and abs(dz[n]) <= TOL * max(abs(tn), abs(tau))):
+            if np.max(np.abs(dz[:n])) <= TOL * np.max(np.abs(yn)) and abs(dz[n]) <= TOL * max(
+                abs(tn), abs(tau)
+            ):
                 ok = True
                 break
         if ok:
@@ -217,17 +248,20 @@ def _homotopy(system: System, fs: FrictionSetup, a: np.ndarray, q_load: np.ndarr
             yn, tn = yn / norm, tn / norm
             # t changing sign with a large turn of y is a jump of the chart, not a crossing
             chart = (tn > 0.0) == (tau > 0.0) or np.max(np.abs(yn - y)) <= 0.1
-            folded = (tn > 0.0 and not crossed
-                      and np.sign(np.linalg.det(_jacobian(system, sub, a, yn, s))) != det0)
+            folded = (
+                tn > 0.0
+                and not crossed
+                and np.sign(np.linalg.det(_jacobian(system, sub, a, yn, s))) != det0
+            )
         if ok and chart and not folded:
-            crossed |= tn <= 0.0                  # the reactions went through infinity
+            crossed |= tn <= 0.0  # the reactions went through infinity
             sigma, y, tau = s, yn, tn
             h = min(2.0 * h, 0.25)
         elif h > 1e-7:
             h *= 0.5
         else:
             return np.full(n, np.nan), 2, iters, np.nan
-    reach = tau * n0 / qs                         # sign(t)·|x₀|/|x|, |y| = 1
+    reach = tau * n0 / qs  # sign(t)·|x₀|/|x|, |y| = 1
     if crossed:
         return np.full(n, np.nan), 2, iters, reach
     return y * (qs / tau), 1, iters, reach

@@ -17,10 +17,19 @@ import numpy as np
 from .errors import Location, StructureError
 from .model import Model
 
-__all__ = ["Group", "Structure", "joint_graph", "gruebler_mobility", "cyclomatic_number",
-           "independent_loops", "check_loops", "assur_groups", "structure"]
+__all__ = [
+    "Group",
+    "Structure",
+    "joint_graph",
+    "gruebler_mobility",
+    "cyclomatic_number",
+    "independent_loops",
+    "check_loops",
+    "assur_groups",
+    "structure",
+]
 
-MAX_GROUP_SEARCH = 6          # largest group searched for by enumeration
+MAX_GROUP_SEARCH = 6  # largest group searched for by enumeration
 
 
 @dataclass(frozen=True)
@@ -40,9 +49,11 @@ class Group:
 
     @property
     def label(self) -> str:
-        head = {"dyad": f"{self.letters} dyad", "triad": "triad",
-                "driven": "driven link" if len(self.links) == 1 else "driven links"}.get(
-            self.kind, f"{len(self.links)}-link group")
+        head = {
+            "dyad": f"{self.letters} dyad",
+            "triad": "triad",
+            "driven": "driven link" if len(self.links) == 1 else "driven links",
+        }.get(self.kind, f"{len(self.links)}-link group")
         return f"{head} {{{', '.join(self.links)}}}"
 
 
@@ -109,13 +120,15 @@ def independent_loops(g: nx.MultiGraph) -> tuple[tuple[str, ...], ...]:
     return tuple(tuple(n[1] for n in cycle if isinstance(n, tuple)) for cycle in basis)
 
 
-def _loop_vector(g: nx.MultiGraph, loop: tuple[str, ...], index: dict[str, int]) -> np.ndarray | None:
+def _loop_vector(
+    g: nx.MultiGraph, loop: tuple[str, ...], index: dict[str, int]
+) -> np.ndarray | None:
     """Signed edge vector of a closed chain of joints, or None if it is not a cycle."""
     ends = {key: (u, v) for u, v, key in g.edges(keys=True)}
     if len(set(loop)) != len(loop) or len(loop) < 2:
         return None
     first = ends[loop[0]]
-    for start in first:                                   # try both senses of traversal
+    for start in first:  # try both senses of traversal
         vec, node, ok = np.zeros(len(index)), start, True
         for key in loop:
             u, v = ends[key]
@@ -146,14 +159,18 @@ def check_loops(g: nx.MultiGraph, loops: tuple[tuple[str, ...], ...], where: Loc
             vectors.append(vec)
     need = cyclomatic_number(g)
     if not problems and len(loops) != need:
-        problems.append((where, f"{len(loops)} loops listed; the linkage has {need} independent loops"))
+        problems.append(
+            (where, f"{len(loops)} loops listed; the linkage has {need} independent loops")
+        )
     elif not problems and vectors and np.linalg.matrix_rank(np.array(vectors)) < len(vectors):
         problems.append((where, "the listed loops are not independent"))
     if problems:
         raise StructureError(problems)
 
 
-def _letters(g: nx.MultiGraph, links: tuple[str, ...], joints: list[str]) -> tuple[str, tuple[str, ...]]:
+def _letters(
+    g: nx.MultiGraph, links: tuple[str, ...], joints: list[str]
+) -> tuple[str, tuple[str, ...]]:
     """Pair letters of a dyad, external–internal–external, e.g. ``RRP``."""
     a, b = links
     data = {key: d["joint"] for _, _, key, d in g.edges(keys=True, data=True)}
@@ -167,7 +184,7 @@ def _letters(g: nx.MultiGraph, links: tuple[str, ...], joints: list[str]) -> tup
     forward = "".join(letter(n) for n in ext_a + inside + ext_b)
     backward = forward[::-1]
     rank = {"R": 0, "P": 1}
-    key = (lambda s: [rank.get(c, 2) for c in s])
+    key = lambda s: [rank.get(c, 2) for c in s]
     if key(backward) < key(forward):
         return backward, (b, a)
     return forward, (a, b)
@@ -208,8 +225,11 @@ def assur_groups(model: Model, g: nx.MultiGraph | None = None) -> tuple[Group, .
         if found is None:
             combo = tuple(unknown)
             cs = closing(set(combo))
-            warnings.warn(f"links {', '.join(combo)} do not decompose into Assur groups; "
-                          "they are solved as one group", stacklevel=2)
+            warnings.warn(
+                f"links {', '.join(combo)} do not decompose into Assur groups; "
+                "they are solved as one group",
+                stacklevel=2,
+            )
             found = (combo, cs)
         combo, cs = found
         jnames = [c[0] for c in cs if not c[3]]
@@ -223,8 +243,11 @@ def assur_groups(model: Model, g: nx.MultiGraph | None = None) -> tuple[Group, .
             kind, letters, links = "triad", "", combo
         else:
             kind, letters, links = "group", "", combo
-        groups.append(Group(f"group{len(groups) + 1}", kind, letters, tuple(links),
-                            tuple(jnames), tuple(dnames)))
+        groups.append(
+            Group(
+                f"group{len(groups) + 1}", kind, letters, tuple(links), tuple(jnames), tuple(dnames)
+            )
+        )
         known |= set(combo)
         unknown = [u for u in unknown if u not in combo]
     return tuple(groups)
@@ -237,10 +260,12 @@ def _overconstrained_hint(model: Model, g: nx.MultiGraph, mobility: int) -> str:
     are statically indeterminate."""
     if mobility >= 1 or cyclomatic_number(g) == 0:
         return ""
-    return (f" (if the linkage does move although Grübler–Kutzbach counts {mobility}, it is "
-            "overconstrained: some joints are redundant, e.g. an extra crank or coupler of a "
-            "parallelogram, and their reactions are statically indeterminate; such linkages "
-            "are not supported: remove the redundant joints)")
+    return (
+        f" (if the linkage does move although Grübler–Kutzbach counts {mobility}, it is "
+        "overconstrained: some joints are redundant, e.g. an extra crank or coupler of a "
+        "parallelogram, and their reactions are statically indeterminate; such linkages "
+        "are not supported: remove the redundant joints)"
+    )
 
 
 def structure(model: Model) -> Structure:
@@ -256,16 +281,20 @@ def structure(model: Model) -> Structure:
     for part in nx.connected_components(g):
         if ground in part:
             continue
-        names = [link.name for link in model.links if link.name in part]     # file order
+        names = [link.name for link in model.links if link.name in part]  # file order
         first = model.link(names[0]).where
-        where = first if first.line is not None else Location(model.source,
-                                                              path=f"links.{names[0]}")
+        where = (
+            first if first.line is not None else Location(model.source, path=f"links.{names[0]}")
+        )
         if len(names) == 1:
-            message = (f"link '{names[0]}' is not connected to the ground '{ground}': "
-                       "no joint attaches it")
+            message = (
+                f"link '{names[0]}' is not connected to the ground '{ground}': no joint attaches it"
+            )
         else:
-            message = (f"links {', '.join(names)} are not connected to the ground "
-                       f"'{ground}' by any chain of joints")
+            message = (
+                f"links {', '.join(names)} are not connected to the ground "
+                f"'{ground}' by any chain of joints"
+            )
         detached.append((where, message))
     if detached:
         raise StructureError(detached)
@@ -278,15 +307,24 @@ def structure(model: Model) -> Structure:
     motion = [d for d in model.drivers if d.motion is not None]
     if len(motion) > mobility:
         extra = motion[max(mobility, 0)]
-        where = extra.where if extra.where.line is not None else Location(
-            model.source, path=f"drivers.{extra.name}")
-        raise StructureError([(where, f"{len(motion)} motion drivers "
-                                      f"({', '.join(d.name for d in motion)}) but the mobility "
-                                      f"is {mobility}: give '{extra.name}' an effort instead "
-                                      "of a motion, or remove it" + _overconstrained_hint(model, g,
-                                                                                         mobility))])
+        where = (
+            extra.where
+            if extra.where.line is not None
+            else Location(model.source, path=f"drivers.{extra.name}")
+        )
+        raise StructureError(
+            [
+                (
+                    where,
+                    f"{len(motion)} motion drivers "
+                    f"({', '.join(d.name for d in motion)}) but the mobility "
+                    f"is {mobility}: give '{extra.name}' an effort instead "
+                    "of a motion, or remove it" + _overconstrained_hint(model, g, mobility),
+                )
+            ]
+        )
     with warnings.catch_warnings():
-        if len(motion) < mobility:      # undriven links cannot decompose: no news, no warning
+        if len(motion) < mobility:  # undriven links cannot decompose: no news, no warning
             warnings.simplefilter("ignore")
         groups = assur_groups(model, g)
     return Structure(g, mobility, tuple(loops), groups)

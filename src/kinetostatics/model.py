@@ -8,16 +8,25 @@ centre of mass, in the link's frame (the frame the user drew the points in).
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Mapping
 
 import numpy as np
 
 from .errors import Location
 from .joints import Joint
 
-__all__ = ["Link", "MotionLaw", "EffortLaw", "Driver", "Condition", "Load", "Analysis",
-           "FlywheelSpec", "Model"]
+__all__ = [
+    "Link",
+    "MotionLaw",
+    "EffortLaw",
+    "Driver",
+    "Condition",
+    "Load",
+    "Analysis",
+    "FlywheelSpec",
+    "Model",
+]
 
 
 @dataclass(frozen=True)
@@ -26,9 +35,9 @@ class Link:
 
     name: str
     points: Mapping[str, np.ndarray]
-    mass: float = 0.0                 # kg
-    inertia: float = 0.0              # kg·m² about the CoM
-    com: np.ndarray = field(default_factory=lambda: np.zeros(2))   # CoM in the user's frame, m
+    mass: float = 0.0  # kg
+    inertia: float = 0.0  # kg·m² about the CoM
+    com: np.ndarray = field(default_factory=lambda: np.zeros(2))  # CoM in the user's frame, m
     ground: bool = False
     where: Location = field(default=Location(), compare=False, repr=False)
 
@@ -50,8 +59,7 @@ class MotionLaw:
         """(ψ, ψ̇, ψ̈) at times ``t`` for ψ(0) = ``start``."""
         t = np.asarray(t, dtype=float)
         a = self.acceleration
-        return (start + self.speed * t + 0.5 * a * t * t, self.speed + a * t,
-                np.full_like(t, a))
+        return (start + self.speed * t + 0.5 * a * t * t, self.speed + a * t, np.full_like(t, a))
 
 
 @dataclass(frozen=True)
@@ -82,8 +90,9 @@ class EffortLaw:
         if self.kind == "table":
             return np.broadcast_to(np.interp(psi, self.at, self.values, period=period), shape)
         if self.kind == "motor":
-            return np.broadcast_to(self.value * (1.0 + (self.speed - psi_d) /
-                                                 (self.slip * self.speed)), shape)
+            return np.broadcast_to(
+                self.value * (1.0 + (self.speed - psi_d) / (self.slip * self.speed)), shape
+            )
         return np.broadcast_to(np.interp(psi_d, self.at, self.values), shape)
 
 
@@ -99,8 +108,8 @@ class Driver:
 
     name: str
     joint: str
-    motion: MotionLaw | None = None          # or a law of kinetostatics.motion
-    effort: float | EffortLaw | None = None   # applied torque (N·m) or force (N): constant or law
+    motion: MotionLaw | None = None  # or a law of kinetostatics.motion
+    effort: float | EffortLaw | None = None  # applied torque (N·m) or force (N): constant or law
     offset: float = 0.0
     points: tuple[str | None, str | None] = (None, None)
     balance_at: str | None = None
@@ -144,15 +153,15 @@ class Load:
     axis: np.ndarray | None = None
     active: tuple[Condition, ...] = ()
     where: Location = field(default=Location(), compare=False, repr=False)
-    table: tuple[np.ndarray, np.ndarray] | None = None   # (driver coordinates, values)
+    table: tuple[np.ndarray, np.ndarray] | None = None  # (driver coordinates, values)
 
     def value_at(self, psi: np.ndarray, period: float | None) -> np.ndarray:
         """The load's value at driver coordinates ``psi`` (...): constant, or the
         table interpolated linearly (periodic over ``period`` for a revolute driver)."""
-        if self.table is None:                 # value (V, 1, own) when variants are stacked
+        if self.table is None:  # value (V, 1, own) when variants are stacked
             own = (2,) if self.kind == "force" else ()
             v = np.asarray(self.value)
-            lead = v.shape[:v.ndim - len(own)]
+            lead = v.shape[: v.ndim - len(own)]
             return np.broadcast_to(v, np.broadcast_shapes(np.shape(psi), lead) + own)
         at, vals = self.table
         cols = vals.reshape(len(at), -1).T
@@ -202,8 +211,8 @@ class Model:
     units: Mapping[str, str] = field(default_factory=dict)
     source: str = "<model>"
     flywheel: FlywheelSpec | None = None
-    clearances: tuple = ()            # clearance.Clearance specs this model was expanded with
-    ideal: "Model | None" = field(default=None, compare=False, repr=False)  # before expansion
+    clearances: tuple = ()  # clearance.Clearance specs this model was expanded with
+    ideal: Model | None = field(default=None, compare=False, repr=False)  # before expansion
     sketch_where: Mapping[str, Location] = field(default_factory=dict, compare=False, repr=False)
 
     @property

@@ -30,7 +30,7 @@ import numpy as np
 
 __all__ = ["HarmonicLaw", "PolynomialLaw", "TableLaw", "LAWS", "turning_times"]
 
-_SAMPLES = 4097            # points at which the peak speed of a polynomial/table law is sampled
+_SAMPLES = 4097  # points at which the peak speed of a polynomial/table law is sampled
 
 
 def _peak(law, t: np.ndarray) -> float:
@@ -47,8 +47,8 @@ class HarmonicLaw:
 
     centre: float
     amplitude: float
-    period: float                # s
-    phase: float = 0.0           # rad
+    period: float  # s
+    phase: float = 0.0  # rad
     kind = "harmonic"
     cyclic = True
 
@@ -69,7 +69,11 @@ class HarmonicLaw:
     @property
     def speed(self) -> float:
         c = np.cos(self.phase)
-        sign = np.sign(self.amplitude * c) if abs(c) > 1e-12 else -np.sign(self.amplitude * np.sin(self.phase))
+        sign = (
+            np.sign(self.amplitude * c)
+            if abs(c) > 1e-12
+            else -np.sign(self.amplitude * np.sin(self.phase))
+        )
         return float(sign * abs(self.amplitude) * self.omega)
 
     @property
@@ -77,8 +81,13 @@ class HarmonicLaw:
         return self.period
 
     def to_spec(self) -> dict:
-        return {"law": "harmonic", "centre": self.centre, "amplitude": self.amplitude,
-                "period": self.period, "phase": self.phase}
+        return {
+            "law": "harmonic",
+            "centre": self.centre,
+            "amplitude": self.amplitude,
+            "period": self.period,
+            "phase": self.phase,
+        }
 
 
 @dataclass(frozen=True)
@@ -86,7 +95,7 @@ class PolynomialLaw:
     """ψ = Σ_k c_k t^k over 0 ≤ t ≤ ``duration``."""
 
     coefficients: tuple[float, ...]
-    duration: float              # s
+    duration: float  # s
     kind = "polynomial"
     cyclic = False
 
@@ -107,7 +116,11 @@ class PolynomialLaw:
         return _peak(self, np.linspace(0.0, self.duration, _SAMPLES))
 
     def to_spec(self) -> dict:
-        return {"law": "polynomial", "coefficients": list(self.coefficients), "duration": self.duration}
+        return {
+            "law": "polynomial",
+            "coefficients": list(self.coefficients),
+            "duration": self.duration,
+        }
 
 
 @dataclass(frozen=True)
@@ -122,10 +135,14 @@ class TableLaw:
     _spline: object = field(default=None, init=False, repr=False, compare=False)
 
     def __post_init__(self):
-        from scipy.interpolate import CubicSpline        # only a table law needs it
+        from scipy.interpolate import CubicSpline  # only a table law needs it
+
         t = np.asarray(self.time, dtype=float)
-        spline = CubicSpline(t - t[0], np.asarray(self.values, dtype=float),
-                             bc_type="periodic" if self.periodic else "not-a-knot")
+        spline = CubicSpline(
+            t - t[0],
+            np.asarray(self.values, dtype=float),
+            bc_type="periodic" if self.periodic else "not-a-knot",
+        )
         object.__setattr__(self, "_spline", spline)
 
     @property
@@ -167,7 +184,9 @@ def turning_times(law, lo: float, hi: float, samples: int = 4097) -> np.ndarray:
     v = law.value(0.0, t)[1]
     k = np.nonzero((v[:-1] * v[1:] < 0) | (v[:-1] == 0))[0]
     a, b = t[k], t[k + 1]
-    r = np.where(v[k] == 0, a, a - v[k] * (b - a) / np.where(v[k + 1] != v[k], v[k + 1] - v[k], 1.0))
+    r = np.where(
+        v[k] == 0, a, a - v[k] * (b - a) / np.where(v[k + 1] != v[k], v[k + 1] - v[k], 1.0)
+    )
     for _ in range(8):
         _, vd, vdd = law.value(0.0, r)
         r = np.clip(r - np.divide(vd, vdd, out=np.zeros_like(r), where=vdd != 0), a, b)

@@ -91,14 +91,39 @@ STYLE = {
     "ytick.labelsize": 7.5,
     "mathtext.default": "regular",
 }
-LINK_COLORS = ("#1f5fa8", "#d9641e", "#2e8b57", "#8e44ad", "#b8860b", "#c0392b", "#16a5a5",
-               "#7f7f7f", "#e377c2", "#4b5563")
-FORCE_COLORS = {"reaction": "#1f5fa8", "inertia": "#c0392b", "gravity": "#6b6b6b",
-                "external": "#2e8b57", "effort": "#8e44ad"}
-CURVE_COLORS = ("#1f5fa8", "#d9641e", "#2e8b57", "#c0392b", "#8e44ad", "#b8860b", "#16a5a5",
-                "#7f7f7f", "#e377c2", "#4b5563")
+LINK_COLORS = (
+    "#1f5fa8",
+    "#d9641e",
+    "#2e8b57",
+    "#8e44ad",
+    "#b8860b",
+    "#c0392b",
+    "#16a5a5",
+    "#7f7f7f",
+    "#e377c2",
+    "#4b5563",
+)
+FORCE_COLORS = {
+    "reaction": "#1f5fa8",
+    "inertia": "#c0392b",
+    "gravity": "#6b6b6b",
+    "external": "#2e8b57",
+    "effort": "#8e44ad",
+}
+CURVE_COLORS = (
+    "#1f5fa8",
+    "#d9641e",
+    "#2e8b57",
+    "#c0392b",
+    "#8e44ad",
+    "#b8860b",
+    "#16a5a5",
+    "#7f7f7f",
+    "#e377c2",
+    "#4b5563",
+)
 EVENT_COLOR = "#c0392b"
-MM = 1.0 / 25.4                       # inches per mm
+MM = 1.0 / 25.4  # inches per mm
 DPI = 110
 
 
@@ -106,6 +131,7 @@ def _mpl():
     """matplotlib pieces, imported on first use (``run`` never imports them)."""
     import matplotlib
     from matplotlib.figure import Figure
+
     return matplotlib, Figure
 
 
@@ -129,7 +155,7 @@ def nice_scale(x: float) -> float:
         return 1.0
     k = math.floor(math.log10(x))
     for m in (1.0, 2.0, 2.5, 4.0, 5.0, 10.0):
-        v = round(m * 10.0 ** k, 12 - k if k < 0 else 12)
+        v = round(m * 10.0**k, 12 - k if k < 0 else 12)
         if v >= x * (1 - 1e-12):
             return v
     return 10.0 ** (k + 1)
@@ -170,8 +196,10 @@ def row_at(result, position: float | None = None, *, label: str | None = None) -
         for lab, k in course_positions(result):
             if lab == label.replace("'", "′"):
                 return k
-        raise PictureError(f"no course position '{label}' among the rows "
-                           f"(have {', '.join(lab for lab, _ in course_positions(result))})")
+        raise PictureError(
+            f"no course position '{label}' among the rows "
+            f"(have {', '.join(lab for lab, _ in course_positions(result))})"
+        )
     if position is None:
         return 0
     if _angular(result):
@@ -180,15 +208,23 @@ def row_at(result, position: float | None = None, *, label: str | None = None) -
         d = np.abs(result.coordinate * 1e3 - position)
     k = int(np.argmin(d))
     if d[k] > 1e-6:
-        raise PictureError(f"no analysed position at driver coordinate {position:g}"
-                           f"{'°' if _angular(result) else ' mm'} (nearest "
-                           f"{d[k]:.3g} away); analyse with analyze_for_pictures(model, "
-                           f"positions=[{position:g}])")
+        raise PictureError(
+            f"no analysed position at driver coordinate {position:g}"
+            f"{'°' if _angular(result) else ' mm'} (nearest "
+            f"{d[k]:.3g} away); analyse with analyze_for_pictures(model, "
+            f"positions=[{position:g}])"
+        )
     return k
 
 
-def analyze_for_pictures(model, *, positions: Sequence[float] = (), frames: int | None = None,
-                         course: bool = False, events: bool = True):
+def analyze_for_pictures(
+    model,
+    *,
+    positions: Sequence[float] = (),
+    frames: int | None = None,
+    course: bool = False,
+    events: bool = True,
+):
     """A full-cycle analysis that also holds rows at chosen driver coordinates.
 
     ``positions``: driver coordinates in deg (mm for a prismatic driver) added
@@ -199,13 +235,17 @@ def analyze_for_pictures(model, *, positions: Sequence[float] = (), frames: int 
     """
     from .analysis import analyze
     from .system import build_system
+
     system = build_system(model)
     a = model.analysis
     angular = system.motion_drivers[0].joint.angular if system.motion_drivers else True
     conv = math.radians if angular else (lambda v: v * 1e-3)
     grid = frames if frames is not None else a.positions
-    sign = math.copysign(1.0, system.motion_drivers[0].driver.motion.speed) \
-        if system.motion_drivers else 1.0
+    sign = (
+        math.copysign(1.0, system.motion_drivers[0].driver.motion.speed)
+        if system.motion_drivers
+        else 1.0
+    )
     grid_coords = [a.start + sign * k * a.sweep / grid for k in range(grid)]
     extra = [conv(p) for p in positions]
     if course and angular:
@@ -221,6 +261,7 @@ def analyze_for_pictures(model, *, positions: Sequence[float] = (), frames: int 
             if d < 1e-9:
                 return True
         return False
+
     for c in extra:
         if not present(c):
             at.append(c)
@@ -230,13 +271,17 @@ def analyze_for_pictures(model, *, positions: Sequence[float] = (), frames: int 
 
 def _abscissa(result) -> tuple[np.ndarray, str]:
     d = _driver(result)
-    if getattr(d.driver.motion, "kind", None) is not None:     # a motion law: ψ may reverse
-        return np.asarray(result["time"], dtype=float), f"time, s ({d.name}: {d.driver.motion.kind} law)"
+    if getattr(d.driver.motion, "kind", None) is not None:  # a motion law: ψ may reverse
+        return np.asarray(
+            result["time"], dtype=float
+        ), f"time, s ({d.name}: {d.driver.motion.kind} law)"
     if d.joint.angular:
         start = math.degrees(result.system.model.analysis.start) % 360.0
         sense = "clockwise" if d.driver.motion.speed < 0 else "counter-clockwise"
-        return (np.asarray(result["travel"], dtype=float),
-                f"{d.name} rotation from {start:.4g}° ({sense}), deg")
+        return (
+            np.asarray(result["travel"], dtype=float),
+            f"{d.name} rotation from {start:.4g}° ({sense}), deg",
+        )
     return np.asarray(result["travel"], dtype=float) * 1e3, f"{d.name} travel, mm"
 
 
@@ -291,7 +336,7 @@ def _position_title(result, row: int) -> str:
         coord = f"φ = {math.degrees(result.coordinate[row]) % 360.0:.2f}°"
     else:
         coord = f"s = {result.coordinate[row] * 1e3:.2f} mm"
-    return (f"position {labels[0]} ({coord})" if labels else coord)
+    return f"position {labels[0]} ({coord})" if labels else coord
 
 
 def link_numbers(system) -> dict[str, int]:
@@ -310,7 +355,7 @@ def _poses(result, link: str, rows=slice(None)):
         return np.zeros(q.shape[:-1] + (2,)), np.zeros(q.shape[:-1])
     k = system.link_index(link)
     q = result.q[rows]
-    return q[..., 3 * k:3 * k + 2], q[..., 3 * k + 2]
+    return q[..., 3 * k : 3 * k + 2], q[..., 3 * k + 2]
 
 
 def _to_global(result, link, p, rows=slice(None)):
@@ -323,6 +368,7 @@ def _joint_point(result, joint, rows=slice(None)):
     sliding point of a prismatic pair, the pitch point of a gear or rack pair;
     ``None`` for a joint type the pictures do not know."""
     from .joints import Prismatic, Revolute
+
     if isinstance(joint, Prismatic):
         return _to_global(result, joint.links[1], joint.p, rows)
     if isinstance(joint, Revolute):
@@ -342,8 +388,11 @@ def _wheels(result, joint, rows=slice(None)):
         D = Cj - Ci
         e = D / np.maximum(np.linalg.norm(D, axis=-1, keepdims=True), 1e-300)
         rho_i = joint.signed_radii[0] if hasattr(joint, "signed_radii") else joint.r_i
-        return {"circles": [(i_link, Ci, float(joint.r_i)), (j_link, Cj, float(joint.r_j))],
-                "lines": [], "pitch_point": Ci + rho_i * e}
+        return {
+            "circles": [(i_link, Ci, float(joint.r_i)), (j_link, Cj, float(joint.r_j))],
+            "lines": [],
+            "pitch_point": Ci + rho_i * e,
+        }
     if all(hasattr(joint, n) for n in ("a", "u", "c", "r")):
         r_i, th_i = _poses(result, i_link, rows)
         A = r_i + rotate(th_i, np.asarray(joint.a, float))
@@ -351,8 +400,11 @@ def _wheels(result, joint, rows=slice(None)):
         C = _to_global(result, j_link, joint.c, rows)
         N = perp(U)
         h = np.sum(N * (C - A), axis=-1, keepdims=True)
-        return {"circles": [(j_link, C, float(joint.r))], "lines": [(i_link, A, U)],
-                "pitch_point": C - h * N}
+        return {
+            "circles": [(j_link, C, float(joint.r))],
+            "lines": [(i_link, A, U)],
+            "pitch_point": C - h * N,
+        }
     return None
 
 
@@ -374,11 +426,18 @@ def _hull(pts: np.ndarray) -> np.ndarray:
     def half(seq):
         h: list = []
         for x in seq:
-            while len(h) >= 2 and ((h[-1][0] - h[-2][0]) * (x[1] - h[-2][1])
-                                   - (h[-1][1] - h[-2][1]) * (x[0] - h[-2][0])) <= 0:
+            while (
+                len(h) >= 2
+                and (
+                    (h[-1][0] - h[-2][0]) * (x[1] - h[-2][1])
+                    - (h[-1][1] - h[-2][1]) * (x[0] - h[-2][0])
+                )
+                <= 0
+            ):
                 h.pop()
             h.append(x)
         return h
+
     lower, upper = half(p), half(reversed(p))
     return np.array(lower[:-1] + upper[:-1])
 
@@ -387,8 +446,8 @@ def _hull(pts: np.ndarray) -> np.ndarray:
 class _Block:
     joint: str
     link: str
-    centre: np.ndarray          # (2,) m
-    direction: np.ndarray       # (2,) unit, along the axis
+    centre: np.ndarray  # (2,) m
+    direction: np.ndarray  # (2,) unit, along the axis
     length: float
     height: float
 
@@ -396,9 +455,9 @@ class _Block:
 @dataclass(frozen=True)
 class _Guide:
     joint: str
-    start: np.ndarray           # (2,) m, on the axis
+    start: np.ndarray  # (2,) m, on the axis
     end: np.ndarray
-    half_width: float           # rails at ± half_width from the axis
+    half_width: float  # rails at ± half_width from the axis
 
 
 @dataclass(frozen=True)
@@ -423,7 +482,7 @@ class MechanismGeometry:
     guides: tuple
     pivots: dict
     com: dict
-    wheels: tuple = ()          # ("circle", joint, link, centre, r) | ("line", joint, link, p0, p1)
+    wheels: tuple = ()  # ("circle", joint, link, centre, r) | ("line", joint, link, p0, p1)
 
 
 class _Scene:
@@ -431,6 +490,7 @@ class _Scene:
 
     def __init__(self, result, paths: Iterable[str] = ()):
         from .joints import Prismatic, Revolute
+
         self.result = result
         system = self.system = result.system
         model = self.model = system.model
@@ -438,10 +498,10 @@ class _Scene:
         l_ref = system.l_ref
         self.block_len = {}
         self.block_h = {}
-        local: dict[str, list[np.ndarray]] = {n: [np.asarray(p, float) for p in
-                                                   model.link(n).points.values()]
-                                              for n in system.links}
-        self.guides_local = []                # (joint, a, u, s_min, s_max, half)
+        local: dict[str, list[np.ndarray]] = {
+            n: [np.asarray(p, float) for p in model.link(n).points.values()] for n in system.links
+        }
+        self.guides_local = []  # (joint, a, u, s_min, s_max, half)
         for j in model.joints:
             if not isinstance(j, Prismatic):
                 continue
@@ -449,17 +509,25 @@ class _Scene:
             h = min(0.6 * L, 0.08 * l_ref) if not j.length else max(0.35 * L, 0.04 * l_ref)
             self.block_len[j.name], self.block_h[j.name] = L, h
             i_link, j_link = j.links
-            P = _to_global(result, j_link, j.p)                         # (n, 2)
+            P = _to_global(result, j_link, j.p)  # (n, 2)
             r_i, th_i = _poses(result, i_link)
-            loc = rotate(-th_i, P - r_i)                                # P in i's frame
+            loc = rotate(-th_i, P - r_i)  # P in i's frame
             s = (loc - j.a) @ j.u
             lo, hi = float(s.min()) - 0.6 * L, float(s.max()) + 0.6 * L
             if i_link == self.ground:
-                self.guides_local.append((j.name, np.asarray(j.a, float), np.asarray(j.u, float),
-                                          lo, hi, 0.5 * h + 0.004 * l_ref))
+                self.guides_local.append(
+                    (
+                        j.name,
+                        np.asarray(j.a, float),
+                        np.asarray(j.u, float),
+                        lo,
+                        hi,
+                        0.5 * h + 0.004 * l_ref,
+                    )
+                )
             else:
                 local[i_link] += [j.a + lo * j.u, j.a + hi * j.u]
-        self.wheels_local = []                # ("circle", joint, link, centre, r) / ("line", joint, link, p0, p1)
+        self.wheels_local = []  # ("circle", joint, link, centre, r) / ("line", joint, link, p0, p1)
         for j in model.joints:
             if isinstance(j, (Prismatic, Revolute)):
                 continue
@@ -468,10 +536,12 @@ class _Scene:
                 continue
             for link, C, r in w["circles"]:
                 r_k, th_k = _poses(result, link)
-                self.wheels_local.append(("circle", j.name, link, rotate(-th_k[0], C[0] - r_k[0]), r))
+                self.wheels_local.append(
+                    ("circle", j.name, link, rotate(-th_k[0], C[0] - r_k[0]), r)
+                )
             for link, A, U in w["lines"]:
                 r_k, th_k = _poses(result, link)
-                P = rotate(-th_k, w["pitch_point"] - r_k)            # pitch points in link's frame
+                P = rotate(-th_k, w["pitch_point"] - r_k)  # pitch points in link's frame
                 u_loc = rotate(-th_k[0], U[0])
                 a_loc = rotate(-th_k[0], A[0] - r_k[0])
                 s = (P - a_loc) @ u_loc
@@ -497,8 +567,11 @@ class _Scene:
             else:
                 self.outline_local[n] = _hull(pts)
                 self.plates.add(n)
-        self.pivots = {j.name: np.asarray(j.p_i if j.links[0] == self.ground else j.p_j, float)
-                       for j in model.joints if isinstance(j, Revolute) and self.ground in j.links}
+        self.pivots = {
+            j.name: np.asarray(j.p_i if j.links[0] == self.ground else j.p_j, float)
+            for j in model.joints
+            if isinstance(j, Revolute) and self.ground in j.links
+        }
         self.paths = {}
         for ref in paths:
             link, _, point = ref.partition(".")
@@ -538,31 +611,60 @@ class _Scene:
 
     def geometry(self, row: int) -> MechanismGeometry:
         from .joints import Prismatic
+
         result, model = self.result, self.model
         points = {}
         for lk in model.links:
             for name, p in lk.points.items():
                 points[f"{lk.name}.{name}"] = _to_global(result, lk.name, p, row)
-        joints = {j.name: P for j in model.joints
-                  if (P := _joint_point(result, j, row)) is not None}
+        joints = {
+            j.name: P for j in model.joints if (P := _joint_point(result, j, row)) is not None
+        }
         outlines = {n: _to_global(result, n, pts, row) for n, pts in self.outline_local.items()}
         blocks = []
         for j in model.joints:
             if isinstance(j, Prismatic):
                 _, th = _poses(result, j.links[0], row)
-                blocks.append(_Block(j.name, j.links[1], joints[j.name], rotate(th, j.u),
-                                     self.block_len[j.name], self.block_h[j.name]))
-        guides = tuple(_Guide(name, a + lo * u, a + hi * u, half)
-                       for name, a, u, lo, hi, half in self.guides_local)
+                blocks.append(
+                    _Block(
+                        j.name,
+                        j.links[1],
+                        joints[j.name],
+                        rotate(th, j.u),
+                        self.block_len[j.name],
+                        self.block_h[j.name],
+                    )
+                )
+        guides = tuple(
+            _Guide(name, a + lo * u, a + hi * u, half)
+            for name, a, u, lo, hi, half in self.guides_local
+        )
         com = {}
         for n in self.system.links:
             if model.link(n).mass > 0:
                 com[n] = _to_global(result, n, np.zeros(2), row)
-        wheels = tuple((kind, name, link, _to_global(result, link, p, row),
-                        q if kind == "circle" else _to_global(result, link, q, row))
-                       for kind, name, link, p, q in self.wheels_local)
-        return MechanismGeometry(row, points, joints, outlines, frozenset(self.plates),
-                                 tuple(blocks), guides, dict(self.pivots), com, wheels)
+        wheels = tuple(
+            (
+                kind,
+                name,
+                link,
+                _to_global(result, link, p, row),
+                q if kind == "circle" else _to_global(result, link, q, row),
+            )
+            for kind, name, link, p, q in self.wheels_local
+        )
+        return MechanismGeometry(
+            row,
+            points,
+            joints,
+            outlines,
+            frozenset(self.plates),
+            tuple(blocks),
+            guides,
+            dict(self.pivots),
+            com,
+            wheels,
+        )
 
 
 def mechanism_geometry(result, row: int = 0) -> MechanismGeometry:
@@ -573,15 +675,16 @@ def mechanism_geometry(result, row: int = 0) -> MechanismGeometry:
 # -- loads at one position (free-body view) --------------------------------------
 @dataclass(frozen=True)
 class _Arrow:
-    kind: str                   # reaction, inertia, gravity, external, effort
+    kind: str  # reaction, inertia, gravity, external, effort
     label: str
-    at: np.ndarray              # (2,) m
-    force: np.ndarray | None    # (2,) N, or None for a couple
-    moment: float = 0.0         # N·m (couples)
+    at: np.ndarray  # (2,) m
+    force: np.ndarray | None  # (2,) N, or None for a couple
+    moment: float = 0.0  # N·m (couples)
 
 
 def _loads_at(result, row: int, *, friction: bool = False) -> list[_Arrow]:
     from .forces import activity
+
     system, model = result.system, result.system.model
     nums = link_numbers(system)
     out: list[_Arrow] = []
@@ -600,15 +703,17 @@ def _loads_at(result, row: int, *, friction: bool = False) -> list[_Arrow]:
         lk = model.link(n)
         S = _to_global(result, n, np.zeros(2), row)
         if lk.mass > 0:
-            a = result.qdd[row, 3 * k:3 * k + 2]
+            a = result.qdd[row, 3 * k : 3 * k + 2]
             out.append(_Arrow("inertia", f"FI{nums[n]}", S, -lk.mass * a))
             if np.any(g):
                 out.append(_Arrow("gravity", f"G{nums[n]}", S, lk.mass * g))
         if lk.inertia > 0:
-            out.append(_Arrow("inertia", f"MI{nums[n]}", S, None, -lk.inertia * result.qdd[row, 3 * k + 2]))
+            out.append(
+                _Arrow("inertia", f"MI{nums[n]}", S, None, -lk.inertia * result.qdd[row, 3 * k + 2])
+            )
     ref = abs(_driver(result).driver.motion.speed)
-    q, qd = result.q[row:row + 1], result.qd[row:row + 1]
-    psi = result.coordinate[row:row + 1]
+    q, qd = result.q[row : row + 1], result.qd[row : row + 1]
+    psi = result.coordinate[row : row + 1]
     for load in model.loads:
         on = bool(activity(system, load, q, qd, psi, result.extremes, ref)[0])
         if not on:
@@ -625,14 +730,20 @@ def _loads_at(result, row: int, *, friction: bool = False) -> list[_Arrow]:
             F = np.asarray(value, float)
         else:
             v = float(vel[0] @ load.axis)
-            F = -float(value) * np.sign(v) * np.asarray(load.axis, float) \
-                if abs(v) > 1e-9 * ref * system.l_ref else np.zeros(2)
+            F = (
+                -float(value) * np.sign(v) * np.asarray(load.axis, float)
+                if abs(v) > 1e-9 * ref * system.l_ref
+                else np.zeros(2)
+            )
         out.append(_Arrow("external", load.name, pos[0], F))
     for d_index, d in enumerate(system.motion_drivers):
         joint = model.joint(d.driver.balance_at) if d.driver.balance_at else d.joint
         word = "torque" if joint.angular else "force"
-        e = float(result[f"{d.name}.{word}{suffix}"][row]) if f"{d.name}.{word}{suffix}" in \
-            result.columns else float(result[f"{d.name}.{word}"][row])
+        e = (
+            float(result[f"{d.name}.{word}{suffix}"][row])
+            if f"{d.name}.{word}{suffix}" in result.columns
+            else float(result[f"{d.name}.{word}"][row])
+        )
         at = _joint_point(result, joint, row)
         if joint.angular and at is not None:
             out.append(_Arrow("effort", f"M_{d.name}", at, None, e))
@@ -644,12 +755,23 @@ class _Paper:
     """Data (mm of the mechanism) ↔ paper (mm) for true-scale drawings."""
 
     def __init__(self, mu_l: float):
-        self.mu_l = mu_l                # m of mechanism per mm of paper
-        self.k = mu_l * 1e3             # data mm per paper mm
+        self.mu_l = mu_l  # m of mechanism per mm of paper
+        self.k = mu_l * 1e3  # data mm per paper mm
 
 
-def _layout(xlim, ylim, per_mm: float, *, left=17.0, right=6.0, bottom=13.0, top=11.0,
-            extra_right=0.0, dpi=DPI, min_mm=(40.0, 30.0)):
+def _layout(
+    xlim,
+    ylim,
+    per_mm: float,
+    *,
+    left=17.0,
+    right=6.0,
+    bottom=13.0,
+    top=11.0,
+    extra_right=0.0,
+    dpi=DPI,
+    min_mm=(40.0, 30.0),
+):
     """A figure whose axes show ``xlim × ylim`` at ``per_mm`` data units per paper mm."""
     w = (xlim[1] - xlim[0]) / per_mm
     h = (ylim[1] - ylim[0]) / per_mm
@@ -673,8 +795,9 @@ def _hatch_line(ax, a, b, side, depth, color="black", lw=0.8, n=None, zorder=2):
     """A line a–b with short hatch strokes on ``side`` (unit normal), depth in data units."""
     a, b = np.asarray(a, float), np.asarray(b, float)
     L = float(np.hypot(*(b - a)))
-    artists = ax.plot([a[0], b[0]], [a[1], b[1]], color=color, lw=lw, zorder=zorder,
-                      solid_capstyle="butt")
+    artists = ax.plot(
+        [a[0], b[0]], [a[1], b[1]], color=color, lw=lw, zorder=zorder, solid_capstyle="butt"
+    )
     if L == 0:
         return artists
     n = n or max(3, int(L / depth * 1.2))
@@ -686,6 +809,7 @@ def _hatch_line(ax, a, b, side, depth, color="black", lw=0.8, n=None, zorder=2):
         q = p + depth * side - depth * u
         segs.append([p, q])
     from matplotlib.collections import LineCollection
+
     lc = LineCollection(segs, colors=color, linewidths=0.6, zorder=zorder)
     ax.add_collection(lc)
     return artists + [lc]
@@ -694,11 +818,22 @@ def _hatch_line(ax, a, b, side, depth, color="black", lw=0.8, n=None, zorder=2):
 def _arrow(ax, tail, vec, color, *, lw=1.2, head=2.2, zorder=6, ls="-"):
     """An arrow in data units; ``head`` in paper mm."""
     from matplotlib.patches import FancyArrowPatch
+
     tip = np.asarray(tail, float) + np.asarray(vec, float)
     pts_per_mm = 72 / 25.4
-    a = FancyArrowPatch(tuple(tail), tuple(tip), arrowstyle=f"-|>,head_length={head * pts_per_mm:.2f},"
-                        f"head_width={head * pts_per_mm * 0.38:.2f}", color=color, lw=lw,
-                        shrinkA=0, shrinkB=0, zorder=zorder, linestyle=ls, mutation_scale=1)
+    a = FancyArrowPatch(
+        tuple(tail),
+        tuple(tip),
+        arrowstyle=f"-|>,head_length={head * pts_per_mm:.2f},"
+        f"head_width={head * pts_per_mm * 0.38:.2f}",
+        color=color,
+        lw=lw,
+        shrinkA=0,
+        shrinkB=0,
+        zorder=zorder,
+        linestyle=ls,
+        mutation_scale=1,
+    )
     _add(ax, a)
     return a
 
@@ -706,13 +841,20 @@ def _arrow(ax, tail, vec, color, *, lw=1.2, head=2.2, zorder=6, ls="-"):
 def _moment_arc(ax, centre, radius, moment, color, zorder=6):
     from matplotlib.patches import FancyArrowPatch
     from matplotlib.path import Path as MPath
+
     sgn = 1.0 if moment >= 0 else -1.0
     t = np.radians(np.linspace(200, 200 + sgn * 250, 30))
     pts = np.column_stack((centre[0] + radius * np.cos(t), centre[1] + radius * np.sin(t)))
     pts_per_mm = 72 / 25.4
-    a = FancyArrowPatch(path=MPath(pts), arrowstyle=f"-|>,head_length={2.2 * pts_per_mm:.2f},"
-                        f"head_width={2.2 * pts_per_mm * 0.38:.2f}", color=color, lw=1.1,
-                        zorder=zorder, mutation_scale=1)
+    a = FancyArrowPatch(
+        path=MPath(pts),
+        arrowstyle=f"-|>,head_length={2.2 * pts_per_mm:.2f},"
+        f"head_width={2.2 * pts_per_mm * 0.38:.2f}",
+        color=color,
+        lw=1.1,
+        zorder=zorder,
+        mutation_scale=1,
+    )
     _add(ax, a)
     return a
 
@@ -748,9 +890,11 @@ def _draw_static(ax, scene: _Scene, paper: _Paper):
         c = p * 1e3
         tri = np.array([c, c + [-3.2 * k, -5.0 * k], c + [3.2 * k, -5.0 * k]])
         from matplotlib.patches import Polygon as MPoly
+
         arts.append(_add(ax, MPoly(tri, closed=True, fc="white", ec="black", lw=0.9, zorder=3)))
-        arts += _hatch_line(ax, c + [-4.6 * k, -5.0 * k], c + [4.6 * k, -5.0 * k],
-                            [0, -1], 1.6 * k, n=6, zorder=3)
+        arts += _hatch_line(
+            ax, c + [-4.6 * k, -5.0 * k], c + [4.6 * k, -5.0 * k], [0, -1], 1.6 * k, n=6, zorder=3
+        )
     for g in scene_guides(scene):
         a, b = g.start * 1e3, g.end * 1e3
         u = (b - a) / max(np.hypot(*(b - a)), 1e-12)
@@ -759,37 +903,62 @@ def _draw_static(ax, scene: _Scene, paper: _Paper):
             off = side * g.half_width * 1e3 * nrm
             arts += _hatch_line(ax, a + off, b + off, side * nrm, 1.6 * k, zorder=2)
     for i, (ref, pts) in enumerate(scene.paths.items()):
-        arts += ax.plot(pts[:, 0] * 1e3, pts[:, 1] * 1e3, color="#777777", lw=0.8, ls=(0, (3, 2)),
-                        zorder=1)
+        arts += ax.plot(
+            pts[:, 0] * 1e3, pts[:, 1] * 1e3, color="#777777", lw=0.8, ls=(0, (3, 2)), zorder=1
+        )
         end = pts[int(np.argmax(np.hypot(*(pts * 1e3 - centre).T)))] * 1e3
         right = end[0] > centre[0]
-        arts.append(ax.annotate(f"path of {ref}", end, xytext=(-3 if right else 3, 3),
-                                textcoords="offset points", ha="right" if right else "left",
-                                fontsize=6.5, color="#555555", zorder=1, annotation_clip=True))
+        arts.append(
+            ax.annotate(
+                f"path of {ref}",
+                end,
+                xytext=(-3 if right else 3, 3),
+                textcoords="offset points",
+                ha="right" if right else "left",
+                fontsize=6.5,
+                color="#555555",
+                zorder=1,
+                annotation_clip=True,
+            )
+        )
     # the length scale: a bar of a round length near the lower left corner
     L = nice_scale(0.25 * (scene.hi[0] - scene.lo[0]) * 1e3) / 2
     x0, y0 = scene.lo[0] * 1e3 + 0.3 * scene.pad * 1e3, scene.lo[1] * 1e3 + 0.35 * scene.pad * 1e3
     arts += ax.plot([x0, x0 + L], [y0, y0], color="black", lw=2.0, solid_capstyle="butt", zorder=4)
     arts += ax.plot([x0, x0], [y0 - 0.8 * k, y0 + 0.8 * k], color="black", lw=0.8, zorder=4)
     arts += ax.plot([x0 + L, x0 + L], [y0 - 0.8 * k, y0 + 0.8 * k], color="black", lw=0.8, zorder=4)
-    arts.append(ax.text(x0 + L / 2, y0 + 1.2 * k, f"{L:g} mm", ha="center", va="bottom",
-                        fontsize=7, zorder=4))
+    arts.append(
+        ax.text(
+            x0 + L / 2, y0 + 1.2 * k, f"{L:g} mm", ha="center", va="bottom", fontsize=7, zorder=4
+        )
+    )
     return arts
 
 
 def scene_guides(scene: _Scene):
-    return tuple(_Guide(name, a + lo * u, a + hi * u, half)
-                 for name, a, u, lo, hi, half in scene.guides_local)
+    return tuple(
+        _Guide(name, a + lo * u, a + hi * u, half)
+        for name, a, u, lo, hi, half in scene.guides_local
+    )
 
 
-def _draw_moving(ax, scene: _Scene, geo: MechanismGeometry, paper: _Paper, *, labels=True,
-                 forces: list[_Arrow] | None = None, mu_f: float | None = None,
-                 title_artist=None):
+def _draw_moving(
+    ax,
+    scene: _Scene,
+    geo: MechanismGeometry,
+    paper: _Paper,
+    *,
+    labels=True,
+    forces: list[_Arrow] | None = None,
+    mu_f: float | None = None,
+    title_artist=None,
+):
     """Links, blocks, pins, labels and (optionally) forces at one position."""
     from matplotlib.patches import Circle
     from matplotlib.patches import Polygon as MPoly
 
     from .joints import Revolute
+
     arts = []
     k = paper.k
     model = scene.model
@@ -797,8 +966,7 @@ def _draw_moving(ax, scene: _Scene, geo: MechanismGeometry, paper: _Paper, *, la
         c = scene.colors[n]
         P = pts * 1e3
         if n in geo.plates:
-            arts.append(_add(ax, MPoly(P, closed=True, fc=c, alpha=0.22, ec=c, lw=1.6,
-                                           zorder=4)))
+            arts.append(_add(ax, MPoly(P, closed=True, fc=c, alpha=0.22, ec=c, lw=1.6, zorder=4)))
         elif len(P) >= 2:
             arts += ax.plot(P[:, 0], P[:, 1], color=c, lw=3.2, solid_capstyle="round", zorder=4)
     for b in geo.blocks:
@@ -806,18 +974,29 @@ def _draw_moving(ax, scene: _Scene, geo: MechanismGeometry, paper: _Paper, *, la
         u, nrm = b.direction, perp(b.direction)
         L, h = b.length * 1e3, b.height * 1e3
         cen = b.centre * 1e3
-        corners = np.array([cen + sx * L / 2 * u + sy * h / 2 * nrm
-                            for sx, sy in ((-1, -1), (1, -1), (1, 1), (-1, 1))])
+        corners = np.array(
+            [
+                cen + sx * L / 2 * u + sy * h / 2 * nrm
+                for sx, sy in ((-1, -1), (1, -1), (1, 1), (-1, 1))
+            ]
+        )
         arts.append(_add(ax, MPoly(corners, closed=True, fc="white", ec=c, lw=1.4, zorder=5)))
         arts.append(_add(ax, MPoly(corners, closed=True, fc=c, alpha=0.25, ec="none", zorder=5)))
     for kind, _, link, p, q in geo.wheels:
         c = scene.colors.get(link, "black")
         if kind == "circle":
-            arts.append(_add(ax, Circle(p * 1e3, q * 1e3, fc="none", ec=c, lw=1.0, ls="-.",
-                                        zorder=4)))
+            arts.append(
+                _add(ax, Circle(p * 1e3, q * 1e3, fc="none", ec=c, lw=1.0, ls="-.", zorder=4))
+            )
         else:
-            arts += ax.plot([p[0] * 1e3, q[0] * 1e3], [p[1] * 1e3, q[1] * 1e3], color=c, lw=1.0,
-                            ls="-.", zorder=4)
+            arts += ax.plot(
+                [p[0] * 1e3, q[0] * 1e3],
+                [p[1] * 1e3, q[1] * 1e3],
+                color=c,
+                lw=1.0,
+                ls="-.",
+                zorder=4,
+            )
     r = 1.5 * k
     for j in model.joints:
         if isinstance(j, Revolute):
@@ -826,15 +1005,16 @@ def _draw_moving(ax, scene: _Scene, geo: MechanismGeometry, paper: _Paper, *, la
     pins = [geo.joints[j.name] for j in model.joints if isinstance(j, Revolute)]
     for n, S in geo.com.items():
         if any(np.hypot(*(S - pin)) * 1e3 < 1.5 * k for pin in pins):
-            continue                                  # a pin already marks the spot
+            continue  # a pin already marks the spot
         from matplotlib.patches import Wedge
+
         c = S * 1e3
         arts.append(_add(ax, Circle(c, 1.1 * k, fc="white", ec="black", lw=0.7, zorder=8)))
         arts.append(_add(ax, Wedge(c, 1.1 * k, 0, 90, fc="black", ec="none", zorder=8)))
         arts.append(_add(ax, Wedge(c, 1.1 * k, 180, 270, fc="black", ec="none", zorder=8)))
     if labels:
         centre = 0.5 * (scene.lo + scene.hi) * 1e3
-        placed: list[list] = []                       # [position, names, clearance]
+        placed: list[list] = []  # [position, names, clearance]
 
         def put(p, name, clearance):
             for entry in placed:
@@ -844,13 +1024,14 @@ def _draw_moving(ax, scene: _Scene, geo: MechanismGeometry, paper: _Paper, *, la
                     entry[2] = max(entry[2], clearance)
                     return
             placed.append([p, [name], clearance])
+
         block_at = {b.joint: 0.5 * np.hypot(b.length, b.height) * 1e3 for b in geo.blocks}
         for j in model.joints:
             if j.name not in geo.joints:
                 continue
             name = j.name if isinstance(j, Revolute) else getattr(j, "point_name", j.name)
             put(geo.joints[j.name] * 1e3, name, block_at.get(j.name, 0.0))
-        for entry in placed:                          # a block sits on a pin at the same place
+        for entry in placed:  # a block sits on a pin at the same place
             for b in geo.blocks:
                 if np.hypot(*(b.centre * 1e3 - entry[0])) < 0.6 * k:
                     entry[2] = max(entry[2], block_at[b.joint])
@@ -862,9 +1043,20 @@ def _draw_moving(ax, scene: _Scene, geo: MechanismGeometry, paper: _Paper, *, la
             put(p * 1e3, pname, 0.0)
         for p, names, clearance in placed:
             q = _label_offset(p, centre, max(4.2 * k, clearance + 2.2 * k))
-            arts.append(ax.text(q[0], q[1], "/".join(names), ha="center", va="center", fontsize=8,
-                                zorder=9, fontweight="bold", color="#222222"))
-        for n, pts in geo.outlines.items():          # link numbers at the middle of each link
+            arts.append(
+                ax.text(
+                    q[0],
+                    q[1],
+                    "/".join(names),
+                    ha="center",
+                    va="center",
+                    fontsize=8,
+                    zorder=9,
+                    fontweight="bold",
+                    color="#222222",
+                )
+            )
+        for n, pts in geo.outlines.items():  # link numbers at the middle of each link
             mid = pts.mean(axis=0) * 1e3
             if n in geo.plates:
                 pos = mid
@@ -873,18 +1065,38 @@ def _draw_moving(ax, scene: _Scene, geo: MechanismGeometry, paper: _Paper, *, la
                 pos = mid + 2.6 * k * perp(d / max(np.hypot(*d), 1e-12))
             else:
                 continue
-            arts.append(ax.text(pos[0], pos[1], str(scene.numbers[n]), ha="center", va="center",
-                                fontsize=7, color=scene.colors[n], zorder=9,
-                                bbox=dict(boxstyle="circle,pad=0.15", fc="white",
-                                          ec=scene.colors[n], lw=0.6)))
+            arts.append(
+                ax.text(
+                    pos[0],
+                    pos[1],
+                    str(scene.numbers[n]),
+                    ha="center",
+                    va="center",
+                    fontsize=7,
+                    color=scene.colors[n],
+                    zorder=9,
+                    bbox=dict(boxstyle="circle,pad=0.15", fc="white", ec=scene.colors[n], lw=0.6),
+                )
+            )
         for b in geo.blocks:
             if b.link in geo.outlines and len(geo.outlines[b.link]) >= 2:
                 continue
             pos = b.centre * 1e3 + (b.height * 1e3 / 2 + 2.4 * k) * perp(b.direction) * -1
-            arts.append(ax.text(pos[0], pos[1], str(scene.numbers[b.link]), ha="center",
-                                va="center", fontsize=7, color=scene.colors[b.link], zorder=9,
-                                bbox=dict(boxstyle="circle,pad=0.15", fc="white",
-                                          ec=scene.colors[b.link], lw=0.6)))
+            arts.append(
+                ax.text(
+                    pos[0],
+                    pos[1],
+                    str(scene.numbers[b.link]),
+                    ha="center",
+                    va="center",
+                    fontsize=7,
+                    color=scene.colors[b.link],
+                    zorder=9,
+                    bbox=dict(
+                        boxstyle="circle,pad=0.15", fc="white", ec=scene.colors[b.link], lw=0.6
+                    ),
+                )
+            )
     if forces:
         for a in forces:
             c = FORCE_COLORS[a.kind]
@@ -893,18 +1105,35 @@ def _draw_moving(ax, scene: _Scene, geo: MechanismGeometry, paper: _Paper, *, la
                 if a.moment == 0:
                     continue
                 arts.append(_moment_arc(ax, at, 5.5 * k, a.moment, c))
-                arts.append(ax.text(at[0] + 6.5 * k, at[1] + 5.0 * k,
-                                    f"{_sub(a.label)} {a.moment:+.3g} N·m", fontsize=6.5, color=c,
-                                    zorder=10))
+                arts.append(
+                    ax.text(
+                        at[0] + 6.5 * k,
+                        at[1] + 5.0 * k,
+                        f"{_sub(a.label)} {a.moment:+.3g} N·m",
+                        fontsize=6.5,
+                        color=c,
+                        zorder=10,
+                    )
+                )
                 continue
             mag = float(np.hypot(*a.force))
             if mag < 1e-12:
                 continue
-            vec = a.force / mu_f * k                 # paper mm -> data mm
+            vec = a.force / mu_f * k  # paper mm -> data mm
             arts.append(_arrow(ax, at, vec, c, lw=1.2))
             tip = at + vec
-            arts.append(ax.text(tip[0], tip[1], f" {_sub(a.label)}", fontsize=6.5, color=c,
-                                zorder=10, ha="left", va="bottom"))
+            arts.append(
+                ax.text(
+                    tip[0],
+                    tip[1],
+                    f" {_sub(a.label)}",
+                    fontsize=6.5,
+                    color=c,
+                    zorder=10,
+                    ha="left",
+                    va="bottom",
+                )
+            )
     return arts
 
 
@@ -914,9 +1143,18 @@ def _force_scale(arrows: list[_Arrow], target_mm: float = 28.0) -> float:
     return nice_scale(m / target_mm)
 
 
-def draw_mechanism(result, position: float | None = None, *, row: int | None = None,
-                   forces: bool = False, friction: bool = False, paths: Iterable[str] = (),
-                   labels: bool = True, dpi: float = DPI, max_size_mm=(160.0, 120.0)):
+def draw_mechanism(
+    result,
+    position: float | None = None,
+    *,
+    row: int | None = None,
+    forces: bool = False,
+    friction: bool = False,
+    paths: Iterable[str] = (),
+    labels: bool = True,
+    dpi: float = DPI,
+    max_size_mm=(160.0, 120.0),
+):
     """The mechanism at one position, to a true scale μ_l, with a length scale.
 
     Parameters
@@ -940,11 +1178,16 @@ def draw_mechanism(result, position: float | None = None, *, row: int | None = N
     k = row if row is not None else row_at(result, position)
     with _rc():
         scene = _Scene(result, paths)
-        span = (scene.hi - scene.lo)
+        span = scene.hi - scene.lo
         mu_l = nice_scale(max(span[0] / max_size_mm[0], span[1] / max_size_mm[1]) * 1e3) / 1e3
         paper = _Paper(mu_l)
-        fig, ax = _layout((scene.lo[0] * 1e3, scene.hi[0] * 1e3), (scene.lo[1] * 1e3, scene.hi[1] * 1e3),
-                          paper.k, dpi=dpi, top=14.0 if forces else 11.0)
+        fig, ax = _layout(
+            (scene.lo[0] * 1e3, scene.hi[0] * 1e3),
+            (scene.lo[1] * 1e3, scene.hi[1] * 1e3),
+            paper.k,
+            dpi=dpi,
+            top=14.0 if forces else 11.0,
+        )
         ax.grid(False)
         ax.set_xlabel("x, mm")
         ax.set_ylabel("y, mm")
@@ -958,8 +1201,9 @@ def draw_mechanism(result, position: float | None = None, *, row: int | None = N
         title = f"{scene.model.name}: {_position_title(result, k)}   {MU['l']} = {_fmt_scale(mu_l)} m/mm"
         if forces:
             title += f",  {MU['F']} = {_fmt_scale(mu_f)} N/mm"
-            title += ("\nF_ij: link i on link j at the joint; FI, MI: inertia; G: weight"
-                      + (" (with friction)" if friction else ""))
+            title += "\nF_ij: link i on link j at the joint; FI, MI: inertia; G: weight" + (
+                " (with friction)" if friction else ""
+            )
         ax.set_title(title, loc="left", fontsize=8.5)
     return fig
 
@@ -973,13 +1217,16 @@ def _joint_coordinate(result, joint):
     ext = lambda a: np.concatenate((a, np.zeros((n, 3))), axis=-1)
     qe, ve, ae = ext(result.q), ext(result.qd), ext(result.qdd)
     i, j = system.ends[k]
-    sl = lambda a, m: a[:, 3 * m:3 * m + 3]
+    sl = lambda a, m: a[:, 3 * m : 3 * m + 3]
     qi, qj = sl(qe, i), sl(qe, j)
     gi, gj = joint.motion_direction(qi, qj)
     c = joint.coordinate(qi, qj)
     cd = np.sum(gi * sl(ve, i), axis=-1) + np.sum(gj * sl(ve, j), axis=-1)
-    cdd = (np.sum(gi * sl(ae, i), axis=-1) + np.sum(gj * sl(ae, j), axis=-1)
-           + joint.coordinate_bias(qi, qj, sl(ve, i), sl(ve, j)))
+    cdd = (
+        np.sum(gi * sl(ae, i), axis=-1)
+        + np.sum(gj * sl(ae, j), axis=-1)
+        + joint.coordinate_bias(qi, qj, sl(ve, i), sl(ve, j))
+    )
     return c, cd, cdd
 
 
@@ -995,6 +1242,7 @@ def output_motion(result, output: str | None = None) -> dict:
     unit, values (n,) or (n, 2)) × 3]}`` in SI.
     """
     from .joints import Prismatic
+
     system, model = result.system, result.system.model
     driven = {d.joint.name for d in system.motion_drivers}
     if output is None:
@@ -1009,35 +1257,65 @@ def output_motion(result, output: str | None = None) -> dict:
         j = joints[output]
         c, cd, cdd = _joint_coordinate(result, j)
         if j.angular:
-            return {"name": output, "kind": "joint",
-                    "series": [(f"relative angle of {output}", "deg", np.degrees(c)),
-                               ("relative angular velocity", "rad/s", cd),
-                               ("relative angular acceleration", "rad/s²", cdd)]}
+            return {
+                "name": output,
+                "kind": "joint",
+                "series": [
+                    (f"relative angle of {output}", "deg", np.degrees(c)),
+                    ("relative angular velocity", "rad/s", cd),
+                    ("relative angular acceleration", "rad/s²", cdd),
+                ],
+            }
         pj = f"{j.links[1]}.{j.point_name}"
-        return {"name": output, "kind": "slide",
-                "series": [(f"s of {pj} along {output}", "mm", c * 1e3),
-                           ("v = ds/dt", "m/s", cd), ("a = d²s/dt²", "m/s²", cdd)]}
+        return {
+            "name": output,
+            "kind": "slide",
+            "series": [
+                (f"s of {pj} along {output}", "mm", c * 1e3),
+                ("v = ds/dt", "m/s", cd),
+                ("a = d²s/dt²", "m/s²", cdd),
+            ],
+        }
     if output in system.links:
-        return {"name": output, "kind": "link",
-                "series": [(f"θ of {output}", "deg", result[f"{output}.theta"]),
-                           (f"ω of {output}", "rad/s", result[f"{output}.omega"]),
-                           (f"α of {output}", "rad/s²", result[f"{output}.alpha"])]}
+        return {
+            "name": output,
+            "kind": "link",
+            "series": [
+                (f"θ of {output}", "deg", result[f"{output}.theta"]),
+                (f"ω of {output}", "rad/s", result[f"{output}.omega"]),
+                (f"α of {output}", "rad/s²", result[f"{output}.alpha"]),
+            ],
+        }
     if f"{output}.x" in result.columns and output.count(".") == 1:
-        xy = lambda s: np.column_stack((result[f"{output}.{s}x" if s else f"{output}.x"],
-                                        result[f"{output}.{s}y" if s else f"{output}.y"]))
-        return {"name": output, "kind": "point",
-                "series": [(f"position of {output}", "mm", xy("") * 1e3),
-                           (f"velocity of {output}", "m/s", xy("v")),
-                           (f"acceleration of {output}", "m/s²", xy("a"))]}
-    names = list(joints) + list(system.links) + [f"{lk.name}.{p}" for lk in model.moving_links
-                                                 for p in lk.points]
-    raise PictureError(f"no output '{output}' (a joint, a link or link.point)"
-                       f"{did_you_mean(output, names)}")
+        xy = lambda s: np.column_stack(
+            (
+                result[f"{output}.{s}x" if s else f"{output}.x"],
+                result[f"{output}.{s}y" if s else f"{output}.y"],
+            )
+        )
+        return {
+            "name": output,
+            "kind": "point",
+            "series": [
+                (f"position of {output}", "mm", xy("") * 1e3),
+                (f"velocity of {output}", "m/s", xy("v")),
+                (f"acceleration of {output}", "m/s²", xy("a")),
+            ],
+        }
+    names = (
+        list(joints)
+        + list(system.links)
+        + [f"{lk.name}.{p}" for lk in model.moving_links for p in lk.points]
+    )
+    raise PictureError(
+        f"no output '{output}' (a joint, a link or link.point){did_you_mean(output, names)}"
+    )
 
 
 def _active_spans(result) -> list[tuple[str, float, float]]:
     """Travel intervals where each load with ``active:`` conditions acts."""
     from .forces import activity
+
     system = result.system
     x, order, _ = _sorted(result)
     ref = abs(_driver(result).driver.motion.speed)
@@ -1045,8 +1323,9 @@ def _active_spans(result) -> list[tuple[str, float, float]]:
     for load in system.model.loads:
         if not load.active:
             continue
-        on = activity(system, load, result.q, result.qd, result.coordinate, result.extremes,
-                      ref)[order]
+        on = activity(system, load, result.q, result.qd, result.coordinate, result.extremes, ref)[
+            order
+        ]
         ev = np.array([_is_event_row(result, int(i)) for i in order])
         k = 0
         while k < len(on):
@@ -1079,11 +1358,21 @@ def _mark(ax, result, *, top: bool = True, spans=None):
             ax.axvline(xe, color=EVENT_COLOR, lw=0.8, ls=(0, (4, 2)), zorder=1)
             if top:
                 right = xe > 0.9 * 360
-                ax.text(xe, 0.97, f"{lab} " if right else f" {lab}", transform=ax.get_xaxis_transform(),
-                        color=EVENT_COLOR, fontsize=7, va="top", ha="right" if right else "left")
+                ax.text(
+                    xe,
+                    0.97,
+                    f"{lab} " if right else f" {lab}",
+                    transform=ax.get_xaxis_transform(),
+                    color=EVENT_COLOR,
+                    fontsize=7,
+                    va="top",
+                    ha="right" if right else "left",
+                )
     if not ticks:
         for e in result.events:
-            ax.axvline(_event_travel(result, e), color=EVENT_COLOR, lw=0.8, ls=(0, (4, 2)), zorder=1)
+            ax.axvline(
+                _event_travel(result, e), color=EVENT_COLOR, lw=0.8, ls=(0, (4, 2)), zorder=1
+            )
     if top and ticks:
         sec = ax.secondary_xaxis("top")
         numbered = [(t, lab) for t, lab in ticks if "′" not in lab]
@@ -1098,12 +1387,19 @@ def _mark(ax, result, *, top: bool = True, spans=None):
 
 def _event_legend(ax, result):
     if result.events:
-        ax.plot([], [], color=EVENT_COLOR, lw=0.8, ls=(0, (4, 2)),
-                label="load switches (" + ", ".join(sorted({e.load for e in result.events})) + ")")
+        ax.plot(
+            [],
+            [],
+            color=EVENT_COLOR,
+            lw=0.8,
+            ls=(0, (4, 2)),
+            label="load switches (" + ", ".join(sorted({e.load for e in result.events})) + ")",
+        )
     names = sorted({name for name, _, _ in _active_spans(result)})
     if names:
-        ax.fill_between([], [], color=EVENT_COLOR, alpha=0.1, lw=0,
-                        label=", ".join(names) + " acting")
+        ax.fill_between(
+            [], [], color=EVENT_COLOR, alpha=0.1, lw=0, label=", ".join(names) + " acting"
+        )
 
 
 def _cycle_mean(result, values) -> float:
@@ -1154,18 +1450,27 @@ def motion_diagram(result, output: str | None = None, *, dpi: float = DPI):
         if axes[0].get_legend_handles_labels()[0]:
             axes[0].legend(loc="best", fontsize=7)
         axes[-1].set_xlabel(xlabel)
-        what = {"slide": "output slider", "link": f"link {out['name']}",
-                "point": f"point {out['name']}", "joint": f"joint {out['name']}"}[out["kind"]]
-        fig.suptitle(f"{result.system.model.name}: motion diagram of the {what}"
-                     + (f" ({out['series'][0][0]})" if out["kind"] == "slide" else ""),
-                     x=0.02, ha="left", fontsize=9.5)
+        what = {
+            "slide": "output slider",
+            "link": f"link {out['name']}",
+            "point": f"point {out['name']}",
+            "joint": f"joint {out['name']}",
+        }[out["kind"]]
+        fig.suptitle(
+            f"{result.system.model.name}: motion diagram of the {what}"
+            + (f" ({out['series'][0][0]})" if out["kind"] == "slide" else ""),
+            x=0.02,
+            ha="left",
+            fontsize=9.5,
+        )
         fig.align_ylabels(axes)
         fig.subplots_adjust(left=0.12, right=0.97, top=0.875, bottom=0.08, hspace=0.12)
     return fig
 
 
-def reaction_curves(result, *, friction: bool = False, joints: Sequence[str] | None = None,
-                    dpi: float = DPI):
+def reaction_curves(
+    result, *, friction: bool = False, joints: Sequence[str] | None = None, dpi: float = DPI
+):
     """Magnitude |F| of every joint's reaction over the driver coordinate (N);
     with ``friction`` the consistent friction solution dashed in the same colour."""
     model = result.system.model
@@ -1177,7 +1482,9 @@ def reaction_curves(result, *, friction: bool = False, joints: Sequence[str] | N
         ax = fig.add_subplot()
         for n, name in enumerate(names):
             if f"{name}.Fx" not in result.columns:
-                raise PictureError(f"no joint '{name}'{did_you_mean(name, [j.name for j in model.joints])}")
+                raise PictureError(
+                    f"no joint '{name}'{did_you_mean(name, [j.name for j in model.joints])}"
+                )
             j = model.joint(name)
             c = CURVE_COLORS[n % len(CURVE_COLORS)]
             mag = np.hypot(result[f"{name}.Fx"], result[f"{name}.Fy"])[order]
@@ -1214,10 +1521,16 @@ def torque_curves(result, driver: str | None = None, *, dpi: float = DPI):
     with the consistent friction, on one plot; events marked; the cycle means."""
     d, word, unit = _driver_effort(result, driver)
     x, order, xlabel = _sorted(result)
-    series = [("", "without friction", CURVE_COLORS[0], "-"),
-              ("_friction_approx", "with friction, approximate (from frictionless reactions)",
-               CURVE_COLORS[1], "--"),
-              ("_friction", "with friction, consistent", CURVE_COLORS[3], "-")]
+    series = [
+        ("", "without friction", CURVE_COLORS[0], "-"),
+        (
+            "_friction_approx",
+            "with friction, approximate (from frictionless reactions)",
+            CURVE_COLORS[1],
+            "--",
+        ),
+        ("_friction", "with friction, consistent", CURVE_COLORS[3], "-"),
+    ]
     with _rc():
         fig = _figure(165, 95, dpi)
         ax = fig.add_subplot()
@@ -1227,8 +1540,15 @@ def torque_curves(result, driver: str | None = None, *, dpi: float = DPI):
                 continue
             y = np.asarray(result[key])[order]
             mean = _cycle_mean(result, result[key])
-            ax.plot(x, y, color=c, ls=ls, lw=1.6 if ls == "-" else 1.3, zorder=3 if ls == "-" else 4,
-                    label=f"{label} (cycle mean {mean:.4g} {unit})")
+            ax.plot(
+                x,
+                y,
+                color=c,
+                ls=ls,
+                lw=1.6 if ls == "-" else 1.3,
+                zorder=3 if ls == "-" else 4,
+                label=f"{label} (cycle mean {mean:.4g} {unit})",
+            )
         status = result.columns.get("friction.status")
         if status is not None and np.any(status[order] == 2):
             locked = x[status[order] == 2]
@@ -1238,10 +1558,15 @@ def torque_curves(result, driver: str | None = None, *, dpi: float = DPI):
         _event_legend(ax, result)
         ax.set_xlabel(xlabel)
         sym = "M" if word == "torque" else "F"
-        ax.set_ylabel(f"{sym}, {unit} (counter-clockwise +)" if word == "torque"
-                      else f"{sym}, {unit}")
-        fig.suptitle(f"{result.system.model.name}: driving {word} of {d.name}", x=0.02, ha="left",
-                     fontsize=9.5)
+        ax.set_ylabel(
+            f"{sym}, {unit} (counter-clockwise +)" if word == "torque" else f"{sym}, {unit}"
+        )
+        fig.suptitle(
+            f"{result.system.model.name}: driving {word} of {d.name}",
+            x=0.02,
+            ha="left",
+            fontsize=9.5,
+        )
         ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=1)
         fig.subplots_adjust(left=0.1, right=0.97, top=0.81, bottom=0.36)
     return fig
@@ -1268,8 +1593,13 @@ def efficiency_curve(result, driver: str | None = None, *, dpi: float = DPI):
             m1 = _cycle_mean(result, result[f"{d.name}.{word}_friction"])
             if m1 != 0 and result.full_cycle:
                 pinf = m0 / m1
-                ax.axhline(pinf, color="black", ls="--", lw=0.9,
-                           label=f"cycle efficiency (mean M / mean M_friction) = {pinf:.4f}")
+                ax.axhline(
+                    pinf,
+                    color="black",
+                    ls="--",
+                    lw=0.9,
+                    label=f"cycle efficiency (mean M / mean M_friction) = {pinf:.4f}",
+                )
         finite = eta[np.isfinite(eta)]
         lo = max(min(float(np.percentile(finite, 2)) if finite.size else 0.0, 0.0), -1.0)
         ax.set_ylim(lo - 0.05, 1.1)
@@ -1277,8 +1607,13 @@ def efficiency_curve(result, driver: str | None = None, *, dpi: float = DPI):
         _event_legend(ax, result)
         ax.set_xlabel(xlabel)
         ax.set_ylabel("efficiency η, 1")
-        fig.suptitle(f"{result.system.model.name}: efficiency of the drive {d.name} "
-                     "(axis clipped where M_friction → 0)", x=0.02, ha="left", fontsize=9.5)
+        fig.suptitle(
+            f"{result.system.model.name}: efficiency of the drive {d.name} "
+            "(axis clipped where M_friction → 0)",
+            x=0.02,
+            ha="left",
+            fontsize=9.5,
+        )
         ax.legend(loc="lower left")
         fig.subplots_adjust(left=0.1, right=0.97, top=0.79, bottom=0.15)
     return fig
@@ -1289,7 +1624,7 @@ def plot_result(result, *names: str, dpi: float = DPI):
     if not names:
         raise PictureError("name at least one column to plot")
     for n in names:
-        result[n]                               # KeyError with a suggestion
+        result[n]  # KeyError with a suggestion
     x, order, xlabel = _sorted(result)
     units: dict[str, list[str]] = {}
     for n in names:
@@ -1305,8 +1640,9 @@ def plot_result(result, *names: str, dpi: float = DPI):
             _mark(ax, result, top=ax is axes[0])
         axes[-1].set_xlabel(xlabel)
         fig.suptitle(result.system.model.name, x=0.02, ha="left", fontsize=9.5)
-        fig.subplots_adjust(left=0.11, right=0.97, top=1 - 16 / (45 + 45 * len(units)), bottom=0.1,
-                            hspace=0.15)
+        fig.subplots_adjust(
+            left=0.11, right=0.97, top=1 - 16 / (45 + 45 * len(units)), bottom=0.1, hspace=0.15
+        )
     return fig
 
 
@@ -1323,7 +1659,9 @@ def link_frame_loads(result, joint: str, *, friction: bool = False) -> tuple[str
     try:
         j = model.joint(joint)
     except StopIteration:
-        raise PictureError(f"no joint '{joint}'{did_you_mean(joint, [x.name for x in model.joints])}") from None
+        raise PictureError(
+            f"no joint '{joint}'{did_you_mean(joint, [x.name for x in model.joints])}"
+        ) from None
     sfx = "_friction" if friction and f"{joint}.Fx_friction" in result.columns else ""
     F = np.column_stack((result[f"{joint}.Fx{sfx}"], result[f"{joint}.Fy{sfx}"]))
     i_link, j_link = j.links
@@ -1335,12 +1673,14 @@ def link_frame_loads(result, joint: str, *, friction: bool = False) -> tuple[str
     return link, desc, rotate(-th, F)
 
 
-def polar_diagrams(result, joints: Sequence[str] | None = None, *, friction: bool = False,
-                   dpi: float = DPI):
+def polar_diagrams(
+    result, joints: Sequence[str] | None = None, *, friction: bool = False, dpi: float = DPI
+):
     """Polar diagrams: the tip of each joint's load vector in a link-fixed frame
     over the cycle (for sizing bearings), with the course positions numbered.
     Default: every revolute joint."""
     from .joints import Revolute
+
     model = result.system.model
     if joints is None:
         joints = [j.name for j in model.joints if isinstance(j, Revolute)]
@@ -1368,12 +1708,25 @@ def polar_diagrams(result, joints: Sequence[str] | None = None, *, friction: boo
                 p = F[inv[k]]
                 ax.plot([0, p[0]], [0, p[1]], color="#aaaaaa", lw=0.5, zorder=0)
                 ax.plot(*p, "o", ms=2.5, color=EVENT_COLOR if "′" in lab else "black")
-                ax.annotate(lab, p, xytext=(2, 2), textcoords="offset points", fontsize=6,
-                            color=EVENT_COLOR if "′" in lab else "black")
+                ax.annotate(
+                    lab,
+                    p,
+                    xytext=(2, 2),
+                    textcoords="offset points",
+                    fontsize=6,
+                    color=EVENT_COLOR if "′" in lab else "black",
+                )
             mag = np.hypot(F[:, 0], F[:, 1])
-            if not np.isfinite(mag).any():            # friction solution self-locked throughout
-                ax.text(0.5, 0.5, "no values:\nself-locking at\nevery position",
-                        transform=ax.transAxes, ha="center", va="center", fontsize=7)
+            if not np.isfinite(mag).any():  # friction solution self-locked throughout
+                ax.text(
+                    0.5,
+                    0.5,
+                    "no values:\nself-locking at\nevery position",
+                    transform=ax.transAxes,
+                    ha="center",
+                    va="center",
+                    fontsize=7,
+                )
                 ax.set_title(f"{name}: no consistent friction solution", fontsize=7.5)
                 continue
             kmax = int(np.nanargmax(mag))
@@ -1383,16 +1736,30 @@ def polar_diagrams(result, joints: Sequence[str] | None = None, *, friction: boo
             ax.set_ylim(-lim, lim)
             ax.set_aspect("equal", adjustable="box")
             j = model.joint(name)
-            ax.set_title(f"{name}: F{nums[j.links[0]]}{nums[j.links[1]]}, {desc.split(' of ')[1]}\n"
-                         f"in the frame of {link}; max {mag[kmax]:.4g} N", fontsize=7.5)
+            ax.set_title(
+                f"{name}: F{nums[j.links[0]]}{nums[j.links[1]]}, {desc.split(' of ')[1]}\n"
+                f"in the frame of {link}; max {mag[kmax]:.4g} N",
+                fontsize=7.5,
+            )
             ax.set_xlabel(f"F along {link} x, N", fontsize=7)
             ax.set_ylabel(f"F along {link} y, N", fontsize=7)
             ax.tick_params(labelsize=6.5)
-        fig.suptitle(f"{model.name}: polar diagrams of the joint loads"
-                     + (" (with friction)" if friction else "")
-                     + " — numbers: course positions", fontsize=9, x=0.02, ha="left")
-        fig.subplots_adjust(left=0.1, right=0.97, top=1 - 14 / (62 * rows + 14) - 0.02,
-                            bottom=0.08, wspace=0.45, hspace=0.55)
+        fig.suptitle(
+            f"{model.name}: polar diagrams of the joint loads"
+            + (" (with friction)" if friction else "")
+            + " — numbers: course positions",
+            fontsize=9,
+            x=0.02,
+            ha="left",
+        )
+        fig.subplots_adjust(
+            left=0.1,
+            right=0.97,
+            top=1 - 14 / (62 * rows + 14) - 0.02,
+            bottom=0.08,
+            wspace=0.45,
+            hspace=0.55,
+        )
     return fig
 
 
@@ -1401,9 +1768,9 @@ def polar_diagrams(result, joints: Sequence[str] | None = None, *, friction: boo
 class PolygonNode:
     """A point of the polygon: the tip of an absolute vector drawn from the pole."""
 
-    label: str                  # e.g. "a2" (acceleration polygons add a prime when drawn)
-    refs: tuple[str, ...]       # the points it stands for, "link.point" (coincident: "bar@A")
-    vector: np.ndarray          # (2,) absolute velocity (m/s) or acceleration (m/s²)
+    label: str  # e.g. "a2" (acceleration polygons add a prime when drawn)
+    refs: tuple[str, ...]  # the points it stands for, "link.point" (coincident: "bar@A")
+    vector: np.ndarray  # (2,) absolute velocity (m/s) or acceleration (m/s²)
 
 
 @dataclass(frozen=True)
@@ -1424,11 +1791,11 @@ class PolygonChain:
 
 @dataclass(frozen=True)
 class Polygon:
-    kind: str                   # "velocity" or "acceleration"
+    kind: str  # "velocity" or "acceleration"
     row: int
-    nodes: dict                 # label -> PolygonNode (the pole "p" is the origin)
-    chains: tuple               # PolygonChain
-    fixed: tuple                # refs at the pole (points at rest)
+    nodes: dict  # label -> PolygonNode (the pole "p" is the origin)
+    chains: tuple  # PolygonChain
+    fixed: tuple  # refs at the pole (points at rest)
     unit: str
 
     def tip(self, label: str) -> np.ndarray:
@@ -1470,6 +1837,7 @@ def polygon(result, row: int = 0, kind: str = "velocity") -> Polygon:
     polygon's closure is a check of the results.
     """
     from .joints import Prismatic, Revolute
+
     if kind not in ("velocity", "acceleration"):
         raise PictureError(f"polygon kind must be 'velocity' or 'acceleration', not '{kind}'")
     acc = kind == "acceleration"
@@ -1489,7 +1857,7 @@ def polygon(result, row: int = 0, kind: str = "velocity") -> Polygon:
     uf.find(rest)
     for key in pts:
         uf.find(key)
-    for n in system.links:                       # coincident named points of one link
+    for n in system.links:  # coincident named points of one link
         keys = [key for key in pts if key[0] == n]
         for x in range(len(keys)):
             for y in range(x + 1, len(keys)):
@@ -1505,7 +1873,7 @@ def polygon(result, row: int = 0, kind: str = "velocity") -> Polygon:
             for key in (a_key, b_key):
                 if key != rest:
                     joint_name_of.setdefault(key, j.name)
-    coincident: dict[str, tuple] = {}            # prismatic joint -> (i key, j key)
+    coincident: dict[str, tuple] = {}  # prismatic joint -> (i key, j key)
     for j in model.joints:
         if not isinstance(j, Prismatic):
             continue
@@ -1516,7 +1884,7 @@ def polygon(result, row: int = 0, kind: str = "velocity") -> Polygon:
         else:
             k = system.link_index(i_link)
             Pj = _to_global(result, j_link, j.p, row)
-            r, th = q[3 * k:3 * k + 2], q[3 * k + 2]
+            r, th = q[3 * k : 3 * k + 2], q[3 * k + 2]
             local = rotate(-th, Pj - r)
             pos, vel, a = point_state(q, qd, qdd, k, local)
             i_key = (i_link, f"@{j.name}")
@@ -1533,6 +1901,7 @@ def polygon(result, row: int = 0, kind: str = "velocity") -> Polygon:
         if key[1].startswith("@"):
             return model.joint(key[1][1:]).point_name
         return joint_name_of.get(key, key[1])
+
     node_keys = [keys for root, keys in groups.items() if root != rest_root]
     names = {}
     for keys in node_keys:
@@ -1550,8 +1919,12 @@ def polygon(result, row: int = 0, kind: str = "velocity") -> Polygon:
         base, m = label, 2
         while label in nodes or label == "p":
             label, m = f"{base}_{m}", m + 1
-        refs = tuple(f"{k[0]}.{k[1]}" if not k[1].startswith("@")
-                     else f"{k[0]}@{model.joint(k[1][1:]).point_name}" for k in keys)
+        refs = tuple(
+            f"{k[0]}.{k[1]}"
+            if not k[1].startswith("@")
+            else f"{k[0]}@{model.joint(k[1][1:]).point_name}"
+            for k in keys
+        )
         nodes[label] = PolygonNode(label, refs, pts[keys[0]][1])
         for k in keys:
             label_of[k] = label
@@ -1572,8 +1945,12 @@ def polygon(result, row: int = 0, kind: str = "velocity") -> Polygon:
         if not labels:
             solved.add(n)
             continue
-        shared = [lab for lab in labels if lab == "p" or any(
-            label_of.get(key) == lab for key in pts if key[0] in solved and key[0] != n)]
+        shared = [
+            lab
+            for lab in labels
+            if lab == "p"
+            or any(label_of.get(key) == lab for key in pts if key[0] in solved and key[0] != n)
+        ]
         base = shared[0] if shared else labels[0]
         r_base = _node_position(pts, label_of, base, n)
         w, alpha = qd[3 * k + 2], qdd[3 * k + 2]
@@ -1585,7 +1962,7 @@ def polygon(result, row: int = 0, kind: str = "velocity") -> Polygon:
                 continue
             sub = (lab + (base if base != "p" else "")).upper()
             if acc:
-                comps = (("an_" + sub, -w ** 2 * d), ("at_" + sub, alpha * perp(d)))
+                comps = (("an_" + sub, -(w**2) * d), ("at_" + sub, alpha * perp(d)))
             else:
                 comps = (("v_" + sub, w * perp(d)),)
             chains.append(PolygonChain(base, lab, n, comps))
@@ -1634,13 +2011,26 @@ def _drawn_chains(poly: Polygon, tol: float):
     return out
 
 
-_DIRECTION = {"v": "⊥ {r}", "vr": "∥ axis of {j}", "an": "∥ {r}, towards {b}", "at": "⊥ {r}", "ak": "⊥ axis of {j}",
-              "ar": "∥ axis of {j}"}
+_DIRECTION = {
+    "v": "⊥ {r}",
+    "vr": "∥ axis of {j}",
+    "an": "∥ {r}, towards {b}",
+    "at": "⊥ {r}",
+    "ak": "⊥ axis of {j}",
+    "ar": "∥ axis of {j}",
+}
 _PRETTY = {"v": "v", "vr": "v", "an": "a^n", "at": "a^t", "ak": "a^k", "ar": "a^r"}
 
 
-def polygon_figure(result, kind: str = "velocity", position: float | None = None, *,
-                   row: int | None = None, dpi: float = DPI, max_size_mm: float = 105.0):
+def polygon_figure(
+    result,
+    kind: str = "velocity",
+    position: float | None = None,
+    *,
+    row: int | None = None,
+    dpi: float = DPI,
+    max_size_mm: float = 105.0,
+):
     """The velocity or acceleration polygon at one position, to a stated scale.
 
     Absolute vectors from the pole p (p′ for accelerations) to the lettered
@@ -1673,11 +2063,15 @@ def polygon_figure(result, kind: str = "velocity", position: float | None = None
     sym = "a" if acc else "v"
     # the list of vectors
     rest = sorted({r.split(".")[1] for r in poly.fixed})
-    lines = [f"pole {_tex('p' + prime)}: points at rest" + (f" ({', '.join(rest)})" if rest else "")]
+    lines = [
+        f"pole {_tex('p' + prime)}: points at rest" + (f" ({', '.join(rest)})" if rest else "")
+    ]
     for lab, nd in poly.nodes.items():
         pts = ", ".join(r.replace("@", " at ") for r in nd.refs)
-        lines.append(f"{_tex('p' + prime)}{_tex(lab + prime)}: {sym}({pts}) = "
-                     f"{np.hypot(*nd.vector):.4g} {poly.unit}")
+        lines.append(
+            f"{_tex('p' + prime)}{_tex(lab + prime)}: {sym}({pts}) = "
+            f"{np.hypot(*nd.vector):.4g} {poly.unit}"
+        )
     for ch, comps in chains:
         joint = model.joint(ch.link) if ch.link in [j.name for j in model.joints] else None
         for name, v in comps:
@@ -1686,21 +2080,34 @@ def polygon_figure(result, kind: str = "velocity", position: float | None = None
             tex = pretty.split("^")
             head = tex[0] + (f"^{{{tex[1]}}}" if len(tex) > 1 else "")
             end = ch.end.upper()
-            start = ch.start.upper() if ch.start != "p" else "".join(
-                r.split(".")[1] for r in poly.fixed if r.split(".")[0] == ch.link)[:8] or "pivot"
+            start = (
+                ch.start.upper()
+                if ch.start != "p"
+                else "".join(r.split(".")[1] for r in poly.fixed if r.split(".")[0] == ch.link)[:8]
+                or "pivot"
+            )
             direction = _DIRECTION[kind_name].format(r=f"{end}{start}", b=start, j=ch.link)
             owner = ch.link if joint is None else f"{ch.link}, {type(joint).__name__.lower()}"
-            lines.append(f"${head}_{{\\mathrm{{{sub}}}}}$ = {np.hypot(*v):.4g} {poly.unit}, "
-                         f"{direction} ({owner})")
+            lines.append(
+                f"${head}_{{\\mathrm{{{sub}}}}}$ = {np.hypot(*v):.4g} {poly.unit}, "
+                f"{direction} ({owner})"
+            )
     list_mm = 3.35 * len(lines) + 8
     with _rc():
-        fig, ax = _layout((lo[0], hi[0]), (lo[1], hi[1]), mu, extra_right=66.0, dpi=dpi,
-                          min_mm=(60.0, max(60.0, list_mm - 24.0)), top=14.0)
+        fig, ax = _layout(
+            (lo[0], hi[0]),
+            (lo[1], hi[1]),
+            mu,
+            extra_right=66.0,
+            dpi=dpi,
+            min_mm=(60.0, max(60.0, list_mm - 24.0)),
+            top=14.0,
+        )
         ax.set_xlabel(f"{sym}_x, {poly.unit}")
         ax.set_ylabel(f"{sym}_y, {poly.unit}")
         ax.axhline(0, color="#bbbbbb", lw=0.5, zorder=0)
         ax.axvline(0, color="#bbbbbb", lw=0.5, zorder=0)
-        k_mm = mu                                         # data units per paper mm
+        k_mm = mu  # data units per paper mm
         labels_at: list[list] = []
 
         def put(p, text, color="black", size=8.5):
@@ -1709,6 +2116,7 @@ def polygon_figure(result, kind: str = "velocity", position: float | None = None
                     entry[1].append(text)
                     return
             labels_at.append([p, [text], color, size])
+
         for lab, nd in poly.nodes.items():
             link = nd.refs[0].split(".")[0].split("@")[0]
             c = colors.get(link, "black")
@@ -1730,13 +2138,14 @@ def polygon_figure(result, kind: str = "velocity", position: float | None = None
                     if min(np.hypot(*v), np.hypot(*comps[m + 1][1])) > 2.0 * k_mm:
                         put(p.copy(), tag, c, 7)
         centre = 0.5 * (lo + hi)
-        boxes = [(0.0, 0.0, 1.2, 1.2)] + [(e[0][0] / k_mm, e[0][1] / k_mm, 1.2, 1.2)
-                                          for e in labels_at]       # (x, y, half w, half h), mm
-        boxes.append((-2.6, -2.6, 1.6, 1.8))                      # the pole's label
+        boxes = [(0.0, 0.0, 1.2, 1.2)] + [
+            (e[0][0] / k_mm, e[0][1] / k_mm, 1.2, 1.2) for e in labels_at
+        ]  # (x, y, half w, half h), mm
+        boxes.append((-2.6, -2.6, 1.6, 1.8))  # the pole's label
 
         def free(x, y, hw, hh):
-            return all(abs(x - bx) >= hw + bw or abs(y - by) >= hh + bh
-                       for bx, by, bw, bh in boxes)
+            return all(abs(x - bx) >= hw + bw or abs(y - by) >= hh + bh for bx, by, bw, bh in boxes)
+
         for p, texts, c, size in labels_at:
             text = ", ".join(_tex(t) for t in texts)
             hw = 0.5 * 0.62 * size * 0.3528 * (sum(len(t) for t in texts) + 2 * (len(texts) - 1))
@@ -1750,8 +2159,12 @@ def polygon_figure(result, kind: str = "velocity", position: float | None = None
             for dist in (1.5, 3.0, 5.0):
                 for turn in (0, 45, -45, 90, -90, 135, -135, 180):
                     a_ = math.radians(turn)
-                    u = np.array([out[0] * math.cos(a_) - out[1] * math.sin(a_),
-                                  out[0] * math.sin(a_) + out[1] * math.cos(a_)])
+                    u = np.array(
+                        [
+                            out[0] * math.cos(a_) - out[1] * math.sin(a_),
+                            out[0] * math.sin(a_) + out[1] * math.cos(a_),
+                        ]
+                    )
                     cand = pm + u * np.array([hw + dist, hh + dist])
                     if free(cand[0], cand[1], hw, hh):
                         spot, done = cand, True
@@ -1759,25 +2172,49 @@ def polygon_figure(result, kind: str = "velocity", position: float | None = None
                 if done:
                     break
             boxes.append((spot[0], spot[1], hw, hh))
-            ax.text(*(spot * k_mm), text, ha="center", va="center", fontsize=size, color=c,
-                    zorder=9)
-        ax.text(*(np.array([-2.6, -2.6]) * k_mm), _tex("p" + prime), ha="center", va="center",
-                fontsize=8.5, zorder=9)
+            ax.text(
+                *(spot * k_mm), text, ha="center", va="center", fontsize=size, color=c, zorder=9
+            )
+        ax.text(
+            *(np.array([-2.6, -2.6]) * k_mm),
+            _tex("p" + prime),
+            ha="center",
+            va="center",
+            fontsize=8.5,
+            zorder=9,
+        )
         mu_name = MU["a" if acc else "v"]
-        title = (f"{model.name}: {kind} polygon, {_position_title(result, k)}\n"
-                 f"{mu_name} = {_fmt_scale(mu)} ({poly.unit})/mm;  links: "
-                 + ", ".join(f"{v} {n}" for n, v in nums.items()))
+        title = (
+            f"{model.name}: {kind} polygon, {_position_title(result, k)}\n"
+            f"{mu_name} = {_fmt_scale(mu)} ({poly.unit})/mm;  links: "
+            + ", ".join(f"{v} {n}" for n, v in nums.items())
+        )
         ax.set_title(title, loc="left", fontsize=8)
         W, H = fig.get_figwidth() / MM, fig.get_figheight() / MM
-        fig.text(1 - 64.0 / W, 1 - 15.0 / H, "\n".join(lines), va="top", ha="left", fontsize=6.2,
-                 linespacing=1.5)
+        fig.text(
+            1 - 64.0 / W,
+            1 - 15.0 / H,
+            "\n".join(lines),
+            va="top",
+            ha="left",
+            fontsize=6.2,
+            linespacing=1.5,
+        )
     return fig
 
 
 # -- animation ---------------------------------------------------------------------
-def animate(result, path: str | Path, *, forces: bool = False, friction: bool = False,
-            paths: Iterable[str] = (), fps: float = 20.0, dpi: float = 80.0,
-            max_size_mm=(160.0, 120.0)) -> Path:
+def animate(
+    result,
+    path: str | Path,
+    *,
+    forces: bool = False,
+    friction: bool = False,
+    paths: Iterable[str] = (),
+    fps: float = 20.0,
+    dpi: float = 80.0,
+    max_size_mm=(160.0, 120.0),
+) -> Path:
     """Write an animation of the mechanism over the result's rows (one frame per row,
     in order of travel): ``.gif`` through Pillow, ``.mp4`` only if ffmpeg is on the
     PATH.  ``forces`` overlays the loads at one force scale for the whole cycle.
@@ -1785,24 +2222,32 @@ def animate(result, path: str | Path, *, forces: bool = False, friction: bool = 
     """
     import shutil
     import subprocess
+
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix not in (".gif", ".mp4"):
-        raise PictureError(f"{path}: an animation is written as .gif (or .mp4 with ffmpeg), "
-                           f"not '{suffix or 'no suffix'}'")
+        raise PictureError(
+            f"{path}: an animation is written as .gif (or .mp4 with ffmpeg), "
+            f"not '{suffix or 'no suffix'}'"
+        )
     ffmpeg = shutil.which("ffmpeg") if suffix == ".mp4" else None
     if suffix == ".mp4" and ffmpeg is None:
         raise PictureError(f"{path}: writing MP4 needs ffmpeg on the PATH; write a .gif instead")
     from matplotlib.backends.backend_agg import FigureCanvasAgg
+
     _, order, _ = _sorted(result)
     with _rc():
         scene = _Scene(result, paths)
         span = scene.hi - scene.lo
         mu_l = nice_scale(max(span[0] / max_size_mm[0], span[1] / max_size_mm[1]) * 1e3) / 1e3
         paper = _Paper(mu_l)
-        fig, ax = _layout((scene.lo[0] * 1e3, scene.hi[0] * 1e3),
-                          (scene.lo[1] * 1e3, scene.hi[1] * 1e3), paper.k, dpi=dpi,
-                          top=14.0 if forces else 11.0)
+        fig, ax = _layout(
+            (scene.lo[0] * 1e3, scene.hi[0] * 1e3),
+            (scene.lo[1] * 1e3, scene.hi[1] * 1e3),
+            paper.k,
+            dpi=dpi,
+            top=14.0 if forces else 11.0,
+        )
         ax.grid(False)
         ax.set_xlabel("x, mm")
         ax.set_ylabel("y, mm")
@@ -1811,8 +2256,9 @@ def animate(result, path: str | Path, *, forces: bool = False, friction: bool = 
         if forces:
             loads = {k: _loads_at(result, int(k), friction=friction) for k in order}
             mu_f = _force_scale([a for arr in loads.values() for a in arr])
-        head = f"{scene.model.name}   {MU['l']} = {_fmt_scale(mu_l)} m/mm" + \
-            (f",  {MU['F']} = {_fmt_scale(mu_f)} N/mm" if forces else "")
+        head = f"{scene.model.name}   {MU['l']} = {_fmt_scale(mu_l)} m/mm" + (
+            f",  {MU['F']} = {_fmt_scale(mu_f)} N/mm" if forces else ""
+        )
         ax.set_title(head + ("\n" if forces else ""), loc="left", fontsize=8.5)
         _draw_static(ax, scene, paper)
         canvas = FigureCanvasAgg(fig)
@@ -1822,21 +2268,48 @@ def animate(result, path: str | Path, *, forces: bool = False, friction: bool = 
         frames = []
         proc = None
         if ffmpeg:
-            proc = subprocess.Popen([ffmpeg, "-y", "-loglevel", "error", "-f", "rawvideo",
-                                     "-pix_fmt", "rgba", "-s", f"{w}x{h}", "-r", f"{fps:g}",
-                                     "-i", "-", "-pix_fmt", "yuv420p", "-vf",
-                                     "pad=ceil(iw/2)*2:ceil(ih/2)*2", str(path)],
-                                    stdin=subprocess.PIPE)
+            proc = subprocess.Popen(
+                [
+                    ffmpeg,
+                    "-y",
+                    "-loglevel",
+                    "error",
+                    "-f",
+                    "rawvideo",
+                    "-pix_fmt",
+                    "rgba",
+                    "-s",
+                    f"{w}x{h}",
+                    "-r",
+                    f"{fps:g}",
+                    "-i",
+                    "-",
+                    "-pix_fmt",
+                    "yuv420p",
+                    "-vf",
+                    "pad=ceil(iw/2)*2:ceil(ih/2)*2",
+                    str(path),
+                ],
+                stdin=subprocess.PIPE,
+            )
         from PIL import Image
+
         palette = None
         for k in order:
             k = int(k)
             canvas.restore_region(background)
             geo = scene.geometry(k)
-            arts = _draw_moving(ax, scene, geo, paper, labels=True, forces=loads.get(k),
-                                mu_f=mu_f)
-            t = ax.text(0.99, 0.99, _position_title(result, k), ha="right", va="top", fontsize=8,
-                        transform=ax.transAxes, zorder=11)
+            arts = _draw_moving(ax, scene, geo, paper, labels=True, forces=loads.get(k), mu_f=mu_f)
+            t = ax.text(
+                0.99,
+                0.99,
+                _position_title(result, k),
+                ha="right",
+                va="top",
+                fontsize=8,
+                transform=ax.transAxes,
+                zorder=11,
+            )
             arts.append(t)
             for a in arts:
                 ax.draw_artist(a)
@@ -1856,6 +2329,13 @@ def animate(result, path: str | Path, *, forces: bool = False, friction: bool = 
             raise PictureError(f"{path}: ffmpeg failed (exit {proc.returncode})")
         return path
     path.parent.mkdir(parents=True, exist_ok=True)
-    frames[0].save(path, save_all=True, append_images=frames[1:], duration=int(round(1000 / fps)),
-                   loop=0, optimize=False, disposal=1)
+    frames[0].save(
+        path,
+        save_all=True,
+        append_images=frames[1:],
+        duration=int(round(1000 / fps)),
+        loop=0,
+        optimize=False,
+        disposal=1,
+    )
     return path

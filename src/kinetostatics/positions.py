@@ -28,8 +28,8 @@ dyads' discriminants along the whole path, independently of the rows
 from __future__ import annotations
 
 import weakref
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
 
 import numpy as np
 
@@ -39,24 +39,38 @@ from .drivers import DriverConstraint
 from .errors import AssemblyError, KinetostaticsError, ModelError, SingularConfigurationError
 from .system import GroupPlan, System, gamma, jacobian, nu, phi
 
-__all__ = ["Drive", "PositionSolution", "Singularity", "solve_positions", "initial_guess",
-           "group_condition", "velocities", "accelerations", "derivatives", "start_pose",
-           "positions_near", "reachable_range", "TOL", "SKETCH_TOL", "SketchPoint",
-           "sketch_distances"]
+__all__ = [
+    "Drive",
+    "PositionSolution",
+    "Singularity",
+    "solve_positions",
+    "initial_guess",
+    "group_condition",
+    "velocities",
+    "accelerations",
+    "derivatives",
+    "start_pose",
+    "positions_near",
+    "reachable_range",
+    "TOL",
+    "SKETCH_TOL",
+    "SketchPoint",
+    "sketch_distances",
+]
 
-TOL = 1e-12                 # Newton tolerance relative to L_ref (and 1 rad)
+TOL = 1e-12  # Newton tolerance relative to L_ref (and 1 rad)
 MAX_ITER = 25
 COARSE_STEP = np.radians(30.0)
 FINE_STEP = np.radians(5.0)
-MIN_STEP = 1e-7             # rad of driver coordinate (or × L_ref for a prismatic)
-JUMP_RATIO = 0.35           # |corrector| / |step| above which a step is a suspected jump
-SKETCH_TOL = 0.25           # a sketched point may lie this × L_ref from where it assembled
-DISC_TOL = 100 * TOL        # a closed-form dyad's normalised discriminant D at or below which it
-                            # is singular (its lengths within ~50·TOL of its own scale of a toggle)
+MIN_STEP = 1e-7  # rad of driver coordinate (or × L_ref for a prismatic)
+JUMP_RATIO = 0.35  # |corrector| / |step| above which a step is a suspected jump
+SKETCH_TOL = 0.25  # a sketched point may lie this × L_ref from where it assembled
+DISC_TOL = 100 * TOL  # a closed-form dyad's normalised discriminant D at or below which it
+# is singular (its lengths within ~50·TOL of its own scale of a toggle)
 DISC_SCAN = np.radians(5.0)  # sample spacing of the discriminants along a closed-form path
-DISC_NEAR = 1e-3            # a local minimum of D is refined if a sample beside it is this low
-SINGULAR_COND = DISC_TOL ** -0.5   # a group's condition number from which a located sign change of
-                                   # its determinant is a singular position (a dyad's: ~1/√D)
+DISC_NEAR = 1e-3  # a local minimum of D is refined if a sample beside it is this low
+SINGULAR_COND = DISC_TOL**-0.5  # a group's condition number from which a located sign change of
+# its determinant is a singular position (a dyad's: ~1/√D)
 
 Drive = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]]
 """t (...) -> (ψ, ψ̇, ψ̈), each (..., n_motion_drivers)."""
@@ -68,22 +82,22 @@ class Singularity:
 
     group: str
     t: float
-    coordinate: float           # driver coordinate of the first motion driver
+    coordinate: float  # driver coordinate of the first motion driver
     condition: float
 
 
 @dataclass
 class PositionSolution:
-    q: np.ndarray                         # (n, n_q)
-    signatures: np.ndarray                # (n, n_groups) of ±1
-    iterations: np.ndarray                # (n,) Newton iterations of the batch
+    q: np.ndarray  # (n, n_q)
+    signatures: np.ndarray  # (n, n_groups) of ±1
+    iterations: np.ndarray  # (n,) Newton iterations of the batch
     singular: list[Singularity] = field(default_factory=list)
-    fallback: int = 0                     # positions solved by the sequential fallback
+    fallback: int = 0  # positions solved by the sequential fallback
 
 
 def _scales(system: System, jac: np.ndarray, plan: GroupPlan) -> tuple[np.ndarray, np.ndarray]:
     """Column (unit) and row (equilibration) scales of a group block."""
-    l_ref = np.asarray(system.l_ref)[..., None]                  # (V, 1, 1) for stacked variants
+    l_ref = np.asarray(system.l_ref)[..., None]  # (V, 1, 1) for stacked variants
     col = np.where(np.arange(len(plan.cols)) % 3 == 2, 1.0, l_ref)  # d/d(x/L) = L d/dx
     norm = np.max(np.abs(jac * col[..., None, :]), axis=-1)
     return col, 1.0 / np.where(norm > 0, norm, 1.0)
@@ -95,8 +109,9 @@ def _scaled_group_jacobian(system: System, q: np.ndarray, plan: GroupPlan) -> np
     return jac * col[..., None, :] * row[..., None]
 
 
-def condition_number(system: System, plan: GroupPlan, jac: np.ndarray,
-                     inv: np.ndarray) -> np.ndarray:
+def condition_number(
+    system: System, plan: GroupPlan, jac: np.ndarray, inv: np.ndarray
+) -> np.ndarray:
     """Frobenius-norm condition number ‖S‖_F ‖S⁻¹‖_F of the group's scaled block
     S = D_r J D_c (lengths over L_ref, rows equilibrated), from J and J⁻¹, ``(...)``.
 
@@ -124,8 +139,9 @@ def _signature(system: System, q: np.ndarray, plan: GroupPlan) -> np.ndarray:
     return np.sign(np.linalg.det(_scaled_group_jacobian(system, q, plan)))
 
 
-def _newton(system: System, q: np.ndarray, psi: np.ndarray, plan: GroupPlan,
-            max_iter: int = MAX_ITER) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _newton(
+    system: System, q: np.ndarray, psi: np.ndarray, plan: GroupPlan, max_iter: int = MAX_ITER
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Batched Newton on one group (other columns fixed).
 
     Returns (q, converged (...), iterations (...)).  Positions that converge
@@ -135,7 +151,7 @@ def _newton(system: System, q: np.ndarray, psi: np.ndarray, plan: GroupPlan,
     q = q.reshape(-1, shape[-1]).copy()
     psi = np.broadcast_to(psi, shape[:-1] + psi.shape[-1:]).reshape(len(q), -1)
     cols = plan.cols
-    ang = (np.arange(len(cols)) % 3 == 2)
+    ang = np.arange(len(cols)) % 3 == 2
     step_tol = np.where(ang, TOL, TOL * system.l_ref)
     res_tol = TOL * system.l_ref
     batch = q.shape[:-1]
@@ -151,14 +167,16 @@ def _newton(system: System, q: np.ndarray, psi: np.ndarray, plan: GroupPlan,
         jac = jacobian(system, qa, plan.constraints, cols)
         try:
             dx = np.linalg.solve(jac, -r[..., None])[..., 0]
-        except np.linalg.LinAlgError:          # a singular matrix somewhere in the batch
+        except np.linalg.LinAlgError:  # a singular matrix somewhere in the batch
             dx = (np.linalg.pinv(jac) @ -r[..., None])[..., 0]
         bad = ~np.all(np.isfinite(dx), axis=-1)
         dx[bad] = 0.0
         qa[..., cols] += dx
         q[idx] = qa
         iters[idx] += 1
-        small = np.all(np.abs(dx) <= step_tol, axis=-1) & (np.max(np.abs(r), axis=-1) <= res_tol * 1e3)
+        small = np.all(np.abs(dx) <= step_tol, axis=-1) & (
+            np.max(np.abs(r), axis=-1) <= res_tol * 1e3
+        )
         big = np.max(np.abs(dx) / np.where(ang, 1.0, system.l_ref), axis=-1) > 1e3
         sub_done = small & ~bad
         d = done[idx]
@@ -185,7 +203,7 @@ def _known_points(system: System) -> dict[str, list[tuple[np.ndarray, np.ndarray
             for link, p in pts:
                 if link in out:
                     out[link].append((p, model.sketch[j.name]))
-        if ground.name in j.links and len(pts) == 2:     # a pin on ground is known exactly
+        if ground.name in j.links and len(pts) == 2:  # a pin on ground is known exactly
             gp = dict(pts)[ground.name]
             for link, p in pts:
                 if link in out:
@@ -211,35 +229,48 @@ def initial_guess(system: System) -> np.ndarray:
     Raises ModelError naming the group of a link the sketch does not place.
     """
     known = _known_points(system)
-    poses, missing = [], []                 # (x, y, θ) per link: (3,), or (V, 3) for variants
+    poses, missing = [], []  # (x, y, θ) per link: (3,), or (V, 3) for variants
     for name in system.links:
         pairs = known[name]
         if not pairs:
             missing.append(name)
             poses.append(np.zeros(3))
             continue
-        local, world = (np.stack(np.broadcast_arrays(*x), axis=-2)[..., 0, :, :]
-                        if any(np.ndim(v) > 1 for v in x) else np.array(x)
-                        for x in ([p for p, _ in pairs], [w for _, w in pairs]))
+        local, world = (
+            np.stack(np.broadcast_arrays(*x), axis=-2)[..., 0, :, :]
+            if any(np.ndim(v) > 1 for v in x)
+            else np.array(x)
+            for x in ([p for p, _ in pairs], [w for _, w in pairs])
+        )
         theta = np.zeros(np.broadcast_shapes(local.shape, world.shape)[:-2])
         if len(pairs) >= 2:
             lc = local - local.mean(-2, keepdims=True)
             wc = world - world.mean(-2, keepdims=True)
-            theta = np.arctan2(np.sum(lc[..., 0] * wc[..., 1] - lc[..., 1] * wc[..., 0], axis=-1),
-                               np.sum(lc[..., 0] * wc[..., 0] + lc[..., 1] * wc[..., 1], axis=-1))
+            theta = np.arctan2(
+                np.sum(lc[..., 0] * wc[..., 1] - lc[..., 1] * wc[..., 0], axis=-1),
+                np.sum(lc[..., 0] * wc[..., 0] + lc[..., 1] * wc[..., 1], axis=-1),
+            )
         xy = np.mean(world - rotate(theta[..., None], local), axis=-2)
         poses.append(np.concatenate((xy, theta[..., None]), axis=-1))
     q = np.concatenate(np.broadcast_arrays(*poses), axis=-1)
     if missing:
         groups = {n: p.group.label for p in system.plans for n in p.group.links}
-        raise ModelError([(_where(system),
-                           f"the sketch places no point of link '{n}' ({groups[n]}): "
-                           "give the rough position of one of its joints") for n in missing])
+        raise ModelError(
+            [
+                (
+                    _where(system),
+                    f"the sketch places no point of link '{n}' ({groups[n]}): "
+                    "give the rough position of one of its joints",
+                )
+                for n in missing
+            ]
+        )
     return q
 
 
 def _where(system: System):
     from .errors import Location
+
     return Location(system.model.source, path="sketch")
 
 
@@ -250,8 +281,11 @@ def _coordinate_text(system: System, psi: np.ndarray) -> str:
         return "the start"
     parts = []
     for d, v in zip(drivers, np.atleast_1d(psi)):
-        parts.append(f"{d.name} = {np.degrees(v) % 360:.6g}°" if d.joint.angular
-                     else f"{d.name} = {v * 1e3:.6g} mm")
+        parts.append(
+            f"{d.name} = {np.degrees(v) % 360:.6g}°"
+            if d.joint.angular
+            else f"{d.name} = {v * 1e3:.6g} mm"
+        )
     return ", ".join(parts)
 
 
@@ -273,17 +307,23 @@ def _assemble_start(system: System, t0: float, drive: Drive) -> tuple[np.ndarray
         angular = np.array([d.joint.angular for d in system.motion_drivers])
         step = np.where(angular, wrap_angle(step), step)
         if np.all(np.abs(step) <= 1e-9 * np.where(angular, 1.0, np.max(system.l_ref))):
-            raise                                    # the sketched pose is the start: refused
+            raise  # the sketched pose is the start: refused
         try:
             q, sig = _assemble_at(system, guess, psi_s, check=True)
         except KinetostaticsError:
             raise exc from None
-        def homotopy(t):                             # noqa: E306 — ψ from the sketch's to ψ(t0)
+
+        def homotopy(t):  # noqa: E306 — ψ from the sketch's to ψ(t0)
             t = np.asarray(t, dtype=float)[..., None]
-            return psi_s + t * step, np.broadcast_to(step, t.shape[:-1] + step.shape), \
-                np.zeros(t.shape[:-1] + step.shape)
-        max_dt = COARSE_STEP / max(float(np.max(np.abs(np.where(angular, step, step / np.max(
-            system.l_ref))))), COARSE_STEP)
+            return (
+                psi_s + t * step,
+                np.broadcast_to(step, t.shape[:-1] + step.shape),
+                np.zeros(t.shape[:-1] + step.shape),
+            )
+
+        max_dt = COARSE_STEP / max(
+            float(np.max(np.abs(np.where(angular, step, step / np.max(system.l_ref))))), COARSE_STEP
+        )
         try:
             _, qs, _, sigs = _continue(system, q, sig, 0.0, 1.0, homotopy, max_dt, [])
         except AssemblyError:
@@ -297,12 +337,13 @@ def _sketch_coordinates(system: System, q: np.ndarray) -> np.ndarray:
     out = []
     for d in system.motion_drivers:
         i, j = system.ends[system.constraints.index(d)]
-        out.append(float(d.coordinate(qe[3 * i:3 * i + 3], qe[3 * j:3 * j + 3])))
+        out.append(float(d.coordinate(qe[3 * i : 3 * i + 3], qe[3 * j : 3 * j + 3])))
     return np.array(out)
 
 
-def _assemble_at(system: System, q: np.ndarray, psi: np.ndarray, *,
-                 check: bool) -> tuple[np.ndarray, np.ndarray]:
+def _assemble_at(
+    system: System, q: np.ndarray, psi: np.ndarray, *, check: bool
+) -> tuple[np.ndarray, np.ndarray]:
     """Group by group Newton from the pose ``q`` at driver coordinates ``psi``, each group
     on the branch the sketch gives; then the sketched points checked (``check``)."""
     sig = []
@@ -310,19 +351,32 @@ def _assemble_at(system: System, q: np.ndarray, psi: np.ndarray, *,
         s0 = _signature(system, q, plan)
         cond0 = group_condition(system, q, plan)
         if s0 == 0 or cond0 > 1e10:
-            raise ModelError([(_where(system),
-                               f"the sketch does not decide the assembly branch of "
-                               f"{plan.group.label}: it sketches a singular pose; "
-                               "sketch its joints closer to the intended pose")])
+            raise ModelError(
+                [
+                    (
+                        _where(system),
+                        f"the sketch does not decide the assembly branch of "
+                        f"{plan.group.label}: it sketches a singular pose; "
+                        "sketch its joints closer to the intended pose",
+                    )
+                ]
+            )
         qn, ok, _ = _newton(system, q, psi, plan)
         if not ok:
-            raise AssemblyError(plan.group.label, _coordinate_text(system, psi),
-                                _miss(system, q, psi, plan))
+            raise AssemblyError(
+                plan.group.label, _coordinate_text(system, psi), _miss(system, q, psi, plan)
+            )
         s1 = _signature(system, qn, plan)
         if s1 != s0:
-            raise ModelError([(_where(system),
-                               f"the sketch does not decide the assembly branch of "
-                               f"{plan.group.label}: sketch its joints closer to the intended pose")])
+            raise ModelError(
+                [
+                    (
+                        _where(system),
+                        f"the sketch does not decide the assembly branch of "
+                        f"{plan.group.label}: sketch its joints closer to the intended pose",
+                    )
+                ]
+            )
         q = qn
         sig.append(float(s1))
     if check:
@@ -347,6 +401,7 @@ def sketch_distances(system: System, q: np.ndarray) -> list[SketchPoint]:
     link's group placed it); a ``link.point`` key at that point.  Keys that name
     no point of a moving link (a gear) are left out."""
     from .forces import point_state
+
     model = system.model
     order = {n: g for g, p in enumerate(system.plans) for n in p.group.links}
     out = []
@@ -360,8 +415,11 @@ def sketch_distances(system: System, q: np.ndarray) -> list[SketchPoint]:
             continue
         link, p = min(pairs, key=lambda pair: order[pair[0]])
         x = point_state(q, q, None, system.link_index(link), p)[0]
-        out.append(SketchPoint(key, np.linalg.norm(x - pos, axis=-1),
-                               system.plans[order[link]].group.label))
+        out.append(
+            SketchPoint(
+                key, np.linalg.norm(x - pos, axis=-1), system.plans[order[link]].group.label
+            )
+        )
     return out
 
 
@@ -372,6 +430,7 @@ def _check_sketch(system: System, q: np.ndarray) -> None:
     links left unsketched)."""
     from .errors import Location
     from .units import factor
+
     model = system.model
     unit = model.units.get("length", "m")
     scale = factor("length", unit)
@@ -379,18 +438,27 @@ def _check_sketch(system: System, q: np.ndarray) -> None:
     worst: dict = {}
     for sp in sketch_distances(system, q):
         where = model.sketch_where.get(sp.key, Location(model.source, path=f"sketch.{sp.key}"))
-        if np.all(sp.distance <= tol) or (where in worst and
-                                          np.max(worst[where].distance) >= np.max(sp.distance)):
+        if np.all(sp.distance <= tol) or (
+            where in worst and np.max(worst[where].distance) >= np.max(sp.distance)
+        ):
             continue
         worst[where] = sp
     if worst:
-        exc = ModelError([(where, f"{where.path.removeprefix('sketch.')} is assembled "
-                           f"{np.max(sp.distance) / scale:.4g} {unit} from its sketched position "
-                           f"(placed by {sp.group}; the tolerance is {SKETCH_TOL:g} L_ref = "
-                           f"{np.max(tol) / scale:.4g} {unit}): the linkage assembled on another "
-                           "branch than sketched; sketch the joints of that group (every revolute "
-                           "of a pin shared by three links) closer to the intended pose at "
-                           "analysis.start") for where, sp in worst.items()])
+        exc = ModelError(
+            [
+                (
+                    where,
+                    f"{where.path.removeprefix('sketch.')} is assembled "
+                    f"{np.max(sp.distance) / scale:.4g} {unit} from its sketched position "
+                    f"(placed by {sp.group}; the tolerance is {SKETCH_TOL:g} L_ref = "
+                    f"{np.max(tol) / scale:.4g} {unit}): the linkage assembled on another "
+                    "branch than sketched; sketch the joints of that group (every revolute "
+                    "of a pin shared by three links) closer to the intended pose at "
+                    "analysis.start",
+                )
+                for where, sp in worst.items()
+            ]
+        )
         exc.sketch_far = True
         raise exc
 
@@ -415,21 +483,31 @@ def _miss(system: System, q: np.ndarray, psi: np.ndarray, plan: GroupPlan) -> st
             mu *= 10.0
     r = phi(system, q, psi, plan.constraints)
     misses, row = [], 0
-    for k in plan.constraints:                 # a joint's gap: the norm of its residual
+    for k in plan.constraints:  # a joint's gap: the norm of its residual
         c = system.constraints[k]
         if not isinstance(c, DriverConstraint):
-            misses.append((float(np.linalg.norm(r[row:row + c.n_eq])), c.name))
+            misses.append((float(np.linalg.norm(r[row : row + c.n_eq])), c.name))
         row += c.n_eq
     total = sum(m for m, _ in misses)
     if total <= TOL * 1e3 * system.l_ref:
         return "Newton did not converge (a singular position is near)"
     open_ = ", ".join(f"{name} {m * 1e3:.4g}" for m, name in misses if m > 1e-3 * total)
-    return (f"the links cannot reach: they miss closing by {total * 1e3:.4g} mm "
-            f"(least-squares gaps at joints {open_} mm)")
+    return (
+        f"the links cannot reach: they miss closing by {total * 1e3:.4g} mm "
+        f"(least-squares gaps at joints {open_} mm)"
+    )
 
 
-def _step(system: System, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, t: float, h: float,
-          drive: Drive, sig: np.ndarray):
+def _step(
+    system: System,
+    q: np.ndarray,
+    qd: np.ndarray,
+    qdd: np.ndarray,
+    t: float,
+    h: float,
+    drive: Drive,
+    sig: np.ndarray,
+):
     """One continuation step from t to t + h: (q, converged, signatures)."""
     qn = q + h * qd + 0.5 * h * h * qdd
     psi = drive(np.array([t + h]))[0][0]
@@ -465,8 +543,16 @@ def _derivs(system: System, q: np.ndarray, t: float, drive: Drive):
     return qd, qdd
 
 
-def _continue(system: System, q: np.ndarray, sig: np.ndarray, t0: float, t1: float,
-              drive: Drive, max_dt: float, singular: list[Singularity]):
+def _continue(
+    system: System,
+    q: np.ndarray,
+    sig: np.ndarray,
+    t0: float,
+    t1: float,
+    drive: Drive,
+    max_dt: float,
+    singular: list[Singularity],
+):
     """Sequential continuation from t0 to t1; returns nodes (t, q, qd, sig) lists."""
     ts, qs, qds, sigs = [t0], [q], [], [sig]
     qd, qdd = _derivs(system, q, t0, drive)
@@ -482,30 +568,35 @@ def _continue(system: System, q: np.ndarray, sig: np.ndarray, t0: float, t1: flo
         qp = q + h * qd + 0.5 * h * h * qdd
         qn, ok, new_sig = _step(system, q, qd, qdd, t, h, drive, sig)
         jump = _jump(system, q, qp, qn) if ok else np.inf
-        if ok and jump <= JUMP_RATIO:           # C¹: the velocity must continue too
+        if ok and jump <= JUMP_RATIO:  # C¹: the velocity must continue too
             qdn, qddn = _derivs(system, qn, t + h, drive)
             jump = max(jump, _kink(system, qd + h * qdd, qdn, qd))
         flipped = ok and np.any(new_sig != sig)
         smooth = ok and jump <= JUMP_RATIO and (not flipped or abs(h) <= fine_h)
-        found = [_locate_singular(system, drive, g, t, q, qd, t + h, qn, qdn)
-                 for g in (np.nonzero(new_sig != sig)[0] if smooth and flipped else ())]
+        found = [
+            _locate_singular(system, drive, g, t, q, qd, t + h, qn, qdn)
+            for g in (np.nonzero(new_sig != sig)[0] if smooth and flipped else ())
+        ]
         if smooth and all(f.condition >= SINGULAR_COND for f in found):
-            singular.extend(found)              # a sign change only where det really vanishes
+            singular.extend(found)  # a sign change only where det really vanishes
         elif abs(h) > min_h:
             h *= 0.5
             continue
         else:
             psi = drive(np.array([t + h]))[0][0]
             plan = _failing_plan(system, qp, psi)
-            reason = _miss(system, qp, psi, plan) if not ok else (
-                "the motion cannot be continued smoothly (singular position)")
+            reason = (
+                _miss(system, qp, psi, plan)
+                if not ok
+                else ("the motion cannot be continued smoothly (singular position)")
+            )
             err = AssemblyError if not ok else SingularConfigurationError
-            if ok:                              # a limit position (a fold: ψ turns back)?
+            if ok:  # a limit position (a fold: ψ turns back)?
                 fold = _fold_beyond(system, q, t, direction * fine_h * 1e-3, drive)
                 if fold is not None:
                     err, (plan, reason, psi) = AssemblyError, fold
             exc = err(plan.group.label, _coordinate_text(system, psi), reason)
-            exc.t_reached = t                   # the last assembled time on the path
+            exc.t_reached = t  # the last assembled time on the path
             raise exc
         t = t + h
         q, sig, qd, qdd = qn, new_sig, qdn, qddn
@@ -531,14 +622,29 @@ def _fold_beyond(system: System, q: np.ndarray, t: float, delta: float, drive: D
             continue
         reason = _miss(system, qn, psi, plan)
         if reason.startswith("the links cannot reach"):
-            return plan, ("a limit position: the driver coordinate cannot go further (the path "
-                          f"folds back there); {reason}"), psi
+            return (
+                plan,
+                (
+                    "a limit position: the driver coordinate cannot go further (the path "
+                    f"folds back there); {reason}"
+                ),
+                psi,
+            )
         return None
     return None
 
 
-def _locate_singular(system: System, drive: Drive, g: int, ta: float, qa: np.ndarray,
-                     qda: np.ndarray, tb: float, qb: np.ndarray, qdb: np.ndarray) -> Singularity:
+def _locate_singular(
+    system: System,
+    drive: Drive,
+    g: int,
+    ta: float,
+    qa: np.ndarray,
+    qda: np.ndarray,
+    tb: float,
+    qb: np.ndarray,
+    qdb: np.ndarray,
+) -> Singularity:
     """Bisect the sign change of group g's determinant between two path points."""
     plan = system.plans[g]
     ts, qs, qds = np.array([ta, tb]), np.array([qa, qb]), np.array([qda, qdb])
@@ -557,7 +663,7 @@ def _locate_singular(system: System, drive: Drive, g: int, ta: float, qa: np.nda
             lo = mid
         else:
             hi = mid
-        if abs(hi - lo) <= 1e-12 * max(abs(tb - ta), 1e-300) * 1e3:   # either direction
+        if abs(hi - lo) <= 1e-12 * max(abs(tb - ta), 1e-300) * 1e3:  # either direction
             break
     t_s = 0.5 * (lo + hi)
     coord = float(drive(np.array([t_s]))[0][0][0]) if system.motion_drivers else t_s
@@ -589,13 +695,15 @@ def _max_dt(system: System, t0: float, drive: Drive, step: float) -> float:
     from the drivers' reference speeds (a motion law's largest |ψ̇|), else from ψ̇(t0)."""
     speeds = getattr(drive, "speed", None)
     psi_d = np.atleast_1d(speeds) if speeds is not None else drive(np.array([t0]))[1][0]
-    rates = [abs(v) if d.joint.angular else abs(v) / system.l_ref
-             for d, v in zip(system.motion_drivers, psi_d)]
+    rates = [
+        abs(v) if d.joint.angular else abs(v) / system.l_ref
+        for d, v in zip(system.motion_drivers, psi_d)
+    ]
     rate = max(rates, default=0.0)
     return step / rate if rate > 0 else step
 
 
-_STARTS: "weakref.WeakKeyDictionary[System, tuple]" = weakref.WeakKeyDictionary()
+_STARTS: weakref.WeakKeyDictionary[System, tuple] = weakref.WeakKeyDictionary()
 
 
 def start_pose(system: System, drive: Drive) -> tuple[np.ndarray, np.ndarray]:
@@ -657,22 +765,22 @@ def solve_positions(system: System, t: np.ndarray, drive: Drive) -> PositionSolu
     iters = np.zeros(len(t), dtype=int)
     sig = np.zeros((len(t), len(system.plans)))
     node = np.where(t - ts[k] <= ts[k + 1] - t, k, k + 1)
-    width = 1e-6 * coarse                      # a row this close to a singular position: either sign
+    width = 1e-6 * coarse  # a row this close to a singular position: either sign
     for g, plan in enumerate(system.plans):
         q, ok, it = _newton(system, q, psi, plan)
         iters += it
         sig[:, g] = _signature(system, q, plan)
         expected, at_singular = sgs[node, g].copy(), np.zeros(len(t), dtype=bool)
-        for s_ in singular:                    # the node's signature, changed by the singular
-            if s_.group == plan.group.label:   # positions between the node and the row
+        for s_ in singular:  # the node's signature, changed by the singular
+            if s_.group == plan.group.label:  # positions between the node and the row
                 between = (np.minimum(ts[node], t) < s_.t) & (s_.t < np.maximum(ts[node], t))
                 expected[between] *= -1
                 at_singular |= np.abs(t - s_.t) <= width
         ok_all &= ok & ((sig[:, g] == expected) | at_singular)
-    singular.sort(key=lambda s_: s_.t)                 # backward part first: in time order
+    singular.sort(key=lambda s_: s_.t)  # backward part first: in time order
     bad = np.nonzero(~ok_all)[0]
     fine = _max_dt(system, 0.0, drive, FINE_STEP)
-    for n in bad:                                       # sequential fallback
+    for n in bad:  # sequential fallback
         a = k[n] if abs(t[n] - ts[k[n]]) <= abs(ts[k[n] + 1] - t[n]) else k[n] + 1
         _, qf, _, sf = _continue(system, qs[a], sgs[a], ts[a], t[n], drive, fine, [])
         q[n], sig[n] = qf[-1], sf[-1]
@@ -686,14 +794,15 @@ def path_times(system: System, t: np.ndarray, drive: Drive) -> tuple[np.ndarray,
     coarse = _max_dt(system, 0.0, drive, COARSE_STEP)
     lo, hi = min(0.0, float(t.min())), max(0.0, float(t.max()))
     aux = np.linspace(lo, hi, int(np.ceil((hi - lo) / coarse)) + 2)
-    if getattr(drive, "laws", ()):              # where a law turns back, a group may touch a toggle
+    if getattr(drive, "laws", ()):  # where a law turns back, a group may touch a toggle
         aux = np.concatenate((aux, drive.turning_times(lo, hi)))
     tt = np.concatenate((t, [0.0], aux))
     return tt, np.argsort(tt, kind="stable")
 
 
-def _closed_form_path(system: System, q0: np.ndarray, sig0: np.ndarray, t: np.ndarray,
-                      drive: Drive) -> PositionSolution | None:
+def _closed_form_path(
+    system: System, q0: np.ndarray, sig0: np.ndarray, t: np.ndarray, drive: Drive
+) -> PositionSolution | None:
     """All positions at once by closed-form dyads, or None where they do not apply.
 
     Applies when every group has a closed form and every group assembles along
@@ -711,8 +820,14 @@ def _closed_form_path(system: System, q0: np.ndarray, sig0: np.ndarray, t: np.nd
     return PositionSolution(q[0], sig0 * signs[0], np.zeros(len(t), dtype=int), singular)
 
 
-def closed_form_path(system: System, solvers, q0: np.ndarray, t: np.ndarray, drive: Drive,
-                     singular: list | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def closed_form_path(
+    system: System,
+    solvers,
+    q0: np.ndarray,
+    t: np.ndarray,
+    drive: Drive,
+    singular: list | None = None,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Closed-form positions at times ``t (N,)`` from start poses ``q0 (V, 1, n_q)``
     (V variants, stacked or not): ``(q (V, N, n_q), ok (V,), signs (V, N, n_groups))``.
 
@@ -735,14 +850,15 @@ def closed_form_path(system: System, solvers, q0: np.ndarray, t: np.ndarray, dri
     signs = _branch_signs(flips, np.broadcast_to(tt, (n_v, len(tt))))
     q, disc = _closed_forms(solvers, np.broadcast_to(q0, (n_v, len(tt), q0.shape[-1])), psi, signs)
     ok &= np.all(disc >= -DISC_TOL, axis=(-2, -1))
-    ang = slice(2, None, 3)                         # angles nearest the start pose, as the guess
+    ang = slice(2, None, 3)  # angles nearest the start pose, as the guess
     q[..., ang] += 2 * np.pi * np.round((q0[..., ang] - q[..., ang]) / (2 * np.pi))
     start = len(t)
-    for k in range(len(system.links)):              # unwrap angles along the path
+    for k in range(len(system.links)):  # unwrap angles along the path
         col = 3 * k + 2
         q[:, order, col] = np.unwrap(q[:, order, col], axis=-1)
-        q[:, :, col] += (2 * np.pi * np.round((q0[:, 0, col] - q[:, start, col]) / (2 * np.pi))
-                         )[:, None]
+        q[:, :, col] += (2 * np.pi * np.round((q0[:, 0, col] - q[:, start, col]) / (2 * np.pi)))[
+            :, None
+        ]
     q = q[:, :start]
     probe = slice(None, None, max(1, start // 32))
     res = np.max(np.abs(phi(system, q[:, probe], psi[:start][probe])), axis=(-2, -1))
@@ -756,13 +872,20 @@ def closed_form_path(system: System, solvers, q0: np.ndarray, t: np.ndarray, dri
             at = np.array([[ts]])
             qs, _ = _closed_forms(solvers, q0, drive(at)[0], _branch_signs(flips, at))
             coord = float(drive(at)[0][0, 0, 0]) if system.motion_drivers else ts
-            singular.append(Singularity(system.plans[g].group.label, float(ts), coord,
-                                        float(group_condition(system, qs[0, 0], system.plans[g]))))
+            singular.append(
+                Singularity(
+                    system.plans[g].group.label,
+                    float(ts),
+                    coord,
+                    float(group_condition(system, qs[0, 0], system.plans[g])),
+                )
+            )
     return q, ok, signs[:, :start]
 
 
-def _closed_forms(solvers, q: np.ndarray, psi: np.ndarray,
-                  signs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _closed_forms(
+    solvers, q: np.ndarray, psi: np.ndarray, signs: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """The closed forms in solve order, group g on its start sign × ``signs[..., g]``:
     (q, the groups' discriminants D ``(..., n_groups)``)."""
     q = np.array(q, dtype=float)
@@ -785,8 +908,9 @@ def _branch_signs(flips: list, t: np.ndarray) -> np.ndarray:
     return np.stack(out, axis=-1) if out else np.ones(t.shape + (0,))
 
 
-def _change_points(system: System, solvers, q0: np.ndarray, lo: float, hi: float,
-                   drive: Drive) -> tuple[list, np.ndarray]:
+def _change_points(
+    system: System, solvers, q0: np.ndarray, lo: float, hi: float, drive: Drive
+) -> tuple[list, np.ndarray]:
     """The change points of every group over ``[lo, hi]``: ``(flips, ok)``, flips[g]
     ``(V, K)`` their times (NaN padding), ``ok (V,)`` where no local minimum of a
     discriminant lies below −``DISC_TOL`` (the links reach everywhere).
@@ -816,38 +940,55 @@ def _change_points(system: System, solvers, q0: np.ndarray, lo: float, hi: float
     flips = [np.full((n_v, 0), np.nan) for _ in solvers]
     ok = np.ones(n_v, dtype=bool)
 
-    def disc(t):                 # D, D', D'' of every group at times t (V, M): (V, M, G) each
+    def disc(t):  # D, D', D'' of every group at times t (V, M): (V, M, G) each
         at = t[None] + np.array([-eta, 0.0, eta])[:, None, None]
         at = np.moveaxis(at, 0, -1).reshape(n_v, -1)
-        _, d = _closed_forms(solvers, np.broadcast_to(q0, at.shape + q0.shape[-1:]), drive(at)[0],
-                             _branch_signs(flips, at))
+        _, d = _closed_forms(
+            solvers,
+            np.broadcast_to(q0, at.shape + q0.shape[-1:]),
+            drive(at)[0],
+            _branch_signs(flips, at),
+        )
         d = d.reshape(t.shape + (3, -1))
-        return (d[..., 1, :], (d[..., 2, :] - d[..., 0, :]) / (2 * eta),
-                (d[..., 2, :] - 2 * d[..., 1, :] + d[..., 0, :]) / eta ** 2)
+        return (
+            d[..., 1, :],
+            (d[..., 2, :] - d[..., 0, :]) / (2 * eta),
+            (d[..., 2, :] - 2 * d[..., 1, :] + d[..., 0, :]) / eta**2,
+        )
 
     g0 = 0
-    while g0 < len(solvers):           # again from a group past which the signs changed
+    while g0 < len(solvers):  # again from a group past which the signs changed
         d, m, _ = disc(ts)
         h = np.diff(ts, axis=-1)[..., None]
         d0, d1, m0, m1 = d[:, :-1], d[:, 1:], m[:, :-1] * h, m[:, 1:] * h
-        b = -6 * d0 - 4 * m0 + 6 * d1 - 2 * m1     # Hermite p'(s) = a s² + b s + c, p'' > 0 root
+        b = -6 * d0 - 4 * m0 + 6 * d1 - 2 * m1  # Hermite p'(s) = a s² + b s + c, p'' > 0 root
         a = 6 * d0 + 3 * m0 - 6 * d1 + 3 * m1
         with np.errstate(all="ignore"):
             s = 2 * m0 / (-b - np.sqrt(b * b - 4 * a * m0))
-        low = (s * s * (2 * s - 3) + 1) * d0 + s * (s - 1) ** 2 * m0 + s * s * (3 - 2 * s) * d1 \
-            + s * s * (s - 1) * m1                  # the interpolant's minimum
+        low = (
+            (s * s * (2 * s - 3) + 1) * d0
+            + s * (s - 1) ** 2 * m0
+            + s * s * (3 - 2 * s) * d1
+            + s * s * (s - 1) * m1
+        )  # the interpolant's minimum
         inner = (s > 0) & (s < 1) & (low <= 10 * DISC_NEAR)
         inner[..., :g0] = False
         tg = ts
         if inner.any():
             extra = np.where(inner, ts[:, :-1, None] + np.where(inner, s, 0.0) * h, np.nan)
-            extra = np.sort(extra.reshape(n_v, -1), axis=-1)[:, :int(inner.sum((-2, -1)).max())]
-            tg = np.sort(np.concatenate((ts, np.where(np.isnan(extra), hi, extra)), axis=-1), axis=-1)
+            extra = np.sort(extra.reshape(n_v, -1), axis=-1)[:, : int(inner.sum((-2, -1)).max())]
+            tg = np.sort(
+                np.concatenate((ts, np.where(np.isnan(extra), hi, extra)), axis=-1), axis=-1
+            )
             d, m, _ = disc(tg)
         ok &= np.all(d[..., g0:] >= -DISC_TOL, axis=(-2, -1))
         for g in range(g0, len(solvers)):
             dg, mg = d[..., g], m[..., g]
-            br = (mg[:, :-1] < 0) & (mg[:, 1:] >= 0) & (np.minimum(dg[:, :-1], dg[:, 1:]) <= DISC_NEAR)
+            br = (
+                (mg[:, :-1] < 0)
+                & (mg[:, 1:] >= 0)
+                & (np.minimum(dg[:, :-1], dg[:, 1:]) <= DISC_NEAR)
+            )
             n_k = int(br.sum(axis=-1).max())
             if n_k == 0:
                 continue
@@ -856,7 +997,7 @@ def _change_points(system: System, solvers, q0: np.ndarray, lo: float, hi: float
             a_t = np.take_along_axis(tg[:, :-1], idx, -1)
             b_t = np.take_along_axis(tg[:, 1:], idx, -1)
             tm = 0.5 * (a_t + b_t)
-            for _ in range(MAX_ITER):               # safeguarded Newton on D'(t) = 0
+            for _ in range(MAX_ITER):  # safeguarded Newton on D'(t) = 0
                 _, mm, c = (x[..., g] for x in disc(tm))
                 a_t, b_t = np.where(mm < 0, tm, a_t), np.where(mm < 0, b_t, tm)
                 with np.errstate(all="ignore"):
@@ -871,14 +1012,15 @@ def _change_points(system: System, solvers, q0: np.ndarray, lo: float, hi: float
             ok &= np.all(~valid | (dm >= -DISC_TOL), axis=-1)
             flips[g] = np.where(valid & (np.abs(dm) <= DISC_TOL), tm, np.nan)
             if not np.all(np.isnan(flips[g])):
-                break                           # the later groups see these change points
+                break  # the later groups see these change points
         g0 = g + 1
     return flips, ok
 
 
 # -- velocities and accelerations ----------------------------------------------------
-def derivatives(system: System, q: np.ndarray, psi_d: np.ndarray,
-                psi_dd: np.ndarray) -> tuple[np.ndarray, np.ndarray, BlockFactor]:
+def derivatives(
+    system: System, q: np.ndarray, psi_d: np.ndarray, psi_dd: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, BlockFactor]:
     """(q̇, q̈, factorised Φ_q): Φ_q q̇ = ν and Φ_q q̈ = γ by block forward
     substitution over the Assur groups, ``(..., n_q)`` each."""
     lu = BlockFactor(jacobian(system, q), [(p.rows, p.cols) for p in system.plans])
@@ -896,8 +1038,15 @@ def accelerations(system: System, q: np.ndarray, qd: np.ndarray, psi_dd: np.ndar
     return np.linalg.solve(jacobian(system, q), gamma(system, q, qd, psi_dd)[..., None])[..., 0]
 
 
-def state_at(system: System, drive: Drive, t: np.ndarray, t_near: np.ndarray, q_near: np.ndarray,
-             qd_near: np.ndarray, qdd_near: np.ndarray):
+def state_at(
+    system: System,
+    drive: Drive,
+    t: np.ndarray,
+    t_near: np.ndarray,
+    q_near: np.ndarray,
+    qd_near: np.ndarray,
+    qdd_near: np.ndarray,
+):
     """(q, q̇, q̈) at times ``t`` close to solved states at ``t_near`` (same branch).
 
     Taylor prediction from the near state, then Newton per group.  Used to
@@ -911,8 +1060,9 @@ def state_at(system: System, drive: Drive, t: np.ndarray, t_near: np.ndarray, q_
     return q, qd, qdd
 
 
-def positions_near(system: System, psi: np.ndarray, q_guess: np.ndarray,
-                   drive: Drive | None = None) -> np.ndarray:
+def positions_near(
+    system: System, psi: np.ndarray, q_guess: np.ndarray, drive: Drive | None = None
+) -> np.ndarray:
     """Positions at driver coordinates ``psi (..., n_d)`` on the branch of a nearby
     guess ``q_guess (..., n_q)`` (closed-form dyads where they apply, else Newton
     per group).  Raises AssemblyError naming the group where Newton fails.
@@ -928,14 +1078,18 @@ def positions_near(system: System, psi: np.ndarray, q_guess: np.ndarray,
     for plan in system.plans:
         q, ok, _ = _newton(system, q, psi, plan)
         if not np.all(ok):
-            raise AssemblyError(plan.group.label, _coordinate_text(system, psi.reshape(-1)[:1]),
-                                "Newton did not converge from the given guess")
+            raise AssemblyError(
+                plan.group.label,
+                _coordinate_text(system, psi.reshape(-1)[:1]),
+                "Newton did not converge from the given guess",
+            )
     return q
 
 
 def _unit_drive(system: System) -> Drive:
     """The drive whose start matches the model's analysis start (for the caches)."""
     from .analysis import _schedule
+
     return _schedule(system)
 
 
@@ -953,11 +1107,12 @@ def closed_form_near(solvers, guess: np.ndarray, psi: np.ndarray) -> tuple[np.nd
     ``psi``, angles taken nearest to ``guess``; ``ok (...)`` where every group's
     margin √D stays above ``dyads.MARGIN``."""
     from .dyads import MARGIN
+
     q = guess.copy()
     ok = np.ones(guess.shape[:-1], dtype=bool)
     for solve in solvers:
         q, disc = solve(q, psi)
-        ok &= disc >= MARGIN ** 2
+        ok &= disc >= MARGIN**2
     ang = slice(2, None, 3)
     q[..., ang] += 2 * np.pi * np.round((guess[..., ang] - q[..., ang]) / (2 * np.pi))
     return q, ok
@@ -966,6 +1121,7 @@ def closed_form_near(solvers, guess: np.ndarray, psi: np.ndarray) -> tuple[np.nd
 def _solvers(system: System, drive: Drive):
     """The closed-form solvers of every group (cached with the start pose), or None."""
     from .dyads import closed_form
+
     start_pose(system, drive)
     cached = _STARTS[system]
     if len(cached) == 3:

@@ -15,9 +15,17 @@ import numpy as np
 
 from .system import System, coordinate_gradient, jacobian
 
-__all__ = ["effort_joints", "effort_ratio", "equilibrium_matrix", "solve_equilibrium",
-           "invert_equilibrium", "ground_reaction", "SINGULAR_RCOND", "EFFORT_SPEED_TOL",
-           "effort_speed_ratio"]
+__all__ = [
+    "effort_joints",
+    "effort_ratio",
+    "equilibrium_matrix",
+    "solve_equilibrium",
+    "invert_equilibrium",
+    "ground_reaction",
+    "SINGULAR_RCOND",
+    "EFFORT_SPEED_TOL",
+    "effort_speed_ratio",
+]
 
 SINGULAR_RCOND = 1e-12
 """A square A whose scaled reciprocal condition number is at most this is
@@ -70,20 +78,22 @@ def effort_speed_ratio(system: System, q: np.ndarray, qd: np.ndarray) -> np.ndar
     k_e, k_d = effort_joints(system)[0], names.index(d.joint.name)
     r_e = np.einsum("...n,...n->...", coordinate_gradient(system, q, k_e), qd)
     r_d = np.einsum("...n,...n->...", coordinate_gradient(system, q, k_d), qd)
-    scale = ((1.0 if system.model.joints[k_d].angular else np.asarray(system.l_ref)) /
-             (1.0 if system.model.joints[k_e].angular else np.asarray(system.l_ref)))
+    scale = (1.0 if system.model.joints[k_d].angular else np.asarray(system.l_ref)) / (
+        1.0 if system.model.joints[k_e].angular else np.asarray(system.l_ref)
+    )
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = np.abs(r_e / r_d) * scale
     rest = ~np.isfinite(ratio)
-    if np.any(rest):                            # the driver at rest: the tangent ∂q/∂ψ
+    if np.any(rest):  # the driver at rest: the tangent ∂q/∂ψ
         from .positions import velocities
+
         n_d = len(system.motion_drivers)
         unit = np.zeros(np.shape(q)[:-1] + (n_d,))
         unit[..., 0] = 1.0
         try:
             tangent = velocities(system, q, unit)
             ratio = np.where(rest, np.abs(effort_ratio(system, q, tangent)) * scale, ratio)
-        except np.linalg.LinAlgError:           # a singular pose: left to the other tests
+        except np.linalg.LinAlgError:  # a singular pose: left to the other tests
             pass
     return ratio
 
@@ -106,8 +116,11 @@ def solve_equilibrium(a: np.ndarray, rhs: np.ndarray) -> tuple[np.ndarray, bool]
         try:
             return np.linalg.solve(a, rhs[..., None])[..., 0], False
         except np.linalg.LinAlgError:
-            warnings.warn("the equilibrium equations are singular at some positions; "
-                          "minimum-norm reactions are reported there", stacklevel=2)
+            warnings.warn(
+                "the equilibrium equations are singular at some positions; "
+                "minimum-norm reactions are reported there",
+                stacklevel=2,
+            )
     return (np.linalg.pinv(a) @ rhs[..., None])[..., 0], True
 
 

@@ -9,10 +9,10 @@ from __future__ import annotations
 
 import csv
 import json
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
-from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -42,8 +42,11 @@ def _joint_position(system: System, q: np.ndarray, name: str) -> np.ndarray:
 def _dyad_angle_names(system: System) -> list[tuple[str, str]]:
     """(column prefix, label) of the dyads that have a transmission or pressure angle."""
     label = {"RRR": "transmission_angle", "RRP": "pressure_angle"}
-    return [(group_column(p.group), label[p.group.letters]) for p in system.plans
-            if p.group.kind == "dyad" and p.group.letters in label]
+    return [
+        (group_column(p.group), label[p.group.letters])
+        for p in system.plans
+        if p.group.kind == "dyad" and p.group.letters in label
+    ]
 
 
 def _dyad_angles(system: System, q: np.ndarray) -> dict[str, tuple[str, np.ndarray]]:
@@ -62,12 +65,21 @@ def _dyad_angles(system: System, q: np.ndarray) -> dict[str, tuple[str, np.ndarr
         u = pa - pm
         if g.letters == "RRR":
             v = _joint_position(system, q, ext_b) - pm
-            cosang = np.sum(u * v, axis=-1) / (np.linalg.norm(u, axis=-1) * np.linalg.norm(v, axis=-1))
-            out[group_column(g)] = ("transmission_angle", np.degrees(np.arccos(np.clip(cosang, -1, 1))))
+            cosang = np.sum(u * v, axis=-1) / (
+                np.linalg.norm(u, axis=-1) * np.linalg.norm(v, axis=-1)
+            )
+            out[group_column(g)] = (
+                "transmission_angle",
+                np.degrees(np.arccos(np.clip(cosang, -1, 1))),
+            )
         else:
             s = joints[ext_b]
             owner = s.links[0]
-            th = 0.0 if owner == system.model.ground.name else q[..., 3 * system.link_index(owner) + 2]
+            th = (
+                0.0
+                if owner == system.model.ground.name
+                else q[..., 3 * system.link_index(owner) + 2]
+            )
             axis = rotate(th, s.u)
             c = np.abs(np.sum(u * axis, axis=-1)) / np.linalg.norm(u, axis=-1)
             out[group_column(g)] = ("pressure_angle", np.degrees(np.arccos(np.clip(c, -1, 1))))
@@ -125,28 +137,58 @@ def build_columns(system: System, t, psi, q, qd, qdd, x0, fric, power, cond, sha
     coord = psi[..., 0]
     put([("time", "s")], lambda: (t - t[0] if len(t) else t,))
     if first.joint.angular:
-        put([("angle", "deg"), ("travel", "deg")],
-            lambda: (np.mod(np.degrees(coord), 360.0), np.degrees(np.abs(coord - coord[0]))))
+        put(
+            [("angle", "deg"), ("travel", "deg")],
+            lambda: (np.mod(np.degrees(coord), 360.0), np.degrees(np.abs(coord - coord[0]))),
+        )
     else:
         put([("stroke", "m"), ("travel", "m")], lambda: (coord, np.abs(coord - coord[0])))
-    link_units = (("x", "m"), ("y", "m"), ("theta", "deg"), ("vx", "m/s"), ("vy", "m/s"),
-                  ("omega", "rad/s"), ("ax", "m/s^2"), ("ay", "m/s^2"), ("alpha", "rad/s^2"))
+    link_units = (
+        ("x", "m"),
+        ("y", "m"),
+        ("theta", "deg"),
+        ("vx", "m/s"),
+        ("vy", "m/s"),
+        ("omega", "rad/s"),
+        ("ax", "m/s^2"),
+        ("ay", "m/s^2"),
+        ("alpha", "rad/s^2"),
+    )
     for k, name in enumerate(system.links):
         s = slice(3 * k, 3 * k + 3)
-        put([(f"{name}.{label}", unit) for label, unit in link_units],
-            lambda s=s: (q[..., s][..., 0], q[..., s][..., 1], np.degrees(q[..., s][..., 2]),
-                         qd[..., s][..., 0], qd[..., s][..., 1], qd[..., s][..., 2],
-                         qdd[..., s][..., 0], qdd[..., s][..., 1], qdd[..., s][..., 2]))
-    point_units = (("x", "m"), ("y", "m"), ("vx", "m/s"), ("vy", "m/s"), ("ax", "m/s^2"),
-                   ("ay", "m/s^2"))
+        put(
+            [(f"{name}.{label}", unit) for label, unit in link_units],
+            lambda s=s: (
+                q[..., s][..., 0],
+                q[..., s][..., 1],
+                np.degrees(q[..., s][..., 2]),
+                qd[..., s][..., 0],
+                qd[..., s][..., 1],
+                qd[..., s][..., 2],
+                qdd[..., s][..., 0],
+                qdd[..., s][..., 1],
+                qdd[..., s][..., 2],
+            ),
+        )
+    point_units = (
+        ("x", "m"),
+        ("y", "m"),
+        ("vx", "m/s"),
+        ("vy", "m/s"),
+        ("ax", "m/s^2"),
+        ("ay", "m/s^2"),
+    )
 
     def point(k, p):
         pos, vel, acc = point_state(q, qd, qdd, k, p)
         return pos[..., 0], pos[..., 1], vel[..., 0], vel[..., 1], acc[..., 0], acc[..., 1]
+
     for k, name in enumerate(system.links):
         for pname, p in model.link(name).points.items():
-            put([(f"{name}.{pname}.{label}", unit) for label, unit in point_units],
-                lambda k=k, p=p: point(k, p))
+            put(
+                [(f"{name}.{pname}.{label}", unit) for label, unit in point_units],
+                lambda k=k, p=p: point(k, p),
+            )
     if x0 is not None:
         _kinetic_columns(system, put, q, x0, fric, power)
     for g, c in cond.items():
@@ -157,11 +199,14 @@ def build_columns(system: System, t, psi, q, qd, qdd, x0, fric, power, cond, sha
         if not angles:
             angles.update(_dyad_angles(system, q))
         return angles
+
     for prefix, label in _dyad_angle_names(system):
         put([(f"{prefix}.{label}", "deg")], lambda prefix=prefix: (dyad_angles()[prefix][1],))
     if shaking is not None:
-        put([("shaking.Fx", "N"), ("shaking.Fy", "N"), ("shaking.M", "N*m")],
-            lambda: (shaking[..., 0], shaking[..., 1], shaking[..., 2]))
+        put(
+            [("shaking.Fx", "N"), ("shaking.Fy", "N"), ("shaking.M", "N*m")],
+            lambda: (shaking[..., 0], shaking[..., 1], shaking[..., 2]),
+        )
     return cols, units
 
 
@@ -173,27 +218,35 @@ def _kinetic_columns(system: System, put, q, x0, fric, power) -> None:
     force_unit = {"M": "N*m"}
     for k, j in enumerate(model.joints):
         i_, j_ = system.ends[k]
-        qi, qj = qe[..., 3 * i_:3 * i_ + 3], qe[..., 3 * j_:3 * j_ + 3]
+        qi, qj = qe[..., 3 * i_ : 3 * i_ + 3], qe[..., 3 * j_ : 3 * j_ + 3]
         block = system.rows_of(k)
         labels = j.reaction_labels
-        put([(f"{j.name}.{label}", force_unit.get(label, "N")) for label in labels],
-            lambda j=j, qi=qi, qj=qj, block=block, labels=labels:
-                tuple(j.reaction(x0[..., block], qi, qj)[label] for label in labels))
+        put(
+            [(f"{j.name}.{label}", force_unit.get(label, "N")) for label in labels],
+            lambda j=j, qi=qi, qj=qj, block=block, labels=labels: tuple(
+                j.reaction(x0[..., block], qi, qj)[label] for label in labels
+            ),
+        )
         if not fric:
             continue
         unit = "N*m" if j.angular else "N"
         if k in n_f:
-            put([(f"{j.name}.friction_approx", unit), (f"{j.name}.friction", unit)],
-                lambda n=n_f[k]: (fric["e_approx"][..., n], sol.e[..., n]))
+            put(
+                [(f"{j.name}.friction_approx", unit), (f"{j.name}.friction", unit)],
+                lambda n=n_f[k]: (fric["e_approx"][..., n], sol.e[..., n]),
+            )
 
         def with_friction(j=j, k=k, qi=qi, qj=qj, block=block, labels=labels):
             reac = j.reaction(sol.x[..., block], qi, qj)
-            if k in n_f:                          # a friction force along a slide is a force too
+            if k in n_f:  # a friction force along a slide is a force too
                 for label, extra in j.effort_force(sol.e[..., n_f[k]], qi, qj).items():
                     reac[label] = reac[label] + extra
             return tuple(reac[label] for label in labels)
-        put([(f"{j.name}.{label}_friction", force_unit.get(label, "N")) for label in labels],
-            with_friction)
+
+        put(
+            [(f"{j.name}.{label}_friction", force_unit.get(label, "N")) for label in labels],
+            with_friction,
+        )
     n_j = system.n_joint_rows
     for d_index, d in enumerate(system.motion_drivers):
         effort_joint = model.joint(d.driver.balance_at) if d.driver.balance_at else d.joint
@@ -201,20 +254,37 @@ def _kinetic_columns(system: System, put, q, x0, fric, power) -> None:
         col = n_j + d_index
         put([(f"{d.name}.{word}", unit)], lambda col=col: (x0[..., col],))
         if fric:
+
             def efficiency(col=col):
                 # undefined (NaN, empty) where the effort with friction is 0 or empty: no
                 # effort goes through the drive, 0/0 or x/0 is no efficiency (docs/friction.md)
                 den = sol.x[..., col]
                 with np.errstate(divide="ignore", invalid="ignore"):
                     return (np.where(den != 0.0, x0[..., col] / den, np.nan),)
-            put([(f"{d.name}.{word}_friction_approx", unit), (f"{d.name}.{word}_friction", unit)],
-                lambda col=col: (fric["x_approx"][..., col], sol.x[..., col]))
+
+            put(
+                [(f"{d.name}.{word}_friction_approx", unit), (f"{d.name}.{word}_friction", unit)],
+                lambda col=col: (fric["x_approx"][..., col], sol.x[..., col]),
+            )
             put([(f"{d.name}.efficiency", "1")], efficiency)
     if fric:
-        put([("friction.status", "1"), ("friction.iterations", "1")],
-            lambda: (sol.status, sol.iterations))
-    names = [n for n in ("input", "kinetic", "potential", "external", "friction", "residual",
-                         "residual_friction") if n in power]
+        put(
+            [("friction.status", "1"), ("friction.iterations", "1")],
+            lambda: (sol.status, sol.iterations),
+        )
+    names = [
+        n
+        for n in (
+            "input",
+            "kinetic",
+            "potential",
+            "external",
+            "friction",
+            "residual",
+            "residual_friction",
+        )
+        if n in power
+    ]
     put([(f"power.{n}", "W") for n in names], lambda: tuple(power[n] for n in names))
 
 
@@ -258,6 +328,7 @@ class Result:
         residuals, sketch distance, group condition, friction status, each against its
         tolerance; ``checks.ok``, ``checks.failed()``.  Computed on first use."""
         from .checks import result_checks
+
         return result_checks(self)
 
     @property
@@ -277,16 +348,20 @@ class Result:
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-safe: ``{"columns": {name: [..]}, "units": {...}}`` (NaN as None)."""
-        return {"columns": {n: [None if not np.isfinite(v) else float(v) for v in a]
-                            for n, a in self.columns.items()},
-                "units": dict(self.units)}
+        return {
+            "columns": {
+                n: [None if not np.isfinite(v) else float(v) for v in a]
+                for n, a in self.columns.items()
+            },
+            "units": dict(self.units),
+        }
 
     def summary(self) -> dict[str, Any]:
         """Extremes of every column and where they occur, events, singular positions."""
         from .summary import summarize
+
         return summarize(self)
 
     def to_json(self, path: str | Path, summary: dict[str, Any] | None = None) -> None:
         """Write :meth:`summary` (or the one given, already computed) as JSON."""
-        Path(path).write_text(json.dumps(self.summary() if summary is None else summary,
-                                         indent=2))
+        Path(path).write_text(json.dumps(self.summary() if summary is None else summary, indent=2))

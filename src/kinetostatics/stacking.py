@@ -11,7 +11,8 @@ number of points) is a different topology: :func:`stack` refuses it.
 from __future__ import annotations
 
 import dataclasses
-from typing import Any, Sequence
+from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
@@ -49,7 +50,7 @@ def _stack(values: Sequence[Any], path: str) -> Any:
             raise TopologyMismatch(f"{path}: kinds differ")
         changes = {}
         for f in dataclasses.fields(first):
-            if not f.compare:              # locations: the first variant's
+            if not f.compare:  # locations: the first variant's
                 continue
             items = [getattr(v, f.name) for v in values]
             stacked = _stack(items, f"{path}.{f.name}")
@@ -97,18 +98,26 @@ def is_stacked(x: Any) -> bool:
 
 def signature(model: Model) -> tuple:
     """What must agree for models to stack: every name, kind and count."""
+
     def sig(x):
         if isinstance(x, np.ndarray):
             return ("array", x.shape)
         if _is_number(x):
             return ("int", int(x)) if isinstance(x, (int, np.integer)) else "num"
         if dataclasses.is_dataclass(x) and not isinstance(x, type):
-            return (type(x).__name__,) + tuple(sig(getattr(x, f.name))
-                                               for f in dataclasses.fields(x) if f.compare)
+            return (type(x).__name__,) + tuple(
+                sig(getattr(x, f.name)) for f in dataclasses.fields(x) if f.compare
+            )
         if isinstance(x, (tuple, list)):
             return tuple(sig(v) for v in x)
         if isinstance(x, dict) or hasattr(x, "keys"):
             return tuple((k, sig(x[k])) for k in x)
         return x
-    return sig(dataclasses.replace(model, parameters={}, analysis=dataclasses.replace(
-        model.analysis, positions=model.analysis.positions)))
+
+    return sig(
+        dataclasses.replace(
+            model,
+            parameters={},
+            analysis=dataclasses.replace(model.analysis, positions=model.analysis.positions),
+        )
+    )

@@ -31,32 +31,40 @@ def output_strokes(result) -> dict[str, dict[str, Any]]:
         if not isinstance(j, Prismatic) or j.name in driven:
             continue
         from .system import coordinate_gradient
+
         s = _coordinate(system, result.q, k)
         ds = np.einsum("...n,...n->...", coordinate_gradient(system, result.q, k), result.qd)
         from .analysis import _find_roots, _schedule
+
         sched = _schedule(system)
         period = sched.period
 
         def f(q, qd, qdd, k=k):
             g = coordinate_gradient(system, q, k)
-            return (np.einsum("...n,...n->...", g, qd),
-                    np.einsum("...n,...n->...", g, qdd) + _bias(system, q, qd, k))
+            return (
+                np.einsum("...n,...n->...", g, qd),
+                np.einsum("...n,...n->...", g, qdd) + _bias(system, q, qd, k),
+            )
 
-        roots, (qr, _, _) = _find_roots(system, sched, result.t, result.q, result.qd, result.qdd,
-                                        ds, f, True, period)
+        roots, (qr, _, _) = _find_roots(
+            system, sched, result.t, result.q, result.qd, result.qdd, ds, f, True, period
+        )
         if len(roots) != 2:
             continue
         vals = [float(v) for v in _coordinate(system, qr, k)]
         lo, hi = (0, 1) if vals[0] < vals[1] else (1, 0)
-        t_up = (roots[hi] - roots[lo]) % period           # from the low to the high extreme
+        t_up = (roots[hi] - roots[lo]) % period  # from the low to the high extreme
         t_down = period - t_up
         coord = lambda r: float(np.degrees(sched(np.array([r]))[0][0, 0]) % 360.0)
         out[j.name] = {
             "stroke": vals[hi] - vals[lo],
-            "limit_positions": {"min": {"angle": coord(roots[lo]), "s": vals[lo]},
-                                "max": {"angle": coord(roots[hi]), "s": vals[hi]}},
+            "limit_positions": {
+                "min": {"angle": coord(roots[lo]), "s": vals[lo]},
+                "max": {"angle": coord(roots[hi]), "s": vals[hi]},
+            },
             "time_ratio": max(t_up, t_down) / min(t_up, t_down),
-            "time_increasing_s": t_up, "time_decreasing_s": t_down,
+            "time_increasing_s": t_up,
+            "time_decreasing_s": t_down,
         }
         del s
     return out
@@ -84,6 +92,7 @@ def locking_zones(result) -> list[dict[str, Any]]:
     if "friction.status" not in result.columns or not len(result):
         return []
     from .analysis import _schedule
+
     system = result.system
     sched = _schedule(system)
     order = np.argsort(result.t, kind="stable")
@@ -97,6 +106,7 @@ def locking_zones(result) -> list[dict[str, Any]]:
     def coord(t):
         c = float(sched(np.array([t]))[0][0, 0])
         return float(np.degrees(c) % 360.0) if angular else c
+
     if locked.all():
         return [{"from": None, "to": None, "rows": int(n), "unit": unit}]
     full = bool(result.full_cycle)
@@ -110,23 +120,30 @@ def locking_zones(result) -> list[dict[str, Any]]:
         while (full or k1 + 1 < n) and locked[(k1 + 1) % n]:
             k1 += 1
         entry = leave = None
-        if full or k0 > 0:                            # between rows k0 − 1 (solved) and k0
+        if full or k0 > 0:  # between rows k0 − 1 (solved) and k0
             tb = t[k0 - 1] - (period if k0 == 0 else 0.0)
             entry = _locking_edge(result, sched, tb, t[k0], span)
-        if full or k1 + 1 < n:                        # between rows k1 and k1 + 1 (solved)
+        if full or k1 + 1 < n:  # between rows k1 and k1 + 1 (solved)
             ta = t[(k1 + 1) % n] + (period if k1 + 1 == n else 0.0)
             leave = _locking_edge(result, sched, ta, t[k1 % n], span)
-        zones.append({"from": None if entry is None else coord(entry),
-                      "to": None if leave is None else coord(leave),
-                      "rows": int(k1 - k0 + 1), "unit": unit})
+        zones.append(
+            {
+                "from": None if entry is None else coord(entry),
+                "to": None if leave is None else coord(leave),
+                "rows": int(k1 - k0 + 1),
+                "unit": unit,
+            }
+        )
     return zones
 
 
 def _locking_edge(result, sched, t_ok, t_lock, span) -> float:
     """Time of the edge of a locked zone between a solved row and a locked one."""
     import warnings
+
     from .analysis import _state_near, kinetics
     from .errors import AssemblyError
+
     system = result.system
     period = sched.period if result.full_cycle else np.inf
 
@@ -134,14 +151,23 @@ def _locking_edge(result, sched, t_ok, t_lock, span) -> float:
         tm = tc % period if np.isfinite(period) else tc
         try:
             q, qd, qdd = _state_near(system, sched, tm, result.t, result.q, result.qd, result.qdd)
-        except AssemblyError:                     # no state there: no margin either
+        except AssemblyError:  # no state there: no margin either
             return -1, np.nan
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            kin = kinetics(system, q, qd, qdd, sched(np.array([tm]))[0],
-                           ref_speed=sched.reference, extremes=result.extremes, friction=True)
+            kin = kinetics(
+                system,
+                q,
+                qd,
+                qdd,
+                sched(np.array([tm]))[0],
+                ref_speed=sched.reference,
+                extremes=result.extremes,
+                friction=True,
+            )
         sol = kin.friction["solution"]
         return int(sol.status[0]), float(sol.reach[0])
+
     tol = 1e-12 * span
     lo, hi = float(t_ok), float(t_lock)
     r_lo, r_hi = probe(lo)[1], np.nan
@@ -151,16 +177,17 @@ def _locking_edge(result, sched, t_ok, t_lock, span) -> float:
         w = hi - lo
         cand = None
         if np.isfinite(r_lo) and np.isfinite(r_hi) and r_hi < 0.0 < r_lo:
-            cand = lo + w * r_lo / (r_lo - r_hi)             # regula falsi in the bracket
-        elif len(solved) >= 2:                                 # secant from the solved side
+            cand = lo + w * r_lo / (r_lo - r_hi)  # regula falsi in the bracket
+        elif len(solved) >= 2:  # secant from the solved side
             (t0, r0), (t1, r1) = solved[-2], solved[-1]
             if np.isfinite(r0) and np.isfinite(r1) and r1 != r0:
                 cand = t1 - r1 * (t1 - t0) / (r1 - r0)
         halving = cand is None or not 0.0 < (cand - lo) / w < 1.0
-        if halving:                                  # no margin to go by (a fold of the branch:
-            cand = lo + 0.5 * w                      # the homotopy's own resolution, ~1e-9)
-        if (abs(w) <= (1e3 * tol if halving else tol)
-                or (last is not None and abs(cand - last) <= tol)):
+        if halving:  # no margin to go by (a fold of the branch:
+            cand = lo + 0.5 * w  # the homotopy's own resolution, ~1e-9)
+        if abs(w) <= (1e3 * tol if halving else tol) or (
+            last is not None and abs(cand - last) <= tol
+        ):
             return cand
         status, reach = probe(cand)
         if status < 0:
@@ -177,15 +204,19 @@ def _locking_edge(result, sched, t_ok, t_lock, span) -> float:
 def _coordinate(system, q, k):
     qe = np.concatenate((q, np.zeros(q.shape[:-1] + (3,))), axis=-1)
     i, j = system.ends[k]
-    return system.constraints[k].coordinate(qe[..., 3 * i:3 * i + 3], qe[..., 3 * j:3 * j + 3])
+    return system.constraints[k].coordinate(qe[..., 3 * i : 3 * i + 3], qe[..., 3 * j : 3 * j + 3])
 
 
 def _bias(system, q, qd, k):
     qe = np.concatenate((q, np.zeros(q.shape[:-1] + (3,))), axis=-1)
     ve = np.concatenate((qd, np.zeros(qd.shape[:-1] + (3,))), axis=-1)
     i, j = system.ends[k]
-    return system.constraints[k].coordinate_bias(qe[..., 3 * i:3 * i + 3], qe[..., 3 * j:3 * j + 3],
-                                                  ve[..., 3 * i:3 * i + 3], ve[..., 3 * j:3 * j + 3])
+    return system.constraints[k].coordinate_bias(
+        qe[..., 3 * i : 3 * i + 3],
+        qe[..., 3 * j : 3 * j + 3],
+        ve[..., 3 * i : 3 * i + 3],
+        ve[..., 3 * j : 3 * j + 3],
+    )
 
 
 def _finite(f, arr) -> float:
@@ -205,12 +236,16 @@ def summarize(result) -> dict[str, Any]:
             continue
         kmax = int(np.nanargmax(np.where(finite, arr, -np.inf)))
         kmin = int(np.nanargmin(np.where(finite, arr, np.inf)))
-        extremes[name] = {"max": float(arr[kmax]), "at_max": _at(result, kmax),
-                          "min": float(arr[kmin]), "at_min": _at(result, kmin)}
+        extremes[name] = {
+            "max": float(arr[kmax]),
+            "at_max": _at(result, kmax),
+            "min": float(arr[kmin]),
+            "at_min": _at(result, kmin),
+        }
     peaks = {}
     for j in system.model.joints:
         mag = np.hypot(result[f"{j.name}.Fx"], result[f"{j.name}.Fy"])
-        k = int(np.argmax(np.where(np.isfinite(mag), mag, -np.inf)))   # NaN: singular rows
+        k = int(np.argmax(np.where(np.isfinite(mag), mag, -np.inf)))  # NaN: singular rows
         peaks[j.name] = {"peak": float(mag[k]), "at": _at(result, k), "unit": "N"}
         if f"{j.name}.Fx_friction" in result.columns:
             magf = np.hypot(result[f"{j.name}.Fx_friction"], result[f"{j.name}.Fy_friction"])
@@ -233,16 +268,32 @@ def summarize(result) -> dict[str, Any]:
         "name": system.model.name,
         "positions": len(result),
         "units": units,
-        "structure": {"mobility": system.structure.mobility,
-                      "groups": [p.group.label for p in system.plans]},
+        "structure": {
+            "mobility": system.structure.mobility,
+            "groups": [p.group.label for p in system.plans],
+        },
         "outputs": output_strokes(result),
-        "events": [{"angle": float(np.degrees(e.coordinate) % 360), "time": e.t, "load": e.load,
-                    "condition": e.condition, "switch": e.switch} for e in result.events],
+        "events": [
+            {
+                "angle": float(np.degrees(e.coordinate) % 360),
+                "time": e.t,
+                "load": e.load,
+                "condition": e.condition,
+                "switch": e.switch,
+            }
+            for e in result.events
+        ],
         "indeterminate_reactions": bool(result.indeterminate),
         "self_locking": locking_zones(result),
-        "singular_positions": [{"group": s.group, "angle": float(np.degrees(s.coordinate) % 360),
-                                "time": float(s.t),
-                                "condition": s.condition} for s in result.singular],
+        "singular_positions": [
+            {
+                "group": s.group,
+                "angle": float(np.degrees(s.coordinate) % 360),
+                "time": float(s.t),
+                "condition": s.condition,
+            }
+            for s in result.singular
+        ],
         "reaction_peaks": peaks,
         "drivers": drivers,
         "extremes": extremes,
@@ -256,4 +307,5 @@ def _flywheel(result) -> dict[str, Any]:
     if getattr(result.system.model, "flywheel", None) is None:
         return {}
     from .flywheel import design
+
     return {"flywheel": design(result).to_dict()}

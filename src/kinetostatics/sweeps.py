@@ -36,18 +36,30 @@ import itertools
 import math
 import os
 import re
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Iterable, Mapping, Sequence
+from typing import Any
 
 import numpy as np
 import yaml
 
 from .errors import Location, ModelError, did_you_mean
 
-__all__ = ["Variant", "SweepError", "load_sweep", "expand", "parse_set", "from_options",
-           "read_table", "check_parameters", "MAX_VARIANTS", "BYTES_PER_VARIANT",
-           "available_memory", "check_size"]
+__all__ = [
+    "Variant",
+    "SweepError",
+    "load_sweep",
+    "expand",
+    "parse_set",
+    "from_options",
+    "read_table",
+    "check_parameters",
+    "MAX_VARIANTS",
+    "BYTES_PER_VARIANT",
+    "available_memory",
+    "check_size",
+]
 
 Variant = tuple[str, dict[str, float]]
 BLOCKS = ("grid", "zip", "random", "table")
@@ -109,13 +121,15 @@ def check_size(n: int, where: Location, what: str = "the sweep") -> None:
     """Refuse ``n`` variants before making them: more than :data:`MAX_VARIANTS`,
     or more than the memory available holds at :data:`BYTES_PER_VARIANT` each."""
     if n > MAX_VARIANTS:
-        raise SweepError(where, f"{what} has {n} variants, more than the limit of "
-                                f"{MAX_VARIANTS}")
+        raise SweepError(where, f"{what} has {n} variants, more than the limit of {MAX_VARIANTS}")
     need, free = n * BYTES_PER_VARIANT, available_memory()
     if need > free:
-        raise SweepError(where, f"{what} has {n} variants: about {gigabytes(need)} of memory "
-                                f"to hold them and their rows, more than the {gigabytes(free)} "
-                                "available; split it into several batches (one --out each)")
+        raise SweepError(
+            where,
+            f"{what} has {n} variants: about {gigabytes(need)} of memory "
+            f"to hold them and their rows, more than the {gigabytes(free)} "
+            "available; split it into several batches (one --out each)",
+        )
 
 
 # -- YAML with locations ---------------------------------------------------------------
@@ -157,8 +171,10 @@ def load_sweep(text: str, file: str, *, key: str | None = None) -> list[Node] | 
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         line = mark.line + 1 if mark else None
-        raise SweepError(Location(file, line, mark.column + 1 if mark else None),
-                         f"not valid YAML: {getattr(exc, 'problem', exc)}") from None
+        raise SweepError(
+            Location(file, line, mark.column + 1 if mark else None),
+            f"not valid YAML: {getattr(exc, 'problem', exc)}",
+        ) from None
     top = _node(root, Location(file)) if root is not None else Node(None, Location(file, 1, 1))
     if key is not None:
         if not isinstance(top.value, dict) or key not in top.value:
@@ -168,8 +184,11 @@ def load_sweep(text: str, file: str, *, key: str | None = None) -> list[Node] | 
         raise SweepError(top.where, f"a sweep is a mapping of blocks ({', '.join(BLOCKS)})")
     for name, block in top.value.items():
         if name not in BLOCKS:
-            raise SweepError(block.where, f"unknown sweep block '{name}'"
-                                          f"{did_you_mean(name, BLOCKS)}; use {', '.join(BLOCKS)}")
+            raise SweepError(
+                block.where,
+                f"unknown sweep block '{name}'"
+                f"{did_you_mean(name, BLOCKS)}; use {', '.join(BLOCKS)}",
+            )
     return [Node({name: block}, block.where) for name, block in top.value.items()]
 
 
@@ -184,13 +203,19 @@ def _number(n: Node, what: str = "a number") -> float:
 def _mapping(n: Node, required: Sequence[str], optional: Sequence[str] = ()) -> dict[str, Node]:
     """The entries of a mapping node (any keys when neither list is given)."""
     if not isinstance(n.value, dict):
-        raise SweepError(n.where, f"expected a mapping{' with ' if required else ''}"
-                                  f"{', '.join(required)}, got {n.plain()!r}")
+        raise SweepError(
+            n.where,
+            f"expected a mapping{' with ' if required else ''}"
+            f"{', '.join(required)}, got {n.plain()!r}",
+        )
     for k, v in n.value.items():
         if (required or optional) and k not in (*required, *optional):
-            raise SweepError(v.where, f"unknown key '{k}'"
-                                      f"{did_you_mean(k, (*required, *optional))}; "
-                                      f"expected {', '.join((*required, *optional))}")
+            raise SweepError(
+                v.where,
+                f"unknown key '{k}'"
+                f"{did_you_mean(k, (*required, *optional))}; "
+                f"expected {', '.join((*required, *optional))}",
+            )
     for k in required:
         if k not in n.value:
             raise SweepError(n.where, f"missing '{k}' (expected {', '.join(required)})")
@@ -233,7 +258,9 @@ def _values(n: Node) -> list[float]:
         m = _mapping(spec, ("from", "to", "step"))
         start, stop, step = (_number(m[k]) for k in ("from", "to", "step"))
         if step == 0 or (stop - start) * step < 0:
-            raise SweepError(m["step"].where, f"step {step:g} does not lead from {start:g} to {stop:g}")
+            raise SweepError(
+                m["step"].where, f"step {step:g} does not lead from {start:g} to {stop:g}"
+            )
         if (stop - start) / step + 1 > MAX_VARIANTS:
             raise SweepError(m["step"].where, f"more than {MAX_VARIANTS} values")
         check_size(int((stop - start) / step + 1 + 1e-9), m["step"].where, "the range")
@@ -245,9 +272,12 @@ def _values(n: Node) -> list[float]:
             raise SweepError(m["num"].where, f"more than {MAX_VARIANTS} values")
         check_size(num, m["num"].where, "the linspace")
         return [float(x) for x in np.linspace(_number(m["from"]), _number(m["to"]), num)]
-    raise SweepError(spec.where, f"unknown form '{form}'"
-                                 f"{did_you_mean(form, ('values', 'range', 'linspace'))}; "
-                                 "use values, range or linspace")
+    raise SweepError(
+        spec.where,
+        f"unknown form '{form}'"
+        f"{did_you_mean(form, ('values', 'range', 'linspace'))}; "
+        "use values, range or linspace",
+    )
 
 
 def _param_name(name: str, where: Location) -> str:
@@ -276,8 +306,10 @@ def _zip(n: Node) -> list[dict[str, float]]:
     cols = {_param_name(k, v.where): _values(v) for k, v in m.items()}
     lengths = {k: len(v) for k, v in cols.items()}
     if len(set(lengths.values())) > 1:
-        raise SweepError(n.where, "zip lists differ in length: "
-                                  + ", ".join(f"{k} {v}" for k, v in lengths.items()))
+        raise SweepError(
+            n.where,
+            "zip lists differ in length: " + ", ".join(f"{k} {v}" for k, v in lengths.items()),
+        )
     names = list(cols)
     check_size(next(iter(lengths.values())), n.where, "the zip")
     return [dict(zip(names, vals)) for vals in zip(*cols.values())]
@@ -304,22 +336,33 @@ def sample(rng: np.random.Generator, form: str, args: Sequence[float], n: int) -
 
 def _distribution(name: str, n: Node) -> tuple[str, list[float]]:
     if isinstance(n.value, (list, int, float)) and not isinstance(n.value, bool):
-        return "choice", _values(n)                   # a fixed value or a list: a choice
+        return "choice", _values(n)  # a fixed value or a list: a choice
     if not isinstance(n.value, dict) or len(n.value) != 1:
         raise SweepError(n.where, f"give one distribution: {', '.join(DISTRIBUTIONS)}")
     form, spec = next(iter(n.value.items()))
     if form not in DISTRIBUTIONS:
-        raise SweepError(spec.where, f"unknown distribution '{form}'"
-                                     f"{did_you_mean(form, DISTRIBUTIONS)}; "
-                                     f"use {', '.join(DISTRIBUTIONS)}")
+        raise SweepError(
+            spec.where,
+            f"unknown distribution '{form}'"
+            f"{did_you_mean(form, DISTRIBUTIONS)}; "
+            f"use {', '.join(DISTRIBUTIONS)}",
+        )
     if form == "choice":
         return form, _values(spec)
     a, b = _pair(spec, form)
-    bad = {"uniform": a >= b, "loguniform": not 0 < a < b, "integers": a > b or a != int(a)
-           or b != int(b), "normal": b < 0}[form]
+    bad = {
+        "uniform": a >= b,
+        "loguniform": not 0 < a < b,
+        "integers": a > b or a != int(a) or b != int(b),
+        "normal": b < 0,
+    }[form]
     if bad:
-        need = {"uniform": "lo < hi", "loguniform": "0 < lo < hi",
-                "integers": "whole numbers lo <= hi", "normal": "[mean, sd] with sd >= 0"}[form]
+        need = {
+            "uniform": "lo < hi",
+            "loguniform": "0 < lo < hi",
+            "integers": "whole numbers lo <= hi",
+            "normal": "[mean, sd] with sd >= 0",
+        }[form]
         raise SweepError(spec.where, f"{form} of '{name}' needs {need}, got [{a:g}, {b:g}]")
     return form, [a, b]
 
@@ -351,20 +394,27 @@ def read_table(path: str | Path, where: Location | None = None) -> list[Variant]
     try:
         text = path.read_text(encoding="utf-8-sig")
     except OSError as exc:
-        raise SweepError(where or Location(str(path)),
-                         f"cannot read the table {str(path)!r}: {exc.strerror}") from None
-    lines = [(k, line) for k, line in enumerate(text.splitlines(), 1)
-             if line.strip() and not line.lstrip().startswith("#")]
+        raise SweepError(
+            where or Location(str(path)), f"cannot read the table {str(path)!r}: {exc.strerror}"
+        ) from None
+    lines = [
+        (k, line)
+        for k, line in enumerate(text.splitlines(), 1)
+        if line.strip() and not line.lstrip().startswith("#")
+    ]
     if not lines:
-        raise SweepError(Location(str(path)), "the table is empty: it needs a header of parameter names")
+        raise SweepError(
+            Location(str(path)), "the table is empty: it needs a header of parameter names"
+        )
     reader = csv.reader([line for _, line in lines])
     header = [h.strip() for h in next(reader)]
     at = lines[0][0]
     id_col = next((k for k, h in enumerate(header) if h in ("variant", "name")), None)
     for k, h in enumerate(header):
         if k != id_col and not NAME.match(h):
-            raise SweepError(Location(str(path), at, None),
-                             f"column {k + 1}: '{h}' is not a parameter name")
+            raise SweepError(
+                Location(str(path), at, None), f"column {k + 1}: '{h}' is not a parameter name"
+            )
     if len(set(header)) != len(header):
         raise SweepError(Location(str(path), at), "a column name is repeated in the header")
     out: list[Variant] = []
@@ -380,9 +430,11 @@ def read_table(path: str | Path, where: Location | None = None) -> list[Variant]
             if k == id_col:
                 vid = cell
                 if not ID.match(vid) or vid in seen:
-                    raise SweepError(loc, f"variant id {vid!r} is "
-                                          + ("repeated" if vid in seen else
-                                             "not made of letters, digits, _ . -"))
+                    raise SweepError(
+                        loc,
+                        f"variant id {vid!r} is "
+                        + ("repeated" if vid in seen else "not made of letters, digits, _ . -"),
+                    )
                 seen.add(vid)
             elif cell:
                 try:
@@ -412,21 +464,29 @@ def expand(blocks: Iterable[Node | Mapping[str, Any]], base: str | Path = ".") -
     owner: dict[str, Location] = {}
     for block in blocks:
         if not isinstance(block, Node):
-            block = _node(yaml.compose(yaml.safe_dump(dict(block), sort_keys=False)), Location("<sweep>"))
-        (form, spec), = block.value.items()
-        rows = (_table(spec, Path(base)) if form == "table" else
-                [("", r) for r in {"grid": _grid, "zip": _zip, "random": _random}[form](spec)])
+            block = _node(
+                yaml.compose(yaml.safe_dump(dict(block), sort_keys=False)), Location("<sweep>")
+            )
+        ((form, spec),) = block.value.items()
+        rows = (
+            _table(spec, Path(base))
+            if form == "table"
+            else [("", r) for r in {"grid": _grid, "zip": _zip, "random": _random}[form](spec)]
+        )
         for name in {k for _, r in rows for k in r}:
             if name in owner:
-                raise SweepError(spec.where, f"parameter '{name}' is swept twice "
-                                             f"(also at {owner[name]})")
+                raise SweepError(
+                    spec.where, f"parameter '{name}' is swept twice (also at {owner[name]})"
+                )
             owner[name] = spec.where
         parts.append(rows)
     if not parts:
         return []
     if math.prod(len(p) for p in parts) > MAX_VARIANTS:
-        raise SweepError(next(iter(owner.values()), Location()),
-                         f"the sweep has more than {MAX_VARIANTS} variants")
+        raise SweepError(
+            next(iter(owner.values()), Location()),
+            f"the sweep has more than {MAX_VARIANTS} variants",
+        )
     check_size(math.prod(len(p) for p in parts), next(iter(owner.values()), Location()))
     combos = itertools.product(*parts)
     if len(parts) == 1 and all(vid for vid, _ in parts[0]):
@@ -446,8 +506,10 @@ def parse_set(text: str, *, random: bool = False) -> tuple[str, Any]:
     >>> parse_set("K=1.5:2.5", random=True)
     ('K', {'uniform': [1.5, 2.5]})
     """
+
     def bad(why: str) -> SweepError:
         return SweepError(Location("--set"), f"{text!r}: {why}")
+
     name, eq, spec = text.partition("=")
     name, spec = name.strip(), spec.strip()
     if not eq or not NAME.match(name):
@@ -461,6 +523,7 @@ def parse_set(text: str, *, random: bool = False) -> tuple[str, Any]:
         if not math.isfinite(v):
             raise bad(f"'{s}' is not a finite number")
         return v
+
     if ":" in spec:
         parts = spec.split(":")
         if random and len(parts) == 2:
@@ -469,8 +532,10 @@ def parse_set(text: str, *, random: bool = False) -> tuple[str, Any]:
                 raise bad("a random range LO:HI needs LO < HI")
             return name, {"uniform": [lo, hi]}
         if random or len(parts) != 3:
-            raise bad("a range is FROM:TO:NUM" + (" (or LO:HI with --random)" if not random
-                                                  else "; with --random give LO:HI"))
+            raise bad(
+                "a range is FROM:TO:NUM"
+                + (" (or LO:HI with --random)" if not random else "; with --random give LO:HI")
+            )
         count = num(parts[2])
         if count != int(count) or count < 1:
             raise bad(f"NUM must be a whole number of values >= 1, got '{parts[2]}'")
@@ -483,19 +548,33 @@ def parse_set(text: str, *, random: bool = False) -> tuple[str, Any]:
     return name, values if len(values) > 1 else values[0]
 
 
-def from_options(sets: Sequence[str] = (), table: str | None = None,
-                 random: int | None = None, seed: int | None = None) -> list[Node]:
+def from_options(
+    sets: Sequence[str] = (),
+    table: str | None = None,
+    random: int | None = None,
+    seed: int | None = None,
+) -> list[Node]:
     """The blocks of the command-line options: ``--set`` as a grid (or, with
     ``--random N``, as the sampled parameters), then ``--table``."""
     blocks: list[dict[str, Any]] = []
     if random is not None:
         if not 1 <= random <= MAX_VARIANTS:
-            raise SweepError(Location("--random"), f"N must be from 1 to {MAX_VARIANTS}, "
-                                                   f"got {random}")
+            raise SweepError(
+                Location("--random"), f"N must be from 1 to {MAX_VARIANTS}, got {random}"
+            )
         if not sets:
-            raise SweepError(Location("--random"), "needs --set NAME=LO:HI for each sampled parameter")
-        blocks.append({"random": {"n": random, "seed": 0 if seed is None else seed,
-                                  "params": dict(parse_set(s, random=True) for s in sets)}})
+            raise SweepError(
+                Location("--random"), "needs --set NAME=LO:HI for each sampled parameter"
+            )
+        blocks.append(
+            {
+                "random": {
+                    "n": random,
+                    "seed": 0 if seed is None else seed,
+                    "params": dict(parse_set(s, random=True) for s in sets),
+                }
+            }
+        )
     elif seed is not None:
         raise SweepError(Location("--seed"), "is used with --random N")
     elif sets:
@@ -506,7 +585,9 @@ def from_options(sets: Sequence[str] = (), table: str | None = None,
                 raise SweepError(Location("--set"), f"'{name}' is set twice")
             grid[name] = value
         blocks.append({"grid": grid})
-    out = [_node(yaml.compose(yaml.safe_dump(b, sort_keys=False)), Location("--set")) for b in blocks]
+    out = [
+        _node(yaml.compose(yaml.safe_dump(b, sort_keys=False)), Location("--set")) for b in blocks
+    ]
     if table is not None:
         out.append(Node({"table": Node(table, Location("--table"))}, Location("--table")))
     return out
@@ -519,7 +600,9 @@ def check_parameters(variants: Sequence[Variant], declared: Iterable[str], file:
     for vid, values in variants:
         for name in values:
             if name not in known:
-                raise SweepError(Location(file, path="parameters"),
-                                 f"the sweep sets '{name}', which the file does not declare"
-                                 f"{did_you_mean(name, declared)}; its parameters: "
-                                 f"{', '.join(declared) or 'none'}")
+                raise SweepError(
+                    Location(file, path="parameters"),
+                    f"the sweep sets '{name}', which the file does not declare"
+                    f"{did_you_mean(name, declared)}; its parameters: "
+                    f"{', '.join(declared) or 'none'}",
+                )

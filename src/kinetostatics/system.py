@@ -8,8 +8,8 @@ each moving link's centre of mass; ground enters as zeros.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Sequence
 
 import numpy as np
 
@@ -18,8 +18,16 @@ from .graph import Group, Structure, structure
 from .joints import Joint
 from .model import Model
 
-__all__ = ["System", "GroupPlan", "build_system", "phi", "jacobian", "gamma", "nu",
-           "coordinate_gradient"]
+__all__ = [
+    "System",
+    "GroupPlan",
+    "build_system",
+    "phi",
+    "jacobian",
+    "gamma",
+    "nu",
+    "coordinate_gradient",
+]
 
 
 @dataclass(frozen=True)
@@ -27,8 +35,8 @@ class GroupPlan:
     """Index sets of one Assur group: its q columns and its constraint rows."""
 
     group: Group
-    cols: np.ndarray            # indices into q
-    rows: np.ndarray            # indices into Φ
+    cols: np.ndarray  # indices into q
+    rows: np.ndarray  # indices into Φ
     constraints: tuple[int, ...]  # indices into System.constraints
 
 
@@ -38,12 +46,12 @@ class System:
 
     model: Model
     structure: Structure
-    links: tuple[str, ...]                    # moving links in q order
-    constraints: tuple[Joint | DriverConstraint, ...]   # joints, then motion drivers
-    ends: np.ndarray                          # (n_c, 2) link indices; ground = n_links
-    row_start: np.ndarray                     # (n_c + 1,) first row of each constraint
+    links: tuple[str, ...]  # moving links in q order
+    constraints: tuple[Joint | DriverConstraint, ...]  # joints, then motion drivers
+    ends: np.ndarray  # (n_c, 2) link indices; ground = n_links
+    row_start: np.ndarray  # (n_c + 1,) first row of each constraint
     plans: tuple[GroupPlan, ...]
-    l_ref: float | np.ndarray                 # longest link dimension, m ((V, 1) stacked)
+    l_ref: float | np.ndarray  # longest link dimension, m ((V, 1) stacked)
     n_joint_rows: int = field(default=0)
 
     @property
@@ -77,8 +85,9 @@ def build_system(model: Model) -> System:
     index[model.ground.name] = len(links)
     joints = {j.name: j for j in model.joints}
     constraints: list = list(model.joints)
-    constraints += [DriverConstraint(d, joints[d.joint]) for d in model.drivers
-                    if d.motion is not None]
+    constraints += [
+        DriverConstraint(d, joints[d.joint]) for d in model.drivers if d.motion is not None
+    ]
     ends = np.array([[index[c.links[0]], index[c.links[1]]] for c in constraints], dtype=int)
     row_start = np.concatenate(([0], np.cumsum([c.n_eq for c in constraints]))).astype(int)
     by_name = {c.name: k for k, c in enumerate(constraints)}
@@ -90,8 +99,9 @@ def build_system(model: Model) -> System:
         plans.append(GroupPlan(g, cols, rows.astype(int), cons))
     l_ref = _reference_length(model)
     n_joint_rows = int(row_start[len(model.joints)])
-    return System(model, st, links, tuple(constraints), ends, row_start, tuple(plans),
-                  l_ref, n_joint_rows)
+    return System(
+        model, st, links, tuple(constraints), ends, row_start, tuple(plans), l_ref, n_joint_rows
+    )
 
 
 def _reference_length(model: Model) -> float | np.ndarray:
@@ -112,15 +122,16 @@ def _ext(q: np.ndarray) -> np.ndarray:
 
 def _pair(qe: np.ndarray, ends: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     i, j = ends
-    return qe[..., 3 * i:3 * i + 3], qe[..., 3 * j:3 * j + 3]
+    return qe[..., 3 * i : 3 * i + 3], qe[..., 3 * j : 3 * j + 3]
 
 
 def _selection(system: System, which: Sequence[int] | None) -> Sequence[int]:
     return range(len(system.constraints)) if which is None else which
 
 
-def phi(system: System, q: np.ndarray, psi: np.ndarray,
-        which: Sequence[int] | None = None) -> np.ndarray:
+def phi(
+    system: System, q: np.ndarray, psi: np.ndarray, which: Sequence[int] | None = None
+) -> np.ndarray:
     """Φ(q) for the constraints ``which`` (default all), ``(..., rows)``.
 
     ``psi (..., n_drivers)`` are the prescribed driver coordinates.
@@ -134,8 +145,13 @@ def phi(system: System, q: np.ndarray, psi: np.ndarray,
     return np.concatenate(out, axis=-1)
 
 
-def jacobian(system: System, q: np.ndarray, which: Sequence[int] | None = None,
-             cols: np.ndarray | None = None, ground: bool = False) -> np.ndarray:
+def jacobian(
+    system: System,
+    q: np.ndarray,
+    which: Sequence[int] | None = None,
+    cols: np.ndarray | None = None,
+    ground: bool = False,
+) -> np.ndarray:
     """Φ_q for the constraints ``which``, restricted to ``cols``: ``(..., rows, cols)``.
 
     With ``ground=True`` the three columns of the ground link are kept at the end.
@@ -149,8 +165,8 @@ def jacobian(system: System, q: np.ndarray, which: Sequence[int] | None = None,
         c = system.constraints[k]
         i, j = system.ends[k]
         ji, jj = c.jacobian(*_pair(qe, system.ends[k]))
-        out[..., r:r + c.n_eq, 3 * i:3 * i + 3] += ji
-        out[..., r:r + c.n_eq, 3 * j:3 * j + 3] += jj
+        out[..., r : r + c.n_eq, 3 * i : 3 * i + 3] += ji
+        out[..., r : r + c.n_eq, 3 * j : 3 * j + 3] += jj
         r += c.n_eq
     out = out if ground else out[..., :-3]
     return out if cols is None else out[..., cols]
@@ -162,8 +178,8 @@ def coordinate_gradient(system: System, q: np.ndarray, k: int, ground: bool = Fa
     i, j = system.ends[k]
     gi, gj = system.constraints[k].motion_direction(*_pair(qe, system.ends[k]))
     out = np.zeros(qe.shape)
-    out[..., 3 * i:3 * i + 3] += gi
-    out[..., 3 * j:3 * j + 3] += gj
+    out[..., 3 * i : 3 * i + 3] += gi
+    out[..., 3 * j : 3 * j + 3] += gj
     return out if ground else out[..., :-3]
 
 
@@ -180,6 +196,9 @@ def gamma(system: System, q: np.ndarray, qd: np.ndarray, psi_dd: np.ndarray) -> 
     for k, c in enumerate(system.constraints):
         qi, qj = _pair(qe, system.ends[k])
         vi, vj = _pair(ve, system.ends[k])
-        out.append(c.acceleration_rhs(qi, qj, vi, vj, psi_dd[..., k - n_j]) if k >= n_j
-                   else c.acceleration_rhs(qi, qj, vi, vj))
+        out.append(
+            c.acceleration_rhs(qi, qj, vi, vj, psi_dd[..., k - n_j])
+            if k >= n_j
+            else c.acceleration_rhs(qi, qj, vi, vj)
+        )
     return np.concatenate(out, axis=-1)

@@ -87,7 +87,14 @@ _CANONICAL: dict[str, dict[str, float]] = {
 # Extra spellings that normalisation alone does not produce: alias -> canonical.
 _ALIASES: dict[str, dict[str, str]] = {
     "length": {"µm": "um", "μm": "um"},
-    "torque": {"N·m": "N*m", "Nm": "N*m", "kN·m": "kN*m", "kNm": "kN*m", "N·mm": "N*mm", "Nmm": "N*mm"},
+    "torque": {
+        "N·m": "N*m",
+        "Nm": "N*m",
+        "kN·m": "kN*m",
+        "kNm": "kN*m",
+        "N·mm": "N*mm",
+        "Nmm": "N*mm",
+    },
     "inertia": {
         "kg·m²": "kg*m^2",
         "kg*m²": "kg*m^2",
@@ -222,7 +229,9 @@ def unit_table(spec: Mapping[str, str] | None) -> dict[str, float]:
     if spec is None:
         return table
     if not isinstance(spec, Mapping):
-        raise UnitError(f"units must be a mapping of quantity kind to unit, got {type(spec).__name__}")
+        raise UnitError(
+            f"units must be a mapping of quantity kind to unit, got {type(spec).__name__}"
+        )
     for kind, unit in spec.items():
         table[_check_kind(kind)] = factor(kind, unit)
     return table

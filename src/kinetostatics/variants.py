@@ -9,9 +9,10 @@ with its reason, never an exception.
 
 from __future__ import annotations
 
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any, Iterable, Mapping
+from typing import Any
 
 import numpy as np
 
@@ -27,16 +28,16 @@ __all__ = ["Template", "analyze_variants", "summary_row", "ROW_UNITS"]
 class Template:
     """A mechanism file read once, to build many variants from."""
 
-    tree: Any                      # yaml_io.Entry of the checked file
-    base: Model                    # the file as written
+    tree: Any  # yaml_io.Entry of the checked file
+    base: Model  # the file as written
 
     @classmethod
-    def load(cls, path: str | Path) -> "Template":
+    def load(cls, path: str | Path) -> Template:
         tree = yaml_io.compose(yaml_io.read_text(path), str(path))
         return cls(tree, yaml_io.build(tree))
 
     @classmethod
-    def loads(cls, text: str, file: str = "<string>") -> "Template":
+    def loads(cls, text: str, file: str = "<string>") -> Template:
         tree = yaml_io.compose(text, file)
         return cls(tree, yaml_io.build(tree))
 
@@ -45,24 +46,37 @@ class Template:
         """The file's parameters with their values (file units)."""
         return dict(self.base.parameters)
 
-    def model(self, overrides: Mapping[str, float] | None = None, *,
-              positions: int | None = None) -> Model:
+    def model(
+        self, overrides: Mapping[str, float] | None = None, *, positions: int | None = None
+    ) -> Model:
         """The variant's model (``ModelError`` if those values make it invalid);
         ``positions`` replaces ``analysis.positions``."""
         model = yaml_io.build(self.tree, overrides) if overrides else self.base
         if positions is not None:
-            model = replace(model, analysis=replace(model.analysis, positions=int(positions),
-                                                    at=()))
+            model = replace(
+                model, analysis=replace(model.analysis, positions=int(positions), at=())
+            )
         return model
 
 
 # -- summary rows ----------------------------------------------------------------------
 ROW_UNITS = {
-    "stroke": "m", "time_ratio": "1", "v_peak": "m/s", "a_peak": "m/s^2",
-    "omega_peak": "rad/s", "alpha_peak": "rad/s^2", "reaction_peak": "N",
-    "reaction_peak_friction": "N", "efficiency_min": "1", "efficiency_cycle": "1", "self_locking": "deg",
-    "self_locking_positions": "1", "pressure_angle_max": "deg",
-    "transmission_angle_min": "deg", "inertia": "kg*m^2", "inertia_net": "kg*m^2",
+    "stroke": "m",
+    "time_ratio": "1",
+    "v_peak": "m/s",
+    "a_peak": "m/s^2",
+    "omega_peak": "rad/s",
+    "alpha_peak": "rad/s^2",
+    "reaction_peak": "N",
+    "reaction_peak_friction": "N",
+    "efficiency_min": "1",
+    "efficiency_cycle": "1",
+    "self_locking": "deg",
+    "self_locking_positions": "1",
+    "pressure_angle_max": "deg",
+    "transmission_angle_min": "deg",
+    "inertia": "kg*m^2",
+    "inertia_net": "kg*m^2",
 }
 
 
@@ -70,8 +84,11 @@ def _outputs(system) -> list[tuple[str, str, int]]:
     """The output members: undriven prismatic pairs (kind "slide") or, when there
     are none, the last group's last link (kind "link")."""
     driven = {d.joint.name for d in system.motion_drivers}
-    slides = [("slide", j.name, k) for k, j in enumerate(system.model.joints)
-              if isinstance(j, Prismatic) and j.name not in driven]
+    slides = [
+        ("slide", j.name, k)
+        for k, j in enumerate(system.model.joints)
+        if isinstance(j, Prismatic) and j.name not in driven
+    ]
     if slides:
         return slides
     link = system.plans[-1].group.links[-1]
@@ -95,12 +112,14 @@ def _zones(result) -> str:
     'a–b; c–d' (a zone wrapping past 360° is one zone, e.g. '358.516494–1.483505980'); an edge
     beyond a run that is not a full cycle is '…'."""
     from .summary import locking_zones
-    text = lambda v: "…" if v is None else f"{v:.10g}"    # noqa: E731
+
+    text = lambda v: "…" if v is None else f"{v:.10g}"  # noqa: E731
     return "; ".join(f"{text(z['from'])}–{text(z['to'])}" for z in locking_zones(result))
 
 
-def summary_row(result, flywheel: bool | None = None, strokes: dict | None = None
-                ) -> dict[str, Any]:
+def summary_row(
+    result, flywheel: bool | None = None, strokes: dict | None = None
+) -> dict[str, Any]:
     """The batch row of one analysed variant (names ``<member>.<quantity>``,
     units :data:`ROW_UNITS`): strokes and time ratios of the outputs, peak
     output speed and acceleration, peak and RMS driving effort without and
@@ -113,10 +132,10 @@ def summary_row(result, flywheel: bool | None = None, strokes: dict | None = Non
     when not given)."""
     from .summary import _bias, output_strokes
     from .system import coordinate_gradient
+
     system = result.system
     cols = result.columns
-    row: dict[str, Any] = {"status": "ok", "reason": "",
-                           "full_cycle": bool(result.full_cycle)}
+    row: dict[str, Any] = {"status": "ok", "reason": "", "full_cycle": bool(result.full_cycle)}
     strokes = output_strokes(result) if strokes is None else strokes
     for kind, name, k in _outputs(system):
         if kind == "slide":
@@ -133,8 +152,9 @@ def summary_row(result, flywheel: bool | None = None, strokes: dict | None = Non
             row[f"{name}.alpha_peak"] = np.max(np.abs(cols[f"{name}.alpha"]), axis=-1)
     angle = cols["angle"] if "angle" in cols else cols["stroke"]
     from .reactions import effort_joints
+
     for d, k_eff in zip(system.motion_drivers, effort_joints(system)):
-        word = "torque" if system.model.joints[k_eff].angular else "force"   # at balance_at
+        word = "torque" if system.model.joints[k_eff].angular else "force"  # at balance_at
         key = f"{d.name}.{word}"
         for suffix in ("", "_friction_approx", "_friction"):
             if key + suffix in cols:
@@ -145,8 +165,9 @@ def summary_row(result, flywheel: bool | None = None, strokes: dict | None = Non
             # the driving phase: both efforts drive in the sense of motion of the joint that
             # carries them (the driver's own, or balance_at: its relative speed changes sign)
             tau, tau_f = cols[key], cols[key + "_friction"]
-            rel = np.einsum("...n,...n->...", coordinate_gradient(system, result.q, k_eff),
-                            result.qd)
+            rel = np.einsum(
+                "...n,...n->...", coordinate_gradient(system, result.q, k_eff), result.qd
+            )
             sense = np.sign(rel)
             driving = (tau * sense > 0) & (tau_f * sense > 0)
             with np.errstate(divide="ignore", invalid="ignore"):
@@ -154,19 +175,21 @@ def summary_row(result, flywheel: bool | None = None, strokes: dict | None = Non
                 e_min = np.min(ratio, axis=-1)
                 row[f"{d.name}.efficiency_min"] = np.where(np.isfinite(e_min), e_min, np.nan)
                 both = np.isfinite(tau) & np.isfinite(tau_f)  # input work ∝ Σ effort·speed
-                w_in = np.sum(np.where(both, tau * rel, 0.0), axis=-1)   # over the rows
-                w_in_f = np.sum(np.where(both, tau_f * rel, 0.0), axis=-1)   # with both
+                w_in = np.sum(np.where(both, tau * rel, 0.0), axis=-1)  # over the rows
+                w_in_f = np.sum(np.where(both, tau_f * rel, 0.0), axis=-1)  # with both
                 row[f"{d.name}.efficiency_cycle"] = np.where(w_in_f > 0, w_in / w_in_f, np.nan)
     if "friction.status" in cols:
         locked = cols["friction.status"] == 2
         row["friction.self_locking_positions"] = np.count_nonzero(locked, axis=-1)
-        row["friction.self_locking"] = (_zones(result) if locked.ndim == 1 else
-                                        np.array([_ranges(a, m) for a, m in zip(angle, locked)],
-                                                 dtype=object))
+        row["friction.self_locking"] = (
+            _zones(result)
+            if locked.ndim == 1
+            else np.array([_ranges(a, m) for a, m in zip(angle, locked)], dtype=object)
+        )
     for j in system.model.joints:
         if f"{j.name}.Fx" not in cols:
             continue
-        mag = np.hypot(cols[f"{j.name}.Fx"], cols[f"{j.name}.Fy"])   # NaN: singular rows
+        mag = np.hypot(cols[f"{j.name}.Fx"], cols[f"{j.name}.Fy"])  # NaN: singular rows
         peak = np.max(np.where(np.isfinite(mag), mag, -np.inf), axis=-1)
         row[f"{j.name}.reaction_peak"] = np.where(peak > -np.inf, peak, np.nan)
         if f"{j.name}.Fx_friction" in cols:
@@ -180,19 +203,30 @@ def summary_row(result, flywheel: bool | None = None, strokes: dict | None = Non
             row[name + "_min"] = np.min(np.minimum(cols[name], 180.0 - cols[name]), axis=-1)
     if flywheel or (flywheel is None and getattr(system.model, "flywheel", None) is not None):
         from .flywheel import design
+
         fw = design(result)
         row["flywheel.inertia"], row["flywheel.inertia_net"] = fw.inertia, fw.inertia_net
-    return {k: (v.item() if isinstance(v, np.ndarray) and v.ndim == 0 else v)
-            for k, v in row.items()}
+    return {
+        k: (v.item() if isinstance(v, np.ndarray) and v.ndim == 0 else v) for k, v in row.items()
+    }
 
 
 def split_rows(row: dict[str, Any], n: int) -> list[dict[str, Any]]:
     """Rows of ``n`` variants from one row of arrays ``(n,)`` (scalars repeat)."""
     out = []
     for v in range(n):
-        out.append({k: (val[v].item() if isinstance(val, np.ndarray) and val.dtype != object
-                         else val[v] if isinstance(val, np.ndarray) else val)
-                    for k, val in row.items()})
+        out.append(
+            {
+                k: (
+                    val[v].item()
+                    if isinstance(val, np.ndarray) and val.dtype != object
+                    else val[v]
+                    if isinstance(val, np.ndarray)
+                    else val
+                )
+                for k, val in row.items()
+            }
+        )
     return out
 
 
@@ -206,10 +240,15 @@ def failure_row(exc: BaseException) -> dict[str, Any]:
     return row
 
 
-def analyze_variants(template: Template, overrides: Iterable[Mapping[str, float]], *,
-                     positions: int | None = None, friction: bool | None = None,
-                     flywheel: bool | None = None, vectorise: bool = True
-                     ) -> list[dict[str, Any]]:
+def analyze_variants(
+    template: Template,
+    overrides: Iterable[Mapping[str, float]],
+    *,
+    positions: int | None = None,
+    friction: bool | None = None,
+    flywheel: bool | None = None,
+    vectorise: bool = True,
+) -> list[dict[str, Any]]:
     """One :func:`summary_row` per variant, in order; failures are rows with their reason.
 
     ``positions`` replaces the file's number of positions; ``friction``
@@ -230,6 +269,7 @@ def analyze_variants(template: Template, overrides: Iterable[Mapping[str, float]
     if vectorise and not wants_flywheel and len(models) > 1:
         _vectorised_rows(models, rows, friction)
     from .analysis import analyze
+
     for v, model in models.items():
         if rows[v] is not None:
             continue
@@ -243,34 +283,42 @@ def analyze_variants(template: Template, overrides: Iterable[Mapping[str, float]
 def _vectorised_rows(models: dict[int, Model], rows: list, friction: bool | None) -> None:
     """Fill ``rows`` of the variants the vectorised analysis takes, group by topology."""
     import warnings
+
     from . import vectorised
     from .stacking import TopologyMismatch, signature, stack
-    try:                                  # one topology (the usual case): no signatures needed
+
+    try:  # one topology (the usual case): no signatures needed
         groups = {(): (list(models), stack(list(models.values())))}
     except TopologyMismatch:
         groups = {}
         for v, m in models.items():
             groups.setdefault(signature(m), ([], None))[0].append(v)
     for members, stacked in groups.values():
-        for _ in range(3):                # variants that leave the path go, the rest again
+        for _ in range(3):  # variants that leave the path go, the rest again
             if len(members) < 2:
                 break
             try:
                 with warnings.catch_warnings():
                     warnings.simplefilter("ignore")
                     with np.errstate(all="ignore"):
-                        st = vectorised.analyze_stacked([models[v] for v in members],
-                                                        friction=friction, stacked=stacked)
+                        st = vectorised.analyze_stacked(
+                            [models[v] for v in members], friction=friction, stacked=stacked
+                        )
                         strokes = vectorised.output_strokes(st)
-                        row = summary_row(vectorised.as_result(st), flywheel=False,
-                                          strokes=strokes)
+                        row = summary_row(vectorised.as_result(st), flywheel=False, strokes=strokes)
             except vectorised.LeftOver as exc:
                 members, stacked = [v for v, ok in zip(members, exc.ok) if ok], None
                 continue
-            except (vectorised.Unsupported, TopologyMismatch, ValueError, IndexError,
-                    ArithmeticError, np.linalg.LinAlgError):
-                break                     # the per-variant analysis takes them, exactly
+            except (
+                vectorised.Unsupported,
+                TopologyMismatch,
+                ValueError,
+                IndexError,
+                ArithmeticError,
+                np.linalg.LinAlgError,
+            ):
+                break  # the per-variant analysis takes them, exactly
             for v, ok, r in zip(members, st.ok, split_rows(row, len(members))):
-                if ok and not r.get("friction.self_locking_positions"):   # a locked zone's
-                    rows[v] = r                                           # edges: one by one
+                if ok and not r.get("friction.self_locking_positions"):  # a locked zone's
+                    rows[v] = r  # edges: one by one
             break

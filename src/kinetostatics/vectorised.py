@@ -16,8 +16,8 @@ functions evaluate the same formulas, only over one more leading axis.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Sequence
 
 import numpy as np
 
@@ -25,8 +25,17 @@ from .analysis import Schedule, _times, kinetics
 from .dyads import closed_form
 from .forces import point_state
 from .model import Model, MotionLaw
-from .positions import (SKETCH_TOL, TOL, _signature, closed_form_near, closed_form_path,
-                        derivatives, group_condition, initial_guess, sketch_distances)
+from .positions import (
+    SKETCH_TOL,
+    TOL,
+    _signature,
+    closed_form_near,
+    closed_form_path,
+    derivatives,
+    group_condition,
+    initial_guess,
+    sketch_distances,
+)
 from .stacking import is_stacked, stack
 from .system import System, build_system, jacobian, phi
 
@@ -40,15 +49,15 @@ class Stacked:
     """The arrays of a stacked analysis; ``ok (V,)`` marks the variants analysed."""
 
     system: System
-    t: np.ndarray                  # (N,)
-    psi: np.ndarray                # (V, N, 1)
-    q: np.ndarray                  # (V, N, n_q)
+    t: np.ndarray  # (N,)
+    psi: np.ndarray  # (V, N, 1)
+    q: np.ndarray  # (V, N, n_q)
     qd: np.ndarray
     qdd: np.ndarray
     lu: object
-    kin: object                    # analysis.Kinetics
+    kin: object  # analysis.Kinetics
     extremes: dict
-    ok: np.ndarray                 # (V,) bool
+    ok: np.ndarray  # (V,) bool
     sched: Schedule
     solvers: list
 
@@ -66,8 +75,9 @@ class LeftOver(Unsupported):
 
     def __init__(self, ok: np.ndarray):
         self.ok = ok
-        super().__init__(f"{int(np.count_nonzero(~ok))} of {len(ok)} variants leave the "
-                         "vectorised path")
+        super().__init__(
+            f"{int(np.count_nonzero(~ok))} of {len(ok)} variants leave the vectorised path"
+        )
 
 
 def _schedule(system: System) -> Schedule:
@@ -76,8 +86,11 @@ def _schedule(system: System) -> Schedule:
     if len(drivers) != 1 or system.structure.mobility != 1:
         raise Unsupported("more than one motion driver")
     motion = drivers[0].driver.motion
-    if not isinstance(motion, MotionLaw) or getattr(motion, "acceleration", 0.0) \
-            or getattr(motion, "start", None) is not None:
+    if (
+        not isinstance(motion, MotionLaw)
+        or getattr(motion, "acceleration", 0.0)
+        or getattr(motion, "start", None) is not None
+    ):
         raise Unsupported("a motion law other than constant speed")
     speed = motion.speed
     start = model.analysis.start
@@ -90,7 +103,7 @@ def _newton(system: System, q: np.ndarray, psi: np.ndarray, plan) -> tuple[np.nd
     """Newton on one group for every entry of ``q (V, M, n_q)`` (no subsets: the
     variant axis must stay aligned with the stacked parameters)."""
     cols = plan.cols
-    ang = (np.arange(len(cols)) % 3 == 2)
+    ang = np.arange(len(cols)) % 3 == 2
     l_ref = np.asarray(system.l_ref)[..., None] if np.ndim(system.l_ref) else system.l_ref
     step_tol = np.where(ang, TOL, TOL * l_ref)
     q = q.copy()
@@ -125,7 +138,7 @@ def _start(system: System, models: Sequence[Model], sched: Schedule):
         ok &= (s0 != 0) & (cond0 <= 1e10) & conv[:, 0] & (s1 == s0)
         q = np.where(ok[:, None, None], qn, q)
     tol = SKETCH_TOL * np.broadcast_to(system.l_ref, (len(models), 1))
-    for sp in sketch_distances(system, q):          # assembled far from the sketch: refused
+    for sp in sketch_distances(system, q):  # assembled far from the sketch: refused
         ok &= np.broadcast_to(sp.distance, (len(models), 1))[:, 0] <= tol[:, 0]
     return q, ok
 
@@ -161,6 +174,7 @@ def refine_roots(system, solvers, sched, f, t0, q0, qd0, qdd0, max_iter: int = 1
 def _extremes(system, solvers, sched, t, q, qd, qdd) -> dict:
     """Exact minima over the cycle of the ``travel`` conditions' p·axis, ``(V, 1)``."""
     from .analysis import travel_conditions
+
     extremes: dict[int, np.ndarray] = {}
     for c, k, p in travel_conditions(system):
         pos = point_state(q, qd, None, k, p)[0]
@@ -168,10 +182,18 @@ def _extremes(system, solvers, sched, t, q, qd, qdd) -> dict:
         n = np.argmin(s, axis=-1)
         take = lambda a: np.take_along_axis(a, n[:, None, None], axis=1)  # noqa: E731
         _, (qm, _, _) = refine_roots(
-            system, solvers, sched,
-            lambda a, b, cc: (np.sum(point_state(a, b, cc, k, p)[1] * c.axis, axis=-1),
-                              np.sum(point_state(a, b, cc, k, p)[2] * c.axis, axis=-1)),
-            t[n][:, None], take(q), take(qd), take(qdd))
+            system,
+            solvers,
+            sched,
+            lambda a, b, cc: (
+                np.sum(point_state(a, b, cc, k, p)[1] * c.axis, axis=-1),
+                np.sum(point_state(a, b, cc, k, p)[2] * c.axis, axis=-1),
+            ),
+            t[n][:, None],
+            take(q),
+            take(qd),
+            take(qdd),
+        )
         sm = np.sum(point_state(qm, qm, None, k, p)[0] * c.axis, axis=-1)
         extremes[id(c)] = np.minimum(sm, np.min(s, axis=-1, keepdims=True))
     return extremes
@@ -179,25 +201,30 @@ def _extremes(system, solvers, sched, t, q, qd, qdd) -> dict:
 
 def _check_supported(sm: Model, friction: bool) -> None:
     """Refuse what the stacked stages do not broadcast (the loop takes it)."""
-    if is_stacked(sm.gravity) or any(is_stacked(d.offset) or is_stacked(d.effort)
-                                     for d in sm.drivers):
+    if is_stacked(sm.gravity) or any(
+        is_stacked(d.offset) or is_stacked(d.effort) for d in sm.drivers
+    ):
         raise Unsupported("gravity or a driver's constants differ between variants")
     for load in sm.loads:
         if load.table is not None:
             at, vals = load.table
             if np.ndim(at) > 1 or np.ndim(vals) > (2 if load.kind == "force" else 1):
                 raise Unsupported(f"the table of load '{load.name}' differs between variants")
-        if is_stacked(load.axis) or any(is_stacked(c.axis) or c.kind == "angle"
-                                        and is_stacked(c.bounds) for c in load.active):
-            raise Unsupported(f"the directions or angle band of load '{load.name}' differ "
-                              "between variants")
-    if friction and any(is_stacked(getattr(j, name, 0.0)) for j in sm.joints
-                        for name in ("rho", "f", "loss")):
+        if is_stacked(load.axis) or any(
+            is_stacked(c.axis) or c.kind == "angle" and is_stacked(c.bounds) for c in load.active
+        ):
+            raise Unsupported(
+                f"the directions or angle band of load '{load.name}' differ between variants"
+            )
+    if friction and any(
+        is_stacked(getattr(j, name, 0.0)) for j in sm.joints for name in ("rho", "f", "loss")
+    ):
         raise Unsupported("friction coefficients differ between variants")
 
 
-def analyze_stacked(models: Sequence[Model], *, friction: bool | None = None,
-                    stacked: Model | None = None) -> Stacked:
+def analyze_stacked(
+    models: Sequence[Model], *, friction: bool | None = None, stacked: Model | None = None
+) -> Stacked:
     """The analysis of every variant at once (see the module's text); ``stacked``:
     ``stack(models)`` if at hand.  Raises :class:`Unsupported` if the model is
     outside the vectorised case."""
@@ -222,8 +249,17 @@ def analyze_stacked(models: Sequence[Model], *, friction: bool | None = None,
     psi, psi_d, psi_dd = (np.broadcast_to(x, q.shape[:-1] + (1,)) for x in (psi, psi_d, psi_dd))
     qd, qdd, lu = derivatives(system, q, psi_d, psi_dd)
     extremes = _extremes(system, solvers, sched, t, q, qd, qdd)
-    kin = kinetics(system, q, qd, qdd, psi, lu=lu, extremes=extremes, ref_speed=sched.reference,
-                   friction=sm.has_friction if friction is None else friction)
+    kin = kinetics(
+        system,
+        q,
+        qd,
+        qdd,
+        psi,
+        lu=lu,
+        extremes=extremes,
+        ref_speed=sched.reference,
+        friction=sm.has_friction if friction is None else friction,
+    )
     return Stacked(system, t, psi, q, qd, qdd, lu, kin, extremes, ok, sched, solvers)
 
 
@@ -234,6 +270,7 @@ def output_strokes(st: Stacked) -> dict[str, dict[str, np.ndarray]]:
     from .joints import Prismatic
     from .summary import _bias, _coordinate
     from .system import coordinate_gradient
+
     system, out = st.system, {}
     driven = {d.joint.name for d in system.motion_drivers}
     period = 2 * np.pi / st.sched.reference
@@ -244,16 +281,19 @@ def output_strokes(st: Stacked) -> dict[str, dict[str, np.ndarray]]:
 
         def f(q, qd, qdd, k=k):
             g = coordinate_gradient(system, q, k)
-            return (np.einsum("...n,...n->...", g, qd),
-                    np.einsum("...n,...n->...", g, qdd) + _bias(system, q, qd, k))
+            return (
+                np.einsum("...n,...n->...", g, qd),
+                np.einsum("...n,...n->...", g, qdd) + _bias(system, q, qd, k),
+            )
+
         ds = f(st.q, st.qd, st.qdd)[0]
         a = np.arange(n)
-        b = (a + 1) % n                             # a full cycle: the last pairs with the first
+        b = (a + 1) % n  # a full cycle: the last pairs with the first
         fa, fb = ds[:, a], ds[:, b]
         cross = (np.sign(fa) * np.sign(fb) < 0) | (fa == 0.0)
         two = np.count_nonzero(cross, axis=-1) == 2
         st.ok &= two
-        idx = np.argsort(~cross, axis=-1, kind="stable")[:, :2]    # the first two crossings
+        idx = np.argsort(~cross, axis=-1, kind="stable")[:, :2]  # the first two crossings
         ia, ib = idx, (idx + 1) % n
         ta, tb = st.t[ia], st.t[ib] + np.where(ib == 0, period, 0.0)
         fa, fb = np.take_along_axis(ds, ia, -1), np.take_along_axis(ds, ib, -1)
@@ -262,8 +302,9 @@ def output_strokes(st: Stacked) -> dict[str, dict[str, np.ndarray]]:
         with np.errstate(invalid="ignore", divide="ignore"):
             guess = np.where(fa == 0.0, ta, ta + (tb - ta) * fa / (fa - fb))
         take = lambda x: np.take_along_axis(x, nn[..., None], axis=1)  # noqa: E731
-        roots, (qr, _, _) = refine_roots(system, st.solvers, st.sched, f, guess,
-                                         take(st.q), take(st.qd), take(st.qdd))
+        roots, (qr, _, _) = refine_roots(
+            system, st.solvers, st.sched, f, guess, take(st.q), take(st.qd), take(st.qdd)
+        )
         roots = np.mod(roots, period)
         vals = _coordinate(system, qr, k)
         lo = np.argmin(vals, axis=-1)[:, None]
@@ -273,18 +314,45 @@ def output_strokes(st: Stacked) -> dict[str, dict[str, np.ndarray]]:
         t_up = np.mod(r_hi - r_lo, period)
         t_down = period - t_up
         stroke = np.abs(vals[:, 1] - vals[:, 0])
-        out[j.name] = {"stroke": np.where(two, stroke, np.nan),
-                       "time_ratio": np.where(two, np.maximum(t_up, t_down) /
-                                              np.minimum(t_up, t_down), np.nan)}
+        out[j.name] = {
+            "stroke": np.where(two, stroke, np.nan),
+            "time_ratio": np.where(
+                two, np.maximum(t_up, t_down) / np.minimum(t_up, t_down), np.nan
+            ),
+        }
     return out
 
 
 def as_result(st: Stacked):
     """A :class:`~kinetostatics.results.Result` whose columns are ``(V, N)``."""
     from .results import Result, build_columns
+
     kin = st.kin
-    columns, units = build_columns(st.system, st.t, st.psi, st.q, st.qd, st.qdd, kin.x0,
-                                   kin.friction, kin.power, {}, None, True)
-    return Result(system=st.system, t=st.t, coordinate=st.psi[..., 0], q=st.q, qd=st.qd,
-                  qdd=st.qdd, lam=kin.x0, columns=columns, units=units,
-                  indeterminate=kin.indeterminate, full_cycle=True, extremes=st.extremes)
+    columns, units = build_columns(
+        st.system,
+        st.t,
+        st.psi,
+        st.q,
+        st.qd,
+        st.qdd,
+        kin.x0,
+        kin.friction,
+        kin.power,
+        {},
+        None,
+        True,
+    )
+    return Result(
+        system=st.system,
+        t=st.t,
+        coordinate=st.psi[..., 0],
+        q=st.q,
+        qd=st.qd,
+        qdd=st.qdd,
+        lam=kin.x0,
+        columns=columns,
+        units=units,
+        indeterminate=kin.indeterminate,
+        full_cycle=True,
+        extremes=st.extremes,
+    )

@@ -7,7 +7,7 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT))                 # for tests.oracles
+sys.path.insert(0, str(ROOT))  # for tests.oracles
 
 
 def best_of(f, repeat: int = 7, number: int | None = None) -> float:

@@ -22,10 +22,10 @@ for p in (ROOT, ROOT / "tests" / "benchmarks", ROOT / "docs" / "scripts"):
     if str(p) not in sys.path:
         sys.path.insert(0, str(p))
 
+from _common import best_of as _best_of  # noqa: E402  (tests/benchmarks/_common.py)
+
 import kinetostatics as ks  # noqa: E402
 from kinetostatics import dyads, positions  # noqa: E402
-
-from _common import best_of as _best_of  # noqa: E402  (tests/benchmarks/_common.py)
 
 DOC = ROOT / "docs" / "accuracy.md"
 IMG = ROOT / "docs" / "img"
@@ -92,6 +92,7 @@ def pose_error(system: ks.System, q: np.ndarray, ref: np.ndarray) -> float:
 def slider_crank_state(p, phi: np.ndarray):
     """(q, q̇, q̈) of the closed form in the library's layout (tests/oracles)."""
     from tests.oracles import slider_crank_closed_form as cf
+
     return cf.state(p, phi)
 
 
@@ -133,8 +134,10 @@ def update_doc(blocks: dict[str, str]) -> None:
     """Replace the blocks of docs/accuracy.md by the new ones (each must exist)."""
     text = DOC.read_text()
     for name, body in blocks.items():
-        pat = re.compile(rf"<!-- BEGIN accuracy:{re.escape(name)} -->.*?<!-- END accuracy:{re.escape(name)} -->",
-                         re.S)
+        pat = re.compile(
+            rf"<!-- BEGIN accuracy:{re.escape(name)} -->.*?<!-- END accuracy:{re.escape(name)} -->",
+            re.S,
+        )
         if not pat.search(text):
             raise SystemExit(f"docs/accuracy.md has no block accuracy:{name}")
         text = pat.sub(lambda m: block(name, body), text)
@@ -144,6 +147,7 @@ def update_doc(blocks: dict[str, str]) -> None:
 def save_figure(fig, name: str) -> list[Path]:
     """Lay out, write ``docs/img/<name>`` and close a figure; the list of paths written."""
     import matplotlib.pyplot as plt
+
     fig.tight_layout()
     path = IMG / name
     fig.savefig(path, dpi=110)
@@ -163,6 +167,7 @@ def main(build, argv=None) -> None:
         print()
     if plot is not None:
         import matplotlib
+
         matplotlib.use("Agg")
         IMG.mkdir(exist_ok=True)
         for path in plot():

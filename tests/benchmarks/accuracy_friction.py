@@ -22,9 +22,8 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-import numpy as np
-
 import accuracy_common as ac
+import numpy as np
 from accuracy_common import Table, e, ms
 from friction_levels import scaled
 
@@ -47,8 +46,17 @@ def stages(system):
     qd, qdd, lu = derivatives(system, q, psi_d, psi_dd)
     # external loads need the cycle extremes of travel conditions: take them from analyze
     res = ks.analyze(system, friction=False, events=False)
-    kin = kinetics(system, q, qd, qdd, psi, lu=lu, extremes=res.extremes,
-                   ref_speed=sched.reference, friction=False)
+    kin = kinetics(
+        system,
+        q,
+        qd,
+        qdd,
+        psi,
+        lu=lu,
+        extremes=res.extremes,
+        ref_speed=sched.reference,
+        friction=False,
+    )
     q_load, x0 = kin.q_load, kin.x0
 
     def approximate():
@@ -62,6 +70,7 @@ def stages(system):
 
 def build(timing: bool = True):
     from tests.oracles import slider_crank_closed_form as cf
+
     blocks, points = {}, {}
     for name in NAMES:
         head = ["friction × s", "frictionless τ error", "approximate τ error"]
@@ -74,7 +83,9 @@ def build(timing: bool = True):
             system = ks.build_system(scaled(name, s))
             driver = system.motion_drivers[0].name
             r = ks.analyze(system)
-            tau, tau_a, tau_0 = (r[f"{driver}.torque{k}"] for k in ("_friction", "_friction_approx", ""))
+            tau, tau_a, tau_0 = (
+                r[f"{driver}.torque{k}"] for k in ("_friction", "_friction_approx", "")
+            )
             ok = np.isfinite(tau)
             scale = np.max(np.abs(tau[ok]))
             err0 = np.max(np.abs(tau_0 - tau)[ok]) / scale
@@ -82,8 +93,14 @@ def build(timing: bool = True):
             cells = [f"{s:g}", e(err0), e(erra)]
             if name == "slider_crank":
                 base = cf.SliderCrank()
-                p = replace(base, rho_O=base.rho_O * s, rho_A=base.rho_A * s, rho_B=base.rho_B * s,
-                            f=base.f * s, L_ref=system.l_ref)
+                p = replace(
+                    base,
+                    rho_O=base.rho_O * s,
+                    rho_A=base.rho_A * s,
+                    rho_B=base.rho_B * s,
+                    f=base.f * s,
+                    L_ref=system.l_ref,
+                )
                 eq9 = cf.friction_approx_torque_eq9(p, np.radians(r["angle"]))
                 cells.append(e(np.max(np.abs(tau_a - eq9)) / np.max(np.abs(eq9))))
             counts = np.bincount(r["friction.status"].astype(int), minlength=4)
@@ -91,10 +108,12 @@ def build(timing: bool = True):
             times = [None] * 4
             if timing:
                 approx, cons = stages(system)
-                times = [ac.best_of(lambda: ks.analyze(system, friction=False)),
-                         ac.best_of(lambda: ks.analyze(system), repeat=3 if s > 8 else None),
-                         ac.best_of(approx),
-                         ac.best_of(cons, repeat=3 if s > 8 else None)]
+                times = [
+                    ac.best_of(lambda: ks.analyze(system, friction=False)),
+                    ac.best_of(lambda: ks.analyze(system), repeat=3 if s > 8 else None),
+                    ac.best_of(approx),
+                    ac.best_of(cons, repeat=3 if s > 8 else None),
+                ]
             tab.add(*cells, *(ms(x) for x in times))
             pts.append((s, err0, erra, *times))
         points[name] = pts
@@ -102,32 +121,65 @@ def build(timing: bool = True):
 
     def plot():
         import matplotlib.pyplot as plt
+
         fig, axes = plt.subplots(1, 2, figsize=(11.5, 4.4))
-        floor = 1e-8                      # the consistent solution is the reference: drawn here
+        floor = 1e-8  # the consistent solution is the reference: drawn here
         for name, color in zip(NAMES, ("C0", "C3")):
             pts = points[name]
             s = [p[0] for p in pts]
-            axes[0].loglog(s, [p[1] for p in pts], "o--", color=color, mfc="none",
-                           label=f"{name}: frictionless")
+            axes[0].loglog(
+                s,
+                [p[1] for p in pts],
+                "o--",
+                color=color,
+                mfc="none",
+                label=f"{name}: frictionless",
+            )
             axes[0].loglog(s, [p[2] for p in pts], "s-", color=color, label=f"{name}: approximate")
             cost_a = [(p[3] + p[5]) / p[3] for p in pts]
             cost_f = [p[4] / p[3] for p in pts]
             ax = axes[1]
-            ax.loglog([1.0] * len(pts), [p[1] for p in pts], "o", color=color, mfc="none",
-                      label=f"{name}: frictionless (cost 1)")
+            ax.loglog(
+                [1.0] * len(pts),
+                [p[1] for p in pts],
+                "o",
+                color=color,
+                mfc="none",
+                label=f"{name}: frictionless (cost 1)",
+            )
             ax.loglog(cost_a, [p[2] for p in pts], "s", color=color, label=f"{name}: approximate")
-            ax.loglog(cost_f, [floor] * len(pts), "^:", color=color,
-                      label=f"{name}: consistent (the reference)")
+            ax.loglog(
+                cost_f,
+                [floor] * len(pts),
+                "^:",
+                color=color,
+                label=f"{name}: consistent (the reference)",
+            )
             for p, x, xf in zip(pts, cost_a, cost_f):
                 if p[0] in (0.01, 1.0, 16.0):
-                    ax.annotate(f"s={p[0]:g}", (x, p[2]), fontsize=7, xytext=(4, -3),
-                                textcoords="offset points", color=color)
+                    ax.annotate(
+                        f"s={p[0]:g}",
+                        (x, p[2]),
+                        fontsize=7,
+                        xytext=(4, -3),
+                        textcoords="offset points",
+                        color=color,
+                    )
                 if p[0] in (1.0, 16.0):
-                    ax.annotate(f"s={p[0]:g}", (xf, floor), fontsize=7, xytext=(0, 6),
-                                textcoords="offset points", color=color, ha="center")
+                    ax.annotate(
+                        f"s={p[0]:g}",
+                        (xf, floor),
+                        fontsize=7,
+                        xytext=(0, 6),
+                        textcoords="offset points",
+                        color=color,
+                        ha="center",
+                    )
         axes[0].set_xlabel("friction level s (× the file's friction radii and coefficients)")
         axes[0].set_ylabel("max |τ − τ_consistent| / max |τ_consistent|")
-        axes[0].set_title("driving torque error against friction level (360 positions)", fontsize=10)
+        axes[0].set_title(
+            "driving torque error against friction level (360 positions)", fontsize=10
+        )
         axes[0].legend(fontsize=7)
         axes[0].grid(True, which="both", alpha=0.3)
         ax = axes[1]
@@ -137,6 +189,7 @@ def build(timing: bool = True):
         ax.legend(fontsize=7, loc="center right")
         ax.grid(True, which="both", alpha=0.3)
         return ac.save_figure(fig, "accuracy_friction.png")
+
     return blocks, (plot if timing else None)
 
 

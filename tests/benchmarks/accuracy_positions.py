@@ -23,9 +23,8 @@ reference is the fast path.
 
 from __future__ import annotations
 
-import numpy as np
-
 import accuracy_common as ac
+import numpy as np
 from accuracy_common import Table, e, ms
 
 from kinetostatics import positions
@@ -47,6 +46,7 @@ class Counter:
             q, ok, it = self.saved(*args, **kw)
             self.total += int(np.sum(it))
             return q, ok, it
+
         positions._newton = newton
         return self
 
@@ -56,6 +56,7 @@ class Counter:
 
 def oracle(name: str):
     from tests.oracles import slider_crank_closed_form as cf
+
     if name == "slider_crank":
         return cf.SliderCrank()
     if name == "tests/hard/slider_crank_edge.yaml":
@@ -66,16 +67,19 @@ def oracle(name: str):
 def measure(name: str, general: bool, timing: bool, ref=None, **knobs):
     """One row: (iterations, errors, times, solution)."""
     import contextlib
-    with (ac.general_path() if general else contextlib.nullcontext()), ac.knobs(**knobs):
+
+    with ac.general_path() if general else contextlib.nullcontext(), ac.knobs(**knobs):
         system = ac.system(name)
         sched = _schedule(system)
         runs = {}
         for n in (360, 36_000):
             phi = np.arange(n) * 2 * np.pi / n
-            t, _ = _times(system, sched, system.model.analysis.start + np.sign(sched.speed[0]) * phi)
+            t, _ = _times(
+                system, sched, system.model.analysis.start + np.sign(sched.speed[0]) * phi
+            )
             runs[n] = (t, phi)
         t, phi = runs[360]
-        solve_positions(system, t, sched)                 # start pose cached, as in every run
+        solve_positions(system, t, sched)  # start pose cached, as in every run
         with Counter() as count:
             sol = solve_positions(system, t, sched)
         _, psi_d, psi_dd = sched(t)
@@ -83,27 +87,60 @@ def measure(name: str, general: bool, timing: bool, ref=None, **knobs):
         p = oracle(name)
         if p is not None:
             q_ref, qd_ref, qdd_ref = ac.slider_crank_state(p, phi)
-        else:                                              # its own reference (errors 0)
+        else:  # its own reference (errors 0)
             q_ref, qd_ref, qdd_ref = ref if ref is not None else (sol.q, qd, qdd)
-        errs = (ac.pose_error(system, sol.q, q_ref), ac.column_error(qd, qd_ref),
-                ac.column_error(qdd, qdd_ref))
+        errs = (
+            ac.pose_error(system, sol.q, q_ref),
+            ac.column_error(qd, qd_ref),
+            ac.column_error(qdd, qdd_ref),
+        )
         times = [None, None]
         if timing:
-            times = [ac.best_of(lambda: solve_positions(system, runs[n][0], sched),
-                                repeat=None if n == 360 else 3) for n in (360, 36_000)]
-    iters = (float(np.mean(sol.iterations)), int(np.max(sol.iterations)), count.total / len(t),
-             sol.fallback)
+            times = [
+                ac.best_of(
+                    lambda: solve_positions(system, runs[n][0], sched),
+                    repeat=None if n == 360 else 3,
+                )
+                for n in (360, 36_000)
+            ]
+    iters = (
+        float(np.mean(sol.iterations)),
+        int(np.max(sol.iterations)),
+        count.total / len(t),
+        sol.fallback,
+    )
     return iters, errs, times, (sol.q, qd, qdd)
 
 
 def row(tab, label, tol, step, iters, errs, times):
-    tab.add(label, tol, step, f"{iters[0]:.2f} / {iters[1]}", f"{iters[2]:.2f}", iters[3],
-            *(e(x) for x in errs), *(ms(x) for x in times))
+    tab.add(
+        label,
+        tol,
+        step,
+        f"{iters[0]:.2f} / {iters[1]}",
+        f"{iters[2]:.2f}",
+        iters[3],
+        *(e(x) for x in errs),
+        *(ms(x) for x in times),
+    )
 
 
 def header():
-    return Table(["path", "TOL", "coarse step", "batch iterations", "all iterations",
-                  "fallback", "pose error", "q̇ error", "q̈ error", *TIMES], timing=set(TIMES))
+    return Table(
+        [
+            "path",
+            "TOL",
+            "coarse step",
+            "batch iterations",
+            "all iterations",
+            "fallback",
+            "pose error",
+            "q̇ error",
+            "q̈ error",
+            *TIMES,
+        ],
+        timing=set(TIMES),
+    )
 
 
 def build(timing: bool = True):
@@ -131,8 +168,10 @@ def build(timing: bool = True):
     points["step"] = pts_step
     # hard case and a mechanism without an independent oracle
     tab = header()
-    for name, label in (("tests/hard/slider_crank_edge.yaml", "slider-crank at the edge of assembly"),
-                        ("slotting_machine", "slotting machine (reference: fast path)")):
+    for name, label in (
+        ("tests/hard/slider_crank_edge.yaml", "slider-crank at the edge of assembly"),
+        ("slotting_machine", "slotting machine (reference: fast path)"),
+    ):
         f = measure(name, False, timing)
         ref = f[3] if oracle(name) is None else None
         row(tab, f"{label}: fast", "—", "—", *f[:3])
@@ -142,13 +181,21 @@ def build(timing: bool = True):
 
     def plot():
         import matplotlib.pyplot as plt
+
         fast, pts = points["tol"]
         fig, axes = plt.subplots(1, 3, figsize=(15, 4.3))
         tol = [p[0] for p in pts]
         for k, label in enumerate(("pose", "q̇", "q̈")):
-            axes[0].loglog(tol, [max(p[2][k], 1e-17) for p in pts], "o-", color=f"C{k}",
-                           label=f"general: {label}")
-            axes[0].axhline(max(fast[1][k], 1e-17), ls=":", color=f"C{k}", label=f"fast path: {label}")
+            axes[0].loglog(
+                tol,
+                [max(p[2][k], 1e-17) for p in pts],
+                "o-",
+                color=f"C{k}",
+                label=f"general: {label}",
+            )
+            axes[0].axhline(
+                max(fast[1][k], 1e-17), ls=":", color=f"C{k}", label=f"fast path: {label}"
+            )
         axes[0].set_xlabel("Newton tolerance TOL (× L_ref for lengths, rad)")
         axes[0].set_ylabel("relative error against the closed form")
         axes[0].set_title("slider-crank, 360 positions: error against TOL", fontsize=10)
@@ -156,8 +203,13 @@ def build(timing: bool = True):
         axes[0].grid(True, which="both", alpha=0.3)
 
         def cost(ax, x, times, iters, xlabel, title, logx=True):
-            (ax.loglog if logx else ax.semilogy)(x, [t * 1e3 for t in times], "o-", color="C0",
-                                                 label="general path (Newton), 360 positions")
+            (ax.loglog if logx else ax.semilogy)(
+                x,
+                [t * 1e3 for t in times],
+                "o-",
+                color="C0",
+                label="general path (Newton), 360 positions",
+            )
             ax.axhline(fast[2][0] * 1e3, ls=":", color="k", label="fast path (closed-form dyads)")
             ax.set_xlabel(xlabel)
             ax.set_ylabel("positions stage, 360 positions [ms] (log)")
@@ -170,13 +222,27 @@ def build(timing: bool = True):
             h1, l1 = ax.get_legend_handles_labels()
             h2, l2 = tw.get_legend_handles_labels()
             ax.legend(h1 + h2, l1 + l2, fontsize=7, loc="lower left")
-        cost(axes[1], tol, [p[3][0] for p in pts], [p[1][2] for p in pts],
-             "Newton tolerance TOL", "cost against TOL (coarse step 30°)")
+
+        cost(
+            axes[1],
+            tol,
+            [p[3][0] for p in pts],
+            [p[1][2] for p in pts],
+            "Newton tolerance TOL",
+            "cost against TOL (coarse step 30°)",
+        )
         steps = points["step"]
-        cost(axes[2], [p[0] for p in steps], [p[3][0] for p in steps], [p[1][2] for p in steps],
-             "prediction (coarse continuation) step [deg]", "cost against the prediction step "
-             "(TOL 1e-12)", logx=False)
+        cost(
+            axes[2],
+            [p[0] for p in steps],
+            [p[3][0] for p in steps],
+            [p[1][2] for p in steps],
+            "prediction (coarse continuation) step [deg]",
+            "cost against the prediction step (TOL 1e-12)",
+            logx=False,
+        )
         return ac.save_figure(fig, "accuracy_positions.png")
+
     return blocks, (plot if timing else None)
 
 

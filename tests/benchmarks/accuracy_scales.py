@@ -14,9 +14,8 @@ from __future__ import annotations
 
 import warnings
 
-import numpy as np
-
 import accuracy_common as ac
+import numpy as np
 from accuracy_common import Table, e
 
 import kinetostatics as ks
@@ -26,8 +25,21 @@ FACTORS = ("100", "10", "1", "0.1", "0.01")
 
 
 def build(timing: bool = True):
-    tab = Table(["case", "L_ref (m)", "speed (rpm)", "path", "pose", "q̇", "q̈", "reactions",
-                 "torque", "friction torque (eq. 9)", "worst"])
+    tab = Table(
+        [
+            "case",
+            "L_ref (m)",
+            "speed (rpm)",
+            "path",
+            "pose",
+            "q̇",
+            "q̈",
+            "reactions",
+            "torque",
+            "friction torque (eq. 9)",
+            "worst",
+        ]
+    )
     worst = (0.0, "")
     for case in ts.CASES:
         model = ts.model(case)
@@ -35,13 +47,29 @@ def build(timing: bool = True):
         rpm = model.drivers[0].motion.speed * 60 / (2 * np.pi)
         for general in (False, True):
             err = ts.errors(model, general)
-            tab.add(case, f"{l_ref:.3g}", f"{rpm:g}", "Newton" if general else "fast",
-                    *(e(v) for v in vars(err).values()), e(err.worst))
+            tab.add(
+                case,
+                f"{l_ref:.3g}",
+                f"{rpm:g}",
+                "Newton" if general else "fast",
+                *(e(v) for v in vars(err).values()),
+                e(err.worst),
+            )
             if err.worst > worst[0]:
                 worst = (err.worst, f"{case}, {'Newton' if general else 'fast'} path")
-    text = tab.markdown() + f"\n\nWorst relative error over all cases: **{worst[0]:.1e}** ({worst[1]})."
-    cond = Table(["length × factor", "rod (m)", "max condition number over the cycle",
-                  "NearSingularWarning", "result"])
+    text = (
+        tab.markdown()
+        + f"\n\nWorst relative error over all cases: **{worst[0]:.1e}** ({worst[1]})."
+    )
+    cond = Table(
+        [
+            "length × factor",
+            "rod (m)",
+            "max condition number over the cycle",
+            "NearSingularWarning",
+            "result",
+        ]
+    )
     for f in FACTORS:
         model = ts._micro(f)
         rod = 350e-6 * float(f)

@@ -27,14 +27,17 @@ def once(out: Path, forces: bool) -> float:
 
 def main() -> None:
     from PIL import Image
+
     with tempfile.TemporaryDirectory() as tmp:
         for forces in (False, True):
             out = Path(tmp) / f"slotting_{'forces' if forces else 'plain'}.gif"
             wall = once(out, forces)
             with Image.open(out) as im:
                 frames = im.n_frames
-            print(f"slotting machine, {frames} frames{' with forces' if forces else ''}: "
-                  f"{wall:.1f} s ({out.stat().st_size / 1e6:.1f} MB)  target < 60 s")
+            print(
+                f"slotting machine, {frames} frames{' with forces' if forces else ''}: "
+                f"{wall:.1f} s ({out.stat().st_size / 1e6:.1f} MB)  target < 60 s"
+            )
 
 
 if __name__ == "__main__":

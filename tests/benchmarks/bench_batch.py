@@ -49,8 +49,11 @@ def main() -> None:
     ap.add_argument("--workers", type=int, default=None, help="default: the number of cores")
     ap.add_argument("--chunk", type=int, default=None, help="default: batch.auto_chunk")
     ap.add_argument("--out", default=None, help="output folder (default: a temporary one)")
-    ap.add_argument("--flywheel", action="store_true",
-                    help="also size the file's flywheel (not vectorised: one by one)")
+    ap.add_argument(
+        "--flywheel",
+        action="store_true",
+        help="also size the file's flywheel (not vectorised: one by one)",
+    )
     args = ap.parse_args()
     path = ROOT / "mechanisms" / "slotting_machine.yaml"
     variants = sweeps.expand(sweeps.load_sweep(SWEEP.format(n=args.n), "bench"))
@@ -58,14 +61,22 @@ def main() -> None:
     out = args.out or tempfile.mkdtemp(prefix="bench_batch_")
 
     t0 = time.perf_counter()
-    s = batch.run_batch(str(path), tasks, out, positions=args.positions, workers=args.workers,
-                        chunk=args.chunk, flywheel=args.flywheel, overwrite=True)
+    s = batch.run_batch(
+        str(path),
+        tasks,
+        out,
+        positions=args.positions,
+        workers=args.workers,
+        chunk=args.chunk,
+        flywheel=args.flywheel,
+        overwrite=True,
+    )
     t_batch = time.perf_counter() - t0
 
     tpl = Template.load(path)
     loop_rows = []
     t0 = time.perf_counter()
-    for _, ov in variants[:args.loop]:
+    for _, ov in variants[: args.loop]:
         try:
             result = ks.analyze(tpl.model(ov, positions=args.positions))
             loop_rows.append(summary_row(result, flywheel=args.flywheel))
@@ -80,16 +91,24 @@ def main() -> None:
             if isinstance(v, float) and math.isfinite(v) and v != 0:
                 worst = max(worst, abs(float(row[k]) - v) / abs(v))
     rate_batch, rate_loop = args.n / t_batch, args.loop / t_loop
-    print(f"slotting machine, {args.positions} positions, friction (both solutions), "
-          f"flywheel {'sized' if args.flywheel else 'not sized'}, {os.cpu_count()} cores")
-    print(f"batch: {args.n} variants in {t_batch:.1f} s = {rate_batch:.1f} variants/s "
-          f"({s.workers} workers, chunks of {s.chunk}; {s.failed} failed, {s.errors} errors)"
-          f" -> {s.summary_csv}")
-    print(f"plain loop of single analyses: {args.loop} variants in {t_loop:.1f} s = "
-          f"{rate_loop:.1f} variants/s (one process)")
-    print(f"speed-up over the loop: {rate_batch / rate_loop:.2f}x "
-          f"({rate_batch / rate_loop / s.workers:.2f}x per worker); target >= 500 variants/s: "
-          f"{'met' if rate_batch >= 500 else 'not met'}")
+    print(
+        f"slotting machine, {args.positions} positions, friction (both solutions), "
+        f"flywheel {'sized' if args.flywheel else 'not sized'}, {os.cpu_count()} cores"
+    )
+    print(
+        f"batch: {args.n} variants in {t_batch:.1f} s = {rate_batch:.1f} variants/s "
+        f"({s.workers} workers, chunks of {s.chunk}; {s.failed} failed, {s.errors} errors)"
+        f" -> {s.summary_csv}"
+    )
+    print(
+        f"plain loop of single analyses: {args.loop} variants in {t_loop:.1f} s = "
+        f"{rate_loop:.1f} variants/s (one process)"
+    )
+    print(
+        f"speed-up over the loop: {rate_batch / rate_loop:.2f}x "
+        f"({rate_batch / rate_loop / s.workers:.2f}x per worker); target >= 500 variants/s: "
+        f"{'met' if rate_batch >= 500 else 'not met'}"
+    )
     print(f"batch rows vs the loop's, max relative difference: {worst:.2e}")
 
 

@@ -18,7 +18,6 @@ import sys
 import time
 
 import numpy as np
-
 from _common import ROOT
 
 sys.path.insert(0, str(ROOT / "docs" / "scripts"))
@@ -27,9 +26,19 @@ from clearance_values import b_run, write_block  # noqa: E402
 from kinetostatics.contact import ContactLaw  # noqa: E402
 
 T_END, E = 0.03, 0.5e-3
-CASES = [("RK45", 1e-4, 1.0), ("RK45", 1e-5, 1.0), ("LSODA", 1e-5, 1.0), ("Radau", 1e-5, 1.0),
-         ("BDF", 1e-3, 1.0), ("BDF", 1e-4, 1.0), ("BDF", 1e-5, 1.0), ("BDF", 1e-6, 1.0),
-         ("BDF", 1e-7, 1.0), ("BDF", 1e-5, 0.1), ("BDF", 1e-5, 0.01)]
+CASES = [
+    ("RK45", 1e-4, 1.0),
+    ("RK45", 1e-5, 1.0),
+    ("LSODA", 1e-5, 1.0),
+    ("Radau", 1e-5, 1.0),
+    ("BDF", 1e-3, 1.0),
+    ("BDF", 1e-4, 1.0),
+    ("BDF", 1e-5, 1.0),
+    ("BDF", 1e-6, 1.0),
+    ("BDF", 1e-7, 1.0),
+    ("BDF", 1e-5, 0.1),
+    ("BDF", 1e-5, 0.01),
+]
 BEGIN, END = "<!-- bench_contact: begin -->", "<!-- bench_contact: end -->"
 
 
@@ -48,9 +57,11 @@ def profile(until: float = 0.01) -> str:
     import kinetostatics as ks
     from kinetostatics.clearance import with_clearance
     from kinetostatics.contact import simulate_contact
+
     law = ContactLaw(journal_radius=0.02, restitution=0.9)
-    model = with_clearance(ks.load(ROOT / "mechanisms" / "ammunition_swing.yaml"), size=E,
-                           kind="contact", contact=law)
+    model = with_clearance(
+        ks.load(ROOT / "mechanisms" / "ammunition_swing.yaml"), size=E, kind="contact", contact=law
+    )
     counts = {}
     for jac in (True, False):
         t0 = time.perf_counter()
@@ -64,17 +75,22 @@ def profile(until: float = 0.01) -> str:
 
     def cumulative(module: str, name: str) -> float:
         return sum(v[3] for f, v in stats.items() if f[0].endswith(module) and f[2] == name)
+
     total = cumulative("dynamics.py", "evaluate")
-    share = {"positions": cumulative("dynamics.py", "positions") / total,
-             "derivatives": cumulative("positions.py", "derivatives") / total,
-             "kinetics": cumulative("analysis.py", "kinetics") / total}
-    return (f"Swing, e = 0.5 mm, BDF rtol 1e-5, 0–{until * 1e3:g} ms: one right-hand side "
-            f"{counts[True][1] / counts[True][0] * 1e3:.1f} ms; of an evaluation (cProfile, "
-            f"{n} of them) positions {share['positions']:.0%}, velocities and "
-            f"accelerations {share['derivatives']:.0%}, Newton–Euler "
-            f"{share['kinetics']:.0%}. Evaluations with the analytic contact Jacobian: "
-            f"{counts[True][0]} ({counts[True][1]:.1f} s); with solve_ivp's finite "
-            f"differences: {counts[False][0]} ({counts[False][1]:.1f} s).")
+    share = {
+        "positions": cumulative("dynamics.py", "positions") / total,
+        "derivatives": cumulative("positions.py", "derivatives") / total,
+        "kinetics": cumulative("analysis.py", "kinetics") / total,
+    }
+    return (
+        f"Swing, e = 0.5 mm, BDF rtol 1e-5, 0–{until * 1e3:g} ms: one right-hand side "
+        f"{counts[True][1] / counts[True][0] * 1e3:.1f} ms; of an evaluation (cProfile, "
+        f"{n} of them) positions {share['positions']:.0%}, velocities and "
+        f"accelerations {share['derivatives']:.0%}, Newton–Euler "
+        f"{share['kinetics']:.0%}. Evaluations with the analytic contact Jacobian: "
+        f"{counts[True][0]} ({counts[True][1]:.1f} s); with solve_ivp's finite "
+        f"differences: {counts[False][0]} ({counts[False][1]:.1f} s)."
+    )
 
 
 def main() -> None:
@@ -82,27 +98,36 @@ def main() -> None:
         text = profile()
         print(text)
         if "--write" in sys.argv:
-            write_block("<!-- bench_contact_profile: begin -->",
-                        "<!-- bench_contact_profile: end -->", text)
+            write_block(
+                "<!-- bench_contact_profile: begin -->", "<!-- bench_contact_profile: end -->", text
+            )
         return
     ref, wall_ref, n_ref = run("BDF", 1e-8)
     check, _, _ = run("Radau", 1e-7)
     a_scale = np.max(np.abs(ref["alpha"]))
 
     def errors(r):
-        return (np.max(np.abs(r["theta"] - ref["theta"])),
-                np.max(np.abs(r["omega"] - ref["omega"])),
-                np.max(np.abs(r["alpha"] - ref["alpha"])) / a_scale)
-    lines = [f"Reference: BDF, rtol 1e-8 ({wall_ref:.0f} s, {n_ref} evaluations); against "
-             "Radau at rtol 1e-7: max |Δθ| = {:.1e} rad, max |Δω| = {:.1e} rad/s, "
-             "max |Δα| / max |α| = {:.1e}.".format(*errors(check)), "",
-             "| method | rtol | stiffness × | wall time (s) | RHS evaluations | "
-             "max \\|Δθ\\| (rad) | max \\|Δω\\| (rad/s) | max \\|Δα\\| / max \\|α\\| |",
-             "|---|---|---|---|---|---|---|---|"]
+        return (
+            np.max(np.abs(r["theta"] - ref["theta"])),
+            np.max(np.abs(r["omega"] - ref["omega"])),
+            np.max(np.abs(r["alpha"] - ref["alpha"])) / a_scale,
+        )
+
+    lines = [
+        f"Reference: BDF, rtol 1e-8 ({wall_ref:.0f} s, {n_ref} evaluations); against "
+        "Radau at rtol 1e-7: max |Δθ| = {:.1e} rad, max |Δω| = {:.1e} rad/s, "
+        "max |Δα| / max |α| = {:.1e}.".format(*errors(check)),
+        "",
+        "| method | rtol | stiffness × | wall time (s) | RHS evaluations | "
+        "max \\|Δθ\\| (rad) | max \\|Δω\\| (rad/s) | max \\|Δα\\| / max \\|α\\| |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
     for method, rtol, scale in CASES:
         r, wall, nfev = run(method, rtol, scale)
-        lines.append(f"| {method} | {rtol:.0e} | {scale:g} | {wall:.1f} | {nfev} | "
-                     "{:.1e} | {:.1e} | {:.1e} |".format(*errors(r)))
+        lines.append(
+            f"| {method} | {rtol:.0e} | {scale:g} | {wall:.1f} | {nfev} | "
+            "{:.1e} | {:.1e} | {:.1e} |".format(*errors(r))
+        )
         print(lines[-1], file=sys.stderr, flush=True)
     text = "\n".join(lines)
     print(text)

@@ -16,7 +16,6 @@ import tempfile
 import time
 
 import numpy as np
-
 from _common import ROOT, best_of
 
 import kinetostatics as ks
@@ -33,13 +32,16 @@ def kinematics(system, coords):
         sol = solve_positions(system, t, sched)
         _, psi_d, psi_dd = sched(t)
         return sol.q, *derivatives(system, sol.q, psi_d, psi_dd)[:2]
+
     return run
 
 
 def main() -> None:
     p = cf.SliderCrank()
-    print(f"{'mechanism':<18}{'positions':>10}{'ours [ms]':>12}{'closed form [ms]':>18}{'ratio':>8}"
-          f"{'max rel. error':>16}")
+    print(
+        f"{'mechanism':<18}{'positions':>10}{'ours [ms]':>12}{'closed form [ms]':>18}{'ratio':>8}"
+        f"{'max rel. error':>16}"
+    )
     for n in (360, 36_000):
         phi = np.arange(n) * 2 * np.pi / n
         t_cf = best_of(lambda: cf.kinematics(p, phi))
@@ -53,22 +55,38 @@ def main() -> None:
             if name == "slider_crank":
                 q, qd, qdd = run()
                 k = cf.kinematics(p, phi)
-                e = max(np.max(np.abs(q[:, 6] - k["xB"])) / np.max(np.abs(k["xB"])),
-                        np.max(np.abs(qd[:, 5] - k["omega2"])) / np.max(np.abs(k["omega2"])),
-                        np.max(np.abs(qdd[:, 5] - k["alpha2"])) / np.max(np.abs(k["alpha2"])))
+                e = max(
+                    np.max(np.abs(q[:, 6] - k["xB"])) / np.max(np.abs(k["xB"])),
+                    np.max(np.abs(qd[:, 5] - k["omega2"])) / np.max(np.abs(k["omega2"])),
+                    np.max(np.abs(qdd[:, 5] - k["alpha2"])) / np.max(np.abs(k["alpha2"])),
+                )
                 err = f"{e:.1e}"
-            print(f"{name:<18}{n:>10}{t_ours * 1e3:>12.3f}{t_cf * 1e3:>18.3f}"
-                  f"{t_ours / t_cf:>8.1f}{err:>16}")
+            print(
+                f"{name:<18}{n:>10}{t_ours * 1e3:>12.3f}{t_cf * 1e3:>18.3f}"
+                f"{t_ours / t_cf:>8.1f}{err:>16}"
+            )
     with tempfile.TemporaryDirectory() as out:
         walls = []
         for _ in range(3):
             t0 = time.perf_counter()
-            subprocess.run([sys.executable, "-m", "kinetostatics.cli", "run",
-                            str(ROOT / "mechanisms" / "slotting_machine.yaml"), "--out", out],
-                           check=True, capture_output=True)
+            subprocess.run(
+                [
+                    sys.executable,
+                    "-m",
+                    "kinetostatics.cli",
+                    "run",
+                    str(ROOT / "mechanisms" / "slotting_machine.yaml"),
+                    "--out",
+                    out,
+                ],
+                check=True,
+                capture_output=True,
+            )
             walls.append(time.perf_counter() - t0)
-    print(f"kinetostatics run slotting_machine.yaml (360 positions, with start-up): "
-          f"{min(walls):.3f} s (best of 3)")
+    print(
+        f"kinetostatics run slotting_machine.yaml (360 positions, with start-up): "
+        f"{min(walls):.3f} s (best of 3)"
+    )
 
 
 if __name__ == "__main__":

@@ -70,8 +70,8 @@ class _Builder:
         self.links = {"ground": {"points": {}}}
         self.joints = {}
         self.sketch = {}
-        self.moving_points = []          # (link, point, position) on moving links
-        self.sliders = []                # (slider link, point, axis unit) for resistances
+        self.moving_points = []  # (link, point, position) on moving links
+        self.sliders = []  # (slider link, point, axis unit) for resistances
         self.n = 0
         self.kinds = []
 
@@ -85,14 +85,27 @@ class _Builder:
             self.moving_points.append((link, point, np.asarray(pos, float)))
 
     def new_link(self, name, points):
-        L = max((np.linalg.norm(np.subtract(p, q)) for p in points.values() for q in points.values()),
-                default=0.0) or 0.05
+        L = (
+            max(
+                (
+                    np.linalg.norm(np.subtract(p, q))
+                    for p in points.values()
+                    for q in points.values()
+                ),
+                default=0.0,
+            )
+            or 0.05
+        )
         rng = self.rng
         pts = np.array(list(points.values()))
         com = pts.mean(axis=0) + rng.normal(0, 0.1 * L, 2)
         mass = rng.uniform(0.2, 3.0)
-        self.links[name] = {"points": {}, "com": [float(com[0]), float(com[1])], "mass": mass,
-                            "inertia": mass * max(L, 0.05) ** 2 / 12 * rng.uniform(0.5, 1.5)}
+        self.links[name] = {
+            "points": {},
+            "com": [float(com[0]), float(com[1])],
+            "mass": mass,
+            "inertia": mass * max(L, 0.05) ** 2 / 12 * rng.uniform(0.5, 1.5),
+        }
         for p, pos in points.items():
             self.add_point(name, p, pos)
 
@@ -106,10 +119,14 @@ class _Builder:
     def attach_point(self, exclude=(), moving=True):
         """A point on an earlier moving link: an existing one or a new one nearby."""
         fixed = [np.asarray(v) for v in self.links["ground"]["points"].values()]
-        choices = [m for m in self.moving_points if m[0] not in exclude        # not on a pivot:
-                   and all(np.linalg.norm(m[2] - f) > 1e-6 for f in fixed)]   # it would not move
+        choices = [
+            m
+            for m in self.moving_points
+            if m[0] not in exclude  # not on a pivot:
+            and all(np.linalg.norm(m[2] - f) > 1e-6 for f in fixed)
+        ]  # it would not move
         link, point, pos = choices[self.rng.integers(len(choices))]
-        if self.rng.random() < 0.4:          # a new point on that link, near the old one
+        if self.rng.random() < 0.4:  # a new point on that link, near the old one
             new = pos + self.rng.normal(0, 0.05, 2)
             point = self.name("p")
             self.add_point(link, point, new)
@@ -135,7 +152,9 @@ def _rrr(B, rng):
             P2 = P1 + rng.uniform(0.3, 0.7) * _unit(rng.uniform(0, 2 * math.pi))
             second = None
         else:
-            second = B.attach_point(exclude=(L1,)) if len({m[0] for m in B.moving_points}) > 1 else None
+            second = (
+                B.attach_point(exclude=(L1,)) if len({m[0] for m in B.moving_points}) > 1 else None
+            )
             if second is None:
                 continue
             P2 = second[2]
@@ -184,8 +203,12 @@ def _prismatic(B, guide, slider, P, u, point):
     A = P - rng_offset(B) * u
     a = B.name("a")
     B.links[guide]["points"][a] = [float(A[0]), float(A[1])]
-    B.joints[j] = {"type": "prismatic", "links": [guide, slider],
-                   "axis": {"point": a, "direction": [float(u[0]), float(u[1])]}, "point": point}
+    B.joints[j] = {
+        "type": "prismatic",
+        "links": [guide, slider],
+        "axis": {"point": a, "direction": [float(u[0]), float(u[1])]},
+        "point": point,
+    }
     B.sketch[j] = [float(P[0]), float(P[1])]
     return j
 
@@ -199,7 +222,9 @@ def _rrp(B, rng):
     guide = _axis_link(B, rng, exclude=(L1,))
     rod_dir = rng.uniform(0, 2 * math.pi)
     C = P1 + rng.uniform(0.3, 0.7) * _unit(rod_dir)
-    u = _unit(rod_dir + rng.choice([-1, 1]) * rng.uniform(0, math.radians(45)) + rng.choice([0, math.pi]))
+    u = _unit(
+        rod_dir + rng.choice([-1, 1]) * rng.uniform(0, math.radians(45)) + rng.choice([0, math.pi])
+    )
     rod, sl = B.name("b"), B.name("b")
     jC = B.name("C")
     B.new_link(rod, {p1: P1, jC: C})
@@ -219,12 +244,17 @@ def _rpr(B, rng):
     L2, p2, P2 = B.ground_point(P2)
     delta = rng.uniform(-1, 1) * math.radians(15)
     v = (P1 - P2) / d
-    u = np.array([v[0] * math.cos(delta) - v[1] * math.sin(delta), v[0] * math.sin(delta) + v[1] * math.cos(delta)])
+    u = np.array(
+        [
+            v[0] * math.cos(delta) - v[1] * math.sin(delta),
+            v[0] * math.sin(delta) + v[1] * math.cos(delta),
+        ]
+    )
     block, slot = B.name("b"), B.name("b")
     B.new_link(block, {p1: P1})
     tip = B.name("tip")
     B.new_link(slot, {p2: P2, tip: P2 + 1.5 * d * u})
-    B.sketch[f"{slot}.{tip}"] = [float(x) for x in P2 + 1.5 * d * u]     # decides the slot's branch
+    B.sketch[f"{slot}.{tip}"] = [float(x) for x in P2 + 1.5 * d * u]  # decides the slot's branch
     _pin(B, L1, p1, block, P1)
     _pin(B, L2, p2, slot, P2)
     _prismatic(B, slot, block, P1, u, p1)
@@ -284,7 +314,7 @@ def candidate(seed: int, attempt: int = 0) -> dict:
     B.sketch["crank.A"] = [float(A[0]), float(A[1])]
     B.kinds.append("crank")
     omega = rng.choice([-1, 1]) * rng.uniform(3, 30)
-    if rng.random() < 0.2:                           # a second crank through a gear pair
+    if rng.random() < 0.2:  # a second crank through a gear pair
         z1 = int(rng.choice([20, 30, 40]))
         z2 = int(rng.choice([z1, z1 // 2]))
         m = rng.uniform(0.002, 0.004)
@@ -297,11 +327,18 @@ def candidate(seed: int, attempt: int = 0) -> dict:
         B.joints["O2"] = {"type": "revolute", "links": ["ground", "crank2"]}
         B.sketch["crank2.B"] = [float(B2[0]), float(B2[1])]
         r1, r2 = m * z1 / 2, m * z2 / 2
-        phase = -beta * (1 + r1 / r2)        # θ_j − β = φ when θ_i − β = 0, both θ = 0 now
+        phase = -beta * (1 + r1 / r2)  # θ_j − β = φ when θ_i − β = 0, both θ = 0 now
         phase = math.remainder(phase, 2 * math.pi * math.gcd(z1, z2) / z2)
-        B.joints["mesh"] = {"type": "gear", "links": ["crank", "crank2"], "centres": ["O", "O2"],
-                            "teeth": [z1, z2], "module": m, "mesh": "external",
-                            "flank": str(rng.choice(["cw", "ccw"])), "phase": phase}
+        B.joints["mesh"] = {
+            "type": "gear",
+            "links": ["crank", "crank2"],
+            "centres": ["O", "O2"],
+            "teeth": [z1, z2],
+            "module": m,
+            "mesh": "external",
+            "flank": str(rng.choice(["cw", "ccw"])),
+            "phase": phase,
+        }
         B.kinds.append(f"gear{z1}:{z2}")
     builders = [_rrr, _rrp, _rpr, _prp]
     weights = np.array([0.4, 0.25, 0.2, 0.15])
@@ -312,13 +349,16 @@ def candidate(seed: int, attempt: int = 0) -> dict:
             _triad(B, rng)
         else:
             builders[rng.choice(4, p=weights)](B, rng)
-    doc = {"name": f"generated {seed}/{attempt}", "units": {"length": "m", "angle": "rad", "speed": "rad/s"}}
+    doc = {
+        "name": f"generated {seed}/{attempt}",
+        "units": {"length": "m", "angle": "rad", "speed": "rad/s"},
+    }
     g = 0.0 if rng.random() < 0.15 else 9.81
     ga = rng.uniform(0, 2 * math.pi) if rng.random() < 0.5 else -math.pi / 2
     doc["gravity"] = [g * math.cos(ga), g * math.sin(ga)]
     doc["links"] = B.links
     doc["joints"] = B.joints
-    if rng.random() < 0.5:                           # friction at some joints
+    if rng.random() < 0.5:  # friction at some joints
         for j in B.joints.values():
             if rng.random() < 0.7:
                 if j["type"] == "revolute":
@@ -327,7 +367,9 @@ def candidate(seed: int, attempt: int = 0) -> dict:
                     j["friction"] = {"coefficient": rng.uniform(0.02, 0.12)}
                 elif j["type"] == "gear":
                     j["friction"] = {"efficiency": 0.97}
-    doc["drivers"] = {"motor": {"joint": "O", "motion": {"speed": float(omega)}, "points": ["x", "A"]}}
+    doc["drivers"] = {
+        "motor": {"joint": "O", "motion": {"speed": float(omega)}, "points": ["x", "A"]}
+    }
     doc["loads"] = _loads(B, rng, r)
     doc["sketch"] = B.sketch
     doc["analysis"] = {"start": psi0, "sweep": 2 * math.pi, "positions": DEFAULT_POSITIONS}
@@ -348,14 +390,28 @@ def _loads(B, rng, r):
         if kind == "force":
             link, point, _ = moving[rng.integers(len(moving))]
             F = rng.uniform(10, 200) * _unit(rng.uniform(0, 2 * math.pi))
-            load = {"type": "force", "link": link, "point": point, "value": [float(F[0]), float(F[1])]}
+            load = {
+                "type": "force",
+                "link": link,
+                "point": point,
+                "value": [float(F[0]), float(F[1])],
+            }
         elif kind == "torque":
             link, _, _ = moving[rng.integers(len(moving))]
-            load = {"type": "torque", "link": link, "value": float(rng.choice([-1, 1]) * rng.uniform(1, 20))}
+            load = {
+                "type": "torque",
+                "link": link,
+                "value": float(rng.choice([-1, 1]) * rng.uniform(1, 20)),
+            }
         else:
             sl, point, u = B.sliders[rng.integers(len(B.sliders))]
-            load = {"type": "resistance", "link": sl, "point": point, "value": float(rng.uniform(50, 300)),
-                    "axis": [float(u[0]), float(u[1])]}
+            load = {
+                "type": "resistance",
+                "link": sl,
+                "point": point,
+                "value": float(rng.uniform(50, 300)),
+                "axis": [float(u[0]), float(u[1])],
+            }
         active = []
         for _ in range(int(rng.integers(0, 3))):
             which = rng.choice(["angle", "moving", "travel"])
@@ -367,8 +423,13 @@ def _loads(B, rng, r):
                 active.append({"moving": [float(a[0]), float(a[1])], "point": f"{link}.{point}"})
             else:
                 lo = rng.uniform(0, 0.8) * r
-                active.append({"travel": [lo, lo + rng.uniform(0.3, 1.2) * r], "along": [float(a[0]), float(a[1])],
-                               "point": f"{link}.{point}"})
+                active.append(
+                    {
+                        "travel": [lo, lo + rng.uniform(0.3, 1.2) * r],
+                        "along": [float(a[0]), float(a[1])],
+                        "point": f"{link}.{point}",
+                    }
+                )
         if active:
             load["active"] = active
         loads[name] = load
@@ -391,12 +452,16 @@ def _clean(x):
 
 # --------------------------------------------------------------------- units
 
+
 def in_units(doc: dict, length: str = "m", angle: str = "rad", speed: str = "rad/s") -> dict:
     """The same SI mechanism written with other length, angle and speed units."""
     fl, fa, fs = 1 / LENGTH_UNITS[length], 1 / ANGLE_UNITS[angle], 1 / SPEED_UNITS[speed]
     d = copy.deepcopy(doc)
     assert d.get("units", {"length": "m", "angle": "rad", "speed": "rad/s"}) == {
-        "length": "m", "angle": "rad", "speed": "rad/s"}, "in_units needs an SI document"
+        "length": "m",
+        "angle": "rad",
+        "speed": "rad/s",
+    }, "in_units needs an SI document"
     d["units"] = {"length": length, "angle": angle, "speed": speed}
     L = lambda v: [_round(x * fl) for x in v] if isinstance(v, list) else _round(v * fl)  # noqa: E731
     A = lambda v: [_round(x * fa) for x in v] if isinstance(v, list) else _round(v * fa)  # noqa: E731
@@ -438,8 +503,12 @@ def in_units(doc: dict, length: str = "m", angle: str = "rad", speed: str = "rad
 
 def random_units(doc: dict, seed: int) -> dict:
     rng = np.random.default_rng([seed, 7])
-    return in_units(doc, str(rng.choice(list(LENGTH_UNITS))), str(rng.choice(list(ANGLE_UNITS))),
-                    str(rng.choice(list(SPEED_UNITS))))
+    return in_units(
+        doc,
+        str(rng.choice(list(LENGTH_UNITS))),
+        str(rng.choice(list(ANGLE_UNITS))),
+        str(rng.choice(list(SPEED_UNITS))),
+    )
 
 
 # ------------------------------------------------------------------ loading
@@ -456,24 +525,28 @@ def to_text(doc: dict) -> str:
 def system_of(text: str):
     """The built system of a document's text (cached: the relations reuse it)."""
     import kinetostatics as ks
+
     return ks.build_system(ks.loads(text))
 
 
 def load(doc: dict):
     import kinetostatics as ks
+
     return ks.loads(to_text(doc))
 
 
 def check(doc: dict, positions: int = 36):
     """Raise Rejected unless ``doc`` runs through a full turn well-conditioned."""
     import kinetostatics as ks
+
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             system = system_of(to_text(doc))
             turn = 2 * math.pi / abs(float(doc["drivers"]["motor"]["motion"]["speed"]))
-            res = ks.analyze(system, times=np.arange(positions) * turn / positions,
-                             kinematics_only=True)         # followed through the whole turn
+            res = ks.analyze(
+                system, times=np.arange(positions) * turn / positions, kinematics_only=True
+            )  # followed through the whole turn
     except ks.KinetostaticsError as exc:
         raise Rejected(f"{type(exc).__name__}: {str(exc)[:120]}") from None
     conds = [c for c in res.names if c.endswith(".cond")]
@@ -497,7 +570,7 @@ def _grid(doc, n):
 STATS = {"generated": 0, "rejected": 0}
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _generate(seed: int) -> tuple[str, int]:
     for attempt in range(MAX_ATTEMPTS):
         doc = candidate(seed, attempt)

@@ -44,11 +44,12 @@ def check_one(args):
     _setup()
     import generate as G
     import relations as R
+
     out = {"seed": seed, "results": {}}
     try:
         doc = G.generate(seed)
         out["rejected"] = G.rejections(seed)
-    except Exception as exc:          # noqa: BLE001
+    except Exception as exc:  # noqa: BLE001
         out["error"] = f"{type(exc).__name__}: {exc}"[:200]
         return out
     for name, rel in R.RELATIONS.items():
@@ -58,21 +59,27 @@ def check_one(args):
         try:
             v = rel(doc, seed)
             col = R.WORST[1]
-        except Exception as exc:      # noqa: BLE001
+        except Exception as exc:  # noqa: BLE001
             v, col = math.inf, f"{type(exc).__name__}: {str(exc)[:120]}"
         hint = None
         if v is not None and not v <= R.TOLERANCE[name]:
             hint = R.diagnose(name, doc, seed)
         failed = v is not None and not v <= R.TOLERANCE[name]
-        out["results"][name] = ([v, (col if hint is None else f"{col} [{hint}]")[:160]]
-                                if failed else v)
+        out["results"][name] = (
+            [v, (col if hint is None else f"{col} [{hint}]")[:160]] if failed else v
+        )
     return out
 
 
 def _commit() -> str:
     try:
-        return subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, text=True,
-                              capture_output=True, check=True).stdout.strip()
+        return subprocess.run(
+            ["git", "rev-parse", "--short", "HEAD"],
+            cwd=ROOT,
+            text=True,
+            capture_output=True,
+            check=True,
+        ).stdout.strip()
     except (OSError, subprocess.CalledProcessError):
         return "unknown"
 
@@ -103,6 +110,7 @@ def main(argv=None):
     a = ap.parse_args(argv)
     _setup()
     import relations as R
+
     seeds = range(a.first_seed, a.first_seed + a.mechanisms)
     a.results.parent.mkdir(parents=True, exist_ok=True)
     if a.fresh and a.results.exists():
@@ -135,8 +143,7 @@ def main(argv=None):
 
 
 def _block(a, R, outs: list[dict]) -> str:
-    stats = {n: {"checked": 0, "failed": 0, "na": 0, "max": 0.0, "seeds": []}
-             for n in R.RELATIONS}
+    stats = {n: {"checked": 0, "failed": 0, "na": 0, "max": 0.0, "seeds": []} for n in R.RELATIONS}
     generated = rejected = errors = 0
     commits = sorted({out.get("commit", "unknown") for out in outs})
     for out in outs:
@@ -147,7 +154,7 @@ def _block(a, R, outs: list[dict]) -> str:
         rejected += out["rejected"]
         for name, res in out["results"].items():
             s = stats[name]
-            v, col = (res if isinstance(res, list) else (res, ""))
+            v, col = res if isinstance(res, list) else (res, "")
             if v is None:
                 s["na"] += 1
                 continue
@@ -157,22 +164,34 @@ def _block(a, R, outs: list[dict]) -> str:
                 s["seeds"].append((out["seed"], v, col))
             elif v > s["max"]:
                 s["max"] = v
-    lines = [BEGIN, "",
-             f"Last long run: `python tests/net/long_run.py --mechanisms {a.mechanisms}` "
-             f"(seeds {a.first_seed}…{a.first_seed + a.mechanisms - 1}; "
-             f"{len(outs)} of {a.mechanisms} done, at commit{'s' * (len(commits) > 1)} "
-             f"{', '.join(commits)}).", "",
-             f"- mechanisms generated: {generated}; candidates rejected on the way: {rejected}; "
-             f"seeds without an acceptable mechanism: {errors}", "",
-             "| relation | checked | not applicable | failed "
-             "| largest discrepancy among the passing | tolerance |",
-             "|---|---|---|---|---|---|"]
+    lines = [
+        BEGIN,
+        "",
+        f"Last long run: `python tests/net/long_run.py --mechanisms {a.mechanisms}` "
+        f"(seeds {a.first_seed}…{a.first_seed + a.mechanisms - 1}; "
+        f"{len(outs)} of {a.mechanisms} done, at commit{'s' * (len(commits) > 1)} "
+        f"{', '.join(commits)}).",
+        "",
+        f"- mechanisms generated: {generated}; candidates rejected on the way: {rejected}; "
+        f"seeds without an acceptable mechanism: {errors}",
+        "",
+        "| relation | checked | not applicable | failed "
+        "| largest discrepancy among the passing | tolerance |",
+        "|---|---|---|---|---|---|",
+    ]
     for name, s in stats.items():
-        lines.append(f"| {name} | {s['checked']} | {s['na']} | {s['failed']} | "
-                     f"{s['max']:.2g} | {R.TOLERANCE[name]:g} |")
+        lines.append(
+            f"| {name} | {s['checked']} | {s['na']} | {s['failed']} | "
+            f"{s['max']:.2g} | {R.TOLERANCE[name]:g} |"
+        )
     fails = [(n, seed, v, col) for n, s in stats.items() for seed, v, col in s["seeds"]]
-    lines += ["", "Failures (relation, seed, discrepancy, worst column or error [hint]):"
-              if fails else "Failures: none.", ""]
+    lines += [
+        "",
+        "Failures (relation, seed, discrepancy, worst column or error [hint]):"
+        if fails
+        else "Failures: none.",
+        "",
+    ]
     for n, seed, v, col in fails[:60]:
         lines.append(f"- {n}, seed {seed}: {v:.3g} — {col}")
     if len(fails) > 60:

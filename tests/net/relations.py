@@ -19,23 +19,32 @@ import numpy as np
 
 try:
     from . import generate as G
-except ImportError:                 # run as a script from tests/net
+except ImportError:  # run as a script from tests/net
     import generate as G
 
 TOLERANCE = {
-    "subset": 1e-7, "rigid": 1e-7, "units": 1e-7, "mirror": 1e-7, "power": 1e-7,
-    "power_fd": 1e-4, "balance_at": 1e-6, "sketch": 1e-7, "grid": 1e-7, "derivatives": 1e-3,
+    "subset": 1e-7,
+    "rigid": 1e-7,
+    "units": 1e-7,
+    "mirror": 1e-7,
+    "power": 1e-7,
+    "power_fd": 1e-4,
+    "balance_at": 1e-6,
+    "sketch": 1e-7,
+    "grid": 1e-7,
+    "derivatives": 1e-3,
     "energy": 1e-4,
 }
-FAMILY_FLOOR = 1e-6        # a column's scale is at least this much of its kind's largest
+FAMILY_FLOOR = 1e-6  # a column's scale is at least this much of its kind's largest
 WORST = [0.0, ""]
-DERIV = []          # the worst column seen (for messages)
+DERIV = []  # the worst column seen (for messages)
 SKIP = {"time", "travel", "friction.iterations", "power.residual", "power.residual_friction"}
 
 
 def analyze(doc, **kw):
     """``kinetostatics.analyze`` of a document (the built system cached per text)."""
     import kinetostatics as ks
+
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         return ks.analyze(G.system_of(G.to_text(doc)), **kw)
@@ -48,8 +57,10 @@ def speed(doc):
 def shipped(path):
     """A shipped mechanism file as an SI document (the loader's own ``dump``)."""
     import yaml
+
     import kinetostatics as ks
     from kinetostatics.yaml_io import dump
+
     doc = yaml.safe_load(dump(ks.load(path)))
     return doc
 
@@ -106,9 +117,9 @@ def compare(a, b, rows_a=None, rows_b=None, columns=None, floor=1e-9):
             d = np.abs(_wrap(x - y)) / 360.0
         else:
             kind = family.get(_family(c), 0.0)
-            if _family(c) == "alpha":     # α ~ ω² where every α is zero in exact arithmetic
+            if _family(c) == "alpha":  # α ~ ω² where every α is zero in exact arithmetic
                 kind = max(kind, family.get("omega", 0.0) ** 2)
-            scale = (np.nanmax(np.abs(np.asarray(b[c], float))) + max(FAMILY_FLOOR * kind, floor))
+            scale = np.nanmax(np.abs(np.asarray(b[c], float))) + max(FAMILY_FLOOR * kind, floor)
             d = np.abs(x - y) / scale
         if float(np.max(d)) > worst:
             worst = float(np.max(d))
@@ -131,6 +142,7 @@ def match_rows(a, b, tol=1e-7):
 
 
 # ------------------------------------------------------------------ relations
+
 
 def relation_subset(doc, seed, n=24):
     """A random subset, another start, ``at:`` rows and ``events: true`` give
@@ -158,14 +170,20 @@ def relation_subset(doc, seed, n=24):
         return math.inf
     worst = max(worst, compare(withat, full, ia, ib))
     extra = np.setdiff1d(np.arange(len(withat["angle"])), ia)
-    if extra.size:                   # at: and event rows against an exact analysis there
+    if extra.size:  # at: and event rows against an exact analysis there
         ex = analyze(doc, positions=np.radians(np.asarray(withat["angle"])[extra]) + 0.0)
-        kin = [c for c in ex.names if c.split(".")[-1] in ("x", "y", "theta", "vx", "vy", "omega",
-                                                            "ax", "ay", "alpha")]
+        kin = [
+            c
+            for c in ex.names
+            if c.split(".")[-1] in ("x", "y", "theta", "vx", "vy", "omega", "ax", "ay", "alpha")
+        ]
         worst = max(worst, compare(withat, ex, extra, np.arange(extra.size), columns=kin))
-        at_rows = [i for i in extra if np.min(np.abs(_wrap(np.degrees(d2["analysis"]["at"])
-                                                          - withat["angle"][i]))) < 1e-7]
-        if at_rows:                  # the at: rows (not events, where loads switch) in full
+        at_rows = [
+            i
+            for i in extra
+            if np.min(np.abs(_wrap(np.degrees(d2["analysis"]["at"]) - withat["angle"][i]))) < 1e-7
+        ]
+        if at_rows:  # the at: rows (not events, where loads switch) in full
             ex2 = analyze(doc, positions=np.radians(np.asarray(withat["angle"])[at_rows]))
             worst = max(worst, compare(withat, ex2, np.array(at_rows), np.arange(len(at_rows))))
     return worst
@@ -182,8 +200,8 @@ def transformed(doc, phi=0.0, shift=(0.0, 0.0), mirror=False):
     also moving links' local points, speeds, torques, gear phase and flank)."""
     d = copy.deepcopy(doc)
     M = (lambda v: [v[0], -v[1]]) if mirror else (lambda v: v)
-    P = lambda v: [a + b for a, b in zip(_rot(M(v), phi), shift)]       # noqa: E731
-    V = lambda v: _rot(M(v), phi)                                          # noqa: E731
+    P = lambda v: [a + b for a, b in zip(_rot(M(v), phi), shift)]  # noqa: E731
+    V = lambda v: _rot(M(v), phi)  # noqa: E731
     ground = d.get("ground", "ground")
     for name, link in d["links"].items():
         if name == ground:
@@ -202,7 +220,7 @@ def transformed(doc, phi=0.0, shift=(0.0, 0.0), mirror=False):
                 ax["direction"] = M(ax["direction"])
             if mirror and "angle" in j:
                 j["angle"] = -j["angle"]
-            if j["links"][0] == ground:      # the slider's frame turns with the guide
+            if j["links"][0] == ground:  # the slider's frame turns with the guide
                 j["angle"] = j.get("angle", 0.0) + phi
         if j["type"] == "gear" and mirror:
             j["phase"] = -j.get("phase", 0.0)
@@ -236,8 +254,13 @@ def transformed(doc, phi=0.0, shift=(0.0, 0.0), mirror=False):
 def _vector_pairs(names):
     pairs = []
     for c in names:
-        for sx, sy in ((".x", ".y"), (".vx", ".vy"), (".ax", ".ay"), (".Fx", ".Fy"),
-                       (".Fx_friction", ".Fy_friction")):
+        for sx, sy in (
+            (".x", ".y"),
+            (".vx", ".vy"),
+            (".ax", ".ay"),
+            (".Fx", ".Fy"),
+            (".Fx_friction", ".Fy_friction"),
+        ):
             if c.endswith(sx) and c[: -len(sx)] + sy in names:
                 pairs.append((c, c[: -len(sx)] + sy, sx == ".x"))
     return pairs
@@ -267,8 +290,17 @@ def _expected(res, doc, phi, shift, mirror):
             out[c] = sg * out[c] + math.degrees(phi)
         elif not mirror:
             continue
-        elif tail in ("omega", "alpha", "torque", "torque_friction", "torque_friction_approx",
-                      "M", "M_friction", "N", "N_friction"):
+        elif tail in (
+            "omega",
+            "alpha",
+            "torque",
+            "torque_friction",
+            "torque_friction_approx",
+            "M",
+            "M_friction",
+            "N",
+            "N_friction",
+        ):
             out[c] = -out[c]
         elif tail in ("friction", "friction_approx") and kinds.get(head) in ("revolute", "gear"):
             out[c] = -out[c]
@@ -289,7 +321,10 @@ def relation_rigid(doc, seed, n=12):
     torques, powers and efforts unchanged."""
     rng = np.random.default_rng([seed, 13])
     phi = float(rng.uniform(-math.pi, math.pi))
-    L = max(abs(x) for link in doc["links"].values() for p in link["points"].values() for x in p) or 1.0
+    L = (
+        max(abs(x) for link in doc["links"].values() for p in link["points"].values() for x in p)
+        or 1.0
+    )
     shift = tuple(float(x) for x in rng.uniform(-2 * L, 2 * L, 2))
     base = analyze(doc, positions=grid(doc, n))
     moved = analyze(transformed(doc, phi, shift), positions=grid(transformed(doc, phi, shift), n))
@@ -333,19 +368,40 @@ def relation_power(doc, seed, n=12):
     """Σ driver power = dT/dt + dV/dt + P_ext (+ friction loss), from the
     power columns; dT/dt also from finite differences of the kinetic energy."""
     res = analyze(doc, positions=grid(doc, n))
-    scale = max(np.max(np.abs(res["power.input"])), np.max(np.abs(res["power.kinetic"])),
-                np.max(np.abs(res["power.potential"])), np.max(np.abs(res["power.external"])), 1e-12)
+    scale = max(
+        np.max(np.abs(res["power.input"])),
+        np.max(np.abs(res["power.kinetic"])),
+        np.max(np.abs(res["power.potential"])),
+        np.max(np.abs(res["power.external"])),
+        1e-12,
+    )
     w = effort_speed(doc, res)
-    worst = float(np.max(np.abs(res["power.input"] - res["power.kinetic"] - res["power.potential"]
-                                - res["power.external"]))) / scale
-    if w is None:                         # the effort at a slide: power.input is the check
+    worst = (
+        float(
+            np.max(
+                np.abs(
+                    res["power.input"]
+                    - res["power.kinetic"]
+                    - res["power.potential"]
+                    - res["power.external"]
+                )
+            )
+        )
+        / scale
+    )
+    if w is None:  # the effort at a slide: power.input is the check
         return worst
     worst = max(worst, float(np.max(np.abs(res["motor.torque"] * w - res["power.input"]))) / scale)
     if "power.friction" in res.names and "motor.torque_friction" in res.names:
         ok = np.isfinite(res["motor.torque_friction"])
         pin_f = res["motor.torque_friction"][ok] * w[ok]
-        bal = (pin_f - res["power.kinetic"][ok] - res["power.potential"][ok] - res["power.external"][ok]
-               - res["power.friction"][ok])
+        bal = (
+            pin_f
+            - res["power.kinetic"][ok]
+            - res["power.potential"][ok]
+            - res["power.external"][ok]
+            - res["power.friction"][ok]
+        )
         worst = max(worst, float(np.max(np.abs(bal), initial=0.0)) / scale)
         if np.any(res["power.friction"][ok] < -1e-9 * scale):
             worst = math.inf
@@ -362,15 +418,21 @@ def effort_speed(doc, res):
         return None
     ground = doc.get("ground", "ground")
     li, lj = spec["links"][:2]
-    omega = [np.zeros(len(res)) if name == ground else np.asarray(res[f"{name}.omega"])
-             for name in (li, lj)]
+    omega = [
+        np.zeros(len(res)) if name == ground else np.asarray(res[f"{name}.omega"])
+        for name in (li, lj)
+    ]
     return omega[1] - omega[0]
 
 
 def kinetic_energy(doc, res):
     T = 0.0
     for name, (m, J) in _masses(doc).items():
-        T = T + 0.5 * m * (res[f"{name}.vx"] ** 2 + res[f"{name}.vy"] ** 2) + 0.5 * J * res[f"{name}.omega"] ** 2
+        T = (
+            T
+            + 0.5 * m * (res[f"{name}.vx"] ** 2 + res[f"{name}.vy"] ** 2)
+            + 0.5 * J * res[f"{name}.omega"] ** 2
+        )
     return T
 
 
@@ -383,16 +445,25 @@ def relation_power_fd(doc, seed, h=1e-4, k=3):
     psi = grid(doc, 36)[rng.choice(np.arange(2, 34), k, replace=False)]
     worst = 0.0
     ref = analyze(doc, positions=grid(doc, 36))
-    scale = max(max(np.max(np.abs(ref[c])) for c in ref.names if c.startswith("power.")),
-                abs(w) * np.max(kinetic_energy(doc, ref)), 1e-12)
+    scale = max(
+        max(np.max(np.abs(ref[c])) for c in ref.names if c.startswith("power.")),
+        abs(w) * np.max(kinetic_energy(doc, ref)),
+        1e-12,
+    )
     for p in np.sort(psi * np.sign(w)) * np.sign(w):
         pos = p + np.sign(w) * np.array([-h, 0.0, h])
         r = analyze(doc, positions=pos)
-        dt = (r["time"][2] - r["time"][0])
+        dt = r["time"][2] - r["time"][0]
         T = kinetic_energy(doc, r)
-        V = -sum(m * (g[0] * r[f"{name}.x"] + g[1] * r[f"{name}.y"]) for name, (m, _) in _masses(doc).items())
-        worst = max(worst, abs((T[2] - T[0]) / dt - r["power.kinetic"][1]) / scale,
-                    abs((V[2] - V[0]) / dt - r["power.potential"][1]) / scale)
+        V = -sum(
+            m * (g[0] * r[f"{name}.x"] + g[1] * r[f"{name}.y"])
+            for name, (m, _) in _masses(doc).items()
+        )
+        worst = max(
+            worst,
+            abs((T[2] - T[0]) / dt - r["power.kinetic"][1]) / scale,
+            abs((V[2] - V[0]) / dt - r["power.potential"][1]) / scale,
+        )
     return worst
 
 
@@ -415,21 +486,26 @@ def relation_balance_at(doc, seed, n=12):
     d2["drivers"]["motor"]["balance_at"] = j
     li, lj = doc["joints"][j]["links"]
     ground = doc.get("ground", "ground")
-    wrel = ((base[f"{lj}.omega"] if lj != ground else 0.0) - (base[f"{li}.omega"] if li != ground else 0.0))
+    wrel = (base[f"{lj}.omega"] if lj != ground else 0.0) - (
+        base[f"{li}.omega"] if li != ground else 0.0
+    )
     if np.max(np.abs(wrel)) < 1e-6 * abs(speed(doc)):
-        return None                       # a joint that does not turn cannot take the effort
+        return None  # a joint that does not turn cannot take the effort
     ok = np.abs(wrel) > 0.2 * np.max(np.abs(wrel))
     import kinetostatics as ks
+
     try:
         other = analyze(d2, positions=grid(doc, n), friction=False)
     except ks.KinetostaticsError:
-        return None                       # not admissible (the effort cannot balance there)
+        return None  # not admissible (the effort cannot balance there)
     if other.indeterminate:
-        return None                       # singular there: minimum-norm reactions, flagged
+        return None  # singular there: minimum-norm reactions, flagged
     scale = np.max(np.abs(base["power.input"])) + 1e-12
     p_other = other["motor.torque"] * wrel
-    return max(float(np.max(np.abs(p_other[ok] - base["power.input"][ok]))) / scale,
-               float(np.max(np.abs(other["power.input"][ok] - base["power.input"][ok]))) / scale)
+    return max(
+        float(np.max(np.abs(p_other[ok] - base["power.input"][ok]))) / scale,
+        float(np.max(np.abs(other["power.input"][ok] - base["power.input"][ok]))) / scale,
+    )
 
 
 def relation_sketch(doc, seed, tol_rel=None):
@@ -479,8 +555,12 @@ def relation_grid(doc, seed, n=24):
         res = analyze(doc, positions=pos)
         for i in rng.choice(len(pos), 2, replace=False):
             single = analyze(doc, positions=np.array([pos[i]]))
-            worst = max(worst, compare(res, single, np.array([i]), np.array([0]), columns=[
-                c for c in single.names]))
+            worst = max(
+                worst,
+                compare(
+                    res, single, np.array([i]), np.array([0]), columns=[c for c in single.names]
+                ),
+            )
     return worst
 
 
@@ -513,15 +593,21 @@ def relation_derivatives(doc, seed, h=2e-2, k=2):
                 v_name = f"{base}.{'omega' if tail == 'theta' else 'v' + tail}"
                 a_name = f"{base}.{'alpha' if tail == 'theta' else 'a' + tail}"
                 v_fd = (x[2] - x[0]) / (2 * dt)
-                a_fd = (x[2] - 2 * x[1] + x[0]) / dt ** 2
-                sv = (np.max(np.abs(full[v_name])) + 1e-3 * (fam["omega"] if tail == "theta" else vmax)
-                      + 1e-12 * abs(w))
-                sa = (np.max(np.abs(full[a_name])) + 1e-3 * (fam["alpha"] if tail == "theta" else amax)
-                      + 1e-12 * w * w)
+                a_fd = (x[2] - 2 * x[1] + x[0]) / dt**2
+                sv = (
+                    np.max(np.abs(full[v_name]))
+                    + 1e-3 * (fam["omega"] if tail == "theta" else vmax)
+                    + 1e-12 * abs(w)
+                )
+                sa = (
+                    np.max(np.abs(full[a_name]))
+                    + 1e-3 * (fam["alpha"] if tail == "theta" else amax)
+                    + 1e-12 * w * w
+                )
                 e = max(e, abs(v_fd - r[v_name][1]) / sv, abs(a_fd - r[a_name][1]) / sa)
             errs.append(e)
         worst = max(worst, errs[1])
-        if errs[0] > 1e-5 and errs[1] > errs[0] / 2.5:       # no h² convergence
+        if errs[0] > 1e-5 and errs[1] > errs[0] / 2.5:  # no h² convergence
             worst = max(worst, math.inf)
         DERIV.append(errs)
     return worst
@@ -530,6 +616,7 @@ def relation_derivatives(doc, seed, h=2e-2, k=2):
 def relation_energy(doc, seed, turns=0.3):
     """Frictionless forward dynamics with only gravity conserves T + V."""
     from kinetostatics import dynamics
+
     d = copy.deepcopy(doc)
     for j in d["joints"].values():
         j.pop("friction", None)
@@ -543,8 +630,9 @@ def relation_energy(doc, seed, turns=0.3):
         warnings.simplefilter("ignore")
         model = G.load(d)
         start = d["analysis"].get("start", 0.0)
-        sim = dynamics.simulate(model, turns * 2 * math.pi / abs(w), initial={"motor": (start, w)},
-                                rtol=1e-9)
+        sim = dynamics.simulate(
+            model, turns * 2 * math.pi / abs(w), initial={"motor": (start, w)}, rtol=1e-9
+        )
         cols, _ = sim.table(points=21)
     E = cols["energy.total"]
     scale = max(np.max(np.abs(cols["energy.kinetic"])), 1e-12)
@@ -562,15 +650,26 @@ def without_conditions(doc, kinds=("moving", "travel")):
 
 
 def has_conditions(doc, kinds=("moving", "travel")):
-    return any(k in c for load in doc.get("loads", {}).values() for c in load.get("active", [])
-               for k in kinds)
+    return any(
+        k in c
+        for load in doc.get("loads", {}).values()
+        for c in load.get("active", [])
+        for k in kinds
+    )
 
 
 RELATIONS = {
-    "subset": relation_subset, "rigid": relation_rigid, "units": relation_units,
-    "mirror": relation_mirror, "power": relation_power, "power_fd": relation_power_fd,
-    "balance_at": relation_balance_at, "sketch": relation_sketch, "grid": relation_grid,
-    "derivatives": relation_derivatives, "energy": relation_energy,
+    "subset": relation_subset,
+    "rigid": relation_rigid,
+    "units": relation_units,
+    "mirror": relation_mirror,
+    "power": relation_power,
+    "power_fd": relation_power_fd,
+    "balance_at": relation_balance_at,
+    "sketch": relation_sketch,
+    "grid": relation_grid,
+    "derivatives": relation_derivatives,
+    "energy": relation_energy,
 }
 
 
@@ -583,7 +682,7 @@ def diagnose(relation: str, doc: dict, seed: int) -> str | None:
             continue
         try:
             value = RELATIONS[relation](without_conditions(doc, kinds), seed)
-        except Exception:             # noqa: BLE001
+        except Exception:  # noqa: BLE001
             continue
         if value is None or value <= TOLERANCE[relation]:
             return f"passes without its {'/'.join(kinds)} conditions"

@@ -20,12 +20,24 @@ from . import generate as G
 from . import relations as R
 
 ROOT = Path(__file__).resolve().parents[2]
-SHIPPED = sorted(p.name for p in (ROOT / "mechanisms").glob("*.yaml")
-                 if p.name != "ammunition_swing.yaml")          # an effort driver: simulate only
+SHIPPED = sorted(
+    p.name for p in (ROOT / "mechanisms").glob("*.yaml") if p.name != "ammunition_swing.yaml"
+)  # an effort driver: simulate only
 
 # generated mechanisms per relation in the default run (cost-weighted)
-COUNTS = {"subset": 12, "rigid": 22, "units": 22, "mirror": 22, "power": 28, "power_fd": 12,
-          "balance_at": 18, "sketch": 34, "grid": 10, "derivatives": 17, "energy": 3}
+COUNTS = {
+    "subset": 12,
+    "rigid": 22,
+    "units": 22,
+    "mirror": 22,
+    "power": 28,
+    "power_fd": 12,
+    "balance_at": 18,
+    "sketch": 34,
+    "grid": 10,
+    "derivatives": 17,
+    "energy": 3,
+}
 _total = sum(COUNTS.values())
 _want = int(os.environ.get("KINETOSTATICS_NET_MECHANISMS", _total))
 SCALE = _want / _total
@@ -59,7 +71,7 @@ def _run(relation: str, case: str):
     R.WORST[:] = [0.0, ""]
     try:
         value = R.RELATIONS[relation](doc, _seed(case))
-    except Exception:                 # noqa: BLE001 - an error is a failure of the relation
+    except Exception:  # noqa: BLE001 - an error is a failure of the relation
         if reason:
             pytest.xfail(reason)
         raise
@@ -67,12 +79,14 @@ def _run(relation: str, case: str):
         pytest.skip(f"{relation} does not apply to {case}")
     tol = R.TOLERANCE[relation]
     if case.startswith("shipped:") and relation == "sketch":
-        tol = 0.05                    # the shipped sketches are rough, a few % of the links
+        tol = 0.05  # the shipped sketches are rough, a few % of the links
     if not value <= tol and reason:
         pytest.xfail(reason)
-    assert value <= tol, (f"{relation} on {case}: discrepancy {value:.3g} > {tol:g} "
-                          f"(worst column {R.WORST[1]!r}; reproduce with relations.relation_{relation}"
-                          f"(generate.generate(seed), seed))")
+    assert value <= tol, (
+        f"{relation} on {case}: discrepancy {value:.3g} > {tol:g} "
+        f"(worst column {R.WORST[1]!r}; reproduce with relations.relation_{relation}"
+        f"(generate.generate(seed), seed))"
+    )
 
 
 def _seed(case: str) -> int:

@@ -161,11 +161,24 @@ def kinematics(p: SliderCrank, phi1) -> dict:
         "yB": full(np.float64(e), shp).copy(),
         "vB": vB,
         "aB": aB,
-        "A_x": Ax, "A_y": Ay, "A_vx": Avx, "A_vy": Avy, "A_ax": Aax, "A_ay": Aay,
-        "S1_x": S1x, "S1_y": S1y, "S1_vx": S1vx, "S1_vy": S1vy,
-        "S1_ax": S1ax, "S1_ay": S1ay,
-        "S2_x": S2x, "S2_y": S2y, "S2_vx": S2vx, "S2_vy": S2vy,
-        "S2_ax": S2ax, "S2_ay": S2ay,
+        "A_x": Ax,
+        "A_y": Ay,
+        "A_vx": Avx,
+        "A_vy": Avy,
+        "A_ax": Aax,
+        "A_ay": Aay,
+        "S1_x": S1x,
+        "S1_y": S1y,
+        "S1_vx": S1vx,
+        "S1_vy": S1vy,
+        "S1_ax": S1ax,
+        "S1_ay": S1ay,
+        "S2_x": S2x,
+        "S2_y": S2y,
+        "S2_vx": S2vx,
+        "S2_vy": S2vy,
+        "S2_ax": S2ax,
+        "S2_ay": S2ay,
     }
 
 
@@ -174,12 +187,17 @@ def state(p: SliderCrank, phi1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     slider, each (x, y of the centre of mass, θ of the link's local x axis)."""
     k = kinematics(p, phi1)
     z = np.zeros_like(k["phi2"])
-    q = np.stack([k["S1_x"], k["S1_y"], k["phi1"], k["S2_x"], k["S2_y"],
-                  k["phi2"], k["xB"], k["yB"], z], -1)
-    qd = np.stack([k["S1_vx"], k["S1_vy"], k["omega1"], k["S2_vx"], k["S2_vy"], k["omega2"],
-                   k["vB"], z, z], -1)
-    qdd = np.stack([k["S1_ax"], k["S1_ay"], k["alpha1"], k["S2_ax"], k["S2_ay"], k["alpha2"],
-                    k["aB"], z, z], -1)
+    q = np.stack(
+        [k["S1_x"], k["S1_y"], k["phi1"], k["S2_x"], k["S2_y"], k["phi2"], k["xB"], k["yB"], z], -1
+    )
+    qd = np.stack(
+        [k["S1_vx"], k["S1_vy"], k["omega1"], k["S2_vx"], k["S2_vy"], k["omega2"], k["vB"], z, z],
+        -1,
+    )
+    qdd = np.stack(
+        [k["S1_ax"], k["S1_ay"], k["alpha1"], k["S2_ax"], k["S2_ay"], k["alpha2"], k["aB"], z, z],
+        -1,
+    )
     return q, qd, qdd
 
 
@@ -247,9 +265,7 @@ def reactions(p: SliderCrank, phi1) -> dict:
     # slider, x equation
     F_Bx = m3 * k["aB"] - m3 * gx - F_res
     # rod, moments about A
-    rhs = p.J2 * k["alpha2"] + m2 * r2 * (
-        c2 * (k["S2_ay"] - gy) - s2 * (k["S2_ax"] - gx)
-    )
+    rhs = p.J2 * k["alpha2"] + m2 * r2 * (c2 * (k["S2_ay"] - gy) - s2 * (k["S2_ax"] - gx))
     F_By = (b * s2 * F_Bx - rhs) / (b * c2)
     # slider, y equation (a3y = 0) and moment about B
     N = -F_By - m3 * gy
@@ -268,9 +284,12 @@ def reactions(p: SliderCrank, phi1) -> dict:
     )
 
     return {
-        "F_Ox": F_Ox, "F_Oy": F_Oy,
-        "F_Ax": F_Ax, "F_Ay": F_Ay,
-        "F_Bx": F_Bx, "F_By": F_By,
+        "F_Ox": F_Ox,
+        "F_Oy": F_Oy,
+        "F_Ax": F_Ax,
+        "F_Ay": F_Ay,
+        "F_Bx": F_Bx,
+        "F_By": F_By,
         "F_O": np.stack([F_Ox, F_Oy], axis=-1),
         "F_A": np.stack([F_Ax, F_Ay], axis=-1),
         "F_B": np.stack([F_Bx, F_By], axis=-1),
@@ -342,8 +361,14 @@ def friction_terms(p: SliderCrank, phi1) -> dict:
     P_B = pw(Mf_B, w["B"], p.w_zero)
     P_s = pw(Ff, w["slide"], p.v_zero)
     return {
-        "Mf_O": Mf_O, "Mf_A": Mf_A, "Mf_B": Mf_B, "Ff_slide": Ff,
-        "P_O": P_O, "P_A": P_A, "P_B": P_B, "P_slide": P_s,
+        "Mf_O": Mf_O,
+        "Mf_A": Mf_A,
+        "Mf_B": Mf_B,
+        "Ff_slide": Ff,
+        "P_O": P_O,
+        "P_A": P_A,
+        "P_B": P_B,
+        "P_slide": P_s,
         "P_fric": P_O + P_A + P_B + P_s,
     }
 
@@ -389,8 +414,10 @@ def _self_check() -> dict:
         kp, km, k = kinematics(p, phi + h), kinematics(p, phi - h), kinematics(p, phi)
         d = lambda key: (kp[key] - km[key]) / (2 * h) * p.omega1  # noqa: E731
         fd = max(
-            _rel(d("phi2"), k["omega2"]), _rel(d("omega2"), k["alpha2"]),
-            _rel(d("xB"), k["vB"]), _rel(d("vB"), k["aB"]),
+            _rel(d("phi2"), k["omega2"]),
+            _rel(d("omega2"), k["alpha2"]),
+            _rel(d("xB"), k["vB"]),
+            _rel(d("vB"), k["aB"]),
             *(_rel(d(f"{P}_{c}"), k[f"{P}_v{c}"]) for P in ("A", "S1", "S2") for c in "xy"),
             *(_rel(d(f"{P}_v{c}"), k[f"{P}_a{c}"]) for P in ("A", "S1", "S2") for c in "xy"),
         )
@@ -411,12 +438,16 @@ if __name__ == "__main__":
     for name, r in res.items():
         good = r["fd"] < 1e-6 and r["power"] < 1e-10 and r["eq9_nofric"] < 1e-12
         ok &= good
-        print(f"{name:15s} fd={r['fd']:.2e} power={r['power']:.2e} "
-              f"eq9(no friction)={r['eq9_nofric']:.2e} {'ok' if good else 'FAIL'}")
+        print(
+            f"{name:15s} fd={r['fd']:.2e} power={r['power']:.2e} "
+            f"eq9(no friction)={r['eq9_nofric']:.2e} {'ok' if good else 'FAIL'}"
+        )
     p = SliderCrank()
     phi = np.radians(np.arange(360.0))
     M1 = reactions(p, phi)["M1"]
     M1f = friction_approx_torque_eq9(p, phi)
-    print(f"default: M1 in [{M1.min():.3f}, {M1.max():.3f}] N m, "
-          f"M1' - M1 in [{(M1f - M1).min():.4f}, {(M1f - M1).max():.4f}] N m")
+    print(
+        f"default: M1 in [{M1.min():.3f}, {M1.max():.3f}] N m, "
+        f"M1' - M1 in [{(M1f - M1).min():.4f}, {(M1f - M1).max():.4f}] N m"
+    )
     raise SystemExit(0 if ok else 1)

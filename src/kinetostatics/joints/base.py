@@ -29,16 +29,18 @@ if TYPE_CHECKING:
 
 __all__ = ["Joint", "JOINT_TYPES", "joint_type"]
 
-JOINT_TYPES: dict[str, type["Joint"]] = {}
+JOINT_TYPES: dict[str, type[Joint]] = {}
 
 
-def joint_type(kind: str) -> type["Joint"]:
+def joint_type(kind: str) -> type[Joint]:
     """The registered class for YAML ``type: kind``; ``KeyError`` lists the choices."""
     try:
         return JOINT_TYPES[kind]
     except KeyError:
-        raise KeyError(f"unknown joint type '{kind}'{did_you_mean(kind, JOINT_TYPES)}; "
-                       f"known: {', '.join(sorted(JOINT_TYPES))}") from None
+        raise KeyError(
+            f"unknown joint type '{kind}'{did_you_mean(kind, JOINT_TYPES)}; "
+            f"known: {', '.join(sorted(JOINT_TYPES))}"
+        ) from None
 
 
 @dataclass(frozen=True)
@@ -53,7 +55,7 @@ class Joint(ABC):
     kind: ClassVar[str]
     n_eq: ClassVar[int]
     reaction_labels: ClassVar[tuple[str, ...]]
-    angular: ClassVar[bool]            # relative coordinate is an angle (rad) or a length (m)
+    angular: ClassVar[bool]  # relative coordinate is an angle (rad) or a length (m)
 
     name: str
     links: tuple[str, str]
@@ -68,8 +70,13 @@ class Joint(ABC):
     # -- YAML ---------------------------------------------------------------
     @classmethod
     @abstractmethod
-    def from_spec(cls, name: str, entry: "Entry", links: tuple[str, str],
-                  points: dict[str, dict[str, np.ndarray]]) -> "Joint | None":
+    def from_spec(
+        cls,
+        name: str,
+        entry: Entry,
+        links: tuple[str, str],
+        points: dict[str, dict[str, np.ndarray]],
+    ) -> Joint | None:
         """Parse this type's keys of ``joints.<name>``.
 
         ``points[link][point]`` are the links' local points relative to their
@@ -91,8 +98,9 @@ class Joint(ABC):
         """(∂Φ/∂q_i, ∂Φ/∂q_j), each ``(..., n_eq, 3)``."""
 
     @abstractmethod
-    def acceleration_rhs(self, qi: np.ndarray, qj: np.ndarray,
-                         vi: np.ndarray, vj: np.ndarray) -> np.ndarray:
+    def acceleration_rhs(
+        self, qi: np.ndarray, qj: np.ndarray, vi: np.ndarray, vj: np.ndarray
+    ) -> np.ndarray:
         """γ = −(Φ_q q̇)_q q̇, shape ``(..., n_eq)``, so that Φ_q q̈ = γ."""
 
     @abstractmethod
@@ -112,8 +120,9 @@ class Joint(ABC):
         generalized force ``(g_i e, g_j e)``.
         """
 
-    def coordinate_bias(self, qi: np.ndarray, qj: np.ndarray,
-                        vi: np.ndarray, vj: np.ndarray) -> np.ndarray:
+    def coordinate_bias(
+        self, qi: np.ndarray, qj: np.ndarray, vi: np.ndarray, vj: np.ndarray
+    ) -> np.ndarray:
         """Velocity-product part of the coordinate's second derivative, ``(...)``.
 
         d²c/dt² = g·q̈ + coordinate_bias.  Zero for coordinates linear in q.
@@ -125,7 +134,9 @@ class Joint(ABC):
         gi, gj = self.motion_direction(qi, qj)
         return np.einsum("...k,...k->...", gi, vi) + np.einsum("...k,...k->...", gj, vj)
 
-    def effort_force(self, effort: np.ndarray, qi: np.ndarray, qj: np.ndarray) -> dict[str, np.ndarray]:
+    def effort_force(
+        self, effort: np.ndarray, qi: np.ndarray, qj: np.ndarray
+    ) -> dict[str, np.ndarray]:
         """What an effort along the coordinate (i on j) adds to the reaction labels.
 
         A couple adds no force (revolute: {}); a force along a sliding axis adds

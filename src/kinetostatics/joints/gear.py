@@ -174,8 +174,10 @@ def read_flank(entry) -> int | None:
     if text is None:
         return None
     if text not in FLANKS:
-        e.error(f"flank must be ccw or cw (the sense in which the tooth force turns "
-                f"link j about its centre), got '{text}'")
+        e.error(
+            f"flank must be ccw or cw (the sense in which the tooth force turns "
+            f"link j about its centre), got '{text}'"
+        )
         return None
     return FLANKS[text]
 
@@ -191,8 +193,10 @@ def read_loss(entry, loss_per_mu: float | None) -> float | None:
         return None
     eff, mu = f.get("efficiency"), f.get("coefficient")
     if (eff is None) == (mu is None):
-        f.error("give efficiency (the mesh efficiency η, 0 < η ≤ 1) or coefficient "
-                "(the tooth friction coefficient μ)")
+        f.error(
+            "give efficiency (the mesh efficiency η, 0 < η ≤ 1) or coefficient "
+            "(the tooth friction coefficient μ)"
+        )
         return None
     if eff is not None:
         eta = eff.number(None, minimum=0.0, strict=True)
@@ -204,15 +208,19 @@ def read_loss(entry, loss_per_mu: float | None) -> float | None:
     if m is None:
         return None
     if loss_per_mu is None:
-        mu.error("a friction coefficient needs the number of teeth (key teeth); "
-                 "or give the mesh efficiency")
+        mu.error(
+            "a friction coefficient needs the number of teeth (key teeth); "
+            "or give the mesh efficiency"
+        )
         return None
     zeta = m * loss_per_mu
     if not zeta < 2.0:
-        mu.error(f"this coefficient gives a loss ratio ζ = {zeta:g} ≥ 2 (no efficiency "
-                 "left); the model is ζ = (π/2) μ (1/z_i ± 1/z_j)")
+        mu.error(
+            f"this coefficient gives a loss ratio ζ = {zeta:g} ≥ 2 (no efficiency "
+            "left); the model is ζ = (π/2) μ (1/z_i ± 1/z_j)"
+        )
         return None
-    return 2.0 * zeta / (2.0 + zeta)                 # 1 − η with η = (2 − ζ)/(2 + ζ)
+    return 2.0 * zeta / (2.0 + zeta)  # 1 − η with η = (2 − ζ)/(2 + ζ)
 
 
 @dataclass(frozen=True)
@@ -227,7 +235,7 @@ class Gear(Joint, kind="gear"):
 
     n_eq: ClassVar[int] = 1
     reaction_labels: ClassVar[tuple[str, ...]] = ("F", "Fx", "Fy")
-    angular: ClassVar[bool] = False          # the rolling coordinate is an arc length
+    angular: ClassVar[bool] = False  # the rolling coordinate is an arc length
 
     c_i: np.ndarray = None
     c_j: np.ndarray = None
@@ -236,17 +244,18 @@ class Gear(Joint, kind="gear"):
     r_j: float = 0.0
     teeth: tuple[int, int] = (1, 1)
     internal: bool = False
-    alpha: float = math.radians(20.0)        # pressure angle, rad
-    flank: int = 1                           # +1: ccw, −1: cw
-    phase: float = 0.0                       # rad
-    loss: float = 0.0                        # 1 − mesh efficiency
+    alpha: float = math.radians(20.0)  # pressure angle, rad
+    flank: int = 1  # +1: ccw, −1: cw
+    phase: float = 0.0  # rad
+    loss: float = 0.0  # 1 − mesh efficiency
 
     # -- YAML ---------------------------------------------------------------
     @classmethod
     def from_spec(cls, name, entry, links, points):
-        entry.check_keys(required=("type", "links", "centres", "teeth"),
-                         optional=("radii", "module", "mesh", "pressure_angle", "flank",
-                                   "phase", "friction"))
+        entry.check_keys(
+            required=("type", "links", "centres", "teeth"),
+            optional=("radii", "module", "mesh", "pressure_angle", "flank", "phase", "friction"),
+        )
         names = tuple(entry.require("centres").names(2))
         c_i = entry.point(links[0], names[0], points, key="centres", index=0)
         c_j = entry.point(links[1], names[1], points, key="centres", index=1)
@@ -259,8 +268,10 @@ class Gear(Joint, kind="gear"):
                 mesh = None
         radii = cls._radii(entry, teeth)
         if teeth is not None and mesh == "internal" and teeth[0] == teeth[1]:
-            entry["teeth"].error("an internal mesh needs an annulus larger than its pinion: "
-                                 "the numbers of teeth must differ")
+            entry["teeth"].error(
+                "an internal mesh needs an annulus larger than its pinion: "
+                "the numbers of teeth must differ"
+            )
             mesh = None
         alpha = read_pressure_angle(entry)
         flank = read_flank(entry)
@@ -270,13 +281,27 @@ class Gear(Joint, kind="gear"):
             phase = None
         per_mu = None
         if teeth is not None and mesh is not None:
-            inv = (1.0 / teeth[0] + (-1.0 if mesh == "internal" else 1.0) / teeth[1])
+            inv = 1.0 / teeth[0] + (-1.0 if mesh == "internal" else 1.0) / teeth[1]
             per_mu = 0.5 * math.pi * abs(inv)
         loss = read_loss(entry, per_mu)
         if any(v is None for v in (c_i, c_j, teeth, mesh, radii, alpha, flank, phase, loss)):
             return None
-        return cls(name, links, entry.where, c_i, c_j, names, radii[0], radii[1], tuple(teeth),
-                   mesh == "internal", float(alpha), flank, float(phase), float(loss))
+        return cls(
+            name,
+            links,
+            entry.where,
+            c_i,
+            c_j,
+            names,
+            radii[0],
+            radii[1],
+            tuple(teeth),
+            mesh == "internal",
+            float(alpha),
+            flank,
+            float(phase),
+            float(loss),
+        )
 
     @staticmethod
     def _radii(entry, teeth):
@@ -285,8 +310,10 @@ class Gear(Joint, kind="gear"):
             module.error("give either the pitch radii (radii) or the module, not both")
             return None
         if radii is None and module is None:
-            entry.error("give the pitch radii (radii: [r_i, r_j]) or the module (module: m, "
-                        "pitch radius m·z/2)")
+            entry.error(
+                "give the pitch radii (radii: [r_i, r_j]) or the module (module: m, "
+                "pitch radius m·z/2)"
+            )
             return None
         if module is not None:
             m = read_length(module)
@@ -301,18 +328,24 @@ class Gear(Joint, kind="gear"):
         if None in r or teeth is None:
             return None
         if abs(r[0] * teeth[1] - r[1] * teeth[0]) > 1e-9 * max(r[0] * teeth[1], r[1] * teeth[0]):
-            radii.error(f"the pitch radii must be in the ratio of the teeth "
-                        f"{teeth[0]}:{teeth[1]} = {teeth[0] / teeth[1]:.6g} (equal modules); "
-                        f"their ratio is {r[0] / r[1]:.6g}")
+            radii.error(
+                f"the pitch radii must be in the ratio of the teeth "
+                f"{teeth[0]}:{teeth[1]} = {teeth[0] / teeth[1]:.6g} (equal modules); "
+                f"their ratio is {r[0] / r[1]:.6g}"
+            )
             return None
         return r[0], r[1]
 
     def to_spec(self) -> dict[str, Any]:
         spec: dict[str, Any] = {
-            "centres": list(self.centre_names), "teeth": list(self.teeth),
-            "radii": [self.r_i, self.r_j], "mesh": "internal" if self.internal else "external",
-            "pressure_angle": self.alpha, "flank": "ccw" if self.flank > 0 else "cw",
-            "phase": self.phase}
+            "centres": list(self.centre_names),
+            "teeth": list(self.teeth),
+            "radii": [self.r_i, self.r_j],
+            "mesh": "internal" if self.internal else "external",
+            "pressure_angle": self.alpha,
+            "flank": "ccw" if self.flank > 0 else "cw",
+            "phase": self.phase,
+        }
         if self.loss:
             spec["friction"] = {"efficiency": 1.0 - self.loss}
         return spec
@@ -344,8 +377,9 @@ class Gear(Joint, kind="gear"):
     @property
     def period(self) -> float:
         """Tooth period of Φ: the base pitch times gcd(z_i, z_j)."""
-        return (2.0 * math.pi * self.r_i * math.cos(self.alpha) / self.teeth[0]
-                * math.gcd(*self.teeth))
+        return (
+            2.0 * math.pi * self.r_i * math.cos(self.alpha) / self.teeth[0] * math.gcd(*self.teeth)
+        )
 
     # -- geometry -------------------------------------------------------------
     def _frame(self, qi, qj):
@@ -365,7 +399,7 @@ class Gear(Joint, kind="gear"):
     def _rates(Ri, Rj, d, e, t, vi, vj):
         wi, wj = vi[..., 2], vj[..., 2]
         Dd = vj[..., :2] + wj[..., None] * perp(Rj) - vi[..., :2] - wi[..., None] * perp(Ri)
-        Ddd = -(wj ** 2)[..., None] * Rj + (wi ** 2)[..., None] * Ri   # velocity part of D̈
+        Ddd = -(wj**2)[..., None] * Rj + (wi**2)[..., None] * Ri  # velocity part of D̈
         beta_d = _dot(t, Dd) / d
         d_d = _dot(e, Dd)
         return Ddd, beta_d, d_d
@@ -375,8 +409,7 @@ class Gear(Joint, kind="gear"):
         Ri, Rj, D, d, e, t = self._frame(qi, qj)
         K_i, K_j, k = self._coefficients()
         beta = np.arctan2(D[..., 1], D[..., 0])
-        phi = (K_j * (qj[..., 2] - beta - self.phase) - K_i * (qi[..., 2] - beta)
-               + k * (d - self.d0))
+        phi = K_j * (qj[..., 2] - beta - self.phase) - K_i * (qi[..., 2] - beta) + k * (d - self.d0)
         return _wrap(phi, self.period)[..., None]
 
     def jacobian(self, qi, qj):
@@ -397,7 +430,7 @@ class Gear(Joint, kind="gear"):
         K = K_j - K_i
         # Φ̇ = G·Ḋ + K_j ω_j − K_i ω_i; its velocity-product part of Φ̈ is
         # Ġ·Ḋ + G·D̈_vel = 2K β̇ ḋ/d + k d β̇² + G·D̈_vel.
-        return -(2.0 * K * beta_d * d_d / d + k * d * beta_d ** 2 + _dot(G, Ddd))[..., None]
+        return -(2.0 * K * beta_d * d_d / d + k * d * beta_d**2 + _dot(G, Ddd))[..., None]
 
     def reaction(self, lam, qi, qj):
         Ri, Rj, D, d, e, t = self._frame(qi, qj)

@@ -46,8 +46,9 @@ class Prismatic(Joint, kind="prismatic"):
     # -- YAML ---------------------------------------------------------------
     @classmethod
     def from_spec(cls, name, entry, links, points):
-        entry.check_keys(required=("type", "links", "axis"),
-                         optional=("point", "angle", "length", "friction"))
+        entry.check_keys(
+            required=("type", "links", "axis"), optional=("point", "angle", "length", "friction")
+        )
         axis, a, u, axis_names = entry.require("axis"), None, None, ()
         if axis is not None:
             axis.check_keys(optional=("point", "direction", "points"))
@@ -76,8 +77,9 @@ class Prismatic(Joint, kind="prismatic"):
             f = fr["coefficient"].number(None, minimum=0.0) if fr.get("coefficient") else 0.0
         if a is None or u is None or p is None or angle is None or f is None:
             return None
-        return cls(name, links, entry.where, a, u, p, float(angle), axis_names, pname,
-                   float(f), length)
+        return cls(
+            name, links, entry.where, a, u, p, float(angle), axis_names, pname, float(f), length
+        )
 
     def to_spec(self) -> dict[str, Any]:
         if len(self.axis_names) == 2:
@@ -116,13 +118,13 @@ class Prismatic(Joint, kind="prismatic"):
     def _rates(A, P, vi, vj):
         wi, wj = vi[..., 2], vj[..., 2]
         dd = vj[..., :2] + wj[..., None] * perp(P) - vi[..., :2] - wi[..., None] * perp(A)
-        dd2 = -(wj ** 2)[..., None] * P + (wi ** 2)[..., None] * A   # velocity part of d̈
+        dd2 = -(wj**2)[..., None] * P + (wi**2)[..., None] * A  # velocity part of d̈
         return wi, dd, dd2
 
     def acceleration_rhs(self, qi, qj, vi, vj):
         A, U, N, P, d = self._frame(qi, qj)
         wi, dd, dd2 = self._rates(A, P, vi, vj)
-        g1 = wi ** 2 * _dot(N, d) + 2.0 * wi * _dot(U, dd) - _dot(N, dd2)
+        g1 = wi**2 * _dot(N, d) + 2.0 * wi * _dot(U, dd) - _dot(N, dd2)
         return np.stack((g1, np.zeros_like(g1)), axis=-1)
 
     def reaction(self, lam, qi, qj):
@@ -148,7 +150,7 @@ class Prismatic(Joint, kind="prismatic"):
     def coordinate_bias(self, qi, qj, vi, vj):
         A, U, N, P, d = self._frame(qi, qj)
         wi, dd, dd2 = self._rates(A, P, vi, vj)
-        return -wi ** 2 * _dot(U, d) + 2.0 * wi * _dot(N, dd) + _dot(U, dd2)
+        return -(wi**2) * _dot(U, d) + 2.0 * wi * _dot(N, dd) + _dot(U, dd2)
 
     # -- friction -----------------------------------------------------------
     @property

@@ -96,7 +96,7 @@ class Rack(Joint, kind="rack"):
 
     n_eq: ClassVar[int] = 1
     reaction_labels: ClassVar[tuple[str, ...]] = ("F", "Fx", "Fy")
-    angular: ClassVar[bool] = False          # the coordinate is a travel along the rack
+    angular: ClassVar[bool] = False  # the coordinate is a travel along the rack
 
     a: np.ndarray = None
     u: np.ndarray = None
@@ -105,17 +105,18 @@ class Rack(Joint, kind="rack"):
     centre_name: str = ""
     r: float = 0.0
     teeth: int | None = None
-    alpha: float = math.radians(20.0)        # pressure angle, rad
-    flank: int = 1                           # +1: ccw, −1: cw
-    phase: float = 0.0                       # s₀, m
-    loss: float = 0.0                        # 1 − mesh efficiency
+    alpha: float = math.radians(20.0)  # pressure angle, rad
+    flank: int = 1  # +1: ccw, −1: cw
+    phase: float = 0.0  # s₀, m
+    loss: float = 0.0  # 1 − mesh efficiency
 
     # -- YAML ---------------------------------------------------------------
     @classmethod
     def from_spec(cls, name, entry, links, points):
-        entry.check_keys(required=("type", "links", "axis", "centre"),
-                         optional=("radius", "module", "teeth", "pressure_angle", "flank",
-                                   "phase", "friction"))
+        entry.check_keys(
+            required=("type", "links", "axis", "centre"),
+            optional=("radius", "module", "teeth", "pressure_angle", "flank", "phase", "friction"),
+        )
         a, u, axis_names = cls._axis(entry.require("axis"), links, points)
         cname = entry.require("centre").names(1)[0]
         c = entry.point(links[1], cname, points, key="centre")
@@ -130,8 +131,10 @@ class Rack(Joint, kind="rack"):
         if radius is not None and module is not None:
             module.error("give either the pitch radius (radius) or the module, not both")
         elif radius is None and module is None:
-            entry.error("give the pitch radius of the pinion (radius: r) or the module and "
-                        "its teeth (module: m, teeth: z; r = m·z/2)")
+            entry.error(
+                "give the pitch radius of the pinion (radius: r) or the module and "
+                "its teeth (module: m, teeth: z; r = m·z/2)"
+            )
         elif radius is not None:
             r = read_length(radius)
         elif z is None:
@@ -148,8 +151,22 @@ class Rack(Joint, kind="rack"):
         loss = read_loss(entry, None if z is None else 0.5 * math.pi / z)
         if any(v is None for v in (a, u, c, r, alpha, flank, phase, loss)):
             return None
-        return cls(name, links, entry.where, a, u, c, axis_names, cname, float(r), z,
-                   float(alpha), flank, float(phase), float(loss))
+        return cls(
+            name,
+            links,
+            entry.where,
+            a,
+            u,
+            c,
+            axis_names,
+            cname,
+            float(r),
+            z,
+            float(alpha),
+            flank,
+            float(phase),
+            float(loss),
+        )
 
     @staticmethod
     def _axis(axis, links, points):
@@ -178,9 +195,14 @@ class Rack(Joint, kind="rack"):
             axis: dict[str, Any] = {"points": list(self.axis_names)}
         else:
             axis = {"point": self.axis_names[0], "direction": [float(x) for x in self.u]}
-        spec: dict[str, Any] = {"axis": axis, "centre": self.centre_name, "radius": self.r,
-                                "pressure_angle": self.alpha,
-                                "flank": "ccw" if self.flank > 0 else "cw", "phase": self.phase}
+        spec: dict[str, Any] = {
+            "axis": axis,
+            "centre": self.centre_name,
+            "radius": self.r,
+            "pressure_angle": self.alpha,
+            "flank": "ccw" if self.flank > 0 else "cw",
+            "phase": self.phase,
+        }
         if self.teeth is not None:
             spec["teeth"] = self.teeth
         if self.loss:
@@ -206,23 +228,26 @@ class Rack(Joint, kind="rack"):
         """Velocity-product parts of s̈ and ḧ (as for a prismatic axis)."""
         wi, wj = vi[..., 2], vj[..., 2]
         Dd = vj[..., :2] + wj[..., None] * perp(C) - vi[..., :2] - wi[..., None] * perp(A)
-        Ddd = -(wj ** 2)[..., None] * C + (wi ** 2)[..., None] * A
-        s_b = -wi ** 2 * _dot(U, D) + 2.0 * wi * _dot(N, Dd) + _dot(U, Ddd)
-        h_b = -wi ** 2 * _dot(N, D) - 2.0 * wi * _dot(U, Dd) + _dot(N, Ddd)
+        Ddd = -(wj**2)[..., None] * C + (wi**2)[..., None] * A
+        s_b = -(wi**2) * _dot(U, D) + 2.0 * wi * _dot(N, Dd) + _dot(U, Ddd)
+        h_b = -(wi**2) * _dot(N, D) - 2.0 * wi * _dot(U, Dd) + _dot(N, Ddd)
         return s_b, h_b
 
     # -- kinematics ---------------------------------------------------------
     def residual(self, qi, qj):
         A, U, N, C, D, nu = self._frame(qi, qj)
         kc, ks = self._gains(nu)
-        phi = (kc * (_dot(U, D) - self.phase + nu * self.r * (qj[..., 2] - qi[..., 2]))
-               + ks * _dot(N, D) - math.sin(self.alpha) * self.r)
+        phi = (
+            kc * (_dot(U, D) - self.phase + nu * self.r * (qj[..., 2] - qi[..., 2]))
+            + ks * _dot(N, D)
+            - math.sin(self.alpha) * self.r
+        )
         return _wrap(phi, 2.0 * math.pi * self.r * math.cos(self.alpha))[..., None]
 
     def jacobian(self, qi, qj):
         A, U, N, C, D, nu = self._frame(qi, qj)
         kc, ks = self._gains(nu)
-        G = kc[..., None] * U + ks[..., None] * N               # ∂Φ/∂D
+        G = kc[..., None] * U + ks[..., None] * N  # ∂Φ/∂D
         s, h = _dot(U, D), _dot(N, D)
         shape = s.shape + (1, 3)
         ji, jj = np.zeros(shape), np.zeros(shape)
@@ -243,8 +268,11 @@ class Rack(Joint, kind="rack"):
         A, U, N, C, D, nu = self._frame(qi, qj)
         kc, ks = self._gains(nu)
         f = lam[..., 0]
-        return {"F": f, "Fx": f * (kc * U[..., 0] + ks * N[..., 0]),
-                "Fy": f * (kc * U[..., 1] + ks * N[..., 1])}
+        return {
+            "F": f,
+            "Fx": f * (kc * U[..., 0] + ks * N[..., 0]),
+            "Fy": f * (kc * U[..., 1] + ks * N[..., 1]),
+        }
 
     # -- relative coordinate: c = ½[s − ν r (θ_j − θ_i)] ----------------------------
     def coordinate(self, qi, qj):
@@ -254,8 +282,9 @@ class Rack(Joint, kind="rack"):
     def motion_direction(self, qi, qj):
         A, U, N, C, D, nu = self._frame(qi, qj)
         half = 0.5 * nu * self.r
-        gi = np.concatenate((-0.5 * U, (0.5 * (_dot(N, D) - _dot(U, perp(A))) + half)[..., None]),
-                            axis=-1)
+        gi = np.concatenate(
+            (-0.5 * U, (0.5 * (_dot(N, D) - _dot(U, perp(A))) + half)[..., None]), axis=-1
+        )
         gj = np.concatenate((0.5 * U, (0.5 * _dot(U, perp(C)) - half)[..., None]), axis=-1)
         return gi, gj
 

@@ -29,7 +29,7 @@ class Revolute(Joint, kind="revolute"):
     p_i: np.ndarray = None
     p_j: np.ndarray = None
     point_names: tuple[str, str] = ("", "")
-    rho: float = 0.0                  # friction-circle radius, m
+    rho: float = 0.0  # friction-circle radius, m
 
     # -- YAML ---------------------------------------------------------------
     @classmethod
@@ -60,7 +60,9 @@ class Revolute(Joint, kind="revolute"):
                 fv = f.require("coefficient").number(None, minimum=0.0)
                 rho = None if r is None or fv is None else r * fv
             else:
-                f.error("give radius (the friction-circle radius), or journal_radius and coefficient")
+                f.error(
+                    "give radius (the friction-circle radius), or journal_radius and coefficient"
+                )
         return rho
 
     def to_spec(self) -> dict[str, Any]:
@@ -71,8 +73,9 @@ class Revolute(Joint, kind="revolute"):
 
     # -- kinematics ---------------------------------------------------------
     def residual(self, qi, qj):
-        return (qi[..., :2] + rotate(qi[..., 2], self.p_i)
-                - qj[..., :2] - rotate(qj[..., 2], self.p_j))
+        return (
+            qi[..., :2] + rotate(qi[..., 2], self.p_i) - qj[..., :2] - rotate(qj[..., 2], self.p_j)
+        )
 
     def jacobian(self, qi, qj):
         shape = np.broadcast_shapes(qi.shape, qj.shape)[:-1] + (2, 3)
@@ -84,8 +87,10 @@ class Revolute(Joint, kind="revolute"):
         return ji, jj
 
     def acceleration_rhs(self, qi, qj, vi, vj):
-        return (rotate(qi[..., 2], self.p_i) * vi[..., 2:3] ** 2
-                - rotate(qj[..., 2], self.p_j) * vj[..., 2:3] ** 2)
+        return (
+            rotate(qi[..., 2], self.p_i) * vi[..., 2:3] ** 2
+            - rotate(qj[..., 2], self.p_j) * vj[..., 2:3] ** 2
+        )
 
     def reaction(self, lam, qi, qj):
         return {"Fx": -lam[..., 0], "Fy": -lam[..., 1]}
