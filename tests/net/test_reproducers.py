@@ -43,3 +43,15 @@ def test_angle_band_edges_of_a_crank_that_cannot_turn_fully():
     doc = yaml.safe_load((CASES / "reachable_angle_bands.yaml").read_text(encoding="utf-8"))
     assert R.relation_power_fd(doc, 600009) <= R.TOLERANCE["power_fd"]
     assert R.relation_power(doc, 600009) <= R.TOLERANCE["power"]
+
+
+def test_derivatives_of_a_sharp_motion():
+    """The central differences' O(h²) truncation error of this sharp motion was 1.8e-3 of the
+    column's scale at h/2, above the tolerance though the exact derivatives are right (seed
+    1005196, relation derivatives); the relation now compares the Richardson extrapolation of
+    the two steps (O(h⁴)) and still requires the h² convergence."""
+    doc = yaml.safe_load((CASES / "sharp_accelerations.yaml").read_text(encoding="utf-8"))
+    R.DERIV.clear()
+    assert R.relation_derivatives(doc, 1005196) <= R.TOLERANCE["derivatives"]
+    h, half = R.DERIV[0]
+    assert half > R.TOLERANCE["derivatives"] and 3.9 < h / half < 4.1  # the case: pure h²
