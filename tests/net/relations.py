@@ -524,7 +524,7 @@ def relation_sketch(doc, seed, tol_rel=None):
             j = doc["joints"][key]
             if j["type"] == "revolute":
                 pi, pj = j.get("points", [key, key])
-                pts += [f"{l}.{p}" for l, p in zip(j["links"], (pi, pj)) if l != ground]
+                pts += [f"{lk}.{p}" for lk, p in zip(j["links"], (pi, pj)) if lk != ground]
             else:
                 pts.append(f"{j['links'][1]}.{j.get('point', key)}")
         for p in pts:
@@ -566,7 +566,13 @@ def relation_grid(doc, seed, n=24):
 
 def relation_derivatives(doc, seed, h=2e-2, k=2):
     """Central differences of positions in time agree with the exact velocities
-    and accelerations; the error is O(h²) (checked against h/2)."""
+    and accelerations: their error is O(h²) (checked against h/2), and what is
+    compared is their Richardson extrapolation (4·D(h/2) − D(h))/3, whose error is
+    O(h⁴).  The O(h²) term, h²/6·x⁽³⁾ for a velocity and h²/12·x⁽⁴⁾ for an
+    acceleration, is as large against a column's own scale as the motion is sharp,
+    so no fixed fraction bounds it: a column whose acceleration varies ~15× faster
+    than the crank turns had 1.8·10⁻³ at h/2 (seed 1005196; it fell exactly as h²).
+    The extrapolation removes that term whatever its size."""
     rng = np.random.default_rng([seed, 29])
     w = speed(doc)
     sign = np.sign(w)
@@ -579,12 +585,12 @@ def relation_derivatives(doc, seed, h=2e-2, k=2):
     vmax, amax = max(fam.get("vx", 0), fam.get("vy", 0)), max(fam.get("ax", 0), fam.get("ay", 0))
     worst = 0.0
     for u in rng.uniform(0.3, 2 * math.pi - 0.3, k):
-        errs = []
+        errs, diffs = [], []
         for hh in (h, h / 2):
             pos = start + sign * (u + np.array([-hh, 0.0, hh]))
             r = analyze(doc, positions=pos, kinematics_only=True)
             dt = hh / abs(w)
-            e = 0.0
+            d = {}  # (difference − exact) / scale, per velocity and acceleration column
             for c in r.names:
                 base, _, tail = c.rpartition(".")
                 if tail not in ("x", "y", "theta"):
@@ -604,9 +610,16 @@ def relation_derivatives(doc, seed, h=2e-2, k=2):
                     + 1e-3 * (fam["alpha"] if tail == "theta" else amax)
                     + 1e-12 * w * w
                 )
-                e = max(e, abs(v_fd - r[v_name][1]) / sv, abs(a_fd - r[a_name][1]) / sa)
-            errs.append(e)
-        worst = max(worst, errs[1])
+                d[v_name] = (v_fd - r[v_name][1]) / sv
+                d[a_name] = (a_fd - r[a_name][1]) / sa
+            errs.append(max((abs(x) for x in d.values()), default=0.0))
+            diffs.append(d)
+        for c in diffs[1]:  # both steps share the centre, hence the exact value
+            x = float(abs(4 * diffs[1][c] - diffs[0][c]) / 3)
+            if x > worst:
+                worst = x
+                if worst > WORST[0]:
+                    WORST[:] = [worst, c]
         if errs[0] > 1e-5 and errs[1] > errs[0] / 2.5:  # no h² convergence
             worst = max(worst, math.inf)
         DERIV.append(errs)

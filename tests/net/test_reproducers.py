@@ -43,3 +43,24 @@ def test_angle_band_edges_of_a_crank_that_cannot_turn_fully():
     doc = yaml.safe_load((CASES / "reachable_angle_bands.yaml").read_text(encoding="utf-8"))
     assert R.relation_power_fd(doc, 600009) <= R.TOLERANCE["power_fd"]
     assert R.relation_power(doc, 600009) <= R.TOLERANCE["power"]
+
+
+def test_pressure_angle_near_zero_is_computed_to_full_precision():
+    """The pressure (and transmission) angle was the arccos of a cosine, which loses half the
+    digits near 0°: a pressure angle of 0.0007° came out 5e-10° apart from the same pose in a
+    grid and alone, 7e-7 of itself (seed 1005175, relation grid). It is now the atan2 of the
+    cross and dot products."""
+    doc = yaml.safe_load((CASES / "pressure_angle_near_zero.yaml").read_text(encoding="utf-8"))
+    assert R.relation_grid(doc, 1005175) <= R.TOLERANCE["grid"]
+
+
+def test_derivatives_of_a_sharp_motion():
+    """The central differences' O(h²) truncation error of this sharp motion was 1.8e-3 of the
+    column's scale at h/2, above the tolerance though the exact derivatives are right (seed
+    1005196, relation derivatives); the relation now compares the Richardson extrapolation of
+    the two steps (O(h⁴)) and still requires the h² convergence."""
+    doc = yaml.safe_load((CASES / "sharp_accelerations.yaml").read_text(encoding="utf-8"))
+    R.DERIV.clear()
+    assert R.relation_derivatives(doc, 1005196) <= R.TOLERANCE["derivatives"]
+    h, half = R.DERIV[0]
+    assert half > R.TOLERANCE["derivatives"] and 3.9 < h / half < 4.1  # the case: pure h²
