@@ -90,8 +90,8 @@ def geometry(path: Path) -> str:
 
 def write(name: str, text: str, folder: Path) -> None:
     if name.endswith(".csv"):
-        with gzip.open(folder / f"{name}.gz", "wt", encoding="utf-8", compresslevel=9) as f:
-            f.write(text)
+        data = gzip.compress(text.encode("utf-8"), compresslevel=9, mtime=0)
+        (folder / f"{name}.gz").write_bytes(data)  # mtime 0: the same text, the same bytes
     else:
         (folder / name).write_text(text, encoding="utf-8")
 
