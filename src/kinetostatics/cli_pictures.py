@@ -159,7 +159,7 @@ def _default_paths(model) -> list[str]:
 
 
 def _plot(args) -> int:
-    from . import plotting as pl
+    from .outputs import plotting as pl
     from .yaml_io import load
 
     model = load(args.file)
@@ -204,7 +204,7 @@ def _plot(args) -> int:
 
 
 def _animate(args) -> int:
-    from . import plotting as pl
+    from .outputs import plotting as pl
     from .yaml_io import load
 
     out = Path(args.out)

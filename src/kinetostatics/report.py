@@ -307,7 +307,7 @@ def _mm(v) -> str:
 
 def _data_blocks(model, system) -> list:
     from .joints import Prismatic, Revolute
-    from .plotting import link_numbers
+    from .outputs.plotting import link_numbers
 
     nums = link_numbers(system)
     blocks: list = [_Heading(2, "1. Data")]
@@ -568,8 +568,8 @@ def write_report(
     there are no such positions.  Returns the paths written (``markdown``,
     ``html``, ``csv``, ``summary``).
     """
-    from . import plotting as pl
     from .model import Model
+    from .outputs import plotting as pl
 
     if isinstance(source, Model):
         model = source

@@ -1,0 +1,1 @@
+"""Outputs of an analysis: summaries, reports and pictures (:mod:`.plotting`)."""

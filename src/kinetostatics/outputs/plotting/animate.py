@@ -1,0 +1,151 @@
+"""Animation of the mechanism over the rows (GIF through Pillow, MP4 with ffmpeg)."""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from pathlib import Path
+
+import numpy as np
+
+from .draw import _draw_moving, _draw_static, _force_scale, _loads_at
+from .rows import _position_title, _sorted
+from .scene import _Scene
+from .style import MU, PictureError, _fmt_scale, _layout, _Paper, _rc, nice_scale
+
+
+# -- animation ---------------------------------------------------------------------
+def animate(
+    result,
+    path: str | Path,
+    *,
+    forces: bool = False,
+    friction: bool = False,
+    paths: Iterable[str] = (),
+    fps: float = 20.0,
+    dpi: float = 80.0,
+    max_size_mm=(160.0, 120.0),
+) -> Path:
+    """Write an animation of the mechanism over the result's rows (one frame per row,
+    in order of travel): ``.gif`` through Pillow, ``.mp4`` only if ffmpeg is on the
+    PATH.  ``forces`` overlays the loads at one force scale for the whole cycle.
+    Returns the path written.
+    """
+    import shutil
+    import subprocess
+
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix not in (".gif", ".mp4"):
+        raise PictureError(
+            f"{path}: an animation is written as .gif (or .mp4 with ffmpeg), "
+            f"not '{suffix or 'no suffix'}'"
+        )
+    ffmpeg = shutil.which("ffmpeg") if suffix == ".mp4" else None
+    if suffix == ".mp4" and ffmpeg is None:
+        raise PictureError(f"{path}: writing MP4 needs ffmpeg on the PATH; write a .gif instead")
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    _, order, _ = _sorted(result)
+    with _rc():
+        scene = _Scene(result, paths)
+        span = scene.hi - scene.lo
+        mu_l = nice_scale(max(span[0] / max_size_mm[0], span[1] / max_size_mm[1]) * 1e3) / 1e3
+        paper = _Paper(mu_l)
+        fig, ax = _layout(
+            (scene.lo[0] * 1e3, scene.hi[0] * 1e3),
+            (scene.lo[1] * 1e3, scene.hi[1] * 1e3),
+            paper.k,
+            dpi=dpi,
+            top=14.0 if forces else 11.0,
+        )
+        ax.grid(False)
+        ax.set_xlabel("x, mm")
+        ax.set_ylabel("y, mm")
+        mu_f = None
+        loads = {}
+        if forces:
+            loads = {k: _loads_at(result, int(k), friction=friction) for k in order}
+            mu_f = _force_scale([a for arr in loads.values() for a in arr])
+        head = f"{scene.model.name}   {MU['l']} = {_fmt_scale(mu_l)} m/mm" + (
+            f",  {MU['F']} = {_fmt_scale(mu_f)} N/mm" if forces else ""
+        )
+        ax.set_title(head + ("\n" if forces else ""), loc="left", fontsize=8.5)
+        _draw_static(ax, scene, paper)
+        canvas = FigureCanvasAgg(fig)
+        canvas.draw()
+        background = canvas.copy_from_bbox(fig.bbox)
+        w, h = canvas.get_width_height()
+        frames = []
+        proc = None
+        if ffmpeg:
+            proc = subprocess.Popen(
+                [
+                    ffmpeg,
+                    "-y",
+                    "-loglevel",
+                    "error",
+                    "-f",
+                    "rawvideo",
+                    "-pix_fmt",
+                    "rgba",
+                    "-s",
+                    f"{w}x{h}",
+                    "-r",
+                    f"{fps:g}",
+                    "-i",
+                    "-",
+                    "-pix_fmt",
+                    "yuv420p",
+                    "-vf",
+                    "pad=ceil(iw/2)*2:ceil(ih/2)*2",
+                    str(path),
+                ],
+                stdin=subprocess.PIPE,
+            )
+        from PIL import Image
+
+        palette = None
+        for k in order:
+            k = int(k)
+            canvas.restore_region(background)
+            geo = scene.geometry(k)
+            arts = _draw_moving(ax, scene, geo, paper, labels=True, forces=loads.get(k), mu_f=mu_f)
+            t = ax.text(
+                0.99,
+                0.99,
+                _position_title(result, k),
+                ha="right",
+                va="top",
+                fontsize=8,
+                transform=ax.transAxes,
+                zorder=11,
+            )
+            arts.append(t)
+            for a in arts:
+                ax.draw_artist(a)
+            buf = np.asarray(canvas.buffer_rgba())
+            if proc is not None:
+                proc.stdin.write(buf.tobytes())
+            else:
+                img = Image.fromarray(buf[..., :3].copy())
+                if palette is None:
+                    palette = img.quantize(colors=128, method=Image.Quantize.MEDIANCUT)
+                frames.append(img.quantize(palette=palette, dither=Image.Dither.NONE))
+            for a in arts:
+                a.remove()
+    if proc is not None:
+        proc.stdin.close()
+        if proc.wait() != 0:
+            raise PictureError(f"{path}: ffmpeg failed (exit {proc.returncode})")
+        return path
+    path.parent.mkdir(parents=True, exist_ok=True)
+    frames[0].save(
+        path,
+        save_all=True,
+        append_images=frames[1:],
+        duration=int(round(1000 / fps)),
+        loop=0,
+        optimize=False,
+        disposal=1,
+    )
+    return path

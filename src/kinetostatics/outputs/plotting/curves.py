@@ -1,0 +1,443 @@
+"""Curves over the driver coordinate: output motion, motion diagram, reactions,
+driving torque, efficiency, any columns; load zones and events marked."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from ...errors import did_you_mean
+from ...forces import activity
+from .rows import _angular, _course_ticks, _driver, _event_travel, _sorted, link_numbers
+from .style import CURVE_COLORS, DPI, EVENT_COLOR, PictureError, _figure, _rc
+
+
+# -- output motion ------------------------------------------------------------------
+def _joint_coordinate(result, joint):
+    """(c, ċ, c̈) of a joint's relative coordinate over all rows."""
+    system = result.system
+    k = system.model.joints.index(joint)
+    n = len(result)
+    ext = lambda a: np.concatenate((a, np.zeros((n, 3))), axis=-1)
+    qe, ve, ae = ext(result.q), ext(result.qd), ext(result.qdd)
+    i, j = system.ends[k]
+    sl = lambda a, m: a[:, 3 * m : 3 * m + 3]
+    qi, qj = sl(qe, i), sl(qe, j)
+    gi, gj = joint.motion_direction(qi, qj)
+    c = joint.coordinate(qi, qj)
+    cd = np.sum(gi * sl(ve, i), axis=-1) + np.sum(gj * sl(ve, j), axis=-1)
+    cdd = (
+        np.sum(gi * sl(ae, i), axis=-1)
+        + np.sum(gj * sl(ae, j), axis=-1)
+        + joint.coordinate_bias(qi, qj, sl(ve, i), sl(ve, j))
+    )
+    return c, cd, cdd
+
+
+def output_motion(result, output: str | None = None) -> dict:
+    """Position, velocity and acceleration of the output, over the rows.
+
+    ``output``: a prismatic joint (its sliding coordinate s = (P_j − A_i)·u_i,
+    ṡ, s̈), a link (θ, ω, α), or ``"link.point"`` (x, y components).  Default:
+    the first undriven prismatic pair on the frame (the output slider), else
+    any undriven prismatic pair, else the last link solved.
+
+    Returns ``{"name", "kind" ("slide"|"link"|"point"), "series": [(label,
+    unit, values (n,) or (n, 2)) × 3]}`` in SI.
+    """
+    from ...joints import Prismatic
+
+    system, model = result.system, result.system.model
+    driven = {d.joint.name for d in system.motion_drivers}
+    if output is None:
+        slides = [j for j in model.joints if isinstance(j, Prismatic) and j.name not in driven]
+        on_frame = [j for j in slides if model.ground.name in j.links]
+        if on_frame or slides:
+            output = (on_frame or slides)[0].name
+        else:
+            output = system.plans[-1].group.links[-1]
+    joints = {j.name: j for j in model.joints}
+    if output in joints:
+        j = joints[output]
+        c, cd, cdd = _joint_coordinate(result, j)
+        if j.angular:
+            return {
+                "name": output,
+                "kind": "joint",
+                "series": [
+                    (f"relative angle of {output}", "deg", np.degrees(c)),
+                    ("relative angular velocity", "rad/s", cd),
+                    ("relative angular acceleration", "rad/s²", cdd),
+                ],
+            }
+        pj = f"{j.links[1]}.{j.point_name}"
+        return {
+            "name": output,
+            "kind": "slide",
+            "series": [
+                (f"s of {pj} along {output}", "mm", c * 1e3),
+                ("v = ds/dt", "m/s", cd),
+                ("a = d²s/dt²", "m/s²", cdd),
+            ],
+        }
+    if output in system.links:
+        return {
+            "name": output,
+            "kind": "link",
+            "series": [
+                (f"θ of {output}", "deg", result[f"{output}.theta"]),
+                (f"ω of {output}", "rad/s", result[f"{output}.omega"]),
+                (f"α of {output}", "rad/s²", result[f"{output}.alpha"]),
+            ],
+        }
+    if f"{output}.x" in result.columns and output.count(".") == 1:
+        xy = lambda s: np.column_stack(
+            (
+                result[f"{output}.{s}x" if s else f"{output}.x"],
+                result[f"{output}.{s}y" if s else f"{output}.y"],
+            )
+        )
+        return {
+            "name": output,
+            "kind": "point",
+            "series": [
+                (f"position of {output}", "mm", xy("") * 1e3),
+                (f"velocity of {output}", "m/s", xy("v")),
+                (f"acceleration of {output}", "m/s²", xy("a")),
+            ],
+        }
+    names = (
+        list(joints)
+        + list(system.links)
+        + [f"{lk.name}.{p}" for lk in model.moving_links for p in lk.points]
+    )
+    raise PictureError(
+        f"no output '{output}' (a joint, a link or link.point){did_you_mean(output, names)}"
+    )
+
+
+def _active_spans(result) -> list[tuple[str, float, float]]:
+    """Travel intervals where each load with ``active:`` conditions acts."""
+    system = result.system
+    x, order, _ = _sorted(result)
+    ref = abs(_driver(result).driver.motion.speed)
+    spans = []
+    for load in system.model.loads:
+        if not load.active:
+            continue
+        on = activity(system, load, result.q, result.qd, result.coordinate, result.extremes, ref)[
+            order
+        ]
+        ev = np.array([_is_event_row(result, int(i)) for i in order])
+        k = 0
+        while k < len(on):
+            if not on[k]:
+                k += 1
+                continue
+            m = k
+            while m + 1 < len(on) and on[m + 1]:
+                m += 1
+            x0 = x[k - 1] if k > 0 and ev[k - 1] else x[k]
+            x1 = x[m + 1] if m + 1 < len(on) and ev[m + 1] else x[m]
+            spans.append((load.name, float(x0), float(x1)))
+            k = m + 1
+    return spans
+
+
+def _is_event_row(result, k) -> bool:
+    return any(abs(result.t[k] - e.t) < 1e-9 * max(1.0, abs(e.t)) for e in result.events)
+
+
+def _mark(ax, result, *, top: bool = True, spans=None):
+    """Loads' active zones shaded, events as dashed lines (labelled 1′ … in the top
+    panel), course positions 1…12 on a top axis."""
+    spans = _active_spans(result) if spans is None else spans
+    for _name, x0, x1 in spans:
+        ax.axvspan(x0, x1, color=EVENT_COLOR, alpha=0.07, lw=0, zorder=0)
+    ticks = _course_ticks(result)
+    for xe, lab in ticks:
+        if "′" in lab:
+            ax.axvline(xe, color=EVENT_COLOR, lw=0.8, ls=(0, (4, 2)), zorder=1)
+            if top:
+                right = xe > 0.9 * 360
+                ax.text(
+                    xe,
+                    0.97,
+                    f"{lab} " if right else f" {lab}",
+                    transform=ax.get_xaxis_transform(),
+                    color=EVENT_COLOR,
+                    fontsize=7,
+                    va="top",
+                    ha="right" if right else "left",
+                )
+    if not ticks:
+        for e in result.events:
+            ax.axvline(
+                _event_travel(result, e), color=EVENT_COLOR, lw=0.8, ls=(0, (4, 2)), zorder=1
+            )
+    if top and ticks:
+        sec = ax.secondary_xaxis("top")
+        numbered = [(t, lab) for t, lab in ticks if "′" not in lab]
+        sec.set_xticks([t for t, _ in numbered])
+        sec.set_xticklabels([lab for _, lab in numbered], fontsize=6.5)
+        sec.tick_params(length=2, pad=1)
+        sec.set_xlabel("course positions", fontsize=6.5, labelpad=2)
+    if _angular(result) and result.full_cycle:
+        ax.set_xlim(0, 360)
+        ax.set_xticks(np.arange(0, 361, 30))
+
+
+def _event_legend(ax, result):
+    if result.events:
+        ax.plot(
+            [],
+            [],
+            color=EVENT_COLOR,
+            lw=0.8,
+            ls=(0, (4, 2)),
+            label="load switches (" + ", ".join(sorted({e.load for e in result.events})) + ")",
+        )
+    names = sorted({name for name, _, _ in _active_spans(result)})
+    if names:
+        ax.fill_between(
+            [], [], color=EVENT_COLOR, alpha=0.1, lw=0, label=", ".join(names) + " acting"
+        )
+
+
+def _cycle_mean(result, values) -> float:
+    """Mean over the driver coordinate (trapezoids over the sorted rows, closed over
+    the cycle for a full cycle); NaN where a value is missing."""
+    x, order, _ = _sorted(result)
+    y = np.asarray(values, dtype=float)[order]
+    ok = np.isfinite(y)
+    if not ok.any():
+        return float("nan")
+    closed = bool(ok[0]) and result.full_cycle and _angular(result)
+    x, y = x[ok], y[ok]
+    if closed:
+        x, y = np.append(x, 360.0), np.append(y, y[0])
+    if len(x) < 2 or x[-1] == x[0]:
+        return float(np.mean(y))
+    return float(np.sum(0.5 * (y[1:] + y[:-1]) * np.diff(x)) / (x[-1] - x[0]))
+
+
+def motion_diagram(result, output: str | None = None, *, dpi: float = DPI):
+    """The motion diagram of the output: position, velocity, acceleration over the
+    driver coordinate (three panels), loads' zones and events marked, course
+    positions on top.  ``output`` as in :func:`output_motion`."""
+    out = output_motion(result, output)
+    x, order, xlabel = _sorted(result)
+    spans = _active_spans(result)
+    with _rc():
+        fig = _figure(165, 150, dpi)
+        axes = fig.subplots(3, 1, sharex=True)
+        for n, (ax, (label, unit, vals)) in enumerate(zip(axes, out["series"])):
+            vals = np.asarray(vals)[order]
+            if vals.ndim == 2:
+                ax.plot(x, vals[:, 0], color=CURVE_COLORS[0], label="x component")
+                ax.plot(x, vals[:, 1], color=CURVE_COLORS[1], label="y component")
+            else:
+                ax.plot(x, vals, color=CURVE_COLORS[n])
+            ax.set_ylabel(f"{label.split(' of ')[0]}, {unit}")
+            if n > 0:
+                ax.axhline(0, color="black", lw=0.5)
+            _mark(ax, result, top=(n == 0), spans=spans)
+        _event_legend(axes[0], result)
+        if axes[0].get_legend_handles_labels()[0]:
+            axes[0].legend(loc="best", fontsize=7)
+        axes[-1].set_xlabel(xlabel)
+        what = {
+            "slide": "output slider",
+            "link": f"link {out['name']}",
+            "point": f"point {out['name']}",
+            "joint": f"joint {out['name']}",
+        }[out["kind"]]
+        fig.suptitle(
+            f"{result.system.model.name}: motion diagram of the {what}"
+            + (f" ({out['series'][0][0]})" if out["kind"] == "slide" else ""),
+            x=0.02,
+            ha="left",
+            fontsize=9.5,
+        )
+        fig.align_ylabels(axes)
+        fig.subplots_adjust(left=0.12, right=0.97, top=0.875, bottom=0.08, hspace=0.12)
+    return fig
+
+
+def reaction_curves(
+    result, *, friction: bool = False, joints: Sequence[str] | None = None, dpi: float = DPI
+):
+    """Magnitude |F| of every joint's reaction over the driver coordinate (N);
+    with ``friction`` the consistent friction solution dashed in the same colour."""
+    model = result.system.model
+    names = list(joints) if joints else [j.name for j in model.joints]
+    x, order, xlabel = _sorted(result)
+    nums = link_numbers(result.system)
+    with _rc():
+        fig = _figure(165, 95, dpi)
+        ax = fig.add_subplot()
+        for n, name in enumerate(names):
+            if f"{name}.Fx" not in result.columns:
+                raise PictureError(
+                    f"no joint '{name}'{did_you_mean(name, [j.name for j in model.joints])}"
+                )
+            j = model.joint(name)
+            c = CURVE_COLORS[n % len(CURVE_COLORS)]
+            mag = np.hypot(result[f"{name}.Fx"], result[f"{name}.Fy"])[order]
+            ax.plot(x, mag, color=c, label=f"{name} (F{nums[j.links[0]]}{nums[j.links[1]]})")
+            if friction and f"{name}.Fx_friction" in result.columns:
+                magf = np.hypot(result[f"{name}.Fx_friction"], result[f"{name}.Fy_friction"])[order]
+                ax.plot(x, magf, color=c, ls="--", lw=1.0)
+        if friction:
+            ax.plot([], [], color="black", ls="--", lw=1.0, label="with friction (consistent)")
+        _mark(ax, result)
+        _event_legend(ax, result)
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel("reaction magnitude |F|, N")
+        fig.suptitle(f"{model.name}: joint reactions", x=0.02, ha="left", fontsize=9.5)
+        ax.set_ylim(bottom=0)
+        ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0))
+        fig.subplots_adjust(left=0.09, right=0.74, top=0.80, bottom=0.14)
+    return fig
+
+
+def _driver_effort(result, driver: str | None):
+    system = result.system
+    ds = {d.name: d for d in system.motion_drivers}
+    d = ds.get(driver) if driver else system.motion_drivers[0]
+    if d is None:
+        raise PictureError(f"no motion driver '{driver}'{did_you_mean(driver, ds)}")
+    joint = system.model.joint(d.driver.balance_at) if d.driver.balance_at else d.joint
+    word, unit = ("torque", "N·m") if joint.angular else ("force", "N")
+    return d, word, unit
+
+
+def torque_curves(result, driver: str | None = None, *, dpi: float = DPI):
+    """The driving torque (or force) without friction, with the approximate and
+    with the consistent friction, on one plot; events marked; the cycle means."""
+    d, word, unit = _driver_effort(result, driver)
+    x, order, xlabel = _sorted(result)
+    series = [
+        ("", "without friction", CURVE_COLORS[0], "-"),
+        (
+            "_friction_approx",
+            "with friction, approximate (from frictionless reactions)",
+            CURVE_COLORS[1],
+            "--",
+        ),
+        ("_friction", "with friction, consistent", CURVE_COLORS[3], "-"),
+    ]
+    with _rc():
+        fig = _figure(165, 95, dpi)
+        ax = fig.add_subplot()
+        for suffix, label, c, ls in series:
+            key = f"{d.name}.{word}{suffix}"
+            if key not in result.columns:
+                continue
+            y = np.asarray(result[key])[order]
+            mean = _cycle_mean(result, result[key])
+            ax.plot(
+                x,
+                y,
+                color=c,
+                ls=ls,
+                lw=1.6 if ls == "-" else 1.3,
+                zorder=3 if ls == "-" else 4,
+                label=f"{label} (cycle mean {mean:.4g} {unit})",
+            )
+        status = result.columns.get("friction.status")
+        if status is not None and np.any(status[order] == 2):
+            locked = x[status[order] == 2]
+            ax.plot(locked, np.zeros_like(locked), "x", color="black", ms=4, label="self-locking")
+        ax.axhline(0, color="black", lw=0.5)
+        _mark(ax, result)
+        _event_legend(ax, result)
+        ax.set_xlabel(xlabel)
+        sym = "M" if word == "torque" else "F"
+        ax.set_ylabel(
+            f"{sym}, {unit} (counter-clockwise +)" if word == "torque" else f"{sym}, {unit}"
+        )
+        fig.suptitle(
+            f"{result.system.model.name}: driving {word} of {d.name}",
+            x=0.02,
+            ha="left",
+            fontsize=9.5,
+        )
+        ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=1)
+        fig.subplots_adjust(left=0.1, right=0.97, top=0.81, bottom=0.36)
+    return fig
+
+
+def efficiency_curve(result, driver: str | None = None, *, dpi: float = DPI):
+    """Instantaneous efficiency η = M / M_friction (frictionless over consistent
+    driving torque) and the cycle efficiency (ratio of the mean input powers)."""
+    d, word, _ = _driver_effort(result, driver)
+    key = f"{d.name}.efficiency"
+    if key not in result.columns:
+        raise PictureError(f"no friction in {result.system.model.name}: no efficiency to plot")
+    x, order, xlabel = _sorted(result)
+    eta = np.asarray(result[key])[order]
+    with _rc():
+        fig = _figure(165, 85, dpi)
+        ax = fig.add_subplot()
+        ax.plot(x, eta, color=CURVE_COLORS[2], label="η = M / M_friction (instantaneous)")
+        pin = result.columns.get("power.input")
+        pinf = None
+        if f"{d.name}.{word}_friction" in result.columns and pin is not None:
+            ok = np.isfinite(result[f"{d.name}.{word}_friction"])
+            m0 = _cycle_mean(result, np.where(ok, result[f"{d.name}.{word}"], np.nan))
+            m1 = _cycle_mean(result, result[f"{d.name}.{word}_friction"])
+            if m1 != 0 and result.full_cycle:
+                pinf = m0 / m1
+                ax.axhline(
+                    pinf,
+                    color="black",
+                    ls="--",
+                    lw=0.9,
+                    label=f"cycle efficiency (mean M / mean M_friction) = {pinf:.4f}",
+                )
+        finite = eta[np.isfinite(eta)]
+        lo = max(min(float(np.percentile(finite, 2)) if finite.size else 0.0, 0.0), -1.0)
+        ax.set_ylim(lo - 0.05, 1.1)
+        _mark(ax, result)
+        _event_legend(ax, result)
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel("efficiency η, 1")
+        fig.suptitle(
+            f"{result.system.model.name}: efficiency of the drive {d.name} "
+            "(axis clipped where M_friction → 0)",
+            x=0.02,
+            ha="left",
+            fontsize=9.5,
+        )
+        ax.legend(loc="lower left")
+        fig.subplots_adjust(left=0.1, right=0.97, top=0.79, bottom=0.15)
+    return fig
+
+
+def plot_result(result, *names: str, dpi: float = DPI):
+    """Any columns over the driver coordinate, one panel per unit."""
+    if not names:
+        raise PictureError("name at least one column to plot")
+    for n in names:
+        result[n]  # KeyError with a suggestion
+    x, order, xlabel = _sorted(result)
+    units: dict[str, list[str]] = {}
+    for n in names:
+        units.setdefault(result.units[n], []).append(n)
+    with _rc():
+        fig = _figure(165, 45 + 45 * len(units), dpi)
+        axes = np.atleast_1d(fig.subplots(len(units), 1, sharex=True))
+        for ax, (unit, cols) in zip(axes, units.items()):
+            for k, n in enumerate(cols):
+                ax.plot(x, np.asarray(result[n])[order], color=CURVE_COLORS[k % 10], label=n)
+            ax.set_ylabel(unit.replace("*", "·").replace("^2", "²"))
+            ax.legend(loc="best")
+            _mark(ax, result, top=ax is axes[0])
+        axes[-1].set_xlabel(xlabel)
+        fig.suptitle(result.system.model.name, x=0.02, ha="left", fontsize=9.5)
+        fig.subplots_adjust(
+            left=0.11, right=0.97, top=1 - 16 / (45 + 45 * len(units)), bottom=0.1, hspace=0.15
+        )
+    return fig

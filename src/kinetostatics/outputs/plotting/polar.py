@@ -1,0 +1,131 @@
+"""Polar diagrams of the joint loads in link-fixed frames."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+from ..._geometry import rotate
+from ...errors import did_you_mean
+from .rows import _sorted, course_positions, link_numbers
+from .scene import _poses
+from .style import CURVE_COLORS, DPI, EVENT_COLOR, PictureError, _figure, _rc
+
+
+# -- polar diagrams -----------------------------------------------------------------
+def link_frame_loads(result, joint: str, *, friction: bool = False) -> tuple[str, str, np.ndarray]:
+    """A joint's load in a link-fixed frame, over the rows.
+
+    The frame is that of the joint's link j (the reaction's receiver) when j
+    moves, else that of link i with the force reversed.  Returns ``(link,
+    description, F (n, 2))``: the force on ``link``, in N, along that link's
+    local x and y axes (the axes its points are given in).
+    """
+    model = result.system.model
+    try:
+        j = model.joint(joint)
+    except StopIteration:
+        raise PictureError(
+            f"no joint '{joint}'{did_you_mean(joint, [x.name for x in model.joints])}"
+        ) from None
+    sfx = "_friction" if friction and f"{joint}.Fx_friction" in result.columns else ""
+    F = np.column_stack((result[f"{joint}.Fx{sfx}"], result[f"{joint}.Fy{sfx}"]))
+    i_link, j_link = j.links
+    if j_link != model.ground.name:
+        link, desc = j_link, f"force of {i_link} on {j_link}"
+    else:
+        link, desc, F = i_link, f"force of {j_link} on {i_link}", -F
+    _, th = _poses(result, link)
+    return link, desc, rotate(-th, F)
+
+
+def polar_diagrams(
+    result, joints: Sequence[str] | None = None, *, friction: bool = False, dpi: float = DPI
+):
+    """Polar diagrams: the tip of each joint's load vector in a link-fixed frame
+    over the cycle (for sizing bearings), with the course positions numbered.
+    Default: every revolute joint."""
+    from ...joints import Revolute
+
+    model = result.system.model
+    if joints is None:
+        joints = [j.name for j in model.joints if isinstance(j, Revolute)]
+    joints = list(joints)
+    if not joints:
+        raise PictureError("no joint to draw a polar diagram of")
+    nums = link_numbers(result.system)
+    course = course_positions(result)
+    n = len(joints)
+    cols = min(3, n)
+    rows = math.ceil(n / cols)
+    _, order, _ = _sorted(result)
+    with _rc():
+        fig = _figure(60 * cols + 8, 62 * rows + 14, dpi)
+        for m, name in enumerate(joints):
+            ax = fig.add_subplot(rows, cols, m + 1)
+            link, desc, F = link_frame_loads(result, name, friction=friction)
+            F = F[order]
+            closed = np.vstack((F, F[:1])) if result.full_cycle else F
+            ax.plot(closed[:, 0], closed[:, 1], color=CURVE_COLORS[0], lw=1.2)
+            ax.plot([0], [0], "+", color="black", ms=7, mew=1.0)
+            inv = np.empty_like(order)
+            inv[order] = np.arange(len(order))
+            for lab, k in course:
+                p = F[inv[k]]
+                ax.plot([0, p[0]], [0, p[1]], color="#aaaaaa", lw=0.5, zorder=0)
+                ax.plot(*p, "o", ms=2.5, color=EVENT_COLOR if "′" in lab else "black")
+                ax.annotate(
+                    lab,
+                    p,
+                    xytext=(2, 2),
+                    textcoords="offset points",
+                    fontsize=6,
+                    color=EVENT_COLOR if "′" in lab else "black",
+                )
+            mag = np.hypot(F[:, 0], F[:, 1])
+            if not np.isfinite(mag).any():  # friction solution self-locked throughout
+                ax.text(
+                    0.5,
+                    0.5,
+                    "no values:\nself-locking at\nevery position",
+                    transform=ax.transAxes,
+                    ha="center",
+                    va="center",
+                    fontsize=7,
+                )
+                ax.set_title(f"{name}: no consistent friction solution", fontsize=7.5)
+                continue
+            kmax = int(np.nanargmax(mag))
+            ax.plot([0, F[kmax, 0]], [0, F[kmax, 1]], color=CURVE_COLORS[3], lw=1.0)
+            lim = 1.12 * float(np.nanmax(mag)) if np.nanmax(mag) > 0 else 1.0
+            ax.set_xlim(-lim, lim)
+            ax.set_ylim(-lim, lim)
+            ax.set_aspect("equal", adjustable="box")
+            j = model.joint(name)
+            ax.set_title(
+                f"{name}: F{nums[j.links[0]]}{nums[j.links[1]]}, {desc.split(' of ')[1]}\n"
+                f"in the frame of {link}; max {mag[kmax]:.4g} N",
+                fontsize=7.5,
+            )
+            ax.set_xlabel(f"F along {link} x, N", fontsize=7)
+            ax.set_ylabel(f"F along {link} y, N", fontsize=7)
+            ax.tick_params(labelsize=6.5)
+        fig.suptitle(
+            f"{model.name}: polar diagrams of the joint loads"
+            + (" (with friction)" if friction else "")
+            + " — numbers: course positions",
+            fontsize=9,
+            x=0.02,
+            ha="left",
+        )
+        fig.subplots_adjust(
+            left=0.1,
+            right=0.97,
+            top=1 - 14 / (62 * rows + 14) - 0.02,
+            bottom=0.08,
+            wspace=0.45,
+            hspace=0.55,
+        )
+    return fig

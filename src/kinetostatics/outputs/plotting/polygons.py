@@ -1,0 +1,467 @@
+"""Velocity and acceleration polygons: the data (:func:`polygon`) and the figure."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..._geometry import perp, rotate
+from ...forces import point_state
+from .curves import _joint_coordinate
+from .rows import _position_title, link_numbers, row_at
+from .scene import _poses, _to_global
+from .style import (
+    DPI,
+    LINK_COLORS,
+    MM,
+    MU,
+    PictureError,
+    _arrow,
+    _fmt_scale,
+    _layout,
+    _rc,
+    _tex,
+    nice_scale,
+)
+
+
+# -- velocity and acceleration polygons ----------------------------------------------
+@dataclass(frozen=True)
+class PolygonNode:
+    """A point of the polygon: the tip of an absolute vector drawn from the pole."""
+
+    label: str  # e.g. "a2" (acceleration polygons add a prime when drawn)
+    refs: tuple[str, ...]  # the points it stands for, "link.point" (coincident: "bar@A")
+    vector: np.ndarray  # (2,) absolute velocity (m/s) or acceleration (m/s²)
+
+
+@dataclass(frozen=True)
+class PolygonChain:
+    """A vector equation: node ``end`` = node ``start`` + Σ components.
+
+    ``start`` is ``"p"`` (the pole) for a link pivoted on the frame.
+    Components are ``(name, vector)``: ω×r (``v_CB``), or ω²r and α×r
+    (``an_CB``, ``at_CB``), the sliding velocity ``vr_A2A3`` or the Coriolis
+    and relative accelerations ``ak_A2A3``, ``ar_A2A3``.
+    """
+
+    start: str
+    end: str
+    link: str
+    components: tuple
+
+
+@dataclass(frozen=True)
+class Polygon:
+    kind: str  # "velocity" or "acceleration"
+    row: int
+    nodes: dict  # label -> PolygonNode (the pole "p" is the origin)
+    chains: tuple  # PolygonChain
+    fixed: tuple  # refs at the pole (points at rest)
+    unit: str
+
+    def tip(self, label: str) -> np.ndarray:
+        return np.zeros(2) if label == "p" else self.nodes[label].vector
+
+
+class _UnionFind:
+    def __init__(self):
+        self.parent: dict = {}
+
+    def find(self, x):
+        self.parent.setdefault(x, x)
+        while self.parent[x] != x:
+            self.parent[x] = self.parent[self.parent[x]]
+            x = self.parent[x]
+        return x
+
+    def union(self, a, b):
+        ra, rb = self.find(a), self.find(b)
+        if ra != rb:
+            self.parent[rb] = ra
+
+
+def polygon(result, row: int = 0, kind: str = "velocity") -> Polygon:
+    """The velocity or acceleration polygon at ``row``, from the exact results.
+
+    Nodes are the named points of the moving links (points joined by a
+    revolute are one node; a prismatic pair adds the point of link i that
+    coincides with the sliding point of link j).  Points at rest sit at the
+    pole p.  Labels are the lower-case point names, with the link number
+    (:func:`link_numbers`) appended where a name is shared (``a2``, ``a3``).
+    For each moving link, in solve order, a chain goes from its base node (at
+    rest, or shared with a link solved earlier) to each of its other nodes with
+    the relative vector ω×r (velocities) or the normal −ω²r and tangential α×r
+    components (accelerations); each prismatic pair adds the chain from link
+    i's coincident point to the sliding point: ṡu, or the Coriolis 2ω_i×ṡu and
+    the relative s̈u.  The relative vectors are computed from ω, α, ṡ, s̈ and
+    the positions, independently of the absolute point kinematics, so the
+    polygon's closure is a check of the results.
+    """
+    from ...joints import Prismatic, Revolute
+
+    if kind not in ("velocity", "acceleration"):
+        raise PictureError(f"polygon kind must be 'velocity' or 'acceleration', not '{kind}'")
+    acc = kind == "acceleration"
+    system, model = result.system, result.system.model
+    ground = model.ground.name
+    nums = link_numbers(system)
+    q, qd, qdd = result.q[row], result.qd[row], result.qdd[row]
+    l_ref = system.l_ref
+    # link points: (link, name) -> position, vector
+    pts: dict[tuple[str, str], tuple[np.ndarray, np.ndarray]] = {}
+    for k, n in enumerate(system.links):
+        for pname, p in model.link(n).points.items():
+            pos, vel, a = point_state(q, qd, qdd, k, np.asarray(p, float))
+            pts[(n, pname)] = (pos, a if acc else vel)
+    uf = _UnionFind()
+    rest = "@rest"
+    uf.find(rest)
+    for key in pts:
+        uf.find(key)
+    for n in system.links:  # coincident named points of one link
+        keys = [key for key in pts if key[0] == n]
+        for x in range(len(keys)):
+            for y in range(x + 1, len(keys)):
+                if np.hypot(*(pts[keys[x]][0] - pts[keys[y]][0])) < 1e-9 * l_ref:
+                    uf.union(keys[x], keys[y])
+    joint_name_of: dict = {}
+    for j in model.joints:
+        if isinstance(j, Revolute):
+            a_key, b_key = (j.links[0], j.point_names[0]), (j.links[1], j.point_names[1])
+            a_key = rest if j.links[0] == ground else a_key
+            b_key = rest if j.links[1] == ground else b_key
+            uf.union(a_key, b_key)
+            for key in (a_key, b_key):
+                if key != rest:
+                    joint_name_of.setdefault(key, j.name)
+    coincident: dict[str, tuple] = {}  # prismatic joint -> (i key, j key)
+    for j in model.joints:
+        if not isinstance(j, Prismatic):
+            continue
+        i_link, j_link = j.links
+        j_key = (j_link, j.point_name) if j_link != ground else rest
+        if i_link == ground:
+            i_key = rest
+        else:
+            k = system.link_index(i_link)
+            Pj = _to_global(result, j_link, j.p, row)
+            r, th = q[3 * k : 3 * k + 2], q[3 * k + 2]
+            local = rotate(-th, Pj - r)
+            pos, vel, a = point_state(q, qd, qdd, k, local)
+            i_key = (i_link, f"@{j.name}")
+            pts[i_key] = (pos, a if acc else vel)
+            uf.find(i_key)
+        coincident[j.name] = (i_key, j_key)
+    # nodes
+    groups: dict = {}
+    for key in list(pts) + [rest]:
+        groups.setdefault(uf.find(key), []).append(key)
+    rest_root = uf.find(rest)
+
+    def base_name(key):
+        if key[1].startswith("@"):
+            return model.joint(key[1][1:]).point_name
+        return joint_name_of.get(key, key[1])
+
+    node_keys = [keys for root, keys in groups.items() if root != rest_root]
+    names = {}
+    for keys in node_keys:
+        real = [k for k in keys if not k[1].startswith("@")]
+        names[id(keys)] = base_name(sorted(real or keys, key=lambda k: nums[k[0]])[0]).lower()
+    counts: dict[str, int] = {}
+    for keys in node_keys:
+        counts[names[id(keys)]] = counts.get(names[id(keys)], 0) + 1
+    nodes: dict[str, PolygonNode] = {}
+    label_of: dict = {}
+    for keys in sorted(node_keys, key=lambda ks: min(nums[k[0]] for k in ks)):
+        label = names[id(keys)]
+        if counts[label] > 1:
+            label += str(max(nums[k[0]] for k in keys))
+        base, m = label, 2
+        while label in nodes or label == "p":
+            label, m = f"{base}_{m}", m + 1
+        refs = tuple(
+            f"{k[0]}.{k[1]}"
+            if not k[1].startswith("@")
+            else f"{k[0]}@{model.joint(k[1][1:]).point_name}"
+            for k in keys
+        )
+        nodes[label] = PolygonNode(label, refs, pts[keys[0]][1])
+        for k in keys:
+            label_of[k] = label
+    fixed = tuple(f"{k[0]}.{k[1]}" for k in groups[rest_root] if k != rest)
+    for k in groups[rest_root]:
+        label_of[k] = "p"
+    # chains: per moving link in solve order, from its base node
+    order = [n for p in system.plans for n in p.group.links]
+    solved: set[str] = {ground}
+    chains = []
+    for n in order:
+        k = system.link_index(n)
+        keys = [key for key in pts if key[0] == n]
+        labels = []
+        for key in keys:
+            if label_of[key] not in labels:
+                labels.append(label_of[key])
+        if not labels:
+            solved.add(n)
+            continue
+        shared = [
+            lab
+            for lab in labels
+            if lab == "p"
+            or any(label_of.get(key) == lab for key in pts if key[0] in solved and key[0] != n)
+        ]
+        base = shared[0] if shared else labels[0]
+        r_base = _node_position(pts, label_of, base, n)
+        w, alpha = qd[3 * k + 2], qdd[3 * k + 2]
+        for lab in labels:
+            if lab == base:
+                continue
+            d = _node_position(pts, label_of, lab, n) - r_base
+            if np.hypot(*d) < 1e-9 * l_ref:
+                continue
+            sub = (lab + (base if base != "p" else "")).upper()
+            if acc:
+                comps = (("an_" + sub, -(w**2) * d), ("at_" + sub, alpha * perp(d)))
+            else:
+                comps = (("v_" + sub, w * perp(d)),)
+            chains.append(PolygonChain(base, lab, n, comps))
+        solved.add(n)
+    for j in model.joints:
+        if not isinstance(j, Prismatic):
+            continue
+        i_key, j_key = coincident[j.name]
+        start, end = label_of[i_key], label_of[j_key]
+        if start == end:
+            continue
+        _, cd, cdd = (v[row] for v in _joint_coordinate(result, j))
+        _, th = _poses(result, j.links[0], row)
+        U = rotate(th, np.asarray(j.u, float))
+        w_i = 0.0 if j.links[0] == ground else qd[3 * system.link_index(j.links[0]) + 2]
+        sub = (end + (start if start != "p" else "")).upper()
+        if acc:
+            comps = (("ak_" + sub, 2 * w_i * perp(cd * U)), ("ar_" + sub, cdd * U))
+        else:
+            comps = (("vr_" + sub, cd * U),)
+        chains.append(PolygonChain(start, end, j.name, comps))
+    return Polygon(kind, row, nodes, tuple(chains), fixed, "m/s²" if acc else "m/s")
+
+
+def _node_position(pts, label_of, label, link):
+    for key, (pos, _) in pts.items():
+        if key[0] == link and label_of[key] == label:
+            return pos
+    for key, (pos, _) in pts.items():
+        if label_of[key] == label:
+            return pos
+    raise KeyError(label)
+
+
+def _drawn_chains(poly: Polygon, tol: float):
+    """Chains worth drawing: drop components below ``tol`` and chains from the pole
+    that repeat an absolute vector (a link pivoted on the frame, velocities)."""
+    out = []
+    for ch in poly.chains:
+        comps = [(n, v) for n, v in ch.components if np.hypot(*v) > tol]
+        if not comps:
+            continue
+        if ch.start == "p" and len(comps) == 1:
+            continue
+        out.append((ch, comps))
+    return out
+
+
+_DIRECTION = {
+    "v": "⊥ {r}",
+    "vr": "∥ axis of {j}",
+    "an": "∥ {r}, towards {b}",
+    "at": "⊥ {r}",
+    "ak": "⊥ axis of {j}",
+    "ar": "∥ axis of {j}",
+}
+_PRETTY = {"v": "v", "vr": "v", "an": "a^n", "at": "a^t", "ak": "a^k", "ar": "a^r"}
+
+
+def polygon_figure(
+    result,
+    kind: str = "velocity",
+    position: float | None = None,
+    *,
+    row: int | None = None,
+    dpi: float = DPI,
+    max_size_mm: float = 105.0,
+):
+    """The velocity or acceleration polygon at one position, to a stated scale.
+
+    Absolute vectors from the pole p (p′ for accelerations) to the lettered
+    points; relative vectors (thin; dashed components end at the intermediate
+    points n (normal) and k (Coriolis)) that close it.  Axes in m/s or m/s²;
+    printed at 100 %, 1 mm of paper is μ_v (μ_a) as stated.  The magnitudes
+    and directions of all vectors are listed beside it.
+    """
+    k = row if row is not None else row_at(result, position)
+    poly = polygon(result, k, kind)
+    acc = kind == "acceleration"
+    prime = "'" if acc else ""
+    nums = link_numbers(result.system)
+    model = result.system.model
+    tips = [np.zeros(2)] + [nd.vector for nd in poly.nodes.values()]
+    scale_ref = max([float(np.hypot(*t)) for t in tips] + [1e-300])
+    chains = _drawn_chains(poly, 1e-9 * scale_ref)
+    for ch, comps in chains:
+        p = poly.tip(ch.start).copy()
+        for _, v in comps:
+            p = p + v
+            tips.append(p.copy())
+    allp = np.array(tips)
+    lo, hi = allp.min(axis=0), allp.max(axis=0)
+    span = float(max(np.max(hi - lo), 1e-12))
+    mu = nice_scale(span / max_size_mm)
+    pad = 0.1 * span + 7 * mu
+    lo, hi = lo - pad, hi + pad
+    colors = {n: LINK_COLORS[i % len(LINK_COLORS)] for i, n in enumerate(result.system.links)}
+    sym = "a" if acc else "v"
+    # the list of vectors
+    rest = sorted({r.split(".")[1] for r in poly.fixed})
+    lines = [
+        f"pole {_tex('p' + prime)}: points at rest" + (f" ({', '.join(rest)})" if rest else "")
+    ]
+    for lab, nd in poly.nodes.items():
+        pts = ", ".join(r.replace("@", " at ") for r in nd.refs)
+        lines.append(
+            f"{_tex('p' + prime)}{_tex(lab + prime)}: {sym}({pts}) = "
+            f"{np.hypot(*nd.vector):.4g} {poly.unit}"
+        )
+    for ch, comps in chains:
+        joint = model.joint(ch.link) if ch.link in [j.name for j in model.joints] else None
+        for name, v in comps:
+            kind_name, sub = name.split("_", 1)
+            pretty = _PRETTY[kind_name]
+            tex = pretty.split("^")
+            head = tex[0] + (f"^{{{tex[1]}}}" if len(tex) > 1 else "")
+            end = ch.end.upper()
+            start = (
+                ch.start.upper()
+                if ch.start != "p"
+                else "".join(r.split(".")[1] for r in poly.fixed if r.split(".")[0] == ch.link)[:8]
+                or "pivot"
+            )
+            direction = _DIRECTION[kind_name].format(r=f"{end}{start}", b=start, j=ch.link)
+            owner = ch.link if joint is None else f"{ch.link}, {type(joint).__name__.lower()}"
+            lines.append(
+                f"${head}_{{\\mathrm{{{sub}}}}}$ = {np.hypot(*v):.4g} {poly.unit}, "
+                f"{direction} ({owner})"
+            )
+    list_mm = 3.35 * len(lines) + 8
+    with _rc():
+        fig, ax = _layout(
+            (lo[0], hi[0]),
+            (lo[1], hi[1]),
+            mu,
+            extra_right=66.0,
+            dpi=dpi,
+            min_mm=(60.0, max(60.0, list_mm - 24.0)),
+            top=14.0,
+        )
+        ax.set_xlabel(f"{sym}_x, {poly.unit}")
+        ax.set_ylabel(f"{sym}_y, {poly.unit}")
+        ax.axhline(0, color="#bbbbbb", lw=0.5, zorder=0)
+        ax.axvline(0, color="#bbbbbb", lw=0.5, zorder=0)
+        k_mm = mu  # data units per paper mm
+        labels_at: list[list] = []
+
+        def put(p, text, color="black", size=8.5):
+            for entry in labels_at:
+                if np.hypot(*(entry[0] - p)) < 1.2 * k_mm:
+                    entry[1].append(text)
+                    return
+            labels_at.append([p, [text], color, size])
+
+        for lab, nd in poly.nodes.items():
+            link = nd.refs[0].split(".")[0].split("@")[0]
+            c = colors.get(link, "black")
+            norm = float(np.hypot(*nd.vector))
+            if norm > 1e-9 * scale_ref:
+                _arrow(ax, (0.0, 0.0), nd.vector, c, lw=1.5, head=2.6)
+            put(nd.vector, lab + prime)
+        ax.plot([0], [0], "o", color="black", ms=2.5, zorder=8)
+        for ch, comps in chains:
+            p = poly.tip(ch.start).copy()
+            c = colors.get(ch.link, "#555555")
+            for m, (name, v) in enumerate(comps):
+                last = m == len(comps) - 1
+                _arrow(ax, p, v, c, lw=0.9, head=2.0, ls="-" if last else (0, (4, 1.5)))
+                p = p + v
+                if not last:
+                    tag = ("n" if name.startswith("an") else "k") + ch.end + prime
+                    ax.plot(*p, "o", ms=1.8, color=c, zorder=8)
+                    if min(np.hypot(*v), np.hypot(*comps[m + 1][1])) > 2.0 * k_mm:
+                        put(p.copy(), tag, c, 7)
+        centre = 0.5 * (lo + hi)
+        boxes = [(0.0, 0.0, 1.2, 1.2)] + [
+            (e[0][0] / k_mm, e[0][1] / k_mm, 1.2, 1.2) for e in labels_at
+        ]  # (x, y, half w, half h), mm
+        boxes.append((-2.6, -2.6, 1.6, 1.8))  # the pole's label
+
+        def free(x, y, hw, hh):
+            return all(abs(x - bx) >= hw + bw or abs(y - by) >= hh + bh for bx, by, bw, bh in boxes)
+
+        for p, texts, c, size in labels_at:
+            text = ", ".join(_tex(t) for t in texts)
+            hw = 0.5 * 0.62 * size * 0.3528 * (sum(len(t) for t in texts) + 2 * (len(texts) - 1))
+            hh = 0.5 * 1.25 * size * 0.3528
+            d = p - centre
+            n = float(np.hypot(*d))
+            out = d / n if n > 0 else np.array([0.7071, 0.7071])
+            pm = p / k_mm
+            spot = pm + (hw + 1.5) * out
+            done = False
+            for dist in (1.5, 3.0, 5.0):
+                for turn in (0, 45, -45, 90, -90, 135, -135, 180):
+                    a_ = math.radians(turn)
+                    u = np.array(
+                        [
+                            out[0] * math.cos(a_) - out[1] * math.sin(a_),
+                            out[0] * math.sin(a_) + out[1] * math.cos(a_),
+                        ]
+                    )
+                    cand = pm + u * np.array([hw + dist, hh + dist])
+                    if free(cand[0], cand[1], hw, hh):
+                        spot, done = cand, True
+                        break
+                if done:
+                    break
+            boxes.append((spot[0], spot[1], hw, hh))
+            ax.text(
+                *(spot * k_mm), text, ha="center", va="center", fontsize=size, color=c, zorder=9
+            )
+        ax.text(
+            *(np.array([-2.6, -2.6]) * k_mm),
+            _tex("p" + prime),
+            ha="center",
+            va="center",
+            fontsize=8.5,
+            zorder=9,
+        )
+        mu_name = MU["a" if acc else "v"]
+        title = (
+            f"{model.name}: {kind} polygon, {_position_title(result, k)}\n"
+            f"{mu_name} = {_fmt_scale(mu)} ({poly.unit})/mm;  links: "
+            + ", ".join(f"{v} {n}" for n, v in nums.items())
+        )
+        ax.set_title(title, loc="left", fontsize=8)
+        W, H = fig.get_figwidth() / MM, fig.get_figheight() / MM
+        fig.text(
+            1 - 64.0 / W,
+            1 - 15.0 / H,
+            "\n".join(lines),
+            va="top",
+            ha="left",
+            fontsize=6.2,
+            linespacing=1.5,
+        )
+    return fig

@@ -1,0 +1,185 @@
+"""Rows, course positions, the abscissa and position titles of the pictures."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import replace
+
+import numpy as np
+
+from ...analysis import analyze
+from ...system import build_system
+from .style import PictureError
+
+
+# -- rows, positions, the abscissa ----------------------------------------------
+def _driver(result):
+    return result.system.motion_drivers[0]
+
+
+def _angular(result) -> bool:
+    return bool(_driver(result).joint.angular)
+
+
+def row_at(result, position: float | None = None, *, label: str | None = None) -> int:
+    """Row index at a driver coordinate (deg, or mm for a prismatic driver) or at a
+    course-position label (``"7"``, ``"8′"``).  Default: the first row.
+
+    Raises :class:`PictureError` if no row is within 1e-6 of the coordinate.
+    """
+    if label is not None:
+        for lab, k in course_positions(result):
+            if lab == label.replace("'", "′"):
+                return k
+        raise PictureError(
+            f"no course position '{label}' among the rows "
+            f"(have {', '.join(lab for lab, _ in course_positions(result))})"
+        )
+    if position is None:
+        return 0
+    if _angular(result):
+        d = np.abs((np.degrees(result.coordinate) - position + 180.0) % 360.0 - 180.0)
+    else:
+        d = np.abs(result.coordinate * 1e3 - position)
+    k = int(np.argmin(d))
+    if d[k] > 1e-6:
+        raise PictureError(
+            f"no analysed position at driver coordinate {position:g}"
+            f"{'°' if _angular(result) else ' mm'} (nearest "
+            f"{d[k]:.3g} away); analyse with analyze_for_pictures(model, "
+            f"positions=[{position:g}])"
+        )
+    return k
+
+
+def analyze_for_pictures(
+    model,
+    *,
+    positions: Sequence[float] = (),
+    frames: int | None = None,
+    course: bool = False,
+    events: bool = True,
+):
+    """A full-cycle analysis that also holds rows at chosen driver coordinates.
+
+    ``positions``: driver coordinates in deg (mm for a prismatic driver) added
+    to ``analysis.at`` (so loads that depend on the whole cycle, such as a
+    cutting band, stay right); ``frames``: replace the grid by that many
+    equally spaced positions (animations); ``course``: add the 12 course-design
+    positions; ``events``: add rows where loads switch (1′, 8′).
+    """
+    system = build_system(model)
+    a = model.analysis
+    angular = system.motion_drivers[0].joint.angular if system.motion_drivers else True
+    conv = math.radians if angular else (lambda v: v * 1e-3)
+    grid = frames if frames is not None else a.positions
+    sign = (
+        math.copysign(1.0, system.motion_drivers[0].driver.motion.speed)
+        if system.motion_drivers
+        else 1.0
+    )
+    grid_coords = [a.start + sign * k * a.sweep / grid for k in range(grid)]
+    extra = [conv(p) for p in positions]
+    if course and angular:
+        extra += [a.start + sign * k * a.sweep / 12 for k in range(12)]
+    at = list(a.at)
+
+    def present(c):
+        period = 2 * math.pi if angular else math.inf
+        for g in grid_coords + at:
+            d = abs(c - g)
+            if math.isfinite(period):
+                d = abs((d + math.pi) % period - math.pi)
+            if d < 1e-9:
+                return True
+        return False
+
+    for c in extra:
+        if not present(c):
+            at.append(c)
+    new = replace(model, analysis=replace(a, positions=grid, at=tuple(at), events=events))
+    return analyze(new)
+
+
+def _abscissa(result) -> tuple[np.ndarray, str]:
+    d = _driver(result)
+    if getattr(d.driver.motion, "kind", None) is not None:  # a motion law: ψ may reverse
+        return np.asarray(
+            result["time"], dtype=float
+        ), f"time, s ({d.name}: {d.driver.motion.kind} law)"
+    if d.joint.angular:
+        start = math.degrees(result.system.model.analysis.start) % 360.0
+        sense = "clockwise" if d.driver.motion.speed < 0 else "counter-clockwise"
+        return (
+            np.asarray(result["travel"], dtype=float),
+            f"{d.name} rotation from {start:.4g}° ({sense}), deg",
+        )
+    return np.asarray(result["travel"], dtype=float) * 1e3, f"{d.name} travel, mm"
+
+
+def _event_travel(result, e) -> float:
+    x = abs(e.coordinate - result.coordinate[0])
+    return math.degrees(x) % 360.0 if _angular(result) else x * 1e3
+
+
+def course_positions(result, n: int = 12) -> list[tuple[str, int]]:
+    """Course-design positions among the rows: ``[(label, row), …]`` in order of travel.
+
+    Position k (1…n) is the row at travel (k − 1)·360°/n from the first row, in
+    the sense of motion (position 1 = ``analysis.start``); each load event
+    (a row added at an exact switching position) is labelled with the number of
+    the position before it and a prime (1′, 8′).  Only for a full cycle of an
+    angular driver; otherwise empty.
+    """
+    if not _angular(result) or not result.full_cycle:
+        return []
+    travel = np.asarray(result["travel"], dtype=float)
+    out: list[tuple[float, str, int]] = []
+    for k in range(n):
+        idx = np.nonzero(np.abs(travel - k * 360.0 / n) < 1e-6)[0]
+        if idx.size:
+            out.append((k * 360.0 / n, str(k + 1), int(idx[0])))
+    for e in result.events:
+        idx = np.nonzero(np.abs(result.t - e.t) < 1e-9 * max(1.0, abs(e.t)))[0]
+        if not idx.size:
+            continue
+        x = _event_travel(result, e)
+        before = int(math.floor(x / (360.0 / n) + 1e-9)) + 1
+        out.append((x, f"{before}′", int(idx[0])))
+    out.sort(key=lambda r: r[0])
+    return [(lab, k) for _, lab, k in out]
+
+
+def _course_ticks(result, n: int = 12) -> list[tuple[float, str]]:
+    """Travel of the course positions and events (whether or not they are rows)."""
+    if not _angular(result) or not result.full_cycle:
+        return []
+    ticks = [(k * 360.0 / n, str(k + 1)) for k in range(n)]
+    for e in result.events:
+        x = _event_travel(result, e)
+        ticks.append((x, f"{int(math.floor(x / (360.0 / n) + 1e-9)) + 1}′"))
+    return sorted(ticks)
+
+
+def _position_title(result, row: int) -> str:
+    labels = [lab for lab, k in course_positions(result) if k == row]
+    d = _driver(result)
+    if d.joint.angular:
+        coord = f"φ = {math.degrees(result.coordinate[row]) % 360.0:.2f}°"
+    else:
+        coord = f"s = {result.coordinate[row] * 1e3:.2f} mm"
+    return f"position {labels[0]} ({coord})" if labels else coord
+
+
+def link_numbers(system) -> dict[str, int]:
+    """Link numbers of the pictures: moving links 1… in ``System.links`` order, the frame last."""
+    nums = {name: k + 1 for k, name in enumerate(system.links)}
+    nums[system.model.ground.name] = len(system.links) + 1
+    return nums
+
+
+def _sorted(result):
+    x, label = _abscissa(result)
+    order = np.argsort(x, kind="stable")
+    return x[order], order, label

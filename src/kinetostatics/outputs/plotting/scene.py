@@ -1,0 +1,348 @@
+"""Geometry of the drawing: link poses, joint points, pitch circles and lines,
+outlines, blocks and guides (:class:`MechanismGeometry`, :func:`mechanism_geometry`)."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..._geometry import perp, rotate
+from ...errors import did_you_mean
+from .rows import link_numbers
+from .style import LINK_COLORS, PictureError
+
+
+# -- geometry of the drawing ----------------------------------------------------
+def _poses(result, link: str, rows=slice(None)):
+    """(r (..., 2), θ (...)) of a link over rows; the frame is at rest at the origin."""
+    system = result.system
+    if link == system.model.ground.name:
+        q = result.q[rows]
+        return np.zeros(q.shape[:-1] + (2,)), np.zeros(q.shape[:-1])
+    k = system.link_index(link)
+    q = result.q[rows]
+    return q[..., 3 * k : 3 * k + 2], q[..., 3 * k + 2]
+
+
+def _to_global(result, link, p, rows=slice(None)):
+    r, th = _poses(result, link, rows)
+    return r + rotate(th, np.asarray(p, dtype=float))
+
+
+def _joint_point(result, joint, rows=slice(None)):
+    """Global position where a joint's reaction acts: the pin of a revolute, the
+    sliding point of a prismatic pair, the pitch point of a gear or rack pair;
+    ``None`` for a joint type the pictures do not know."""
+    from ...joints import Prismatic, Revolute
+
+    if isinstance(joint, Prismatic):
+        return _to_global(result, joint.links[1], joint.p, rows)
+    if isinstance(joint, Revolute):
+        return _to_global(result, joint.links[1], joint.p_j, rows)
+    wheels = _wheels(result, joint, rows)
+    return None if wheels is None else wheels["pitch_point"]
+
+
+def _wheels(result, joint, rows=slice(None)):
+    """Pitch circles and lines of a toothed higher pair (gear: ``c_i, c_j, r_i, r_j``;
+    rack: ``a, u`` on link i and ``c, r`` on link j), found by their attributes;
+    ``None`` for other joint types.  Global, m."""
+    i_link, j_link = joint.links
+    if all(hasattr(joint, n) for n in ("c_i", "c_j", "r_i", "r_j")):
+        Ci = _to_global(result, i_link, joint.c_i, rows)
+        Cj = _to_global(result, j_link, joint.c_j, rows)
+        D = Cj - Ci
+        e = D / np.maximum(np.linalg.norm(D, axis=-1, keepdims=True), 1e-300)
+        rho_i = joint.signed_radii[0] if hasattr(joint, "signed_radii") else joint.r_i
+        return {
+            "circles": [(i_link, Ci, float(joint.r_i)), (j_link, Cj, float(joint.r_j))],
+            "lines": [],
+            "pitch_point": Ci + rho_i * e,
+        }
+    if all(hasattr(joint, n) for n in ("a", "u", "c", "r")):
+        r_i, th_i = _poses(result, i_link, rows)
+        A = r_i + rotate(th_i, np.asarray(joint.a, float))
+        U = rotate(th_i, np.asarray(joint.u, float))
+        C = _to_global(result, j_link, joint.c, rows)
+        N = perp(U)
+        h = np.sum(N * (C - A), axis=-1, keepdims=True)
+        return {
+            "circles": [(j_link, C, float(joint.r))],
+            "lines": [(i_link, A, U)],
+            "pitch_point": C - h * N,
+        }
+    return None
+
+
+def _collinear(pts: np.ndarray, tol: float) -> bool:
+    if len(pts) < 3:
+        return True
+    c = pts - pts.mean(axis=0)
+    s = np.linalg.svd(c, compute_uv=False)
+    return s[1] / math.sqrt(len(pts)) <= tol
+
+
+def _hull(pts: np.ndarray) -> np.ndarray:
+    """Convex hull, counter-clockwise (monotone chain)."""
+    p = sorted(map(tuple, np.round(pts, 12)))
+    p = list(dict.fromkeys(p))
+    if len(p) < 3:
+        return np.array(p)
+
+    def half(seq):
+        h: list = []
+        for x in seq:
+            while (
+                len(h) >= 2
+                and (
+                    (h[-1][0] - h[-2][0]) * (x[1] - h[-2][1])
+                    - (h[-1][1] - h[-2][1]) * (x[0] - h[-2][0])
+                )
+                <= 0
+            ):
+                h.pop()
+            h.append(x)
+        return h
+
+    lower, upper = half(p), half(reversed(p))
+    return np.array(lower[:-1] + upper[:-1])
+
+
+@dataclass(frozen=True)
+class _Block:
+    joint: str
+    link: str
+    centre: np.ndarray  # (2,) m
+    direction: np.ndarray  # (2,) unit, along the axis
+    length: float
+    height: float
+
+
+@dataclass(frozen=True)
+class _Guide:
+    joint: str
+    start: np.ndarray  # (2,) m, on the axis
+    end: np.ndarray
+    half_width: float  # rails at ± half_width from the axis
+
+
+@dataclass(frozen=True)
+class MechanismGeometry:
+    """What :func:`draw_mechanism` draws at one row (all in m, global axes).
+
+    ``points["link.point"]`` every named point (frame points too);
+    ``joints[name]`` the pin of each revolute and the sliding point of each
+    prismatic pair; ``outlines[link]`` the polyline (bars) or polygon (plates,
+    in ``plates``) of each moving link; ``blocks`` the sliders; ``guides`` the
+    frame's straight guides; ``pivots`` the frame's pins; ``com[link]`` the
+    centre of mass of each link with mass; ``wheels`` the pitch circles and
+    pitch lines of gear and rack pairs.
+    """
+
+    row: int
+    points: dict
+    joints: dict
+    outlines: dict
+    plates: frozenset
+    blocks: tuple
+    guides: tuple
+    pivots: dict
+    com: dict
+    wheels: tuple = ()  # ("circle", joint, link, centre, r) | ("line", joint, link, p0, p1)
+
+
+class _Scene:
+    """Everything about a drawing that does not change with the position."""
+
+    def __init__(self, result, paths: Iterable[str] = ()):
+        from ...joints import Prismatic, Revolute
+
+        self.result = result
+        system = self.system = result.system
+        model = self.model = system.model
+        self.ground = model.ground.name
+        l_ref = system.l_ref
+        self.block_len = {}
+        self.block_h = {}
+        local: dict[str, list[np.ndarray]] = {
+            n: [np.asarray(p, float) for p in model.link(n).points.values()] for n in system.links
+        }
+        self.guides_local = []  # (joint, a, u, s_min, s_max, half)
+        for j in model.joints:
+            if not isinstance(j, Prismatic):
+                continue
+            L = j.length if j.length else 0.12 * l_ref
+            h = min(0.6 * L, 0.08 * l_ref) if not j.length else max(0.35 * L, 0.04 * l_ref)
+            self.block_len[j.name], self.block_h[j.name] = L, h
+            i_link, j_link = j.links
+            P = _to_global(result, j_link, j.p)  # (n, 2)
+            r_i, th_i = _poses(result, i_link)
+            loc = rotate(-th_i, P - r_i)  # P in i's frame
+            s = (loc - j.a) @ j.u
+            lo, hi = float(s.min()) - 0.6 * L, float(s.max()) + 0.6 * L
+            if i_link == self.ground:
+                self.guides_local.append(
+                    (
+                        j.name,
+                        np.asarray(j.a, float),
+                        np.asarray(j.u, float),
+                        lo,
+                        hi,
+                        0.5 * h + 0.004 * l_ref,
+                    )
+                )
+            else:
+                local[i_link] += [j.a + lo * j.u, j.a + hi * j.u]
+        self.wheels_local = []  # ("circle", joint, link, centre, r) / ("line", joint, link, p0, p1)
+        for j in model.joints:
+            if isinstance(j, (Prismatic, Revolute)):
+                continue
+            w = _wheels(result, j)
+            if w is None:
+                continue
+            for link, C, r in w["circles"]:
+                r_k, th_k = _poses(result, link)
+                self.wheels_local.append(
+                    ("circle", j.name, link, rotate(-th_k[0], C[0] - r_k[0]), r)
+                )
+            for link, A, U in w["lines"]:
+                r_k, th_k = _poses(result, link)
+                P = rotate(-th_k, w["pitch_point"] - r_k)  # pitch points in link's frame
+                u_loc = rotate(-th_k[0], U[0])
+                a_loc = rotate(-th_k[0], A[0] - r_k[0])
+                s = (P - a_loc) @ u_loc
+                reach = max((r for _, _, r in w["circles"]), default=0.05 * l_ref)
+                p0, p1 = a_loc + (s.min() - reach) * u_loc, a_loc + (s.max() + reach) * u_loc
+                self.wheels_local.append(("line", j.name, link, p0, p1))
+                if link in local:
+                    local[link] += [p0, p1]
+        self.outline_local: dict[str, np.ndarray] = {}
+        self.plates: set[str] = set()
+        for n, pts in local.items():
+            pts = np.array(pts)
+            if len(pts) == 0:
+                continue
+            if _collinear(pts, 1e-3 * l_ref):
+                if len(pts) == 1 or np.ptp(pts, axis=0).max() < 1e-9 * l_ref:
+                    self.outline_local[n] = pts[:1]
+                    continue
+                d = pts - pts.mean(axis=0)
+                u = np.linalg.svd(d)[2][0]
+                t = d @ u
+                self.outline_local[n] = pts[[int(np.argmin(t)), int(np.argmax(t))]]
+            else:
+                self.outline_local[n] = _hull(pts)
+                self.plates.add(n)
+        self.pivots = {
+            j.name: np.asarray(j.p_i if j.links[0] == self.ground else j.p_j, float)
+            for j in model.joints
+            if isinstance(j, Revolute) and self.ground in j.links
+        }
+        self.paths = {}
+        for ref in paths:
+            link, _, point = ref.partition(".")
+            if link not in [lk.name for lk in model.links] or point not in model.link(link).points:
+                names = [f"{lk.name}.{p}" for lk in model.links for p in lk.points]
+                raise PictureError(f"no point '{ref}' to trace{did_you_mean(ref, names)}")
+            self.paths[ref] = _to_global(result, link, model.link(link).points[point])
+        self.numbers = link_numbers(system)
+        self.colors = {n: LINK_COLORS[k % len(LINK_COLORS)] for k, n in enumerate(system.links)}
+        # extent over the whole cycle: every point, outline, guide and path
+        chunks = [np.zeros((1, 2))]
+        for n, pts in self.outline_local.items():
+            for p in pts:
+                chunks.append(_to_global(result, n, p))
+        for lk in model.links:
+            for p in lk.points.values():
+                chunks.append(np.atleast_2d(_to_global(result, lk.name, p)).reshape(-1, 2))
+        for _name, a, u, lo, hi, half in self.guides_local:
+            nrm = perp(u)
+            for s in (lo, hi):
+                for w in (-1.5, 1.5):
+                    chunks.append((a + s * u + w * half * nrm)[None])
+        for pts in self.paths.values():
+            chunks.append(pts)
+        for kind, _, link, p, q in self.wheels_local:
+            if kind == "circle":
+                C = _to_global(result, link, p)
+                chunks += [C - q, C + q]
+            else:
+                chunks += [_to_global(result, link, p), _to_global(result, link, q)]
+        allp = np.concatenate(chunks)
+        lo, hi = allp.min(axis=0), allp.max(axis=0)
+        span = max(float(np.max(hi - lo)), l_ref, 1e-9)
+        pad = 0.09 * span
+        self.lo, self.hi = lo - pad, hi + pad
+        self.pad = pad
+
+    def geometry(self, row: int) -> MechanismGeometry:
+        from ...joints import Prismatic
+
+        result, model = self.result, self.model
+        points = {}
+        for lk in model.links:
+            for name, p in lk.points.items():
+                points[f"{lk.name}.{name}"] = _to_global(result, lk.name, p, row)
+        joints = {
+            j.name: P for j in model.joints if (P := _joint_point(result, j, row)) is not None
+        }
+        outlines = {n: _to_global(result, n, pts, row) for n, pts in self.outline_local.items()}
+        blocks = []
+        for j in model.joints:
+            if isinstance(j, Prismatic):
+                _, th = _poses(result, j.links[0], row)
+                blocks.append(
+                    _Block(
+                        j.name,
+                        j.links[1],
+                        joints[j.name],
+                        rotate(th, j.u),
+                        self.block_len[j.name],
+                        self.block_h[j.name],
+                    )
+                )
+        guides = tuple(
+            _Guide(name, a + lo * u, a + hi * u, half)
+            for name, a, u, lo, hi, half in self.guides_local
+        )
+        com = {}
+        for n in self.system.links:
+            if model.link(n).mass > 0:
+                com[n] = _to_global(result, n, np.zeros(2), row)
+        wheels = tuple(
+            (
+                kind,
+                name,
+                link,
+                _to_global(result, link, p, row),
+                q if kind == "circle" else _to_global(result, link, q, row),
+            )
+            for kind, name, link, p, q in self.wheels_local
+        )
+        return MechanismGeometry(
+            row,
+            points,
+            joints,
+            outlines,
+            frozenset(self.plates),
+            tuple(blocks),
+            guides,
+            dict(self.pivots),
+            com,
+            wheels,
+        )
+
+
+def mechanism_geometry(result, row: int = 0) -> MechanismGeometry:
+    """The geometry :func:`draw_mechanism` draws at ``row`` (m, global axes)."""
+    return _Scene(result).geometry(row)
+
+
+def scene_guides(scene: _Scene):
+    return tuple(
+        _Guide(name, a + lo * u, a + hi * u, half)
+        for name, a, u, lo, hi, half in scene.guides_local
+    )
