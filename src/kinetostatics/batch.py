@@ -50,6 +50,7 @@ import numpy as np
 
 from . import yaml_io
 from ._files import make_folder, write_whole
+from .base.tables import write_table
 from .errors import KinetostaticsError, OutputError, output_error
 
 __all__ = [
@@ -377,15 +378,10 @@ class _Table:
 
     def _text(self, rows: Iterable[Mapping[str, str]], header: bool) -> str:
         buf = io.StringIO()
-        if header:
-            buf.write(
-                "# units: " + ",".join(column_unit(c, self.params) for c in self.columns) + "\n"
-            )
-        w = csv.writer(buf, lineterminator="\n")
-        if header:
-            w.writerow(self.columns)
-        for row in rows:
-            w.writerow([row.get(c, "") for c in self.columns])
+        columns = self.columns
+        units = [column_unit(c, self.params) for c in columns] if header else []
+        cells = ([row.get(c, "") for c in columns] for row in rows)
+        write_table(buf, columns, units, cells, header=header, lineterminator="\n")
         return buf.getvalue()
 
     @staticmethod

@@ -93,7 +93,7 @@ def _simulate(args) -> int:
     free = [d for d in model.drivers if d.motion is None]
     if args.flywheel:
         from .dynamics import with_effort
-        from .flywheel import design
+        from .dynamics.flywheel import design
         from .model import EffortLaw
 
         if model.flywheel is None:

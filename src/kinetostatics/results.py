@@ -7,7 +7,6 @@ CSV (``angle``, ``travel`` and ``<link>.theta`` in degrees).
 
 from __future__ import annotations
 
-import csv
 import json
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -18,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from ._geometry import rotate
+from .base.tables import write_columns
 from .errors import did_you_mean
 from .forces import point_state
 from .system import System
@@ -345,14 +345,7 @@ class Result:
 
     def to_csv(self, path: str | Path) -> None:
         """Write ``results.csv``: a ``# units:`` line, the header, one row per position."""
-        names = self.names
-        with open(path, "w", newline="") as fh:
-            fh.write("# units: " + ",".join(self.units[n] for n in names) + "\n")
-            w = csv.writer(fh)
-            w.writerow(names)
-            data = np.column_stack([self.columns[n] for n in names])
-            for row in data:
-                w.writerow(["" if not np.isfinite(v) else repr(float(v)) for v in row])
+        write_columns(path, self.columns, self.units)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-safe: ``{"columns": {name: [..]}, "units": {...}}`` (NaN as None)."""

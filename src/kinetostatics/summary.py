@@ -306,6 +306,6 @@ def _flywheel(result) -> dict[str, Any]:
     """``{"flywheel": ...}`` when the model asks for it (``flywheel:``), else ``{}``."""
     if getattr(result.system.model, "flywheel", None) is None:
         return {}
-    from .flywheel import design
+    from .dynamics.flywheel import design
 
     return {"flywheel": design(result).to_dict()}

@@ -202,7 +202,7 @@ def summary_row(
         elif name.endswith(".transmission_angle"):
             row[name + "_min"] = np.min(np.minimum(cols[name], 180.0 - cols[name]), axis=-1)
     if flywheel or (flywheel is None and getattr(system.model, "flywheel", None) is not None):
-        from .flywheel import design
+        from .dynamics.flywheel import design
 
         fw = design(result)
         row["flywheel.inertia"], row["flywheel.inertia_net"] = fw.inertia, fw.inertia_net

@@ -76,9 +76,9 @@ def profile(until: float = 0.01) -> str:
     def cumulative(module: str, name: str) -> float:
         return sum(v[3] for f, v in stats.items() if f[0].endswith(module) and f[2] == name)
 
-    total = cumulative("dynamics.py", "evaluate")
+    total = cumulative("dynamics/engine.py", "evaluate")
     share = {
-        "positions": cumulative("dynamics.py", "positions") / total,
+        "positions": cumulative("dynamics/engine.py", "positions") / total,
         "derivatives": cumulative("positions.py", "derivatives") / total,
         "kinetics": cumulative("analysis.py", "kinetics") / total,
     }

@@ -1,0 +1,66 @@
+"""Tables as CSV files with a ``# units:`` line: ``results.csv``, ``simulation.csv``
+and a batch's ``summary.csv``.
+
+The layout (SPEC.md): the line ``# units: u1,u2,…`` (one unit per column, in the
+order of the columns), the header of column names, one row per line.
+"""
+
+from __future__ import annotations
+
+import csv
+from collections.abc import Iterable, Iterator, Mapping, Sequence
+from pathlib import Path
+from typing import TextIO
+
+import numpy as np
+
+__all__ = ["write_table", "write_columns"]
+
+
+def write_table(
+    out: TextIO,
+    names: Sequence[str],
+    units: Sequence[str],
+    rows: Iterable[Sequence],
+    *,
+    header: bool = True,
+    lineterminator: str = "\r\n",
+) -> None:
+    """Write to the open text stream ``out``: with ``header`` the ``# units:`` line and the
+    column ``names``, then ``rows`` (sequences of cells, one per column) as CSV.
+
+    The ``# units:`` line always ends with ``\\n``; the header and the rows end with
+    ``lineterminator`` (the :mod:`csv` default ``\\r\\n`` unless told).  Without ``header``
+    (rows appended to a table already written) ``names`` and ``units`` are not used.
+    """
+    if header:
+        out.write("# units: " + ",".join(units) + "\n")
+    w = csv.writer(out, lineterminator=lineterminator)
+    if header:
+        w.writerow(names)
+    for row in rows:
+        w.writerow(row)
+
+
+def write_columns(
+    path: str | Path,
+    columns: Mapping[str, np.ndarray],
+    units: Mapping[str, str],
+    *,
+    blank_nonfinite: bool = True,
+) -> None:
+    """Write the file ``path``: equally long numeric ``columns`` by name, with their
+    ``units`` by name (:func:`write_table`).  Every value is written as ``repr(float)``,
+    which reads back exactly; a value that is not finite as an empty cell
+    (``blank_nonfinite``) or as ``nan``/``inf``."""
+    names = list(columns)
+    with open(path, "w", newline="") as fh:
+        write_table(fh, names, [units[n] for n in names], _cells(columns, names, blank_nonfinite))
+
+
+def _cells(columns: Mapping[str, np.ndarray], names: list[str], blank: bool) -> Iterator[list]:
+    for row in np.column_stack([columns[n] for n in names]):
+        if blank:
+            yield ["" if not np.isfinite(v) else repr(float(v)) for v in row]
+        else:
+            yield [repr(float(v)) for v in row]

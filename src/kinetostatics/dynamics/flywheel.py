@@ -1,0 +1,358 @@
+"""Flywheel sizing for a coefficient of speed fluctuation δ (the energy method).
+
+From the balancing moment M_b(φ) of a 1-DOF machine at its nominal constant
+crank speed ω_m (``analyze``: the driver torque, link inertia torques included,
+frictionless by default) and a constant driving moment equal to its cycle mean
+M_d, the energy surplus ΔW(φ) = ∫₀^φ (M_d − M_b) dφ' is integrated piecewise
+between the load events (trapezoid rule on a fine grid plus both one-sided
+values at every event, where M_b jumps), its extremes located exactly on the
+piecewise-linear interpolant, and
+
+    ΔW_max = max ΔW − min ΔW,   J_F = ΔW_max / (ω_m² δ)
+
+(first order in δ; ω_m = (ω_max + ω_min)/2).  ``inertia`` neglects the
+machine's own inertia; ``inertia_net`` = J_F − J_e,mean subtracts its cycle-mean
+equivalent inertia.  Referred to a motor shaft turning ``ratio`` times faster:
+J/ratio².  Angles here run in the sense of motion ("travel" φ); M in that sense.
+
+Numpy only: ``kinetostatics run`` computes this without scipy.  The check by
+simulation (:func:`verify`) needs scipy.integrate and lives outside ``run``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .._checks import real_number
+from ..analysis import analyze
+from ..errors import Location, StructureError
+from ..model import EffortLaw, Model, MotionLaw
+from ..results import Result
+from ..system import System, build_system
+from .integration import simulate
+from .reduced import equivalent, with_effort
+from .simulation import speed_fluctuation
+
+__all__ = ["FlywheelDesign", "design", "verify", "energy_curve"]
+
+EPS = 1e-7  # rad: the one-sided values at an event are taken this far from it
+
+
+@dataclass(frozen=True)
+class FlywheelDesign:
+    """The flywheel for δ on the crank shaft (and on a motor shaft through ``ratio``)."""
+
+    delta: float
+    driver: str
+    sense: float  # +1 CCW, −1 CW
+    omega_m: float  # rad/s, nominal crank speed (magnitude)
+    mean_torque: float  # M_d, N·m in the sense of motion
+    work_per_cycle: float  # J
+    energy_swing: float  # ΔW_max, J
+    at_max: float  # driver coordinate (rad) of the maximum stored energy
+    at_min: float  # ... of the minimum
+    inertia: float  # J_F = ΔW_max/(ω_m² δ), machine inertia neglected, kg·m²
+    machine_inertia: dict  # J_e over the cycle: mean, min, max
+    inertia_net: float  # J_F − J_e,mean
+    ratio: float | None = None
+    friction: bool = False
+    positions: int = 0
+    events: tuple = ()  # driver coordinates (rad) of the load events used
+    assumptions: tuple = ()
+    curve: dict = field(default_factory=dict, repr=False, compare=False)
+
+    @property
+    def motor_inertia(self) -> float | None:
+        return None if self.ratio is None else self.inertia / self.ratio**2
+
+    @property
+    def motor_inertia_net(self) -> float | None:
+        return None if self.ratio is None else self.inertia_net / self.ratio**2
+
+    def to_dict(self) -> dict[str, Any]:
+        deg = lambda x: float(np.degrees(x) % 360.0)  # noqa: E731
+        out = {
+            "delta": self.delta,
+            "driver": self.driver,
+            "speed": {
+                "omega_m": self.omega_m,
+                "rpm": self.omega_m * 30.0 / np.pi,
+                "sense": "ccw" if self.sense > 0 else "cw",
+            },
+            "torque": "with friction (consistent)" if self.friction else "frictionless",
+            "mean_torque": self.mean_torque,
+            "work_per_cycle": self.work_per_cycle,
+            "energy_swing": self.energy_swing,
+            "max_energy_at": deg(self.at_max),
+            "min_energy_at": deg(self.at_min),
+            "machine_inertia": dict(self.machine_inertia),
+            "inertia": {"crank": self.inertia, "crank_net": self.inertia_net},
+            "ratio": self.ratio,
+            "events_at": [deg(e) for e in self.events],
+            "positions": self.positions,
+            "assumptions": list(self.assumptions),
+            "units": {
+                "omega_m": "rad/s",
+                "mean_torque": "N*m",
+                "work_per_cycle": "J",
+                "energy_swing": "J",
+                "max_energy_at": "deg",
+                "min_energy_at": "deg",
+                "inertia": "kg*m^2",
+                "machine_inertia": "kg*m^2",
+            },
+        }
+        if self.ratio is not None:
+            out["inertia"].update(motor=self.motor_inertia, motor_net=self.motor_inertia_net)
+        return out
+
+
+def _one_dof(system: System):
+    drivers = system.motion_drivers
+    model = system.model
+    if (
+        len(drivers) != 1
+        or system.structure.mobility != 1
+        or not drivers[0].joint.angular
+        or not isinstance(drivers[0].driver.motion, MotionLaw)
+    ):
+        raise StructureError(
+            [
+                (
+                    Location(model.source, path="flywheel"),
+                    "a flywheel needs a 1-DOF machine driven by one revolute "
+                    "motion driver (a crank at constant speed)",
+                )
+            ]
+        )
+    return drivers[0]
+
+
+def energy_curve(
+    system: System, events: list[float], *, friction: bool = False, positions: int = 3600
+) -> dict[str, np.ndarray]:
+    """The driving moment over a cycle, sorted by travel φ ∈ [0, 2π) from the start,
+    with the one-sided values at every event (φ_e ∓ EPS).  Keys: ``travel``,
+    ``coordinate``, ``moment`` (in the sense of motion), ``inertia`` (J_e), ``result``.
+
+    ``moment`` is the balancing moment referred to the driver's (crank) shaft: with
+    ``balance_at`` the effort τ at that joint times its relative speed per unit crank
+    speed ρ (the input power over the crank speed), so the moment, the energy swing and
+    J_F do not depend on where the effort is taken.  Where that joint is (nearly) at rest
+    (a singular equilibrium row, no effort there) the frictionless moment is the input
+    power from the power balance over the crank speed."""
+    drv = _one_dof(system)
+    sense = float(np.sign(drv.driver.motion.speed))
+    start = system.model.analysis.start
+    phi = np.arange(positions) * 2 * np.pi / positions
+    phi_e = np.sort(np.mod((np.asarray(events, dtype=float) - start) * sense, 2 * np.pi))
+    if phi_e.size:
+        gap = np.min(
+            np.abs(np.mod(phi[:, None] - phi_e[None, :] + np.pi, 2 * np.pi) - np.pi), axis=1
+        )
+        phi = np.concatenate((phi[gap > 2 * EPS], phi_e - EPS, phi_e + EPS))
+    phi = np.sort(np.mod(phi, 2 * np.pi))
+    coords = start + sense * phi
+    r = analyze(system, positions=coords, friction=friction, events=False)
+    name = drv.name
+    model = system.model
+    word = "torque" if model.joint(drv.driver.balance_at or drv.joint.name).angular else "force"
+    tau = r[f"{name}.{word}_friction"] if friction else r[f"{name}.{word}"]
+    eq = equivalent(system, r.q, r.coordinate, speed=drv.driver.motion.speed, extremes=r.extremes)
+    moment = sense * tau * eq["effort_ratio"]
+    if not friction:  # singular equilibrium rows (the balance_at joint at or
+        # next to rest, no effort there): the moment on the crank is still the input power
+        # over the crank speed, which the power balance gives, (dT/dt + dV/dt + P_ext)/|ω|
+        gap = ~np.isfinite(moment)
+        power = r["power.kinetic"] + r["power.potential"] + r["power.external"]
+        moment = np.where(gap, power / abs(drv.driver.motion.speed), moment)
+    return {
+        "travel": phi,
+        "coordinate": coords,
+        "moment": moment,
+        "inertia": eq["inertia"],
+        "result": r,
+        "events": phi_e,
+    }
+
+
+def _swing(phi: np.ndarray, f: np.ndarray) -> tuple[np.ndarray, float, float, float, float]:
+    """Cumulative ∫ f over the periodic sorted samples (trapezoid) and the exact
+    extremes of the piecewise-quadratic integral: (F, F_max, φ_max, F_min, φ_min)."""
+    x = np.append(phi, phi[0] + 2 * np.pi)
+    y = np.append(f, f[0])
+    h = np.diff(x)
+    big_f = np.concatenate(([0.0], np.cumsum(0.5 * h * (y[:-1] + y[1:]))))
+    cand_x, cand_f = list(x), list(big_f)
+    cross = np.nonzero(y[:-1] * y[1:] < 0)[0]
+    s = y[cross] / (y[cross] - y[cross + 1])  # root of the linear interpolant
+    cand_x += list(x[cross] + s * h[cross])
+    cand_f += list(big_f[cross] + 0.5 * y[cross] * s * h[cross])
+    cand_x, cand_f = np.array(cand_x), np.array(cand_f)
+    kmax, kmin = int(np.argmax(cand_f)), int(np.argmin(cand_f))
+    return big_f, cand_f[kmax], cand_x[kmax], cand_f[kmin], cand_x[kmin]
+
+
+def design(
+    source: Result | Model | System,
+    delta: float | None = None,
+    *,
+    ratio: float | None = None,
+    friction: bool | None = None,
+    positions: int = 3600,
+) -> FlywheelDesign:
+    """Size the flywheel for ``delta`` (default the model's ``flywheel.delta``).
+
+    ``source``: a full-cycle :class:`Result` (its events are reused), a model or a
+    system.  ``ratio``: motor speed / crank speed (default ``flywheel.ratio``);
+    ``friction``: size from the balancing moment with friction (consistent).
+    """
+    if isinstance(source, Result):
+        system, base = source.system, source if source.full_cycle else None
+    else:
+        system = source if isinstance(source, System) else build_system(source)
+        base = None
+    spec = system.model.flywheel
+    delta = delta if delta is not None else (spec.delta if spec else None)
+    if delta is None:
+        raise ValueError("no delta: give flywheel: {delta: ...} in the file or delta=")
+    delta = real_number(
+        "delta",
+        delta,
+        low=0.0,
+        high=1.0,
+        strict_low=True,
+        strict_high=True,
+        why="the coefficient of speed fluctuation",
+    )
+    if ratio is not None:
+        ratio = real_number("ratio", ratio, low=0.0, strict_low=True)
+    ratio = ratio if ratio is not None else (spec.ratio if spec else None)
+    friction = bool(friction if friction is not None else (spec.friction if spec else False))
+    drv = _one_dof(system)
+    if base is None:
+        base = analyze(system, friction=False)
+    events = [e.coordinate for e in base.events]
+    curve = energy_curve(system, events, friction=friction, positions=positions)
+    phi, moment = curve["travel"], curve["moment"]
+    x = np.append(phi, 2 * np.pi + phi[0])
+    y = np.append(moment, moment[0])
+    work = float(np.sum(0.5 * np.diff(x) * (y[:-1] + y[1:])))
+    m_d = work / (2 * np.pi)
+    _, f_max, phi_max, f_min, phi_min = _swing(phi, m_d - moment)
+    swing = f_max - f_min
+    w = abs(drv.driver.motion.speed)
+    sense = float(np.sign(drv.driver.motion.speed))
+    j_f = swing / (w**2 * delta)
+    je = curve["inertia"]
+    je_mean = float(
+        np.sum(0.5 * np.diff(x) * (np.append(je, je[0])[:-1] + np.append(je, je[0])[1:]))
+        / (2 * np.pi)
+    )
+    start = system.model.analysis.start
+    torque = (
+        "the balancing moment with friction (consistent solution)"
+        if friction
+        else "the frictionless balancing moment"
+    )
+    assumptions = (
+        f"driving moment constant, equal to the cycle mean of {torque} (M_d = work per cycle / 2π)",
+        f"balancing moment at the constant nominal crank speed ω_m = {w:.6g} rad/s "
+        "(link inertia torques at that speed included)",
+        "ΔW_max integrated piecewise between the load events (trapezoid rule on "
+        f"{positions} positions plus both sides of each event)",
+        "energy method, first order in δ: ω_m = (ω_max + ω_min)/2 and the speed "
+        "variation taken by the flywheel alone (inertia) or by the flywheel plus the "
+        "machine's cycle-mean equivalent inertia (inertia_net)",
+        "flywheel on the crank shaft; on the motor shaft J/ratio² (gear inertia neglected)",
+    )
+    return FlywheelDesign(
+        delta=float(delta),
+        driver=drv.name,
+        sense=sense,
+        omega_m=w,
+        mean_torque=m_d,
+        work_per_cycle=work,
+        energy_swing=float(swing),
+        at_max=float(start + sense * phi_max),
+        at_min=float(start + sense * phi_min),
+        inertia=float(j_f),
+        machine_inertia={"mean": je_mean, "min": float(je.min()), "max": float(je.max())},
+        inertia_net=float(j_f - je_mean),
+        ratio=ratio,
+        friction=friction,
+        positions=positions,
+        events=tuple(events),
+        assumptions=assumptions,
+        curve=curve,
+    )
+
+
+def verify(
+    model: Model,
+    fw: FlywheelDesign,
+    *,
+    torque: str = "constant",
+    slip: float = 0.05,
+    inertia: float | None = None,
+    cycles: int = 1,
+    start: str = "max_energy",
+    method: str = "RK45",
+    rtol: float = 1e-8,
+    friction: bool = False,
+    speed: float | None = None,
+) -> dict[str, Any]:
+    """Check a flywheel by simulation (needs scipy.integrate).
+
+    The motor driver is set free with the flywheel ``inertia`` (default the net
+    design value) on the crank shaft, driven by the constant mean moment M_d
+    (``torque="constant"``) or by the motor curve τ(ω) = M_d·[1 + (ω_m − ω)/(s·ω_m)]
+    (``torque="motor"``, slip s).  ``start="max_energy"``: at the position of the
+    maximum stored energy with speed ω_m; ``"rest"``: from rest at the analysis
+    start (``speed``: the start speed magnitude instead of ω_m).  Runs ``cycles``
+    crank revolutions past the first mark (the position of maximum stored energy)
+    and measures δ = (ω_max − ω_min)/ω_mean over the last one.
+    """
+    m_d = fw.sense * fw.mean_torque
+    law = (
+        EffortLaw("constant", value=m_d)
+        if torque == "constant"
+        else EffortLaw("motor", value=m_d, speed=fw.sense * fw.omega_m, slip=slip)
+    )
+    free = with_effort(model, fw.driver, law)
+    j = fw.inertia_net if inertia is None else inertia
+    if start == "max_energy":
+        psi0, w0, turns = fw.at_max, fw.sense * (speed or fw.omega_m), cycles
+    else:
+        psi0, w0, turns = model.analysis.start, 0.0, cycles + 1
+    period = 2 * np.pi / fw.omega_m
+    sim = simulate(
+        free,
+        3 * period * (turns + 1),
+        initial={fw.driver: (psi0, w0)},
+        inertia={fw.driver: j},
+        friction=friction,
+        method=method,
+        rtol=rtol,
+        stop_at=psi0 + fw.sense * 2 * np.pi * turns,
+        mark=fw.at_max,
+        ref_speed=fw.omega_m,
+    )
+    if sim.status != "stopped":
+        raise RuntimeError("the machine did not complete the cycles (it stalled or stopped)")
+    marks = np.sort(np.concatenate((sim.marks, [0.0, sim.t_end] if start == "max_energy" else [])))
+    marks = marks[np.concatenate(([True], np.diff(marks) > 1e-6 * period))]
+    last = speed_fluctuation(sim, marks[-2], marks[-1])
+    return {
+        "delta": last["delta"],
+        "last_cycle": last,
+        "cycles": len(marks) - 1,
+        "inertia": j,
+        "torque": torque,
+        "slip": slip if torque == "motor" else None,
+        "simulation": sim,
+        "marks": marks,
+    }

@@ -1,0 +1,300 @@
+"""Integration of the motion in pieces between the load switches (:func:`simulate`).
+
+``scipy.integrate`` is imported only when :func:`simulate` runs.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+
+from .._checks import real_number
+from ..model import Model
+from .engine import Dynamics
+from .reduced import _law
+from .simulation import Simulation, _Segment
+
+__all__ = ["simulate"]
+
+
+def simulate(
+    model: Model | Dynamics,
+    until: float,
+    *,
+    initial: Mapping[str, float | tuple[float, float]] | None = None,
+    inertia: Mapping[str, float] | None = None,
+    friction: bool | None = None,
+    method: str = "RK45",
+    rtol: float = 1e-8,
+    atol: float | None = None,
+    max_step: float = np.inf,
+    stop_at: float | None = None,
+    mark: float | None = None,
+    ref_speed: float | None = None,
+) -> Simulation:
+    """Integrate the motion of the free (``effort:``) coordinates from t = 0 to ``until`` s.
+
+    Parameters
+    ----------
+    model : Model or Dynamics
+    initial : mapping, optional
+        Per free driver, its initial coordinate (rad or m) or (coordinate, speed);
+        default the analysis start (or the sketch) at rest.
+    inertia, friction, ref_speed
+        See :class:`Dynamics` (ignored when a Dynamics is given).
+    method, rtol, atol, max_step
+        ``scipy.integrate.solve_ivp`` options; ``atol`` defaults to ``rtol`` for
+        coordinates (rad, or × L_ref m) and ``rtol`` × the reference speed for speeds.
+    stop_at : float, optional
+        Stop when the first free coordinate reaches this value (rad or m).
+    mark : float, optional
+        Record the times at which the first free coordinate passes ``mark`` (mod 2π
+        for a revolute): the cycle boundaries, ``Simulation.marks``.
+    """
+    from scipy.integrate import solve_ivp
+
+    until = real_number("until", until, low=0.0, strict_low=True, why="s")
+    rtol = real_number("rtol", rtol, low=0.0, high=1.0, strict_low=True)
+    if atol is not None:
+        atol = real_number("atol", atol, low=0.0, strict_low=True)
+    if not (isinstance(max_step, (int, float, np.integer, np.floating)) and max_step > 0):
+        raise ValueError(f"max_step = {max_step!r}: expected a positive number (or inf)")
+    for name, v in (("stop_at", stop_at), ("mark", mark)):
+        if v is not None:
+            real_number(name, v)
+    if ref_speed is not None:
+        real_number("ref_speed", ref_speed, low=0.0, strict_low=True)
+    initial = dict(initial or {})
+    for name, v in initial.items():
+        for k, x in enumerate(v if isinstance(v, (tuple, list)) else (v,)):
+            real_number(
+                f"initial['{name}']" + (f"[{k}]" if isinstance(v, (tuple, list)) else ""), x
+            )
+    first_speed = 0.0
+    if isinstance(model, Dynamics):
+        dyn = model
+    else:
+        free = [d.name for d in model.drivers if d.motion is None]
+        v = initial.get(free[0]) if free else None
+        first_speed = float(v[1]) if isinstance(v, (tuple, list)) else 0.0
+        sense = np.sign(first_speed) or _sense_of_effort(model, free)
+        dyn = Dynamics(
+            model,
+            inertia=inertia,
+            friction=friction,
+            sense=sense,
+            ref_speed=ref_speed or (abs(first_speed) or None),
+        )
+    nf = dyn.n_f
+    psi0, psid0 = dyn.start(), np.zeros(nf)
+    for name, v in initial.items():
+        if name not in dyn.free_names:
+            raise KeyError(
+                f"initial state of '{name}': not a free (effort) driver; the free "
+                f"drivers are: {', '.join(dyn.free_names)}"
+            )
+        k = dyn.free_names.index(name)
+        psi0[k], psid0[k] = v if isinstance(v, (tuple, list)) else (v, 0.0)
+    y = np.concatenate((psi0, psid0, [0.0]))
+    scale = dyn.scale[dyn.free]
+    if atol is None:
+        atol_v = np.concatenate((rtol * scale, rtol * dyn.ref_speed * scale, [np.inf]))
+    else:
+        atol_v = np.concatenate((atol * scale, atol * dyn.ref_speed * scale, [np.inf]))
+    sim = Simulation(dyn, [], options=dict(method=method, rtol=rtol, atol=atol))
+    marks: list[float] = []
+    t, direction, first_step = 0.0, 0.0, None
+    evaluations0 = dyn.evaluations
+    thresholds = np.array([thr for _, _, thr in dyn._switches])
+
+    def rhs(d, m):
+        return lambda tt, yy: dyn.rhs(tt, yy, d, m)
+
+    pending = None  # the loads' state just past a switch (known from the last piece)
+    mark_event = None
+    if mark is not None:
+        mark_event = _event(
+            (lambda tt, yy: np.sin(0.5 * (yy[0] - mark)))
+            if dyn.angular[dyn.free[0]]
+            else (lambda tt, yy: yy[0] - mark),
+            False,
+        )
+
+    stop_event = None if stop_at is None else _event(lambda tt, yy: yy[0] - stop_at, True)
+    short = [e for e in (mark_event, stop_event) if e is not None]  # watched on a nudge too
+
+    def add_marks(found):
+        for x in found:  # a mark at a switch is seen by both pieces
+            if not marks or abs(float(x) - marks[-1]) > 1e-9 * max(1.0, abs(float(x))):
+                marks.append(float(x))
+
+    for _ in range(100_000):
+        if t >= until:
+            break
+        if nf == 1 and dyn._at_rest(y[nf : 2 * nf]):
+            check = dyn.breakaway(t, y[:nf])
+            direction = check.pop("sense")
+            sim.events.append({"t": t, "kind": "rest", "sense": direction, **check})
+            y[nf : 2 * nf] = 0.0
+            if direction == 0.0:
+                sim.segments.append(_Segment(t, until, None, y.copy()))
+                sim.status = "stuck"
+                break
+        elif not dyn._at_rest(y[nf : 2 * nf]):
+            direction = 0.0
+        # switching functions at their threshold now (a start at rest, or on a band
+        # edge): first a short piece without events carries them off zero
+        near = np.abs(dyn.switching_values(t, y, direction)) <= 2 * thresholds
+        if near.any():
+            tau = 1e-10 / dyn.ref_speed
+            for _ in range(30):
+                tau = min(tau, until - t)
+                sol0 = solve_ivp(
+                    rhs(direction, pending),
+                    (t, t + tau),
+                    y,
+                    method=method,
+                    rtol=rtol,
+                    atol=atol_v,
+                    dense_output=True,
+                    events=short or None,
+                )
+                if sol0.status == 1:  # the stop lies in the nudge
+                    break
+                y0 = sol0.y[:, -1]
+                g0 = dyn.switching_values(t + tau, y0, direction)
+                if np.all(np.abs(g0[near]) > 2 * thresholds[near]) or t + tau >= until:
+                    break
+                tau *= 4.0
+            if mark_event is not None:
+                add_marks(sol0.t_events[0])
+            if sol0.status == 1:
+                t_s = float(sol0.t[-1])
+                sim.segments.append(_Segment(t, t_s, sol0.sol, mode=pending))
+                sim.events.append({"t": t_s, "kind": "stop"})
+                t, y = t_s, sol0.y[:, -1].copy()
+                sim.status = "stopped"
+                break
+            sim.segments.append(_Segment(t, t + tau, sol0.sol, mode=pending))
+            t, y = t + tau, y0.copy()
+            near &= np.abs(g0) <= 2 * thresholds  # still on zero: not watched here
+            if not dyn._at_rest(y[nf : 2 * nf]):
+                direction = 0.0
+            if t >= until:
+                break
+        # the loads' state is held fixed on the piece: its right-hand side is smooth and
+        # extends smoothly past the next switch, where the event is located
+        mode = pending if pending is not None else dyn.mode_at(t, y, direction)
+        pending = None
+        events, kinds = [], []
+        for k in range(len(dyn._switches)):
+            if not near[k]:
+                events.append(
+                    _event(
+                        lambda tt, yy, k=k, d=direction, m=mode: dyn.switching_values(tt, yy, d, m)[
+                            k
+                        ],
+                        True,
+                    )
+                )
+                kinds.append(("switch", k))
+        if dyn.coulomb and nf == 1:
+            s = direction or np.sign(y[nf])
+            events.append(_event(lambda tt, yy: yy[nf], True, -s))
+            kinds.append(("rest", None))
+        if stop_event is not None:
+            events.append(stop_event)
+            kinds.append(("stop", None))
+        if mark_event is not None:
+            events.append(mark_event)
+            kinds.append(("mark", None))
+        opts = {} if first_step is None else {"first_step": min(first_step, until - t)}
+        sol = solve_ivp(
+            rhs(direction, mode),
+            (t, until),
+            y,
+            method=method,
+            rtol=rtol,
+            atol=atol_v,
+            dense_output=True,
+            events=events or None,
+            max_step=max_step,
+            **opts,
+        )
+        if sol.status == -1:
+            raise RuntimeError(f"integration failed at t = {sol.t[-1]:.6g} s: {sol.message}")
+        for (kind, _), te in zip(kinds, sol.t_events or []):
+            if kind == "mark":
+                add_marks(te)
+        if len(sol.t) > 2:
+            first_step = float(sol.t[-2] - sol.t[-3]) or None
+        t_e, y_e = float(sol.t[-1]), sol.y[:, -1].copy()
+        if sol.status == 0:
+            sim.segments.append(_Segment(t, t_e, sol.sol, mode=mode))
+            t, y = t_e, y_e
+            break
+        fired = [
+            (kind, k)
+            for (kind, k), te in zip(kinds, sol.t_events)
+            if kind != "mark" and te.size and abs(te[-1] - t_e) <= 1e-12 * max(1.0, t_e)
+        ]
+        if any(kind == "stop" for kind, _ in fired):
+            sim.segments.append(_Segment(t, t_e, sol.sol, mode=mode))
+            sim.events.append({"t": t_e, "kind": "stop"})
+            t, y = t_e, y_e
+            sim.status = "stopped"
+            break
+        if any(kind == "rest" for kind, _ in fired):
+            sim.segments.append(_Segment(t, t_e, sol.sol, mode=mode))
+            y_e[nf : 2 * nf] = 0.0
+            t, y = t_e, y_e
+            continue
+        # a load switch: the piece ends at the event and the next one starts from the
+        # state there (the root found on this piece's dense output: its right-hand side is
+        # smooth through the event).  Which side the loads take next is read a little past
+        # the event on this piece's smooth continuation; the state is not moved there.
+        idx = [k for kind, k in fired if kind == "switch"]
+        sim.segments.append(_Segment(t, t_e, sol.sol, mode=mode))
+        sim.events.append({"t": t_e, "kind": "switch", "what": [dyn._switches[k][0] for k in idx]})
+        tau = 1e-10 / dyn.ref_speed
+        for _ in range(17):  # at most ~1e-5 s × (1 rad/s / ref_speed)
+            y_p = np.asarray(sol.sol(t_e + tau), dtype=float)
+            g = dyn.switching_values(t_e + tau, y_p, direction, mode)
+            if all(abs(g[k]) > 2 * thresholds[k] for k in idx):
+                break
+            tau *= 2.0
+        pending = dyn.load_mode(dyn._evaluated(t_e + tau, y_p, direction, mode))
+        t, y = t_e, y_e
+    else:
+        raise RuntimeError("too many integration pieces (chattering load switches?)")
+    sim.nfev = dyn.evaluations - evaluations0
+    sim.marks = np.array(marks)
+    return sim
+
+
+def _sense_of_effort(model: Model, free: list[str]) -> float:
+    """The sense in which the first free driver's effort pushes (at rest), else +1."""
+    if not free:
+        return 1.0
+    law = _law(next(d for d in model.drivers if d.name == free[0]).effort)
+    v = float(law(0.0, 0.0))
+    return float(np.sign(v)) or 1.0
+
+
+def _bisect(f, a: float, b: float) -> float:
+    fa = f(a)
+    for _ in range(200):
+        m = 0.5 * (a + b)
+        if m in (a, b):
+            break
+        if fa * f(m) <= 0:
+            b = m
+        else:
+            a, fa = m, f(m)
+    return 0.5 * (a + b)
+
+
+def _event(f, terminal: bool, direction: float = 0.0):
+    f.terminal, f.direction = terminal, float(direction)
+    return f
