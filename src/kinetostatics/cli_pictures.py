@@ -160,7 +160,7 @@ def _default_paths(model) -> list[str]:
 
 def _plot(args) -> int:
     from . import plotting as pl
-    from .yaml_io import load
+    from .loading import load
 
     model = load(args.file)
     what = list(WHAT) if "all" in args.what else list(dict.fromkeys(args.what))
@@ -205,7 +205,7 @@ def _plot(args) -> int:
 
 def _animate(args) -> int:
     from . import plotting as pl
-    from .yaml_io import load
+    from .loading import load
 
     out = Path(args.out)
     if out.suffix.lower() not in (".gif", ".mp4"):
