@@ -17,8 +17,8 @@ from .errors import (
     SingularConfigurationError,
     StructureError,
 )
+from .loading import load, loads
 from .model import Model
-from .yaml_io import load, loads
 
 __all__ = [
     "load",

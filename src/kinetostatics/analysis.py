@@ -894,7 +894,7 @@ def _positions_behind(
 def _checked_positions(system: System, positions) -> np.ndarray:
     """``analyze(positions=...)``: finite driver coordinates within the file's limits (a revolute's
     |ψ| as an angle of the file, a prismatic's distance from ``analysis.start`` as its sweep)."""
-    from .yaml_io import MAGNITUDE, MAX_TRAVEL
+    from .base.limits import MAGNITUDE, MAX_TRAVEL
 
     if system.motion_drivers[0].joint.angular:
         limit = MAGNITUDE["angle"][1]
@@ -922,7 +922,7 @@ def _checked_times(system: System, sched: Schedule, times) -> np.ndarray:
     law is not defined before its start: its times count from 0.  A constant-speed driver is:
     a negative time is a position before the start, reached by running the linkage backwards
     (as far back as forwards)."""
-    from .yaml_io import MAX_TRAVEL, MAX_TURNS
+    from .base.limits import MAX_TRAVEL, MAX_TURNS
 
     if sched.law is not None:
         high, why = MAX_TURNS * sched.law.duration, f"s: {MAX_TURNS} times the law's duration"

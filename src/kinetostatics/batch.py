@@ -48,8 +48,8 @@ from typing import Any
 
 import numpy as np
 
-from . import yaml_io
 from ._files import make_folder, write_whole
+from .base.spec import read_text
 from .base.tables import write_table
 from .errors import KinetostaticsError, OutputError, output_error
 
@@ -534,13 +534,13 @@ def sources_of(path: str | Path) -> list[Source]:
         if not files:
             raise BatchError(f"{path}: no *.yaml files in this folder")
     elif p.is_file():
-        return [Source(str(p), yaml_io.read_text(p))]
+        return [Source(str(p), read_text(p))]
     else:
         raise BatchError(f"{path}: no such file or folder")
     out = []
     for f in files:  # in a folder, an unreadable file is a row with its reason
         try:
-            out.append(Source(str(f), yaml_io.read_text(f)))
+            out.append(Source(str(f), read_text(f)))
         except KinetostaticsError as exc:
             out.append(Source(str(f), "", exc))
     return out

@@ -26,15 +26,15 @@ bears on the bushing where the force pushes it, so p_j − p_i = −e F̂_ij
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from ._geometry import rotate
-from .errors import Location, ModelError
+from .errors import ModelError
 from .joints.prismatic import Prismatic
 from .joints.revolute import Revolute
-from .model import Driver, Link, Model, MotionLaw
+from .model import Clearance, Driver, Link, Model, MotionLaw
 
 __all__ = [
     "Clearance",
@@ -47,27 +47,6 @@ __all__ = [
 ]
 
 REFERENCE = 0.01  # m: the clearance link's reference point for its angle
-
-
-@dataclass(frozen=True)
-class Clearance:
-    """Radial clearance ``size`` (m) at revolute ``joint``; see the module docstring.
-
-    ``speed`` (rad/s), ``acceleration`` (rad/s²): the prescribed rotation of the
-    clearance link relative to link i (model ``prescribed``).  ``angle``: the
-    link's global angle at t = 0 (rad; None: along −F_ij of the ideal joint).
-    ``contact``: the contact law (model ``contact``), a
-    :class:`~kinetostatics.contact.ContactLaw` without its clearance.
-    """
-
-    joint: str
-    size: float
-    model: str = "prescribed"
-    speed: float = 0.0
-    acceleration: float = 0.0
-    angle: float | None = None
-    contact: object | None = None
-    where: Location = field(default=Location(), compare=False, repr=False)
 
 
 def _names(joint: str) -> dict[str, str]:

@@ -18,8 +18,8 @@ __all__ = ["main"]
 
 
 def _check(args) -> int:
+    from .loading import load
     from .system import build_system
-    from .yaml_io import load
 
     model = load(args.file)
     system = build_system(model)
@@ -62,7 +62,7 @@ def _run(args) -> int:
     import numpy as np
 
     from .analysis import analyze
-    from .yaml_io import load
+    from .loading import load
 
     model = load(args.file)
     result = analyze(model)

@@ -164,8 +164,8 @@ def _variants(args, sources):
 
 
 def _ranges() -> tuple[tuple[str, int, int], ...]:
+    from .base.limits import MAX_POSITIONS
     from .sweeps import MAX_VARIANTS
-    from .yaml_io import MAX_POSITIONS
 
     return (
         ("positions", 1, MAX_POSITIONS),

@@ -84,7 +84,7 @@ def _simulate(args) -> int:
     import numpy as np
 
     from .dynamics import simulate, speed_fluctuation, write_csv
-    from .yaml_io import load
+    from .loading import load
 
     model = load(args.file)
     initial = {}

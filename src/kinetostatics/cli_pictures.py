@@ -159,8 +159,8 @@ def _default_paths(model) -> list[str]:
 
 
 def _plot(args) -> int:
+    from .loading import load
     from .outputs import plotting as pl
-    from .yaml_io import load
 
     model = load(args.file)
     what = list(WHAT) if "all" in args.what else list(dict.fromkeys(args.what))
@@ -204,8 +204,8 @@ def _plot(args) -> int:
 
 
 def _animate(args) -> int:
+    from .loading import load
     from .outputs import plotting as pl
-    from .yaml_io import load
 
     out = Path(args.out)
     if out.suffix.lower() not in (".gif", ".mp4"):

@@ -25,6 +25,7 @@ __all__ = [
     "Load",
     "Analysis",
     "FlywheelSpec",
+    "Clearance",
     "Model",
 ]
 
@@ -193,6 +194,27 @@ class FlywheelSpec:
 
 
 @dataclass(frozen=True)
+class Clearance:
+    """Radial clearance ``size`` (m) at revolute ``joint``; see :mod:`kinetostatics.clearance`.
+
+    ``speed`` (rad/s), ``acceleration`` (rad/s²): the prescribed rotation of the
+    clearance link relative to link i (model ``prescribed``).  ``angle``: the
+    link's global angle at t = 0 (rad; None: along −F_ij of the ideal joint).
+    ``contact``: the contact law (model ``contact``), a
+    :class:`~kinetostatics.contact.ContactLaw` without its clearance.
+    """
+
+    joint: str
+    size: float
+    model: str = "prescribed"
+    speed: float = 0.0
+    acceleration: float = 0.0
+    angle: float | None = None
+    contact: object | None = None
+    where: Location = field(default=Location(), compare=False, repr=False)
+
+
+@dataclass(frozen=True)
 class Model:
     """A planar linkage in SI.  ``sketch`` maps point references (``joint`` or
     ``link.point``) to rough global positions that select the assembly branch;
@@ -211,7 +233,7 @@ class Model:
     units: Mapping[str, str] = field(default_factory=dict)
     source: str = "<model>"
     flywheel: FlywheelSpec | None = None
-    clearances: tuple = ()  # clearance.Clearance specs this model was expanded with
+    clearances: tuple = ()  # Clearance specs: as read (ideal None) or expanded with
     ideal: Model | None = field(default=None, compare=False, repr=False)  # before expansion
     sketch_where: Mapping[str, Location] = field(default_factory=dict, compare=False, repr=False)
 

@@ -574,7 +574,7 @@ def write_report(
     if isinstance(source, Model):
         model = source
     else:
-        from .yaml_io import load
+        from .loading import load
 
         model = load(source)
     out = Path(out)

@@ -44,6 +44,7 @@ from typing import Any
 import numpy as np
 import yaml
 
+from .base.spec import NAME
 from .errors import Location, ModelError, did_you_mean
 
 __all__ = [
@@ -71,7 +72,6 @@ MAX_VARIANTS = 10_000_000
 # headroom for the fingerprint and the chunk lists).  A sweep whose variants would
 # need more than the memory available is refused before any is made.
 BYTES_PER_VARIANT = 8 * 2**10
-NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 ID = re.compile(r"[A-Za-z0-9_.\-]+\Z")
 
 
@@ -597,7 +597,7 @@ def check_parameters(variants: Sequence[Variant], declared: Iterable[str], file:
     """Fail fast, before any analysis, on a parameter the file does not declare."""
     declared = list(declared)
     known = set(declared)
-    for vid, values in variants:
+    for _, values in variants:
         for name in values:
             if name not in known:
                 raise SweepError(

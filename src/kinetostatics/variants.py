@@ -16,9 +16,10 @@ from typing import Any
 
 import numpy as np
 
-from . import yaml_io
+from .base.spec import compose, read_text
 from .errors import KinetostaticsError
 from .joints import Prismatic
+from .loading import build
 from .model import Model
 
 __all__ = ["Template", "analyze_variants", "summary_row", "ROW_UNITS"]
@@ -28,18 +29,18 @@ __all__ = ["Template", "analyze_variants", "summary_row", "ROW_UNITS"]
 class Template:
     """A mechanism file read once, to build many variants from."""
 
-    tree: Any  # yaml_io.Entry of the checked file
+    tree: Any  # base.spec.Entry of the checked file
     base: Model  # the file as written
 
     @classmethod
     def load(cls, path: str | Path) -> Template:
-        tree = yaml_io.compose(yaml_io.read_text(path), str(path))
-        return cls(tree, yaml_io.build(tree))
+        tree = compose(read_text(path), str(path))
+        return cls(tree, build(tree))
 
     @classmethod
     def loads(cls, text: str, file: str = "<string>") -> Template:
-        tree = yaml_io.compose(text, file)
-        return cls(tree, yaml_io.build(tree))
+        tree = compose(text, file)
+        return cls(tree, build(tree))
 
     @property
     def parameters(self) -> dict[str, float]:
@@ -51,7 +52,7 @@ class Template:
     ) -> Model:
         """The variant's model (``ModelError`` if those values make it invalid);
         ``positions`` replaces ``analysis.positions``."""
-        model = yaml_io.build(self.tree, overrides) if overrides else self.base
+        model = build(self.tree, overrides) if overrides else self.base
         if positions is not None:
             model = replace(
                 model, analysis=replace(model.analysis, positions=int(positions), at=())

@@ -1,1 +1,2 @@
-"""Helpers without domain knowledge: the lowest layer."""
+"""The base layer: helpers that know nothing of mechanisms, and the reader of YAML
+with file locations (:mod:`.spec`).  Imports nothing of the package above it."""

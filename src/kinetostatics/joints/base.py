@@ -25,7 +25,7 @@ import numpy as np
 from ..errors import Location, did_you_mean
 
 if TYPE_CHECKING:
-    from ..yaml_io import Entry
+    from ..base.spec import Entry
 
 __all__ = ["Joint", "JOINT_TYPES", "joint_type"]
 

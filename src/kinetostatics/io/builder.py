@@ -1,0 +1,221 @@
+"""A composed tree -> :class:`~kinetostatics.model.Model`: the builder's core.
+
+The sections are read in dependency order by the mixins of this package, one module
+per section; the core holds what they share: the names declared so far and what is
+in error, so that a message can say what a name is and one mistake gives one line.
+Nothing here analyses: the ``clearance:`` section is read into ``Model.clearances``,
+and :mod:`kinetostatics.loading` expands the model with it.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterable, Mapping
+from pathlib import Path
+
+import numpy as np
+
+from ..base.spec import NAME, RESERVED, Entry, _Context, compose, read_text
+from ..errors import Location, did_you_mean
+from ..model import Model
+from .bodies import BodySections
+from .clearance import ClearanceSection
+from .drivers import DriverSections
+from .laws import LawSections
+from .loads import LoadSections
+from .parameters import ParameterSections
+from .settings import SettingSections
+
+__all__ = ["Builder", "TOP_KEYS", "build", "read", "read_string"]
+
+TOP_KEYS = (
+    "name",
+    "units",
+    "parameters",
+    "gravity",
+    "ground",
+    "links",
+    "joints",
+    "loops",
+    "drivers",
+    "loads",
+    "sketch",
+    "analysis",
+    "flywheel",
+    "sweep",
+    "clearance",
+)
+
+
+def read(path: str | Path, parameters: Mapping[str, float] | None = None) -> Model:
+    """A mechanism read from a YAML file as written: its clearances are in
+    ``Model.clearances``, not expanded (:func:`kinetostatics.load` expands them).
+
+    Raises :class:`~kinetostatics.errors.ModelError` listing every problem
+    as ``FILE:LINE:COL: key.path: message``.
+    """
+    return read_string(read_text(path), file=str(path), parameters=parameters)
+
+
+def read_string(
+    text: str, file: str = "<string>", parameters: Mapping[str, float] | None = None
+) -> Model:
+    """A mechanism read from YAML text (see :func:`read`)."""
+    return build(compose(text, file), parameters)
+
+
+def build(top: Entry, parameters: Mapping[str, float] | None = None) -> Model:
+    """The model of a composed tree, with ``parameters`` replacing the values of
+    the file's parameters of those names (numbers in the file's units; the
+    parameters computed from them follow); its clearances read, not expanded
+    (:func:`kinetostatics.loading.build` expands them).  Raises :class:`ModelError`."""
+    ctx = _Context(top.ctx.file)
+    ctx.overrides = dict(parameters or {})
+    return Builder(Entry(top.node, top.where, ctx), ctx).build()
+
+
+class Builder(
+    ParameterSections,
+    BodySections,
+    DriverSections,
+    LawSections,
+    LoadSections,
+    SettingSections,
+    ClearanceSection,
+):
+    """Reads the top-level sections in dependency order.
+
+    A declared item that cannot be built (its problem reported) is remembered
+    in ``broken``; later references to it stay silent, so one mistake gives
+    one line rather than a cascade.
+    """
+
+    def __init__(self, top: Entry, ctx: _Context):
+        self.top, self.ctx, self.problems = top, ctx, ctx.problems
+        self.names: dict[str, tuple[str, Location]] = {}  # name -> (what, where first named)
+        self.broken: dict[str, set[str]] = {
+            "link": set(),
+            "joint": set(),
+            "driver": set(),
+            "load": set(),
+        }
+        self.ground: str | None = None
+        self.lost: set[str] = set()  # kinds whose whole section is missing or unreadable
+        self.sketch_where: dict[str, Location] = {}  # sketch key -> where written
+        self.pins: dict[str, list[str]] = {}  # pin -> the revolutes it expands to
+        self.generated: dict[str, tuple[str, str, str]] = {}  # revolute -> (pin, hub, link)
+
+    def build(self) -> Model:
+        top = self.top
+        top.check_keys(required=("links", "joints"), optional=TOP_KEYS)
+        name = top["name"].text() if top.get("name") else "mechanism"
+        unit_names = self._units()
+        self._parameters()
+        gravity = np.array([0.0, -9.81])
+        if (g := top.get("gravity")) is not None:
+            gravity = g.vector(None, bound="acceleration")
+            if gravity is None:
+                gravity = np.array([0.0, -9.81])
+        links = self._links(gravity)
+        points = {link.name: dict(link.points) for link in links}
+        joints = self._joints(links, points)
+        drivers = self._drivers(links, joints, points)
+        loads_ = self._loads(links, joints, points, drivers)
+        sketch = self._sketch(links, joints)
+        analysis = self._analysis(joints, drivers, links)
+        loops = self._loops(joints)
+        flywheel = self._flywheel()
+        clearances = self._clearances(joints)
+        self.problems.raise_if_any()
+        return Model(
+            name=name or "mechanism",
+            links=tuple(links),
+            joints=tuple(joints),
+            drivers=tuple(drivers),
+            loads=tuple(loads_),
+            gravity=gravity,
+            sketch=sketch,
+            analysis=analysis,
+            loops=loops,
+            parameters=dict(self.ctx.env),
+            units=unit_names,
+            source=self.ctx.file,
+            flywheel=flywheel,
+            sketch_where=self.sketch_where,
+            clearances=tuple(clearances),
+        )
+
+    # -- names ----------------------------------------------------------------
+    def _claim(self, section: Entry, name: str, what: str) -> bool:
+        """Register ``name`` (a key of ``section``) as a ``what``; report a bad name."""
+        where = section.key_where(name)
+        if not NAME.match(name):
+            fixed = re.sub(r"[^A-Za-z0-9_]", "_", name) or "_"
+            fixed = "_" + fixed if fixed[0].isdigit() else fixed
+            self.problems.add(
+                where,
+                f"{what} name '{name}' is not a valid name: use letters, "
+                f"digits and _, not starting with a digit (e.g. '{fixed}')",
+            )
+        elif name in RESERVED:
+            self.problems.add(
+                where,
+                f"'{name}' is a reserved name (a results column); "
+                f"reserved: {', '.join(sorted(RESERVED))}",
+            )
+        elif name in self.names:
+            other, first = self.names[name]
+            if name in self.generated:
+                pin, hub, link = self.generated[name]
+                self.problems.add(
+                    where,
+                    f"duplicate name '{name}': the pin '{pin}' at line "
+                    f"{first.line} names its revolute {hub}-{link} so; "
+                    "rename one",
+                )
+            else:
+                self.problems.add(
+                    where,
+                    f"duplicate name '{name}': the {other} at line "
+                    f"{first.line} has it already; names must be unique "
+                    "across links, joints, drivers and loads",
+                )
+        else:
+            self.names[name] = (what, where)
+            return True
+        self.broken[what].add(name)
+        return False
+
+    def _broken(self, what: str, name: str) -> bool:
+        """Whether ``name`` was declared as a ``what`` but is in error (already reported)."""
+        return what in self.lost or name in self.broken[what]
+
+    def _what(self, name: str) -> str | None:
+        """What a name names (link, joint, driver, load), if anything."""
+        return self.names[name][0] if name in self.names else None
+
+    @staticmethod
+    def _unknown(what: str, name: str, known: Iterable[str]) -> str:
+        """``unknown link 'x' (did you mean 'y'?)``, or the list of choices when none is close."""
+        known = list(known)
+        hint = did_you_mean(name, known)
+        if not hint:
+            hint = f"; the {what}s are: {', '.join(known)}" if known else f"; there are no {what}s"
+        return f"unknown {what} '{name}'{hint}"
+
+    def _not_a(self, what: str, name: str, known: Iterable[str], links=()) -> str:
+        """Why ``name`` is not a ``what``: it names something else, or nothing."""
+        other = self._what(name)
+        known = list(known)
+        listing = f"; the {what}s are: {', '.join(known)}" if known else ""
+        if what == "joint" and name in self.pins:
+            return (
+                f"'{name}' is a pin shared by {len(self.pins[name]) + 1} links, not one joint: "
+                f"name one of its revolutes ({', '.join(self.pins[name])})"
+            )
+        if other is not None and other != what:
+            return f"'{name}' is a {other}, not a {what}{listing}"
+        owners = [link.name for link in links if name in link.points]
+        if what == "link" and owners:
+            return f"'{name}' is a point of link '{owners[0]}', not a link{listing}"
+        return self._unknown(what, name, known)

@@ -1,0 +1,112 @@
+"""Model -> YAML text (SI): the writer, whose output reads back to an equal model."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import Any
+
+import yaml
+
+from ..model import EffortLaw, Model, MotionLaw
+
+__all__ = ["dump"]
+
+
+def _effort_spec(law: EffortLaw) -> dict[str, Any]:
+    if law.kind == "constant":
+        return law.value
+    if law.kind == "motor":
+        return {"motor": {"torque": law.value, "speed": law.speed, "slip": law.slip}}
+    keys = ("at", "value") if law.kind == "table" else ("speed", "torque")
+    return {law.kind: {keys[0]: list(law.at), keys[1]: list(law.values)}}
+
+
+def dump(model: Model) -> str:
+    """The model as YAML text in SI (a round trip through :func:`loads` gives an equal model).
+
+    A model expanded with clearances is written as its ideal model plus the
+    ``clearance:`` section that expands it again (a model as read, not yet expanded,
+    is written the same way).
+    """
+    if model.ideal is not None or model.clearances:  # expanded, or as read (io.read)
+        base = model.ideal if model.ideal is not None else replace(model, clearances=())
+        doc = yaml.safe_load(dump(base))
+        doc["clearance"] = {}
+        for c in model.clearances:
+            spec = {
+                "size": c.size,
+                "model": c.model,
+                "speed": c.speed,
+                "acceleration": c.acceleration,
+            }
+            if c.angle is not None:
+                spec["angle"] = c.angle
+            if c.contact is not None:
+                law = c.contact
+                spec["contact"] = {
+                    "journal_radius": law.journal_radius,
+                    "young": list(law.young),
+                    "poisson": list(law.poisson),
+                    "restitution": law.restitution,
+                    "floor": law.floor,
+                    **({"stiffness": law.stiffness} if law.stiffness else {}),
+                }
+            doc["clearance"][c.joint] = spec
+        return yaml.safe_dump(doc, sort_keys=False)
+    doc: dict[str, Any] = {
+        "name": model.name,
+        "gravity": [float(g) for g in model.gravity],
+        "ground": model.ground.name,
+        "links": {},
+        "joints": {},
+    }
+    for link in model.links:
+        spec: dict[str, Any] = {
+            "points": {k: [float(c) for c in v + link.com] for k, v in link.points.items()}
+        }
+        if not link.ground:
+            spec.update(mass=link.mass, inertia=link.inertia, com=[float(c) for c in link.com])
+        doc["links"][link.name] = spec
+    for j in model.joints:
+        doc["joints"][j.name] = {"type": j.kind, "links": list(j.links), **j.to_spec()}
+    if model.drivers:
+        doc["drivers"] = {}
+        for d in model.drivers:
+            spec = {"joint": d.joint}
+            if d.motion is not None:
+                spec["motion"] = (
+                    {"speed": d.motion.speed}
+                    if isinstance(d.motion, MotionLaw)
+                    else d.motion.to_spec()
+                )
+            if isinstance(d.effort, EffortLaw):
+                spec["effort"] = _effort_spec(d.effort)
+            elif d.effort is not None:
+                spec["effort"] = d.effort
+            if d.points != (None, None):
+                spec["points"] = [p or "x" for p in d.points]
+            if d.balance_at:
+                spec["balance_at"] = d.balance_at
+            doc["drivers"][d.name] = spec
+    if model.sketch:
+        doc["sketch"] = {k: [float(c) for c in v] for k, v in model.sketch.items()}
+    a = model.analysis
+    motion = [d for d in model.drivers if d.motion is not None]
+    if motion and not isinstance(motion[0].motion, MotionLaw):  # the law fixes start and span
+        doc["analysis"] = {"positions": a.positions, "events": a.events}
+    else:
+        doc["analysis"] = {
+            "start": a.start,
+            "sweep": a.sweep,
+            "positions": a.positions,
+            "at": list(a.at),
+            "events": a.events,
+        }
+    if model.flywheel is not None:
+        f = model.flywheel
+        doc["flywheel"] = {
+            "delta": f.delta,
+            "friction": f.friction,
+            **({"ratio": f.ratio} if f.ratio is not None else {}),
+        }
+    return yaml.safe_dump(doc, sort_keys=False)
