@@ -7,10 +7,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .draw import _draw_moving, _draw_static, _force_scale, _loads_at
+from .draw import _draw_moving, _draw_static, _drawing_sheet, _force_scale, _loads_at
 from .rows import _position_title, _sorted
-from .scene import _Scene
-from .style import MU, PictureError, _fmt_scale, _layout, _Paper, _rc, nice_scale
+from .style import MU, PictureError, _fmt_scale, _rc
 
 
 # -- animation ---------------------------------------------------------------------
@@ -47,26 +46,13 @@ def animate(
 
     _, order, _ = _sorted(result)
     with _rc():
-        scene = _Scene(result, paths)
-        span = scene.hi - scene.lo
-        mu_l = nice_scale(max(span[0] / max_size_mm[0], span[1] / max_size_mm[1]) * 1e3) / 1e3
-        paper = _Paper(mu_l)
-        fig, ax = _layout(
-            (scene.lo[0] * 1e3, scene.hi[0] * 1e3),
-            (scene.lo[1] * 1e3, scene.hi[1] * 1e3),
-            paper.k,
-            dpi=dpi,
-            top=14.0 if forces else 11.0,
-        )
-        ax.grid(False)
-        ax.set_xlabel("x, mm")
-        ax.set_ylabel("y, mm")
+        scene, paper, fig, ax = _drawing_sheet(result, paths, max_size_mm, dpi, forces)
         mu_f = None
         loads = {}
         if forces:
             loads = {k: _loads_at(result, int(k), friction=friction) for k in order}
             mu_f = _force_scale([a for arr in loads.values() for a in arr])
-        head = f"{scene.model.name}   {MU['l']} = {_fmt_scale(mu_l)} m/mm" + (
+        head = f"{scene.model.name}   {MU['l']} = {_fmt_scale(paper.mu_l)} m/mm" + (
             f",  {MU['F']} = {_fmt_scale(mu_f)} N/mm" if forces else ""
         )
         ax.set_title(head + ("\n" if forces else ""), loc="left", fontsize=8.5)

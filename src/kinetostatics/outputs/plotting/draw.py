@@ -361,6 +361,25 @@ def _force_scale(arrows: list[_Arrow], target_mm: float = 28.0) -> float:
     return nice_scale(m / target_mm)
 
 
+def _drawing_sheet(result, paths, max_size_mm, dpi, forces):
+    """The scene, its paper scale and an empty sheet in mm that holds it (drawing, animation)."""
+    scene = _Scene(result, paths)
+    span = scene.hi - scene.lo
+    mu_l = nice_scale(max(span[0] / max_size_mm[0], span[1] / max_size_mm[1]) * 1e3) / 1e3
+    paper = _Paper(mu_l)
+    fig, ax = _layout(
+        (scene.lo[0] * 1e3, scene.hi[0] * 1e3),
+        (scene.lo[1] * 1e3, scene.hi[1] * 1e3),
+        paper.k,
+        dpi=dpi,
+        top=14.0 if forces else 11.0,
+    )
+    ax.grid(False)
+    ax.set_xlabel("x, mm")
+    ax.set_ylabel("y, mm")
+    return scene, paper, fig, ax
+
+
 def draw_mechanism(
     result,
     position: float | None = None,
@@ -395,20 +414,7 @@ def draw_mechanism(
     """
     k = row if row is not None else row_at(result, position)
     with _rc():
-        scene = _Scene(result, paths)
-        span = scene.hi - scene.lo
-        mu_l = nice_scale(max(span[0] / max_size_mm[0], span[1] / max_size_mm[1]) * 1e3) / 1e3
-        paper = _Paper(mu_l)
-        fig, ax = _layout(
-            (scene.lo[0] * 1e3, scene.hi[0] * 1e3),
-            (scene.lo[1] * 1e3, scene.hi[1] * 1e3),
-            paper.k,
-            dpi=dpi,
-            top=14.0 if forces else 11.0,
-        )
-        ax.grid(False)
-        ax.set_xlabel("x, mm")
-        ax.set_ylabel("y, mm")
+        scene, paper, fig, ax = _drawing_sheet(result, paths, max_size_mm, dpi, forces)
         _draw_static(ax, scene, paper)
         geo = scene.geometry(k)
         arrows, mu_f = None, None
@@ -418,7 +424,7 @@ def draw_mechanism(
         _draw_moving(ax, scene, geo, paper, labels=labels, forces=arrows, mu_f=mu_f)
         title = (
             f"{scene.model.name}: {_position_title(result, k)}   "
-            f"{MU['l']} = {_fmt_scale(mu_l)} m/mm"
+            f"{MU['l']} = {_fmt_scale(paper.mu_l)} m/mm"
         )
         if forces:
             title += f",  {MU['F']} = {_fmt_scale(mu_f)} N/mm"
