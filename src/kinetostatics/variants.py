@@ -18,7 +18,6 @@ import numpy as np
 
 from . import yaml_io
 from .errors import KinetostaticsError
-from .joints import Prismatic
 from .model import Model
 
 __all__ = ["Template", "analyze_variants", "summary_row", "ROW_UNITS"]
@@ -87,7 +86,7 @@ def _outputs(system) -> list[tuple[str, str, int]]:
     slides = [
         ("slide", j.name, k)
         for k, j in enumerate(system.model.joints)
-        if isinstance(j, Prismatic) and j.name not in driven
+        if j.reports_stroke and j.name not in driven
     ]
     if slides:
         return slides
