@@ -16,9 +16,12 @@ from .conftest import MECHANISMS
 
 RNG = np.random.default_rng(7)
 SAMPLES = {}
+MODEL_OF = {}  # id(joint) -> its model
 for path in MECHANISMS:
-    for joint in ks.load(path).joints:
+    model = ks.load(path)
+    for joint in model.joints:
         SAMPLES.setdefault(joint.kind, []).append(joint)
+        MODEL_OF[id(joint)] = model
 JOINTS = [j for js in SAMPLES.values() for j in js]
 IDS = [f"{j.kind}:{j.name}" for j in JOINTS]
 
@@ -155,3 +158,74 @@ def test_yaml_round_trip(path):
         assert a.mass == pytest.approx(b.mass) and a.inertia == pytest.approx(b.inertia)
         for k in a.points:
             np.testing.assert_allclose(a.points[k], b.points[k], atol=1e-15)
+
+
+# -- the hooks the rest of the code asks (pictures, report, sketch, dump) ---------------
+def test_letters_are_one_character_and_distinct():
+    letters = [cls.letter for cls in JOINT_TYPES.values()]
+    assert all(isinstance(x, str) and len(x) == 1 for x in letters)
+    named = [x for x in letters if x != "?"]
+    assert len(set(named)) == len(named), "two types share a letter of the Assur labels"
+    assert all(isinstance(cls.reports_stroke, bool) for cls in JOINT_TYPES.values())
+    assert all(isinstance(cls.pin, bool) for cls in JOINT_TYPES.values())
+
+
+@pytest.mark.parametrize("joint", JOINTS, ids=IDS)
+def test_anchors_name_points_of_their_links(joint):
+    model = MODEL_OF[id(joint)]
+    anchors = joint.anchors()
+    assert isinstance(anchors, tuple)
+    for a in anchors:
+        assert a.link in joint.links
+        points = model.link(a.link).points
+        assert a.point in points, f"{joint.name}: no point '{a.point}' on '{a.link}'"
+        np.testing.assert_array_equal(a.xy, points[a.point])
+    if joint.pin:  # a pin ties one point of each link, at the joint
+        assert sorted(a.link for a in anchors if a.at_joint) == sorted(joint.links)
+
+
+@pytest.mark.parametrize("joint", JOINTS, ids=IDS)
+def test_glyph_broadcasts_over_batch_axes(joint):
+    qi, qj, _, _ = _states()
+    g, one = joint.glyph(qi, qj), joint.glyph(qi[1, 2], qj[1, 2])
+
+    def arrays(glyph):
+        out = [glyph.point]
+        if glyph.block is not None:
+            out += [glyph.block.centre, glyph.block.direction]
+        if glyph.guide is not None:
+            out += [glyph.guide.point, glyph.guide.direction]
+        out += [c.centre for c in glyph.circles]
+        out += [x for line in glyph.lines for x in (line.point, line.direction)]
+        return out
+
+    assert g.point is not None, "a shipped type draws its reaction point"
+    for batch, single in zip(arrays(g), arrays(one)):
+        assert batch.shape == (2, 3, 2) and single.shape == (2,)
+        np.testing.assert_allclose(single, batch[1, 2], rtol=1e-14, atol=1e-15)
+    links = {p.link for p in (g.block, g.guide, *g.circles, *g.lines) if p is not None}
+    assert links <= set(joint.links)
+    for u in [p.direction for p in (g.block, g.guide, *g.lines) if p is not None]:
+        np.testing.assert_allclose(np.hypot(u[..., 0], u[..., 1]), 1.0, rtol=1e-12)
+
+
+@pytest.mark.parametrize("joint", JOINTS, ids=IDS)
+def test_glyph_point_is_the_point_at_the_joint_on_link_j(joint):
+    """Where a pin's or a slider's reaction acts: its anchor at the joint on link j."""
+    qi, qj, _, _ = _states()
+    g = joint.glyph(qi, qj)
+    c, s = np.cos(qj[..., 2]), np.sin(qj[..., 2])
+    for a in joint.anchors():
+        if a.at_joint and a.link == joint.links[1]:
+            x, y = a.xy
+            p = qj[..., :2] + np.stack((c * x - s * y, s * x + c * y), axis=-1)
+            np.testing.assert_allclose(g.point, p, atol=1e-15)
+
+
+@pytest.mark.parametrize("joint", JOINTS, ids=IDS)
+def test_describe_and_label_are_text(joint):
+    text = joint.describe()
+    assert set(text) == {"where", "friction"}
+    assert all(isinstance(v, str) for v in text.values())
+    assert isinstance(joint.label(), str) and joint.label()
+    assert isinstance(joint.friction_constants(), tuple)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["rotate", "perp", "cross", "wrap_angle", "stack_xy"]
+__all__ = ["rotate", "perp", "dot", "cross", "wrap_angle", "stack_xy"]
 
 
 def rotate(theta: np.ndarray, p: np.ndarray) -> np.ndarray:
@@ -28,6 +28,11 @@ def perp(v: np.ndarray) -> np.ndarray:
     out[..., 0] = -v[..., 1]
     out[..., 1] = v[..., 0]
     return out
+
+
+def dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Scalar product of planar vectors ``(..., 2)``."""
+    return a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1]
 
 
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:

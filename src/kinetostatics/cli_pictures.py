@@ -150,11 +150,13 @@ def register(sub) -> None:
 
 
 def _default_paths(model) -> list[str]:
-    pins = []
-    for j in model.joints:
-        names = getattr(j, "point_names", None)
-        if names and model.ground.name not in j.links:
-            pins.append(f"{j.links[1]}.{names[1]}")
+    pins = [
+        f"{a.link}.{a.point}"
+        for j in model.joints
+        if j.pin and model.ground.name not in j.links
+        for a in j.anchors()
+        if a.at_joint and a.link == j.links[1]
+    ]
     return list(dict.fromkeys(pins))
 
 

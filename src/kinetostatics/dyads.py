@@ -16,6 +16,11 @@ interpolated and minimised along a path: ``√D`` is the distance of the
 assembly from the singular pose (the margin).
 
 A solver is ``f(q, psi, sign=None) -> (q, D)`` filling the group's columns of ``q``.
+
+The closed forms are formulas of revolute and prismatic pairs by nature (like
+pyslvs' PLLP), so this module names the joint classes and reads their
+attributes (``p_i``, ``p_j``, ``a``, ``u``, ``p``); with the velocity polygons and
+the clearance macro it is the only place outside ``joints/`` that does.
 """
 
 from __future__ import annotations

@@ -176,7 +176,7 @@ def _letters(
     data = {key: d["joint"] for _, _, key, d in g.edges(keys=True, data=True)}
 
     def letter(name: str) -> str:
-        return data[name].kind[0].upper()
+        return data[name].letter
 
     inside = [n for n in joints if set(data[n].links) == {a, b}]
     ext_a = [n for n in joints if a in data[n].links and n not in inside]

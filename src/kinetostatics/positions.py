@@ -158,7 +158,7 @@ def _newton(
     done = np.zeros(batch, dtype=bool)
     iters = np.zeros(batch, dtype=int)
     active = np.ones(batch, dtype=bool)
-    for it in range(max_iter):
+    for _ in range(max_iter):
         idx = np.nonzero(active & ~done)
         if not idx[0].size:
             break
@@ -203,8 +203,9 @@ def _known_points(system: System) -> dict[str, list[tuple[np.ndarray, np.ndarray
             for link, p in pts:
                 if link in out:
                     out[link].append((p, model.sketch[j.name]))
-        if ground.name in j.links and len(pts) == 2:  # a pin on ground is known exactly
-            gp = dict(pts)[ground.name]
+        fixed = [p for link, p in pts if link == ground.name]
+        if fixed and len(pts) > 1:  # a pin on ground is known exactly
+            gp = fixed[0]
             for link, p in pts:
                 if link in out:
                     out[link].append((p, gp))
@@ -216,11 +217,8 @@ def _known_points(system: System) -> dict[str, list[tuple[np.ndarray, np.ndarray
 
 
 def _joint_points(j) -> list[tuple[str, np.ndarray]]:
-    if hasattr(j, "p_i"):
-        return [(j.links[0], j.p_i), (j.links[1], j.p_j)]
-    if hasattr(j, "p") and hasattr(j, "a"):
-        return [(j.links[1], j.p)]
-    return []
+    """(link, local point) of the points at the joint, which its sketch entry places."""
+    return [(a.link, a.xy) for a in j.anchors() if a.at_joint]
 
 
 def initial_guess(system: System) -> np.ndarray:

@@ -306,7 +306,6 @@ def _mm(v) -> str:
 
 
 def _data_blocks(model, system) -> list:
-    from .joints import Prismatic, Revolute
     from .outputs.plotting import link_numbers
 
     nums = link_numbers(system)
@@ -356,26 +355,15 @@ def _data_blocks(model, system) -> list:
     )
     rows = []
     for j in model.joints:
-        if isinstance(j, Revolute):
-            fr = f"friction circle ρ = {j.rho * 1e3:.4g} mm" if j.rho else "none"
-            where = f"{j.point_names[0]} on {j.links[0]}, {j.point_names[1]} on {j.links[1]}"
-        elif isinstance(j, Prismatic):
-            fr = f"f = {j.f:.4g}" if j.f else "none"
-            where = (
-                f"axis {'–'.join(n for n in j.axis_names if n)} of {j.links[0]}, point "
-                f"{j.point_name} of {j.links[1]}"
-                + (f", contact length {j.length * 1e3:.4g} mm" if j.length else "")
-            )
-        else:
-            fr, where = "", ""
+        text = j.describe()
         rows.append(
             [
                 j.name,
                 j.kind,
                 f"{j.links[0]} → {j.links[1]}",
                 f"F{nums[j.links[0]]}{nums[j.links[1]]}",
-                where,
-                fr,
+                text.get("where", ""),
+                text.get("friction", ""),
             ]
         )
     blocks.append(
@@ -478,7 +466,8 @@ def _summary_blocks(result, summary) -> list:
     for name, o in summary["outputs"].items():
         items.append(
             f"output {name}: stroke {o['stroke'] * 1e3:.4f} mm, time ratio K = "
-            f"{o['time_ratio']:.4f}; limit positions at {o['limit_positions']['min']['angle']:.3f}° "
+            f"{o['time_ratio']:.4f}; limit positions at "
+            f"{o['limit_positions']['min']['angle']:.3f}° "
             f"and {o['limit_positions']['max']['angle']:.3f}°"
         )
     for e in summary["events"]:
@@ -610,9 +599,11 @@ def write_report(
         return path
 
     moving_pins = [
-        f"{j.links[1]}.{j.point_names[1]}"
+        f"{a.link}.{a.point}"
         for j in model.joints
-        if getattr(j, "point_names", None) and model.ground.name not in j.links
+        if j.pin and model.ground.name not in j.links
+        for a in j.anchors()
+        if a.at_joint and a.link == j.links[1]
     ]
     out_m = pl.output_motion(result)
     paths = list(dict.fromkeys(moving_pins))

@@ -16,7 +16,6 @@ from typing import Any
 
 import numpy as np
 
-from ._geometry import rotate
 from .base.tables import write_columns
 from .errors import did_you_mean
 from .forces import point_state
@@ -31,12 +30,22 @@ def group_column(group) -> str:
 
 
 def _joint_position(system: System, q: np.ndarray, name: str) -> np.ndarray:
+    """Global position of a pin: its point on link i."""
     j = system.model.joint(name)
     link = j.links[0]
+    p = next(a.xy for a in j.anchors() if a.at_joint and a.link == link)
     if link == system.model.ground.name:
-        return np.broadcast_to(j.p_i, q.shape[:-1] + (2,))
+        return np.broadcast_to(p, q.shape[:-1] + (2,))
     k = system.link_index(link)
-    return point_state(q, q, None, k, j.p_i)[0]
+    return point_state(q, q, None, k, p)[0]
+
+
+def _pose(system: System, q: np.ndarray, link: str) -> np.ndarray:
+    """(x, y, θ) of a link, ``(..., 3)``; the frame's are zeros."""
+    if link == system.model.ground.name:
+        return np.zeros(q.shape[:-1] + (3,))
+    k = system.link_index(link)
+    return q[..., 3 * k : 3 * k + 3]
 
 
 def _dyad_angle_names(system: System) -> list[tuple[str, str]]:
@@ -83,13 +92,8 @@ def _dyad_angles(system: System, q: np.ndarray) -> dict[str, tuple[str, np.ndarr
             out[group_column(g)] = ("transmission_angle", _angle_between(u, v))
         else:
             s = joints[ext_b]
-            owner = s.links[0]
-            th = (
-                0.0
-                if owner == system.model.ground.name
-                else q[..., 3 * system.link_index(owner) + 2]
-            )
-            axis = rotate(th, s.u)
+            qi, qj = (_pose(system, q, link) for link in s.links)
+            axis = s.glyph(qi, qj).guide.direction  # the slide's axis
             out[group_column(g)] = ("pressure_angle", _angle_between(u, axis, unsigned=True))
     return out
 

@@ -6,8 +6,6 @@ from typing import Any
 
 import numpy as np
 
-from .joints import Prismatic
-
 __all__ = ["summarize", "output_strokes", "locking_zones"]
 
 
@@ -28,7 +26,7 @@ def output_strokes(result) -> dict[str, dict[str, Any]]:
     if not result.full_cycle or "angle" not in result.columns:
         return out
     for k, j in enumerate(system.model.joints):
-        if not isinstance(j, Prismatic) or j.name in driven:
+        if not j.reports_stroke or j.name in driven:
             continue
         from .system import coordinate_gradient
 

@@ -18,7 +18,6 @@ import numpy as np
 
 from .base.spec import compose, read_text
 from .errors import KinetostaticsError
-from .joints import Prismatic
 from .loading import build
 from .model import Model
 
@@ -88,7 +87,7 @@ def _outputs(system) -> list[tuple[str, str, int]]:
     slides = [
         ("slide", j.name, k)
         for k, j in enumerate(system.model.joints)
-        if isinstance(j, Prismatic) and j.name not in driven
+        if j.reports_stroke and j.name not in driven
     ]
     if slides:
         return slides

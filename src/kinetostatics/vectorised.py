@@ -216,9 +216,7 @@ def _check_supported(sm: Model, friction: bool) -> None:
             raise Unsupported(
                 f"the directions or angle band of load '{load.name}' differ between variants"
             )
-    if friction and any(
-        is_stacked(getattr(j, name, 0.0)) for j in sm.joints for name in ("rho", "f", "loss")
-    ):
+    if friction and any(is_stacked(c) for j in sm.joints for c in j.friction_constants()):
         raise Unsupported("friction coefficients differ between variants")
 
 
@@ -267,7 +265,6 @@ def output_strokes(st: Stacked) -> dict[str, dict[str, np.ndarray]]:
     """Stroke and time ratio of every undriven prismatic pair, ``(V,)`` each, from
     the exact zeros of its sliding speed (as :func:`kinetostatics.summary.output_strokes`).
     A variant whose slide does not stop exactly twice per cycle is marked not ok."""
-    from .joints import Prismatic
     from .summary import _bias, _coordinate
     from .system import coordinate_gradient
 
@@ -276,7 +273,7 @@ def output_strokes(st: Stacked) -> dict[str, dict[str, np.ndarray]]:
     period = 2 * np.pi / st.sched.reference
     n = st.q.shape[1]
     for k, j in enumerate(system.model.joints):
-        if not isinstance(j, Prismatic) or j.name in driven:
+        if not j.reports_stroke or j.name in driven:
             continue
 
         def f(q, qd, qdd, k=k):

@@ -12,6 +12,13 @@ a joint's ``reaction`` turns its block of λ into the force of link i on
 link j.  The *relative coordinate* of a joint (``coordinate``) is what a
 driver prescribes and what friction opposes: θ_j − θ_i for a revolute, the
 sliding distance for a prismatic pair.
+
+Beyond the maths, a type describes itself to the rest of the code through the
+hooks at the end of ``Joint`` (``letter``, ``reports_stroke``, ``pin``,
+``anchors``, ``glyph``, ``label``, ``describe``, ``friction_constants``), so
+that no module outside ``joints/`` needs to ask a joint for its class or
+probe its attributes.  All have defaults: a type that only computes works,
+with no picture and no report text of its own.
 """
 
 from __future__ import annotations
@@ -27,7 +34,16 @@ from ..errors import Location, did_you_mean
 if TYPE_CHECKING:
     from ..base.spec import Entry
 
-__all__ = ["Joint", "JOINT_TYPES", "joint_type"]
+__all__ = [
+    "Joint",
+    "JOINT_TYPES",
+    "joint_type",
+    "Anchor",
+    "Glyph",
+    "Block",
+    "Line",
+    "Circle",
+]
 
 JOINT_TYPES: dict[str, type[Joint]] = {}
 
@@ -44,6 +60,74 @@ def joint_type(kind: str) -> type[Joint]:
 
 
 @dataclass(frozen=True)
+class Anchor:
+    """A named point of a link that a pair ties: ``point`` of ``link`` at ``xy`` (the
+    link's own frame, m, relative to its centre of mass, as ``Link.points``).
+
+    ``at_joint``: the point lies at the joint itself (both pins of a revolute, the
+    sliding point of a prismatic pair), so a ``sketch:`` entry named after the
+    joint places it; an axis point or a gear centre is not at the joint.
+    """
+
+    link: str
+    point: str
+    xy: np.ndarray
+    at_joint: bool = False
+
+
+@dataclass(frozen=True)
+class Line:
+    """A straight line fixed in ``link``: through ``point`` along the unit ``direction``
+    (global, m, each ``(..., 2)``)."""
+
+    link: str
+    point: np.ndarray
+    direction: np.ndarray
+
+
+@dataclass(frozen=True)
+class Circle:
+    """A circle fixed in ``link``: ``centre`` (global, m, ``(..., 2)``) and ``radius`` (m)."""
+
+    link: str
+    centre: np.ndarray
+    radius: float
+
+
+@dataclass(frozen=True)
+class Block:
+    """A slider block of ``link`` centred on ``centre`` and sliding along the unit
+    ``direction`` (global, ``(..., 2)``); ``length`` its contact length (m), or
+    ``None`` where none is given (a picture chooses one)."""
+
+    link: str
+    centre: np.ndarray
+    direction: np.ndarray
+    length: float | None = None
+
+
+@dataclass(frozen=True)
+class Glyph:
+    """What a picture draws of a pair at given poses, in global m, batched like the
+    poses.  The default (all empty) draws nothing.
+
+    ``point (..., 2)``: where ``reaction()`` acts (a pin's centre, a slider's sliding
+    point, a pitch point), where its force arrow starts and its label sits;
+    ``None`` for a type that does not say.  ``block``: a slider block on link j;
+    ``guide``: the axis on link i the block slides along (rails on the frame, the
+    link's outline extended on a moving link); ``circles`` and ``lines``: pitch
+    circles and pitch lines of toothed pairs.  Whether the point is drawn as a pin
+    is the class's ``pin``.
+    """
+
+    point: np.ndarray | None = None
+    block: Block | None = None
+    guide: Line | None = None
+    circles: tuple[Circle, ...] = ()
+    lines: tuple[Line, ...] = ()
+
+
+@dataclass(frozen=True)
 class Joint(ABC):
     """Kinematic pair between links ``links = (i, j)``; one subclass per type.
 
@@ -56,6 +140,9 @@ class Joint(ABC):
     n_eq: ClassVar[int]
     reaction_labels: ClassVar[tuple[str, ...]]
     angular: ClassVar[bool]  # relative coordinate is an angle (rad) or a length (m)
+    letter: ClassVar[str] = "?"  # pair letter in Assur-group labels such as RRP (one character)
+    reports_stroke: ClassVar[bool] = False  # undriven: its stroke and time ratio are an output
+    pin: ClassVar[bool] = False  # drawn as a pin at glyph().point; a bearing (polar diagrams)
 
     name: str
     links: tuple[str, str]
@@ -156,3 +243,29 @@ class Joint(ABC):
     def friction_gradient(self, lam: np.ndarray, qi: np.ndarray, qj: np.ndarray) -> np.ndarray:
         """∂ friction_magnitude / ∂λ, ``(..., n_eq)`` (for Newton on the consistent solution)."""
         return np.zeros(lam.shape)
+
+    def friction_constants(self) -> tuple[Any, ...]:
+        """The constants ``friction_magnitude`` reads (ρ, f, 1 − η …), for a caller that
+        must know whether they differ between stacked variants; () without friction."""
+        return ()
+
+    # -- what the rest of the code may ask (pictures, report, sketch, dump) -----
+    def anchors(self) -> tuple[Anchor, ...]:
+        """The named points of the links this pair ties, in a fixed order (link i's first).
+
+        Used by the sketch's initial guess (the ``at_joint`` ones), the default traced
+        paths, a driver's default reference point, the pictures and the report.
+        """
+        return ()
+
+    def glyph(self, qi: np.ndarray, qj: np.ndarray) -> Glyph:
+        """Drawing primitives at poses ``qi``, ``qj`` ``(..., 3)`` (global, m, batched)."""
+        return Glyph()
+
+    def label(self) -> str:
+        """The name a picture writes next to ``glyph().point``."""
+        return self.name
+
+    def describe(self) -> dict[str, str]:
+        """Text of the report's joint table: ``{"where": …, "friction": …}``."""
+        return {"where": "", "friction": ""}

@@ -108,123 +108,25 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from .._geometry import perp, rotate
-from .base import Joint
+from .._geometry import dot, perp, rotate
+from ._mesh import (
+    MeshFriction,
+    read_flank,
+    read_length,
+    read_loss,
+    read_pressure_angle,
+    read_teeth,
+    wrap,
+)
+from .base import Anchor, Circle, Glyph, Joint
 
 __all__ = ["Gear"]
 
-FLANKS = {"ccw": 1, "cw": -1}
 MESHES = ("external", "internal")
 
 
-def _dot(a, b):
-    return a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1]
-
-
-def _wrap(x, period):
-    """``x`` wrapped into [−period/2, period/2)."""
-    return (x + 0.5 * period) % period - 0.5 * period
-
-
-# -- YAML helpers shared with the rack ----------------------------------------
-def read_teeth(entry, n: int) -> list[int] | None:
-    """``n`` tooth numbers (positive integers) from a scalar or a list."""
-    items = [entry] if n == 1 else entry.seq()
-    if items is None:
-        return None
-    if len(items) != n:
-        entry.error(f"expected a list of {n} tooth numbers, got {len(items)}")
-        return None
-    out = []
-    for e in items:
-        z = e.number(None, minimum=1)
-        if z is None:
-            return None
-        if not (math.isfinite(z) and float(z).is_integer() and z <= 100000):
-            e.error(f"a number of teeth must be a whole number from 1 to 100000, got {z:g}")
-            return None
-        out.append(int(z))
-    return out
-
-
-def read_length(entry) -> float | None:
-    """A positive, finite length in SI."""
-    v = entry.number("length", minimum=0.0, strict=True)
-    if v is not None and not math.isfinite(v):
-        entry.error("must be a finite length")
-        return None
-    return v
-
-
-def read_pressure_angle(entry) -> float | None:
-    """``pressure_angle`` in rad (default 20°), from 0 up to 45°."""
-    if (e := entry.get("pressure_angle")) is None:
-        return math.radians(20.0)
-    a = e.number("angle", minimum=0.0)
-    if a is not None and not a < math.radians(45.0):
-        e.error(f"a pressure angle must be below 45°, got {math.degrees(a):g}°")
-        return None
-    return a
-
-
-def read_flank(entry) -> int | None:
-    if (e := entry.get("flank")) is None:
-        return 1
-    text = e.text()
-    if text is None:
-        return None
-    if text not in FLANKS:
-        e.error(
-            f"flank must be ccw or cw (the sense in which the tooth force turns "
-            f"link j about its centre), got '{text}'"
-        )
-        return None
-    return FLANKS[text]
-
-
-def read_loss(entry, loss_per_mu: float | None) -> float | None:
-    """1 − η from ``friction: {efficiency: η}`` or ``{coefficient: μ}`` (0 without).
-
-    ``loss_per_mu`` is the loss ratio ζ per unit μ (``None``: teeth unknown).
-    """
-    if (f := entry.get("friction")) is None:
-        return 0.0
-    if not f.check_keys(optional=("efficiency", "coefficient")):
-        return None
-    eff, mu = f.get("efficiency"), f.get("coefficient")
-    if (eff is None) == (mu is None):
-        f.error(
-            "give efficiency (the mesh efficiency η, 0 < η ≤ 1) or coefficient "
-            "(the tooth friction coefficient μ)"
-        )
-        return None
-    if eff is not None:
-        eta = eff.number(None, minimum=0.0, strict=True)
-        if eta is not None and not eta <= 1.0:
-            eff.error(f"a mesh efficiency must be in (0, 1], got {eta:g}")
-            return None
-        return None if eta is None else 1.0 - eta
-    m = mu.number(None, minimum=0.0)
-    if m is None:
-        return None
-    if loss_per_mu is None:
-        mu.error(
-            "a friction coefficient needs the number of teeth (key teeth); "
-            "or give the mesh efficiency"
-        )
-        return None
-    zeta = m * loss_per_mu
-    if not zeta < 2.0:
-        mu.error(
-            f"this coefficient gives a loss ratio ζ = {zeta:g} ≥ 2 (no efficiency "
-            "left); the model is ζ = (π/2) μ (1/z_i ± 1/z_j)"
-        )
-        return None
-    return 2.0 * zeta / (2.0 + zeta)  # 1 − η with η = (2 − ζ)/(2 + ζ)
-
-
 @dataclass(frozen=True)
-class Gear(Joint, kind="gear"):
+class Gear(MeshFriction, Joint, kind="gear"):
     """Spur gear pair.  ``c_i``, ``c_j``: the gear centres in each link's frame
     (relative to its centre of mass); pitch radii ``r_i``, ``r_j``.
 
@@ -236,6 +138,7 @@ class Gear(Joint, kind="gear"):
     n_eq: ClassVar[int] = 1
     reaction_labels: ClassVar[tuple[str, ...]] = ("F", "Fx", "Fy")
     angular: ClassVar[bool] = False  # the rolling coordinate is an arc length
+    letter: ClassVar[str] = "G"
 
     c_i: np.ndarray = None
     c_j: np.ndarray = None
@@ -400,8 +303,8 @@ class Gear(Joint, kind="gear"):
         wi, wj = vi[..., 2], vj[..., 2]
         Dd = vj[..., :2] + wj[..., None] * perp(Rj) - vi[..., :2] - wi[..., None] * perp(Ri)
         Ddd = -(wj**2)[..., None] * Rj + (wi**2)[..., None] * Ri  # velocity part of D̈
-        beta_d = _dot(t, Dd) / d
-        d_d = _dot(e, Dd)
+        beta_d = dot(t, Dd) / d
+        d_d = dot(e, Dd)
         return Ddd, beta_d, d_d
 
     # -- kinematics ---------------------------------------------------------
@@ -410,7 +313,7 @@ class Gear(Joint, kind="gear"):
         K_i, K_j, k = self._coefficients()
         beta = np.arctan2(D[..., 1], D[..., 0])
         phi = K_j * (qj[..., 2] - beta - self.phase) - K_i * (qi[..., 2] - beta) + k * (d - self.d0)
-        return _wrap(phi, self.period)[..., None]
+        return wrap(phi, self.period)[..., None]
 
     def jacobian(self, qi, qj):
         Ri, Rj, D, d, e, t = self._frame(qi, qj)
@@ -418,8 +321,8 @@ class Gear(Joint, kind="gear"):
         G = self._gradient(d, e, t)
         shape = d.shape + (1, 3)
         ji, jj = np.zeros(shape), np.zeros(shape)
-        ji[..., 0, :2], ji[..., 0, 2] = -G, -K_i - _dot(G, perp(Ri))
-        jj[..., 0, :2], jj[..., 0, 2] = G, K_j + _dot(G, perp(Rj))
+        ji[..., 0, :2], ji[..., 0, 2] = -G, -K_i - dot(G, perp(Ri))
+        jj[..., 0, :2], jj[..., 0, 2] = G, K_j + dot(G, perp(Rj))
         return ji, jj
 
     def acceleration_rhs(self, qi, qj, vi, vj):
@@ -430,7 +333,7 @@ class Gear(Joint, kind="gear"):
         K = K_j - K_i
         # Φ̇ = G·Ḋ + K_j ω_j − K_i ω_i; its velocity-product part of Φ̈ is
         # Ġ·Ḋ + G·D̈_vel = 2K β̇ ḋ/d + k d β̇² + G·D̈_vel.
-        return -(2.0 * K * beta_d * d_d / d + k * d * beta_d**2 + _dot(G, Ddd))[..., None]
+        return -(2.0 * K * beta_d * d_d / d + k * d * beta_d**2 + dot(G, Ddd))[..., None]
 
     def reaction(self, lam, qi, qj):
         Ri, Rj, D, d, e, t = self._frame(qi, qj)
@@ -454,8 +357,8 @@ class Gear(Joint, kind="gear"):
         Ri, Rj, D, d, e, t = self._frame(qi, qj)
         rho_i, rho_j = self.signed_radii
         g = self._c_gradient(d, t)
-        gi = np.concatenate((-g, (0.5 * rho_i - _dot(g, perp(Ri)))[..., None]), axis=-1)
-        gj = np.concatenate((g, (0.5 * rho_j + _dot(g, perp(Rj)))[..., None]), axis=-1)
+        gi = np.concatenate((-g, (0.5 * rho_i - dot(g, perp(Ri)))[..., None]), axis=-1)
+        gj = np.concatenate((g, (0.5 * rho_j + dot(g, perp(Rj)))[..., None]), axis=-1)
         return gi, gj
 
     def coordinate_bias(self, qi, qj, vi, vj):
@@ -463,25 +366,29 @@ class Gear(Joint, kind="gear"):
         rho_i, rho_j = self.signed_radii
         Ddd, beta_d, d_d = self._rates(Ri, Rj, d, e, t, vi, vj)
         # β̈ = (t·D̈ − 2 ḋ β̇)/d, so the velocity part of c̈ = −½(ρ_i + ρ_j) β̈ is:
-        return -0.5 * (rho_i + rho_j) * (_dot(t, Ddd) - 2.0 * d_d * beta_d) / d
+        return -0.5 * (rho_i + rho_j) * (dot(t, Ddd) - 2.0 * d_d * beta_d) / d
 
     def effort_force(self, effort, qi, qj):
         Ri, Rj, D, d, e, t = self._frame(qi, qj)
         g = self._c_gradient(d, t)
         return {"Fx": effort * g[..., 0], "Fy": effort * g[..., 1]}
 
-    # -- friction: mesh efficiency -----------------------------------------------
-    @property
-    def has_friction(self) -> bool:
-        return self.loss > 0.0
+    # -- description ----------------------------------------------------------
+    def anchors(self):
+        i, j = self.links
+        return (
+            Anchor(i, self.centre_names[0], self.c_i),
+            Anchor(j, self.centre_names[1], self.c_j),
+        )
 
-    @property
-    def loss_ratio(self) -> float:
-        """ζ: the friction loss over the power of the tooth force, 2(1 − η)/(1 + η)."""
-        return 2.0 * self.loss / (2.0 - self.loss)
-
-    def friction_magnitude(self, lam, qi, qj):
-        return self.loss_ratio * math.cos(self.alpha) * np.abs(lam[..., 0])
-
-    def friction_gradient(self, lam, qi, qj):
-        return self.loss_ratio * math.cos(self.alpha) * np.sign(lam)
+    def glyph(self, qi, qj):
+        """The pitch circles about the centres; the pitch point on the line of centres."""
+        i, j = self.links
+        Ci = qi[..., :2] + rotate(qi[..., 2], self.c_i)
+        Cj = qj[..., :2] + rotate(qj[..., 2], self.c_j)
+        D = Cj - Ci
+        e = D / np.maximum(np.linalg.norm(D, axis=-1, keepdims=True), 1e-300)
+        return Glyph(
+            point=Ci + self.signed_radii[0] * e,
+            circles=(Circle(i, Ci, self.r_i), Circle(j, Cj, self.r_j)),
+        )

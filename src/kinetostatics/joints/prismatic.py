@@ -7,14 +7,10 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from .._geometry import perp, rotate, wrap_angle
-from .base import Joint
+from .._geometry import dot, perp, rotate, wrap_angle
+from .base import Anchor, Block, Glyph, Joint, Line
 
 __all__ = ["Prismatic"]
-
-
-def _dot(a, b):
-    return a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1]
 
 
 @dataclass(frozen=True)
@@ -33,6 +29,8 @@ class Prismatic(Joint, kind="prismatic"):
     n_eq: ClassVar[int] = 2
     reaction_labels: ClassVar[tuple[str, ...]] = ("Fx", "Fy", "N", "M")
     angular: ClassVar[bool] = False
+    letter: ClassVar[str] = "P"
+    reports_stroke: ClassVar[bool] = True
 
     a: np.ndarray = None
     u: np.ndarray = None
@@ -103,14 +101,14 @@ class Prismatic(Joint, kind="prismatic"):
 
     def residual(self, qi, qj):
         A, U, N, P, d = self._frame(qi, qj)
-        return np.stack((_dot(N, d), wrap_angle(qj[..., 2] - qi[..., 2] - self.angle)), axis=-1)
+        return np.stack((dot(N, d), wrap_angle(qj[..., 2] - qi[..., 2] - self.angle)), axis=-1)
 
     def jacobian(self, qi, qj):
         A, U, N, P, d = self._frame(qi, qj)
         shape = d.shape[:-1] + (2, 3)
         ji, jj = np.zeros(shape), np.zeros(shape)
-        ji[..., 0, :2], ji[..., 0, 2] = -N, -_dot(U, d) - _dot(N, perp(A))
-        jj[..., 0, :2], jj[..., 0, 2] = N, _dot(N, perp(P))
+        ji[..., 0, :2], ji[..., 0, 2] = -N, -dot(U, d) - dot(N, perp(A))
+        jj[..., 0, :2], jj[..., 0, 2] = N, dot(N, perp(P))
         ji[..., 1, 2], jj[..., 1, 2] = -1.0, 1.0
         return ji, jj
 
@@ -124,7 +122,7 @@ class Prismatic(Joint, kind="prismatic"):
     def acceleration_rhs(self, qi, qj, vi, vj):
         A, U, N, P, d = self._frame(qi, qj)
         wi, dd, dd2 = self._rates(A, P, vi, vj)
-        g1 = wi**2 * _dot(N, d) + 2.0 * wi * _dot(U, dd) - _dot(N, dd2)
+        g1 = wi**2 * dot(N, d) + 2.0 * wi * dot(U, dd) - dot(N, dd2)
         return np.stack((g1, np.zeros_like(g1)), axis=-1)
 
     def reaction(self, lam, qi, qj):
@@ -139,18 +137,18 @@ class Prismatic(Joint, kind="prismatic"):
     # -- relative coordinate --------------------------------------------------
     def coordinate(self, qi, qj):
         A, U, N, P, d = self._frame(qi, qj)
-        return _dot(U, d)
+        return dot(U, d)
 
     def motion_direction(self, qi, qj):
         A, U, N, P, d = self._frame(qi, qj)
-        gi = np.concatenate((-U, (_dot(N, d) - _dot(U, perp(A)))[..., None]), axis=-1)
-        gj = np.concatenate((U, _dot(U, perp(P))[..., None]), axis=-1)
+        gi = np.concatenate((-U, (dot(N, d) - dot(U, perp(A)))[..., None]), axis=-1)
+        gj = np.concatenate((U, dot(U, perp(P))[..., None]), axis=-1)
         return gi, gj
 
     def coordinate_bias(self, qi, qj, vi, vj):
         A, U, N, P, d = self._frame(qi, qj)
         wi, dd, dd2 = self._rates(A, P, vi, vj)
-        return -(wi**2) * _dot(U, d) + 2.0 * wi * _dot(N, dd) + _dot(U, dd2)
+        return -(wi**2) * dot(U, d) + 2.0 * wi * dot(N, dd) + dot(U, dd2)
 
     # -- friction -----------------------------------------------------------
     @property
@@ -176,3 +174,32 @@ class Prismatic(Joint, kind="prismatic"):
             grad[..., 0] = 0.5 * self.f * (s1 + s2)
             grad[..., 1] = self.f * (s1 - s2) / self.length
         return grad
+
+    def friction_constants(self):
+        return (self.f,)
+
+    # -- description ----------------------------------------------------------
+    def anchors(self):
+        i, j = self.links
+        named = self.axis_names and self.axis_names[0]  # the axis point A (B's xy is not kept)
+        axis = (Anchor(i, self.axis_names[0], self.a),) if named else ()
+        return axis + (Anchor(j, self.point_name, self.p, at_joint=True),)
+
+    def glyph(self, qi, qj):
+        P = qj[..., :2] + rotate(qj[..., 2], self.p)
+        U = rotate(qi[..., 2], self.u)
+        A = qi[..., :2] + rotate(qi[..., 2], self.a)
+        i, j = self.links
+        return Glyph(point=P, block=Block(j, P, U, self.length), guide=Line(i, A, U))
+
+    def label(self):
+        return self.point_name
+
+    def describe(self):
+        i, j = self.links
+        where = (
+            f"axis {'–'.join(n for n in self.axis_names if n)} of {i}, point "
+            f"{self.point_name} of {j}"
+            + (f", contact length {self.length * 1e3:.4g} mm" if self.length else "")
+        )
+        return {"where": where, "friction": f"f = {self.f:.4g}" if self.f else "none"}

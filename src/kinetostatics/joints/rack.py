@@ -69,23 +69,23 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from .._geometry import perp, rotate
-from .base import Joint
-from .gear import (
-    _dot,
-    _wrap,
+from .._geometry import dot, perp, rotate
+from ._mesh import (
+    MeshFriction,
     read_flank,
     read_length,
     read_loss,
     read_pressure_angle,
     read_teeth,
+    wrap,
 )
+from .base import Anchor, Circle, Glyph, Joint, Line
 
 __all__ = ["Rack"]
 
 
 @dataclass(frozen=True)
-class Rack(Joint, kind="rack"):
+class Rack(MeshFriction, Joint, kind="rack"):
     """Rack (link i: pitch-line point ``a`` and unit ``u``, local, ``a`` relative to
     i's CoM) meshing with a pinion or sector (link j: centre ``c``, pitch radius ``r``).
 
@@ -97,6 +97,7 @@ class Rack(Joint, kind="rack"):
     n_eq: ClassVar[int] = 1
     reaction_labels: ClassVar[tuple[str, ...]] = ("F", "Fx", "Fy")
     angular: ClassVar[bool] = False  # the coordinate is a travel along the rack
+    letter: ClassVar[str] = "K"  # R is the revolute's
 
     a: np.ndarray = None
     u: np.ndarray = None
@@ -216,7 +217,7 @@ class Rack(Joint, kind="rack"):
         C = rotate(qj[..., 2], self.c)
         D = qj[..., :2] + C - qi[..., :2] - A
         N = perp(U)
-        nu = np.where(_dot(N, D) >= 0.0, 1.0, -1.0)
+        nu = np.where(dot(N, D) >= 0.0, 1.0, -1.0)
         return A, U, N, C, D, nu
 
     def _gains(self, nu):
@@ -229,8 +230,8 @@ class Rack(Joint, kind="rack"):
         wi, wj = vi[..., 2], vj[..., 2]
         Dd = vj[..., :2] + wj[..., None] * perp(C) - vi[..., :2] - wi[..., None] * perp(A)
         Ddd = -(wj**2)[..., None] * C + (wi**2)[..., None] * A
-        s_b = -(wi**2) * _dot(U, D) + 2.0 * wi * _dot(N, Dd) + _dot(U, Ddd)
-        h_b = -(wi**2) * _dot(N, D) - 2.0 * wi * _dot(U, Dd) + _dot(N, Ddd)
+        s_b = -(wi**2) * dot(U, D) + 2.0 * wi * dot(N, Dd) + dot(U, Ddd)
+        h_b = -(wi**2) * dot(N, D) - 2.0 * wi * dot(U, Dd) + dot(N, Ddd)
         return s_b, h_b
 
     # -- kinematics ---------------------------------------------------------
@@ -238,24 +239,24 @@ class Rack(Joint, kind="rack"):
         A, U, N, C, D, nu = self._frame(qi, qj)
         kc, ks = self._gains(nu)
         phi = (
-            kc * (_dot(U, D) - self.phase + nu * self.r * (qj[..., 2] - qi[..., 2]))
-            + ks * _dot(N, D)
+            kc * (dot(U, D) - self.phase + nu * self.r * (qj[..., 2] - qi[..., 2]))
+            + ks * dot(N, D)
             - math.sin(self.alpha) * self.r
         )
-        return _wrap(phi, 2.0 * math.pi * self.r * math.cos(self.alpha))[..., None]
+        return wrap(phi, 2.0 * math.pi * self.r * math.cos(self.alpha))[..., None]
 
     def jacobian(self, qi, qj):
         A, U, N, C, D, nu = self._frame(qi, qj)
         kc, ks = self._gains(nu)
         G = kc[..., None] * U + ks[..., None] * N  # ∂Φ/∂D
-        s, h = _dot(U, D), _dot(N, D)
+        s, h = dot(U, D), dot(N, D)
         shape = s.shape + (1, 3)
         ji, jj = np.zeros(shape), np.zeros(shape)
         # ∂s/∂θ_i = h − u·perp(A), ∂h/∂θ_i = −s − n·perp(A)
         ji[..., 0, :2] = -G
-        ji[..., 0, 2] = kc * (h - nu * self.r) - ks * s - _dot(G, perp(A))
+        ji[..., 0, 2] = kc * (h - nu * self.r) - ks * s - dot(G, perp(A))
         jj[..., 0, :2] = G
-        jj[..., 0, 2] = kc * nu * self.r + _dot(G, perp(C))
+        jj[..., 0, 2] = kc * nu * self.r + dot(G, perp(C))
         return ji, jj
 
     def acceleration_rhs(self, qi, qj, vi, vj):
@@ -277,15 +278,15 @@ class Rack(Joint, kind="rack"):
     # -- relative coordinate: c = ½[s − ν r (θ_j − θ_i)] ----------------------------
     def coordinate(self, qi, qj):
         A, U, N, C, D, nu = self._frame(qi, qj)
-        return 0.5 * (_dot(U, D) - nu * self.r * (qj[..., 2] - qi[..., 2]))
+        return 0.5 * (dot(U, D) - nu * self.r * (qj[..., 2] - qi[..., 2]))
 
     def motion_direction(self, qi, qj):
         A, U, N, C, D, nu = self._frame(qi, qj)
         half = 0.5 * nu * self.r
         gi = np.concatenate(
-            (-0.5 * U, (0.5 * (_dot(N, D) - _dot(U, perp(A))) + half)[..., None]), axis=-1
+            (-0.5 * U, (0.5 * (dot(N, D) - dot(U, perp(A))) + half)[..., None]), axis=-1
         )
-        gj = np.concatenate((0.5 * U, (0.5 * _dot(U, perp(C)) - half)[..., None]), axis=-1)
+        gj = np.concatenate((0.5 * U, (0.5 * dot(U, perp(C)) - half)[..., None]), axis=-1)
         return gi, gj
 
     def coordinate_bias(self, qi, qj, vi, vj):
@@ -296,18 +297,20 @@ class Rack(Joint, kind="rack"):
         U = rotate(qi[..., 2], self.u)
         return {"Fx": 0.5 * effort * U[..., 0], "Fy": 0.5 * effort * U[..., 1]}
 
-    # -- friction: mesh efficiency -----------------------------------------------
-    @property
-    def has_friction(self) -> bool:
-        return self.loss > 0.0
+    # -- description ----------------------------------------------------------
+    def anchors(self):
+        i, j = self.links
+        named = self.axis_names and self.axis_names[0]
+        axis = (Anchor(i, self.axis_names[0], self.a),) if named else ()
+        return axis + (Anchor(j, self.centre_name, self.c),)
 
-    @property
-    def loss_ratio(self) -> float:
-        """ζ: the friction loss over the power of the tooth force, 2(1 − η)/(1 + η)."""
-        return 2.0 * self.loss / (2.0 - self.loss)
-
-    def friction_magnitude(self, lam, qi, qj):
-        return self.loss_ratio * math.cos(self.alpha) * np.abs(lam[..., 0])
-
-    def friction_gradient(self, lam, qi, qj):
-        return self.loss_ratio * math.cos(self.alpha) * np.sign(lam)
+    def glyph(self, qi, qj):
+        """The pinion's pitch circle, the rack's pitch line; the pitch point is the
+        foot of the pinion centre on that line."""
+        i, j = self.links
+        A = qi[..., :2] + rotate(qi[..., 2], self.a)
+        U = rotate(qi[..., 2], self.u)
+        C = qj[..., :2] + rotate(qj[..., 2], self.c)
+        N = perp(U)
+        h = np.sum(N * (C - A), axis=-1, keepdims=True)
+        return Glyph(point=C - h * N, circles=(Circle(j, C, self.r),), lines=(Line(i, A, U),))

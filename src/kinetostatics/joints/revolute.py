@@ -8,7 +8,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from .._geometry import perp, rotate
-from .base import Joint
+from .base import Anchor, Glyph, Joint
 
 __all__ = ["Revolute"]
 
@@ -25,6 +25,8 @@ class Revolute(Joint, kind="revolute"):
     n_eq: ClassVar[int] = 2
     reaction_labels: ClassVar[tuple[str, ...]] = ("Fx", "Fy")
     angular: ClassVar[bool] = True
+    letter: ClassVar[str] = "R"
+    pin: ClassVar[bool] = True
 
     p_i: np.ndarray = None
     p_j: np.ndarray = None
@@ -116,3 +118,24 @@ class Revolute(Joint, kind="revolute"):
     def friction_gradient(self, lam, qi, qj):
         norm = np.hypot(lam[..., 0], lam[..., 1])[..., None]
         return self.rho * np.divide(lam, norm, out=np.zeros_like(lam), where=norm > 0)
+
+    def friction_constants(self):
+        return (self.rho,)
+
+    # -- description ----------------------------------------------------------
+    def anchors(self):
+        i, j = self.links
+        return (
+            Anchor(i, self.point_names[0], self.p_i, at_joint=True),
+            Anchor(j, self.point_names[1], self.p_j, at_joint=True),
+        )
+
+    def glyph(self, qi, qj):
+        return Glyph(point=qj[..., :2] + rotate(qj[..., 2], self.p_j))
+
+    def describe(self):
+        i, j = self.links
+        return {
+            "where": f"{self.point_names[0]} on {i}, {self.point_names[1]} on {j}",
+            "friction": f"friction circle ρ = {self.rho * 1e3:.4g} mm" if self.rho else "none",
+        }

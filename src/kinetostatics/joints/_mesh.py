@@ -1,0 +1,154 @@
+"""What the toothed higher pairs (``gear``, ``rack``) share: their YAML readers,
+the wrap of a row to the tooth period, and the mesh-efficiency friction.
+
+The friction model is derived in ``gear.py``'s docstring: a mesh efficiency η
+gives the friction effort |e| = ζ cos α |λ| with ζ = 2(1 − η)/(1 + η), the loss
+over the power of the tooth force, so that P_out/P_in = η whichever side drives.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = [
+    "FLANKS",
+    "MeshFriction",
+    "read_flank",
+    "read_length",
+    "read_loss",
+    "read_pressure_angle",
+    "read_teeth",
+    "wrap",
+]
+
+FLANKS = {"ccw": 1, "cw": -1}
+
+
+def wrap(x, period):
+    """``x`` wrapped into [−period/2, period/2)."""
+    return (x + 0.5 * period) % period - 0.5 * period
+
+
+# -- YAML helpers of the toothed pairs ------------------------------------------
+def read_teeth(entry, n: int) -> list[int] | None:
+    """``n`` tooth numbers (positive integers) from a scalar or a list."""
+    items = [entry] if n == 1 else entry.seq()
+    if items is None:
+        return None
+    if len(items) != n:
+        entry.error(f"expected a list of {n} tooth numbers, got {len(items)}")
+        return None
+    out = []
+    for e in items:
+        z = e.number(None, minimum=1)
+        if z is None:
+            return None
+        if not (math.isfinite(z) and float(z).is_integer() and z <= 100000):
+            e.error(f"a number of teeth must be a whole number from 1 to 100000, got {z:g}")
+            return None
+        out.append(int(z))
+    return out
+
+
+def read_length(entry) -> float | None:
+    """A positive, finite length in SI."""
+    v = entry.number("length", minimum=0.0, strict=True)
+    if v is not None and not math.isfinite(v):
+        entry.error("must be a finite length")
+        return None
+    return v
+
+
+def read_pressure_angle(entry) -> float | None:
+    """``pressure_angle`` in rad (default 20°), from 0 up to 45°."""
+    if (e := entry.get("pressure_angle")) is None:
+        return math.radians(20.0)
+    a = e.number("angle", minimum=0.0)
+    if a is not None and not a < math.radians(45.0):
+        e.error(f"a pressure angle must be below 45°, got {math.degrees(a):g}°")
+        return None
+    return a
+
+
+def read_flank(entry) -> int | None:
+    if (e := entry.get("flank")) is None:
+        return 1
+    text = e.text()
+    if text is None:
+        return None
+    if text not in FLANKS:
+        e.error(
+            f"flank must be ccw or cw (the sense in which the tooth force turns "
+            f"link j about its centre), got '{text}'"
+        )
+        return None
+    return FLANKS[text]
+
+
+def read_loss(entry, loss_per_mu: float | None) -> float | None:
+    """1 − η from ``friction: {efficiency: η}`` or ``{coefficient: μ}`` (0 without).
+
+    ``loss_per_mu`` is the loss ratio ζ per unit μ (``None``: teeth unknown).
+    """
+    if (f := entry.get("friction")) is None:
+        return 0.0
+    if not f.check_keys(optional=("efficiency", "coefficient")):
+        return None
+    eff, mu = f.get("efficiency"), f.get("coefficient")
+    if (eff is None) == (mu is None):
+        f.error(
+            "give efficiency (the mesh efficiency η, 0 < η ≤ 1) or coefficient "
+            "(the tooth friction coefficient μ)"
+        )
+        return None
+    if eff is not None:
+        eta = eff.number(None, minimum=0.0, strict=True)
+        if eta is not None and not eta <= 1.0:
+            eff.error(f"a mesh efficiency must be in (0, 1], got {eta:g}")
+            return None
+        return None if eta is None else 1.0 - eta
+    m = mu.number(None, minimum=0.0)
+    if m is None:
+        return None
+    if loss_per_mu is None:
+        mu.error(
+            "a friction coefficient needs the number of teeth (key teeth); "
+            "or give the mesh efficiency"
+        )
+        return None
+    zeta = m * loss_per_mu
+    if not zeta < 2.0:
+        mu.error(
+            f"this coefficient gives a loss ratio ζ = {zeta:g} ≥ 2 (no efficiency "
+            "left); the model is ζ = (π/2) μ (1/z_i ± 1/z_j)"
+        )
+        return None
+    return 2.0 * zeta / (2.0 + zeta)  # 1 − η with η = (2 − ζ)/(2 + ζ)
+
+
+class MeshFriction:
+    """Friction of a toothed pair as a mesh efficiency; the pair keeps ``loss`` = 1 − η
+    and its pressure angle ``alpha`` (rad).  Put it before ``Joint`` in the bases."""
+
+    loss: float
+    alpha: float
+
+    @property
+    def has_friction(self) -> bool:
+        return self.loss > 0.0
+
+    @property
+    def loss_ratio(self) -> float:
+        """ζ: the friction loss over the power of the tooth force, 2(1 − η)/(1 + η)."""
+        return 2.0 * self.loss / (2.0 - self.loss)
+
+    def friction_magnitude(self, lam, qi, qj):
+        return self.loss_ratio * math.cos(self.alpha) * np.abs(lam[..., 0])
+
+    def friction_gradient(self, lam, qi, qj):
+        return self.loss_ratio * math.cos(self.alpha) * np.sign(lam)
+
+    def friction_constants(self) -> tuple:
+        return (self.loss,)
