@@ -56,6 +56,7 @@ class Joint(ABC):
     n_eq: ClassVar[int]
     reaction_labels: ClassVar[tuple[str, ...]]
     angular: ClassVar[bool]  # relative coordinate is an angle (rad) or a length (m)
+    reports_stroke: ClassVar[bool] = False
 
     name: str
     links: tuple[str, str]

@@ -33,6 +33,7 @@ class Prismatic(Joint, kind="prismatic"):
     n_eq: ClassVar[int] = 2
     reaction_labels: ClassVar[tuple[str, ...]] = ("Fx", "Fy", "N", "M")
     angular: ClassVar[bool] = False
+    reports_stroke = True
 
     a: np.ndarray = None
     u: np.ndarray = None
