@@ -52,7 +52,7 @@ from typing import Any
 
 import numpy as np
 
-from .analysis import _schedule, kinetics, travel_extremes
+from .conditions import travel_extremes
 from .errors import (
     KinetostaticsError,
     Location,
@@ -61,9 +61,11 @@ from .errors import (
     StructureError,
 )
 from .forces import ZERO_SPEED, activity, mass_vector, point_state, zero_speed
+from .inverse import kinetics
 from .model import EffortLaw, Model, MotionLaw
 from .positions import derivatives, positions_near, start_pose
 from .reactions import effort_joints, effort_ratio
+from .schedule import schedule as _schedule
 from .system import System, build_system, coordinate_gradient
 
 __all__ = [
