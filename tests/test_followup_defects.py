@@ -257,7 +257,7 @@ def test_overconstrained_parallelogram_is_refused_clearly():
 
 
 def test_redundant_joint_named_from_the_equilibrium_matrix():
-    from kinetostatics.analysis import redundant_joints
+    from kinetostatics.inverse import redundant_joints
     from kinetostatics.reactions import equilibrium_matrix
     from kinetostatics.system import build_system, phi
 

@@ -5,6 +5,7 @@ import numpy as np
 import kinetostatics as ks
 from kinetostatics.analysis import kinetics
 from kinetostatics.positions import derivatives, positions_near
+from kinetostatics.schedule import schedule
 
 from .oracles import slider_crank_closed_form as cf
 
@@ -15,7 +16,7 @@ def test_torque_increment_is_equivalent_inertia_times_crank_acceleration():
     base = ks.analyze(system, friction=False)
     phi = np.radians(np.arange(0, 360, 7.0))
     w, alpha = 31.4, 250.0
-    q = positions_near(system, phi[:, None], base.q[np.arange(0, 360, 7)])
+    q = positions_near(system, phi[:, None], base.q[np.arange(0, 360, 7)], schedule(system))
     taus = []
     for acc in (0.0, alpha):
         psi = phi[:, None]
@@ -37,6 +38,6 @@ def test_torque_increment_is_equivalent_inertia_times_crank_acceleration():
 def test_positions_near_follows_the_guess_branch():
     system = ks.build_system(ks.load("tests/hard/fourbar_change_point.yaml"))
     r = ks.analyze(system, positions=np.radians([100.0]))
-    q = positions_near(system, np.radians([[101.0]]), r.q)
+    q = positions_near(system, np.radians([[101.0]]), r.q, schedule(system))
     assert np.max(np.abs(q - r.q)) < 0.05  # one degree away: a nearby pose
     assert np.max(np.abs(ks.system.phi(system, q, np.radians([[101.0]])))) < 1e-12

@@ -3,7 +3,7 @@
 import numpy as np
 
 import kinetostatics as ks
-from kinetostatics import analysis
+from kinetostatics import analysis, inverse
 
 
 def test_kinematics_only_assembles_no_loads(monkeypatch):
@@ -11,7 +11,7 @@ def test_kinematics_only_assembles_no_loads(monkeypatch):
         raise AssertionError("kinetics was called")
 
     monkeypatch.setattr(analysis, "kinetics", forbidden)
-    monkeypatch.setattr(analysis, "_extremes_and_events", forbidden)
+    monkeypatch.setattr(analysis, "load_events", forbidden)
     r = ks.analyze(ks.load("mechanisms/slotting_machine.yaml"), kinematics_only=True)
     assert "ram.vy" in r.columns and "rod_ram.pressure_angle" in r.columns
     assert not [c for c in r.columns if c.startswith(("power.", "motor.", "shaking."))]
@@ -28,8 +28,8 @@ def test_a_file_without_friction_runs_no_friction_solve(monkeypatch):
     def forbidden(*args, **kwargs):
         raise AssertionError("a friction solve ran")
 
-    monkeypatch.setattr(analysis.fr, "consistent", forbidden)
-    monkeypatch.setattr(analysis.fr, "approximate", forbidden)
+    monkeypatch.setattr(inverse.fr, "consistent", forbidden)
+    monkeypatch.setattr(inverse.fr, "approximate", forbidden)
     r = ks.analyze(ks.load("tests/hard/fourbar_change_point.yaml"), positions=np.radians([100.0]))
     assert "friction.status" not in r.columns
 

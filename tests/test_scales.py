@@ -175,13 +175,13 @@ def test_the_cases_are_extreme():
 
 def test_general_path_really_runs_newton(monkeypatch):
     """With the closed forms disabled the solve iterates (the Newton path is tested)."""
-    from kinetostatics.analysis import _schedule, _times
     from kinetostatics.positions import solve_positions
+    from kinetostatics.schedule import sample_times, schedule
 
     monkeypatch.setattr(dyads, "closed_form", lambda *a, **k: None)
     system = ks.build_system(model("micro (µm, 20,000 rpm)"))
-    sched = _schedule(system)
-    sol = solve_positions(system, _times(system, sched, None)[0], sched)
+    sched = schedule(system)
+    sol = solve_positions(system, sample_times(system, sched, None)[0], sched)
     assert np.min(sol.iterations) >= 1
 
 

@@ -34,6 +34,8 @@ from typing import Any
 
 import numpy as np
 
+from .schedule import schedule
+
 __all__ = [
     "Check",
     "Checks",
@@ -184,10 +186,9 @@ def _cond_check(value: float, where: str, group: str) -> Check:
 
 
 def _start(system):
-    from .analysis import _schedule
     from .positions import start_pose
 
-    sched = _schedule(system)
+    sched = schedule(system)
     return sched, start_pose(system, sched)[0]
 
 

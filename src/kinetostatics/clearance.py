@@ -32,9 +32,11 @@ import numpy as np
 
 from ._geometry import rotate
 from .errors import ModelError
+from .inverse import kinetics
 from .joints.prismatic import Prismatic
 from .joints.revolute import Revolute
 from .model import Clearance, Driver, Link, Model, MotionLaw
+from .schedule import schedule
 
 __all__ = [
     "Clearance",
@@ -94,10 +96,8 @@ def _start_state(model: Model):
         dyn = Dynamics(model)
         ev = dyn.state(0.0, np.concatenate((dyn.start(), np.zeros(dyn.n_f), [0.0])))
         return dyn.system, ev.q, ev.qd, ev.qdd0 + ev.accel @ ev.dqdd, ev.psi
-    from .analysis import _schedule
-
     system = build_system(model)
-    drive = _schedule(system)
+    drive = schedule(system)
     q, _ = start_pose(system, drive)
     psi, pd, pdd = (x[0] for x in drive(np.array([0.0])))
     qd, qdd, _ = derivatives(system, q[None], pd[None], pdd[None])
@@ -107,8 +107,6 @@ def _start_state(model: Model):
 def ideal_force(model: Model, joints, state=None) -> dict[str, np.ndarray]:
     """Force of i on j (N, global) in each revolute of ``joints`` at t = 0
     (see :func:`_start_state`)."""
-    from .analysis import kinetics
-
     system, q, qd, qdd, psi = state or _start_state(model)
     kin = kinetics(system, q[None], qd[None], qdd[None], psi[None], ref_speed=1.0)
     names = [c.name for c in system.constraints]

@@ -1,4 +1,4 @@
-"""Applied and inertia loads as generalized forces, and load activity.
+"""Applied and inertia loads as generalized forces (when a load acts: :mod:`.conditions`).
 
 Every function broadcasts over leading position axes.  The generalized force
 on link k is (Fx, Fy, M about the CoM) in q's slots.  Sign convention:
@@ -10,38 +10,19 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._geometry import perp, rotate
-from .model import Condition, Load
+from ._geometry import rotate
+from .conditions import ZERO_SPEED, activity
+from .state import local_point, point_state
 from .system import System
 
 __all__ = [
-    "point_state",
     "mass_vector",
     "gravity_forces",
     "inertia_forces",
     "external_forces",
     "effort_forces",
-    "condition_values",
-    "angle_band",
-    "activity",
     "zero_speed",
 ]
-
-ZERO_SPEED = 1e-9  # relative speeds below this × x_ref count as zero (SPEC.md)
-
-
-def point_state(q, qd, qdd, k: int, p: np.ndarray):
-    """Global position, velocity, acceleration of local point ``p`` of moving link ``k``."""
-    th, w = q[..., 3 * k + 2], qd[..., 3 * k + 2]
-    rp = rotate(th, p)
-    pos = q[..., 3 * k : 3 * k + 2] + rp
-    vel = qd[..., 3 * k : 3 * k + 2] + w[..., None] * perp(rp)
-    if qdd is None:
-        return pos, vel, None
-    acc = (
-        qdd[..., 3 * k : 3 * k + 2] + qdd[..., 3 * k + 2, None] * perp(rp) - (w**2)[..., None] * rp
-    )
-    return pos, vel, acc
 
 
 def mass_vector(system: System) -> np.ndarray:
@@ -62,51 +43,6 @@ def gravity_forces(system: System, shape: tuple[int, ...]) -> np.ndarray:
 def inertia_forces(system: System, qdd: np.ndarray) -> np.ndarray:
     """d'Alembert −M q̈."""
     return -mass_vector(system) * qdd
-
-
-def _reference_point(system: System, link: str, point: str | None) -> np.ndarray:
-    return system.model.link(link).points[point] if point else np.zeros(2)
-
-
-def _sense(system: System) -> float:
-    d = system.motion_drivers
-    return float(np.sign(d[0].driver.motion.speed)) if d else 1.0
-
-
-def angle_band(system: System, cond: Condition) -> tuple[float, float]:
-    """(from, width) of an angle condition, measured in the sense of motion (rad)."""
-    width = (cond.bounds[1] - cond.bounds[0]) * _sense(system)
-    return cond.bounds[0], (width if width >= 2 * np.pi else np.mod(width, 2 * np.pi))
-
-
-def condition_values(system: System, cond: Condition, q, qd, psi, extremes) -> np.ndarray:
-    """The signed quantity whose sign or band decides a condition, ``(...)``.
-
-    moving: v·axis; travel: p·axis − min over the cycle; angle: the driver
-    coordinate travelled from ``from`` in the sense of motion (mod 2π).
-    """
-    if cond.kind == "angle":
-        return np.mod((psi - cond.bounds[0]) * _sense(system), 2 * np.pi)
-    k = system.link_index(cond.link)
-    pos, vel, _ = point_state(q, qd, None, k, _reference_point(system, cond.link, cond.point))
-    if cond.kind == "moving":
-        return vel @ cond.axis
-    return pos @ cond.axis - extremes[id(cond)]
-
-
-def activity(system: System, load: Load, q, qd, psi, extremes, ref_speed: float) -> np.ndarray:
-    """Boolean ``(...)``: all of the load's conditions hold (bands inclusive)."""
-    active = np.ones(q.shape[:-1], dtype=bool)
-    tol = ZERO_SPEED * system.l_ref
-    for c in load.active:
-        v = condition_values(system, c, q, qd, psi, extremes)
-        if c.kind == "moving":
-            active &= v > ZERO_SPEED * ref_speed * system.l_ref
-        elif c.kind == "travel":
-            active &= (v >= c.bounds[0] - tol) & (v <= c.bounds[1] + tol)
-        else:
-            active &= v <= angle_band(system, c)[1] + 1e-12
-    return active
 
 
 def effort_forces(system: System, q: np.ndarray, qd: np.ndarray | None = None) -> np.ndarray:
@@ -151,7 +87,7 @@ def external_forces(system: System, q, qd, psi, extremes, ref_speed: float) -> n
     for load in system.model.loads:
         value = load.value_at(psi, period)
         k = system.link_index(load.link)
-        p = _reference_point(system, load.link, load.point)
+        p = local_point(system, load.link, load.point)
         pos, vel, _ = point_state(q, qd, None, k, p)
         on = activity(system, load, q, qd, psi, extremes, ref_speed)
         if load.kind == "torque":

@@ -37,6 +37,7 @@ from ._geometry import rotate, wrap_angle
 from ._linalg import BlockFactor
 from .drivers import DriverConstraint
 from .errors import AssemblyError, KinetostaticsError, ModelError, SingularConfigurationError
+from .state import point_state
 from .system import GroupPlan, System, gamma, jacobian, nu, phi
 
 __all__ = [
@@ -398,8 +399,6 @@ def sketch_distances(system: System, q: np.ndarray) -> list[SketchPoint]:
     A joint key is measured at its point on the moving link solved first (that
     link's group placed it); a ``link.point`` key at that point.  Keys that name
     no point of a moving link (a gear) are left out."""
-    from .forces import point_state
-
     model = system.model
     order = {n: g for g, p in enumerate(system.plans) for n in p.group.links}
     out = []
@@ -1059,16 +1058,16 @@ def state_at(
 
 
 def positions_near(
-    system: System, psi: np.ndarray, q_guess: np.ndarray, drive: Drive | None = None
+    system: System, psi: np.ndarray, q_guess: np.ndarray, drive: Drive
 ) -> np.ndarray:
     """Positions at driver coordinates ``psi (..., n_d)`` on the branch of a nearby
     guess ``q_guess (..., n_q)`` (closed-form dyads where they apply, else Newton
     per group).  Raises AssemblyError naming the group where Newton fails.
 
     For stepping methods (forward dynamics): the guess is the previous state,
-    ideally advanced by q̇ h + ½ q̈ h².
+    ideally advanced by q̇ h + ½ q̈ h².  ``drive``: the run's schedule
+    (:func:`~kinetostatics.schedule.schedule`), whose start pose the closed forms share.
     """
-    drive = _unit_drive(system) if drive is None else drive
     q = _closed_form_at(system, drive, q_guess, psi)
     if q is not None:
         return q
@@ -1082,13 +1081,6 @@ def positions_near(
                 "Newton did not converge from the given guess",
             )
     return q
-
-
-def _unit_drive(system: System) -> Drive:
-    """The drive whose start matches the model's analysis start (for the caches)."""
-    from .analysis import _schedule
-
-    return _schedule(system)
 
 
 def _closed_form_at(system: System, drive: Drive, guess: np.ndarray, psi: np.ndarray):

@@ -18,7 +18,7 @@ import numpy as np
 
 from .base.tables import write_columns
 from .errors import did_you_mean
-from .forces import point_state
+from .state import point_state
 from .system import System
 
 __all__ = ["Result", "build_columns", "group_column"]

@@ -6,66 +6,16 @@ from typing import Any
 
 import numpy as np
 
+from .errors import AssemblyError
+from .events import output_strokes, state_near
+from .inverse import kinetics
+from .schedule import schedule
+
 __all__ = ["summarize", "output_strokes", "locking_zones"]
 
 
 def _at(result, k: int) -> float:
     return float(result["angle"][k]) if "angle" in result.columns else float(result["stroke"][k])
-
-
-def output_strokes(result) -> dict[str, dict[str, Any]]:
-    """Stroke, limit positions and time ratio of every undriven prismatic pair.
-
-    Limit positions are the exact zeros of the sliding speed (the events
-    machinery refines them); the time ratio K is the slower stroke's time
-    over the faster's, from those exact positions (full cycles only).
-    """
-    system = result.system
-    out: dict[str, dict[str, Any]] = {}
-    driven = {d.joint.name for d in system.motion_drivers}
-    if not result.full_cycle or "angle" not in result.columns:
-        return out
-    for k, j in enumerate(system.model.joints):
-        if not j.reports_stroke or j.name in driven:
-            continue
-        from .system import coordinate_gradient
-
-        s = _coordinate(system, result.q, k)
-        ds = np.einsum("...n,...n->...", coordinate_gradient(system, result.q, k), result.qd)
-        from .analysis import _find_roots, _schedule
-
-        sched = _schedule(system)
-        period = sched.period
-
-        def f(q, qd, qdd, k=k):
-            g = coordinate_gradient(system, q, k)
-            return (
-                np.einsum("...n,...n->...", g, qd),
-                np.einsum("...n,...n->...", g, qdd) + _bias(system, q, qd, k),
-            )
-
-        roots, (qr, _, _) = _find_roots(
-            system, sched, result.t, result.q, result.qd, result.qdd, ds, f, True, period
-        )
-        if len(roots) != 2:
-            continue
-        vals = [float(v) for v in _coordinate(system, qr, k)]
-        lo, hi = (0, 1) if vals[0] < vals[1] else (1, 0)
-        t_up = (roots[hi] - roots[lo]) % period  # from the low to the high extreme
-        t_down = period - t_up
-        coord = lambda r: float(np.degrees(sched(np.array([r]))[0][0, 0]) % 360.0)
-        out[j.name] = {
-            "stroke": vals[hi] - vals[lo],
-            "limit_positions": {
-                "min": {"angle": coord(roots[lo]), "s": vals[lo]},
-                "max": {"angle": coord(roots[hi]), "s": vals[hi]},
-            },
-            "time_ratio": max(t_up, t_down) / min(t_up, t_down),
-            "time_increasing_s": t_up,
-            "time_decreasing_s": t_down,
-        }
-        del s
-    return out
 
 
 def locking_zones(result) -> list[dict[str, Any]]:
@@ -89,10 +39,8 @@ def locking_zones(result) -> list[dict[str, Any]]:
     """
     if "friction.status" not in result.columns or not len(result):
         return []
-    from .analysis import _schedule
-
     system = result.system
-    sched = _schedule(system)
+    sched = schedule(system)
     order = np.argsort(result.t, kind="stable")
     locked = result["friction.status"][order] == 2
     n = len(order)
@@ -139,16 +87,13 @@ def _locking_edge(result, sched, t_ok, t_lock, span) -> float:
     """Time of the edge of a locked zone between a solved row and a locked one."""
     import warnings
 
-    from .analysis import _state_near, kinetics
-    from .errors import AssemblyError
-
     system = result.system
     period = sched.period if result.full_cycle else np.inf
 
     def probe(tc):
         tm = tc % period if np.isfinite(period) else tc
         try:
-            q, qd, qdd = _state_near(system, sched, tm, result.t, result.q, result.qd, result.qdd)
+            q, qd, qdd = state_near(system, sched, tm, result.t, result.q, result.qd, result.qdd)
         except AssemblyError:  # no state there: no margin either
             return -1, np.nan
         with warnings.catch_warnings():
@@ -197,24 +142,6 @@ def _locking_edge(result, sched, t_ok, t_lock, span) -> float:
             solved.append((cand, reach))
         last = cand
     return 0.5 * (lo + hi)
-
-
-def _coordinate(system, q, k):
-    qe = np.concatenate((q, np.zeros(q.shape[:-1] + (3,))), axis=-1)
-    i, j = system.ends[k]
-    return system.constraints[k].coordinate(qe[..., 3 * i : 3 * i + 3], qe[..., 3 * j : 3 * j + 3])
-
-
-def _bias(system, q, qd, k):
-    qe = np.concatenate((q, np.zeros(q.shape[:-1] + (3,))), axis=-1)
-    ve = np.concatenate((qd, np.zeros(qd.shape[:-1] + (3,))), axis=-1)
-    i, j = system.ends[k]
-    return system.constraints[k].coordinate_bias(
-        qe[..., 3 * i : 3 * i + 3],
-        qe[..., 3 * j : 3 * j + 3],
-        ve[..., 3 * i : 3 * i + 3],
-        ve[..., 3 * j : 3 * j + 3],
-    )
 
 
 def _finite(f, arr) -> float:

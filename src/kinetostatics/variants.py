@@ -18,6 +18,7 @@ import numpy as np
 
 from .base.spec import compose, read_text
 from .errors import KinetostaticsError
+from .events import coordinate_rates, output_slides, output_strokes
 from .loading import build
 from .model import Model
 
@@ -81,14 +82,10 @@ ROW_UNITS = {
 
 
 def _outputs(system) -> list[tuple[str, str, int]]:
-    """The output members: undriven prismatic pairs (kind "slide") or, when there
-    are none, the last group's last link (kind "link")."""
-    driven = {d.joint.name for d in system.motion_drivers}
-    slides = [
-        ("slide", j.name, k)
-        for k, j in enumerate(system.model.joints)
-        if j.reports_stroke and j.name not in driven
-    ]
+    """The output members: the output slides (kind "slide",
+    :func:`~kinetostatics.events.output_slides`) or, when there are none, the last
+    group's last link (kind "link")."""
+    slides = [("slide", j.name, k) for k, j in output_slides(system)]
     if slides:
         return slides
     link = system.plans[-1].group.links[-1]
@@ -128,9 +125,8 @@ def summary_row(
 
     Every quantity reduces over the last (positions) axis, so a stacked
     result ``(V, N)`` gives arrays ``(V,)`` (:func:`split_rows` makes rows);
-    ``strokes`` are :func:`~kinetostatics.summary.output_strokes` (computed
+    ``strokes`` are :func:`~kinetostatics.events.output_strokes` (computed
     when not given)."""
-    from .summary import _bias, output_strokes
     from .system import coordinate_gradient
 
     system = result.system
@@ -142,9 +138,7 @@ def summary_row(
             s = strokes.get(name, {})
             row[f"{name}.stroke"] = s.get("stroke", np.nan)
             row[f"{name}.time_ratio"] = s.get("time_ratio", np.nan)
-            g = coordinate_gradient(system, result.q, k)
-            v = np.einsum("...n,...n->...", g, result.qd)
-            a = np.einsum("...n,...n->...", g, result.qdd) + _bias(system, result.q, result.qd, k)
+            v, a = coordinate_rates(system, result.q, result.qd, result.qdd, k)
             row[f"{name}.v_peak"] = np.max(np.abs(v), axis=-1)
             row[f"{name}.a_peak"] = np.max(np.abs(a), axis=-1)
         else:

@@ -21,21 +21,22 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .analysis import Schedule, _times, kinetics
+from .conditions import travel_extremes_stacked
 from .dyads import closed_form
-from .forces import point_state
+from .events import output_strokes_stacked
+from .inverse import kinetics
 from .model import Model, MotionLaw
 from .positions import (
     SKETCH_TOL,
     TOL,
     _signature,
-    closed_form_near,
     closed_form_path,
     derivatives,
     group_condition,
     initial_guess,
     sketch_distances,
 )
+from .schedule import Schedule, sample_times, schedule
 from .stacking import is_stacked, stack
 from .system import System, build_system, jacobian, phi
 
@@ -55,7 +56,7 @@ class Stacked:
     qd: np.ndarray
     qdd: np.ndarray
     lu: object
-    kin: object  # analysis.Kinetics
+    kin: object  # inverse.Kinetics
     extremes: dict
     ok: np.ndarray  # (V,) bool
     sched: Schedule
@@ -81,6 +82,8 @@ class LeftOver(Unsupported):
 
 
 def _schedule(system: System) -> Schedule:
+    """The schedule (:func:`~kinetostatics.schedule.schedule`) of the one constant-speed
+    motion driver that the stacked stages take, alike in every variant."""
     model = system.model
     drivers = system.motion_drivers
     if len(drivers) != 1 or system.structure.mobility != 1:
@@ -96,7 +99,7 @@ def _schedule(system: System) -> Schedule:
     start = model.analysis.start
     if np.ndim(speed) or np.ndim(start) or np.ndim(model.analysis.sweep):
         raise Unsupported("the driver's speed or the analysed range differs between variants")
-    return Schedule(np.array([start]), np.array([speed]))
+    return schedule(system)
 
 
 def _newton(system: System, q: np.ndarray, psi: np.ndarray, plan) -> tuple[np.ndarray, np.ndarray]:
@@ -143,62 +146,6 @@ def _start(system: System, models: Sequence[Model], sched: Schedule):
     return q, ok
 
 
-def _state(system: System, solvers, sched: Schedule, t: np.ndarray, guess: np.ndarray):
-    """(q, q̇, q̈) at times ``t (V, M)`` by the closed forms, angles nearest ``guess``."""
-    psi, psi_d, psi_dd = sched(t)
-    q, _ = closed_form_near(solvers, guess, psi)
-    qd, qdd, _ = derivatives(system, q, psi_d, psi_dd)
-    return q, qd, qdd
-
-
-def refine_roots(system, solvers, sched, f, t0, q0, qd0, qdd0, max_iter: int = 12):
-    """Newton on t for ``f(q, q̇, q̈) = (g, ġ) = 0``, all variants and roots at once.
-
-    ``t0 (V, M)`` first guesses, ``q0, qd0, qdd0 (V, M, n_q)`` solved states
-    near them (same branch); returns (t, (q, q̇, q̈)) at the roots.
-    """
-    t = np.array(t0, dtype=float)
-    h = (t - t0)[..., None]
-    guess = q0 + h * qd0 + 0.5 * h * h * qdd0
-    for _ in range(max_iter):
-        q, qd, qdd = _state(system, solvers, sched, t, guess)
-        g, dg = f(q, qd, qdd)
-        dt = np.divide(-g, dg, out=np.zeros_like(g), where=dg != 0)
-        t = t + dt
-        guess = q + dt[..., None] * qd + 0.5 * (dt * dt)[..., None] * qdd
-        if np.all(np.abs(dt) <= 1e-14 * np.maximum(np.abs(t), 1.0)):
-            break
-    return t, _state(system, solvers, sched, t, guess)
-
-
-def _extremes(system, solvers, sched, t, q, qd, qdd) -> dict:
-    """Exact minima over the cycle of the ``travel`` conditions' p·axis, ``(V, 1)``."""
-    from .analysis import travel_conditions
-
-    extremes: dict[int, np.ndarray] = {}
-    for c, k, p in travel_conditions(system):
-        pos = point_state(q, qd, None, k, p)[0]
-        s = np.sum(pos * c.axis, axis=-1)
-        n = np.argmin(s, axis=-1)
-        take = lambda a: np.take_along_axis(a, n[:, None, None], axis=1)  # noqa: E731
-        _, (qm, _, _) = refine_roots(
-            system,
-            solvers,
-            sched,
-            lambda a, b, cc: (
-                np.sum(point_state(a, b, cc, k, p)[1] * c.axis, axis=-1),
-                np.sum(point_state(a, b, cc, k, p)[2] * c.axis, axis=-1),
-            ),
-            t[n][:, None],
-            take(q),
-            take(qd),
-            take(qdd),
-        )
-        sm = np.sum(point_state(qm, qm, None, k, p)[0] * c.axis, axis=-1)
-        extremes[id(c)] = np.minimum(sm, np.min(s, axis=-1, keepdims=True))
-    return extremes
-
-
 def _check_supported(sm: Model, friction: bool) -> None:
     """Refuse what the stacked stages do not broadcast (the loop takes it)."""
     if is_stacked(sm.gravity) or any(
@@ -232,7 +179,7 @@ def analyze_stacked(
     _check_supported(sm, sm.has_friction if friction is None else friction)
     system = build_system(sm)
     sched = _schedule(system)
-    t, full = _times(system, sched, None)
+    t, full = sample_times(system, sched, None)
     if not full:
         raise Unsupported("not a full cycle")
     q0, ok = _start(system, models, sched)
@@ -246,7 +193,7 @@ def analyze_stacked(
     psi, psi_d, psi_dd = sched(t)
     psi, psi_d, psi_dd = (np.broadcast_to(x, q.shape[:-1] + (1,)) for x in (psi, psi_d, psi_dd))
     qd, qdd, lu = derivatives(system, q, psi_d, psi_dd)
-    extremes = _extremes(system, solvers, sched, t, q, qd, qdd)
+    extremes = travel_extremes_stacked(system, solvers, sched, t, q, qd, qdd)
     kin = kinetics(
         system,
         q,
@@ -262,61 +209,11 @@ def analyze_stacked(
 
 
 def output_strokes(st: Stacked) -> dict[str, dict[str, np.ndarray]]:
-    """Stroke and time ratio of every undriven prismatic pair, ``(V,)`` each, from
-    the exact zeros of its sliding speed (as :func:`kinetostatics.summary.output_strokes`).
-    A variant whose slide does not stop exactly twice per cycle is marked not ok."""
-    from .summary import _bias, _coordinate
-    from .system import coordinate_gradient
-
-    system, out = st.system, {}
-    driven = {d.joint.name for d in system.motion_drivers}
-    period = 2 * np.pi / st.sched.reference
-    n = st.q.shape[1]
-    for k, j in enumerate(system.model.joints):
-        if not j.reports_stroke or j.name in driven:
-            continue
-
-        def f(q, qd, qdd, k=k):
-            g = coordinate_gradient(system, q, k)
-            return (
-                np.einsum("...n,...n->...", g, qd),
-                np.einsum("...n,...n->...", g, qdd) + _bias(system, q, qd, k),
-            )
-
-        ds = f(st.q, st.qd, st.qdd)[0]
-        a = np.arange(n)
-        b = (a + 1) % n  # a full cycle: the last pairs with the first
-        fa, fb = ds[:, a], ds[:, b]
-        cross = (np.sign(fa) * np.sign(fb) < 0) | (fa == 0.0)
-        two = np.count_nonzero(cross, axis=-1) == 2
-        st.ok &= two
-        idx = np.argsort(~cross, axis=-1, kind="stable")[:, :2]  # the first two crossings
-        ia, ib = idx, (idx + 1) % n
-        ta, tb = st.t[ia], st.t[ib] + np.where(ib == 0, period, 0.0)
-        fa, fb = np.take_along_axis(ds, ia, -1), np.take_along_axis(ds, ib, -1)
-        near_b = np.abs(fb) < np.abs(fa)
-        nn = np.where(near_b, ib, ia)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            guess = np.where(fa == 0.0, ta, ta + (tb - ta) * fa / (fa - fb))
-        take = lambda x: np.take_along_axis(x, nn[..., None], axis=1)  # noqa: E731
-        roots, (qr, _, _) = refine_roots(
-            system, st.solvers, st.sched, f, guess, take(st.q), take(st.qd), take(st.qdd)
-        )
-        roots = np.mod(roots, period)
-        vals = _coordinate(system, qr, k)
-        lo = np.argmin(vals, axis=-1)[:, None]
-        hi = 1 - lo
-        r_lo = np.take_along_axis(roots, lo, -1)[:, 0]
-        r_hi = np.take_along_axis(roots, hi, -1)[:, 0]
-        t_up = np.mod(r_hi - r_lo, period)
-        t_down = period - t_up
-        stroke = np.abs(vals[:, 1] - vals[:, 0])
-        out[j.name] = {
-            "stroke": np.where(two, stroke, np.nan),
-            "time_ratio": np.where(
-                two, np.maximum(t_up, t_down) / np.minimum(t_up, t_down), np.nan
-            ),
-        }
+    """Stroke and time ratio of every output slide, ``(V,)`` each
+    (:func:`~kinetostatics.events.output_strokes_stacked`); a variant whose slide does not
+    stop exactly twice per cycle is marked not ok."""
+    out, ok = output_strokes_stacked(st.system, st.solvers, st.sched, st.t, st.q, st.qd, st.qdd)
+    st.ok &= ok
     return out
 
 

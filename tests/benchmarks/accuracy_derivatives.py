@@ -23,9 +23,9 @@ from accuracy_common import Table, e, ms
 
 import kinetostatics as ks
 from kinetostatics._linalg import BlockFactor
-from kinetostatics.analysis import _schedule, _times
 from kinetostatics.differences import difference_derivatives
 from kinetostatics.positions import derivatives, solve_positions
+from kinetostatics.schedule import sample_times, schedule
 from kinetostatics.system import gamma, jacobian, nu
 
 STEPS = (1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7)
@@ -39,11 +39,11 @@ N_LARGE = 36_000
 
 def setup(name: str, n: int):
     system = ac.system(name)
-    sched = _schedule(system)
+    sched = schedule(system)
     start = system.model.analysis.start
     sign = np.sign(sched.speed[0])
     phi = np.arange(n) * 2 * np.pi / n
-    t, _ = _times(system, sched, start + sign * phi)
+    t, _ = sample_times(system, sched, start + sign * phi)
     return system, sched, t, phi
 
 

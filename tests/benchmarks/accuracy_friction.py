@@ -29,8 +29,9 @@ from friction_levels import scaled
 
 import kinetostatics as ks
 from kinetostatics import friction as fr
-from kinetostatics.analysis import _schedule, _times, kinetics
+from kinetostatics.analysis import kinetics
 from kinetostatics.positions import derivatives, solve_positions
+from kinetostatics.schedule import sample_times, schedule
 
 LEVELS = (0.01, 0.1, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0)
 NAMES = ("slider_crank", "slotting_machine")
@@ -39,8 +40,8 @@ TIMES = ("friction=False [ms]", "full [ms]", "approximate stage [ms]", "consiste
 
 def stages(system):
     """Closures timing the approximate and the consistent friction stage."""
-    sched = _schedule(system)
-    t, _ = _times(system, sched, None)
+    sched = schedule(system)
+    t, _ = sample_times(system, sched, None)
     q = solve_positions(system, t, sched).q
     psi, psi_d, psi_dd = sched(t)
     qd, qdd, lu = derivatives(system, q, psi_d, psi_dd)

@@ -31,7 +31,7 @@ import accuracy_common as ac
 from accuracy_common import Table, ms
 
 import kinetostatics as ks
-from kinetostatics import analysis
+from kinetostatics import analysis, inverse
 
 SLOTTING = ac.ROOT / "mechanisms" / "slotting_machine.yaml"
 HEAVY = ("matplotlib", "scipy.optimize", "scipy.integrate", "scipy.interpolate", "pandas")
@@ -75,7 +75,7 @@ def kinematics_only(timing: bool) -> Table:
         ("ks.analyze(model, kinematics_only=True)", dict(kinematics_only=True)),
         ("ks.analyze(model)", {}),
     ):
-        with Calls(analysis, "kinetics") as kin, Calls(analysis, "_extremes_and_events") as ev:
+        with Calls(analysis, "kinetics") as kin, Calls(analysis, "load_events") as ev:
             r = ks.analyze(system, **kw)
         tab.add(
             label,
@@ -96,7 +96,7 @@ def without_friction(timing: bool) -> Table:
     )
     for label, src in (("slider_crank.yaml", text), ("slider_crank.yaml, friction removed", bare)):
         system = ks.build_system(ks.loads(src, file="slider_crank.yaml"))
-        with Calls(analysis.fr, "approximate", "consistent") as calls:
+        with Calls(inverse.fr, "approximate", "consistent") as calls:
             r = ks.analyze(system)
         tab.add(
             label,

@@ -28,8 +28,8 @@ import numpy as np
 from accuracy_common import Table, e, ms
 
 from kinetostatics import positions
-from kinetostatics.analysis import _schedule, _times
 from kinetostatics.positions import derivatives, solve_positions
+from kinetostatics.schedule import sample_times, schedule
 
 TOLS = (1e-4, 1e-6, 1e-8, 1e-10, 1e-12, 1e-14)
 STEPS_DEG = (5, 10, 30, 60, 90, 120)
@@ -70,11 +70,11 @@ def measure(name: str, general: bool, timing: bool, ref=None, **knobs):
 
     with ac.general_path() if general else contextlib.nullcontext(), ac.knobs(**knobs):
         system = ac.system(name)
-        sched = _schedule(system)
+        sched = schedule(system)
         runs = {}
         for n in (360, 36_000):
             phi = np.arange(n) * 2 * np.pi / n
-            t, _ = _times(
+            t, _ = sample_times(
                 system, sched, system.model.analysis.start + np.sign(sched.speed[0]) * phi
             )
             runs[n] = (t, phi)

@@ -23,11 +23,12 @@ from accuracy_common import Table
 import kinetostatics as ks
 from kinetostatics import friction as fr
 from kinetostatics._linalg import BlockFactor
-from kinetostatics.analysis import _extremes_and_events, _schedule, _times
+from kinetostatics.conditions import load_events
 from kinetostatics.forces import external_forces, gravity_forces, inertia_forces, mass_vector
 from kinetostatics.positions import _assemble_start, condition_number, derivatives, solve_positions
 from kinetostatics.reactions import effort_joints, ground_reaction
 from kinetostatics.results import Result, build_columns
+from kinetostatics.schedule import sample_times, schedule
 from kinetostatics.system import coordinate_gradient, gamma, jacobian, nu
 
 NAMES = ("slider_crank", "slotting_machine")
@@ -40,7 +41,7 @@ def model_text(name: str, n: int) -> str:
 
 
 def power_terms(system, q, qd, qdd, x0, q_grav, q_ext, cons, fs):
-    """The power block of ``analysis.kinetics``, as there."""
+    """The power block of ``inverse.kinetics``, as there."""
     eff = effort_joints(system)
     rel = np.stack(
         [np.einsum("...n,...n->...", coordinate_gradient(system, q, k), qd) for k in eff], -1
@@ -73,12 +74,14 @@ def stage_times(name: str, n: int, timing: bool):
     model = ks.loads(text, file=f"{name}.yaml")
     rows.append(("structure and plan (ks.build_system)", T(lambda: ks.build_system(model)), True))
     system = ks.build_system(model)
-    sched = _schedule(system)
+    sched = schedule(system)
     rows.append(
         ("start pose from the sketch", T(lambda: _assemble_start(system, 0.0, sched)), True)
     )
-    rows.append(("schedule and times", T(lambda: _times(system, _schedule(system), None)), False))
-    t, full = _times(system, sched, None)
+    rows.append(
+        ("schedule and times", T(lambda: sample_times(system, schedule(system), None)), False)
+    )
+    t, full = sample_times(system, sched, None)
     sol = solve_positions(system, t, sched)
     rows.append(("positions", T(lambda: solve_positions(system, t, sched)), False))
     q = sol.q
@@ -98,9 +101,9 @@ def stage_times(name: str, n: int, timing: bool):
     assert all(
         np.array_equal(a, b) for a, b in zip((qd, qdd), derivatives(system, q, psi_d, psi_dd))
     )
-    ev = lambda: _extremes_and_events(system, sched, sched, t, q, qd, qdd, full)  # noqa: E731
+    ev = lambda: load_events(system, sched, sched, t, q, qd, qdd, full)  # noqa: E731
     rows.append(("load switching events, travel extremes", T(ev), False))
-    extremes, _ = ev()
+    extremes, _, _ = ev()
 
     def loads():
         g = gravity_forces(system, q.shape[:-1])

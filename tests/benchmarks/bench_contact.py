@@ -80,7 +80,7 @@ def profile(until: float = 0.01) -> str:
     share = {
         "positions": cumulative("dynamics/engine.py", "positions") / total,
         "derivatives": cumulative("positions.py", "derivatives") / total,
-        "kinetics": cumulative("analysis.py", "kinetics") / total,
+        "kinetics": cumulative("inverse.py", "kinetics") / total,
     }
     return (
         f"Swing, e = 0.5 mm, BDF rtol 1e-5, 0–{until * 1e3:g} ms: one right-hand side "

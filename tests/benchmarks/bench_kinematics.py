@@ -19,14 +19,14 @@ import numpy as np
 from _common import ROOT, best_of
 
 import kinetostatics as ks
-from kinetostatics.analysis import _schedule, _times
 from kinetostatics.positions import derivatives, solve_positions
+from kinetostatics.schedule import sample_times, schedule
 from tests.oracles import slider_crank_closed_form as cf
 
 
 def kinematics(system, coords):
-    sched = _schedule(system)
-    t, _ = _times(system, sched, coords)
+    sched = schedule(system)
+    t, _ = sample_times(system, sched, coords)
 
     def run():
         sol = solve_positions(system, t, sched)

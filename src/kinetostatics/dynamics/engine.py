@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from ..analysis import _schedule, kinetics, travel_extremes
+from ..conditions import ZERO_SPEED, travel_extremes
 from ..errors import (
     KinetostaticsError,
     Location,
@@ -17,10 +17,12 @@ from ..errors import (
     SingularConfigurationError,
     StructureError,
 )
-from ..forces import ZERO_SPEED, mass_vector
+from ..forces import mass_vector
+from ..inverse import kinetics
 from ..model import Model, MotionLaw
 from ..positions import derivatives, positions_near, start_pose
 from ..reactions import effort_joints
+from ..schedule import schedule
 from ..system import System, build_system, coordinate_gradient
 from . import switching
 from .reduced import _law
@@ -124,7 +126,7 @@ class Dynamics:
         cons = system.motion_drivers
         self.angular = np.array([c.joint.angular for c in cons])
         self.scale = np.where(self.angular, 1.0, system.l_ref)
-        self.drive = _schedule(system)
+        self.drive = schedule(system)
         self.added = np.zeros(self.n_f)
         for name, value in (inertia or {}).items():
             if name not in self.free_names:

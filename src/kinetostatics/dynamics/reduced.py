@@ -7,8 +7,9 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..analysis import kinetics, travel_extremes
+from ..conditions import travel_extremes
 from ..forces import mass_vector
+from ..inverse import kinetics
 from ..model import EffortLaw, Model
 from ..positions import derivatives
 from ..reactions import effort_ratio

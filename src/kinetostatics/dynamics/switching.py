@@ -13,7 +13,9 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..forces import ZERO_SPEED, activity, point_state, zero_speed
+from ..conditions import ZERO_SPEED, activity
+from ..forces import zero_speed
+from ..state import point_state
 from ..system import System, coordinate_gradient
 
 __all__ = ["load_mode", "frozen_loads", "switching_functions"]
