@@ -160,7 +160,7 @@ def test_summary_row_equals_a_single_run(tmp_path):
         )
         s = json.loads((out / "summary.json").read_text())
         with open(out / "results.csv") as fh:
-            lines = [l for l in fh if not l.startswith("#")]
+            lines = [line for line in fh if not line.startswith("#")]
         cols = {
             k: np.array([float(x) if x else np.nan for x in v])
             for k, v in zip(next(csv.reader(lines[:1])), zip(*csv.reader(lines[1:])))
@@ -231,7 +231,7 @@ def test_an_interrupted_batch_resumes_without_recomputing(tmp_path, monkeypatch)
     assert _rows(tmp_path / "b") == _rows(tmp_path / "fresh")
     header = (tmp_path / "b" / "summary.csv").read_text().splitlines()
     assert header[0].startswith("# units: ,file,file,") and [
-        l.split(",")[0] for l in header[2:]
+        line.split(",")[0] for line in header[2:]
     ] == [vid for vid, _ in vs]  # in variant order at the end
 
 
@@ -410,7 +410,7 @@ def test_best_on_a_hand_made_table(tmp_path, capsys):
     table = best.best(
         tmp_path / "summary.csv", "min motor.torque_peak", ["ram.pressure_angle_max <= 10"], top=5
     )
-    assert [l.split()[0] for l in table.splitlines()[1:]] == ["d", "b"]
+    assert [line.split()[0] for line in table.splitlines()[1:]] == ["d", "b"]
     assert main(["best", str(tmp_path), "--best", "max motor.torque_peak", "--top", "1"]) == 0
     assert capsys.readouterr().out.splitlines()[1].split()[:3] == ["b", "1.8", "40"]
     with pytest.raises(

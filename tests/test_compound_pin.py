@@ -212,8 +212,8 @@ def _bad(old: str, new: str) -> str:
         (
             "links: [pitman, rear, front]",
             "links: [pitman]",
-            r"joints\.B\.links: a revolute connects two links, or three or more that share one pin; "
-            r"got 1",
+            r"joints\.B\.links: a revolute connects two links, or three or more that share one "
+            r"pin; got 1",
         ),
         (
             "links: [pitman, rear, front]",
@@ -224,8 +224,8 @@ def _bad(old: str, new: str) -> str:
         (
             "joint: O1, motion",
             "joint: B, motion",
-            r"drivers\.motor\.joint: 'B' is a pin shared by 3 links, not one joint: name one of its "
-            r"revolutes \(B_rear, B_front\)",
+            r"drivers\.motor\.joint: 'B' is a pin shared by 3 links, not one joint: name one of "
+            r"its revolutes \(B_rear, B_front\)",
         ),
         (
             "  O3: {type: revolute, links: [ground, rear]",
@@ -236,8 +236,8 @@ def _bad(old: str, new: str) -> str:
         (
             "  front:\n",
             "  B_front: {points: {P: [0, 0]}, mass: 1}\n  front:\n",
-            r"joints\.B: the pin's revolute pitman-front is named 'B_front', but the link at line \d+ "
-            r"has that name",
+            r"joints\.B: the pin's revolute pitman-front is named 'B_front', but the link at "
+            r"line \d+ has that name",
         ),
     ],
 )

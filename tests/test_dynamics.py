@@ -118,13 +118,13 @@ def test_mixed_case_prescribed_crank_free_arm():
     """A pendulum on a crank pin turning at 60 rpm: (J + m l²) θ̈ = m l u × (g − a_A)."""
     model = ks.load(ROOT / "tests" / "dynamics" / "driven_pendulum.yaml")
     sim = simulate(model, 2.0, method="DOP853", rtol=1e-10)
-    r, w, m, l, j = 0.1, 2 * np.pi, 1.0, 0.2, 0.01
+    r, w, m, arm, j = 0.1, 2 * np.pi, 1.0, 0.2, 0.01
 
     def rhs(t, y):
         u = np.array([np.cos(y[0]), np.sin(y[0])])
         a = -r * w**2 * np.array([np.cos(w * t), np.sin(w * t)])
         rel = np.array([0.0, -9.81]) - a
-        return [y[1], m * l * (u[0] * rel[1] - u[1] * rel[0]) / (j + m * l * l)]
+        return [y[1], m * arm * (u[0] * rel[1] - u[1] * rel[0]) / (j + m * arm * arm)]
 
     ref = solve_ivp(
         rhs, (0, 2), [-np.pi / 2, w], method="DOP853", rtol=1e-12, atol=1e-12, dense_output=True

@@ -65,8 +65,8 @@ def _refused(text: str) -> str:
         (
             "{law: polynomial, coefficients: [440, -1e6], duration: 1}",
             True,
-            "h.yaml:40:33: drivers.motor.motion: the polynomial law moves the driver 1e+06 mm over its "
-            "duration, more than the limit of 1000 times the largest link (350 mm)",
+            "h.yaml:40:33: drivers.motor.motion: the polynomial law moves the driver 1e+06 mm "
+            "over its duration, more than the limit of 1000 times the largest link (350 mm)",
         ),
     ],
 )

@@ -74,7 +74,7 @@ def test_polynomial_and_table_derivatives_agree_with_differences():
     for text in (LAWS["polynomial"], LAWS["table"]):
         law = _model(text).drivers[0].motion
         t, h = np.linspace(0.01, law.duration - 0.01, 50), 1e-5
-        psi = lambda s: law.value(0.0, s)[0]  # noqa: E731
+        psi = lambda s, law=law: law.value(0.0, s)[0]  # noqa: E731
         _, w, a = law.value(0.0, t)
         np.testing.assert_allclose(w, (psi(t + h) - psi(t - h)) / (2 * h), rtol=1e-6, atol=1e-6)
         np.testing.assert_allclose(

@@ -92,7 +92,7 @@ def test_free_bodies_newton_euler(p):
     g = np.asarray(p.g, dtype=float)
     vec = lambda P: np.stack([k[f"{P}_x"], k[f"{P}_y"]], axis=-1)  # noqa: E731
     acc = lambda P: np.stack([k[f"{P}_ax"], k[f"{P}_ay"]], axis=-1)  # noqa: E731
-    O = np.zeros_like(vec("A"))
+    origin = np.zeros_like(vec("A"))  # the crank pivot O
     A, S1, S2 = vec("A"), vec("S1"), vec("S2")
     B = np.stack([k["xB"], k["yB"]], axis=-1)
     aB = np.stack([k["aB"], np.zeros_like(k["aB"])], axis=-1)
@@ -114,7 +114,7 @@ def test_free_bodies_newton_euler(p):
     # crank 1: F_O + (-F_A) + m1 g = m1 a_S1 ; about S1: M1 + ... = J1 alpha1
     res1 = F_O - F_A + p.m1 * g - p.m1 * acc("S1")
     assert np.max(np.abs(res1)) < tol
-    mom1 = r["M1"] + cross(O - S1, F_O) + cross(A - S1, -F_A) - p.J1 * k["alpha1"]
+    mom1 = r["M1"] + cross(origin - S1, F_O) + cross(A - S1, -F_A) - p.J1 * k["alpha1"]
     assert np.max(np.abs(mom1)) < tol * p.b
     # whole machine: external forces = sum m a (internal pairs cancel)
     tot = F_O + r["N"][..., None] * n + F_res + (p.m1 + p.m2 + p.m3) * g

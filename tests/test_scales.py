@@ -191,7 +191,7 @@ def _micro(scale: str) -> ks.Model:
         "tests/hard/slider_crank_micro.yaml",
         (
             "{a: 100, b: 350, e: -20, r1: 30, r2: 120}",
-            "{s: %s, a: 100*s, b: 350*s, e: -20*s, r1: 30*s, r2: 120*s}" % scale,
+            f"{{s: {scale}, a: 100*s, b: 350*s, e: -20*s, r1: 30*s, r2: 120*s}}",
         ),
         ("{A: [100, 0], B: [440, -20]}", "{A: [100*s, 0], B: [440*s, -20*s]}"),
         ("radius: 1.5}", "radius: 1.5*s}"),

@@ -344,7 +344,7 @@ def test_friction_laws_and_power_balance(case):
         assert np.all(col(result, f"{k}.friction", order)[z] == 0), k
         assert np.all(col(result, f"{k}.friction_approx", order)[z] == 0), k
     loss = np.zeros(len(order))
-    for name, (i, j, rho) in c.revolutes.items():
+    for name, (_, _, rho) in c.revolutes.items():
         mf = col(result, f"{name}.friction", order)
         fr = np.hypot(
             col(result, f"{name}.Fx_friction", order), col(result, f"{name}.Fy_friction", order)
@@ -358,7 +358,7 @@ def test_friction_laws_and_power_balance(case):
             ma[moving], -np.sign(speeds[name][moving]) * rho * f0[moving], rtol=1e-10, atol=1e-14
         ), name
         loss += np.abs(mf * speeds[name])
-    for name, (i, _, j, p, f, length) in c.prismatics.items():
+    for name, (*_, f, length) in c.prismatics.items():
         ff = col(result, f"{name}.friction", order)
         n, m = col(result, f"{name}.N_friction", order), col(result, f"{name}.M_friction", order)
         moving = ok & (np.abs(speeds[name]) > 1e-6 * abs(c.speed) * L_REF)

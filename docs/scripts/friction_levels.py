@@ -39,8 +39,8 @@ def scaled(name: str, s: float) -> ks.Model:
 def table(name: str) -> str:
     driver = ks.load(ROOT / "mechanisms" / f"{name}.yaml").drivers[0].name
     rows = [
-        "| friction × s | max \\|τ − τ_approx\\| (N·m) | relative to max \\|τ\\| | at crank angle (°) "
-        "| status 0 / 1 / 2 / 3 |",
+        "| friction × s | max \\|τ − τ_approx\\| (N·m) | relative to max \\|τ\\| "
+        "| at crank angle (°) | status 0 / 1 / 2 / 3 |",
         "|---|---|---|---|---|",
     ]
     for s in SCALES:

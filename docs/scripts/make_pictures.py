@@ -16,10 +16,11 @@ import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
+# draw with this checkout's src/, not an installed copy: the imports must follow this line
 sys.path.insert(0, str(ROOT / "src"))
 
-import kinetostatics as ks
-from kinetostatics import plotting as pl
+import kinetostatics as ks  # noqa: E402  (after the sys.path line above)
+from kinetostatics import plotting as pl  # noqa: E402  (after the sys.path line above)
 
 IMG = ROOT / "docs" / "img"
 PAGE = ROOT / "docs" / "pictures.md"
@@ -41,15 +42,15 @@ def pictures(name: str, label: str, paths: list[str]) -> list[tuple[str, str]]:
         (
             "drawing",
             pl.draw_mechanism(result, row=row, paths=paths, dpi=DPI),
-            f"The mechanism at position {label} (crank at {angle:.0f}°) with the traced paths of "
-            f"{', '.join(paths)}; length scale and μ_l on the drawing.",
+            f"The mechanism at position {label} (crank at {angle:.0f}°) with the traced paths "
+            f"of {', '.join(paths)}; length scale and μ_l on the drawing.",
         ),
         (
             "forces",
             pl.draw_mechanism(result, row=row, forces=True, dpi=DPI),
-            f"The loads at position {label}, to the force scale μ_F: reactions F_ij (link i on link "
-            "j) at the joints, d'Alembert inertia forces FI and couples MI, weights G, the process "
-            "load and the driving torque (frictionless solution).",
+            f"The loads at position {label}, to the force scale μ_F: reactions F_ij (link i on "
+            "link j) at the joints, d'Alembert inertia forces FI and couples MI, weights G, the "
+            "process load and the driving torque (frictionless solution).",
         ),
         (
             "motion",

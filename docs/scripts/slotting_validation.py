@@ -695,7 +695,8 @@ FORCE_NOTES = {
     "F_I5": "(K) a_C wrong, and (I) +m·a used instead of −m·a",
     "F45": "(K) + (I)",
     "F45x": "follows \\|F45\\| (rod at 90.68°); sign as ours",
-    "F65x": "follows F45; sign slip: its F65x = −F45x is −8.66 (exact F65x = −7.91); the couple M65 = −Q·d = −120 N·m is missing",
+    "F65x": "follows F45; sign slip: its F65x = −F45x is −8.66 (exact F65x = −7.91); "
+    "the couple M65 = −Q·d = −120 N·m is missing",
     "F_I3": "(K): m3 × wrong a_s3",
     "M_I3": "(M) a_s3·Js3 is not a moment; Js3·α3 is",
     "L1": "measured; matches",

@@ -140,7 +140,7 @@ def update_doc(blocks: dict[str, str]) -> None:
         )
         if not pat.search(text):
             raise SystemExit(f"docs/accuracy.md has no block accuracy:{name}")
-        text = pat.sub(lambda m: block(name, body), text)
+        text = pat.sub(lambda _m, name=name, body=body: block(name, body), text)
     DOC.write_text(text)
 
 

@@ -136,7 +136,7 @@ def build(timing: bool = True):
                 tk = ac.best_of(run)
                 by = "jacobian" if scheme == "exact" else scheme
                 ta = ac.best_of(
-                    lambda: ks.analyze(
+                    lambda system=system, by=by, h=h: ks.analyze(
                         system, positions=None, friction=False, derivatives_by=by, step=h or 1.0
                     )
                 )

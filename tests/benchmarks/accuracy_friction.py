@@ -110,8 +110,10 @@ def build(timing: bool = True):
             if timing:
                 approx, cons = stages(system)
                 times = [
-                    ac.best_of(lambda: ks.analyze(system, friction=False)),
-                    ac.best_of(lambda: ks.analyze(system), repeat=3 if s > 8 else None),
+                    ac.best_of(lambda system=system: ks.analyze(system, friction=False)),
+                    ac.best_of(
+                        lambda system=system: ks.analyze(system), repeat=3 if s > 8 else None
+                    ),
                     ac.best_of(approx),
                     ac.best_of(cons, repeat=3 if s > 8 else None),
                 ]

@@ -82,7 +82,7 @@ def kinematics_only(timing: bool) -> Table:
             len(r.columns),
             kin.count,
             ev.count,
-            ms(ac.best_of(lambda: ks.analyze(system, **kw)) if timing else None),
+            ms(ac.best_of(lambda kw=kw: ks.analyze(system, **kw)) if timing else None),
         )
     return tab
 
@@ -103,7 +103,7 @@ def without_friction(timing: bool) -> Table:
             "yes" if system.model.has_friction else "no",
             calls.count,
             len(r.columns),
-            ms(ac.best_of(lambda: ks.analyze(system)) if timing else None),
+            ms(ac.best_of(lambda system=system: ks.analyze(system)) if timing else None),
         )
     return tab
 

@@ -98,7 +98,7 @@ def measure(name: str, general: bool, timing: bool, ref=None, **knobs):
         if timing:
             times = [
                 ac.best_of(
-                    lambda: solve_positions(system, runs[n][0], sched),
+                    lambda n=n: solve_positions(system, runs[n][0], sched),
                     repeat=None if n == 360 else 3,
                 )
                 for n in (360, 36_000)

@@ -236,9 +236,9 @@ def build(timing: bool = True):
                 ac.PLACEHOLDER if not timing else f"{total[n] / n * 1e6:.3g}",
             ]
         tab.add(*sums, "100 %" if timing else ac.PLACEHOLDER)
+        links = len(ks.build_system(ks.load(ac.ROOT / "mechanisms" / f"{name}.yaml")).links)
         blocks[f"stages-{name}"] = (
-            f"**{name}** ({len(ks.build_system(ks.load(ac.ROOT / 'mechanisms' / f'{name}.yaml')).links)} "
-            f"moving links, {per[360][1]} result columns)\n\n" + tab.markdown()
+            f"**{name}** ({links} moving links, {per[360][1]} result columns)\n\n" + tab.markdown()
         )
         data[name] = rows
 

@@ -44,7 +44,7 @@ def main() -> None:
     )
     for n in (360, 36_000):
         phi = np.arange(n) * 2 * np.pi / n
-        t_cf = best_of(lambda: cf.kinematics(p, phi))
+        t_cf = best_of(lambda phi=phi: cf.kinematics(p, phi))
         for name in ("slider_crank", "slotting_machine"):
             system = ks.build_system(ks.load(ROOT / "mechanisms" / f"{name}.yaml"))
             start = system.model.analysis.start

@@ -27,12 +27,12 @@ def main() -> None:
     for n in (360, 36_000):
         phi = np.arange(n) * 2 * np.pi / n
 
-        def closed():
+        def closed(phi=phi):
             cf.kinematics(p, phi)
             return cf.reactions(p, phi)
 
-        def closed_friction():
-            closed()
+        def closed_friction(phi=phi):
+            closed(phi)
             return cf.friction_approx_torque_eq9(p, phi)
 
         t_cf, t_cf_f = best_of(closed), best_of(closed_friction)
@@ -52,11 +52,11 @@ def main() -> None:
             n.replace("motor.torque", "motor.torque_friction_approx") for n in plain[-1:]
         ]
 
-        def frictionless():
+        def frictionless(phi=phi, plain=plain):
             r = ks.analyze(system, positions=phi, friction=False)
             return [r[n] for n in plain]
 
-        def full():
+        def full(phi=phi, with_f=with_f):
             r = ks.analyze(system, positions=phi)
             return [r[n] for n in with_f + ["motor.torque_friction"]]
 

@@ -304,12 +304,12 @@ def candidate(seed: int, attempt: int = 0) -> dict:
     """One unchecked candidate (SI units); ``generate`` filters them."""
     rng = np.random.default_rng([seed, attempt])
     B = _Builder(rng)
-    O = rng.uniform(-0.2, 0.2, 2)
+    pivot = rng.uniform(-0.2, 0.2, 2)
     r = rng.uniform(0.03, 0.09)
     psi0 = rng.uniform(0, 2 * math.pi)
-    A = O + r * _unit(psi0)
-    B.add_point("ground", "O", O)
-    B.new_link("crank", {"O": O, "A": A})
+    A = pivot + r * _unit(psi0)
+    B.add_point("ground", "O", pivot)
+    B.new_link("crank", {"O": pivot, "A": A})
     B.joints["O"] = {"type": "revolute", "links": ["ground", "crank"]}
     B.sketch["crank.A"] = [float(A[0]), float(A[1])]
     B.kinds.append("crank")
@@ -320,7 +320,7 @@ def candidate(seed: int, attempt: int = 0) -> dict:
         m = rng.uniform(0.002, 0.004)
         d = m * (z1 + z2) / 2
         beta = rng.uniform(0, 2 * math.pi)
-        O2 = O + d * _unit(beta)
+        O2 = pivot + d * _unit(beta)
         B2 = O2 + rng.uniform(0.03, 0.08) * _unit(rng.uniform(0, 2 * math.pi))
         B.add_point("ground", "O2", O2)
         B.new_link("crank2", {"O2": O2, "B": B2})

@@ -6,16 +6,19 @@ from hypothesis import strategies as st
 
 from . import generate as G
 
+# the default seeds of the strategies below (a strategy is immutable: safe as a default)
+SEEDS = st.integers(min_value=0, max_value=2**31 - 1)
+
 
 @st.composite
-def mechanisms(draw, seeds=st.integers(min_value=0, max_value=2**31 - 1)):
+def mechanisms(draw, seeds=SEEDS):
     """An accepted random mechanism (an SI YAML-like dict) and its seed."""
     seed = draw(seeds)
     return seed, G.generate(seed)
 
 
 @st.composite
-def mechanisms_in_units(draw, seeds=st.integers(min_value=0, max_value=2**31 - 1)):
+def mechanisms_in_units(draw, seeds=SEEDS):
     """A generated mechanism and the same one written in random length/angle/speed
     units: ``(seed, si_doc, doc_in_units)``."""
     seed, doc = draw(mechanisms(seeds))

@@ -412,7 +412,7 @@ def _self_check() -> dict:
         # (1) finite differences over phi1 (d/dt = omega1 d/dphi1)
         h = 1e-5
         kp, km, k = kinematics(p, phi + h), kinematics(p, phi - h), kinematics(p, phi)
-        d = lambda key: (kp[key] - km[key]) / (2 * h) * p.omega1  # noqa: E731
+        d = lambda key, kp=kp, km=km, h=h, p=p: (kp[key] - km[key]) / (2 * h) * p.omega1  # noqa: E731
         fd = max(
             _rel(d("phi2"), k["omega2"]),
             _rel(d("omega2"), k["alpha2"]),
