@@ -34,7 +34,10 @@ from typing import Any
 
 import numpy as np
 
+from .positions import SKETCH_TOL, sketch_distances, start_pose
 from .schedule import schedule
+from .system import phi
+from .units import factor
 
 __all__ = [
     "Check",
@@ -137,14 +140,12 @@ def _row_text(result, k: int) -> str:
 
 
 def _length(system, metres: float) -> str:
-    from .units import factor
 
     unit = system.model.units.get("length", "m")
     return f"{metres / factor('length', unit):.3g} {unit}"
 
 
 def _constraints(system, q, psi) -> tuple[float, int]:
-    from .system import phi
 
     n_j = len(system.model.joints)
     which = range(len(system.constraints)) if psi is not None else range(n_j)
@@ -161,7 +162,6 @@ def _constraint_check(value: float, where: str) -> Check:
 
 
 def _sketch_check(system, q0) -> Check | None:
-    from .positions import SKETCH_TOL, sketch_distances
 
     points = sketch_distances(system, q0)
     if not points:
@@ -186,7 +186,6 @@ def _cond_check(value: float, where: str, group: str) -> Check:
 
 
 def _start(system):
-    from .positions import start_pose
 
     sched = schedule(system)
     return sched, start_pose(system, sched)[0]
@@ -194,7 +193,6 @@ def _start(system):
 
 def result_checks(result) -> Checks:
     """The self-checks of ``result`` (see the module's docstring)."""
-    from .results import group_column
 
     system = result.system
     sched, q0 = _start(system)
@@ -241,7 +239,7 @@ def result_checks(result) -> Checks:
             checks[name] = Check(name, v, POWER_TOL, _row_text(result, k), f"{label} {v:.0e}")
     worst, where = 0.0, ""
     for p in system.plans:
-        col = f"{group_column(p.group)}.cond"
+        col = f"{p.group.column}.cond"
         if p.group.kind == "driven" or col not in cols:
             continue
         c = np.where(np.isnan(cols[col]), np.inf, cols[col])

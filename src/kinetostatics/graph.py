@@ -48,6 +48,11 @@ class Group:
     drivers: tuple[str, ...]
 
     @property
+    def column(self) -> str:
+        """Prefix of the group's result columns: its links joined by '_'."""
+        return "_".join(self.links)
+
+    @property
     def label(self) -> str:
         head = {
             "dyad": f"{self.letters} dyad",

@@ -21,12 +21,7 @@ from .errors import did_you_mean
 from .state import point_state
 from .system import System
 
-__all__ = ["Result", "build_columns", "group_column"]
-
-
-def group_column(group) -> str:
-    """Column prefix of a group: its links joined by '_'."""
-    return "_".join(group.links)
+__all__ = ["Result", "build_columns"]
 
 
 def _joint_position(system: System, q: np.ndarray, name: str) -> np.ndarray:
@@ -52,7 +47,7 @@ def _dyad_angle_names(system: System) -> list[tuple[str, str]]:
     """(column prefix, label) of the dyads that have a transmission or pressure angle."""
     label = {"RRR": "transmission_angle", "RRP": "pressure_angle"}
     return [
-        (group_column(p.group), label[p.group.letters])
+        (p.group.column, label[p.group.letters])
         for p in system.plans
         if p.group.kind == "dyad" and p.group.letters in label
     ]
@@ -89,12 +84,12 @@ def _dyad_angles(system: System, q: np.ndarray) -> dict[str, tuple[str, np.ndarr
         u = pa - pm
         if g.letters == "RRR":
             v = _joint_position(system, q, ext_b) - pm
-            out[group_column(g)] = ("transmission_angle", _angle_between(u, v))
+            out[g.column] = ("transmission_angle", _angle_between(u, v))
         else:
             s = joints[ext_b]
             qi, qj = (_pose(system, q, link) for link in s.links)
             axis = s.glyph(qi, qj).guide.direction  # the slide's axis
-            out[group_column(g)] = ("pressure_angle", _angle_between(u, axis, unsigned=True))
+            out[g.column] = ("pressure_angle", _angle_between(u, axis, unsigned=True))
     return out
 
 
@@ -204,7 +199,7 @@ def build_columns(system: System, t, psi, q, qd, qdd, x0, fric, power, cond, sha
     if x0 is not None:
         _kinetic_columns(system, put, q, x0, fric, power)
     for g, c in cond.items():
-        put([(f"{group_column(g)}.cond", "1")], lambda c=c: (c,))
+        put([(f"{g.column}.cond", "1")], lambda c=c: (c,))
     angles = {}
 
     def dyad_angles():
