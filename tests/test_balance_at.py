@@ -23,11 +23,11 @@ import numpy as np
 import pytest
 
 import kinetostatics as ks
-from kinetostatics.analysis import kinetics
+from kinetostatics.analysis.pipeline import kinetics
+from kinetostatics.batch.variants import summary_row
 from kinetostatics.dynamics import equivalent, simulate
-from kinetostatics.flywheel import design, verify
-from kinetostatics.positions import derivatives
-from kinetostatics.variants import summary_row
+from kinetostatics.dynamics.flywheel import design, verify
+from kinetostatics.kinematics.positions import derivatives
 
 from .helpers import ROOT
 from .oracles import slider_crank_closed_form as cf

@@ -19,8 +19,11 @@ from pathlib import Path
 
 import pytest
 
-from kinetostatics import batch, friction, results, sweeps, variants
+from kinetostatics.analysis import results
+from kinetostatics.batch import runner as batch
+from kinetostatics.batch import sweeps, variants
 from kinetostatics.cli import main
+from kinetostatics.kinetics import friction
 
 ROOT = Path(__file__).resolve().parent.parent
 SLIDER = ROOT / "mechanisms" / "slider_crank.yaml"

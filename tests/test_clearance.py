@@ -10,10 +10,15 @@ import numpy as np
 import pytest
 
 import kinetostatics as ks
-from kinetostatics.clearance import ideal, motion_over_time, two_force_member, with_clearance
-from kinetostatics.contact import ContactLaw, hertz_stiffness
 from kinetostatics.dynamics import simulate
-from kinetostatics.system import build_system
+from kinetostatics.dynamics.clearance import (
+    ideal,
+    motion_over_time,
+    two_force_member,
+    with_clearance,
+)
+from kinetostatics.dynamics.contact import ContactLaw, hertz_stiffness
+from kinetostatics.structure.system import build_system
 
 ROOT = Path(__file__).resolve().parents[1]
 SWING = ROOT / "mechanisms" / "ammunition_swing.yaml"

@@ -17,8 +17,8 @@ import numpy as np
 import pytest
 
 import kinetostatics as ks
-from kinetostatics.clearance import with_clearance
-from kinetostatics.contact import ContactLaw, simulate_contact
+from kinetostatics.dynamics.clearance import with_clearance
+from kinetostatics.dynamics.contact import ContactLaw, simulate_contact
 
 CRANK_ROD_SLIDER = """
 name: crank-rod-slider with a clearance at B

@@ -14,10 +14,10 @@ from scipy.integrate import solve_ivp
 from scipy.special import ellipk
 
 import kinetostatics as ks
-from kinetostatics.analysis import kinetics
+from kinetostatics.analysis.pipeline import kinetics
 from kinetostatics.dynamics import Dynamics, equivalent, simulate
+from kinetostatics.kinematics.positions import derivatives
 from kinetostatics.model import EffortLaw
-from kinetostatics.positions import derivatives
 
 from .helpers import ROOT, variant
 from .oracles import slider_crank_closed_form as cf

@@ -15,7 +15,7 @@ from scipy.integrate import solve_ivp
 
 import kinetostatics as ks
 from kinetostatics.dynamics import simulate, speed_fluctuation, with_effort
-from kinetostatics.flywheel import design
+from kinetostatics.dynamics.flywheel import design
 from kinetostatics.model import EffortLaw
 
 from .helpers import ROOT, variant

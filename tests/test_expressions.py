@@ -1,11 +1,11 @@
-"""Tests for kinetostatics.expressions."""
+"""Tests for kinetostatics.base.expressions."""
 
 import math
 import time
 
 import pytest
 
-from kinetostatics.expressions import (
+from kinetostatics.base.expressions import (
     CONSTANTS,
     FUNCTIONS,
     MAX_EXPRESSION_LENGTH,

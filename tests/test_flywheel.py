@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import kinetostatics as ks
-from kinetostatics.flywheel import design, verify
+from kinetostatics.dynamics.flywheel import design, verify
 
 from .helpers import ROOT
 

@@ -68,7 +68,7 @@ def _locking_edge_deg(rho_o=1.5, rho_a=1.2, rho_b=1.0) -> float:
 
 
 def test_batch_row_of_a_slide_balanced_driver():
-    from kinetostatics.variants import summary_row
+    from kinetostatics.batch.variants import summary_row
 
     text = SLIDER_DRIVEN.read_text().replace("positions: 360", "positions: 36")
     with warnings.catch_warnings():
@@ -98,7 +98,7 @@ def test_batch_row_of_a_slide_balanced_driver():
     assert zones[0][1] == pytest.approx(e, abs=1e-6)
     # 180°: the dead centre and the rows where the slide's speed per unit crank speed,
     # ≈ a δ (1 − a/b)/L_ref (L_ref = b), is at most EFFORT_SPEED_TOL (no effort there)
-    from kinetostatics.reactions import EFFORT_SPEED_TOL
+    from kinetostatics.kinetics.reactions import EFFORT_SPEED_TOL
 
     half = np.degrees(EFFORT_SPEED_TOL * B_SC / (A_SC * (1 - A_SC / B_SC)))
     assert zones[1] == pytest.approx((180.0 - half, 180.0 + half), abs=1e-6)
@@ -257,9 +257,9 @@ def test_overconstrained_parallelogram_is_refused_clearly():
 
 
 def test_redundant_joint_named_from_the_equilibrium_matrix():
-    from kinetostatics.inverse import redundant_joints
-    from kinetostatics.reactions import equilibrium_matrix
-    from kinetostatics.system import build_system, phi
+    from kinetostatics.kinetics.inverse import redundant_joints
+    from kinetostatics.kinetics.reactions import equilibrium_matrix
+    from kinetostatics.structure.system import build_system, phi
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -289,8 +289,8 @@ def test_redundant_joint_named_from_the_equilibrium_matrix():
 
 
 def test_friction_with_a_non_square_equilibrium_is_a_clear_error():
-    from kinetostatics.analysis import kinetics
-    from kinetostatics.system import build_system
+    from kinetostatics.analysis.pipeline import kinetics
+    from kinetostatics.structure.system import build_system
 
     # the slider-crank with an applied torque instead of a prescribed motion: no unknown
     # effort, 9 equations for 8 reactions; friction needs the equilibrium solved

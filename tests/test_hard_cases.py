@@ -145,7 +145,7 @@ def test_rocker_driven_into_its_toggle_reports_the_singular_position_and_the_blo
     assert np.degrees(s.coordinate) == pytest.approx(PSI_TOGGLE, abs=1e-6)
     assert s.t == pytest.approx(T_TOGGLE, abs=1e-6)
     assert s.condition > 1e6
-    from kinetostatics.summary import summarize
+    from kinetostatics.outputs.summary import summarize
 
     assert summarize(r)["singular_positions"] == [
         {

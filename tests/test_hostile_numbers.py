@@ -175,7 +175,7 @@ def test_times_up_to_the_limit_are_analysed(slider):
 
 def test_simulate_and_flywheel_refuse_hostile_arguments(slider):
     from kinetostatics.dynamics import simulate
-    from kinetostatics.flywheel import design
+    from kinetostatics.dynamics.flywheel import design
 
     for kwargs, text in (
         (dict(until=float("nan")), "until = nan"),
@@ -273,7 +273,7 @@ def locked():
 
 
 def test_the_summary_and_report_of_an_all_self_locked_result_do_not_crash(locked):
-    from kinetostatics.report import _summary_blocks
+    from kinetostatics.outputs.report import _summary_blocks
 
     assert np.all(locked["friction.status"] == 2)
     assert np.all(np.isnan(locked["motor.force_friction"]))
@@ -294,7 +294,7 @@ def test_polar_diagrams_of_an_all_self_locked_friction_solution_do_not_crash(loc
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from kinetostatics.plotting import polar_diagrams
+    from kinetostatics.outputs.plotting import polar_diagrams
 
     fig = polar_diagrams(locked, friction=True)
     assert any("no consistent friction solution" in ax.get_title() for ax in fig.axes)

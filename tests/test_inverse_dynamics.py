@@ -3,9 +3,9 @@
 import numpy as np
 
 import kinetostatics as ks
-from kinetostatics.analysis import kinetics
-from kinetostatics.positions import derivatives, positions_near
-from kinetostatics.schedule import schedule
+from kinetostatics.analysis.pipeline import kinetics
+from kinetostatics.kinematics.positions import derivatives, positions_near
+from kinetostatics.kinematics.schedule import schedule
 
 from .oracles import slider_crank_closed_form as cf
 

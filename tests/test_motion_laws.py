@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import kinetostatics as ks
-from kinetostatics.motion import HarmonicLaw, PolynomialLaw
+from kinetostatics.model.motion import HarmonicLaw, PolynomialLaw
 
 from .oracles import slider_crank_closed_form as cf
 

@@ -3,7 +3,8 @@
 import numpy as np
 
 import kinetostatics as ks
-from kinetostatics import analysis, inverse
+from kinetostatics.analysis import pipeline as analysis
+from kinetostatics.kinetics import inverse
 
 
 def test_kinematics_only_assembles_no_loads(monkeypatch):

@@ -285,7 +285,8 @@ def test_importing_the_picture_modules_is_light():
     import subprocess
 
     code = (
-        "import sys, kinetostatics.plotting, kinetostatics.report, kinetostatics.cli_pictures;"
+        "import sys, kinetostatics.plotting, kinetostatics.outputs.report, "
+        "kinetostatics.cli.pictures;"
         "print(any(m.startswith('matplotlib') for m in sys.modules))"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)

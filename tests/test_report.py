@@ -170,7 +170,7 @@ def test_html_is_self_contained_and_equals_the_csv(slotting_report):
 
 
 def test_flywheel_section_when_the_summary_has_one(tmp_path, monkeypatch):
-    from kinetostatics.results import Result
+    from kinetostatics.analysis.results import Result
 
     original = Result.summary
 
@@ -185,7 +185,7 @@ def test_flywheel_section_when_the_summary_has_one(tmp_path, monkeypatch):
         return s
 
     monkeypatch.setattr(Result, "summary", with_flywheel)
-    from kinetostatics.report import write_report
+    from kinetostatics.outputs.report import write_report
 
     paths = write_report(
         ROOT / "mechanisms" / "slider_crank.yaml", tmp_path, polygons=["2"], dpi=30

@@ -175,8 +175,8 @@ def test_the_cases_are_extreme():
 
 def test_general_path_really_runs_newton(monkeypatch):
     """With the closed forms disabled the solve iterates (the Newton path is tested)."""
-    from kinetostatics.positions import solve_positions
-    from kinetostatics.schedule import sample_times, schedule
+    from kinetostatics.kinematics.positions import solve_positions
+    from kinetostatics.kinematics.schedule import sample_times, schedule
 
     monkeypatch.setattr(dyads, "closed_form", lambda *a, **k: None)
     system = ks.build_system(model("micro (µm, 20,000 rpm)"))

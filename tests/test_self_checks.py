@@ -11,10 +11,10 @@ import pytest
 
 import kinetostatics as ks
 from kinetostatics import ModelError
-from kinetostatics.checks import COND_TOL, CONSTRAINT_TOL, POWER_TOL
+from kinetostatics.analysis.checks import COND_TOL, CONSTRAINT_TOL, POWER_TOL
 from kinetostatics.cli import main
-from kinetostatics.positions import SKETCH_TOL
-from kinetostatics.system import build_system
+from kinetostatics.kinematics.positions import SKETCH_TOL
+from kinetostatics.structure.system import build_system
 
 ROOT = Path(__file__).resolve().parents[1]
 SHIPPED = sorted((ROOT / "mechanisms").glob("*.yaml"))

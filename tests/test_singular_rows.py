@@ -80,7 +80,7 @@ def test_dead_centres_are_flagged_rows_not_a_crash(grid):
     summary = grid.summary()
     assert [s["group"] for s in summary["singular_positions"]] == ["equilibrium"] * 2
     assert np.isfinite(summary["reaction_peaks"]["O"]["peak"])
-    from kinetostatics.variants import summary_row
+    from kinetostatics.batch.variants import summary_row
 
     assert np.isfinite(summary_row(grid)["O.reaction_peak"])
 
@@ -172,7 +172,7 @@ def test_reported_zone_edges_match_the_closed_form(grid):
     # 180°: the singular row alone, with the positions where the slide's speed per unit
     # crank speed, ẋ_B/(ω L_ref) = a sin δ (1 − a cos δ/√(b² − a² sin² δ))/L_ref ≈ a δ (1 − a/b)
     # /L_ref (L_ref = b), is at most reactions.EFFORT_SPEED_TOL: no effort to round-off there
-    from kinetostatics.reactions import EFFORT_SPEED_TOL
+    from kinetostatics.kinetics.reactions import EFFORT_SPEED_TOL
 
     half = np.degrees(EFFORT_SPEED_TOL * B / (A * (1 - A / B)))  # 2.8e-5°
     dead = [z for z in zones if z["rows"] == 1]

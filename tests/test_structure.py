@@ -5,7 +5,12 @@ import pytest
 import kinetostatics as ks
 from kinetostatics.cli import main
 from kinetostatics.errors import StructureError
-from kinetostatics.graph import check_loops, cyclomatic_number, independent_loops, joint_graph
+from kinetostatics.structure.graph import (
+    check_loops,
+    cyclomatic_number,
+    independent_loops,
+    joint_graph,
+)
 
 from .helpers import variant
 

@@ -92,8 +92,8 @@ def test_a_random_subset_of_positions(reference):
 def _sketch_at(result, k):
     """The model's sketch moved to where the run put each sketched point at row ``k`` (the
     sketch is a rough pose at ``analysis.start``: another start needs its own)."""
-    from kinetostatics.forces import point_state
-    from kinetostatics.positions import _joint_points
+    from kinetostatics.kinematics.positions import _joint_points
+    from kinetostatics.kinetics.forces import point_state
 
     system = result.system
     model = system.model

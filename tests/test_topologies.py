@@ -18,7 +18,7 @@ import pytest
 
 import kinetostatics as ks
 from kinetostatics.cli import main
-from kinetostatics.system import jacobian, nu
+from kinetostatics.structure.system import jacobian, nu
 
 ROOT = Path(__file__).resolve().parents[1]
 MECH = ROOT / "mechanisms"

@@ -1,10 +1,10 @@
-"""Tests for kinetostatics.units."""
+"""Tests for kinetostatics.base.units."""
 
 import math
 
 import pytest
 
-from kinetostatics.units import (
+from kinetostatics.base.units import (
     QUANTITY_KINDS,
     SI_UNITS,
     UNITS,

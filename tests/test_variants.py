@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 
 import kinetostatics as ks
+from kinetostatics.batch.variants import Template, analyze_variants
 from kinetostatics.errors import ModelError
-from kinetostatics.stacking import TopologyMismatch, stack
-from kinetostatics.variants import Template, analyze_variants
+from kinetostatics.model.stacking import TopologyMismatch, stack
 
 MECH = Path(__file__).resolve().parents[1] / "mechanisms"
 

@@ -19,9 +19,9 @@ ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "src"))
 
 import kinetostatics as ks  # noqa: E402
-from kinetostatics.clearance import motion_over_time, two_force_member, with_clearance  # noqa: E402
-from kinetostatics.contact import ContactLaw, simulate_contact  # noqa: E402
 from kinetostatics.dynamics import simulate  # noqa: E402
+from kinetostatics.dynamics.clearance import motion_over_time, two_force_member, with_clearance  # noqa: E402
+from kinetostatics.dynamics.contact import ContactLaw, simulate_contact  # noqa: E402
 
 SWING = ROOT / "mechanisms" / "ammunition_swing.yaml"
 CACHE = Path(__file__).with_name(".clearance_cache")  # one .npz per run (git-ignored)

@@ -20,7 +20,7 @@ sys.path.insert(0, str(ROOT))
 
 import kinetostatics as ks  # noqa: E402
 from kinetostatics.dynamics import equivalent, simulate, speed_fluctuation  # noqa: E402
-from kinetostatics.flywheel import design, verify  # noqa: E402
+from kinetostatics.dynamics.flywheel import design, verify  # noqa: E402
 
 SLOTTING = ROOT / "mechanisms" / "slotting_machine.yaml"
 RATIO = 24  # an assumed motor: 1440 rpm through a 24:1 reduction to the 60 rpm crank

@@ -6,6 +6,7 @@
 >>> result["motor.torque"].max()                         # doctest: +SKIP
 """
 
+from . import _aliases
 from .errors import (
     AssemblyError,
     KinetostaticsError,
@@ -17,8 +18,10 @@ from .errors import (
     SingularConfigurationError,
     StructureError,
 )
-from .loading import load, loads
 from .model import Model
+from .outputs.loading import load, loads
+
+_aliases.install()  # the import paths from before the layer packages (docs/architecture.md)
 
 __all__ = [
     "load",
@@ -45,11 +48,11 @@ def __getattr__(name):  # keep `import kinetostatics` light: load stages on use
 
         return analyze
     if name == "Result":
-        from .results import Result
+        from .analysis.results import Result
 
         return Result
     if name == "build_system":
-        from .system import build_system
+        from .structure.system import build_system
 
         return build_system
     raise AttributeError(f"module 'kinetostatics' has no attribute '{name}'")

@@ -6,6 +6,6 @@ from .base import limits, spec
 from .base.limits import *  # noqa: F403
 from .base.spec import *  # noqa: F403
 from .io import TOP_KEYS, dump
-from .loading import build, load, loads
+from .outputs.loading import build, load, loads
 
 __all__ = ["load", "loads", "build", "dump", "TOP_KEYS", *spec.__all__, *limits.__all__]

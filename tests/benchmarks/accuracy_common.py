@@ -60,7 +60,8 @@ def general_path():
 
 @contextlib.contextmanager
 def knobs(**values):
-    """Temporarily set module constants of ``kinetostatics.positions`` (TOL, COARSE_STEP…)."""
+    """Temporarily set module constants of ``kinetostatics.kinematics.positions``
+    (TOL, COARSE_STEP…)."""
     saved = {k: getattr(positions, k) for k in values}
     for k, v in values.items():
         setattr(positions, k, v)

@@ -22,11 +22,11 @@ import numpy as np
 from accuracy_common import Table, e, ms
 
 import kinetostatics as ks
-from kinetostatics._linalg import BlockFactor
-from kinetostatics.differences import difference_derivatives
-from kinetostatics.positions import derivatives, solve_positions
-from kinetostatics.schedule import sample_times, schedule
-from kinetostatics.system import gamma, jacobian, nu
+from kinetostatics.base.linalg import BlockFactor
+from kinetostatics.kinematics.differences import difference_derivatives
+from kinetostatics.kinematics.positions import derivatives, solve_positions
+from kinetostatics.kinematics.schedule import sample_times, schedule
+from kinetostatics.structure.system import gamma, jacobian, nu
 
 STEPS = (1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7)
 CASES = (

@@ -31,7 +31,8 @@ import accuracy_common as ac
 from accuracy_common import Table, ms
 
 import kinetostatics as ks
-from kinetostatics import analysis, inverse
+from kinetostatics.analysis import pipeline as analysis
+from kinetostatics.kinetics import inverse
 
 SLOTTING = ac.ROOT / "mechanisms" / "slotting_machine.yaml"
 HEAVY = ("matplotlib", "scipy.optimize", "scipy.integrate", "scipy.interpolate", "pandas")

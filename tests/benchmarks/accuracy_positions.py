@@ -1,13 +1,13 @@
 """Positions: the closed-form fast path against the general Newton path, the
 Newton tolerance and the continuation (prediction) step.
 
-``kinetostatics.positions`` solves all positions in closed form when every
+``kinetostatics.kinematics.positions`` solves all positions in closed form when every
 group is a closed-form dyad (fast path); otherwise it runs the general path:
 a continuation over the cycle with driver steps ≤ ``COARSE_STEP`` (30°) and a
 second-order predictor, then one batched Newton per group over all requested
 positions from a cubic Hermite prediction, converged to ``TOL`` (1e-12,
 relative to L_ref and 1 rad).  Here the general path is forced by disabling
-the closed forms (``kinetostatics.dyads.closed_form`` → None), and ``TOL`` and
+the closed forms (``kinetostatics.kinematics.dyads.closed_form`` → None), and ``TOL`` and
 ``COARSE_STEP`` are varied.
 
 Iterations: *batch* = Newton iterations of the final batch per position (summed
@@ -28,8 +28,8 @@ import numpy as np
 from accuracy_common import Table, e, ms
 
 from kinetostatics import positions
-from kinetostatics.positions import derivatives, solve_positions
-from kinetostatics.schedule import sample_times, schedule
+from kinetostatics.kinematics.positions import derivatives, solve_positions
+from kinetostatics.kinematics.schedule import sample_times, schedule
 
 TOLS = (1e-4, 1e-6, 1e-8, 1e-10, 1e-12, 1e-14)
 STEPS_DEG = (5, 10, 30, 60, 90, 120)

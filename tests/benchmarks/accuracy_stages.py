@@ -22,14 +22,24 @@ from accuracy_common import Table
 
 import kinetostatics as ks
 from kinetostatics import friction as fr
-from kinetostatics._linalg import BlockFactor
-from kinetostatics.conditions import load_events
-from kinetostatics.forces import external_forces, gravity_forces, inertia_forces, mass_vector
-from kinetostatics.positions import _assemble_start, condition_number, derivatives, solve_positions
-from kinetostatics.reactions import effort_joints, ground_reaction
-from kinetostatics.results import Result, build_columns
-from kinetostatics.schedule import sample_times, schedule
-from kinetostatics.system import coordinate_gradient, gamma, jacobian, nu
+from kinetostatics.analysis.results import Result, build_columns
+from kinetostatics.base.linalg import BlockFactor
+from kinetostatics.kinematics.positions import (
+    _assemble_start,
+    condition_number,
+    derivatives,
+    solve_positions,
+)
+from kinetostatics.kinematics.schedule import sample_times, schedule
+from kinetostatics.kinetics.conditions import load_events
+from kinetostatics.kinetics.forces import (
+    external_forces,
+    gravity_forces,
+    inertia_forces,
+    mass_vector,
+)
+from kinetostatics.kinetics.reactions import effort_joints, ground_reaction
+from kinetostatics.structure.system import coordinate_gradient, gamma, jacobian, nu
 
 NAMES = ("slider_crank", "slotting_machine")
 SIZES = (360, 36_000)

@@ -23,8 +23,9 @@ import time
 from _common import ROOT
 
 import kinetostatics as ks
-from kinetostatics import batch, sweeps
-from kinetostatics.variants import Template, failure_row, summary_row
+from kinetostatics.batch import runner as batch
+from kinetostatics.batch import sweeps
+from kinetostatics.batch.variants import Template, failure_row, summary_row
 
 SWEEP = """
 random:

@@ -23,7 +23,7 @@ from _common import ROOT
 sys.path.insert(0, str(ROOT / "docs" / "scripts"))
 from clearance_values import b_run, write_block  # noqa: E402
 
-from kinetostatics.contact import ContactLaw  # noqa: E402
+from kinetostatics.dynamics.contact import ContactLaw  # noqa: E402
 
 T_END, E = 0.03, 0.5e-3
 CASES = [
@@ -55,8 +55,8 @@ def profile(until: float = 0.01) -> str:
     import pstats
 
     import kinetostatics as ks
-    from kinetostatics.clearance import with_clearance
-    from kinetostatics.contact import simulate_contact
+    from kinetostatics.dynamics.clearance import with_clearance
+    from kinetostatics.dynamics.contact import simulate_contact
 
     law = ContactLaw(journal_radius=0.02, restitution=0.9)
     model = with_clearance(

@@ -19,8 +19,8 @@ import numpy as np
 from _common import ROOT, best_of
 
 import kinetostatics as ks
-from kinetostatics.positions import derivatives, solve_positions
-from kinetostatics.schedule import sample_times, schedule
+from kinetostatics.kinematics.positions import derivatives, solve_positions
+from kinetostatics.kinematics.schedule import sample_times, schedule
 from tests.oracles import slider_crank_closed_form as cf
 
 

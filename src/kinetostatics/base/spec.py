@@ -19,8 +19,8 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from .. import expressions, units
 from ..errors import Collector, Location, ModelError, did_you_mean
+from . import expressions, units
 from .limits import MAGNITUDE, MAX_DEPTH, MAX_FILE_BYTES, MAX_NODES
 
 __all__ = ["Entry", "compose", "read_text", "NAME", "RESERVED"]

@@ -27,7 +27,7 @@ needed to start moving either way (friction and velocity-opposing loads taken
 in that sense); the machine starts in that sense or stays at rest (stuck).
 
 Positions are not integrated: the state is (ψ_f, ψ̇_f), and the positions are
-solved from ψ at every evaluation (:func:`~kinetostatics.positions.positions_near`),
+solved from ψ at every evaluation (:func:`~kinetostatics.kinematics.positions.positions_near`),
 so they lie on the constraint manifold to the Newton tolerance; the guess is a
 second-order Taylor prediction from the last solved state along ψ, in steps
 ≤ 10° with a jump check, which keeps the solver's branch.

@@ -9,7 +9,6 @@ from typing import Any
 
 import numpy as np
 
-from ..conditions import ZERO_SPEED, travel_extremes
 from ..errors import (
     KinetostaticsError,
     Location,
@@ -17,13 +16,14 @@ from ..errors import (
     SingularConfigurationError,
     StructureError,
 )
-from ..forces import mass_vector
-from ..inverse import kinetics
+from ..kinematics.positions import derivatives, positions_near, start_pose
+from ..kinematics.schedule import schedule
+from ..kinetics.conditions import ZERO_SPEED, travel_extremes
+from ..kinetics.forces import mass_vector
+from ..kinetics.inverse import kinetics
+from ..kinetics.reactions import effort_joints
 from ..model import Model, MotionLaw
-from ..positions import derivatives, positions_near, start_pose
-from ..reactions import effort_joints
-from ..schedule import schedule
-from ..system import System, build_system, coordinate_gradient
+from ..structure.system import System, build_system, coordinate_gradient
 from . import switching
 from .reduced import _law
 

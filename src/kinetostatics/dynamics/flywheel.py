@@ -26,12 +26,12 @@ from typing import Any
 
 import numpy as np
 
-from .._checks import real_number
 from ..analysis import analyze
+from ..analysis.results import Result
+from ..base.arguments import real_number
 from ..errors import Location, StructureError
 from ..model import EffortLaw, Model, MotionLaw
-from ..results import Result
-from ..system import System, build_system
+from ..structure.system import System, build_system
 from .integration import simulate
 from .reduced import equivalent, with_effort
 from .simulation import speed_fluctuation

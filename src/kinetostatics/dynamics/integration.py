@@ -9,7 +9,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from .._checks import real_number
+from ..base.arguments import real_number
 from ..model import Model
 from .engine import Dynamics
 from .reduced import _law

@@ -7,13 +7,13 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..conditions import travel_extremes
-from ..forces import mass_vector
-from ..inverse import kinetics
+from ..kinematics.positions import derivatives
+from ..kinetics.conditions import travel_extremes
+from ..kinetics.forces import mass_vector
+from ..kinetics.inverse import kinetics
+from ..kinetics.reactions import effort_ratio
 from ..model import EffortLaw, Model
-from ..positions import derivatives
-from ..reactions import effort_ratio
-from ..system import System
+from ..structure.system import System
 
 __all__ = ["with_effort", "equivalent"]
 

@@ -13,10 +13,10 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..conditions import ZERO_SPEED, activity
-from ..forces import zero_speed
-from ..state import point_state
-from ..system import System, coordinate_gradient
+from ..kinematics.state import point_state
+from ..kinetics.conditions import ZERO_SPEED, activity
+from ..kinetics.forces import zero_speed
+from ..structure.system import System, coordinate_gradient
 
 __all__ = ["load_mode", "frozen_loads", "switching_functions"]
 

@@ -2,7 +2,7 @@
 
 :func:`read` and :func:`read_string` give the model as written (its ``clearance:``
 section read into ``Model.clearances`` but not expanded: expanding solves the
-linkage, which :mod:`kinetostatics.loading` does); :func:`build` builds a tree of
+linkage, which :mod:`kinetostatics.outputs.loading` does); :func:`build` builds a tree of
 :func:`compose` again with other parameter values; :func:`dump` writes a model back.
 The schema is documented in ``docs/yaml.md``.
 """

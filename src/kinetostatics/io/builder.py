@@ -4,7 +4,7 @@ The sections are read in dependency order by the mixins of this package, one mod
 per section; the core holds what they share: the names declared so far and what is
 in error, so that a message can say what a name is and one mistake gives one line.
 Nothing here analyses: the ``clearance:`` section is read into ``Model.clearances``,
-and :mod:`kinetostatics.loading` expands the model with it.
+and :mod:`kinetostatics.outputs.loading` expands the model with it.
 """
 
 from __future__ import annotations
@@ -68,7 +68,7 @@ def build(top: Entry, parameters: Mapping[str, float] | None = None) -> Model:
     """The model of a composed tree, with ``parameters`` replacing the values of
     the file's parameters of those names (numbers in the file's units; the
     parameters computed from them follow); its clearances read, not expanded
-    (:func:`kinetostatics.loading.build` expands them).  Raises :class:`ModelError`."""
+    (:func:`kinetostatics.outputs.loading.build` expands them).  Raises :class:`ModelError`."""
     ctx = _Context(top.ctx.file)
     ctx.overrides = dict(parameters or {})
     return Builder(Entry(top.node, top.where, ctx), ctx).build()

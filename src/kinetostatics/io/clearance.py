@@ -1,12 +1,12 @@
 """The ``clearance:`` section: the clearance of each revolute (docs/clearance.md) and its
 contact law, read into ``Model.clearances``.  Expanding a model with them solves the
-linkage, so it is not done here: :func:`kinetostatics.loading.load` does it."""
+linkage, so it is not done here: :func:`kinetostatics.outputs.loading.load` does it."""
 
 from __future__ import annotations
 
-from ..contact_law import ContactLaw
 from ..errors import did_you_mean
 from ..model import Clearance
+from ..model.contact_law import ContactLaw
 
 
 class ClearanceSection:

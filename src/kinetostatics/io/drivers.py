@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import units
+from ..base import units
 from ..base.limits import SPEED_RANGE
 from ..base.spec import Entry
 from ..errors import Location

@@ -5,12 +5,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import units
+from ..base import units
 from ..base.limits import MAGNITUDE, MAX_LAW_ACCELERATION, MAX_TURNS, SPEED_RANGE
 from ..base.spec import Entry
 from ..errors import did_you_mean
 from ..joints import Joint
-from ..motion import HarmonicLaw, PolynomialLaw, TableLaw
+from ..model.motion import HarmonicLaw, PolynomialLaw, TableLaw
 
 
 class LawSections:

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import yaml
 
-from .. import expressions, units
+from ..base import expressions, units
 from ..base.spec import NAME, Entry, _describe, _expression_message
 from ..errors import Location, did_you_mean
 

@@ -7,7 +7,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from .._geometry import dot, perp, rotate, wrap_angle
+from ..base.geometry import dot, perp, rotate, wrap_angle
 from .base import Anchor, Block, Glyph, Joint, Line
 
 __all__ = ["Prismatic"]

@@ -69,7 +69,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from .._geometry import dot, perp, rotate
+from ..base.geometry import dot, perp, rotate
 from ._mesh import (
     MeshFriction,
     read_flank,

@@ -7,7 +7,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from .._geometry import perp, rotate
+from ..base.geometry import perp, rotate
 from .base import Anchor, Glyph, Joint
 
 __all__ = ["Revolute"]

@@ -1,1 +1,3 @@
-"""Outputs of an analysis: summaries, reports and pictures (:mod:`.plotting`)."""
+"""Layer 8, outputs: what people read — the summary (:mod:`.summary`), the report
+(:mod:`.report`), the pictures (:mod:`.plotting`) — and the public loader
+(:mod:`.loading`: read a file, then expand its clearances, which needs the layers below)."""

@@ -1,4 +1,4 @@
-"""Pictures of a :class:`~kinetostatics.results.Result`.
+"""Pictures of a :class:`~kinetostatics.analysis.results.Result`.
 
 Every public drawing function takes a ``Result`` and returns a matplotlib
 ``Figure`` built without ``pyplot`` (no global state; save it with

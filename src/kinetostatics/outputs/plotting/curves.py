@@ -8,7 +8,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from ...errors import did_you_mean
-from ...forces import activity
+from ...kinetics.forces import activity
 from .rows import _angular, _course_ticks, _driver, _event_travel, _sorted, link_numbers
 from .style import CURVE_COLORS, DPI, EVENT_COLOR, PictureError, _figure, _rc
 

@@ -8,8 +8,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..._geometry import perp
-from ...forces import activity, point_state
+from ...base.geometry import perp
+from ...kinetics.forces import activity, point_state
 from .rows import _angular, _driver, _position_title, link_numbers, row_at
 from .scene import MechanismGeometry, _joint_point, _Scene, _to_global, scene_guides
 from .style import (

@@ -7,7 +7,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ..._geometry import rotate
+from ...base.geometry import rotate
 from ...errors import did_you_mean
 from .rows import _sorted, course_positions, link_numbers
 from .scene import _poses

@@ -7,8 +7,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..._geometry import perp, rotate
-from ...forces import point_state
+from ...base.geometry import perp, rotate
+from ...kinetics.forces import point_state
 from .curves import _joint_coordinate
 from .rows import _position_title, link_numbers, row_at
 from .scene import _poses, _to_global

@@ -9,7 +9,7 @@ from dataclasses import replace
 import numpy as np
 
 from ...analysis import analyze
-from ...system import build_system
+from ...structure.system import build_system
 from .style import PictureError
 
 

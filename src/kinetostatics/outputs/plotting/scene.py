@@ -9,7 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..._geometry import perp, rotate
+from ...base.geometry import perp, rotate
 from ...errors import did_you_mean
 from .rows import link_numbers
 from .style import LINK_COLORS, PictureError

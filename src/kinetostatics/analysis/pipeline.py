@@ -1,0 +1,459 @@
+"""``analyze``: the pipeline from a model to a :class:`~kinetostatics.analysis.results.Result`.
+
+Read :func:`analyze` top to bottom, one call per stage: schedule (:mod:`.schedule`) →
+rows in time → positions, with the reachable range where the linkage cannot follow the
+run (:mod:`.reachable`) → velocities/accelerations → load events and travel extremes
+(:mod:`.conditions`) → event rows → loads, reactions, friction and power
+(:mod:`.inverse`) → result columns (:mod:`.results`).
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+from ..base.arguments import real_array
+from ..errors import (
+    Location,
+    NearSingularWarning,
+    NonFiniteResultError,
+    StructureError,
+)
+from ..kinematics.differences import difference_derivatives
+from ..kinematics.events import state_near
+from ..kinematics.positions import (
+    Singularity,
+    condition_number,
+    derivatives,
+    group_condition,
+    initial_guess,
+    solve_positions,
+)
+from ..kinematics.schedule import Schedule, sample_times, schedule
+from ..kinetics.conditions import Event, load_events, travel_extremes, whole_motion
+from ..kinetics.inverse import Kinetics, kinetics
+from ..kinetics.reactions import ground_reaction
+from ..model import Model
+from ..structure.system import System, build_system, jacobian
+from .reachable import solve_run
+from .results import Result, build_columns
+
+__all__ = [
+    "analyze",
+    "kinetics",
+    "Kinetics",
+    "Schedule",
+    "Event",
+    "numerical_mobility",
+    "travel_extremes",
+    "whole_motion",
+]
+
+
+def analyze(
+    model: Model | System,
+    *,
+    positions: np.ndarray | None = None,
+    times: np.ndarray | None = None,
+    friction: bool | None = None,
+    events: bool | None = None,
+    derivatives_by: str = "jacobian",
+    step: float = np.radians(1.0),
+    reachable: bool = False,
+    kinematics_only: bool = False,
+) -> Result:
+    """Kinematics and kinetostatics over the positions of ``model.analysis``.
+
+    Parameters
+    ----------
+    model : Model or System
+        A loaded model, or a system built from one with ``build_system`` (reused).
+    positions : array, optional
+        Driver coordinates (rad, or m for a prismatic driver) to analyse instead
+        of ``analysis.positions``/``at`` (constant-speed drivers only).
+    times : array, optional
+        Times (s, from the start of the run) to analyse instead — for any
+        motion law; a non-monotone law is followed in time.
+    friction : bool, optional
+        Solve the friction solutions (default: when the model has friction).
+    events : bool, optional
+        Add rows at the exact positions where loads switch (default
+        ``analysis.events``).
+    derivatives_by : {"jacobian", "forward", "central"}
+        Velocities and accelerations from the constraint Jacobian (exact), or
+        — as a comparison mode only — by the source text's forward difference
+        quotients or by central differences with driver step ``step`` (rad or m).
+    reachable : bool
+        If the linkage cannot follow the whole sweep (a crank that cannot fully
+        rotate), analyse ``analysis.positions`` positions spread over the
+        reachable range between its limit positions instead of raising.
+    kinematics_only : bool
+        Positions, velocities and accelerations only: no loads, events,
+        reactions, friction or power are computed (and no such columns exist).
+
+    Returns
+    -------
+    Result
+        Named arrays over the positions (CSV names and units), raw arrays
+        ``q``, ``qd``, ``qdd``, ``lam``, the events and the structure.
+
+    Raises
+    ------
+    ValueError
+        ``positions`` or ``times`` not a non-empty 1-D list of finite real numbers
+        in range (times from 0; limits in docs/errors.md), naming the entry.
+    NonFiniteResultError
+        A NaN or infinity in the results that neither self-locking nor a singular
+        position explains (a model built in Python beyond the file limits).
+    """
+    system = model if isinstance(model, System) else build_system(model)
+    _require_motion_drivers(system)
+    sched = schedule(system)
+    t, given, full = _rows(system, sched, positions, times)
+    t, sol, full = solve_run(
+        system,
+        sched,
+        t,
+        given,
+        full,
+        by_coordinates=positions is not None,
+        by_times=times is not None,
+        reachable=reachable,
+    )
+    q = sol.q
+    psi, qd, qdd, lu = _motion(system, sched, t, q, derivatives_by, step)
+    if kinematics_only:
+        return _result(system, sol, t, psi, q, qd, qdd, lu, full)
+    extremes, found, states = load_events(system, sched, sched, t, q, qd, qdd, full)
+    if (system.model.analysis.events if events is None else events) and found:
+        t, q, qd, qdd = _with_event_rows(system, sched, found, states, t, q, qd, qdd)
+        psi, lu = sched(t)[0], None
+    kin = kinetics(
+        system,
+        q,
+        qd,
+        qdd,
+        psi,
+        lu=lu,
+        extremes=extremes,
+        ref_speed=sched.reference,
+        friction=system.model.has_friction if friction is None else friction,
+    )
+    return _result(system, sol, t, psi, q, qd, qdd, lu, full, kin, found, extremes)
+
+
+# -- the stages -------------------------------------------------------------------------
+def _require_motion_drivers(system: System) -> None:
+    """StructureError unless the motion drivers are as many as the mobility (at least one)."""
+    n_motion = len(system.motion_drivers)
+    if n_motion != system.structure.mobility or n_motion == 0:
+        raise StructureError(
+            [
+                (
+                    Location(system.model.source, path="drivers"),
+                    f"analyze needs as many motion drivers as the mobility "
+                    f"({system.structure.mobility}); the file has {n_motion}",
+                )
+            ]
+        )
+
+
+def _rows(system: System, sched: Schedule, positions, times) -> tuple[np.ndarray, np.ndarray, bool]:
+    """(t, given, full): the times of the rows asked for (``analysis.positions`` and ``at``,
+    or ``positions=``/``times=``, checked), which of them were given as driver coordinates,
+    and whether they cover a full cycle."""
+    if times is not None and positions is not None:
+        raise ValueError("give positions (driver coordinates) or times, not both")
+    if positions is not None:
+        positions = _checked_positions(system, positions)
+    if times is not None:
+        t, full = _checked_times(system, sched, times), False
+    else:
+        t, full = sample_times(system, sched, positions)
+    # rows given as driver coordinates (positions=, `at`), placed a turn ahead by sample_times
+    given = np.zeros(len(t), dtype=bool)
+    if positions is not None:
+        given[:] = True
+    elif times is None and system.model.analysis.at:
+        given[len(t) - len(system.model.analysis.at) :] = True
+        order = np.argsort(t, kind="stable")  # `at` rows take their place in the run
+        t, given = t[order], given[order]
+    return t, given, full
+
+
+def _motion(system: System, sched: Schedule, t, q, by: str, step: float):
+    """(ψ, q̇, q̈, lu): the drivers' coordinates and the velocities and accelerations at the
+    rows, from the constraint Jacobian (``lu``: its factors) or by differences."""
+    psi, psi_d, psi_dd = sched(t)
+    if by == "jacobian":
+        qd, qdd, lu = derivatives(system, q, psi_d, psi_dd)
+    else:  # no kinematic factors: the reactions build their own
+        qd, qdd = difference_derivatives(system, sched, t, q, by, step)
+        lu = None
+    return psi, qd, qdd, lu
+
+
+def _with_event_rows(system: System, sched: Schedule, found, states, t, q, qd, qdd):
+    """(t, q, q̇, q̈) with a row added at each load switch ``found`` (its state from
+    :func:`~kinetostatics.kinetics.conditions.load_events`, or continued from the nearest row),
+    sorted by time."""
+    te = np.array([e.t for e in found])
+    qe, qde, qdde = zip(
+        *(
+            tuple(x[None] for x in st)
+            if st is not None
+            else state_near(system, sched, e.t, t, q, qd, qdd)
+            for e, st in zip(found, states)
+        )
+    )
+    t = np.concatenate((t, te))
+    q, qd, qdd = (
+        np.concatenate((a, np.concatenate(b))) for a, b in ((q, qe), (qd, qde), (qdd, qdde))
+    )
+    order = np.argsort(t, kind="stable")
+    return t[order], q[order], qd[order], qdd[order]
+
+
+def _result(
+    system: System, sol, t, psi, q, qd, qdd, lu, full, kin=None, found=(), extremes=None
+) -> Result:
+    """The :class:`~kinetostatics.analysis.results.Result` of the rows (kinematics only if
+    no ``kin``): group conditions (warned about near a singular position), the singular positions
+    of the equilibrium, the guard against unexplained NaN, the columns."""
+    if kin is not None:
+        sol.singular.extend(
+            Singularity("equilibrium", float(t[k]), float(psi[k, 0]), float(kin.condition[k]))
+            for k in np.nonzero(kin.singular)[0]
+        )
+    cond = _conditions(system, q, lu)
+    _warn_near_singular(system, cond, psi[..., 0])
+    x0, fric, power = (None, None, None) if kin is None else (kin.x0, kin.friction, kin.power)
+    shaking = None if kin is None else ground_reaction(system, q, x0)
+    _check_finite(
+        system, t, psi, cond, sol.singular, q=q, qd=qd, qdd=qdd, x0=x0, fric=fric, power=power
+    )
+    columns, units = build_columns(system, t, psi, q, qd, qdd, x0, fric, power, cond, shaking, full)
+    return Result(
+        system=system,
+        t=t,
+        coordinate=psi[..., 0],
+        q=q,
+        qd=qd,
+        qdd=qdd,
+        lam=np.zeros(q.shape[:-1] + (0,)) if kin is None else x0,
+        columns=columns,
+        units=units,
+        events=tuple(found),
+        singular=tuple(sol.singular),
+        indeterminate=False if kin is None else kin.indeterminate,
+        full_cycle=full,
+        extremes={} if extremes is None else extremes,
+    )
+
+
+def _checked_positions(system: System, positions) -> np.ndarray:
+    """``analyze(positions=...)``: finite driver coordinates within the file's limits (a revolute's
+    |ψ| as an angle of the file, a prismatic's distance from ``analysis.start`` as its sweep)."""
+    from ..base.limits import MAGNITUDE, MAX_TRAVEL
+
+    if system.motion_drivers[0].joint.angular:
+        limit = MAGNITUDE["angle"][1]
+        return real_array(
+            "positions",
+            positions,
+            low=-limit,
+            high=limit,
+            why="rad; larger angles have lost their precision",
+        )
+    start, reach = system.model.analysis.start, MAX_TRAVEL * float(np.max(system.l_ref))
+    return real_array(
+        "positions",
+        positions,
+        low=start - reach,
+        high=start + reach,
+        why=f"m: at most {MAX_TRAVEL} times the largest link from analysis.start",
+    )
+
+
+def _checked_times(system: System, sched: Schedule, times) -> np.ndarray:
+    """``analyze(times=...)``: finite times up to the time of the longest run a file may ask
+    for (:data:`~kinetostatics.yaml_io.MAX_TURNS` periods of a law or turns of a crank,
+    :data:`~kinetostatics.yaml_io.MAX_TRAVEL` times the largest link of a slider).  A motion
+    law is not defined before its start: its times count from 0.  A constant-speed driver is:
+    a negative time is a position before the start, reached by running the linkage backwards
+    (as far back as forwards)."""
+    from ..base.limits import MAX_TRAVEL, MAX_TURNS
+
+    if sched.law is not None:
+        high, why = MAX_TURNS * sched.law.duration, f"s: {MAX_TURNS} times the law's duration"
+    elif system.motion_drivers[0].joint.angular:
+        high = MAX_TURNS * 2 * np.pi / sched.reference
+        why = f"s: {MAX_TURNS} turns of the driver"
+    else:
+        high = MAX_TRAVEL * float(np.max(system.l_ref)) / sched.reference
+        why = f"s: a travel of {MAX_TRAVEL} times the largest link"
+    if sched.law is not None:
+        return real_array(
+            "times",
+            times,
+            low=0.0,
+            high=high,
+            why=why + "; a motion law's times count from its start, t = 0",
+        )
+    return real_array(
+        "times",
+        times,
+        low=-high,
+        high=high,
+        why=why + " either side of the start of the run, t = 0",
+    )
+
+
+NONFINITE_COND = 1e15
+"""A row whose group condition number is above this (or infinite) is at a singular
+position: non-finite velocities or reactions there are explained, not a defect."""
+
+
+def _check_finite(
+    system: System, t, psi, cond: dict, singular, *, q, qd, qdd, x0=None, fric=None, power=None
+) -> None:
+    """The last guard of :func:`analyze`: a NaN or infinity that no status explains raises
+    :class:`~kinetostatics.errors.NonFiniteResultError` naming the column and the row.
+
+    Explained are the consistent friction solution where it self-locks
+    (``friction.status`` 2: its columns are empty there) and every value at a
+    singular position (a reported one, or a group condition number above
+    :data:`NONFINITE_COND`).  Nothing else may be non-finite: the file's limits
+    (``yaml_io.MAGNITUDE``) keep the products of a model far from overflow, so a
+    NaN here comes from a model built in Python with values beyond them.
+    """
+    n = len(t)
+    excused = np.zeros(n, dtype=bool)
+    for c in cond.values():
+        c = np.asarray(c, dtype=float).reshape(-1)
+        if c.size == n:
+            excused |= ~(c <= NONFINITE_COND)
+    for sp in singular:
+        excused |= np.isclose(t, sp.t, rtol=0.0, atol=1e-9 * max(1.0, abs(sp.t)))
+    locked = excused.copy()
+    if fric is not None:
+        locked |= np.asarray(fric["solution"].status).reshape(-1) == 2
+    names = [f"{name}.{label}" for name in system.links for label in ("x", "y", "theta")]
+    rate = {"x": "vx", "y": "vy", "theta": "omega"}
+    acc = {"x": "ax", "y": "ay", "theta": "alpha"}
+    arrays = [
+        (q, names, excused),
+        (qd, [n.rsplit(".", 1)[0] + "." + rate[n.rsplit(".", 1)[1]] for n in names], excused),
+        (qdd, [n.rsplit(".", 1)[0] + "." + acc[n.rsplit(".", 1)[1]] for n in names], excused),
+    ]
+    if x0 is not None:
+        n_j = system.n_joint_rows
+        labels = [""] * x0.shape[-1]
+        for k, j in enumerate(system.model.joints):
+            for r in range(x0.shape[-1])[system.rows_of(k)]:
+                labels[r] = (
+                    f"the reaction of joint {j.name} "
+                    f"({', '.join(f'{j.name}.{x}' for x in j.reaction_labels)})"
+                )
+        for d_index, d in enumerate(system.motion_drivers):
+            effort_joint = (
+                system.model.joint(d.driver.balance_at) if d.driver.balance_at else d.joint
+            )
+            labels[n_j + d_index] = f"{d.name}.{'torque' if effort_joint.angular else 'force'}"
+        arrays.append((x0, labels, excused))
+    if fric is not None:
+        sol = fric["solution"]
+        arrays.append((sol.x, [f"{x} (with friction)" for x in labels], locked))
+        arrays.append(
+            (
+                sol.e,
+                [f"{system.model.joints[k].name}.friction" for k in fric["setup"].joints],
+                locked,
+            )
+        )
+        arrays.append((fric["x_approx"], [f"{x} (approximate friction)" for x in labels], excused))
+    for key, value in (power or {}).items():
+        late = key in ("friction", "input_friction", "residual_friction")
+        arrays.append((np.asarray(value)[..., None], [f"power.{key}"], locked if late else excused))
+    for arr, labels, ok in arrays:
+        arr = np.asarray(arr, dtype=float)
+        if arr.ndim != 2 or arr.shape[0] != n:
+            continue  # stacked variants: not checked here
+        bad = ~np.isfinite(arr) & ~ok[:, None]
+        if bad.any():
+            row, col = (int(i) for i in np.argwhere(bad)[0])
+            label = labels[col] if col < len(labels) else f"column {col}"
+            d = system.motion_drivers[0]
+            where = (
+                f"{d.name} = {np.degrees(psi[row, 0]) % 360:.6g}°"
+                if d.joint.angular
+                else f"{d.name} = {psi[row, 0] * 1e3:.6g} mm"
+            )
+            raise NonFiniteResultError(
+                label,
+                row,
+                f"the analysis gave {arr[row, col]} in {label} at row {row} ({where}, t = "
+                f"{t[row]:.6g} s), with no self-locking or singular position to explain it: "
+                "the model's numbers overflow (masses, "
+                "lengths, loads or gravity too large or too small; see the input limits in "
+                "docs/errors.md)",
+            )
+
+
+COND_WARN = 1e8
+"""A group condition number above this is warned about: relative errors of
+positions there can reach ~1e-16 × condition, and reactions grow like it."""
+
+
+def _warn_near_singular(system: System, cond: dict, coord: np.ndarray) -> None:
+    for group, c in cond.items():
+        bad = np.nonzero(c > COND_WARN)[0]
+        if bad.size:
+            k = bad[np.argmax(c[bad])]
+            name = system.motion_drivers[0].name
+            where = (
+                f"{np.degrees(coord[k]) % 360:.4g}°"
+                if system.motion_drivers[0].joint.angular
+                else f"{coord[k] * 1e3:.6g} mm"
+            )
+            warnings.warn(
+                f"{group.label} is nearly singular at {bad.size} position(s), worst at "
+                f"{name} = {where} (condition {c[k]:.3g} > {COND_WARN:.0e}); "
+                "reactions there are unreliable",
+                NearSingularWarning,
+                stacklevel=4,  # the caller of analyze (through _result)
+            )
+
+
+def _conditions(system: System, q: np.ndarray, lu) -> dict:
+    return {
+        p.group: (
+            condition_number(system, p, lu.jac[..., p.rows[:, None], p.cols], lu.inv[g])
+            if lu is not None
+            else group_condition(system, q, p)
+        )
+        for g, p in enumerate(system.plans)
+        if p.group.kind != "driven"
+    }
+
+
+def numerical_mobility(system: System) -> int:
+    """n_q − rank Φ_q (joints only) at the first assembled position; warns if it
+    differs from Grübler–Kutzbach (an overconstrained or special linkage)."""
+    n_j = len(system.model.joints)
+    q = initial_guess(system)
+    if system.motion_drivers and len(system.motion_drivers) == system.structure.mobility:
+        sched = schedule(system)
+        q = solve_positions(system, np.array([0.0]), sched).q[0]
+    jac = jacobian(system, q, range(n_j))
+    s = np.linalg.svd(jac, compute_uv=False)
+    rank = int(np.sum(s > 1e-9 * max(s.max(initial=0.0), 1.0)))
+    n = system.n_q - rank
+    if n != system.structure.mobility:
+        warnings.warn(
+            f"numerical mobility {n} differs from Grübler–Kutzbach "
+            f"{system.structure.mobility}: the linkage is overconstrained or special",
+            stacklevel=2,
+        )
+    return n

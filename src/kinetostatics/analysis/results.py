@@ -1,0 +1,367 @@
+"""The result of an analysis: named arrays over the positions, and their export.
+
+Column names and units are those of ``results.csv`` (SPEC.md).  Angles are
+in rad inside the arrays ``q``, ``qd``, ``qdd``; the named columns follow the
+CSV (``angle``, ``travel`` and ``<link>.theta`` in degrees).
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from functools import cached_property
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..base.tables import write_columns
+from ..errors import did_you_mean
+from ..kinematics.state import point_state
+from ..structure.system import System
+
+__all__ = ["Result", "build_columns"]
+
+
+def _joint_position(system: System, q: np.ndarray, name: str) -> np.ndarray:
+    """Global position of a pin: its point on link i."""
+    j = system.model.joint(name)
+    link = j.links[0]
+    p = next(a.xy for a in j.anchors() if a.at_joint and a.link == link)
+    if link == system.model.ground.name:
+        return np.broadcast_to(p, q.shape[:-1] + (2,))
+    k = system.link_index(link)
+    return point_state(q, q, None, k, p)[0]
+
+
+def _pose(system: System, q: np.ndarray, link: str) -> np.ndarray:
+    """(x, y, θ) of a link, ``(..., 3)``; the frame's are zeros."""
+    if link == system.model.ground.name:
+        return np.zeros(q.shape[:-1] + (3,))
+    k = system.link_index(link)
+    return q[..., 3 * k : 3 * k + 3]
+
+
+def _dyad_angle_names(system: System) -> list[tuple[str, str]]:
+    """(column prefix, label) of the dyads that have a transmission or pressure angle."""
+    label = {"RRR": "transmission_angle", "RRP": "pressure_angle"}
+    return [
+        (p.group.column, label[p.group.letters])
+        for p in system.plans
+        if p.group.kind == "dyad" and p.group.letters in label
+    ]
+
+
+def _angle_between(u: np.ndarray, v: np.ndarray, unsigned: bool = False) -> np.ndarray:
+    """Angle between vectors ``u`` and ``v (..., 2)`` in deg, from 0 to 180° (to 90° between
+    their lines when ``unsigned``); NaN where either is zero.
+
+    atan2 of cross and dot keeps full relative precision at every angle; the arccos of
+    their cosine loses half the digits near 0° and 180° (a pressure angle of 0.0007° came out
+    5e-10° apart from two equal positions, 7e-7 of itself: net seed 1005175).
+    """
+    cross = u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
+    dot = np.sum(u * v, axis=-1)
+    ang = np.arctan2(np.abs(cross), np.abs(dot) if unsigned else dot)
+    zero = (np.linalg.norm(u, axis=-1) == 0) | (np.linalg.norm(v, axis=-1) == 0)
+    return np.degrees(np.where(zero, np.nan, ang))
+
+
+def _dyad_angles(system: System, q: np.ndarray) -> dict[str, tuple[str, np.ndarray]]:
+    """Transmission angle of RRR dyads and pressure angle of RRP dyads, deg."""
+    out = {}
+    joints = {j.name: j for j in system.model.joints}
+    for plan in system.plans:
+        g = plan.group
+        if g.kind != "dyad" or g.letters not in ("RRR", "RRP"):
+            continue
+        a, b = g.links
+        inner = [n for n in g.joints if set(joints[n].links) == {a, b}][0]
+        ext_a = [n for n in g.joints if a in joints[n].links and n != inner][0]
+        ext_b = [n for n in g.joints if b in joints[n].links and n != inner][0]
+        pa, pm = _joint_position(system, q, ext_a), _joint_position(system, q, inner)
+        u = pa - pm
+        if g.letters == "RRR":
+            v = _joint_position(system, q, ext_b) - pm
+            out[g.column] = ("transmission_angle", _angle_between(u, v))
+        else:
+            s = joints[ext_b]
+            qi, qj = (_pose(system, q, link) for link in s.links)
+            axis = s.glyph(qi, qj).guide.direction  # the slide's axis
+            out[g.column] = ("pressure_angle", _angle_between(u, axis, unsigned=True))
+    return out
+
+
+class Columns(Mapping):
+    """Named result columns in CSV order, each computed on first access.
+
+    Columns computed together (a point's six, a joint's reactions) share one
+    computation; asking for one joint's reaction builds only that joint's.
+    """
+
+    def __init__(self) -> None:
+        self._where: dict[str, tuple[int, int]] = {}
+        self._groups: list = []
+        self._done: dict[int, tuple] = {}
+
+    def add(self, names: list[str], compute) -> None:
+        """Register columns ``names`` whose arrays ``compute()`` returns, in order."""
+        g = len(self._groups)
+        self._groups.append(compute)
+        for k, name in enumerate(names):
+            self._where[name] = (g, k)
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        g, k = self._where[name]
+        if g not in self._done:
+            self._done[g] = tuple(np.asarray(a, dtype=float) for a in self._groups[g]())
+        return self._done[g][k]
+
+    def __iter__(self):
+        return iter(self._where)
+
+    def __len__(self) -> int:
+        return len(self._where)
+
+    @property
+    def computed(self) -> int:
+        """How many columns have been computed so far (for tests and measurements)."""
+        return sum(len(v) for v in self._done.values())
+
+
+def build_columns(system: System, t, psi, q, qd, qdd, x0, fric, power, cond, shaking, full):
+    """Ordered lazy columns and units (see SPEC.md, Outputs); ``x0`` None: kinematics only."""
+    model = system.model
+    cols = Columns()
+    units: dict[str, str] = {}
+
+    def put(names_units, compute):
+        cols.add([n for n, _ in names_units], compute)
+        units.update(names_units)
+
+    first = system.motion_drivers[0]
+    coord = psi[..., 0]
+    put([("time", "s")], lambda: (t - t[0] if len(t) else t,))
+    if first.joint.angular:
+        put(
+            [("angle", "deg"), ("travel", "deg")],
+            lambda: (np.mod(np.degrees(coord), 360.0), np.degrees(np.abs(coord - coord[0]))),
+        )
+    else:
+        put([("stroke", "m"), ("travel", "m")], lambda: (coord, np.abs(coord - coord[0])))
+    link_units = (
+        ("x", "m"),
+        ("y", "m"),
+        ("theta", "deg"),
+        ("vx", "m/s"),
+        ("vy", "m/s"),
+        ("omega", "rad/s"),
+        ("ax", "m/s^2"),
+        ("ay", "m/s^2"),
+        ("alpha", "rad/s^2"),
+    )
+    for k, name in enumerate(system.links):
+        s = slice(3 * k, 3 * k + 3)
+        put(
+            [(f"{name}.{label}", unit) for label, unit in link_units],
+            lambda s=s: (
+                q[..., s][..., 0],
+                q[..., s][..., 1],
+                np.degrees(q[..., s][..., 2]),
+                qd[..., s][..., 0],
+                qd[..., s][..., 1],
+                qd[..., s][..., 2],
+                qdd[..., s][..., 0],
+                qdd[..., s][..., 1],
+                qdd[..., s][..., 2],
+            ),
+        )
+    point_units = (
+        ("x", "m"),
+        ("y", "m"),
+        ("vx", "m/s"),
+        ("vy", "m/s"),
+        ("ax", "m/s^2"),
+        ("ay", "m/s^2"),
+    )
+
+    def point(k, p):
+        pos, vel, acc = point_state(q, qd, qdd, k, p)
+        return pos[..., 0], pos[..., 1], vel[..., 0], vel[..., 1], acc[..., 0], acc[..., 1]
+
+    for k, name in enumerate(system.links):
+        for pname, p in model.link(name).points.items():
+            put(
+                [(f"{name}.{pname}.{label}", unit) for label, unit in point_units],
+                lambda k=k, p=p: point(k, p),
+            )
+    if x0 is not None:
+        _kinetic_columns(system, put, q, x0, fric, power)
+    for g, c in cond.items():
+        put([(f"{g.column}.cond", "1")], lambda c=c: (c,))
+    angles = {}
+
+    def dyad_angles():
+        if not angles:
+            angles.update(_dyad_angles(system, q))
+        return angles
+
+    for prefix, label in _dyad_angle_names(system):
+        put([(f"{prefix}.{label}", "deg")], lambda prefix=prefix: (dyad_angles()[prefix][1],))
+    if shaking is not None:
+        put(
+            [("shaking.Fx", "N"), ("shaking.Fy", "N"), ("shaking.M", "N*m")],
+            lambda: (shaking[..., 0], shaking[..., 1], shaking[..., 2]),
+        )
+    return cols, units
+
+
+def _kinetic_columns(system: System, put, q, x0, fric, power) -> None:
+    model = system.model
+    qe = np.concatenate((q, np.zeros(q.shape[:-1] + (3,))), axis=-1)
+    sol = fric["solution"] if fric else None
+    n_f = {k: n for n, k in enumerate(fric["setup"].joints)} if fric else {}
+    force_unit = {"M": "N*m"}
+    for k, j in enumerate(model.joints):
+        i_, j_ = system.ends[k]
+        qi, qj = qe[..., 3 * i_ : 3 * i_ + 3], qe[..., 3 * j_ : 3 * j_ + 3]
+        block = system.rows_of(k)
+        labels = j.reaction_labels
+        put(
+            [(f"{j.name}.{label}", force_unit.get(label, "N")) for label in labels],
+            lambda j=j, qi=qi, qj=qj, block=block, labels=labels: tuple(
+                j.reaction(x0[..., block], qi, qj)[label] for label in labels
+            ),
+        )
+        if not fric:
+            continue
+        unit = "N*m" if j.angular else "N"
+        if k in n_f:
+            put(
+                [(f"{j.name}.friction_approx", unit), (f"{j.name}.friction", unit)],
+                lambda n=n_f[k]: (fric["e_approx"][..., n], sol.e[..., n]),
+            )
+
+        def with_friction(j=j, k=k, qi=qi, qj=qj, block=block, labels=labels):
+            reac = j.reaction(sol.x[..., block], qi, qj)
+            if k in n_f:  # a friction force along a slide is a force too
+                for label, extra in j.effort_force(sol.e[..., n_f[k]], qi, qj).items():
+                    reac[label] = reac[label] + extra
+            return tuple(reac[label] for label in labels)
+
+        put(
+            [(f"{j.name}.{label}_friction", force_unit.get(label, "N")) for label in labels],
+            with_friction,
+        )
+    n_j = system.n_joint_rows
+    for d_index, d in enumerate(system.motion_drivers):
+        effort_joint = model.joint(d.driver.balance_at) if d.driver.balance_at else d.joint
+        word, unit = ("torque", "N*m") if effort_joint.angular else ("force", "N")
+        col = n_j + d_index
+        put([(f"{d.name}.{word}", unit)], lambda col=col: (x0[..., col],))
+        if fric:
+
+            def efficiency(col=col):
+                # undefined (NaN, empty) where the effort with friction is 0 or empty: no
+                # effort goes through the drive, 0/0 or x/0 is no efficiency (docs/friction.md)
+                den = sol.x[..., col]
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    return (np.where(den != 0.0, x0[..., col] / den, np.nan),)
+
+            put(
+                [(f"{d.name}.{word}_friction_approx", unit), (f"{d.name}.{word}_friction", unit)],
+                lambda col=col: (fric["x_approx"][..., col], sol.x[..., col]),
+            )
+            put([(f"{d.name}.efficiency", "1")], efficiency)
+    if fric:
+        put(
+            [("friction.status", "1"), ("friction.iterations", "1")],
+            lambda: (sol.status, sol.iterations),
+        )
+    names = [
+        n
+        for n in (
+            "input",
+            "kinetic",
+            "potential",
+            "external",
+            "friction",
+            "residual",
+            "residual_friction",
+        )
+        if n in power
+    ]
+    put([(f"power.{n}", "W") for n in names], lambda: tuple(power[n] for n in names))
+
+
+@dataclass(frozen=True)
+class Result:
+    """Named arrays over the positions, with the raw arrays for advanced use.
+
+    ``result["rod.omega"]`` is a ``(n_pos,)`` array; ``result.columns`` the
+    names in CSV order; ``result.units[name]`` the unit.  Raw: ``t`` (s),
+    ``coordinate`` (rad or m), ``q``, ``qd``, ``qdd`` ``(n_pos, n_q)`` and
+    ``lam`` ``(n_pos, n_lam)`` (frictionless multipliers and driver efforts).
+    """
+
+    system: System
+    t: np.ndarray
+    coordinate: np.ndarray
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+    lam: np.ndarray
+    columns: Mapping[str, np.ndarray]
+    units: dict[str, str]
+    events: tuple = ()
+    singular: tuple = ()
+    indeterminate: bool = False
+    full_cycle: bool = True
+    extremes: dict = field(default_factory=dict)
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        try:
+            return self.columns[name]
+        except KeyError:
+            raise KeyError(f"no column '{name}'{did_you_mean(name, self.columns)}") from None
+
+    def __len__(self) -> int:
+        return len(self.t)
+
+    @cached_property
+    def checks(self):
+        """Self-checks (:class:`~kinetostatics.analysis.checks.Checks`): constraint and
+        power-balance residuals, sketch distance, group condition, friction status, each against its
+        tolerance; ``checks.ok``, ``checks.failed()``.  Computed on first use."""
+        from .checks import result_checks
+
+        return result_checks(self)
+
+    @property
+    def names(self) -> list[str]:
+        return list(self.columns)
+
+    def to_csv(self, path: str | Path) -> None:
+        """Write ``results.csv``: a ``# units:`` line, the header, one row per position."""
+        write_columns(path, self.columns, self.units)
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-safe: ``{"columns": {name: [..]}, "units": {...}}`` (NaN as None)."""
+        return {
+            "columns": {
+                n: [None if not np.isfinite(v) else float(v) for v in a]
+                for n, a in self.columns.items()
+            },
+            "units": dict(self.units),
+        }
+
+    def summary(self) -> dict[str, Any]:
+        """Extremes of every column and where they occur, events, singular positions."""
+        from ..outputs.summary import summarize
+
+        return summarize(self)
+
+    def to_json(self, path: str | Path, summary: dict[str, Any] | None = None) -> None:
+        """Write :meth:`summary` (or the one given, already computed) as JSON."""
+        Path(path).write_text(json.dumps(self.summary() if summary is None else summary, indent=2))

@@ -1,0 +1,252 @@
+"""All variants of one topology in one pass: the stage functions on ``(V, N, ...)``.
+
+:func:`analyze_stacked` runs the analysis of :func:`kinetostatics.analyze`
+for many variants at once on a model stacked by
+:func:`kinetostatics.model.stacking.stack`, for the common case it can vectorise:
+one constant-speed motion driver over a full cycle, every Assur group with
+a closed form (RRR, RRP, RPR dyads and driven links) that passes no
+singular position, no event rows.  Variants it cannot take — they do not
+assemble at the start, pass a singular position, or the model is
+outside that case — are returned as *left over*, for the per-variant
+analysis, which reports or handles them exactly as a single run would.
+
+Per variant the results are those of a single run to rounding: the same
+functions evaluate the same formulas, only over one more leading axis.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..kinematics.dyads import closed_form
+from ..kinematics.events import output_strokes_stacked
+from ..kinematics.positions import (
+    SKETCH_TOL,
+    TOL,
+    _signature,
+    closed_form_path,
+    derivatives,
+    group_condition,
+    initial_guess,
+    sketch_distances,
+)
+from ..kinematics.schedule import Schedule, sample_times, schedule
+from ..kinetics.conditions import travel_extremes_stacked
+from ..kinetics.inverse import kinetics
+from ..model import Model, MotionLaw
+from ..model.stacking import is_stacked, stack
+from ..structure.system import System, build_system, jacobian, phi
+
+__all__ = ["analyze_stacked", "Stacked"]
+
+MAX_ITER = 25
+
+
+@dataclass
+class Stacked:
+    """The arrays of a stacked analysis; ``ok (V,)`` marks the variants analysed."""
+
+    system: System
+    t: np.ndarray  # (N,)
+    psi: np.ndarray  # (V, N, 1)
+    q: np.ndarray  # (V, N, n_q)
+    qd: np.ndarray
+    qdd: np.ndarray
+    lu: object
+    kin: object  # inverse.Kinetics
+    extremes: dict
+    ok: np.ndarray  # (V,) bool
+    sched: Schedule
+    solvers: list
+
+
+class Unsupported(Exception):
+    """The model is outside the vectorised case (the reason is the message)."""
+
+
+class LeftOver(Unsupported):
+    """Some variants do not assemble at the start or leave the closed forms' path;
+    ``ok (V,)`` marks the others.  Raised before the costly stages (derivatives,
+    loads, friction solutions), which a failing variant would only slow down (its
+    NaN rows send the friction solution into its homotopy): analyse the ``ok``
+    variants again on their own, the others one by one."""
+
+    def __init__(self, ok: np.ndarray):
+        self.ok = ok
+        super().__init__(
+            f"{int(np.count_nonzero(~ok))} of {len(ok)} variants leave the vectorised path"
+        )
+
+
+def _schedule(system: System) -> Schedule:
+    """The schedule (:func:`~kinetostatics.kinematics.schedule.schedule`) of the one constant-speed
+    motion driver that the stacked stages take, alike in every variant."""
+    model = system.model
+    drivers = system.motion_drivers
+    if len(drivers) != 1 or system.structure.mobility != 1:
+        raise Unsupported("more than one motion driver")
+    motion = drivers[0].driver.motion
+    if (
+        not isinstance(motion, MotionLaw)
+        or getattr(motion, "acceleration", 0.0)
+        or getattr(motion, "start", None) is not None
+    ):
+        raise Unsupported("a motion law other than constant speed")
+    speed = motion.speed
+    start = model.analysis.start
+    if np.ndim(speed) or np.ndim(start) or np.ndim(model.analysis.sweep):
+        raise Unsupported("the driver's speed or the analysed range differs between variants")
+    return schedule(system)
+
+
+def _newton(system: System, q: np.ndarray, psi: np.ndarray, plan) -> tuple[np.ndarray, np.ndarray]:
+    """Newton on one group for every entry of ``q (V, M, n_q)`` (no subsets: the
+    variant axis must stay aligned with the stacked parameters)."""
+    cols = plan.cols
+    ang = np.arange(len(cols)) % 3 == 2
+    l_ref = np.asarray(system.l_ref)[..., None] if np.ndim(system.l_ref) else system.l_ref
+    step_tol = np.where(ang, TOL, TOL * l_ref)
+    q = q.copy()
+    for _ in range(MAX_ITER):
+        r = phi(system, q, psi, plan.constraints)
+        jac = jacobian(system, q, plan.constraints, cols)
+        with np.errstate(all="ignore"):
+            try:
+                dx = np.linalg.solve(jac, -r[..., None])[..., 0]
+            except np.linalg.LinAlgError:
+                dx = (np.linalg.pinv(jac) @ -r[..., None])[..., 0]
+        dx = np.where(np.isfinite(dx), dx, 0.0)
+        q[..., cols] += dx
+        if np.all(np.abs(dx) <= step_tol):
+            break
+    res = np.max(np.abs(phi(system, q, psi, plan.constraints)), axis=-1)
+    return q, res <= TOL * np.asarray(system.l_ref)
+
+
+def _start(system: System, models: Sequence[Model], sched: Schedule):
+    """(q0 (V, 1, n_q), ok (V,)): each variant's sketch solved group by group on
+    its branch; a variant whose sketch is ambiguous or that does not assemble is
+    not ok (the per-variant analysis reports it)."""
+    q = np.broadcast_to(initial_guess(system), (len(models), system.n_q))[:, None].copy()
+    psi = sched(np.zeros(1))[0][None]
+    ok = np.ones(len(models), dtype=bool)
+    for plan in system.plans:
+        s0 = _signature(system, q, plan)[:, 0]
+        cond0 = group_condition(system, q, plan)[:, 0]
+        qn, conv = _newton(system, q, psi, plan)
+        s1 = _signature(system, qn, plan)[:, 0]
+        ok &= (s0 != 0) & (cond0 <= 1e10) & conv[:, 0] & (s1 == s0)
+        q = np.where(ok[:, None, None], qn, q)
+    tol = SKETCH_TOL * np.broadcast_to(system.l_ref, (len(models), 1))
+    for sp in sketch_distances(system, q):  # assembled far from the sketch: refused
+        ok &= np.broadcast_to(sp.distance, (len(models), 1))[:, 0] <= tol[:, 0]
+    return q, ok
+
+
+def _check_supported(sm: Model, friction: bool) -> None:
+    """Refuse what the stacked stages do not broadcast (the loop takes it)."""
+    if is_stacked(sm.gravity) or any(
+        is_stacked(d.offset) or is_stacked(d.effort) for d in sm.drivers
+    ):
+        raise Unsupported("gravity or a driver's constants differ between variants")
+    for load in sm.loads:
+        if load.table is not None:
+            at, vals = load.table
+            if np.ndim(at) > 1 or np.ndim(vals) > (2 if load.kind == "force" else 1):
+                raise Unsupported(f"the table of load '{load.name}' differs between variants")
+        if is_stacked(load.axis) or any(
+            is_stacked(c.axis) or c.kind == "angle" and is_stacked(c.bounds) for c in load.active
+        ):
+            raise Unsupported(
+                f"the directions or angle band of load '{load.name}' differ between variants"
+            )
+    if friction and any(is_stacked(c) for j in sm.joints for c in j.friction_constants()):
+        raise Unsupported("friction coefficients differ between variants")
+
+
+def analyze_stacked(
+    models: Sequence[Model], *, friction: bool | None = None, stacked: Model | None = None
+) -> Stacked:
+    """The analysis of every variant at once (see the module's text); ``stacked``:
+    ``stack(models)`` if at hand.  Raises :class:`Unsupported` if the model is
+    outside the vectorised case."""
+    sm = stack(models) if stacked is None else stacked
+    if sm.analysis.at or sm.analysis.events:
+        raise Unsupported("extra positions or event rows")
+    _check_supported(sm, sm.has_friction if friction is None else friction)
+    system = build_system(sm)
+    sched = _schedule(system)
+    t, full = sample_times(system, sched, None)
+    if not full:
+        raise Unsupported("not a full cycle")
+    q0, ok = _start(system, models, sched)
+    solvers = [closed_form(system, plan, q0) for plan in system.plans]
+    if any(s is None for s in solvers):
+        raise Unsupported("a group without a closed form")
+    q, ok_path, _ = closed_form_path(system, solvers, q0, t, sched)
+    ok &= ok_path
+    if not ok.all():
+        raise LeftOver(ok)
+    psi, psi_d, psi_dd = sched(t)
+    psi, psi_d, psi_dd = (np.broadcast_to(x, q.shape[:-1] + (1,)) for x in (psi, psi_d, psi_dd))
+    qd, qdd, lu = derivatives(system, q, psi_d, psi_dd)
+    extremes = travel_extremes_stacked(system, solvers, sched, t, q, qd, qdd)
+    kin = kinetics(
+        system,
+        q,
+        qd,
+        qdd,
+        psi,
+        lu=lu,
+        extremes=extremes,
+        ref_speed=sched.reference,
+        friction=sm.has_friction if friction is None else friction,
+    )
+    return Stacked(system, t, psi, q, qd, qdd, lu, kin, extremes, ok, sched, solvers)
+
+
+def output_strokes(st: Stacked) -> dict[str, dict[str, np.ndarray]]:
+    """Stroke and time ratio of every output slide, ``(V,)`` each
+    (:func:`~kinetostatics.kinematics.events.output_strokes_stacked`); a variant whose slide
+    does not stop exactly twice per cycle is marked not ok."""
+    out, ok = output_strokes_stacked(st.system, st.solvers, st.sched, st.t, st.q, st.qd, st.qdd)
+    st.ok &= ok
+    return out
+
+
+def as_result(st: Stacked):
+    """A :class:`~kinetostatics.analysis.results.Result` whose columns are ``(V, N)``."""
+    from .results import Result, build_columns
+
+    kin = st.kin
+    columns, units = build_columns(
+        st.system,
+        st.t,
+        st.psi,
+        st.q,
+        st.qd,
+        st.qdd,
+        kin.x0,
+        kin.friction,
+        kin.power,
+        {},
+        None,
+        True,
+    )
+    return Result(
+        system=st.system,
+        t=st.t,
+        coordinate=st.psi[..., 0],
+        q=st.q,
+        qd=st.qd,
+        qdd=st.qdd,
+        lam=kin.x0,
+        columns=columns,
+        units=units,
+        indeterminate=kin.indeterminate,
+        full_cycle=True,
+        extremes=st.extremes,
+    )

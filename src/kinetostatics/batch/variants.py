@@ -1,0 +1,318 @@
+"""Variants of one mechanism: the same YAML with other parameter values.
+
+A :class:`Template` reads and checks a file once; :meth:`Template.model`
+builds the model of a variant (a mapping of parameter overrides, in the
+file's units).  :func:`analyze_variants` analyses many variants and returns
+one summary row each (:func:`summary_row`): a variant that fails is a row
+with its reason, never an exception.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..base.spec import compose, read_text
+from ..errors import KinetostaticsError
+from ..kinematics.events import coordinate_rates, output_slides, output_strokes
+from ..model import Model
+from ..outputs.loading import build
+
+__all__ = ["Template", "analyze_variants", "summary_row", "ROW_UNITS"]
+
+
+@dataclass(frozen=True, eq=False)
+class Template:
+    """A mechanism file read once, to build many variants from."""
+
+    tree: Any  # base.spec.Entry of the checked file
+    base: Model  # the file as written
+
+    @classmethod
+    def load(cls, path: str | Path) -> Template:
+        tree = compose(read_text(path), str(path))
+        return cls(tree, build(tree))
+
+    @classmethod
+    def loads(cls, text: str, file: str = "<string>") -> Template:
+        tree = compose(text, file)
+        return cls(tree, build(tree))
+
+    @property
+    def parameters(self) -> dict[str, float]:
+        """The file's parameters with their values (file units)."""
+        return dict(self.base.parameters)
+
+    def model(
+        self, overrides: Mapping[str, float] | None = None, *, positions: int | None = None
+    ) -> Model:
+        """The variant's model (``ModelError`` if those values make it invalid);
+        ``positions`` replaces ``analysis.positions``."""
+        model = build(self.tree, overrides) if overrides else self.base
+        if positions is not None:
+            model = replace(
+                model, analysis=replace(model.analysis, positions=int(positions), at=())
+            )
+        return model
+
+
+# -- summary rows ----------------------------------------------------------------------
+ROW_UNITS = {
+    "stroke": "m",
+    "time_ratio": "1",
+    "v_peak": "m/s",
+    "a_peak": "m/s^2",
+    "omega_peak": "rad/s",
+    "alpha_peak": "rad/s^2",
+    "reaction_peak": "N",
+    "reaction_peak_friction": "N",
+    "efficiency_min": "1",
+    "efficiency_cycle": "1",
+    "self_locking": "deg",
+    "self_locking_positions": "1",
+    "pressure_angle_max": "deg",
+    "transmission_angle_min": "deg",
+    "inertia": "kg*m^2",
+    "inertia_net": "kg*m^2",
+}
+
+
+def _outputs(system) -> list[tuple[str, str, int]]:
+    """The output members: the output slides (kind "slide",
+    :func:`~kinetostatics.kinematics.events.output_slides`) or, when there are none, the last
+    group's last link (kind "link")."""
+    slides = [("slide", j.name, k) for k, j in output_slides(system)]
+    if slides:
+        return slides
+    link = system.plans[-1].group.links[-1]
+    return [("link", link, system.link_index(link))]
+
+
+def _ranges(angle: np.ndarray, mask: np.ndarray) -> str:
+    """Runs of consecutive positions where ``mask`` holds, as 'a–b; c–d' in deg."""
+    if not mask.any():
+        return ""
+    idx = np.nonzero(mask)[0]
+    breaks = np.nonzero(np.diff(idx) > 1)[0]
+    starts = np.concatenate(([idx[0]], idx[breaks + 1]))
+    ends = np.concatenate((idx[breaks], [idx[-1]]))
+    return "; ".join(f"{angle[a]:.4g}–{angle[b]:.4g}" for a, b in zip(starts, ends))
+
+
+def _zones(result) -> str:
+    """The self-locked zones of one result with their located edges
+    (:func:`~kinetostatics.outputs.summary.locking_zones`, summary.json ``self_locking``), as
+    'a–b; c–d' (a zone wrapping past 360° is one zone, e.g. '358.516494–1.483505980'); an edge
+    beyond a run that is not a full cycle is '…'."""
+    from ..outputs.summary import locking_zones
+
+    text = lambda v: "…" if v is None else f"{v:.10g}"  # noqa: E731
+    return "; ".join(f"{text(z['from'])}–{text(z['to'])}" for z in locking_zones(result))
+
+
+def summary_row(
+    result, flywheel: bool | None = None, strokes: dict | None = None
+) -> dict[str, Any]:
+    """The batch row of one analysed variant (names ``<member>.<quantity>``,
+    units :data:`ROW_UNITS`): strokes and time ratios of the outputs, peak
+    output speed and acceleration, peak and RMS driving effort without and
+    with friction, minimum efficiency, self-locking ranges, peak reaction per
+    joint, worst pressure/transmission angle, flywheel inertia when asked.
+
+    Every quantity reduces over the last (positions) axis, so a stacked
+    result ``(V, N)`` gives arrays ``(V,)`` (:func:`split_rows` makes rows);
+    ``strokes`` are :func:`~kinetostatics.kinematics.events.output_strokes` (computed
+    when not given)."""
+    from ..structure.system import coordinate_gradient
+
+    system = result.system
+    cols = result.columns
+    row: dict[str, Any] = {"status": "ok", "reason": "", "full_cycle": bool(result.full_cycle)}
+    strokes = output_strokes(result) if strokes is None else strokes
+    for kind, name, k in _outputs(system):
+        if kind == "slide":
+            s = strokes.get(name, {})
+            row[f"{name}.stroke"] = s.get("stroke", np.nan)
+            row[f"{name}.time_ratio"] = s.get("time_ratio", np.nan)
+            v, a = coordinate_rates(system, result.q, result.qd, result.qdd, k)
+            row[f"{name}.v_peak"] = np.max(np.abs(v), axis=-1)
+            row[f"{name}.a_peak"] = np.max(np.abs(a), axis=-1)
+        else:
+            row[f"{name}.omega_peak"] = np.max(np.abs(cols[f"{name}.omega"]), axis=-1)
+            row[f"{name}.alpha_peak"] = np.max(np.abs(cols[f"{name}.alpha"]), axis=-1)
+    angle = cols["angle"] if "angle" in cols else cols["stroke"]
+    from ..kinetics.reactions import effort_joints
+
+    for d, k_eff in zip(system.motion_drivers, effort_joints(system)):
+        word = "torque" if system.model.joints[k_eff].angular else "force"  # at balance_at
+        key = f"{d.name}.{word}"
+        for suffix in ("", "_friction_approx", "_friction"):
+            if key + suffix in cols:
+                arr = cols[key + suffix]
+                row[f"{key}{suffix}_peak"] = np.nanmax(np.abs(arr), axis=-1)
+                row[f"{key}{suffix}_rms"] = np.sqrt(np.nanmean(arr * arr, axis=-1))
+        if key + "_friction" in cols:
+            # the driving phase: both efforts drive in the sense of motion of the joint that
+            # carries them (the driver's own, or balance_at: its relative speed changes sign)
+            tau, tau_f = cols[key], cols[key + "_friction"]
+            rel = np.einsum(
+                "...n,...n->...", coordinate_gradient(system, result.q, k_eff), result.qd
+            )
+            sense = np.sign(rel)
+            driving = (tau * sense > 0) & (tau_f * sense > 0)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                ratio = np.where(driving, tau / np.where(driving, tau_f, 1.0), np.inf)
+                e_min = np.min(ratio, axis=-1)
+                row[f"{d.name}.efficiency_min"] = np.where(np.isfinite(e_min), e_min, np.nan)
+                both = np.isfinite(tau) & np.isfinite(tau_f)  # input work ∝ Σ effort·speed
+                w_in = np.sum(np.where(both, tau * rel, 0.0), axis=-1)  # over the rows
+                w_in_f = np.sum(np.where(both, tau_f * rel, 0.0), axis=-1)  # with both
+                row[f"{d.name}.efficiency_cycle"] = np.where(w_in_f > 0, w_in / w_in_f, np.nan)
+    if "friction.status" in cols:
+        locked = cols["friction.status"] == 2
+        row["friction.self_locking_positions"] = np.count_nonzero(locked, axis=-1)
+        row["friction.self_locking"] = (
+            _zones(result)
+            if locked.ndim == 1
+            else np.array([_ranges(a, m) for a, m in zip(angle, locked)], dtype=object)
+        )
+    for j in system.model.joints:
+        if f"{j.name}.Fx" not in cols:
+            continue
+        mag = np.hypot(cols[f"{j.name}.Fx"], cols[f"{j.name}.Fy"])  # NaN: singular rows
+        peak = np.max(np.where(np.isfinite(mag), mag, -np.inf), axis=-1)
+        row[f"{j.name}.reaction_peak"] = np.where(peak > -np.inf, peak, np.nan)
+        if f"{j.name}.Fx_friction" in cols:
+            magf = np.hypot(cols[f"{j.name}.Fx_friction"], cols[f"{j.name}.Fy_friction"])
+            peak = np.max(np.where(np.isfinite(magf), magf, -np.inf), axis=-1)
+            row[f"{j.name}.reaction_peak_friction"] = np.where(peak > -np.inf, peak, np.nan)
+    for name in cols:
+        if name.endswith(".pressure_angle"):
+            row[name + "_max"] = np.max(cols[name], axis=-1)
+        elif name.endswith(".transmission_angle"):
+            row[name + "_min"] = np.min(np.minimum(cols[name], 180.0 - cols[name]), axis=-1)
+    if flywheel or (flywheel is None and getattr(system.model, "flywheel", None) is not None):
+        from ..dynamics.flywheel import design
+
+        fw = design(result)
+        row["flywheel.inertia"], row["flywheel.inertia_net"] = fw.inertia, fw.inertia_net
+    return {
+        k: (v.item() if isinstance(v, np.ndarray) and v.ndim == 0 else v) for k, v in row.items()
+    }
+
+
+def split_rows(row: dict[str, Any], n: int) -> list[dict[str, Any]]:
+    """Rows of ``n`` variants from one row of arrays ``(n,)`` (scalars repeat)."""
+    out = []
+    for v in range(n):
+        out.append(
+            {
+                k: (
+                    val[v].item()
+                    if isinstance(val, np.ndarray) and val.dtype != object
+                    else val[v]
+                    if isinstance(val, np.ndarray)
+                    else val
+                )
+                for k, val in row.items()
+            }
+        )
+    return out
+
+
+def failure_row(exc: BaseException) -> dict[str, Any]:
+    """The row of a variant that could not be analysed: its reason, in one line."""
+    reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+    row: dict[str, Any] = {"status": "failed", "reason": reason, "full_cycle": False}
+    for attr in ("group", "coordinate"):
+        if getattr(exc, attr, None) is not None:
+            row[f"failed.{attr}"] = str(getattr(exc, attr))
+    return row
+
+
+def analyze_variants(
+    template: Template,
+    overrides: Iterable[Mapping[str, float]],
+    *,
+    positions: int | None = None,
+    friction: bool | None = None,
+    flywheel: bool | None = None,
+    vectorise: bool = True,
+) -> list[dict[str, Any]]:
+    """One :func:`summary_row` per variant, in order; failures are rows with their reason.
+
+    ``positions`` replaces the file's number of positions; ``friction``
+    (default: as the file) solves the friction solutions; ``flywheel``
+    (default: when the file asks) adds the flywheel inertia.  Variants are
+    analysed all at once where :mod:`~kinetostatics.analysis.vectorised` can, one by
+    one otherwise (``vectorise=False``: always one by one) — with the same rows.
+    """
+    overrides = list(overrides)
+    rows: list[dict[str, Any] | None] = [None] * len(overrides)
+    models: dict[int, Model] = {}
+    for v, ov in enumerate(overrides):
+        try:
+            models[v] = template.model(ov, positions=positions)
+        except (KinetostaticsError, ValueError, ArithmeticError) as exc:
+            rows[v] = failure_row(exc)
+    wants_flywheel = flywheel or (flywheel is None and template.base.flywheel is not None)
+    if vectorise and not wants_flywheel and len(models) > 1:
+        _vectorised_rows(models, rows, friction)
+    from ..analysis.pipeline import analyze
+
+    for v, model in models.items():
+        if rows[v] is not None:
+            continue
+        try:
+            rows[v] = summary_row(analyze(model, friction=friction), flywheel=flywheel)
+        except (KinetostaticsError, ValueError, ArithmeticError, np.linalg.LinAlgError) as exc:
+            rows[v] = failure_row(exc)
+    return rows
+
+
+def _vectorised_rows(models: dict[int, Model], rows: list, friction: bool | None) -> None:
+    """Fill ``rows`` of the variants the vectorised analysis takes, group by topology."""
+    import warnings
+
+    from ..analysis import vectorised
+    from ..model.stacking import TopologyMismatch, signature, stack
+
+    try:  # one topology (the usual case): no signatures needed
+        groups = {(): (list(models), stack(list(models.values())))}
+    except TopologyMismatch:
+        groups = {}
+        for v, m in models.items():
+            groups.setdefault(signature(m), ([], None))[0].append(v)
+    for members, stacked in groups.values():
+        for _ in range(3):  # variants that leave the path go, the rest again
+            if len(members) < 2:
+                break
+            try:
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    with np.errstate(all="ignore"):
+                        st = vectorised.analyze_stacked(
+                            [models[v] for v in members], friction=friction, stacked=stacked
+                        )
+                        strokes = vectorised.output_strokes(st)
+                        row = summary_row(vectorised.as_result(st), flywheel=False, strokes=strokes)
+            except vectorised.LeftOver as exc:
+                members, stacked = [v for v, ok in zip(members, exc.ok) if ok], None
+                continue
+            except (
+                vectorised.Unsupported,
+                TopologyMismatch,
+                ValueError,
+                IndexError,
+                ArithmeticError,
+                np.linalg.LinAlgError,
+            ):
+                break  # the per-variant analysis takes them, exactly
+            for v, ok, r in zip(members, st.ok, split_rows(row, len(members))):
+                if ok and not r.get("friction.self_locking_positions"):  # a locked zone's
+                    rows[v] = r  # edges: one by one
+            break

@@ -1,0 +1,210 @@
+"""The ``kinetostatics`` command: check, run, and the subcommands of ``EXTENSIONS``.
+
+A user error prints one line per problem on stderr (``FILE:LINE:COL:
+key.path: message``) and exits with status 2.  ``run`` imports neither
+matplotlib nor scipy.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import warnings
+from pathlib import Path
+
+from ..errors import KinetostaticsError
+
+__all__ = ["main"]
+
+
+def _check(args) -> int:
+    from ..outputs.loading import load
+    from ..structure.system import build_system
+
+    model = load(args.file)
+    system = build_system(model)
+    st = system.structure
+    from ..analysis import numerical_mobility
+
+    n_num = numerical_mobility(system)
+    from ..errors import printable
+
+    print(
+        f"{printable(model.name)}: {len(model.moving_links)} moving links, "
+        f"{len(model.joints)} joints, "
+        f"{len(model.drivers)} drivers"
+    )
+    print(f"mobility (Grübler–Kutzbach): {st.mobility}")
+    print(f"independent loops: {len(st.loops)}")
+    for loop in st.loops:
+        print(f"  {' - '.join(loop)}")
+    print("Assur groups in solve order:")
+    for k, plan in enumerate(system.plans, 1):
+        g = plan.group
+        via = ", ".join(g.joints + g.drivers)
+        print(f"  {k}. {g.label} via {via}")
+    print(f"mobility (numerical, at the sketched pose): {n_num}")
+    if system.motion_drivers and len(system.motion_drivers) == st.mobility:
+        from ..analysis.checks import start_checks
+
+        _print_checks(start_checks(system), " (start pose)")
+    return 0
+
+
+def _print_checks(checks, label: str = "") -> None:
+    """The self-checks in one line; a failed one also as a warning on stderr."""
+    print(checks.line().replace("checks:", f"checks{label}:", 1))
+    if not checks.ok:
+        print(f"kinetostatics: warning: {checks.warning()}", file=sys.stderr)
+
+
+def _run(args) -> int:
+    import numpy as np
+
+    from ..analysis import analyze
+    from ..outputs.loading import load
+
+    model = load(args.file)
+    result = analyze(model)
+    s = result.summary()  # before anything is written: a failed run writes nothing
+    out = Path(args.out)
+    _write_outputs(
+        out,
+        f"--out {args.out}",
+        [
+            (out / "results.csv", result.to_csv),
+            (out / "summary.json", lambda path: result.to_json(path, s)),
+        ],
+    )
+    from ..errors import printable
+
+    print(
+        f"{printable(model.name)}: {len(result)} positions -> {out / 'results.csv'}, "
+        f"{out / 'summary.json'}"
+    )
+    print("groups: " + "; ".join(s["structure"]["groups"]))
+    for name, o in s["outputs"].items():
+        print(
+            f"{name}: stroke {o['stroke'] * 1e3:.4f} mm, time ratio {o['time_ratio']:.4f}, "
+            f"limits at {o['limit_positions']['min']['angle']:.3f}° and "
+            f"{o['limit_positions']['max']['angle']:.3f}°"
+        )
+    for e in s["events"]:
+        print(f"event: {e['load']} {e['switch']} at {e['angle']:.3f}° ({e['condition']})")
+    for sp in s["singular_positions"]:
+        print(
+            f"singular position: {sp['group']} at {sp['angle']:.4f}°, t = {sp['time']:.6g} s "
+            f"(condition {sp['condition']:.3g})"
+        )
+    if fw := s.get("flywheel"):
+        line = (
+            f"flywheel for delta = {fw['delta']:g}: J_F = {fw['inertia']['crank']:.4g} "
+            f"kg*m^2 on the crank ({fw['inertia']['crank_net']:.4g} less the machine's "
+            f"mean {fw['machine_inertia']['mean']:.3g}); energy swing "
+            f"{fw['energy_swing']:.4g} J, mean driving torque {fw['mean_torque']:.4g} N*m"
+        )
+        if fw.get("ratio"):
+            line += (
+                f"; on the motor shaft (ratio {fw['ratio']:g}): {fw['inertia']['motor']:.4g} kg*m^2"
+            )
+        print(line)
+    if s["indeterminate_reactions"]:
+        print(
+            "warning: redundant constraints: the reactions are the minimum-norm solution "
+            "(statically indeterminate)"
+        )
+    for name, d in s["drivers"].items():
+        line = f"{name}: mean {d['mean']:.4g} {d['unit']}, peak {d['peak']:.4g}"
+        if "mean_friction" in d and not np.isfinite(d["mean_friction"]):
+            line += "; with friction: no consistent solution at any position (self-locking)"
+        elif "mean_friction" in d:
+            line += (
+                f"; with friction mean {d['mean_friction']:.4g}, peak {d['peak_friction']:.4g}"
+                f" (approximate mean {d['mean_friction_approx']:.4g})"
+            )
+        print(line)
+    for name, p in s["reaction_peaks"].items():
+        print(f"joint {name}: peak reaction {p['peak']:.4g} N at {p['at']:.4g}")
+    if "friction.status" in result.columns:
+        st = result["friction.status"]
+        locked = int(np.sum(st == 2))
+        if locked:
+            print(f"self-locking at {locked} positions (friction.status = 2)")
+        for z in s.get("self_locking", ()):
+            ends = [
+                "beyond the run"
+                if v is None
+                else (f"{v:.9g}°" if z["unit"] == "deg" else f"{v * 1e3:.9g} mm")
+                for v in (z["from"], z["to"])
+            ]
+            print(f"self-locked zone from {ends[0]} to {ends[1]} ({z['rows']} rows)")
+    _print_checks(result.checks)
+    return 0
+
+
+def _write_outputs(out: Path, what: str, writers) -> None:
+    """Make the folder ``out`` and write each ``(path, write)``; an ``OSError`` (a
+    folder that is a file or read-only, a full disk) is one line naming the path,
+    and no file is left half-written: each is written to a temporary name first."""
+    from ..base.files import make_folder, write_whole
+    from ..errors import output_error
+
+    make_folder(out, what)
+    for path, write in writers:
+        try:
+            write_whole(path, write)
+        except OSError as exc:
+            raise output_error(exc, what) from None
+
+
+# Modules adding subcommands: each defines ``register(subparsers)`` that adds its
+# parsers with ``set_defaults(func=...)``.  They must not import matplotlib or
+# scipy at import time (``run`` stays light).
+EXTENSIONS: tuple[str, ...] = (
+    "kinetostatics.cli.pictures",
+    "kinetostatics.cli.dynamics",
+    "kinetostatics.cli.batch",
+)
+
+
+def main(argv: list[str] | None = None) -> int:
+    import importlib
+
+    parser = argparse.ArgumentParser(
+        prog="kinetostatics",
+        description="Kinetostatic analysis of planar linkages described in YAML.",
+    )
+    sub = parser.add_subparsers(dest="command", required=True)
+    p = sub.add_parser("check", help="structure: mobility, loops, Assur groups")
+    p.add_argument("file", help="mechanism YAML file")
+    p.set_defaults(func=_check)
+    p = sub.add_parser("run", help="analyse a cycle: results.csv and summary.json")
+    p.add_argument("file", help="mechanism YAML file")
+    p.add_argument("--out", default="out", help="output folder (default: out)")
+    p.set_defaults(func=_run)
+    for name in EXTENSIONS:
+        importlib.import_module(name).register(sub)
+    args = parser.parse_args(argv)
+
+    def one_line(message, category, filename, lineno, file=None, line=None):
+        from ..errors import printable
+
+        print(f"kinetostatics: warning: {printable(str(message))}", file=sys.stderr)
+
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("default")
+            warnings.showwarning = one_line
+            return args.func(args)
+    except KinetostaticsError as exc:
+        from ..errors import printable
+
+        file = printable(str(args.file))
+        for line in str(exc).splitlines():
+            line = printable(line)  # no control characters reach the terminal
+            print(f"kinetostatics: {line}" if not line.startswith(file) else line, file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,238 @@
+"""Subcommands ``plot``, ``animate`` and ``report`` (registered through ``cli.EXTENSIONS``).
+
+Importing this module imports neither matplotlib nor the analysis: the
+commands load them when they run.
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+__all__ = ["WHAT", "register"]
+
+WHAT = (
+    "drawing",
+    "motion",
+    "torque",
+    "efficiency",
+    "reactions",
+    "polar",
+    "velocity",
+    "acceleration",
+)
+
+
+def _positive_int(text: str) -> int:
+    try:
+        n = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got '{text}'") from None
+    if n < 2:
+        raise argparse.ArgumentTypeError(f"need at least 2 frames, got {n}")
+    return n
+
+
+def _positive_float(text: str) -> float:
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got '{text}'") from None
+    if not v > 0:
+        raise argparse.ArgumentTypeError(f"must be positive, got {text}")
+    return v
+
+
+def _labels(text: str) -> list[str]:
+    return [s.strip() for s in text.split(",") if s.strip()]
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "plot",
+        help="pictures: drawing, motion diagram, torque, reactions, polar diagrams, polygons",
+        description="Draw the mechanism and its curves as image files in --out. Curves run over "
+        "the whole cycle; the drawing and the polygons are at --position.",
+    )
+    p.add_argument("file", help="mechanism YAML file")
+    p.add_argument("--out", default="plots", help="output folder (default: plots)")
+    p.add_argument(
+        "--what",
+        nargs="+",
+        choices=WHAT + ("all",),
+        default=["all"],
+        metavar="WHAT",
+        help=f"pictures to draw: {', '.join(WHAT)} or all (default: all)",
+    )
+    p.add_argument(
+        "--position",
+        type=float,
+        default=None,
+        help="driver coordinate of the drawing and the polygons, deg (mm for a "
+        "prismatic driver); default: the first position of the analysis",
+    )
+    p.add_argument(
+        "--forces",
+        action="store_true",
+        help="draw the loads to scale on the drawing (reactions, inertia, weights)",
+    )
+    p.add_argument(
+        "--friction",
+        action="store_true",
+        help="forces and polar diagrams from the consistent friction solution",
+    )
+    p.add_argument(
+        "--paths",
+        nargs="*",
+        default=None,
+        metavar="LINK.POINT",
+        help="points whose paths the drawing traces (default: the moving pins)",
+    )
+    p.add_argument(
+        "--output",
+        default=None,
+        help="output of the motion diagram: a joint, a link or link.point "
+        "(default: the output slider)",
+    )
+    p.add_argument(
+        "--format", choices=("png", "svg", "pdf"), default="png", help="image format (default: png)"
+    )
+    p.add_argument("--dpi", type=_positive_float, default=110.0, help="resolution (default: 110)")
+    p.set_defaults(func=_plot)
+
+    p = sub.add_parser(
+        "animate",
+        help="animation of the cycle (GIF; MP4 if ffmpeg is installed)",
+        description="Animate one cycle, one frame per position, equally spaced.",
+    )
+    p.add_argument("file", help="mechanism YAML file")
+    p.add_argument("--out", required=True, help="output file, .gif (or .mp4 with ffmpeg)")
+    p.add_argument(
+        "--frames",
+        type=_positive_int,
+        default=120,
+        help="number of frames over the cycle (default: 120)",
+    )
+    p.add_argument(
+        "--fps", type=_positive_float, default=20.0, help="frames per second (default: 20)"
+    )
+    p.add_argument("--forces", action="store_true", help="overlay the loads at one force scale")
+    p.add_argument(
+        "--friction", action="store_true", help="forces from the consistent friction solution"
+    )
+    p.add_argument(
+        "--paths",
+        nargs="*",
+        default=None,
+        metavar="LINK.POINT",
+        help="points whose paths are traced (default: the moving pins)",
+    )
+    p.add_argument("--dpi", type=_positive_float, default=80.0, help="resolution (default: 80)")
+    p.set_defaults(func=_animate)
+
+    p = sub.add_parser(
+        "report",
+        help="course-design report: Markdown and HTML with tables and pictures",
+        description="Write report.md, report.html (self-contained), results.csv, "
+        "summary.json and img/ to --out.",
+    )
+    p.add_argument("file", help="mechanism YAML file")
+    p.add_argument("--out", default="report", help="output folder (default: report)")
+    p.add_argument(
+        "--polygons",
+        type=_labels,
+        default=None,
+        metavar="LABELS",
+        help="course positions for the polygons, comma-separated, e.g. 2,7,8' (default: 2,7)",
+    )
+    p.add_argument("--dpi", type=_positive_float, default=110.0, help="resolution (default: 110)")
+    p.set_defaults(func=_report)
+
+
+def _default_paths(model) -> list[str]:
+    pins = [
+        f"{a.link}.{a.point}"
+        for j in model.joints
+        if j.pin and model.ground.name not in j.links
+        for a in j.anchors()
+        if a.at_joint and a.link == j.links[1]
+    ]
+    return list(dict.fromkeys(pins))
+
+
+def _plot(args) -> int:
+    from ..outputs import plotting as pl
+    from ..outputs.loading import load
+
+    model = load(args.file)
+    what = list(WHAT) if "all" in args.what else list(dict.fromkeys(args.what))
+    positions = [args.position] if args.position is not None else []
+    result = pl.analyze_for_pictures(model, positions=positions, course=True, events=True)
+    row = pl.row_at(result, args.position)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    paths = _default_paths(model) if args.paths is None else args.paths
+    written = []
+    for name in what:
+        if name == "drawing":
+            fig = pl.draw_mechanism(
+                result,
+                row=row,
+                forces=args.forces,
+                friction=args.friction,
+                paths=paths,
+                dpi=args.dpi,
+            )
+        elif name == "motion":
+            fig = pl.motion_diagram(result, args.output, dpi=args.dpi)
+        elif name == "torque":
+            fig = pl.torque_curves(result, dpi=args.dpi)
+        elif name == "efficiency":
+            if not model.has_friction:
+                print(f"{model.name}: no friction in the file: no efficiency curve")
+                continue
+            fig = pl.efficiency_curve(result, dpi=args.dpi)
+        elif name == "reactions":
+            fig = pl.reaction_curves(result, friction=model.has_friction, dpi=args.dpi)
+        elif name == "polar":
+            fig = pl.polar_diagrams(result, friction=args.friction, dpi=args.dpi)
+        else:
+            fig = pl.polygon_figure(result, name, row=row, dpi=args.dpi)
+        path = out / f"{name}.{args.format}"
+        fig.savefig(path, dpi=args.dpi)
+        written.append(path)
+    print(f"{model.name}: {', '.join(str(p) for p in written)}")
+    return 0
+
+
+def _animate(args) -> int:
+    from ..outputs import plotting as pl
+    from ..outputs.loading import load
+
+    out = Path(args.out)
+    if out.suffix.lower() not in (".gif", ".mp4"):
+        raise pl.PictureError(f"{out}: write the animation as .gif (or .mp4 with ffmpeg)")
+    model = load(args.file)
+    result = pl.analyze_for_pictures(model, frames=args.frames, events=False)
+    paths = _default_paths(model) if args.paths is None else args.paths
+    pl.animate(
+        result,
+        out,
+        forces=args.forces,
+        friction=args.friction,
+        paths=paths,
+        fps=args.fps,
+        dpi=args.dpi,
+    )
+    print(f"{model.name}: {len(result)} frames -> {out}")
+    return 0
+
+
+def _report(args) -> int:
+    from ..outputs.report import write_report
+
+    paths = write_report(args.file, args.out, polygons=args.polygons, dpi=args.dpi)
+    print(
+        f"report: {paths['markdown']}, {paths['html']} (data: {paths['csv']}, {paths['summary']})"
+    )
+    return 0

@@ -1,0 +1,268 @@
+"""Closed-form dyads: a fast path behind the group-solver interface.
+
+For RRR, RRP (slide axis on a known link) and RPR (slide axis on the dyad's
+pivoted link) dyads, and for a link driven about a revolute on a known link,
+the positions of every requested time follow in closed form from the known
+links, vectorised over all positions at once.  The assembly branch is the
+sign ``σ`` read off the Newton solution at the sketched pose; an optional
+per-position factor ``sign`` (±1) multiplies it, so a path can change to the
+other closed-form sign where it passes a change point (see
+:func:`kinetostatics.kinematics.positions.closed_form_path`).  Each solver also returns
+the dyad's *discriminant* ``D``, normalised to its scale: ``D > 0`` where the
+dyad assembles, ``D = 0`` at its singular positions (the two assemblies
+meet), ``D < 0`` where the links cannot reach.  ``D`` is a smooth function
+of the known links' poses (no square root is taken), so it can be
+interpolated and minimised along a path: ``√D`` is the distance of the
+assembly from the singular pose (the margin).
+
+A solver is ``f(q, psi, sign=None) -> (q, D)`` filling the group's columns of ``q``.
+
+The closed forms are formulas of revolute and prismatic pairs by nature (like
+pyslvs' PLLP), so this module names the joint classes and reads their
+attributes (``p_i``, ``p_j``, ``a``, ``u``, ``p``); with the velocity polygons and
+the clearance macro it is the only place outside ``joints/`` that does.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from ..base.geometry import cross, perp, rotate, wrap_angle
+from ..joints import Prismatic, Revolute
+from ..structure.system import GroupPlan, System
+
+__all__ = ["closed_form", "MARGIN"]
+
+MARGIN = 1e-3  # below this margin √D a solve near a guess hands over to Newton
+
+Solver = Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]
+
+
+def _world(system: System, q: np.ndarray, link: str, p: np.ndarray) -> np.ndarray:
+    if link == system.model.ground.name:
+        return np.broadcast_to(p, q.shape[:-1] + (2,))
+    k = system.link_index(link)
+    return q[..., 3 * k : 3 * k + 2] + rotate(q[..., 3 * k + 2], p)
+
+
+def _angle(system: System, q: np.ndarray, link: str):
+    if link == system.model.ground.name:
+        return np.zeros(q.shape[:-1])
+    return q[..., 3 * system.link_index(link) + 2]
+
+
+def _place(
+    system: System,
+    q: np.ndarray,
+    link: str,
+    theta: np.ndarray,
+    world: np.ndarray,
+    local: np.ndarray,
+) -> None:
+    """Set link's pose so that local point ``local`` lies at ``world``."""
+    k = system.link_index(link)
+    q[..., 3 * k + 2] = theta
+    q[..., 3 * k : 3 * k + 2] = world - rotate(theta, local)
+
+
+def _heading(v: np.ndarray) -> np.ndarray:
+    return np.arctan2(v[..., 1], v[..., 0])
+
+
+def _norm(v: np.ndarray) -> np.ndarray:
+    return np.hypot(v[..., 0], v[..., 1])
+
+
+def _pin(j: Revolute, link: str) -> np.ndarray:
+    return j.p_i if link == j.links[0] else j.p_j
+
+
+def _other(j, link: str) -> str:
+    return j.links[1] if j.links[0] == link else j.links[0]
+
+
+def _split(plan, joints):
+    """(a, b, inner joint, a's external joint, b's external joint), or None."""
+    a, b = plan.group.links
+    gj = [joints[n] for n in plan.group.joints]
+    inner = [j for j in gj if set(j.links) == {a, b}]
+    ext_a = [j for j in gj if a in j.links and j not in inner]
+    ext_b = [j for j in gj if b in j.links and j not in inner]
+    if not (len(inner) == len(ext_a) == len(ext_b) == 1):
+        return None
+    return a, b, inner[0], ext_a[0], ext_b[0]
+
+
+def _rrr(system, plan, joints, q0) -> Solver | None:
+    parts = _split(plan, joints)
+    if parts is None or not all(isinstance(j, Revolute) for j in parts[2:]):
+        return None
+    a, b, m, ja, jb = parts
+    la_vec, lb_vec = _pin(m, a) - _pin(ja, a), _pin(m, b) - _pin(jb, b)
+    la, lb = _norm(la_vec), _norm(lb_vec)
+    alpha_a, alpha_b = _heading(la_vec), _heading(lb_vec)
+    if np.any(la == 0) or np.any(lb == 0):
+        return None
+
+    def points(q):
+        return (
+            _world(system, q, _other(ja, a), _pin(ja, _other(ja, a))),
+            _world(system, q, _other(jb, b), _pin(jb, _other(jb, b))),
+        )
+
+    pa0, pb0 = points(q0)
+    pm0 = _world(system, q0, a, _pin(m, a))
+    sigma = np.sign(cross(pb0 - pa0, pm0 - pa0))
+
+    def solve(q, psi, sign=None):
+        sg = sigma if sign is None else sigma * sign
+        pa, pb = points(q)
+        dv = pb - pa
+        d2 = np.sum(dv * dv, axis=-1)
+        d = np.sqrt(d2)
+        x = (la * la - lb * lb + d2) / (2 * d)
+        h2 = la * la - x * x
+        h = np.sqrt(np.maximum(h2, 0.0))
+        e = dv / d[..., None]
+        pm = pa + x[..., None] * e + (sg * h)[..., None] * perp(e)
+        ta = _heading(pm - pa) - alpha_a
+        tb = _heading(pm - pb) - alpha_b
+        _place(system, q, a, ta, pa, _pin(ja, a))
+        _place(system, q, b, tb, pb, _pin(jb, b))
+        return q, h2 / np.minimum(la, lb) ** 2
+
+    return solve
+
+
+def _rrp(system, plan, joints, q0) -> Solver | None:
+    """R (a, known) – R (a, b) – P (known link i carries the axis, b slides)."""
+    parts = _split(plan, joints)
+    if parts is None:
+        return None
+    a, b, m, ja, s = parts
+    if not (
+        isinstance(m, Revolute)
+        and isinstance(ja, Revolute)
+        and isinstance(s, Prismatic)
+        and s.links[1] == b
+    ):
+        return None
+    k = s.links[0]  # known link carrying the axis
+    la_vec = _pin(m, a) - _pin(ja, a)
+    la = _norm(la_vec)
+    alpha_a = _heading(la_vec)
+    offset = _pin(m, b) - s.p  # from the sliding point to the pin, b's frame
+
+    def frame(q):
+        tk = _angle(system, q, k)
+        tb = tk + s.angle
+        u = rotate(tk, s.u)
+        w = (
+            _world(system, q, k, s.a)
+            + rotate(tb, offset)
+            - _world(system, q, _other(ja, a), _pin(ja, _other(ja, a)))
+        )
+        return tb, u, w
+
+    tb0, u0, w0 = frame(q0)
+    pm0 = _world(system, q0, a, _pin(m, a))
+    pa0 = _world(system, q0, _other(ja, a), _pin(ja, _other(ja, a)))
+    wu0 = np.sum(w0 * u0, axis=-1)
+    s0 = np.sum((pm0 - pa0 - w0) * u0, axis=-1)
+    sigma = np.sign(s0 + wu0)
+
+    def solve(q, psi, sign=None):
+        sg = sigma if sign is None else sigma * sign
+        tb, u, w = frame(q)
+        wu = np.sum(w * u, axis=-1)
+        disc = wu * wu - np.sum(w * w, axis=-1) + la * la
+        sval = -wu + sg * np.sqrt(np.maximum(disc, 0.0))
+        pa = _world(system, q, _other(ja, a), _pin(ja, _other(ja, a)))
+        pm = pa + w + sval[..., None] * u
+        ta = _heading(pm - pa) - alpha_a
+        _place(system, q, a, ta, pa, _pin(ja, a))
+        _place(system, q, b, tb, pm, _pin(m, b))
+        return q, disc / (la * la)
+
+    return solve
+
+
+def _rpr(system, plan, joints, q0) -> Solver | None:
+    """R (a, known) – P (axis on b, a slides) – R (b, known)."""
+    parts = _split(plan, joints)
+    if parts is None or not isinstance(parts[2], Prismatic):
+        return None
+    s = parts[2]
+    b, a = s.links  # b carries the axis, a slides on it
+    ja, jb = (parts[3], parts[4]) if parts[0] == a else (parts[4], parts[3])
+    if not (isinstance(ja, Revolute) and isinstance(jb, Revolute)):
+        return None
+    delta = s.p - _pin(ja, a)  # a's frame: pin -> sliding point
+    e = s.a - _pin(jb, b)  # b's frame: pivot -> axis point
+    n_l = perp(s.u)
+    nu_ang = _heading(n_l)
+    k_const = np.sum(n_l * (e - rotate(s.angle, delta)), axis=-1)
+
+    def ends(q):
+        return (
+            _world(system, q, _other(ja, a), _pin(ja, _other(ja, a))),
+            _world(system, q, _other(jb, b), _pin(jb, _other(jb, b))),
+        )
+
+    pa0, pb0 = ends(q0)
+    dv0 = pa0 - pb0
+    beta0 = _heading(dv0)
+    tb0 = _angle(system, q0, b)
+    sigma = -np.sign(wrap_angle(beta0 - nu_ang - tb0))
+
+    def solve(q, psi, sign=None):
+        sg = sigma if sign is None else sigma * sign
+        pa, pb = ends(q)
+        dv = pa - pb
+        d = np.hypot(dv[..., 0], dv[..., 1])
+        beta = np.arctan2(dv[..., 1], dv[..., 0])
+        c = k_const / d
+        tb = beta - nu_ang + sg * np.arccos(np.clip(c, -1.0, 1.0))
+        ta = tb + s.angle
+        _place(system, q, b, tb, pb, _pin(jb, b))
+        _place(system, q, a, ta, pa, _pin(ja, a))
+        return q, 1.0 - c * c
+
+    return solve
+
+
+def _driven(system, plan, joints, q0) -> Solver | None:
+    """A single link on a revolute to a known link, its angle set by a driver."""
+    if len(plan.group.links) != 1 or len(plan.group.drivers) != 1 or len(plan.group.joints) != 1:
+        return None
+    (link,) = plan.group.links
+    j = joints[plan.group.joints[0]]
+    drivers = system.motion_drivers
+    d_index = [d.name for d in drivers].index(plan.group.drivers[0])
+    d = drivers[d_index]
+    if not isinstance(j, Revolute) or d.joint is not j:
+        return None
+    other = _other(j, link)
+    turn = 1.0 if j.links[1] == link else -1.0  # coordinate θ_j − θ_i
+
+    def solve(q, psi, sign=None):
+        theta = _angle(system, q, other) + turn * (psi[..., d_index] - d.driver.offset)
+        _place(system, q, link, theta, _world(system, q, other, _pin(j, other)), _pin(j, link))
+        return q, np.ones(q.shape[:-1])
+
+    return solve
+
+
+def closed_form(system: System, plan: GroupPlan, q0: np.ndarray) -> Solver | None:
+    """The closed-form solver of a group, given its Newton solution ``q0`` at
+    the sketched pose (which fixes the branch), or ``None``."""
+    joints = {j.name: j for j in system.model.joints}
+    if plan.group.kind == "driven":
+        return _driven(system, plan, joints, q0)
+    if plan.group.kind != "dyad":
+        return None
+    return {"RRR": _rrr, "RRP": _rrp, "RPR": _rpr}.get(plan.group.letters, lambda *a: None)(
+        system, plan, joints, q0
+    )

@@ -1,0 +1,268 @@
+"""Roots in time: where a function of the state changes sign, located exactly; and the rule
+for the outputs built on them (the strokes and time ratios of the output slides).
+
+Each comes in two forms side by side: over the rows of one run (each root continued from
+the nearest solved row, :func:`~kinetostatics.kinematics.positions.state_at`), and stacked over
+variants ``(V, N, ...)`` (:mod:`~kinetostatics.analysis.vectorised`), which evaluates the closed
+forms (:func:`~kinetostatics.kinematics.positions.closed_form_near`).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ..structure.system import System, coordinate_gradient
+from .positions import closed_form_near, derivatives, state_at
+from .schedule import Schedule, schedule
+from .state import joint_coordinate, joint_coordinate_bias
+
+__all__ = [
+    "refine",
+    "find_roots",
+    "state_near",
+    "refine_stacked",
+    "state_stacked",
+    "output_slides",
+    "coordinate_rates",
+    "output_strokes",
+    "output_strokes_stacked",
+]
+
+
+# -- roots over the rows of one run ------------------------------------------------------
+def refine(system, drive, f, t0, tn, qn, qdn, qddn, max_iter=12, bracket=None):
+    """Newton on t for f(state) = 0, all roots at once.
+
+    ``t0 (k,)`` first guesses, ``tn`` and ``qn``/``qdn``/``qddn`` the solved
+    samples nearest to each (same branch).  ``bracket``, optional, is
+    ``(lo, hi, sign_lo)``: each root lies in [lo, hi], where f has the sign
+    ``sign_lo`` at lo and the other at hi; a Newton step that would leave the
+    bracket (which shrinks with every evaluation) is replaced by bisection, so
+    the iteration never wanders to another part of the motion.  Returns the
+    roots ``(k,)`` and their states.
+    """
+    t = np.array(t0, dtype=float)
+    live = np.ones(t.shape, dtype=bool)
+    states = [qn.copy(), qdn.copy(), qddn.copy()]
+    if bracket is not None:
+        lo, hi, sign_lo = (np.array(x, dtype=float) for x in bracket)
+        max_iter = max(max_iter, 64)  # bisection halves the bracket each time
+    for _ in range(max_iter):
+        if not live.any():
+            break
+        idx = np.nonzero(live)[0]
+        q, qd, qdd = state_at(system, drive, t[idx], tn[idx], qn[idx], qdn[idx], qddn[idx])
+        for store, new in zip(states, (q, qd, qdd)):
+            store[idx] = new
+        g, dg = f(q, qd, qdd)
+        dt = np.divide(-g, dg, out=np.zeros_like(g), where=dg != 0)
+        tol = 1e-14 * np.maximum(np.abs(t[idx]), 1.0)
+        done = (np.abs(dt) <= tol) | (g == 0)
+        if bracket is None:
+            done |= dg == 0
+            t[idx] += dt
+        else:
+            below = np.sign(g) == sign_lo[idx]
+            lo[idx] = np.where(below, t[idx], lo[idx])
+            hi[idx] = np.where(below, hi[idx], t[idx])
+            step = t[idx] + dt
+            out = ~((step > lo[idx]) & (step < hi[idx])) | (dg == 0)
+            done |= hi[idx] - lo[idx] <= tol
+            t[idx] = np.where(done, t[idx], np.where(out, 0.5 * (lo[idx] + hi[idx]), step))
+        live[idx[done]] = False
+    return t, states
+
+
+def find_roots(system, drive, t, q, qd, qdd, fvals, f, full, period_t):
+    """Times where fvals changes sign between samples (cyclically if full), refined."""
+    order = np.argsort(t)
+    ts, fs_ = t[order], fvals[order]
+    a = np.arange(len(ts) - 1)
+    b = a + 1
+    if full:
+        a, b = np.append(a, len(ts) - 1), np.append(b, 0)
+    sa, sb = np.sign(fs_[a]), np.sign(fs_[b])
+    # a sign change, or a zero sample that starts one (a value held at zero is no switch)
+    prev = np.sign(fs_[np.r_[a[:1] - 1, a[:-1]] % len(fs_)]) if full else np.r_[0.0, sa[:-1]]
+    cross = np.nonzero((sa * sb < 0) | ((sa == 0) & (sb != 0) & (prev != sb)))[0]
+    if not cross.size:
+        return np.zeros(0), [np.zeros((0,) + q.shape[1:])] * 3
+    a, b = a[cross], b[cross]
+    wrap = (b == 0) * (period_t if full else 0.0)
+    tb = ts[b] + wrap
+    fa, fb = fs_[a], fs_[b]
+    near_b = np.abs(fb) < np.abs(fa)
+    n = np.where(near_b, order[b], order[a])
+    tn = t[n] + np.where(near_b, wrap, 0.0)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        guess = np.where(fa == 0.0, ts[a], ts[a] + (tb - ts[a]) * fa / (fa - fb))
+    sign_a = np.where(fa == 0.0, -np.sign(fb), np.sign(fa))
+    roots, states = refine(
+        system, drive, f, guess, tn, q[n], qd[n], qdd[n], bracket=(ts[a], tb, sign_a)
+    )
+    return (np.mod(roots, period_t) if full else roots), states
+
+
+def state_near(system, drive, r, t, q, qd, qdd):
+    """(q, q̇, q̈) at the time ``r``, continued from the row of ``t`` nearest to it, ``(1, n_q)``."""
+    n = int(np.argmin(np.abs(t - r)))
+    return state_at(
+        system, drive, np.array([r]), t[n : n + 1], q[n : n + 1], qd[n : n + 1], qdd[n : n + 1]
+    )
+
+
+# -- roots over stacked variants ---------------------------------------------------------
+def state_stacked(system: System, solvers, sched: Schedule, t: np.ndarray, guess: np.ndarray):
+    """(q, q̇, q̈) at times ``t (V, M)`` by the closed forms, angles nearest ``guess``."""
+    psi, psi_d, psi_dd = sched(t)
+    q, _ = closed_form_near(solvers, guess, psi)
+    qd, qdd, _ = derivatives(system, q, psi_d, psi_dd)
+    return q, qd, qdd
+
+
+def refine_stacked(system, solvers, sched, f, t0, q0, qd0, qdd0, max_iter: int = 12):
+    """Newton on t for ``f(q, q̇, q̈) = (g, ġ) = 0``, all variants and roots at once.
+
+    ``t0 (V, M)`` first guesses, ``q0, qd0, qdd0 (V, M, n_q)`` solved states
+    near them (same branch); returns (t, (q, q̇, q̈)) at the roots.
+    """
+    t = np.array(t0, dtype=float)
+    h = (t - t0)[..., None]
+    guess = q0 + h * qd0 + 0.5 * h * h * qdd0
+    for _ in range(max_iter):
+        q, qd, qdd = state_stacked(system, solvers, sched, t, guess)
+        g, dg = f(q, qd, qdd)
+        dt = np.divide(-g, dg, out=np.zeros_like(g), where=dg != 0)
+        t = t + dt
+        guess = q + dt[..., None] * qd + 0.5 * (dt * dt)[..., None] * qdd
+        if np.all(np.abs(dt) <= 1e-14 * np.maximum(np.abs(t), 1.0)):
+            break
+    return t, state_stacked(system, solvers, sched, t, guess)
+
+
+# -- the output slides: strokes, limit positions, time ratios ----------------------------
+def output_slides(system: System) -> list[tuple[int, Any]]:
+    """``[(k, joint)]``: the undriven pairs whose type reports a stroke
+    (``Joint.reports_stroke``: a prismatic pair), in file order; ``k`` indexes
+    ``system.constraints``."""
+    driven = {d.joint.name for d in system.motion_drivers}
+    return [
+        (k, j)
+        for k, j in enumerate(system.model.joints)
+        if j.reports_stroke and j.name not in driven
+    ]
+
+
+def coordinate_rates(system: System, q, qd, qdd, k: int) -> tuple[np.ndarray, np.ndarray]:
+    """(ċ, c̈) of the relative coordinate c of constraint ``k`` (a slide's sliding speed
+    and acceleration), ``(...)`` each."""
+    g = coordinate_gradient(system, q, k)
+    return (
+        np.einsum("...n,...n->...", g, qd),
+        np.einsum("...n,...n->...", g, qdd) + joint_coordinate_bias(system, q, qd, k),
+    )
+
+
+def output_strokes(result) -> dict[str, dict[str, Any]]:
+    """Stroke, limit positions and time ratio of every output slide (:func:`output_slides`).
+
+    Limit positions are the exact zeros of the sliding speed (:func:`find_roots`); the
+    time ratio K is the slower stroke's time over the faster's, from those exact
+    positions (full cycles only).
+    """
+    system = result.system
+    out: dict[str, dict[str, Any]] = {}
+    if not result.full_cycle or "angle" not in result.columns:
+        return out
+    slides = output_slides(system)
+    if not slides:
+        return out
+    sched = schedule(system)
+    period = sched.period
+    for k, j in slides:
+
+        def f(q, qd, qdd, k=k):
+            return coordinate_rates(system, q, qd, qdd, k)
+
+        ds = f(result.q, result.qd, result.qdd)[0]
+        roots, (qr, _, _) = find_roots(
+            system, sched, result.t, result.q, result.qd, result.qdd, ds, f, True, period
+        )
+        if len(roots) != 2:
+            continue
+        vals = [float(v) for v in joint_coordinate(system, qr, k)]
+        lo, hi = (0, 1) if vals[0] < vals[1] else (1, 0)
+        t_up = (roots[hi] - roots[lo]) % period  # from the low to the high extreme
+        t_down = period - t_up
+
+        def coord(r):
+            return float(np.degrees(sched(np.array([r]))[0][0, 0]) % 360.0)
+
+        out[j.name] = {
+            "stroke": vals[hi] - vals[lo],
+            "limit_positions": {
+                "min": {"angle": coord(roots[lo]), "s": vals[lo]},
+                "max": {"angle": coord(roots[hi]), "s": vals[hi]},
+            },
+            "time_ratio": max(t_up, t_down) / min(t_up, t_down),
+            "time_increasing_s": t_up,
+            "time_decreasing_s": t_down,
+        }
+    return out
+
+
+def output_strokes_stacked(
+    system: System, solvers, sched: Schedule, t, q, qd, qdd
+) -> tuple[dict[str, dict[str, np.ndarray]], np.ndarray]:
+    """Stroke and time ratio of every output slide, ``(V,)`` each, over a full cycle of
+    stacked variants ``q (V, N, n_q)`` (as :func:`output_strokes`), and ``ok (V,)``: false
+    for a variant whose slide does not stop exactly twice per cycle."""
+    out = {}
+    ok = np.ones(q.shape[0], dtype=bool)
+    period = 2 * np.pi / sched.reference
+    n = q.shape[1]
+    for k, j in output_slides(system):
+
+        def f(q, qd, qdd, k=k):
+            return coordinate_rates(system, q, qd, qdd, k)
+
+        ds = f(q, qd, qdd)[0]
+        a = np.arange(n)
+        b = (a + 1) % n  # a full cycle: the last pairs with the first
+        fa, fb = ds[:, a], ds[:, b]
+        cross = (np.sign(fa) * np.sign(fb) < 0) | (fa == 0.0)
+        two = np.count_nonzero(cross, axis=-1) == 2
+        ok &= two
+        idx = np.argsort(~cross, axis=-1, kind="stable")[:, :2]  # the first two crossings
+        ia, ib = idx, (idx + 1) % n
+        ta, tb = t[ia], t[ib] + np.where(ib == 0, period, 0.0)
+        fa, fb = np.take_along_axis(ds, ia, -1), np.take_along_axis(ds, ib, -1)
+        near_b = np.abs(fb) < np.abs(fa)
+        nn = np.where(near_b, ib, ia)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            guess = np.where(fa == 0.0, ta, ta + (tb - ta) * fa / (fa - fb))
+
+        def take(x, nn=nn):
+            return np.take_along_axis(x, nn[..., None], axis=1)
+
+        roots, (qr, _, _) = refine_stacked(
+            system, solvers, sched, f, guess, take(q), take(qd), take(qdd)
+        )
+        roots = np.mod(roots, period)
+        vals = joint_coordinate(system, qr, k)
+        lo = np.argmin(vals, axis=-1)[:, None]
+        hi = 1 - lo
+        r_lo = np.take_along_axis(roots, lo, -1)[:, 0]
+        r_hi = np.take_along_axis(roots, hi, -1)[:, 0]
+        t_up = np.mod(r_hi - r_lo, period)
+        t_down = period - t_up
+        stroke = np.abs(vals[:, 1] - vals[:, 0])
+        out[j.name] = {
+            "stroke": np.where(two, stroke, np.nan),
+            "time_ratio": np.where(
+                two, np.maximum(t_up, t_down) / np.minimum(t_up, t_down), np.nan
+            ),
+        }
+    return out, ok

@@ -1,0 +1,106 @@
+"""Applied and inertia loads as generalized forces (when a load acts: :mod:`.conditions`).
+
+Every function broadcasts over leading position axes.  The generalized force
+on link k is (Fx, Fy, M about the CoM) in q's slots.  Sign convention:
+``Q = Q_applied + Q_inertia`` with the d'Alembert inertia ``−m a_S``,
+``−J_S α``, so that the Newton–Euler equations read ``Φ_qᵀ λ = −Q``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..base.geometry import rotate
+from ..kinematics.state import local_point, point_state
+from ..structure.system import System
+from .conditions import ZERO_SPEED, activity
+
+__all__ = [
+    "mass_vector",
+    "gravity_forces",
+    "inertia_forces",
+    "external_forces",
+    "effort_forces",
+    "zero_speed",
+]
+
+
+def mass_vector(system: System) -> np.ndarray:
+    """Diagonal of the mass matrix, ``(n_q,)``: m, m, J per moving link
+    (``(V, 1, n_q)`` for stacked variants)."""
+    model = system.model
+    values = [v for n in system.links for v in (model.link(n).mass,) * 2 + (model.link(n).inertia,)]
+    return np.stack(np.broadcast_arrays(*values), axis=-1).astype(float)
+
+
+def gravity_forces(system: System, shape: tuple[int, ...]) -> np.ndarray:
+    """m g on each link's CoM, ``shape + (n_q,)``."""
+    m = mass_vector(system)
+    g = np.tile(np.append(system.model.gravity, 0.0), len(system.links))
+    return np.broadcast_to(m * g, shape + (system.n_q,))
+
+
+def inertia_forces(system: System, qdd: np.ndarray) -> np.ndarray:
+    """d'Alembert −M q̈."""
+    return -mass_vector(system) * qdd
+
+
+def effort_forces(system: System, q: np.ndarray, qd: np.ndarray | None = None) -> np.ndarray:
+    """Generalized forces of the ``effort:`` drivers (applied by i on j): constants, or
+    laws (:class:`~kinetostatics.model.EffortLaw`) of the driver coordinate and speed."""
+    from ..model import EffortLaw
+    from ..structure.system import coordinate_gradient
+
+    out = np.zeros(q.shape)
+    names = [j.name for j in system.model.joints]
+    for d in system.model.drivers:
+        if d.effort is None:
+            continue
+        k = names.index(d.joint)
+        grad = coordinate_gradient(system, q, k)
+        value = (
+            np.asarray(d.effort, dtype=float)[..., None]
+            if not isinstance(d.effort, EffortLaw)
+            else d.effort
+        )  # (V, 1, 1) for stacked variants
+        if isinstance(value, EffortLaw):
+            joint = system.model.joints[k]
+            qe = np.concatenate((q, np.zeros(q.shape[:-1] + (3,))), axis=-1)
+            i, j = system.ends[k]
+            psi = (
+                joint.coordinate(qe[..., 3 * i : 3 * i + 3], qe[..., 3 * j : 3 * j + 3]) + d.offset
+            )
+            speed = np.zeros(q.shape[:-1]) if qd is None else np.einsum("...n,...n->...", grad, qd)
+            value = value(psi, speed, 2 * np.pi if joint.angular else None)[..., None]
+        out += value * grad
+    return out
+
+
+def zero_speed(system: System, ref_speed: float) -> float:
+    return ZERO_SPEED * ref_speed * system.l_ref
+
+
+def external_forces(system: System, q, qd, psi, extremes, ref_speed: float) -> np.ndarray:
+    """Generalized external forces of all loads, ``(..., n_q)``."""
+    out = effort_forces(system, q, qd)
+    period = 2 * np.pi if system.motion_drivers and system.motion_drivers[0].joint.angular else None
+    for load in system.model.loads:
+        value = load.value_at(psi, period)
+        k = system.link_index(load.link)
+        p = local_point(system, load.link, load.point)
+        pos, vel, _ = point_state(q, qd, None, k, p)
+        on = activity(system, load, q, qd, psi, extremes, ref_speed)
+        if load.kind == "torque":
+            out[..., 3 * k + 2] += np.where(on, value, 0.0)
+            continue
+        if load.kind == "force":
+            force = value
+        else:
+            v = vel @ load.axis
+            sign = np.where(np.abs(v) > zero_speed(system, ref_speed), np.sign(v), 0.0)
+            force = -(value * sign)[..., None] * load.axis
+        force = np.where(on[..., None], force, 0.0)
+        arm = rotate(q[..., 3 * k + 2], p)
+        out[..., 3 * k : 3 * k + 2] += force
+        out[..., 3 * k + 2] += arm[..., 0] * force[..., 1] - arm[..., 1] * force[..., 0]
+    return out

@@ -1,0 +1,268 @@
+"""Friction: the approximate and the consistent solution.
+
+Each joint with friction applies an effort of link i on link j along its
+relative coordinate, ``e = −s·μ(λ)``: μ is the joint's friction magnitude
+(ρ|F| or f|N|) computed from its own reaction block λ, s = sign of the
+relative speed (0 where |speed| ≤ 1e-9·x_ref, SPEC.md).  As a generalized
+force it is ``g e`` with g the coordinate gradient, so equilibrium reads
+
+    A x = −Q − Σ_k g_k e_k(x).
+
+(a) *approximate*: e from the frictionless x₀, then one solve.
+(b) *consistent*: the solution of the nonlinear equation on the branch
+connected to x₀ by the homotopy μ → σμ, σ: 0 → 1.  A fixed-point iteration
+from x₀ (A factorised once per position — the kinematic block factors
+when A = Φ_qᵀ — only the right-hand side changes) is accepted where it converges
+(status 0); elsewhere the homotopy is run with Newton at each σ (status 1).  A fold
+of the branch (sign change of det J) or divergence before σ = 1 is self-locking
+(status 2, NaN values).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..structure.system import System, coordinate_gradient
+
+__all__ = ["FrictionSetup", "setup", "efforts", "approximate", "consistent", "FrictionSolution"]
+
+FIXED_POINT_ITER = 60
+TOL = 1e-13
+
+
+@dataclass
+class FrictionSetup:
+    """Per-position data that does not change while iterating."""
+
+    joints: list[int]  # indices of joints with friction
+    blocks: list[slice]  # their λ slices in x
+    grad: np.ndarray  # (..., n_f, n_q) coordinate gradients
+    sign: np.ndarray  # (..., n_f) sign of the relative speed (0 at zero speed)
+    speed: np.ndarray  # (..., n_f) relative speeds
+    zero: np.ndarray  # (...) any frictional joint at zero relative speed
+    q: np.ndarray
+    pairs: dict = field(default_factory=dict, repr=False)  # joint -> (q_i, q_j), filled on use
+
+
+def setup(system: System, q: np.ndarray, qd: np.ndarray, ref_speed: float) -> FrictionSetup:
+    joints = [k for k, j in enumerate(system.model.joints) if j.has_friction]
+    blocks = [system.rows_of(k) for k in joints]
+    if not joints:
+        empty = np.zeros(q.shape[:-1] + (0,))
+        return FrictionSetup(
+            [],
+            [],
+            np.zeros(q.shape[:-1] + (0, system.n_q)),
+            empty,
+            empty,
+            np.zeros(q.shape[:-1], dtype=bool),
+            q,
+        )
+    grad = np.stack([coordinate_gradient(system, q, k) for k in joints], axis=-2)
+    speed = np.einsum("...kn,...n->...k", grad, qd)
+    ref = np.stack(
+        np.broadcast_arrays(
+            *[ref_speed * (1.0 if system.model.joints[k].angular else system.l_ref) for k in joints]
+        ),
+        axis=-1,
+    )
+    small = np.abs(speed) <= 1e-9 * ref
+    sign = np.where(small, 0.0, np.sign(speed))
+    return FrictionSetup(joints, blocks, grad, sign, speed, np.any(small, axis=-1), q)
+
+
+def efforts(system: System, fs: FrictionSetup, x: np.ndarray, scale: float = 1.0) -> np.ndarray:
+    """Signed friction efforts of i on j, ``(..., n_f)``."""
+    out = np.zeros(x.shape[:-1] + (len(fs.joints),))
+    for n, (k, b) in enumerate(zip(fs.joints, fs.blocks)):
+        j = system.model.joints[k]
+        qi, qj = _link_q(system, fs, k)
+        out[..., n] = -fs.sign[..., n] * scale * j.friction_magnitude(x[..., b], qi, qj)
+    return out
+
+
+def _link_q(system: System, fs: FrictionSetup, k: int):
+    if k not in fs.pairs:
+        qe = np.concatenate((fs.q, np.zeros(fs.q.shape[:-1] + (3,))), axis=-1)
+        i, j = system.ends[k]
+        fs.pairs[k] = qe[..., 3 * i : 3 * i + 3], qe[..., 3 * j : 3 * j + 3]
+    return fs.pairs[k]
+
+
+def _generalized(fs: FrictionSetup, e: np.ndarray) -> np.ndarray:
+    return np.einsum("...kn,...k->...n", fs.grad, e)
+
+
+def _jacobian(
+    system: System, fs: FrictionSetup, a: np.ndarray, x: np.ndarray, scale: float
+) -> np.ndarray:
+    """∂/∂x of A x + Σ g_k e_k(x)."""
+    jac = a.copy()
+    for n, (k, b) in enumerate(zip(fs.joints, fs.blocks)):
+        j = system.model.joints[k]
+        qi, qj = _link_q(system, fs, k)
+        de = -fs.sign[..., n, None] * scale * j.friction_gradient(x[..., b], qi, qj)
+        jac[..., :, b] += fs.grad[..., n, :, None] * de[..., None, :]
+    return jac
+
+
+def approximate(
+    system: System, fs: FrictionSetup, solve_a, q_load: np.ndarray, x0: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """(x, friction efforts) of the approximate solution."""
+    e = efforts(system, fs, x0)
+    x = solve_a(-q_load - _generalized(fs, e))
+    return x, e
+
+
+@dataclass
+class FrictionSolution:
+    x: np.ndarray  # (..., n_lam), NaN where self-locking
+    e: np.ndarray  # (..., n_f) friction efforts
+    status: np.ndarray  # (...) 0 fixed point, 1 homotopy, 2 self-locking, 3 zero speed
+    iterations: np.ndarray  # (...)
+    reach: np.ndarray | None = None  # (...) signed margin ±|x₀|/|x|: 1 frictionless, 0 at
+    # the edge of a self-locked zone, < 0 inside (NaN unknown)
+
+
+def consistent(
+    system: System, fs: FrictionSetup, a: np.ndarray, solve_a, q_load: np.ndarray, x0: np.ndarray
+) -> FrictionSolution:
+    """The consistent solution on the branch connected to x₀ (see module docs)."""
+    x = x0.copy()
+    scale = np.maximum(np.max(np.abs(x0), axis=-1), 1e-300)
+    it = np.zeros(x.shape[:-1], dtype=int)
+    converged = np.zeros(x.shape[:-1], dtype=bool)
+    live = np.ones(x.shape[:-1], dtype=bool)
+    with np.errstate(all="ignore"):
+        for _ in range(FIXED_POINT_ITER):
+            if not live.any():
+                break
+            xn = solve_a(-q_load - _generalized(fs, efforts(system, fs, x)))
+            step = np.max(np.abs(xn - x), axis=-1) / scale
+            x = np.where(live[..., None], xn, x)
+            it += live
+            converged |= live & (step <= TOL)
+            live &= ~converged & np.isfinite(step) & (step < 1e6)
+    status = np.where(fs.zero, 3, 0)
+    failed = ~converged
+    with np.errstate(all="ignore"):
+        failed |= ~(
+            _residual(system, fs, a, q_load, x)
+            <= 1e-10 * np.maximum(1.0, np.max(np.abs(q_load), axis=-1))
+        )
+    # no frictionless solution (A singular: a dead centre of the effort's joint): the branch
+    # has nowhere to start, its reactions are unbounded already at σ = 0 — self-locking
+    dead = ~np.all(np.isfinite(x0), axis=-1)
+    x[dead], status[dead] = np.nan, 2
+    failed &= ~dead
+    with np.errstate(all="ignore"):  # |x₀|/|x| (see _homotopy)
+        reach = np.linalg.norm(x0, axis=-1) / np.linalg.norm(x, axis=-1)
+    reach[dead] = np.nan
+    flat = np.argwhere(failed)
+    for index in map(tuple, flat):
+        xi, st, n, reach[index] = _homotopy(system, fs, a, q_load, x0, index)
+        x[index] = xi
+        status[index] = st if not fs.zero[index] or st == 2 else 3
+        it[index] += n
+    e = efforts(system, fs, x)
+    return FrictionSolution(x, e, status, it, reach)
+
+
+def _residual(system, fs, a, q_load, x):
+    r = np.einsum("...ij,...j->...i", a, x) + q_load + _generalized(fs, efforts(system, fs, x))
+    return np.max(np.abs(r), axis=-1)
+
+
+def _homotopy(
+    system: System,
+    fs: FrictionSetup,
+    a: np.ndarray,
+    q_load: np.ndarray,
+    x0: np.ndarray,
+    index: tuple,
+) -> tuple[np.ndarray, int, int, float]:
+    """Follow σ: 0 → 1 at one position; returns (x, status 1 or 2, Newton iterations, reach).
+
+    The branch is followed in projective coordinates x = y/t (ĉ·y = 1, ĉ the
+    direction of the last point, so the chart follows the path), where it stays
+    smooth as the reactions grow without bound: μ is positively homogeneous of
+    degree 1 in λ, so A x + Σ g e(x) + Q = 0 reads
+
+        A y + σ Σ g e(y) + Q t = 0,   ĉ·y = 1,
+
+    and the reactions diverge exactly where t crosses 0 — self-locking, decided
+    by the sign of t, however close to the edge of a locked zone the position
+    is.  The path is continued past such a crossing to σ = 1 where it can be, so
+    ``reach`` = sign(t)·|x₀|/|x| at σ = 1 is a signed margin that changes sign
+    at the edge (1 without friction, → 0 at the edge, < 0 past it; NaN where
+    unknown).  A fold (det of the Jacobian changing sign with t > 0) is
+    self-locking too.
+    """
+    sub = FrictionSetup(
+        fs.joints,
+        fs.blocks,
+        fs.grad[index],
+        fs.sign[index],
+        fs.speed[index],
+        fs.zero[index],
+        fs.q[index],
+    )
+    a, ql, x0 = a[index], q_load[index], x0[index]
+    n = len(x0)
+    qs = max(np.max(np.abs(ql)), 1e-300)
+    qh = ql / qs  # t scaled by |Q|: τ = t·|Q|, x = y·|Q|/τ
+    n0 = np.linalg.norm(x0)
+    y, tau = x0 / n0, qs / n0  # A y + Q̂ τ = 0 at σ = 0, |y| = 1
+    det0 = np.sign(np.linalg.det(a))
+    sigma, h, iters, crossed = 0.0, 0.05, 0, False
+    aug = np.zeros((n + 1, n + 1))
+    aug[:n, n] = qh
+    while sigma < 1.0:
+        h = min(h, 1.0 - sigma)
+        s = sigma + h
+        aug[n, :n] = y  # chart ĉ = y (|y| = 1): ĉ·y = 1 at the start
+        yn, tn, ok = y.copy(), tau, False
+        for _ in range(30):
+            iters += 1
+            r = np.append(
+                a @ yn + _generalized(sub, efforts(system, sub, yn, s)) + qh * tn, y @ yn - 1.0
+            )
+            aug[:n, :n] = _jacobian(system, sub, a, yn, s)
+            try:
+                dz = np.linalg.solve(aug, -r)
+            except np.linalg.LinAlgError:
+                break
+            if not np.all(np.isfinite(dz)):
+                break
+            yn += dz[:n]
+            tn += dz[n]
+            if np.max(np.abs(dz[:n])) <= TOL * np.max(np.abs(yn)) and abs(dz[n]) <= TOL * max(
+                abs(tn), abs(tau)
+            ):
+                ok = True
+                break
+        if ok:
+            norm = np.linalg.norm(yn)
+            yn, tn = yn / norm, tn / norm
+            # t changing sign with a large turn of y is a jump of the chart, not a crossing
+            chart = (tn > 0.0) == (tau > 0.0) or np.max(np.abs(yn - y)) <= 0.1
+            folded = (
+                tn > 0.0
+                and not crossed
+                and np.sign(np.linalg.det(_jacobian(system, sub, a, yn, s))) != det0
+            )
+        if ok and chart and not folded:
+            crossed |= tn <= 0.0  # the reactions went through infinity
+            sigma, y, tau = s, yn, tn
+            h = min(2.0 * h, 0.25)
+        elif h > 1e-7:
+            h *= 0.5
+        else:
+            return np.full(n, np.nan), 2, iters, np.nan
+    reach = tau * n0 / qs  # sign(t)·|x₀|/|x|, |y| = 1
+    if crossed:
+        return np.full(n, np.nan), 2, iters, reach
+    return y * (qs / tau), 1, iters, reach

@@ -1,0 +1,257 @@
+"""The model: plain frozen data in SI describing what the user wrote.
+
+Nothing here computes.  A :class:`Model` is built by :func:`kinetostatics.load`
+from YAML or directly from Python; the analysis stages read it and never
+write to it.  Local points of a link are stored relative to the link's
+centre of mass, in the link's frame (the frame the user drew the points in).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import Location
+from ..joints import Joint
+
+__all__ = [
+    "Link",
+    "MotionLaw",
+    "EffortLaw",
+    "Driver",
+    "Condition",
+    "Load",
+    "Analysis",
+    "FlywheelSpec",
+    "Clearance",
+    "Model",
+]
+
+
+@dataclass(frozen=True)
+class Link:
+    """A rigid link.  ``points``: local points relative to the CoM (m)."""
+
+    name: str
+    points: Mapping[str, np.ndarray]
+    mass: float = 0.0  # kg
+    inertia: float = 0.0  # kg·m² about the CoM
+    com: np.ndarray = field(default_factory=lambda: np.zeros(2))  # CoM in the user's frame, m
+    ground: bool = False
+    where: Location = field(default=Location(), compare=False, repr=False)
+
+
+@dataclass(frozen=True)
+class MotionLaw:
+    """A prescribed driver coordinate: ``speed`` (rad/s or m/s, signed) at t = 0 and a
+    constant ``acceleration`` (rad/s² or m/s², default 0: constant speed);
+    ``start``, when given, is ψ(0) (otherwise the analysis start or the sketch).
+
+    The other motion laws (harmonic, polynomial, table) are in
+    :mod:`kinetostatics.model.motion`, with the same ``value``/``speed`` interface."""
+
+    speed: float
+    acceleration: float = 0.0
+    start: float | None = None
+
+    def value(self, start: float, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(ψ, ψ̇, ψ̈) at times ``t`` for ψ(0) = ``start``."""
+        t = np.asarray(t, dtype=float)
+        a = self.acceleration
+        return (start + self.speed * t + 0.5 * a * t * t, self.speed + a * t, np.full_like(t, a))
+
+
+@dataclass(frozen=True)
+class EffortLaw:
+    """A known applied effort (torque N·m or force N, by link i on j) of an ``effort:`` driver.
+
+    ``kind``: ``constant`` (``value``); ``table`` (``at`` driver coordinates,
+    ``values`` efforts; linear, periodic over 2π for a revolute); ``motor``, the
+    linear motor curve τ(ω) = ``value``·[1 + (``speed`` − ω)/(``slip``·``speed``)]
+    (``value`` the torque at the rated speed ``speed``, both signed in the
+    driver's sense); ``curve`` (τ over the driver speed: ``at`` speeds, ``values``
+    efforts; linear, held constant outside the table).
+    """
+
+    kind: str
+    value: float = 0.0
+    at: tuple[float, ...] = ()
+    values: tuple[float, ...] = ()
+    speed: float = 0.0
+    slip: float = 0.0
+
+    def __call__(self, psi, psi_d, period: float | None = 2.0 * np.pi):
+        """The effort at driver coordinates ``psi`` and speeds ``psi_d`` (arrays)."""
+        psi, psi_d = np.asarray(psi, dtype=float), np.asarray(psi_d, dtype=float)
+        shape = np.broadcast(psi, psi_d).shape
+        if self.kind == "constant":
+            return np.full(shape, self.value)
+        if self.kind == "table":
+            return np.broadcast_to(np.interp(psi, self.at, self.values, period=period), shape)
+        if self.kind == "motor":
+            return np.broadcast_to(
+                self.value * (1.0 + (self.speed - psi_d) / (self.slip * self.speed)), shape
+            )
+        return np.broadcast_to(np.interp(psi_d, self.at, self.values), shape)
+
+
+@dataclass(frozen=True)
+class Driver:
+    """A driver acting on ``joint``; its effort is applied by the joint's link i on j.
+
+    ``offset``: the constant that turns the joint's relative coordinate into the
+    driver coordinate (for a revolute, angle of (P_j − C) − angle of (P_i − C)
+    minus θ_j − θ_i; zero for a prismatic).  ``balance_at``: the joint that
+    carries the unknown effort instead of this one.
+    """
+
+    name: str
+    joint: str
+    motion: MotionLaw | None = None  # or a law of kinetostatics.model.motion
+    effort: float | EffortLaw | None = None  # applied torque (N·m) or force (N): constant or law
+    offset: float = 0.0
+    points: tuple[str | None, str | None] = (None, None)
+    balance_at: str | None = None
+    where: Location = field(default=Location(), compare=False, repr=False)
+
+
+@dataclass(frozen=True)
+class Condition:
+    """One ``active:`` condition of a load.
+
+    ``kind``: ``moving`` (point velocity · ``axis`` > 0), ``travel`` (the point's
+    travel along ``axis`` from its extreme, p·axis − min over the cycle, within
+    ``bounds`` m) or ``angle`` (driver coordinate within ``bounds``, rad, in the
+    sense of motion, modulo 2π).
+    """
+
+    kind: str
+    link: str = ""
+    point: str | None = None
+    axis: np.ndarray | None = None
+    bounds: tuple[float, float] | None = None
+    where: Location = field(default=Location(), compare=False, repr=False)
+
+
+@dataclass(frozen=True)
+class Load:
+    """An external load on ``link``.
+
+    ``kind``: ``force`` (global vector ``value`` at ``point``, N), ``torque``
+    (``value`` N·m) or ``resistance`` (magnitude ``value`` N along ``axis``
+    opposing the point's velocity component along it); ``table`` replaces the
+    constant by values over the driver coordinate.  Active only while all
+    ``active`` conditions hold.
+    """
+
+    name: str
+    kind: str
+    link: str
+    value: np.ndarray
+    point: str | None = None
+    axis: np.ndarray | None = None
+    active: tuple[Condition, ...] = ()
+    where: Location = field(default=Location(), compare=False, repr=False)
+    table: tuple[np.ndarray, np.ndarray] | None = None  # (driver coordinates, values)
+
+    def value_at(self, psi: np.ndarray, period: float | None) -> np.ndarray:
+        """The load's value at driver coordinates ``psi`` (...): constant, or the
+        table interpolated linearly (periodic over ``period`` for a revolute driver)."""
+        if self.table is None:  # value (V, 1, own) when variants are stacked
+            own = (2,) if self.kind == "force" else ()
+            v = np.asarray(self.value)
+            lead = v.shape[: v.ndim - len(own)]
+            return np.broadcast_to(v, np.broadcast_shapes(np.shape(psi), lead) + own)
+        at, vals = self.table
+        cols = vals.reshape(len(at), -1).T
+        out = np.stack([np.interp(psi, at, c, period=period) for c in cols], axis=-1)
+        return out.reshape(np.shape(psi) + vals.shape[1:])
+
+
+@dataclass(frozen=True)
+class Analysis:
+    """Positions: start + k·sweep·sign(speed)/positions for k = 0…positions−1, plus ``at``."""
+
+    start: float = 0.0
+    sweep: float = 2.0 * np.pi
+    positions: int = 360
+    at: tuple[float, ...] = ()
+    events: bool = False
+
+
+@dataclass(frozen=True)
+class FlywheelSpec:
+    """``flywheel:`` — size a flywheel for the coefficient of speed fluctuation ``delta``;
+    ``ratio`` = motor speed / crank speed for the inertia referred to the motor shaft;
+    ``friction``: from the balancing moment with friction (default frictionless)."""
+
+    delta: float
+    ratio: float | None = None
+    friction: bool = False
+    where: Location = field(default=Location(), compare=False, repr=False)
+
+
+@dataclass(frozen=True)
+class Clearance:
+    """Radial clearance ``size`` (m) at revolute ``joint``; see
+    :mod:`kinetostatics.dynamics.clearance`.
+
+    ``speed`` (rad/s), ``acceleration`` (rad/s²): the prescribed rotation of the
+    clearance link relative to link i (model ``prescribed``).  ``angle``: the
+    link's global angle at t = 0 (rad; None: along −F_ij of the ideal joint).
+    ``contact``: the contact law (model ``contact``), a
+    :class:`~kinetostatics.dynamics.contact.ContactLaw` without its clearance.
+    """
+
+    joint: str
+    size: float
+    model: str = "prescribed"
+    speed: float = 0.0
+    acceleration: float = 0.0
+    angle: float | None = None
+    contact: object | None = None
+    where: Location = field(default=Location(), compare=False, repr=False)
+
+
+@dataclass(frozen=True)
+class Model:
+    """A planar linkage in SI.  ``sketch`` maps point references (``joint`` or
+    ``link.point``) to rough global positions that select the assembly branch;
+    ``sketch_where`` where each was written (for the messages of the sketch check)."""
+
+    name: str
+    links: tuple[Link, ...]
+    joints: tuple[Joint, ...]
+    drivers: tuple[Driver, ...] = ()
+    loads: tuple[Load, ...] = ()
+    gravity: np.ndarray = field(default_factory=lambda: np.array([0.0, -9.81]))
+    sketch: Mapping[str, np.ndarray] = field(default_factory=dict)
+    analysis: Analysis = field(default_factory=Analysis)
+    loops: tuple[tuple[str, ...], ...] | None = None
+    parameters: Mapping[str, float] = field(default_factory=dict)
+    units: Mapping[str, str] = field(default_factory=dict)
+    source: str = "<model>"
+    flywheel: FlywheelSpec | None = None
+    clearances: tuple = ()  # Clearance specs: as read (ideal None) or expanded with
+    ideal: Model | None = field(default=None, compare=False, repr=False)  # before expansion
+    sketch_where: Mapping[str, Location] = field(default_factory=dict, compare=False, repr=False)
+
+    @property
+    def ground(self) -> Link:
+        return next(link for link in self.links if link.ground)
+
+    @property
+    def moving_links(self) -> tuple[Link, ...]:
+        return tuple(link for link in self.links if not link.ground)
+
+    def link(self, name: str) -> Link:
+        return next(link for link in self.links if link.name == name)
+
+    def joint(self, name: str) -> Joint:
+        return next(j for j in self.joints if j.name == name)
+
+    @property
+    def has_friction(self) -> bool:
+        return any(j.has_friction for j in self.joints)

@@ -1,0 +1,123 @@
+"""Stack variants of one topology into one model with a leading variant axis.
+
+Every number that differs between the variants becomes an array of shape
+``(V, 1) + shape`` — variants first, then one axis that broadcasts over the
+positions — so the stage functions, which broadcast over leading axes, run
+all variants at once on arrays ``(V, N, ...)``.  Numbers equal in every
+variant stay as they are.  Anything else that differs (names, kinds, the
+number of points) is a different topology: :func:`stack` refuses it.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+from . import Model
+
+__all__ = ["stack", "signature", "is_stacked", "TopologyMismatch"]
+
+
+class TopologyMismatch(ValueError):
+    """The variants differ in more than numbers."""
+
+
+def _is_number(x: Any) -> bool:
+    return isinstance(x, (int, float, np.floating, np.integer)) and not isinstance(x, bool)
+
+
+def _stack(values: Sequence[Any], path: str) -> Any:
+    first = values[0]
+    if isinstance(first, np.ndarray) and first.dtype.kind == "f":
+        if any(not isinstance(v, np.ndarray) or v.shape != first.shape for v in values):
+            raise TopologyMismatch(f"{path}: shapes differ")
+        arr = np.stack(values)
+        return first if np.array_equal(arr, np.broadcast_to(first, arr.shape)) else arr[:, None]
+    if _is_number(first):
+        if not all(_is_number(v) for v in values):
+            raise TopologyMismatch(f"{path}: not all numbers")
+        arr = np.array(values, dtype=float)
+        if np.all(arr == arr[0]):
+            return first
+        if isinstance(first, (int, np.integer)) and not isinstance(first, float):
+            raise TopologyMismatch(f"{path}: counts differ")
+        return arr[:, None]
+    if dataclasses.is_dataclass(first) and not isinstance(first, type):
+        if any(type(v) is not type(first) for v in values):
+            raise TopologyMismatch(f"{path}: kinds differ")
+        changes = {}
+        for f in dataclasses.fields(first):
+            if not f.compare:  # locations: the first variant's
+                continue
+            items = [getattr(v, f.name) for v in values]
+            stacked = _stack(items, f"{path}.{f.name}")
+            if stacked is not items[0]:
+                changes[f.name] = stacked
+        return dataclasses.replace(first, **changes) if changes else first
+    if isinstance(first, (tuple, list)):
+        if any(not isinstance(v, type(first)) or len(v) != len(first) for v in values):
+            raise TopologyMismatch(f"{path}: lengths differ")
+        items = [_stack([v[k] for v in values], f"{path}[{k}]") for k in range(len(first))]
+        if all(a is b for a, b in zip(items, first)):
+            return first
+        return type(first)(items)
+    if isinstance(first, dict) or hasattr(first, "keys"):
+        if any(list(v.keys()) != list(first.keys()) for v in values):
+            raise TopologyMismatch(f"{path}: keys differ")
+        items = {k: _stack([v[k] for v in values], f"{path}.{k}") for k in first}
+        if all(items[k] is first[k] for k in first):
+            return first
+        return type(first)(items) if isinstance(first, dict) else items
+    if all(v == first for v in values[1:]):
+        return first
+    raise TopologyMismatch(f"{path}: {first!r} differs")
+
+
+def stack(models: Sequence[Model]) -> Model:
+    """One model whose differing numbers carry a leading variant axis ``(V, 1, ...)``."""
+    if not models:
+        raise ValueError("no models to stack")
+    if len(models) == 1:
+        return models[0]
+    parameters = models[0].parameters
+    out = _stack([dataclasses.replace(m, parameters={}) for m in models], "model")
+    return dataclasses.replace(out, parameters=parameters)
+
+
+def is_stacked(x: Any) -> bool:
+    """Whether a model value carries the variant axis (numbers (V, 1), vectors (V, 1, 2))."""
+    if dataclasses.is_dataclass(x):
+        return any(is_stacked(getattr(x, f.name)) for f in dataclasses.fields(x) if f.compare)
+    if isinstance(x, (tuple, list)):
+        return any(is_stacked(v) for v in x)
+    return np.ndim(x) > 1
+
+
+def signature(model: Model) -> tuple:
+    """What must agree for models to stack: every name, kind and count."""
+
+    def sig(x):
+        if isinstance(x, np.ndarray):
+            return ("array", x.shape)
+        if _is_number(x):
+            return ("int", int(x)) if isinstance(x, (int, np.integer)) else "num"
+        if dataclasses.is_dataclass(x) and not isinstance(x, type):
+            return (type(x).__name__,) + tuple(
+                sig(getattr(x, f.name)) for f in dataclasses.fields(x) if f.compare
+            )
+        if isinstance(x, (tuple, list)):
+            return tuple(sig(v) for v in x)
+        if isinstance(x, dict) or hasattr(x, "keys"):
+            return tuple((k, sig(x[k])) for k in x)
+        return x
+
+    return sig(
+        dataclasses.replace(
+            model,
+            parameters={},
+            analysis=dataclasses.replace(model.analysis, positions=model.analysis.positions),
+        )
+    )

@@ -1,0 +1,41 @@
+"""The public loader: a mechanism file read (:mod:`kinetostatics.io`) and expanded with
+its clearances (:func:`kinetostatics.dynamics.clearance.expand`, which solves the linkage at
+t = 0 to place each clearance link).  ``kinetostatics.load`` and ``loads`` are these."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import replace
+from pathlib import Path
+
+from .. import io
+from ..base.spec import Entry, compose, read_text
+from ..dynamics.clearance import expand
+from ..model import Model
+
+__all__ = ["load", "loads", "build"]
+
+
+def load(path: str | Path, parameters: Mapping[str, float] | None = None) -> Model:
+    """Read a mechanism from a YAML file.
+
+    Raises :class:`~kinetostatics.errors.ModelError` listing every problem
+    as ``FILE:LINE:COL: key.path: message``.
+    """
+    return loads(read_text(path), file=str(path), parameters=parameters)
+
+
+def loads(
+    text: str, file: str = "<string>", parameters: Mapping[str, float] | None = None
+) -> Model:
+    """Read a mechanism from YAML text (see :func:`load`)."""
+    return build(compose(text, file), parameters)
+
+
+def build(top: Entry, parameters: Mapping[str, float] | None = None) -> Model:
+    """The model of a composed tree (:func:`kinetostatics.io.build`), expanded with
+    its clearances.  Raises :class:`~kinetostatics.errors.ModelError`."""
+    model = io.build(top, parameters)
+    if not model.clearances:
+        return model
+    return expand(replace(model, clearances=()), model.clearances)

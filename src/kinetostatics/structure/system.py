@@ -1,0 +1,204 @@
+"""The compiled system: structure, index layout and constraint assembly.
+
+:func:`build_system` turns a :class:`~kinetostatics.model.Model` into a frozen
+:class:`System` once (graph, Assur plan, index arrays); the stage functions
+then evaluate Φ, Φ_q and γ over any leading batch axes.  q holds (x, y, θ) of
+each moving link's centre of mass; ground enters as zeros.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..joints import Joint
+from ..model import Model
+from .drivers import DriverConstraint
+from .graph import Group, Structure, structure
+
+__all__ = [
+    "System",
+    "GroupPlan",
+    "build_system",
+    "phi",
+    "jacobian",
+    "gamma",
+    "nu",
+    "coordinate_gradient",
+]
+
+
+@dataclass(frozen=True)
+class GroupPlan:
+    """Index sets of one Assur group: its q columns and its constraint rows."""
+
+    group: Group
+    cols: np.ndarray  # indices into q
+    rows: np.ndarray  # indices into Φ
+    constraints: tuple[int, ...]  # indices into System.constraints
+
+
+@dataclass(frozen=True, eq=False)
+class System:
+    """Model + structure + layout, built once and reused for every position and variant."""
+
+    model: Model
+    structure: Structure
+    links: tuple[str, ...]  # moving links in q order
+    constraints: tuple[Joint | DriverConstraint, ...]  # joints, then motion drivers
+    ends: np.ndarray  # (n_c, 2) link indices; ground = n_links
+    row_start: np.ndarray  # (n_c + 1,) first row of each constraint
+    plans: tuple[GroupPlan, ...]
+    l_ref: float | np.ndarray  # longest link dimension, m ((V, 1) stacked)
+    n_joint_rows: int = field(default=0)
+
+    @property
+    def n_q(self) -> int:
+        return 3 * len(self.links)
+
+    @property
+    def n_rows(self) -> int:
+        return int(self.row_start[-1])
+
+    @property
+    def joints(self) -> tuple[Joint, ...]:
+        return tuple(c for c in self.constraints if not isinstance(c, DriverConstraint))
+
+    @property
+    def motion_drivers(self) -> tuple[DriverConstraint, ...]:
+        return tuple(c for c in self.constraints if isinstance(c, DriverConstraint))
+
+    def link_index(self, name: str) -> int:
+        return self.links.index(name)
+
+    def rows_of(self, k: int) -> slice:
+        return slice(int(self.row_start[k]), int(self.row_start[k + 1]))
+
+
+def build_system(model: Model) -> System:
+    """Compile the model: structure, q layout, constraint rows and group plans."""
+    st = structure(model)
+    links = tuple(link.name for link in model.moving_links)
+    index = {name: k for k, name in enumerate(links)}
+    index[model.ground.name] = len(links)
+    joints = {j.name: j for j in model.joints}
+    constraints: list = list(model.joints)
+    constraints += [
+        DriverConstraint(d, joints[d.joint]) for d in model.drivers if d.motion is not None
+    ]
+    ends = np.array([[index[c.links[0]], index[c.links[1]]] for c in constraints], dtype=int)
+    row_start = np.concatenate(([0], np.cumsum([c.n_eq for c in constraints]))).astype(int)
+    by_name = {c.name: k for k, c in enumerate(constraints)}
+    plans = []
+    for g in st.groups:
+        cols = np.array([3 * index[n] + c for n in g.links for c in range(3)], dtype=int)
+        cons = tuple(by_name[n] for n in g.joints + g.drivers)
+        rows = np.concatenate([np.arange(row_start[k], row_start[k + 1]) for k in cons])
+        plans.append(GroupPlan(g, cols, rows.astype(int), cons))
+    l_ref = _reference_length(model)
+    n_joint_rows = int(row_start[len(model.joints)])
+    return System(
+        model, st, links, tuple(constraints), ends, row_start, tuple(plans), l_ref, n_joint_rows
+    )
+
+
+def _reference_length(model: Model) -> float | np.ndarray:
+    """The largest extent of a link's points, m (``(V, 1)`` for stacked variants)."""
+    l_ref: float | np.ndarray = 1e-300
+    for link in model.links:
+        if len(link.points) > 1:
+            e = np.ptp(np.stack(np.broadcast_arrays(*link.points.values())), axis=0)
+            l_ref = np.maximum(l_ref, np.hypot(e[..., 0], e[..., 1]))
+    return float(l_ref) if np.ndim(l_ref) == 0 else l_ref
+
+
+# -- assembly over batches -----------------------------------------------------
+def _ext(q: np.ndarray) -> np.ndarray:
+    """q with ground's zeros appended: shape (..., n_q + 3)."""
+    return np.concatenate((q, np.zeros(q.shape[:-1] + (3,))), axis=-1)
+
+
+def _pair(qe: np.ndarray, ends: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    i, j = ends
+    return qe[..., 3 * i : 3 * i + 3], qe[..., 3 * j : 3 * j + 3]
+
+
+def _selection(system: System, which: Sequence[int] | None) -> Sequence[int]:
+    return range(len(system.constraints)) if which is None else which
+
+
+def phi(
+    system: System, q: np.ndarray, psi: np.ndarray, which: Sequence[int] | None = None
+) -> np.ndarray:
+    """Φ(q) for the constraints ``which`` (default all), ``(..., rows)``.
+
+    ``psi (..., n_drivers)`` are the prescribed driver coordinates.
+    """
+    qe, out = _ext(q), []
+    n_j = len(system.model.joints)
+    for k in _selection(system, which):
+        c = system.constraints[k]
+        qi, qj = _pair(qe, system.ends[k])
+        out.append(c.residual(qi, qj, psi[..., k - n_j]) if k >= n_j else c.residual(qi, qj))
+    return np.concatenate(out, axis=-1)
+
+
+def jacobian(
+    system: System,
+    q: np.ndarray,
+    which: Sequence[int] | None = None,
+    cols: np.ndarray | None = None,
+    ground: bool = False,
+) -> np.ndarray:
+    """Φ_q for the constraints ``which``, restricted to ``cols``: ``(..., rows, cols)``.
+
+    With ``ground=True`` the three columns of the ground link are kept at the end.
+    """
+    qe = _ext(q)
+    which = list(_selection(system, which))
+    n_rows = sum(system.constraints[k].n_eq for k in which)
+    out = np.zeros(q.shape[:-1] + (n_rows, q.shape[-1] + 3))
+    r = 0
+    for k in which:
+        c = system.constraints[k]
+        i, j = system.ends[k]
+        ji, jj = c.jacobian(*_pair(qe, system.ends[k]))
+        out[..., r : r + c.n_eq, 3 * i : 3 * i + 3] += ji
+        out[..., r : r + c.n_eq, 3 * j : 3 * j + 3] += jj
+        r += c.n_eq
+    out = out if ground else out[..., :-3]
+    return out if cols is None else out[..., cols]
+
+
+def coordinate_gradient(system: System, q: np.ndarray, k: int, ground: bool = False) -> np.ndarray:
+    """Gradient of constraint ``k``'s joint coordinate over all of q, ``(..., n_q)``."""
+    qe = _ext(q)
+    i, j = system.ends[k]
+    gi, gj = system.constraints[k].motion_direction(*_pair(qe, system.ends[k]))
+    out = np.zeros(qe.shape)
+    out[..., 3 * i : 3 * i + 3] += gi
+    out[..., 3 * j : 3 * j + 3] += gj
+    return out if ground else out[..., :-3]
+
+
+def nu(system: System, psi_d: np.ndarray) -> np.ndarray:
+    """ν = −Φ_t: zeros for joints, ψ̇ for motion drivers.  ``(..., n_rows)``."""
+    zeros = np.zeros(psi_d.shape[:-1] + (system.n_joint_rows,))
+    return np.concatenate((zeros, psi_d), axis=-1)
+
+
+def gamma(system: System, q: np.ndarray, qd: np.ndarray, psi_dd: np.ndarray) -> np.ndarray:
+    """γ such that Φ_q q̈ = γ, ``(..., n_rows)``."""
+    qe, ve, out = _ext(q), _ext(qd), []
+    n_j = len(system.model.joints)
+    for k, c in enumerate(system.constraints):
+        qi, qj = _pair(qe, system.ends[k])
+        vi, vj = _pair(ve, system.ends[k])
+        out.append(
+            c.acceleration_rhs(qi, qj, vi, vj, psi_dd[..., k - n_j])
+            if k >= n_j
+            else c.acceleration_rhs(qi, qj, vi, vj)
+        )
+    return np.concatenate(out, axis=-1)
