@@ -196,6 +196,21 @@ def test_rack_speed_is_r_omega(rocker):
     )
 
 
+def test_a_mesh_chosen_as_output_gives_its_rolling_travel(rocker):
+    """``output_motion`` of a rack pair: the travel along the pitch line, whose rate is
+    the rack's speed past the fixed sector (c = ½[s − ν r Δθ], s = u·(C − A): ċ = −v_rack)."""
+    from kinetostatics import plotting as pl
+
+    _, r = rocker
+    out = pl.output_motion(r, "mesh")
+    assert out["kind"] == "joint"
+    assert out["series"][0][:2] == ("relative travel of mesh", "mm")
+    assert rel_err(out["series"][1][2], -r["rack.vx"]) < 1e-13
+    assert rel_err(out["series"][2][2], -r["rack.ax"]) < 1e-12
+    fig = pl.motion_diagram(r, "mesh", dpi=30)
+    assert "joint mesh" in fig._suptitle.get_text()
+
+
 # -- power -------------------------------------------------------------------------------
 @pytest.mark.parametrize("name", ["geared_fivebar", "rack_rocker"])
 def test_power_balance_of_the_shipped_mechanisms(name, fivebar, rocker):

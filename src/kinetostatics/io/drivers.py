@@ -225,8 +225,14 @@ class DriverSections:
                 pname = _joint_point(other, link)
                 chosen[k] = pname
             c = _joint_point_vec(joint, link)
+            if c is None:
+                e.error(
+                    f"a {joint.kind} joint has no centre on link '{link}' to measure "
+                    "the driver's angle about"
+                )
+                return (None, None), None
             p = e.point(link, pname, points, key="points", index=k)
-            if p is None or c is None:
+            if p is None:
                 return (None, None), None
             d = p - c
             if not np.hypot(*d) > 0:
@@ -240,16 +246,11 @@ class DriverSections:
 
 
 def _joint_point(joint: Joint, link: str) -> str:
-    names = getattr(joint, "point_names", None)
-    if names:
-        return names[joint.links.index(link)]
-    axis = getattr(joint, "axis_names", None)
-    if axis and axis[0] and link == joint.links[0]:  # a prismatic's axis is on link i
-        return axis[0]
-    return getattr(joint, "point_name", joint.name)
+    """The name of the point of ``link`` that ``joint`` ties (the joint's name where it
+    names none there): the default reference point of a driver's angle."""
+    return next((a.point for a in joint.anchors() if a.link == link), joint.name)
 
 
 def _joint_point_vec(joint: Joint, link: str) -> np.ndarray | None:
-    if hasattr(joint, "p_i"):
-        return joint.p_i if link == joint.links[0] else joint.p_j
-    return None
+    """The driven joint's centre on ``link`` (local, m), or None where it has no point there."""
+    return next((a.xy for a in joint.anchors() if a.link == link and a.at_joint), None)

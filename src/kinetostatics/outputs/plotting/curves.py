@@ -39,19 +39,19 @@ def output_motion(result, output: str | None = None) -> dict:
     """Position, velocity and acceleration of the output, over the rows.
 
     ``output``: a prismatic joint (its sliding coordinate s = (P_j − A_i)·u_i,
-    ṡ, s̈), a link (θ, ω, α), or ``"link.point"`` (x, y components).  Default:
-    the first undriven prismatic pair on the frame (the output slider), else
-    any undriven prismatic pair, else the last link solved.
+    ṡ, s̈), another joint (its relative coordinate: a revolute's relative angle,
+    a gear or rack pair's rolling travel), a link (θ, ω, α), or ``"link.point"``
+    (x, y components).  Default: the first undriven pair whose stroke is an
+    output (``reports_stroke``: a prismatic pair) on the frame (the output
+    slider), else any such pair, else the last link solved.
 
-    Returns ``{"name", "kind" ("slide"|"link"|"point"), "series": [(label,
-    unit, values (n,) or (n, 2)) × 3]}`` in SI.
+    Returns ``{"name", "kind" ("slide"|"joint"|"link"|"point"), "series":
+    [(label, unit, values (n,) or (n, 2)) × 3]}`` in SI.
     """
-    from ...joints import Prismatic
-
     system, model = result.system, result.system.model
     driven = {d.joint.name for d in system.motion_drivers}
     if output is None:
-        slides = [j for j in model.joints if isinstance(j, Prismatic) and j.name not in driven]
+        slides = [j for j in model.joints if j.reports_stroke and j.name not in driven]
         on_frame = [j for j in slides if model.ground.name in j.links]
         if on_frame or slides:
             output = (on_frame or slides)[0].name
@@ -71,7 +71,18 @@ def output_motion(result, output: str | None = None) -> dict:
                     ("relative angular acceleration", "rad/s²", cdd),
                 ],
             }
-        pj = f"{j.links[1]}.{j.point_name}"
+        at = [a for a in j.anchors() if a.at_joint and a.link == j.links[1]]
+        if not at:  # no point of link j slides (a gear or rack pair): its rolling travel
+            return {
+                "name": output,
+                "kind": "joint",
+                "series": [
+                    (f"relative travel of {output}", "mm", c * 1e3),
+                    ("relative velocity", "m/s", cd),
+                    ("relative acceleration", "m/s²", cdd),
+                ],
+            }
+        pj = f"{at[0].link}.{at[0].point}"
         return {
             "name": output,
             "kind": "slide",

@@ -175,8 +175,6 @@ def _draw_moving(
     from matplotlib.patches import Circle
     from matplotlib.patches import Polygon as MPoly
 
-    from ...joints import Revolute
-
     arts = []
     k = paper.k
     model = scene.model
@@ -217,10 +215,10 @@ def _draw_moving(
             )
     r = 1.5 * k
     for j in model.joints:
-        if isinstance(j, Revolute):
+        if j.pin:
             c = geo.joints[j.name] * 1e3
             arts.append(_add(ax, Circle(c, r, fc="white", ec="black", lw=1.0, zorder=7)))
-    pins = [geo.joints[j.name] for j in model.joints if isinstance(j, Revolute)]
+    pins = [geo.joints[j.name] for j in model.joints if j.pin]
     for S in geo.com.values():
         if any(np.hypot(*(S - pin)) * 1e3 < 1.5 * k for pin in pins):
             continue  # a pin already marks the spot
@@ -247,8 +245,7 @@ def _draw_moving(
         for j in model.joints:
             if j.name not in geo.joints:
                 continue
-            name = j.name if isinstance(j, Revolute) else getattr(j, "point_name", j.name)
-            put(geo.joints[j.name] * 1e3, name, block_at.get(j.name, 0.0))
+            put(geo.joints[j.name] * 1e3, j.label(), block_at.get(j.name, 0.0))
         for entry in placed:  # a block sits on a pin at the same place
             for b in geo.blocks:
                 if np.hypot(*(b.centre * 1e3 - entry[0])) < 0.6 * k:

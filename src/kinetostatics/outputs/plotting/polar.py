@@ -46,12 +46,10 @@ def polar_diagrams(
 ):
     """Polar diagrams: the tip of each joint's load vector in a link-fixed frame
     over the cycle (for sizing bearings), with the course positions numbered.
-    Default: every revolute joint."""
-    from ...joints import Revolute
-
+    Default: every pin joint (``pin``: the revolutes)."""
     model = result.system.model
     if joints is None:
-        joints = [j.name for j in model.joints if isinstance(j, Revolute)]
+        joints = [j.name for j in model.joints if j.pin]
     joints = list(joints)
     if not joints:
         raise PictureError("no joint to draw a polar diagram of")

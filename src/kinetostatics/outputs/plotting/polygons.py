@@ -98,8 +98,12 @@ def polygon(result, row: int = 0, kind: str = "velocity") -> Polygon:
     i's coincident point to the sliding point: ṡu, or the Coriolis 2ω_i×ṡu and
     the relative s̈u.  The relative vectors are computed from ω, α, ṡ, s̈ and
     the positions, independently of the absolute point kinematics, so the
-    polygon's closure is a check of the results.
+    polygon's closure is a check of the results.  Other pairs (gear, rack) add no
+    node or chain of their own: their links' points are still chained link by
+    link, which is all the polygon of a geared linkage needs.
     """
+    # The graphical method is defined for R and P pairs (a pin merges two points, a
+    # slider adds a coincident point and the ṡu / Coriolis chain), so it names them.
     from ...joints import Prismatic, Revolute
 
     if kind not in ("velocity", "acceleration"):

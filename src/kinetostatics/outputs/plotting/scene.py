@@ -32,49 +32,27 @@ def _to_global(result, link, p, rows=slice(None)):
     return r + rotate(th, np.asarray(p, dtype=float))
 
 
+def _pose(result, link: str, rows=slice(None)) -> np.ndarray:
+    """q = (x, y, θ) ``(..., 3)`` of a link over rows; zeros for the frame."""
+    system = result.system
+    q = result.q[rows]
+    if link == system.model.ground.name:
+        return np.zeros(q.shape[:-1] + (3,))
+    k = system.link_index(link)
+    return q[..., 3 * k : 3 * k + 3]
+
+
+def _glyph(result, joint, rows=slice(None)):
+    """What the joint draws (:class:`~kinetostatics.joints.Glyph`) over rows."""
+    i_link, j_link = joint.links
+    return joint.glyph(_pose(result, i_link, rows), _pose(result, j_link, rows))
+
+
 def _joint_point(result, joint, rows=slice(None)):
     """Global position where a joint's reaction acts: the pin of a revolute, the
     sliding point of a prismatic pair, the pitch point of a gear or rack pair;
-    ``None`` for a joint type the pictures do not know."""
-    from ...joints import Prismatic, Revolute
-
-    if isinstance(joint, Prismatic):
-        return _to_global(result, joint.links[1], joint.p, rows)
-    if isinstance(joint, Revolute):
-        return _to_global(result, joint.links[1], joint.p_j, rows)
-    wheels = _wheels(result, joint, rows)
-    return None if wheels is None else wheels["pitch_point"]
-
-
-def _wheels(result, joint, rows=slice(None)):
-    """Pitch circles and lines of a toothed higher pair (gear: ``c_i, c_j, r_i, r_j``;
-    rack: ``a, u`` on link i and ``c, r`` on link j), found by their attributes;
-    ``None`` for other joint types.  Global, m."""
-    i_link, j_link = joint.links
-    if all(hasattr(joint, n) for n in ("c_i", "c_j", "r_i", "r_j")):
-        Ci = _to_global(result, i_link, joint.c_i, rows)
-        Cj = _to_global(result, j_link, joint.c_j, rows)
-        D = Cj - Ci
-        e = D / np.maximum(np.linalg.norm(D, axis=-1, keepdims=True), 1e-300)
-        rho_i = joint.signed_radii[0] if hasattr(joint, "signed_radii") else joint.r_i
-        return {
-            "circles": [(i_link, Ci, float(joint.r_i)), (j_link, Cj, float(joint.r_j))],
-            "lines": [],
-            "pitch_point": Ci + rho_i * e,
-        }
-    if all(hasattr(joint, n) for n in ("a", "u", "c", "r")):
-        r_i, th_i = _poses(result, i_link, rows)
-        A = r_i + rotate(th_i, np.asarray(joint.a, float))
-        U = rotate(th_i, np.asarray(joint.u, float))
-        C = _to_global(result, j_link, joint.c, rows)
-        N = perp(U)
-        h = np.sum(N * (C - A), axis=-1, keepdims=True)
-        return {
-            "circles": [(j_link, C, float(joint.r))],
-            "lines": [(i_link, A, U)],
-            "pitch_point": C - h * N,
-        }
-    return None
+    ``None`` for a joint type that draws none."""
+    return _glyph(result, joint, rows).point
 
 
 def _collinear(pts: np.ndarray, tol: float) -> bool:
@@ -158,8 +136,6 @@ class _Scene:
     """Everything about a drawing that does not change with the position."""
 
     def __init__(self, result, paths: Iterable[str] = ()):
-        from ...joints import Prismatic, Revolute
-
         self.result = result
         system = self.system = result.system
         model = self.model = system.model
@@ -170,51 +146,52 @@ class _Scene:
         local: dict[str, list[np.ndarray]] = {
             n: [np.asarray(p, float) for p in model.link(n).points.values()] for n in system.links
         }
+        glyphs = {j.name: _glyph(result, j) for j in model.joints}  # over all rows
         self.guides_local = []  # (joint, a, u, s_min, s_max, half)
         for j in model.joints:
-            if not isinstance(j, Prismatic):
+            g = glyphs[j.name]
+            if g.block is None:
                 continue
-            L = j.length if j.length else 0.12 * l_ref
-            h = min(0.6 * L, 0.08 * l_ref) if not j.length else max(0.35 * L, 0.04 * l_ref)
+            given = g.block.length
+            L = given if given else 0.12 * l_ref
+            h = min(0.6 * L, 0.08 * l_ref) if not given else max(0.35 * L, 0.04 * l_ref)
             self.block_len[j.name], self.block_h[j.name] = L, h
-            i_link, j_link = j.links
-            P = _to_global(result, j_link, j.p)  # (n, 2)
+            if g.guide is None:
+                continue
+            i_link = g.guide.link
             r_i, th_i = _poses(result, i_link)
-            loc = rotate(-th_i, P - r_i)  # P in i's frame
-            s = (loc - j.a) @ j.u
+            a = rotate(-th_i[0], g.guide.point[0] - r_i[0])  # the axis in i's frame
+            u = rotate(-th_i[0], g.guide.direction[0])
+            loc = rotate(-th_i, g.block.centre - r_i)  # the block's centre in i's frame
+            s = (loc - a) @ u
             lo, hi = float(s.min()) - 0.6 * L, float(s.max()) + 0.6 * L
             if i_link == self.ground:
-                self.guides_local.append(
-                    (
-                        j.name,
-                        np.asarray(j.a, float),
-                        np.asarray(j.u, float),
-                        lo,
-                        hi,
-                        0.5 * h + 0.004 * l_ref,
-                    )
-                )
+                self.guides_local.append((j.name, a, u, lo, hi, 0.5 * h + 0.004 * l_ref))
             else:
-                local[i_link] += [j.a + lo * j.u, j.a + hi * j.u]
+                local[i_link] += [a + lo * u, a + hi * u]
         self.wheels_local = []  # ("circle", joint, link, centre, r) / ("line", joint, link, p0, p1)
         for j in model.joints:
-            if isinstance(j, (Prismatic, Revolute)):
-                continue
-            w = _wheels(result, j)
-            if w is None:
-                continue
-            for link, C, r in w["circles"]:
-                r_k, th_k = _poses(result, link)
+            g = glyphs[j.name]
+            for c in g.circles:
+                r_k, th_k = _poses(result, c.link)
                 self.wheels_local.append(
-                    ("circle", j.name, link, rotate(-th_k[0], C[0] - r_k[0]), r)
+                    (
+                        "circle",
+                        j.name,
+                        c.link,
+                        rotate(-th_k[0], c.centre[0] - r_k[0]),
+                        float(c.radius),
+                    )
                 )
-            for link, A, U in w["lines"]:
+            for line in g.lines:
+                link = line.link
                 r_k, th_k = _poses(result, link)
-                P = rotate(-th_k, w["pitch_point"] - r_k)  # pitch points in link's frame
-                u_loc = rotate(-th_k[0], U[0])
-                a_loc = rotate(-th_k[0], A[0] - r_k[0])
+                at = line.point if g.point is None else g.point
+                P = rotate(-th_k, at - r_k)  # pitch points in link's frame
+                u_loc = rotate(-th_k[0], line.direction[0])
+                a_loc = rotate(-th_k[0], line.point[0] - r_k[0])
                 s = (P - a_loc) @ u_loc
-                reach = max((r for _, _, r in w["circles"]), default=0.05 * l_ref)
+                reach = max((c.radius for c in g.circles), default=0.05 * l_ref)
                 p0, p1 = a_loc + (s.min() - reach) * u_loc, a_loc + (s.max() + reach) * u_loc
                 self.wheels_local.append(("line", j.name, link, p0, p1))
                 if link in local:
@@ -237,9 +214,11 @@ class _Scene:
                 self.outline_local[n] = _hull(pts)
                 self.plates.add(n)
         self.pivots = {
-            j.name: np.asarray(j.p_i if j.links[0] == self.ground else j.p_j, float)
+            j.name: np.asarray(a.xy, float)
             for j in model.joints
-            if isinstance(j, Revolute) and self.ground in j.links
+            if j.pin and self.ground in j.links
+            for a in j.anchors()
+            if a.at_joint and a.link == self.ground
         }
         self.paths = {}
         for ref in paths:
@@ -279,31 +258,26 @@ class _Scene:
         self.pad = pad
 
     def geometry(self, row: int) -> MechanismGeometry:
-        from ...joints import Prismatic
-
         result, model = self.result, self.model
         points = {}
         for lk in model.links:
             for name, p in lk.points.items():
                 points[f"{lk.name}.{name}"] = _to_global(result, lk.name, p, row)
-        joints = {
-            j.name: P for j in model.joints if (P := _joint_point(result, j, row)) is not None
-        }
+        glyphs = {j.name: _glyph(result, j, row) for j in model.joints}
+        joints = {name: g.point for name, g in glyphs.items() if g.point is not None}
         outlines = {n: _to_global(result, n, pts, row) for n, pts in self.outline_local.items()}
-        blocks = []
-        for j in model.joints:
-            if isinstance(j, Prismatic):
-                _, th = _poses(result, j.links[0], row)
-                blocks.append(
-                    _Block(
-                        j.name,
-                        j.links[1],
-                        joints[j.name],
-                        rotate(th, j.u),
-                        self.block_len[j.name],
-                        self.block_h[j.name],
-                    )
-                )
+        blocks = [
+            _Block(
+                name,
+                g.block.link,
+                g.block.centre,
+                g.block.direction,
+                self.block_len[name],
+                self.block_h[name],
+            )
+            for name, g in glyphs.items()
+            if g.block is not None
+        ]
         guides = tuple(
             _Guide(name, a + lo * u, a + hi * u, half)
             for name, a, u, lo, hi, half in self.guides_local
