@@ -59,13 +59,12 @@ def _modules():
 
 
 def _joint_attributes() -> set[str]:
-    """Attribute names that only some joint types have (their own fields)."""
-    base = {f.name for f in dataclasses.fields(joints.Joint)}
-    own = set()
-    for cls in joints.JOINT_TYPES.values():
-        own |= {f.name for f in dataclasses.fields(cls)} - base
-        own |= {n for n in vars(cls) if not n.startswith("__")} - set(vars(joints.Joint))
-    return own
+    """Attribute names that some joint types have and others lack (fields and members)."""
+    names = [
+        {f.name for f in dataclasses.fields(cls)} | {n for n in dir(cls) if not n.startswith("__")}
+        for cls in joints.JOINT_TYPES.values()
+    ]
+    return set.union(*names) - set.intersection(*names)
 
 
 def test_no_joint_sniffing_outside_joints():
