@@ -55,4 +55,8 @@ def __getattr__(name):  # keep `import kinetostatics` light: load stages on use
         from .structure.system import build_system
 
         return build_system
+    if name == "yaml_io" or name in _aliases.OLD_PATHS:  # ks.yaml_io.dump, ks.plotting, …
+        import importlib
+
+        return importlib.import_module(f"{__name__}.{name}")
     raise AttributeError(f"module 'kinetostatics' has no attribute '{name}'")

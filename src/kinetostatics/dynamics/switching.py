@@ -14,7 +14,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..kinematics.state import point_state
-from ..kinetics.conditions import ZERO_SPEED, activity
+from ..kinetics.conditions import ZERO_SPEED, activity, condition_values, switch_levels
 from ..kinetics.forces import zero_speed
 from ..structure.system import System, coordinate_gradient
 
@@ -95,29 +95,17 @@ def switching_functions(
                         )
                     )
                 continue
-            k = system.link_index(c.link)
-            p = system.model.link(c.link).points[c.point] if c.point else np.zeros(2)
-            if c.kind == "moving":
+            for level, _ in switch_levels(c):  # the condition's value crosses a level
+                what = "moving" if c.kind == "moving" else f"travel {level * 1e3:g} mm"
                 out.append(
                     (
-                        f"{load.name}: moving",
-                        lambda q, qd, psi, k=k, p=p, c=c: (
-                            point_state(q, qd, None, k, p)[1] @ c.axis
+                        f"{load.name}: {what}",
+                        lambda q, qd, psi, c=c, level=level: (
+                            condition_values(system, c, q, qd, psi, extremes) - level
                         ),
-                        vthr,
+                        vthr if c.kind == "moving" else 1e-9 * system.l_ref,
                     )
                 )
-            else:
-                for b in c.bounds:
-                    out.append(
-                        (
-                            f"{load.name}: travel {b * 1e3:g} mm",
-                            lambda q, qd, psi, k=k, p=p, c=c, b=b: (
-                                point_state(q, qd, None, k, p)[0] @ c.axis - extremes[id(c)] - b
-                            ),
-                            1e-9 * system.l_ref,
-                        )
-                    )
         if load.kind == "resistance":
             k = system.link_index(load.link)
             p = system.model.link(load.link).points[load.point] if load.point else np.zeros(2)
