@@ -1,0 +1,124 @@
+"""The report as a list of blocks (headings, paragraphs, lists, tables, images),
+rendered to Markdown (images in files) and to self-contained HTML (images embedded)."""
+
+from __future__ import annotations
+
+import base64
+import html
+from dataclasses import dataclass
+from pathlib import Path
+
+
+@dataclass
+class _Heading:
+    level: int
+    text: str
+
+
+@dataclass
+class _Para:
+    text: str
+
+
+@dataclass
+class _Table:
+    header: list[str]
+    rows: list[list[str]]
+    caption: str = ""
+
+
+@dataclass
+class _Image:
+    path: Path  # inside the output folder
+    caption: str
+
+
+@dataclass
+class _List:
+    items: list[str]
+
+
+def _md_cell(s: str) -> str:
+    return str(s).replace("|", "\\|").replace("\n", " ")
+
+
+def _to_markdown(blocks, out: Path) -> str:
+    lines: list[str] = []
+    for b in blocks:
+        if isinstance(b, _Heading):
+            lines += ["#" * b.level + " " + b.text, ""]
+        elif isinstance(b, _Para):
+            lines += [b.text, ""]
+        elif isinstance(b, _List):
+            lines += [f"- {item}" for item in b.items] + [""]
+        elif isinstance(b, _Table):
+            if b.caption:
+                lines += [f"*{b.caption}*", ""]
+            lines.append("| " + " | ".join(_md_cell(h) for h in b.header) + " |")
+            lines.append("|" + "|".join("---" for _ in b.header) + "|")
+            for r in b.rows:
+                lines.append("| " + " | ".join(_md_cell(c) for c in r) + " |")
+            lines.append("")
+        elif isinstance(b, _Image):
+            rel = b.path.relative_to(out).as_posix()
+            lines += [f"![{b.caption}]({rel})", "", f"*{b.caption}*", ""]
+    return "\n".join(lines).rstrip() + "\n"
+
+
+_CSS = """
+body{font-family:system-ui,-apple-system,"Segoe UI",Roboto,Arial,sans-serif;max-width:1100px;
+margin:2em auto;padding:0 1em;color:#1d1d1d;line-height:1.45}
+h1{border-bottom:2px solid #1f5fa8;padding-bottom:.2em}
+h2{border-bottom:1px solid #ccc;padding-bottom:.15em;margin-top:1.8em}
+table{border-collapse:collapse;font-size:.82em;margin:.6em 0 1.2em;display:block;overflow-x:auto}
+th,td{border:1px solid #d0d0d0;padding:.2em .45em;text-align:right;white-space:nowrap}
+th{background:#eef3fa}
+td:first-child,th:first-child{text-align:left}
+figure{margin:1em 0}
+figure img{max-width:100%;height:auto;border:1px solid #eee}
+figcaption,.caption{font-size:.85em;color:#444;font-style:italic}
+code{background:#f3f3f3;padding:0 .2em}
+"""
+
+
+def _to_html(blocks, title: str) -> str:
+    parts = [
+        "<!DOCTYPE html>",
+        '<html lang="en"><head><meta charset="utf-8">',
+        f"<title>{html.escape(title)}</title>",
+        f"<style>{_CSS}</style></head><body>",
+    ]
+    for b in blocks:
+        if isinstance(b, _Heading):
+            parts.append(f"<h{b.level}>{html.escape(b.text)}</h{b.level}>")
+        elif isinstance(b, _Para):
+            parts.append(f"<p>{_inline(b.text)}</p>")
+        elif isinstance(b, _List):
+            parts.append("<ul>" + "".join(f"<li>{_inline(i)}</li>" for i in b.items) + "</ul>")
+        elif isinstance(b, _Table):
+            if b.caption:
+                parts.append(f'<p class="caption">{html.escape(b.caption)}</p>')
+            head = "".join(f"<th>{html.escape(h)}</th>" for h in b.header)
+            body = "".join(
+                "<tr>" + "".join(f"<td>{html.escape(str(c))}</td>" for c in r) + "</tr>"
+                for r in b.rows
+            )
+            parts.append(f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>")
+        elif isinstance(b, _Image):
+            data = base64.b64encode(b.path.read_bytes()).decode("ascii")
+            parts.append(
+                f'<figure><img alt="{html.escape(b.caption)}" '
+                f'src="data:image/png;base64,{data}">'
+                f"<figcaption>{html.escape(b.caption)}</figcaption></figure>"
+            )
+    parts.append("</body></html>")
+    return "\n".join(parts) + "\n"
+
+
+def _inline(text: str) -> str:
+    """Escape, then turn `code` spans into <code>."""
+    out, code = [], False
+    for piece in text.split("`"):
+        out.append(f"<code>{html.escape(piece)}</code>" if code else html.escape(piece))
+        code = not code
+    return "".join(out)
