@@ -21,7 +21,7 @@ import pytest
 
 from kinetostatics import batch
 from kinetostatics.analysis import results
-from kinetostatics.batch import executors, sweeps, variants
+from kinetostatics.batch import executors, limits, sweeps, variants
 from kinetostatics.batch import table as batch_table
 from kinetostatics.cli import main
 from kinetostatics.errors import OutputError
@@ -123,7 +123,7 @@ def test_random_beyond_the_limit_and_a_set_beyond_it_name_the_limit(tmp_path, ca
 
 
 def test_a_sweep_larger_than_memory_is_refused_before_it_is_made(tmp_path, capsys, monkeypatch):
-    monkeypatch.setattr(sweeps, "available_memory", lambda: 2**20)  # 1 MiB free
+    monkeypatch.setattr(limits, "available_memory", lambda: 2**20)  # 1 MiB free
     t0 = time.perf_counter()
     with pytest.raises(sweeps.SweepError, match="10000000 variants: about 76.3 GB"):
         sweeps.expand(sweeps.from_options(["a=90:110:10000000"]))  # the documented maximum

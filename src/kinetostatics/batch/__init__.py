@@ -1,6 +1,6 @@
 """Layer 9, batch: many variants of one file (:mod:`.variants`, a sweep or a table in
-:mod:`.sweeps`), run in chunks (:mod:`.runner`; the variants and their files in
-:mod:`.sources`, the executors in :mod:`.executors`) with resumable output
+:mod:`.sweeps`, within :mod:`.limits`), run in chunks (:mod:`.runner`; the variants and
+their files in :mod:`.sources`, the executors in :mod:`.executors`) with resumable output
 (:mod:`.table`), and the best rows (:mod:`.best`)."""
 
 from .executors import analyze_chunk

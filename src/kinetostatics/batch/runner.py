@@ -258,8 +258,8 @@ def run_batch(
 
 def _check_memory(n_tasks: int, positions: int | None, workers: int, option: bool = True) -> None:
     """Refuse, before any allocation, a batch whose table or one variant's analysis
-    would not fit in the memory available (``sweeps.available_memory``)."""
-    from .sweeps import BYTES_PER_VARIANT, available_memory, gigabytes
+    would not fit in the memory available (``limits.available_memory``)."""
+    from .limits import BYTES_PER_VARIANT, available_memory, gigabytes
 
     free = available_memory()
     need = n_tasks * BYTES_PER_VARIANT
