@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 import kinetostatics as ks
+from kinetostatics import batch
 from kinetostatics.batch import best, sweeps, variants
-from kinetostatics.batch import runner as batch
 from kinetostatics.cli import main
 
 ROOT = Path(__file__).resolve().parent.parent

@@ -19,10 +19,12 @@ from pathlib import Path
 
 import pytest
 
+from kinetostatics import batch
 from kinetostatics.analysis import results
-from kinetostatics.batch import runner as batch
-from kinetostatics.batch import sweeps, variants
+from kinetostatics.batch import executors, limits, sweeps, variants
+from kinetostatics.batch import table as batch_table
 from kinetostatics.cli import main
+from kinetostatics.errors import OutputError
 from kinetostatics.kinetics import friction
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -121,7 +123,7 @@ def test_random_beyond_the_limit_and_a_set_beyond_it_name_the_limit(tmp_path, ca
 
 
 def test_a_sweep_larger_than_memory_is_refused_before_it_is_made(tmp_path, capsys, monkeypatch):
-    monkeypatch.setattr(sweeps, "available_memory", lambda: 2**20)  # 1 MiB free
+    monkeypatch.setattr(limits, "available_memory", lambda: 2**20)  # 1 MiB free
     t0 = time.perf_counter()
     with pytest.raises(sweeps.SweepError, match="10000000 variants: about 76.3 GB"):
         sweeps.expand(sweeps.from_options(["a=90:110:10000000"]))  # the documented maximum
@@ -187,9 +189,9 @@ def test_out_naming_a_file_is_one_line_exit_2(tmp_path, capsys):
 
 
 def _refuse(err: int, after: int = 0, partial: bool = True):
-    """A replacement of ``batch._Table._write`` failing with ``err`` after ``after``
+    """A replacement of ``batch_table._Table._write`` failing with ``err`` after ``after``
     writes; the failing write leaves half its text (a full disk's partial write)."""
-    real = batch._Table._write
+    real = batch_table._Table._write
     calls = {"n": 0}
 
     def write(path, text, mode):
@@ -206,7 +208,7 @@ def _refuse(err: int, after: int = 0, partial: bool = True):
 
 def test_a_read_only_out_is_one_line_exit_2(tmp_path, capsys, monkeypatch):
     # root ignores permissions, so the refusal is injected where the files are written
-    monkeypatch.setattr(batch._Table, "_write", staticmethod(_refuse(errno.EACCES, 0, False)))
+    monkeypatch.setattr(batch_table._Table, "_write", staticmethod(_refuse(errno.EACCES, 0, False)))
     out = tmp_path / "ro"
     assert (
         main(
@@ -271,7 +273,7 @@ def test_a_full_disk_stops_the_batch_and_a_rerun_finds_every_row_once(
         "--positions",
         "12",
     ]
-    monkeypatch.setattr(batch._Table, "_write", staticmethod(_refuse(errno.ENOSPC, after)))
+    monkeypatch.setattr(batch_table._Table, "_write", staticmethod(_refuse(errno.ENOSPC, after)))
     assert main(cmd) == 2
     line = _one_line(capsys.readouterr().err)
     assert line.endswith("No space left on device"), line
@@ -302,7 +304,7 @@ class _Losing(Executor):
 def test_a_lost_executor_is_one_line_and_the_rows_so_far_are_kept(tmp_path):
     vs = sweeps.expand(sweeps.from_options(["a=90:110:6"]))
     tasks = [batch.Task(v, 0, o) for v, o in vs]
-    with pytest.raises(batch.OutputError) as info:
+    with pytest.raises(OutputError) as info:
         batch.run_batch(str(SLIDER), tasks, tmp_path, executor=_Losing(2), chunk=1, positions=12)
     assert str(info.value).startswith(
         "the executor: failed (OSError: Timed out"
@@ -314,7 +316,7 @@ def test_a_lost_executor_is_one_line_and_the_rows_so_far_are_kept(tmp_path):
 
 def test_a_lost_dask_scheduler_is_one_line():
     pytest.importorskip("distributed")
-    err = batch._executor_error("tcp://127.0.0.1:1", OSError("closed"), Path("o"))
+    err = executors._executor_error("tcp://127.0.0.1:1", OSError("closed"), Path("o"))
     assert str(err).startswith("--scheduler tcp://127.0.0.1:1: failed (OSError: closed)")
 
 
@@ -367,7 +369,7 @@ def test_a_second_batch_on_the_same_out_is_refused_and_a_stale_lock_taken_over(t
 
 
 def test_a_held_lock_refuses_the_python_api_too(tmp_path):
-    lock = batch._Lock(tmp_path)
+    lock = batch_table._Lock(tmp_path)
     lock.acquire()
     try:
         with pytest.raises(batch.BatchError, match="another batch is writing to this folder"):
@@ -523,7 +525,7 @@ def test_futures_cancelled_by_the_executor_stop_the_batch_with_one_line(tmp_path
     vs = sweeps.expand(sweeps.from_options(["a=90:110:6"]))
     tasks = [batch.Task(v, 0, o) for v, o in vs]
     with pytest.raises(
-        batch.OutputError,
+        OutputError,
         match=r"^the executor: failed \(CancelledError\); "
         r"the finished rows are in",
     ):

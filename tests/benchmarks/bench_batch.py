@@ -23,7 +23,7 @@ import time
 from _common import ROOT
 
 import kinetostatics as ks
-from kinetostatics.batch import runner as batch
+from kinetostatics import batch
 from kinetostatics.batch import sweeps
 from kinetostatics.batch.variants import Template, failure_row, summary_row
 

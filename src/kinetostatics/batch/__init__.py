@@ -1,22 +1,22 @@
 """Layer 9, batch: many variants of one file (:mod:`.variants`, a sweep or a table in
-:mod:`.sweeps`), run in chunks with resumable output (:mod:`.runner`), and the best rows
-(:mod:`.best`)."""
+:mod:`.sweeps`, within :mod:`.limits`), run in chunks (:mod:`.runner`; the variants and
+their files in :mod:`.sources`, the executors in :mod:`.executors`) with resumable output
+(:mod:`.table`), and the best rows (:mod:`.best`)."""
 
-from .runner import (
+from .executors import analyze_chunk
+from .runner import BatchSummary, run_batch
+from .sources import (
     BYTES_PER_POSITION,
     MEMORY_BUDGET,
     BatchError,
-    BatchSummary,
     Chunk,
     Source,
     Task,
-    analyze_chunk,
     auto_chunk,
-    read_summary,
-    run_batch,
     sources_of,
     template_of,
 )
+from .table import read_summary
 
 __all__ = [
     "template_of",

@@ -113,7 +113,7 @@ def best(
     """The top rows of a batch's summary table as a text table: the variant,
     its parameters (``params``, default those that vary), the objective and the constrained
     columns."""
-    from .runner import read_summary
+    from .table import read_summary
 
     header, rows = read_summary(summary_csv)
     where = list(where)

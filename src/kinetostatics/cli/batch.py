@@ -164,7 +164,7 @@ def _variants(args, sources):
 
 def _ranges() -> tuple[tuple[str, int, int], ...]:
     from ..base.limits import MAX_POSITIONS
-    from ..batch.sweeps import MAX_VARIANTS
+    from ..batch.limits import MAX_VARIANTS
 
     return (
         ("positions", 1, MAX_POSITIONS),

@@ -1,0 +1,165 @@
+"""The executors of a batch (``concurrent.futures``): in this process
+(``"serial"``), a pool of processes that die with the batch, or a Dask cluster
+given by its scheduler address; and the function they all run, :func:`analyze_chunk`."""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+from collections.abc import Callable
+from concurrent.futures import Executor, Future
+from pathlib import Path
+from typing import Any
+
+from ..errors import KinetostaticsError, OutputError
+from .sources import BatchError, Chunk, template_of
+from .table import SUMMARY
+
+__all__ = ["analyze_chunk"]
+
+
+# -- the worker ------------------------------------------------------------------------
+def analyze_chunk(chunk: Chunk) -> list[dict[str, Any]]:
+    """The rows of a chunk, in order (the function every executor runs).
+    With ``results_dir`` it also writes ``<results_dir>/<id>/results.csv`` and
+    ``summary.json`` of each variant that succeeded (a second, single analysis)."""
+    from . import variants
+
+    try:
+        template = template_of(chunk.source.file, chunk.source.text)
+    except KinetostaticsError as exc:
+        return [variants.failure_row(exc) for _ in chunk.ids]
+    rows = variants.analyze_variants(
+        template,
+        chunk.overrides,
+        positions=chunk.positions,
+        friction=chunk.friction,
+        flywheel=chunk.flywheel,
+    )
+    if chunk.results_dir:
+        from ..analysis.pipeline import analyze
+
+        for vid, ov, row in zip(chunk.ids, chunk.overrides, rows):
+            if row["status"] == "ok":
+                result = analyze(
+                    template.model(ov, positions=chunk.positions), friction=chunk.friction
+                )
+                folder = Path(chunk.results_dir) / vid
+                folder.mkdir(parents=True, exist_ok=True)
+                result.to_csv(folder / "results.csv")
+                result.to_json(folder / "summary.json")
+    return rows
+
+
+# -- executors -------------------------------------------------------------------------
+def _die_with_parent(parent: int) -> None:
+    """Pool initializer: a worker dies with the batch that started it, even when
+    the batch is killed (SIGKILL runs no clean-up).  On Linux the kernel sends
+    SIGKILL at the parent's death (``prctl(PR_SET_PDEATHSIG)``); everywhere a
+    daemon thread checks once a second that the parent is still there."""
+    import threading
+
+    if sys.platform.startswith("linux"):
+        try:
+            import ctypes
+            import signal
+
+            ctypes.CDLL(None, use_errno=True).prctl(1, int(signal.SIGKILL), 0, 0, 0)
+        except (OSError, AttributeError):  # pragma: no cover - no libc prctl
+            pass
+    if os.getppid() != parent:  # the parent died before prctl
+        os._exit(1)
+
+    def watch() -> None:
+        while True:
+            time.sleep(1.0)
+            if os.getppid() != parent:
+                os._exit(1)
+
+    threading.Thread(target=watch, name="kinetostatics-parent-watch", daemon=True).start()
+
+
+class _Serial(Executor):
+    """Runs each call when it is submitted, in this process."""
+
+    def submit(self, fn, /, *args, **kwargs) -> Future:
+        f: Future = Future()
+        try:
+            f.set_result(fn(*args, **kwargs))
+        except Exception as exc:  # noqa: BLE001 - reported as the chunk's rows
+            f.set_exception(exc)
+        return f
+
+
+def _open_executor(executor: Any, workers: int | None) -> tuple[Executor, int, Callable[[], None]]:
+    """(executor, number of parallel slots, close)."""
+    if executor == "serial":
+        return _Serial(), 1, lambda: None
+    if executor in (None, "processes"):
+        from concurrent.futures import ProcessPoolExecutor
+
+        n = workers or os.cpu_count() or 1
+        ex = ProcessPoolExecutor(
+            max_workers=n, initializer=_die_with_parent, initargs=(os.getpid(),)
+        )
+        return ex, n, lambda: ex.shutdown(wait=False, cancel_futures=True)
+    if isinstance(executor, Executor):
+        return executor, workers or os.cpu_count() or 1, lambda: None
+    if isinstance(executor, str):
+        try:
+            from distributed import Client
+        except ImportError:
+            raise BatchError(
+                f"--scheduler {executor}: Dask is not installed (pip install 'kinetostatics[dask]')"
+            ) from None
+        try:
+            client = Client(executor, timeout=10)
+        except (OSError, TimeoutError) as exc:
+            raise BatchError(f"--scheduler {executor}: cannot connect ({exc})") from None
+        n = workers or max(1, sum(client.nthreads().values()))
+        ex = client.get_executor()
+
+        def close() -> None:
+            ex.shutdown(wait=False)
+            client.close()
+
+        return ex, n, close
+    raise BatchError(
+        f"executor {executor!r}: use 'processes', 'serial', a Dask scheduler "
+        "address or a concurrent.futures.Executor"
+    )
+
+
+class _Pool:
+    """The executor of a batch (:func:`_open_executor`): ``ex``, its number of
+    parallel ``slots`` and ``close``."""
+
+    def __init__(self, executor: Any, workers: int | None):
+        self.executor, self.workers = executor, workers
+        self.ex, self.slots, self.close = _open_executor(executor, workers)
+
+    @property
+    def processes(self) -> bool:
+        """A process pool of ours: a chunk whose worker died goes again to a fresh pool."""
+        return self.executor in (None, "processes")
+
+    def reopen(self) -> None:
+        """A fresh process pool in place of a broken one (a worker was killed)."""
+        self.close()
+        self.ex, _, self.close = _open_executor(self.executor, self.workers)
+
+
+def _executor_error(executor: Any, exc: BaseException, out: Path) -> OutputError:
+    """One line for an executor that failed as a whole (a lost Dask scheduler)."""
+    what = (
+        f"--scheduler {executor}"
+        if isinstance(executor, str) and executor not in ("processes", "serial")
+        else "the executor"
+    )
+    text = str(exc).splitlines()[0] if str(exc) else ""
+    return OutputError(
+        f"{what}: failed ({type(exc).__name__}{': ' + text if text else ''}); "
+        f"the finished rows are in {out / SUMMARY}; run the same command "
+        "again to resume"
+    )
