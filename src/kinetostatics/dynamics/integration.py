@@ -54,6 +54,43 @@ def simulate(
     """
     from scipy.integrate import solve_ivp
 
+    until, rtol, atol, initial = _checked(
+        until, rtol, atol, max_step, stop_at, mark, ref_speed, initial
+    )
+    if isinstance(model, Dynamics):
+        dyn = model
+    else:
+        dyn = _dynamics(model, initial, inertia, friction, ref_speed)
+    y = _initial_state(dyn, initial)
+    scale = dyn.scale[dyn.free]
+    tol = rtol if atol is None else atol
+    atol_v = np.concatenate((tol * scale, tol * dyn.ref_speed * scale, [np.inf]))
+    sim = Simulation(dyn, [], options=dict(method=method, rtol=rtol, atol=atol))
+    evaluations0 = dyn.evaluations
+    run = _Run(
+        solve_ivp,
+        dyn,
+        sim,
+        until,
+        y,
+        dict(method=method, rtol=rtol, atol=atol_v),
+        max_step,
+        mark_event=_mark_event(dyn, mark),
+        stop_event=None if stop_at is None else _event(lambda tt, yy: yy[0] - stop_at, True),
+    )
+    for _ in range(100_000):
+        if run.t >= until or run.step():
+            break
+    else:
+        raise RuntimeError("too many integration pieces (chattering load switches?)")
+    sim.nfev = dyn.evaluations - evaluations0
+    sim.marks = np.array(run.marks)
+    return sim
+
+
+def _checked(until, rtol, atol, max_step, stop_at, mark, ref_speed, initial):
+    """The options of :func:`simulate` checked: ``until``, ``rtol``, ``atol`` as numbers
+    and ``initial`` as a dict."""
     until = real_number("until", until, low=0.0, strict_low=True, why="s")
     rtol = real_number("rtol", rtol, low=0.0, high=1.0, strict_low=True)
     if atol is not None:
@@ -71,21 +108,27 @@ def simulate(
             real_number(
                 f"initial['{name}']" + (f"[{k}]" if isinstance(v, (tuple, list)) else ""), x
             )
-    first_speed = 0.0
-    if isinstance(model, Dynamics):
-        dyn = model
-    else:
-        free = [d.name for d in model.drivers if d.motion is None]
-        v = initial.get(free[0]) if free else None
-        first_speed = float(v[1]) if isinstance(v, (tuple, list)) else 0.0
-        sense = np.sign(first_speed) or _sense_of_effort(model, free)
-        dyn = Dynamics(
-            model,
-            inertia=inertia,
-            friction=friction,
-            sense=sense,
-            ref_speed=ref_speed or (abs(first_speed) or None),
-        )
+    return until, rtol, atol, initial
+
+
+def _dynamics(model: Model, initial: dict, inertia, friction, ref_speed) -> Dynamics:
+    """The Dynamics of ``model``, its sense that of the first free driver's initial speed
+    (else of its effort) and its reference speed ``ref_speed`` or that initial speed."""
+    free = [d.name for d in model.drivers if d.motion is None]
+    v = initial.get(free[0]) if free else None
+    first_speed = float(v[1]) if isinstance(v, (tuple, list)) else 0.0
+    sense = np.sign(first_speed) or _sense_of_effort(model, free)
+    return Dynamics(
+        model,
+        inertia=inertia,
+        friction=friction,
+        sense=sense,
+        ref_speed=ref_speed or (abs(first_speed) or None),
+    )
+
+
+def _initial_state(dyn: Dynamics, initial: dict) -> np.ndarray:
+    """The state (coordinates, speeds, work) at t = 0: the start at rest, then ``initial``."""
     nf = dyn.n_f
     psi0, psid0 = dyn.start(), np.zeros(nf)
     for name, v in initial.items():
@@ -96,97 +139,122 @@ def simulate(
             )
         k = dyn.free_names.index(name)
         psi0[k], psid0[k] = v if isinstance(v, (tuple, list)) else (v, 0.0)
-    y = np.concatenate((psi0, psid0, [0.0]))
-    scale = dyn.scale[dyn.free]
-    if atol is None:
-        atol_v = np.concatenate((rtol * scale, rtol * dyn.ref_speed * scale, [np.inf]))
-    else:
-        atol_v = np.concatenate((atol * scale, atol * dyn.ref_speed * scale, [np.inf]))
-    sim = Simulation(dyn, [], options=dict(method=method, rtol=rtol, atol=atol))
-    marks: list[float] = []
-    t, direction, first_step = 0.0, 0.0, None
-    evaluations0 = dyn.evaluations
-    thresholds = np.array([thr for _, _, thr in dyn._switches])
+    return np.concatenate((psi0, psid0, [0.0]))
 
-    def rhs(d, m):
+
+def _mark_event(dyn: Dynamics, mark: float | None):
+    """The event of the first free coordinate passing ``mark`` (mod 2π for a revolute)."""
+    if mark is None:
+        return None
+    return _event(
+        (lambda tt, yy: np.sin(0.5 * (yy[0] - mark)))
+        if dyn.angular[dyn.free[0]]
+        else (lambda tt, yy: yy[0] - mark),
+        False,
+    )
+
+
+class _Run:
+    """One integration in pieces: the time, state and sense of motion reached, the loads'
+    state known just past a switch, and the pieces and events recorded in ``sim``."""
+
+    def __init__(self, solve_ivp, dyn, sim, until, y, options, max_step, *, mark_event, stop_event):
+        self.solve_ivp = solve_ivp
+        self.dyn, self.sim, self.until = dyn, sim, until
+        self.options = options  # method, rtol, atol of solve_ivp
+        self.max_step = max_step
+        self.mark_event, self.stop_event = mark_event, stop_event
+        self.short = [e for e in (mark_event, stop_event) if e is not None]  # on a nudge too
+        self.thresholds = np.array([thr for _, _, thr in dyn._switches])
+        self.nf = dyn.n_f
+        self.t, self.y, self.direction, self.first_step = 0.0, y, 0.0, None
+        self.pending = None  # the loads' state just past a switch (known from the last piece)
+        self.marks: list[float] = []
+
+    def _rhs(self, d, m):
+        dyn = self.dyn
         return lambda tt, yy: dyn.rhs(tt, yy, d, m)
 
-    pending = None  # the loads' state just past a switch (known from the last piece)
-    mark_event = None
-    if mark is not None:
-        mark_event = _event(
-            (lambda tt, yy: np.sin(0.5 * (yy[0] - mark)))
-            if dyn.angular[dyn.free[0]]
-            else (lambda tt, yy: yy[0] - mark),
-            False,
-        )
-
-    stop_event = None if stop_at is None else _event(lambda tt, yy: yy[0] - stop_at, True)
-    short = [e for e in (mark_event, stop_event) if e is not None]  # watched on a nudge too
-
-    def add_marks(found):
+    def _add_marks(self, found):
+        marks = self.marks
         for x in found:  # a mark at a switch is seen by both pieces
             if not marks or abs(float(x) - marks[-1]) > 1e-9 * max(1.0, abs(float(x))):
                 marks.append(float(x))
 
-    for _ in range(100_000):
-        if t >= until:
-            break
-        if nf == 1 and dyn._at_rest(y[nf : 2 * nf]):
-            check = dyn.breakaway(t, y[:nf])
-            direction = check.pop("sense")
-            sim.events.append({"t": t, "kind": "rest", "sense": direction, **check})
-            y[nf : 2 * nf] = 0.0
-            if direction == 0.0:
-                sim.segments.append(_Segment(t, until, None, y.copy()))
-                sim.status = "stuck"
-                break
-        elif not dyn._at_rest(y[nf : 2 * nf]):
-            direction = 0.0
+    def step(self) -> bool:
+        """A restart at rest, a nudge off the switches at their threshold, one piece to
+        the next event.  True when the integration ends."""
+        dyn, nf = self.dyn, self.nf
+        if nf == 1 and dyn._at_rest(self.y[nf : 2 * nf]):
+            if self._restart_at_rest():
+                return True
+        elif not dyn._at_rest(self.y[nf : 2 * nf]):
+            self.direction = 0.0
         # switching functions at their threshold now (a start at rest, or on a band
         # edge): first a short piece without events carries them off zero
-        near = np.abs(dyn.switching_values(t, y, direction)) <= 2 * thresholds
-        if near.any():
-            tau = 1e-10 / dyn.ref_speed
-            for _ in range(30):
-                tau = min(tau, until - t)
-                sol0 = solve_ivp(
-                    rhs(direction, pending),
-                    (t, t + tau),
-                    y,
-                    method=method,
-                    rtol=rtol,
-                    atol=atol_v,
-                    dense_output=True,
-                    events=short or None,
-                )
-                if sol0.status == 1:  # the stop lies in the nudge
-                    break
-                y0 = sol0.y[:, -1]
-                g0 = dyn.switching_values(t + tau, y0, direction)
-                if np.all(np.abs(g0[near]) > 2 * thresholds[near]) or t + tau >= until:
-                    break
-                tau *= 4.0
-            if mark_event is not None:
-                add_marks(sol0.t_events[0])
-            if sol0.status == 1:
-                t_s = float(sol0.t[-1])
-                sim.segments.append(_Segment(t, t_s, sol0.sol, mode=pending))
-                sim.events.append({"t": t_s, "kind": "stop"})
-                t, y = t_s, sol0.y[:, -1].copy()
-                sim.status = "stopped"
+        near = np.abs(dyn.switching_values(self.t, self.y, self.direction)) <= 2 * self.thresholds
+        if near.any() and self._nudge(near):
+            return True
+        return self._piece(near)
+
+    def _restart_at_rest(self) -> bool:
+        """At rest (one free coordinate): the sense it breaks away in, or stuck (True)."""
+        nf, t = self.nf, self.t
+        check = self.dyn.breakaway(t, self.y[:nf])
+        self.direction = check.pop("sense")
+        self.sim.events.append({"t": t, "kind": "rest", "sense": self.direction, **check})
+        self.y[nf : 2 * nf] = 0.0
+        if self.direction == 0.0:
+            self.sim.segments.append(_Segment(t, self.until, None, self.y.copy()))
+            self.sim.status = "stuck"
+            return True
+        return False
+
+    def _nudge(self, near: np.ndarray) -> bool:
+        """A short piece without switch events, lengthened until the switches ``near``
+        their threshold are off it; ``near`` keeps (in place) those still on it.  True
+        when the integration ends (a stop in the nudge, or ``until`` reached)."""
+        dyn, nf, thresholds = self.dyn, self.nf, self.thresholds
+        t, y, until = self.t, self.y, self.until
+        tau = 1e-10 / dyn.ref_speed
+        for _ in range(30):
+            tau = min(tau, until - t)
+            sol0 = self.solve_ivp(
+                self._rhs(self.direction, self.pending),
+                (t, t + tau),
+                y,
+                **self.options,
+                dense_output=True,
+                events=self.short or None,
+            )
+            if sol0.status == 1:  # the stop lies in the nudge
                 break
-            sim.segments.append(_Segment(t, t + tau, sol0.sol, mode=pending))
-            t, y = t + tau, y0.copy()
-            near &= np.abs(g0) <= 2 * thresholds  # still on zero: not watched here
-            if not dyn._at_rest(y[nf : 2 * nf]):
-                direction = 0.0
-            if t >= until:
+            y0 = sol0.y[:, -1]
+            g0 = dyn.switching_values(t + tau, y0, self.direction)
+            if np.all(np.abs(g0[near]) > 2 * thresholds[near]) or t + tau >= until:
                 break
-        # the loads' state is held fixed on the piece: its right-hand side is smooth and
-        # extends smoothly past the next switch, where the event is located
-        mode = pending if pending is not None else dyn.mode_at(t, y, direction)
-        pending = None
+            tau *= 4.0
+        if self.mark_event is not None:
+            self._add_marks(sol0.t_events[0])
+        if sol0.status == 1:
+            t_s = float(sol0.t[-1])
+            self.sim.segments.append(_Segment(t, t_s, sol0.sol, mode=self.pending))
+            self.sim.events.append({"t": t_s, "kind": "stop"})
+            self.t, self.y = t_s, sol0.y[:, -1].copy()
+            self.sim.status = "stopped"
+            return True
+        self.sim.segments.append(_Segment(t, t + tau, sol0.sol, mode=self.pending))
+        self.t, self.y = t + tau, y0.copy()
+        near &= np.abs(g0) <= 2 * thresholds  # still on zero: not watched here
+        if not dyn._at_rest(self.y[nf : 2 * nf]):
+            self.direction = 0.0
+        return self.t >= until
+
+    def _events(self, near: np.ndarray, mode) -> tuple[list, list]:
+        """The events watched on a piece and their kinds: the switches not ``near`` their
+        threshold, the coming to rest (Coulomb friction, one free coordinate), the stop
+        and the mark."""
+        dyn, nf, direction = self.dyn, self.nf, self.direction
         events, kinds = [], []
         for k in range(len(dyn._switches)):
             if not near[k]:
@@ -200,77 +268,82 @@ def simulate(
                 )
                 kinds.append(("switch", k))
         if dyn.coulomb and nf == 1:
-            s = direction or np.sign(y[nf])
+            s = direction or np.sign(self.y[nf])
             events.append(_event(lambda tt, yy: yy[nf], True, -s))
             kinds.append(("rest", None))
-        if stop_event is not None:
-            events.append(stop_event)
+        if self.stop_event is not None:
+            events.append(self.stop_event)
             kinds.append(("stop", None))
-        if mark_event is not None:
-            events.append(mark_event)
+        if self.mark_event is not None:
+            events.append(self.mark_event)
             kinds.append(("mark", None))
-        opts = {} if first_step is None else {"first_step": min(first_step, until - t)}
-        sol = solve_ivp(
-            rhs(direction, mode),
+        return events, kinds
+
+    def _piece(self, near: np.ndarray) -> bool:
+        """One piece from t towards ``until``, ended by the first event.  True when the
+        integration ends (``until`` or the stop reached)."""
+        dyn, nf, t, y, until = self.dyn, self.nf, self.t, self.y, self.until
+        # the loads' state is held fixed on the piece: its right-hand side is smooth and
+        # extends smoothly past the next switch, where the event is located
+        mode = self.pending if self.pending is not None else dyn.mode_at(t, y, self.direction)
+        self.pending = None
+        events, kinds = self._events(near, mode)
+        first = self.first_step
+        opts = {} if first is None else {"first_step": min(first, until - t)}
+        sol = self.solve_ivp(
+            self._rhs(self.direction, mode),
             (t, until),
             y,
-            method=method,
-            rtol=rtol,
-            atol=atol_v,
+            **self.options,
             dense_output=True,
             events=events or None,
-            max_step=max_step,
+            max_step=self.max_step,
             **opts,
         )
         if sol.status == -1:
             raise RuntimeError(f"integration failed at t = {sol.t[-1]:.6g} s: {sol.message}")
         for (kind, _), te in zip(kinds, sol.t_events or []):
             if kind == "mark":
-                add_marks(te)
+                self._add_marks(te)
         if len(sol.t) > 2:
-            first_step = float(sol.t[-2] - sol.t[-3]) or None
+            self.first_step = float(sol.t[-2] - sol.t[-3]) or None
         t_e, y_e = float(sol.t[-1]), sol.y[:, -1].copy()
+        self.sim.segments.append(_Segment(t, t_e, sol.sol, mode=mode))
+        self.t, self.y = t_e, y_e
         if sol.status == 0:
-            sim.segments.append(_Segment(t, t_e, sol.sol, mode=mode))
-            t, y = t_e, y_e
-            break
+            return True
         fired = [
             (kind, k)
             for (kind, k), te in zip(kinds, sol.t_events)
             if kind != "mark" and te.size and abs(te[-1] - t_e) <= 1e-12 * max(1.0, t_e)
         ]
         if any(kind == "stop" for kind, _ in fired):
-            sim.segments.append(_Segment(t, t_e, sol.sol, mode=mode))
-            sim.events.append({"t": t_e, "kind": "stop"})
-            t, y = t_e, y_e
-            sim.status = "stopped"
-            break
+            self.sim.events.append({"t": t_e, "kind": "stop"})
+            self.sim.status = "stopped"
+            return True
         if any(kind == "rest" for kind, _ in fired):
-            sim.segments.append(_Segment(t, t_e, sol.sol, mode=mode))
-            y_e[nf : 2 * nf] = 0.0
-            t, y = t_e, y_e
-            continue
-        # a load switch: the piece ends at the event and the next one starts from the
-        # state there (the root found on this piece's dense output: its right-hand side is
-        # smooth through the event).  Which side the loads take next is read a little past
-        # the event on this piece's smooth continuation; the state is not moved there.
-        idx = [k for kind, k in fired if kind == "switch"]
-        sim.segments.append(_Segment(t, t_e, sol.sol, mode=mode))
-        sim.events.append({"t": t_e, "kind": "switch", "what": [dyn._switches[k][0] for k in idx]})
+            self.y[nf : 2 * nf] = 0.0
+            return False
+        self._switch(sol, t_e, mode, [k for kind, k in fired if kind == "switch"])
+        return False
+
+    def _switch(self, sol, t_e: float, mode, idx: list[int]) -> None:
+        """A load switch at ``t_e``: the next piece starts from the state there (the root
+        found on this piece's dense output: its right-hand side is smooth through the
+        event).  Which side the loads take next is read a little past the event on this
+        piece's smooth continuation; the state is not moved there."""
+        dyn, direction = self.dyn, self.direction
+        self.sim.events.append(
+            {"t": t_e, "kind": "switch", "what": [dyn._switches[k][0] for k in idx]}
+        )
         tau = 1e-10 / dyn.ref_speed
         for _ in range(17):  # at most ~1e-5 s × (1 rad/s / ref_speed)
             y_p = np.asarray(sol.sol(t_e + tau), dtype=float)
             g = dyn.switching_values(t_e + tau, y_p, direction, mode)
-            if all(abs(g[k]) > 2 * thresholds[k] for k in idx):
+            if all(abs(g[k]) > 2 * self.thresholds[k] for k in idx):
                 break
             tau *= 2.0
-        pending = dyn.load_mode(dyn._evaluated(t_e + tau, y_p, direction, mode))
-        t, y = t_e, y_e
-    else:
-        raise RuntimeError("too many integration pieces (chattering load switches?)")
-    sim.nfev = dyn.evaluations - evaluations0
-    sim.marks = np.array(marks)
-    return sim
+        self.pending = dyn.load_mode(dyn._evaluated(t_e + tau, y_p, direction, mode))
 
 
 def _sense_of_effort(model: Model, free: list[str]) -> float:

@@ -172,12 +172,22 @@ def _draw_moving(
     title_artist=None,
 ):
     """Links, blocks, pins, labels and (optionally) forces at one position."""
+    k = paper.k
+    arts = _draw_links(ax, scene, geo)
+    arts += _draw_pins(ax, scene, geo, k)
+    if labels:
+        arts += _draw_labels(ax, scene, geo, k)
+    if forces:
+        arts += _draw_loads(ax, forces, mu_f, k)
+    return arts
+
+
+def _draw_links(ax, scene: _Scene, geo: MechanismGeometry):
+    """The links' outlines (bars, plates), the sliding blocks and the pitch lines."""
     from matplotlib.patches import Circle
     from matplotlib.patches import Polygon as MPoly
 
     arts = []
-    k = paper.k
-    model = scene.model
     for n, pts in geo.outlines.items():
         c = scene.colors[n]
         P = pts * 1e3
@@ -213,6 +223,15 @@ def _draw_moving(
                 ls="-.",
                 zorder=4,
             )
+    return arts
+
+
+def _draw_pins(ax, scene: _Scene, geo: MechanismGeometry, k: float):
+    """The pins, and the centre-of-mass marks where no pin already stands."""
+    from matplotlib.patches import Circle
+
+    arts = []
+    model = scene.model
     r = 1.5 * k
     for j in model.joints:
         if j.pin:
@@ -228,127 +247,132 @@ def _draw_moving(
         arts.append(_add(ax, Circle(c, 1.1 * k, fc="white", ec="black", lw=0.7, zorder=8)))
         arts.append(_add(ax, Wedge(c, 1.1 * k, 0, 90, fc="black", ec="none", zorder=8)))
         arts.append(_add(ax, Wedge(c, 1.1 * k, 180, 270, fc="black", ec="none", zorder=8)))
-    if labels:
-        centre = 0.5 * (scene.lo + scene.hi) * 1e3
-        placed: list[list] = []  # [position, names, clearance]
+    return arts
 
-        def put(p, name, clearance):
-            for entry in placed:
-                if np.hypot(*(entry[0] - p)) < 0.6 * k:
-                    if name not in entry[1]:
-                        entry[1].append(name)
-                    entry[2] = max(entry[2], clearance)
-                    return
-            placed.append([p, [name], clearance])
 
-        block_at = {b.joint: 0.5 * np.hypot(b.length, b.height) * 1e3 for b in geo.blocks}
-        for j in model.joints:
-            if j.name not in geo.joints:
-                continue
-            put(geo.joints[j.name] * 1e3, j.label(), block_at.get(j.name, 0.0))
-        for entry in placed:  # a block sits on a pin at the same place
-            for b in geo.blocks:
-                if np.hypot(*(b.centre * 1e3 - entry[0])) < 0.6 * k:
-                    entry[2] = max(entry[2], block_at[b.joint])
-        joint_names = {nm for entry in placed for nm in entry[1]}
-        for ref, p in geo.points.items():
-            link, _, pname = ref.partition(".")
-            if link == scene.ground or pname in joint_names:
-                continue
-            put(p * 1e3, pname, 0.0)
-        for p, names, clearance in placed:
-            q = _label_offset(p, centre, max(4.2 * k, clearance + 2.2 * k))
-            arts.append(
-                ax.text(
-                    q[0],
-                    q[1],
-                    "/".join(names),
-                    ha="center",
-                    va="center",
-                    fontsize=8,
-                    zorder=9,
-                    fontweight="bold",
-                    color="#222222",
-                )
+def _draw_labels(ax, scene: _Scene, geo: MechanismGeometry, k: float):
+    """The point names (one label per spot, clear of blocks) and the link numbers."""
+    arts = []
+    centre = 0.5 * (scene.lo + scene.hi) * 1e3
+    for p, names, clearance in _label_spots(scene, geo, k):
+        q = _label_offset(p, centre, max(4.2 * k, clearance + 2.2 * k))
+        arts.append(
+            ax.text(
+                q[0],
+                q[1],
+                "/".join(names),
+                ha="center",
+                va="center",
+                fontsize=8,
+                zorder=9,
+                fontweight="bold",
+                color="#222222",
             )
-        for n, pts in geo.outlines.items():  # link numbers at the middle of each link
-            mid = pts.mean(axis=0) * 1e3
-            if n in geo.plates:
-                pos = mid
-            elif len(pts) >= 2:
-                d = (pts[-1] - pts[0]) * 1e3
-                pos = mid + 2.6 * k * perp(d / max(np.hypot(*d), 1e-12))
-            else:
-                continue
-            arts.append(
-                ax.text(
-                    pos[0],
-                    pos[1],
-                    str(scene.numbers[n]),
-                    ha="center",
-                    va="center",
-                    fontsize=7,
-                    color=scene.colors[n],
-                    zorder=9,
-                    bbox=dict(boxstyle="circle,pad=0.15", fc="white", ec=scene.colors[n], lw=0.6),
-                )
-            )
+        )
+    for n, pts in geo.outlines.items():  # link numbers at the middle of each link
+        mid = pts.mean(axis=0) * 1e3
+        if n in geo.plates:
+            pos = mid
+        elif len(pts) >= 2:
+            d = (pts[-1] - pts[0]) * 1e3
+            pos = mid + 2.6 * k * perp(d / max(np.hypot(*d), 1e-12))
+        else:
+            continue
+        arts.append(_link_number(ax, scene, n, pos))
+    for b in geo.blocks:
+        if b.link in geo.outlines and len(geo.outlines[b.link]) >= 2:
+            continue
+        pos = b.centre * 1e3 + (b.height * 1e3 / 2 + 2.4 * k) * perp(b.direction) * -1
+        arts.append(_link_number(ax, scene, b.link, pos))
+    return arts
+
+
+def _label_spots(scene: _Scene, geo: MechanismGeometry, k: float) -> list[list]:
+    """The labelled spots, mm: [position, names, clearance] (joints, then link points)."""
+    model = scene.model
+    placed: list[list] = []  # [position, names, clearance]
+
+    def put(p, name, clearance):
+        for entry in placed:
+            if np.hypot(*(entry[0] - p)) < 0.6 * k:
+                if name not in entry[1]:
+                    entry[1].append(name)
+                entry[2] = max(entry[2], clearance)
+                return
+        placed.append([p, [name], clearance])
+
+    block_at = {b.joint: 0.5 * np.hypot(b.length, b.height) * 1e3 for b in geo.blocks}
+    for j in model.joints:
+        if j.name not in geo.joints:
+            continue
+        put(geo.joints[j.name] * 1e3, j.label(), block_at.get(j.name, 0.0))
+    for entry in placed:  # a block sits on a pin at the same place
         for b in geo.blocks:
-            if b.link in geo.outlines and len(geo.outlines[b.link]) >= 2:
+            if np.hypot(*(b.centre * 1e3 - entry[0])) < 0.6 * k:
+                entry[2] = max(entry[2], block_at[b.joint])
+    joint_names = {nm for entry in placed for nm in entry[1]}
+    for ref, p in geo.points.items():
+        link, _, pname = ref.partition(".")
+        if link == scene.ground or pname in joint_names:
+            continue
+        put(p * 1e3, pname, 0.0)
+    return placed
+
+
+def _link_number(ax, scene: _Scene, n: str, pos):
+    """Link ``n``'s number in a circle at ``pos`` (mm)."""
+    return ax.text(
+        pos[0],
+        pos[1],
+        str(scene.numbers[n]),
+        ha="center",
+        va="center",
+        fontsize=7,
+        color=scene.colors[n],
+        zorder=9,
+        bbox=dict(boxstyle="circle,pad=0.15", fc="white", ec=scene.colors[n], lw=0.6),
+    )
+
+
+def _draw_loads(ax, forces: list[_Arrow], mu_f: float | None, k: float):
+    """The loads: forces as arrows to the scale ``mu_f`` (N/mm), couples as arcs."""
+    arts = []
+    for a in forces:
+        c = FORCE_COLORS[a.kind]
+        at = a.at * 1e3
+        if a.force is None:
+            if a.moment == 0:
                 continue
-            pos = b.centre * 1e3 + (b.height * 1e3 / 2 + 2.4 * k) * perp(b.direction) * -1
+            arts.append(_moment_arc(ax, at, 5.5 * k, a.moment, c))
             arts.append(
                 ax.text(
-                    pos[0],
-                    pos[1],
-                    str(scene.numbers[b.link]),
-                    ha="center",
-                    va="center",
-                    fontsize=7,
-                    color=scene.colors[b.link],
-                    zorder=9,
-                    bbox=dict(
-                        boxstyle="circle,pad=0.15", fc="white", ec=scene.colors[b.link], lw=0.6
-                    ),
-                )
-            )
-    if forces:
-        for a in forces:
-            c = FORCE_COLORS[a.kind]
-            at = a.at * 1e3
-            if a.force is None:
-                if a.moment == 0:
-                    continue
-                arts.append(_moment_arc(ax, at, 5.5 * k, a.moment, c))
-                arts.append(
-                    ax.text(
-                        at[0] + 6.5 * k,
-                        at[1] + 5.0 * k,
-                        f"{_sub(a.label)} {a.moment:+.3g} N·m",
-                        fontsize=6.5,
-                        color=c,
-                        zorder=10,
-                    )
-                )
-                continue
-            mag = float(np.hypot(*a.force))
-            if mag < 1e-12:
-                continue
-            vec = a.force / mu_f * k  # paper mm -> data mm
-            arts.append(_arrow(ax, at, vec, c, lw=1.2))
-            tip = at + vec
-            arts.append(
-                ax.text(
-                    tip[0],
-                    tip[1],
-                    f" {_sub(a.label)}",
+                    at[0] + 6.5 * k,
+                    at[1] + 5.0 * k,
+                    f"{_sub(a.label)} {a.moment:+.3g} N·m",
                     fontsize=6.5,
                     color=c,
                     zorder=10,
-                    ha="left",
-                    va="bottom",
                 )
             )
+            continue
+        mag = float(np.hypot(*a.force))
+        if mag < 1e-12:
+            continue
+        vec = a.force / mu_f * k  # paper mm -> data mm
+        arts.append(_arrow(ax, at, vec, c, lw=1.2))
+        tip = at + vec
+        arts.append(
+            ax.text(
+                tip[0],
+                tip[1],
+                f" {_sub(a.label)}",
+                fontsize=6.5,
+                color=c,
+                zorder=10,
+                ha="left",
+                va="bottom",
+            )
+        )
     return arts
 
 

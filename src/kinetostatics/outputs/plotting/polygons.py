@@ -8,6 +8,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...base.geometry import perp, rotate
+
+# The graphical method is defined for R and P pairs (a pin merges two points, a
+# slider adds a coincident point and the ṡu / Coriolis chain), so it names them.
+from ...joints import Prismatic, Revolute
 from ...kinetics.forces import point_state
 from .curves import _joint_coordinate
 from .rows import _position_title, link_numbers, row_at
@@ -66,6 +70,9 @@ class Polygon:
         return np.zeros(2) if label == "p" else self.nodes[label].vector
 
 
+_REST = "@rest"  # the union-find key of the points at rest
+
+
 class _UnionFind:
     def __init__(self):
         self.parent: dict = {}
@@ -102,27 +109,38 @@ def polygon(result, row: int = 0, kind: str = "velocity") -> Polygon:
     node or chain of their own: their links' points are still chained link by
     link, which is all the polygon of a geared linkage needs.
     """
-    # The graphical method is defined for R and P pairs (a pin merges two points, a
-    # slider adds a coincident point and the ṡu / Coriolis chain), so it names them.
-    from ...joints import Prismatic, Revolute
-
     if kind not in ("velocity", "acceleration"):
         raise PictureError(f"polygon kind must be 'velocity' or 'acceleration', not '{kind}'")
     acc = kind == "acceleration"
+    pts = _link_points(result, row, acc)
+    uf, joint_name_of = _merged_points(result, pts)
+    coincident = _coincident_points(result, row, acc, pts, uf)
+    nodes, label_of, fixed = _nodes(result, pts, uf, joint_name_of)
+    chains = _link_chains(result, row, acc, pts, label_of)
+    chains += _slider_chains(result, row, acc, coincident, label_of)
+    return Polygon(kind, row, nodes, tuple(chains), fixed, "m/s²" if acc else "m/s")
+
+
+def _link_points(result, row: int, acc: bool) -> dict:
+    """The moving links' named points: (link, name) -> (position, velocity or acceleration)."""
     system, model = result.system, result.system.model
-    ground = model.ground.name
-    nums = link_numbers(system)
     q, qd, qdd = result.q[row], result.qd[row], result.qdd[row]
-    l_ref = system.l_ref
-    # link points: (link, name) -> position, vector
     pts: dict[tuple[str, str], tuple[np.ndarray, np.ndarray]] = {}
     for k, n in enumerate(system.links):
         for pname, p in model.link(n).points.items():
             pos, vel, a = point_state(q, qd, qdd, k, np.asarray(p, float))
             pts[(n, pname)] = (pos, a if acc else vel)
+    return pts
+
+
+def _merged_points(result, pts: dict) -> tuple[_UnionFind, dict]:
+    """The points that are one node: coincident points of a link, the two points of a
+    revolute (a point on the frame joins the rest key); and the joint naming each point."""
+    system, model = result.system, result.system.model
+    ground = model.ground.name
+    l_ref = system.l_ref
     uf = _UnionFind()
-    rest = "@rest"
-    uf.find(rest)
+    uf.find(_REST)
     for key in pts:
         uf.find(key)
     for n in system.links:  # coincident named points of one link
@@ -135,20 +153,29 @@ def polygon(result, row: int = 0, kind: str = "velocity") -> Polygon:
     for j in model.joints:
         if isinstance(j, Revolute):
             a_key, b_key = (j.links[0], j.point_names[0]), (j.links[1], j.point_names[1])
-            a_key = rest if j.links[0] == ground else a_key
-            b_key = rest if j.links[1] == ground else b_key
+            a_key = _REST if j.links[0] == ground else a_key
+            b_key = _REST if j.links[1] == ground else b_key
             uf.union(a_key, b_key)
             for key in (a_key, b_key):
-                if key != rest:
+                if key != _REST:
                     joint_name_of.setdefault(key, j.name)
+    return uf, joint_name_of
+
+
+def _coincident_points(result, row: int, acc: bool, pts: dict, uf: _UnionFind) -> dict:
+    """Per prismatic joint, (i key, j key): the point of link i that coincides with the
+    sliding point of link j (added to ``pts`` as ``(i, "@joint")``) and that point."""
+    system, model = result.system, result.system.model
+    ground = model.ground.name
+    q, qd, qdd = result.q[row], result.qd[row], result.qdd[row]
     coincident: dict[str, tuple] = {}  # prismatic joint -> (i key, j key)
     for j in model.joints:
         if not isinstance(j, Prismatic):
             continue
         i_link, j_link = j.links
-        j_key = (j_link, j.point_name) if j_link != ground else rest
+        j_key = (j_link, j.point_name) if j_link != ground else _REST
         if i_link == ground:
-            i_key = rest
+            i_key = _REST
         else:
             k = system.link_index(i_link)
             Pj = _to_global(result, j_link, j.p, row)
@@ -159,11 +186,18 @@ def polygon(result, row: int = 0, kind: str = "velocity") -> Polygon:
             pts[i_key] = (pos, a if acc else vel)
             uf.find(i_key)
         coincident[j.name] = (i_key, j_key)
-    # nodes
+    return coincident
+
+
+def _nodes(result, pts: dict, uf: _UnionFind, joint_name_of: dict):
+    """The labelled nodes, the label of every point key (``"p"`` at rest) and the refs
+    at the pole."""
+    system, model = result.system, result.system.model
+    nums = link_numbers(system)
     groups: dict = {}
-    for key in list(pts) + [rest]:
+    for key in list(pts) + [_REST]:
         groups.setdefault(uf.find(key), []).append(key)
-    rest_root = uf.find(rest)
+    rest_root = uf.find(_REST)
 
     def base_name(key):
         if key[1].startswith("@"):
@@ -196,10 +230,17 @@ def polygon(result, row: int = 0, kind: str = "velocity") -> Polygon:
         nodes[label] = PolygonNode(label, refs, pts[keys[0]][1])
         for k in keys:
             label_of[k] = label
-    fixed = tuple(f"{k[0]}.{k[1]}" for k in groups[rest_root] if k != rest)
+    fixed = tuple(f"{k[0]}.{k[1]}" for k in groups[rest_root] if k != _REST)
     for k in groups[rest_root]:
         label_of[k] = "p"
-    # chains: per moving link in solve order, from its base node
+    return nodes, label_of, fixed
+
+
+def _link_chains(result, row: int, acc: bool, pts: dict, label_of: dict) -> list:
+    """Per moving link in solve order, the chains from its base node to its other nodes."""
+    system = result.system
+    ground = system.model.ground.name
+    qd, qdd = result.qd[row], result.qdd[row]
     order = [n for p in system.plans for n in p.group.links]
     solved: set[str] = {ground}
     chains = []
@@ -226,7 +267,7 @@ def polygon(result, row: int = 0, kind: str = "velocity") -> Polygon:
             if lab == base:
                 continue
             d = _node_position(pts, label_of, lab, n) - r_base
-            if np.hypot(*d) < 1e-9 * l_ref:
+            if np.hypot(*d) < 1e-9 * system.l_ref:
                 continue
             sub = (lab + (base if base != "p" else "")).upper()
             if acc:
@@ -235,6 +276,15 @@ def polygon(result, row: int = 0, kind: str = "velocity") -> Polygon:
                 comps = (("v_" + sub, w * perp(d)),)
             chains.append(PolygonChain(base, lab, n, comps))
         solved.add(n)
+    return chains
+
+
+def _slider_chains(result, row: int, acc: bool, coincident: dict, label_of: dict) -> list:
+    """Per prismatic joint, the chain from link i's coincident point to the sliding point."""
+    system, model = result.system, result.system.model
+    ground = model.ground.name
+    qd = result.qd[row]
+    chains = []
     for j in model.joints:
         if not isinstance(j, Prismatic):
             continue
@@ -252,7 +302,7 @@ def polygon(result, row: int = 0, kind: str = "velocity") -> Polygon:
         else:
             comps = (("vr_" + sub, cd * U),)
         chains.append(PolygonChain(start, end, j.name, comps))
-    return Polygon(kind, row, nodes, tuple(chains), fixed, "m/s²" if acc else "m/s")
+    return chains
 
 
 def _node_position(pts, label_of, label, link):
