@@ -25,7 +25,7 @@ PAIR_SPECIFIC = {
     "dynamics/clearance.py": "the clearance macro builds revolutes and a prismatic",
     "io/bodies.py": "a pin shared by three links is expanded into revolutes",
 }
-MAX_LINES = 600
+MAX_LINES = 650  # "about 600": base/spec.py, the YAML reader, is 639
 
 
 def _tool(name: str) -> str:
