@@ -21,19 +21,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..kinematics.closed_path import closed_form_path
+from ..kinematics.derivatives import derivatives
 from ..kinematics.dyads import closed_form
 from ..kinematics.events import output_strokes_stacked
-from ..kinematics.positions import (
-    SKETCH_TOL,
-    TOL,
-    _signature,
-    closed_form_path,
-    derivatives,
-    group_condition,
-    initial_guess,
-    sketch_distances,
-)
+from ..kinematics.newton import TOL, group_condition, group_signature
 from ..kinematics.schedule import Schedule, sample_times, schedule
+from ..kinematics.start import SKETCH_TOL, initial_guess, sketch_distances
 from ..kinetics.conditions import travel_extremes_stacked
 from ..kinetics.inverse import kinetics
 from ..model import Model, MotionLaw
@@ -134,10 +128,10 @@ def _start(system: System, models: Sequence[Model], sched: Schedule):
     psi = sched(np.zeros(1))[0][None]
     ok = np.ones(len(models), dtype=bool)
     for plan in system.plans:
-        s0 = _signature(system, q, plan)[:, 0]
+        s0 = group_signature(system, q, plan)[:, 0]
         cond0 = group_condition(system, q, plan)[:, 0]
         qn, conv = _newton(system, q, psi, plan)
-        s1 = _signature(system, qn, plan)[:, 0]
+        s1 = group_signature(system, qn, plan)[:, 0]
         ok &= (s0 != 0) & (cond0 <= 1e10) & conv[:, 0] & (s1 == s0)
         q = np.where(ok[:, None, None], qn, q)
     tol = SKETCH_TOL * np.broadcast_to(system.l_ref, (len(models), 1))
