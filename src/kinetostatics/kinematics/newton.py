@@ -80,50 +80,44 @@ def group_signature(system: System, q: np.ndarray, plan: GroupPlan) -> np.ndarra
 def group_newton(
     system: System, q: np.ndarray, psi: np.ndarray, plan: GroupPlan, max_iter: int = MAX_ITER
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Batched Newton on one group (other columns fixed).
+    """Batched Newton on one group (other columns fixed), ``q (..., n_q)``; a stacked
+    system's variant axis stays aligned with its parameters (no subsets are taken).
 
     Returns (q, converged (...), iterations (...)).  Positions that converge
     stop updating; the batch iterates until all converged or ``max_iter``.
     """
-    shape = q.shape
-    q = q.reshape(-1, shape[-1]).copy()
-    psi = np.broadcast_to(psi, shape[:-1] + psi.shape[-1:]).reshape(len(q), -1)
+    q = np.array(q, dtype=float)
     cols = plan.cols
     ang = np.arange(len(cols)) % 3 == 2
-    step_tol = np.where(ang, TOL, TOL * system.l_ref)
-    res_tol = TOL * system.l_ref
+    l_ref = np.asarray(system.l_ref)
+    l_col = l_ref[..., None] if l_ref.ndim else l_ref
+    step_tol = np.where(ang, TOL, TOL * l_col)
+    res_tol = TOL * l_ref
     batch = q.shape[:-1]
     done = np.zeros(batch, dtype=bool)
     iters = np.zeros(batch, dtype=int)
     active = np.ones(batch, dtype=bool)
     for _ in range(max_iter):
-        idx = np.nonzero(active & ~done)
-        if not idx[0].size:
+        run = active & ~done
+        if not run.any():
             break
-        qa = q[idx]
-        r = phi(system, qa, psi[idx], plan.constraints)
-        jac = jacobian(system, qa, plan.constraints, cols)
-        try:
-            dx = np.linalg.solve(jac, -r[..., None])[..., 0]
-        except np.linalg.LinAlgError:  # a singular matrix somewhere in the batch
-            dx = (np.linalg.pinv(jac) @ -r[..., None])[..., 0]
+        r = phi(system, q, psi, plan.constraints)
+        jac = jacobian(system, q, plan.constraints, cols)
+        with np.errstate(all="ignore"):
+            try:
+                dx = np.linalg.solve(jac, -r[..., None])[..., 0]
+            except np.linalg.LinAlgError:  # a singular matrix somewhere in the batch
+                dx = (np.linalg.pinv(jac) @ -r[..., None])[..., 0]
         bad = ~np.all(np.isfinite(dx), axis=-1)
-        dx[bad] = 0.0
-        qa[..., cols] += dx
-        q[idx] = qa
-        iters[idx] += 1
+        dx = np.where((bad | ~run)[..., None], 0.0, dx)
+        q[..., cols] += dx
+        iters += run
         small = np.all(np.abs(dx) <= step_tol, axis=-1) & (
             np.max(np.abs(r), axis=-1) <= res_tol * 1e3
         )
-        big = np.max(np.abs(dx) / np.where(ang, 1.0, system.l_ref), axis=-1) > 1e3
-        sub_done = small & ~bad
-        d = done[idx]
-        d |= sub_done
-        done[idx] = d
-        a = active[idx]
-        a &= ~(bad | big)
-        active[idx] = a
+        big = np.max(np.abs(dx) / np.where(ang, 1.0, l_col), axis=-1) > 1e3
+        done |= run & small & ~bad
+        active &= ~(run & (bad | big))
     # final residual check
     r = np.max(np.abs(phi(system, q, psi, plan.constraints)), axis=-1)
-    converged = r <= res_tol
-    return q.reshape(shape), converged.reshape(shape[:-1]), iters.reshape(shape[:-1])
+    return q, r <= res_tol, iters
