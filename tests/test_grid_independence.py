@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import kinetostatics as ks
-from kinetostatics import positions
+from kinetostatics.kinematics import positions
 
 CHANGE_POINT = "tests/hard/fourbar_change_point.yaml"
 
@@ -26,7 +26,7 @@ def path(request, monkeypatch):
     """Both position paths: the closed forms (fast) and Newton with continuation
     (general, the closed forms switched off)."""
     if request.param == "general":
-        monkeypatch.setattr(positions, "_solvers", lambda system, drive: None)
+        monkeypatch.setattr(positions, "closed_form_solvers", lambda system, drive: None)
     return request.param
 
 

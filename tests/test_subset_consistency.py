@@ -92,7 +92,7 @@ def test_a_random_subset_of_positions(reference):
 def _sketch_at(result, k):
     """The model's sketch moved to where the run put each sketched point at row ``k`` (the
     sketch is a rough pose at ``analysis.start``: another start needs its own)."""
-    from kinetostatics.kinematics.positions import _joint_points
+    from kinetostatics.kinematics.start import joint_points
     from kinetostatics.kinetics.forces import point_state
 
     system = result.system
@@ -102,9 +102,7 @@ def _sketch_at(result, k):
     for key, pos in model.sketch.items():
         link, dot, name = key.partition(".")
         pairs = (
-            [(link, model.link(link).points[name])]
-            if dot
-            else list(_joint_points(model.joint(key)))
+            [(link, model.link(link).points[name])] if dot else list(joint_points(model.joint(key)))
         )
         pairs = [(n, p) for n, p in pairs if n in moving]
         if not pairs:

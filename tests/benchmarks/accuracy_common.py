@@ -25,7 +25,14 @@ for p in (ROOT, ROOT / "tests" / "benchmarks", ROOT / "docs" / "scripts"):
 from _common import best_of as _best_of  # noqa: E402  (tests/benchmarks/_common.py)
 
 import kinetostatics as ks  # noqa: E402
-from kinetostatics import dyads, positions  # noqa: E402
+from kinetostatics.kinematics import (  # noqa: E402
+    closed_path,
+    continuation,
+    dyads,
+    newton,
+    positions,
+    start,
+)
 
 DOC = ROOT / "docs" / "accuracy.md"
 IMG = ROOT / "docs" / "img"
@@ -58,18 +65,27 @@ def general_path():
         dyads.closed_form = saved
 
 
+# the modules of the position solve: each holds its own binding of an imported name
+SOLVE_MODULES = (newton, continuation, start, closed_path, positions)
+
+
 @contextlib.contextmanager
 def knobs(**values):
-    """Temporarily set module constants of ``kinetostatics.kinematics.positions``
-    (TOL, COARSE_STEP…)."""
-    saved = {k: getattr(positions, k) for k in values}
+    """Temporarily set names of the position solve (TOL, COARSE_STEP…, or a function
+    such as ``group_newton``) in every module of :data:`SOLVE_MODULES` that holds them."""
+    saved = []
     for k, v in values.items():
-        setattr(positions, k, v)
+        holders = [m for m in SOLVE_MODULES if hasattr(m, k)]
+        if not holders:
+            raise AttributeError(f"no module of the position solve has {k!r}")
+        for m in holders:
+            saved.append((m, k, getattr(m, k)))
+            setattr(m, k, v)
     try:
         yield
     finally:
-        for k, v in saved.items():
-            setattr(positions, k, v)
+        for m, k, v in reversed(saved):
+            setattr(m, k, v)
 
 
 # ------------------------------------------------------------------ errors

@@ -27,8 +27,9 @@ import accuracy_common as ac
 import numpy as np
 from accuracy_common import Table, e, ms
 
-from kinetostatics import positions
-from kinetostatics.kinematics.positions import derivatives, solve_positions
+from kinetostatics.kinematics import newton, positions
+from kinetostatics.kinematics.derivatives import derivatives
+from kinetostatics.kinematics.positions import solve_positions
 from kinetostatics.kinematics.schedule import sample_times, schedule
 
 TOLS = (1e-4, 1e-6, 1e-8, 1e-10, 1e-12, 1e-14)
@@ -37,21 +38,22 @@ TIMES = ("360 [ms]", "36,000 [ms]")
 
 
 class Counter:
-    """Counts every Newton iteration of ``positions._newton`` while active."""
+    """Counts every Newton iteration of ``group_newton`` (kinematics.newton) while active."""
 
     def __enter__(self):
-        self.total, self.saved = 0, positions._newton
+        self.total, saved = 0, newton.group_newton
 
-        def newton(*args, **kw):
-            q, ok, it = self.saved(*args, **kw)
+        def counting(*args, **kw):
+            q, ok, it = saved(*args, **kw)
             self.total += int(np.sum(it))
             return q, ok, it
 
-        positions._newton = newton
+        self.patch = ac.knobs(group_newton=counting)
+        self.patch.__enter__()
         return self
 
     def __exit__(self, *exc):
-        positions._newton = self.saved
+        self.patch.__exit__(*exc)
 
 
 def oracle(name: str):

@@ -24,13 +24,11 @@ import kinetostatics as ks
 from kinetostatics import friction as fr
 from kinetostatics.analysis.results import Result, build_columns
 from kinetostatics.base.linalg import BlockFactor
-from kinetostatics.kinematics.positions import (
-    _assemble_start,
-    condition_number,
-    derivatives,
-    solve_positions,
-)
+from kinetostatics.kinematics.derivatives import derivatives
+from kinetostatics.kinematics.newton import condition_number
+from kinetostatics.kinematics.positions import solve_positions
 from kinetostatics.kinematics.schedule import sample_times, schedule
+from kinetostatics.kinematics.start import assemble_start
 from kinetostatics.kinetics.conditions import load_events
 from kinetostatics.kinetics.forces import (
     external_forces,
@@ -85,9 +83,7 @@ def stage_times(name: str, n: int, timing: bool):
     rows.append(("structure and plan (ks.build_system)", T(lambda: ks.build_system(model)), True))
     system = ks.build_system(model)
     sched = schedule(system)
-    rows.append(
-        ("start pose from the sketch", T(lambda: _assemble_start(system, 0.0, sched)), True)
-    )
+    rows.append(("start pose from the sketch", T(lambda: assemble_start(system, 0.0, sched)), True))
     rows.append(
         ("schedule and times", T(lambda: sample_times(system, schedule(system), None)), False)
     )

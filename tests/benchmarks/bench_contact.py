@@ -79,7 +79,7 @@ def profile(until: float = 0.01) -> str:
     total = cumulative("dynamics/engine.py", "evaluate")
     share = {
         "positions": cumulative("dynamics/engine.py", "positions") / total,
-        "derivatives": cumulative("positions.py", "derivatives") / total,
+        "derivatives": cumulative("kinematics/derivatives.py", "derivatives") / total,
         "kinetics": cumulative("inverse.py", "kinetics") / total,
     }
     return (

@@ -35,8 +35,9 @@ from typing import Any
 import numpy as np
 
 from ..base.units import factor
-from ..kinematics.positions import SKETCH_TOL, sketch_distances, start_pose
+from ..kinematics.newton import group_condition
 from ..kinematics.schedule import schedule
+from ..kinematics.start import SKETCH_TOL, sketch_distances, start_pose
 from ..structure.system import phi
 
 __all__ = [
@@ -281,8 +282,6 @@ def result_checks(result) -> Checks:
 def start_checks(system) -> Checks:
     """The checks that apply at the start pose alone (``kinetostatics check``):
     constraints, sketch and the groups' condition numbers there."""
-    from ..kinematics.positions import group_condition
-
     sched, q0 = _start(system)
     value, _ = _constraints(system, q0, sched(np.zeros(1))[0][0])
     worst, where = 0.0, ""

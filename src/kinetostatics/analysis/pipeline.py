@@ -20,17 +20,14 @@ from ..errors import (
     NonFiniteResultError,
     StructureError,
 )
+from ..kinematics.continuation import Singularity
+from ..kinematics.derivatives import derivatives
 from ..kinematics.differences import difference_derivatives
 from ..kinematics.events import state_near
-from ..kinematics.positions import (
-    Singularity,
-    condition_number,
-    derivatives,
-    group_condition,
-    initial_guess,
-    solve_positions,
-)
+from ..kinematics.newton import condition_number, group_condition
+from ..kinematics.positions import solve_positions
 from ..kinematics.schedule import Schedule, sample_times, schedule
+from ..kinematics.start import initial_guess
 from ..kinetics.conditions import Event, load_events, travel_extremes, whole_motion
 from ..kinetics.inverse import Kinetics, kinetics
 from ..kinetics.reactions import ground_reaction

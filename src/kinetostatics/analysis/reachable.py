@@ -15,13 +15,9 @@ from dataclasses import replace
 import numpy as np
 
 from ..errors import AssemblyError, SingularConfigurationError
-from ..kinematics.positions import (
-    PositionSolution,
-    Singularity,
-    group_condition,
-    reachable_range,
-    solve_positions,
-)
+from ..kinematics.continuation import Singularity
+from ..kinematics.newton import group_condition
+from ..kinematics.positions import PositionSolution, reachable_range, solve_positions
 from ..kinematics.schedule import Schedule
 from ..structure.system import System
 

@@ -21,28 +21,20 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..kinematics.closed_path import closed_form_path
+from ..kinematics.derivatives import derivatives
 from ..kinematics.dyads import closed_form
 from ..kinematics.events import output_strokes_stacked
-from ..kinematics.positions import (
-    SKETCH_TOL,
-    TOL,
-    _signature,
-    closed_form_path,
-    derivatives,
-    group_condition,
-    initial_guess,
-    sketch_distances,
-)
+from ..kinematics.newton import group_condition, group_newton, group_signature
 from ..kinematics.schedule import Schedule, sample_times, schedule
+from ..kinematics.start import SKETCH_TOL, initial_guess, sketch_distances
 from ..kinetics.conditions import travel_extremes_stacked
 from ..kinetics.inverse import kinetics
 from ..model import Model, MotionLaw
 from ..model.stacking import is_stacked, stack
-from ..structure.system import System, build_system, jacobian, phi
+from ..structure.system import System, build_system
 
 __all__ = ["analyze_stacked", "Stacked"]
-
-MAX_ITER = 25
 
 
 @dataclass
@@ -102,30 +94,6 @@ def _schedule(system: System) -> Schedule:
     return schedule(system)
 
 
-def _newton(system: System, q: np.ndarray, psi: np.ndarray, plan) -> tuple[np.ndarray, np.ndarray]:
-    """Newton on one group for every entry of ``q (V, M, n_q)`` (no subsets: the
-    variant axis must stay aligned with the stacked parameters)."""
-    cols = plan.cols
-    ang = np.arange(len(cols)) % 3 == 2
-    l_ref = np.asarray(system.l_ref)[..., None] if np.ndim(system.l_ref) else system.l_ref
-    step_tol = np.where(ang, TOL, TOL * l_ref)
-    q = q.copy()
-    for _ in range(MAX_ITER):
-        r = phi(system, q, psi, plan.constraints)
-        jac = jacobian(system, q, plan.constraints, cols)
-        with np.errstate(all="ignore"):
-            try:
-                dx = np.linalg.solve(jac, -r[..., None])[..., 0]
-            except np.linalg.LinAlgError:
-                dx = (np.linalg.pinv(jac) @ -r[..., None])[..., 0]
-        dx = np.where(np.isfinite(dx), dx, 0.0)
-        q[..., cols] += dx
-        if np.all(np.abs(dx) <= step_tol):
-            break
-    res = np.max(np.abs(phi(system, q, psi, plan.constraints)), axis=-1)
-    return q, res <= TOL * np.asarray(system.l_ref)
-
-
 def _start(system: System, models: Sequence[Model], sched: Schedule):
     """(q0 (V, 1, n_q), ok (V,)): each variant's sketch solved group by group on
     its branch; a variant whose sketch is ambiguous or that does not assemble is
@@ -134,10 +102,10 @@ def _start(system: System, models: Sequence[Model], sched: Schedule):
     psi = sched(np.zeros(1))[0][None]
     ok = np.ones(len(models), dtype=bool)
     for plan in system.plans:
-        s0 = _signature(system, q, plan)[:, 0]
+        s0 = group_signature(system, q, plan)[:, 0]
         cond0 = group_condition(system, q, plan)[:, 0]
-        qn, conv = _newton(system, q, psi, plan)
-        s1 = _signature(system, qn, plan)[:, 0]
+        qn, conv, _ = group_newton(system, q, psi, plan)
+        s1 = group_signature(system, qn, plan)[:, 0]
         ok &= (s0 != 0) & (cond0 <= 1e10) & conv[:, 0] & (s1 == s0)
         q = np.where(ok[:, None, None], qn, q)
     tol = SKETCH_TOL * np.broadcast_to(system.l_ref, (len(models), 1))

@@ -34,7 +34,9 @@ from ..base.geometry import rotate
 from ..errors import ModelError
 from ..joints.prismatic import Prismatic
 from ..joints.revolute import Revolute
+from ..kinematics.derivatives import derivatives
 from ..kinematics.schedule import schedule
+from ..kinematics.start import start_pose
 from ..kinetics.inverse import kinetics
 from ..model import Clearance, Driver, Link, Model, MotionLaw
 
@@ -87,7 +89,6 @@ def with_clearance(
 def _start_state(model: Model):
     """(system, q, q̇, q̈, ψ) of the model at t = 0: the first analysis position, or
     at rest under the effort drivers (forward dynamics' first evaluation)."""
-    from ..kinematics.positions import derivatives, start_pose
     from ..structure.system import build_system
 
     if any(d.motion is None for d in model.drivers):

@@ -16,8 +16,10 @@ from ..errors import (
     SingularConfigurationError,
     StructureError,
 )
-from ..kinematics.positions import derivatives, positions_near, start_pose
+from ..kinematics.derivatives import derivatives
+from ..kinematics.positions import positions_near
 from ..kinematics.schedule import schedule
+from ..kinematics.start import start_pose
 from ..kinetics.conditions import ZERO_SPEED, travel_extremes
 from ..kinetics.forces import mass_vector
 from ..kinetics.inverse import kinetics

@@ -7,7 +7,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..kinematics.positions import derivatives
+from ..kinematics.derivatives import derivatives
 from ..kinetics.conditions import travel_extremes
 from ..kinetics.forces import mass_vector
 from ..kinetics.inverse import kinetics

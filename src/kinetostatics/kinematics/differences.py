@@ -1,7 +1,7 @@
 """Difference quotients: the source text's scheme, kept as a comparison mode.
 
 The exact velocities and accelerations come from the Jacobian
-(``positions.derivatives``).  This module estimates them from positions
+(:mod:`.derivatives`).  This module estimates them from positions
 solved at neighbouring driver coordinates instead: ``forward`` (the source
 text's scheme, first order: v ≈ (q(t+h) − q(t))/h, a ≈ (q(t+2h) − 2q(t+h) +
 q(t))/h²) or ``central`` (second order).  ``docs/accuracy.md`` compares them.
@@ -12,7 +12,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..structure.system import System
-from .positions import Drive, solve_positions
+from .continuation import Drive
+from .positions import solve_positions
 
 __all__ = ["SCHEMES", "difference_derivatives"]
 

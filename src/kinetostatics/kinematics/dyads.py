@@ -7,7 +7,7 @@ links, vectorised over all positions at once.  The assembly branch is the
 sign ``σ`` read off the Newton solution at the sketched pose; an optional
 per-position factor ``sign`` (±1) multiplies it, so a path can change to the
 other closed-form sign where it passes a change point (see
-:func:`kinetostatics.kinematics.positions.closed_form_path`).  Each solver also returns
+:func:`kinetostatics.kinematics.closed_path.closed_form_path`).  Each solver also returns
 the dyad's *discriminant* ``D``, normalised to its scale: ``D > 0`` where the
 dyad assembles, ``D = 0`` at its singular positions (the two assemblies
 meet), ``D < 0`` where the links cannot reach.  ``D`` is a smooth function

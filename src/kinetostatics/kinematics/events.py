@@ -4,7 +4,7 @@ for the outputs built on them (the strokes and time ratios of the output slides)
 Each comes in two forms side by side: over the rows of one run (each root continued from
 the nearest solved row, :func:`~kinetostatics.kinematics.positions.state_at`), and stacked over
 variants ``(V, N, ...)`` (:mod:`~kinetostatics.analysis.vectorised`), which evaluates the closed
-forms (:func:`~kinetostatics.kinematics.positions.closed_form_near`).
+forms (:func:`~kinetostatics.kinematics.closed_path.closed_form_near`).
 """
 
 from __future__ import annotations
@@ -14,7 +14,9 @@ from typing import Any
 import numpy as np
 
 from ..structure.system import System, coordinate_gradient
-from .positions import closed_form_near, derivatives, state_at
+from .closed_path import closed_form_near
+from .derivatives import derivatives
+from .positions import state_at
 from .schedule import Schedule, schedule
 from .state import joint_coordinate, joint_coordinate_bias
 

@@ -15,7 +15,7 @@ import numpy as np
 from ..model import MotionLaw
 from ..model.motion import turning_times
 from ..structure.system import System
-from .positions import initial_guess
+from .start import initial_guess
 
 __all__ = ["Schedule", "schedule", "sample_times"]
 

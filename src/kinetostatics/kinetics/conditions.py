@@ -19,8 +19,9 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..errors import AssemblyError, SingularConfigurationError
+from ..kinematics.derivatives import derivatives
 from ..kinematics.events import find_roots, refine, refine_stacked, state_near
-from ..kinematics.positions import derivatives, reachable_range, solve_positions
+from ..kinematics.positions import reachable_range, solve_positions
 from ..kinematics.schedule import Schedule, schedule
 from ..kinematics.state import local_point, point_state
 from ..model import Condition, Load

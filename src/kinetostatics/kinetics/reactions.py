@@ -13,6 +13,7 @@ import warnings
 
 import numpy as np
 
+from ..kinematics.derivatives import velocities
 from ..structure.system import System, coordinate_gradient, jacobian
 
 __all__ = [
@@ -85,8 +86,6 @@ def effort_speed_ratio(system: System, q: np.ndarray, qd: np.ndarray) -> np.ndar
         ratio = np.abs(r_e / r_d) * scale
     rest = ~np.isfinite(ratio)
     if np.any(rest):  # the driver at rest: the tangent ∂q/∂ψ
-        from ..kinematics.positions import velocities
-
         n_d = len(system.motion_drivers)
         unit = np.zeros(np.shape(q)[:-1] + (n_d,))
         unit[..., 0] = 1.0

@@ -1,0 +1,244 @@
+"""Positions along the whole path by closed-form dyads (:mod:`.dyads`), where every
+group has one: the branch is decided by the dyads' discriminants along the path,
+independently of the rows (:func:`_change_points`), and the angles are unwrapped
+along auxiliary times (:func:`path_times`).  :func:`closed_form_near` solves near a
+guess (stepping methods, events).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..structure.system import System, phi
+from .continuation import COARSE_STEP, Drive, Singularity, time_step
+from .dyads import MARGIN
+from .newton import DISC_TOL, MAX_ITER, TOL, group_condition
+
+__all__ = ["DISC_SCAN", "DISC_NEAR", "path_times", "closed_form_path", "closed_form_near"]
+
+DISC_SCAN = np.radians(5.0)  # sample spacing of the discriminants along a closed-form path
+DISC_NEAR = 1e-3  # a local minimum of D is refined if a sample beside it is this low
+
+
+def path_times(system: System, t: np.ndarray, drive: Drive) -> tuple[np.ndarray, np.ndarray]:
+    """``t``, then t = 0 (the start pose), then auxiliary times every ≤ 30° of the
+    driver over the range, and the order that sorts them: the closed-form angles
+    are unwrapped along it."""
+    coarse = time_step(system, 0.0, drive, COARSE_STEP)
+    lo, hi = min(0.0, float(t.min())), max(0.0, float(t.max()))
+    aux = np.linspace(lo, hi, int(np.ceil((hi - lo) / coarse)) + 2)
+    if getattr(drive, "laws", ()):  # where a law turns back, a group may touch a toggle
+        aux = np.concatenate((aux, drive.turning_times(lo, hi)))
+    tt = np.concatenate((t, [0.0], aux))
+    return tt, np.argsort(tt, kind="stable")
+
+
+def closed_form_path(
+    system: System,
+    solvers,
+    q0: np.ndarray,
+    t: np.ndarray,
+    drive: Drive,
+    singular: list | None = None,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Closed-form positions at times ``t (N,)`` from start poses ``q0 (V, 1, n_q)``
+    (V variants, stacked or not): ``(q (V, N, n_q), ok (V,), signs (V, N, n_groups))``.
+
+    Each group is solved with the closed-form sign of its start pose times
+    ``signs``: the sign changes at every *change point* of the group, where its
+    discriminant D touches zero (:func:`_change_points`, located between the rows
+    and independently of them), so that the path is C¹.  With ``singular`` a list
+    (one model, V = 1) the change points are appended to it as singular
+    positions; without, a variant that passes one is not ok (its own analysis
+    reports it).  ``ok`` also needs D ≥ −``DISC_TOL`` along the path (the links
+    reach; else the Newton path reports where they do not) and a sample of the
+    positions to satisfy Φ = 0.  Auxiliary points every ≤ 30° of the driver
+    (:func:`path_times`) let the angles be unwrapped continuously from the start pose.
+    """
+    n_v = len(q0)
+    lo, hi = min(0.0, float(t.min())), max(0.0, float(t.max()))
+    flips, ok = _change_points(system, solvers, q0, lo, hi, drive)
+    tt, order = path_times(system, t, drive)
+    psi = drive(tt)[0]
+    signs = _branch_signs(flips, np.broadcast_to(tt, (n_v, len(tt))))
+    q, disc = _closed_forms(solvers, np.broadcast_to(q0, (n_v, len(tt), q0.shape[-1])), psi, signs)
+    ok &= np.all(disc >= -DISC_TOL, axis=(-2, -1))
+    ang = slice(2, None, 3)  # angles nearest the start pose, as the guess
+    q[..., ang] += 2 * np.pi * np.round((q0[..., ang] - q[..., ang]) / (2 * np.pi))
+    start = len(t)
+    for k in range(len(system.links)):  # unwrap angles along the path
+        col = 3 * k + 2
+        q[:, order, col] = np.unwrap(q[:, order, col], axis=-1)
+        q[:, :, col] += (2 * np.pi * np.round((q0[:, 0, col] - q[:, start, col]) / (2 * np.pi)))[
+            :, None
+        ]
+    q = q[:, :start]
+    probe = slice(None, None, max(1, start // 32))
+    res = np.max(np.abs(phi(system, q[:, probe], psi[:start][probe])), axis=(-2, -1))
+    ok &= res <= 1e3 * TOL * np.ravel(np.broadcast_to(system.l_ref, (n_v, 1)))
+    if singular is None:
+        for f in flips:
+            ok &= np.all(np.isnan(f), axis=-1)
+    else:
+        found = [(ts, g) for g, f in enumerate(flips) for ts in f[0] if not np.isnan(ts)]
+        for ts, g in sorted(found):
+            at = np.array([[ts]])
+            qs, _ = _closed_forms(solvers, q0, drive(at)[0], _branch_signs(flips, at))
+            coord = float(drive(at)[0][0, 0, 0]) if system.motion_drivers else ts
+            singular.append(
+                Singularity(
+                    system.plans[g].group.label,
+                    float(ts),
+                    coord,
+                    float(group_condition(system, qs[0, 0], system.plans[g])),
+                )
+            )
+    return q, ok, signs[:, :start]
+
+
+def _closed_forms(
+    solvers, q: np.ndarray, psi: np.ndarray, signs: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """The closed forms in solve order, group g on its start sign × ``signs[..., g]``:
+    (q, the groups' discriminants D ``(..., n_groups)``)."""
+    q = np.array(q, dtype=float)
+    disc = []
+    for g, solve in enumerate(solvers):
+        q, d = solve(q, psi, signs[..., g])
+        disc.append(np.broadcast_to(d, q.shape[:-1]))
+    return q, np.stack(disc, axis=-1)
+
+
+def _branch_signs(flips: list, t: np.ndarray) -> np.ndarray:
+    """±1 per group at times ``t (V, M)``: −1 where an odd number of the group's
+    change points ``flips[g] (V, K)`` (NaN: none) lie between t = 0 and t."""
+    out = []
+    for f in flips:
+        f, tt = f[:, None, :], t[..., None]
+        with np.errstate(invalid="ignore"):
+            n = np.sum(((f > 0) & (f <= tt)) | ((f < 0) & (f >= tt)), axis=-1)
+        out.append(np.where(n % 2, -1.0, 1.0))
+    return np.stack(out, axis=-1) if out else np.ones(t.shape + (0,))
+
+
+def _change_points(
+    system: System, solvers, q0: np.ndarray, lo: float, hi: float, drive: Drive
+) -> tuple[list, np.ndarray]:
+    """The change points of every group over ``[lo, hi]``: ``(flips, ok)``, flips[g]
+    ``(V, K)`` their times (NaN padding), ``ok (V,)`` where no local minimum of a
+    discriminant lies below −``DISC_TOL`` (the links reach everywhere).
+
+    A group's discriminant D(t) is smooth along the path.  It is sampled every
+    ≤ ``DISC_SCAN`` of the driver (plus t = 0 and the times a motion law turns
+    back), never at the output rows, with slopes by central differences; the
+    interior minima of the cubic Hermite interpolant between samples are added
+    as samples where they are low (so a sample lies next to every low minimum,
+    to the interpolant's O(h⁴) error), and every sign change − to + of the slope with a sample
+    beside it at D ≤ ``DISC_NEAR`` brackets a local minimum of D, refined by a
+    safeguarded Newton iteration on D' = 0.  A
+    minimum with |D| ≤ ``DISC_TOL`` is a change point: D touches zero there
+    (D ≈ c (t − t*)²), the two assemblies meet, and the C¹ continuation is the
+    other closed-form sign (√D ∝ |t − t*| changes its signed form).  A minimum
+    above ``DISC_TOL``, however small (a near-toggle), keeps the sign.
+    Groups are taken in solve order: a group's change points enter the
+    closed forms of the later groups.
+    """
+    n_v = len(q0)
+    fine = time_step(system, 0.0, drive, DISC_SCAN)
+    eta = 1e-4 * fine
+    ts = np.linspace(lo, hi, int(np.ceil((hi - lo) / fine)) + 1)
+    if getattr(drive, "laws", ()):
+        ts = np.concatenate((ts, drive.turning_times(lo, hi)))
+    ts = np.broadcast_to(np.unique(np.append(ts, 0.0)), (n_v, len(np.unique(np.append(ts, 0.0)))))
+    flips = [np.full((n_v, 0), np.nan) for _ in solvers]
+    ok = np.ones(n_v, dtype=bool)
+
+    def disc(t):  # D, D', D'' of every group at times t (V, M): (V, M, G) each
+        at = t[None] + np.array([-eta, 0.0, eta])[:, None, None]
+        at = np.moveaxis(at, 0, -1).reshape(n_v, -1)
+        _, d = _closed_forms(
+            solvers,
+            np.broadcast_to(q0, at.shape + q0.shape[-1:]),
+            drive(at)[0],
+            _branch_signs(flips, at),
+        )
+        d = d.reshape(t.shape + (3, -1))
+        return (
+            d[..., 1, :],
+            (d[..., 2, :] - d[..., 0, :]) / (2 * eta),
+            (d[..., 2, :] - 2 * d[..., 1, :] + d[..., 0, :]) / eta**2,
+        )
+
+    g0 = 0
+    while g0 < len(solvers):  # again from a group past which the signs changed
+        d, m, _ = disc(ts)
+        h = np.diff(ts, axis=-1)[..., None]
+        d0, d1, m0, m1 = d[:, :-1], d[:, 1:], m[:, :-1] * h, m[:, 1:] * h
+        b = -6 * d0 - 4 * m0 + 6 * d1 - 2 * m1  # Hermite p'(s) = a s² + b s + c, p'' > 0 root
+        a = 6 * d0 + 3 * m0 - 6 * d1 + 3 * m1
+        with np.errstate(all="ignore"):
+            s = 2 * m0 / (-b - np.sqrt(b * b - 4 * a * m0))
+        low = (
+            (s * s * (2 * s - 3) + 1) * d0
+            + s * (s - 1) ** 2 * m0
+            + s * s * (3 - 2 * s) * d1
+            + s * s * (s - 1) * m1
+        )  # the interpolant's minimum
+        inner = (s > 0) & (s < 1) & (low <= 10 * DISC_NEAR)
+        inner[..., :g0] = False
+        tg = ts
+        if inner.any():
+            extra = np.where(inner, ts[:, :-1, None] + np.where(inner, s, 0.0) * h, np.nan)
+            extra = np.sort(extra.reshape(n_v, -1), axis=-1)[:, : int(inner.sum((-2, -1)).max())]
+            tg = np.sort(
+                np.concatenate((ts, np.where(np.isnan(extra), hi, extra)), axis=-1), axis=-1
+            )
+            d, m, _ = disc(tg)
+        ok &= np.all(d[..., g0:] >= -DISC_TOL, axis=(-2, -1))
+        for g in range(g0, len(solvers)):
+            dg, mg = d[..., g], m[..., g]
+            br = (
+                (mg[:, :-1] < 0)
+                & (mg[:, 1:] >= 0)
+                & (np.minimum(dg[:, :-1], dg[:, 1:]) <= DISC_NEAR)
+            )
+            n_k = int(br.sum(axis=-1).max())
+            if n_k == 0:
+                continue
+            idx = np.argsort(~br, axis=-1, kind="stable")[:, :n_k]
+            valid = np.take_along_axis(br, idx, -1)
+            a_t = np.take_along_axis(tg[:, :-1], idx, -1)
+            b_t = np.take_along_axis(tg[:, 1:], idx, -1)
+            tm = 0.5 * (a_t + b_t)
+            for _ in range(MAX_ITER):  # safeguarded Newton on D'(t) = 0
+                _, mm, c = (x[..., g] for x in disc(tm))
+                a_t, b_t = np.where(mm < 0, tm, a_t), np.where(mm < 0, b_t, tm)
+                with np.errstate(all="ignore"):
+                    tn = tm - mm / c
+                inside = (c > 0) & (tn > a_t) & (tn < b_t)
+                tn = np.where(inside, tn, 0.5 * (a_t + b_t))
+                done = np.all(np.abs(tn - tm) <= 1e-9 * fine)
+                tm = tn
+                if done:
+                    break
+            dm = disc(tm)[0][..., g]
+            ok &= np.all(~valid | (dm >= -DISC_TOL), axis=-1)
+            flips[g] = np.where(valid & (np.abs(dm) <= DISC_TOL), tm, np.nan)
+            if not np.all(np.isnan(flips[g])):
+                break  # the later groups see these change points
+        g0 = g + 1
+    return flips, ok
+
+
+def closed_form_near(solvers, guess: np.ndarray, psi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(q, ok): the closed-form solvers applied in solve order at driver coordinates
+    ``psi``, angles taken nearest to ``guess``; ``ok (...)`` where every group's
+    margin √D stays above ``dyads.MARGIN``."""
+    q = guess.copy()
+    ok = np.ones(guess.shape[:-1], dtype=bool)
+    for solve in solvers:
+        q, disc = solve(q, psi)
+        ok &= disc >= MARGIN**2
+    ang = slice(2, None, 3)
+    q[..., ang] += 2 * np.pi * np.round((guess[..., ang] - q[..., ang]) / (2 * np.pi))
+    return q, ok

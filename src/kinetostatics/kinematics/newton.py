@@ -1,0 +1,123 @@
+"""Newton per Assur group: one group's block of Φ = 0 solved for its columns, batched
+over positions, with the group's condition number and branch signature.
+
+The tolerances of the position solve are here: ``TOL`` (Newton's, relative to L_ref
+and 1 rad), and derived from it ``DISC_TOL`` (a closed-form dyad's discriminant at a
+singular position, :mod:`.closed_path`) and ``SINGULAR_COND`` (the condition number
+from which a located sign change of a group's determinant is a singular position,
+:mod:`.continuation`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..structure.system import GroupPlan, System, jacobian, phi
+
+__all__ = [
+    "TOL",
+    "MAX_ITER",
+    "DISC_TOL",
+    "SINGULAR_COND",
+    "condition_number",
+    "group_condition",
+    "group_signature",
+    "group_newton",
+]
+
+TOL = 1e-12  # Newton tolerance relative to L_ref (and 1 rad)
+MAX_ITER = 25
+DISC_TOL = 100 * TOL  # a closed-form dyad's normalised discriminant D at or below which it
+# is singular (its lengths within ~50·TOL of its own scale of a toggle)
+SINGULAR_COND = DISC_TOL**-0.5  # a group's condition number from which a located sign change of
+# its determinant is a singular position (a dyad's: ~1/√D)
+
+
+def _scales(system: System, jac: np.ndarray, plan: GroupPlan) -> tuple[np.ndarray, np.ndarray]:
+    """Column (unit) and row (equilibration) scales of a group block."""
+    l_ref = np.asarray(system.l_ref)[..., None]  # (V, 1, 1) for stacked variants
+    col = np.where(np.arange(len(plan.cols)) % 3 == 2, 1.0, l_ref)  # d/d(x/L) = L d/dx
+    norm = np.max(np.abs(jac * col[..., None, :]), axis=-1)
+    return col, 1.0 / np.where(norm > 0, norm, 1.0)
+
+
+def _scaled_group_jacobian(system: System, q: np.ndarray, plan: GroupPlan) -> np.ndarray:
+    jac = jacobian(system, q, plan.constraints, plan.cols)
+    col, row = _scales(system, jac, plan)
+    return jac * col[..., None, :] * row[..., None]
+
+
+def condition_number(
+    system: System, plan: GroupPlan, jac: np.ndarray, inv: np.ndarray
+) -> np.ndarray:
+    """Frobenius-norm condition number ‖S‖_F ‖S⁻¹‖_F of the group's scaled block
+    S = D_r J D_c (lengths over L_ref, rows equilibrated), from J and J⁻¹, ``(...)``.
+
+    It bounds the 2-norm condition number from above by at most the block size.
+    """
+    col, row = _scales(system, jac, plan)
+    s = jac * col[..., None, :] * row[..., None]
+    s_inv = inv / col[..., :, None] / row[..., None, :]
+    with np.errstate(over="ignore", invalid="ignore"):
+        c = np.linalg.norm(s, axis=(-2, -1)) * np.linalg.norm(s_inv, axis=(-2, -1))
+    return np.where(np.isfinite(c), c, np.inf)
+
+
+def group_condition(system: System, q: np.ndarray, plan: GroupPlan) -> np.ndarray:
+    """Condition number of a group at positions q (see :func:`condition_number`)."""
+    jac = jacobian(system, q, plan.constraints, plan.cols)
+    try:
+        inv = np.linalg.inv(jac)
+    except np.linalg.LinAlgError:
+        inv = np.full(jac.shape, np.inf)
+    return condition_number(system, plan, jac, inv)
+
+
+def group_signature(system: System, q: np.ndarray, plan: GroupPlan) -> np.ndarray:
+    return np.sign(np.linalg.det(_scaled_group_jacobian(system, q, plan)))
+
+
+def group_newton(
+    system: System, q: np.ndarray, psi: np.ndarray, plan: GroupPlan, max_iter: int = MAX_ITER
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Batched Newton on one group (other columns fixed), ``q (..., n_q)``; a stacked
+    system's variant axis stays aligned with its parameters (no subsets are taken).
+
+    Returns (q, converged (...), iterations (...)).  Positions that converge
+    stop updating; the batch iterates until all converged or ``max_iter``.
+    """
+    q = np.array(q, dtype=float)
+    cols = plan.cols
+    ang = np.arange(len(cols)) % 3 == 2
+    l_ref = np.asarray(system.l_ref)
+    l_col = l_ref[..., None] if l_ref.ndim else l_ref
+    step_tol = np.where(ang, TOL, TOL * l_col)
+    res_tol = TOL * l_ref
+    batch = q.shape[:-1]
+    done = np.zeros(batch, dtype=bool)
+    iters = np.zeros(batch, dtype=int)
+    active = np.ones(batch, dtype=bool)
+    for _ in range(max_iter):
+        run = active & ~done
+        if not run.any():
+            break
+        r = phi(system, q, psi, plan.constraints)
+        jac = jacobian(system, q, plan.constraints, cols)
+        with np.errstate(all="ignore"):
+            try:
+                dx = np.linalg.solve(jac, -r[..., None])[..., 0]
+            except np.linalg.LinAlgError:  # a singular matrix somewhere in the batch
+                dx = (np.linalg.pinv(jac) @ -r[..., None])[..., 0]
+        bad = ~np.all(np.isfinite(dx), axis=-1)
+        dx = np.where((bad | ~run)[..., None], 0.0, dx)
+        q[..., cols] += dx
+        iters += run
+        small = np.all(np.abs(dx) <= step_tol, axis=-1) & (
+            np.max(np.abs(r), axis=-1) <= res_tol * 1e3
+        )
+        big = np.max(np.abs(dx) / np.where(ang, 1.0, l_col), axis=-1) > 1e3
+        done |= run & small & ~bad
+        active &= ~(run & (bad | big))
+    # final residual check
+    r = np.max(np.abs(phi(system, q, psi, plan.constraints)), axis=-1)
+    return q, r <= res_tol, iters
