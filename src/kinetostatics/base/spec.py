@@ -23,7 +23,15 @@ from ..errors import Collector, Location, ModelError, did_you_mean
 from . import expressions, units
 from .limits import MAGNITUDE, MAX_DEPTH, MAX_FILE_BYTES, MAX_NODES
 
-__all__ = ["Entry", "compose", "read_text", "NAME", "RESERVED"]
+__all__ = [
+    "Entry",
+    "compose",
+    "read_text",
+    "NAME",
+    "RESERVED",
+    "describe_node",
+    "expression_message",
+]
 
 NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 RESERVED = frozenset({"time", "angle", "stroke", "travel", "power", "friction", "shaking"})
@@ -90,7 +98,7 @@ _EXPRESSION_HINT = (
 )
 
 
-def _expression_message(exc: Exception) -> str:
+def expression_message(exc: Exception) -> str:
     """An expression error, with what is allowed when a construct was refused."""
     message = str(exc)
     if message.endswith("not allowed") or message.startswith("only calls"):
@@ -122,7 +130,7 @@ class Entry:
 
     def mapping(self) -> bool:
         if not self.is_mapping:
-            self.error(f"expected a mapping of keys, got {_describe(self.node)}")
+            self.error(f"expected a mapping of keys, got {describe_node(self.node)}")
             return False
         return True
 
@@ -199,14 +207,14 @@ class Entry:
 
     def seq(self) -> list[Entry] | None:
         if not isinstance(self.node, yaml.SequenceNode):
-            self.error(f"expected a list, got {_describe(self.node)}")
+            self.error(f"expected a list, got {describe_node(self.node)}")
             return None
         return [self._child(k, n) for k, n in enumerate(self.node.value)]
 
     # -- scalars ------------------------------------------------------------
     def text(self) -> str | None:
         if not isinstance(self.node, yaml.ScalarNode) or self.node.value == "":
-            self.error(f"expected a name, got {_describe(self.node)}")
+            self.error(f"expected a name, got {describe_node(self.node)}")
             return None
         return str(self.node.value)
 
@@ -214,7 +222,7 @@ class Entry:
         value = self.node.value if isinstance(self.node, yaml.ScalarNode) else None
         if isinstance(value, str) and value.lower() in ("true", "yes", "on", "false", "no", "off"):
             return value.lower() in ("true", "yes", "on")
-        self.error(f"expected true or false, got {_describe(self.node)}")
+        self.error(f"expected true or false, got {describe_node(self.node)}")
         return None
 
     def number(
@@ -278,13 +286,13 @@ class Entry:
     def raw_number(self) -> float | None:
         """The scalar's value as written (no unit conversion)."""
         if not isinstance(self.node, yaml.ScalarNode) or self.node.value == "":
-            self.error(f"expected a number or an expression, got {_describe(self.node)}")
+            self.error(f"expected a number or an expression, got {describe_node(self.node)}")
             return None
         text = self.node.value
         try:
             used = expressions.names_in(text)
         except expressions.ExpressionError as exc:
-            self.error(_expression_message(exc))
+            self.error(expression_message(exc))
             return None
         env = self.ctx.env
         if used & self.ctx.broken_parameters:
@@ -296,7 +304,7 @@ class Entry:
         try:
             return expressions.evaluate(text, env)
         except expressions.ExpressionError as exc:
-            self.error(_expression_message(exc))
+            self.error(expression_message(exc))
             return None
 
     def vector(self, kind: str | None, n: int = 2, bound: str | None = None) -> np.ndarray | None:
@@ -304,7 +312,7 @@ class Entry:
         when it is not ``kind``'s (gravity: numbers in m/s², bounded as an acceleration)."""
         shape = "[x, y]" if n == 2 else f"a list of {n} numbers"
         if not isinstance(self.node, yaml.SequenceNode):
-            self.error(f"expected {shape}, got {_describe(self.node)}")
+            self.error(f"expected {shape}, got {describe_node(self.node)}")
             return None
         items = self.seq() or []
         if len(items) != n:
@@ -336,10 +344,10 @@ class Entry:
         if n == 1 and isinstance(self.node, yaml.ScalarNode):
             return [self.text()]
         if n == 1:
-            self.error(f"expected a name, got {_describe(self.node)}")
+            self.error(f"expected a name, got {describe_node(self.node)}")
             return [None]
         if not isinstance(self.node, yaml.SequenceNode):
-            self.error(f"expected a list of {n} names, got {_describe(self.node)}")
+            self.error(f"expected a list of {n} names, got {describe_node(self.node)}")
             return [None] * n
         items = self.seq() or []
         if len(items) != n:
@@ -418,7 +426,7 @@ class _Missing(Entry):
         return [None] * n
 
 
-def _describe(node: yaml.Node) -> str:
+def describe_node(node: yaml.Node) -> str:
     if isinstance(node, yaml.MappingNode):
         return "a mapping"
     if isinstance(node, yaml.SequenceNode):
@@ -472,7 +480,7 @@ def _check_keys_and_duplicates(root: yaml.Node, file: str, problems: Collector) 
                 if not isinstance(k, yaml.ScalarNode):
                     problems.add(
                         Location(file, m.line + 1, m.column + 1, path),
-                        f"a key must be a plain name, got {_describe(k)}",
+                        f"a key must be a plain name, got {describe_node(k)}",
                     )
                     continue
                 key = str(k.value)
@@ -607,7 +615,7 @@ def compose(text: str, file: str = "<string>") -> Entry:
                 (
                     top.where,
                     "the file must be a mapping of keys (name, units, links, "
-                    f"joints, ...), got {_describe(root)}",
+                    f"joints, ...), got {describe_node(root)}",
                 )
             ]
         )

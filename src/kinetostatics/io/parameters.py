@@ -6,7 +6,7 @@ from __future__ import annotations
 import yaml
 
 from ..base import expressions, units
-from ..base.spec import NAME, Entry, _describe, _expression_message
+from ..base.spec import NAME, Entry, describe_node, expression_message
 from ..errors import Location, did_you_mean
 
 
@@ -68,12 +68,12 @@ class ParameterSections:
                     where, f"'{key}' is the name of a function; choose another parameter name"
                 )
             elif not isinstance(e.node, yaml.ScalarNode) or e.node.value == "":
-                e.error(f"expected a number or an expression, got {_describe(e.node)}")
+                e.error(f"expected a number or an expression, got {describe_node(e.node)}")
             else:
                 try:
                     used = sorted(expressions.names_in(e.node.value))
                 except expressions.ExpressionError as exc:
-                    e.error(_expression_message(exc))
+                    e.error(expression_message(exc))
                 else:
                     if key in overrides:
                         pending[key] = (e, repr(float(overrides[key])), [])
@@ -101,7 +101,7 @@ class ParameterSections:
                     try:
                         env[key] = expressions.evaluate(text, env)
                     except expressions.ExpressionError as exc:
-                        e.error(_expression_message(exc))
+                        e.error(expression_message(exc))
                         broken.add(key)
                 else:
                     continue
