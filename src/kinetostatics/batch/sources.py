@@ -11,7 +11,7 @@ from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
-from ..base.spec import read_text
+from ..base.document import read_text
 from ..errors import KinetostaticsError
 
 __all__ = [

@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from ..base.spec import compose, read_text
+from ..base.document import compose, read_text
 from ..errors import KinetostaticsError
 from ..kinematics.events import coordinate_rates, output_slides, output_strokes
 from ..model import Model

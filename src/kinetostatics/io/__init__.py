@@ -7,7 +7,7 @@ linkage, which :mod:`kinetostatics.outputs.loading` does); :func:`build` builds 
 The schema is documented in ``docs/yaml.md``.
 """
 
-from ..base.spec import compose, read_text
+from ..base.document import compose, read_text
 from .builder import TOP_KEYS, build, read, read_string
 from .dump import dump
 

@@ -15,7 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..base.spec import NAME, RESERVED, Entry, _Context, compose, read_text
+from ..base.document import compose, read_text
+from ..base.spec import NAME, RESERVED, Entry, _Context
 from ..errors import Location, did_you_mean
 from ..model import Model
 from .bodies import BodySections

@@ -9,7 +9,8 @@ from dataclasses import replace
 from pathlib import Path
 
 from .. import io
-from ..base.spec import Entry, compose, read_text
+from ..base.document import compose, read_text
+from ..base.spec import Entry
 from ..dynamics.clearance import expand
 from ..model import Model
 

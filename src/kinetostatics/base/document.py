@@ -1,0 +1,264 @@
+"""A YAML text → the root :class:`~.spec.Entry` of a file: read with a size limit,
+composed with PyYAML's safe composer (no tags, no object construction), and its depth,
+node count and keys checked before any section is read."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import yaml
+
+from ..errors import Collector, Location, ModelError
+from .limits import MAX_DEPTH, MAX_FILE_BYTES, MAX_NODES
+from .spec import Entry, _Context, describe_node
+
+__all__ = ["compose", "read_text"]
+
+
+class _TooDeep(Exception):
+    def __init__(self, mark):
+        self.mark = mark
+
+
+class _TooMany(_TooDeep):
+    pass
+
+
+class _Loader(yaml.SafeLoader):
+    """The safe composer, refusing nesting deeper than :data:`MAX_DEPTH` (before
+    Python's recursion limit is reached)."""
+
+    def __init__(self, stream):
+        super().__init__(stream)
+        self._depth = 0
+        self._nodes = 0
+
+    def compose_node(self, parent, index):
+        # A level is a list or a mapping (a scalar inside the 100th level is fine); the
+        # nodes are counted as they are composed, so that a long flat list is refused
+        # before all of it is built (aliases are counted expanded after composing).
+        self._depth += 1
+        self._nodes += 1
+        try:
+            if self._nodes > MAX_NODES:
+                raise _TooMany(self.peek_event().start_mark)
+            if self._depth > MAX_DEPTH and self.check_event(
+                yaml.SequenceStartEvent, yaml.MappingStartEvent
+            ):
+                raise _TooDeep(self.peek_event().start_mark)
+            return super().compose_node(parent, index)
+        finally:
+            self._depth -= 1
+
+
+def _count_nodes(node: yaml.Node, limit: int) -> int:
+    """Number of nodes reached (aliases counted each time), stopping past ``limit``."""
+    count, stack = 0, [node]
+    while stack and count <= limit:
+        n = stack.pop()
+        count += 1
+        if isinstance(n, yaml.MappingNode):
+            for k, v in n.value:
+                stack.extend((k, v))
+        elif isinstance(n, yaml.SequenceNode):
+            stack.extend(n.value)
+    return count
+
+
+_PLAIN_TAGS = frozenset(
+    f"tag:yaml.org,2002:{t}"
+    for t in ("str", "int", "float", "bool", "null", "seq", "map", "merge", "timestamp", "value")
+)
+
+
+def _check_keys_and_duplicates(root: yaml.Node, file: str, problems: Collector) -> None:
+    """Every mapping key must be a plain scalar and appear once; no application tags
+    (``!!python/...``).  Iterative: no recursion."""
+    stack: list[tuple[yaml.Node, str]] = [(root, "")]
+    visited: set[int] = set()
+    while stack:
+        node, path = stack.pop()
+        if id(node) in visited:  # an alias: its node was checked already
+            continue
+        visited.add(id(node))
+        if node.tag not in _PLAIN_TAGS:
+            m = node.start_mark
+            tag = str(node.tag).replace("tag:yaml.org,2002:", "!!", 1)
+            problems.add(
+                Location(file, m.line + 1, m.column + 1, path),
+                f"YAML tags such as '{tag}' are not allowed",
+            )
+            continue
+        if isinstance(node, yaml.MappingNode):
+            seen: dict[str, int] = {}
+            children = []
+            for k, v in node.value:
+                m = k.start_mark
+                if not isinstance(k, yaml.ScalarNode):
+                    problems.add(
+                        Location(file, m.line + 1, m.column + 1, path),
+                        f"a key must be a plain name, got {describe_node(k)}",
+                    )
+                    continue
+                key = str(k.value)
+                sub = f"{path}.{key}" if path else key
+                if key in seen:
+                    problems.add(
+                        Location(file, m.line + 1, m.column + 1, sub),
+                        f"duplicate key '{key}' (first given at line {seen[key]})",
+                    )
+                else:
+                    seen[key] = m.line + 1
+                children.append((v, sub))
+            stack.extend(reversed(children))
+        elif isinstance(node, yaml.SequenceNode):
+            stack.extend(reversed([(v, f"{path}[{k}]") for k, v in enumerate(node.value)]))
+
+
+def read_text(path: str | Path) -> str:
+    """A mechanism file's text, with the size cap and UTF-8 checked (``ModelError``)."""
+    path = Path(path)
+    try:
+        size = path.stat().st_size
+        if size > MAX_FILE_BYTES:
+            raise ModelError(
+                [
+                    (
+                        Location(str(path)),
+                        f"the file is {size} bytes, more than the limit of "
+                        f"{MAX_FILE_BYTES} bytes; refused",
+                    )
+                ]
+            )
+        with path.open("rb") as f:  # the file may grow between stat and read
+            data = f.read(MAX_FILE_BYTES + 1)
+        if len(data) > MAX_FILE_BYTES:
+            raise ModelError(
+                [
+                    (
+                        Location(str(path)),
+                        f"the file is more than the limit of {MAX_FILE_BYTES} bytes; refused",
+                    )
+                ]
+            )
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = data[: exc.start].count(b"\n") + 1
+        col = exc.start - (data.rfind(b"\n", 0, exc.start) + 1) + 1
+        raise ModelError(
+            [
+                (
+                    Location(str(path), line, col),
+                    f"the file is not UTF-8 text (byte 0x{data[exc.start]:02x}); save it as UTF-8",
+                )
+            ]
+        ) from None
+    except OSError as exc:
+        reason = exc.strerror or str(exc)
+        raise ModelError([(Location(str(path)), f"cannot read the file: {reason}")]) from None
+    return text
+
+
+def compose(text: str, file: str = "<string>") -> Entry:
+    """The checked YAML tree of a mechanism (syntax, size, keys), not yet built.
+
+    :func:`kinetostatics.io.build` turns it into a model; a batch builds one tree many times
+    with other parameter values.
+    """
+    if len(text.encode("utf-8", "replace")) > MAX_FILE_BYTES:
+        raise ModelError(
+            [
+                (
+                    Location(file),
+                    f"the text is more than the limit of {MAX_FILE_BYTES} bytes; refused",
+                )
+            ]
+        )
+    try:
+        root = yaml.compose(text, Loader=_Loader)
+    except yaml.YAMLError as exc:
+        raise ModelError([_syntax_problem(exc, file)]) from None
+    except _TooMany as exc:
+        raise ModelError(
+            [
+                (
+                    Location(file, exc.mark.line + 1, exc.mark.column + 1),
+                    f"more than {MAX_NODES} YAML nodes; refused",
+                )
+            ]
+        ) from None
+    except _TooDeep as exc:
+        raise ModelError(
+            [
+                (
+                    Location(file, exc.mark.line + 1, exc.mark.column + 1),
+                    f"lists and mappings nested more than {MAX_DEPTH} deep; refused",
+                )
+            ]
+        ) from None
+    except RecursionError:
+        raise ModelError(
+            [(Location(file, 1, 1), "lists and mappings nested too deeply; refused")]
+        ) from None
+    if root is None:
+        raise ModelError(
+            [
+                (
+                    Location(file, 1, 1),
+                    "the file has no content (only comments or "
+                    "blank lines); expected a mapping with at "
+                    "least links and joints",
+                )
+            ]
+        )
+    start = Location(file, root.start_mark.line + 1, root.start_mark.column + 1, "")
+    if _count_nodes(root, MAX_NODES) > MAX_NODES:
+        raise ModelError(
+            [
+                (
+                    start,
+                    f"more than {MAX_NODES} YAML nodes once aliases are expanded "
+                    "(an alias bomb?); refused",
+                )
+            ]
+        )
+    ctx = _Context(file)
+    _check_keys_and_duplicates(root, file, ctx.problems)
+    ctx.problems.raise_if_any()
+    top = Entry(root, start, ctx)
+    if not top.is_mapping:
+        raise ModelError(
+            [
+                (
+                    top.where,
+                    "the file must be a mapping of keys (name, units, links, "
+                    f"joints, ...), got {describe_node(root)}",
+                )
+            ]
+        )
+    return top
+
+
+def _syntax_problem(exc: yaml.YAMLError, file: str) -> tuple[Location, str]:
+    """``(location, message)`` of a PyYAML error, with the construct it was reading."""
+    mark = getattr(exc, "problem_mark", None)
+    problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
+    loc = Location(file, mark.line + 1, mark.column + 1) if mark else Location(file)
+    context, cmark = getattr(exc, "context", None), getattr(exc, "context_mark", None)
+    message = f"YAML syntax error: {problem}"
+    if problem.startswith("found character '\\t'"):
+        return loc, "YAML syntax error: a tab character; indent with spaces"
+    if context and not context.startswith("while "):
+        message = f"YAML syntax error: {context}, {problem}"
+    elif (
+        context
+        and cmark is not None
+        and (mark is None or cmark.line != mark.line or cmark.column != mark.column)
+    ):
+        context = (
+            context.removeprefix("while ")
+            .replace("parsing ", "in ", 1)
+            .replace("scanning ", "in ", 1)
+        )
+        message += f" ({context} that starts at line {cmark.line + 1}, column {cmark.column + 1})"
+    return loc, message
