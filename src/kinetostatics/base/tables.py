@@ -8,7 +8,7 @@ order of the columns), the header of column names, one row per line.
 from __future__ import annotations
 
 import csv
-from collections.abc import Iterable, Iterator, Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import TextIO
 
@@ -52,15 +52,28 @@ def write_columns(
     """Write the file ``path``: equally long numeric ``columns`` by name, with their
     ``units`` by name (:func:`write_table`).  Every value is written as ``repr(float)``,
     which reads back exactly; a value that is not finite as an empty cell
-    (``blank_nonfinite``) or as ``nan``/``inf``."""
+    (``blank_nonfinite``) or as ``nan``/``inf``.
+
+    The text is what :func:`write_table` writes for rows of ``repr(float(v))`` cells,
+    byte for byte, without its per-cell cost: each distinct value is formatted once,
+    and the rows are joined directly (no cell needs quoting; the :mod:`csv` module's
+    one exception, a row of a single empty cell written ``""``, is kept)."""
     names = list(columns)
     with open(path, "w", newline="") as fh:
-        write_table(fh, names, [units[n] for n in names], _cells(columns, names, blank_nonfinite))
+        write_table(fh, names, [units[n] for n in names], ())
+        fh.writelines(_lines(columns, names, blank_nonfinite))
 
 
-def _cells(columns: Mapping[str, np.ndarray], names: list[str], blank: bool) -> Iterator[list]:
-    for row in np.column_stack([columns[n] for n in names]):
-        if blank:
-            yield ["" if not np.isfinite(v) else repr(float(v)) for v in row]
-        else:
-            yield [repr(float(v)) for v in row]
+def _lines(columns: Mapping[str, np.ndarray], names: list[str], blank: bool) -> list[str]:
+    """The rows of :func:`write_columns` as CSV lines ending with ``\\r\\n``."""
+    data = np.ascontiguousarray(np.column_stack([columns[n] for n in names]), dtype=float)
+    # distinct by bit pattern (0.0 and -0.0 are written apart), formatted once each
+    distinct, where = np.unique(data.view(np.int64), return_inverse=True)
+    text = np.array([repr(v) for v in distinct.view(np.float64).tolist()], dtype=object)
+    cells = text[where.reshape(data.shape)]
+    if blank:
+        cells[~np.isfinite(data)] = ""
+    lines = [",".join(row) + "\r\n" for row in cells.tolist()]
+    if len(names) == 1:  # csv.writer writes a row of one empty cell as ""
+        lines = [line if line != "\r\n" else '""\r\n' for line in lines]
+    return lines

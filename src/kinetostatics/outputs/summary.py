@@ -152,21 +152,31 @@ def _finite(f, arr) -> float:
     return float(f(arr[ok])) if ok.any() else float("nan")
 
 
+def _extremes(result) -> dict[str, dict[str, float]]:
+    """Each column's largest and smallest finite value and where (the first row) they
+    occur; a column without a finite value has none.  All columns at once."""
+    names = list(result.columns)
+    if not names or not len(result):
+        return {}
+    data = np.column_stack([result.columns[name] for name in names])
+    finite = np.isfinite(data)
+    kmax = np.argmax(np.where(finite, data, -np.inf), axis=0).tolist()
+    kmin = np.argmin(np.where(finite, data, np.inf), axis=0).tolist()
+    extremes = {}
+    for c, name in enumerate(names):
+        if finite[:, c].any():
+            extremes[name] = {
+                "max": float(data[kmax[c], c]),
+                "at_max": _at(result, kmax[c]),
+                "min": float(data[kmin[c], c]),
+                "at_min": _at(result, kmin[c]),
+            }
+    return extremes
+
+
 def summarize(result) -> dict[str, Any]:
     system = result.system
-    extremes = {}
-    for name, arr in result.columns.items():
-        finite = np.isfinite(arr)
-        if not finite.any():
-            continue
-        kmax = int(np.nanargmax(np.where(finite, arr, -np.inf)))
-        kmin = int(np.nanargmin(np.where(finite, arr, np.inf)))
-        extremes[name] = {
-            "max": float(arr[kmax]),
-            "at_max": _at(result, kmax),
-            "min": float(arr[kmin]),
-            "at_min": _at(result, kmin),
-        }
+    extremes = _extremes(result)
     peaks = {}
     for j in system.model.joints:
         mag = np.hypot(result[f"{j.name}.Fx"], result[f"{j.name}.Fy"])
