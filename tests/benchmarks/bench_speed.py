@@ -1,0 +1,419 @@
+"""Speed against closed forms: the targets of issue 17, measured in one run.
+
+Each row times what a user calls — ``ks.analyze(model, ...)`` on a model loaded
+once, then reading the result columns that the closed form computes — against
+a closed-form numpy evaluation of the same columns (``speed_closed_forms.py``),
+checked against ``ks.analyze`` to 1e-9 before it is timed so that both sides do
+the same work.  The two are timed in turns (interleaved repetitions; each
+sample repeats a call until it lasts a few milliseconds) and the ratio is
+median generic time / median closed-form time.  The last row times whole
+processes: ``kinetostatics run mechanisms/slotting_machine.yaml --out DIR``
+against ``python -c "import numpy"``.
+
+Ratios, not wall times, are the result: both sides run on the same machine
+under the same load.  The targets are printed beside them; nothing here is a
+test.  ``--quick`` takes fewer repetitions; ``--write`` rewrites the table of
+docs/accuracy.md between ``<!-- speed:begin -->`` and ``<!-- speed:end -->``
+with a header naming the machine and its load; ``--note TEXT`` adds TEXT there.
+
+    PYTHONPATH=src python tests/benchmarks/bench_speed.py [--quick] [--write] [--note TEXT]
+"""
+
+from __future__ import annotations
+
+import argparse
+import gc
+import os
+import platform
+import re
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import speed_closed_forms as cf
+from _common import ROOT
+
+import kinetostatics as ks
+from tests.oracles import slider_crank_closed_form as oracle
+
+DOC = ROOT / "docs" / "accuracy.md"
+BEGIN, END = "<!-- speed:begin -->", "<!-- speed:end -->"
+TOLERANCE = 1e-9  # closed form against ks.analyze, per unit (see check)
+
+
+# ---------------------------------------------------------------------------------------
+# timing
+# ---------------------------------------------------------------------------------------
+def interleaved(fns, repeat: int, sample: float) -> list[float]:
+    """Median time of one call of each of ``fns`` (s), timed in turns ``repeat`` times.
+
+    Each sample repeats a call until it lasts about ``sample`` seconds (counts set
+    from one warm call); the garbage collector is off inside a sample (as timeit)."""
+    counts = []
+    for f in fns:
+        f()
+        t0 = time.perf_counter()
+        f()
+        counts.append(max(1, round(sample / max(time.perf_counter() - t0, 1e-9))))
+    times: list[list[float]] = [[] for _ in fns]
+    for _ in range(repeat):
+        for f, number, out in zip(fns, counts, times):
+            gc.collect()
+            gc.disable()
+            t0 = time.perf_counter()
+            for _ in range(number):
+                f()
+            out.append((time.perf_counter() - t0) / number)
+            gc.enable()
+    return [float(np.median(t)) for t in times]
+
+
+def processes(commands, repeat: int, env) -> list[float]:
+    """Median wall time of each command as a whole process (s), run in turns."""
+    times: list[list[float]] = [[] for _ in commands]
+    for cmd in commands:  # warm the file cache
+        subprocess.run(cmd, check=True, capture_output=True, env=env)
+    for _ in range(repeat):
+        for cmd, out in zip(commands, times):
+            t0 = time.perf_counter()
+            subprocess.run(cmd, check=True, capture_output=True, env=env)
+            out.append(time.perf_counter() - t0)
+    return [float(np.median(t)) for t in times]
+
+
+# ---------------------------------------------------------------------------------------
+# the two sides of a row
+# ---------------------------------------------------------------------------------------
+@dataclass
+class Case:
+    """One mechanism at ``n`` positions: its model and its closed form."""
+
+    name: str
+    n: int
+    model: ks.Model
+    closed: object  # closed(phi, level) -> dict of columns
+    start: float  # crank angle of row 0 (rad)
+    sign: float  # direction of the crank
+
+    def grid(self) -> np.ndarray:
+        return self.start + self.sign * np.arange(self.n) * (2 * np.pi / self.n)
+
+    def closed_form(self, level: str):
+        return lambda: self.closed(self.grid(), level)
+
+    def generic(self, names, **kw):
+        def run():
+            r = ks.analyze(self.model, **kw)
+            return [r[c] for c in names]
+
+        return run
+
+
+def case(name: str, n: int) -> Case:
+    """``mechanisms/<name>.yaml`` with ``analysis.positions: n``, as a user edits the file."""
+    path = ROOT / "mechanisms" / f"{name}.yaml"
+    text, k = re.subn(r"positions: 360}", f"positions: {n}}}", path.read_text())
+    assert k == 1, name
+    model = ks.loads(text, str(path))
+    a = model.analysis
+    speed = model.drivers[0].motion.speed
+    if name == "slider_crank":
+        p = oracle.SliderCrank()
+        closed = lambda phi, level: cf.slider_crank(p, phi, level)  # noqa: E731
+    else:
+        p = cf.SlottingMachine()
+        closed = lambda phi, level: cf.slotting_machine(p, phi, level)  # noqa: E731
+    return Case(name, n, model, closed, a.start, float(np.sign(speed)))  # SI: rad
+
+
+def check(c: Case, level: str, result) -> float:
+    """Largest error of the closed form's columns against ``result`` over each unit's scale
+    (m, m/s, deg, N, N*m…: the largest |value| of the unit's columns); SystemExit above 1e-9."""
+    cols = c.closed(c.grid(), level)
+    scale: dict[str, float] = {}
+    for name, ref in cols.items():
+        u = result.units[name]
+        scale[u] = max(scale.get(u, 0.0), float(np.max(np.abs(ref))))
+    worst, where = 0.0, ""
+    for name, ref in cols.items():
+        d = result[name] - ref
+        if result.units[name] == "deg":
+            d = (d + 180.0) % 360.0 - 180.0
+        err = float(np.max(np.abs(d))) / scale[result.units[name]]
+        if err > worst:
+            worst, where = err, name
+    if not worst <= TOLERANCE:
+        raise SystemExit(
+            f"{c.name} ({level}, {c.n} positions): closed form off by {worst:.1e} "
+            f"in {where}: the rows would not time the same work"
+        )
+    return worst
+
+
+def check_against_oracle() -> float:
+    """The single-pass slider-crank against tests/oracles (kinematics, reactions, eq. 9)."""
+    p, phi = oracle.SliderCrank(), np.radians(np.arange(360.0))
+    cols = cf.slider_crank(p, phi, "friction")
+    q, qd, qdd = oracle.state(p, phi)
+    r, eq9 = oracle.reactions(p, phi), oracle.friction_approx_torque_eq9(p, phi)
+    mine = [cols[f"{k}.{x}"] for k in ("crank", "rod", "slider") for x in ("x", "y", "theta")]
+    mine[2::3] = [np.radians(t) for t in mine[2::3]]
+    pairs = [
+        (np.stack(mine, -1), q),
+        (
+            np.stack(
+                [
+                    cols[f"{k}.{x}"]
+                    for k in ("crank", "rod", "slider")
+                    for x in ("vx", "vy", "omega")
+                ],
+                -1,
+            ),
+            qd,
+        ),
+        (
+            np.stack(
+                [
+                    cols[f"{k}.{x}"]
+                    for k in ("crank", "rod", "slider")
+                    for x in ("ax", "ay", "alpha")
+                ],
+                -1,
+            ),
+            qdd,
+        ),
+        (cols["motor.torque"], r["M1"]),
+        (cols["B.Fy"], r["F_By"]),
+        (cols["O.Fx"], r["F_Ox"]),
+        (cols["motor.torque_friction_approx"], eq9),
+    ]
+    worst = max(float(np.max(np.abs(a - b)) / np.max(np.abs(b))) for a, b in pairs)
+    if not worst <= 1e-12:
+        raise SystemExit(f"single-pass slider-crank differs from tests/oracles by {worst:.1e}")
+    return worst
+
+
+# ---------------------------------------------------------------------------------------
+# the rows
+# ---------------------------------------------------------------------------------------
+@dataclass
+class Row:
+    mechanism: str
+    what: str
+    positions: str
+    ours: float  # s
+    ref: float  # s
+    target: str  # e.g. "≤ 15×"
+    error: str = "—"
+    ours_label: str = ""
+    ref_label: str = ""
+
+    @property
+    def ratio(self) -> float:
+        return self.ours / self.ref
+
+    def met(self) -> str:
+        m = re.match(r"([≤<]) ?([\d.]+)", self.target)
+        if not m:
+            return "—"
+        bound = float(m.group(2))
+        return "yes" if (self.ratio <= bound if m.group(1) == "≤" else self.ratio < bound) else "no"
+
+
+LEVEL_KW = {
+    "kinematics": {"kinematics_only": True},
+    "frictionless": {"friction": False},
+    "friction": {},
+}
+LEVEL_TEXT = {
+    "kinematics": "kinematics",
+    "frictionless": "frictionless",
+    "friction": "full (both friction solutions)",
+}
+TARGETS = {
+    ("slider_crank", 360, "kinematics"): "≤ 15×",
+    ("slider_crank", 360, "frictionless"): "≤ 15×",
+    ("slider_crank", 360, "friction"): "≤ 25×",
+    ("slotting_machine", 360, "kinematics"): "≤ 20×",
+    ("slotting_machine", 360, "frictionless"): "≤ 20×",
+    ("slider_crank", 36_000, "kinematics"): "≤ 10×",
+    ("slider_crank", 36_000, "frictionless"): "≤ 12×",
+    ("slotting_machine", 36_000, "kinematics"): "≤ 10×",
+    ("slotting_machine", 36_000, "frictionless"): "≤ 12×",
+}
+
+
+def ratio_row(c: Case, level: str, repeat: int, sample: float) -> Row:
+    kw = LEVEL_KW[level]
+    names = list(c.closed(c.grid()[:3], level))
+    if level == "friction":  # the consistent solution has no closed form: read it as well
+        names.append("motor.torque_friction")
+    err = check(c, level, ks.analyze(c.model, **kw))
+    ours, ref = interleaved([c.generic(names, **kw), c.closed_form(level)], repeat, sample)
+    return Row(
+        c.name,
+        LEVEL_TEXT[level],
+        f"{c.n:,}",
+        ours,
+        ref,
+        TARGETS[c.name, c.n, level],
+        f"{err:.0e}",
+    )
+
+
+def rows(quick: bool, log=print) -> list[Row]:
+    repeat, sample = (5, 0.005) if quick else (15, 0.02)
+    out = []
+    check_against_oracle()
+    for name, levels in (
+        ("slider_crank", ("kinematics", "frictionless", "friction")),
+        ("slotting_machine", ("kinematics", "frictionless")),
+    ):
+        c = case(name, 360)
+        for level in levels:
+            out.append(ratio_row(c, level, repeat, sample))
+            log(out[-1])
+    # 10 positions against 360: what a user calls, every column read
+    small, big = case("slotting_machine", 10), case("slotting_machine", 360)
+
+    def every(c):
+        def run():
+            r = ks.analyze(c.model)
+            return [r[n] for n in r.columns]
+
+        return run
+
+    t10, t360 = interleaved([every(small), every(big)], repeat, sample)
+    out.append(
+        Row(
+            "slotting_machine",
+            "`ks.analyze(model)`, every column: 10 positions vs 360",
+            "10 / 360",
+            t10,
+            t360,
+            "< 1×",
+            ours_label="10",
+            ref_label="360",
+        )
+    )
+    log(out[-1])
+    for name in ("slider_crank", "slotting_machine"):
+        c = case(name, 36_000)
+        for level in ("kinematics", "frictionless"):
+            out.append(ratio_row(c, level, max(3, repeat // 2), sample))
+            log(out[-1])
+    env = dict(
+        os.environ,
+        PYTHONPATH=os.pathsep.join([str(ROOT / "src"), os.environ.get("PYTHONPATH", "")]),
+    )
+    script = Path(sys.executable).with_name("kinetostatics")
+    run = [str(script)] if script.exists() else [sys.executable, "-m", "kinetostatics.cli"]
+    with tempfile.TemporaryDirectory() as d:
+        cmd = [*run, "run", str(ROOT / "mechanisms" / "slotting_machine.yaml"), "--out", d]
+        t_run, t_np = processes(
+            [cmd, [sys.executable, "-c", "import numpy"]], 5 if quick else 11, env
+        )
+    out.append(
+        Row(
+            "slotting_machine",
+            '`kinetostatics run` vs `python -c "import numpy"`',
+            "360",
+            t_run,
+            t_np,
+            "≤ 3×",
+            ours_label="run",
+            ref_label="import numpy",
+        )
+    )
+    log(out[-1])
+    return out
+
+
+# ---------------------------------------------------------------------------------------
+# output
+# ---------------------------------------------------------------------------------------
+def ms(s: float) -> str:
+    return f"{s * 1e3:.3g}"
+
+
+def table(rs: list[Row]) -> str:
+    lines = [
+        "| mechanism | row | positions | ks [ms] | closed form [ms] | ratio | target | met "
+        "| closed-form error |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    for r in rs:
+        ours = f"{r.ours_label}: {ms(r.ours)}" if r.ours_label else ms(r.ours)
+        ref = f"{r.ref_label}: {ms(r.ref)}" if r.ref_label else ms(r.ref)
+        lines.append(
+            f"| {r.mechanism} | {r.what} | {r.positions} | {ours} | {ref} | {r.ratio:.3g}× | "
+            f"{r.target} | {r.met()} | {r.error} |"
+        )
+    return "\n".join(lines)
+
+
+def machine() -> str:
+    cpu = platform.processor() or platform.machine()
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                cpu = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    return (
+        f"{cpu}, {os.cpu_count()} logical CPUs, Python {platform.python_version()}, "
+        f"NumPy {np.__version__}"
+    )
+
+
+def load() -> str:
+    try:
+        return "load average " + " / ".join(f"{x:.2f}" for x in os.getloadavg())
+    except OSError:
+        return "load average unknown"
+
+
+def write(body: str) -> None:
+    text = DOC.read_text()
+    pat = re.compile(re.escape(BEGIN) + ".*?" + re.escape(END), re.S)
+    if not pat.search(text):
+        raise SystemExit(f"docs/accuracy.md has no {BEGIN} … {END} block")
+    DOC.write_text(pat.sub(lambda _m: f"{BEGIN}\n{body.strip()}\n{END}", text))
+
+
+def main(argv=None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--quick", action="store_true", help="fewer repetitions")
+    ap.add_argument("--write", action="store_true", help="rewrite the table in docs/accuracy.md")
+    ap.add_argument("--note", default="", help="text added to the conditions (e.g. other jobs)")
+    args = ap.parse_args(argv)
+    before = load()
+    t0 = time.perf_counter()
+    rs = rows(
+        args.quick,
+        log=lambda r: print(
+            f"  {r.mechanism}, {r.what} [{r.positions}]: {r.ratio:.3g}× (target {r.target})",
+            file=sys.stderr,
+        ),
+    )
+    after = load()
+    conditions = (
+        f"**Conditions:** measured {time.strftime('%Y-%m-%d')} on {machine()}; "
+        f"{before} (1/5/15 min) before "
+        f"and {after} after the run ({time.perf_counter() - t0:.0f} s"
+        f"{', --quick' if args.quick else ''}){'; ' + args.note if args.note else ''}."
+    )
+    body = f"{conditions}\n\n{table(rs)}"
+    print(body)
+    if args.write:
+        write(body)
+        print(f"updated {DOC.relative_to(ROOT)}")
+
+
+if __name__ == "__main__":
+    main()
