@@ -164,7 +164,7 @@ def jacobian(
     cols = np.arange(width) if cols is None else np.arange(width)[cols]
     pos = np.full(q.shape[-1] + 3, -1)
     pos[cols] = np.arange(len(cols))
-    if np.unique(cols).size != cols.size:  # a column asked for twice: gather the full matrix
+    if not np.array_equal(pos[cols], np.arange(len(cols))):  # a column asked for twice
         return jacobian(system, q, which, ground=ground)[..., cols]
     n_rows = sum(system.constraints[k].n_eq for k in which)
     out = np.zeros(q.shape[:-1] + (n_rows, len(cols)))
@@ -175,7 +175,11 @@ def jacobian(
         for link, jl in zip(ends, c.jacobian(*_pair(qe, ends))):
             at = pos[3 * link : 3 * link + 3]
             if at[0] >= 0 and at[1] == at[0] + 1 and at[2] == at[0] + 2:
-                out[..., r : r + c.n_eq, at[0] : at[0] + 3] += jl
+                dest = out[..., r : r + c.n_eq, at[0] : at[0] + 3]
+                if ends[0] != ends[1]:  # written once: as 0 + jl (−0 → +0), not read first
+                    np.add(jl, 0.0, out=dest)
+                else:
+                    dest += jl
             elif (at >= 0).any():
                 out[..., r : r + c.n_eq, at[at >= 0]] += jl[..., at >= 0]
         r += c.n_eq
