@@ -426,7 +426,7 @@ def _warn_near_singular(system: System, cond: dict, coord: np.ndarray) -> None:
 def _conditions(system: System, q: np.ndarray, lu) -> dict:
     return {
         p.group: (
-            condition_number(system, p, lu.jac[..., p.rows[:, None], p.cols], lu.inv[g])
+            condition_number(system, p, lu.diag[g], lu.inv[g])
             if lu is not None
             else group_condition(system, q, p)
         )

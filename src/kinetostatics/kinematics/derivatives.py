@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..base.linalg import BlockFactor
-from ..structure.system import System, gamma, jacobian, nu
+from ..structure.system import System, gamma, jacobian, jacobian_blocks, nu
 
 __all__ = ["derivatives", "velocities", "accelerations"]
 
@@ -15,7 +15,8 @@ def derivatives(
 ) -> tuple[np.ndarray, np.ndarray, BlockFactor]:
     """(q̇, q̈, factorised Φ_q): Φ_q q̇ = ν and Φ_q q̈ = γ by block forward
     substitution over the Assur groups, ``(..., n_q)`` each."""
-    lu = BlockFactor(jacobian(system, q), [(p.rows, p.cols) for p in system.plans])
+    blocks = [(p.rows, p.cols) for p in system.plans]
+    lu = BlockFactor(None, blocks, jacobian_blocks(system, q))
     qd = lu.solve(nu(system, psi_d))
     return qd, lu.solve(gamma(system, q, qd, psi_dd)), lu
 

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..base.linalg import BlockFactor
 from ..errors import Location, SingularEquilibriumWarning, StructureError
 from ..structure.system import System, coordinate_gradient
 from . import friction as fr
@@ -35,13 +36,19 @@ class Kinetics:
     q_gravity: np.ndarray
     q_inertia: np.ndarray
     q_external: np.ndarray
-    a: np.ndarray  # equilibrium matrix A, (..., n_q, n_lam)
+    a_given: np.ndarray | None  # equilibrium matrix A, (..., n_q, n_lam); None: Φ_qᵀ of ``lu``
     x0: np.ndarray  # frictionless multipliers and driver efforts
     indeterminate: bool
     friction: dict | None  # setup, x_approx, e_approx, solution (see friction.py)
     power: dict
     singular: np.ndarray | None = None  # (...) A singular there: x0 NaN, friction.status 2
     condition: np.ndarray | None = None  # (...) scaled condition number of a square A
+    lu: BlockFactor | None = None  # the kinematic factors where A = Φ_qᵀ
+
+    @property
+    def a(self) -> np.ndarray:
+        """Equilibrium matrix A, ``(..., n_q, n_lam)`` (Φ_qᵀ assembled on demand)."""
+        return self.a_given if self.a_given is not None else np.swapaxes(self.lu.jac, -1, -2)
 
     @property
     def q_load(self) -> np.ndarray:
@@ -79,7 +86,7 @@ def kinetics(
     own_efforts = all(d.driver.balance_at is None for d in system.motion_drivers)
     singular, condition, a_inv = np.zeros(q.shape[:-1], dtype=bool), None, None
     if lu is not None and own_efforts:
-        a = np.swapaxes(lu.jac, -1, -2)  # A = Φ_qᵀ: reuse the kinematic factors
+        a = None  # A = Φ_qᵀ: the kinematic factors stand for it (square)
         x0, indeterminate = lu.solve_transposed(-q_load), False
     else:
         a = equilibrium_matrix(system, q)
@@ -100,7 +107,7 @@ def kinetics(
         else:
             x0, indeterminate = solve_equilibrium(a, -q_load)
     fric = None
-    if friction and model.has_friction and a.shape[-1] != a.shape[-2]:
+    if friction and model.has_friction and a is not None and a.shape[-1] != a.shape[-2]:
         raise StructureError([(Location(model.source, path="joints"), _not_square(system, a))])
     if friction and model.has_friction:
         fs = fr.setup(system, q, qd, ref_speed)
@@ -111,7 +118,8 @@ def kinetics(
                 a_inv = np.linalg.inv(a)
             solve_a = lambda rhs: np.einsum("...ij,...j->...i", a_inv, rhs)  # noqa: E731
         xa, ea = fr.approximate(system, fs, solve_a, q_load, x0)
-        cons = fr.consistent(system, fs, a, solve_a, q_load, x0)
+        a_full = np.swapaxes(lu.jac, -1, -2) if a is None else a
+        cons = fr.consistent(system, fs, a_full, solve_a, q_load, x0)
         fric = dict(setup=fs, x_approx=xa, e_approx=ea, solution=cons)
     eff = effort_joints(system)
     rel = np.stack(
@@ -137,7 +145,9 @@ def kinetics(
             - power["external"]
             - loss
         )
-    return Kinetics(q_grav, q_inert, q_ext, a, x0, indeterminate, fric, power, singular, condition)
+    return Kinetics(
+        q_grav, q_inert, q_ext, a, x0, indeterminate, fric, power, singular, condition, lu
+    )
 
 
 def _not_square(system: System, a: np.ndarray) -> str:

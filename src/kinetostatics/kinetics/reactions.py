@@ -161,7 +161,7 @@ def ground_reaction(system: System, q: np.ndarray, x: np.ndarray) -> np.ndarray:
     out = np.zeros(q.shape[:-1] + (3,))
     touching = [k for k in range(len(system.model.joints)) if ground in system.ends[k]]
     if touching:
-        jac = jacobian(system, q, touching, ground=True)[..., -3:]
+        jac = jacobian(system, q, touching, np.arange(-3, 0), ground=True)
         lam = np.concatenate([x[..., system.rows_of(k)] for k in touching], axis=-1)
         out += np.einsum("...ij,...i->...j", jac, lam)
     n_j = system.n_joint_rows

@@ -24,6 +24,7 @@ __all__ = [
     "build_system",
     "phi",
     "jacobian",
+    "jacobian_blocks",
     "gamma",
     "nu",
     "coordinate_gradient",
@@ -155,21 +156,48 @@ def jacobian(
     """Φ_q for the constraints ``which``, restricted to ``cols``: ``(..., rows, cols)``.
 
     With ``ground=True`` the three columns of the ground link are kept at the end.
+    Only the columns asked for are built (Φ_q is mostly structural zeros).
     """
     qe = _ext(q)
     which = list(_selection(system, which))
+    width = q.shape[-1] + (3 if ground else 0)
+    cols = np.arange(width) if cols is None else np.arange(width)[cols]
+    pos = np.full(q.shape[-1] + 3, -1)
+    pos[cols] = np.arange(len(cols))
+    if not np.array_equal(pos[cols], np.arange(len(cols))):  # a column asked for twice
+        return jacobian(system, q, which, ground=ground)[..., cols]
     n_rows = sum(system.constraints[k].n_eq for k in which)
-    out = np.zeros(q.shape[:-1] + (n_rows, q.shape[-1] + 3))
+    out = np.zeros(q.shape[:-1] + (n_rows, len(cols)))
     r = 0
     for k in which:
         c = system.constraints[k]
-        i, j = system.ends[k]
-        ji, jj = c.jacobian(*_pair(qe, system.ends[k]))
-        out[..., r : r + c.n_eq, 3 * i : 3 * i + 3] += ji
-        out[..., r : r + c.n_eq, 3 * j : 3 * j + 3] += jj
+        ends = system.ends[k]
+        for link, jl in zip(ends, c.jacobian(*_pair(qe, ends))):
+            at = pos[3 * link : 3 * link + 3]
+            if at[0] >= 0 and at[1] == at[0] + 1 and at[2] == at[0] + 2:
+                dest = out[..., r : r + c.n_eq, at[0] : at[0] + 3]
+                if ends[0] != ends[1]:  # written once: as 0 + jl (−0 → +0), not read first
+                    np.add(jl, 0.0, out=dest)
+                else:
+                    dest += jl
+            elif (at >= 0).any():
+                out[..., r : r + c.n_eq, at[at >= 0]] += jl[..., at >= 0]
         r += c.n_eq
-    out = out if ground else out[..., :-3]
-    return out if cols is None else out[..., cols]
+    return out
+
+
+def jacobian_blocks(system: System, q: np.ndarray) -> list[tuple[np.ndarray, np.ndarray | None]]:
+    """Φ_q by Assur group, as :class:`~kinetostatics.base.linalg.BlockFactor` takes it:
+    for each plan, (its diagonal block, rows × its own columns; its rows × the earlier
+    groups' columns, or None for the first).  Each constraint is evaluated once."""
+    out, done = [], np.zeros(0, dtype=int)
+    for p in system.plans:
+        blk = jacobian(system, q, p.constraints, np.concatenate((done, p.cols)))
+        rows = np.arange(len(p.rows))[:, None]  # gathered as Φ_q[rows, cols] would be:
+        lower = blk[..., rows, np.arange(done.size)] if done.size else None  # same memory
+        out.append((blk[..., rows, np.arange(done.size, blk.shape[-1])], lower))  # layout
+        done = np.concatenate((done, p.cols))
+    return out
 
 
 def coordinate_gradient(system: System, q: np.ndarray, k: int, ground: bool = False) -> np.ndarray:
