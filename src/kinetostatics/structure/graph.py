@@ -1,23 +1,27 @@
 """Structure of a linkage: the joint graph, mobility, loops and Assur groups.
 
-Free functions over a networkx ``MultiGraph`` whose nodes are links and whose
-edges are joints (key = joint name).  Motion drivers are not edges: they are
-extra equations on a joint, counted when the Assur groups are found.
+Free functions over a :class:`JointGraph`, a small multigraph whose nodes are
+links and whose edges are joints (key = joint name).  Motion drivers are not
+edges: they are extra equations on a joint, counted when the Assur groups are
+found.  The graph queries (components, cycle basis) are plain Python: they
+give the same results, in the same order, as the networkx functions they
+replaced (``tests/test_structure_scaling.py`` compares them), without networkx's import
+time at the start of every command.
 """
 
 from __future__ import annotations
 
-import itertools
 import warnings
+from collections.abc import Iterator
 from dataclasses import dataclass
 
-import networkx as nx
 import numpy as np
 
 from ..errors import Location, StructureError
 from ..model import Model
 
 __all__ = [
+    "JointGraph",
     "Group",
     "Structure",
     "joint_graph",
@@ -30,6 +34,62 @@ __all__ = [
 ]
 
 MAX_GROUP_SEARCH = 6  # largest group searched for by enumeration
+MAX_SEARCH = 5_000_000  # steps of the group search, in all (a few seconds)
+
+
+class JointGraph:
+    """Links as nodes, joints as edges: an undirected multigraph kept in insertion order.
+
+    ``nodes[link]`` holds a link's attributes (``ground``); ``adj[u][v][key]`` the
+    attributes (``joint``, ``n_eq``) of joint ``key`` between links u and v, the
+    same dictionary seen from both ends.  Iteration orders are networkx's.
+    """
+
+    def __init__(self, name: str = "") -> None:
+        self.name = name
+        self.nodes: dict[str, dict] = {}
+        self.adj: dict[str, dict[str, dict[str, dict]]] = {}
+
+    def add_node(self, node: str, **attrs) -> None:
+        if node not in self.nodes:
+            self.nodes[node], self.adj[node] = {}, {}
+        self.nodes[node].update(attrs)
+
+    def add_edge(self, u: str, v: str, key: str, **attrs) -> None:
+        self.add_node(u)
+        self.add_node(v)
+        keys = self.adj[u].get(v)
+        if keys is None:
+            keys = self.adj[u][v] = self.adj[v][u] = {}
+        keys.setdefault(key, {}).update(attrs)
+
+    def edges(self) -> Iterator[tuple[str, str, str, dict]]:
+        """Every joint once as ``(u, v, key, attributes)``, in networkx's order."""
+        seen = set()
+        for u, nbrs in self.adj.items():
+            for v, keys in nbrs.items():
+                if v not in seen:
+                    for key, data in keys.items():
+                        yield u, v, key, data
+            seen.add(u)
+
+    def number_of_nodes(self) -> int:
+        return len(self.nodes)
+
+    def number_of_edges(self) -> int:
+        return sum(1 for _ in self.edges())
+
+    def connected_components(self) -> Iterator[set[str]]:
+        """The components as sets of links, in the order of their first link."""
+        seen: set[str] = set()
+        for node in self.nodes:
+            if node not in seen:
+                part, frontier = {node}, [node]
+                while frontier:
+                    frontier = [v for u in frontier for v in self.adj[u] if v not in part]
+                    part.update(frontier)
+                seen |= part
+                yield part
 
 
 @dataclass(frozen=True)
@@ -66,15 +126,15 @@ class Group:
 class Structure:
     """The structural analysis of a model (no positions needed)."""
 
-    graph: nx.MultiGraph
+    graph: JointGraph
     mobility: int
     loops: tuple[tuple[str, ...], ...]
     groups: tuple[Group, ...]
 
 
-def joint_graph(model: Model) -> nx.MultiGraph:
+def joint_graph(model: Model) -> JointGraph:
     """Links as nodes, joints as edges keyed by joint name (attribute ``joint``)."""
-    g = nx.MultiGraph(name=model.name)
+    g = JointGraph(model.name)
     for link in model.links:
         g.add_node(link.name, ground=link.ground)
     for j in model.joints:
@@ -82,54 +142,94 @@ def joint_graph(model: Model) -> nx.MultiGraph:
     return g
 
 
-def gruebler_mobility(g: nx.MultiGraph) -> int:
+def gruebler_mobility(g: JointGraph) -> int:
     """Grübler–Kutzbach: 3 per moving link minus the equations of every joint.
 
     Lower pairs remove 2 freedoms, higher pairs 1.
     """
-    moving = sum(1 for _, d in g.nodes(data=True) if not d.get("ground"))
-    return 3 * moving - sum(d["n_eq"] for *_, d in g.edges(keys=True, data=True))
+    moving = sum(1 for d in g.nodes.values() if not d.get("ground"))
+    return 3 * moving - sum(d["n_eq"] for *_, d in g.edges())
 
 
-def cyclomatic_number(g: nx.MultiGraph) -> int:
+def cyclomatic_number(g: JointGraph) -> int:
     """Number of independent loops: E − V + (connected components)."""
-    return g.number_of_edges() - g.number_of_nodes() + nx.number_connected_components(g)
+    components = sum(1 for _ in g.connected_components())
+    return g.number_of_edges() - g.number_of_nodes() + components
 
 
-def _subdivided(g: nx.MultiGraph) -> nx.Graph:
-    """A simple graph with one extra node per joint, so parallel joints form cycles."""
-    h = nx.Graph()
-    for u, v, key in g.edges(keys=True):
-        h.add_edge(u, ("joint", key))
-        h.add_edge(("joint", key), v)
+def _subdivided(g: JointGraph) -> dict:
+    """A simple graph (adjacency dicts) with one extra node per joint, so parallel
+    joints form cycles."""
+    h: dict = {}
+    for u, v, key, _ in g.edges():
+        for a, b in ((u, ("joint", key)), (("joint", key), v)):
+            h.setdefault(a, {})
+            h.setdefault(b, {})
+            h[a][b] = h[b][a] = None
     return h
 
 
-def independent_loops(g: nx.MultiGraph) -> tuple[tuple[str, ...], ...]:
+def _cycle_basis(h: dict, root=None) -> list[list]:
+    """Paton's fundamental cycles of a simple graph given as adjacency dicts (CACM 491):
+    a spanning tree grown depth first from ``root``, one cycle per edge off the tree,
+    component after component (networkx's ``cycle_basis``, node for node)."""
+    left = dict.fromkeys(h)  # the nodes not yet reached, in order
+    cycles = []
+    if root is not None and root not in h:
+        root = None
+    while left:
+        if root is None:
+            root = left.popitem()[0]
+        stack, pred, used = [root], {root: root}, {root: set()}
+        while stack:
+            z = stack.pop()
+            zused = used[z]
+            for nbr in h[z]:
+                if nbr not in used:  # a new node
+                    pred[nbr] = z
+                    stack.append(nbr)
+                    used[nbr] = {z}
+                elif nbr == z:  # a self loop
+                    cycles.append([z])
+                elif nbr not in zused:  # a cycle closes
+                    pn = used[nbr]
+                    cycle, p = [nbr, z], pred[z]
+                    while p not in pn:
+                        cycle.append(p)
+                        p = pred[p]
+                    cycle.append(p)
+                    cycles.append(cycle)
+                    used[nbr].add(z)
+        for node in pred:
+            left.pop(node, None)
+        root = None
+    return cycles
+
+
+def independent_loops(g: JointGraph) -> tuple[tuple[str, ...], ...]:
     """A cycle basis as lists of joint names, in traversal order.
 
     Examples
     --------
     The four-bar has one loop:
 
-    >>> g = nx.MultiGraph()
-    >>> g.add_nodes_from(["ground", "crank", "coupler", "rocker"])
+    >>> g = JointGraph()
+    >>> for link in ["ground", "crank", "coupler", "rocker"]:
+    ...     g.add_node(link, ground=link == "ground")
     >>> for name, u, v in [("O", "ground", "crank"), ("A", "crank", "coupler"),
     ...                    ("B", "coupler", "rocker"), ("C", "rocker", "ground")]:
-    ...     _ = g.add_edge(u, v, key=name, n_eq=2)
+    ...     g.add_edge(u, v, key=name, n_eq=2)
     >>> sorted(independent_loops(g)[0])
     ['A', 'B', 'C', 'O']
     """
-    root = next((n for n, d in g.nodes(data=True) if d.get("ground")), None)
-    basis = nx.cycle_basis(_subdivided(g), root)
+    root = next((n for n, d in g.nodes.items() if d.get("ground")), None)
+    basis = _cycle_basis(_subdivided(g), root)
     return tuple(tuple(n[1] for n in cycle if isinstance(n, tuple)) for cycle in basis)
 
 
-def _loop_vector(
-    g: nx.MultiGraph, loop: tuple[str, ...], index: dict[str, int]
-) -> np.ndarray | None:
+def _loop_vector(g: JointGraph, loop: tuple[str, ...], index: dict[str, int]) -> np.ndarray | None:
     """Signed edge vector of a closed chain of joints, or None if it is not a cycle."""
-    ends = {key: (u, v) for u, v, key in g.edges(keys=True)}
+    ends = {key: (u, v) for u, v, key, _ in g.edges()}
     if len(set(loop)) != len(loop) or len(loop) < 2:
         return None
     first = ends[loop[0]]
@@ -149,12 +249,12 @@ def _loop_vector(
     return None
 
 
-def check_loops(g: nx.MultiGraph, loops: tuple[tuple[str, ...], ...], where: Location) -> None:
+def check_loops(g: JointGraph, loops: tuple[tuple[str, ...], ...], where: Location) -> None:
     """User loops must be closed chains, independent, and as many as the cyclomatic number.
 
     Independence is a rank test on the signed edge vectors, so any valid basis passes.
     """
-    index = {key: k for k, (_, _, key) in enumerate(g.edges(keys=True))}
+    index = {key: k for k, (_, _, key, _) in enumerate(g.edges())}
     vectors, problems = [], []
     for k, loop in enumerate(loops):
         vec = _loop_vector(g, loop, index)
@@ -174,11 +274,13 @@ def check_loops(g: nx.MultiGraph, loops: tuple[tuple[str, ...], ...], where: Loc
 
 
 def _letters(
-    g: nx.MultiGraph, links: tuple[str, ...], joints: list[str]
+    g: JointGraph, links: tuple[str, ...], joints: list[str]
 ) -> tuple[str, tuple[str, ...]]:
     """Pair letters of a dyad, external–internal–external, e.g. ``RRP``."""
     a, b = links
-    data = {key: d["joint"] for _, _, key, d in g.edges(keys=True, data=True)}
+    data = {
+        key: d["joint"] for x in (a, b) for keys in g.adj[x].values() for key, d in keys.items()
+    }
 
     def letter(name: str) -> str:
         return data[name].letter
@@ -195,14 +297,114 @@ def _letters(
     return forward, (a, b)
 
 
-def assur_groups(model: Model, g: nx.MultiGraph | None = None) -> tuple[Group, ...]:
+class _GroupSearch:
+    """The search of :func:`assur_groups` for the next group, with its count of the work
+    done (at most ``MAX_SEARCH`` steps for the whole decomposition)."""
+
+    def __init__(self, model: Model, g: JointGraph, constraints: list) -> None:
+        self.model, self.g, self.constraints = model, g, constraints
+        self.steps = 0
+
+    def smallest(self, unknown: list[str], known: set[str]) -> tuple[str, ...] | None:
+        """The first connected set of unknown links that its constraints fix exactly, by
+        size, then in the order of ``itertools.combinations(unknown, size)``; None if
+        none has up to ``MAX_GROUP_SEARCH`` links.
+
+        Only connected sets are examined (:meth:`_sets`), so the cost grows with the
+        joints per link, not as the binomial coefficients of the number of links.
+        """
+        pos = {name: i for i, name in enumerate(unknown)}
+        nbrs = [{pos[v] for v in self.g.adj.get(u, ()) if v in pos and v != u} for u in unknown]
+        # per link, its constraints as (the other link's position, or -1 if known; n_eq)
+        gains: list[list[tuple[int, int]]] = [[] for _ in unknown]
+        for _, links, n_eq, _ in self.constraints:
+            for u in links & pos.keys():
+                others = links - {u} or {u}
+                o = next(iter(others))
+                gains[pos[u]].append((-1 if o in known else pos[o], n_eq))
+        self._count(len(unknown) + sum(map(len, gains)), unknown)
+        for v, cs in enumerate(gains):  # single links first, quickly
+            if sum(n for o, n in cs if o < 0 or o == v) == 3:
+                return (unknown[v],)
+        for size in range(2, min(len(unknown), MAX_GROUP_SEARCH) + 1):
+            for v in range(len(unknown)):
+                best = None  # the first in combinations order: the least sorted positions
+                for members, total in self._sets(v, size, nbrs, gains, unknown):
+                    if total == 3 * size:
+                        key = tuple(sorted(members))
+                        best = key if best is None else min(best, key)
+                if best is not None:
+                    return tuple(unknown[i] for i in best)
+        return None
+
+    def _sets(
+        self,
+        v: int,
+        size: int,
+        nbrs: list[set[int]],
+        gains: list[list[tuple[int, int]]],
+        unknown: list[str],
+    ) -> Iterator[tuple[tuple[int, ...], int]]:
+        """Every connected set of ``size`` positions whose least is ``v``, once each, with
+        the equations of the constraints that close it on the known links.
+
+        Wernicke's ESU enumeration: a set grows only by positions above ``v`` that are
+        neighbours of the position just added and of no earlier member.  A constraint
+        is counted when the last of its unknown links joins the set.
+        """
+
+        def gain(members: tuple[int, ...], w: int) -> int:
+            self._count(1 + len(gains[w]) + len(nbrs[w]), unknown)
+            return sum(n for o, n in gains[w] if o < 0 or o in members)
+
+        def extend(members: tuple[int, ...], total: int, ext: list[int], closed: set[int]):
+            if len(members) == size:
+                yield members, total
+                return
+            while ext:
+                w = ext.pop()
+                grown = members + (w,)
+                new = [u for u in nbrs[w] if u > v and u not in closed]
+                yield from extend(grown, total + gain(grown, w), ext + new, closed | nbrs[w])
+
+        first = [u for u in nbrs[v] if u > v]
+        yield from extend((v,), gain((v,), v), first, nbrs[v] | {v})
+
+    def _count(self, steps: int, unknown: list[str]) -> None:
+        self.steps += steps
+        if self.steps <= MAX_SEARCH:
+            return
+        names = ", ".join(unknown[:6]) + (f", … ({len(unknown)} links)" if len(unknown) > 6 else "")
+        first = self.model.link(unknown[0]).where
+        where = (
+            first
+            if first.line is not None
+            else Location(self.model.source, path=f"links.{unknown[0]}")
+        )
+        raise StructureError(
+            [
+                (
+                    where,
+                    f"the search for Assur groups gave up after {MAX_SEARCH:,} steps: the "
+                    f"links not yet placed ({names}) form too many connected sets of up "
+                    f"to {MAX_GROUP_SEARCH} links, none fixed exactly by its joints and motion "
+                    "drivers; the linkage is too large or too densely jointed to decompose "
+                    "(does it lack motion drivers?)",
+                )
+            ]
+        )
+
+
+def assur_groups(model: Model, g: JointGraph | None = None) -> tuple[Group, ...]:
     """Decompose relative to the motion-driven links and order the solve.
 
-    Starting from ground, repeatedly take the smallest set of unknown links
-    that the constraints to known links (joints and motion drivers) fix
-    exactly: Σ equations = 3·(links).  Sets are searched by increasing size
-    (cost: combinations up to ``MAX_GROUP_SEARCH`` links); what is left over
-    is solved as one group, with a warning.
+    Starting from ground, repeatedly take the smallest connected set of unknown
+    links that the constraints to known links (joints and motion drivers) fix
+    exactly: Σ equations = 3·(links); among sets of that size, the first in the
+    links' order.  Sets of up to ``MAX_GROUP_SEARCH`` links are searched, only
+    connected ones, with at most ``MAX_SEARCH`` steps in all, beyond which
+    :class:`~kinetostatics.errors.StructureError` is raised; what is left over
+    when no set closes is solved as one group, with a warning.
     """
     g = joint_graph(model) if g is None else g
     joints = {j.name: j for j in model.joints}
@@ -212,31 +414,21 @@ def assur_groups(model: Model, g: nx.MultiGraph | None = None) -> tuple[Group, .
     constraints = [(j.name, set(j.links), j.n_eq, False) for j in model.joints]
     constraints += [(d.name, set(joints[d.joint].links), 1, True) for d in motion]
     groups: list[Group] = []
+    search = _GroupSearch(model, g, constraints)
 
     def closing(subset: set[str]) -> list[tuple[str, set[str], int, bool]]:
         return [c for c in constraints if c[1] & subset and c[1] <= subset | known]
 
     while unknown:
-        found = None
-        for size in range(1, min(len(unknown), MAX_GROUP_SEARCH) + 1):
-            for combo in itertools.combinations(unknown, size):
-                subset = set(combo)
-                cs = closing(subset)
-                if sum(c[2] for c in cs) == 3 * size and nx.is_connected(g.subgraph(combo)):
-                    found = (combo, cs)
-                    break
-            if found:
-                break
-        if found is None:
+        combo = search.smallest(unknown, known)
+        if combo is None:
             combo = tuple(unknown)
-            cs = closing(set(combo))
             warnings.warn(
                 f"links {', '.join(combo)} do not decompose into Assur groups; "
                 "they are solved as one group",
                 stacklevel=2,
             )
-            found = (combo, cs)
-        combo, cs = found
+        cs = closing(set(combo))
         jnames = [c[0] for c in cs if not c[3]]
         dnames = [c[0] for c in cs if c[3]]
         if dnames:
@@ -258,7 +450,7 @@ def assur_groups(model: Model, g: nx.MultiGraph | None = None) -> tuple[Group, .
     return tuple(groups)
 
 
-def _overconstrained_hint(model: Model, g: nx.MultiGraph, mobility: int) -> str:
+def _overconstrained_hint(model: Model, g: JointGraph, mobility: int) -> str:
     """For a linkage whose Grübler–Kutzbach count is below 1 but which may move (it has
     loops): overconstrained linkages (redundant joints, e.g. a parallelogram with an extra
     crank) are not supported — their reactions, and the friction that depends on them,
@@ -283,7 +475,7 @@ def structure(model: Model) -> Structure:
     g = joint_graph(model)
     ground = model.ground.name
     detached = []
-    for part in nx.connected_components(g):
+    for part in g.connected_components():
         if ground in part:
             continue
         names = [link.name for link in model.links if link.name in part]  # file order
@@ -310,6 +502,16 @@ def structure(model: Model) -> Structure:
     else:
         loops = independent_loops(g)
     motion = [d for d in model.drivers if d.motion is not None]
+    if not motion and mobility < 0:  # nothing to blame on a driver
+        raise StructureError(
+            [
+                (
+                    Location(model.source, path="joints"),
+                    f"the mobility (Grübler–Kutzbach) is {mobility}: the joints leave the "
+                    "links no freedom" + _overconstrained_hint(model, g, mobility),
+                )
+            ]
+        )
     if len(motion) > mobility:
         extra = motion[max(mobility, 0)]
         where = (
