@@ -93,3 +93,16 @@ def test_run_imports_no_plotting_or_solvers(tmp_path):
     assert "kinetostatics.analysis.pipeline" in imported  # the guard sees our imports
     for forbidden in ("matplotlib", "scipy.optimize", "scipy.integrate", "scipy.interpolate"):
         assert not any(m == forbidden or m.startswith(forbidden + ".") for m in imported), forbidden
+
+
+def test_output_cut_short_by_the_reader_is_not_an_error():
+    """`kinetostatics check FILE | head -1`: no traceback when the pipe closes early."""
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    cmd = [sys.executable, "-m", "kinetostatics.cli", "check", "mechanisms/jaw_crusher.yaml"]
+    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=root)
+    p.stdout.close()  # the reader goes away before anything is written
+    err = p.stderr.read().decode()
+    assert p.wait() == 0, err
+    assert "Traceback" not in err and "Exception ignored" not in err, err

@@ -195,7 +195,9 @@ def main(argv: list[str] | None = None) -> int:
         with warnings.catch_warnings():
             warnings.simplefilter("default")
             warnings.showwarning = one_line
-            return args.func(args)
+            code = args.func(args)
+            sys.stdout.flush()  # a closed pipe shows here, not at exit
+            return code
     except KinetostaticsError as exc:
         from ..errors import printable
 
@@ -204,6 +206,11 @@ def main(argv: list[str] | None = None) -> int:
             line = printable(line)  # no control characters reach the terminal
             print(f"kinetostatics: {line}" if not line.startswith(file) else line, file=sys.stderr)
         return 2
+    except BrokenPipeError:  # the reader went away (`kinetostatics check FILE | head`)
+        import os
+
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # no error at exit
+        return 0
 
 
 if __name__ == "__main__":
