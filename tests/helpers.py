@@ -23,5 +23,5 @@ def variant(name: str, **replacements: str) -> ks.Model:
 
 
 def rel_err(x, ref) -> float:
-    """max|x − ref| / max|ref| (SPEC.md, Accuracy)."""
+    """max|x − ref| / max|ref| (docs/conventions.md, Accuracy)."""
     return float(np.max(np.abs(np.asarray(x) - ref)) / np.max(np.abs(ref)))

@@ -1,4 +1,4 @@
-"""The command line: run writes the CSV and summary of SPEC.md; user errors
+"""The command line: run writes the CSV and summary of docs/conventions.md; user errors
 exit 2 with one line; run imports neither matplotlib nor scipy's solvers."""
 
 import csv

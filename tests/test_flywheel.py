@@ -1,5 +1,6 @@
-"""Flywheel sizing for the slotting machine (MECHANISMS.md §2, δ = 0.04) and its check
-by simulation; the numbers in docs/dynamics.md are the script's."""
+"""Flywheel sizing for the slotting machine (docs/validation.md, "The reference
+machines"; δ = 0.04) and its check by simulation; the numbers in docs/dynamics.md
+are the script's."""
 
 import json
 import subprocess

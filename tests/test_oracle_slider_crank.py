@@ -27,7 +27,7 @@ VARIANTS = {
 
 
 def rel(x, ref):
-    """SPEC.md accuracy: max|x - ref| / max|ref| over the cycle."""
+    """Accuracy (docs/conventions.md): max|x - ref| / max|ref| over the cycle."""
     return np.max(np.abs(np.asarray(x) - ref)) / np.max(np.abs(ref))
 
 

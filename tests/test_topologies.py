@@ -123,7 +123,7 @@ def col(result, name, order):
 
 
 def rel(x, ref):
-    """SPEC.md accuracy: max|x − ref| / max|ref|."""
+    """Accuracy (docs/conventions.md): max|x − ref| / max|ref|."""
     return np.max(np.abs(x - ref)) / np.max(np.abs(ref))
 
 

@@ -5,7 +5,8 @@ model with a travel band.
 
 Expected values are closed forms of the geometry, not the program's output:
 
-* slotting machine (MECHANISMS.md §2): O3 at the origin, O2 at (−150, 0) mm, O2A = 75,
+* slotting machine (docs/validation.md, "The reference machines"): O3 at the origin,
+  O2 at (−150, 0) mm, O2A = 75,
   O3B = BC = 100, ram line x = X = 93.30 mm.  B lies on the bar opposite A through O3,
   so y_C(φ) = y_B + √(BC² − (X − x_B)²); the ram's top is at the bar's extreme position
   (crank ⟂ bar, bar at 30°): y_top = 50 + √(100² − (X − 100 cos 30°)²) mm.  The cutting

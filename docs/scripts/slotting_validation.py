@@ -1,7 +1,7 @@
 #!/usr/bin/env python
-"""Exact kinematics and kinetostatics of the slotting machine (MECHANISMS.md §2)
-at the 12 course-design positions and at the start/end of cutting (1′, 8′),
-and the comparison with the values printed in the course-design report.
+"""Exact kinematics and kinetostatics of the slotting machine (docs/validation.md,
+"The reference machines") at the 12 course-design positions and at the start/end
+of cutting (1′, 8′), and the comparison with the values printed in the course-design report.
 
 Every number comes from ``kinetostatics.analyze`` on
 ``mechanisms/slotting_machine.yaml``; quantities the library does not give

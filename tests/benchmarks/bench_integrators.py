@@ -1,5 +1,6 @@
 """Speed against error of the integrators for the forward dynamics: the start-up of
-the slider-crank (MECHANISMS.md §1 without friction and load, gravity kept) under
+the slider-crank (docs/validation.md, "The reference machines", without friction
+and load, gravity kept) under
 a constant 5 N·m from rest, 0.5 s.  Each run's error is taken against a tight
 reference run (DOP853, rtol 1e-13) at 51 times; the reference itself is checked
 against an independent integration of Lagrange's equation (tests/test_dynamics.py).

@@ -14,7 +14,7 @@ work a hand derivation does, written once.
   eq. 9), which would time the closed form at several times its cost.
   ``bench_speed.py`` checks it against the oracle and against ``ks.analyze``.
 * :func:`slotting_machine` — the six-bar of ``mechanisms/slotting_machine.yaml``
-  (MECHANISMS.md §2), derived here; ``bench_speed.py`` checks it against
+  (docs/validation.md, "The reference machines"), derived here; ``bench_speed.py`` checks it against
   ``ks.analyze`` before timing it.
 """
 
@@ -120,7 +120,7 @@ def slider_crank(p, phi1: np.ndarray, level: str = "kinematics") -> dict:
 
 
 # ---------------------------------------------------------------------------------------
-# Six-bar slotting machine (mechanisms/slotting_machine.yaml, MECHANISMS.md §2)
+# Six-bar slotting machine (mechanisms/slotting_machine.yaml, docs/validation.md)
 # ---------------------------------------------------------------------------------------
 @dataclass(frozen=True)
 class SlottingMachine:

@@ -5,7 +5,7 @@ units as written by ``generate``, or a shipped file read with
 ``yaml.safe_load``) and returns the largest relative discrepancy it finds
 (0 when the relation does not apply is reported as ``None``).  Relative means:
 per result column, |a − b| / (max over the reference column of |b| + floor),
-the accuracy measure of SPEC.md.  ``TOLERANCE`` gives the bound each relation
+the accuracy measure of docs/conventions.md.  ``TOLERANCE`` gives the bound each relation
 is held to; the tests and ``long_run.py`` share both.
 """
 

@@ -4,7 +4,7 @@ Test helper only. It does not import the package under test. Everything is
 written out by hand (no generic linear system, no finite differences) so that
 the generic Newton-Euler code can be compared against it.
 
-Conventions (``/work/shared/SPEC.md``): SI; x right, y up; angles CCW from +x;
+Conventions (``docs/conventions.md``): SI; x right, y up; angles CCW from +x;
 angular velocities, accelerations, couples and torques CCW positive. A joint
 ``[i, j]`` reports the force exerted **by link i on link j**:
 
@@ -16,7 +16,7 @@ angular velocities, accelerations, couples and torques CCW positive. A joint
   slider about B.
 * ``M1`` torque of ground on crank (driving / balancing torque).
 
-Geometry (``MECHANISMS.md`` section 1): crank OA (length a, angle phi1 of
+Geometry (``docs/validation.md``, "The reference machines"): crank OA (length a, angle phi1 of
 O->A, constant speed omega1), rod AB (length b, angle phi2 of A->B), slider B
 on the line y = e, B to the right of A (cos phi2 > 0). CoM of the crank at r1
 from O on OA, of the rod at r2 from A on AB, of the slider at B.
@@ -46,13 +46,13 @@ __all__ = [
     "friction_approx_torque_eq9",
 ]
 
-#: SPEC.md "Relative speeds at zero": |x| <= ZERO_REL * x_ref counts as zero.
+#: docs/conventions.md "Zero relative speed": |x| <= ZERO_REL * x_ref counts as zero.
 ZERO_REL = 1e-9
 
 
 @dataclass(frozen=True)
 class SliderCrank:
-    """Data of the offset slider-crank; defaults are MECHANISMS.md section 1."""
+    """Data of the offset slider-crank; defaults: the reference one (docs/validation.md)."""
 
     a: float = 0.10  # crank OA [m]
     b: float = 0.35  # rod AB [m]
@@ -75,13 +75,13 @@ class SliderCrank:
 
     @property
     def v_zero(self) -> float:
-        """Sliding speeds with |v| <= v_zero count as zero (SPEC.md)."""
+        """Sliding speeds with |v| <= v_zero count as zero (docs/conventions.md)."""
         L = self.a if self.L_ref is None else self.L_ref
         return ZERO_REL * abs(self.omega1) * L
 
     @property
     def w_zero(self) -> float:
-        """Relative angular speeds with |w| <= w_zero count as zero (SPEC.md)."""
+        """Relative angular speeds with |w| <= w_zero count as zero (docs/conventions.md)."""
         return ZERO_REL * abs(self.omega1)
 
 
@@ -301,7 +301,7 @@ def reactions(p: SliderCrank, phi1) -> dict:
 
 
 def power_terms(p: SliderCrank, phi1) -> dict:
-    """Frictionless power balance terms (SPEC.md "Power balance").
+    """Frictionless power balance terms (docs/theory.md).
 
     Keys:
       input     = M1 * omega1
@@ -344,7 +344,7 @@ def friction_terms(p: SliderCrank, phi1) -> dict:
 
     Keys: Mf_O, Mf_A, Mf_B (= rho * |F| at each revolute), Ff_slide
     (= f * |N|), P_O, P_A, P_B, P_slide (= |load * relative speed|, zero
-    where the relative speed is zero by the SPEC.md rule), P_fric (sum).
+    where the relative speed is zero by the rule of docs/conventions.md), P_fric (sum).
     """
     r = reactions(p, phi1)
     w = relative_speeds(p, phi1)

@@ -1,6 +1,6 @@
 """The result of an analysis: named arrays over the positions, and their export.
 
-Column names and units are those of ``results.csv`` (SPEC.md).  Angles are
+Column names and units are those of ``results.csv`` (docs/conventions.md).  Angles are
 in rad inside the arrays ``q``, ``qd``, ``qdd``; the named columns follow the
 CSV (``angle``, ``travel`` and ``<link>.theta`` in degrees).
 """
@@ -131,7 +131,7 @@ class Columns(Mapping):
 
 
 def build_columns(system: System, t, psi, q, qd, qdd, x0, fric, power, cond, shaking, full):
-    """Ordered lazy columns and units (see SPEC.md, Outputs); ``x0`` None: kinematics only."""
+    """Ordered lazy columns and units (docs/conventions.md); ``x0`` None: kinematics only."""
     model = system.model
     cols = Columns()
     units: dict[str, str] = {}

@@ -1,8 +1,8 @@
 """Tables as CSV files with a ``# units:`` line: ``results.csv``, ``simulation.csv``
 and a batch's ``summary.csv``.
 
-The layout (SPEC.md): the line ``# units: u1,u2,…`` (one unit per column, in the
-order of the columns), the header of column names, one row per line.
+The layout (docs/conventions.md, *Results*): the line ``# units: u1,u2,…``
+(one unit per column, in the order of the columns), the header of column names, one row per line.
 """
 
 from __future__ import annotations

@@ -74,7 +74,7 @@ class Dynamics:
         The expected sense of motion of the first free coordinate (the sense in
         which ``angle`` load conditions are measured, as in ``analyze``).
     ref_speed : float, optional
-        Speed scale (rad/s) of the zero-speed thresholds (SPEC.md: |x| ≤ 1e-9·x_ref
+        Speed scale (rad/s) of the zero-speed thresholds (docs/conventions.md: |x| ≤ 1e-9·x_ref
         counts as zero); default the largest prescribed speed, else 1 rad/s.
     """
 

@@ -43,7 +43,7 @@ __all__ = [
     "load_events",
 ]
 
-ZERO_SPEED = 1e-9  # relative speeds below this × x_ref count as zero (SPEC.md)
+ZERO_SPEED = 1e-9  # relative speeds below this × x_ref count as zero (docs/conventions.md)
 
 
 @dataclass(frozen=True)

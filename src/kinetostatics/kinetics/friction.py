@@ -3,7 +3,7 @@
 Each joint with friction applies an effort of link i on link j along its
 relative coordinate, ``e = −s·μ(λ)``: μ is the joint's friction magnitude
 (ρ|F| or f|N|) computed from its own reaction block λ, s = sign of the
-relative speed (0 where |speed| ≤ 1e-9·x_ref, SPEC.md).  As a generalized
+relative speed (0 where |speed| ≤ 1e-9·x_ref, docs/conventions.md).  As a generalized
 force it is ``g e`` with g the coordinate gradient, so equilibrium reads
 
     A x = −Q − Σ_k g_k e_k(x).

@@ -23,7 +23,7 @@ Figures: :func:`draw_mechanism`, :func:`motion_diagram`,
 PATH).  Drawings and polygons are laid out to a true scale: printed at 100 %,
 1 mm of paper is μ_l metres (μ_v m/s, μ_a m/s², μ_F N), as stated on them.
 
-Conventions (SPEC.md, docs/theory.md): x right, y up, angles and moments
+Conventions (docs/conventions.md, docs/theory.md): x right, y up, angles and moments
 counter-clockwise positive; a joint's reaction is the force of its link i on
 its link j; links are numbered 1, 2, … in the order of ``System.links`` and
 the frame takes the next number, so ``F61`` is the frame (6) on the crank (1).
