@@ -9,12 +9,18 @@ from dataclasses import replace
 from pathlib import Path
 
 from .. import io
-from ..base.document import compose, read_text
 from ..base.spec import Entry
 from ..dynamics.clearance import expand
 from ..model import Model
 
 __all__ = ["load", "loads", "build"]
+
+
+def _expanded(model: Model) -> Model:
+    """``model`` with its clearances (read as data by :mod:`kinetostatics.io`) expanded."""
+    if not model.clearances:
+        return model
+    return expand(replace(model, clearances=()), model.clearances)
 
 
 def load(path: str | Path, parameters: Mapping[str, float] | None = None) -> Model:
@@ -23,20 +29,17 @@ def load(path: str | Path, parameters: Mapping[str, float] | None = None) -> Mod
     Raises :class:`~kinetostatics.errors.ModelError` listing every problem
     as ``FILE:LINE:COL: key.path: message``.
     """
-    return loads(read_text(path), file=str(path), parameters=parameters)
+    return _expanded(io.read(path, parameters))
 
 
 def loads(
     text: str, file: str = "<string>", parameters: Mapping[str, float] | None = None
 ) -> Model:
     """Read a mechanism from YAML text (see :func:`load`)."""
-    return build(compose(text, file), parameters)
+    return _expanded(io.read_string(text, file=file, parameters=parameters))
 
 
 def build(top: Entry, parameters: Mapping[str, float] | None = None) -> Model:
     """The model of a composed tree (:func:`kinetostatics.io.build`), expanded with
     its clearances.  Raises :class:`~kinetostatics.errors.ModelError`."""
-    model = io.build(top, parameters)
-    if not model.clearances:
-        return model
-    return expand(replace(model, clearances=()), model.clearances)
+    return _expanded(io.build(top, parameters))
