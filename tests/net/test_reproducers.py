@@ -88,3 +88,41 @@ def test_derivatives_round_off_of_small_steps_is_no_error():
     halving and failed the h^2 check (inf). The round-off floor is now taken off."""
     doc = yaml.safe_load((CASES / "roundoff_at_small_steps.yaml").read_text(encoding="utf-8"))
     assert R.relation_derivatives(doc, 1005742) <= R.TOLERANCE["derivatives"]
+
+
+def test_slide_moment_and_friction_method_near_a_dead_point():
+    """A slide's moment reaction is a force times an offset: near a dead point (reactions of
+    3.7e14 N) its round-off is that of the forces times the mechanism's size, and the
+    friction status says solved whether the fixed point or the homotopy found the solution
+    (seed 1004917, relations subset, rigid, units)."""
+    doc = yaml.safe_load((CASES / "near_dead_point_friction.yaml").read_text(encoding="utf-8"))
+    for name in ("subset", "rigid", "units"):
+        relation = getattr(R, f"relation_{name}")
+        assert relation(doc, 1004917) <= R.TOLERANCE[name], name
+
+
+def test_efficiency_where_the_effort_with_friction_is_near_zero():
+    """η = T/T_f carries the round-off of T and T_f divided by T_f (seed 1005557)."""
+    doc = yaml.safe_load((CASES / "efficiency_near_zero_effort.yaml").read_text(encoding="utf-8"))
+    assert R.relation_units(doc, 1005557) <= R.TOLERANCE["units"]
+
+
+def test_compare_still_sees_a_wrong_slide_moment_or_efficiency():
+    """The scales above do not blind the comparison on ordinary machines: a slide moment off
+    by 1e-5 of its column, or an efficiency off by 1e-5 of itself where the effort with
+    friction is at its peak, fails it."""
+    root = Path(__file__).resolve().parents[2] / "mechanisms"
+    for name, c, den in (
+        ("inverted_slider_crank.yaml", "slot.M", None),
+        ("rack_rocker.yaml", "guide.M", None),
+        ("slotting_machine.yaml", "motor.efficiency", "motor.torque_friction"),
+    ):
+        base = R.analyze(R.shipped(root / name))
+        cols = {n: np.asarray(base[n], float).copy() for n in base.names}
+        if den is None:
+            k = int(np.nanargmax(np.abs(cols[c])))
+            cols[c][k] += 1e-5 * np.abs(cols[c][k])
+        else:
+            k = int(np.nanargmax(np.abs(cols[den])))
+            cols[c][k] *= 1.0 + 1e-5
+        assert R.compare(R._Cols(cols), base) > 1e-7, (name, c)
