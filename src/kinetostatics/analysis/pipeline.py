@@ -32,7 +32,7 @@ from ..kinetics.conditions import Event, load_events, travel_extremes, whole_mot
 from ..kinetics.inverse import Kinetics, kinetics
 from ..kinetics.reactions import ground_reaction
 from ..model import Model
-from ..structure.system import System, build_system, jacobian
+from ..structure.system import System, jacobian, system_of
 from .reachable import solve_run
 from .results import Result, build_columns
 
@@ -65,7 +65,8 @@ def analyze(
     Parameters
     ----------
     model : Model or System
-        A loaded model, or a system built from one with ``build_system`` (reused).
+        A loaded model (its system is built once and reused while the model is
+        unchanged), or a system built from one with ``build_system``.
     positions : array, optional
         Driver coordinates (rad, or m for a prismatic driver) to analyse instead
         of ``analysis.positions``/``at`` (constant-speed drivers only).
@@ -104,7 +105,7 @@ def analyze(
         A NaN or infinity in the results that neither self-locking nor a singular
         position explains (a model built in Python beyond the file limits).
     """
-    system = model if isinstance(model, System) else build_system(model)
+    system = model if isinstance(model, System) else system_of(model)
     _require_motion_drivers(system)
     sched = schedule(system)
     t, given, full = _rows(system, sched, positions, times)

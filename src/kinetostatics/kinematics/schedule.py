@@ -74,7 +74,7 @@ def schedule(system: System) -> Schedule:
     """The schedule of ``system``'s motion drivers: the first starts at ``analysis.start``
     (or its law's own start), a later one at its own start or where the sketch puts it."""
     drivers = system.motion_drivers
-    q0 = initial_guess(system)
+    q0 = None
     starts = []
     for k, d in enumerate(drivers):
         if d.driver.motion.start is not None:  # a constant-speed law's own start, or a law's
@@ -82,6 +82,7 @@ def schedule(system: System) -> Schedule:
         elif k == 0:
             starts.append(system.model.analysis.start)
         else:
+            q0 = initial_guess(system) if q0 is None else q0
             qe = np.concatenate((q0, np.zeros(3)))
             i, j = system.ends[system.constraints.index(d)]
             starts.append(float(d.coordinate(qe[3 * i : 3 * i + 3], qe[3 * j : 3 * j + 3])))

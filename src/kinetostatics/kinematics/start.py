@@ -9,7 +9,6 @@ with it the groups' closed-form solvers (:func:`closed_form_solvers`).
 
 from __future__ import annotations
 
-import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -284,17 +283,14 @@ def _check_sketch(system: System, q: np.ndarray) -> None:
         raise exc
 
 
-_STARTS: weakref.WeakKeyDictionary[System, tuple] = weakref.WeakKeyDictionary()
-
-
 def start_pose(system: System, drive: Drive) -> tuple[np.ndarray, np.ndarray]:
     """(q, branch signatures) at t = 0 from the sketch; computed once per system
     and driver start (the pose depends on the model only)."""
     key = tuple(np.ravel(drive(np.array([0.0]))[0]))
-    cached = _STARTS.get(system)
+    cached = system.memo.get("start")
     if cached is None or cached[0] != key:
         cached = (key, *assemble_start(system, 0.0, drive))
-        _STARTS[system] = cached
+        system.memo["start"] = cached
     return cached[1].copy(), cached[2].copy()
 
 
@@ -303,9 +299,9 @@ def closed_form_solvers(system: System, drive: Drive):
 
     ``dyads.closed_form`` is looked up at the call (a benchmark switches it off)."""
     start_pose(system, drive)
-    cached = _STARTS[system]
+    cached = system.memo["start"]
     if len(cached) == 3:
         solvers = [dyads.closed_form(system, plan, cached[1]) for plan in system.plans]
         cached = cached + (None if any(s is None for s in solvers) else solvers,)
-        _STARTS[system] = cached
+        system.memo["start"] = cached
     return cached[3]

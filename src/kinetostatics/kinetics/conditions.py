@@ -13,7 +13,6 @@ whole motion, lies in a band) and ``angle`` (the first driver's coordinate lies 
 
 from __future__ import annotations
 
-import weakref
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -127,8 +126,6 @@ MOTION_GRID = 360
 load switches; the grid is fixed, independent of the analysed positions, and every local
 minimum and sign change on it is refined exactly."""
 
-_MOTION: weakref.WeakKeyDictionary[System, _Motion] = weakref.WeakKeyDictionary()
-
 
 def whole_motion(system: System, sched: Schedule | None = None):
     """The time span of the whole motion, on which travel extremes are taken:
@@ -167,7 +164,7 @@ class _Motion:
 
 
 def _motion_grid(system: System, sched: Schedule | None) -> _Motion:
-    m = _MOTION.get(system)
+    m = system.memo.get("motion")
     if m is not None:
         return m
     t0, t1, periodic, drive = whole_motion(system, sched)
@@ -191,7 +188,7 @@ def _motion_grid(system: System, sched: Schedule | None) -> _Motion:
         end = q[-1] + h * qd[-1] + 0.5 * h * h * qdd[-1]
         turns[2::3] = 2 * np.pi * np.round((end - q[0])[2::3] / (2 * np.pi))
     m = _Motion(t, q, qd, qdd, periodic, drive, turns)
-    _MOTION[system] = m
+    system.memo["motion"] = m
     return m
 
 

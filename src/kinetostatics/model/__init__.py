@@ -238,6 +238,11 @@ class Model:
     ideal: Model | None = field(default=None, compare=False, repr=False)  # before expansion
     sketch_where: Mapping[str, Location] = field(default_factory=dict, compare=False, repr=False)
 
+    def __getstate__(self):  # the compiled system cached by structure.system_of stays behind
+        state = dict(self.__dict__)
+        state.pop("_compiled", None)
+        return state
+
     @property
     def ground(self) -> Link:
         return next(link for link in self.links if link.ground)

@@ -8,8 +8,10 @@ each moving link's centre of mass; ground enters as zeros.
 
 from __future__ import annotations
 
+import pickle
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
@@ -22,6 +24,7 @@ __all__ = [
     "System",
     "GroupPlan",
     "build_system",
+    "system_of",
     "phi",
     "jacobian",
     "jacobian_blocks",
@@ -54,6 +57,12 @@ class System:
     plans: tuple[GroupPlan, ...]
     l_ref: float | np.ndarray  # longest link dimension, m ((V, 1) stacked)
     n_joint_rows: int = field(default=0)
+    memo: dict = field(default_factory=dict, repr=False)  # what later stages compute once per
+    # system (the start pose, the whole motion); held here, not in module-level tables, so it
+    # goes with the system; not pickled
+
+    def __getstate__(self):
+        return {**self.__dict__, "memo": {}}
 
     @property
     def n_q(self) -> int:
@@ -63,11 +72,11 @@ class System:
     def n_rows(self) -> int:
         return int(self.row_start[-1])
 
-    @property
+    @cached_property
     def joints(self) -> tuple[Joint, ...]:
         return tuple(c for c in self.constraints if not isinstance(c, DriverConstraint))
 
-    @property
+    @cached_property
     def motion_drivers(self) -> tuple[DriverConstraint, ...]:
         return tuple(c for c in self.constraints if isinstance(c, DriverConstraint))
 
@@ -103,6 +112,23 @@ def build_system(model: Model) -> System:
     return System(
         model, st, links, tuple(constraints), ends, row_start, tuple(plans), l_ref, n_joint_rows
     )
+
+
+def system_of(model: Model) -> System:
+    """``build_system(model)``, built once per model and kept on it (not pickled with it).
+
+    The model's pickle is its fingerprint: a model changed in place since (its arrays are
+    writable) is built again, so a cached system never describes another model."""
+    try:
+        key = pickle.dumps(model, protocol=pickle.HIGHEST_PROTOCOL)
+    except Exception:  # a model holding something unpicklable: no cache
+        return build_system(model)
+    hit = model.__dict__.get("_compiled")
+    if hit is not None and hit[0] == key:
+        return hit[1]
+    system = build_system(model)
+    object.__setattr__(model, "_compiled", (key, system))
+    return system
 
 
 def _reference_length(model: Model) -> float | np.ndarray:
