@@ -21,9 +21,17 @@ from .errors import (
 from .model import Model
 from .outputs.loading import load, loads
 
+try:  # the installed distribution's version (pyproject.toml)
+    from importlib.metadata import PackageNotFoundError, version
+
+    __version__ = version("kinetostatics")
+except PackageNotFoundError:  # run from a source tree that is not installed
+    __version__ = "0+unknown"
+
 _aliases.install()  # the import paths from before the layer packages (docs/architecture.md)
 
 __all__ = [
+    "__version__",
     "load",
     "loads",
     "analyze",
