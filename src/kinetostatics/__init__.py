@@ -7,6 +7,7 @@
 """
 
 from . import _aliases
+from .base.version import VERSION
 from .errors import (
     AssemblyError,
     KinetostaticsError,
@@ -21,12 +22,7 @@ from .errors import (
 from .model import Model
 from .outputs.loading import load, loads
 
-try:  # the installed distribution's version (pyproject.toml)
-    from importlib.metadata import PackageNotFoundError, version
-
-    __version__ = version("kinetostatics")
-except PackageNotFoundError:  # run from a source tree that is not installed
-    __version__ = "0+unknown"
+__version__ = VERSION  # the installed distribution's (pyproject.toml)
 
 _aliases.install()  # the import paths from before the layer packages (docs/architecture.md)
 

@@ -164,6 +164,7 @@ EXTENSIONS: tuple[str, ...] = (
     "kinetostatics.cli.pictures",
     "kinetostatics.cli.dynamics",
     "kinetostatics.cli.batch",
+    "kinetostatics.cli.formats",
 )
 
 
@@ -174,9 +175,9 @@ def main(argv: list[str] | None = None) -> int:
         prog="kinetostatics",
         description="Kinetostatic analysis of planar linkages described in YAML.",
     )
-    from .. import __version__
+    from ..base.version import VERSION
 
-    parser.add_argument("--version", action="version", version=f"kinetostatics {__version__}")
+    parser.add_argument("--version", action="version", version=f"kinetostatics {VERSION}")
     sub = parser.add_subparsers(dest="command", required=True)
     p = sub.add_parser("check", help="structure: mobility, loops, Assur groups")
     p.add_argument("file", help="mechanism YAML file")
