@@ -7,6 +7,7 @@
 """
 
 from . import _aliases
+from .base.version import VERSION
 from .errors import (
     AssemblyError,
     KinetostaticsError,
@@ -21,9 +22,12 @@ from .errors import (
 from .model import Model
 from .outputs.loading import load, loads
 
+__version__ = VERSION  # the installed distribution's (pyproject.toml)
+
 _aliases.install()  # the import paths from before the layer packages (docs/architecture.md)
 
 __all__ = [
+    "__version__",
     "load",
     "loads",
     "analyze",

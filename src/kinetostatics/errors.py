@@ -134,6 +134,11 @@ def output_error(exc: OSError, what: str) -> OutputError:
     return OutputError(f"{what}: cannot write {path}: {reason}" if path else f"{what}: {reason}")
 
 
+class MissingPackageError(KinetostaticsError, ImportError):
+    """An optional third-party package that a feature needs is not installed; the
+    message names the feature and the ``pip install`` line that adds it."""
+
+
 class NearSingularWarning(UserWarning):
     """A group is near a singular position (large condition number)."""
 

@@ -295,7 +295,7 @@ def _kinetic_columns(system: System, put, q, x0, fric, power) -> None:
     put([(f"power.{n}", "W") for n in names], lambda: tuple(power[n] for n in names))
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class Result:
     """Named arrays over the positions, with the raw arrays for advanced use.
 
@@ -303,6 +303,9 @@ class Result:
     names in CSV order; ``result.units[name]`` the unit.  Raw: ``t`` (s),
     ``coordinate`` (rad or m), ``q``, ``qd``, ``qdd`` ``(n_pos, n_q)`` and
     ``lam`` ``(n_pos, n_lam)`` (frictionless multipliers and driver efforts).
+
+    Tables (:mod:`.frames`, naming rule ``member.quantity``): :meth:`members`,
+    :meth:`select`, :meth:`to_pandas`, :meth:`to_xarray`.
     """
 
     system: System
@@ -328,6 +331,46 @@ class Result:
 
     def __len__(self) -> int:
         return len(self.t)
+
+    def __repr__(self) -> str:
+        from .frames import short_repr
+
+        return short_repr(self)
+
+    def _repr_html_(self) -> str:
+        from .frames import html_repr
+
+        return html_repr(self)
+
+    def members(self) -> dict[str, list[str]]:
+        """``{member: [column names]}``: the columns of each link, joint, driver, load…
+        (a name is ``member.quantity``, split at the first dot; :mod:`.frames`)."""
+        from .frames import members
+
+        return members(self)
+
+    def select(self, member: str) -> dict[str, np.ndarray]:
+        """``{quantity: array}`` of one member's columns: ``select("rocker")["B.vx"]``
+        is ``result["rocker.B.vx"]``."""
+        from .frames import select
+
+        return select(self, member)
+
+    def to_pandas(self, multiindex: bool = False):
+        """A pandas DataFrame of the columns, units in ``df.attrs["units"]``;
+        ``multiindex=True`` splits ``rocker.y`` into ``("rocker", "y")``.  Needs
+        ``pip install 'kinetostatics[pandas]'``."""
+        from .frames import to_pandas
+
+        return to_pandas(self, multiindex)
+
+    def to_xarray(self):
+        """An xarray Dataset over the dimension ``position`` (``time``, ``angle`` or
+        ``stroke``, ``travel`` as coordinates), units as attributes.  Needs
+        ``pip install 'kinetostatics[xarray]'``."""
+        from .frames import to_xarray
+
+        return to_xarray(self)
 
     @cached_property
     def checks(self):

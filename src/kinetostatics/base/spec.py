@@ -20,6 +20,7 @@ import yaml
 
 from ..errors import Collector, Location, did_you_mean
 from . import expressions, units
+from .keys import Keys
 from .limits import MAGNITUDE
 
 __all__ = [
@@ -165,6 +166,11 @@ class Entry:
                 self.error(f"missing required key '{key}'")
                 ok = False
         return ok
+
+    def check(self, keys: Keys) -> bool:
+        """:meth:`check_keys` against a key table (:mod:`.keys`), the one the JSON Schema
+        of a mechanism file is made from."""
+        return self.check_keys(required=keys.required, optional=keys.names)
 
     def seq(self) -> list[Entry] | None:
         if not isinstance(self.node, yaml.SequenceNode):
@@ -367,6 +373,9 @@ class _Missing(Entry):
 
     def require(self, key: str) -> Entry:
         return _Missing(self, key)
+
+    def check(self, keys: Keys) -> bool:
+        return False
 
     def seq(self) -> None:
         return None

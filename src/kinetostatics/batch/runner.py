@@ -109,35 +109,31 @@ def _error_row(exc: BaseException) -> dict[str, Any]:
 
 # -- progress --------------------------------------------------------------------------
 class _Progress:
-    """A one-line progress bar on stderr: done/total, variants/s, ETA, failures."""
+    """The progress bar on stderr (tqdm): done/total, variants/s, ETA, failures."""
 
     def __init__(self, total: int, done: int, enabled: bool, stream=None):
-        self.total, self.start_done, self.done = total, done, done
-        self.enabled, self.stream = enabled, stream or sys.stderr
-        self.t0 = self.last = time.perf_counter()
+        from tqdm import tqdm
+
         self.failed = 0
+        self.bar = tqdm(
+            total=total,
+            initial=done,
+            desc="batch",
+            unit=" variants",
+            file=stream or sys.stderr,
+            disable=not enabled,
+            mininterval=0.2,
+            dynamic_ncols=True,
+        )
 
     def update(self, n: int, failed: int) -> None:
-        self.done += n
         self.failed += failed
-        now = time.perf_counter()
-        if self.enabled and (now - self.last > 0.2 or self.done == self.total):
-            self.last = now
-            rate = (self.done - self.start_done) / max(now - self.t0, 1e-9)
-            eta = (self.total - self.done) / rate if rate > 0 else math.inf
-            frac = self.done / self.total if self.total else 1.0
-            bar = "#" * int(30 * frac)
-            eta_s = time.strftime("%H:%M:%S", time.gmtime(eta)) if math.isfinite(eta) else "?"
-            self.stream.write(
-                f"\rbatch [{bar:<30}] {self.done}/{self.total} {100 * frac:3.0f}% "
-                f"{rate:7.1f} variants/s ETA {eta_s} failed {self.failed} "
-            )
-            self.stream.flush()
+        if failed:
+            self.bar.set_postfix(failed=self.failed, refresh=False)
+        self.bar.update(n)
 
     def close(self) -> None:
-        if self.enabled:
-            self.stream.write("\n")
-            self.stream.flush()
+        self.bar.close()
 
 
 # -- the batch -------------------------------------------------------------------------

@@ -164,6 +164,7 @@ EXTENSIONS: tuple[str, ...] = (
     "kinetostatics.cli.pictures",
     "kinetostatics.cli.dynamics",
     "kinetostatics.cli.batch",
+    "kinetostatics.cli.formats",
 )
 
 
@@ -174,6 +175,9 @@ def main(argv: list[str] | None = None) -> int:
         prog="kinetostatics",
         description="Kinetostatic analysis of planar linkages described in YAML.",
     )
+    from ..base.version import VERSION
+
+    parser.add_argument("--version", action="version", version=f"kinetostatics {VERSION}")
     sub = parser.add_subparsers(dest="command", required=True)
     p = sub.add_parser("check", help="structure: mobility, loops, Assur groups")
     p.add_argument("file", help="mechanism YAML file")
@@ -201,10 +205,11 @@ def main(argv: list[str] | None = None) -> int:
     except KinetostaticsError as exc:
         from ..errors import printable
 
-        file = printable(str(args.file))
+        file = printable(str(getattr(args, "file", "")))
         for line in str(exc).splitlines():
             line = printable(line)  # no control characters reach the terminal
-            print(f"kinetostatics: {line}" if not line.startswith(file) else line, file=sys.stderr)
+            prefixed = file and line.startswith(file)
+            print(line if prefixed else f"kinetostatics: {line}", file=sys.stderr)
         return 2
     except BrokenPipeError:  # the reader went away (`kinetostatics check FILE | head`)
         import os

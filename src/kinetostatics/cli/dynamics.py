@@ -6,6 +6,7 @@ Imports neither scipy nor matplotlib at import time (``run`` stays light).
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 from ..errors import KinetostaticsError
@@ -29,6 +30,12 @@ def register(sub) -> None:
     p.add_argument("file", help="mechanism YAML file")
     p.add_argument("--until", type=float, required=True, help="end time, s")
     p.add_argument("--out", default="out", help="output folder (default: out)")
+    p.add_argument(
+        "--progress",
+        action="store_true",
+        default=None,
+        help="show the simulated time on stderr even when it is not a terminal",
+    )
     p.add_argument(
         "--method",
         default="RK45",
@@ -144,6 +151,7 @@ def _simulate(args) -> int:
         rtol=args.rtol,
         atol=args.atol,
         mark=mark,
+        progress=sys.stderr.isatty() if args.progress is None else args.progress,
     )
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)

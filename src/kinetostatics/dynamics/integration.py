@@ -32,6 +32,7 @@ def simulate(
     stop_at: float | None = None,
     mark: float | None = None,
     ref_speed: float | None = None,
+    progress: bool = False,
 ) -> Simulation:
     """Integrate the motion of the free (``effort:``) coordinates from t = 0 to ``until`` s.
 
@@ -51,6 +52,9 @@ def simulate(
     mark : float, optional
         Record the times at which the first free coordinate passes ``mark`` (mod 2π
         for a revolute): the cycle boundaries, ``Simulation.marks``.
+    progress : bool
+        Show the simulated time on stderr (a tqdm bar, moved at the end of each piece
+        between load switches).
     """
     from scipy.integrate import solve_ivp
 
@@ -78,14 +82,34 @@ def simulate(
         mark_event=_mark_event(dyn, mark),
         stop_event=None if stop_at is None else _event(lambda tt, yy: yy[0] - stop_at, True),
     )
-    for _ in range(100_000):
-        if run.t >= until or run.step():
-            break
-    else:
-        raise RuntimeError("too many integration pieces (chattering load switches?)")
+    bar = _progress_bar(until, progress)
+    try:
+        for _ in range(100_000):
+            done = run.t >= until or run.step()
+            bar.update(min(run.t, until) - bar.n)  # a piece ends at a load switch or mark
+            if done:
+                break
+        else:
+            raise RuntimeError("too many integration pieces (chattering load switches?)")
+    finally:
+        bar.close()
     sim.nfev = dyn.evaluations - evaluations0
     sim.marks = np.array(run.marks)
     return sim
+
+
+def _progress_bar(until: float, enabled: bool):
+    """The simulated time so far, on stderr (tqdm), moved at the end of each piece."""
+    from tqdm import tqdm
+
+    return tqdm(
+        total=until,
+        desc="simulate",
+        disable=not enabled,
+        bar_format="{desc}: {percentage:3.0f}%|{bar}| {n:.4g}/{total:.4g} s [{elapsed}]",
+        mininterval=0.2,
+        dynamic_ncols=True,
+    )
 
 
 def _checked(until, rtol, atol, max_step, stop_at, mark, ref_speed, initial):

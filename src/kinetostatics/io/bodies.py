@@ -7,11 +7,22 @@ from __future__ import annotations
 import numpy as np
 import yaml
 
+from ..base.keys import NUMBER, VECTOR, Keys
 from ..base.limits import MAGNITUDE, MAX_LINKS
 from ..base.spec import NAME, Entry
 from ..errors import KinetostaticsError, Location, did_you_mean
 from ..joints import Joint, Revolute, joint_type
 from ..model import Link
+
+LINK_KEYS = Keys(
+    {
+        "points": {"type": "object", "additionalProperties": VECTOR},
+        "mass": NUMBER,
+        "weight": NUMBER,
+        "com": VECTOR,
+        "inertia": NUMBER,
+    }
+)
 
 
 class BodySections:
@@ -54,9 +65,7 @@ class BodySections:
         links = []
         for name, e in section.items():
             link = None
-            if self._claim(section, name, "link") and e.check_keys(
-                optional=("points", "mass", "weight", "com", "inertia")
-            ):
+            if self._claim(section, name, "link") and e.check(LINK_KEYS):
                 link = self._link(name, e, gravity, section.key_where(name))
             if link is None:
                 self.broken["link"].add(name)
@@ -189,7 +198,7 @@ class BodySections:
         ``<name>_a`` = [hub, a], ``<name>_b`` = [hub, b], ... at the points of
         ``points`` (default: the point ``<name>`` on each link), each with the
         pin's ``friction`` (docs/yaml.md, "Pins shared by three or more links")."""
-        e.check_keys(required=("type", "links"), optional=("points", "friction"))
+        e.check(Revolute.spec_keys)
         le = e["links"]
         items = le.seq() or []
         if len(items) < 2:

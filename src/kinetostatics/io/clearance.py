@@ -4,9 +4,33 @@ linkage, so it is not done here: :func:`kinetostatics.outputs.loading.load` does
 
 from __future__ import annotations
 
+from ..base.keys import NUMBER, Keys, enum, list_of, one_of
 from ..errors import did_you_mean
 from ..model import Clearance
 from ..model.contact_law import ContactLaw
+
+CLEARANCE_MODELS = ("prescribed", "contact")
+CONTACT_KEYS = Keys(
+    {
+        "journal_radius": NUMBER,
+        "young": one_of(NUMBER, list_of(NUMBER)),
+        "poisson": one_of(NUMBER, list_of(NUMBER)),
+        "restitution": NUMBER,
+        "stiffness": NUMBER,
+        "floor": NUMBER,
+    }
+)
+CLEARANCE_KEYS = Keys(
+    {
+        "size": NUMBER,
+        "model": enum(CLEARANCE_MODELS),
+        "speed": NUMBER,
+        "acceleration": NUMBER,
+        "angle": NUMBER,
+        "contact": CONTACT_KEYS,
+    },
+    required=("size",),
+)
 
 
 class ClearanceSection:
@@ -34,15 +58,13 @@ class ClearanceSection:
             if by_name[name].kind != "revolute":
                 e.error(f"clearance applies to a revolute; '{name}' is {by_name[name].kind}")
                 continue
-            e.check_keys(
-                required=("size",), optional=("model", "speed", "acceleration", "angle", "contact")
-            )
+            e.check(CLEARANCE_KEYS)
             size = e.require("size").number("length", minimum=0.0)
             kind = e["model"].text() if e.get("model") is not None else "prescribed"
-            if kind not in (None, "prescribed", "contact"):
+            if kind is not None and kind not in CLEARANCE_MODELS:
                 e["model"].error(
                     f"unknown clearance model '{kind}'"
-                    f"{did_you_mean(kind, ('prescribed', 'contact'))}; "
+                    f"{did_you_mean(kind, CLEARANCE_MODELS)}; "
                     "known: contact, prescribed"
                 )
                 continue
@@ -73,9 +95,7 @@ class ClearanceSection:
 def read_contact(e):
     """A :class:`ContactLaw` from the YAML entry ``contact: {journal_radius, young,
     poisson, restitution, stiffness, floor}`` (young in Pa, one value or [E_i, E_j])."""
-    if not e.check_keys(
-        optional=("journal_radius", "young", "poisson", "restitution", "stiffness", "floor")
-    ):
+    if not e.check(CONTACT_KEYS):
         return None
     kw = {}
     if e.get("journal_radius") is not None:

@@ -6,11 +6,37 @@ from __future__ import annotations
 import numpy as np
 
 from ..base import units
+from ..base.keys import NAME, NUMBER, Keys, list_of, names, one_of
 from ..base.limits import SPEED_RANGE
 from ..base.spec import Entry
 from ..errors import Location
 from ..joints import Joint
 from ..model import Driver, EffortLaw, MotionLaw
+from .laws import CONSTANT_KEYS, MOTION
+
+# ``effort:`` as a mapping: exactly one of these, each with its own keys
+EFFORT_KEYS = Keys(
+    {
+        "table": Keys({"at": list_of(NUMBER), "value": list_of(NUMBER)}, required=("at", "value")),
+        "motor": Keys(
+            {"torque": NUMBER, "speed": NUMBER, "slip": NUMBER},
+            required=("torque", "speed", "slip"),
+        ),
+        "curve": Keys(
+            {"speed": list_of(NUMBER), "torque": list_of(NUMBER)}, required=("speed", "torque")
+        ),
+    }
+)
+DRIVER_KEYS = Keys(
+    {
+        "joint": NAME,
+        "motion": MOTION,
+        "effort": one_of(NUMBER, EFFORT_KEYS),
+        "points": names(2),
+        "balance_at": NAME,
+    },
+    required=("joint",),
+)
 
 
 class DriverSections:
@@ -29,9 +55,7 @@ class DriverSections:
         drivers = []
         for name, e in section.items():
             driver = None
-            if self._claim(section, name, "driver") and e.check_keys(
-                required=("joint",), optional=("motion", "effort", "points", "balance_at")
-            ):
+            if self._claim(section, name, "driver") and e.check(DRIVER_KEYS):
                 driver = self._driver(name, e, links, joints, points, section.key_where(name))
             if driver is None:
                 self.broken["driver"].add(name)
@@ -63,7 +87,7 @@ class DriverSections:
             if motion is None:
                 return None
         elif m is not None:
-            if not m.check_keys(required=("speed",)):
+            if not m.check(CONSTANT_KEYS):
                 return None
             motion = self._constant_speed(m, joint)
             if motion is None:
@@ -139,8 +163,8 @@ class DriverSections:
         unit = "torque" if joint.angular else "force"
         if not f.is_mapping:
             return f.number(unit)
-        kinds = ("table", "motor", "curve")
-        if not f.check_keys(optional=kinds):
+        kinds = EFFORT_KEYS.names
+        if not f.check(EFFORT_KEYS):
             return None
         given = [k for k in kinds if f.get(k) is not None]
         if len(given) != 1:
@@ -163,7 +187,7 @@ class DriverSections:
             )
             return None
         if given[0] == "motor":
-            if not e.check_keys(required=("torque", "speed", "slip")):
+            if not e.check(EFFORT_KEYS.shapes["motor"]):
                 return None
             torque, speed = e["torque"].number(unit), e["speed"].number(speed_kind)
             slip = e["slip"].number(None, minimum=0.0, strict=True)
@@ -173,8 +197,8 @@ class DriverSections:
             if None in (torque, speed, slip):
                 return None
             return EffortLaw("motor", value=torque, speed=speed, slip=slip)
-        keys = ("at", "value") if given[0] == "table" else ("speed", "torque")
-        if not e.check_keys(required=keys):
+        keys = EFFORT_KEYS.shapes[given[0]].names  # (x, y): at, value or speed, torque
+        if not e.check(EFFORT_KEYS.shapes[given[0]]):
             return None
         xs, ys = e[keys[0]].seq(), e[keys[1]].seq()
         if xs is None or ys is None:

@@ -6,11 +6,43 @@ from __future__ import annotations
 import numpy as np
 
 from ..base import units
+from ..base.keys import BOOLEAN, NAME, NUMBER, Keys, enum, list_of
 from ..base.limits import MAGNITUDE, MAX_LAW_ACCELERATION, MAX_TURNS, SPEED_RANGE
 from ..base.spec import Entry
 from ..errors import did_you_mean
 from ..joints import Joint
 from ..model.motion import HarmonicLaw, PolynomialLaw, TableLaw
+
+# ``motion:`` with a ``law:``, per law (docs/yaml.md); without one, CONSTANT_KEYS
+LAW_KEYS = {
+    "constant": Keys({"law": NAME, "speed": NUMBER}, required=("speed",)),
+    "harmonic": Keys(
+        {"law": NAME, "centre": NUMBER, "amplitude": NUMBER, "period": NUMBER, "phase": NUMBER},
+        required=("centre", "amplitude", "period"),
+    ),
+    "polynomial": Keys(
+        {"law": NAME, "coefficients": list_of(NUMBER), "duration": NUMBER},
+        required=("coefficients", "duration"),
+    ),
+    "table": Keys(
+        {"law": NAME, "time": list_of(NUMBER), "value": list_of(NUMBER), "periodic": BOOLEAN},
+        required=("time", "value"),
+    ),
+}
+CONSTANT_KEYS = Keys({"speed": NUMBER}, required=("speed",))
+# the shape of ``motion:``: a law's keys where ``law`` is given, else a constant speed
+MOTION = {
+    "type": "object",
+    "if": {"required": ["law"]},
+    "then": {
+        "properties": {"law": enum(LAW_KEYS)},
+        "allOf": [
+            {"if": {"properties": {"law": {"const": law}}}, "then": keys}
+            for law, keys in LAW_KEYS.items()
+        ],
+    },
+    "else": CONSTANT_KEYS,
+}
 
 
 class LawSections:
@@ -23,12 +55,7 @@ class LawSections:
     def _motion_law(self, m: Entry, joint: Joint, links=()):
         """``motion: {law: constant | harmonic | polynomial | table, ...}`` (see docs/yaml.md)."""
         law = m["law"].text()
-        keys = {
-            "constant": (("speed",), ()),
-            "harmonic": (("centre", "amplitude", "period"), ("phase",)),
-            "polynomial": (("coefficients", "duration"), ()),
-            "table": (("time", "value"), ("periodic",)),
-        }
+        keys = LAW_KEYS
         if law not in keys:
             if law is not None:
                 m["law"].error(
@@ -36,8 +63,7 @@ class LawSections:
                     f"expected one of: {', '.join(keys)}"
                 )
             return None
-        required, optional = keys[law]
-        if not m.check_keys(required=required, optional=("law",) + required + optional):
+        if not m.check(keys[law]):
             return None
         if law == "constant":
             return self._constant_speed(m, joint)

@@ -5,9 +5,30 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..base.keys import NAME, NUMBER, VECTOR, Keys, enum, list_of, one_of
 from ..base.spec import Entry
 from ..errors import Location, did_you_mean
 from ..model import Condition, Load, MotionLaw
+
+LOAD_TYPES = ("force", "torque", "resistance")
+CONDITION_KEYS = Keys(
+    {"moving": VECTOR, "travel": VECTOR, "along": VECTOR, "angle": VECTOR, "point": NAME}
+)
+LOAD_TABLE_KEYS = Keys(
+    {"at": list_of(NUMBER), "value": list_of(one_of(NUMBER, VECTOR))}, required=("at", "value")
+)
+LOAD_KEYS = Keys(
+    {
+        "type": enum(LOAD_TYPES),
+        "link": NAME,
+        "value": one_of(NUMBER, VECTOR),
+        "table": LOAD_TABLE_KEYS,
+        "point": NAME,
+        "axis": VECTOR,
+        "active": list_of(CONDITION_KEYS),
+    },
+    required=("type", "link"),
+)
 
 
 class LoadSections:
@@ -24,9 +45,7 @@ class LoadSections:
         out = []
         for name, e in section.items():
             load = None
-            if self._claim(section, name, "load") and e.check_keys(
-                required=("type", "link"), optional=("value", "table", "point", "axis", "active")
-            ):
+            if self._claim(section, name, "load") and e.check(LOAD_KEYS):
                 load = self._load(name, e, links, joints, points, drivers, section.key_where(name))
             if load is None:
                 self.broken["load"].add(name)
@@ -38,7 +57,7 @@ class LoadSections:
         self, name: str, e: Entry, links, joints, points, drivers, where: Location
     ) -> Load | None:
         link_names = {link.name: link for link in links}
-        kinds = ("force", "torque", "resistance")
+        kinds = LOAD_TYPES
         kind = e["type"].text()
         if kind not in kinds:
             if kind is not None:
@@ -111,7 +130,7 @@ class LoadSections:
 
     def _table(self, e: Entry, kind: str, joints, drivers) -> tuple[np.ndarray, np.ndarray] | None:
         """``table: {at: [driver coordinates], value: [values]}``, sorted by coordinate."""
-        if not e.check_keys(required=("at", "value")):
+        if not e.check(LOAD_TABLE_KEYS):
             return None
         motion = [d for d in drivers if d.motion is not None]
         joints = {j.name: j for j in joints}
@@ -165,7 +184,7 @@ class LoadSections:
             return None
         out = []
         for c in items:
-            if not c.check_keys(optional=("moving", "travel", "along", "angle", "point")):
+            if not c.check(CONDITION_KEYS):
                 return None
             kinds = [k for k in ("moving", "travel", "angle") if c.get(k) is not None]
             if not kinds:

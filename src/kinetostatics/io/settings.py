@@ -6,10 +6,22 @@ from __future__ import annotations
 import numpy as np
 
 from ..base import units
+from ..base.keys import BOOLEAN, NUMBER, Keys, list_of
 from ..base.limits import MAX_POSITIONS, MAX_TRAVEL, MAX_TURNS
 from ..base.spec import Entry
 from ..errors import did_you_mean
 from ..model import Analysis, Driver, FlywheelSpec, MotionLaw
+
+FLYWHEEL_KEYS = Keys({"delta": NUMBER, "ratio": NUMBER, "friction": BOOLEAN}, required=("delta",))
+ANALYSIS_KEYS = Keys(
+    {
+        "start": NUMBER,
+        "sweep": NUMBER,
+        "positions": NUMBER,
+        "at": list_of(NUMBER),
+        "events": BOOLEAN,
+    }
+)
 
 
 class SettingSections:
@@ -22,9 +34,7 @@ class SettingSections:
     def _flywheel(self) -> FlywheelSpec | None:
         """``flywheel: {delta, ratio, friction}``: size a flywheel for δ (see docs/dynamics.md)."""
         f = self.top.get("flywheel")
-        if f is None or not f.check_keys(
-            required=("delta",), optional=("delta", "ratio", "friction")
-        ):
+        if f is None or not f.check(FLYWHEEL_KEYS):
             return None
         delta = f["delta"].number(None, minimum=0.0, strict=True)
         if delta is not None and not delta < 1.0:
@@ -83,7 +93,7 @@ class SettingSections:
         motion = [d for d in drivers if d.motion is not None]
         if motion and not isinstance(motion[0].motion, MotionLaw):
             return self._law_analysis(a, motion[0])
-        if a is None or not a.check_keys(optional=("start", "sweep", "positions", "at", "events")):
+        if a is None or not a.check(ANALYSIS_KEYS):
             return Analysis()
         by_name = {j.name: j for j in joints}
         kind = "angle" if not motion or by_name[motion[0].joint].angular else "length"
@@ -170,7 +180,7 @@ class SettingSections:
     def _law_analysis(self, a: Entry | None, driver: Driver) -> Analysis:
         """``analysis`` when the first driver follows a motion law: the law fixes where the run
         starts and what it covers, so only ``positions`` and ``events`` apply."""
-        if a is None or not a.check_keys(optional=("start", "sweep", "positions", "at", "events")):
+        if a is None or not a.check(ANALYSIS_KEYS):
             return Analysis(driver.motion.start)
         for key in ("start", "sweep", "at"):
             if a.get(key) is not None:

@@ -12,8 +12,12 @@ import math
 
 import numpy as np
 
+from ..base.keys import NUMBER, Keys, enum
+
 __all__ = [
     "FLANKS",
+    "MESH_FRICTION_KEYS",
+    "MESH_KEYS",
     "MeshFriction",
     "read_flank",
     "read_length",
@@ -24,6 +28,14 @@ __all__ = [
 ]
 
 FLANKS = {"ccw": 1, "cw": -1}
+MESH_FRICTION_KEYS = Keys({"efficiency": NUMBER, "coefficient": NUMBER})
+# the keys a gear and a rack share, after their own
+MESH_KEYS = {
+    "pressure_angle": NUMBER,
+    "flank": enum(FLANKS),
+    "phase": NUMBER,
+    "friction": MESH_FRICTION_KEYS,
+}
 
 
 def wrap(x, period):
@@ -94,7 +106,7 @@ def read_loss(entry, loss_per_mu: float | None) -> float | None:
     """
     if (f := entry.get("friction")) is None:
         return 0.0
-    if not f.check_keys(optional=("efficiency", "coefficient")):
+    if not f.check(MESH_FRICTION_KEYS):
         return None
     eff, mu = f.get("efficiency"), f.get("coefficient")
     if (eff is None) == (mu is None):

@@ -29,6 +29,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
+from ..base.keys import NAME, VECTOR, Keys, names
 from ..errors import Location, did_you_mean
 
 if TYPE_CHECKING:
@@ -127,6 +128,10 @@ class Glyph:
     lines: tuple[Line, ...] = ()
 
 
+# ``axis:`` of a slide (prismatic, rack): a point and a direction, or two points on link i
+AXIS_KEYS = Keys({"point": NAME, "direction": VECTOR, "points": names(2)})
+
+
 @dataclass(frozen=True)
 class Joint(ABC):
     """Kinematic pair between links ``links = (i, j)``; one subclass per type.
@@ -143,6 +148,9 @@ class Joint(ABC):
     letter: ClassVar[str] = "?"  # pair letter in Assur-group labels such as RRP (one character)
     reports_stroke: ClassVar[bool] = False  # undriven: its stroke and time ratio are an output
     pin: ClassVar[bool] = False  # drawn as a pin at glyph().point; a bearing (polar diagrams)
+    # the keys of ``joints.<name>`` that from_spec checks, with their shapes (base/keys.py):
+    # the JSON Schema of a mechanism file is made from them; None: any keys
+    spec_keys: ClassVar[Keys | None] = None
 
     name: str
     links: tuple[str, str]

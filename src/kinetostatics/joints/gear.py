@@ -109,7 +109,9 @@ from typing import Any, ClassVar
 import numpy as np
 
 from ..base.geometry import dot, perp, rotate
+from ..base.keys import NAME, NUMBER, Keys, enum, names
 from ._mesh import (
+    MESH_KEYS,
     MeshFriction,
     read_flank,
     read_length,
@@ -139,6 +141,19 @@ class Gear(MeshFriction, Joint, kind="gear"):
     reaction_labels: ClassVar[tuple[str, ...]] = ("F", "Fx", "Fy")
     angular: ClassVar[bool] = False  # the rolling coordinate is an arc length
     letter: ClassVar[str] = "G"
+    spec_keys: ClassVar[Keys] = Keys(
+        {
+            "type": NAME,
+            "links": names(2),
+            "centres": names(2),
+            "teeth": {"type": "array", "items": NUMBER, "minItems": 2, "maxItems": 2},
+            "radii": {"type": "array", "items": NUMBER, "minItems": 2, "maxItems": 2},
+            "module": NUMBER,
+            "mesh": enum(MESHES),
+            **MESH_KEYS,
+        },
+        required=("type", "links", "centres", "teeth"),
+    )
 
     c_i: np.ndarray = None
     c_j: np.ndarray = None
@@ -155,10 +170,7 @@ class Gear(MeshFriction, Joint, kind="gear"):
     # -- YAML ---------------------------------------------------------------
     @classmethod
     def from_spec(cls, name, entry, links, points):
-        entry.check_keys(
-            required=("type", "links", "centres", "teeth"),
-            optional=("radii", "module", "mesh", "pressure_angle", "flank", "phase", "friction"),
-        )
+        entry.check(cls.spec_keys)
         names = tuple(entry.require("centres").names(2))
         c_i = entry.point(links[0], names[0], points, key="centres", index=0)
         c_j = entry.point(links[1], names[1], points, key="centres", index=1)

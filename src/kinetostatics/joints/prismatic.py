@@ -8,7 +8,10 @@ from typing import Any, ClassVar
 import numpy as np
 
 from ..base.geometry import dot, perp, rotate, wrap_angle
-from .base import Anchor, Block, Glyph, Joint, Line
+from ..base.keys import NAME, NUMBER, Keys, names
+from .base import AXIS_KEYS, Anchor, Block, Glyph, Joint, Line
+
+FRICTION_KEYS = Keys({"coefficient": NUMBER}, required=("coefficient",))
 
 __all__ = ["Prismatic"]
 
@@ -30,6 +33,18 @@ class Prismatic(Joint, kind="prismatic"):
     reaction_labels: ClassVar[tuple[str, ...]] = ("Fx", "Fy", "N", "M")
     angular: ClassVar[bool] = False
     letter: ClassVar[str] = "P"
+    spec_keys: ClassVar[Keys] = Keys(
+        {
+            "type": NAME,
+            "links": names(2),
+            "axis": AXIS_KEYS,
+            "point": NAME,
+            "angle": NUMBER,
+            "length": NUMBER,
+            "friction": FRICTION_KEYS,
+        },
+        required=("type", "links", "axis"),
+    )
     reports_stroke: ClassVar[bool] = True
 
     a: np.ndarray = None
@@ -44,12 +59,10 @@ class Prismatic(Joint, kind="prismatic"):
     # -- YAML ---------------------------------------------------------------
     @classmethod
     def from_spec(cls, name, entry, links, points):
-        entry.check_keys(
-            required=("type", "links", "axis"), optional=("point", "angle", "length", "friction")
-        )
+        entry.check(cls.spec_keys)
         axis, a, u, axis_names = entry.require("axis"), None, None, ()
         if axis is not None:
-            axis.check_keys(optional=("point", "direction", "points"))
+            axis.check(AXIS_KEYS)
             if axis.get("points") is not None:
                 pa, pb = axis["points"].names(2) or (None, None)
                 a = axis.point(links[0], pa, points, key="points", index=0)
@@ -71,7 +84,7 @@ class Prismatic(Joint, kind="prismatic"):
             length = entry["length"].number("length", minimum=0.0, strict=True)
         f = 0.0
         if (fr := entry.get("friction")) is not None:
-            fr.check_keys(required=("coefficient",))
+            fr.check(FRICTION_KEYS)
             f = fr["coefficient"].number(None, minimum=0.0) if fr.get("coefficient") else 0.0
         if a is None or u is None or p is None or angle is None or f is None:
             return None

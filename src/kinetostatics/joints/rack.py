@@ -70,7 +70,9 @@ from typing import Any, ClassVar
 import numpy as np
 
 from ..base.geometry import dot, perp, rotate
+from ..base.keys import NAME, NUMBER, Keys, names
 from ._mesh import (
+    MESH_KEYS,
     MeshFriction,
     read_flank,
     read_length,
@@ -79,7 +81,7 @@ from ._mesh import (
     read_teeth,
     wrap,
 )
-from .base import Anchor, Circle, Glyph, Joint, Line
+from .base import AXIS_KEYS, Anchor, Circle, Glyph, Joint, Line
 
 __all__ = ["Rack"]
 
@@ -98,6 +100,19 @@ class Rack(MeshFriction, Joint, kind="rack"):
     reaction_labels: ClassVar[tuple[str, ...]] = ("F", "Fx", "Fy")
     angular: ClassVar[bool] = False  # the coordinate is a travel along the rack
     letter: ClassVar[str] = "K"  # R is the revolute's
+    spec_keys: ClassVar[Keys] = Keys(
+        {
+            "type": NAME,
+            "links": names(2),
+            "axis": AXIS_KEYS,
+            "centre": NAME,
+            "radius": NUMBER,
+            "module": NUMBER,
+            "teeth": NUMBER,
+            **MESH_KEYS,
+        },
+        required=("type", "links", "axis", "centre"),
+    )
 
     a: np.ndarray = None
     u: np.ndarray = None
@@ -114,10 +129,7 @@ class Rack(MeshFriction, Joint, kind="rack"):
     # -- YAML ---------------------------------------------------------------
     @classmethod
     def from_spec(cls, name, entry, links, points):
-        entry.check_keys(
-            required=("type", "links", "axis", "centre"),
-            optional=("radius", "module", "teeth", "pressure_angle", "flank", "phase", "friction"),
-        )
+        entry.check(cls.spec_keys)
         a, u, axis_names = cls._axis(entry.require("axis"), links, points)
         cname = entry.require("centre").names(1)[0]
         c = entry.point(links[1], cname, points, key="centre")
@@ -174,7 +186,7 @@ class Rack(MeshFriction, Joint, kind="rack"):
         """(a, u, names) of ``axis: {point, direction}`` or ``axis: {points: [A, B]}`` on link i."""
         if not axis:
             return None, None, ()
-        if not axis.check_keys(optional=("point", "direction", "points")):
+        if not axis.check(AXIS_KEYS):
             return None, None, ()
         if axis.get("points") is not None:
             pa, pb = axis["points"].names(2)

@@ -8,7 +8,10 @@ from typing import Any, ClassVar
 import numpy as np
 
 from ..base.geometry import perp, rotate
+from ..base.keys import NAME, NUMBER, Keys, names
 from .base import Anchor, Glyph, Joint
+
+FRICTION_KEYS = Keys({"radius": NUMBER, "journal_radius": NUMBER, "coefficient": NUMBER})
 
 __all__ = ["Revolute"]
 
@@ -26,6 +29,16 @@ class Revolute(Joint, kind="revolute"):
     reaction_labels: ClassVar[tuple[str, ...]] = ("Fx", "Fy")
     angular: ClassVar[bool] = True
     letter: ClassVar[str] = "R"
+    # links: two, or three or more sharing one pin (io/bodies.py), with as many points
+    spec_keys: ClassVar[Keys] = Keys(
+        {
+            "type": NAME,
+            "links": names(minimum=2),
+            "points": names(minimum=2),
+            "friction": FRICTION_KEYS,
+        },
+        required=("type", "links"),
+    )
     pin: ClassVar[bool] = True
 
     p_i: np.ndarray = None
@@ -36,7 +49,7 @@ class Revolute(Joint, kind="revolute"):
     # -- YAML ---------------------------------------------------------------
     @classmethod
     def from_spec(cls, name, entry, links, points):
-        entry.check_keys(required=("type", "links"), optional=("points", "friction"))
+        entry.check(cls.spec_keys)
         names = (name, name)
         if (e := entry.get("points")) is not None:
             names = tuple(e.names(2))
@@ -52,7 +65,7 @@ class Revolute(Joint, kind="revolute"):
         """ρ (m) of the entry's ``friction:`` (0 without one), or None where it is in error."""
         rho = 0.0
         if (f := entry.get("friction")) is not None:
-            f.check_keys(optional=("radius", "journal_radius", "coefficient"))
+            f.check(FRICTION_KEYS)
             if f.get("radius") is not None:
                 if f.get("journal_radius") is not None or f.get("coefficient") is not None:
                     f.error("give either radius, or journal_radius with coefficient")
