@@ -9,7 +9,15 @@ import numpy as np
 
 from ...errors import did_you_mean
 from ...kinetics.forces import activity
-from .rows import _angular, _course_ticks, _driver, _event_travel, _sorted, link_numbers
+from .rows import (
+    _angular,
+    _course_ticks,
+    _driver,
+    _event_travel,
+    _sorted,
+    link_numbers,
+    turns,
+)
 from .style import CURVE_COLORS, DPI, EVENT_COLOR, PictureError, _figure, _rc
 
 
@@ -171,7 +179,7 @@ def _mark(ax, result, *, top: bool = True, spans=None):
         if "′" in lab:
             ax.axvline(xe, color=EVENT_COLOR, lw=0.8, ls=(0, (4, 2)), zorder=1)
             if top:
-                right = xe > 0.9 * 360
+                right = xe > 0.9 * 360 * max(1, turns(result))
                 ax.text(
                     xe,
                     0.97,
@@ -191,12 +199,17 @@ def _mark(ax, result, *, top: bool = True, spans=None):
         sec = ax.secondary_xaxis("top")
         numbered = [(t, lab) for t, lab in ticks if "′" not in lab]
         sec.set_xticks([t for t, _ in numbered])
-        sec.set_xticklabels([lab for _, lab in numbered], fontsize=6.5)
+        sec.set_xticklabels([lab.split("/")[0] for _, lab in numbered], fontsize=6.5)
         sec.tick_params(length=2, pad=1)
-        sec.set_xlabel("course positions", fontsize=6.5, labelpad=2)
-    if _angular(result) and result.full_cycle:
-        ax.set_xlim(0, 360)
-        ax.set_xticks(np.arange(0, 361, 30))
+        sec.set_xlabel(
+            "course positions" + (f" (turns 1 to {turns(result)})" if turns(result) > 1 else ""),
+            fontsize=6.5,
+            labelpad=2,
+        )
+    n_turns = turns(result)
+    if n_turns:
+        ax.set_xlim(0, 360 * n_turns)
+        ax.set_xticks(np.arange(0, 360 * n_turns + 1, 30 * n_turns))
 
 
 def _event_legend(ax, result):
@@ -233,14 +246,14 @@ def _cycle_mean(result, values) -> float:
     return float(np.sum(0.5 * (y[1:] + y[:-1]) * np.diff(x)) / (x[-1] - x[0]))
 
 
-def motion_diagram(result, output: str | None = None, *, dpi: float = DPI):
+def motion_diagram(result, output: str | None = None, *, dpi: float = DPI, lang: str = "en"):
     """The motion diagram of the output: position, velocity, acceleration over the
     driver coordinate (three panels), loads' zones and events marked, course
     positions on top.  ``output`` as in :func:`output_motion`."""
     out = output_motion(result, output)
     x, order, xlabel = _sorted(result)
     spans = _active_spans(result)
-    with _rc():
+    with _rc(lang):
         fig = _figure(165, 150, dpi)
         axes = fig.subplots(3, 1, sharex=True)
         for n, (ax, (label, unit, vals)) in enumerate(zip(axes, out["series"])):
@@ -277,7 +290,12 @@ def motion_diagram(result, output: str | None = None, *, dpi: float = DPI):
 
 
 def reaction_curves(
-    result, *, friction: bool = False, joints: Sequence[str] | None = None, dpi: float = DPI
+    result,
+    *,
+    friction: bool = False,
+    joints: Sequence[str] | None = None,
+    dpi: float = DPI,
+    lang: str = "en",
 ):
     """Magnitude |F| of every joint's reaction over the driver coordinate (N);
     with ``friction`` the consistent friction solution dashed in the same colour."""
@@ -285,7 +303,7 @@ def reaction_curves(
     names = list(joints) if joints else [j.name for j in model.joints]
     x, order, xlabel = _sorted(result)
     nums = link_numbers(result.system)
-    with _rc():
+    with _rc(lang):
         fig = _figure(165, 95, dpi)
         ax = fig.add_subplot()
         for n, name in enumerate(names):
@@ -324,7 +342,7 @@ def _driver_effort(result, driver: str | None):
     return d, word, unit
 
 
-def torque_curves(result, driver: str | None = None, *, dpi: float = DPI):
+def torque_curves(result, driver: str | None = None, *, dpi: float = DPI, lang: str = "en"):
     """The driving torque (or force) without friction, with the approximate and
     with the consistent friction, on one plot; events marked; the cycle means."""
     d, word, unit = _driver_effort(result, driver)
@@ -339,7 +357,7 @@ def torque_curves(result, driver: str | None = None, *, dpi: float = DPI):
         ),
         ("_friction", "with friction, consistent", CURVE_COLORS[3], "-"),
     ]
-    with _rc():
+    with _rc(lang):
         fig = _figure(165, 95, dpi)
         ax = fig.add_subplot()
         for suffix, label, c, ls in series:
@@ -380,7 +398,7 @@ def torque_curves(result, driver: str | None = None, *, dpi: float = DPI):
     return fig
 
 
-def efficiency_curve(result, driver: str | None = None, *, dpi: float = DPI):
+def efficiency_curve(result, driver: str | None = None, *, dpi: float = DPI, lang: str = "en"):
     """Instantaneous efficiency η = M / M_friction (frictionless over consistent
     driving torque) and the cycle efficiency (ratio of the mean input powers)."""
     d, word, _ = _driver_effort(result, driver)
@@ -389,7 +407,7 @@ def efficiency_curve(result, driver: str | None = None, *, dpi: float = DPI):
         raise PictureError(f"no friction in {result.system.model.name}: no efficiency to plot")
     x, order, xlabel = _sorted(result)
     eta = np.asarray(result[key])[order]
-    with _rc():
+    with _rc(lang):
         fig = _figure(165, 85, dpi)
         ax = fig.add_subplot()
         ax.plot(x, eta, color=CURVE_COLORS[2], label="η = M / M_friction (instantaneous)")

@@ -411,6 +411,7 @@ def draw_mechanism(
     paths: Iterable[str] = (),
     labels: bool = True,
     dpi: float = DPI,
+    lang: str = "en",
     max_size_mm=(160.0, 120.0),
 ):
     """The mechanism at one position, to a true scale μ_l, with a length scale.
@@ -434,7 +435,7 @@ def draw_mechanism(
         Axes in mm; printed at 100 %, 1 mm of paper is μ_l m (in the title).
     """
     k = row if row is not None else row_at(result, position)
-    with _rc():
+    with _rc(lang):
         scene, paper, fig, ax = _drawing_sheet(result, paths, max_size_mm, dpi, forces)
         _draw_static(ax, scene, paper)
         geo = scene.geometry(k)

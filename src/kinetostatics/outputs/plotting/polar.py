@@ -42,7 +42,12 @@ def link_frame_loads(result, joint: str, *, friction: bool = False) -> tuple[str
 
 
 def polar_diagrams(
-    result, joints: Sequence[str] | None = None, *, friction: bool = False, dpi: float = DPI
+    result,
+    joints: Sequence[str] | None = None,
+    *,
+    friction: bool = False,
+    dpi: float = DPI,
+    lang: str = "en",
 ):
     """Polar diagrams: the tip of each joint's load vector in a link-fixed frame
     over the cycle (for sizing bearings), with the course positions numbered.
@@ -59,7 +64,7 @@ def polar_diagrams(
     cols = min(3, n)
     rows = math.ceil(n / cols)
     _, order, _ = _sorted(result)
-    with _rc():
+    with _rc(lang):
         fig = _figure(60 * cols + 8, 62 * rows + 14, dpi)
         for m, name in enumerate(joints):
             ax = fig.add_subplot(rows, cols, m + 1)

@@ -347,6 +347,7 @@ def polygon_figure(
     *,
     row: int | None = None,
     dpi: float = DPI,
+    lang: str = "en",
     max_size_mm: float = 105.0,
 ):
     """The velocity or acceleration polygon at one position, to a stated scale.
@@ -411,7 +412,7 @@ def polygon_figure(
                 f"{direction} ({owner})"
             )
     list_mm = 3.35 * len(lines) + 8
-    with _rc():
+    with _rc(lang):
         fig, ax = _layout(
             (lo[0], hi[0]),
             (lo[1], hi[1]),

@@ -82,9 +82,12 @@ def _figure(width_mm: float, height_mm: float, dpi: float = DPI):
     return Figure(figsize=(width_mm * MM, height_mm * MM), dpi=dpi)
 
 
-def _rc():
+def _rc(lang: str = "en"):
+    """The style (and for ``lang="zh"`` a font with Chinese glyphs) while a figure is drawn."""
+    from ..lang import rc_fonts
+
     matplotlib, _ = _mpl()
-    return matplotlib.rc_context(STYLE)
+    return matplotlib.rc_context({**STYLE, **rc_fonts(lang)})
 
 
 def nice_scale(x: float) -> float:
