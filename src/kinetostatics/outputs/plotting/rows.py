@@ -210,14 +210,16 @@ def _course_ticks(result, n: int = 12) -> list[tuple[float, str]]:
     return sorted(ticks)
 
 
-def _position_title(result, row: int) -> str:
+def _position_title(result, row: int, lang: str = "en") -> str:
+    from ..lang import tr
+
     labels = [lab for lab, k in course_positions(result) if k == row]
     d = _driver(result)
     if d.joint.angular:
         coord = f"φ = {math.degrees(result.coordinate[row]) % 360.0:.2f}°"
     else:
         coord = f"s = {result.coordinate[row] * 1e3:.2f} mm"
-    return f"position {labels[0]} ({coord})" if labels else coord
+    return tr("position {pos} ({coord})", lang, pos=labels[0], coord=coord) if labels else coord
 
 
 def link_numbers(system) -> dict[str, int]:
