@@ -18,7 +18,16 @@ from .rows import (
     link_numbers,
     turns,
 )
-from .style import CURVE_COLORS, DPI, EVENT_COLOR, PictureError, _figure, _rc
+from .style import (
+    CURVE_COLORS,
+    DPI,
+    EVENT_COLOR,
+    ROUND_OFF,
+    PictureError,
+    _figure,
+    _grow_to_fit,
+    _rc,
+)
 
 
 # -- output motion ------------------------------------------------------------------
@@ -286,6 +295,7 @@ def motion_diagram(result, output: str | None = None, *, dpi: float = DPI, lang:
         )
         fig.align_ylabels(axes)
         fig.subplots_adjust(left=0.12, right=0.97, top=0.875, bottom=0.08, hspace=0.12)
+    _grow_to_fit(fig)
     return fig
 
 
@@ -328,6 +338,7 @@ def reaction_curves(
         ax.set_ylim(bottom=0)
         ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0))
         fig.subplots_adjust(left=0.09, right=0.74, top=0.80, bottom=0.14)
+    _grow_to_fit(fig)
     return fig
 
 
@@ -366,6 +377,8 @@ def torque_curves(result, driver: str | None = None, *, dpi: float = DPI, lang: 
                 continue
             y = np.asarray(result[key])[order]
             mean = _cycle_mean(result, result[key])
+            peak = float(np.nanmax(np.abs(y))) if np.any(np.isfinite(y)) else 0.0
+            mean = 0.0 if abs(mean) <= ROUND_OFF * peak else mean  # round-off
             ax.plot(
                 x,
                 y,
@@ -395,6 +408,7 @@ def torque_curves(result, driver: str | None = None, *, dpi: float = DPI, lang: 
         )
         ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=1)
         fig.subplots_adjust(left=0.1, right=0.97, top=0.81, bottom=0.36)
+    _grow_to_fit(fig)
     return fig
 
 
@@ -442,6 +456,7 @@ def efficiency_curve(result, driver: str | None = None, *, dpi: float = DPI, lan
         )
         ax.legend(loc="lower left")
         fig.subplots_adjust(left=0.1, right=0.97, top=0.79, bottom=0.15)
+    _grow_to_fit(fig)
     return fig
 
 
@@ -469,4 +484,5 @@ def plot_result(result, *names: str, dpi: float = DPI):
         fig.subplots_adjust(
             left=0.11, right=0.97, top=1 - 16 / (45 + 45 * len(units)), bottom=0.1, hspace=0.15
         )
+    _grow_to_fit(fig)
     return fig

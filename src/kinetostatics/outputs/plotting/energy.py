@@ -12,7 +12,7 @@ import numpy as np
 
 from ..lang import tr
 from .curves import _mark
-from .style import CURVE_COLORS, DPI, EVENT_COLOR, _figure, _rc
+from .style import CURVE_COLORS, DPI, EVENT_COLOR, _figure, _grow_to_fit, _rc
 
 
 def energy_data(design) -> dict[str, np.ndarray]:
@@ -103,6 +103,7 @@ def equivalent_moments(design, result, *, dpi: float = DPI, lang: str = "en"):
         )
         ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2)
         fig.subplots_adjust(left=0.1, right=0.97, top=0.81, bottom=0.34)
+    _grow_to_fit(fig)
     return fig
 
 
@@ -143,4 +144,5 @@ def energy_diagram(design, result, *, dpi: float = DPI, lang: str = "en"):
         )
         ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2)
         fig.subplots_adjust(left=0.1, right=0.97, top=0.81, bottom=0.3)
+    _grow_to_fit(fig)
     return fig

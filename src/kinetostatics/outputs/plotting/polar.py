@@ -11,7 +11,7 @@ from ...base.geometry import rotate
 from ...errors import did_you_mean
 from .rows import _sorted, course_positions, link_numbers
 from .scene import _poses
-from .style import CURVE_COLORS, DPI, EVENT_COLOR, PictureError, _figure, _rc
+from .style import CURVE_COLORS, DPI, EVENT_COLOR, PictureError, _figure, _grow_to_fit, _rc
 
 
 # -- polar diagrams -----------------------------------------------------------------
@@ -131,4 +131,5 @@ def polar_diagrams(
             wspace=0.45,
             hspace=0.55,
         )
+    _grow_to_fit(fig)
     return fig

@@ -360,3 +360,26 @@ def _dodge(fig, ax, labels, fixed=(), step_mm: float = 2.0) -> None:
         dx, dy = best if best is not None else (0, 0)
         t.set_position(ax.transData.inverted().transform(home + (dx * px, dy * px)))
         placed.append(t.get_window_extent(r).expanded(1.02, 1.08))
+
+
+def _grow_to_fit(fig, pad_mm: float = 1.5) -> None:
+    """Grow a figure of curves by whatever of its labels would fall off an edge, moving
+    every axes by the same amount and keeping its size."""
+    r = _renderer(fig)
+    tight = fig.get_tightbbox(r)  # inches
+    Wi, Hi = fig.get_size_inches()
+    pad = pad_mm * MM
+    left = max(0.0, pad - tight.x0)
+    bottom = max(0.0, pad - tight.y0)
+    right = max(0.0, tight.x1 - Wi + pad)
+    top = max(0.0, tight.y1 - Hi + pad)
+    if max(left, bottom, right, top) <= 0.01 * MM:
+        return
+    W2, H2 = Wi + left + right, Hi + bottom + top
+    boxes = [(a, a.get_position().bounds) for a in fig.axes]
+    texts = [(t, t.get_position()) for t in fig.texts]
+    fig.set_size_inches(W2, H2)
+    for a, (x0, y0, w, h) in boxes:
+        a.set_position([(x0 * Wi + left) / W2, (y0 * Hi + bottom) / H2, w * Wi / W2, h * Hi / H2])
+    for t, (x, y) in texts:
+        t.set_position(((x * Wi + left) / W2, (y * Hi + bottom) / H2))
