@@ -139,25 +139,24 @@ def test_an_effort_driven_file_is_one_line(tmp_path, capsys):
 def test_chinese_without_a_font_says_what_to_install(tmp_path, capsys, monkeypatch):
     from kinetostatics.outputs import lang
 
-    def none():
-        raise lang.LanguageError(lang._HINT)
-
-    monkeypatch.setattr(lang, "cjk_font", none)
-    monkeypatch.setattr("kinetostatics.outputs.report.document.cjk_font", none)
+    not_a_font = tmp_path / "font.ttf"
+    not_a_font.write_text("no glyphs here")
+    monkeypatch.setenv("KINETOSTATICS_CJK_FONT", str(not_a_font))
     code = main(
         [
             "report",
             str(ROOT / "mechanisms" / "slider_crank.yaml"),
             "--out",
-            str(tmp_path),
+            str(tmp_path / "out"),
             "--lang",
             "zh",
         ]
     )
     assert code == 2
     err = capsys.readouterr().err
-    assert "fonts-noto-cjk" in err and "KINETOSTATICS_CJK_FONT" in err
-    assert not (tmp_path / "report.md").exists()
+    assert "KINETOSTATICS_CJK_FONT" in err and "Chinese glyphs" in err
+    assert not (tmp_path / "out" / "report.md").exists()
+    assert "fonts-noto-cjk" in lang._HINT  # what the message says when nothing is found
 
 
 def test_chinese_report_when_a_font_is_there(tmp_path):

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..lang import tr
+from ..lang import tr, tr_soft
 from .blocks import _Heading, _List, _Para, _Table
 from .results import ROUND_OFF
 
@@ -141,5 +141,5 @@ def flywheel_blocks(fw: dict, design, result, rows, image, lang: str = "en") -> 
         )
     )
     blocks.append(_Para(T("Assumptions:")))
-    blocks.append(_List([T(a) for a in fw["assumptions"]]))
+    blocks.append(_List([tr_soft(a, lang) for a in fw["assumptions"]]))
     return blocks
