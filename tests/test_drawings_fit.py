@@ -89,7 +89,7 @@ def _check_figure(fig):
     arts = _artists(fig)
     for a in arts:
         e = a.get_window_extent(r)
-        assert _inside(e, box), (getattr(a, "get_text", lambda: type(a).__name__)(), e, box)
+        assert _inside(e, box), (a, e, box)
     for ax in fig.axes:  # the drawn ticks and their labels
         assert _inside(ax.get_tightbbox(r), box), ax
     _no_round_off([a.get_text() for a in arts if hasattr(a, "get_text")])
