@@ -66,28 +66,59 @@ class _Tables(HTMLParser):
             self.cell += data
 
 
+_LENGTH = {"m": 1.0, "mm": 1e-3, "cm": 1e-2}
+
+
+def _csv_values(header, rows, name, unit):
+    """The CSV values behind a report column: a column itself (lengths converted from m
+    to the printed unit, link angles to [0, 360)), or the magnitude |v|, |a|, |F| of the
+    two components named before it (computed here from the CSV)."""
+    import math
+
+    def col(n):
+        c = header.index(n)
+        return [float(r[c]) if r[c] != "" else math.nan for r in rows]
+
+    for mag, (a, b) in (("|v|", ("vx", "vy")), ("|a|", ("ax", "ay")), ("|F|", ("Fx", "Fy"))):
+        if mag in name:
+            base, _, rest = name.partition("." + mag)
+            return [
+                math.hypot(x, y) for x, y in zip(col(f"{base}.{a}{rest}"), col(f"{base}.{b}{rest}"))
+            ]
+    vals = col(name)
+    if unit in _LENGTH and name.rsplit(".", 1)[-1] in ("x", "y"):
+        vals = [v / _LENGTH[unit] for v in vals]
+    if name.endswith(".theta"):
+        vals = [v % 360.0 for v in vals]
+    return vals
+
+
 def _check_against_csv(tables, header, rows):
     """Every table with a 'CSV row' column equals those CSV rows, column by column."""
+    import math
+
     checked = 0
     for t in tables:
         if len(t[0]) < 2 or t[0][1] != "CSV row":
             continue
         names = [h.rsplit(" (", 1)[0] for h in t[0][2:]]
-        units = [h.rsplit(" (", 1)[1] for h in t[0][2:]]
-        cols = [header.index(n) for n in names]
+        units = [h.rsplit(" (", 1)[1].rstrip(")") for h in t[0][2:]]
+        values = [_csv_values(header, rows, n, u) for n, u in zip(names, units)]
         scale = {}  # "0" stands for round-off: ≤ 1e-9 of the unit's largest
-        for u, c in zip(units, cols):
-            vals = [abs(float(r[c])) for r in rows if r[c] != ""]
-            scale[u] = max(scale.get(u, 0.0), max(vals) if vals else 0.0)
+        for u, vals in zip(units, values):
+            finite = [abs(v) for v in vals if math.isfinite(v)]
+            scale[u] = max(scale.get(u, 0.0), max(finite) if finite else 0.0)
         for line in t[1:]:
-            row = rows[int(line[1]) - 1]
-            for n, u, c, cell in zip(names, units, cols, line[2:]):
+            k = int(line[1]) - 1
+            for n, u, vals, cell in zip(names, units, values, line[2:]):
+                v = vals[k]
                 if cell == "":
-                    assert row[c] == "", (n, line[0])
+                    assert not math.isfinite(v), (n, line[0])
                     continue
-                v = float(row[c])
                 if cell == "0":
-                    assert abs(v) <= 1e-9 * scale[u], (n, line[0])
+                    assert abs(v) <= 1e-9 * scale[u] or (
+                        n.endswith(".theta") and abs(v - 360.0) < 1e-9
+                    ), (n, line[0])
                 else:
                     assert float(cell) == pytest.approx(v, rel=5.01e-5), (n, line[0])
                 checked += 1
@@ -121,6 +152,13 @@ def test_markdown_tables_are_the_csv_rows(slotting_report):
     tables = _md_tables(md)
     assert _check_against_csv(tables, header, rows) > 500
     positions = next(t for t in tables if t[0][:2] == ["pos.", "CSV row"])
+    assert all(len(t[0]) <= 12 for t in tables if t[0][1:2] == ["CSV row"])  # column groups
+    assert all(
+        t[0][:3] == ["pos.", "CSV row", "angle (deg)"] for t in tables if t[0][1:2] == ["CSV row"]
+    )
+    theta = positions[0].index("crank.theta (deg)")
+    assert all(0 <= float(r[theta]) < 360 for r in positions[1:])  # not the CSV's −390
+    assert "crank.A.x (mm)" in positions[0]
     assert [r[0] for r in positions[1:]] == [
         "1",
         "1′",
@@ -152,8 +190,9 @@ def test_markdown_tables_are_the_csv_rows(slotting_report):
         "Polar diagrams",
     ):
         assert section in md
-    asks = "\nflywheel:" in (ROOT / "mechanisms" / "slotting_machine.yaml").read_text()
-    assert ("## 9. Flywheel" in md) == asks  # the section follows the file's request
+    assert "## 9. Flywheel" in md  # the file asks for a flywheel
+    assert "img/energy.png" in md and "img/moments.png" in md
+    assert "units." not in md and "| ratio |" not in md  # no raw dump of summary.json
     for ref in re.findall(r"\]\((img/[^)]+)\)", md):
         assert (slotting_report / ref).is_file(), ref
     assert "img/velocity_8p.png" in md and "img/acceleration_8p.png" in md
@@ -169,33 +208,32 @@ def test_html_is_self_contained_and_equals_the_csv(slotting_report):
     assert [t[0] for t in parser.tables] == [t[0] for t in md_tables]
 
 
-def test_flywheel_section_when_the_summary_has_one(tmp_path, monkeypatch):
-    from kinetostatics.analysis.results import Result
+def test_flywheel_chapter_states_the_energy_swing_of_its_own_diagram(slotting_report):
+    """The chapter's tables carry the summary's numbers, and the ΔW column at the course
+    positions is ∫ (M_d − M_r) dφ of the tabulated moments: its range over positions that
+    straddle the extremes is within the swing, and M_d is the mean of M_r over the cycle
+    (the work per cycle / 2π)."""
+    import json
 
-    original = Result.summary
-
-    def with_flywheel(self):
-        s = original(self)
-        s["flywheel"] = {
-            "delta": 0.04,
-            "inertia": 1.2345,
-            "unit": "kg*m^2",
-            "omega": {"max": 31.9, "min": 30.9},
-        }
-        return s
-
-    monkeypatch.setattr(Result, "summary", with_flywheel)
-    from kinetostatics.outputs.report import write_report
-
-    paths = write_report(
-        ROOT / "mechanisms" / "slider_crank.yaml", tmp_path, polygons=["2"], dpi=30
+    fw = json.loads((slotting_report / "summary.json").read_text())["flywheel"]
+    tables = _md_tables((slotting_report / "report.md").read_text())
+    result = next(
+        t
+        for t in tables
+        if t[0][:2] == ["quantity", "symbol"] and any(r[1] == "ΔW_max" for r in t[1:])
     )
-    md = paths["markdown"].read_text()
-    assert "## 9. Flywheel" in md
-    assert "| inertia | 1.2345 |" in md and "| omega.max | 31.9 |" in md
-    assert "Flywheel" in paths["html"].read_text()
-    header, rows = _csv(paths["csv"])
-    assert _check_against_csv(_md_tables(md), header, rows) > 200
+    got = {r[1]: r[2] for r in result[1:]}
+    assert float(got["ΔW_max"]) == pytest.approx(fw["energy_swing"], rel=1e-5)
+    assert float(got["J_F"]) == pytest.approx(
+        fw["energy_swing"] / (fw["speed"]["omega_m"] ** 2 * fw["delta"]), rel=1e-5
+    )
+    assert float(got["M_d"]) == pytest.approx(
+        fw["work_per_cycle"] / (2 * 3.141592653589793), rel=1e-5
+    )
+    energy = next(t for t in tables if t[0][-1] == "ΔW (J)")
+    w = [float(r[-1]) for r in energy[1:]]
+    assert w[0] == 0.0 and max(w) - min(w) <= fw["energy_swing"] * (1 + 1e-6)
+    assert max(w) - min(w) > 0.7 * fw["energy_swing"]
 
 
 def test_unknown_polygon_position_is_one_line(tmp_path, capsys):

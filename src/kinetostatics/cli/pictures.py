@@ -98,6 +98,13 @@ def register(sub) -> None:
         "--format", choices=("png", "svg", "pdf"), default="png", help="image format (default: png)"
     )
     p.add_argument("--dpi", type=_positive_float, default=110.0, help="resolution (default: 110)")
+    p.add_argument(
+        "--driver",
+        default=None,
+        metavar="NAME",
+        help="motion driver whose torque and efficiency are drawn (default: the first)",
+    )
+    _lang_option(p)
     p.set_defaults(func=_plot)
 
     p = sub.add_parser(
@@ -127,14 +134,15 @@ def register(sub) -> None:
         metavar="LINK.POINT",
         help="points whose paths are traced (default: the moving pins)",
     )
-    p.add_argument("--dpi", type=_positive_float, default=80.0, help="resolution (default: 80)")
+    p.add_argument("--dpi", type=_positive_float, default=110.0, help="resolution (default: 110)")
+    _lang_option(p)
     p.set_defaults(func=_animate)
 
     p = sub.add_parser(
         "report",
-        help="course-design report: Markdown and HTML with tables and pictures",
-        description="Write report.md, report.html (self-contained), results.csv, "
-        "summary.json and img/ to --out.",
+        help="course-design report: Markdown, HTML and PDF with tables and pictures",
+        description="Write report.md, report.html (self-contained) and/or report.pdf (A4), "
+        "results.csv, summary.json and img/ to --out.",
     )
     p.add_argument("file", help="mechanism YAML file")
     p.add_argument("--out", default="report", help="output folder (default: report)")
@@ -146,7 +154,30 @@ def register(sub) -> None:
         help="course positions for the polygons, comma-separated, e.g. 2,7,8' (default: 2,7)",
     )
     p.add_argument("--dpi", type=_positive_float, default=110.0, help="resolution (default: 110)")
+    p.add_argument(
+        "--format",
+        nargs="+",
+        choices=("md", "html", "pdf"),
+        default=None,
+        metavar="FORMAT",
+        help="documents to write: md, html, pdf (default: md html)",
+    )
+    p.add_argument(
+        "--pdf",
+        action="store_true",
+        help="also write report.pdf (A4; needs fpdf2: pip install 'kinetostatics[pdf]')",
+    )
+    _lang_option(p)
     p.set_defaults(func=_report)
+
+
+def _lang_option(p) -> None:
+    p.add_argument(
+        "--lang",
+        choices=("en", "zh"),
+        default="en",
+        help="language of the headings and labels: en or zh (Chinese; needs a CJK font)",
+    )
 
 
 def _default_paths(model) -> list[str]:
@@ -165,10 +196,24 @@ def _plot(args) -> int:
     from ..outputs.loading import load
 
     model = load(args.file)
+    if args.lang == "zh":
+        from ..outputs.lang import cjk_font
+
+        cjk_font()  # a clear message before any work when there is no CJK font
     what = list(WHAT) if "all" in args.what else list(dict.fromkeys(args.what))
     positions = [args.position] if args.position is not None else []
     result = pl.analyze_for_pictures(model, positions=positions, course=True, events=True)
     row = pl.row_at(result, args.position)
+    if args.driver is not None:
+        names = [d.name for d in result.system.motion_drivers]
+        if args.driver not in names:
+            from ..errors import did_you_mean
+
+            raise pl.PictureError(
+                f"--driver {args.driver}: no motion driver of that name "
+                f"(have {', '.join(names)}){did_you_mean(args.driver, names)}"
+            )
+    lang = args.lang
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     paths = _default_paths(model) if args.paths is None else args.paths
@@ -182,22 +227,23 @@ def _plot(args) -> int:
                 friction=args.friction,
                 paths=paths,
                 dpi=args.dpi,
+                lang=lang,
             )
         elif name == "motion":
-            fig = pl.motion_diagram(result, args.output, dpi=args.dpi)
+            fig = pl.motion_diagram(result, args.output, dpi=args.dpi, lang=lang)
         elif name == "torque":
-            fig = pl.torque_curves(result, dpi=args.dpi)
+            fig = pl.torque_curves(result, args.driver, dpi=args.dpi, lang=lang)
         elif name == "efficiency":
             if not model.has_friction:
                 print(f"{model.name}: no friction in the file: no efficiency curve")
                 continue
-            fig = pl.efficiency_curve(result, dpi=args.dpi)
+            fig = pl.efficiency_curve(result, args.driver, dpi=args.dpi, lang=lang)
         elif name == "reactions":
-            fig = pl.reaction_curves(result, friction=model.has_friction, dpi=args.dpi)
+            fig = pl.reaction_curves(result, friction=model.has_friction, dpi=args.dpi, lang=lang)
         elif name == "polar":
-            fig = pl.polar_diagrams(result, friction=args.friction, dpi=args.dpi)
+            fig = pl.polar_diagrams(result, friction=args.friction, dpi=args.dpi, lang=lang)
         else:
-            fig = pl.polygon_figure(result, name, row=row, dpi=args.dpi)
+            fig = pl.polygon_figure(result, name, row=row, dpi=args.dpi, lang=lang)
         path = out / f"{name}.{args.format}"
         fig.savefig(path, dpi=args.dpi)
         written.append(path)
@@ -223,6 +269,7 @@ def _animate(args) -> int:
         paths=paths,
         fps=args.fps,
         dpi=args.dpi,
+        lang=args.lang,
     )
     print(f"{model.name}: {len(result)} frames -> {out}")
     return 0
@@ -231,8 +278,12 @@ def _animate(args) -> int:
 def _report(args) -> int:
     from ..outputs.report import write_report
 
-    paths = write_report(args.file, args.out, polygons=args.polygons, dpi=args.dpi)
-    print(
-        f"report: {paths['markdown']}, {paths['html']} (data: {paths['csv']}, {paths['summary']})"
+    formats = list(args.format or ["md", "html"])
+    if args.pdf and "pdf" not in formats:
+        formats.append("pdf")
+    paths = write_report(
+        args.file, args.out, polygons=args.polygons, dpi=args.dpi, formats=formats, lang=args.lang
     )
+    docs = [str(paths[k]) for k in ("markdown", "html", "pdf") if k in paths]
+    print(f"report: {', '.join(docs)} (data: {paths['csv']}, {paths['summary']})")
     return 0

@@ -18,7 +18,8 @@ from data functions that tests check against the results:
 
 Figures: :func:`draw_mechanism`, :func:`motion_diagram`,
 :func:`reaction_curves`, :func:`torque_curves`, :func:`efficiency_curve`,
-:func:`polar_diagrams`, :func:`polygon_figure`, :func:`plot_result`; and
+:func:`polar_diagrams`, :func:`polygon_figure`, :func:`plot_result`,
+:func:`equivalent_moments` and :func:`energy_diagram` (a flywheel design); and
 :func:`animate` writes a GIF (Pillow) or an MP4 (only when ffmpeg is on the
 PATH).  Drawings and polygons are laid out to a true scale: printed at 100 %,
 1 mm of paper is μ_l metres (μ_v m/s, μ_a m/s², μ_F N), as stated on them.
@@ -40,9 +41,10 @@ from .curves import (
     torque_curves,
 )
 from .draw import draw_mechanism
+from .energy import energy_diagram, equivalent_moments
 from .polar import link_frame_loads, polar_diagrams
 from .polygons import Polygon, PolygonChain, PolygonNode, polygon, polygon_figure
-from .rows import analyze_for_pictures, course_positions, link_numbers, row_at
+from .rows import analyze_for_pictures, course_positions, link_numbers, row_at, turns
 from .scene import MechanismGeometry, mechanism_geometry
 from .style import PictureError, nice_scale
 
@@ -57,6 +59,8 @@ __all__ = [
     "course_positions",
     "draw_mechanism",
     "efficiency_curve",
+    "energy_diagram",
+    "equivalent_moments",
     "link_frame_loads",
     "link_numbers",
     "mechanism_geometry",
@@ -70,4 +74,5 @@ __all__ = [
     "reaction_curves",
     "row_at",
     "torque_curves",
+    "turns",
 ]

@@ -7,9 +7,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .draw import _draw_moving, _draw_static, _drawing_sheet, _force_scale, _loads_at
+from .draw import _draw_moving, _draw_static, _drawing_sheet, _l_ref, _loads_at, _sheet_title
 from .rows import _position_title, _sorted
-from .style import MU, PictureError, _fmt_scale, _rc
+from .style import PictureError, _fit_sheet, _inside_axes, _rc
 
 
 # -- animation ---------------------------------------------------------------------
@@ -21,8 +21,9 @@ def animate(
     friction: bool = False,
     paths: Iterable[str] = (),
     fps: float = 20.0,
-    dpi: float = 80.0,
+    dpi: float = 110.0,
     max_size_mm=(160.0, 120.0),
+    lang: str = "en",
 ) -> Path:
     """Write an animation of the mechanism over the result's rows (one frame per row,
     in order of travel): ``.gif`` through Pillow, ``.mp4`` only if ffmpeg is on the
@@ -43,20 +44,24 @@ def animate(
     if suffix == ".mp4" and ffmpeg is None:
         raise PictureError(f"{path}: writing MP4 needs ffmpeg on the PATH; write a .gif instead")
     from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.text import Text
 
     _, order, _ = _sorted(result)
-    with _rc():
-        scene, paper, fig, ax = _drawing_sheet(result, paths, max_size_mm, dpi, forces)
-        mu_f = None
+    with _rc(lang):
         loads = {}
         if forces:
-            loads = {k: _loads_at(result, int(k), friction=friction) for k in order}
-            mu_f = _force_scale([a for arr in loads.values() for a in arr])
-        head = f"{scene.model.name}   {MU['l']} = {_fmt_scale(paper.mu_l)} m/mm" + (
-            f",  {MU['F']} = {_fmt_scale(mu_f)} N/mm" if forces else ""
+            loads = {int(k): _loads_at(result, int(k), friction=friction) for k in order}
+        scene, paper, fig, ax, mu_f = _drawing_sheet(
+            result, paths, max_size_mm, dpi, forces, [a for arr in loads.values() for a in arr]
         )
-        ax.set_title(head + ("\n" if forces else ""), loc="left", fontsize=8.5)
-        _draw_static(ax, scene, paper)
+        ax.set_title(
+            _sheet_title(result, scene, paper, mu_f, None, friction, lang),
+            loc="left",
+            fontsize=8.5,
+        )
+        static = _draw_static(ax, scene, paper, lang)
+        _inside_axes(fig, ax, [a for a in static if isinstance(a, Text)])
+        _fit_sheet(fig, ax)
         canvas = FigureCanvasAgg(fig)
         canvas.draw()
         background = canvas.copy_from_bbox(fig.bbox)
@@ -95,11 +100,20 @@ def animate(
             k = int(k)
             canvas.restore_region(background)
             geo = scene.geometry(k)
-            arts = _draw_moving(ax, scene, geo, paper, labels=True, forces=loads.get(k), mu_f=mu_f)
+            arts = _draw_moving(
+                ax,
+                scene,
+                geo,
+                paper,
+                labels=True,
+                forces=loads.get(k),
+                mu_f=mu_f,
+                l_ref=_l_ref(scene),
+            )
             t = ax.text(
                 0.99,
                 0.99,
-                _position_title(result, k),
+                _position_title(result, k, lang),
                 ha="right",
                 va="top",
                 fontsize=8,

@@ -9,8 +9,25 @@ import numpy as np
 
 from ...errors import did_you_mean
 from ...kinetics.forces import activity
-from .rows import _angular, _course_ticks, _driver, _event_travel, _sorted, link_numbers
-from .style import CURVE_COLORS, DPI, EVENT_COLOR, PictureError, _figure, _rc
+from .rows import (
+    _angular,
+    _course_ticks,
+    _driver,
+    _event_travel,
+    _sorted,
+    link_numbers,
+    turns,
+)
+from .style import (
+    CURVE_COLORS,
+    DPI,
+    EVENT_COLOR,
+    ROUND_OFF,
+    PictureError,
+    _figure,
+    _grow_to_fit,
+    _rc,
+)
 
 
 # -- output motion ------------------------------------------------------------------
@@ -171,7 +188,7 @@ def _mark(ax, result, *, top: bool = True, spans=None):
         if "′" in lab:
             ax.axvline(xe, color=EVENT_COLOR, lw=0.8, ls=(0, (4, 2)), zorder=1)
             if top:
-                right = xe > 0.9 * 360
+                right = xe > 0.9 * 360 * max(1, turns(result))
                 ax.text(
                     xe,
                     0.97,
@@ -191,12 +208,17 @@ def _mark(ax, result, *, top: bool = True, spans=None):
         sec = ax.secondary_xaxis("top")
         numbered = [(t, lab) for t, lab in ticks if "′" not in lab]
         sec.set_xticks([t for t, _ in numbered])
-        sec.set_xticklabels([lab for _, lab in numbered], fontsize=6.5)
+        sec.set_xticklabels([lab.split("/")[0] for _, lab in numbered], fontsize=6.5)
         sec.tick_params(length=2, pad=1)
-        sec.set_xlabel("course positions", fontsize=6.5, labelpad=2)
-    if _angular(result) and result.full_cycle:
-        ax.set_xlim(0, 360)
-        ax.set_xticks(np.arange(0, 361, 30))
+        sec.set_xlabel(
+            "course positions" + (f" (turns 1 to {turns(result)})" if turns(result) > 1 else ""),
+            fontsize=6.5,
+            labelpad=2,
+        )
+    n_turns = turns(result)
+    if n_turns:
+        ax.set_xlim(0, 360 * n_turns)
+        ax.set_xticks(np.arange(0, 360 * n_turns + 1, 30 * n_turns))
 
 
 def _event_legend(ax, result):
@@ -233,14 +255,14 @@ def _cycle_mean(result, values) -> float:
     return float(np.sum(0.5 * (y[1:] + y[:-1]) * np.diff(x)) / (x[-1] - x[0]))
 
 
-def motion_diagram(result, output: str | None = None, *, dpi: float = DPI):
+def motion_diagram(result, output: str | None = None, *, dpi: float = DPI, lang: str = "en"):
     """The motion diagram of the output: position, velocity, acceleration over the
     driver coordinate (three panels), loads' zones and events marked, course
     positions on top.  ``output`` as in :func:`output_motion`."""
     out = output_motion(result, output)
     x, order, xlabel = _sorted(result)
     spans = _active_spans(result)
-    with _rc():
+    with _rc(lang):
         fig = _figure(165, 150, dpi)
         axes = fig.subplots(3, 1, sharex=True)
         for n, (ax, (label, unit, vals)) in enumerate(zip(axes, out["series"])):
@@ -273,11 +295,17 @@ def motion_diagram(result, output: str | None = None, *, dpi: float = DPI):
         )
         fig.align_ylabels(axes)
         fig.subplots_adjust(left=0.12, right=0.97, top=0.875, bottom=0.08, hspace=0.12)
+    _grow_to_fit(fig)
     return fig
 
 
 def reaction_curves(
-    result, *, friction: bool = False, joints: Sequence[str] | None = None, dpi: float = DPI
+    result,
+    *,
+    friction: bool = False,
+    joints: Sequence[str] | None = None,
+    dpi: float = DPI,
+    lang: str = "en",
 ):
     """Magnitude |F| of every joint's reaction over the driver coordinate (N);
     with ``friction`` the consistent friction solution dashed in the same colour."""
@@ -285,7 +313,7 @@ def reaction_curves(
     names = list(joints) if joints else [j.name for j in model.joints]
     x, order, xlabel = _sorted(result)
     nums = link_numbers(result.system)
-    with _rc():
+    with _rc(lang):
         fig = _figure(165, 95, dpi)
         ax = fig.add_subplot()
         for n, name in enumerate(names):
@@ -310,6 +338,7 @@ def reaction_curves(
         ax.set_ylim(bottom=0)
         ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0))
         fig.subplots_adjust(left=0.09, right=0.74, top=0.80, bottom=0.14)
+    _grow_to_fit(fig)
     return fig
 
 
@@ -324,7 +353,7 @@ def _driver_effort(result, driver: str | None):
     return d, word, unit
 
 
-def torque_curves(result, driver: str | None = None, *, dpi: float = DPI):
+def torque_curves(result, driver: str | None = None, *, dpi: float = DPI, lang: str = "en"):
     """The driving torque (or force) without friction, with the approximate and
     with the consistent friction, on one plot; events marked; the cycle means."""
     d, word, unit = _driver_effort(result, driver)
@@ -339,7 +368,7 @@ def torque_curves(result, driver: str | None = None, *, dpi: float = DPI):
         ),
         ("_friction", "with friction, consistent", CURVE_COLORS[3], "-"),
     ]
-    with _rc():
+    with _rc(lang):
         fig = _figure(165, 95, dpi)
         ax = fig.add_subplot()
         for suffix, label, c, ls in series:
@@ -348,6 +377,8 @@ def torque_curves(result, driver: str | None = None, *, dpi: float = DPI):
                 continue
             y = np.asarray(result[key])[order]
             mean = _cycle_mean(result, result[key])
+            peak = float(np.nanmax(np.abs(y))) if np.any(np.isfinite(y)) else 0.0
+            mean = 0.0 if abs(mean) <= ROUND_OFF * peak else mean  # round-off
             ax.plot(
                 x,
                 y,
@@ -377,10 +408,11 @@ def torque_curves(result, driver: str | None = None, *, dpi: float = DPI):
         )
         ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=1)
         fig.subplots_adjust(left=0.1, right=0.97, top=0.81, bottom=0.36)
+    _grow_to_fit(fig)
     return fig
 
 
-def efficiency_curve(result, driver: str | None = None, *, dpi: float = DPI):
+def efficiency_curve(result, driver: str | None = None, *, dpi: float = DPI, lang: str = "en"):
     """Instantaneous efficiency η = M / M_friction (frictionless over consistent
     driving torque) and the cycle efficiency (ratio of the mean input powers)."""
     d, word, _ = _driver_effort(result, driver)
@@ -389,7 +421,7 @@ def efficiency_curve(result, driver: str | None = None, *, dpi: float = DPI):
         raise PictureError(f"no friction in {result.system.model.name}: no efficiency to plot")
     x, order, xlabel = _sorted(result)
     eta = np.asarray(result[key])[order]
-    with _rc():
+    with _rc(lang):
         fig = _figure(165, 85, dpi)
         ax = fig.add_subplot()
         ax.plot(x, eta, color=CURVE_COLORS[2], label="η = M / M_friction (instantaneous)")
@@ -424,6 +456,7 @@ def efficiency_curve(result, driver: str | None = None, *, dpi: float = DPI):
         )
         ax.legend(loc="lower left")
         fig.subplots_adjust(left=0.1, right=0.97, top=0.79, bottom=0.15)
+    _grow_to_fit(fig)
     return fig
 
 
@@ -451,4 +484,5 @@ def plot_result(result, *names: str, dpi: float = DPI):
         fig.subplots_adjust(
             left=0.11, right=0.97, top=1 - 16 / (45 + 45 * len(units)), bottom=0.1, hspace=0.15
         )
+    _grow_to_fit(fig)
     return fig

@@ -10,16 +10,22 @@ import numpy as np
 
 from ...base.geometry import perp
 from ...kinetics.forces import activity, point_state
+from ..lang import tr
 from .rows import _angular, _driver, _position_title, link_numbers, row_at
 from .scene import MechanismGeometry, _joint_point, _Scene, _to_global, scene_guides
 from .style import (
     DPI,
     FORCE_COLORS,
+    MIN_AXES_MM,
     MU,
+    ROUND_OFF,
     _add,
     _arrow,
+    _dodge,
+    _fit_sheet,
     _fmt_scale,
     _hatch_line,
+    _inside_axes,
     _label_offset,
     _layout,
     _moment_arc,
@@ -106,7 +112,7 @@ def _loads_at(result, row: int, *, friction: bool = False) -> list[_Arrow]:
     return out
 
 
-def _draw_static(ax, scene: _Scene, paper: _Paper):
+def _draw_static(ax, scene: _Scene, paper: _Paper, lang: str = "en"):
     """Frame pins, guides, hatching, traced paths, the length scale."""
     arts = []
     k = paper.k
@@ -135,7 +141,7 @@ def _draw_static(ax, scene: _Scene, paper: _Paper):
         right = end[0] > centre[0]
         arts.append(
             ax.annotate(
-                f"path of {ref}",
+                tr("path of {ref}", lang, ref=ref),
                 end,
                 xytext=(-3 if right else 3, 3),
                 textcoords="offset points",
@@ -169,7 +175,7 @@ def _draw_moving(
     labels=True,
     forces: list[_Arrow] | None = None,
     mu_f: float | None = None,
-    title_artist=None,
+    l_ref: float = 1.0,
 ):
     """Links, blocks, pins, labels and (optionally) forces at one position."""
     k = paper.k
@@ -178,7 +184,7 @@ def _draw_moving(
     if labels:
         arts += _draw_labels(ax, scene, geo, k)
     if forces:
-        arts += _draw_loads(ax, forces, mu_f, k)
+        arts += _draw_loads(ax, forces, mu_f, k, l_ref)
     return arts
 
 
@@ -334,45 +340,50 @@ def _link_number(ax, scene: _Scene, n: str, pos):
     )
 
 
-def _draw_loads(ax, forces: list[_Arrow], mu_f: float | None, k: float):
-    """The loads: forces as arrows to the scale ``mu_f`` (N/mm), couples as arcs."""
+def _draw_loads(ax, forces: list[_Arrow], mu_f: float | None, k: float, l_ref: float = 1.0):
+    """The loads: forces as arrows to the scale ``mu_f`` (N/mm), couples as arcs.  A force
+    or couple below round-off (1e-9 of the largest force, or of the largest couple or
+    force × l_ref) is not drawn: it is zero to the scale."""
     arts = []
+    f_max = max([float(np.hypot(*a.force)) for a in forces if a.force is not None] + [0.0])
+    m_max = max([abs(a.moment) for a in forces if a.force is None] + [f_max * l_ref])
     for a in forces:
         c = FORCE_COLORS[a.kind]
         at = a.at * 1e3
         if a.force is None:
-            if a.moment == 0:
+            if not abs(a.moment) > ROUND_OFF * m_max:
                 continue
             arts.append(_moment_arc(ax, at, 5.5 * k, a.moment, c))
-            arts.append(
-                ax.text(
-                    at[0] + 6.5 * k,
-                    at[1] + 5.0 * k,
-                    f"{_sub(a.label)} {a.moment:+.3g} N·m",
-                    fontsize=6.5,
-                    color=c,
-                    zorder=10,
-                )
+            t = ax.text(
+                at[0] + 6.5 * k,
+                at[1] + 5.0 * k,
+                f"{_sub(a.label)} {a.moment:+.3g} N·m",
+                fontsize=6.5,
+                color=c,
+                zorder=10,
             )
+            t.set_gid("load-label")
+            arts.append(t)
             continue
         mag = float(np.hypot(*a.force))
-        if mag < 1e-12:
+        if not mag > ROUND_OFF * f_max:
             continue
         vec = a.force / mu_f * k  # paper mm -> data mm
         arts.append(_arrow(ax, at, vec, c, lw=1.2))
         tip = at + vec
-        arts.append(
-            ax.text(
-                tip[0],
-                tip[1],
-                f" {_sub(a.label)}",
-                fontsize=6.5,
-                color=c,
-                zorder=10,
-                ha="left",
-                va="bottom",
-            )
+        right = vec[0] >= 0
+        t = ax.text(
+            tip[0],
+            tip[1],
+            f" {_sub(a.label)} " if right else f"{_sub(a.label)} ",
+            fontsize=6.5,
+            color=c,
+            zorder=10,
+            ha="left" if right else "right",
+            va="bottom" if vec[1] >= 0 else "top",
         )
+        t.set_gid("load-label")
+        arts.append(t)
     return arts
 
 
@@ -382,23 +393,52 @@ def _force_scale(arrows: list[_Arrow], target_mm: float = 28.0) -> float:
     return nice_scale(m / target_mm)
 
 
-def _drawing_sheet(result, paths, max_size_mm, dpi, forces):
-    """The scene, its paper scale and an empty sheet in mm that holds it (drawing, animation)."""
+def _drawing_sheet(result, paths, max_size_mm, dpi, forces, loads=None):
+    """The scene, its paper scale, an empty sheet in mm that holds it (drawing,
+    animation) and the force scale μ_F of ``loads`` (None without): the drawing area
+    grows to hold every force arrow of ``loads``, and is at least MIN_AXES_MM."""
     scene = _Scene(result, paths)
     span = scene.hi - scene.lo
     mu_l = nice_scale(max(span[0] / max_size_mm[0], span[1] / max_size_mm[1]) * 1e3) / 1e3
     paper = _Paper(mu_l)
+    lo, hi = scene.lo * 1e3, scene.hi * 1e3
+    mu_f = None
+    if loads:
+        mu_f = _force_scale(loads)
+        ends = [a.at * 1e3 + a.force / mu_f * paper.k for a in loads if a.force is not None]
+        ends += [a.at * 1e3 for a in loads]
+        if ends:
+            ends = np.asarray(ends)
+            margin = 3.0 * paper.k
+            lo = np.minimum(lo, ends.min(axis=0) - margin)
+            hi = np.maximum(hi, ends.max(axis=0) + margin)
     fig, ax = _layout(
-        (scene.lo[0] * 1e3, scene.hi[0] * 1e3),
-        (scene.lo[1] * 1e3, scene.hi[1] * 1e3),
+        (lo[0], hi[0]),
+        (lo[1], hi[1]),
         paper.k,
         dpi=dpi,
         top=14.0 if forces else 11.0,
+        min_mm=MIN_AXES_MM,
     )
     ax.grid(False)
     ax.set_xlabel("x, mm")
     ax.set_ylabel("y, mm")
-    return scene, paper, fig, ax
+    return scene, paper, fig, ax, mu_f
+
+
+def _sheet_title(result, scene, paper, mu_f, row=None, friction=False, lang="en") -> str:
+    """The title: the position, then the scales, then (with forces) what the labels mean."""
+    head = scene.model.name + (f": {_position_title(result, row, lang)}" if row is not None else "")
+    scales = f"{MU['l']} = {_fmt_scale(paper.mu_l)} m/mm"
+    if mu_f is not None:
+        scales += f",  {MU['F']} = {_fmt_scale(mu_f)} N/mm"
+    lines = [head, scales]
+    if mu_f is not None:
+        lines.append(
+            tr("F_ij: link i on link j at the joint; FI, MI: inertia; G: weight", lang)
+            + (tr(" (with friction)", lang) if friction else "")
+        )
+    return "\n".join(lines)
 
 
 def draw_mechanism(
@@ -411,6 +451,7 @@ def draw_mechanism(
     paths: Iterable[str] = (),
     labels: bool = True,
     dpi: float = DPI,
+    lang: str = "en",
     max_size_mm=(160.0, 120.0),
 ):
     """The mechanism at one position, to a true scale μ_l, with a length scale.
@@ -434,23 +475,37 @@ def draw_mechanism(
         Axes in mm; printed at 100 %, 1 mm of paper is μ_l m (in the title).
     """
     k = row if row is not None else row_at(result, position)
-    with _rc():
-        scene, paper, fig, ax = _drawing_sheet(result, paths, max_size_mm, dpi, forces)
-        _draw_static(ax, scene, paper)
-        geo = scene.geometry(k)
-        arrows, mu_f = None, None
-        if forces:
-            arrows = _loads_at(result, k, friction=friction)
-            mu_f = _force_scale(arrows)
-        _draw_moving(ax, scene, geo, paper, labels=labels, forces=arrows, mu_f=mu_f)
-        title = (
-            f"{scene.model.name}: {_position_title(result, k)}   "
-            f"{MU['l']} = {_fmt_scale(paper.mu_l)} m/mm"
+    with _rc(lang):
+        arrows = _loads_at(result, k, friction=friction) if forces else None
+        scene, paper, fig, ax, mu_f = _drawing_sheet(
+            result, paths, max_size_mm, dpi, forces, arrows
         )
-        if forces:
-            title += f",  {MU['F']} = {_fmt_scale(mu_f)} N/mm"
-            title += "\nF_ij: link i on link j at the joint; FI, MI: inertia; G: weight" + (
-                " (with friction)" if friction else ""
-            )
-        ax.set_title(title, loc="left", fontsize=8.5)
+        static = _draw_static(ax, scene, paper, lang)
+        geo = scene.geometry(k)
+        arts = _draw_moving(
+            ax, scene, geo, paper, labels=labels, forces=arrows, mu_f=mu_f, l_ref=_l_ref(scene)
+        )
+        ax.set_title(
+            _sheet_title(result, scene, paper, mu_f, k, friction, lang), loc="left", fontsize=8.5
+        )
+        _settle(fig, ax, static + arts)
     return fig
+
+
+def _l_ref(scene) -> float:
+    return float(np.max(scene.hi - scene.lo))
+
+
+def _settle(fig, ax, arts) -> None:
+    """Labels of the loads clear of each other and of the point labels, everything
+    inside the axes, the sheet sized around it all."""
+    from matplotlib.text import Text
+
+    texts = [a for a in arts if isinstance(a, Text)]
+    movable = [t for t in texts if t.get_gid() == "load-label"]
+    fixed = [t for t in texts if t.get_gid() != "load-label"]
+    if movable:
+        _dodge(fig, ax, movable, fixed)
+    inside = texts + [a for a in arts if type(a).__name__ == "FancyArrowPatch"]
+    _inside_axes(fig, ax, inside)
+    _fit_sheet(fig, ax)

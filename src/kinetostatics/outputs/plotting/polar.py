@@ -11,7 +11,7 @@ from ...base.geometry import rotate
 from ...errors import did_you_mean
 from .rows import _sorted, course_positions, link_numbers
 from .scene import _poses
-from .style import CURVE_COLORS, DPI, EVENT_COLOR, PictureError, _figure, _rc
+from .style import CURVE_COLORS, DPI, EVENT_COLOR, PictureError, _figure, _grow_to_fit, _rc
 
 
 # -- polar diagrams -----------------------------------------------------------------
@@ -42,7 +42,12 @@ def link_frame_loads(result, joint: str, *, friction: bool = False) -> tuple[str
 
 
 def polar_diagrams(
-    result, joints: Sequence[str] | None = None, *, friction: bool = False, dpi: float = DPI
+    result,
+    joints: Sequence[str] | None = None,
+    *,
+    friction: bool = False,
+    dpi: float = DPI,
+    lang: str = "en",
 ):
     """Polar diagrams: the tip of each joint's load vector in a link-fixed frame
     over the cycle (for sizing bearings), with the course positions numbered.
@@ -59,7 +64,7 @@ def polar_diagrams(
     cols = min(3, n)
     rows = math.ceil(n / cols)
     _, order, _ = _sorted(result)
-    with _rc():
+    with _rc(lang):
         fig = _figure(60 * cols + 8, 62 * rows + 14, dpi)
         for m, name in enumerate(joints):
             ax = fig.add_subplot(rows, cols, m + 1)
@@ -126,4 +131,5 @@ def polar_diagrams(
             wspace=0.45,
             hspace=0.55,
         )
+    _grow_to_fit(fig)
     return fig

@@ -13,6 +13,7 @@ from ...base.geometry import perp, rotate
 # slider adds a coincident point and the ṡu / Coriolis chain), so it names them.
 from ...joints import Prismatic, Revolute
 from ...kinetics.forces import point_state
+from ..lang import tr
 from .curves import _joint_coordinate
 from .rows import _position_title, link_numbers, row_at
 from .scene import _poses, _to_global
@@ -21,8 +22,10 @@ from .style import (
     LINK_COLORS,
     MM,
     MU,
+    ROUND_OFF,
     PictureError,
     _arrow,
+    _fit_sheet,
     _fmt_scale,
     _layout,
     _rc,
@@ -340,6 +343,11 @@ _DIRECTION = {
 _PRETTY = {"v": "v", "vr": "v", "an": "a^n", "at": "a^t", "ak": "a^k", "ar": "a^r"}
 
 
+def _zero(v: float, scale: float) -> str:
+    """4 significant digits; round-off (≤ 1e-9 of the polygon's largest vector) as 0."""
+    return "0" if abs(v) <= ROUND_OFF * scale else f"{v:.4g}"
+
+
 def polygon_figure(
     result,
     kind: str = "velocity",
@@ -347,6 +355,7 @@ def polygon_figure(
     *,
     row: int | None = None,
     dpi: float = DPI,
+    lang: str = "en",
     max_size_mm: float = 105.0,
 ):
     """The velocity or acceleration polygon at one position, to a stated scale.
@@ -381,14 +390,15 @@ def polygon_figure(
     sym = "a" if acc else "v"
     # the list of vectors
     rest = sorted({r.split(".")[1] for r in poly.fixed})
+    big = max([float(np.hypot(*nd.vector)) for nd in poly.nodes.values()] + [0.0])
+    size = lambda v: _zero(float(np.hypot(*v)), big)  # noqa: E731
     lines = [
         f"pole {_tex('p' + prime)}: points at rest" + (f" ({', '.join(rest)})" if rest else "")
     ]
     for lab, nd in poly.nodes.items():
         pts = ", ".join(r.replace("@", " at ") for r in nd.refs)
         lines.append(
-            f"{_tex('p' + prime)}{_tex(lab + prime)}: {sym}({pts}) = "
-            f"{np.hypot(*nd.vector):.4g} {poly.unit}"
+            f"{_tex('p' + prime)}{_tex(lab + prime)}: {sym}({pts}) = {size(nd.vector)} {poly.unit}"
         )
     for ch, comps in chains:
         joint = model.joint(ch.link) if ch.link in [j.name for j in model.joints] else None
@@ -407,11 +417,10 @@ def polygon_figure(
             direction = _DIRECTION[kind_name].format(r=f"{end}{start}", b=start, j=ch.link)
             owner = ch.link if joint is None else f"{ch.link}, {type(joint).__name__.lower()}"
             lines.append(
-                f"${head}_{{\\mathrm{{{sub}}}}}$ = {np.hypot(*v):.4g} {poly.unit}, "
-                f"{direction} ({owner})"
+                f"${head}_{{\\mathrm{{{sub}}}}}$ = {size(v)} {poly.unit}, {direction} ({owner})"
             )
     list_mm = 3.35 * len(lines) + 8
-    with _rc():
+    with _rc(lang):
         fig, ax = _layout(
             (lo[0], hi[0]),
             (lo[1], hi[1]),
@@ -503,19 +512,23 @@ def polygon_figure(
         )
         mu_name = MU["a" if acc else "v"]
         title = (
-            f"{model.name}: {kind} polygon, {_position_title(result, k)}\n"
+            f"{model.name}: {tr(kind + ' polygon', lang)}, {_position_title(result, k, lang)}\n"
             f"{mu_name} = {_fmt_scale(mu)} ({poly.unit})/mm;  links: "
             + ", ".join(f"{v} {n}" for n, v in nums.items())
         )
         ax.set_title(title, loc="left", fontsize=8)
         W, H = fig.get_figwidth() / MM, fig.get_figheight() / MM
-        fig.text(
-            1 - 64.0 / W,
-            1 - 15.0 / H,
+        x0, y0, w, h = ax.get_position().bounds
+        ax.text(  # the legend in the right margin, tied to the axes so the sheet fits it
+            (1 - 64.0 / W - x0) / w,
+            (1 - 15.0 / H - y0) / h,
             "\n".join(lines),
             va="top",
             ha="left",
             fontsize=6.2,
             linespacing=1.5,
+            transform=ax.transAxes,
+            clip_on=False,
         )
+        _fit_sheet(fig, ax)
     return fig

@@ -74,6 +74,9 @@ def analyze_for_pictures(
     angular = system.motion_drivers[0].joint.angular if system.motion_drivers else True
     conv = math.radians if angular else (lambda v: v * 1e-3)
     grid = frames if frames is not None else a.positions
+    turns = _sweep_turns(a.sweep) if angular else 0
+    if course and turns > 1 and frames is None:  # rows at every 30° of every turn
+        grid = -(-grid // (12 * turns)) * 12 * turns
     sign = (
         math.copysign(1.0, system.motion_drivers[0].driver.motion.speed)
         if system.motion_drivers
@@ -82,7 +85,7 @@ def analyze_for_pictures(
     grid_coords = [a.start + sign * k * a.sweep / grid for k in range(grid)]
     extra = [conv(p) for p in positions]
     if course and angular:
-        extra += [a.start + sign * k * a.sweep / 12 for k in range(12)]
+        extra += [a.start + sign * k * math.pi / 6 for k in range(12)]
     at = list(a.at)
 
     def present(c):
@@ -102,6 +105,26 @@ def analyze_for_pictures(
     return analyze(new)
 
 
+def _sweep_turns(sweep: float) -> int:
+    """Whole turns of an angular sweep (rad): 1 for 360°, 2 for 720° …, 0 otherwise."""
+    n = round(abs(sweep) / (2 * math.pi))
+    return int(n) if n >= 1 and abs(abs(sweep) - 2 * math.pi * n) < 1e-9 else 0
+
+
+def turns(result) -> int:
+    """Whole turns of the first driver that the result covers: 1 for a full cycle, n for
+    a sweep of n·360° (two motors of unequal speeds), 0 otherwise (not angular, a motion
+    law, a partial sweep)."""
+    if not _angular(result) or getattr(_driver(result).driver.motion, "kind", None):
+        return 0
+    if result.full_cycle:
+        return 1
+    n = _sweep_turns(result.system.model.analysis.sweep)
+    if n > 1 and float(np.max(result["travel"])) >= 360.0 * n - 360.0:
+        return n
+    return 0
+
+
 def _abscissa(result) -> tuple[np.ndarray, str]:
     d = _driver(result)
     if getattr(d.driver.motion, "kind", None) is not None:  # a motion law: ψ may reverse
@@ -119,8 +142,17 @@ def _abscissa(result) -> tuple[np.ndarray, str]:
 
 
 def _event_travel(result, e) -> float:
+    """Travel at a load event: in [0, 360) for one turn, along the turns for several."""
+    if turns(result) > 1:
+        idx = np.nonzero(np.abs(result.t - e.t) < 1e-9 * max(1.0, abs(e.t)))[0]
+        if idx.size:
+            return float(result["travel"][idx[0]])
     x = abs(e.coordinate - result.coordinate[0])
     return math.degrees(x) % 360.0 if _angular(result) else x * 1e3
+
+
+def _course_label(k: int, turn: int, n_turns: int, prime: str = "") -> str:
+    return f"{k}{prime}" if n_turns <= 1 else f"{k}{prime}/{turn}"
 
 
 def course_positions(result, n: int = 12) -> list[tuple[str, int]]:
@@ -129,47 +161,65 @@ def course_positions(result, n: int = 12) -> list[tuple[str, int]]:
     Position k (1…n) is the row at travel (k − 1)·360°/n from the first row, in
     the sense of motion (position 1 = ``analysis.start``); each load event
     (a row added at an exact switching position) is labelled with the number of
-    the position before it and a prime (1′, 8′).  Only for a full cycle of an
-    angular driver; otherwise empty.
+    the position before it and a prime (1′, 8′).  Over several turns of the first
+    driver (``sweep: 720``: two motors of unequal speeds) the turn follows a slash:
+    ``7/2`` is position 7 of the second turn.  Only for whole turns of an angular
+    driver; otherwise empty.
     """
-    if not _angular(result) or not result.full_cycle:
+    n_turns = turns(result)
+    if not n_turns:
         return []
     travel = np.asarray(result["travel"], dtype=float)
     out: list[tuple[float, str, int]] = []
-    for k in range(n):
-        idx = np.nonzero(np.abs(travel - k * 360.0 / n) < 1e-6)[0]
-        if idx.size:
-            out.append((k * 360.0 / n, str(k + 1), int(idx[0])))
+    step = 360.0 / n
+    for t in range(n_turns):
+        for k in range(n):
+            idx = np.nonzero(np.abs(travel - (t * 360.0 + k * step)) < 1e-6)[0]
+            if idx.size:
+                out.append(
+                    (t * 360.0 + k * step, _course_label(k + 1, t + 1, n_turns), int(idx[0]))
+                )
     for e in result.events:
         idx = np.nonzero(np.abs(result.t - e.t) < 1e-9 * max(1.0, abs(e.t)))[0]
         if not idx.size:
             continue
         x = _event_travel(result, e)
-        before = int(math.floor(x / (360.0 / n) + 1e-9)) + 1
-        out.append((x, f"{before}′", int(idx[0])))
+        turn, within = divmod(x, 360.0)
+        before = int(math.floor(within / step + 1e-9)) + 1
+        out.append((x, _course_label(before, int(turn) + 1, n_turns, "′"), int(idx[0])))
     out.sort(key=lambda r: r[0])
     return [(lab, k) for _, lab, k in out]
 
 
 def _course_ticks(result, n: int = 12) -> list[tuple[float, str]]:
     """Travel of the course positions and events (whether or not they are rows)."""
-    if not _angular(result) or not result.full_cycle:
+    n_turns = turns(result)
+    if not n_turns:
         return []
-    ticks = [(k * 360.0 / n, str(k + 1)) for k in range(n)]
+    step = 360.0 / n
+    ticks = [
+        (t * 360.0 + k * step, _course_label(k + 1, t + 1, n_turns))
+        for t in range(n_turns)
+        for k in range(n)
+    ]
     for e in result.events:
         x = _event_travel(result, e)
-        ticks.append((x, f"{int(math.floor(x / (360.0 / n) + 1e-9)) + 1}′"))
+        turn, within = divmod(x, 360.0)
+        before = int(math.floor(within / step + 1e-9)) + 1
+        ticks.append((x, _course_label(before, int(turn) + 1, n_turns, "′")))
     return sorted(ticks)
 
 
-def _position_title(result, row: int) -> str:
+def _position_title(result, row: int, lang: str = "en") -> str:
+    from ..lang import tr
+
     labels = [lab for lab, k in course_positions(result) if k == row]
     d = _driver(result)
     if d.joint.angular:
         coord = f"φ = {math.degrees(result.coordinate[row]) % 360.0:.2f}°"
     else:
         coord = f"s = {result.coordinate[row] * 1e3:.2f} mm"
-    return f"position {labels[0]} ({coord})" if labels else coord
+    return tr("position {pos} ({coord})", lang, pos=labels[0], coord=coord) if labels else coord
 
 
 def link_numbers(system) -> dict[str, int]:

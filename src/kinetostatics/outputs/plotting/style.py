@@ -66,6 +66,7 @@ CURVE_COLORS = (
 )
 EVENT_COLOR = "#c0392b"
 MM = 1.0 / 25.4  # inches per mm
+ROUND_OFF = 1e-9  # a value ≤ this times its scale is round-off: drawn and printed as 0
 DPI = 110
 
 
@@ -82,9 +83,12 @@ def _figure(width_mm: float, height_mm: float, dpi: float = DPI):
     return Figure(figsize=(width_mm * MM, height_mm * MM), dpi=dpi)
 
 
-def _rc():
+def _rc(lang: str = "en"):
+    """The style (and for ``lang="zh"`` a font with Chinese glyphs) while a figure is drawn."""
+    from ..lang import rc_fonts
+
     matplotlib, _ = _mpl()
-    return matplotlib.rc_context(STYLE)
+    return matplotlib.rc_context({**STYLE, **rc_fonts(lang)})
 
 
 def nice_scale(x: float) -> float:
@@ -248,3 +252,134 @@ def _label_offset(p, centre, dist):
     n = float(np.hypot(*d))
     u = d / n if n > 1e-12 else np.array([0.7071, 0.7071])
     return p + dist * u
+
+
+# -- nothing drawn outside the paper -------------------------------------------------
+MIN_AXES_MM = (120.0, 80.0)  # the smallest drawing area of a true-scale drawing
+
+
+def _renderer(fig):
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    canvas = fig.canvas if isinstance(fig.canvas, FigureCanvasAgg) else FigureCanvasAgg(fig)
+    return canvas.get_renderer()
+
+
+def _axes_mm(fig, ax) -> list[float]:
+    """[left, bottom, width, height] of the axes on the sheet, mm."""
+    W, H = fig.get_size_inches() / MM
+    x0, y0, w, h = ax.get_position().bounds
+    return [x0 * W, y0 * H, w * W, h * H]
+
+
+def _place(fig, ax, left, bottom, w, h, W, H) -> None:
+    fig.set_size_inches(W * MM, H * MM)
+    ax.set_position([left / W, bottom / H, w / W, h / H])
+
+
+def _inside_axes(fig, ax, artists, pad_mm: float = 1.5, rounds: int = 4) -> None:
+    """Grow the data limits (and the axes with them, so the scale stays) until every
+    artist of ``artists`` (labels, arrows) lies inside the axes."""
+    for _ in range(rounds):
+        r = _renderer(fig)
+        box = ax.get_window_extent(r)
+        ext = [a.get_window_extent(r) for a in artists if a.get_visible()]
+        ext = [e for e in ext if np.all(np.isfinite(e.extents)) and e.width >= 0]
+        if not ext:
+            return
+        px_mm = fig.dpi * MM  # pixels per paper mm
+        pad = pad_mm * px_mm
+        over = [
+            max(0.0, box.x0 + pad - min(e.x0 for e in ext)),
+            max(0.0, max(e.x1 for e in ext) - box.x1 + pad),
+            max(0.0, box.y0 + pad - min(e.y0 for e in ext)),
+            max(0.0, max(e.y1 for e in ext) - box.y1 + pad),
+        ]
+        if max(over) < 0.5:
+            return
+        over_mm = [o / px_mm for o in over]
+        left, bottom, w, h = _axes_mm(fig, ax)
+        W, H = fig.get_size_inches() / MM
+        (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+        per_mm = (x1 - x0) / w  # data units per paper mm
+        ax.set_xlim(x0 - over_mm[0] * per_mm, x1 + over_mm[1] * per_mm)
+        ax.set_ylim(y0 - over_mm[2] * per_mm, y1 + over_mm[3] * per_mm)
+        w2, h2 = w + over_mm[0] + over_mm[1], h + over_mm[2] + over_mm[3]
+        _place(fig, ax, left, bottom, w2, h2, W + w2 - w, H + h2 - h)
+
+
+def _fit_sheet(fig, ax, pad_mm: float = 2.0) -> None:
+    """Size the sheet around everything drawn (title, tick and axis labels, texts),
+    keeping the axes' size in mm: nothing is cut and the true scale holds."""
+    r = _renderer(fig)
+    tight = fig.get_tightbbox(r)  # inches
+    W, H = fig.get_size_inches() / MM
+    left, bottom, w, h = _axes_mm(fig, ax)
+    tx0, ty0, tx1, ty1 = (v / MM for v in tight.extents)
+    new_left = left - tx0 + pad_mm
+    new_bottom = bottom - ty0 + pad_mm
+    new_W = new_left + (tx1 - left) + pad_mm
+    new_H = new_bottom + (ty1 - bottom) + pad_mm
+    _place(fig, ax, new_left, new_bottom, w, h, new_W, new_H)
+
+
+def _wrap(text: str, width_mm: float, size_pt: float) -> str:
+    """Break a plain text line into lines of about ``width_mm`` at ``size_pt``."""
+    import textwrap
+
+    chars = max(20, int(width_mm / (0.52 * size_pt * 25.4 / 72)))
+    return "\n".join("\n".join(textwrap.wrap(line, chars) or [""]) for line in text.split("\n"))
+
+
+def _dodge(fig, ax, labels, fixed=(), step_mm: float = 2.0) -> None:
+    """Move each label of ``labels`` (in order) around its anchor until it overlaps no
+    label placed before it nor any of ``fixed``, and stays inside the axes if it can."""
+    r = _renderer(fig)
+    box = ax.get_window_extent(r)
+    placed = [a.get_window_extent(r).expanded(1.02, 1.08) for a in fixed if a.get_visible()]
+    px = fig.dpi * MM * step_mm
+    moves = [(0, 0)] + [
+        (dx * s, dy * s)
+        for s in (1, 2, 3, 4.5)
+        for dx, dy in ((0, 1), (0, -1), (1, 0), (-1, 0), (1, 1), (-1, 1), (1, -1), (-1, -1))
+    ]
+    for t in labels:
+        x, y = t.get_position()
+        home = ax.transData.transform((x, y))
+        best = None
+        for dx, dy in moves:
+            t.set_position(ax.transData.inverted().transform(home + (dx * px, dy * px)))
+            e = t.get_window_extent(r)
+            inside = box.x0 <= e.x0 and e.x1 <= box.x1 and box.y0 <= e.y0 and e.y1 <= box.y1
+            clear = not any(e.overlaps(p) for p in placed)
+            if clear and inside:
+                best = (dx, dy)
+                break
+            if clear and best is None:
+                best = (dx, dy)
+        dx, dy = best if best is not None else (0, 0)
+        t.set_position(ax.transData.inverted().transform(home + (dx * px, dy * px)))
+        placed.append(t.get_window_extent(r).expanded(1.02, 1.08))
+
+
+def _grow_to_fit(fig, pad_mm: float = 1.5) -> None:
+    """Grow a figure of curves by whatever of its labels would fall off an edge, moving
+    every axes by the same amount and keeping its size."""
+    r = _renderer(fig)
+    tight = fig.get_tightbbox(r)  # inches
+    Wi, Hi = fig.get_size_inches()
+    pad = pad_mm * MM
+    left = max(0.0, pad - tight.x0)
+    bottom = max(0.0, pad - tight.y0)
+    right = max(0.0, tight.x1 - Wi + pad)
+    top = max(0.0, tight.y1 - Hi + pad)
+    if max(left, bottom, right, top) <= 0.01 * MM:
+        return
+    W2, H2 = Wi + left + right, Hi + bottom + top
+    boxes = [(a, a.get_position().bounds) for a in fig.axes]
+    texts = [(t, t.get_position()) for t in fig.texts]
+    fig.set_size_inches(W2, H2)
+    for a, (x0, y0, w, h) in boxes:
+        a.set_position([(x0 * Wi + left) / W2, (y0 * Hi + bottom) / H2, w * Wi / W2, h * Hi / H2])
+    for t, (x, y) in texts:
+        t.set_position(((x * Wi + left) / W2, (y * Hi + bottom) / H2))

@@ -1,5 +1,6 @@
 """The report as a list of blocks (headings, paragraphs, lists, tables, images),
-rendered to Markdown (images in files) and to self-contained HTML (images embedded)."""
+rendered to Markdown (images in files) and to self-contained HTML (images embedded,
+printable on A4: drawings at their true size); ``pdf.py`` renders the same blocks."""
 
 from __future__ import annotations
 
@@ -7,6 +8,12 @@ import base64
 import html
 from dataclasses import dataclass
 from pathlib import Path
+
+from ...errors import KinetostaticsError
+
+
+class ReportError(KinetostaticsError, ValueError):
+    """A report cannot be written as asked."""
 
 
 @dataclass
@@ -31,6 +38,9 @@ class _Table:
 class _Image:
     path: Path  # inside the output folder
     caption: str
+    width_mm: float = 0.0  # the figure's size on paper at 100 %
+    height_mm: float = 0.0
+    true_scale: bool = False  # a drawing or polygon to a stated scale
 
 
 @dataclass
@@ -70,7 +80,7 @@ body{font-family:system-ui,-apple-system,"Segoe UI",Roboto,Arial,sans-serif;max-
 margin:2em auto;padding:0 1em;color:#1d1d1d;line-height:1.45}
 h1{border-bottom:2px solid #1f5fa8;padding-bottom:.2em}
 h2{border-bottom:1px solid #ccc;padding-bottom:.15em;margin-top:1.8em}
-table{border-collapse:collapse;font-size:.82em;margin:.6em 0 1.2em;display:block;overflow-x:auto}
+table{border-collapse:collapse;font-size:.82em;margin:.6em 0 1.2em}
 th,td{border:1px solid #d0d0d0;padding:.2em .45em;text-align:right;white-space:nowrap}
 th{background:#eef3fa}
 td:first-child,th:first-child{text-align:left}
@@ -78,13 +88,18 @@ figure{margin:1em 0}
 figure img{max-width:100%;height:auto;border:1px solid #eee}
 figcaption,.caption{font-size:.85em;color:#444;font-style:italic}
 code{background:#f3f3f3;padding:0 .2em}
+@page{size:A4;margin:14mm}
+@media print{body{max-width:none;margin:0;padding:0;font-size:9pt}
+table{font-size:7pt;page-break-inside:auto}tr{page-break-inside:avoid}
+thead{display:table-header-group}figure{page-break-inside:avoid}
+figure img{max-width:none;border:none}h2{page-break-after:avoid}}
 """
 
 
-def _to_html(blocks, title: str) -> str:
+def _to_html(blocks, title: str, lang: str = "en") -> str:
     parts = [
         "<!DOCTYPE html>",
-        '<html lang="en"><head><meta charset="utf-8">',
+        f'<html lang="{"zh-CN" if lang == "zh" else "en"}"><head><meta charset="utf-8">',
         f"<title>{html.escape(title)}</title>",
         f"<style>{_CSS}</style></head><body>",
     ]
@@ -106,8 +121,9 @@ def _to_html(blocks, title: str) -> str:
             parts.append(f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>")
         elif isinstance(b, _Image):
             data = base64.b64encode(b.path.read_bytes()).decode("ascii")
+            size = f' style="width:{b.width_mm:.2f}mm"' if b.width_mm else ""
             parts.append(
-                f'<figure><img alt="{html.escape(b.caption)}" '
+                f'<figure><img alt="{html.escape(b.caption)}"{size} '
                 f'src="data:image/png;base64,{data}">'
                 f"<figcaption>{html.escape(b.caption)}</figcaption></figure>"
             )

@@ -7,31 +7,41 @@ import math
 
 import numpy as np
 
+from ..lang import tr
 from ..plotting import link_numbers
 from .blocks import _Heading, _List, _Para, _Table
+from .results import length_unit
 
 
-def _mm(v) -> str:
-    return ", ".join(f"{1e3 * float(c):.6g}" for c in v)
-
-
-def _data_blocks(model, system) -> list:
+def _data_blocks(model, system, lang: str = "en") -> list:
+    T = lambda s, **k: tr(s, lang, **k)  # noqa: E731
     nums = link_numbers(system)
-    blocks: list = [_Heading(2, "1. Data")]
+    lu, lf = length_unit(model)
+
+    def _mm(v) -> str:
+        return ", ".join(f"{float(c) / lf:.6g}" for c in v)
+
+    blocks: list = [_Heading(2, T("1. Data"))]
     units = ", ".join(f"{k}: {v}" for k, v in model.units.items()) or "SI"
     blocks.append(
         _Para(
-            f"Source: `{model.source}`. Units of the file: {units}. Everything below "
-            "is in SI unless stated (lengths of points in mm). Gravity: "
-            f"({model.gravity[0]:g}, {model.gravity[1]:g}) m/s²."
+            T(
+                "Source: `{source}`. Units of the file: {units}. Everything below is in SI "
+                "unless stated (lengths of points in {lu}). Gravity: ({gx}, {gy}) m/s².",
+                source=model.source,
+                units=units,
+                lu=lu,
+                gx=f"{model.gravity[0]:g}",
+                gy=f"{model.gravity[1]:g}",
+            )
         )
     )
     if model.parameters:
         blocks.append(
             _Table(
-                ["parameter", "value (as in the file)"],
+                [T("parameter"), T("value (as in the file)")],
                 [[k, f"{v:.6g}"] for k, v in model.parameters.items()],
-                "Parameters",
+                T("Parameters"),
             )
         )
     rows = []
@@ -41,7 +51,7 @@ def _data_blocks(model, system) -> list:
             [
                 lk.name,
                 str(nums[lk.name]),
-                "frame" if lk.ground else f"{lk.mass:.6g}",
+                T("frame") if lk.ground else f"{lk.mass:.6g}",
                 "" if lk.ground else f"{lk.inertia:.6g}",
                 "" if lk.ground else f"({_mm(lk.com)})",
                 pts,
@@ -50,15 +60,15 @@ def _data_blocks(model, system) -> list:
     blocks.append(
         _Table(
             [
-                "link",
-                "no.",
-                "mass (kg)",
+                T("link"),
+                T("no."),
+                T("mass (kg)"),
                 "J_S (kg·m²)",
-                "centre of mass (mm)",
-                "points (mm, in the link's own frame)",
+                T("centre of mass ({lu})", lu=lu),
+                T("points ({lu}, in the link's own frame)", lu=lu),
             ],
             rows,
-            "Links (numbers as in the pictures; the frame last)",
+            T("Links (numbers as in the pictures; the frame last)"),
         )
     )
     rows = []
@@ -76,9 +86,9 @@ def _data_blocks(model, system) -> list:
         )
     blocks.append(
         _Table(
-            ["joint", "type", "links i → j", "reaction", "where", "friction"],
+            [T("joint"), T("type"), T("links i → j"), T("reaction"), T("where"), T("friction")],
             rows,
-            "Joints (the reaction is the force of link i on link j)",
+            T("Joints (the reaction is the force of link i on link j)"),
         )
     )
     rows = []
@@ -95,14 +105,18 @@ def _data_blocks(model, system) -> list:
                 [
                     d.name,
                     d.joint,
-                    f"{law} law, peak speed {speed}" if law else speed,
+                    T("{law} law, peak speed {speed}", law=law, speed=speed) if law else speed,
                     d.balance_at or d.joint,
                 ]
             )
         else:
-            rows.append([d.name, d.joint, f"effort {d.effort}", ""])
+            rows.append([d.name, d.joint, T("effort {e}", e=d.effort), ""])
     blocks.append(
-        _Table(["driver", "joint", "motion (+ counter-clockwise)", "effort at"], rows, "Drivers")
+        _Table(
+            [T("driver"), T("joint"), T("motion (+ counter-clockwise)"), T("effort at")],
+            rows,
+            T("Drivers"),
+        )
     )
     if model.loads:
         rows = []
@@ -111,17 +125,32 @@ def _data_blocks(model, system) -> list:
             for c in ld.active:
                 if c.kind == "moving":
                     conds.append(
-                        f"{c.link}.{c.point or 'CoM'} moving along ({c.axis[0]:g}, {c.axis[1]:g})"
+                        T(
+                            "{p} moving along ({x}, {y})",
+                            p=f"{c.link}.{c.point or 'CoM'}",
+                            x=f"{c.axis[0]:g}",
+                            y=f"{c.axis[1]:g}",
+                        )
                     )
                 elif c.kind == "travel":
                     conds.append(
-                        f"travel of {c.link}.{c.point or 'CoM'} along ({c.axis[0]:g}, "
-                        f"{c.axis[1]:g}) in [{c.bounds[0] * 1e3:.4g}, {c.bounds[1] * 1e3:.4g}] mm"
+                        T(
+                            "travel of {p} along ({x}, {y}) in [{a}, {b}] {lu}",
+                            p=f"{c.link}.{c.point or 'CoM'}",
+                            x=f"{c.axis[0]:g}",
+                            y=f"{c.axis[1]:g}",
+                            a=f"{c.bounds[0] / lf:.4g}",
+                            b=f"{c.bounds[1] / lf:.4g}",
+                            lu=lu,
+                        )
                     )
                 else:
                     conds.append(
-                        f"driver coordinate in [{math.degrees(c.bounds[0]):.4g}, "
-                        f"{math.degrees(c.bounds[1]):.4g}]°"
+                        T(
+                            "driver angle φ in [{a}, {b}]°",
+                            a=f"{math.degrees(c.bounds[0]):.4g}",
+                            b=f"{math.degrees(c.bounds[1]):.4g}",
+                        )
                     )
             value = np.asarray(ld.value)
             val = (
@@ -130,37 +159,44 @@ def _data_blocks(model, system) -> list:
                 else f"{float(value):g} {'N·m' if ld.kind == 'torque' else 'N'}"
             )
             if ld.table is not None:
-                val += " (tabulated)"
+                val += T(" (tabulated)")
             rows.append(
                 [
                     ld.name,
                     ld.kind,
                     f"{ld.link}" + (f".{ld.point}" if ld.point else ""),
                     val,
-                    "; ".join(conds) or "always",
+                    "; ".join(conds) or T("always"),
                 ]
             )
-        blocks.append(_Table(["load", "kind", "acts on", "value", "active while"], rows, "Loads"))
+        blocks.append(
+            _Table(
+                [T("load"), T("kind"), T("acts on"), T("value"), T("active while")],
+                rows,
+                T("Loads"),
+            )
+        )
     return blocks
 
 
-def _structure_blocks(system) -> list:
+def _structure_blocks(system, lang: str = "en") -> list:
+    T = lambda s, **k: tr(s, lang, **k)  # noqa: E731
     st = system.structure
     items = [
-        f"mobility (Grübler–Kutzbach): {st.mobility}",
-        f"independent loops: {len(st.loops)}"
+        T("mobility (Grübler–Kutzbach): {m}", m=st.mobility),
+        T("independent loops: {n}", n=len(st.loops))
         + ("" if not st.loops else " — " + "; ".join(" – ".join(lp) for lp in st.loops)),
     ]
-    blocks: list = [_Heading(2, "2. Structure"), _List(items)]
+    blocks: list = [_Heading(2, T("2. Structure")), _List(items)]
     rows = []
     for k, plan in enumerate(system.plans, 1):
         g = plan.group
         rows.append([str(k), g.label, ", ".join(g.joints + g.drivers)])
     blocks.append(
         _Table(
-            ["step", "Assur group (class and members)", "joints and drivers"],
+            [T("step"), T("Assur group (class and members)"), T("joints and drivers")],
             rows,
-            "Assur groups in solve order",
+            T("Assur groups in solve order"),
         )
     )
     return blocks

@@ -1,5 +1,5 @@
 """The whole report: analyse, draw the pictures, assemble the sections and write
-``report.md``, ``report.html``, ``results.csv`` and ``summary.json``."""
+``report.md``, ``report.html`` and/or ``report.pdf``, ``results.csv`` and ``summary.json``."""
 
 from __future__ import annotations
 
@@ -9,65 +9,99 @@ from pathlib import Path
 
 import numpy as np
 
-from ...errors import KinetostaticsError
 from ...model import Model
 from .. import plotting as pl
+from ..lang import check_lang, cjk_font, tr
 from ..loading import load
-from .blocks import _Heading, _Image, _Para, _Table, _to_html, _to_markdown
+from .blocks import ReportError, _Heading, _Image, _Para, _to_html, _to_markdown
 from .data import _data_blocks, _structure_blocks
-from .results import _flatten, _summary_blocks, report_tables
+from .flywheel import flywheel_blocks
+from .pdf import pdf_module
+from .results import _summary_blocks, length_unit, report_tables
+
+FORMATS = ("md", "html", "pdf")
 
 
-class ReportError(KinetostaticsError, ValueError):
-    """A report cannot be written as asked."""
+def _rows(result, course):
+    if course:
+        return course
+    # no crank cycle: 12 rows spread over the run
+    order = np.argsort(result["travel"], kind="stable")
+    picks = np.unique(np.linspace(0, len(order) - 1, min(12, len(order))).round().astype(int))
+    return [(str(n + 1), int(order[k])) for n, k in enumerate(picks)]
+
+
+def _polygon_labels(polygons, labels: list[str], turns: int) -> list[str]:
+    if polygons is None:
+        default = ("2", "7") if turns <= 1 else ("2/1", "7/1")
+        return [p for p in default if p in labels] or labels[:1]
+    polygons = [p.replace("'", "′") for p in polygons]
+    for p in polygons:
+        if p not in labels:
+            raise ReportError(
+                f"no course position '{p}' for polygons (have "
+                f"{', '.join(labels) or 'none: not whole turns of a crank'})"
+            )
+    return polygons
 
 
 def write_report(
-    source, out: str | Path, *, polygons: Sequence[str] | None = None, dpi: float = 110
+    source,
+    out: str | Path,
+    *,
+    polygons: Sequence[str] | None = None,
+    dpi: float = 110,
+    formats: Sequence[str] = ("md", "html"),
+    lang: str = "en",
 ) -> dict[str, Path]:
     """Analyse ``source`` (a YAML path or a Model) and write the report to ``out``.
 
-    ``polygons``: course-position labels (``"2"``, ``"7"``, ``"1′"``) at which
-    to draw velocity and acceleration polygons; default positions 2 and 7 (the
-    ones a slotting-machine course design works by hand), or position 1 where
-    there are no such positions.  Returns the paths written (``markdown``,
-    ``html``, ``csv``, ``summary``).
+    ``polygons``: course-position labels (``"2"``, ``"7"``, ``"1′"``; ``"7/2"`` for
+    position 7 of the second turn of a multi-turn sweep) at which to draw velocity and
+    acceleration polygons; default positions 2 and 7 (the ones a slotting-machine course
+    design works by hand), or position 1 where there are no such positions.  ``formats``:
+    any of ``md`` (``report.md``, images in ``img/``), ``html`` (``report.html``, images
+    embedded) and ``pdf`` (``report.pdf``, A4, needs fpdf2: ``pip install
+    'kinetostatics[pdf]'``).  ``lang``: ``en`` or ``zh`` (Chinese headings and labels;
+    needs a font with Chinese glyphs).  Returns the paths written (``markdown``,
+    ``html``, ``pdf`` as asked, ``csv``, ``summary``).
     """
-    if isinstance(source, Model):
-        model = source
-    else:
-        model = load(source)
+    formats = list(dict.fromkeys(formats))
+    for f in formats:
+        if f not in FORMATS:
+            raise ReportError(f"unknown report format '{f}' (have {', '.join(FORMATS)})")
+    check_lang(lang)
+    if lang == "zh":
+        cjk_font()  # fail before any work when there is no font
+    if "pdf" in formats:
+        pdf_module()  # likewise when fpdf2 is missing
+    model = source if isinstance(source, Model) else load(source)
+    if not model.drivers or not all(d.motion is not None for d in model.drivers):
+        raise ReportError(
+            f"{model.name}: the report analyses a cycle driven by motion drivers; "
+            "a file with effort drivers is simulated (kinetostatics simulate)"
+        )
     out = Path(out)
     img = out / "img"
     img.mkdir(parents=True, exist_ok=True)
     result = pl.analyze_for_pictures(model, course=True, events=True)
     system = result.system
     course = pl.course_positions(result)
+    n_turns = pl.turns(result)
     labels = [lab for lab, _ in course]
-    if polygons is None:
-        polygons = [p for p in ("2", "7") if p in labels] or labels[:1]
-    polygons = [p.replace("'", "′") for p in polygons]
-    for p in polygons:
-        if p not in labels:
-            raise ReportError(
-                f"no course position '{p}' for polygons (have "
-                f"{', '.join(labels) or 'none: not a full cycle of a crank'})"
-            )
-    if course:
-        rows = course
-    else:  # no crank cycle: 12 rows spread over the run
-        order = np.argsort(result["travel"], kind="stable")
-        picks = np.unique(np.linspace(0, len(order) - 1, min(12, len(order))).round().astype(int))
-        rows = [(str(n + 1), int(order[k])) for n, k in enumerate(picks)]
+    polygons = _polygon_labels(polygons, labels, n_turns)
+    rows = _rows(result, course)
     csv_path, summary_path = out / "results.csv", out / "summary.json"
     result.to_csv(csv_path)
     summary = result.summary()
     summary_path.write_text(json.dumps(summary, indent=2, default=float))
+    T = lambda s, **k: tr(s, lang, **k)  # noqa: E731
 
-    def save(fig, name: str) -> Path:
+    def image(fig, name: str, caption: str, true_scale: bool = False) -> _Image:
         path = img / f"{name}.png"
         fig.savefig(path, dpi=dpi)
-        return path
+        w, h = fig.get_size_inches() * 25.4
+        return _Image(path, caption, float(w), float(h), true_scale)
 
     moving_pins = [
         f"{a.link}.{a.point}"
@@ -79,115 +113,187 @@ def write_report(
     out_m = pl.output_motion(result)
     paths = list(dict.fromkeys(moving_pins))
     first = rows[0][1]
+    title = T("Course-design report: {name}", name=model.name)
+    d0 = system.motion_drivers[0]
     blocks: list = [
-        _Heading(1, f"Course-design report: {model.name}"),
+        _Heading(1, title),
         _Para(
-            "Kinetostatic analysis by `kinetostatics` (exact positions, velocities "
-            "and accelerations; d'Alembert inertia loads; Newton–Euler reactions; "
-            "friction by the approximate and the consistent solution). Conventions: "
-            "x right, y up, angles and moments counter-clockwise positive; a joint's "
-            "reaction F_ij is the force of link i on link j. Course-design positions: "
-            "1…12 every 30° from the analysis start in the sense of rotation; k′ are "
-            "the positions where a load switches (start and end of cutting), after "
-            "position k."
+            T(
+                "Kinetostatic analysis by `kinetostatics` (exact positions, velocities "
+                "and accelerations; d'Alembert inertia loads; Newton–Euler reactions; "
+                "friction by the approximate and the consistent solution). Conventions: "
+                "x right, y up, angles and moments counter-clockwise positive; a joint's "
+                "reaction F_ij is the force of link i on link j."
+            )
+        ),
+        _Para(
+            T(
+                "Position angle: every position is named by the angle φ of the first driver "
+                "({driver}), measured counter-clockwise from +x in [0, 360)°; link angles θ "
+                "likewise. travel is the rotation from position 1 in the sense of motion. "
+                "Course-design positions 1…12 are every 30° of travel from the analysis start "
+                "(φ₁ = {start}°); k′ are the positions where a load switches (start and end of "
+                "cutting), after position k.",
+                driver=d0.name,
+                start=f"{np.degrees(model.analysis.start) % 360.0:.4g}",
+            )
+            + (
+                T(
+                    " The analysis runs {n} turns of {driver}: k/t is position k of turn t.",
+                    n=n_turns,
+                    driver=d0.name,
+                )
+                if n_turns > 1
+                else ""
+            )
+        ),
+        _Para(
+            T(
+                "Units: lengths of points and strokes in the file's unit ({unit}); velocities "
+                "in m/s, accelerations in m/s², forces in N, moments in N·m, angles in deg, "
+                "angular velocities in rad/s.",
+                unit=length_unit(model)[0],
+            )
         ),
     ]
-    blocks += _data_blocks(model, system)
-    blocks += _structure_blocks(system)
-    blocks += _summary_blocks(result, summary)
-    blocks.append(_Heading(2, "4. The mechanism"))
+    blocks += _data_blocks(model, system, lang)
+    blocks += _structure_blocks(system, lang)
+    blocks += _summary_blocks(result, summary, lang)
+    blocks.append(_Heading(2, T("4. The mechanism")))
     blocks.append(
-        _Image(
-            save(pl.draw_mechanism(result, row=first, paths=paths, dpi=dpi), "mechanism"),
-            f"The mechanism at position {rows[0][0]} with the paths of its moving pins "
-            "(true scale μ_l as stated).",
+        image(
+            pl.draw_mechanism(result, row=first, paths=paths, dpi=dpi, lang=lang),
+            "mechanism",
+            T(
+                "The mechanism at position {pos} with the paths of its moving pins "
+                "(to the scale μ_l stated on it).",
+                pos=rows[0][0],
+            ),
+            True,
         )
     )
-    blocks.append(_Heading(2, "5. Kinematics and forces at the course-design positions"))
+    blocks.append(_Heading(2, T("5. Kinematics and forces at the course-design positions")))
     blocks.append(
         _Para(
-            f"Rows of `results.csv` (the column CSV row) at the positions "
-            f"{', '.join(lab for lab, _ in rows)}; values to 5 significant digits, "
-            "column names and units as in the CSV."
-        )
-    )
-    for t in report_tables(result, rows):
-        blocks.append(t)
-    blocks.append(_Heading(2, "6. Curves over the cycle"))
-    blocks.append(
-        _Image(
-            save(pl.motion_diagram(result, dpi=dpi), "motion"),
-            f"Motion diagram of the output ({out_m['name']}): position, velocity, "
-            "acceleration; the shaded zone is where the process load acts.",
-        )
-    )
-    blocks.append(
-        _Image(
-            save(pl.torque_curves(result, dpi=dpi), "torque"),
-            "Driving torque without friction, with the approximate and with the "
-            "consistent friction solution.",
-        )
-    )
-    if any(f"{d.name}.efficiency" in result.columns for d in system.motion_drivers):
-        blocks.append(
-            _Image(
-                save(pl.efficiency_curve(result, dpi=dpi), "efficiency"),
-                "Instantaneous and cycle efficiency of the drive.",
+            T(
+                "Rows of `results.csv` (the column CSV row) at the positions {labels}; values "
+                "to 5 significant digits (0: below 1e-9 of the largest value of its unit in the "
+                "table, round-off), column names as in the CSV; |v|, |a|, |F| are the "
+                "magnitudes of the components before them. Wide tables are split into groups "
+                "of columns, each repeating the position, its CSV row and its angle.",
+                labels=", ".join(lab for lab, _ in rows),
             )
         )
+    )
+    blocks += report_tables(result, rows, lang)
+    blocks.append(_Heading(2, T("6. Curves over the cycle")))
     blocks.append(
-        _Image(
-            save(pl.reaction_curves(result, friction=model.has_friction, dpi=dpi), "reactions"),
-            "Magnitudes of the joint reactions.",
+        image(
+            pl.motion_diagram(result, dpi=dpi, lang=lang),
+            "motion",
+            T(
+                "Motion diagram of the output ({name}): position, velocity, acceleration; "
+                "the shaded zone is where the process load acts.",
+                name=out_m["name"],
+            ),
         )
     )
-    blocks.append(_Heading(2, "7. Velocity and acceleration polygons"))
+    for d in system.motion_drivers:
+        blocks.append(
+            image(
+                pl.torque_curves(result, d.name, dpi=dpi, lang=lang),
+                "torque" if d is d0 else f"torque_{d.name}",
+                T(
+                    "Driving effort of {driver} without friction, with the approximate and "
+                    "with the consistent friction solution.",
+                    driver=d.name,
+                ),
+            )
+        )
+        if f"{d.name}.efficiency" in result.columns:
+            blocks.append(
+                image(
+                    pl.efficiency_curve(result, d.name, dpi=dpi, lang=lang),
+                    "efficiency" if d is d0 else f"efficiency_{d.name}",
+                    T("Instantaneous and cycle efficiency of the drive {driver}.", driver=d.name),
+                )
+            )
+    blocks.append(
+        image(
+            pl.reaction_curves(result, friction=model.has_friction, dpi=dpi, lang=lang),
+            "reactions",
+            T("Magnitudes of the joint reactions."),
+        )
+    )
+    blocks.append(_Heading(2, T("7. Velocity and acceleration polygons")))
     blocks.append(
         _Para(
-            "Drawn from the exact results to the stated scales μ_v and μ_a (true "
-            "scale when the PNG is printed at 100 %): p is the pole, lower-case "
-            "letters the points (a2, a3: the coincident points of links 2 and 3), n "
-            "and k the ends of normal and Coriolis components."
+            T(
+                "Drawn from the exact results to the stated scales μ_v and μ_a (true "
+                "scale when printed at 100 %): p is the pole, lower-case "
+                "letters the points (a2, a3: the coincident points of links 2 and 3), n "
+                "and k the ends of normal and Coriolis components."
+            )
         )
     )
+    at = dict(course) if course else dict(rows)
     for lab in polygons:
-        k = dict(course)[lab]
-        tag = lab.replace("′", "p")
+        k = at[lab]
+        tag = lab.replace("′", "p").replace("/", "_t")
         blocks.append(
-            _Image(
-                save(pl.draw_mechanism(result, row=k, forces=True, dpi=dpi), f"forces_{tag}"),
-                f"Position {lab}: the loads drawn to scale (reactions of link i on "
-                "link j at the joints, inertia forces and couples, weights, process "
-                "load, driving torque).",
+            image(
+                pl.draw_mechanism(result, row=k, forces=True, dpi=dpi, lang=lang),
+                f"forces_{tag}",
+                T(
+                    "Position {pos}: the loads drawn to scale (reactions of link i on link j "
+                    "at the joints, inertia forces and couples, weights, process load, "
+                    "driving torque).",
+                    pos=lab,
+                ),
+                True,
             )
         )
         for kind in ("velocity", "acceleration"):
             blocks.append(
-                _Image(
-                    save(pl.polygon_figure(result, kind, row=k, dpi=dpi), f"{kind}_{tag}"),
-                    f"{kind.capitalize()} polygon at position {lab}.",
+                image(
+                    pl.polygon_figure(result, kind, row=k, dpi=dpi, lang=lang),
+                    f"{kind}_{tag}",
+                    T(f"{kind.capitalize()} polygon at position {{pos}}.", pos=lab),
+                    True,
                 )
             )
-    blocks.append(_Heading(2, "8. Polar diagrams of the joint loads"))
+    blocks.append(_Heading(2, T("8. Polar diagrams of the joint loads")))
     blocks.append(
-        _Image(
-            save(pl.polar_diagrams(result, dpi=dpi), "polar"),
-            "Reaction of each revolute joint in the frame of the link that receives "
-            "it, over the cycle (numbers: course positions).",
+        image(
+            pl.polar_diagrams(result, dpi=dpi, lang=lang),
+            "polar",
+            T(
+                "Reaction of each revolute joint in the frame of the link that receives "
+                "it, over the cycle (numbers: course positions)."
+            ),
         )
     )
     if "flywheel" in summary:
-        blocks.append(_Heading(2, "9. Flywheel"))
+        from ...dynamics.flywheel import design
+
         fw = summary["flywheel"]
-        blocks.append(
-            _Table(
-                ["quantity", "value"],
-                [[k, v] for k, v in _flatten(fw)],
-                "Flywheel (from summary.json)",
-            )
+        dsg = design(
+            result,
+            fw["delta"],
+            ratio=fw.get("ratio"),
+            friction=fw["torque"] != "frictionless",
+            positions=fw["positions"],
         )
-    md = _to_markdown(blocks, out)
-    md_path, html_path = out / "report.md", out / "report.html"
-    md_path.write_text(md, encoding="utf-8")
-    html_path.write_text(_to_html(blocks, f"Course-design report: {model.name}"), encoding="utf-8")
-    return {"markdown": md_path, "html": html_path, "csv": csv_path, "summary": summary_path}
+        blocks += flywheel_blocks(fw, dsg, result, rows, image, lang)
+    written: dict[str, Path] = {}
+    if "md" in formats:
+        written["markdown"] = out / "report.md"
+        written["markdown"].write_text(_to_markdown(blocks, out), encoding="utf-8")
+    if "html" in formats:
+        written["html"] = out / "report.html"
+        written["html"].write_text(_to_html(blocks, title, lang), encoding="utf-8")
+    if "pdf" in formats:
+        from .pdf import write_pdf
+
+        written["pdf"] = write_pdf(blocks, out / "report.pdf", title, lang)
+    return written | {"csv": csv_path, "summary": summary_path}

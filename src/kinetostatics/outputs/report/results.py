@@ -1,50 +1,116 @@
 """The results sections: the summary over the cycle (section 3), the tables at the
 course-design positions (section 5: rows of results.csv to 5 significant digits) and
-the flattened flywheel entry of the summary (section 9)."""
+the peak reactions; every angle of a position is the driver angle φ in [0, 360)°."""
 
 from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import Any
+from dataclasses import dataclass
 
 import numpy as np
 
+from ..lang import tr
 from .blocks import _Heading, _List, _Table
 
-
 # -- numbers -------------------------------------------------------------------------
+ROUND_OFF = 1e-9  # a value ≤ this times its column's (unit's) largest prints as 0
+GROUP = 9  # data columns per printed table: wider tables are split into column groups
+
+
 def _fmt(v: float, scale: float) -> str:
     """5 significant digits; round-off below 1e-9 of the column's scale prints as 0;
     missing values (self-locking) as an empty cell."""
     if not np.isfinite(v):
         return ""
-    if abs(v) <= 1e-9 * scale:
+    if abs(v) <= ROUND_OFF * scale:
         return "0"
     return f"{v:.5g}"
 
 
-def _header(result, name: str) -> str:
-    unit = result.units[name].replace("*", "·").replace("^2", "²")
-    return f"{name} ({unit})"
+def _unit(u: str) -> str:
+    return u.replace("*", "·").replace("^2", "²")
 
 
-def _table(result, rows: list[tuple[str, int]], names: list[str], caption: str) -> _Table:
-    names = [n for n in names if n in result.columns]
-    header = ["pos.", "CSV row"] + [_header(result, n) for n in names]
+def length_unit(model) -> tuple[str, float]:
+    """The file's length unit and its size in m (``("mm", 1e-3)``; SI when none)."""
+    from ...base.units import factor
 
-    def size(n):
-        v = np.abs(np.asarray(result[n], dtype=float))
+    u = model.units.get("length", "m") if model.units else "m"
+    return u, factor("length", u)
+
+
+@dataclass
+class Column:
+    """A printed column: name, unit, values over all rows (already in the printed unit)."""
+
+    name: str
+    unit: str
+    values: np.ndarray
+
+
+def _csv_column(result, name: str) -> Column:
+    return Column(name, _unit(result.units[name]), np.asarray(result[name], dtype=float))
+
+
+def _key_column(result) -> Column:
+    """The position angle: the first driver's coordinate φ in [0, 360) deg (``angle``),
+    or its stroke for a prismatic driver (in the file's length unit)."""
+    if "angle" in result.columns:
+        return _csv_column(result, "angle")
+    u, f = length_unit(result.system.model)
+    return Column("stroke", u, np.asarray(result["stroke"], dtype=float) / f)
+
+
+def _angle(deg) -> np.ndarray:
+    """Angles in [0, 360) deg (an unwrapped link angle −390° is 330°)."""
+    a = np.mod(np.asarray(deg, dtype=float), 360.0)
+    return np.where(a >= 360.0 - 1e-9, 0.0, a)
+
+
+def _split(header: list[str], body: list[list[str]], keys: int, caption: str) -> list[_Table]:
+    """Column groups of at most GROUP data columns, each repeating the ``keys`` first."""
+    n = len(header) - keys
+    if n <= GROUP:
+        return [_Table(header, body, caption)]
+    parts = -(-n // GROUP)
+    size = -(-n // parts)
+    out = []
+    for p in range(parts):
+        cols = list(range(keys)) + list(
+            range(keys + p * size, min(keys + (p + 1) * size, len(header)))
+        )
+        out.append(
+            _Table(
+                [header[c] for c in cols],
+                [[r[c] for c in cols] for r in body],
+                f"{caption} ({p + 1}/{parts})",
+            )
+        )
+    return out
+
+
+def _table(
+    result, rows: list[tuple[str, int]], columns: list[Column], caption: str, lang: str = "en"
+) -> list[_Table]:
+    key = _key_column(result)
+    columns = [c for c in columns if c.name != key.name]
+    header = [tr("pos.", lang), "CSV row", f"{key.name} ({key.unit})"] + [
+        f"{c.name} ({c.unit})" for c in columns
+    ]
+
+    def size(c):
+        v = np.abs(c.values)
         return float(np.max(v[np.isfinite(v)])) if np.any(np.isfinite(v)) else 0.0
 
     by_unit: dict[str, float] = {}
-    for n in names:  # round-off is judged per unit, table-wide
-        by_unit[result.units[n]] = max(by_unit.get(result.units[n], 0.0), size(n))
-    scale = {n: by_unit[result.units[n]] for n in names}
+    for c in [key] + columns:  # round-off is judged per unit, table-wide
+        by_unit[c.unit] = max(by_unit.get(c.unit, 0.0), size(c))
     body = [
-        [lab, str(k + 1)] + [_fmt(float(result[n][k]), scale[n]) for n in names] for lab, k in rows
+        [lab, str(k + 1)] + [_fmt(float(c.values[k]), by_unit[c.unit]) for c in [key] + columns]
+        for lab, k in rows
     ]
-    return _Table(header, body, caption)
+    return _split(header, body, 3, caption)
 
 
 def _distinct_points(result) -> list[str]:
@@ -73,54 +139,93 @@ def _distinct_points(result) -> list[str]:
 
 
 def _rotating_links(result) -> list[str]:
+    speed = max(abs(d.driver.motion.speed) for d in result.system.motion_drivers)
     return [
         n
         for n in result.system.links
-        if np.max(np.abs(result[f"{n}.omega"]))
-        > 1e-9 * max(1.0, abs(result.system.motion_drivers[0].driver.motion.speed))
+        if np.max(np.abs(result[f"{n}.omega"])) > 1e-9 * max(1.0, speed)
     ]
 
 
-def report_tables(result, rows: Sequence[tuple[str, int]]) -> list[_Table]:
+def _with_magnitude(result, names: list[str], label: str) -> list[Column]:
+    """The CSV columns ``names`` (x, y components) followed by their magnitude."""
+    cols = [_csv_column(result, n) for n in names]
+    mag = np.hypot(cols[0].values, cols[1].values)
+    return cols + [Column(label, cols[0].unit, mag)]
+
+
+def report_tables(result, rows: Sequence[tuple[str, int]], lang: str = "en") -> list[_Table]:
     """The report's tables at ``rows`` ``[(label, row index)]``: positions,
-    velocities, accelerations, reactions, driving torque and friction."""
+    velocities, accelerations, reactions, driving effort and friction; wide tables
+    split into column groups that repeat the position, its CSV row and its angle.
+
+    Conventions: the position angle φ (``angle``) and the link angles θ in [0, 360)°
+    counter-clockwise from +x; point coordinates in the file's length unit; beside the
+    components of every point velocity, acceleration and joint force its magnitude
+    (``|v|``, ``|a|``, ``|F|``)."""
+    rows = list(rows)
     pts = _distinct_points(result)
     rot = _rotating_links(result)
     model = result.system.model
-    first = (
-        ["angle", "travel", "time"] if "angle" in result.columns else ["stroke", "travel", "time"]
-    )
-    tables = [
-        _table(
-            result,
-            rows,
-            first + [f"{n}.theta" for n in rot] + [f"{p}.{c}" for p in pts for c in ("x", "y")],
-            "Positions: driver coordinate, link angles (deg, CCW from +x), points (m)",
-        ),
-        _table(
-            result,
-            rows,
-            [f"{n}.omega" for n in rot] + [f"{p}.{c}" for p in pts for c in ("vx", "vy")],
-            "Velocities: angular velocities (rad/s, CCW +) and point velocities (m/s)",
-        ),
-        _table(
-            result,
-            rows,
-            [f"{n}.alpha" for n in rot] + [f"{p}.{c}" for p in pts for c in ("ax", "ay")],
-            "Accelerations: angular accelerations (rad/s², CCW +) and point accelerations (m/s²)",
-        ),
+    lu, lf = length_unit(model)
+    first = [_csv_column(result, "travel"), _csv_column(result, "time")]
+    if "angle" not in result.columns:
+        first[0] = Column("travel", lu, np.asarray(result["travel"], dtype=float) / lf)
+    thetas = [Column(f"{n}.theta", "deg", _angle(result[f"{n}.theta"])) for n in rot]
+    coords = [
+        Column(f"{p}.{c}", lu, np.asarray(result[f"{p}.{c}"], dtype=float) / lf)
+        for p in pts
+        for c in ("x", "y")
     ]
-    reac = []
-    for j in model.joints:
-        reac += [f"{j.name}.{lab}" for lab in j.reaction_labels]
-    tables.append(
-        _table(
-            result,
-            rows,
-            reac,
-            "Joint reactions without friction: force of link i "
-            "on link j (N); prismatic pairs also N (normal force) and M (couple, N·m)",
-        )
+    tables = _table(
+        result,
+        rows,
+        first + thetas + coords,
+        tr(
+            "Positions: driver angle φ and link angles θ (deg, 0–360, counter-clockwise "
+            "from +x), points ({unit})",
+            lang,
+            unit=lu,
+        ),
+        lang,
+    )
+    vel = [_csv_column(result, f"{n}.omega") for n in rot]
+    acc = [_csv_column(result, f"{n}.alpha") for n in rot]
+    for p in pts:
+        vel += _with_magnitude(result, [f"{p}.vx", f"{p}.vy"], f"{p}.|v|")
+        acc += _with_magnitude(result, [f"{p}.ax", f"{p}.ay"], f"{p}.|a|")
+    tables += _table(
+        result,
+        rows,
+        vel,
+        tr(
+            "Velocities: angular velocities (rad/s, counter-clockwise +) and point "
+            "velocities (m/s), components and magnitude",
+            lang,
+        ),
+        lang,
+    )
+    tables += _table(
+        result,
+        rows,
+        acc,
+        tr(
+            "Accelerations: angular accelerations (rad/s², counter-clockwise +) and point "
+            "accelerations (m/s²), components and magnitude",
+            lang,
+        ),
+        lang,
+    )
+    tables += _table(
+        result,
+        rows,
+        _reaction_columns(result, ""),
+        tr(
+            "Joint reactions without friction: force of link i on link j (N) and its "
+            "magnitude; prismatic pairs also N (normal force) and M (couple, N·m)",
+            lang,
+        ),
+        lang,
     )
     drv = []
     for d in result.system.motion_drivers:
@@ -129,78 +234,147 @@ def report_tables(result, rows: Sequence[tuple[str, int]]) -> list[_Table]:
                 drv.append(f"{d.name}.{word}{suffix}")
         drv.append(f"{d.name}.efficiency")
     drv += ["friction.status", "power.input", "power.friction"]
-    tables.append(
-        _table(
-            result,
-            rows,
-            drv,
-            "Driving effort without friction, with the approximate "
-            "and the consistent friction solution, efficiency, friction status (0 "
-            "converged, 1 by homotopy, 2 self-locking, 3 a relative speed is zero), "
-            "input power and friction loss (W)",
-        )
+    tables += _table(
+        result,
+        rows,
+        [_csv_column(result, n) for n in drv if n in result.columns],
+        tr(
+            "Driving effort of each driver without friction, with the approximate and the "
+            "consistent friction solution, efficiency, friction status (0 converged, 1 by "
+            "homotopy, 2 self-locking, 3 a relative speed is zero), input power and friction "
+            "loss (W)",
+            lang,
+        ),
+        lang,
     )
     if model.has_friction:
-        fr = []
-        for j in model.joints:
-            fr += [f"{j.name}.{lab}_friction" for lab in j.reaction_labels]
-        tables.append(
-            _table(
-                result,
-                rows,
-                fr,
-                "Joint reactions with friction (consistent "
-                "solution), force of link i on link j (N)",
-            )
+        tables += _table(
+            result,
+            rows,
+            _reaction_columns(result, "_friction"),
+            tr(
+                "Joint reactions with friction (consistent solution): force of link i on "
+                "link j (N) and its magnitude",
+                lang,
+            ),
+            lang,
         )
     return tables
 
 
-def _summary_blocks(result, summary) -> list:
-    blocks: list = [_Heading(2, "3. Results over the cycle")]
+def _reaction_columns(result, suffix: str) -> list[Column]:
+    cols: list[Column] = []
+    for j in result.system.model.joints:
+        names = [f"{j.name}.{lab}{suffix}" for lab in j.reaction_labels]
+        names = [n for n in names if n in result.columns]
+        if f"{j.name}.Fx{suffix}" in names and f"{j.name}.Fy{suffix}" in names:
+            rest = [n for n in names if n not in (f"{j.name}.Fx{suffix}", f"{j.name}.Fy{suffix}")]
+            cols += _with_magnitude(
+                result, [f"{j.name}.Fx{suffix}", f"{j.name}.Fy{suffix}"], f"{j.name}.|F|{suffix}"
+            )
+            cols += [_csv_column(result, n) for n in rest]
+        else:
+            cols += [_csv_column(result, n) for n in names]
+    return cols
+
+
+def _num(v: float, scale: float, digits: int = 4) -> str:
+    """A number to ``digits`` significant digits; round-off of ``scale`` as 0."""
+    if not math.isfinite(v):
+        return "—"
+    return "0" if abs(v) <= ROUND_OFF * scale else f"{v:.{digits}g}"
+
+
+def _summary_blocks(result, summary, lang: str = "en") -> list:
+    model = result.system.model
+    lu, lf = length_unit(model)
+    blocks: list = [_Heading(2, tr("3. Results over the cycle", lang))]
     items = [
-        f"{len(result)} positions analysed (a full cycle: {'yes' if result.full_cycle else 'no'})"
+        tr(
+            "{n} positions analysed (a full cycle: {full})",
+            lang,
+            n=len(result),
+            full=tr("yes" if result.full_cycle else "no", lang),
+        )
     ]
     for name, o in summary["outputs"].items():
         items.append(
-            f"output {name}: stroke {o['stroke'] * 1e3:.4f} mm, time ratio K = "
-            f"{o['time_ratio']:.4f}; limit positions at "
-            f"{o['limit_positions']['min']['angle']:.3f}° "
-            f"and {o['limit_positions']['max']['angle']:.3f}°"
+            tr(
+                "output {name}: stroke {stroke} {unit}, time ratio K = {k}; limit positions "
+                "at φ = {a}° and {b}°",
+                lang,
+                name=name,
+                stroke=f"{o['stroke'] / lf:.6g}",
+                unit=lu,
+                k=f"{o['time_ratio']:.4f}",
+                a=f"{o['limit_positions']['min']['angle']:.3f}",
+                b=f"{o['limit_positions']['max']['angle']:.3f}",
+            )
         )
     for e in summary["events"]:
         items.append(
-            f"event: {e['load']} switches {e['switch']} at {e['angle']:.4f}° ({e['condition']})"
+            tr(
+                "event: {load} switches {switch} at φ = {angle}° ({condition})",
+                lang,
+                load=e["load"],
+                switch=tr(e["switch"], lang),
+                angle=f"{e['angle']:.4f}",
+                condition=e["condition"],
+            )
         )
     for name, d in summary["drivers"].items():
-        line = f"driver {name}: mean {d['mean']:.4g} {d['unit']}, peak |·| {d['peak']:.4g}"
+        peak = max(abs(d["peak"]), abs(d.get("peak_friction", 0.0) or 0.0))
+        unit = _unit(d["unit"])
+        line = tr(
+            "driver {name}: mean {mean} {unit}, peak |·| {peak}",
+            lang,
+            name=name,
+            mean=_num(d["mean"], peak),
+            unit=unit,
+            peak=_num(d["peak"], peak),
+        )
         if "mean_friction" in d and not math.isfinite(d["mean_friction"]):
-            line += (
-                f"; with friction: no consistent solution at any position (self-locking; "
-                f"approximate mean {d['mean_friction_approx']:.4g})"
+            line += tr(
+                "; with friction: no consistent solution at any position "
+                "(self-locking; approximate mean {m})",
+                lang,
+                m=_num(d["mean_friction_approx"], peak),
             )
         elif "mean_friction" in d:
-            line += (
-                f"; with friction mean {d['mean_friction']:.4g} (approximate "
-                f"{d['mean_friction_approx']:.4g}), peak {d['peak_friction']:.4g}"
+            line += tr(
+                "; with friction mean {m} (approximate {a}), peak {p}",
+                lang,
+                m=_num(d["mean_friction"], peak),
+                a=_num(d["mean_friction_approx"], peak),
+                p=_num(d["peak_friction"], peak),
             )
-        items.append(line + " (means over the analysed rows)")
+        items.append(line + tr(" (means over the analysed rows)", lang))
     if "friction.status" in result.columns:
         locked = int(np.sum(result["friction.status"] == 2))
         if locked:
             items.append(
-                f"self-locking at {locked} of {len(result)} positions (friction.status "
-                "2): the consistent friction columns are empty there and the means and "
-                "peaks with friction are over the other rows"
-                + (" — here there are none" if locked == len(result) else "")
+                tr(
+                    "self-locking at {k} of {n} positions (friction.status 2): the consistent "
+                    "friction columns are empty there and the means and peaks with friction "
+                    "are over the other rows",
+                    lang,
+                    k=locked,
+                    n=len(result),
+                )
+                + (tr(" — here there are none", lang) if locked == len(result) else "")
             )
     for sp in summary["singular_positions"]:
         items.append(
-            f"singular position: {sp['group']} at {sp['angle']:.4f}° "
-            f"(condition {sp['condition']:.3g})"
+            tr(
+                "singular position: {group} at φ = {angle}° (condition {c})",
+                lang,
+                group=sp["group"],
+                angle=f"{sp['angle']:.4f}",
+                c=f"{sp['condition']:.3g}",
+            )
         )
     if summary["indeterminate_reactions"]:
-        items.append("redundant constraints: reactions are the minimum-norm solution")
+        items.append(tr("redundant constraints: reactions are the minimum-norm solution", lang))
     blocks.append(_List(items))
     rows = [
         [n, f"{p['peak']:.5g}", f"{p['at']:.4g}", _fmt(p.get("peak_friction", math.nan), 0.0)]
@@ -209,35 +383,13 @@ def _summary_blocks(result, summary) -> list:
     blocks.append(
         _Table(
             [
-                "joint",
-                "peak |F| without friction (N)",
-                "at driver coordinate (deg)",
-                "peak |F| with friction (N)",
+                tr("joint", lang),
+                tr("peak |F| without friction (N)", lang),
+                tr("at φ (deg)", lang),
+                tr("peak |F| with friction (N)", lang),
             ],
             rows,
-            "Peak joint reactions",
+            tr("Peak joint reactions", lang),
         )
     )
     return blocks
-
-
-def _flatten(d: Any, prefix: str = "") -> list[tuple[str, str]]:
-    if isinstance(d, dict):
-        out = []
-        for k, v in d.items():
-            out += _flatten(v, f"{prefix}.{k}" if prefix else str(k))
-        return out
-    if isinstance(d, (list, tuple)):
-        if all(not isinstance(v, (dict, list, tuple)) for v in d) and len(d) <= 12:
-            return [(prefix, ", ".join(_scalar(v) for v in d))]
-        out = []
-        for k, v in enumerate(d):
-            out += _flatten(v, f"{prefix}[{k}]")
-        return out
-    return [(prefix, _scalar(d))]
-
-
-def _scalar(v) -> str:
-    if isinstance(v, float):
-        return f"{v:.6g}"
-    return str(v)

@@ -1,0 +1,328 @@
+# ruff: noqa: E501  (the Chinese texts of the translation table are long lines)
+"""The languages of the report and the pictures: English (the default) and Chinese
+(``--lang zh``).  Every translated text is in :data:`ZH`, keyed by its English text;
+:func:`tr` looks one up (a text without an entry stays English, and is recorded in
+:data:`MISSING` so that a test can list it).  Chinese glyphs need a CJK font:
+:func:`cjk_font` finds one through matplotlib's font manager (or the file named by the
+environment variable ``KINETOSTATICS_CJK_FONT``) and raises a clear error when the
+system has none.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from ..errors import KinetostaticsError
+
+LANGS = ("en", "zh")
+MISSING: set[str] = set()
+
+
+class LanguageError(KinetostaticsError, ValueError):
+    """A language cannot be used as asked (unknown code, no font for its glyphs)."""
+
+
+def check_lang(lang: str) -> str:
+    if lang not in LANGS:
+        raise LanguageError(f"unknown language '{lang}' (have {', '.join(LANGS)})")
+    return lang
+
+
+def tr(text: str, lang: str = "en", **values) -> str:
+    """``text`` in ``lang``, its ``{fields}`` filled from ``values``."""
+    if lang == "zh":
+        out = ZH.get(text)
+        if out is None:
+            MISSING.add(text)
+            out = text
+    else:
+        out = text
+    return out.format(**values) if values else out
+
+
+# -- fonts -------------------------------------------------------------------------------
+# Families known to hold the CJK unified ideographs, most common first (Linux, Windows,
+# macOS); any other installed font whose name says CJK/SC/CN also serves.
+_CJK_FAMILIES = (
+    "Noto Sans CJK SC",
+    "Noto Sans SC",
+    "Noto Serif CJK SC",
+    "Source Han Sans SC",
+    "Source Han Sans CN",
+    "WenQuanYi Micro Hei",
+    "WenQuanYi Zen Hei",
+    "Droid Sans Fallback",
+    "AR PL UMing CN",
+    "AR PL UKai CN",
+    "Microsoft YaHei",
+    "SimHei",
+    "SimSun",
+    "PingFang SC",
+    "Hiragino Sans GB",
+    "Heiti SC",
+    "STHeiti",
+    "Arial Unicode MS",
+)
+_HINT = (
+    "no font with Chinese glyphs found for --lang zh. Install one, e.g. "
+    "'apt-get install fonts-noto-cjk' or 'apt-get install fonts-wqy-microhei' (Debian, "
+    "Ubuntu), 'dnf install google-noto-sans-cjk-fonts' (Fedora); or name a .ttf/.otf/.ttc "
+    "file with the environment variable KINETOSTATICS_CJK_FONT. (matplotlib may cache the "
+    "font list: after installing, delete ~/.cache/matplotlib if the font is still not found.)"
+)
+
+
+def _has_han(path: str) -> bool:
+    """Whether the font file maps 中 (U+4E2D) and 力 (U+529B)."""
+    try:
+        from fontTools.ttLib import TTCollection, TTFont
+
+        fonts = TTCollection(path).fonts if path.lower().endswith(".ttc") else [TTFont(path)]
+        cmap = fonts[0].getBestCmap() or {}
+        return 0x4E2D in cmap and 0x529B in cmap
+    except Exception:  # unreadable or not a font: not this one
+        return False
+
+
+_FOUND: dict[str, tuple[str, str]] = {}
+
+
+def cjk_font() -> tuple[str, str]:
+    """``(family, path)`` of a font with Chinese glyphs, registered with matplotlib.
+
+    Raises :class:`LanguageError` (saying what to install) when there is none."""
+    from matplotlib import font_manager as fm
+
+    env = os.environ.get("KINETOSTATICS_CJK_FONT")
+    if "font" in _FOUND and (not env or _FOUND["font"][1] == env):
+        return _FOUND["font"]
+    if env:
+        if not Path(env).is_file() or not _has_han(env):
+            raise LanguageError(
+                f"KINETOSTATICS_CJK_FONT={env}: not a font file with Chinese glyphs"
+            )
+        fm.fontManager.addfont(env)
+        family = fm.FontProperties(fname=env).get_name()
+        _FOUND["font"] = (family, env)
+        return _FOUND["font"]
+    entries = {f.name: f.fname for f in fm.fontManager.ttflist}
+    names = [n for n in _CJK_FAMILIES if n in entries]
+    names += sorted(
+        n
+        for n in entries
+        if n not in names and any(w in n for w in ("CJK", " SC", " CN", "Hei", "Song", "Kai"))
+    )
+    for name in names:
+        if _has_han(entries[name]):
+            _FOUND["font"] = (name, entries[name])
+            return _FOUND["font"]
+    raise LanguageError(_HINT)
+
+
+def rc_fonts(lang: str) -> dict:
+    """matplotlib rc settings for ``lang``: the CJK family first for Chinese."""
+    if lang != "zh":
+        return {}
+    family, _ = cjk_font()
+    return {"font.family": [family, "DejaVu Sans"]}  # named: kept by every Text at creation
+
+
+# -- the Chinese texts ---------------------------------------------------------------------
+ZH: dict[str, str] = {}
+ZH.update(
+    {
+        " (means over the analysed rows)": "（各分析位置的平均）",
+        "1. Data": "1. 原始数据",
+        "2. Structure": "2. 机构结构分析",
+        "3. Results over the cycle": "3. 全周期计算结果",
+        "4. The mechanism": "4. 机构运动简图",
+        "5. Kinematics and forces at the course-design positions": "5. 各设计位置的运动分析与力分析",
+        "6. Curves over the cycle": "6. 全周期曲线",
+        "7. Velocity and acceleration polygons": "7. 速度多边形与加速度多边形",
+        "8. Polar diagrams of the joint loads": "8. 运动副反力极坐标图",
+        "9. Flywheel": "9. 飞轮设计",
+        "; with friction mean {m} (approximate {a}), peak {p}": "；计摩擦时平均 {m}（近似解 {a}），峰值 {p}",
+        "Acceleration polygon at position {pos}.": "位置 {pos} 的加速度多边形。",
+        "Accelerations: angular accelerations (rad/s², counter-clockwise +) and point "
+        "accelerations (m/s²), components and magnitude": "加速度：构件角加速度（rad/s²，逆时针为正）与各点加速度（m/s²），分量与大小",
+        "Assumptions:": "假设：",
+        "Assur group (class and members)": "阿苏尔杆组（级别与构件）",
+        "Assur groups in solve order": "按求解顺序的阿苏尔杆组",
+        "Course-design report: {name}": "机械原理课程设计报告：{name}",
+        "Drawn from the exact results to the stated scales μ_v and μ_a (true scale when "
+        "printed at 100 %): p is the pole, lower-case letters the points (a2, a3: the "
+        "coincident points of links 2 and 3), n and k the ends of normal and Coriolis "
+        "components.": "按精确结果以所注比例尺 μ_v、μ_a 绘制（按 100 % 打印即为真实比例）：p 为极点，小写字母为各点（a2、a3：构件 2、3 上的重合点），n、k 为法向分量与科氏分量的端点。",
+        "Drivers": "原动件",
+        "Driving effort of each driver without friction, with the approximate and the "
+        "consistent friction solution, efficiency, friction status (0 converged, 1 by "
+        "homotopy, 2 self-locking, 3 a relative speed is zero), input power and friction "
+        "loss (W)": "各原动件的驱动力矩（不计摩擦、计摩擦近似解与一致解）、效率、摩擦状态（0 收敛，1 同伦法，2 自锁，3 相对速度为零）、输入功率与摩擦损耗（W）",
+        "Driving effort of {driver} without friction, with the approximate and with the "
+        "consistent friction solution.": "{driver} 的驱动力矩：不计摩擦、计摩擦近似解与一致解。",
+        "Energy diagram ΔW–φ: its range ΔW_max sizes the flywheel.": "能量指示图 ΔW–φ：其变化范围 ΔW_max 决定飞轮转动惯量。",
+        "Equivalent driving moment M_d (constant) and resisting moment M_r over the cycle; "
+        "the shaded areas are the surplus and deficit work.": "一个周期内的等效驱动力矩 M_d（常数）与等效阻力矩 M_r；阴影面积为盈功与亏功。",
+        "Equivalent moments and the energy ΔW at the course positions (interpolated on the "
+        "design's {n} positions)": "各设计位置的等效力矩与能量 ΔW（由设计所用 {n} 个位置插值）",
+        "F_ij: link i on link j at the joint; FI, MI: inertia; G: weight": "F_ij：构件 i 作用于构件 j 的运动副反力；FI、MI：惯性力与惯性力矩；G：重力",
+        " (with friction)": "（计摩擦）",
+        "Flywheel: data": "飞轮：已知数据",
+        "Flywheel: result": "飞轮：计算结果",
+        "Instantaneous and cycle efficiency of the drive {driver}.": "原动件 {driver} 的瞬时效率与周期效率。",
+        "Joint reactions with friction (consistent solution): force of link i on link j (N) "
+        "and its magnitude": "计摩擦的运动副反力（一致解）：构件 i 对构件 j 的作用力（N）及其大小",
+        "Joint reactions without friction: force of link i on link j (N) and its magnitude; "
+        "prismatic pairs also N (normal force) and M (couple, N·m)": "不计摩擦的运动副反力：构件 i 对构件 j 的作用力（N）及其大小；移动副另有 N（法向力）与 M（力偶，N·m）",
+        "Joints (the reaction is the force of link i on link j)": "运动副（反力为构件 i 对构件 j 的作用力）",
+        "Kinetostatic analysis by `kinetostatics` (exact positions, velocities and "
+        "accelerations; d'Alembert inertia loads; Newton–Euler reactions; friction by the "
+        "approximate and the consistent solution). Conventions: x right, y up, angles and "
+        "moments counter-clockwise positive; a joint's reaction F_ij is the force of link i "
+        "on link j.": "由 `kinetostatics` 进行动态静力分析（精确的位置、速度与加速度；达朗贝尔惯性力；牛顿–欧拉法求运动副反力；摩擦按近似解与一致解）。约定：x 向右，y 向上，角度与力矩以逆时针为正；运动副反力 F_ij 为构件 i 对构件 j 的作用力。",
+        "Links (numbers as in the pictures; the frame last)": "构件（编号与图中一致；机架编号最后）",
+        "Loads": "载荷",
+        "Magnitudes of the joint reactions.": "运动副反力的大小。",
+        "Motion diagram of the output ({name}): position, velocity, acceleration; the shaded "
+        "zone is where the process load acts.": "输出构件（{name}）的运动线图：位移、速度、加速度；阴影区为工作阻力作用区间。",
+        "Parameters": "参数",
+        "Peak joint reactions": "运动副反力峰值",
+        "Position angle: every position is named by the angle φ of the first driver "
+        "({driver}), measured counter-clockwise from +x in [0, 360)°; link angles θ likewise. "
+        "travel is the rotation from position 1 in the sense of motion. Course-design "
+        "positions 1…12 are every 30° of travel from the analysis start (φ₁ = {start}°); k′ "
+        "are the positions where a load switches (start and end of cutting), after position "
+        "k.": "位置角：各位置以第一原动件（{driver}）的转角 φ 表示，自 +x 轴逆时针量取，取值 [0, 360)°；构件角 θ 同此约定。travel 为沿运动方向自位置 1 起的转角。设计位置 1…12 自分析起点（φ₁ = {start}°）起每隔 30° 取一个；k′ 为载荷切换的位置（切削开始与结束），位于位置 k 之后。",
+        " The analysis runs {n} turns of {driver}: k/t is position k of turn t.": " 分析覆盖 {driver} 的 {n} 转：k/t 表示第 t 转的位置 k。",
+        "Position {pos}: the loads drawn to scale (reactions of link i on link j at the "
+        "joints, inertia forces and couples, weights, process load, driving torque).": "位置 {pos}：按比例绘制的载荷（各运动副处构件 i 对构件 j 的反力、惯性力与惯性力偶、重力、工作阻力、驱动力矩）。",
+        "Positions: driver angle φ and link angles θ (deg, 0–360, counter-clockwise from +x), "
+        "points ({unit})": "位置：原动件转角 φ 与构件角 θ（°，0–360，自 +x 逆时针），各点坐标（{unit}）",
+        "Reaction of each revolute joint in the frame of the link that receives it, over the "
+        "cycle (numbers: course positions).": "各转动副反力在受力构件坐标系中的极坐标图（数字为设计位置）。",
+        "Rows of `results.csv` (the column CSV row) at the positions {labels}; values to 5 "
+        "significant digits (0: below 1e-9 of the largest value of its unit in the table, "
+        "round-off), column names as in the CSV; |v|, |a|, |F| are the magnitudes of the "
+        "components before them. Wide tables are split into groups of columns, each repeating "
+        "the position, its CSV row and its angle.": "下表为 `results.csv` 在位置 {labels} 的行（CSV row 列）；数值取 5 位有效数字（0 表示小于表中同单位最大值的 1e-9，即舍入误差），列名与 CSV 相同；|v|、|a|、|F| 为其前两个分量的合成大小。较宽的表格分为若干列组，每组重复位置、CSV 行号与位置角。",
+        "Source: `{source}`. Units of the file: {units}. Everything below is in SI unless "
+        "stated (lengths of points in {lu}). Gravity: ({gx}, {gy}) m/s².": "来源：`{source}`。文件单位：{units}。以下除注明外均为国际单位（点的长度单位为 {lu}）。重力加速度：({gx}, {gy}) m/s²。",
+        "The energy method: J_F = ΔW_max / (ω_m² δ), ΔW(φ) = ∫ (M_d − M_r) dφ from position "
+        "1, with M_r the equivalent resisting moment on the crank (the balancing moment at the "
+        "nominal speed, link inertia included) and M_d its cycle mean. Angles φ are driver "
+        "angles in [0, 360)°.": "能量法：J_F = ΔW_max / (ω_m² δ)，ΔW(φ) = ∫ (M_d − M_r) dφ 自位置 1 起积分，其中 M_r 为曲柄上的等效阻力矩（额定转速下的平衡力矩，含构件惯性），M_d 为其周期平均值。φ 为原动件转角，取值 [0, 360)°。",
+        "The mechanism at position {pos} with the paths of its moving pins (to the scale μ_l "
+        "stated on it).": "位置 {pos} 的机构运动简图及各活动铰链点的轨迹（比例尺 μ_l 见图）。",
+        "Units: lengths of points and strokes in the file's unit ({unit}); velocities in m/s, "
+        "accelerations in m/s², forces in N, moments in N·m, angles in deg, angular velocities "
+        "in rad/s.": "单位：点的坐标与行程采用文件单位（{unit}）；速度 m/s，加速度 m/s²，力 N，力矩 N·m，角度 °，角速度 rad/s。",
+        "Velocities: angular velocities (rad/s, counter-clockwise +) and point velocities "
+        "(m/s), components and magnitude": "速度：构件角速度（rad/s，逆时针为正）与各点速度（m/s），分量与大小",
+        "Velocity polygon at position {pos}.": "位置 {pos} 的速度多边形。",
+        "acceleration polygon": "加速度多边形",
+        "velocity polygon": "速度多边形",
+        "active while": "作用条件",
+        "acts on": "作用于",
+        "at φ (deg)": "所在 φ（°）",
+        "centre of mass ({lu})": "质心（{lu}）",
+        "clockwise": "顺时针",
+        "counter-clockwise": "逆时针",
+        "coefficient of speed fluctuation": "速度波动系数",
+        "deficit work (M_d < M_r)": "亏功（M_d < M_r）",
+        "surplus work (M_d > M_r)": "盈功（M_d > M_r）",
+        "driver": "原动件",
+        "driver (crank shaft)": "原动件（曲柄轴）",
+        "driver {name}: mean {mean} {unit}, peak |·| {peak}": "原动件 {name}：平均 {mean} {unit}，峰值 |·| {peak}",
+        "effort at": "驱动力作用处",
+        "equivalent driving moment (cycle mean)": "等效驱动力矩（周期平均）",
+        "equivalent driving moment M_d = {m} N·m (cycle mean)": "等效驱动力矩 M_d = {m} N·m（周期平均）",
+        "equivalent resisting moment M_r (balancing moment)": "等效阻力矩 M_r（平衡力矩）",
+        "event: {load} switches {switch} at φ = {angle}° ({condition})": "事件：{load} 在 φ = {angle}° 处{switch}（{condition}）",
+        "on": "开始作用",
+        "off": "停止作用",
+        "flywheel on the crank shaft, less J_e (net)": "装于曲柄轴的飞轮，扣除 J_e（净值）",
+        "flywheel on the crank shaft, machine inertia neglected": "装于曲柄轴的飞轮，忽略机构自身惯量",
+        "flywheel on the motor shaft": "装于电机轴的飞轮",
+        "flywheel on the motor shaft, net": "装于电机轴的飞轮，净值",
+        "speed ratio motor : crank": "传动比 电机 : 曲柄",
+        "frame": "机架",
+        "friction": "摩擦",
+        "frictionless": "不计摩擦",
+        "with friction (consistent)": "计摩擦（一致解）",
+        "independent loops: {n}": "独立回路数：{n}",
+        "joint": "运动副",
+        "joints and drivers": "运动副与原动件",
+        "kind": "类型",
+        "largest stored energy at": "最大储能位置",
+        "smallest stored energy at": "最小储能位置",
+        "link": "构件",
+        "links i → j": "构件 i → j",
+        "load": "载荷",
+        "load events at": "载荷切换位置",
+        "machine's equivalent inertia, cycle mean": "机构等效转动惯量，周期平均",
+        "machine's equivalent inertia, largest": "机构等效转动惯量，最大值",
+        "machine's equivalent inertia, smallest": "机构等效转动惯量，最小值",
+        "mass (kg)": "质量（kg）",
+        "maximum energy swing": "最大盈亏功",
+        "mobility (Grübler–Kutzbach): {m}": "自由度（Grübler–Kutzbach 公式）：{m}",
+        "moment on the crank, N·m (sense of motion +)": "曲柄上的力矩，N·m（运动方向为正）",
+        "motion (+ counter-clockwise)": "运动（逆时针为正）",
+        "no.": "编号",
+        "nominal crank speed": "曲柄额定转速",
+        "output {name}: stroke {stroke} {unit}, time ratio K = {k}; limit positions at φ = {a}° "
+        "and {b}°": "输出 {name}：行程 {stroke} {unit}，行程速比系数 K = {k}；极限位置 φ = {a}° 与 {b}°",
+        "parameter": "参数",
+        "path of {ref}": "{ref} 的轨迹",
+        "peak |F| with friction (N)": "计摩擦峰值 |F|（N）",
+        "peak |F| without friction (N)": "不计摩擦峰值 |F|（N）",
+        "points ({lu}, in the link's own frame)": "点（{lu}，构件自身坐标系）",
+        "pos.": "位置",
+        "position {pos} ({coord})": "位置 {pos}（{coord}）",
+        "quantity": "量",
+        "reaction": "反力",
+        "resisting moment from": "阻力矩依据",
+        "rotation φ of {name} from position 1 (φ₁ = {start}°, {sense}), deg": "{name} 自位置 1 起的转角 φ（φ₁ = {start}°，{sense}），°",
+        "sense of rotation": "转向",
+        "step": "步骤",
+        "swing ΔW_max = {s} J": "最大盈亏功 ΔW_max = {s} J",
+        "symbol": "符号",
+        "travel (deg)": "转过角度（°）",
+        "travel of {p} along ({x}, {y}) in [{a}, {b}] {lu}": "{p} 沿 ({x}, {y}) 的位移在 [{a}, {b}] {lu} 内",
+        "type": "类型",
+        "unit": "单位",
+        "value": "数值",
+        "value (as in the file)": "数值（同文件）",
+        "where": "位置",
+        "work per cycle": "每周期功",
+        "yes": "是",
+        "no": "否",
+        "{name}: energy diagram ΔW–φ": "{name}：能量指示图 ΔW–φ",
+        "{name}: equivalent driving and resisting moments": "{name}：等效驱动力矩与等效阻力矩",
+        "{n} positions analysed (a full cycle: {full})": "共分析 {n} 个位置（完整周期：{full}）",
+        "{p} moving along ({x}, {y})": "{p} 沿 ({x}, {y}) 运动时",
+        "ΔW(φ) = ∫(M_d − M_r) dφ": "ΔW(φ) = ∫(M_d − M_r) dφ",
+        "ΔW, J": "ΔW，J",
+        "ΔW_max": "ΔW_max",
+        "ΔW_min": "ΔW_min",
+        "page": "第页",
+        "(printed at 100 %: the scales hold on paper)": "（按 100 % 打印：比例尺在纸上成立）",
+        "(reduced to {p} %: divide the scales by {s})": "（缩小至 {p} %：比例尺除以 {s}）",
+        "always": "始终",
+        " (tabulated)": "（表格给定）",
+        "{law} law, peak speed {speed}": "{law} 运动规律，峰值速度 {speed}",
+        "effort {e}": "驱动力 {e}",
+        "driver angle φ in [{a}, {b}]°": "原动件转角 φ 在 [{a}, {b}]° 内",
+        "; with friction: no consistent solution at any position (self-locking; approximate "
+        "mean {m})": "；计摩擦：任何位置均无一致解（自锁；近似解平均 {m}）",
+        "singular position: {group} at φ = {angle}° (condition {c})": "奇异位置：{group} 于 φ = {angle}°（条件数 {c}）",
+        "redundant constraints: reactions are the minimum-norm solution": "存在冗余约束：反力取最小范数解",
+        " — here there are none": "——此处没有",
+    }
+)
+
+
+def tr_soft(text: str, lang: str = "en") -> str:
+    """``text`` in ``lang`` where a translation exists, else as it is (not recorded as
+    missing: generated texts such as the flywheel's assumptions carry numbers)."""
+    return ZH.get(text, text) if lang == "zh" else text

@@ -1,0 +1,182 @@
+"""The report as a paginated A4 PDF through fpdf2 (pure Python; ``pip install
+'kinetostatics[pdf]'``).
+
+Why fpdf2: it lays out text, tables that break across pages (their heading row
+repeated) and images at a size in mm, embeds TrueType fonts as subsets with their
+Unicode map (so the text can be searched and extracted), and needs no browser or
+system library.  The fonts are matplotlib's own DejaVu Sans (Greek, subscripts, math
+signs), with a CJK font as the first font for ``lang="zh"``.
+
+Tables arrive split into column groups of at most 12 columns (``results.GROUP``); each
+is set at 7 pt, narrowed to 6 pt or its cells wrapped only if it still does not fit the
+page.  Drawings and polygons (``_Image.true_scale``) are placed at their true size so
+that μ_l, μ_F, μ_v, μ_a hold on paper; one wider than the page is reduced and its
+caption says by how much.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from ..lang import cjk_font, tr
+from .blocks import ReportError, _Heading, _Image, _List, _Para, _Table
+
+MARGIN = 14.0  # mm
+
+
+def pdf_module():
+    """fpdf2's ``FPDF`` class, or a clear error saying what to install."""
+    try:
+        from fpdf import FPDF
+    except ImportError:
+        raise ReportError(
+            "a PDF report needs fpdf2: pip install 'kinetostatics[pdf]' (or pip install fpdf2)"
+        ) from None
+    return FPDF
+
+
+def _fonts(pdf, lang: str) -> str:
+    import matplotlib
+
+    ttf = Path(matplotlib.get_data_path()) / "fonts" / "ttf"
+    pdf.add_font("dejavu", "", str(ttf / "DejaVuSans.ttf"))
+    pdf.add_font("dejavu", "B", str(ttf / "DejaVuSans-Bold.ttf"))
+    pdf.add_font("dejavu", "I", str(ttf / "DejaVuSans-Oblique.ttf"))
+    if lang != "zh":
+        return "dejavu"
+    _, path = cjk_font()
+    for style in ("", "B", "I"):
+        pdf.add_font("cjk", style, path)
+    pdf.set_fallback_fonts(["dejavu"], exact_match=False)
+    return "cjk"
+
+
+def _plain(text: str) -> str:
+    return text.replace("`", "")
+
+
+def write_pdf(blocks, path: Path, title: str, lang: str = "en") -> Path:
+    """Write the blocks as an A4 portrait PDF; returns ``path``."""
+    FPDF = pdf_module()
+    page_word = tr("page", lang)
+
+    class _Doc(FPDF):
+        def footer(self):
+            self.set_y(-10)
+            self.set_font(font, "", 7)
+            self.set_text_color(110)
+            self.cell(0, 4, f"{title} — {page_word} {self.page_no()}/{{nb}}", align="C")
+            self.set_text_color(0)
+
+    pdf = _Doc(orientation="P", unit="mm", format="A4")
+    font = _fonts(pdf, lang)
+    pdf.set_title(title)
+    pdf.set_creator("kinetostatics")
+    pdf.set_margins(MARGIN, MARGIN, MARGIN)
+    pdf.set_auto_page_break(True, MARGIN)
+    pdf.add_page()
+    for b in blocks:
+        if isinstance(b, _Heading):
+            size = {1: 15, 2: 12.5}.get(b.level, 11)
+            if b.level == 2 and pdf.get_y() > pdf.h - 60:
+                pdf.add_page()
+            pdf.ln(3 if b.level > 1 else 0)
+            pdf.set_font(font, "B", size)
+            pdf.multi_cell(0, size * 0.5, _plain(b.text), new_x="LMARGIN", new_y="NEXT")
+            pdf.ln(1.5)
+        elif isinstance(b, _Para):
+            pdf.set_font(font, "", 9)
+            pdf.multi_cell(0, 4.4, _plain(b.text), new_x="LMARGIN", new_y="NEXT")
+            pdf.ln(1.5)
+        elif isinstance(b, _List):
+            pdf.set_font(font, "", 9)
+            for item in b.items:
+                pdf.set_x(MARGIN + 2)
+                pdf.cell(4, 4.4, "•")
+                pdf.multi_cell(0, 4.4, _plain(item), new_x="LMARGIN", new_y="NEXT")
+            pdf.ln(1.5)
+        elif isinstance(b, _Table):
+            _table(pdf, font, b)
+        elif isinstance(b, _Image):
+            _image(pdf, font, b, lang)
+    path = Path(path)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    pdf.output(str(tmp))
+    tmp.replace(path)
+    return path
+
+
+def _table(pdf, font: str, t: _Table) -> None:
+    from fpdf.fonts import FontFace
+
+    epw = pdf.w - 2 * MARGIN
+    if pdf.get_y() > pdf.h - 45:  # caption, heading row and a few rows together
+        pdf.add_page()
+    if t.caption:
+        pdf.set_font(font, "I", 8)
+        pdf.multi_cell(0, 3.8, _plain(t.caption), new_x="LMARGIN", new_y="NEXT")
+        pdf.ln(0.8)
+    size = 7.0
+    widths = []
+    for size in (7.0, 6.5, 6.0):
+        pdf.set_font(font, "", size)
+        widths = []
+        for c in range(len(t.header)):
+            cells = [str(r[c]) for r in t.rows if c < len(r)]
+            body = max((pdf.get_string_width(x) for x in cells), default=0.0)
+            pdf.set_font(font, "B", size)
+            head = max((pdf.get_string_width(w) for w in str(t.header[c]).split()), default=0.0)
+            pdf.set_font(font, "", size)
+            widths.append(min(max(body, head, 4.0) + 2.4, 0.45 * epw))
+        if sum(widths) <= epw:
+            break
+    total = sum(widths)
+    if total > epw:  # long free text: share the page, cells wrap
+        widths = [w * epw / total for w in widths]
+        total = epw
+    align = ["LEFT"] + ["RIGHT"] * (len(t.header) - 1)
+    if any(len(str(r[c])) > 30 for r in t.rows for c in range(1, len(r))):
+        align = ["LEFT"] * len(t.header)
+    head = FontFace(emphasis="BOLD", fill_color=(232, 239, 248))
+    with pdf.table(
+        width=total,
+        col_widths=widths,
+        align="LEFT",
+        text_align=align,
+        line_height=size * 0.5,
+        headings_style=head,
+        repeat_headings=1,
+        padding=0.6,
+        borders_layout="ALL",
+    ) as table:
+        table.row([str(h) for h in t.header])
+        for r in t.rows:
+            table.row([_plain(str(c)) for c in r])
+    pdf.ln(3)
+
+
+def _image(pdf, font: str, im: _Image, lang: str) -> None:
+    epw = pdf.w - 2 * MARGIN
+    w, h = im.width_mm or epw, im.height_mm or epw * 0.6
+    scale = min(1.0, epw / w, (pdf.h - 2 * MARGIN - 14) / h)
+    w, h = w * scale, h * scale
+    if pdf.get_y() + h + 10 > pdf.h - MARGIN:
+        pdf.add_page()
+    pdf.image(str(im.path), x=MARGIN + (epw - w) / 2, y=pdf.get_y(), w=w, h=h)
+    pdf.set_y(pdf.get_y() + h + 1)
+    caption = _plain(im.caption)
+    if im.true_scale:
+        caption += " " + (
+            tr("(printed at 100 %: the scales hold on paper)", lang)
+            if scale == 1.0
+            else tr(
+                "(reduced to {p} %: divide the scales by {s})",
+                lang,
+                p=f"{100 * scale:.0f}",
+                s=f"{scale:.3g}",
+            )
+        )
+    pdf.set_font(font, "I", 8)
+    pdf.multi_cell(0, 3.8, caption, new_x="LMARGIN", new_y="NEXT")
+    pdf.ln(3)
