@@ -15,8 +15,8 @@ import numpy as np
 
 from ..base.arguments import real_array
 from ..errors import (
-    Location,
     JointWarning,
+    Location,
     NearSingularWarning,
     NonFiniteResultError,
     StructureError,

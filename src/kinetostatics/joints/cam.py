@@ -57,7 +57,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from ..base.geometry import dot, perp, rotate
-from ._camlaw import CamLaw, read_law
+from ._camlaw import read_law
 from ._camprofile import Synthesis
 from .base import Anchor, Circle, Curve, Glyph, Joint, Line
 
