@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 import kinetostatics as ks
+from kinetostatics import plotting
 from kinetostatics.errors import JointWarning, ModelError
 
 from .conftest import ROOT
@@ -116,8 +117,13 @@ def test_oscillating_flat_follower_follows_its_law():
     assert np.max(np.abs(-np.radians(r["arm.theta"]) - s)) <= 1e-9 * h  # rise: cw
     assert np.max(np.abs(-r["arm.omega"] - w * s1)) <= 1e-9 * np.max(w * s1)
     assert np.max(np.abs(-r["arm.alpha"] - w * w * s2)) <= 1e-9 * np.max(w * w * s2)
-    # a face through the pivot: the normal is along the contact point's velocity
-    assert np.max(np.abs(r["contact.pressure_angle"])) <= 1e-9
+    # the face runs f = 10 mm from the pivot A: the contact point X moves along
+    # perp(X − A), at α from the face normal with tan |α| = f / √(|X − A|² − f²)
+    for row in (0, 50, 100, 200):
+        geo = plotting.mechanism_geometry(r, row)
+        xa = np.hypot(*(geo.joints["contact"] - geo.points["ground.A"]))
+        alpha = math.degrees(math.atan2(0.010, math.sqrt(xa**2 - 0.010**2)))
+        assert abs(abs(r["contact.pressure_angle"][row]) - alpha) <= 1e-9 * alpha
 
 
 SEPARATION = """
