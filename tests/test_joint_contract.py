@@ -203,7 +203,10 @@ def test_glyph_broadcasts_over_batch_axes(joint):
     for batch, single in zip(arrays(g), arrays(one)):
         assert batch.shape == (2, 3, 2) and single.shape == (2,)
         np.testing.assert_allclose(single, batch[1, 2], rtol=1e-14, atol=1e-15)
-    links = {p.link for p in (g.block, g.guide, *g.circles, *g.lines) if p is not None}
+    for batch, single in zip(g.curves, one.curves):  # polylines: (..., n, 2)
+        assert batch.points.shape[:2] == (2, 3) and batch.points.shape[2:] == single.points.shape
+        np.testing.assert_allclose(single.points, batch.points[1, 2], rtol=1e-14, atol=1e-15)
+    links = {p.link for p in (g.block, g.guide, *g.circles, *g.lines, *g.curves) if p is not None}
     assert links <= set(joint.links)
     for u in [p.direction for p in (g.block, g.guide, *g.lines) if p is not None]:
         np.testing.assert_allclose(np.hypot(u[..., 0], u[..., 1]), 1.0, rtol=1e-12)

@@ -24,6 +24,7 @@ __all__ = [
     "SelfLockingError",
     "NonFiniteResultError",
     "NearSingularWarning",
+    "JointWarning",
     "SingularEquilibriumWarning",
     "Collector",
     "did_you_mean",
@@ -141,6 +142,11 @@ class MissingPackageError(KinetostaticsError, ImportError):
 
 class NearSingularWarning(UserWarning):
     """A group is near a singular position (large condition number)."""
+
+
+class JointWarning(UserWarning):
+    """A joint type's own warning about a result: a cam follower that would leave
+    its cam (the contact force would pull), naming the cam angles."""
 
 
 class SingularEquilibriumWarning(NearSingularWarning):

@@ -482,6 +482,8 @@ def in_units(doc: dict, length: str = "m", angle: str = "rad", speed: str = "rad
             j["pressure_angle"] = A(j["pressure_angle"])
         if "phase" in j:
             j["phase"] = (A if j["type"] == "gear" else L)(j["phase"])
+        if j["type"] == "cam":
+            _cam_units(j, L, A)
     for drv in d["drivers"].values():
         if "speed" in drv.get("motion", {}):
             drv["motion"]["speed"] = _round(drv["motion"]["speed"] * fs)
@@ -591,3 +593,25 @@ def generate(seed: int) -> dict:
 def rejections(seed: int) -> int:
     """How many candidates ``generate(seed)`` rejected before accepting one."""
     return _generate(seed)[1]
+
+
+def _cam_units(j, L, A):
+    """A cam joint's keys in other units: lengths, angles, and lifts (a length for a
+    translating follower, an angle for an oscillating one)."""
+    j["base_radius"] = L(j["base_radius"])
+    lift = A if "oscillating" in j else L
+    for key in ("translating", "oscillating"):
+        for k in ("offset", "arm", "pivot"):
+            if k in j.get(key, {}):
+                j[key][k] = L(j[key][k])
+    m = j["motion"]
+    if isinstance(m, dict):
+        m["angle"], m["lift"] = A(m["angle"]), lift(m["lift"])
+        return
+    for seg in m:
+        for k in ("over", "dwell"):
+            if k in seg:
+                seg[k] = A(seg[k])
+        for k in ("rise", "return"):
+            if k in seg:
+                seg[k] = lift(seg[k])

@@ -253,6 +253,8 @@ def transformed(doc, phi=0.0, shift=(0.0, 0.0), mirror=False):
             j["phase"] = -j.get("phase", 0.0)
         if j["type"] in ("gear", "rack") and mirror:
             j["flank"] = {"cw": "ccw", "ccw": "cw"}[j.get("flank", "ccw")]
+        if j["type"] == "cam" and mirror:
+            _mirror_cam(j, M)
     d["gravity"] = V(d.get("gravity", [0, -9.81]))
     drv = d["drivers"]["motor"]
     if mirror:
@@ -759,3 +761,17 @@ def diagnose(relation: str, doc: dict, seed: int) -> str | None:
         if value is None or value <= TOLERANCE[relation]:
             return f"passes without its {'/'.join(kinds)} conditions"
     return None
+
+
+def _mirror_cam(j, M):
+    """A cam joint mirrored: its senses turn over, its placement and face are mirrored."""
+    flip = {"cw": "ccw", "ccw": "cw"}
+    tr, osc = j.get("translating"), j.get("oscillating")
+    j["rotation"] = flip[j.get("rotation", "ccw")]
+    if tr is not None:
+        tr["direction"] = M(tr["direction"])
+    if osc is not None:
+        osc["pivot"] = M(osc["pivot"])
+        osc["rise"] = flip[osc.get("rise", "ccw")]
+    if "face_normal" in j:
+        j["face_normal"] = M(j["face_normal"])

@@ -15,6 +15,7 @@ import numpy as np
 
 from ..base.arguments import real_array
 from ..errors import (
+    JointWarning,
     Location,
     NearSingularWarning,
     NonFiniteResultError,
@@ -34,7 +35,7 @@ from ..kinetics.reactions import ground_reaction
 from ..model import Model
 from ..structure.system import System, jacobian, system_of
 from .reachable import solve_run
-from .results import Result, build_columns
+from .results import Result, build_columns, joint_warnings
 
 __all__ = [
     "analyze",
@@ -226,6 +227,9 @@ def _result(
         )
     cond = _conditions(system, q, lu)
     _warn_near_singular(system, cond, psi[..., 0])
+    if kin is not None and q.ndim == 2:
+        for message in joint_warnings(system, q, kin.x0):
+            warnings.warn(message, JointWarning, stacklevel=3)  # the caller of analyze
     x0, fric, power = (None, None, None) if kin is None else (kin.x0, kin.friction, kin.power)
     shaking = None if kin is None else ground_reaction(system, q, x0)
     _check_finite(

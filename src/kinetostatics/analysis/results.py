@@ -21,7 +21,7 @@ from ..errors import did_you_mean
 from ..kinematics.state import point_state
 from ..structure.system import System
 
-__all__ = ["Result", "build_columns"]
+__all__ = ["Result", "build_columns", "joint_warnings"]
 
 
 def _joint_position(system: System, q: np.ndarray, name: str) -> np.ndarray:
@@ -209,6 +209,16 @@ def build_columns(system: System, t, psi, q, qd, qdd, x0, fric, power, cond, sha
 
     for prefix, label in _dyad_angle_names(system):
         put([(f"{prefix}.{label}", "deg")], lambda prefix=prefix: (dyad_angles()[prefix][1],))
+    for k, j in enumerate(model.joints):  # a type's own columns (a cam's pressure angle)
+        i_, j_ = system.ends[k]
+        qe = _padded(q)
+        qi, qj = qe[..., 3 * i_ : 3 * i_ + 3], qe[..., 3 * j_ : 3 * j_ + 3]
+        own = j.columns(qi, qj, None if x0 is None else x0[..., system.rows_of(k)])
+        if own:
+            put(
+                [(f"{j.name}.{label}", unit) for label, (unit, _) in own.items()],
+                lambda own=own: tuple(v for _, v in own.values()),
+            )
     if shaking is not None:
         put(
             [("shaking.Fx", "N"), ("shaking.Fy", "N"), ("shaking.M", "N*m")],
@@ -217,9 +227,24 @@ def build_columns(system: System, t, psi, q, qd, qdd, x0, fric, power, cond, sha
     return cols, units
 
 
+def _padded(q: np.ndarray) -> np.ndarray:
+    """q with the frame's zero pose appended (the last link index of ``system.ends``)."""
+    return np.concatenate((q, np.zeros(q.shape[:-1] + (3,))), axis=-1)
+
+
+def joint_warnings(system: System, q: np.ndarray, x0: np.ndarray) -> list[str]:
+    """What each joint type has to say about the rows (``Joint.warnings``)."""
+    qe, out = _padded(q), []
+    for k, j in enumerate(system.model.joints):
+        i_, j_ = system.ends[k]
+        lam = x0[..., system.rows_of(k)]
+        out += j.warnings(lam, qe[..., 3 * i_ : 3 * i_ + 3], qe[..., 3 * j_ : 3 * j_ + 3])
+    return out
+
+
 def _kinetic_columns(system: System, put, q, x0, fric, power) -> None:
     model = system.model
-    qe = np.concatenate((q, np.zeros(q.shape[:-1] + (3,))), axis=-1)
+    qe = _padded(q)
     sol = fric["solution"] if fric else None
     n_f = {k: n for n, k in enumerate(fric["setup"].joints)} if fric else {}
     force_unit = {"M": "N*m"}

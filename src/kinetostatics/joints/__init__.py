@@ -1,6 +1,7 @@
 """Joint types.  Importing this package registers the built-in types."""
 
-from .base import JOINT_TYPES, Anchor, Block, Circle, Glyph, Joint, Line, joint_type
+from .base import JOINT_TYPES, Anchor, Block, Circle, Curve, Glyph, Joint, Line, joint_type
+from .cam import Cam
 from .gear import Gear
 from .prismatic import Prismatic
 from .rack import Rack
@@ -15,8 +16,10 @@ __all__ = [
     "Block",
     "Line",
     "Circle",
+    "Curve",
     "Revolute",
     "Prismatic",
     "Gear",
     "Rack",
+    "Cam",
 ]

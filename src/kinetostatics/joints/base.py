@@ -44,6 +44,7 @@ __all__ = [
     "Block",
     "Line",
     "Circle",
+    "Curve",
 ]
 
 JOINT_TYPES: dict[str, type[Joint]] = {}
@@ -96,6 +97,16 @@ class Circle:
 
 
 @dataclass(frozen=True)
+class Curve:
+    """A polyline fixed in ``link`` (a cam's profile or pitch curve): ``points``
+    (global, m, ``(..., n, 2)``), closed when ``closed``."""
+
+    link: str
+    points: np.ndarray
+    closed: bool = True
+
+
+@dataclass(frozen=True)
 class Block:
     """A slider block of ``link`` centred on ``centre`` and sliding along the unit
     ``direction`` (global, ``(..., 2)``); ``length`` its contact length (m), or
@@ -117,7 +128,8 @@ class Glyph:
     ``None`` for a type that does not say.  ``block``: a slider block on link j;
     ``guide``: the axis on link i the block slides along (rails on the frame, the
     link's outline extended on a moving link); ``circles`` and ``lines``: pitch
-    circles and pitch lines of toothed pairs.  Whether the point is drawn as a pin
+    circles and pitch lines of toothed pairs, a roller; ``curves``: a cam's profile and
+    pitch curve.  Whether the point is drawn as a pin
     is the class's ``pin``.
     """
 
@@ -126,6 +138,7 @@ class Glyph:
     guide: Line | None = None
     circles: tuple[Circle, ...] = ()
     lines: tuple[Line, ...] = ()
+    curves: tuple[Curve, ...] = ()
 
 
 # ``axis:`` of a slide (prismatic, rack): a point and a direction, or two points on link i
@@ -277,3 +290,16 @@ class Joint(ABC):
     def describe(self) -> dict[str, str]:
         """Text of the report's joint table: ``{"where": …, "friction": …}``."""
         return {"where": "", "friction": ""}
+
+    def columns(
+        self, qi: np.ndarray, qj: np.ndarray, lam: np.ndarray | None = None
+    ) -> dict[str, tuple[str, np.ndarray]]:
+        """The type's own result columns ``<joint>.<label>``: ``{label: (unit, values)}``
+        at poses ``qi``, ``qj`` ``(..., 3)``; with ``lam`` (its λ block, frictionless) also
+        those that need the reaction.  None by default (a cam's pressure angle, its status)."""
+        return {}
+
+    def warnings(self, lam: np.ndarray, qi: np.ndarray, qj: np.ndarray) -> tuple[str, ...]:
+        """Messages about a result at the poses (rows) ``qi``, ``qj`` with the frictionless
+        λ block ``lam``, warned by the analysis (a cam follower that would separate)."""
+        return ()

@@ -220,6 +220,9 @@ def _draw_links(ax, scene: _Scene, geo: MechanismGeometry):
             arts.append(
                 _add(ax, Circle(p * 1e3, q * 1e3, fc="none", ec=c, lw=1.0, ls="-.", zorder=4))
             )
+        elif kind == "curve":  # a cam's profile: drawn solid, closed when it is
+            P = np.concatenate((p, p[:1])) if q else p
+            arts += ax.plot(P[:, 0] * 1e3, P[:, 1] * 1e3, color=c, lw=1.4, zorder=4)
         else:
             arts += ax.plot(
                 [p[0] * 1e3, q[0] * 1e3],

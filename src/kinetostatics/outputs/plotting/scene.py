@@ -130,6 +130,7 @@ class MechanismGeometry:
     pivots: dict
     com: dict
     wheels: tuple = ()  # ("circle", joint, link, centre, r) | ("line", joint, link, p0, p1)
+    # | ("curve", joint, link, points (n, 2), closed): a cam's profile
 
 
 class _Scene:
@@ -169,33 +170,7 @@ class _Scene:
                 self.guides_local.append((j.name, a, u, lo, hi, 0.5 * h + 0.004 * l_ref))
             else:
                 local[i_link] += [a + lo * u, a + hi * u]
-        self.wheels_local = []  # ("circle", joint, link, centre, r) / ("line", joint, link, p0, p1)
-        for j in model.joints:
-            g = glyphs[j.name]
-            for c in g.circles:
-                r_k, th_k = _poses(result, c.link)
-                self.wheels_local.append(
-                    (
-                        "circle",
-                        j.name,
-                        c.link,
-                        rotate(-th_k[0], c.centre[0] - r_k[0]),
-                        float(c.radius),
-                    )
-                )
-            for line in g.lines:
-                link = line.link
-                r_k, th_k = _poses(result, link)
-                at = line.point if g.point is None else g.point
-                P = rotate(-th_k, at - r_k)  # pitch points in link's frame
-                u_loc = rotate(-th_k[0], line.direction[0])
-                a_loc = rotate(-th_k[0], line.point[0] - r_k[0])
-                s = (P - a_loc) @ u_loc
-                reach = max((c.radius for c in g.circles), default=0.05 * l_ref)
-                p0, p1 = a_loc + (s.min() - reach) * u_loc, a_loc + (s.max() + reach) * u_loc
-                self.wheels_local.append(("line", j.name, link, p0, p1))
-                if link in local:
-                    local[link] += [p0, p1]
+        self.wheels_local = self._wheels(result, glyphs, local, l_ref)
         self.outline_local: dict[str, np.ndarray] = {}
         self.plates: set[str] = set()
         for n, pts in local.items():
@@ -248,6 +223,8 @@ class _Scene:
             if kind == "circle":
                 C = _to_global(result, link, p)
                 chunks += [C - q, C + q]
+            elif kind == "curve":
+                chunks += [np.atleast_2d(_to_global(result, link, x)) for x in p[::8]]
             else:
                 chunks += [_to_global(result, link, p), _to_global(result, link, q)]
         allp = np.concatenate(chunks)
@@ -256,6 +233,45 @@ class _Scene:
         pad = 0.09 * span
         self.lo, self.hi = lo - pad, hi + pad
         self.pad = pad
+
+    @staticmethod
+    def _wheels(result, glyphs, local, l_ref) -> list:
+        """("circle", joint, link, centre, r) / ("line", joint, link, p0, p1) / ("curve",
+        joint, link, points, closed), local to the link; a moving link's pitch line
+        extends its outline (``local``)."""
+        wheels = []
+        model = result.system.model
+        for j in model.joints:
+            g = glyphs[j.name]
+            for c in g.circles:
+                r_k, th_k = _poses(result, c.link)
+                wheels.append(
+                    (
+                        "circle",
+                        j.name,
+                        c.link,
+                        rotate(-th_k[0], c.centre[0] - r_k[0]),
+                        float(c.radius),
+                    )
+                )
+            for curve in g.curves:  # a cam's profile, fixed in its link
+                r_k, th_k = _poses(result, curve.link)
+                pts = rotate(-th_k[0], curve.points[0] - r_k[0])
+                wheels.append(("curve", j.name, curve.link, pts, curve.closed))
+            for line in g.lines:
+                link = line.link
+                r_k, th_k = _poses(result, link)
+                at = line.point if g.point is None else g.point
+                P = rotate(-th_k, at - r_k)  # pitch points in link's frame
+                u_loc = rotate(-th_k[0], line.direction[0])
+                a_loc = rotate(-th_k[0], line.point[0] - r_k[0])
+                s = (P - a_loc) @ u_loc
+                reach = max((c.radius for c in g.circles), default=0.05 * l_ref)
+                p0, p1 = a_loc + (s.min() - reach) * u_loc, a_loc + (s.max() + reach) * u_loc
+                wheels.append(("line", j.name, link, p0, p1))
+                if link in local:
+                    local[link] += [p0, p1]
+        return wheels
 
     def geometry(self, row: int) -> MechanismGeometry:
         result, model = self.result, self.model
@@ -292,7 +308,7 @@ class _Scene:
                 name,
                 link,
                 _to_global(result, link, p, row),
-                q if kind == "circle" else _to_global(result, link, q, row),
+                q if kind != "line" else _to_global(result, link, q, row),
             )
             for kind, name, link, p, q in self.wheels_local
         )

@@ -1,0 +1,207 @@
+r"""The profile of a ``cam`` pair synthesised from its follower law (``cam.py`` uses it).
+
+Frame and cam angle
+-------------------
+The *frame* is the link that carries the cam's axis and the follower's guide or
+pivot (usually the ground).  The cam angle θ is the cam's rotation relative to the
+frame in its sense of rotation σ (``rotation: ccw`` σ = +1, ``cw`` σ = −1), zero
+when the cam link's own axes are parallel to the frame's.  The follower's
+geometry is given in the frame, relative to the cam centre O:
+
+* translating: the guide direction u (the direction of rise) and the offset e:
+  the follower's line passes at e·w from O, w = −σ·perp(u) (the side where the
+  cam's surface moves along u); prime radius r_p = r_b + r_roller, and the
+  follower point (knife tip, roller centre) is F(θ) = e w + (√(r_p² − e²) + s) u;
+* oscillating: the arm's pivot A and length L; the follower point is
+  F = A + L(cos β, sin β) with β = β₀ + κ s (κ = +1: ``rise: ccw``), β₀ the
+  angle at which F lies on the prime circle, on the side where the rise moves it
+  outwards;
+* flat-faced: the face's outward normal N (from the cam to the follower) and its
+  distance from O, the support value h: translating N = u, h = r_b + s;
+  oscillating N = (cos β, sin β), β = β₀ + κ s, h = N·A − f (the face at f from
+  the pivot towards the cam; β₀ gives h = r_b at s = 0).
+
+In the cam's frame (rotated by −σθ) the follower point is P(θ) = Q(θ) F(θ),
+Q = exp(−iσθ) as complex numbers, so P' = Q(F' − iσF), P'' = Q(F'' − 2iσF' − F),
+P''' = Q(F''' − 3iσF'' − 3F' + iσF).  Its polar angle ψ and log-radius ln R are
+the imaginary and real parts of log P, whose derivatives are w₁ = P'/P,
+w₂ = P''/P − w₁², w₃ = P'''/P − 3(P''/P)w₁ + 2w₁³.  A flat face's normal angle
+in the cam's frame is ν = β_N − σθ.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._camlaw import CamLaw
+
+__all__ = ["Synthesis"]
+
+GRID = 2048  # cam angles of the inversion table and the quadrature knots
+GAUSS = np.polynomial.legendre.leggauss(8)
+
+
+def _wrap(a):
+    return (a + math.pi) % (2.0 * math.pi) - math.pi
+
+
+@dataclass(frozen=True)
+class Synthesis:
+    """The follower's placement in the frame (see the module docstring), SI."""
+
+    law: CamLaw
+    follower: str  # knife, roller, flat
+    radius: float  # roller radius (0 otherwise)
+    base: float  # base circle radius r_b
+    sigma: int  # +1: the cam turns ccw for increasing θ
+    direction: tuple[float, float] | None  # translating: u
+    offset: float  # translating: e; flat oscillating: f
+    pivot: tuple[float, float] | None  # oscillating: A
+    arm: float  # oscillating point follower: L
+    kappa: int  # oscillating: +1 the rise turns the arm ccw
+
+    @property
+    def flat(self) -> bool:
+        return self.follower == "flat"
+
+    # -- the follower in the frame -------------------------------------------------
+    def beta0(self) -> float | str:
+        """β₀ of an oscillating follower, or a message why there is none."""
+        A = np.asarray(self.pivot, float)
+        a, ang = math.hypot(*A), math.atan2(A[1], A[0])
+        if self.flat:
+            c = (self.base + self.offset) / a
+            what = "the face (base radius + offset) cannot touch the base circle"
+        else:
+            rp = self.base + self.radius
+            c = (rp * rp - a * a - self.arm**2) / (2.0 * self.arm * a)
+            what = "the arm cannot reach the prime circle (base radius + roller)"
+        if not abs(c) < 1.0:
+            return what + " from this pivot"
+        for sgn in (1.0, -1.0):
+            b = ang + sgn * math.acos(c)
+            # the rise (β growing with κ) moves the point outwards, or the face away:
+            # d|F|²/dβ = 2L A·perp(d), dh/dβ = A·perp(N), both κ·(d × A) > 0
+            if self.kappa * (math.cos(b) * A[1] - math.sin(b) * A[0]) > 0:
+                return b
+        return "the pivot lies on the cam centre's line of the rise"
+
+    def frame_point(self, theta):
+        """F, F', F'', F''' (complex, frame) of a knife or roller follower."""
+        s = self.law.value(theta)
+        if self.pivot is None:
+            u = complex(*self.direction)
+            rp = self.base + self.radius
+            w = -self.sigma * 1j * u
+            F = self.offset * w + (math.sqrt(rp * rp - self.offset**2) + s[0]) * u
+            return F, s[1] * u, s[2] * u, s[3] * u
+        b0, k, L = self.beta0(), self.kappa, self.arm
+        d = np.exp(1j * (b0 + k * s[0]))
+        F = complex(*self.pivot) + L * d
+        F1 = L * k * s[1] * 1j * d
+        F2 = L * (k * s[2] * 1j * d - s[1] ** 2 * d)
+        F3 = L * (k * s[3] * 1j * d - 3 * s[1] * s[2] * d - k * s[1] ** 3 * 1j * d)
+        return F, F1, F2, F3
+
+    def pitch(self, theta):
+        """(ψ, ψ', ψ'', ψ''', ln R, (ln R)', (ln R)'', (ln R)''') over θ, and P (complex)."""
+        F, F1, F2, F3 = self.frame_point(theta)
+        sj = self.sigma * 1j
+        Q = np.exp(-sj * np.asarray(theta, float))
+        P = Q * F
+        P1 = Q * (F1 - sj * F)
+        P2 = Q * (F2 - 2 * sj * F1 - F)
+        P3 = Q * (F3 - 3 * sj * F2 - 3 * F1 + sj * F)
+        w1 = P1 / P
+        w2 = P2 / P - w1 * w1
+        w3 = P3 / P - 3 * (P2 / P) * w1 + 2 * w1**3
+        return (np.angle(P), w1.imag, w2.imag, w3.imag, np.log(np.abs(P)), w1.real, w2.real,
+                w3.real), P  # fmt: skip
+
+    def support(self, theta):
+        """(ν, ν', ν'', h, h', h'') over θ of a flat face."""
+        s = self.law.value(theta)
+        th = np.asarray(theta, float)
+        if self.pivot is None:
+            b = math.atan2(self.direction[1], self.direction[0])
+            z = np.zeros(th.shape)
+            return b - self.sigma * th, z - self.sigma, z, self.base + s[0], s[1], s[2]
+        k, A = self.kappa, complex(*self.pivot)
+        N = np.exp(1j * (self.beta0() + k * s[0]))
+        NA, TA = (N.conjugate() * A).real, (N.conjugate() * A).imag  # N·A, T·A (T = iN)
+        nu = np.angle(N) - self.sigma * th
+        h = NA - self.offset
+        return nu, k * s[1] - self.sigma, k * s[2], h, k * s[1] * TA, k * s[2] * TA - s[1] ** 2 * NA
+
+    def angle(self, theta):
+        """(a, a') over θ: the polar angle ψ of the pitch point, or the face's ν."""
+        if self.flat:
+            r = self.support(theta)
+            return r[0], r[1]
+        r = self.pitch(theta)[0]
+        return r[0], r[1]
+
+    def integrand(self, theta):
+        """d/dθ of the coordinate's integral: sgn·|P'| (pitch arc), or h ν' (flat)."""
+        if self.flat:
+            r = self.support(theta)
+            return r[3] * r[1]
+        r, P = self.pitch(theta)
+        return np.sign(self.turn) * np.abs(P) * np.hypot(r[1], r[5])
+
+    # -- the tables: inversion θ(a) and the cumulative integral ------------------
+    @property
+    def grid(self) -> np.ndarray:
+        return np.unique(np.concatenate((np.linspace(0.0, 2 * math.pi, GRID + 1), self.law.breaks)))
+
+    @property
+    def turn(self) -> float:
+        """+1 if a grows with θ, −1 if it falls."""
+        a, a1 = self.angle(np.array([0.0]))
+        return 1.0 if a1[0] > 0 else -1.0
+
+    def tables(self):
+        """(θ_k, b_k = sgn(a − a₀) unwrapped, a₀, I_k the cumulative integral), or a message."""
+        th = self.grid
+        a, a1 = self.angle(th)
+        sg = self.turn
+        bad = np.nonzero(sg * a1 <= 0)[0]
+        if bad.size:
+            return (
+                f"the {'face normal' if self.flat else 'pitch point'} does not turn one way "
+                f"round the cam centre at cam angle {math.degrees(th[bad[0]]):.4g}°"
+                + (" (|ds/dθ| ≥ 1: a rise too steep for the flat face)" if self.flat else "")
+            )
+        b = sg * np.unwrap(a - a[0])
+        lo, hi = th[:-1], th[1:]
+        x, w = GAUSS
+        mid, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
+        nodes = mid[:, None] + half[:, None] * x
+        parts = (self.integrand(nodes.ravel()).reshape(nodes.shape) * w).sum(axis=1) * half
+        return th, b, float(a[0]), np.concatenate(([0.0], np.cumsum(parts)))
+
+    def invert(self, tables, target):
+        """(θ, turns) with a(θ) = target (a ψ or ν, unwrapped), by Newton from the table."""
+        th, b, a0, _ = tables
+        sg = self.turn
+        x = sg * (np.asarray(target, float) - a0)
+        turns = np.floor(x / (2 * math.pi))
+        theta = np.interp(x - 2 * math.pi * turns, b, th)
+        for _ in range(6):
+            a, a1 = self.angle(theta)
+            theta = theta - _wrap(a - target) / a1
+        return theta, turns
+
+    def integral(self, tables, theta, turns):
+        """The coordinate's integral at θ, plus whole turns of it."""
+        th, _, _, cum = tables
+        k = np.clip(np.searchsorted(th, theta) - 1, 0, len(th) - 2)
+        lo = th[k]
+        x, w = GAUSS
+        half = 0.5 * (theta - lo)
+        nodes = (lo + half)[..., None] + half[..., None] * x
+        part = (self.integrand(nodes) * w).sum(axis=-1) * half
+        return turns * cum[-1] + cum[k] + part

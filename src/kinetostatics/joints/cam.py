@@ -1,0 +1,545 @@
+r"""Cam and follower: a disc cam on link i touches a follower on link j.
+
+A higher pair with contact (one row of Φ, one reaction: the contact force along
+the profile's normal).  The profile is synthesised from the follower's motion law
+s(θ) over the cam angle θ (``_camlaw.py``) and its placement in the frame
+(``_camprofile.py``: frame, cam angle, signs); ``docs/extending.md`` walks through
+the derivation.
+
+Relative pose
+-------------
+Everything depends on the pose of the follower in the cam's frame:
+z = A_iᵀ(r_j + A_j p − r_i − A_i o) (p the follower point of link j, o the cam
+centre on link i) and φ = θ_j − θ_i.  A scalar F(z, φ) with gradient g and Hessian
+H gives the Jacobian rows by the chain rule (∂z/∂r_j = A_iᵀ, ∂z/∂θ_j = A_iᵀ perp(A_j p),
+∂z/∂r_i = −A_iᵀ, ∂z/∂θ_i = −perp(z) − perp(o)) and its velocity-product part
+g·z̈_v + żᵀHż with ż = A_iᵀḋ − ω_i perp(z),
+z̈_v = A_iᵀd̈_v − ω_i perp(A_iᵀḋ) − ω_i perp(ż), d̈_v = −ω_j² A_j p + ω_i² A_i o.
+
+Knife edge and roller
+---------------------
+The follower point P (knife tip, roller centre) stays on the pitch curve, in polar
+form ρ = R(ψ) about the cam centre (ψ its polar angle, R from the law by
+inverting ψ(θ) with Newton's method):
+
+    Φ = ρ − R(ψ),   ∇Φ = e − R′ t/ρ    (e = z/ρ, t = perp(e))
+
+∇Φ is the pitch curve's outward normal, so λ∇Φ applied at P is the contact force:
+F = λ|∇Φ| (> 0: the cam pushes), its line through the roller's contact point.
+Sliding: the coordinate c = S(ψ) + (R′/S′)Φ − r φ (S the pitch curve's arc length,
+S′ = √(R² + R′²)); the term (R′/S′)Φ cancels the normal part of ∇c on the contact, so
+∇c is the unit tangent there: an effort along c is a tangential force at the contact
+point (−r φ moves it from P to the roller's rim).  For a roller, ``friction`` is
+the equivalent coefficient of its bearing, μ_pin r_pin / r.
+
+Flat face
+---------
+The face (outward normal N, angle ν = φ + angle of N in j) stays on the
+profile's support line: Φ = N·z − h(ν), ∇_z Φ = N, ∂Φ/∂φ = T·z − h′ (T = perp(N)):
+the force λN at the contact point X = hN + h′T; F = λ.  Sliding: c = −(T·z + ∫h dν).
+
+Results: ``<joint>.cam_angle`` θ of the contact, the law there (``lift`` s and its
+θ-derivatives ``lift_d1``–``lift_d3``, jerk from the law), ``pressure_angle`` α
+(between the contact normal and the velocity of the follower's point at the
+contact, positive when the normal is turned from that velocity in the cam's sense
+of rotation: tan α = (s′ − e)/(s + √(r_p² − e²)) for a translating follower),
+``curvature_radius`` of the profile at the contact, ``status`` 1 where the contact
+force would pull (the follower leaves the cam; a spring or preload must keep it closed).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import Any, ClassVar
+
+import numpy as np
+
+from ..base.geometry import dot, perp, rotate
+from ._camlaw import read_law
+from ._camprofile import Synthesis
+from .base import Anchor, Circle, Curve, Glyph, Joint, Line
+
+__all__ = ["Cam"]
+
+FOLLOWERS = ("knife", "roller", "flat")
+SENSES = {"ccw": 1, "cw": -1}
+
+
+def _outer(a, b):
+    return a[..., :, None] * b[..., None, :]
+
+
+@dataclass(frozen=True)
+class Cam(Joint, kind="cam"):
+    """Disc cam (link i, centre ``o``) and follower (link j, point ``p``); ``synthesis``
+    the law and the follower's placement; ``face`` (flat) the face normal in j's
+    frame towards the cam; ``f`` the friction coefficient."""
+
+    n_eq: ClassVar[int] = 1
+    reaction_labels: ClassVar[tuple[str, ...]] = ("F", "Fx", "Fy")
+    angular: ClassVar[bool] = False  # the coordinate is a sliding distance
+    letter: ClassVar[str] = "C"
+
+    o: np.ndarray = None
+    p: np.ndarray = None
+    names: tuple[str, str] = ("", "")
+    synthesis: Synthesis = None
+    face: np.ndarray | None = None
+    f: float = 0.0
+    _memo: dict = field(default_factory=dict, init=False, repr=False, compare=False)
+
+    # -- YAML -----------------------------------------------------------------
+    @classmethod
+    def from_spec(cls, name, entry, links, points):
+        entry.check_keys(
+            required=("type", "links", "centre", "point", "follower", "base_radius", "motion"),
+            optional=(
+                "radius",
+                "face_normal",
+                "rotation",
+                "translating",
+                "oscillating",
+                "friction",
+            ),
+        )
+        cname = entry.require("centre").names(1)[0]
+        pname = entry.require("point").names(1)[0]
+        o = entry.point(links[0], cname, points, key="centre")
+        p = entry.point(links[1], pname, points, key="point")
+        kind = entry.require("follower").text()
+        if kind is not None and kind not in FOLLOWERS:
+            entry["follower"].error(f"follower must be knife, roller or flat, got '{kind}'")
+            kind = None
+        radius = 0.0
+        if kind == "roller":
+            radius = entry.require("radius").number("length", minimum=0.0, strict=True)
+        elif entry.get("radius") is not None:
+            entry["radius"].error("only a roller follower has a radius")
+        face = None
+        if kind == "flat":
+            v = entry.require("face_normal").vector(None)
+            face = None if v is None else entry["face_normal"].unit(v)
+        base = entry.require("base_radius").number("length", minimum=0.0, strict=True)
+        sigma = 1
+        if (r := entry.get("rotation")) is not None:
+            sigma = SENSES.get(r.text() or "", 0)
+            if not sigma:
+                r.error("rotation must be ccw or cw (the cam's sense for increasing cam angle)")
+        place = cls._placement(entry, kind)
+        law = read_law(entry.require("motion"), "angle" if place and place[2] else "length")
+        friction = 0.0
+        if (fr := entry.get("friction")) is not None:
+            fr.check_keys(required=("coefficient",))
+            friction = (
+                fr["coefficient"].number(None, minimum=0.0) if fr.get("coefficient") else None
+            )
+        if any(v is None for v in (o, p, kind, radius, base, place, law, friction)) or not sigma:
+            return None
+        if kind == "flat" and face is None:
+            return None
+        direction, offset, pivot, arm, kappa = place
+        syn = Synthesis(law, kind, radius, base, sigma, direction, offset, pivot, arm, kappa)
+        joint = cls(name, links, entry.where, o, p, (cname, pname), syn, face, float(friction))
+        problem = joint._problem()
+        if problem:
+            entry["motion"].error(f"cam joint '{name}': {problem}")
+            return None
+        return joint
+
+    @staticmethod
+    def _placement(entry, kind):
+        """(u, e or f, A, L, κ) from ``translating:`` or ``oscillating:``."""
+        tr, osc = entry.get("translating"), entry.get("oscillating")
+        if (tr is None) == (osc is None):
+            entry.error("give the follower's placement: translating or oscillating")
+            return None
+        if tr is not None:
+            if not tr.check_keys(required=("direction",), optional=("offset",)):
+                return None
+            d = tr["direction"].vector(None)
+            u = None if d is None else tr["direction"].unit(d)
+            e = tr["offset"].number("length") if tr.get("offset") is not None else 0.0
+            if u is None or e is None or (kind == "flat" and e):
+                if kind == "flat" and e:
+                    tr["offset"].error("a translating flat face has no offset (it changes nothing)")
+                return None
+            return (float(u[0]), float(u[1])), float(e), None, 0.0, 1
+        need = ("pivot",) if kind == "flat" else ("pivot", "arm")
+        extra = ("offset", "rise") if kind == "flat" else ("rise",)
+        if not osc.check_keys(required=need, optional=extra):
+            return None
+        a = osc["pivot"].vector("length")
+        arm = osc["arm"].number("length", minimum=0.0, strict=True) if kind != "flat" else 0.0
+        off = osc["offset"].number("length") if osc.get("offset") is not None else 0.0
+        kappa = SENSES.get(osc["rise"].text() or "", 0) if osc.get("rise") is not None else 1
+        if not kappa:
+            osc["rise"].error("rise must be ccw or cw (the arm's sense as the follower rises)")
+        if a is None or arm is None or off is None or not kappa:
+            return None
+        return None, float(off), (float(a[0]), float(a[1])), float(arm), kappa
+
+    def to_spec(self) -> dict[str, Any]:
+        s = self.synthesis
+        spec: dict[str, Any] = {
+            "centre": self.names[0],
+            "point": self.names[1],
+            "follower": s.follower,
+            "base_radius": s.base,
+            "rotation": "ccw" if s.sigma > 0 else "cw",
+            "motion": s.law.to_spec(),
+        }
+        if s.follower == "roller":
+            spec["radius"] = s.radius
+        if self.face is not None:
+            spec["face_normal"] = [float(x) for x in self.face]
+        if s.pivot is None:
+            spec["translating"] = {"direction": list(s.direction), "offset": s.offset}
+        else:
+            osc: dict[str, Any] = {"pivot": list(s.pivot), "rise": "ccw" if s.kappa > 0 else "cw"}
+            osc.update({"offset": s.offset} if s.flat else {"arm": s.arm})
+            spec["oscillating"] = osc
+        if self.f:
+            spec["friction"] = {"coefficient": self.f}
+        return spec
+
+    # -- the profile ------------------------------------------------------------
+    def _problem(self) -> str:
+        """Why this cam cannot be made ('' if it can): placement, inversion, undercut."""
+        s = self.synthesis
+        if s.pivot is not None and isinstance(s.beta0(), str):
+            return s.beta0()
+        if s.pivot is None and not s.flat and abs(s.offset) >= s.base + s.radius:
+            return "the offset must be smaller than the prime radius (base radius + roller)"
+        tables = s.tables()
+        if isinstance(tables, str):
+            return tables
+        self._memo["tables"] = tables
+        th = tables[0]
+        rc = self._curvature(th)
+        bad = np.nonzero((rc <= 0) & (rc > -s.radius))[0] if not s.flat else np.nonzero(rc <= 0)[0]
+        if s.follower == "knife":
+            bad = bad[:0]
+        if bad.size:
+            worst = bad[np.argmin(rc[bad])]
+            what = "cusp" if s.follower == "flat" else "undercut"
+            return (
+                f"the profile is {what} at cam angle {math.degrees(th[worst]):.4g}° "
+                f"(radius of curvature {rc[worst] * 1e3:.4g} mm, {bad.size} of "
+                f"{len(th)} sampled angles): a larger base circle"
+                + (" or a smaller roller" if s.follower == "roller" else "")
+                + " or a gentler law"
+            )
+        return ""
+
+    @property
+    def _tables(self):
+        if "tables" not in self._memo:
+            self._memo["tables"] = self.synthesis.tables()
+        return self._memo["tables"]
+
+    def _curvature(self, theta):
+        """The profile's radius of curvature at cam angles θ (> 0 convex, < 0 concave,
+        ±inf straight); a roller's undercut or a flat face's cusp shows as ≤ 0."""
+        s = self.synthesis
+        if s.flat:
+            nu, nu1, nu2, h, h1, h2 = s.support(theta)
+            hv = h1 / nu1
+            return h + (h2 - hv * nu2) / nu1**2  # ρ = h + h''(ν)
+        r, P = s.pitch(theta)
+        a1, L1, a2, L2 = r[1], r[5], r[2], r[6]
+        Lp = L1 / a1
+        Lpp = (L2 - Lp * a2) / a1**2
+        R = np.abs(P)
+        # curvature of ρ = R(ψ): κ = (R² + 2R′² − R R″)/(R² + R′²)^{3/2}
+        R1, R2 = R * Lp, R * (Lpp + Lp**2)
+        kappa = (R**2 + 2 * R1**2 - R * R2) / (R**2 + R1**2) ** 1.5
+        with np.errstate(divide="ignore"):
+            return np.where(kappa != 0, 1.0 / np.where(kappa != 0, kappa, 1.0), np.inf) - s.radius
+
+    def _polar(self, psi):
+        """(θ, turns, R, R′, R″, R‴) of the pitch curve at polar angles ψ."""
+        s = self.synthesis
+        theta, turns = s.invert(self._tables, psi)
+        r, P = s.pitch(theta)
+        a1, a2, a3, L1, L2, L3 = r[1], r[2], r[3], r[5], r[6], r[7]
+        Lp = L1 / a1
+        Lpp = (L2 - Lp * a2) / a1**2
+        Lppp = (L3 - 3 * Lpp * a1 * a2 - Lp * a3) / a1**3
+        R = np.abs(P)
+        return theta, turns, R, R * Lp, R * (Lpp + Lp**2), R * (Lppp + 3 * Lp * Lpp + Lp**3)
+
+    def _support(self, nu):
+        """(θ, turns, h, h′, h″) of the profile at face-normal angles ν (cam frame)."""
+        s = self.synthesis
+        theta, turns = s.invert(self._tables, nu)
+        _, nu1, nu2, h, h1, h2 = s.support(theta)
+        hv = h1 / nu1
+        return theta, turns, h, hv, (h2 - hv * nu2) / nu1**2
+
+    # -- the relative pose and the scalar functions of it -----------------------------
+    def _pose(self, qi, qj):
+        Ao = rotate(qi[..., 2], self.o)
+        Ap = rotate(qj[..., 2], self.p)
+        d = qj[..., :2] + Ap - qi[..., :2] - Ao
+        return Ao, Ap, d, rotate(-qi[..., 2], d), qj[..., 2] - qi[..., 2]
+
+    def _face_angle(self, phi):
+        return phi + math.atan2(-self.face[1], -self.face[0])
+
+    def _phi(self, qi, qj):
+        """Φ: (value, ∇_z, ∂/∂φ, H_zz, H_zφ, H_φφ)."""
+        Ao, Ap, d, z, phi = self._pose(qi, qj)
+        if self.synthesis.flat:
+            nu = self._face_angle(phi)
+            N = np.stack((np.cos(nu), np.sin(nu)), axis=-1)
+            T = perp(N)
+            _, _, h, h1, h2 = self._support(nu)
+            zero = np.zeros(z.shape[:-1] + (2, 2))
+            return dot(N, z) - h, N, dot(T, z) - h1, zero, T, -dot(N, z) - h2
+        rho = np.hypot(z[..., 0], z[..., 1])
+        e = z / rho[..., None]
+        t = perp(e)
+        _, _, R, R1, R2, _ = self._polar(np.arctan2(z[..., 1], z[..., 0]))
+        tt = _outer(t, t)
+        Hpsi = -(_outer(e, t) + _outer(t, e)) / (rho**2)[..., None, None]
+        H = (
+            tt / rho[..., None, None]
+            - (R2 / rho**2)[..., None, None] * tt
+            - R1[..., None, None] * Hpsi
+        )
+        g = e - (R1 / rho)[..., None] * t
+        zero = np.zeros(rho.shape)
+        return rho - R, g, zero, H, np.zeros(z.shape), zero
+
+    def _coord(self, qi, qj):
+        """c: (value, ∇_z, ∂/∂φ, H_zz, H_zφ, H_φφ)."""
+        Ao, Ap, d, z, phi = self._pose(qi, qj)
+        s = self.synthesis
+        if s.flat:
+            nu = self._face_angle(phi)
+            N = np.stack((np.cos(nu), np.sin(nu)), axis=-1)
+            T = perp(N)
+            theta, turns, h, h1, _ = self._support(nu)
+            H = s.integral(self._tables, theta, turns)
+            zero = np.zeros(z.shape[:-1] + (2, 2))
+            return -(dot(T, z) + H), -T, dot(N, z) - h, zero, N, dot(T, z) - h1
+        rho = np.hypot(z[..., 0], z[..., 1])
+        e = z / rho[..., None]
+        t = perp(e)
+        psi_u = np.arctan2(d[..., 1], d[..., 0]) - qi[..., 2]  # carries the cam's turns
+        theta, turns, R, R1, R2, R3 = self._polar(psi_u)
+        S = s.integral(self._tables, theta, turns)
+        S1 = np.hypot(R, R1)
+        S2 = R1 * (R + R2) / S1
+        S3 = (R2 * (R + R2) + R1 * (R1 + R3)) / S1 - R1 * (R + R2) * S2 / S1**2
+        m, m1 = R1 / S1, (R2 * S1 - R1 * S2) / S1**2
+        m2 = (R3 * S1 - R1 * S3) / S1**2 - 2 * m1 * S2 / S1
+        Phi = rho - R
+        gpsi = t / rho[..., None]
+        gphi = e - (R1 / rho)[..., None] * t
+        Hpsi = -(_outer(e, t) + _outer(t, e)) / (rho**2)[..., None, None]
+        tt = _outer(t, t)
+        HPhi = (
+            tt / rho[..., None, None]
+            - (R2 / rho**2)[..., None, None] * tt
+            - R1[..., None, None] * Hpsi
+        )
+        a = S1 + m1 * Phi
+        g = a[..., None] * gpsi + m[..., None] * gphi
+        H = (
+            (S2 + m2 * Phi)[..., None, None] * _outer(gpsi, gpsi)
+            + a[..., None, None] * Hpsi
+            + m1[..., None, None] * (_outer(gpsi, gphi) + _outer(gphi, gpsi))
+            + m[..., None, None] * HPhi
+        )
+        r = s.radius
+        zero = np.zeros(rho.shape)
+        return S + m * Phi - r * phi, g, zero - r, H, np.zeros(z.shape), zero
+
+    def _rows(self, qi, qj, gz, gphi):
+        """(∂F/∂q_i, ∂F/∂q_j), each (..., 3), from F's gradient in (z, φ)."""
+        Ao, Ap, d, z, phi = self._pose(qi, qj)
+        G = rotate(qi[..., 2], gz)
+        jj = np.concatenate((G, (dot(G, perp(Ap)) + gphi)[..., None]), axis=-1)
+        ti = dot(gz, -perp(z) - perp(np.broadcast_to(self.o, z.shape))) - gphi
+        ji = np.concatenate((-G, ti[..., None]), axis=-1)
+        return ji, jj
+
+    def _second(self, qi, qj, vi, vj, parts):
+        """The velocity-product part of F̈: g·z̈_v + żᵀHż."""
+        _, gz, gphi, Hzz, Hzp, Hpp = parts
+        Ao, Ap, d, z, phi = self._pose(qi, qj)
+        wi, wj = vi[..., 2], vj[..., 2]
+        dd = vj[..., :2] + wj[..., None] * perp(Ap) - vi[..., :2] - wi[..., None] * perp(Ao)
+        ddv = -(wj**2)[..., None] * Ap + (wi**2)[..., None] * Ao
+        dl = rotate(-qi[..., 2], dd)
+        zd = dl - wi[..., None] * perp(z)
+        zddv = rotate(-qi[..., 2], ddv) - wi[..., None] * (perp(dl) + perp(zd))
+        pd = wj - wi
+        quad = np.einsum("...a,...ab,...b->...", zd, Hzz, zd) + 2 * pd * dot(Hzp, zd) + Hpp * pd**2
+        return dot(gz, zddv) + quad
+
+    # -- the contract ---------------------------------------------------------------
+    def residual(self, qi, qj):
+        return self._phi(qi, qj)[0][..., None]
+
+    def jacobian(self, qi, qj):
+        _, gz, gphi, *_ = self._phi(qi, qj)
+        ji, jj = self._rows(qi, qj, gz, gphi)
+        return ji[..., None, :], jj[..., None, :]
+
+    def acceleration_rhs(self, qi, qj, vi, vj):
+        return -self._second(qi, qj, vi, vj, self._phi(qi, qj))[..., None]
+
+    def _normal(self, qi, qj):
+        """|∇_z Φ| (1 for a flat face) and ∇_z Φ in global axes."""
+        gz = self._phi(qi, qj)[1]
+        return np.hypot(gz[..., 0], gz[..., 1]), rotate(qi[..., 2], gz)
+
+    def reaction(self, lam, qi, qj):
+        size, G = self._normal(qi, qj)
+        f = lam[..., 0]
+        return {"F": f * size, "Fx": f * G[..., 0], "Fy": f * G[..., 1]}
+
+    def coordinate(self, qi, qj):
+        return self._coord(qi, qj)[0]
+
+    def motion_direction(self, qi, qj):
+        _, gz, gphi, *_ = self._coord(qi, qj)
+        return self._rows(qi, qj, gz, gphi)
+
+    def coordinate_bias(self, qi, qj, vi, vj):
+        return self._second(qi, qj, vi, vj, self._coord(qi, qj))
+
+    def effort_force(self, effort, qi, qj):
+        _, gz, *_ = self._coord(qi, qj)
+        G = rotate(qi[..., 2], gz)
+        return {"Fx": effort * G[..., 0], "Fy": effort * G[..., 1]}
+
+    # -- friction: f |F| along the tangent ---------------------------------------------
+    @property
+    def has_friction(self) -> bool:
+        return self.f > 0.0
+
+    def friction_magnitude(self, lam, qi, qj):
+        return self.f * np.abs(lam[..., 0]) * self._normal(qi, qj)[0]
+
+    def friction_gradient(self, lam, qi, qj):
+        return (self.f * np.sign(lam[..., 0]) * self._normal(qi, qj)[0])[..., None]
+
+    def friction_constants(self) -> tuple:
+        return (self.f,)
+
+    # -- what the outputs ask ----------------------------------------------------------
+    def _contact(self, qi, qj):
+        """(θ, contact point X, unit normal n, follower point, all in the cam's frame)."""
+        Ao, Ap, d, z, phi = self._pose(qi, qj)
+        s = self.synthesis
+        if s.flat:
+            nu = self._face_angle(phi)
+            N = np.stack((np.cos(nu), np.sin(nu)), axis=-1)
+            theta, _, h, h1, _ = self._support(nu)
+            return theta, h[..., None] * N + h1[..., None] * perp(N), N, z
+        gz = self._phi(qi, qj)[1]
+        n = gz / np.hypot(gz[..., 0], gz[..., 1])[..., None]
+        theta = s.invert(self._tables, np.arctan2(z[..., 1], z[..., 0]))[0]
+        return theta, z - s.radius * n, n, z
+
+    def anchors(self):
+        i, j = self.links
+        return (Anchor(i, self.names[0], self.o), Anchor(j, self.names[1], self.p))
+
+    @cached_property
+    def _outline(self):
+        """The profile and (roller) pitch curve over 360 cam angles, cam frame."""
+        s = self.synthesis
+        th = np.linspace(0.0, 2 * math.pi, 361)[:-1]
+        if s.flat:
+            nu, nu1, _, h, h1, _ = s.support(th)
+            N = np.stack((np.cos(nu), np.sin(nu)), axis=-1)
+            return ((h1 / nu1)[:, None] * perp(N) + h[:, None] * N,)
+        r, P = s.pitch(th)
+        pitch = np.stack((P.real, P.imag), axis=-1)
+        e = pitch / np.abs(P)[:, None]
+        n = e - (r[5] / r[1])[:, None] * perp(e)  # e − (R′/R) t
+        n /= np.hypot(n[:, 0], n[:, 1])[:, None]
+        return (pitch - s.radius * n, pitch) if s.radius else (pitch,)
+
+    def glyph(self, qi, qj):
+        """The contact point; the profile (and pitch curve) on the cam, the roller or face."""
+        i, j = self.links
+        theta, X, n, z = self._contact(qi, qj)
+        c, sn = np.cos(qi[..., 2]), np.sin(qi[..., 2])
+        rot = np.stack((np.stack((c, -sn), -1), np.stack((sn, c), -1)), -2)  # (..., 2, 2)
+        base = qi[..., :2] + rotate(qi[..., 2], self.o)
+        point = base + rotate(qi[..., 2], X)
+        curves = tuple(
+            Curve(i, base[..., None, :] + np.einsum("...ab,nb->...na", rot, pts))
+            for pts in self._outline
+        )
+        P = qj[..., :2] + rotate(qj[..., 2], self.p)
+        s = self.synthesis
+        if s.flat:
+            T = rotate(qi[..., 2], perp(n))
+            return Glyph(point=point, curves=curves, lines=(Line(j, P, T),))
+        circles = (Circle(j, P, s.radius),) if s.radius else ()
+        return Glyph(point=point, curves=curves, circles=circles)
+
+    def label(self):
+        return self.name
+
+    def describe(self):
+        s = self.synthesis
+        i, j = self.links
+        kind = {"knife": "knife-edge", "roller": f"roller r = {s.radius * 1e3:.4g} mm"}
+        motion = "oscillating" if s.pivot is not None else "translating"
+        where = (
+            f"cam {i} (centre {self.names[0]}, base radius {s.base * 1e3:.4g} mm, "
+            f"turning {'ccw' if s.sigma > 0 else 'cw'}), {motion} "
+            f"{kind.get(s.follower, 'flat-faced')} follower {j} at {self.names[1]}"
+        )
+        return {"where": where, "friction": f"f = {self.f:.4g}" if self.f else "none"}
+
+    def columns(self, qi, qj, lam=None):
+        s = self.synthesis
+        theta, X, n, z = self._contact(qi, qj)
+        lift = s.law.value(theta)
+        unit = ("m", "m/rad", "m/rad^2", "m/rad^3")
+        if s.pivot is not None:
+            unit = ("rad", "1", "1/rad", "1/rad^2")
+        # the velocity of the follower's point (a roller's centre, a face's contact point)
+        # in the frame, turned into the cam's frame
+        Xf = rotate(s.sigma * theta, X if s.flat else z)
+        if s.pivot is None:
+            m = np.broadcast_to(np.asarray(s.direction, float), Xf.shape)
+        else:
+            m = s.kappa * perp(Xf - np.asarray(s.pivot, float))
+        m = rotate(-s.sigma * theta, m)
+        alpha = s.sigma * np.arctan2(m[..., 0] * n[..., 1] - m[..., 1] * n[..., 0], dot(m, n))
+        out = {
+            "cam_angle": ("deg", np.degrees(np.mod(theta, 2 * math.pi))),
+            "lift": (unit[0], lift[0]),
+            "lift_d1": (unit[1], lift[1]),
+            "lift_d2": (unit[2], lift[2]),
+            "lift_d3": (unit[3], lift[3]),
+            "pressure_angle": ("deg", np.degrees(alpha)),
+            "curvature_radius": ("m", self._curvature(theta)),
+        }
+        if lam is not None:
+            out["status"] = ("1", (lam[..., 0] < 0).astype(float))
+        return out
+
+    def warnings(self, lam, qi, qj):
+        pull = np.asarray(lam[..., 0] < 0)
+        if pull.ndim != 1 or not pull.any():
+            return ()
+        theta = np.degrees(np.mod(self._contact(qi, qj)[0], 2 * math.pi))[pull]
+        shown = ", ".join(f"{a:.4g}°" for a in theta[:8]) + (" …" if theta.size > 8 else "")
+        return (
+            f"cam joint '{self.name}': the follower would leave the cam at {theta.size} "
+            f"position(s), cam angles {shown} (from {theta.min():.4g}° to {theta.max():.4g}°): "
+            f"the contact force there would pull ({self.name}.status = 1); a spring or a "
+            "larger preload keeps the follower on the cam",
+        )
