@@ -70,7 +70,7 @@ def grid(doc, n):
 
 
 def _angle_cols(names):
-    return {c for c in names if c == "angle" or c.endswith(".theta")}
+    return {c for c in names if c == "angle" or c.endswith((".theta", ".cam_angle"))}
 
 
 def _wrap(d):
@@ -331,7 +331,12 @@ def _expected(res, doc, phi, shift, mirror):
             "N_friction",
         ):
             out[c] = -out[c]
-        elif tail in ("friction", "friction_approx") and kinds.get(head) in ("revolute", "gear"):
+        elif tail in ("friction", "friction_approx") and kinds.get(head) in (
+            "revolute",
+            "gear",
+            "cam",
+        ):
+            # signed along a sense of rotation (a cam's tangent turns with the cam)
             out[c] = -out[c]
     return out
 

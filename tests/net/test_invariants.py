@@ -44,14 +44,7 @@ SCALE = _want / _total
 SEED_BASE = {name: 100_000 * (k + 1) for k, name in enumerate(COUNTS)}
 
 # (relation, case) -> reason; case is a shipped file name or "seed:<n>"
-KNOWN: dict[tuple[str, str], str] = {
-    # the cam pair is new: the relations do not yet know that its sliding coordinate
-    # (and so the sign of contact.friction) turns over in a mirror image, nor that
-    # contact.cam_angle wraps at 360° (0 and 360 are one angle)
-    ("mirror", "cam_roller.yaml"): "cam: contact.friction's sign flips in a mirror image",
-    ("mirror", "cam_flat_oscillating.yaml"): "cam: contact.friction's sign flips in a mirror",
-    ("units", "cam_flat_oscillating.yaml"): "cam: contact.cam_angle wraps at 360°",
-}
+KNOWN: dict[tuple[str, str], str] = {}
 
 
 def _cases(relation: str):

@@ -33,6 +33,7 @@ __all__ = ["CamLaw", "Segment", "CURVES", "read_law"]
 
 TWO_PI = 2.0 * math.pi
 PI = math.pi
+SNAP = 1e-12  # rad: angles this close to a segment's end are at it
 
 
 def _harmonic(u):
@@ -106,7 +107,11 @@ class CamLaw:
         out = [np.zeros(th.shape) for _ in range(4)]
         start, base = 0.0, 0.0
         edges = self.breaks
-        index = np.clip(np.searchsorted(edges, th, side="right") - 1, 0, len(self.segments) - 1)
+        # at a segment's end a derivative may jump: an angle within round-off of an end takes
+        # the segment that starts there (360° − 1e-14 is 0°), whichever side round-off put it
+        th = np.where(th > TWO_PI - SNAP, th - TWO_PI, th)
+        index = np.searchsorted(edges, th + SNAP, side="right") - 1
+        index = np.clip(index, 0, len(self.segments) - 1)
         for k, seg in enumerate(self.segments):
             start = edges[k]
             m = index == k
