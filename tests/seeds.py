@@ -111,7 +111,10 @@ def _seeds() -> dict[str, dict]:
         analysis=FEW,
     )
     out["flywheel"] = _variant(
-        SC, flywheel={"delta": 0.05, "ratio": 3, "friction": True}, analysis={"positions": 12}
+        SC,
+        flywheel={"delta": 0.05, "ratio": 3, "friction": True},
+        analysis={"positions": 12},
+        output="slider",
     )
     out["balance_at and efforts"] = _variant(
         SC,

@@ -65,7 +65,7 @@ def _run(args) -> int:
     from ..outputs.loading import load
 
     model = load(args.file)
-    result = analyze(model)
+    result = analyze(model, reachable=bool(getattr(args, "reachable", False)))
     s = result.summary()  # before anything is written: a failed run writes nothing
     out = Path(args.out)
     _write_outputs(
@@ -84,11 +84,7 @@ def _run(args) -> int:
     )
     print("groups: " + "; ".join(s["structure"]["groups"]))
     for name, o in s["outputs"].items():
-        print(
-            f"{name}: stroke {o['stroke'] * 1e3:.4f} mm, time ratio {o['time_ratio']:.4f}, "
-            f"limits at {o['limit_positions']['min']['angle']:.3f}° and "
-            f"{o['limit_positions']['max']['angle']:.3f}°"
-        )
+        _print_output(name, o, name == s.get("output"))
     for e in s["events"]:
         print(f"event: {e['load']} {e['switch']} at {e['angle']:.3f}° ({e['condition']})")
     for sp in s["singular_positions"]:
@@ -142,6 +138,25 @@ def _run(args) -> int:
     return 0
 
 
+def _print_output(name: str, o: dict, named: bool) -> None:
+    """One line per output member: stroke or swing, time ratio, limit positions."""
+    lo, hi = o["limit_positions"]["min"], o["limit_positions"]["max"]
+    what = f"output {name}" if named else name
+    if o["kind"] == "slide":
+        size = f"stroke {o['stroke'] * 1e3:.4f} mm"
+        limits = f"limits at {lo['angle']:.3f}° and {hi['angle']:.3f}°"
+    else:
+        size = f"swing {o['swing']:.4f}° ({o['link']})"
+        limits = (
+            f"limits at {lo['angle']:.3f}° ({o['link']} at {lo['theta']:.3f}°) and "
+            f"{hi['angle']:.3f}° ({o['link']} at {hi['theta']:.3f}°)"
+        )
+    print(
+        f"{what}: {size}, time ratio K {o['time_ratio']:.4f} (crank angle between the limits "
+        f"{o['theta_extreme']:.3f}°), {limits}"
+    )
+
+
 def _write_outputs(out: Path, what: str, writers) -> None:
     """Make the folder ``out`` and write each ``(path, write)``; an ``OSError`` (a
     folder that is a file or read-only, a full disk) is one line naming the path,
@@ -181,6 +196,12 @@ def main(argv: list[str] | None = None) -> int:
     p = sub.add_parser("run", help="analyse a cycle: results.csv and summary.json")
     p.add_argument("file", help="mechanism YAML file")
     p.add_argument("--out", default="out", help="output folder (default: out)")
+    p.add_argument(
+        "--reachable",
+        action="store_true",
+        help="a crank that cannot make a full turn: analyse the reachable range between "
+        "its limit positions instead of stopping there",
+    )
     p.set_defaults(func=_run)
     for name in EXTENSIONS:
         importlib.import_module(name).register(sub)

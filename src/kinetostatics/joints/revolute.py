@@ -26,6 +26,7 @@ class Revolute(Joint, kind="revolute"):
     reaction_labels: ClassVar[tuple[str, ...]] = ("Fx", "Fy")
     angular: ClassVar[bool] = True
     letter: ClassVar[str] = "R"
+    reports_swing: ClassVar[bool] = True
     pin: ClassVar[bool] = True
 
     p_i: np.ndarray = None

@@ -236,6 +236,7 @@ class Model:
     flywheel: FlywheelSpec | None = None
     clearances: tuple = ()  # Clearance specs: as read (ideal None) or expanded with
     ideal: Model | None = field(default=None, compare=False, repr=False)  # before expansion
+    output: str | None = None  # the machine's output member (a link or a joint): ``output:``
     sketch_where: Mapping[str, Location] = field(default_factory=dict, compare=False, repr=False)
 
     @property

@@ -207,6 +207,7 @@ def summarize(result) -> dict[str, Any]:
             "mobility": system.structure.mobility,
             "groups": [p.group.label for p in system.plans],
         },
+        "output": getattr(system.model, "output", None),
         "outputs": output_strokes(result),
         "events": [
             {

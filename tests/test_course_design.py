@@ -1,0 +1,187 @@
+"""Course-design quantities: the swing, limit positions and time ratio of rockers and of
+the file's named output, against the closed forms of the Grashof four-bar and the
+crank-guide-bar; the CLI for effort-driven files and cranks that cannot turn fully."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+import kinetostatics as ks
+from kinetostatics.cli import main
+from kinetostatics.errors import ModelError
+
+
+def fourbar(a=100.0, b=350.0, c=250.0, d=300.0, start=0.0, speed=120.0, extra="") -> str:
+    """A crank-rocker (crank a, coupler b, rocker c, frame d, mm), B sketched above."""
+    phi = math.radians(start)
+    ax, ay = a * math.cos(phi), a * math.sin(phi)
+    # B: circle about A (b) and about D (c), the intersection above the line A-D
+    dx, dy = d - ax, -ay
+    dist = math.hypot(dx, dy)
+    along = (b * b - c * c + dist * dist) / (2 * dist)
+    h = math.sqrt(b * b - along * along)
+    ux, uy = dx / dist, dy / dist
+    bx, by = ax + along * ux - h * uy, ay + along * uy + h * ux
+    return f"""
+name: four-bar
+units: {{length: mm, angle: deg, speed: rpm}}
+links:
+  ground: {{points: {{O: [0, 0], D: [{d}, 0]}}}}
+  crank: {{points: {{O: [0, 0], A: [{a}, 0]}}, com: [{a / 2}, 0], mass: 1, inertia: 0.001}}
+  coupler: {{points: {{A: [0, 0], B: [{b}, 0]}}, com: [{b / 2}, 0], mass: 2, inertia: 0.02}}
+  rocker: {{points: {{D: [0, 0], B: [{c}, 0]}}, com: [{c / 2}, 0], mass: 1.5, inertia: 0.008}}
+joints:
+  O: {{type: revolute, links: [ground, crank]}}
+  A: {{type: revolute, links: [crank, coupler]}}
+  B: {{type: revolute, links: [coupler, rocker]}}
+  D: {{type: revolute, links: [ground, rocker]}}
+drivers:
+  motor: {{joint: O, motion: {{speed: {speed}}}}}
+sketch: {{A: [{ax:.6f}, {ay:.6f}], B: [{bx:.6f}, {by:.6f}]}}
+analysis: {{start: {start}, sweep: 360, positions: 72}}
+{extra}"""
+
+
+def grashof_limits(a, b, c, d):
+    """The closed form: at the limit positions crank and coupler are collinear, B at
+    a distance b + a (extended) or b − a (folded) from O; the law of cosines gives the
+    rocker angle (B above the frame) and the crank angle at each."""
+
+    def at(r):
+        rocker = math.pi - math.acos((c * c + d * d - r * r) / (2 * c * d))
+        towards_b = math.acos((r * r + d * d - c * c) / (2 * r * d))
+        return towards_b, rocker
+
+    phi_ext, psi_ext = at(b + a)
+    phi_fold, psi_fold = at(b - a)
+    crank_ext, crank_fold = phi_ext, phi_fold + math.pi  # folded: the crank points away
+    theta = abs(phi_fold - phi_ext)  # the crank angle between the limit positions
+    return {
+        "swing": math.degrees(abs(psi_fold - psi_ext)),
+        "K": (math.pi + theta) / (math.pi - theta),
+        "crank": sorted(math.degrees(x) % 360 for x in (crank_ext, crank_fold)),
+        "rocker": sorted(math.degrees(x) % 360 for x in (psi_ext, psi_fold)),
+        "theta": math.degrees(theta),
+    }
+
+
+@pytest.mark.parametrize(
+    "dims", [(100, 350, 250, 300), (80, 260, 200, 240), (60, 300, 180, 280)], ids=str
+)
+def test_crank_rocker_swing_limits_and_time_ratio_match_the_closed_form(dims):
+    a, b, c, d = dims
+    s = ks.analyze(ks.loads(fourbar(a, b, c, d))).summary()
+    ref = grashof_limits(a, b, c, d)
+    out = s["outputs"]["D"]
+    assert out["kind"] == "swing" and out["link"] == "rocker"
+    assert out["swing"] == pytest.approx(ref["swing"], abs=1e-8)
+    assert out["time_ratio"] == pytest.approx(ref["K"], rel=1e-9)
+    assert out["theta_extreme"] == pytest.approx(ref["theta"], abs=1e-7)
+    lim = out["limit_positions"]
+    crank = sorted([lim["min"]["angle"], lim["max"]["angle"]])
+    rocker = sorted([lim["min"]["theta"], lim["max"]["theta"]])
+    np.testing.assert_allclose(crank, ref["crank"], atol=1e-7)
+    np.testing.assert_allclose(rocker, ref["rocker"], atol=1e-7)
+    # min is where the counter-clockwise swing starts: the rocker's least angle here
+    assert lim["min"]["theta"] == pytest.approx(min(rocker), abs=1e-7)
+    # the crank (driven) is no output
+    assert "O" not in s["outputs"]
+
+
+def test_time_ratio_sense_follows_the_crank():
+    """Turning the crank the other way swaps which swing is slow, not K."""
+    ccw = ks.analyze(ks.loads(fourbar())).summary()["outputs"]["D"]
+    cw = ks.analyze(ks.loads(fourbar(speed=-120))).summary()["outputs"]["D"]
+    assert cw["time_ratio"] == pytest.approx(ccw["time_ratio"], rel=1e-9)
+    assert cw["time_increasing_s"] == pytest.approx(ccw["time_decreasing_s"], rel=1e-9)
+
+
+def test_relative_slide_is_never_an_output():
+    """The slotting machine's block slides in the guide bar (two moving links): not an
+    output; the bar's swing and the ram's stroke are, each with K = 2 (the file's K)."""
+    s = ks.analyze(ks.load("mechanisms/slotting_machine.yaml")).summary()
+    assert "slot" not in s["outputs"]
+    assert s["outputs"]["guide"]["time_ratio"] == pytest.approx(2.0, rel=1e-9)
+    bar = s["outputs"]["O3"]
+    assert bar["time_ratio"] == pytest.approx(2.0, rel=1e-9)
+    # the guide bar's swing: 2·asin(L_O2A/L_O2O3) = θ = 60°
+    assert bar["swing"] == pytest.approx(60.0, abs=1e-8)
+
+
+def test_output_key_names_the_member():
+    s = ks.analyze(ks.loads(fourbar(extra="output: rocker"))).summary()
+    assert s["output"] == "rocker"
+    # the named link alone; its swing is the rocker's pair's
+    ref = grashof_limits(100, 350, 250, 300)
+    assert list(s["outputs"]) == ["D"]  # the rocker's pair on the frame
+    out = next(iter(s["outputs"].values()))
+    assert out["swing"] == pytest.approx(ref["swing"], abs=1e-8)
+    s = ks.analyze(ks.loads(fourbar(extra="output: coupler"))).summary()
+    assert list(s["outputs"]) == ["coupler"]  # the coupler's own swing (absolute angle)
+    assert 0 < s["outputs"]["coupler"]["swing"] < 180
+
+
+@pytest.mark.parametrize(
+    "value, words",
+    [
+        ("ground", "frame"),
+        ("O", "motion driver"),
+        ("rockr", "did you mean 'rocker'"),
+    ],
+)
+def test_output_key_refuses_what_is_not_an_output(value, words):
+    with pytest.raises(ModelError, match=words) as info:
+        ks.loads(fourbar(extra=f"output: {value}"), file="f.yaml")
+    assert "output" in str(info.value)
+
+
+def test_output_key_refuses_a_relative_slide():
+    text = open("mechanisms/slotting_machine.yaml").read() + "\noutput: slot\n"
+    with pytest.raises(ModelError, match="two moving links"):
+        ks.loads(text)
+    ram = ks.loads(open("mechanisms/slotting_machine.yaml").read() + "\noutput: guide\n")
+    s = ks.analyze(ks.loads(open("mechanisms/slotting_machine.yaml").read() + "\noutput: ram\n"))
+    assert list(s.summary()["outputs"]) == ["guide"]
+    from kinetostatics.io import dump
+
+    assert dump(ram).count("output: guide") == 1
+
+
+def test_run_prints_the_swing(tmp_path, capsys):
+    f = tmp_path / "fourbar.yaml"
+    f.write_text(fourbar())
+    assert main(["run", str(f), "--out", str(tmp_path / "o")]) == 0
+    out = capsys.readouterr().out
+    ref = grashof_limits(100, 350, 250, 300)
+    assert f"swing {ref['swing']:.4f}°" in out and f"K {ref['K']:.4f}" in out
+    s = json.loads((tmp_path / "o" / "summary.json").read_text())
+    assert s["outputs"]["D"]["swing"] == pytest.approx(ref["swing"], abs=1e-8)
+
+
+# -- item: effort-driven files and cranks that cannot turn fully --------------------------
+def test_run_on_an_effort_driven_file_says_simulate(capsys):
+    assert main(["run", "mechanisms/ammunition_swing.yaml", "--out", "/nonexistent/x"]) == 2
+    err = capsys.readouterr().err
+    assert "effort-driven" in err and "kinetostatics simulate" in err
+    assert len(err.strip().splitlines()) == 1
+
+
+def test_run_reachable_analyses_the_range_of_a_crank_that_cannot_turn(tmp_path, capsys):
+    a, b, c, d = 230.0, 350.0, 250.0, 300.0
+    f = tmp_path / "nonfull.yaml"
+    f.write_text(fourbar(a, b, c, d, start=90))
+    # the closed form: A at least |b − c| from D: cos φ ≤ (a² + d² − (b − c)²)/(2ad)
+    lo = math.degrees(math.acos((a * a + d * d - (b - c) ** 2) / (2 * a * d)))
+    assert main(["run", str(f), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert "reachable range is motor from" in err and "run --reachable" in err
+    assert f"{lo:.4f}°" in err and f"{360 - lo:.4f}°" in err
+    assert main(["run", str(f), "--out", str(tmp_path / "o"), "--reachable"]) == 0
+    capsys.readouterr()
+    rows = np.genfromtxt(tmp_path / "o" / "results.csv", delimiter=",", names=True, skip_header=1)
+    assert rows["angle"].min() == pytest.approx(lo, abs=1e-3)
+    assert rows["angle"].max() == pytest.approx(360 - lo, abs=1e-3)
