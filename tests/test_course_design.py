@@ -185,3 +185,87 @@ def test_run_reachable_analyses_the_range_of_a_crank_that_cannot_turn(tmp_path, 
     rows = np.genfromtxt(tmp_path / "o" / "results.csv", delimiter=",", names=True, skip_header=1)
     assert rows["angle"].min() == pytest.approx(lo, abs=1e-3)
     assert rows["angle"].max() == pytest.approx(360 - lo, abs=1e-3)
+
+
+# -- one mean over the cycle for run, report, plot and flywheel ---------------------------
+def _means(path):
+    from kinetostatics.dynamics.flywheel import design
+    from kinetostatics.outputs import plotting as pl
+    from kinetostatics.outputs.plotting.curves import _cycle_mean
+
+    model = ks.load(path)
+    run = ks.analyze(model)  # what `kinetostatics run` analyses
+    pictures = pl.analyze_for_pictures(model, course=True, events=True)  # the report's
+    return (
+        {
+            "run": run.summary()["drivers"]["motor"]["mean"],
+            "report": pictures.summary()["drivers"]["motor"]["mean"],
+            "plot": _cycle_mean(pictures, "motor.torque"),
+            "plot_run": _cycle_mean(run, "motor.torque"),
+        },
+        run,
+        design,
+    )
+
+
+def test_slotting_machine_mean_torque_is_the_cutting_work_over_two_pi_everywhere():
+    """docs/validation.md: Q = 1000 N over the band [0.05H, 0.95H] of H = 100 mm is
+    90 J per turn; gravity and inertia do no work over a cycle, so the frictionless mean
+    driving torque is 90 J/2π, clockwise (the crank turns clockwise: negative)."""
+    means, run, design = _means("mechanisms/slotting_machine.yaml")
+    exact = -1000.0 * 0.9 * 0.100 / (2 * math.pi)
+    for where, value in means.items():
+        assert value == pytest.approx(exact, rel=1e-9), where
+    fw = design(run)
+    assert fw.mean_torque == pytest.approx(-exact, rel=1e-9)  # in the sense of motion
+    assert design(ks.load("mechanisms/slotting_machine.yaml")).mean_torque == pytest.approx(
+        -exact, rel=1e-9
+    )
+    assert fw.work_per_cycle == pytest.approx(90.0, rel=1e-9)
+
+
+def test_fivebar_means_agree_and_balance_the_load_power():
+    means, run, _ = _means("mechanisms/geared_fivebar.yaml")
+    values = list(means.values())
+    assert max(values) - min(values) <= 1e-9 * max(1.0, abs(values[0]))
+    # power balance over a cycle: mean(M·ω) = mean(P_external), the power the loads take
+    # (T and V periodic: their rates average to zero)
+    from kinetostatics.analysis.cycle import cycle_stats
+
+    omega = run.system.motion_drivers[0].driver.motion.speed
+    ext = cycle_stats(run, ["power.external"])["power.external"]["mean"]
+    assert values[0] * omega == pytest.approx(ext, rel=1e-9, abs=1e-9)
+
+
+def test_cycle_stats_are_exact_for_a_known_function():
+    """The quadrature of the crank angle's sine and square: mean 0, RMS 1/√2, peak 1."""
+    from kinetostatics.analysis.cycle import cycle_stats
+
+    r = ks.analyze(ks.loads(fourbar()))
+    s = cycle_stats(r, {"sin": lambda res: np.sin(np.radians(res["angle"]))})["sin"]
+    assert abs(s["mean"]) < 1e-14
+    assert s["rms"] == pytest.approx(1 / math.sqrt(2), rel=1e-13)
+    assert s["peak"] == pytest.approx(1.0, rel=1e-12)
+    assert s["covered"] == 1.0
+
+
+# -- the instantaneous efficiency is an efficiency where it is defined -------------------
+@pytest.mark.parametrize("name", ["slotting_machine", "slider_crank", "jaw_crusher"])
+def test_efficiency_is_defined_where_the_drive_delivers_power_and_bounded(name):
+    r = ks.analyze(ks.load(f"mechanisms/{name}.yaml"))
+    d = r.system.motion_drivers[0]
+    eta = r[f"{d.name}.efficiency"]
+    # the driver's input power with and without friction from the power balance
+    p_f = r["power.kinetic"] + r["power.potential"] + r["power.external"] + r["power.friction"]
+    p_0 = r["power.input"]
+    defined = np.isfinite(eta)
+    expect = (p_f > 1e-9 * np.max(np.abs(p_f))) & (p_0 >= -1e-9 * np.max(np.abs(p_0)))
+    # away from the two boundaries (where round-off decides) the definition holds
+    clear = np.abs(p_f) > 1e-6 * np.max(np.abs(p_f))
+    clear &= np.abs(p_0) > 1e-6 * np.max(np.abs(p_0))
+    clear &= r["friction.status"] != 2
+    np.testing.assert_array_equal(defined[clear], expect[clear])
+    assert np.all((eta[defined] >= 0.0) & (eta[defined] <= 1.0 + 1e-9))
+    # η = P₀/P_f there, P_f from the power balance with friction (independent of the column)
+    np.testing.assert_allclose(eta[defined & clear], (p_0 / p_f)[defined & clear], rtol=1e-7)
+    assert (~defined).any() and defined.any()

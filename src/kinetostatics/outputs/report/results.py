@@ -162,11 +162,18 @@ def _summary_blocks(result, summary) -> list:
         f"{len(result)} positions analysed (a full cycle: {'yes' if result.full_cycle else 'no'})"
     ]
     for name, o in summary["outputs"].items():
+        lo, hi = o["limit_positions"]["min"], o["limit_positions"]["max"]
+        if o.get("kind") == "swing":
+            size = f"swing {o['swing']:.4f}° of {o['link']}"
+            at = (
+                f"{lo['angle']:.3f}° ({o['link']} at {lo['theta']:.3f}°) and "
+                f"{hi['angle']:.3f}° ({o['link']} at {hi['theta']:.3f}°)"
+            )
+        else:
+            size = f"stroke {o['stroke'] * 1e3:.4f} mm"
+            at = f"{lo['angle']:.3f}° and {hi['angle']:.3f}°"
         items.append(
-            f"output {name}: stroke {o['stroke'] * 1e3:.4f} mm, time ratio K = "
-            f"{o['time_ratio']:.4f}; limit positions at "
-            f"{o['limit_positions']['min']['angle']:.3f}° "
-            f"and {o['limit_positions']['max']['angle']:.3f}°"
+            f"output {name}: {size}, time ratio K = {o['time_ratio']:.4f}; limit positions at {at}"
         )
     for e in summary["events"]:
         items.append(
@@ -184,7 +191,7 @@ def _summary_blocks(result, summary) -> list:
                 f"; with friction mean {d['mean_friction']:.4g} (approximate "
                 f"{d['mean_friction_approx']:.4g}), peak {d['peak_friction']:.4g}"
             )
-        items.append(line + " (means over the analysed rows)")
+        items.append(line + " (over the cycle, integrated between the load events)")
     if "friction.status" in result.columns:
         locked = int(np.sum(result["friction.status"] == 2))
         if locked:
