@@ -269,3 +269,37 @@ def test_efficiency_is_defined_where_the_drive_delivers_power_and_bounded(name):
     # η = P₀/P_f there, P_f from the power balance with friction (independent of the column)
     np.testing.assert_allclose(eta[defined & clear], (p_0 / p_f)[defined & clear], rtol=1e-7)
     assert (~defined).any() and defined.any()
+
+
+# -- the horizontal shaper -----------------------------------------------------------------
+def test_shaper_stroke_time_ratio_and_cutting_work_match_the_crank_guide_bar_closed_form():
+    """Crank r = 110 mm, centre distance L = 380 mm, lever 540 mm: the lever's limit
+    positions are tangent to the crank circle, θ = 2·asin(r/L), K = (180+θ)/(180−θ), the
+    lever swings θ and the ram's stroke is H = 2·L_O3B·sin(θ/2) (the ram line through
+    the middle of B's sagitta: the link has the same slope at both limits).  The mean
+    frictionless driving torque is the cutting work P·0.9H over 2π."""
+    r, big_l, lever, p = 110.0, 380.0, 540.0, 7000.0
+    theta = 2 * math.asin(r / big_l)
+    k_ratio = (math.pi + theta) / (math.pi - theta)
+    stroke = 2 * lever * math.sin(theta / 2)
+    result = ks.analyze(ks.load("mechanisms/shaper.yaml"))
+    s = result.summary()
+    assert s["output"] == "ram"
+    ram = s["outputs"]["guide"]
+    assert ram["stroke"] * 1e3 == pytest.approx(stroke, rel=1e-9)
+    assert ram["time_ratio"] == pytest.approx(k_ratio, rel=1e-9)
+    assert ram["theta_extreme"] == pytest.approx(math.degrees(theta), abs=1e-7)
+    # the slow stroke is the working stroke (the ram moving left), where it cuts
+    lo, hi = ram["limit_positions"]["min"], ram["limit_positions"]["max"]
+    assert ram["time_decreasing_s"] > ram["time_increasing_s"]
+    # the limit positions: O3A tangent to the crank circle, a right angle at A, so the
+    # crank points 270° ± acos(r/L) (O3 straight below O2)
+    expect = sorted(270 + s * math.degrees(math.acos(r / big_l)) for s in (-1, 1))
+    np.testing.assert_allclose(sorted([lo["angle"], hi["angle"]]), expect, atol=1e-7)
+    mean = s["drivers"]["motor"]["mean"]
+    assert mean == pytest.approx(p * 0.9 * stroke * 1e-3 / (2 * math.pi), rel=1e-9)
+    lever_swing = ks.analyze(
+        ks.loads(open("mechanisms/shaper.yaml").read().replace("output: ram", "output: lever"))
+    ).summary()["outputs"]["O3"]
+    assert lever_swing["swing"] == pytest.approx(math.degrees(theta), abs=1e-8)
+    assert lever_swing["time_ratio"] == pytest.approx(k_ratio, rel=1e-9)

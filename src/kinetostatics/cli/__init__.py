@@ -84,7 +84,7 @@ def _run(args) -> int:
     )
     print("groups: " + "; ".join(s["structure"]["groups"]))
     for name, o in s["outputs"].items():
-        _print_output(name, o, name == s.get("output"))
+        _print_output(name, o, s.get("output") in (name, o["link"]))
     for e in s["events"]:
         print(f"event: {e['load']} {e['switch']} at {e['angle']:.3f}° ({e['condition']})")
     for sp in s["singular_positions"]:
