@@ -303,3 +303,97 @@ def test_shaper_stroke_time_ratio_and_cutting_work_match_the_crank_guide_bar_clo
     ).summary()["outputs"]["O3"]
     assert lever_swing["swing"] == pytest.approx(math.degrees(theta), abs=1e-8)
     assert lever_swing["time_ratio"] == pytest.approx(k_ratio, rel=1e-9)
+
+
+# -- the resisting torque -------------------------------------------------------------------
+PUMP = """
+loads:
+  pump: {type: resisting_torque, link: rocker, value: 20}
+"""
+
+
+def test_resisting_torque_power_balance_and_the_work_of_two_swings():
+    """−M·sign(ω) on the rocker consumes M·|ω| (power.external), the power balance holds,
+    and per turn it takes the work M·2ψ (ψ the swing, Grashof closed form): the mean
+    driving torque on a massless linkage is M·2ψ/2π, integrated exactly across the
+    rocker's reversals."""
+    text = fourbar().replace("mass: 1, inertia: 0.001", "mass: 0, inertia: 0")
+    text = text.replace("mass: 2, inertia: 0.02", "mass: 0, inertia: 0")
+    text = text.replace("mass: 1.5, inertia: 0.008", "mass: 0, inertia: 0") + PUMP
+    r = ks.analyze(ks.loads(text))
+    w = r["rocker.omega"]
+    np.testing.assert_allclose(r["power.external"], 20.0 * np.abs(w), rtol=1e-12, atol=1e-12)
+    assert r.checks.ok
+    # the driving torque balances it at every row: M_drive·ω_crank = M·|ω_rocker|
+    np.testing.assert_allclose(
+        r["motor.torque"] * 4 * math.pi, 20.0 * np.abs(w), rtol=1e-9, atol=1e-9
+    )
+    psi = math.radians(grashof_limits(100, 350, 250, 300)["swing"])
+    mean = r.summary()["drivers"]["motor"]["mean"]
+    assert mean == pytest.approx(20.0 * 2 * psi / (2 * math.pi), rel=1e-9)
+
+
+def test_resisting_torque_flips_with_the_rockers_direction():
+    r = ks.analyze(ks.loads(fourbar() + PUMP))
+    base = ks.analyze(ks.loads(fourbar()))
+    w = r["rocker.omega"]
+    # the couple it adds to the rocker: −20·sign(ω); its effect on the driving torque is
+    # that couple's virtual power over the crank speed
+    extra = r["motor.torque"] - base["motor.torque"]
+    np.testing.assert_allclose(extra * 4 * math.pi, 20.0 * np.abs(w), rtol=1e-9, atol=1e-9)
+    assert (w > 0).any() and (w < 0).any()
+    rev = ks.analyze(ks.loads(fourbar(speed=-120) + PUMP))
+    # the crank turned the other way: the rocker's ω reverses, the couple with it
+    np.testing.assert_allclose(
+        rev["power.external"] - ks.analyze(ks.loads(fourbar(speed=-120)))["power.external"],
+        20.0 * np.abs(rev["rocker.omega"]),
+        rtol=1e-9,
+        atol=1e-9,
+    )
+
+
+def test_resisting_torque_equals_two_torques_switched_by_moving():
+    """B on the rocker (θ between 70° and 127°) moves left exactly when ω > 0, so the
+    resisting torque is −20 while B moves left and +20 while it moves right."""
+    two = """
+loads:
+  against_ccw: {type: torque, link: rocker, value: -20, active: [{moving: [-1, 0], point: rocker.B}]}
+  against_cw: {type: torque, link: rocker, value: 20, active: [{moving: [1, 0], point: rocker.B}]}
+"""
+    a = ks.analyze(ks.loads(fourbar() + PUMP))
+    b = ks.analyze(ks.loads(fourbar() + two))
+    for col in ("motor.torque", "D.Fx", "D.Fy", "B.Fx", "power.external"):
+        np.testing.assert_allclose(a[col], b[col], rtol=1e-12, atol=1e-9)
+
+
+def test_resisting_torque_at_a_joint_acts_on_both_links():
+    """At the coupler–rocker pin B: −M·sign(ω_rocker − ω_coupler) on the rocker and the
+    reaction on the coupler; it consumes M·|ω_rel|."""
+    rel = """
+loads:
+  hinge: {type: resisting_torque, link: rocker, joint: B, value: 5}
+"""
+    r = ks.analyze(ks.loads(fourbar() + rel))
+    base = ks.analyze(ks.loads(fourbar()))
+    w_rel = r["rocker.omega"] - r["coupler.omega"]
+    np.testing.assert_allclose(
+        r["power.external"] - base["power.external"], 5.0 * np.abs(w_rel), rtol=1e-9, atol=1e-9
+    )
+    assert r.checks.ok
+
+
+@pytest.mark.parametrize(
+    "load, words",
+    [
+        (
+            "{type: resisting_torque, link: rocker, joint: O, value: 5}",
+            "must be a revolute that holds",
+        ),
+        ("{type: torque, link: rocker, joint: D, value: 5}", "resisting_torque only"),
+        ("{type: resisting_torque, link: rocker, point: B, value: 5}", "not at a point"),
+        ("{type: resisting_torque, link: rocker, joint: Q, value: 5}", "unknown joint"),
+    ],
+)
+def test_resisting_torque_mistakes_are_named(load, words):
+    with pytest.raises(ModelError, match=words):
+        ks.loads(fourbar() + f"\nloads:\n  pump: {load}\n", file="f.yaml")

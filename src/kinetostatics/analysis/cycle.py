@@ -45,12 +45,62 @@ def _span(result: Result) -> tuple[float, float]:
     return float(np.min(t)), float(np.max(t))
 
 
+def _reversals(result: Result) -> list[float]:
+    """Times where a load that opposes a velocity reverses (a ``resistance`` whose point's
+    velocity along its axis, a ``resisting_torque`` whose angular velocity changes sign):
+    switching events too, located as exact roots over the rows."""
+    from ..kinematics.events import find_roots
+    from ..kinematics.schedule import schedule
+    from ..kinematics.state import local_point, point_state
+    from ..kinetics.forces import resisting_torque_other
+
+    system = result.system
+    loads = [ld for ld in system.model.loads if ld.kind in ("resistance", "resisting_torque")]
+    if not loads or len(result) < 2:
+        return []
+    sched = schedule(system)
+    period = float(sched.period) if result.full_cycle else np.inf
+    out: list[float] = []
+    for load in loads:
+        k = system.link_index(load.link)
+        if load.kind == "resisting_torque":
+            other = resisting_torque_other(system, load)
+
+            def f(q, qd, qdd, k=k, other=other):
+                w, a = qd[..., 3 * k + 2], qdd[..., 3 * k + 2]
+                if other is not None:
+                    w, a = w - qd[..., 3 * other + 2], a - qdd[..., 3 * other + 2]
+                return w, a
+        else:
+            p = local_point(system, load.link, load.point)
+
+            def f(q, qd, qdd, k=k, p=p, axis=load.axis):
+                _, vel, acc = point_state(q, qd, qdd, k, p)
+                return vel @ axis, acc @ axis
+
+        vals = f(result.q, result.qd, result.qdd)[0]
+        roots, _ = find_roots(
+            system,
+            sched,
+            result.t,
+            result.q,
+            result.qd,
+            result.qdd,
+            vals,
+            f,
+            result.full_cycle,
+            period,
+        )
+        out += [float(r) for r in roots]
+    return out
+
+
 def _breaks(result: Result, ta: float, tb: float) -> np.ndarray:
-    """The span's ends and the load events inside it (times), sorted."""
+    """The span's ends, the load events and the reversals of the resisting loads inside
+    it (times), sorted."""
     inner = []
     full = result.full_cycle
-    for e in result.events:
-        te = float(e.t)
+    for te in [float(e.t) for e in result.events] + _reversals(result):
         if full:
             te = ta + np.mod(te - ta, tb - ta)
         if ta < te < tb:
