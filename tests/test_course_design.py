@@ -357,8 +357,10 @@ def test_resisting_torque_equals_two_torques_switched_by_moving():
     resisting torque is −20 while B moves left and +20 while it moves right."""
     two = """
 loads:
-  against_ccw: {type: torque, link: rocker, value: -20, active: [{moving: [-1, 0], point: rocker.B}]}
-  against_cw: {type: torque, link: rocker, value: 20, active: [{moving: [1, 0], point: rocker.B}]}
+  against_ccw: {type: torque, link: rocker, value: -20,
+                active: [{moving: [-1, 0], point: rocker.B}]}
+  against_cw: {type: torque, link: rocker, value: 20,
+               active: [{moving: [1, 0], point: rocker.B}]}
 """
     a = ks.analyze(ks.loads(fourbar() + PUMP))
     b = ks.analyze(ks.loads(fourbar() + two))
