@@ -399,3 +399,42 @@ loads:
 def test_resisting_torque_mistakes_are_named(load, words):
     with pytest.raises(ModelError, match=words):
         ks.loads(fourbar() + f"\nloads:\n  pump: {load}\n", file="f.yaml")
+
+
+# -- units in force, a note without units:, implausible magnitudes --------------------------
+def test_run_without_units_notes_it_and_warns_naming_the_keys(tmp_path, capsys):
+    f = tmp_path / "nounits.yaml"
+    f.write_text(fourbar().replace("units: {length: mm, angle: deg, speed: rpm}", ""))
+    assert main(["run", str(f), "--out", str(tmp_path / "o")]) == 0
+    out, err = capsys.readouterr()
+    assert "units: length m, angle rad" in out and "(SI)" in out
+    assert err.count("no units: key") == 1
+    # the crank of 100 "mm" is 100 m: named with its key and line
+    assert f"{f}:" in err and "links.crank: link 'crank' is 100 m long" in err
+    # the driving torque of a 300 m machine is implausible: named by the driver
+    assert "drivers.motor" in err and "peak driving torque" in err
+
+
+def test_check_prints_the_units_in_force_and_no_note_when_given(capsys):
+    assert main(["check", "mechanisms/shaper.yaml"]) == 0
+    out, err = capsys.readouterr()
+    assert "units: length mm, angle deg, speed rpm" in out
+    assert "no units" not in err and "warning" not in err
+
+
+@pytest.mark.parametrize(
+    "edit, key",
+    [
+        (("speed: 120", "speed: 20000"), "drivers.motor"),
+        (
+            ("\nsketch:", "\nloads: {brake: {type: torque, link: rocker, value: 2e6}}\nsketch:"),
+            "loads.brake",
+        ),
+    ],
+)
+def test_implausible_speed_and_torque_are_named(edit, key, tmp_path, capsys):
+    from kinetostatics.io.plausible import magnitude_warnings
+
+    text = fourbar().replace("speed: 120.0", "speed: 120").replace(*edit)
+    lines = magnitude_warnings(ks.loads(text, file="f.yaml"))
+    assert len(lines) == 1 and key in lines[0] and lines[0].startswith("f.yaml:")

@@ -34,6 +34,7 @@ def _check(args) -> int:
         f"{len(model.joints)} joints, "
         f"{len(model.drivers)} drivers"
     )
+    _print_units(model)
     print(f"mobility (Grübler–Kutzbach): {st.mobility}")
     print(f"independent loops: {len(st.loops)}")
     for loop in st.loops:
@@ -51,6 +52,18 @@ def _check(args) -> int:
     return 0
 
 
+def _print_units(model) -> None:
+    """The units in force (stdout); a note without units: and the implausible magnitudes
+    (stderr), each naming its key."""
+    from ..io.plausible import magnitude_warnings, units_line, units_note
+
+    print(units_line(model))
+    if note := units_note(model):
+        print(f"kinetostatics: {note}", file=sys.stderr)
+    for line in magnitude_warnings(model):
+        print(f"kinetostatics: warning: {line}", file=sys.stderr)
+
+
 def _print_checks(checks, label: str = "") -> None:
     """The self-checks in one line; a failed one also as a warning on stderr."""
     print(checks.line().replace("checks:", f"checks{label}:", 1))
@@ -65,6 +78,7 @@ def _run(args) -> int:
     from ..outputs.loading import load
 
     model = load(args.file)
+    _print_units(model)
     result = analyze(model, reachable=bool(getattr(args, "reachable", False)))
     s = result.summary()  # before anything is written: a failed run writes nothing
     out = Path(args.out)
@@ -119,6 +133,12 @@ def _run(args) -> int:
                 f" (approximate mean {d['mean_friction_approx']:.4g})"
             )
         print(line)
+    if not s["singular_positions"]:
+        from ..io.plausible import torque_warning
+
+        for name, d in s["drivers"].items():
+            if line := torque_warning(model, name, d.get("peak", float("nan")), d["unit"]):
+                print(f"kinetostatics: warning: {line}", file=sys.stderr)
     for name, p in s["reaction_peaks"].items():
         print(f"joint {name}: peak reaction {p['peak']:.4g} N at {p['at']:.4g}")
     if "friction.status" in result.columns:
