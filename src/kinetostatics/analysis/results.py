@@ -273,8 +273,10 @@ def _kinetic_columns(system: System, put, q, qd, x0, fric, power) -> None:
                 # (docs/friction.md)
                 rel = np.einsum("...n,...n->...", coordinate_gradient(system, q, k), qd)
                 p0, pf = x0[..., col] * rel, sol.x[..., col] * rel
+                # a P_0 within round-off of 0 (a limit position of a massless drive) is 0
+                ok = (pf > 0.0) & (p0 >= -1e-9 * pf)
                 with np.errstate(divide="ignore", invalid="ignore"):
-                    return (np.where((pf > 0.0) & (p0 >= 0.0), p0 / pf, np.nan),)
+                    return (np.where(ok, np.maximum(p0 / pf, 0.0), np.nan),)
 
             put(
                 [(f"{d.name}.{word}_friction_approx", unit), (f"{d.name}.{word}_friction", unit)],
