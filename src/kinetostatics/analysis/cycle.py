@@ -153,7 +153,7 @@ def cycle_stats(
     {"mean", "rms", "peak", "covered"}}``: ``covered`` is the fraction of the span where
     the value exists; a mean and RMS are over that part (NaN when it is empty: a friction
     column of a machine self-locked everywhere); ``peak`` is the largest |value| at the
-    nodes and the rows.
+    analysed rows (as the batch table's), at the nodes for a function the rows lack.
     """
     if not isinstance(what, Mapping):
         what = {name: name for name in what}
@@ -178,7 +178,9 @@ def cycle_stats(
             rms = float(np.sqrt(np.sum(wk * v[ok] ** 2) / np.sum(wk)))
         else:
             mean = rms = float("nan")
-        both = np.concatenate((v[ok], rows[np.isfinite(rows)]))
-        peak = float(np.max(np.abs(both))) if both.size else float("nan")
+        # the peak at the analysed rows (the batch table's too): the rows are where the
+        # values are reported; with no finite row, at the nodes
+        finite = rows[np.isfinite(rows)] if rows.size else v[ok]
+        peak = float(np.max(np.abs(finite))) if finite.size else float("nan")
         out[label] = {"mean": mean, "rms": rms, "peak": peak, "covered": covered}
     return out
