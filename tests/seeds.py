@@ -167,6 +167,7 @@ def _seeds() -> dict[str, dict]:
                 "active": [{"moving": [0, 1]}],
             },
             "twist": {"type": "torque", "link": "rod", "table": {"at": [0, 360], "value": [1, 2]}},
+            "brake": {"type": "resisting_torque", "link": "rod", "joint": "A", "value": 0.5},
         },
         analysis=FEW,
     )
