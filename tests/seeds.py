@@ -111,7 +111,10 @@ def _seeds() -> dict[str, dict]:
         analysis=FEW,
     )
     out["flywheel"] = _variant(
-        SC, flywheel={"delta": 0.05, "ratio": 3, "friction": True}, analysis={"positions": 12}
+        SC,
+        flywheel={"delta": 0.05, "ratio": 3, "friction": True},
+        analysis={"positions": 12},
+        output="slider",
     )
     out["balance_at and efforts"] = _variant(
         SC,
@@ -164,6 +167,7 @@ def _seeds() -> dict[str, dict]:
                 "active": [{"moving": [0, 1]}],
             },
             "twist": {"type": "torque", "link": "rod", "table": {"at": [0, 360], "value": [1, 2]}},
+            "brake": {"type": "resisting_torque", "link": "rod", "joint": "A", "value": 0.5},
         },
         analysis=FEW,
     )

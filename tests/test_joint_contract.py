@@ -167,6 +167,9 @@ def test_letters_are_one_character_and_distinct():
     named = [x for x in letters if x != "?"]
     assert len(set(named)) == len(named), "two types share a letter of the Assur labels"
     assert all(isinstance(cls.reports_stroke, bool) for cls in JOINT_TYPES.values())
+    assert all(isinstance(cls.reports_swing, bool) for cls in JOINT_TYPES.values())
+    assert not any(cls.reports_swing and cls.reports_stroke for cls in JOINT_TYPES.values())
+    assert all(cls.angular for cls in JOINT_TYPES.values() if cls.reports_swing)
     assert all(isinstance(cls.pin, bool) for cls in JOINT_TYPES.values())
 
 

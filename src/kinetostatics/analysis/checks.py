@@ -19,8 +19,9 @@ Each :class:`~kinetostatics.analysis.results.Result` carries ``result.checks`` (
 - ``friction``: the rows per ``friction.status`` (0 converged, 1 by homotopy,
   2 self-locking, 3 a relative speed is zero); fails where a row self-locks
   (its friction values are empty).  It also counts the other rows whose
-  ``<driver>.efficiency`` is undefined (empty: the effort with friction is 0),
-  ``efficiency_undefined`` in summary.json; they do not fail it.
+  ``<driver>.efficiency`` is undefined (empty: the drive delivers no power there, or
+  passes none on; docs/friction.md), ``efficiency_undefined`` in summary.json; they do
+  not fail it.
 
 A check that does not apply (no power columns in a kinematics-only result, no
 friction, no sketch) is ``None`` and passes.  Documented in docs/theory.md
@@ -259,7 +260,7 @@ def result_checks(result) -> Checks:
         status = tuple(int(np.sum(st == s)) for s in range(4))
         parts = [f"{n} {w}" for n, w in zip(status, STATUS_WORDS) if n]
         # rows whose <driver>.efficiency is undefined although the friction solution exists:
-        # the effort with friction is 0 there (no effort through the drive, docs/friction.md)
+        # the drive delivers no power there or passes none on (docs/friction.md)
         undefined = np.zeros(st.shape, dtype=bool)
         for d in system.motion_drivers:
             if f"{d.name}.efficiency" in cols:

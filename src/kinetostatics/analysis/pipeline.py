@@ -147,15 +147,21 @@ def _require_motion_drivers(system: System) -> None:
     """StructureError unless the motion drivers are as many as the mobility (at least one)."""
     n_motion = len(system.motion_drivers)
     if n_motion != system.structure.mobility or n_motion == 0:
-        raise StructureError(
-            [
-                (
-                    Location(system.model.source, path="drivers"),
-                    f"analyze needs as many motion drivers as the mobility "
-                    f"({system.structure.mobility}); the file has {n_motion}",
-                )
-            ]
-        )
+        effort = [d.name for d in system.model.drivers if d.effort is not None]
+        if effort and n_motion < system.structure.mobility:
+            message = (
+                f"the file is effort-driven ({', '.join(effort)}: effort:, a given force or "
+                f"torque, not a motion): its motion follows from the forces, so use "
+                f"`kinetostatics simulate` (dynamics.simulate); run and analyze need as many "
+                f"motion drivers as the mobility ({system.structure.mobility}), the file has "
+                f"{n_motion}"
+            )
+        else:
+            message = (
+                f"analyze needs as many motion drivers as the mobility "
+                f"({system.structure.mobility}); the file has {n_motion}"
+            )
+        raise StructureError([(Location(system.model.source, path="drivers"), message)])
 
 
 def _rows(system: System, sched: Schedule, positions, times) -> tuple[np.ndarray, np.ndarray, bool]:

@@ -106,7 +106,7 @@ def _reachable_run(
         exc.reachable = tuple(sched(np.array([lo, hi]))[0][:, 0])
         exc.args = (
             f"{exc.args[0]}; the reachable range is {_range_text(system, sched, lo, hi)}"
-            " (analyze(..., reachable=True) analyses it)",
+            " (`kinetostatics run --reachable` or analyze(..., reachable=True) analyses it)",
         )
         raise exc
     margin = 1e-6 * (hi - lo)  # the limits themselves are singular

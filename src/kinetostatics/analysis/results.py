@@ -19,7 +19,7 @@ import numpy as np
 from ..base.tables import write_columns
 from ..errors import did_you_mean
 from ..kinematics.state import point_state
-from ..structure.system import System
+from ..structure.system import System, coordinate_gradient
 
 __all__ = ["Result", "build_columns", "joint_warnings"]
 
@@ -197,7 +197,7 @@ def build_columns(system: System, t, psi, q, qd, qdd, x0, fric, power, cond, sha
                 lambda k=k, p=p: point(k, p),
             )
     if x0 is not None:
-        _kinetic_columns(system, put, q, x0, fric, power)
+        _kinetic_columns(system, put, q, qd, x0, fric, power)
     for g, c in cond.items():
         put([(f"{g.column}.cond", "1")], lambda c=c: (c,))
     angles = {}
@@ -242,7 +242,7 @@ def joint_warnings(system: System, q: np.ndarray, x0: np.ndarray) -> list[str]:
     return out
 
 
-def _kinetic_columns(system: System, put, q, x0, fric, power) -> None:
+def _kinetic_columns(system: System, put, q, qd, x0, fric, power) -> None:
     model = system.model
     qe = _padded(q)
     sol = fric["solution"] if fric else None
@@ -280,19 +280,28 @@ def _kinetic_columns(system: System, put, q, x0, fric, power) -> None:
             with_friction,
         )
     n_j = system.n_joint_rows
+    names = [j.name for j in model.joints]
     for d_index, d in enumerate(system.motion_drivers):
         effort_joint = model.joint(d.driver.balance_at) if d.driver.balance_at else d.joint
         word, unit = ("torque", "N*m") if effort_joint.angular else ("force", "N")
         col = n_j + d_index
         put([(f"{d.name}.{word}", unit)], lambda col=col: (x0[..., col],))
         if fric:
+            k_effort = names.index(effort_joint.name)
 
-            def efficiency(col=col):
-                # undefined (NaN, empty) where the effort with friction is 0 or empty: no
-                # effort goes through the drive, 0/0 or x/0 is no efficiency (docs/friction.md)
-                den = sol.x[..., col]
+            def efficiency(col=col, k=k_effort):
+                # η = P_0/P_f, the driver's input power without over with friction, defined
+                # only where the drive delivers power with friction (P_f > 0) and the power
+                # it passes on is not negative (P_0 = P_f − friction loss ≥ 0): there
+                # 0 ≤ η ≤ 1.  NaN (empty) elsewhere: the machine drives the motor back, the
+                # drive idles (0/0), or the friction consumes more than the drive delivers
+                # (docs/friction.md)
+                rel = np.einsum("...n,...n->...", coordinate_gradient(system, q, k), qd)
+                p0, pf = x0[..., col] * rel, sol.x[..., col] * rel
+                # a P_0 within round-off of 0 (a limit position of a massless drive) is 0
+                ok = (pf > 0.0) & (p0 >= -1e-9 * pf)
                 with np.errstate(divide="ignore", invalid="ignore"):
-                    return (np.where(den != 0.0, x0[..., col] / den, np.nan),)
+                    return (np.where(ok, np.maximum(p0 / pf, 0.0), np.nan),)
 
             put(
                 [(f"{d.name}.{word}_friction_approx", unit), (f"{d.name}.{word}_friction", unit)],

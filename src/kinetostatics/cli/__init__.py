@@ -34,6 +34,7 @@ def _check(args) -> int:
         f"{len(model.joints)} joints, "
         f"{len(model.drivers)} drivers"
     )
+    _print_units(model)
     print(f"mobility (Grübler–Kutzbach): {st.mobility}")
     print(f"independent loops: {len(st.loops)}")
     for loop in st.loops:
@@ -51,6 +52,18 @@ def _check(args) -> int:
     return 0
 
 
+def _print_units(model) -> None:
+    """The units in force (stdout); a note without units: and the implausible magnitudes
+    (stderr), each naming its key."""
+    from ..io.plausible import magnitude_warnings, units_line, units_note
+
+    print(units_line(model))
+    if note := units_note(model):
+        print(f"kinetostatics: {note}", file=sys.stderr)
+    for line in magnitude_warnings(model):
+        print(f"kinetostatics: warning: {line}", file=sys.stderr)
+
+
 def _print_checks(checks, label: str = "") -> None:
     """The self-checks in one line; a failed one also as a warning on stderr."""
     print(checks.line().replace("checks:", f"checks{label}:", 1))
@@ -65,7 +78,8 @@ def _run(args) -> int:
     from ..outputs.loading import load
 
     model = load(args.file)
-    result = analyze(model)
+    _print_units(model)
+    result = analyze(model, reachable=bool(getattr(args, "reachable", False)))
     s = result.summary()  # before anything is written: a failed run writes nothing
     out = Path(args.out)
     _write_outputs(
@@ -84,11 +98,7 @@ def _run(args) -> int:
     )
     print("groups: " + "; ".join(s["structure"]["groups"]))
     for name, o in s["outputs"].items():
-        print(
-            f"{name}: stroke {o['stroke'] * 1e3:.4f} mm, time ratio {o['time_ratio']:.4f}, "
-            f"limits at {o['limit_positions']['min']['angle']:.3f}° and "
-            f"{o['limit_positions']['max']['angle']:.3f}°"
-        )
+        _print_output(name, o, s.get("output") in (name, o["link"]))
     for e in s["events"]:
         print(f"event: {e['load']} {e['switch']} at {e['angle']:.3f}° ({e['condition']})")
     for sp in s["singular_positions"]:
@@ -123,6 +133,12 @@ def _run(args) -> int:
                 f" (approximate mean {d['mean_friction_approx']:.4g})"
             )
         print(line)
+    if not s["singular_positions"]:
+        from ..io.plausible import torque_warning
+
+        for name, d in s["drivers"].items():
+            if line := torque_warning(model, name, d.get("peak", float("nan")), d["unit"]):
+                print(f"kinetostatics: warning: {line}", file=sys.stderr)
     for name, p in s["reaction_peaks"].items():
         print(f"joint {name}: peak reaction {p['peak']:.4g} N at {p['at']:.4g}")
     if "friction.status" in result.columns:
@@ -140,6 +156,25 @@ def _run(args) -> int:
             print(f"self-locked zone from {ends[0]} to {ends[1]} ({z['rows']} rows)")
     _print_checks(result.checks)
     return 0
+
+
+def _print_output(name: str, o: dict, named: bool) -> None:
+    """One line per output member: stroke or swing, time ratio, limit positions."""
+    lo, hi = o["limit_positions"]["min"], o["limit_positions"]["max"]
+    what = f"output {name}" if named else name
+    if o["kind"] == "slide":
+        size = f"stroke {o['stroke'] * 1e3:.4f} mm"
+        limits = f"limits at {lo['angle']:.3f}° and {hi['angle']:.3f}°"
+    else:
+        size = f"swing {o['swing']:.4f}° ({o['link']})"
+        limits = (
+            f"limits at {lo['angle']:.3f}° ({o['link']} at {lo['theta']:.3f}°) and "
+            f"{hi['angle']:.3f}° ({o['link']} at {hi['theta']:.3f}°)"
+        )
+    print(
+        f"{what}: {size}, time ratio K {o['time_ratio']:.4f} (crank angle between the limits "
+        f"{o['theta_extreme']:.3f}°), {limits}"
+    )
 
 
 def _write_outputs(out: Path, what: str, writers) -> None:
@@ -185,6 +220,12 @@ def main(argv: list[str] | None = None) -> int:
     p = sub.add_parser("run", help="analyse a cycle: results.csv and summary.json")
     p.add_argument("file", help="mechanism YAML file")
     p.add_argument("--out", default="out", help="output folder (default: out)")
+    p.add_argument(
+        "--reachable",
+        action="store_true",
+        help="a crank that cannot make a full turn: analyse the reachable range between "
+        "its limit positions instead of stopping there",
+    )
     p.set_defaults(func=_run)
     for name in EXTENSIONS:
         importlib.import_module(name).register(sub)

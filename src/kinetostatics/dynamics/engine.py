@@ -140,7 +140,9 @@ class Dynamics:
         self.friction = (
             bool(model.has_friction if friction is None else friction) and model.has_friction
         )
-        self.coulomb = self.friction or any(load.kind == "resistance" for load in model.loads)
+        self.coulomb = self.friction or any(
+            load.kind in ("resistance", "resisting_torque") for load in model.loads
+        )
         if self.friction and (self.n_f != 1 or motion):
             raise StructureError(
                 [

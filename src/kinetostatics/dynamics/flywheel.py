@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from ..analysis import analyze
+from ..analysis.cycle import cycle_stats
 from ..analysis.results import Result
 from ..base.arguments import real_number
 from ..errors import Location, StructureError
@@ -157,6 +158,22 @@ def energy_curve(
     phi = np.sort(np.mod(phi, 2 * np.pi))
     coords = start + sense * phi
     r = analyze(system, positions=coords, friction=friction, events=False)
+    moment, inertia = _moment(system, r, friction)
+    return {
+        "travel": phi,
+        "coordinate": coords,
+        "moment": moment,
+        "inertia": inertia,
+        "result": r,
+        "events": phi_e,
+    }
+
+
+def _moment(system: System, r: Result, friction: bool) -> tuple[np.ndarray, np.ndarray]:
+    """(M, J_e) over the rows of ``r``: the driving moment on the crank shaft in the sense
+    of motion (:func:`energy_curve`) and the equivalent inertia."""
+    drv = _one_dof(system)
+    sense = float(np.sign(drv.driver.motion.speed))
     name = drv.name
     model = system.model
     word = "torque" if model.joint(drv.driver.balance_at or drv.joint.name).angular else "force"
@@ -169,14 +186,7 @@ def energy_curve(
         gap = ~np.isfinite(moment)
         power = r["power.kinetic"] + r["power.potential"] + r["power.external"]
         moment = np.where(gap, power / abs(drv.driver.motion.speed), moment)
-    return {
-        "travel": phi,
-        "coordinate": coords,
-        "moment": moment,
-        "inertia": eq["inertia"],
-        "result": r,
-        "events": phi_e,
-    }
+    return moment, eq["inertia"]
 
 
 def _swing(phi: np.ndarray, f: np.ndarray) -> tuple[np.ndarray, float, float, float, float]:
@@ -239,10 +249,15 @@ def design(
     curve = energy_curve(system, events, friction=friction, positions=positions)
     phi, moment = curve["travel"], curve["moment"]
     x = np.append(phi, 2 * np.pi + phi[0])
+    # M_d: the cycle mean of the one function every output uses (analysis/cycle.py)
+    m_d = cycle_stats(base, {"M": lambda r: _moment(system, r, friction)[0]}, friction=friction)[
+        "M"
+    ]["mean"]
+    work = 2 * np.pi * m_d
+    # ΔW closes over the cycle with the mean of its own (trapezoid) rule: no drift
     y = np.append(moment, moment[0])
-    work = float(np.sum(0.5 * np.diff(x) * (y[:-1] + y[1:])))
-    m_d = work / (2 * np.pi)
-    _, f_max, phi_max, f_min, phi_min = _swing(phi, m_d - moment)
+    m_closed = float(np.sum(0.5 * np.diff(x) * (y[:-1] + y[1:]))) / (2 * np.pi)
+    _, f_max, phi_max, f_min, phi_min = _swing(phi, m_closed - moment)
     swing = f_max - f_min
     w = abs(drv.driver.motion.speed)
     sense = float(np.sign(drv.driver.motion.speed))
@@ -259,7 +274,8 @@ def design(
         else "the frictionless balancing moment"
     )
     assumptions = (
-        f"driving moment constant, equal to the cycle mean of {torque} (M_d = work per cycle / 2π)",
+        f"driving moment constant, equal to the cycle mean of {torque} (M_d = work per cycle / 2π, "
+        "integrated exactly between the load events: analysis/cycle.py)",
         f"balancing moment at the constant nominal crank speed ω_m = {w:.6g} rad/s "
         "(link inertia torques at that speed included)",
         "ΔW_max integrated piecewise between the load events (trapezoid rule on "

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..kinematics.state import point_state
 from ..kinetics.conditions import ZERO_SPEED, activity, condition_values, switch_levels
-from ..kinetics.forces import zero_speed
+from ..kinetics.forces import resisting_torque_other, zero_speed
 from ..structure.system import System, coordinate_gradient
 
 __all__ = ["load_mode", "frozen_loads", "switching_functions"]
@@ -41,6 +41,9 @@ def load_mode(
             p = system.model.link(load.link).points[load.point] if load.point else np.zeros(2)
             v = float(point_state(q, qd, None, k, p)[1] @ load.axis)
             sign = float(np.sign(v)) if abs(v) > zero_speed(system, ref_speed) else 0.0
+        elif load.kind == "resisting_torque":
+            w = float(_relative_omega(system, load, qd))
+            sign = float(np.sign(w)) if abs(w) > ZERO_SPEED * ref_speed else 0.0
         out.append((on, sign))
     return tuple(out)
 
@@ -52,7 +55,26 @@ def frozen_loads(system: System, loads: Sequence, mode: tuple) -> System:
     and continues smoothly past its end (where the events are located)."""
     out = []
     for load, (on, sign) in zip(loads, mode):
-        if not on or (load.kind == "resistance" and sign == 0.0):
+        if not on or (load.kind in ("resistance", "resisting_torque") and sign == 0.0):
+            continue
+        if load.kind == "resisting_torque":  # the couple −M·sign on the link, +M·sign on
+            # the other link of its joint
+            table = None if load.table is None else (load.table[0], -sign * load.table[1])
+            torque = replace(
+                load, kind="torque", active=(), table=table, value=-sign * load.value, joint=None
+            )
+            out.append(torque)
+            if resisting_torque_other(system, load) is not None:
+                j = system.model.joint(load.joint)
+                other = next(x for x in j.links if x != load.link)
+                reaction = replace(
+                    torque,
+                    name=f"{load.name}_reaction",
+                    link=other,
+                    value=-torque.value,
+                    table=None if table is None else (table[0], -table[1]),
+                )
+                out.append(reaction)
             continue
         if load.kind == "resistance":
             direction = -sign * np.asarray(load.axis, dtype=float)
@@ -116,6 +138,14 @@ def switching_functions(
                     vthr,
                 )
             )
+        if load.kind == "resisting_torque":
+            out.append(
+                (
+                    f"{load.name}: reverses",
+                    lambda q, qd, psi, load=load: _relative_omega(system, load, qd),
+                    ZERO_SPEED * ref_speed,
+                )
+            )
     if friction:
         for k, j in enumerate(system.model.joints):
             if j.has_friction:
@@ -128,3 +158,11 @@ def switching_functions(
                     )
                 )
     return out
+
+
+def _relative_omega(system: System, load, qd: np.ndarray) -> np.ndarray:
+    """The angular velocity a resisting torque opposes: its link's, less that of the
+    other link of its ``joint``."""
+    w = qd[..., 3 * system.link_index(load.link) + 2]
+    other = resisting_torque_other(system, load)
+    return w if other is None else w - qd[..., 3 * other + 2]

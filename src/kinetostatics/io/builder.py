@@ -43,6 +43,7 @@ TOP_KEYS = (
     "sketch",
     "analysis",
     "flywheel",
+    "output",
     "sweep",
     "clearance",
 )
@@ -127,6 +128,7 @@ class Builder(
         loops = self._loops(joints)
         flywheel = self._flywheel()
         clearances = self._clearances(joints)
+        output = self._output(links, joints, drivers)
         self.problems.raise_if_any()
         return Model(
             name=name or "mechanism",
@@ -144,7 +146,56 @@ class Builder(
             flywheel=flywheel,
             sketch_where=self.sketch_where,
             clearances=tuple(clearances),
+            output=output,
         )
+
+    def _output(self, links, joints, drivers) -> str | None:
+        """``output: <link or joint>``: the machine's output member (its stroke or swing,
+        limit positions and time ratio head summary.json).  Not the frame, not a motion
+        driver's joint, not a slide between two moving links (a relative motion)."""
+        e = self.top.get("output")
+        if e is None:
+            return None
+        name = e.text()
+        if name is None:
+            return None
+        by_link = {link.name: link for link in links}
+        by_joint = {j.name: j for j in joints}
+        ground = next((link.name for link in links if link.ground), None)
+        driven = {d.joint for d in drivers if d.motion is not None}
+        if name in by_link:
+            if by_link[name].ground:
+                e.error(f"'{name}' is the frame; name the moving link or joint that is the output")
+                return None
+            return name
+        if name not in by_joint:
+            if not self._broken("link", name) and not self._broken("joint", name):
+                e.error(
+                    self._unknown("link or joint", name, [*by_link, *by_joint])
+                    + " (output: names the output link or its joint)"
+                )
+            return None
+        j = by_joint[name]
+        if name in driven:
+            e.error(
+                f"'{name}' is the joint of a motion driver, the input; name the output "
+                "link or joint"
+            )
+            return None
+        if not (j.reports_stroke or j.reports_swing):
+            e.error(
+                f"joint '{name}' has no stroke or swing to report; name a link, a revolute "
+                "or a prismatic pair"
+            )
+            return None
+        if j.reports_stroke and ground not in j.links:
+            e.error(
+                f"'{name}' slides between two moving links ({', '.join(j.links)}): a relative "
+                "motion, not the machine's output; name the output link or its pair on the "
+                "frame"
+            )
+            return None
+        return name
 
     # -- names ----------------------------------------------------------------
     def _claim(self, section: Entry, name: str, what: str) -> bool:

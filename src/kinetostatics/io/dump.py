@@ -109,4 +109,6 @@ def dump(model: Model) -> str:
             "friction": f.friction,
             **({"ratio": f.ratio} if f.ratio is not None else {}),
         }
+    if getattr(model, "output", None) is not None:
+        doc["output"] = model.output
     return yaml.safe_dump(doc, sort_keys=False)

@@ -10,7 +10,7 @@ from ..base.spec import Entry
 from ..errors import Location, did_you_mean
 from ..model import Condition, Load, MotionLaw
 
-LOAD_TYPES = ("force", "torque", "resistance")
+LOAD_TYPES = ("force", "torque", "resistance", "resisting_torque")
 CONDITION_KEYS = Keys(
     {"moving": VECTOR, "travel": VECTOR, "along": VECTOR, "angle": VECTOR, "point": NAME}
 )
@@ -26,6 +26,7 @@ LOAD_KEYS = Keys(
         "point": NAME,
         "axis": VECTOR,
         "active": list_of(CONDITION_KEYS),
+        "joint": NAME,
     },
     required=("type", "link"),
 )
@@ -63,9 +64,10 @@ class LoadSections:
             if kind is not None:
                 e["type"].error(
                     f"unknown load type '{kind}'{did_you_mean(kind, kinds)}; "
-                    "known: force, resistance, torque"
+                    "known: force, resistance, resisting_torque, torque"
                 )
             return None
+        torque_like = kind in ("torque", "resisting_torque")
         link = e["link"].text()
         if link not in link_names:
             if link is not None and not self._broken("link", link):
@@ -92,7 +94,7 @@ class LoadSections:
             value = (
                 e["value"].vector("force")
                 if kind == "force"
-                else e["value"].number("torque" if kind == "torque" else "force")
+                else e["value"].number("torque" if torque_like else "force")
             )
         else:
             table = self._table(e["table"], kind, joints, drivers)
@@ -111,8 +113,13 @@ class LoadSections:
                 return None
         elif e.get("axis") is not None:
             e["axis"].error("axis applies to a resistance only")
-        if kind == "torque" and point is not None:
+        if torque_like and point is not None:
             e["point"].error("a torque acts on the link, not at a point")
+        joint = None
+        if (je := e.get("joint")) is not None:
+            joint = self._relative_joint(je, kind, link, joints)
+            if joint is None:
+                return None
         conditions = self._conditions(e, link, point, points, drivers)
         if value is None or conditions is None:
             return None
@@ -126,7 +133,31 @@ class LoadSections:
             tuple(conditions),
             where,
             table,
+            joint,
         )
+
+    def _relative_joint(self, e: Entry, kind: str, link: str, joints) -> str | None:
+        """``joint:`` of a resisting torque: a revolute that holds ``link``."""
+        name = e.text()
+        if name is None:
+            return None
+        if kind != "resisting_torque":
+            e.error("joint applies to a resisting_torque only")
+            return None
+        by_name = {j.name: j for j in joints}
+        if name not in by_name:
+            if not self._broken("joint", name):
+                e.error(self._not_a("joint", name, by_name))
+            return None
+        j = by_name[name]
+        if not j.angular or link not in j.links:
+            e.error(
+                f"joint '{name}' must be a revolute that holds link '{link}' (it joins "
+                f"{', '.join(j.links)}): the torque opposes {link}'s rotation relative to "
+                "the joint's other link"
+            )
+            return None
+        return name
 
     def _table(self, e: Entry, kind: str, joints, drivers) -> tuple[np.ndarray, np.ndarray] | None:
         """``table: {at: [driver coordinates], value: [values]}``, sorted by coordinate."""
@@ -145,7 +176,7 @@ class LoadSections:
             )
             return None
         at = [x.number("angle" if angular else "length") for x in at_items]
-        unit = "force" if kind != "torque" else "torque"
+        unit = "torque" if kind in ("torque", "resisting_torque") else "force"
         vals = [x.vector(unit) if kind == "force" else x.number(unit) for x in val_items]
         if any(v is None for v in at) or any(v is None for v in vals):
             return None

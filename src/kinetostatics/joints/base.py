@@ -14,7 +14,7 @@ driver prescribes and what friction opposes: θ_j − θ_i for a revolute, the
 sliding distance for a prismatic pair.
 
 Beyond the maths, a type describes itself to the rest of the code through the
-hooks at the end of ``Joint`` (``letter``, ``reports_stroke``, ``pin``,
+hooks at the end of ``Joint`` (``letter``, ``reports_stroke``, ``reports_swing``, ``pin``,
 ``anchors``, ``glyph``, ``label``, ``describe``, ``friction_constants``), so
 that no module outside ``joints/`` needs to ask a joint for its class or
 probe its attributes.  All have defaults: a type that only computes works,
@@ -160,6 +160,7 @@ class Joint(ABC):
     angular: ClassVar[bool]  # relative coordinate is an angle (rad) or a length (m)
     letter: ClassVar[str] = "?"  # pair letter in Assur-group labels such as RRP (one character)
     reports_stroke: ClassVar[bool] = False  # undriven: its stroke and time ratio are an output
+    reports_swing: ClassVar[bool] = False  # undriven, on the frame: swing angle and time ratio
     pin: ClassVar[bool] = False  # drawn as a pin at glyph().point; a bearing (polar diagrams)
     # the keys of ``joints.<name>`` that from_spec checks, with their shapes (base/keys.py):
     # the JSON Schema of a mechanism file is made from them; None: any keys

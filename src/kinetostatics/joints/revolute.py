@@ -29,6 +29,7 @@ class Revolute(Joint, kind="revolute"):
     reaction_labels: ClassVar[tuple[str, ...]] = ("Fx", "Fy")
     angular: ClassVar[bool] = True
     letter: ClassVar[str] = "R"
+    reports_swing: ClassVar[bool] = True
     # links: two, or three or more sharing one pin (io/bodies.py), with as many points
     spec_keys: ClassVar[Keys] = Keys(
         {

@@ -27,6 +27,7 @@ __all__ = [
     "refine_stacked",
     "state_stacked",
     "output_slides",
+    "output_members",
     "coordinate_rates",
     "output_strokes",
     "output_strokes_stacked",
@@ -144,17 +145,57 @@ def refine_stacked(system, solvers, sched, f, t0, q0, qd0, qdd0, max_iter: int =
     return t, state_stacked(system, solvers, sched, t, guess)
 
 
-# -- the output slides: strokes, limit positions, time ratios ----------------------------
+# -- the outputs: strokes and swings, limit positions, time ratios ---------------------
+def _on_frame(system: System, j) -> bool:
+    return system.model.ground.name in j.links
+
+
 def output_slides(system: System) -> list[tuple[int, Any]]:
-    """``[(k, joint)]``: the undriven pairs whose type reports a stroke
+    """``[(k, joint)]``: the undriven pairs on the frame whose type reports a stroke
     (``Joint.reports_stroke``: a prismatic pair), in file order; ``k`` indexes
-    ``system.constraints``."""
+    ``system.constraints``.  A slide between two moving links (a block in a slotted
+    lever) is a relative motion, never the machine's output, and is not listed."""
     driven = {d.joint.name for d in system.motion_drivers}
     return [
         (k, j)
         for k, j in enumerate(system.model.joints)
-        if j.reports_stroke and j.name not in driven
+        if j.reports_stroke and j.name not in driven and _on_frame(system, j)
     ]
+
+
+def output_members(system: System) -> list[dict[str, Any]]:
+    """The output members whose limit positions and time ratio ``output_strokes`` reports:
+    the file's ``output:`` alone when it names one, else every output slide
+    (:func:`output_slides`) and every undriven revolute on the frame (``reports_swing``:
+    its link's swing).  Each is ``{"name", "kind" ("slide"|"swing"), "k" (constraint
+    index, or None for a link), "link"}``."""
+    model = system.model
+    driven = {d.joint.name for d in system.motion_drivers}
+    ground = model.ground.name
+    named = getattr(model, "output", None)
+    if named in system.links:  # a link: the pair that holds it on the frame, if any
+        pair = [
+            j.name
+            for j in model.joints
+            if named in j.links
+            and ground in j.links
+            and j.name not in driven
+            and (j.reports_stroke or j.reports_swing)
+        ]
+        if len(pair) == 1:
+            named = pair[0]
+    out = []
+    for k, j in enumerate(model.joints):
+        if j.name in driven or (named is not None and j.name != named):
+            continue
+        link = next((x for x in j.links if x != ground), j.links[-1])
+        if j.reports_stroke and (_on_frame(system, j) or named is not None):
+            out.append({"name": j.name, "kind": "slide", "k": k, "link": link})
+        elif j.reports_swing and (_on_frame(system, j) or named is not None):
+            out.append({"name": j.name, "kind": "swing", "k": k, "link": link})
+    if named is not None and not out and named in system.links:
+        out.append({"name": named, "kind": "swing", "k": None, "link": named})
+    return out
 
 
 def coordinate_rates(system: System, q, qd, qdd, k: int) -> tuple[np.ndarray, np.ndarray]:
@@ -167,48 +208,85 @@ def coordinate_rates(system: System, q, qd, qdd, k: int) -> tuple[np.ndarray, np
     )
 
 
-def output_strokes(result) -> dict[str, dict[str, Any]]:
-    """Stroke, limit positions and time ratio of every output slide (:func:`output_slides`).
+def _member_functions(system: System, member: dict[str, Any]):
+    """(rates, value) of an output member: ``rates(q, q̇, q̈) = (ċ, c̈)`` and ``value(q)``:
+    a slide's coordinate (m), a revolute on the frame's link angle θ (rad), another
+    revolute's relative angle, a link's angle."""
+    k = member["k"]
+    if member["kind"] == "slide" or (
+        k is not None and not _on_frame(system, system.model.joints[k])
+    ):
+        return (
+            lambda q, qd, qdd: coordinate_rates(system, q, qd, qdd, k),
+            lambda q: joint_coordinate(system, q, k),
+        )
+    n = 3 * system.link_index(member["link"]) + 2
+    return (lambda q, qd, qdd: (qd[..., n], qdd[..., n]), lambda q: q[..., n])
 
-    Limit positions are the exact zeros of the sliding speed (:func:`find_roots`); the
+
+def output_strokes(result) -> dict[str, dict[str, Any]]:
+    """Stroke or swing, limit positions and time ratio of every output member
+    (:func:`output_members`).
+
+    Limit positions are the exact zeros of the member's speed (:func:`find_roots`); the
     time ratio K is the slower stroke's time over the faster's, from those exact
-    positions (full cycles only).
+    positions (full cycles only), and ``theta_extreme`` = 180°(K − 1)/(K + 1) the crank
+    angle between the limit positions.  A slide gives ``stroke`` (m) and its coordinate
+    ``s`` at each limit; a swing gives ``swing`` (deg) and the link's angle ``theta``
+    (deg, mod 360; a revolute between two moving links: the relative angle).  ``min`` is
+    the limit where the coordinate is least (a swing: where the counter-clockwise swing
+    starts).  A member that does not stop exactly twice per cycle (a link that turns
+    fully) is left out.
     """
     system = result.system
     out: dict[str, dict[str, Any]] = {}
     if not result.full_cycle or "angle" not in result.columns:
         return out
-    slides = output_slides(system)
-    if not slides:
+    members = output_members(system)
+    if not members:
         return out
     sched = schedule(system)
     period = sched.period
-    for k, j in slides:
-
-        def f(q, qd, qdd, k=k):
-            return coordinate_rates(system, q, qd, qdd, k)
-
+    for m in members:
+        f, value = _member_functions(system, m)
         ds = f(result.q, result.qd, result.qdd)[0]
         roots, (qr, _, _) = find_roots(
             system, sched, result.t, result.q, result.qd, result.qdd, ds, f, True, period
         )
         if len(roots) != 2:
             continue
-        vals = [float(v) for v in joint_coordinate(system, qr, k)]
-        lo, hi = (0, 1) if vals[0] < vals[1] else (1, 0)
-        t_up = (roots[hi] - roots[lo]) % period  # from the low to the high extreme
-        t_down = period - t_up
+        vals = [float(v) for v in value(qr)]
 
         def coord(r):
             return float(np.degrees(sched(np.array([r]))[0][0, 0]) % 360.0)
 
-        out[j.name] = {
-            "stroke": vals[hi] - vals[lo],
+        if m["kind"] == "slide":
+            lo, hi = (0, 1) if vals[0] < vals[1] else (1, 0)
+            size = {"stroke": vals[hi] - vals[lo]}
+            at = {"s": vals}
+        else:
+            # the sense of the swing from root 0 to root 1: that of a row between them
+            span = np.mod(result.t - roots[0], period)
+            inside = span < np.mod(roots[1] - roots[0], period)
+            sense = np.sign(np.sum(ds[inside])) if inside.any() else 1.0
+            lo, hi = (0, 1) if sense >= 0 else (1, 0)
+            swing = float(np.mod(vals[hi] - vals[lo], 2 * np.pi))
+            size = {"swing": float(np.degrees(swing))}
+            at = {"theta": [float(np.degrees(v) % 360.0) for v in vals]}
+        t_up = (roots[hi] - roots[lo]) % period  # from the low to the high extreme
+        t_down = period - t_up
+        k_ratio = max(t_up, t_down) / min(t_up, t_down)
+        key = next(iter(at))
+        out[m["name"]] = {
+            "kind": m["kind"],
+            "link": m["link"],
+            **size,
             "limit_positions": {
-                "min": {"angle": coord(roots[lo]), "s": vals[lo]},
-                "max": {"angle": coord(roots[hi]), "s": vals[hi]},
+                "min": {"angle": coord(roots[lo]), key: at[key][lo]},
+                "max": {"angle": coord(roots[hi]), key: at[key][hi]},
             },
-            "time_ratio": max(t_up, t_down) / min(t_up, t_down),
+            "time_ratio": k_ratio,
+            "theta_extreme": 180.0 * (k_ratio - 1.0) / (k_ratio + 1.0),
             "time_increasing_s": t_up,
             "time_decreasing_s": t_down,
         }

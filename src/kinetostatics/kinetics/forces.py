@@ -22,6 +22,8 @@ __all__ = [
     "external_forces",
     "effort_forces",
     "zero_speed",
+    "resisting_torque",
+    "resisting_torque_other",
 ]
 
 
@@ -76,6 +78,28 @@ def effort_forces(system: System, q: np.ndarray, qd: np.ndarray | None = None) -
     return out
 
 
+def resisting_torque_other(system: System, load) -> int | None:
+    """The index of the moving link a ``resisting_torque`` reacts on (the other link of
+    its ``joint``), or None (no joint, or that link is the frame)."""
+    if load.joint is None:
+        return None
+    j = system.model.joint(load.joint)
+    other = next(x for x in j.links if x != load.link)
+    return None if other == system.model.ground.name else system.link_index(other)
+
+
+def resisting_torque(system: System, load, qd, value, ref_speed: float, other=None):
+    """The couple on ``load.link`` of a resisting torque: −M·sign(ω_rel), ω_rel the link's
+    angular velocity (relative to the other link of ``load.joint``); 0 where |ω_rel| is
+    zero (≤ 1e-9 of the driver speed, docs/conventions.md)."""
+    k = system.link_index(load.link)
+    w = qd[..., 3 * k + 2]
+    if other is not None:
+        w = w - qd[..., 3 * other + 2]
+    sign = np.where(np.abs(w) > ZERO_SPEED * ref_speed, np.sign(w), 0.0)
+    return -value * sign
+
+
 def zero_speed(system: System, ref_speed: float) -> float:
     return ZERO_SPEED * ref_speed * system.l_ref
 
@@ -92,6 +116,13 @@ def external_forces(system: System, q, qd, psi, extremes, ref_speed: float) -> n
         on = activity(system, load, q, qd, psi, extremes, ref_speed)
         if load.kind == "torque":
             out[..., 3 * k + 2] += np.where(on, value, 0.0)
+            continue
+        if load.kind == "resisting_torque":
+            other = resisting_torque_other(system, load)
+            m = np.where(on, resisting_torque(system, load, qd, value, ref_speed, other), 0.0)
+            out[..., 3 * k + 2] += m
+            if other is not None:  # the reaction on the joint's other (moving) link
+                out[..., 3 * other + 2] -= m
             continue
         if load.kind == "force":
             force = value

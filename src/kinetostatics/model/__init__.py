@@ -140,10 +140,12 @@ class Load:
     """An external load on ``link``.
 
     ``kind``: ``force`` (global vector ``value`` at ``point``, N), ``torque``
-    (``value`` N·m) or ``resistance`` (magnitude ``value`` N along ``axis``
-    opposing the point's velocity component along it); ``table`` replaces the
-    constant by values over the driver coordinate.  Active only while all
-    ``active`` conditions hold.
+    (``value`` N·m), ``resistance`` (magnitude ``value`` N along ``axis``
+    opposing the point's velocity component along it) or ``resisting_torque``
+    (magnitude ``value`` N·m opposing the link's angular velocity, or with ``joint``
+    the rotation of ``link`` relative to the joint's other link, on which the
+    reaction −M acts); ``table`` replaces the constant by values over the driver
+    coordinate.  Active only while all ``active`` conditions hold.
     """
 
     name: str
@@ -155,6 +157,7 @@ class Load:
     active: tuple[Condition, ...] = ()
     where: Location = field(default=Location(), compare=False, repr=False)
     table: tuple[np.ndarray, np.ndarray] | None = None  # (driver coordinates, values)
+    joint: str | None = None  # resisting_torque: opposes the relative rotation at this joint
 
     def value_at(self, psi: np.ndarray, period: float | None) -> np.ndarray:
         """The load's value at driver coordinates ``psi`` (...): constant, or the
@@ -236,6 +239,7 @@ class Model:
     flywheel: FlywheelSpec | None = None
     clearances: tuple = ()  # Clearance specs: as read (ideal None) or expanded with
     ideal: Model | None = field(default=None, compare=False, repr=False)  # before expansion
+    output: str | None = None  # the machine's output member (a link or a joint): ``output:``
     sketch_where: Mapping[str, Location] = field(default_factory=dict, compare=False, repr=False)
 
     def __getstate__(self):  # the compiled system cached by structure.system_of stays behind

@@ -272,6 +272,9 @@ ZH.update(
         "nominal crank speed": "曲柄额定转速",
         "output {name}: stroke {stroke} {unit}, time ratio K = {k}; limit positions at φ = {a}° "
         "and {b}°": "输出 {name}：行程 {stroke} {unit}，行程速比系数 K = {k}；极限位置 φ = {a}° 与 {b}°",
+        "output {name}: swing {swing}° of {link}, time ratio K = {k}; limit positions at φ = {a}° "
+        "({link} at {ta}°) and {b}° ({link} at {tb}°)": "输出 {name}：{link} 摆角 {swing}°，行程速比系数 K = {k}；极限位置 φ = {a}°（{link} 位于 {ta}°）与 {b}°（{link} 位于 {tb}°）",
+        " (over the cycle, integrated between the load events)": "（全周期平均，在载荷切换点之间积分）",
         "parameter": "参数",
         "path of {ref}": "{ref} 的轨迹",
         "peak |F| with friction (N)": "计摩擦峰值 |F|（N）",

@@ -6,6 +6,7 @@ from typing import Any
 
 import numpy as np
 
+from ..analysis.cycle import cycle_stats
 from ..errors import AssemblyError
 from ..kinematics.events import output_strokes, state_near
 from ..kinematics.schedule import schedule
@@ -186,6 +187,15 @@ def summarize(result) -> dict[str, Any]:
             magf = np.hypot(result[f"{j.name}.Fx_friction"], result[f"{j.name}.Fy_friction"])
             peaks[j.name]["peak_friction"] = _finite(np.max, magf)
     drivers = {}
+    wanted = [
+        f"{d.name}.{word}{suffix}"
+        for d in system.motion_drivers
+        for word in ("torque", "force")
+        for suffix in ("", "_friction_approx", "_friction")
+        if f"{d.name}.{word}{suffix}" in result.columns
+    ]
+    # over the cycle, integrated exactly between the load events (analysis/cycle.py)
+    stats = cycle_stats(result, wanted) if wanted and len(result) else {}
     for d in system.motion_drivers:
         for word in ("torque", "force"):
             key = f"{d.name}.{word}"
@@ -193,10 +203,11 @@ def summarize(result) -> dict[str, Any]:
                 continue
             entry = {"unit": result.units[key]}
             for suffix in ("", "_friction_approx", "_friction"):
-                if key + suffix in result.columns:
-                    arr = result[key + suffix]
-                    entry["mean" + suffix] = _finite(np.mean, arr)
-                    entry["peak" + suffix] = _finite(np.max, np.abs(arr))
+                if key + suffix in stats:
+                    s = stats[key + suffix]
+                    entry["mean" + suffix] = s["mean"]
+                    entry["rms" + suffix] = s["rms"]
+                    entry["peak" + suffix] = s["peak"]
             drivers[d.name] = entry
     units = {"angle": "deg", "time": "s", "length": "m", "force": "N", "torque": "N*m"}
     return {
@@ -207,6 +218,7 @@ def summarize(result) -> dict[str, Any]:
             "mobility": system.structure.mobility,
             "groups": [p.group.label for p in system.plans],
         },
+        "output": getattr(system.model, "output", None),
         "outputs": output_strokes(result),
         "events": [
             {

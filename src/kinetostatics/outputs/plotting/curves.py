@@ -238,21 +238,12 @@ def _event_legend(ax, result):
         )
 
 
-def _cycle_mean(result, values) -> float:
-    """Mean over the driver coordinate (trapezoids over the sorted rows, closed over
-    the cycle for a full cycle); NaN where a value is missing."""
-    x, order, _ = _sorted(result)
-    y = np.asarray(values, dtype=float)[order]
-    ok = np.isfinite(y)
-    if not ok.any():
-        return float("nan")
-    closed = bool(ok[0]) and result.full_cycle and _angular(result)
-    x, y = x[ok], y[ok]
-    if closed:
-        x, y = np.append(x, 360.0), np.append(y, y[0])
-    if len(x) < 2 or x[-1] == x[0]:
-        return float(np.mean(y))
-    return float(np.sum(0.5 * (y[1:] + y[:-1]) * np.diff(x)) / (x[-1] - x[0]))
+def _cycle_mean(result, what) -> float:
+    """The mean over the cycle of a column (or a function of a result), as in summary.json
+    (:func:`~kinetostatics.analysis.cycle.cycle_stats`)."""
+    from ...analysis.cycle import cycle_stats
+
+    return cycle_stats(result, {"value": what})["value"]["mean"]
 
 
 def motion_diagram(result, output: str | None = None, *, dpi: float = DPI, lang: str = "en"):
@@ -376,7 +367,7 @@ def torque_curves(result, driver: str | None = None, *, dpi: float = DPI, lang: 
             if key not in result.columns:
                 continue
             y = np.asarray(result[key])[order]
-            mean = _cycle_mean(result, result[key])
+            mean = _cycle_mean(result, key)
             peak = float(np.nanmax(np.abs(y))) if np.any(np.isfinite(y)) else 0.0
             mean = 0.0 if abs(mean) <= ROUND_OFF * peak else mean  # round-off
             ax.plot(
@@ -413,8 +404,9 @@ def torque_curves(result, driver: str | None = None, *, dpi: float = DPI, lang: 
 
 
 def efficiency_curve(result, driver: str | None = None, *, dpi: float = DPI, lang: str = "en"):
-    """Instantaneous efficiency η = M / M_friction (frictionless over consistent
-    driving torque) and the cycle efficiency (ratio of the mean input powers)."""
+    """Instantaneous efficiency η = M / M_friction (frictionless over consistent driving
+    torque) where it is one (docs/friction.md: gaps elsewhere) and the cycle efficiency
+    (ratio of the mean input powers)."""
     d, word, _ = _driver_effort(result, driver)
     key = f"{d.name}.efficiency"
     if key not in result.columns:
@@ -424,13 +416,18 @@ def efficiency_curve(result, driver: str | None = None, *, dpi: float = DPI, lan
     with _rc(lang):
         fig = _figure(165, 85, dpi)
         ax = fig.add_subplot()
-        ax.plot(x, eta, color=CURVE_COLORS[2], label="η = M / M_friction (instantaneous)")
+        ax.plot(
+            x,
+            eta,
+            color=CURVE_COLORS[2],
+            label="η = P / P_friction where the drive delivers power (gaps: undefined)",
+        )
         pin = result.columns.get("power.input")
         pinf = None
         if f"{d.name}.{word}_friction" in result.columns and pin is not None:
-            ok = np.isfinite(result[f"{d.name}.{word}_friction"])
-            m0 = _cycle_mean(result, np.where(ok, result[f"{d.name}.{word}"], np.nan))
-            m1 = _cycle_mean(result, result[f"{d.name}.{word}_friction"])
+            key0, key1 = f"{d.name}.{word}", f"{d.name}.{word}_friction"
+            m0 = _cycle_mean(result, lambda r: np.where(np.isfinite(r[key1]), r[key0], np.nan))
+            m1 = _cycle_mean(result, key1)
             if m1 != 0 and result.full_cycle:
                 pinf = m0 / m1
                 ax.axhline(
@@ -448,8 +445,7 @@ def efficiency_curve(result, driver: str | None = None, *, dpi: float = DPI, lan
         ax.set_xlabel(xlabel)
         ax.set_ylabel("efficiency η, 1")
         fig.suptitle(
-            f"{result.system.model.name}: efficiency of the drive {d.name} "
-            "(axis clipped where M_friction → 0)",
+            f"{result.system.model.name}: efficiency of the drive {d.name}",
             x=0.02,
             ha="left",
             fontsize=9.5,

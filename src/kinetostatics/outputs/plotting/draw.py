@@ -9,7 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...base.geometry import perp
-from ...kinetics.forces import activity, point_state
+from ...kinetics.forces import activity, point_state, resisting_torque, resisting_torque_other
 from ..lang import tr
 from .rows import _angular, _driver, _position_title, link_numbers, row_at
 from .scene import MechanismGeometry, _joint_point, _Scene, _to_global, scene_guides
@@ -87,6 +87,11 @@ def _loads_at(result, row: int, *, friction: bool = False) -> list[_Arrow]:
         pos, vel, _ = point_state(q, qd, None, k, p)
         if load.kind == "torque":
             out.append(_Arrow("external", load.name, pos[0], None, float(value)))
+            continue
+        if load.kind == "resisting_torque":  # the signed couple on its link
+            other = resisting_torque_other(system, load)
+            m = resisting_torque(system, load, qd, value, ref, other)
+            out.append(_Arrow("external", load.name, pos[0], None, float(np.ravel(m)[0])))
             continue
         if load.kind == "force":
             F = np.asarray(value, float)

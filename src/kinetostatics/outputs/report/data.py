@@ -156,7 +156,7 @@ def _data_blocks(model, system, lang: str = "en") -> list:
             val = (
                 f"({', '.join(f'{v:g}' for v in value)}) N"
                 if value.ndim
-                else f"{float(value):g} {'N·m' if ld.kind == 'torque' else 'N'}"
+                else f"{float(value):g} {'N·m' if 'torque' in ld.kind else 'N'}"
             )
             if ld.table is not None:
                 val += T(" (tabulated)")

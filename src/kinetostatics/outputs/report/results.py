@@ -298,19 +298,35 @@ def _summary_blocks(result, summary, lang: str = "en") -> list:
         )
     ]
     for name, o in summary["outputs"].items():
-        items.append(
-            tr(
+        lo, hi = o["limit_positions"]["min"], o["limit_positions"]["max"]
+        k, a, b = f"{o['time_ratio']:.4f}", f"{lo['angle']:.3f}", f"{hi['angle']:.3f}"
+        if o.get("kind") == "swing":
+            text = tr(
+                "output {name}: swing {swing}° of {link}, time ratio K = {k}; limit positions "
+                "at φ = {a}° ({link} at {ta}°) and {b}° ({link} at {tb}°)",
+                lang,
+                name=name,
+                swing=f"{o['swing']:.4f}",
+                link=o["link"],
+                k=k,
+                a=a,
+                b=b,
+                ta=f"{lo['theta']:.3f}",
+                tb=f"{hi['theta']:.3f}",
+            )
+        else:
+            text = tr(
                 "output {name}: stroke {stroke} {unit}, time ratio K = {k}; limit positions "
                 "at φ = {a}° and {b}°",
                 lang,
                 name=name,
                 stroke=f"{o['stroke'] / lf:.6g}",
                 unit=lu,
-                k=f"{o['time_ratio']:.4f}",
-                a=f"{o['limit_positions']['min']['angle']:.3f}",
-                b=f"{o['limit_positions']['max']['angle']:.3f}",
+                k=k,
+                a=a,
+                b=b,
             )
-        )
+        items.append(text)
     for e in summary["events"]:
         items.append(
             tr(
@@ -348,7 +364,7 @@ def _summary_blocks(result, summary, lang: str = "en") -> list:
                 a=_num(d["mean_friction_approx"], peak),
                 p=_num(d["peak_friction"], peak),
             )
-        items.append(line + tr(" (means over the analysed rows)", lang))
+        items.append(line + tr(" (over the cycle, integrated between the load events)", lang))
     if "friction.status" in result.columns:
         locked = int(np.sum(result["friction.status"] == 2))
         if locked:
