@@ -10,7 +10,6 @@ import numpy as np
 from ...errors import did_you_mean
 from ...kinetics.forces import activity
 from .rows import (
-    _angular,
     _course_ticks,
     _driver,
     _event_travel,
