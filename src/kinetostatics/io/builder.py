@@ -22,6 +22,7 @@ from ..model import Model
 from .bodies import BodySections
 from .clearance import ClearanceSection
 from .drivers import DriverSections
+from .elements import ElementSections
 from .laws import LawSections
 from .loads import LoadSections
 from .parameters import ParameterSections
@@ -40,6 +41,7 @@ TOP_KEYS = (
     "loops",
     "drivers",
     "loads",
+    "elements",
     "sketch",
     "analysis",
     "flywheel",
@@ -81,6 +83,7 @@ class Builder(
     DriverSections,
     LawSections,
     LoadSections,
+    ElementSections,
     SettingSections,
     ClearanceSection,
 ):
@@ -99,6 +102,7 @@ class Builder(
             "joint": set(),
             "driver": set(),
             "load": set(),
+            "element": set(),
         }
         self.ground: str | None = None
         self.lost: set[str] = set()  # kinds whose whole section is missing or unreadable
@@ -122,6 +126,7 @@ class Builder(
         joints = self._joints(links, points)
         drivers = self._drivers(links, joints, points)
         loads_ = self._loads(links, joints, points, drivers)
+        elements = self._elements(links, joints, points)
         sketch = self._sketch(links, joints)
         analysis = self._analysis(joints, drivers, links)
         loops = self._loops(joints)
@@ -144,6 +149,7 @@ class Builder(
             flywheel=flywheel,
             sketch_where=self.sketch_where,
             clearances=tuple(clearances),
+            elements=tuple(elements),
         )
 
     # -- names ----------------------------------------------------------------
