@@ -9,7 +9,17 @@ from contextlib import contextmanager
 
 from kinetostatics import yaml_io
 
-NAMED = ("parameters", "links", "joints", "drivers", "loads", "clearance", "sketch", "units")
+NAMED = (
+    "parameters",
+    "links",
+    "joints",
+    "drivers",
+    "loads",
+    "elements",
+    "clearance",
+    "sketch",
+    "units",
+)
 
 
 def pattern(path: str) -> str:

@@ -193,6 +193,38 @@ def _seeds() -> dict[str, dict]:
         analysis=FEW,
     )
     out["loops"] = _variant(SC, loops=[["O", "A", "B", "slide"]], analysis=FEW)
+    out["springs and dampers"] = _variant(
+        SC,
+        elements={
+            "spring": {
+                "type": "spring",
+                "between": ["ground.O", "slider.B"],
+                "stiffness": 2,
+                "free_length": 300,
+                "preload": 50,
+            },
+            "table": {
+                "type": "spring",
+                "between": ["crank.A", "ground.guide"],
+                "table": {"length": [60, 100, 140], "force": [-100, 20, 500]},
+            },
+            "damper": {"type": "damper", "between": ["ground.O", "slider.B"], "damping": 0.5},
+            "tors": {
+                "type": "torsion_spring",
+                "joint": "A",
+                "stiffness": 3,
+                "free_angle": 10,
+                "preload": 2,
+            },
+            "tors_table": {
+                "type": "torsion_spring",
+                "joint": "B",
+                "table": {"angle": [-90, 0, 90], "torque": [-1, 0, 2]},
+            },
+            "rd": {"type": "rotary_damper", "joint": "O", "damping": 0.2},
+        },
+        analysis=FEW,
+    )
     swing = "ammunition_swing.yaml"
     out["clearance contact"] = _variant(
         swing,

@@ -52,3 +52,16 @@ def test_the_cache_lets_go_of_models_and_stays_out_of_pickles():
     del m
     gc.collect()
     assert alive() is None
+
+
+def test_a_copy_made_from_the_fields_analyses_like_the_model():
+    """``Model(**vars(m))`` and ``replace`` carry the cache along: it is used only where the
+    copy describes the same mechanism."""
+    import dataclasses
+
+    m = ks.load(ROOT / "mechanisms" / "slider_crank.yaml")
+    ks.analyze(m)
+    same = ks.Model(**vars(m))
+    assert np.array_equal(ks.analyze(same)["angle"], ks.analyze(m)["angle"])
+    moved = dataclasses.replace(m, gravity=np.array([0.0, 0.0]))
+    assert S.system_of(moved).model is moved

@@ -21,7 +21,9 @@ from . import relations as R
 
 ROOT = Path(__file__).resolve().parents[2]
 SHIPPED = sorted(
-    p.name for p in (ROOT / "mechanisms").glob("*.yaml") if p.name != "ammunition_swing.yaml"
+    p.name
+    for p in (ROOT / "mechanisms").glob("*.yaml")
+    if p.name not in ("ammunition_swing.yaml", "andrews_squeezer.yaml")
 )  # an effort driver: simulate only
 
 # generated mechanisms per relation in the default run (cost-weighted)

@@ -215,7 +215,7 @@ def result_checks(result) -> Checks:
             ref = max(
                 (
                     np.nanmax(np.abs(cols[f"power.{n}"]), initial=0.0)
-                    for n in ("kinetic", "potential", "external", "friction")
+                    for n in ("kinetic", "potential", "elastic", "damping", "external", "friction")
                     if f"power.{n}" in cols
                 ),
                 default=0.0,

@@ -19,6 +19,7 @@ import numpy as np
 from ..base.tables import write_columns
 from ..errors import did_you_mean
 from ..kinematics.state import point_state
+from ..kinetics.elements import element_states
 from ..structure.system import System, coordinate_gradient
 
 __all__ = ["Result", "build_columns", "joint_warnings"]
@@ -242,6 +243,35 @@ def joint_warnings(system: System, q: np.ndarray, x0: np.ndarray) -> list[str]:
     return out
 
 
+def _element_columns(system: System, put, q, qd) -> None:
+    """``<element>.length`` (m; ``.angle`` deg for a rotational one), ``.speed`` (its rate,
+    m/s or rad/s), ``.F`` (N; ``.M`` N·m: positive reduces the length or angle), ``.energy``
+    (J, springs) and ``.power`` (W, f ṡ: stored by a spring, dissipated by a damper)."""
+    states: dict = {}
+
+    def of(name: str) -> tuple:
+        if not states:
+            states["all"] = element_states(system, q, qd)
+        st = states["all"]
+        cols = [st.s[name], st.rate[name], st.f[name]]
+        if next(e for e in system.model.elements if e.name == name).rotational:
+            cols[0] = np.degrees(cols[0])
+        if st.spring[name]:
+            cols.append(st.energy[name])
+        return (*cols, st.power[name])
+
+    for e in system.model.elements:
+        r = e.rotational
+        names = [
+            (f"{e.name}.{'angle' if r else 'length'}", "deg" if r else "m"),
+            (f"{e.name}.speed", "rad/s" if r else "m/s"),
+            (f"{e.name}.{'M' if r else 'F'}", "N*m" if r else "N"),
+            *([(f"{e.name}.energy", "J")] if e.spring else []),
+            (f"{e.name}.power", "W"),
+        ]
+        put(names, lambda name=e.name: of(name))
+
+
 def _kinetic_columns(system: System, put, q, qd, x0, fric, power) -> None:
     model = system.model
     qe = _padded(q)
@@ -313,12 +343,15 @@ def _kinetic_columns(system: System, put, q, qd, x0, fric, power) -> None:
             [("friction.status", "1"), ("friction.iterations", "1")],
             lambda: (sol.status, sol.iterations),
         )
+    _element_columns(system, put, q, qd)
     names = [
         n
         for n in (
             "input",
             "kinetic",
             "potential",
+            "elastic",
+            "damping",
             "external",
             "friction",
             "residual",

@@ -21,6 +21,7 @@ from ..kinematics.positions import positions_near
 from ..kinematics.schedule import schedule
 from ..kinematics.start import start_pose
 from ..kinetics.conditions import ZERO_SPEED, travel_extremes
+from ..kinetics.elements import element_states
 from ..kinetics.forces import mass_vector
 from ..kinetics.inverse import kinetics
 from ..kinetics.reactions import effort_joints
@@ -164,6 +165,9 @@ class Dynamics:
             if c.driver.balance_at not in (None, c.joint.name)
         ]
         self.mass_vector = mass_vector(system)
+        # a damper's dissipated work is integrated as one more state after the drivers' work
+        self.dampers = any(not e.spring for e in model.elements)
+        self.n_y = 2 * self.n_f + 1 + int(self.dampers)
         self.extremes = self._extremes()
         q0, _ = start_pose(system, self.drive)
         self._anchor = self._with_tangent(self.drive(np.array([0.0]))[0][0], q0)
@@ -414,11 +418,25 @@ class Dynamics:
     def rhs(
         self, t: float, y: np.ndarray, direction: float = 0.0, mode: tuple | None = None
     ) -> np.ndarray:
-        """d/dt (ψ_f, ψ̇_f, W): W the work of all drivers."""
+        """d/dt (ψ_f, ψ̇_f, W[, D]): W the work of all drivers, D (when ``y`` has it) the
+        work dissipated by the dampers."""
         nf = self.n_f
         ev = self.state(t, y, direction, mode)
         power = float(ev.effort @ self._effort_speeds(ev, self._speeds(t, y)))
-        return np.concatenate((y[nf : 2 * nf], ev.accel, [power]))
+        extra = [self.dissipation(ev)] if y.size > 2 * nf + 1 else []
+        return np.concatenate((y[nf : 2 * nf], ev.accel, [power], extra))
+
+    def dissipation(self, ev: _Eval) -> float:
+        """The power dissipated by the dampers at a state (W, ≥ 0)."""
+        if not self.dampers:
+            return 0.0
+        return float(element_states(self.system, ev.q, ev.qd).total("power", springs=False))
+
+    def elastic_energy(self, ev: _Eval) -> float:
+        """The energy stored in the springs at a state (J)."""
+        if not self.system.model.elements:
+            return 0.0
+        return float(element_states(self.system, ev.q, None).total("energy", springs=True))
 
     def _speeds(self, t, y):
         s = np.empty(self.n_d)

@@ -68,7 +68,9 @@ def simulate(
     y = _initial_state(dyn, initial)
     scale = dyn.scale[dyn.free]
     tol = rtol if atol is None else atol
-    atol_v = np.concatenate((tol * scale, tol * dyn.ref_speed * scale, [np.inf]))
+    atol_v = np.concatenate(
+        (tol * scale, tol * dyn.ref_speed * scale, [np.inf] * (dyn.n_y - 2 * dyn.n_f))
+    )
     sim = Simulation(dyn, [], options=dict(method=method, rtol=rtol, atol=atol))
     evaluations0 = dyn.evaluations
     run = _Run(
@@ -152,7 +154,8 @@ def _dynamics(model: Model, initial: dict, inertia, friction, ref_speed) -> Dyna
 
 
 def _initial_state(dyn: Dynamics, initial: dict) -> np.ndarray:
-    """The state (coordinates, speeds, work) at t = 0: the start at rest, then ``initial``."""
+    """The state (coordinates, speeds, work[, dissipated work]) at t = 0: the start at rest,
+    then ``initial``."""
     nf = dyn.n_f
     psi0, psid0 = dyn.start(), np.zeros(nf)
     for name, v in initial.items():
@@ -163,7 +166,7 @@ def _initial_state(dyn: Dynamics, initial: dict) -> np.ndarray:
             )
         k = dyn.free_names.index(name)
         psi0[k], psid0[k] = v if isinstance(v, (tuple, list)) else (v, 0.0)
-    return np.concatenate((psi0, psid0, [0.0]))
+    return np.concatenate((psi0, psid0, np.zeros(dyn.n_y - 2 * nf)))
 
 
 def _mark_event(dyn: Dynamics, mark: float | None):

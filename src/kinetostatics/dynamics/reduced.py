@@ -75,7 +75,7 @@ def equivalent(
         extremes = travel_extremes(system)
     kin = kinetics(system, qb, qd, qdd, psib, lu=lu, ref_speed=abs(speed), extremes=extremes)
     tangent = qd[n:]
-    loads = (kin.q_gravity + kin.q_external)[:n]
+    loads = (kin.q_gravity + kin.q_external + kin.q_element)[:n]
     return {
         "inertia": np.einsum("...n,...n->...", tangent, mass_vector(system) * tangent),
         "effort_ratio": effort_ratio(system, q, tangent),

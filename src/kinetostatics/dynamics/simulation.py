@@ -49,9 +49,11 @@ class Simulation:
         return self.status == "stuck"
 
     def sample(self, t) -> np.ndarray:
-        """States (len(t), 2 n_f + 1) at times t (within [0, t_end])."""
+        """States (len(t), 2 n_f + 1, + 1 with dampers) at times t (within [0, t_end])."""
         t = np.atleast_1d(np.asarray(t, dtype=float))
-        out = np.empty((t.size, 2 * self.dynamics.n_f + 1))
+        first = self.segments[0]
+        width = first.y.size if first.sol is None else np.size(first.sol(first.t0))
+        out = np.empty((t.size, width))
         idx = self._pieces(t)
         for k in np.unique(idx):
             seg, sel = self.segments[k], idx == k
@@ -71,7 +73,9 @@ class Simulation:
         """Columns over time: driver coordinates, speeds, accelerations and efforts
         (applied; for a free driver also ``_linkage``, the effort passed on to the
         linkage, applied − J_x a, with an added inertia J_x), the equivalent inertia
-        (one free coordinate), energies and the drivers' work."""
+        (one free coordinate), energies (``energy.elastic``: the springs', part of
+        ``energy.total``) and the work of the drivers (and that dissipated by the dampers,
+        ``work.dampers``): ``work.drivers`` = Δ``energy.total`` + ``work.dampers``."""
         dyn = self.dynamics
         t = np.linspace(0.0, self.t_end, points) if t is None else np.asarray(t, dtype=float)
         y = self.sample(t)
@@ -111,22 +115,24 @@ class Simulation:
                 row["equivalent.inertia"] = float(ev.dtau[0, dyn.free[0]])
                 units["equivalent.inertia"] = "kg*m^2" if dyn.angular[dyn.free[0]] else "kg"
             kin, pot = dyn.energy(replace(ev, psi_d=speeds))
-            row.update(
-                {
-                    "energy.kinetic": kin,
-                    "energy.potential": pot,
-                    "energy.total": kin + pot,
-                    "work.drivers": yk[-1],
-                }
-            )
+            nf2 = 2 * dyn.n_f
+            row.update({"energy.kinetic": kin, "energy.potential": pot})
+            if dyn.system.model.elements:  # springs: their energy is part of the total
+                row["energy.elastic"] = dyn.elastic_energy(ev)
+            row["energy.total"] = kin + pot + row.get("energy.elastic", 0.0)
+            row["work.drivers"] = yk[nf2]
+            if yk.size > nf2 + 1:  # dampers: the work they dissipated since t = 0
+                row["work.dampers"] = yk[nf2 + 1]
             for k, v in row.items():
                 cols.setdefault(k, []).append(float(v))
         units.update(
             {
                 "energy.kinetic": "J",
                 "energy.potential": "J",
+                "energy.elastic": "J",
                 "energy.total": "J",
                 "work.drivers": "J",
+                "work.dampers": "J",
             }
         )
         return {k: np.array(v) for k, v in cols.items()}, {k: units[k] for k in cols}

@@ -22,6 +22,7 @@ from ..model import Model
 from .bodies import BodySections
 from .clearance import ClearanceSection
 from .drivers import DriverSections
+from .elements import ElementSections
 from .laws import LawSections
 from .loads import LoadSections
 from .parameters import ParameterSections
@@ -40,6 +41,7 @@ TOP_KEYS = (
     "loops",
     "drivers",
     "loads",
+    "elements",
     "sketch",
     "analysis",
     "flywheel",
@@ -82,6 +84,7 @@ class Builder(
     DriverSections,
     LawSections,
     LoadSections,
+    ElementSections,
     SettingSections,
     ClearanceSection,
 ):
@@ -100,6 +103,7 @@ class Builder(
             "joint": set(),
             "driver": set(),
             "load": set(),
+            "element": set(),
         }
         self.ground: str | None = None
         self.lost: set[str] = set()  # kinds whose whole section is missing or unreadable
@@ -123,6 +127,7 @@ class Builder(
         joints = self._joints(links, points)
         drivers = self._drivers(links, joints, points)
         loads_ = self._loads(links, joints, points, drivers)
+        elements = self._elements(links, joints, points)
         sketch = self._sketch(links, joints)
         analysis = self._analysis(joints, drivers, links)
         loops = self._loops(joints)
@@ -147,6 +152,7 @@ class Builder(
             sketch_where=self.sketch_where,
             clearances=tuple(clearances),
             output=output,
+            elements=tuple(elements),
         )
 
     def _output(self, links, joints, drivers) -> str | None:

@@ -23,7 +23,7 @@ from ..base.keys import ANY, NAME, NUMBER, TEXT, VECTOR, list_of, names, shape_s
 from ..base.spec import NAME as NAME_RE
 from ..base.spec import RESERVED
 from ..joints import JOINT_TYPES
-from . import bodies, clearance, drivers, loads, settings
+from . import bodies, clearance, drivers, elements, loads, settings
 from .builder import TOP_KEYS
 
 __all__ = ["schema", "schema_text", "SCHEMA_FILE"]
@@ -59,6 +59,23 @@ def _joint() -> dict[str, Any]:
     }
 
 
+def _element() -> dict[str, Any]:
+    """An element: ``type`` one of the element types, then that type's keys."""
+    kinds = list(elements.ELEMENT_KEYS)
+    return {
+        "type": "object",
+        "required": ["type"],
+        "properties": {"type": {"enum": kinds}},
+        "allOf": [
+            {
+                "if": {"properties": {"type": {"const": kind}}, "required": ["type"]},
+                "then": shape_schema(elements.ELEMENT_KEYS[kind]),
+            }
+            for kind in kinds
+        ],
+    }
+
+
 def _sections() -> dict[str, Any]:
     """The shape of each top-level key (``TOP_KEYS``)."""
     return {
@@ -76,6 +93,8 @@ def _sections() -> dict[str, Any]:
         "loops": list_of(names(minimum=2)),
         "drivers": _named(shape_schema(drivers.DRIVER_KEYS)),
         "loads": _named(shape_schema(loads.LOAD_KEYS)),
+        "elements": _named(_element()),
+        "output": NAME,
         "sketch": {"type": "object", "additionalProperties": VECTOR},
         "analysis": shape_schema(settings.ANALYSIS_KEYS),
         "flywheel": shape_schema(settings.FLYWHEEL_KEYS),

@@ -29,7 +29,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["CamLaw", "Segment", "CURVES", "read_law"]
+from ..base.keys import NUMBER, Keys, enum, list_of, one_of
+
+__all__ = ["CamLaw", "Segment", "CURVES", "LAW_SHAPE", "read_law"]
 
 TWO_PI = 2.0 * math.pi
 PI = math.pi
@@ -59,6 +61,16 @@ CURVES = {
     "polynomial7": _poly([0, 0, 0, 0, 35, -84, 70, -20]),
 }
 KINDS = ("rise", "dwell", "return")
+
+
+def _moving(kind: str) -> Keys:
+    return Keys({kind: NUMBER, "over": NUMBER, "law": enum(CURVES)}, (kind, "over"))
+
+
+LAW_SHAPE = one_of(  # ``motion:`` of a cam joint, for the JSON Schema
+    list_of(one_of(_moving("rise"), Keys({"dwell": NUMBER}, ("dwell",)), _moving("return"))),
+    Keys({"angle": list_of(NUMBER), "lift": list_of(NUMBER)}, ("angle", "lift")),
+)
 
 
 @dataclass(frozen=True)

@@ -57,7 +57,8 @@ from typing import Any, ClassVar
 import numpy as np
 
 from ..base.geometry import dot, perp, rotate
-from ._camlaw import read_law
+from ..base.keys import NAME, NUMBER, VECTOR, Keys, enum, names
+from ._camlaw import LAW_SHAPE, read_law
 from ._camprofile import Synthesis
 from .base import Anchor, Circle, Curve, Glyph, Joint, Line
 
@@ -65,6 +66,11 @@ __all__ = ["Cam"]
 
 FOLLOWERS = ("knife", "roller", "flat")
 SENSES = {"ccw": 1, "cw": -1}
+_SENSE = enum(SENSES)
+_TRANSLATING = Keys({"direction": VECTOR, "offset": NUMBER}, required=("direction",))
+_OSCILLATING = Keys(
+    {"pivot": VECTOR, "arm": NUMBER, "offset": NUMBER, "rise": _SENSE}, required=("pivot",)
+)
 
 
 def _outer(a, b):
@@ -81,6 +87,24 @@ class Cam(Joint, kind="cam"):
     reaction_labels: ClassVar[tuple[str, ...]] = ("F", "Fx", "Fy")
     angular: ClassVar[bool] = False  # the coordinate is a sliding distance
     letter: ClassVar[str] = "C"
+    spec_keys: ClassVar[Keys] = Keys(
+        {
+            "type": NAME,
+            "links": names(2),
+            "centre": NAME,
+            "point": NAME,
+            "follower": enum(FOLLOWERS),
+            "base_radius": NUMBER,
+            "motion": LAW_SHAPE,
+            "radius": NUMBER,
+            "face_normal": VECTOR,
+            "rotation": _SENSE,
+            "translating": _TRANSLATING,
+            "oscillating": _OSCILLATING,
+            "friction": Keys({"coefficient": NUMBER}, required=("coefficient",)),
+        },
+        required=("type", "links", "centre", "point", "follower", "base_radius", "motion"),
+    )
 
     o: np.ndarray = None
     p: np.ndarray = None
@@ -93,17 +117,7 @@ class Cam(Joint, kind="cam"):
     # -- YAML -----------------------------------------------------------------
     @classmethod
     def from_spec(cls, name, entry, links, points):
-        entry.check_keys(
-            required=("type", "links", "centre", "point", "follower", "base_radius", "motion"),
-            optional=(
-                "radius",
-                "face_normal",
-                "rotation",
-                "translating",
-                "oscillating",
-                "friction",
-            ),
-        )
+        entry.check(cls.spec_keys)
         cname = entry.require("centre").names(1)[0]
         pname = entry.require("point").names(1)[0]
         o = entry.point(links[0], cname, points, key="centre")
@@ -156,7 +170,7 @@ class Cam(Joint, kind="cam"):
             entry.error("give the follower's placement: translating or oscillating")
             return None
         if tr is not None:
-            if not tr.check_keys(required=("direction",), optional=("offset",)):
+            if not tr.check(_TRANSLATING):
                 return None
             d = tr["direction"].vector(None)
             u = None if d is None else tr["direction"].unit(d)

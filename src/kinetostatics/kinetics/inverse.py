@@ -16,6 +16,7 @@ from ..errors import Location, SingularEquilibriumWarning, StructureError
 from ..structure.system import System, coordinate_gradient
 from . import friction as fr
 from .conditions import travel_extremes
+from .elements import ElementStates, element_states
 from .forces import external_forces, gravity_forces, inertia_forces, mass_vector
 from .reactions import (
     EFFORT_SPEED_TOL,
@@ -44,6 +45,7 @@ class Kinetics:
     singular: np.ndarray | None = None  # (...) A singular there: x0 NaN, friction.status 2
     condition: np.ndarray | None = None  # (...) scaled condition number of a square A
     lu: BlockFactor | None = None  # the kinematic factors where A = Φ_qᵀ
+    elements: ElementStates | None = None  # springs and dampers (None: the model has none)
 
     @property
     def a(self) -> np.ndarray:
@@ -51,8 +53,13 @@ class Kinetics:
         return self.a_given if self.a_given is not None else np.swapaxes(self.lu.jac, -1, -2)
 
     @property
+    def q_element(self) -> np.ndarray:
+        """Generalized force of the springs and dampers (zeros without elements)."""
+        return 0.0 * self.q_gravity if self.elements is None else self.elements.q
+
+    @property
     def q_load(self) -> np.ndarray:
-        return self.q_gravity + self.q_inertia + self.q_external
+        return self.q_gravity + self.q_inertia + self.q_external + self.q_element
 
 
 def kinetics(
@@ -83,6 +90,9 @@ def kinetics(
     q_inert = inertia_forces(system, qdd)
     q_ext = external_forces(system, q, qd, psi[..., 0], extremes, ref_speed)
     q_load = q_grav + q_inert + q_ext
+    elements = element_states(system, q, qd) if model.elements else None
+    if elements is not None:
+        q_load = q_load + elements.q
     own_efforts = all(d.driver.balance_at is None for d in system.motion_drivers)
     singular, condition, a_inv = np.zeros(q.shape[:-1], dtype=bool), None, None
     if lu is not None and own_efforts:
@@ -132,7 +142,14 @@ def kinetics(
         "potential": -np.einsum("...n,...n->...", qd, q_grav),
         "external": -np.einsum("...n,...n->...", qd, q_ext),
     }
-    power["residual"] = power["input"] - power["kinetic"] - power["potential"] - power["external"]
+    stored = 0.0
+    if elements is not None:  # the rate of the springs' energy; the dampers' dissipation
+        power["elastic"] = elements.total("power", springs=True)
+        power["damping"] = elements.total("power", springs=False)
+        stored = power["elastic"] + power["damping"]
+    power["residual"] = (
+        power["input"] - power["kinetic"] - power["potential"] - power["external"] - stored
+    )
     if fric is not None:
         cons = fric["solution"]
         loss = np.sum(np.abs(cons.e * fric["setup"].speed), axis=-1)
@@ -143,10 +160,11 @@ def kinetics(
             - power["kinetic"]
             - power["potential"]
             - power["external"]
+            - stored
             - loss
         )
     return Kinetics(
-        q_grav, q_inert, q_ext, a, x0, indeterminate, fric, power, singular, condition, lu
+        q_grav, q_inert, q_ext, a, x0, indeterminate, fric, power, singular, condition, lu, elements
     )
 
 

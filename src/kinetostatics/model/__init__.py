@@ -23,6 +23,8 @@ __all__ = [
     "Driver",
     "Condition",
     "Load",
+    "Element",
+    "ELEMENT_KINDS",
     "Analysis",
     "FlywheelSpec",
     "Clearance",
@@ -173,6 +175,45 @@ class Load:
         return out.reshape(np.shape(psi) + vals.shape[1:])
 
 
+ELEMENT_KINDS = ("spring", "damper", "torsion_spring", "rotary_damper")
+"""The kinds of force element: translational between two points, rotational at a revolute."""
+
+
+@dataclass(frozen=True)
+class Element:
+    """A force element between two links (``elements:``; the maths in
+    :mod:`kinetostatics.kinetics.elements`).
+
+    ``kind``: ``spring`` or ``damper`` between point ``points[0]`` of ``links[0]`` and
+    ``points[1]`` of ``links[1]`` (its coordinate s the distance, m); ``torsion_spring`` or
+    ``rotary_damper`` at revolute ``joint`` (links i, j of the joint; s = θ_j − θ_i, the
+    rotation of link j's local x axis relative to link i's, rad, unwrapped).  Its force f
+    (N; N·m) acts to reduce s when positive (a spring in tension): a spring's is
+    ``preload`` + ``stiffness``·(s − ``free``), or the ``table`` (s values, f values)
+    interpolated linearly and held constant outside; a damper's is ``damping``·ṡ.
+    """
+
+    name: str
+    kind: str
+    links: tuple[str, str]
+    points: tuple[str | None, str | None] = (None, None)
+    joint: str | None = None
+    stiffness: float = 0.0  # N/m or N·m/rad
+    free: float = 0.0  # free length (m) or free angle (rad)
+    preload: float = 0.0  # N or N·m at s = free
+    damping: float = 0.0  # N·s/m or N·m·s/rad
+    table: tuple[np.ndarray, np.ndarray] | None = None  # (s values, forces)
+    where: Location = field(default=Location(), compare=False, repr=False)
+
+    @property
+    def rotational(self) -> bool:
+        return self.kind in ("torsion_spring", "rotary_damper")
+
+    @property
+    def spring(self) -> bool:
+        return self.kind in ("spring", "torsion_spring")
+
+
 @dataclass(frozen=True)
 class Analysis:
     """Positions: start + k·sweep·sign(speed)/positions for k = 0…positions−1, plus ``at``."""
@@ -241,11 +282,14 @@ class Model:
     ideal: Model | None = field(default=None, compare=False, repr=False)  # before expansion
     output: str | None = None  # the machine's output member (a link or a joint): ``output:``
     sketch_where: Mapping[str, Location] = field(default_factory=dict, compare=False, repr=False)
+    elements: tuple[Element, ...] = ()  # springs and dampers (kinetics/elements.py)
+    # the system compiled from this model, cached by structure.system_of with the model's
+    # pickle as its key (so a copy made with ``replace`` or ``Model(**vars(m))`` that carries
+    # it along reuses it only if it describes the same mechanism); not pickled
+    _compiled: tuple | None = field(default=None, compare=False, repr=False)
 
-    def __getstate__(self):  # the compiled system cached by structure.system_of stays behind
-        state = dict(self.__dict__)
-        state.pop("_compiled", None)
-        return state
+    def __getstate__(self):
+        return {**self.__dict__, "_compiled": None}
 
     @property
     def ground(self) -> Link:

@@ -123,7 +123,7 @@ def system_of(model: Model) -> System:
         key = pickle.dumps(model, protocol=pickle.HIGHEST_PROTOCOL)
     except Exception:  # a model holding something unpicklable: no cache
         return build_system(model)
-    hit = model.__dict__.get("_compiled")
+    hit = model._compiled
     if hit is not None and hit[0] == key:
         return hit[1]
     system = build_system(model)

@@ -11,6 +11,7 @@ import numpy as np
 from ...base.geometry import perp
 from ...kinetics.forces import activity, point_state, resisting_torque, resisting_torque_other
 from ..lang import tr
+from .elements import draw_elements
 from .rows import _angular, _driver, _position_title, link_numbers, row_at
 from .scene import MechanismGeometry, _joint_point, _Scene, _to_global, scene_guides
 from .style import (
@@ -185,6 +186,8 @@ def _draw_moving(
     """Links, blocks, pins, labels and (optionally) forces at one position."""
     k = paper.k
     arts = _draw_links(ax, scene, geo)
+    if scene.model.elements:
+        arts += draw_elements(ax, scene.model, geo, 0.025 * float(np.max(scene.system.l_ref)))
     arts += _draw_pins(ax, scene, geo, k)
     if labels:
         arts += _draw_labels(ax, scene, geo, k)

@@ -65,6 +65,7 @@ CURVE_COLORS = (
     "#4b5563",
 )
 EVENT_COLOR = "#c0392b"
+ELEMENT_COLOR = "#7f8c8d"  # springs and dampers
 MM = 1.0 / 25.4  # inches per mm
 ROUND_OFF = 1e-9  # a value ≤ this times its scale is round-off: drawn and printed as 0
 DPI = 110
