@@ -161,3 +161,14 @@ def test_missing_ezdxf(tmp_path, capsys, monkeypatch):
     assert main(["export", "mechanisms/slider_crank.yaml", "--out", str(out)]) == 2
     assert "pip install 'kinetostatics[dxf]'" in capsys.readouterr().err
     assert not out.exists()
+
+
+@pytest.mark.parametrize("name", ["cam_roller", "cam_flat_oscillating"])
+def test_a_cam_profile_is_a_closed_polyline_through_the_contact(tmp_path, name):
+    """Every pair draws through the contract: a cam's profile (and pitch curve) leave as
+    closed polylines on the WHEELS layer (they were a TypeError)."""
+    path = f"mechanisms/{name}.yaml"
+    doc = _export(tmp_path, path, "--at", "30")
+    curves = [e for e in doc.modelspace().query("LWPOLYLINE[layer=='WHEELS']") if e.closed]
+    assert curves, "no closed profile curve"
+    assert all(len(e) > 50 for e in curves)

@@ -99,6 +99,10 @@ def export_dxf(result, row: int, path: str | Path, *, forces: bool = False, fric
     for kind, name, _link, p, q in geo.wheels:
         if kind == "circle":
             e = msp.add_circle(xy(p), float(q) * s, dxfattribs={"layer": "WHEELS"})
+        elif kind == "curve":  # a cam's profile or pitch curve: points, closed
+            e = msp.add_lwpolyline(
+                [xy(r) for r in np.asarray(p, float)], close=bool(q), dxfattribs={"layer": "WHEELS"}
+            )
         else:
             e = msp.add_line(xy(p), xy(q), dxfattribs={"layer": "WHEELS"})
         _tag(e, "pitch", name)
