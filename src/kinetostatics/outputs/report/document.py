@@ -64,7 +64,8 @@ def write_report(
     any of ``md`` (``report.md``, images in ``img/``), ``html`` (``report.html``, images
     embedded) and ``pdf`` (``report.pdf``, A4, needs fpdf2: ``pip install
     'kinetostatics[pdf]'``).  ``lang``: ``en`` or ``zh`` (Chinese headings and labels;
-    needs a font with Chinese glyphs).  Returns the paths written (``markdown``,
+    needs a font with Chinese glyphs: ``KINETOSTATICS_CJK_FONT``, a system font, or ``pip
+    install 'kinetostatics[zh]'``).  Returns the paths written (``markdown``,
     ``html``, ``pdf`` as asked, ``csv``, ``summary``).
     """
     formats = list(dict.fromkeys(formats))
