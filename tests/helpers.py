@@ -25,3 +25,17 @@ def variant(name: str, **replacements: str) -> ks.Model:
 def rel_err(x, ref) -> float:
     """max|x − ref| / max|ref| (docs/conventions.md, Accuracy)."""
     return float(np.max(np.abs(np.asarray(x) - ref)) / np.max(np.abs(ref)))
+
+
+def motion_driven() -> list[str]:
+    """The shipped mechanisms (file stems) whose drivers all prescribe a motion — the ones
+    `run`, `report` and `plot` analyse; an effort-driven file (a driver with ``effort:``)
+    is simulated instead."""
+    import yaml
+
+    out = []
+    for path in sorted((ROOT / "mechanisms").glob("*.yaml")):
+        drivers = (yaml.safe_load(path.read_text(encoding="utf-8")) or {}).get("drivers") or {}
+        if not any("effort" in (d or {}) for d in drivers.values()):
+            out.append(path.stem)
+    return out

@@ -176,7 +176,8 @@ def _lang_option(p) -> None:
         "--lang",
         choices=("en", "zh"),
         default="en",
-        help="language of the headings and labels: en or zh (Chinese; needs a CJK font)",
+        help="language of the headings and labels: en or zh (Chinese; needs a CJK font: "
+        "KINETOSTATICS_CJK_FONT, a system font, or pip install 'kinetostatics[zh]')",
     )
 
 

@@ -206,6 +206,38 @@ def _swing(phi: np.ndarray, f: np.ndarray) -> tuple[np.ndarray, float, float, fl
     return big_f, cand_f[kmax], cand_x[kmax], cand_f[kmin], cand_x[kmin]
 
 
+# The assumptions of a design: sentence templates (the report translates them, then fills
+# in the same numbers), the torque phrase by whether friction is counted.
+ASSUMPTIONS = (
+    "driving moment constant, equal to the cycle mean of {torque} (M_d = work per cycle / 2π, "
+    "integrated exactly between the load events: analysis/cycle.py)",
+    "balancing moment at the constant nominal crank speed ω_m = {omega_m:.6g} rad/s "
+    "(link inertia torques at that speed included)",
+    "ΔW_max integrated piecewise between the load events (trapezoid rule on "
+    "{positions} positions plus both sides of each event)",
+    "energy method, first order in δ: ω_m = (ω_max + ω_min)/2 and the speed "
+    "variation taken by the flywheel alone (inertia) or by the flywheel plus the "
+    "machine's cycle-mean equivalent inertia (inertia_net)",
+    "flywheel on the crank shaft; on the motor shaft J/ratio² (gear inertia neglected)",
+)
+TORQUE_PHRASE = {
+    False: "the frictionless balancing moment",
+    True: "the balancing moment with friction (consistent solution)",
+}
+
+
+def assumption_texts(
+    friction: bool, omega_m: float, positions: int, translate=lambda text: text
+) -> tuple[str, ...]:
+    """The assumptions of a design as sentences; ``translate(text)`` turns each template
+    (and the torque phrase) into another language before the numbers are filled in."""
+    torque = translate(TORQUE_PHRASE[bool(friction)])
+    return tuple(
+        translate(t).format(torque=torque, omega_m=omega_m, positions=positions)
+        for t in ASSUMPTIONS
+    )
+
+
 def design(
     source: Result | Model | System,
     delta: float | None = None,
@@ -268,23 +300,7 @@ def design(
         / (2 * np.pi)
     )
     start = system.model.analysis.start
-    torque = (
-        "the balancing moment with friction (consistent solution)"
-        if friction
-        else "the frictionless balancing moment"
-    )
-    assumptions = (
-        f"driving moment constant, equal to the cycle mean of {torque} (M_d = work per cycle / 2π, "
-        "integrated exactly between the load events: analysis/cycle.py)",
-        f"balancing moment at the constant nominal crank speed ω_m = {w:.6g} rad/s "
-        "(link inertia torques at that speed included)",
-        "ΔW_max integrated piecewise between the load events (trapezoid rule on "
-        f"{positions} positions plus both sides of each event)",
-        "energy method, first order in δ: ω_m = (ω_max + ω_min)/2 and the speed "
-        "variation taken by the flywheel alone (inertia) or by the flywheel plus the "
-        "machine's cycle-mean equivalent inertia (inertia_net)",
-        "flywheel on the crank shaft; on the motor shaft J/ratio² (gear inertia neglected)",
-    )
+    assumptions = assumption_texts(friction, w, positions)
     return FlywheelDesign(
         delta=float(delta),
         driver=drv.name,

@@ -288,8 +288,10 @@ class Joint(ABC):
         """The name a picture writes next to ``glyph().point``."""
         return self.name
 
-    def describe(self) -> dict[str, str]:
-        """Text of the report's joint table: ``{"where": …, "friction": …}``."""
+    def describe(self, tr=None) -> dict[str, str]:
+        """Text of the report's joint table: ``{"where": …, "friction": …}``.  ``tr(template,
+        **values)``, when given, translates each English template before its values are
+        filled in (the report's language); without it the text is English."""
         return {"where": "", "friction": ""}
 
     def columns(

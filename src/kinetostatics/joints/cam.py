@@ -504,17 +504,30 @@ class Cam(Joint, kind="cam"):
     def label(self):
         return self.name
 
-    def describe(self):
+    def describe(self, tr=None):
+        tr = tr or (lambda text, **values: text.format(**values))
         s = self.synthesis
         i, j = self.links
-        kind = {"knife": "knife-edge", "roller": f"roller r = {s.radius * 1e3:.4g} mm"}
-        motion = "oscillating" if s.pivot is not None else "translating"
-        where = (
-            f"cam {i} (centre {self.names[0]}, base radius {s.base * 1e3:.4g} mm, "
-            f"turning {'ccw' if s.sigma > 0 else 'cw'}), {motion} "
-            f"{kind.get(s.follower, 'flat-faced')} follower {j} at {self.names[1]}"
+        follower = {
+            "knife": tr("knife-edge"),
+            "roller": tr("roller r = {r} mm", r=f"{s.radius * 1e3:.4g}"),
+        }.get(s.follower, tr("flat-faced"))
+        where = tr(
+            "cam {i} (centre {c}, base radius {rb} mm, turning {sense}), {motion} {follower} "
+            "follower {j} at {p}",
+            i=i,
+            c=self.names[0],
+            rb=f"{s.base * 1e3:.4g}",
+            sense="ccw" if s.sigma > 0 else "cw",
+            motion=tr("oscillating" if s.pivot is not None else "translating"),
+            follower=follower,
+            j=j,
+            p=self.names[1],
         )
-        return {"where": where, "friction": f"f = {self.f:.4g}" if self.f else "none"}
+        return {
+            "where": where,
+            "friction": tr("f = {f}", f=f"{self.f:.4g}") if self.f else tr("none"),
+        }
 
     def columns(self, qi, qj, lam=None):
         s = self.synthesis

@@ -208,11 +208,11 @@ class Prismatic(Joint, kind="prismatic"):
     def label(self):
         return self.point_name
 
-    def describe(self):
+    def describe(self, tr=None):
+        tr = tr or (lambda text, **values: text.format(**values))
         i, j = self.links
-        where = (
-            f"axis {'–'.join(n for n in self.axis_names if n)} of {i}, point "
-            f"{self.point_name} of {j}"
-            + (f", contact length {self.length * 1e3:.4g} mm" if self.length else "")
-        )
-        return {"where": where, "friction": f"f = {self.f:.4g}" if self.f else "none"}
+        axis = "–".join(n for n in self.axis_names if n)
+        where = tr("axis {axis} of {i}, point {p} of {j}", axis=axis, i=i, p=self.point_name, j=j)
+        if self.length:
+            where += tr(", contact length {l} mm", l=f"{self.length * 1e3:.4g}")
+        return {"where": where, "friction": f"f = {self.f:.4g}" if self.f else tr("none")}

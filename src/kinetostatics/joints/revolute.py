@@ -147,9 +147,13 @@ class Revolute(Joint, kind="revolute"):
     def glyph(self, qi, qj):
         return Glyph(point=qj[..., :2] + rotate(qj[..., 2], self.p_j))
 
-    def describe(self):
+    def describe(self, tr=None):
+        tr = tr or (lambda text, **values: text.format(**values))
         i, j = self.links
+        a, b = self.point_names
         return {
-            "where": f"{self.point_names[0]} on {i}, {self.point_names[1]} on {j}",
-            "friction": f"friction circle ρ = {self.rho * 1e3:.4g} mm" if self.rho else "none",
+            "where": tr("{a} on {i}, {b} on {j}", a=a, i=i, b=b, j=j),
+            "friction": tr("friction circle ρ = {rho} mm", rho=f"{self.rho * 1e3:.4g}")
+            if self.rho
+            else tr("none"),
         }

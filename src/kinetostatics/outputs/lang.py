@@ -3,9 +3,10 @@
 (``--lang zh``).  Every translated text is in :data:`ZH`, keyed by its English text;
 :func:`tr` looks one up (a text without an entry stays English, and is recorded in
 :data:`MISSING` so that a test can list it).  Chinese glyphs need a CJK font:
-:func:`cjk_font` finds one through matplotlib's font manager (or the file named by the
-environment variable ``KINETOSTATICS_CJK_FONT``) and raises a clear error when the
-system has none.
+:func:`cjk_font` takes the file named by the environment variable
+``KINETOSTATICS_CJK_FONT``, else a system font found through matplotlib's font manager,
+else a font of the optional package ``mplfonts`` (``pip install 'kinetostatics[zh]'``),
+and raises a clear error naming both when there is none.
 """
 
 from __future__ import annotations
@@ -42,8 +43,12 @@ def tr(text: str, lang: str = "en", **values) -> str:
 
 
 # -- fonts -------------------------------------------------------------------------------
-# Families known to hold the CJK unified ideographs, most common first (Linux, Windows,
-# macOS); any other installed font whose name says CJK/SC/CN also serves.
+# Where a font with Chinese glyphs is looked for, in this order: the file named by the
+# environment variable KINETOSTATICS_CJK_FONT; the fonts installed on the system (through
+# matplotlib's font manager; the families below first, most common first: Linux, Windows,
+# macOS; then any other whose name says CJK/SC/CN); the fonts shipped by the optional
+# package ``mplfonts`` (``pip install 'kinetostatics[zh]'``), located without importing it
+# (its ``init`` would rewrite matplotlib's configuration).
 _CJK_FAMILIES = (
     "Noto Sans CJK SC",
     "Noto Sans SC",
@@ -64,12 +69,22 @@ _CJK_FAMILIES = (
     "STHeiti",
     "Arial Unicode MS",
 )
+# mplfonts' files, TrueType first: fpdf2 embeds a TrueType (glyf) font with a text map
+# that PDF readers extract; a CFF .otf comes out with a NUL before every character.
+_MPLFONTS_FILES = (
+    "SimHei.ttf",
+    "NotoSansCJKsc-Regular.otf",
+    "SourceHanSerifSC-Regular.otf",
+    "NotoSerifCJKsc-Regular.otf",
+)
+_ENV = "KINETOSTATICS_CJK_FONT"
 _HINT = (
-    "no font with Chinese glyphs found for --lang zh. Install one, e.g. "
-    "'apt-get install fonts-noto-cjk' or 'apt-get install fonts-wqy-microhei' (Debian, "
-    "Ubuntu), 'dnf install google-noto-sans-cjk-fonts' (Fedora); or name a .ttf/.otf/.ttc "
-    "file with the environment variable KINETOSTATICS_CJK_FONT. (matplotlib may cache the "
-    "font list: after installing, delete ~/.cache/matplotlib if the font is still not found.)"
+    "no font with Chinese glyphs found for --lang zh. Install one: "
+    "pip install 'kinetostatics[zh]' (the fonts of the package mplfonts), or a system font "
+    "('apt-get install fonts-noto-cjk' on Debian/Ubuntu, 'dnf install "
+    "google-noto-sans-cjk-fonts' on Fedora); or name a .ttf/.otf/.ttc file with the "
+    "environment variable KINETOSTATICS_CJK_FONT. (matplotlib may cache the font list: after "
+    "installing a system font, delete ~/.cache/matplotlib if it is still not found.)"
 )
 
 
@@ -85,27 +100,10 @@ def _has_han(path: str) -> bool:
         return False
 
 
-_FOUND: dict[str, tuple[str, str]] = {}
-
-
-def cjk_font() -> tuple[str, str]:
-    """``(family, path)`` of a font with Chinese glyphs, registered with matplotlib.
-
-    Raises :class:`LanguageError` (saying what to install) when there is none."""
+def _system_font() -> str | None:
+    """The file of an installed font with Chinese glyphs that matplotlib knows, or None."""
     from matplotlib import font_manager as fm
 
-    env = os.environ.get("KINETOSTATICS_CJK_FONT")
-    if "font" in _FOUND and (not env or _FOUND["font"][1] == env):
-        return _FOUND["font"]
-    if env:
-        if not Path(env).is_file() or not _has_han(env):
-            raise LanguageError(
-                f"KINETOSTATICS_CJK_FONT={env}: not a font file with Chinese glyphs"
-            )
-        fm.fontManager.addfont(env)
-        family = fm.FontProperties(fname=env).get_name()
-        _FOUND["font"] = (family, env)
-        return _FOUND["font"]
     entries = {f.name: f.fname for f in fm.fontManager.ttflist}
     names = [n for n in _CJK_FAMILIES if n in entries]
     names += sorted(
@@ -113,11 +111,54 @@ def cjk_font() -> tuple[str, str]:
         for n in entries
         if n not in names and any(w in n for w in ("CJK", " SC", " CN", "Hei", "Song", "Kai"))
     )
-    for name in names:
-        if _has_han(entries[name]):
-            _FOUND["font"] = (name, entries[name])
-            return _FOUND["font"]
-    raise LanguageError(_HINT)
+    return next((entries[n] for n in names if _has_han(entries[n])), None)
+
+
+def _mplfonts_font() -> str | None:
+    """A font file shipped by the package ``mplfonts`` (the ``zh`` extra), or None.  The
+    package is found, not imported."""
+    import importlib.util
+
+    try:
+        spec = importlib.util.find_spec("mplfonts")
+    except (ImportError, ValueError):
+        return None
+    if spec is None or not spec.submodule_search_locations:
+        return None
+    for folder in spec.submodule_search_locations:
+        for name in _MPLFONTS_FILES:
+            path = Path(folder) / "fonts" / name
+            if path.is_file() and _has_han(str(path)):
+                return str(path)
+    return None
+
+
+_FOUND: dict[str | None, tuple[str, str]] = {}  # by the value of KINETOSTATICS_CJK_FONT
+
+
+def cjk_font() -> tuple[str, str]:
+    """``(family, path)`` of a font with Chinese glyphs, registered with matplotlib's font
+    manager: KINETOSTATICS_CJK_FONT, else a system font, else one of ``mplfonts``.
+
+    Raises :class:`LanguageError` (saying what to install) when there is none."""
+    from matplotlib import font_manager as fm
+
+    env = os.environ.get(_ENV) or None
+    if env in _FOUND:
+        return _FOUND[env]
+    if env:
+        if not Path(env).is_file() or not _has_han(env):
+            raise LanguageError(f"{_ENV}={env}: not a font file with Chinese glyphs")
+        path = env
+    else:
+        path = _system_font() or _mplfonts_font()
+        if path is None:
+            raise LanguageError(_HINT)
+    if path not in {f.fname for f in fm.fontManager.ttflist}:
+        fm.fontManager.addfont(path)
+    family = fm.FontProperties(fname=path).get_name()
+    _FOUND[env] = (family, path)
+    return _FOUND[env]
 
 
 def rc_fonts(lang: str) -> dict:
@@ -275,6 +316,14 @@ ZH.update(
         "output {name}: swing {swing}° of {link}, time ratio K = {k}; limit positions at φ = {a}° "
         "({link} at {ta}°) and {b}° ({link} at {tb}°)": "输出 {name}：{link} 摆角 {swing}°，行程速比系数 K = {k}；极限位置 φ = {a}°（{link} 位于 {ta}°）与 {b}°（{link} 位于 {tb}°）",
         " (over the cycle, integrated between the load events)": "（全周期平均，在载荷切换点之间积分）",
+        "knife-edge": "尖顶",
+        "flat-faced": "平底",
+        "roller r = {r} mm": "滚子 r = {r} mm",
+        "cam {i} (centre {c}, base radius {rb} mm, turning {sense}), {motion} {follower} "
+        "follower {j} at {p}": "凸轮 {i}（转动中心 {c}，基圆半径 {rb} mm，{sense} 转向），{motion}{follower}从动件 {j} 于 {p}",
+        "oscillating": "摆动",
+        "translating": "直动",
+        "f = {f}": "f = {f}",
         "parameter": "参数",
         "path of {ref}": "{ref} 的轨迹",
         "peak |F| with friction (N)": "计摩擦峰值 |F|（N）",
@@ -325,7 +374,119 @@ ZH.update(
 )
 
 
-def tr_soft(text: str, lang: str = "en") -> str:
-    """``text`` in ``lang`` where a translation exists, else as it is (not recorded as
-    missing: generated texts such as the flywheel's assumptions carry numbers)."""
-    return ZH.get(text, text) if lang == "zh" else text
+# the pictures: curves, polar diagrams, polygons; the flywheel's assumptions
+ZH.update(
+    {
+        "time, s ({name}: {law} law)": "时间，s（{name}：{law}运动规律）",
+        "harmonic": "简谐",
+        "polynomial": "多项式",
+        "table": "表格",
+        "{name} rotation from {start}° ({sense}), deg": "{name} 自 {start}° 起的转角（{sense}），°",
+        "{name} travel, mm": "{name} 的位移，mm",
+        "relative angle of {name}": "{name} 的相对转角",
+        "relative angle": "相对转角",
+        "relative angular velocity": "相对角速度",
+        "relative angular acceleration": "相对角加速度",
+        "relative travel of {name}": "{name} 的相对位移",
+        "relative travel": "相对位移",
+        "relative velocity": "相对速度",
+        "relative acceleration": "相对加速度",
+        "s of {point} along {joint}": "{point} 沿 {joint} 的位移 s",
+        "s": "位移 s",
+        "v = ds/dt": "速度 v = ds/dt",
+        "a = d²s/dt²": "加速度 a = d²s/dt²",
+        "θ of {name}": "{name} 的转角 θ",
+        "ω of {name}": "{name} 的角速度 ω",
+        "α of {name}": "{name} 的角加速度 α",
+        "θ": "转角 θ",
+        "ω": "角速度 ω",
+        "α": "角加速度 α",
+        "position of {name}": "{name} 的位置",
+        "velocity of {name}": "{name} 的速度",
+        "acceleration of {name}": "{name} 的加速度",
+        "position": "位置",
+        "velocity": "速度",
+        "acceleration": "加速度",
+        "x component": "x 分量",
+        "y component": "y 分量",
+        "course positions": "设计位置",
+        "course positions (turns 1 to {n})": "设计位置（第 1 至 {n} 转）",
+        "load switches ({loads})": "载荷切换（{loads}）",
+        "{loads} acting": "{loads} 作用区间",
+        "output slider": "输出滑块",
+        "link {name}": "构件 {name} ",
+        "point {name}": "点 {name} ",
+        "joint {name}": "运动副 {name} ",
+        "{model}: motion diagram of the {what}": "{model}：{what}的运动线图",
+        " ({label})": "（{label}）",
+        "reaction magnitude |F|, N": "运动副反力大小 |F|，N",
+        "{model}: joint reactions": "{model}：运动副反力",
+        "without friction": "不计摩擦",
+        "with friction, approximate (from frictionless reactions)": "计摩擦，近似解（由不计摩擦的反力求得）",
+        "with friction, consistent": "计摩擦，一致解",
+        "{label} (cycle mean {mean} {unit})": "{label}（周期平均 {mean} {unit}）",
+        "self-locking": "自锁",
+        "M, {unit} (counter-clockwise +)": "M，{unit}（逆时针为正）",
+        "{model}: driving torque of {driver}": "{model}：{driver} 的驱动力矩",
+        "{model}: driving force of {driver}": "{model}：{driver} 的驱动力",
+        "η = P / P_friction where the drive delivers power (gaps: undefined)": "η = P / P_friction（仅在原动件输入功率处定义，空缺处无定义）",
+        "cycle efficiency (mean M / mean M_friction) = {eta}": "周期效率（M 的平均值 / M_friction 的平均值）= {eta}",
+        "efficiency η, 1": "效率 η，1",
+        "{model}: efficiency of the drive {driver}": "{model}：原动件 {driver} 的效率",
+        "no values:\nself-locking at\nevery position": "无数值：\n各位置\n均自锁",
+        "{joint}: no consistent friction solution": "{joint}：无计摩擦一致解",
+        "{i} on {j}": "{i} 作用于 {j}",
+        "in the frame of {link}; max {peak} N": "{link} 坐标系；最大值 {peak} N",
+        "F along {link} x, N": "F 沿 {link} 的 x 轴，N",
+        "F along {link} y, N": "F 沿 {link} 的 y 轴，N",
+        "{model}: polar diagrams of the joint loads": "{model}：运动副反力极坐标图",
+        " — numbers: course positions": "——数字为设计位置",
+        "pole {p}: points at rest": "极点 {p}：静止的点",
+        " ({names})": "（{names}）",
+        "{link} at {point}": "{link} 上与 {point} 重合的点",
+        "pivot": "固定铰链",
+        "⊥ {r}": "⊥ {r}",
+        "∥ axis of {j}": "∥ {j} 的导路",
+        "⊥ axis of {j}": "⊥ {j} 的导路",
+        "∥ {r}, towards {b}": "∥ {r}，指向 {b}",
+        "revolute": "转动副",
+        "prismatic": "移动副",
+        "gear": "齿轮副",
+        "rack": "齿轮齿条副",
+        "links: {links}": "构件：{links}",
+        "driving moment constant, equal to the cycle mean of {torque} (M_d = work per cycle / 2π, "
+        "integrated exactly between the load events: analysis/cycle.py)": "驱动力矩为常数，等于{torque}的周期平均值（M_d = 每周期功 / 2π，在载荷切换点之间精确积分：analysis/cycle.py）",
+        "balancing moment at the constant nominal crank speed ω_m = {omega_m:.6g} rad/s "
+        "(link inertia torques at that speed included)": "平衡力矩按曲柄以额定转速 ω_m = {omega_m:.6g} rad/s 匀速转动计算（含该转速下的构件惯性力矩）",
+        "ΔW_max integrated piecewise between the load events (trapezoid rule on "
+        "{positions} positions plus both sides of each event)": "ΔW_max 在各载荷切换点之间分段积分（梯形法，{positions} 个位置，另加每个切换点的两侧）",
+        "energy method, first order in δ: ω_m = (ω_max + ω_min)/2 and the speed "
+        "variation taken by the flywheel alone (inertia) or by the flywheel plus the "
+        "machine's cycle-mean equivalent inertia (inertia_net)": "能量法，取 δ 的一阶近似：ω_m = (ω_max + ω_min)/2，速度波动由飞轮单独承担（J_F），或由飞轮与机构的周期平均等效转动惯量共同承担（J_F − J_e）",
+        "flywheel on the crank shaft; on the motor shaft J/ratio² (gear inertia neglected)": "飞轮装于曲柄轴；装于电机轴时为 J/i²（忽略齿轮惯量）",
+        "the frictionless balancing moment": "不计摩擦的平衡力矩",
+        "the balancing moment with friction (consistent solution)": "计摩擦的平衡力矩（一致解）",
+        "{a} on {i}, {b} on {j}": "{i} 上的 {a}，{j} 上的 {b}",
+        "friction circle ρ = {rho} mm": "摩擦圆 ρ = {rho} mm",
+        "none": "无",
+        "axis {axis} of {i}, point {p} of {j}": "{i} 的导路 {axis}，{j} 上的点 {p}",
+        ", contact length {l} mm": "，接触长度 {l} mm",
+        "force": "力",
+        "torque": "力矩",
+        "resistance": "工作阻力",
+        "{letters} dyad {links}": "{letters} 二杆组 {links}",
+        "triad {links}": "三杆组 {links}",
+        "driven link {links}": "原动件 {links}",
+        "driven links {links}": "原动件 {links}",
+        "{n}-link group {links}": "{n} 杆组 {links}",
+        "moving": "运动条件",
+        "travel from": "行程下限",
+        "travel to": "行程上限",
+        "angle": "转角区间",
+    }
+)
+
+
+def tr_unit(unit: str, lang: str = "en") -> str:
+    """A unit as written in ``lang``: ``deg`` is ``°`` in Chinese; the SI symbols stay."""
+    return "°" if lang == "zh" and unit == "deg" else unit

@@ -175,7 +175,10 @@ def _extremes(result) -> dict[str, dict[str, float]]:
     return extremes
 
 
-def summarize(result) -> dict[str, Any]:
+def summarize(result, *, flywheel=None) -> dict[str, Any]:
+    """The summary of ``result``; ``flywheel``: the model's flywheel design when the caller
+    has already computed it (:func:`~kinetostatics.dynamics.flywheel.design` of ``result``
+    with the file's settings), so that it is not computed again."""
     system = result.system
     extremes = _extremes(result)
     peaks = {}
@@ -246,13 +249,15 @@ def summarize(result) -> dict[str, Any]:
         "extremes": extremes,
         "column_units": dict(result.units),
         "checks": result.checks.to_dict(),
-    } | _flywheel(result)
+    } | _flywheel(result, flywheel)
 
 
-def _flywheel(result) -> dict[str, Any]:
+def _flywheel(result, given=None) -> dict[str, Any]:
     """``{"flywheel": ...}`` when the model asks for it (``flywheel:``), else ``{}``."""
     if getattr(result.system.model, "flywheel", None) is None:
         return {}
-    from ..dynamics.flywheel import design
+    if given is None:
+        from ..dynamics.flywheel import design
 
-    return {"flywheel": design(result).to_dict()}
+        given = design(result)
+    return {"flywheel": given.to_dict()}

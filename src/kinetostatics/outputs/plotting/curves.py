@@ -9,6 +9,7 @@ import numpy as np
 
 from ...errors import did_you_mean
 from ...kinetics.forces import activity
+from ..lang import tr, tr_unit
 from .rows import (
     _course_ticks,
     _driver,
@@ -51,7 +52,7 @@ def _joint_coordinate(result, joint):
     return c, cd, cdd
 
 
-def output_motion(result, output: str | None = None) -> dict:
+def output_motion(result, output: str | None = None, *, lang: str = "en") -> dict:
     """Position, velocity and acceleration of the output, over the rows.
 
     ``output``: a prismatic joint (its sliding coordinate s = (P_j − A_i)·u_i,
@@ -62,8 +63,10 @@ def output_motion(result, output: str | None = None) -> dict:
     slider), else any such pair, else the last link solved.
 
     Returns ``{"name", "kind" ("slide"|"joint"|"link"|"point"), "series":
-    [(label, unit, values (n,) or (n, 2)) × 3]}`` in SI.
+    [(label, unit, values (n,) or (n, 2)) × 3], "axes": [short label × 3]}`` in SI; the
+    labels in ``lang``.
     """
+    T = lambda s, **k: tr(s, lang, **k)  # noqa: E731
     system, model = result.system, result.system.model
     driven = {d.joint.name for d in system.motion_drivers}
     if output is None:
@@ -82,9 +85,14 @@ def output_motion(result, output: str | None = None) -> dict:
                 "name": output,
                 "kind": "joint",
                 "series": [
-                    (f"relative angle of {output}", "deg", np.degrees(c)),
-                    ("relative angular velocity", "rad/s", cd),
-                    ("relative angular acceleration", "rad/s²", cdd),
+                    (T("relative angle of {name}", name=output), "deg", np.degrees(c)),
+                    (T("relative angular velocity"), "rad/s", cd),
+                    (T("relative angular acceleration"), "rad/s²", cdd),
+                ],
+                "axes": [
+                    T("relative angle"),
+                    T("relative angular velocity"),
+                    T("relative angular acceleration"),
                 ],
             }
         at = [a for a in j.anchors() if a.at_joint and a.link == j.links[1]]
@@ -93,30 +101,33 @@ def output_motion(result, output: str | None = None) -> dict:
                 "name": output,
                 "kind": "joint",
                 "series": [
-                    (f"relative travel of {output}", "mm", c * 1e3),
-                    ("relative velocity", "m/s", cd),
-                    ("relative acceleration", "m/s²", cdd),
+                    (T("relative travel of {name}", name=output), "mm", c * 1e3),
+                    (T("relative velocity"), "m/s", cd),
+                    (T("relative acceleration"), "m/s²", cdd),
                 ],
+                "axes": [T("relative travel"), T("relative velocity"), T("relative acceleration")],
             }
         pj = f"{at[0].link}.{at[0].point}"
         return {
             "name": output,
             "kind": "slide",
             "series": [
-                (f"s of {pj} along {output}", "mm", c * 1e3),
-                ("v = ds/dt", "m/s", cd),
-                ("a = d²s/dt²", "m/s²", cdd),
+                (T("s of {point} along {joint}", point=pj, joint=output), "mm", c * 1e3),
+                (T("v = ds/dt"), "m/s", cd),
+                (T("a = d²s/dt²"), "m/s²", cdd),
             ],
+            "axes": [T("s"), T("v = ds/dt"), T("a = d²s/dt²")],
         }
     if output in system.links:
         return {
             "name": output,
             "kind": "link",
             "series": [
-                (f"θ of {output}", "deg", result[f"{output}.theta"]),
-                (f"ω of {output}", "rad/s", result[f"{output}.omega"]),
-                (f"α of {output}", "rad/s²", result[f"{output}.alpha"]),
+                (T("θ of {name}", name=output), "deg", result[f"{output}.theta"]),
+                (T("ω of {name}", name=output), "rad/s", result[f"{output}.omega"]),
+                (T("α of {name}", name=output), "rad/s²", result[f"{output}.alpha"]),
             ],
+            "axes": [T("θ"), T("ω"), T("α")],
         }
     if f"{output}.x" in result.columns and output.count(".") == 1:
         xy = lambda s: np.column_stack(
@@ -129,10 +140,11 @@ def output_motion(result, output: str | None = None) -> dict:
             "name": output,
             "kind": "point",
             "series": [
-                (f"position of {output}", "mm", xy("") * 1e3),
-                (f"velocity of {output}", "m/s", xy("v")),
-                (f"acceleration of {output}", "m/s²", xy("a")),
+                (T("position of {name}", name=output), "mm", xy("") * 1e3),
+                (T("velocity of {name}", name=output), "m/s", xy("v")),
+                (T("acceleration of {name}", name=output), "m/s²", xy("a")),
             ],
+            "axes": [T("position"), T("velocity"), T("acceleration")],
         }
     names = (
         list(joints)
@@ -176,7 +188,7 @@ def _is_event_row(result, k) -> bool:
     return any(abs(result.t[k] - e.t) < 1e-9 * max(1.0, abs(e.t)) for e in result.events)
 
 
-def _mark(ax, result, *, top: bool = True, spans=None):
+def _mark(ax, result, *, top: bool = True, spans=None, lang: str = "en"):
     """Loads' active zones shaded, events as dashed lines (labelled 1′ … in the top
     panel), course positions 1…12 on a top axis."""
     spans = _active_spans(result) if spans is None else spans
@@ -210,7 +222,9 @@ def _mark(ax, result, *, top: bool = True, spans=None):
         sec.set_xticklabels([lab.split("/")[0] for _, lab in numbered], fontsize=6.5)
         sec.tick_params(length=2, pad=1)
         sec.set_xlabel(
-            "course positions" + (f" (turns 1 to {turns(result)})" if turns(result) > 1 else ""),
+            tr("course positions (turns 1 to {n})", lang, n=turns(result))
+            if turns(result) > 1
+            else tr("course positions", lang),
             fontsize=6.5,
             labelpad=2,
         )
@@ -220,21 +234,21 @@ def _mark(ax, result, *, top: bool = True, spans=None):
         ax.set_xticks(np.arange(0, 360 * n_turns + 1, 30 * n_turns))
 
 
-def _event_legend(ax, result):
+def _event_legend(ax, result, lang: str = "en"):
     if result.events:
+        loads = ", ".join(sorted({e.load for e in result.events}))
         ax.plot(
             [],
             [],
             color=EVENT_COLOR,
             lw=0.8,
             ls=(0, (4, 2)),
-            label="load switches (" + ", ".join(sorted({e.load for e in result.events})) + ")",
+            label=tr("load switches ({loads})", lang, loads=loads),
         )
     names = sorted({name for name, _, _ in _active_spans(result)})
     if names:
-        ax.fill_between(
-            [], [], color=EVENT_COLOR, alpha=0.1, lw=0, label=", ".join(names) + " acting"
-        )
+        label = tr("{loads} acting", lang, loads=", ".join(names))
+        ax.fill_between([], [], color=EVENT_COLOR, alpha=0.1, lw=0, label=label)
 
 
 def _cycle_mean(result, what) -> float:
@@ -249,36 +263,41 @@ def motion_diagram(result, output: str | None = None, *, dpi: float = DPI, lang:
     """The motion diagram of the output: position, velocity, acceleration over the
     driver coordinate (three panels), loads' zones and events marked, course
     positions on top.  ``output`` as in :func:`output_motion`."""
-    out = output_motion(result, output)
-    x, order, xlabel = _sorted(result)
+    out = output_motion(result, output, lang=lang)
+    x, order, xlabel = _sorted(result, lang)
     spans = _active_spans(result)
     with _rc(lang):
         fig = _figure(165, 150, dpi)
         axes = fig.subplots(3, 1, sharex=True)
-        for n, (ax, (label, unit, vals)) in enumerate(zip(axes, out["series"])):
+        for n, (ax, (_, unit, vals)) in enumerate(zip(axes, out["series"])):
             vals = np.asarray(vals)[order]
             if vals.ndim == 2:
-                ax.plot(x, vals[:, 0], color=CURVE_COLORS[0], label="x component")
-                ax.plot(x, vals[:, 1], color=CURVE_COLORS[1], label="y component")
+                ax.plot(x, vals[:, 0], color=CURVE_COLORS[0], label=tr("x component", lang))
+                ax.plot(x, vals[:, 1], color=CURVE_COLORS[1], label=tr("y component", lang))
             else:
                 ax.plot(x, vals, color=CURVE_COLORS[n])
-            ax.set_ylabel(f"{label.split(' of ')[0]}, {unit}")
+            ax.set_ylabel(f"{out['axes'][n]}, {tr_unit(unit, lang)}")
             if n > 0:
                 ax.axhline(0, color="black", lw=0.5)
-            _mark(ax, result, top=(n == 0), spans=spans)
-        _event_legend(axes[0], result)
+            _mark(ax, result, top=(n == 0), spans=spans, lang=lang)
+        _event_legend(axes[0], result, lang)
         if axes[0].get_legend_handles_labels()[0]:
             axes[0].legend(loc="best", fontsize=7)
         axes[-1].set_xlabel(xlabel)
         what = {
             "slide": "output slider",
-            "link": f"link {out['name']}",
-            "point": f"point {out['name']}",
-            "joint": f"joint {out['name']}",
+            "link": "link {name}",
+            "point": "point {name}",
+            "joint": "joint {name}",
         }[out["kind"]]
         fig.suptitle(
-            f"{result.system.model.name}: motion diagram of the {what}"
-            + (f" ({out['series'][0][0]})" if out["kind"] == "slide" else ""),
+            tr(
+                "{model}: motion diagram of the {what}",
+                lang,
+                model=result.system.model.name,
+                what=tr(what, lang, name=out["name"]),
+            )
+            + (tr(" ({label})", lang, label=out["series"][0][0]) if out["kind"] == "slide" else ""),
             x=0.02,
             ha="left",
             fontsize=9.5,
@@ -301,7 +320,7 @@ def reaction_curves(
     with ``friction`` the consistent friction solution dashed in the same colour."""
     model = result.system.model
     names = list(joints) if joints else [j.name for j in model.joints]
-    x, order, xlabel = _sorted(result)
+    x, order, xlabel = _sorted(result, lang)
     nums = link_numbers(result.system)
     with _rc(lang):
         fig = _figure(165, 95, dpi)
@@ -319,12 +338,14 @@ def reaction_curves(
                 magf = np.hypot(result[f"{name}.Fx_friction"], result[f"{name}.Fy_friction"])[order]
                 ax.plot(x, magf, color=c, ls="--", lw=1.0)
         if friction:
-            ax.plot([], [], color="black", ls="--", lw=1.0, label="with friction (consistent)")
-        _mark(ax, result)
-        _event_legend(ax, result)
+            label = tr("with friction (consistent)", lang)
+            ax.plot([], [], color="black", ls="--", lw=1.0, label=label)
+        _mark(ax, result, lang=lang)
+        _event_legend(ax, result, lang)
         ax.set_xlabel(xlabel)
-        ax.set_ylabel("reaction magnitude |F|, N")
-        fig.suptitle(f"{model.name}: joint reactions", x=0.02, ha="left", fontsize=9.5)
+        ax.set_ylabel(tr("reaction magnitude |F|, N", lang))
+        title = tr("{model}: joint reactions", lang, model=model.name)
+        fig.suptitle(title, x=0.02, ha="left", fontsize=9.5)
         ax.set_ylim(bottom=0)
         ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0))
         fig.subplots_adjust(left=0.09, right=0.74, top=0.80, bottom=0.14)
@@ -347,7 +368,7 @@ def torque_curves(result, driver: str | None = None, *, dpi: float = DPI, lang: 
     """The driving torque (or force) without friction, with the approximate and
     with the consistent friction, on one plot; events marked; the cycle means."""
     d, word, unit = _driver_effort(result, driver)
-    x, order, xlabel = _sorted(result)
+    x, order, xlabel = _sorted(result, lang)
     series = [
         ("", "without friction", CURVE_COLORS[0], "-"),
         (
@@ -376,22 +397,35 @@ def torque_curves(result, driver: str | None = None, *, dpi: float = DPI, lang: 
                 ls=ls,
                 lw=1.6 if ls == "-" else 1.3,
                 zorder=3 if ls == "-" else 4,
-                label=f"{label} (cycle mean {mean:.4g} {unit})",
+                label=tr(
+                    "{label} (cycle mean {mean} {unit})",
+                    lang,
+                    label=tr(label, lang),
+                    mean=f"{mean:.4g}",
+                    unit=unit,
+                ),
             )
         status = result.columns.get("friction.status")
         if status is not None and np.any(status[order] == 2):
             locked = x[status[order] == 2]
-            ax.plot(locked, np.zeros_like(locked), "x", color="black", ms=4, label="self-locking")
+            label = tr("self-locking", lang)
+            ax.plot(locked, np.zeros_like(locked), "x", color="black", ms=4, label=label)
         ax.axhline(0, color="black", lw=0.5)
-        _mark(ax, result)
-        _event_legend(ax, result)
+        _mark(ax, result, lang=lang)
+        _event_legend(ax, result, lang)
         ax.set_xlabel(xlabel)
-        sym = "M" if word == "torque" else "F"
         ax.set_ylabel(
-            f"{sym}, {unit} (counter-clockwise +)" if word == "torque" else f"{sym}, {unit}"
+            tr("M, {unit} (counter-clockwise +)", lang, unit=unit)
+            if word == "torque"
+            else f"F, {unit}"
         )
         fig.suptitle(
-            f"{result.system.model.name}: driving {word} of {d.name}",
+            tr(
+                f"{{model}}: driving {word} of {{driver}}",
+                lang,
+                model=result.system.model.name,
+                driver=d.name,
+            ),
             x=0.02,
             ha="left",
             fontsize=9.5,
@@ -410,17 +444,13 @@ def efficiency_curve(result, driver: str | None = None, *, dpi: float = DPI, lan
     key = f"{d.name}.efficiency"
     if key not in result.columns:
         raise PictureError(f"no friction in {result.system.model.name}: no efficiency to plot")
-    x, order, xlabel = _sorted(result)
+    x, order, xlabel = _sorted(result, lang)
     eta = np.asarray(result[key])[order]
     with _rc(lang):
         fig = _figure(165, 85, dpi)
         ax = fig.add_subplot()
-        ax.plot(
-            x,
-            eta,
-            color=CURVE_COLORS[2],
-            label="η = P / P_friction where the drive delivers power (gaps: undefined)",
-        )
+        label = tr("η = P / P_friction where the drive delivers power (gaps: undefined)", lang)
+        ax.plot(x, eta, color=CURVE_COLORS[2], label=label)
         pin = result.columns.get("power.input")
         pinf = None
         if f"{d.name}.{word}_friction" in result.columns and pin is not None:
@@ -434,17 +464,26 @@ def efficiency_curve(result, driver: str | None = None, *, dpi: float = DPI, lan
                     color="black",
                     ls="--",
                     lw=0.9,
-                    label=f"cycle efficiency (mean M / mean M_friction) = {pinf:.4f}",
+                    label=tr(
+                        "cycle efficiency (mean M / mean M_friction) = {eta}",
+                        lang,
+                        eta=f"{pinf:.4f}",
+                    ),
                 )
         finite = eta[np.isfinite(eta)]
         lo = max(min(float(np.percentile(finite, 2)) if finite.size else 0.0, 0.0), -1.0)
         ax.set_ylim(lo - 0.05, 1.1)
-        _mark(ax, result)
-        _event_legend(ax, result)
+        _mark(ax, result, lang=lang)
+        _event_legend(ax, result, lang)
         ax.set_xlabel(xlabel)
-        ax.set_ylabel("efficiency η, 1")
+        ax.set_ylabel(tr("efficiency η, 1", lang))
         fig.suptitle(
-            f"{result.system.model.name}: efficiency of the drive {d.name}",
+            tr(
+                "{model}: efficiency of the drive {driver}",
+                lang,
+                model=result.system.model.name,
+                driver=d.name,
+            ),
             x=0.02,
             ha="left",
             fontsize=9.5,
@@ -455,25 +494,26 @@ def efficiency_curve(result, driver: str | None = None, *, dpi: float = DPI, lan
     return fig
 
 
-def plot_result(result, *names: str, dpi: float = DPI):
-    """Any columns over the driver coordinate, one panel per unit."""
+def plot_result(result, *names: str, dpi: float = DPI, lang: str = "en"):
+    """Any columns over the driver coordinate, one panel per unit (the columns' names as
+    in the results; the axes and marks in ``lang``)."""
     if not names:
         raise PictureError("name at least one column to plot")
     for n in names:
         result[n]  # KeyError with a suggestion
-    x, order, xlabel = _sorted(result)
+    x, order, xlabel = _sorted(result, lang)
     units: dict[str, list[str]] = {}
     for n in names:
         units.setdefault(result.units[n], []).append(n)
-    with _rc():
+    with _rc(lang):
         fig = _figure(165, 45 + 45 * len(units), dpi)
         axes = np.atleast_1d(fig.subplots(len(units), 1, sharex=True))
         for ax, (unit, cols) in zip(axes, units.items()):
             for k, n in enumerate(cols):
                 ax.plot(x, np.asarray(result[n])[order], color=CURVE_COLORS[k % 10], label=n)
-            ax.set_ylabel(unit.replace("*", "·").replace("^2", "²"))
+            ax.set_ylabel(tr_unit(unit.replace("*", "·").replace("^2", "²"), lang))
             ax.legend(loc="best")
-            _mark(ax, result, top=ax is axes[0])
+            _mark(ax, result, top=ax is axes[0], lang=lang)
         axes[-1].set_xlabel(xlabel)
         fig.suptitle(result.system.model.name, x=0.02, ha="left", fontsize=9.5)
         fig.subplots_adjust(

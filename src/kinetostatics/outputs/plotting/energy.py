@@ -88,7 +88,7 @@ def equivalent_moments(design, result, *, dpi: float = DPI, lang: str = "en"):
             ),
         )
         ax.axhline(0, color="black", lw=0.5)
-        _mark(ax, result)
+        _mark(ax, result, lang=lang)
         ax.set_xlabel(_xlabel(result, lang))
         ax.set_ylabel(tr("moment on the crank, N·m (sense of motion +)", lang))
         fig.suptitle(
@@ -130,7 +130,7 @@ def energy_diagram(design, result, *, dpi: float = DPI, lang: str = "en"):
                 fontsize=7,
             )
         ax.plot([], [], " ", label=tr("swing ΔW_max = {s} J", lang, s=f"{design.energy_swing:.5g}"))
-        _mark(ax, result)
+        _mark(ax, result, lang=lang)
         lo, hi = float(np.min(w)), float(np.max(w))
         pad = 0.18 * max(hi - lo, 1e-12)
         ax.set_ylim(lo - pad, hi + pad)

@@ -9,6 +9,7 @@ import numpy as np
 
 from ...base.geometry import rotate
 from ...errors import did_you_mean
+from ..lang import tr
 from .rows import _sorted, course_positions, link_numbers
 from .scene import _poses
 from .style import CURVE_COLORS, DPI, EVENT_COLOR, PictureError, _figure, _grow_to_fit, _rc
@@ -68,7 +69,7 @@ def polar_diagrams(
         fig = _figure(60 * cols + 8, 62 * rows + 14, dpi)
         for m, name in enumerate(joints):
             ax = fig.add_subplot(rows, cols, m + 1)
-            link, desc, F = link_frame_loads(result, name, friction=friction)
+            link, _, F = link_frame_loads(result, name, friction=friction)
             F = F[order]
             closed = np.vstack((F, F[:1])) if result.full_cycle else F
             ax.plot(closed[:, 0], closed[:, 1], color=CURVE_COLORS[0], lw=1.2)
@@ -92,13 +93,14 @@ def polar_diagrams(
                 ax.text(
                     0.5,
                     0.5,
-                    "no values:\nself-locking at\nevery position",
+                    tr("no values:\nself-locking at\nevery position", lang),
                     transform=ax.transAxes,
                     ha="center",
                     va="center",
                     fontsize=7,
                 )
-                ax.set_title(f"{name}: no consistent friction solution", fontsize=7.5)
+                title = tr("{joint}: no consistent friction solution", lang, joint=name)
+                ax.set_title(title, fontsize=7.5)
                 continue
             kmax = int(np.nanargmax(mag))
             ax.plot([0, F[kmax, 0]], [0, F[kmax, 1]], color=CURVE_COLORS[3], lw=1.0)
@@ -107,18 +109,26 @@ def polar_diagrams(
             ax.set_ylim(-lim, lim)
             ax.set_aspect("equal", adjustable="box")
             j = model.joint(name)
+            i_link, j_link = j.links if link == j.links[1] else j.links[::-1]
             ax.set_title(
-                f"{name}: F{nums[j.links[0]]}{nums[j.links[1]]}, {desc.split(' of ')[1]}\n"
-                f"in the frame of {link}; max {mag[kmax]:.4g} N",
+                f"{name}: F{nums[j.links[0]]}{nums[j.links[1]]}, "
+                + tr("{i} on {j}", lang, i=i_link, j=j_link)
+                + "\n"
+                + tr(
+                    "in the frame of {link}; max {peak} N",
+                    lang,
+                    link=link,
+                    peak=f"{mag[kmax]:.4g}",
+                ),
                 fontsize=7.5,
             )
-            ax.set_xlabel(f"F along {link} x, N", fontsize=7)
-            ax.set_ylabel(f"F along {link} y, N", fontsize=7)
+            ax.set_xlabel(tr("F along {link} x, N", lang, link=link), fontsize=7)
+            ax.set_ylabel(tr("F along {link} y, N", lang, link=link), fontsize=7)
             ax.tick_params(labelsize=6.5)
         fig.suptitle(
-            f"{model.name}: polar diagrams of the joint loads"
-            + (" (with friction)" if friction else "")
-            + " — numbers: course positions",
+            tr("{model}: polar diagrams of the joint loads", lang, model=model.name)
+            + (tr(" (with friction)", lang) if friction else "")
+            + tr(" — numbers: course positions", lang),
             fontsize=9,
             x=0.02,
             ha="left",

@@ -392,11 +392,16 @@ def polygon_figure(
     rest = sorted({r.split(".")[1] for r in poly.fixed})
     big = max([float(np.hypot(*nd.vector)) for nd in poly.nodes.values()] + [0.0])
     size = lambda v: _zero(float(np.hypot(*v)), big)  # noqa: E731
+    T = lambda s, **k: tr(s, lang, **k)  # noqa: E731
     lines = [
-        f"pole {_tex('p' + prime)}: points at rest" + (f" ({', '.join(rest)})" if rest else "")
+        T("pole {p}: points at rest", p=_tex("p" + prime))
+        + (T(" ({names})", names=", ".join(rest)) if rest else "")
     ]
     for lab, nd in poly.nodes.items():
-        pts = ", ".join(r.replace("@", " at ") for r in nd.refs)
+        pts = ", ".join(
+            T("{link} at {point}", link=r.split("@")[0], point=r.split("@")[1]) if "@" in r else r
+            for r in nd.refs
+        )
         lines.append(
             f"{_tex('p' + prime)}{_tex(lab + prime)}: {sym}({pts}) = {size(nd.vector)} {poly.unit}"
         )
@@ -412,10 +417,10 @@ def polygon_figure(
                 ch.start.upper()
                 if ch.start != "p"
                 else "".join(r.split(".")[1] for r in poly.fixed if r.split(".")[0] == ch.link)[:8]
-                or "pivot"
+                or T("pivot")
             )
-            direction = _DIRECTION[kind_name].format(r=f"{end}{start}", b=start, j=ch.link)
-            owner = ch.link if joint is None else f"{ch.link}, {type(joint).__name__.lower()}"
+            direction = T(_DIRECTION[kind_name], r=f"{end}{start}", b=start, j=ch.link)
+            owner = ch.link if joint is None else f"{ch.link}, {T(joint.kind)}"
             lines.append(
                 f"${head}_{{\\mathrm{{{sub}}}}}$ = {size(v)} {poly.unit}, {direction} ({owner})"
             )
@@ -513,8 +518,8 @@ def polygon_figure(
         mu_name = MU["a" if acc else "v"]
         title = (
             f"{model.name}: {tr(kind + ' polygon', lang)}, {_position_title(result, k, lang)}\n"
-            f"{mu_name} = {_fmt_scale(mu)} ({poly.unit})/mm;  links: "
-            + ", ".join(f"{v} {n}" for n, v in nums.items())
+            f"{mu_name} = {_fmt_scale(mu)} ({poly.unit})/mm;  "
+            + T("links: {links}", links=", ".join(f"{v} {n}" for n, v in nums.items()))
         )
         ax.set_title(title, loc="left", fontsize=8)
         W, H = fig.get_figwidth() / MM, fig.get_figheight() / MM

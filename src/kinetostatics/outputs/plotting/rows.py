@@ -125,20 +125,31 @@ def turns(result) -> int:
     return 0
 
 
-def _abscissa(result) -> tuple[np.ndarray, str]:
+def _abscissa(result, lang: str = "en") -> tuple[np.ndarray, str]:
+    from ..lang import tr
+
     d = _driver(result)
     if getattr(d.driver.motion, "kind", None) is not None:  # a motion law: ψ may reverse
-        return np.asarray(
-            result["time"], dtype=float
-        ), f"time, s ({d.name}: {d.driver.motion.kind} law)"
+        label = tr(
+            "time, s ({name}: {law} law)", lang, name=d.name, law=tr(d.driver.motion.kind, lang)
+        )
+        return np.asarray(result["time"], dtype=float), label
     if d.joint.angular:
         start = math.degrees(result.system.model.analysis.start) % 360.0
         sense = "clockwise" if d.driver.motion.speed < 0 else "counter-clockwise"
         return (
             np.asarray(result["travel"], dtype=float),
-            f"{d.name} rotation from {start:.4g}° ({sense}), deg",
+            tr(
+                "{name} rotation from {start}° ({sense}), deg",
+                lang,
+                name=d.name,
+                start=f"{start:.4g}",
+                sense=tr(sense, lang),
+            ),
         )
-    return np.asarray(result["travel"], dtype=float) * 1e3, f"{d.name} travel, mm"
+    return np.asarray(result["travel"], dtype=float) * 1e3, tr(
+        "{name} travel, mm", lang, name=d.name
+    )
 
 
 def _event_travel(result, e) -> float:
@@ -229,7 +240,7 @@ def link_numbers(system) -> dict[str, int]:
     return nums
 
 
-def _sorted(result):
-    x, label = _abscissa(result)
+def _sorted(result, lang: str = "en"):
+    x, label = _abscissa(result, lang)
     order = np.argsort(x, kind="stable")
     return x[order], order, label

@@ -10,7 +10,7 @@ import numpy as np
 from ..lang import tr
 from ..plotting import link_numbers
 from .blocks import _Heading, _List, _Para, _Table
-from .results import length_unit
+from .results import group_label, length_unit
 
 
 def _data_blocks(model, system, lang: str = "en") -> list:
@@ -73,11 +73,11 @@ def _data_blocks(model, system, lang: str = "en") -> list:
     )
     rows = []
     for j in model.joints:
-        text = j.describe()
+        text = j.describe(T)
         rows.append(
             [
                 j.name,
-                j.kind,
+                T(j.kind),
                 f"{j.links[0]} → {j.links[1]}",
                 f"F{nums[j.links[0]]}{nums[j.links[1]]}",
                 text.get("where", ""),
@@ -105,7 +105,7 @@ def _data_blocks(model, system, lang: str = "en") -> list:
                 [
                     d.name,
                     d.joint,
-                    T("{law} law, peak speed {speed}", law=law, speed=speed) if law else speed,
+                    T("{law} law, peak speed {speed}", law=T(law), speed=speed) if law else speed,
                     d.balance_at or d.joint,
                 ]
             )
@@ -163,7 +163,7 @@ def _data_blocks(model, system, lang: str = "en") -> list:
             rows.append(
                 [
                     ld.name,
-                    ld.kind,
+                    T(ld.kind),
                     f"{ld.link}" + (f".{ld.point}" if ld.point else ""),
                     val,
                     "; ".join(conds) or T("always"),
@@ -191,7 +191,7 @@ def _structure_blocks(system, lang: str = "en") -> list:
     rows = []
     for k, plan in enumerate(system.plans, 1):
         g = plan.group
-        rows.append([str(k), g.label, ", ".join(g.joints + g.drivers)])
+        rows.append([str(k), group_label(g, lang), ", ".join(g.joints + g.drivers)])
     blocks.append(
         _Table(
             [T("step"), T("Assur group (class and members)"), T("joints and drivers")],

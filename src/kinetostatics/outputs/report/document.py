@@ -13,6 +13,7 @@ from ...model import Model
 from .. import plotting as pl
 from ..lang import check_lang, cjk_font, tr
 from ..loading import load
+from ..summary import summarize
 from .blocks import ReportError, _Heading, _Image, _Para, _to_html, _to_markdown
 from .data import _data_blocks, _structure_blocks
 from .flywheel import flywheel_blocks
@@ -63,7 +64,8 @@ def write_report(
     any of ``md`` (``report.md``, images in ``img/``), ``html`` (``report.html``, images
     embedded) and ``pdf`` (``report.pdf``, A4, needs fpdf2: ``pip install
     'kinetostatics[pdf]'``).  ``lang``: ``en`` or ``zh`` (Chinese headings and labels;
-    needs a font with Chinese glyphs).  Returns the paths written (``markdown``,
+    needs a font with Chinese glyphs: ``KINETOSTATICS_CJK_FONT``, a system font, or ``pip
+    install 'kinetostatics[zh]'``).  Returns the paths written (``markdown``,
     ``html``, ``pdf`` as asked, ``csv``, ``summary``).
     """
     formats = list(dict.fromkeys(formats))
@@ -93,7 +95,12 @@ def write_report(
     rows = _rows(result, course)
     csv_path, summary_path = out / "results.csv", out / "summary.json"
     result.to_csv(csv_path)
-    summary = result.summary()
+    dsg = None
+    if model.flywheel is not None:  # designed once: its numbers and its curve
+        from ...dynamics.flywheel import design
+
+        dsg = design(result)
+    summary = summarize(result, flywheel=dsg)
     summary_path.write_text(json.dumps(summary, indent=2, default=float))
     T = lambda s, **k: tr(s, lang, **k)  # noqa: E731
 
@@ -273,18 +280,8 @@ def write_report(
             ),
         )
     )
-    if "flywheel" in summary:
-        from ...dynamics.flywheel import design
-
-        fw = summary["flywheel"]
-        dsg = design(
-            result,
-            fw["delta"],
-            ratio=fw.get("ratio"),
-            friction=fw["torque"] != "frictionless",
-            positions=fw["positions"],
-        )
-        blocks += flywheel_blocks(fw, dsg, result, rows, image, lang)
+    if dsg is not None:
+        blocks += flywheel_blocks(summary["flywheel"], dsg, result, rows, image, lang)
     written: dict[str, Path] = {}
     if "md" in formats:
         written["markdown"] = out / "report.md"

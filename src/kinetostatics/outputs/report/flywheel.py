@@ -5,7 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..lang import tr, tr_soft
+from ...dynamics.flywheel import assumption_texts
+from ..lang import tr, tr_unit
 from .blocks import _Heading, _List, _Para, _Table
 from .results import ROUND_OFF
 
@@ -22,6 +23,7 @@ def flywheel_blocks(fw: dict, design, result, rows, image, lang: str = "en") -> 
 
     T = lambda s, **k: tr(s, lang, **k)  # noqa: E731
     je = fw["machine_inertia"]
+    deg = tr_unit("deg", lang)
     data = [
         [T("coefficient of speed fluctuation"), "δ", _g(fw["delta"]), "1"],
         [T("driver (crank shaft)"), "", fw["driver"], ""],
@@ -41,8 +43,8 @@ def flywheel_blocks(fw: dict, design, result, rows, image, lang: str = "en") -> 
         [T("work per cycle"), "W", _g(fw["work_per_cycle"]), "J"],
         [T("equivalent driving moment (cycle mean)"), "M_d", _g(fw["mean_torque"]), "N·m"],
         [T("maximum energy swing"), "ΔW_max", _g(fw["energy_swing"]), "J"],
-        [T("largest stored energy at"), "φ_max", f"{fw['max_energy_at']:.3f}", "deg"],
-        [T("smallest stored energy at"), "φ_min", f"{fw['min_energy_at']:.3f}", "deg"],
+        [T("largest stored energy at"), "φ_max", f"{fw['max_energy_at']:.3f}", deg],
+        [T("smallest stored energy at"), "φ_min", f"{fw['min_energy_at']:.3f}", deg],
         [T("machine's equivalent inertia, cycle mean"), "J_e", _g(je["mean"]), "kg·m²"],
         [
             T("machine's equivalent inertia, smallest"),
@@ -75,9 +77,7 @@ def flywheel_blocks(fw: dict, design, result, rows, image, lang: str = "en") -> 
             ],
         ]
     if fw.get("events_at"):
-        res.append(
-            [T("load events at"), "φ", ", ".join(f"{a:.3f}" for a in fw["events_at"]), "deg"]
-        )
+        res.append([T("load events at"), "φ", ", ".join(f"{a:.3f}" for a in fw["events_at"]), deg])
     head = [T("quantity"), T("symbol"), T("value"), T("unit")]
     blocks: list = [
         _Heading(2, T("9. Flywheel")),
@@ -114,7 +114,7 @@ def flywheel_blocks(fw: dict, design, result, rows, image, lang: str = "en") -> 
         )
     blocks.append(
         _Table(
-            [T("pos."), "φ (deg)", T("travel (deg)"), "M_r (N·m)", "M_d (N·m)", "ΔW (J)"],
+            [T("pos."), f"φ ({deg})", T("travel (deg)"), "M_r (N·m)", "M_d (N·m)", "ΔW (J)"],
             body,
             T(
                 "Equivalent moments and the energy ΔW at the course positions (interpolated on "
@@ -141,5 +141,8 @@ def flywheel_blocks(fw: dict, design, result, rows, image, lang: str = "en") -> 
         )
     )
     blocks.append(_Para(T("Assumptions:")))
-    blocks.append(_List([tr_soft(a, lang) for a in fw["assumptions"]]))
+    texts = assumption_texts(
+        design.friction, design.omega_m, design.positions, lambda text: tr(text, lang)
+    )
+    blocks.append(_List(list(texts)))
     return blocks

@@ -5,7 +5,9 @@ Why fpdf2: it lays out text, tables that break across pages (their heading row
 repeated) and images at a size in mm, embeds TrueType fonts as subsets with their
 Unicode map (so the text can be searched and extracted), and needs no browser or
 system library.  The fonts are matplotlib's own DejaVu Sans (Greek, subscripts, math
-signs), with a CJK font as the first font for ``lang="zh"``.
+signs), with a CJK font as the first font for ``lang="zh"`` (the one :func:`..lang.cjk_font`
+finds; with the ``zh`` extra mplfonts' TrueType SimHei, whose text fpdf2 maps so that the
+PDF's Chinese text extracts cleanly).
 
 Tables arrive split into column groups of at most 12 columns (``results.GROUP``); each
 is set at 7 pt, narrowed to 6 pt or its cells wrapped only if it still does not fit the

@@ -285,9 +285,23 @@ def _num(v: float, scale: float, digits: int = 4) -> str:
     return "0" if abs(v) <= ROUND_OFF * scale else f"{v:.{digits}g}"
 
 
+def group_label(group, lang: str = "en") -> str:
+    """An Assur group's label (``Group.label``: ``RRR dyad {rod, slider}``) in ``lang``."""
+    links = "{" + ", ".join(group.links) + "}"
+    if group.kind == "dyad":
+        return tr("{letters} dyad {links}", lang, letters=group.letters, links=links)
+    if group.kind == "triad":
+        return tr("triad {links}", lang, links=links)
+    if group.kind == "driven":
+        many = len(group.links) > 1
+        return tr("driven links {links}" if many else "driven link {links}", lang, links=links)
+    return tr("{n}-link group {links}", lang, n=len(group.links), links=links)
+
+
 def _summary_blocks(result, summary, lang: str = "en") -> list:
     model = result.system.model
     lu, lf = length_unit(model)
+    labels = {p.group.label: group_label(p.group, lang) for p in result.system.plans}
     blocks: list = [_Heading(2, tr("3. Results over the cycle", lang))]
     items = [
         tr(
@@ -335,7 +349,7 @@ def _summary_blocks(result, summary, lang: str = "en") -> list:
                 load=e["load"],
                 switch=tr(e["switch"], lang),
                 angle=f"{e['angle']:.4f}",
-                condition=e["condition"],
+                condition=tr(e["condition"], lang),
             )
         )
     for name, d in summary["drivers"].items():
@@ -384,7 +398,7 @@ def _summary_blocks(result, summary, lang: str = "en") -> list:
             tr(
                 "singular position: {group} at φ = {angle}° (condition {c})",
                 lang,
-                group=sp["group"],
+                group=labels.get(sp["group"], sp["group"]),
                 angle=f"{sp['angle']:.4f}",
                 c=f"{sp['condition']:.3g}",
             )
