@@ -15,6 +15,7 @@ from ..lang import check_lang, cjk_font, tr
 from ..loading import load
 from .blocks import ReportError, _Heading, _Image, _Para, _to_html, _to_markdown
 from .data import _data_blocks, _structure_blocks
+from .elements import element_blocks
 from .flywheel import flywheel_blocks
 from .pdf import pdf_module
 from .results import _summary_blocks, length_unit, report_tables
@@ -273,6 +274,10 @@ def write_report(
             ),
         )
     )
+    section = 9
+    if model.elements:
+        blocks += element_blocks(result, rows, section, lang)
+        section += 1
     if "flywheel" in summary:
         from ...dynamics.flywheel import design
 
@@ -284,7 +289,7 @@ def write_report(
             friction=fw["torque"] != "frictionless",
             positions=fw["positions"],
         )
-        blocks += flywheel_blocks(fw, dsg, result, rows, image, lang)
+        blocks += flywheel_blocks(fw, dsg, result, rows, image, lang, section)
     written: dict[str, Path] = {}
     if "md" in formats:
         written["markdown"] = out / "report.md"
