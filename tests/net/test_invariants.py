@@ -23,7 +23,7 @@ ROOT = Path(__file__).resolve().parents[2]
 SHIPPED = sorted(
     p.name
     for p in (ROOT / "mechanisms").glob("*.yaml")
-    if p.name not in ("ammunition_swing.yaml", "andrews_squeezer.yaml")
+    if p.name not in ("ammunition_swing.yaml", "andrews_squeezer.yaml", "double_four_bar.yaml")
 )  # an effort driver: simulate only
 
 # generated mechanisms per relation in the default run (cost-weighted)

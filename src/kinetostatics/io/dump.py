@@ -7,7 +7,7 @@ from typing import Any
 
 import yaml
 
-from ..model import EffortLaw, Model, MotionLaw
+from ..model import EffortLaw, Element, Model, MotionLaw
 
 __all__ = ["dump"]
 
@@ -19,6 +19,28 @@ def _effort_spec(law: EffortLaw) -> dict[str, Any]:
         return {"motor": {"torque": law.value, "speed": law.speed, "slip": law.slip}}
     keys = ("at", "value") if law.kind == "table" else ("speed", "torque")
     return {law.kind: {keys[0]: list(law.at), keys[1]: list(law.values)}}
+
+
+def _element_spec(e: Element) -> dict[str, Any]:
+    """An element's keys in SI (rad for angles; io/elements.py reads them back)."""
+    spec: dict[str, Any] = {"type": e.kind}
+    if e.rotational:
+        spec["joint"] = e.joint
+    else:
+        spec["between"] = [f"{link}.{point}" for link, point in zip(e.links, e.points)]
+    if not e.spring:
+        spec["damping"] = float(e.damping)
+    elif e.table is not None:
+        s_key, f_key = ("angle", "torque") if e.rotational else ("length", "force")
+        spec["table"] = {
+            s_key: [float(v) for v in e.table[0]],
+            f_key: [float(v) for v in e.table[1]],
+        }
+    else:
+        spec["stiffness"] = float(e.stiffness)
+        spec["free_angle" if e.rotational else "free_length"] = float(e.free)
+        spec["preload"] = float(e.preload)
+    return spec
 
 
 def dump(model: Model) -> str:
@@ -88,6 +110,8 @@ def dump(model: Model) -> str:
             if d.balance_at:
                 spec["balance_at"] = d.balance_at
             doc["drivers"][d.name] = spec
+    if model.elements:
+        doc["elements"] = {e.name: _element_spec(e) for e in model.elements}
     if model.sketch:
         doc["sketch"] = {k: [float(c) for c in v] for k, v in model.sketch.items()}
     a = model.analysis

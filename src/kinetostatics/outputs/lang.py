@@ -182,7 +182,7 @@ ZH.update(
         "6. Curves over the cycle": "6. 全周期曲线",
         "7. Velocity and acceleration polygons": "7. 速度多边形与加速度多边形",
         "8. Polar diagrams of the joint loads": "8. 运动副反力极坐标图",
-        "9. Flywheel": "9. 飞轮设计",
+        "{n}. Flywheel": "{n}. 飞轮设计",
         "; with friction mean {m} (approximate {a}), peak {p}": "；计摩擦时平均 {m}（近似解 {a}），峰值 {p}",
         "Acceleration polygon at position {pos}.": "位置 {pos} 的加速度多边形。",
         "Accelerations: angular accelerations (rad/s², counter-clockwise +) and point "
@@ -370,6 +370,26 @@ ZH.update(
         "singular position: {group} at φ = {angle}° (condition {c})": "奇异位置：{group} 于 φ = {angle}°（条件数 {c}）",
         "redundant constraints: reactions are the minimum-norm solution": "存在冗余约束：反力取最小范数解",
         " — here there are none": "——此处没有",
+        "{n}. Springs and dampers": "{n}. 弹簧与阻尼器",
+        "A spring or damper acts between two points along the line that joins them "
+        "(its length s), a torsion spring or rotary damper at a revolute on the "
+        "rotation of link j relative to link i (its angle s). Its force (moment) f "
+        "reduces s when positive (a spring in tension): a spring's is preload + "
+        "stiffness·(s − free length), or its table interpolated linearly and held "
+        "constant outside; a damper's is damping·ds/dt. Stored energy: 0 at the free "
+        "length (at the first value of a table); power f·ds/dt: stored by a spring, "
+        "dissipated by a damper. Values in the units of the file.": "弹簧或阻尼器作用于两点之间，沿两点连线（其长度 s）；扭簧或旋转阻尼器作用于转动副，作用于构件 j 相对构件 i 的转动（其转角 s）。其力（力矩）f 为正时使 s 减小（弹簧受拉）：弹簧力为 预紧力 + 刚度·(s − 自由长度)，或按其表格线性插值、表外保持不变；阻尼力为 阻尼系数·ds/dt。储存能量：自由长度处（表格的第一个值处）为 0；功率 f·ds/dt：弹簧储存，阻尼器耗散。数值采用文件的单位。",
+        "element": "元件",
+        "between": "连接",
+        "stiffness": "刚度",
+        "free length or angle": "自由长度或自由角",
+        "preload": "预紧力",
+        "table (s → f)": "表格（s → f）",
+        "damping": "阻尼系数",
+        "Elements": "弹簧与阻尼器",
+        "at revolute {joint}: {j} relative to {i}": "转动副 {joint}：{j} 相对 {i}",
+        "Springs and dampers at the course-design positions: length or angle s, force "
+        "or moment f (positive reduces s), stored energy (J) and power f·ds/dt (W)": "各设计位置的弹簧与阻尼器：长度或转角 s，力或力矩 f（为正时使 s 减小），储存能量（J）与功率 f·ds/dt（W）",
     }
 )
 

@@ -15,8 +15,10 @@ and the load events 1′, 8′ …), and writes to a folder:
 Sections: data, structure (Assur groups), results summary, the mechanism
 drawing, tables of positions, velocities, accelerations, reactions and
 driving torque at the course-design positions, the curves, the velocity and
-acceleration polygons at chosen positions, polar diagrams, and a flywheel
-section when the summary has a ``flywheel`` entry.
+acceleration polygons at chosen positions, polar diagrams, a section on the springs
+and dampers when the file has ``elements:`` (their data and their length, force, energy
+and power at the course-design positions, in the file's units), and a flywheel section
+when the summary has a ``flywheel`` entry.
 """
 
 from .document import ReportError, write_report

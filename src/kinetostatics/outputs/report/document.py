@@ -16,6 +16,7 @@ from ..loading import load
 from ..summary import summarize
 from .blocks import ReportError, _Heading, _Image, _Para, _to_html, _to_markdown
 from .data import _data_blocks, _structure_blocks
+from .elements import element_blocks
 from .flywheel import flywheel_blocks
 from .pdf import pdf_module
 from .results import _summary_blocks, length_unit, report_tables
@@ -280,8 +281,12 @@ def write_report(
             ),
         )
     )
+    section = 9
+    if model.elements:
+        blocks += element_blocks(result, rows, section, lang)
+        section += 1
     if dsg is not None:
-        blocks += flywheel_blocks(summary["flywheel"], dsg, result, rows, image, lang)
+        blocks += flywheel_blocks(summary["flywheel"], dsg, result, rows, image, lang, section)
     written: dict[str, Path] = {}
     if "md" in formats:
         written["markdown"] = out / "report.md"

@@ -15,8 +15,10 @@ def _g(v, digits: int = 6) -> str:
     return f"{v:.{digits}g}"
 
 
-def flywheel_blocks(fw: dict, design, result, rows, image, lang: str = "en") -> list:
-    """Blocks of the chapter from the summary entry ``fw`` (the numbers) and the
+def flywheel_blocks(
+    fw: dict, design, result, rows, image, lang: str = "en", number: int = 9
+) -> list:
+    """Blocks of chapter ``number`` from the summary entry ``fw`` (the numbers) and the
     ``design`` (its curve); ``image(fig, name, caption)`` saves a figure as a block."""
     from .. import plotting as pl
     from ..plotting.energy import energy_data
@@ -80,7 +82,7 @@ def flywheel_blocks(fw: dict, design, result, rows, image, lang: str = "en") -> 
         res.append([T("load events at"), "φ", ", ".join(f"{a:.3f}" for a in fw["events_at"]), deg])
     head = [T("quantity"), T("symbol"), T("value"), T("unit")]
     blocks: list = [
-        _Heading(2, T("9. Flywheel")),
+        _Heading(2, T("{n}. Flywheel", n=number)),
         _Para(
             T(
                 "The energy method: J_F = ΔW_max / (ω_m² δ), ΔW(φ) = ∫ (M_d − M_r) dφ from "
