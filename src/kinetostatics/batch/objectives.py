@@ -11,8 +11,8 @@ by a plain identifier before parsing.
 >>> c = Constraint.parse("slide.stroke >= 0.1")
 >>> c.op, c.left.text, c.right.text
 ('>=', 'slide.stroke', '0.1')
->>> c.violation({"slide.stroke": 0.09})  # (0.1 - 0.09) / 0.1
-0.09999999999999995
+>>> round(c.violation({"slide.stroke": 0.09}), 12)  # (0.1 - 0.09) / 0.1
+0.1
 >>> Expression("sqrt(shaking.force_rms**2 + 1)").value({"shaking.force_rms": 0.0})
 1.0
 """

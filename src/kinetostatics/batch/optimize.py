@@ -106,6 +106,7 @@ class _Problem:
         self.bar = None
         self.pool = None
         self.checked = False
+        self.error: OptimizeError | None = None
 
     def rows(self, overrides: list[dict[str, float]]) -> list[dict[str, Any]]:
         """The batch rows of the designs: one chunk (serial), or chunks on the executor."""
@@ -249,7 +250,11 @@ def optimize(
     try:
 
         def population(x: np.ndarray) -> np.ndarray:  # (n, S) -> (S,)
-            recs = problem.evaluate(np.atleast_2d(x.T))
+            try:
+                recs = problem.evaluate(np.atleast_2d(x.T))
+            except OptimizeError as exc:  # scipy would hide it in a RuntimeError
+                problem.error = exc
+                raise
             generation = sum(1 for s, _, _ in history if s == "search")
             history.append(("search", generation, problem.best()["score"]))
             problem.stage = f"generation {generation + 1}"
@@ -257,19 +262,16 @@ def optimize(
             return np.array([r["score"] for r in recs])
 
         x0 = np.array([known[n] for n in names], dtype=float)
-        de = differential_evolution(
-            population,
-            list(zip(lo, hi)),
-            maxiter=maxiter,
-            popsize=popsize,
-            tol=tol,
-            rng=np.random.default_rng(seed),
-            polish=False,
-            updating="deferred",
-            vectorized=True,
-            x0=x0 if np.all((x0 >= lo) & (x0 <= hi)) else None,
-        )
+        try:
+            de = _search(
+                differential_evolution, population, lo, hi, maxiter, popsize, tol, seed, x0
+            )
+        except RuntimeError:
+            if problem.error is not None:
+                raise problem.error from None
+            raise
         message = f"differential evolution: {de.message}"
+
         best = problem.best()
         if polish and best is not None and best["score"] < FAILED:
             problem.stage = "local"
@@ -292,6 +294,23 @@ def optimize(
 
         result.files = write_outputs(result, source, template, names, constraints, Path(out))
     return result
+
+
+def _search(differential_evolution, population, lo, hi, maxiter, popsize, tol, seed, x0):
+    """Differential evolution, a generation per call of ``population``; the file's own
+    design in the first population when it lies within the bounds."""
+    return differential_evolution(
+        population,
+        list(zip(lo, hi)),
+        maxiter=maxiter,
+        popsize=popsize,
+        tol=tol,
+        rng=np.random.default_rng(seed),
+        polish=False,
+        updating="deferred",
+        vectorized=True,
+        x0=x0 if np.all((x0 >= lo) & (x0 <= hi)) else None,
+    )
 
 
 def _did_you_mean(name: str, known) -> str:
