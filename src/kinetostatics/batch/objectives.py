@@ -27,7 +27,10 @@ from dataclasses import dataclass, field
 from ..base.expressions import ExpressionError, evaluate, names_in
 from ..errors import KinetostaticsError, did_you_mean
 
-__all__ = ["OptimizeError", "Expression", "Constraint"]
+__all__ = ["OptimizeError", "Expression", "Constraint", "INFEASIBLE", "FAILED"]
+
+INFEASIBLE = 1e15  # the score of an infeasible design: INFEASIBLE·(1 + its violation)
+FAILED = 1e18  # the score of a design the batch could not analyse
 
 # a dotted name (member.quantity), not preceded by a letter, digit, '_' or '.' (1.5e3 is safe)
 DOTTED = re.compile(r"(?<![\w.])([A-Za-z_]\w*(?:\.[A-Za-z_]\w*)+)")

@@ -33,13 +33,10 @@ from typing import Any
 import numpy as np
 
 from ..base.document import read_text
-from .objectives import Constraint, Expression, OptimizeError
+from .objectives import FAILED, INFEASIBLE, Constraint, Expression, OptimizeError
 from .sources import Chunk, Source, template_of
 
 __all__ = ["optimize", "Optimum", "OptimizeError", "INFEASIBLE", "FAILED", "parse_vary"]
-
-INFEASIBLE = 1e15  # added to the violation of an infeasible design
-FAILED = 1e18  # a design the batch could not analyse
 
 
 def parse_vary(items: Sequence[str] | Mapping[str, Sequence[float]]) -> dict[str, tuple]:

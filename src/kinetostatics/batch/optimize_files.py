@@ -53,7 +53,7 @@ def _plot(result, path: Path) -> None:
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    from .optimize import INFEASIBLE
+    from .objectives import INFEASIBLE
 
     fig = Figure(figsize=(6.4, 4.0), dpi=120)
     FigureCanvasAgg(fig)
