@@ -43,6 +43,7 @@ __all__ = [
     "OutputError",
     "NearSingularWarning",
     "build_system",
+    "optimize",
 ]
 
 
@@ -55,6 +56,10 @@ def __getattr__(name):  # keep `import kinetostatics` light: load stages on use
         from .analysis.results import Result
 
         return Result
+    if name == "optimize":
+        from .batch.optimize import optimize
+
+        return optimize
     if name == "build_system":
         from .structure.system import build_system
 

@@ -187,9 +187,12 @@ def output_strokes(st: Stacked) -> dict[str, dict[str, np.ndarray]]:
 
 def as_result(st: Stacked):
     """A :class:`~kinetostatics.analysis.results.Result` whose columns are ``(V, N)``."""
+    from ..kinetics.reactions import ground_reaction
     from .results import Result, build_columns
 
     kin = st.kin
+    with np.errstate(invalid="ignore"):  # a variant's singular rows: NaN shaking
+        shaking = ground_reaction(st.system, st.q, kin.x0)
     columns, units = build_columns(
         st.system,
         st.t,
@@ -201,7 +204,7 @@ def as_result(st: Stacked):
         kin.friction,
         kin.power,
         {},
-        None,
+        shaking,
         True,
     )
     return Result(

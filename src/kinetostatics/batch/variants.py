@@ -22,7 +22,7 @@ from ..kinematics.events import coordinate_rates, output_slides, output_strokes
 from ..model import Model
 from ..outputs.loading import build
 
-__all__ = ["Template", "analyze_variants", "summary_row", "ROW_UNITS"]
+__all__ = ["Template", "analyze_variants", "summary_row", "shaking_row", "ROW_UNITS"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -78,6 +78,10 @@ ROW_UNITS = {
     "transmission_angle_min": "deg",
     "inertia": "kg*m^2",
     "inertia_net": "kg*m^2",
+    "force_peak": "N",
+    "force_rms": "N",
+    "moment_peak": "N*m",
+    "moment_rms": "N*m",
 }
 
 
@@ -190,6 +194,8 @@ def summary_row(
             magf = np.hypot(cols[f"{j.name}.Fx_friction"], cols[f"{j.name}.Fy_friction"])
             peak = np.max(np.where(np.isfinite(magf), magf, -np.inf), axis=-1)
             row[f"{j.name}.reaction_peak_friction"] = np.where(peak > -np.inf, peak, np.nan)
+    if "shaking.Fx" in cols:
+        row.update(shaking_row(cols))
     for name in cols:
         if name.endswith(".pressure_angle"):
             row[name + "_max"] = np.max(cols[name], axis=-1)
@@ -203,6 +209,27 @@ def summary_row(
     return {
         k: (v.item() if isinstance(v, np.ndarray) and v.ndim == 0 else v) for k, v in row.items()
     }
+
+
+def shaking_row(cols) -> dict[str, Any]:
+    """Peak and RMS over the rows of the shaking force's magnitude |(Fx, Fy)| (N) and of the
+    shaking moment about the ground origin (N·m), the force and moment the moving links
+    exert on the frame (columns ``shaking.Fx``, ``shaking.Fy``, ``shaking.M``): rows
+    ``shaking.force_peak``, ``shaking.force_rms``, ``shaking.moment_peak``,
+    ``shaking.moment_rms``.  The RMS is over the analysed rows, as the driving effort's (the
+    rows of a full cycle are equally spaced in time at constant speed: the cycle's RMS);
+    singular rows (NaN) are left out, a variant without a finite row gives NaN."""
+    out = {}
+    force = np.hypot(cols["shaking.Fx"], cols["shaking.Fy"])
+    for word, v in (("force", force), ("moment", np.abs(cols["shaking.M"]))):
+        ok = np.isfinite(v)
+        n = np.count_nonzero(ok, axis=-1)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            peak = np.max(np.where(ok, v, -np.inf), axis=-1)
+            mean_sq = np.sum(np.where(ok, v * v, 0.0), axis=-1) / n
+        out[f"shaking.{word}_peak"] = np.where(n > 0, peak, np.nan)
+        out[f"shaking.{word}_rms"] = np.where(n > 0, np.sqrt(mean_sq), np.nan)
+    return out
 
 
 def split_rows(row: dict[str, Any], n: int) -> list[dict[str, Any]]:

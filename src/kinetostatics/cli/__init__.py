@@ -200,6 +200,7 @@ EXTENSIONS: tuple[str, ...] = (
     "kinetostatics.cli.dynamics",
     "kinetostatics.cli.batch",
     "kinetostatics.cli.formats",
+    "kinetostatics.cli.optimize",
 )
 
 

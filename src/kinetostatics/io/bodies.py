@@ -14,6 +14,7 @@ from ..errors import KinetostaticsError, Location, did_you_mean
 from ..joints import Joint, Revolute, joint_type
 from ..model import Link
 
+COUNTERWEIGHT_KEYS = Keys({"at": VECTOR, "mass": NUMBER, "inertia": NUMBER}, ("at", "mass"))
 LINK_KEYS = Keys(
     {
         "points": {"type": "object", "additionalProperties": VECTOR},
@@ -21,8 +22,29 @@ LINK_KEYS = Keys(
         "weight": NUMBER,
         "com": VECTOR,
         "inertia": NUMBER,
+        "counterweights": {"type": "object", "additionalProperties": COUNTERWEIGHT_KEYS},
     }
 )
+
+
+def with_counterweights(
+    mass: float, com: np.ndarray, inertia: float, added: list[tuple[float, np.ndarray, float]]
+) -> tuple[float, np.ndarray, float]:
+    """(mass, CoM, inertia about the CoM) of a link with point masses or discs ``added``
+    ((mass, place in the link's frame, own inertia about its centre)): the masses add, the
+    CoM is the mass-weighted mean of the places, and each body's inertia is carried to the
+    new CoM by the parallel-axis theorem, I + m·|c − c'|²."""
+    if not added:
+        return mass, com, inertia
+    total = mass + sum(m for m, _, _ in added)
+    if not total > 0.0:
+        return mass, com, inertia + sum(i for _, _, i in added)
+    first = mass * com + sum((m * p for m, p, _ in added), np.zeros(2))
+    c = first / total
+    j = inertia + mass * float(np.sum((com - c) ** 2))
+    for m, p, i in added:
+        j += i + m * float(np.sum((p - c) ** 2))
+    return total, c, j
 
 
 class BodySections:
@@ -122,8 +144,10 @@ class BodySections:
             inertia = e["inertia"].number("inertia", minimum=0.0)
         if is_ground and (mass or inertia):
             e.error("the ground link takes no mass or inertia")
-        if com is None or mass is None or inertia is None or not ok:
+        added = self._counterweights(e, is_ground)
+        if com is None or mass is None or inertia is None or not ok or added is None:
             return None
+        mass, com, inertia = with_counterweights(float(mass), com, float(inertia), added)
         return Link(
             name,
             {k: v - com for k, v in raw.items()},
@@ -133,6 +157,41 @@ class BodySections:
             is_ground,
             where,
         )
+
+    def _counterweights(
+        self, e: Entry, is_ground: bool
+    ) -> list[tuple[float, np.ndarray, float]] | None:
+        """The link's ``counterweights:`` as (mass, place, own inertia), places in the
+        link's frame (that of ``points:`` and ``com:``); None after a problem."""
+        section = e.get("counterweights")
+        if section is None:
+            return []
+        if not section.mapping():
+            return None
+        if is_ground and section.keys():
+            section.error("the ground link takes no counterweights")
+            return None
+        out: list[tuple[float, np.ndarray, float]] | None = []
+        for name, c in section.items():
+            if not NAME.match(name):
+                self.problems.add(
+                    section.key_where(name),
+                    f"counterweight name '{name}' is not a valid name: use letters, "
+                    "digits and _, not starting with a digit",
+                )
+                out = None
+                continue
+            if not c.check(COUNTERWEIGHT_KEYS):
+                out = None
+                continue
+            at = c["at"].vector("length")
+            m = c["mass"].number("mass", minimum=0.0)
+            i = c["inertia"].number("inertia", minimum=0.0) if c.get("inertia") else 0.0
+            if at is None or m is None or i is None:
+                out = None
+            elif out is not None:
+                out.append((float(m), at, float(i)))
+        return out
 
     def _joints(self, links: list[Link], points) -> list[Joint]:
         section = self.top.get("joints")

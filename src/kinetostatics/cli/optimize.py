@@ -1,0 +1,83 @@
+"""``kinetostatics optimize``: vary a file's parameters to minimise an expression over the
+batch's summary quantities, subject to constraints (docs/optimisation.md).
+
+Imports neither scipy nor matplotlib at import time (``run`` stays light).
+"""
+
+from __future__ import annotations
+
+__all__ = ["register"]
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "optimize",
+        help="optimise parameters: differential evolution over the batch's quantities",
+        description="Vary the parameters of FILE within bounds to minimise EXPR, an "
+        "expression over a variant's batch quantities (stroke, time_ratio, torque_rms, "
+        "reaction_peak, shaking.force_peak, ...) and the file's parameters, subject to "
+        "'EXPR <= EXPR' / 'EXPR >= EXPR' constraints (docs/optimisation.md). Writes "
+        "DIR/best.yaml, DIR/designs.csv and DIR/convergence.png.",
+    )
+    p.add_argument("file", help="mechanism YAML file with a parameters: section")
+    p.add_argument(
+        "--vary",
+        action="append",
+        required=True,
+        metavar="NAME=LO:HI",
+        help="a parameter to vary and its bounds (file units); repeat for each",
+    )
+    p.add_argument("--minimize", required=True, metavar="EXPR", help="the objective")
+    p.add_argument(
+        "--subject-to",
+        action="append",
+        default=[],
+        metavar="EXPR",
+        help="a constraint 'EXPR <= EXPR' or 'EXPR >= EXPR'; repeat for each",
+    )
+    p.add_argument("--out", help="output folder (default: print only)")
+    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    p.add_argument("--maxiter", type=int, default=60, help="generations (default 60)")
+    p.add_argument("--popsize", type=int, default=12, help="population per parameter (12)")
+    p.add_argument("--no-polish", dest="polish", action="store_false", help="no local step")
+    p.add_argument("--positions", type=int, help="positions per cycle (default: the file's)")
+    p.add_argument(
+        "--no-friction",
+        dest="friction",
+        action="store_false",
+        default=None,
+        help="skip the friction solutions",
+    )
+    p.add_argument("--workers", type=int, help="processes (default: this process only)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=_optimize)
+
+
+def _optimize(args) -> int:
+    from ..batch.optimize import optimize
+
+    result = optimize(
+        args.file,
+        args.vary,
+        args.minimize,
+        args.subject_to,
+        seed=args.seed,
+        maxiter=args.maxiter,
+        popsize=args.popsize,
+        polish=args.polish,
+        positions=args.positions,
+        friction=args.friction,
+        executor="processes" if args.workers and args.workers > 1 else "serial",
+        workers=args.workers,
+        out=args.out,
+        progress=not args.quiet,
+    )
+    state = "feasible" if result.feasible else "INFEASIBLE (no design met every constraint)"
+    print(f"best design ({state}), {len(result.designs)} designs evaluated:")
+    for name, value in result.parameters.items():
+        print(f"  {name} = {value:.10g}")
+    print(f"  {args.minimize} = {result.objective:.10g}")
+    print(result.message)
+    for key, path in result.files.items():
+        print(f"{key}: {path}")
+    return 0
