@@ -49,7 +49,7 @@ def _csv(result, names: Sequence[str], constraints) -> str:
 
 def _plot(result, path: Path) -> None:
     """The best score after each generation and each local step (a log scale when it
-    stays positive); the infeasible levels are left out."""
+    stays positive and spans more than a decade); the infeasible levels are left out."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
@@ -66,7 +66,7 @@ def _plot(result, path: Path) -> None:
         ax.axvline(search[-1] + 0.5, color="0.5", ls="--", lw=0.8)
         ax.text(search[-1] + 0.5, 0.98, " local", transform=ax.get_xaxis_transform(), va="top")
     finite = [y for y in ys if math.isfinite(y)]
-    if finite and min(finite) > 0:
+    if finite and min(finite) > 0 and max(finite) > 10 * min(finite):
         ax.set_yscale("log")
     ax.set_xlabel("generation, then local step")
     ax.set_ylabel("best objective (feasible)")
