@@ -126,3 +126,16 @@ def test_compare_still_sees_a_wrong_slide_moment_or_efficiency():
             k = int(np.nanargmax(np.abs(cols[den])))
             cols[c][k] *= 1.0 + 1e-5
         assert R.compare(R._Cols(cols), base) > 1e-7, (name, c)
+
+
+def test_a_motion_that_does_not_close_after_one_turn_says_so():
+    """Seed 1007280: the triad's branch, followed once round, comes back elsewhere (link t3
+    1.1 rad off), without a singular row on the way. The one-turn result now fails its
+    closure self-check, naming the link; the shipped machines close to round-off."""
+    doc = yaml.safe_load((CASES / "open_cycle_triad.yaml").read_text(encoding="utf-8"))
+    res = _analyze(doc)
+    closure = res.checks.closure
+    assert closure is not None and not closure.ok and closure.value > 0.1
+    assert "t3" in closure.where and "closure" in res.checks.warning()
+    shipped = Path(__file__).resolve().parents[2] / "mechanisms" / "slotting_machine.yaml"
+    assert ks.analyze(ks.load(shipped)).checks.closure.value < 1e-12

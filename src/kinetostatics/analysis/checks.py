@@ -16,6 +16,12 @@ Each :class:`~kinetostatics.analysis.results.Result` carries ``result.checks`` (
   refuses a larger one, see docs/yaml.md);
 - ``cond``: the largest condition number of an Assur group over the rows, which
   group and where; tolerance :data:`COND_TOL` (the near-singular warning's);
+- ``closure``: a full cycle of one constant-speed revolute driver must end where it
+  began: its last row carried on (by the same continuation as the rows) to one period
+  after its first, compared with its first pose (lengths over L_ref, angles modulo a
+  turn, in rad); tolerance :data:`CLOSURE_TOL`.  A linkage whose branch, followed once
+  round, does not come back (it changed branch, or its motion takes more than one turn)
+  has no one-turn cycle: its cycle means, strokes and flywheel would be wrong;
 - ``friction``: the rows per ``friction.status`` (0 converged, 1 by homotopy,
   2 self-locking, 3 a relative speed is zero); fails where a row self-locks
   (its friction values are empty).  It also counts the other rows whose
@@ -36,7 +42,9 @@ from typing import Any
 import numpy as np
 
 from ..base.units import factor
-from ..kinematics.newton import group_condition
+from ..errors import KinetostaticsError
+from ..kinematics.continuation import COARSE_STEP, continue_path
+from ..kinematics.newton import group_condition, group_signature
 from ..kinematics.schedule import schedule
 from ..kinematics.start import SKETCH_TOL, sketch_distances, start_pose
 from ..structure.system import phi
@@ -49,11 +57,13 @@ __all__ = [
     "CONSTRAINT_TOL",
     "POWER_TOL",
     "COND_TOL",
+    "CLOSURE_TOL",
 ]
 
 CONSTRAINT_TOL = 1e-9  # max|Φ| / L_ref (Newton stops at 1e-12)
 POWER_TOL = 1e-8  # max|power residual| / max|power.input|
 COND_TOL = 1e8  # group condition number (analysis.COND_WARN)
+CLOSURE_TOL = 1e-7  # the pose one period on from the first row against it (L_ref, rad)
 STATUS_WORDS = ("ok", "homotopy", "self-locking", "zero-speed")
 
 
@@ -93,6 +103,7 @@ class Checks:
     power_friction: Check | None = None
     sketch: Check | None = None
     cond: Check | None = None
+    closure: Check | None = None
     friction: Check | None = None
     friction_status: tuple[int, int, int, int] | None = None  # rows with status 0, 1, 2, 3
 
@@ -254,6 +265,7 @@ def result_checks(result) -> Checks:
             )
     if where:
         checks["cond"] = _cond_check(worst, where, group)
+    checks["closure"] = _closure_check(result, sched, q)
     status = None
     if "friction.status" in cols:
         st = np.asarray(cols["friction.status"])
@@ -278,6 +290,40 @@ def result_checks(result) -> Checks:
             (("efficiency_undefined", n_undef),),
         )
     return Checks(**checks, friction_status=status)
+
+
+def _closure_check(result, sched, q) -> Check | None:
+    """The last row of a full cycle continued to one period after the first, against it."""
+    system = result.system
+    drivers = system.motion_drivers
+    t = np.asarray(result.t)
+    if (
+        not result.full_cycle
+        or len(drivers) != 1
+        or not drivers[0].joint.angular
+        or sched.law is not None
+        or sched.acceleration is not None
+        or t.size < 2
+    ):
+        return None
+    first, last = int(np.argmin(t)), int(np.argmax(t))
+    t_end = float(t[first]) + float(sched.period)
+    sig = np.array([float(group_signature(system, q[last], p)) for p in system.plans])
+    max_dt = COARSE_STEP / abs(float(sched.speed[0]))
+    try:
+        _, qs, _, _ = continue_path(system, q[last], sig, float(t[last]), t_end, sched, max_dt, [])
+        gap = np.asarray(qs[-1]) - q[first]
+    except KinetostaticsError:
+        gap = np.full(q.shape[-1], np.inf)
+    ang = np.arange(gap.size) % 3 == 2
+    with np.errstate(invalid="ignore"):
+        gap = np.where(ang, gap - 2 * np.pi * np.round(gap / (2 * np.pi)), gap)
+        gap = np.abs(np.where(ang, gap, gap / np.max(system.l_ref)))
+    k = int(np.argmax(np.where(np.isnan(gap), np.inf, gap)))
+    value = float(gap[k]) if np.isfinite(gap[k]) else np.inf
+    link = system.links[k // 3]
+    where = f"link {link} one turn after {_row_text(result, first)}"
+    return Check("closure", value, CLOSURE_TOL, where, f"closure {value:.0e}")
 
 
 def start_checks(system) -> Checks:
