@@ -31,7 +31,7 @@ def pattern(path: str) -> str:
     parts = path.split(".")
     if parts and parts[0].split("[")[0] in NAMED and len(parts) > 1:
         parts[1] = "*" + parts[1][len(parts[1].split("[")[0]) :]
-    if len(parts) > 3 and parts[0] == "links" and parts[2] == "points":
+    if len(parts) > 3 and parts[0] == "links" and parts[2] in ("points", "counterweights"):
         parts[3] = "*" + parts[3][len(parts[3].split("[")[0]) :]
     return ".".join(parts)
 

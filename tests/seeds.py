@@ -193,6 +193,11 @@ def _seeds() -> dict[str, dict]:
         analysis=FEW,
     )
     out["loops"] = _variant(SC, loops=[["O", "A", "B", "slide"]], analysis=FEW)
+    out["counterweights"] = _variant(
+        SC,
+        links__crank__counterweights={"cw": {"at": [-20, 0], "mass": 0.5, "inertia": 0.0001}},
+        analysis=FEW,
+    )
     out["springs and dampers"] = _variant(
         SC,
         elements={
