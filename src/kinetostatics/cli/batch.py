@@ -50,14 +50,7 @@ def register(sub) -> None:
     )
     p.add_argument("--random", type=int, metavar="N", help="N random samples of the --set ranges")
     p.add_argument("--seed", type=int, help="random seed (default 0)")
-    p.add_argument("--positions", type=int, help="positions per cycle (default: the file's)")
-    p.add_argument(
-        "--no-friction",
-        dest="friction",
-        action="store_false",
-        default=None,
-        help="skip the friction solutions",
-    )
+    analysis_options(p)
     fw = p.add_mutually_exclusive_group()
     fw.add_argument(
         "--flywheel",
@@ -112,6 +105,18 @@ def register(sub) -> None:
     q.add_argument("file", help="summary.csv of a batch (or its output folder)")
     _best_options(q, required=True)
     q.set_defaults(func=_best)
+
+
+def analysis_options(p) -> None:
+    """``--positions`` and ``--no-friction``: how each variant is analysed (batch, optimize)."""
+    p.add_argument("--positions", type=int, help="positions per cycle (default: the file's)")
+    p.add_argument(
+        "--no-friction",
+        dest="friction",
+        action="store_false",
+        default=None,
+        help="skip the friction solutions",
+    )
 
 
 def _best_options(p, required: bool) -> None:

@@ -6,6 +6,8 @@ Imports neither scipy nor matplotlib at import time (``run`` stays light).
 
 from __future__ import annotations
 
+from .batch import analysis_options
+
 __all__ = ["register"]
 
 
@@ -40,14 +42,7 @@ def register(sub) -> None:
     p.add_argument("--maxiter", type=int, default=60, help="generations (default 60)")
     p.add_argument("--popsize", type=int, default=12, help="population per parameter (12)")
     p.add_argument("--no-polish", dest="polish", action="store_false", help="no local step")
-    p.add_argument("--positions", type=int, help="positions per cycle (default: the file's)")
-    p.add_argument(
-        "--no-friction",
-        dest="friction",
-        action="store_false",
-        default=None,
-        help="skip the friction solutions",
-    )
+    analysis_options(p)
     p.add_argument("--workers", type=int, help="processes (default: this process only)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_optimize)
