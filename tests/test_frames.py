@@ -4,6 +4,7 @@ slider-crank's closed forms (crank a = 100 mm, rod b = 350 mm, guide at e = -20 
 300 rpm): A = a(cos θ, sin θ), x_B = a cos θ + √(b² − (a sin θ − e)²)."""
 
 import builtins
+import importlib.metadata
 import re
 import subprocess
 import sys
@@ -100,6 +101,8 @@ def test_short_repr_and_html(result):
 
 def test_version():
     assert re.fullmatch(r"\d+\.\d+.*", ks.__version__)
+    # the installed distribution's metadata is read from the same place
+    assert importlib.metadata.version("kinetostatics") == ks.__version__
     run = subprocess.run(
         [sys.executable, "-m", "kinetostatics.cli", "--version"],
         capture_output=True,

@@ -24,6 +24,7 @@ from typing import Any
 
 import numpy as np
 
+from ..base.arrays import sorted_distinct
 from .pipeline import analyze
 from .results import Result
 
@@ -105,7 +106,7 @@ def _breaks(result: Result, ta: float, tb: float) -> np.ndarray:
             te = ta + np.mod(te - ta, tb - ta)
         if ta < te < tb:
             inner.append(te)
-    return np.unique(np.concatenate(([ta], inner, [tb])))
+    return sorted_distinct(np.concatenate(([ta], inner, [tb])))
 
 
 def cycle_nodes(result: Result, *, friction: bool | None = None) -> tuple[np.ndarray, Result]:
@@ -117,6 +118,8 @@ def cycle_nodes(result: Result, *, friction: bool | None = None) -> tuple[np.nda
     cache = result.__dict__.setdefault("_cycle_nodes", {})
     if friction in cache:
         return cache[friction]
+    if True in cache:  # the nodes with friction carry every frictionless column too
+        return cache[True]
     ta, tb = _span(result)
     if not tb > ta:  # one row: its values
         cache[friction] = (np.ones(len(result.t)), result)

@@ -1,12 +1,8 @@
-"""The package's version, from the installed distribution's metadata."""
+"""The package's version: the one place it is written (pyproject.toml reads it from here,
+so the installed metadata agrees and importing the package reads no metadata)."""
 
 from __future__ import annotations
 
-from importlib.metadata import PackageNotFoundError, version
-
 __all__ = ["VERSION"]
 
-try:
-    VERSION = version("kinetostatics")
-except PackageNotFoundError:  # a source tree that is not installed
-    VERSION = "0+unknown"
+VERSION = "0.1.0"

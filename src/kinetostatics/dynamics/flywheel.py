@@ -31,10 +31,11 @@ from ..analysis.cycle import cycle_stats
 from ..analysis.results import Result
 from ..base.arguments import real_number
 from ..errors import Location, StructureError
+from ..kinetics.reactions import effort_ratio
 from ..model import EffortLaw, Model, MotionLaw
 from ..structure.system import System, build_system
 from .integration import simulate
-from .reduced import equivalent, with_effort
+from .reduced import equivalent, equivalent_inertia, with_effort
 from .simulation import speed_fluctuation
 
 __all__ = ["FlywheelDesign", "design", "verify", "energy_curve"]
@@ -178,7 +179,15 @@ def _moment(system: System, r: Result, friction: bool) -> tuple[np.ndarray, np.n
     model = system.model
     word = "torque" if model.joint(drv.driver.balance_at or drv.joint.name).angular else "force"
     tau = r[f"{name}.{word}_friction"] if friction else r[f"{name}.{word}"]
-    eq = equivalent(system, r.q, r.coordinate, speed=drv.driver.motion.speed, extremes=r.extremes)
+    law = drv.driver.motion
+    if law.acceleration == 0:  # ψ̇ = speed on every row: ∂q/∂ψ = q̇/ψ̇ from the rows' own q̇
+        tangent = r.qd / law.speed
+        eq = {
+            "inertia": equivalent_inertia(system, tangent),
+            "effort_ratio": effort_ratio(system, r.q, tangent),
+        }
+    else:
+        eq = equivalent(system, r.q, r.coordinate, speed=law.speed, extremes=r.extremes)
     moment = sense * tau * eq["effort_ratio"]
     if not friction:  # singular equilibrium rows (the balance_at joint at or
         # next to rest, no effort there): the moment on the crank is still the input power

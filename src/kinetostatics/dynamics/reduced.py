@@ -15,7 +15,7 @@ from ..kinetics.reactions import effort_ratio
 from ..model import EffortLaw, Model
 from ..structure.system import System
 
-__all__ = ["with_effort", "equivalent"]
+__all__ = ["with_effort", "equivalent", "equivalent_inertia"]
 
 
 def with_effort(model: Model, driver: str, effort: float | EffortLaw) -> Model:
@@ -32,6 +32,11 @@ def with_effort(model: Model, driver: str, effort: float | EffortLaw) -> Model:
 
 def _law(effort) -> EffortLaw:
     return effort if isinstance(effort, EffortLaw) else EffortLaw("constant", value=float(effort))
+
+
+def equivalent_inertia(system: System, tangent: np.ndarray) -> np.ndarray:
+    """J_e = Σ m|v_S/ψ̇|² + J(ω/ψ̇)² from ``tangent`` = ∂q/∂ψ (q̇ at ψ̇ = 1), ``(...,)``."""
+    return np.einsum("...n,...n->...", tangent, mass_vector(system) * tangent)
 
 
 def equivalent(
@@ -77,7 +82,7 @@ def equivalent(
     tangent = qd[n:]
     loads = (kin.q_gravity + kin.q_external + kin.q_element)[:n]
     return {
-        "inertia": np.einsum("...n,...n->...", tangent, mass_vector(system) * tangent),
+        "inertia": equivalent_inertia(system, tangent),
         "effort_ratio": effort_ratio(system, q, tangent),
         "inertia_derivative": -2.0 * np.einsum("...n,...n->...", tangent, kin.q_inertia[n:]),
         "torque": np.einsum("...n,...n->...", tangent, loads),

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..base.arrays import sorted_distinct
 from ..structure.system import System, phi
 from .continuation import COARSE_STEP, Drive, Singularity, time_step
 from .dyads import MARGIN
@@ -149,7 +150,8 @@ def _change_points(
     ts = np.linspace(lo, hi, int(np.ceil((hi - lo) / fine)) + 1)
     if getattr(drive, "laws", ()):
         ts = np.concatenate((ts, drive.turning_times(lo, hi)))
-    ts = np.broadcast_to(np.unique(np.append(ts, 0.0)), (n_v, len(np.unique(np.append(ts, 0.0)))))
+    ts = sorted_distinct(np.append(ts, 0.0))
+    ts = np.broadcast_to(ts, (n_v, len(ts)))
     flips = [np.full((n_v, 0), np.nan) for _ in solvers]
     ok = np.ones(n_v, dtype=bool)
 
