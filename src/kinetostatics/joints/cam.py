@@ -56,7 +56,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from ..base.geometry import dot, perp, rotate
+from ..base.geometry import dot, perp, rotate, turn, turn_back
 from ..base.keys import NAME, NUMBER, VECTOR, Keys, enum, names
 from ._camlaw import LAW_SHAPE, read_law
 from ._camprofile import Synthesis
@@ -294,10 +294,10 @@ class Cam(Joint, kind="cam"):
 
     # -- the relative pose and the scalar functions of it -----------------------------
     def _pose(self, qi, qj):
-        Ao = rotate(qi[..., 2], self.o)
-        Ap = rotate(qj[..., 2], self.p)
+        Ao = turn(qi, self.o)
+        Ap = turn(qj, self.p)
         d = qj[..., :2] + Ap - qi[..., :2] - Ao
-        return Ao, Ap, d, rotate(-qi[..., 2], d), qj[..., 2] - qi[..., 2]
+        return Ao, Ap, d, turn_back(qi, d), qj[..., 2] - qi[..., 2]
 
     def _face_angle(self, phi):
         return phi + math.atan2(-self.face[1], -self.face[0])
@@ -375,7 +375,7 @@ class Cam(Joint, kind="cam"):
     def _rows(self, qi, qj, gz, gphi):
         """(∂F/∂q_i, ∂F/∂q_j), each (..., 3), from F's gradient in (z, φ)."""
         Ao, Ap, d, z, phi = self._pose(qi, qj)
-        G = rotate(qi[..., 2], gz)
+        G = turn(qi, gz)
         jj = np.concatenate((G, (dot(G, perp(Ap)) + gphi)[..., None]), axis=-1)
         ti = dot(gz, -perp(z) - perp(np.broadcast_to(self.o, z.shape))) - gphi
         ji = np.concatenate((-G, ti[..., None]), axis=-1)
@@ -388,9 +388,9 @@ class Cam(Joint, kind="cam"):
         wi, wj = vi[..., 2], vj[..., 2]
         dd = vj[..., :2] + wj[..., None] * perp(Ap) - vi[..., :2] - wi[..., None] * perp(Ao)
         ddv = -(wj**2)[..., None] * Ap + (wi**2)[..., None] * Ao
-        dl = rotate(-qi[..., 2], dd)
+        dl = turn_back(qi, dd)
         zd = dl - wi[..., None] * perp(z)
-        zddv = rotate(-qi[..., 2], ddv) - wi[..., None] * (perp(dl) + perp(zd))
+        zddv = turn_back(qi, ddv) - wi[..., None] * (perp(dl) + perp(zd))
         pd = wj - wi
         quad = np.einsum("...a,...ab,...b->...", zd, Hzz, zd) + 2 * pd * dot(Hzp, zd) + Hpp * pd**2
         return dot(gz, zddv) + quad
@@ -410,7 +410,7 @@ class Cam(Joint, kind="cam"):
     def _normal(self, qi, qj):
         """|∇_z Φ| (1 for a flat face) and ∇_z Φ in global axes."""
         gz = self._phi(qi, qj)[1]
-        return np.hypot(gz[..., 0], gz[..., 1]), rotate(qi[..., 2], gz)
+        return np.hypot(gz[..., 0], gz[..., 1]), turn(qi, gz)
 
     def reaction(self, lam, qi, qj):
         size, G = self._normal(qi, qj)
@@ -429,7 +429,7 @@ class Cam(Joint, kind="cam"):
 
     def effort_force(self, effort, qi, qj):
         _, gz, *_ = self._coord(qi, qj)
-        G = rotate(qi[..., 2], gz)
+        G = turn(qi, gz)
         return {"Fx": effort * G[..., 0], "Fy": effort * G[..., 1]}
 
     # -- friction: f |F| along the tangent ---------------------------------------------
@@ -487,16 +487,16 @@ class Cam(Joint, kind="cam"):
         theta, X, n, z = self._contact(qi, qj)
         c, sn = np.cos(qi[..., 2]), np.sin(qi[..., 2])
         rot = np.stack((np.stack((c, -sn), -1), np.stack((sn, c), -1)), -2)  # (..., 2, 2)
-        base = qi[..., :2] + rotate(qi[..., 2], self.o)
-        point = base + rotate(qi[..., 2], X)
+        base = qi[..., :2] + turn(qi, self.o)
+        point = base + turn(qi, X)
         curves = tuple(
             Curve(i, base[..., None, :] + np.einsum("...ab,nb->...na", rot, pts))
             for pts in self._outline
         )
-        P = qj[..., :2] + rotate(qj[..., 2], self.p)
+        P = qj[..., :2] + turn(qj, self.p)
         s = self.synthesis
         if s.flat:
-            T = rotate(qi[..., 2], perp(n))
+            T = turn(qi, perp(n))
             return Glyph(point=point, curves=curves, lines=(Line(j, P, T),))
         circles = (Circle(j, P, s.radius),) if s.radius else ()
         return Glyph(point=point, curves=curves, circles=circles)

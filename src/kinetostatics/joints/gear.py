@@ -108,7 +108,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from ..base.geometry import dot, perp, rotate
+from ..base.geometry import dot, perp, turn
 from ..base.keys import NAME, NUMBER, Keys, enum, names
 from ._mesh import (
     MESH_KEYS,
@@ -298,8 +298,8 @@ class Gear(MeshFriction, Joint, kind="gear"):
 
     # -- geometry -------------------------------------------------------------
     def _frame(self, qi, qj):
-        Ri = rotate(qi[..., 2], self.c_i)
-        Rj = rotate(qj[..., 2], self.c_j)
+        Ri = turn(qi, self.c_i)
+        Rj = turn(qj, self.c_j)
         D = qj[..., :2] + Rj - qi[..., :2] - Ri
         d = np.hypot(D[..., 0], D[..., 1])
         e = D / d[..., None]
@@ -396,8 +396,8 @@ class Gear(MeshFriction, Joint, kind="gear"):
     def glyph(self, qi, qj):
         """The pitch circles about the centres; the pitch point on the line of centres."""
         i, j = self.links
-        Ci = qi[..., :2] + rotate(qi[..., 2], self.c_i)
-        Cj = qj[..., :2] + rotate(qj[..., 2], self.c_j)
+        Ci = qi[..., :2] + turn(qi, self.c_i)
+        Cj = qj[..., :2] + turn(qj, self.c_j)
         D = Cj - Ci
         e = D / np.maximum(np.linalg.norm(D, axis=-1, keepdims=True), 1e-300)
         return Glyph(

@@ -7,7 +7,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from ..base.geometry import dot, perp, rotate, wrap_angle
+from ..base.geometry import dot, perp, turn, wrap_angle
 from ..base.keys import NAME, NUMBER, Keys, names
 from .base import AXIS_KEYS, Anchor, Block, Glyph, Joint, Line
 
@@ -106,9 +106,9 @@ class Prismatic(Joint, kind="prismatic"):
 
     # -- geometry -----------------------------------------------------------
     def _frame(self, qi, qj):
-        A = rotate(qi[..., 2], self.a)
-        U = rotate(qi[..., 2], self.u)
-        P = rotate(qj[..., 2], self.p)
+        A = turn(qi, self.a)
+        U = turn(qi, self.u)
+        P = turn(qj, self.p)
         d = qj[..., :2] + P - qi[..., :2] - A
         return A, U, perp(U), P, d
 
@@ -144,7 +144,7 @@ class Prismatic(Joint, kind="prismatic"):
         return {"Fx": n_force * N[..., 0], "Fy": n_force * N[..., 1], "N": n_force, "M": couple}
 
     def effort_force(self, effort, qi, qj):
-        U = rotate(qi[..., 2], self.u)
+        U = turn(qi, self.u)
         return {"Fx": effort * U[..., 0], "Fy": effort * U[..., 1]}
 
     # -- relative coordinate --------------------------------------------------
@@ -199,9 +199,9 @@ class Prismatic(Joint, kind="prismatic"):
         return axis + (Anchor(j, self.point_name, self.p, at_joint=True),)
 
     def glyph(self, qi, qj):
-        P = qj[..., :2] + rotate(qj[..., 2], self.p)
-        U = rotate(qi[..., 2], self.u)
-        A = qi[..., :2] + rotate(qi[..., 2], self.a)
+        P = qj[..., :2] + turn(qj, self.p)
+        U = turn(qi, self.u)
+        A = qi[..., :2] + turn(qi, self.a)
         i, j = self.links
         return Glyph(point=P, block=Block(j, P, U, self.length), guide=Line(i, A, U))
 

@@ -69,7 +69,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from ..base.geometry import dot, perp, rotate
+from ..base.geometry import dot, perp, turn
 from ..base.keys import NAME, NUMBER, Keys, names
 from ._mesh import (
     MESH_KEYS,
@@ -224,9 +224,9 @@ class Rack(MeshFriction, Joint, kind="rack"):
 
     # -- geometry -----------------------------------------------------------
     def _frame(self, qi, qj):
-        A = rotate(qi[..., 2], self.a)
-        U = rotate(qi[..., 2], self.u)
-        C = rotate(qj[..., 2], self.c)
+        A = turn(qi, self.a)
+        U = turn(qi, self.u)
+        C = turn(qj, self.c)
         D = qj[..., :2] + C - qi[..., :2] - A
         N = perp(U)
         nu = np.where(dot(N, D) >= 0.0, 1.0, -1.0)
@@ -306,7 +306,7 @@ class Rack(MeshFriction, Joint, kind="rack"):
         return 0.5 * self._rates(A, U, N, C, D, vi, vj)[0]
 
     def effort_force(self, effort, qi, qj):
-        U = rotate(qi[..., 2], self.u)
+        U = turn(qi, self.u)
         return {"Fx": 0.5 * effort * U[..., 0], "Fy": 0.5 * effort * U[..., 1]}
 
     # -- description ----------------------------------------------------------
@@ -320,9 +320,9 @@ class Rack(MeshFriction, Joint, kind="rack"):
         """The pinion's pitch circle, the rack's pitch line; the pitch point is the
         foot of the pinion centre on that line."""
         i, j = self.links
-        A = qi[..., :2] + rotate(qi[..., 2], self.a)
-        U = rotate(qi[..., 2], self.u)
-        C = qj[..., :2] + rotate(qj[..., 2], self.c)
+        A = qi[..., :2] + turn(qi, self.a)
+        U = turn(qi, self.u)
+        C = qj[..., :2] + turn(qj, self.c)
         N = perp(U)
         h = np.sum(N * (C - A), axis=-1, keepdims=True)
         return Glyph(point=C - h * N, circles=(Circle(j, C, self.r),), lines=(Line(i, A, U),))

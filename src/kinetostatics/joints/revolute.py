@@ -7,7 +7,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from ..base.geometry import perp, rotate
+from ..base.geometry import perp, turn
 from ..base.keys import NAME, NUMBER, Keys, names
 from .base import Anchor, Glyph, Joint
 
@@ -89,24 +89,19 @@ class Revolute(Joint, kind="revolute"):
 
     # -- kinematics ---------------------------------------------------------
     def residual(self, qi, qj):
-        return (
-            qi[..., :2] + rotate(qi[..., 2], self.p_i) - qj[..., :2] - rotate(qj[..., 2], self.p_j)
-        )
+        return qi[..., :2] + turn(qi, self.p_i) - qj[..., :2] - turn(qj, self.p_j)
 
     def jacobian(self, qi, qj):
         shape = np.broadcast_shapes(qi.shape, qj.shape)[:-1] + (2, 3)
         ji, jj = np.zeros(shape), np.zeros(shape)
         ji[..., 0, 0] = ji[..., 1, 1] = 1.0
         jj[..., 0, 0] = jj[..., 1, 1] = -1.0
-        ji[..., :, 2] = perp(rotate(qi[..., 2], self.p_i))
-        jj[..., :, 2] = -perp(rotate(qj[..., 2], self.p_j))
+        ji[..., :, 2] = perp(turn(qi, self.p_i))
+        jj[..., :, 2] = -perp(turn(qj, self.p_j))
         return ji, jj
 
     def acceleration_rhs(self, qi, qj, vi, vj):
-        return (
-            rotate(qi[..., 2], self.p_i) * vi[..., 2:3] ** 2
-            - rotate(qj[..., 2], self.p_j) * vj[..., 2:3] ** 2
-        )
+        return turn(qi, self.p_i) * vi[..., 2:3] ** 2 - turn(qj, self.p_j) * vj[..., 2:3] ** 2
 
     def reaction(self, lam, qi, qj):
         return {"Fx": -lam[..., 0], "Fy": -lam[..., 1]}
@@ -116,7 +111,7 @@ class Revolute(Joint, kind="revolute"):
         return qj[..., 2] - qi[..., 2]
 
     def motion_direction(self, qi, qj):
-        shape = np.broadcast_shapes(qi.shape, qj.shape)
+        shape = np.broadcast_shapes(qi.shape[:-1], qj.shape[:-1]) + (3,)
         gi, gj = np.zeros(shape), np.zeros(shape)
         gi[..., 2], gj[..., 2] = -1.0, 1.0
         return gi, gj
@@ -145,7 +140,7 @@ class Revolute(Joint, kind="revolute"):
         )
 
     def glyph(self, qi, qj):
-        return Glyph(point=qj[..., :2] + rotate(qj[..., 2], self.p_j))
+        return Glyph(point=qj[..., :2] + turn(qj, self.p_j))
 
     def describe(self, tr=None):
         tr = tr or (lambda text, **values: text.format(**values))

@@ -15,6 +15,7 @@ from functools import cached_property
 
 import numpy as np
 
+from ..base.geometry import poses
 from ..joints import Joint
 from ..model import Model
 from .drivers import DriverConstraint
@@ -152,6 +153,16 @@ def _pair(qe: np.ndarray, ends: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return qe[..., 3 * i : 3 * i + 3], qe[..., 3 * j : 3 * j + 3]
 
 
+def _poses(system: System, q: np.ndarray) -> np.ndarray:
+    """The links' poses with their frames (cos θ, sin θ computed once for this state, not
+    once per joint and use), ``(..., n_links + 1, 5)``, ground last."""
+    return poses(q, len(system.links))
+
+
+def _pose_pair(pe: np.ndarray, ends: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    return pe[..., ends[0], :], pe[..., ends[1], :]
+
+
 def _selection(system: System, which: Sequence[int] | None) -> Sequence[int]:
     return range(len(system.constraints)) if which is None else which
 
@@ -163,11 +174,11 @@ def phi(
 
     ``psi (..., n_drivers)`` are the prescribed driver coordinates.
     """
-    qe, out = _ext(q), []
+    pe, out = _poses(system, q), []
     n_j = len(system.model.joints)
     for k in _selection(system, which):
         c = system.constraints[k]
-        qi, qj = _pair(qe, system.ends[k])
+        qi, qj = _pose_pair(pe, system.ends[k])
         out.append(c.residual(qi, qj, psi[..., k - n_j]) if k >= n_j else c.residual(qi, qj))
     return np.concatenate(out, axis=-1)
 
@@ -178,27 +189,29 @@ def jacobian(
     which: Sequence[int] | None = None,
     cols: np.ndarray | None = None,
     ground: bool = False,
+    pe: np.ndarray | None = None,
 ) -> np.ndarray:
     """Φ_q for the constraints ``which``, restricted to ``cols``: ``(..., rows, cols)``.
 
     With ``ground=True`` the three columns of the ground link are kept at the end.
-    Only the columns asked for are built (Φ_q is mostly structural zeros).
+    Only the columns asked for are built (Φ_q is mostly structural zeros).  ``pe``:
+    the poses of q (``_poses``) when the caller has them already.
     """
-    qe = _ext(q)
+    pe = _poses(system, q) if pe is None else pe
     which = list(_selection(system, which))
     width = q.shape[-1] + (3 if ground else 0)
     cols = np.arange(width) if cols is None else np.arange(width)[cols]
     pos = np.full(q.shape[-1] + 3, -1)
     pos[cols] = np.arange(len(cols))
     if not np.array_equal(pos[cols], np.arange(len(cols))):  # a column asked for twice
-        return jacobian(system, q, which, ground=ground)[..., cols]
+        return jacobian(system, q, which, ground=ground, pe=pe)[..., cols]
     n_rows = sum(system.constraints[k].n_eq for k in which)
     out = np.zeros(q.shape[:-1] + (n_rows, len(cols)))
     r = 0
     for k in which:
         c = system.constraints[k]
         ends = system.ends[k]
-        for link, jl in zip(ends, c.jacobian(*_pair(qe, ends))):
+        for link, jl in zip(ends, c.jacobian(*_pose_pair(pe, ends))):
             at = pos[3 * link : 3 * link + 3]
             if at[0] >= 0 and at[1] == at[0] + 1 and at[2] == at[0] + 2:
                 dest = out[..., r : r + c.n_eq, at[0] : at[0] + 3]
@@ -216,9 +229,9 @@ def jacobian_blocks(system: System, q: np.ndarray) -> list[tuple[np.ndarray, np.
     """Φ_q by Assur group, as :class:`~kinetostatics.base.linalg.BlockFactor` takes it:
     for each plan, (its diagonal block, rows × its own columns; its rows × the earlier
     groups' columns, or None for the first).  Each constraint is evaluated once."""
-    out, done = [], np.zeros(0, dtype=int)
+    out, done, pe = [], np.zeros(0, dtype=int), _poses(system, q)
     for p in system.plans:
-        blk = jacobian(system, q, p.constraints, np.concatenate((done, p.cols)))
+        blk = jacobian(system, q, p.constraints, np.concatenate((done, p.cols)), pe=pe)
         rows = np.arange(len(p.rows))[:, None]  # gathered as Φ_q[rows, cols] would be:
         lower = blk[..., rows, np.arange(done.size)] if done.size else None  # same memory
         out.append((blk[..., rows, np.arange(done.size, blk.shape[-1])], lower))  # layout
@@ -228,10 +241,9 @@ def jacobian_blocks(system: System, q: np.ndarray) -> list[tuple[np.ndarray, np.
 
 def coordinate_gradient(system: System, q: np.ndarray, k: int, ground: bool = False) -> np.ndarray:
     """Gradient of constraint ``k``'s joint coordinate over all of q, ``(..., n_q)``."""
-    qe = _ext(q)
     i, j = system.ends[k]
-    gi, gj = system.constraints[k].motion_direction(*_pair(qe, system.ends[k]))
-    out = np.zeros(qe.shape)
+    gi, gj = system.constraints[k].motion_direction(*_pose_pair(_poses(system, q), system.ends[k]))
+    out = np.zeros(q.shape[:-1] + (q.shape[-1] + 3,))
     out[..., 3 * i : 3 * i + 3] += gi
     out[..., 3 * j : 3 * j + 3] += gj
     return out if ground else out[..., :-3]
@@ -245,10 +257,10 @@ def nu(system: System, psi_d: np.ndarray) -> np.ndarray:
 
 def gamma(system: System, q: np.ndarray, qd: np.ndarray, psi_dd: np.ndarray) -> np.ndarray:
     """γ such that Φ_q q̈ = γ, ``(..., n_rows)``."""
-    qe, ve, out = _ext(q), _ext(qd), []
+    pe, ve, out = _poses(system, q), _ext(qd), []
     n_j = len(system.model.joints)
     for k, c in enumerate(system.constraints):
-        qi, qj = _pair(qe, system.ends[k])
+        qi, qj = _pose_pair(pe, system.ends[k])
         vi, vj = _pair(ve, system.ends[k])
         out.append(
             c.acceleration_rhs(qi, qj, vi, vj, psi_dd[..., k - n_j])
