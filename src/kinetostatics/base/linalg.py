@@ -43,8 +43,11 @@ def _adjugate(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def _lapack_inverse(a: np.ndarray) -> np.ndarray:
     try:
         return np.linalg.inv(a)
-    except np.linalg.LinAlgError:  # exactly singular somewhere: least squares there
-        return np.linalg.pinv(a)
+    except np.linalg.LinAlgError:  # exactly singular somewhere: least squares, NaN stays NaN
+        out = np.full(a.shape, np.nan)
+        finite = np.all(np.isfinite(a), axis=(-2, -1))
+        out[finite] = np.linalg.pinv(a[finite])
+        return out
 
 
 def _pivot_order(a: np.ndarray) -> np.ndarray:
@@ -66,7 +69,7 @@ def _gauss_jordan(a: np.ndarray) -> np.ndarray:
     The rows are taken in the order partial pivoting picks for the first matrix (the
     blocks of one group along a path share their structure); a matrix where a pivot
     is below :data:`PIVOT_RATIO` of the largest entry left in its column (so that the
-    multipliers stay ≤ 1/PIVOT_RATIO) is inverted by LAPACK instead."""
+    multipliers stay ≤ 1/PIVOT_RATIO), or not finite, is inverted by LAPACK instead."""
     n = a.shape[-1]
     order = _pivot_order(a[0])
     m = np.ascontiguousarray(np.moveaxis(a[:, order, :], 0, -1))
@@ -108,7 +111,7 @@ def small_inverse(a: np.ndarray) -> np.ndarray:
     n = a.shape[-1]
     if n > 3:
         count = int(np.prod(a.shape[:-2]))
-        if count < GAUSS_JORDAN_FROM or not np.all(np.isfinite(a)):
+        if count < GAUSS_JORDAN_FROM:
             return _lapack_inverse(a)
         return _gauss_jordan(a.reshape((count, n, n))).reshape(a.shape)
     adj, det = _adjugate(a)
