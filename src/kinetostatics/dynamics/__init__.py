@@ -44,10 +44,18 @@ senses still come from the state inside the friction solution.)
 ``scipy.integrate`` is imported only by :func:`simulate`.
 """
 
-from .engine import STEP, Dynamics
-from .integration import simulate
-from .reduced import equivalent, with_effort
-from .simulation import Simulation, speed_fluctuation, write_csv
+import importlib
+
+_HOME = {  # name -> its module: loaded on first use (a flywheel sizing needs none of them)
+    "STEP": "engine",
+    "Dynamics": "engine",
+    "simulate": "integration",
+    "equivalent": "reduced",
+    "with_effort": "reduced",
+    "Simulation": "simulation",
+    "speed_fluctuation": "simulation",
+    "write_csv": "simulation",
+}
 
 __all__ = [
     "Dynamics",
@@ -59,3 +67,9 @@ __all__ = [
     "write_csv",
     "STEP",
 ]
+
+
+def __getattr__(name):
+    if name in _HOME:
+        return getattr(importlib.import_module(f"{__name__}.{_HOME[name]}"), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -34,9 +34,7 @@ from ..errors import Location, StructureError
 from ..kinetics.reactions import effort_ratio
 from ..model import EffortLaw, Model, MotionLaw
 from ..structure.system import System, build_system
-from .integration import simulate
 from .reduced import equivalent, equivalent_inertia, with_effort
-from .simulation import speed_fluctuation
 
 __all__ = ["FlywheelDesign", "design", "verify", "energy_curve"]
 
@@ -357,6 +355,9 @@ def verify(
     crank revolutions past the first mark (the position of maximum stored energy)
     and measures δ = (ω_max − ω_min)/ω_mean over the last one.
     """
+    from .integration import simulate  # scipy.integrate: not on `run`'s path
+    from .simulation import speed_fluctuation
+
     m_d = fw.sense * fw.mean_torque
     law = (
         EffortLaw("constant", value=m_d)

@@ -10,7 +10,6 @@ from pathlib import Path
 
 from .. import io
 from ..base.spec import Entry
-from ..dynamics.clearance import expand
 from ..model import Model
 
 __all__ = ["load", "loads", "build"]
@@ -20,6 +19,8 @@ def _expanded(model: Model) -> Model:
     """``model`` with its clearances (read as data by :mod:`kinetostatics.io`) expanded."""
     if not model.clearances:
         return model
+    from ..dynamics.clearance import expand  # the dynamics layer only for a clearance
+
     return expand(replace(model, clearances=()), model.clearances)
 
 
