@@ -4,7 +4,11 @@ A joint is a kinematic pair between links ``i`` and ``j``.  It contributes
 ``n_eq`` rows to the constraint vector Φ(q, t) and the same number of
 reaction unknowns λ.  All array arguments carry arbitrary leading batch axes
 (variants × positions) and end in ``3`` = (x, y, θ) of the link's centre of
-mass; ground enters as zeros.  Nothing here stores state.
+mass; ground enters as zeros.  A pose may carry its frame after them, ``(..., 5)``
+= (x, y, θ, cos θ, sin θ), computed once per state by the system: a type reads
+``q[..., :2]`` and ``q[..., 2]``, rotates local vectors with
+:func:`~kinetostatics.base.geometry.turn` / ``turn_back``, and never relies on
+``q.shape[-1]``.  Nothing here stores state.
 
 Sign conventions (``docs/theory.md``): the equations of motion read
 ``M q̈ − Q = Φ_qᵀ λ``, so ``Φ_qᵀ λ`` is the generalized constraint force;
