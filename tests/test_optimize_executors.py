@@ -127,3 +127,15 @@ def test_a_lost_executor_is_one_line():
     assert str(info.value) == (
         "the executor: failed (OSError: Timed out trying to connect to tcp://127.0.0.1:8786)"
     )
+
+
+def test_a_flywheel_is_sized_only_when_an_expression_names_it():
+    """The file's flywheel: is sized (variant by variant) when the objective names
+    flywheel.inertia — the value of that design's batch row — and skipped otherwise."""
+    small = dict(popsize=3, maxiter=1, positions=24, polish=False, progress=False)
+    named = ks.optimize(SLOTTER, {"BC_ratio": (0.8, 1.2)}, "flywheel.inertia", **small)
+    (row,) = analyze_variants(Template.load(SLOTTER), [named.parameters], positions=24)
+    assert named.objective == pytest.approx(row["flywheel.inertia"], rel=1e-12)
+    assert named.objective > 0
+    plain = ks.optimize(SLOTTER, {"BC_ratio": (0.8, 1.2)}, "motor.torque_peak", **small)
+    assert "flywheel.inertia" not in plain.row and "motor.torque_peak" in plain.row
