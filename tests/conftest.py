@@ -1,3 +1,4 @@
+import os
 from pathlib import Path
 
 import pytest
@@ -9,3 +10,33 @@ MECHANISMS = sorted((ROOT / "mechanisms").glob("*.yaml"))
 @pytest.fixture(scope="session")
 def root() -> Path:
     return ROOT
+
+
+def distributed_or_skip():
+    """``distributed`` (Dask), or skip where it is not installed — but not under CI
+    (``CI`` set), which installs the test extra: there a missing Dask fails the test."""
+    if os.environ.get("CI"):
+        import distributed
+
+        return distributed
+    return pytest.importorskip("distributed")
+
+
+@pytest.fixture(scope="module")
+def dask_cluster(request):
+    """A small Dask cluster on 127.0.0.1 (one worker of two threads in this process, no
+    dashboard), closed when the module's tests are done; its ``scheduler_address`` is
+    what ``--scheduler`` takes."""
+    distributed = distributed_or_skip()
+    cluster = distributed.LocalCluster(
+        n_workers=1,
+        threads_per_worker=2,
+        processes=False,
+        protocol="tcp",
+        host="127.0.0.1",
+        scheduler_port=0,
+        dashboard_address=None,
+        timeout=30,
+    )
+    request.addfinalizer(cluster.close)
+    return cluster

@@ -287,21 +287,18 @@ def test_executors_and_chunk_sizes_give_the_same_rows(tmp_path):
     _same_rows(rows, _rows(tmp_path / "proc"))
 
 
-def test_a_local_dask_cluster_gives_the_same_rows(tmp_path):
-    distributed = pytest.importorskip("distributed")
+@pytest.mark.timeout(120)
+def test_a_local_dask_cluster_gives_the_same_rows(tmp_path, dask_cluster):
     tasks = _tasks(SLOTTER_VARIANTS[:3])
     batch.run_batch(str(SLOTTER), tasks, tmp_path / "ref", executor="serial", positions=24)
-    with distributed.LocalCluster(
-        n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None
-    ) as cluster:
-        s = batch.run_batch(
-            str(SLOTTER),
-            tasks,
-            tmp_path / "dask",
-            executor=cluster.scheduler_address,
-            chunk=2,
-            positions=24,
-        )
+    s = batch.run_batch(
+        str(SLOTTER),
+        tasks,
+        tmp_path / "dask",
+        executor=dask_cluster.scheduler_address,
+        chunk=2,
+        positions=24,
+    )
     assert s.total == 3
     _same_rows(_rows(tmp_path / "ref"), _rows(tmp_path / "dask"))
 

@@ -26,6 +26,7 @@ from kinetostatics.batch import table as batch_table
 from kinetostatics.cli import main
 from kinetostatics.errors import OutputError
 from kinetostatics.kinetics import friction
+from tests.conftest import distributed_or_skip
 
 ROOT = Path(__file__).resolve().parent.parent
 SLIDER = ROOT / "mechanisms" / "slider_crank.yaml"
@@ -315,7 +316,7 @@ def test_a_lost_executor_is_one_line_and_the_rows_so_far_are_kept(tmp_path):
 
 
 def test_a_lost_dask_scheduler_is_one_line():
-    pytest.importorskip("distributed")
+    distributed_or_skip()
     err = executors._executor_error("tcp://127.0.0.1:1", OSError("closed"), Path("o"))
     assert str(err).startswith("--scheduler tcp://127.0.0.1:1: failed (OSError: closed)")
 

@@ -120,8 +120,11 @@ class _Problem:
         ex, slots, _ = self.pool
         size = max(1, math.ceil(len(overrides) / slots))
         parts = [overrides[k : k + size] for k in range(0, len(overrides), size)]
-        futures = [ex.submit(analyze_chunk, chunk(p)) for p in parts]
-        return [r for f in futures for r in f.result()]
+        try:
+            futures = [ex.submit(analyze_chunk, chunk(p)) for p in parts]
+            return [r for f in futures for r in f.result()]
+        except Exception as exc:  # noqa: BLE001 - a lost scheduler, a killed worker
+            raise OptimizeError(_executor_failed(self.executor, exc)) from None
 
     def close(self) -> None:
         if self.pool is not None:
@@ -217,9 +220,13 @@ def optimize(
     (docs/optimisation.md).  Differential evolution (``seed``, ``maxiter`` generations of
     ``popsize`` × (number of parameters) designs, ``tol``), then a local refinement
     (``polish``: Nelder–Mead, or COBYLA with constraints, at most ``local_maxiter``
-    steps).  ``positions``, ``friction``: as for a batch; ``executor``: ``"serial"``
+    steps).  ``positions``, ``friction``: as for a batch (a ``flywheel:`` of the file is
+    sized only when an expression names ``flywheel.…``); ``executor``: ``"serial"``
     (default: each population as one vectorised batch in this process), ``"processes"``
-    or an executor as :func:`~kinetostatics.batch.run_batch`'s.  ``out``: a folder for
+    (a pool of ``workers`` processes), a Dask scheduler address (``"tcp://host:8786"``)
+    or a ``concurrent.futures.Executor``, as :func:`~kinetostatics.batch.run_batch`'s:
+    each population is cut into one chunk per worker; the result is the same on every
+    executor (the local steps run in this process).  ``out``: a folder for
     ``best.yaml``, ``designs.csv`` and ``convergence.png``.  Raises
     :class:`OptimizeError` for a bad name or expression, never for a bad design."""
     from scipy.optimize import differential_evolution
@@ -237,7 +244,10 @@ def optimize(
             )
     objective = Expression(minimize)
     constraints = [Constraint.parse(c) for c in subject_to]
-    options = {"positions": positions, "friction": friction, "flywheel": None}
+    named = [*objective.names.values(), *(n for c in constraints for n in c.names)]
+    # the file's flywheel: is sized (variant by variant, slower) only when asked for
+    flywheel = None if any(n.startswith("flywheel.") for n in named) else False
+    options = {"positions": positions, "friction": friction, "flywheel": flywheel}
     names = list(bounds)
     lo = np.array([bounds[n][0] for n in names])
     hi = np.array([bounds[n][1] for n in names])
@@ -245,6 +255,10 @@ def optimize(
     history: list[tuple[str, int, float]] = []
     bar = _bar(progress, maxiter + 1 + (local_maxiter if polish else 0))
     try:
+        if executor != "serial":  # a scheduler that cannot be reached stops here
+            from .executors import _open_executor
+
+            problem.pool = _open_executor(executor, workers)
 
         def population(x: np.ndarray) -> np.ndarray:  # (n, S) -> (S,)
             try:
@@ -308,6 +322,17 @@ def _search(differential_evolution, population, lo, hi, maxiter, popsize, tol, s
         vectorized=True,
         x0=x0 if np.all((x0 >= lo) & (x0 <= hi)) else None,
     )
+
+
+def _executor_failed(executor: Any, exc: BaseException) -> str:
+    """One line for an executor that failed while evaluating a population."""
+    what = (
+        f"--scheduler {executor}"
+        if isinstance(executor, str) and executor not in ("processes", "serial")
+        else "the executor"
+    )
+    text = str(exc).splitlines()[0] if str(exc) else ""
+    return f"{what}: failed ({type(exc).__name__}{': ' + text if text else ''})"
 
 
 def _did_you_mean(name: str, known) -> str:

@@ -43,14 +43,34 @@ def register(sub) -> None:
     p.add_argument("--popsize", type=int, default=12, help="population per parameter (12)")
     p.add_argument("--no-polish", dest="polish", action="store_false", help="no local step")
     analysis_options(p)
-    p.add_argument("--workers", type=int, help="processes (default: this process only)")
+    ex = p.add_mutually_exclusive_group()
+    ex.add_argument(
+        "--workers",
+        type=int,
+        help="evaluate each population on N processes (default: this process only)",
+    )
+    ex.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="evaluate each population on a Dask cluster, e.g. tcp://host:8786 "
+        "(pip install 'kinetostatics[dask]')",
+    )
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_optimize)
 
 
 def _optimize(args) -> int:
-    from ..batch.optimize import optimize
+    from ..batch.optimize import OptimizeError, optimize
+    from .batch import MAX_WORKERS
 
+    if args.workers is not None and not 1 <= args.workers <= MAX_WORKERS:
+        raise OptimizeError(f"--workers {args.workers}: must be from 1 to {MAX_WORKERS}")
+    if args.scheduler:
+        executor = args.scheduler
+    elif args.workers and args.workers > 1:
+        executor = "processes"
+    else:
+        executor = "serial"
     result = optimize(
         args.file,
         args.vary,
@@ -62,7 +82,7 @@ def _optimize(args) -> int:
         polish=args.polish,
         positions=args.positions,
         friction=args.friction,
-        executor="processes" if args.workers and args.workers > 1 else "serial",
+        executor=executor,
         workers=args.workers,
         out=args.out,
         progress=not args.quiet,
