@@ -14,6 +14,7 @@ from ..structure.system import System, phi
 from .continuation import COARSE_STEP, Drive, Singularity, time_step
 from .dyads import MARGIN
 from .newton import DISC_TOL, MAX_ITER, TOL, group_condition
+from .schedule import Schedule
 
 __all__ = ["DISC_SCAN", "DISC_NEAR", "path_times", "closed_form_path", "closed_form_near"]
 
@@ -58,7 +59,7 @@ def closed_form_path(
     """
     n_v = len(q0)
     lo, hi = min(0.0, float(t.min())), max(0.0, float(t.max()))
-    flips, ok = _change_points(system, solvers, q0, lo, hi, drive)
+    flips, ok = _memo_change_points(system, solvers, q0, lo, hi, drive, singular is not None)
     tt, order = path_times(system, t, drive)
     psi = drive(tt)[0]
     signs = _branch_signs(flips, np.broadcast_to(tt, (n_v, len(tt))))
@@ -95,6 +96,34 @@ def closed_form_path(
                 )
             )
     return q, ok, signs[:, :start]
+
+
+def _memo_change_points(system: System, solvers, q0, lo: float, hi: float, drive, one: bool):
+    """:func:`_change_points`, kept in ``system.memo`` for one model's path over the same
+    span from the same start and schedule (a property of the mechanism, like its start
+    pose): a repeated analysis does not search the span again, and gets the same numbers
+    as the first (the key is exact, so the result never depends on earlier calls)."""
+    if not (one and isinstance(drive, Schedule)):
+        return _change_points(system, solvers, q0, lo, hi, drive)
+    acc = drive.acceleration
+    key = (
+        lo,
+        hi,
+        q0.tobytes(),
+        drive.start.tobytes(),
+        drive.speed.tobytes(),
+        None if acc is None else np.asarray(acc).tobytes(),
+    )
+    memo = system.memo.setdefault("change_points", {})
+    hit = memo.get(key)
+    laws = tuple(drive.laws)
+    if hit is None or len(hit[0]) != len(laws) or any(a is not b for a, b in zip(hit[0], laws)):
+        if len(memo) >= 8:  # a few spans at most (the run, the cycle nodes, the flywheel)
+            memo.clear()
+        hit = (laws, _change_points(system, solvers, q0, lo, hi, drive))
+        memo[key] = hit
+    flips, ok = hit[1]
+    return [f.copy() for f in flips], ok.copy()
 
 
 def _closed_forms(
