@@ -43,7 +43,16 @@ from ..errors import Location, StructureError
 from ..kinematics.schedule import schedule
 from ..model import DriveSpec
 
-__all__ = ["DriveSizing", "reduce", "motor_torque", "size", "quadrant_data", "RPM"]
+__all__ = [
+    "DriveSizing",
+    "RPM",
+    "check_lines",
+    "drive_warning",
+    "motor_torque",
+    "quadrant_data",
+    "reduce",
+    "size",
+]
 
 RPM = 30.0 / np.pi  # rad/s -> rpm
 
@@ -148,22 +157,7 @@ class DriveSizing:
 
     def warning(self) -> str | None:
         """One line naming what the motor lacks, None when it is not undersized."""
-        c = self.checks[self.verdict_from]
-        if c["verdict"] != "undersized":
-            return None
-        what = {"rms_torque": "RMS torque", "peak_torque": "peak torque", "speed": "speed"}
-        unit = {"rms_torque": "N*m", "peak_torque": "N*m", "speed": "rpm"}
-        parts = []
-        for key, item in c["items"].items():
-            if item["ok"] is False:
-                scale = RPM if key == "speed" else 1.0
-                parts.append(
-                    f"{what[key]} {item['value'] * scale:.4g} {unit[key]} > "
-                    f"{'rated' if key != 'peak_torque' else 'peak rating'} "
-                    f"{item['limit'] * scale:.4g} {unit[key]}"
-                )
-        how = "with the flywheel" if self.verdict_from == "flywheel" else "rigid drive"
-        return f"drive '{self.driver}': motor undersized ({how}): " + "; ".join(parts)
+        return drive_warning(self.to_dict())
 
     def to_dict(self) -> dict[str, Any]:
         s = self.spec
@@ -198,6 +192,44 @@ class DriveSizing:
                 "rated_speed": "rad/s",
             },
         }
+
+
+WHAT = {"rms_torque": "RMS torque", "peak_torque": "peak torque", "speed": "speed"}
+LIMIT = {"rms_torque": "rated torque", "peak_torque": "peak torque", "speed": "rated speed"}
+
+
+def _item_text(key: str, item: dict) -> str:
+    """``RMS torque 1.07 N*m <= rated torque 1.6 N*m`` (speeds in rpm)."""
+    scale, unit = (RPM, "rpm") if key == "speed" else (1.0, "N*m")
+    text = f"{WHAT[key]} {item['value'] * scale:.4g} {unit}"
+    if item["ok"] is None:
+        return text + " (not checked)"
+    sign = "<=" if item["ok"] else ">"
+    return text + f" {sign} {LIMIT[key]} {item['limit'] * scale:.4g} {unit}"
+
+
+def check_lines(d: dict) -> list[str]:
+    """The checks of a drive's summary entry as lines: one per check, the verdict's marked."""
+    lines = []
+    for name, c in d["checks"].items():
+        how = (
+            "rigid drive" if name == "rigid" else f"with flywheel, delta {d['flywheel']['delta']:g}"
+        )
+        items = "; ".join(_item_text(k, it) for k, it in c["items"].items())
+        mark = " (the verdict)" if name == d["verdict_from"] else ""
+        lines.append(f"drive check ({how}): {items}: {c['verdict']}{mark}")
+    return lines
+
+
+def drive_warning(d: dict) -> str | None:
+    """One line naming what the motor of a drive's summary entry lacks; None when the
+    verdict is not ``undersized``."""
+    c = d["checks"][d["verdict_from"]]
+    if c["verdict"] != "undersized":
+        return None
+    parts = [_item_text(k, it) for k, it in c["items"].items() if it["ok"] is False]
+    how = "with the flywheel" if d["verdict_from"] == "flywheel" else "rigid drive"
+    return f"drive '{d['driver']}': motor undersized ({how}): " + "; ".join(parts)
 
 
 def _check(rms: float, peak: float, speed: float, spec: DriveSpec) -> dict[str, Any]:
