@@ -195,7 +195,7 @@ class DriveSizing:
 
 
 WHAT = {"rms_torque": "RMS torque", "peak_torque": "peak torque", "speed": "speed"}
-LIMIT = {"rms_torque": "rated torque", "peak_torque": "peak torque", "speed": "rated speed"}
+LIMIT = {"rms_torque": "rated torque", "peak_torque": "peak torque rating", "speed": "rated speed"}
 
 
 def _item_text(key: str, item: dict) -> str:
