@@ -1,6 +1,6 @@
 """Seed files for the fuzz test and the key walk: the shipped mechanisms plus variants of
 them that use every section and option the loader accepts (motion laws, effort drivers,
-``balance_at``, a flywheel with ``ratio``, clearances with contact, load tables and
+``balance_at``, a flywheel with ``ratio``, a drive, clearances with contact, load tables and
 conditions, the gear and rack alternatives).  ``tests/test_hostile_keys.py`` checks that
 together they give every key the loader accepts (the batch's top-level ``sweep:``
 section excepted: ``tests/test_batch.py`` covers it)."""
@@ -115,6 +115,16 @@ def _seeds() -> dict[str, dict]:
         flywheel={"delta": 0.05, "ratio": 3, "friction": True},
         analysis={"positions": 12},
         output="slider",
+    )
+    out["drive"] = _variant(
+        SC,
+        drive={
+            "driver": "motor",
+            "friction": True,
+            "reduction": {"ratio": 10, "efficiency": 0.95, "inertia": 1e-4},
+            "motor": {"rated_torque": 2, "peak_torque": 6, "rated_speed": 3000, "inertia": 3e-4},
+        },
+        analysis={"positions": 12},
     )
     out["balance_at and efforts"] = _variant(
         SC,

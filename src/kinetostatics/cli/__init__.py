@@ -118,6 +118,8 @@ def _run(args) -> int:
                 f"; on the motor shaft (ratio {fw['ratio']:g}): {fw['inertia']['motor']:.4g} kg*m^2"
             )
         print(line)
+    if dr := s.get("drive"):
+        _print_drive(dr)
     if s["indeterminate_reactions"]:
         print(
             "warning: redundant constraints: the reactions are the minimum-norm solution "
@@ -155,7 +157,41 @@ def _run(args) -> int:
             ]
             print(f"self-locked zone from {ends[0]} to {ends[1]} ({z['rows']} rows)")
     _print_checks(result.checks)
+    if dr:
+        from ..dynamics.drive import drive_warning
+
+        if line := drive_warning(dr):
+            print(f"kinetostatics: warning: {line}", file=sys.stderr)
+        _drive_picture(result, out)
     return 0
+
+
+def _print_drive(d: dict) -> None:
+    """The drive's numbers at the motor and its checks (summary.json ``drive``)."""
+    from ..dynamics.drive import check_lines
+
+    red, m = d["reduction"], d["motor"]
+    t, p = m["torque"], m["power"]
+    print(
+        f"drive {d['driver']} (ratio {red['ratio']:g}, efficiency {red['efficiency']:g}; "
+        f"{d['torque']}): motor torque mean {t['mean']:.4g}, RMS {t['rms']:.4g}, peak "
+        f"{t['peak']:.4g} N*m; speed up to {m['speed']['max_rpm']:.5g} rpm; power mean "
+        f"{p['mean']:.4g} W, peak {p['peak']:.4g} W"
+    )
+    for line in check_lines(d):
+        print(line)
+
+
+def _drive_picture(result, out: Path) -> None:
+    """``drive.png``: the four-quadrant torque-speed picture (matplotlib: only with a
+    ``drive:`` section)."""
+    from ..outputs.plotting.drive import torque_speed
+
+    path = out / "drive.png"
+    _write_outputs(
+        out, "drive picture", [(path, lambda p: torque_speed(result).savefig(p, format="png"))]
+    )
+    print(f"four-quadrant torque-speed picture -> {path}")
 
 
 def _print_output(name: str, o: dict, named: bool) -> None:

@@ -21,6 +21,7 @@ from ..errors import Location, did_you_mean
 from ..model import Model
 from .bodies import BodySections
 from .clearance import ClearanceSection
+from .drive import DriveSection
 from .drivers import DriverSections
 from .elements import ElementSections
 from .laws import LawSections
@@ -45,6 +46,7 @@ TOP_KEYS = (
     "sketch",
     "analysis",
     "flywheel",
+    "drive",
     "output",
     "sweep",
     "clearance",
@@ -87,6 +89,7 @@ class Builder(
     ElementSections,
     SettingSections,
     ClearanceSection,
+    DriveSection,
 ):
     """Reads the top-level sections in dependency order.
 
@@ -132,6 +135,7 @@ class Builder(
         analysis = self._analysis(joints, drivers, links)
         loops = self._loops(joints)
         flywheel = self._flywheel()
+        drive = self._drive(joints, drivers, flywheel)
         clearances = self._clearances(joints)
         output = self._output(links, joints, drivers)
         self.problems.raise_if_any()
@@ -153,6 +157,7 @@ class Builder(
             clearances=tuple(clearances),
             output=output,
             elements=tuple(elements),
+            drive=drive,
         )
 
     def _output(self, links, joints, drivers) -> str | None:

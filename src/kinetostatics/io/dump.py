@@ -133,6 +133,27 @@ def dump(model: Model) -> str:
             "friction": f.friction,
             **({"ratio": f.ratio} if f.ratio is not None else {}),
         }
+    if getattr(model, "drive", None) is not None:
+        doc["drive"] = _drive_spec(model.drive)
     if getattr(model, "output", None) is not None:
         doc["output"] = model.output
     return yaml.safe_dump(doc, sort_keys=False)
+
+
+def _drive_spec(d) -> dict:
+    """``drive:`` in SI (the dump writes SI units)."""
+    out: dict = {}
+    if d.driver is not None:
+        out["driver"] = d.driver
+    if d.friction is not None:
+        out["friction"] = bool(d.friction)
+    red = {"efficiency": d.efficiency, "inertia": d.gear_inertia}
+    if d.ratio is not None:
+        red = {"ratio": d.ratio, **red}
+    out["reduction"] = red
+    motor = {"inertia": d.motor_inertia}
+    for key in ("rated_torque", "peak_torque", "rated_speed"):
+        if getattr(d, key) is not None:
+            motor[key] = getattr(d, key)
+    out["motor"] = motor
+    return out

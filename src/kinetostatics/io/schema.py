@@ -23,7 +23,7 @@ from ..base.keys import ANY, NAME, NUMBER, TEXT, VECTOR, list_of, names, shape_s
 from ..base.spec import NAME as NAME_RE
 from ..base.spec import RESERVED
 from ..joints import JOINT_TYPES
-from . import bodies, clearance, drivers, elements, loads, settings
+from . import bodies, clearance, drive, drivers, elements, loads, settings
 from .builder import TOP_KEYS
 
 __all__ = ["schema", "schema_text", "SCHEMA_FILE"]
@@ -98,6 +98,7 @@ def _sections() -> dict[str, Any]:
         "sketch": {"type": "object", "additionalProperties": VECTOR},
         "analysis": shape_schema(settings.ANALYSIS_KEYS),
         "flywheel": shape_schema(settings.FLYWHEEL_KEYS),
+        "drive": shape_schema(drive.DRIVE_KEYS),
         "sweep": ANY,  # the variants of a batch: read by the batch (docs/batch.md)
         "clearance": {
             "type": "object",

@@ -26,6 +26,7 @@ __all__ = [
     "Element",
     "ELEMENT_KINDS",
     "Analysis",
+    "DriveSpec",
     "FlywheelSpec",
     "Clearance",
     "Model",
@@ -238,6 +239,30 @@ class FlywheelSpec:
 
 
 @dataclass(frozen=True)
+class DriveSpec:
+    """``drive:`` — the motor of a revolute motion driver, through a reduction, checked
+    against the cycle (:mod:`kinetostatics.dynamics.drive`, docs/drive.md).  SI throughout.
+
+    ``driver``: the motion driver (None: the first); ``friction``: size from the torque with
+    friction (None: when the file has friction); ``ratio`` i = motor speed / driven shaft
+    speed (None: ``flywheel.ratio``, else 1); ``efficiency`` η of the reduction (both power
+    directions); ``gear_inertia`` the reduction's inertia referred to the motor shaft;
+    ``motor_inertia`` the rotor's; ``rated_torque``, ``peak_torque`` (N·m) and
+    ``rated_speed`` (rad/s) the motor's ratings, None when not given (not checked)."""
+
+    driver: str | None = None
+    friction: bool | None = None
+    ratio: float | None = None
+    efficiency: float = 1.0
+    gear_inertia: float = 0.0
+    motor_inertia: float = 0.0
+    rated_torque: float | None = None
+    peak_torque: float | None = None
+    rated_speed: float | None = None
+    where: Location = field(default=Location(), compare=False, repr=False)
+
+
+@dataclass(frozen=True)
 class Clearance:
     """Radial clearance ``size`` (m) at revolute ``joint``; see
     :mod:`kinetostatics.dynamics.clearance`.
@@ -283,6 +308,7 @@ class Model:
     output: str | None = None  # the machine's output member (a link or a joint): ``output:``
     sketch_where: Mapping[str, Location] = field(default_factory=dict, compare=False, repr=False)
     elements: tuple[Element, ...] = ()  # springs and dampers (kinetics/elements.py)
+    drive: DriveSpec | None = None  # the motor and its reduction (``drive:``)
     # the system compiled from this model, cached by structure.system_of with the model's
     # pickle as its key (so a copy made with ``replace`` or ``Model(**vars(m))`` that carries
     # it along reuses it only if it describes the same mechanism); not pickled

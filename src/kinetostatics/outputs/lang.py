@@ -507,6 +507,78 @@ ZH.update(
 )
 
 
+# the drive-sizing chapter and the four-quadrant picture (dynamics/drive.py)
+ZH.update(
+    {
+        "motoring": "电动",
+        "braking": "制动",
+        "rated torque (continuous)": "额定转矩（连续）",
+        "peak torque": "峰值转矩",
+        "rated speed": "额定转速",
+        "motor over the cycle": "一个周期内的电机工作点",
+        "motor speed, rpm (sense of motion +)": "电机转速，rpm（运动方向为正）",
+        "motor torque, N·m (sense of motion +)": "电机转矩，N·m（运动方向为正）",
+        "with friction": "计摩擦",
+        "{name}: four-quadrant torque–speed of drive {driver} (ratio {i}, {torque})": "{name}：驱动 {driver} 的四象限转矩–转速图（传动比 {i}，{torque}）",
+        "{n}. Drive sizing": "{n}. 驱动选型",
+        "The motor turns the driven shaft through a reduction of ratio i and efficiency "
+        "η. Its torque T_M = T/(i·η) where the shaft takes power and T_M = T·η/i where "
+        "it gives power back, plus the inertia torque (J_m + J_r)·i·α of rotor and "
+        "reduction; its speed i·ω. Torques and speeds are positive in the sense of motion.": "电机经传动比为 i、效率为 η 的减速器驱动从动轴。从动轴吸收功率时电机转矩 T_M = T/(i·η)，回馈功率时 T_M = T·η/i，再加上转子与减速器的惯性转矩 (J_m + J_r)·i·α；电机转速为 i·ω。转矩与转速均以运动方向为正。",
+        "Drive: data": "驱动：原始数据",
+        "Drive: torque, power and speed over the cycle": "驱动：一个周期内的转矩、功率与转速",
+        "driving torque from": "驱动转矩取自",
+        "reduction ratio (motor speed / driven shaft speed)": "传动比（电机转速 / 从动轴转速）",
+        "efficiency of the reduction": "减速器效率",
+        "inertia of the reduction at the motor shaft": "减速器转动惯量（折算到电机轴）",
+        "rotor inertia": "转子转动惯量",
+        "rated torque": "额定转矩",
+        "peak torque rating": "允许峰值转矩",
+        "driven shaft": "从动轴",
+        "motor": "电机",
+        "mean torque (N·m)": "平均转矩 (N·m)",
+        "RMS torque (N·m)": "均方根转矩 (N·m)",
+        "peak |torque| (N·m)": "峰值 |转矩| (N·m)",
+        "mean power (W)": "平均功率 (W)",
+        "peak |power| (W)": "峰值 |功率| (W)",
+        "largest speed (rpm)": "最高转速 (rpm)",
+        "motor torque with the flywheel (constant)": "装飞轮时的电机转矩（常数）",
+        "largest motor speed": "电机最高转速",
+        "mean motor power": "电机平均功率",
+        "of it in rotor and reduction": "其中转子与减速器所占",
+        "flywheel still to add on the motor shaft": "电机轴上尚需附加的飞轮",
+        "Drive with the flywheel (ideal, energy method)": "装飞轮的驱动（理想飞轮，能量法）",
+        "rigid drive": "刚性驱动",
+        "with flywheel": "装飞轮",
+        "RMS torque": "均方根转矩",
+        "speed": "转速",
+        "ok": "满足",
+        "exceeded": "超出",
+        "not checked": "未校核",
+        "check": "校核",
+        "limit": "限值",
+        "result": "结果",
+        "Motor check": "电机校核",
+        "Verdict ({how}): {verdict}.": "结论（{how}）：{verdict}。",
+        "adequate": "电机合格",
+        "undersized": "电机偏小",
+        "Four-quadrant torque–speed picture of the motor over the cycle, with the rated "
+        "and peak torque envelopes.": "一个周期内电机的四象限转矩–转速图，及额定转矩与峰值转矩包络线。",
+        "signs in the sense of motion of the driven shaft: the motor delivers power where "
+        "torque and speed have one sign (motoring), takes it back where they differ "
+        "(braking)": "符号以从动轴的运动方向为正：转矩与转速同号时电机输出功率（电动），异号时吸收功率（制动）",
+        "reduction: T_M = T/(i·η) where the driven shaft takes power, T_M = T·η/i where it "
+        "gives power back, plus (J_m + J_r)·i·α for the inertia of rotor and reduction": "减速器：从动轴吸收功率时 T_M = T/(i·η)，回馈功率时 T_M = T·η/i，另加转子与减速器的惯性转矩 (J_m + J_r)·i·α",
+        "means and RMS values over one cycle, integrated exactly between the load events "
+        "(analysis/cycle.py); peaks at the analysed positions and the quadrature nodes": "平均值与均方根值按一个周期在载荷事件之间精确积分（analysis/cycle.py）；峰值取自各分析位置与求积节点",
+        "RMS ≤ rated torque: the cycle is short next to the motor's thermal time constant": "均方根转矩 ≤ 额定转矩：周期远短于电机的热时间常数",
+        "with flywheel: the ideal flywheel of the energy method (δ): the motor gives the "
+        "constant mean torque, the rotor and the reduction are part of the flywheel and its "
+        "energy swing passes the reduction without loss; start-up is not checked": "装飞轮：按能量法的理想飞轮（δ）：电机输出恒定的平均转矩，转子与减速器计入飞轮，飞轮的能量波动经减速器时不计损失；不校核起动过程",
+    }
+)
+
+
 def tr_unit(unit: str, lang: str = "en") -> str:
     """A unit as written in ``lang``: ``deg`` is ``°`` in Chinese; the SI symbols stay."""
     return "°" if lang == "zh" and unit == "deg" else unit

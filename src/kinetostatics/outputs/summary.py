@@ -249,15 +249,22 @@ def summarize(result, *, flywheel=None) -> dict[str, Any]:
         "extremes": extremes,
         "column_units": dict(result.units),
         "checks": result.checks.to_dict(),
-    } | _flywheel(result, flywheel)
+    } | _dynamics(result, flywheel)
 
 
-def _flywheel(result, given=None) -> dict[str, Any]:
-    """``{"flywheel": ...}`` when the model asks for it (``flywheel:``), else ``{}``."""
-    if getattr(result.system.model, "flywheel", None) is None:
-        return {}
-    if given is None:
-        from ..dynamics.flywheel import design
+def _dynamics(result, given=None) -> dict[str, Any]:
+    """``{"flywheel": ...}`` when the model asks for it (``flywheel:``), ``{"drive": ...}``
+    when it has a motor (``drive:``); ``{}`` without either (nothing more is analysed)."""
+    model = result.system.model
+    out: dict[str, Any] = {}
+    if getattr(model, "flywheel", None) is not None:
+        if given is None:
+            from ..dynamics.flywheel import design
 
-        given = design(result)
-    return {"flywheel": given.to_dict()}
+            given = design(result)
+        out["flywheel"] = given.to_dict()
+    if getattr(model, "drive", None) is not None:
+        from ..dynamics.drive import size
+
+        out["drive"] = size(result, flywheel=given).to_dict()
+    return out

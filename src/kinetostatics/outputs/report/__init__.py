@@ -17,8 +17,9 @@ drawing, tables of positions, velocities, accelerations, reactions and
 driving torque at the course-design positions, the curves, the velocity and
 acceleration polygons at chosen positions, polar diagrams, a section on the springs
 and dampers when the file has ``elements:`` (their data and their length, force, energy
-and power at the course-design positions, in the file's units), and a flywheel section
-when the summary has a ``flywheel`` entry.
+and power at the course-design positions, in the file's units), a flywheel section
+when the summary has a ``flywheel`` entry and a drive-sizing section when it has a ``drive``
+entry.
 """
 
 from .document import ReportError, write_report

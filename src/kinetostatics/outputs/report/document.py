@@ -16,6 +16,7 @@ from ..loading import load
 from ..summary import summarize
 from .blocks import ReportError, _Heading, _Image, _Para, _to_html, _to_markdown
 from .data import _data_blocks, _structure_blocks
+from .drive import drive_blocks
 from .elements import element_blocks
 from .flywheel import flywheel_blocks
 from .pdf import pdf_module
@@ -287,6 +288,9 @@ def write_report(
         section += 1
     if dsg is not None:
         blocks += flywheel_blocks(summary["flywheel"], dsg, result, rows, image, lang, section)
+        section += 1
+    if "drive" in summary:
+        blocks += drive_blocks(summary["drive"], result, image, lang, section)
     written: dict[str, Path] = {}
     if "md" in formats:
         written["markdown"] = out / "report.md"
