@@ -6,6 +6,7 @@ import gc
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 import kinetostatics as ks
 from kinetostatics.structure import system as S
@@ -74,7 +75,8 @@ def test_a_repeated_analysis_gives_the_first_ones_numbers_and_change_points():
     same model still find their own."""
     path = ROOT / "tests" / "hard" / "fourbar_change_point.yaml"
     m = ks.load(path)
-    first, again, fresh = ks.analyze(m), ks.analyze(m), ks.analyze(ks.load(path))
+    with pytest.warns(ks.NearSingularWarning):  # the change point itself, each time
+        first, again, fresh = ks.analyze(m), ks.analyze(m), ks.analyze(ks.load(path))
     assert [s.t for s in first.singular] == [s.t for s in again.singular]
     assert [s.t for s in first.singular] == [s.t for s in fresh.singular]
     assert len(first.singular) == 1  # the change point at 180°, a closed form
