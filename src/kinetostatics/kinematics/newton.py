@@ -64,9 +64,9 @@ def condition_number(
     s_inv = inv / col[..., :, None]
     s_inv /= row[..., None, :]
     with np.errstate(over="ignore", invalid="ignore"):
-        c = np.sqrt(
-            np.einsum("...ij,...ij->...", s, s) * np.einsum("...ij,...ij->...", s_inv, s_inv)
-        )
+        c = np.sqrt(np.einsum("...ij,...ij->...", s, s)) * np.sqrt(
+            np.einsum("...ij,...ij->...", s_inv, s_inv)
+        )  # each norm on its own: their product overflows only past the largest float
     return np.where(np.isfinite(c), c, np.inf)
 
 
