@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import re
+from concurrent.futures import Executor, Future
 from pathlib import Path
 
 import numpy as np
@@ -39,3 +40,19 @@ def motion_driven() -> list[str]:
         if not any("effort" in (d or {}) for d in drivers.values()):
             out.append(path.stem)
     return out
+
+
+class LosingExecutor(Executor):
+    """Runs ``n`` chunks in this process, then loses its scheduler (the message a lost
+    Dask scheduler gives)."""
+
+    def __init__(self, n: int):
+        self.n = n
+
+    def submit(self, fn, /, *args, **kwargs):
+        if self.n == 0:
+            raise OSError("Timed out trying to connect to tcp://127.0.0.1:8786")
+        self.n -= 1
+        f: Future = Future()
+        f.set_result(fn(*args, **kwargs))
+        return f

@@ -27,6 +27,7 @@ from kinetostatics.cli import main
 from kinetostatics.errors import OutputError
 from kinetostatics.kinetics import friction
 from tests.conftest import distributed_or_skip
+from tests.helpers import LosingExecutor
 
 ROOT = Path(__file__).resolve().parent.parent
 SLIDER = ROOT / "mechanisms" / "slider_crank.yaml"
@@ -287,26 +288,13 @@ def test_a_full_disk_stops_the_batch_and_a_rerun_finds_every_row_once(
     assert _leftovers(tmp_path) == []
 
 
-class _Losing(Executor):
-    """Runs chunks in this process, then loses its scheduler after ``n`` of them."""
-
-    def __init__(self, n: int):
-        self.n = n
-
-    def submit(self, fn, /, *args, **kwargs):
-        if self.n == 0:
-            raise OSError("Timed out trying to connect to tcp://127.0.0.1:8786")
-        self.n -= 1
-        f: Future = Future()
-        f.set_result(fn(*args, **kwargs))
-        return f
-
-
 def test_a_lost_executor_is_one_line_and_the_rows_so_far_are_kept(tmp_path):
     vs = sweeps.expand(sweeps.from_options(["a=90:110:6"]))
     tasks = [batch.Task(v, 0, o) for v, o in vs]
     with pytest.raises(OutputError) as info:
-        batch.run_batch(str(SLIDER), tasks, tmp_path, executor=_Losing(2), chunk=1, positions=12)
+        batch.run_batch(
+            str(SLIDER), tasks, tmp_path, executor=LosingExecutor(2), chunk=1, positions=12
+        )
     assert str(info.value).startswith(
         "the executor: failed (OSError: Timed out"
     ) and "run the same command again to resume" in str(info.value)

@@ -8,7 +8,6 @@ process; a design's numbers do not depend on the other designs of its chunk."""
 from __future__ import annotations
 
 import math
-from concurrent.futures import Executor, Future
 
 import pytest
 
@@ -18,7 +17,7 @@ from kinetostatics.batch.variants import Template, analyze_variants
 from kinetostatics.cli import main
 from kinetostatics.errors import KinetostaticsError
 
-from .helpers import ROOT
+from .helpers import ROOT, LosingExecutor
 
 SLOTTER = ROOT / "mechanisms" / "slotting_machine.yaml"
 VARY = {"L_O2O3": (110.0, 240.0), "BC_ratio": (0.6, 1.6)}
@@ -106,24 +105,11 @@ def test_the_executor_options_are_checked(capsys):
         ks.optimize(SLOTTER, VARY, "motor.torque_peak", executor=3.0, progress=False)
 
 
-class _Losing(Executor):
-    """Runs ``n`` chunks in this process, then loses its scheduler."""
-
-    def __init__(self, n: int):
-        self.n = n
-
-    def submit(self, fn, /, *args, **kwargs):
-        if self.n == 0:
-            raise OSError("Timed out trying to connect to tcp://127.0.0.1:8786")
-        self.n -= 1
-        f: Future = Future()
-        f.set_result(fn(*args, **kwargs))
-        return f
-
-
 def test_a_lost_executor_is_one_line():
     with pytest.raises(OptimizeError) as info:
-        ks.optimize(SLOTTER, VARY, "motor.torque_peak", executor=_Losing(3), workers=2, **SMALL)
+        ks.optimize(
+            SLOTTER, VARY, "motor.torque_peak", executor=LosingExecutor(3), workers=2, **SMALL
+        )
     assert str(info.value) == (
         "the executor: failed (OSError: Timed out trying to connect to tcp://127.0.0.1:8786)"
     )
