@@ -89,6 +89,16 @@ def block(best: ks.Optimum) -> str:
     for label, key, scale, fmt in ROWS:
         a, b = (fmt.format(float(r[key]) * scale) for r in (row0, best.row))
         lines.append(f"| {label} | {a} | {b} |")
+    rms = [  # summary.json's: exact between the load events (the rows' is first-order there)
+        ks.analyze(template.model(p)).summary()["drivers"]["motor"]["rms_friction"]
+        for p in ({}, best.parameters)
+    ]
+    after = next(k for k, line in enumerate(lines) if line.startswith("| RMS motor torque"))
+    lines.insert(
+        after + 1,
+        "| RMS motor torque over the cycle, friction (N·m; summary.json) | "
+        f"{rms[0]:.3f} | {rms[1]:.3f} |",
+    )
     counts = {s: sum(d["status"] == s for d in best.designs) for s in ("ok", "infeasible")}
     failed = len(best.designs) - counts["ok"] - counts["infeasible"]
     analysed = [d["row"] for d in best.designs if d["row"].get("status") == "ok"]
