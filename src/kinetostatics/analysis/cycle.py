@@ -20,6 +20,7 @@ flywheel: their means agree to round-off.  Its nodes are computed once per resul
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -96,12 +97,165 @@ def _reversals(result: Result) -> list[float]:
     return out
 
 
-def _breaks(result: Result, ta: float, tb: float) -> np.ndarray:
-    """The span's ends, the load events and the reversals of the resisting loads inside
-    it (times), sorted."""
+def _friction_reversals(result: Result) -> list[float]:
+    """Times where a joint with friction reverses its relative motion: its friction effort
+    −sign(ċ)·μ jumps there, so the quadrature is cut there too (located as exact roots of
+    ċ over the rows, as the load reversals)."""
+    from ..kinematics.events import coordinate_rates, find_roots
+    from ..kinematics.schedule import schedule
+
+    system = result.system
+    joints = [k for k, j in enumerate(system.model.joints) if j.has_friction]
+    if not joints or len(result) < 2:
+        return []
+    sched = schedule(system)
+    period = float(sched.period) if result.full_cycle else np.inf
+    out: list[float] = []
+    for k in joints:
+
+        def f(q, qd, qdd, k=k):
+            return coordinate_rates(system, q, qd, qdd, k)
+
+        vals = f(result.q, result.qd, result.qdd)[0]
+        scale = np.max(np.abs(vals), initial=0.0)
+        if not scale > 0:  # a joint that never moves: no reversal
+            continue
+        vals = np.where(np.abs(vals) <= 1e-12 * scale, 0.0, vals)  # round-off is no sign
+        roots, _ = find_roots(
+            system, sched, result.t, result.q, result.qd, result.qdd, vals, f,
+            result.full_cycle, period,
+        )  # fmt: skip
+        out += [float(r) for r in roots]
+    return out
+
+
+def _crossings(t: np.ndarray, v: np.ndarray, period: float | None) -> list[float]:
+    """Times where the sampled ``v(t)`` (t increasing) changes sign, each from the cubic
+    through the four samples around it (the two beside it at a run's end; cyclic over a
+    ``period``): O(h⁴), enough for a kink, where a break misplaced by δ costs O(δ²)."""
+    n = len(t)
+    if period is not None:  # cyclic: the first rows again, a period on
+        t, v = (
+            np.concatenate((t[-2:] - period, t, t[:2] + period)),
+            np.concatenate((v[-2:], v, v[:2])),
+        )
+        lo, hi = 2, 2 + n  # brackets (k, k + 1) for k in [lo, hi)
+    else:
+        lo, hi = 0, n - 1
+    out = []
+    for k in range(lo, hi):
+        a, b = v[k], v[k + 1]
+        if not (np.isfinite(a) and np.isfinite(b)) or a * b > 0 or a == b == 0:
+            continue
+        if a == 0:
+            out.append(float(t[k]))
+            continue
+        if b == 0:
+            continue  # the next bracket starts at it
+        idx = np.arange(max(k - 1, 0), min(k + 3, len(t)))
+        tt, vv = t[idx] - t[k], v[idx]
+        guess = float(t[k] + (t[k + 1] - t[k]) * a / (a - b))
+        if len(idx) >= 3 and np.all(np.isfinite(vv)):
+            roots = np.roots(np.polyfit(tt, vv, len(idx) - 1))
+            h = t[k + 1] - t[k]
+            inside = [r.real + t[k] for r in roots if abs(r.imag) <= 1e-9 * h and 0 <= r.real <= h]
+            if inside:
+                guess = min(inside, key=lambda x: abs(x - guess))
+        out.append(guess)
+    return out
+
+
+def _motion_breaks(result: Result) -> list[float]:
+    """Times where a pair's kinematics has a jump in a derivative (:meth:`Joint.motion_breaks`
+    through zero, e.g. a cam law's segment ends), located on the rows."""
+    from ..kinematics.schedule import schedule
+
+    system = result.system
+    if len(result) < 4:
+        return []
+    t = np.asarray(result.t, dtype=float)
+    order = np.argsort(t, kind="stable")
+    t = t[order]
+    period = float(schedule(system).period) if result.full_cycle else None
+    qe = np.concatenate((result.q, np.zeros(result.q.shape[:-1] + (3,))), axis=-1)[order]
+    out: list[float] = []
+    for k, joint in enumerate(system.model.joints):
+        i, j = system.ends[k]
+        vals = joint.motion_breaks(qe[..., 3 * i : 3 * i + 3], qe[..., 3 * j : 3 * j + 3])
+        for m in range(vals.shape[-1]):
+            out += _crossings(t, vals[..., m], period)
+    return out
+
+
+def _effort_zeros(result: Result) -> list[float]:
+    """Times where a motion driver's effort (frictionless and with friction) passes through
+    zero: the power flow through a reduction turns there, a kink of the motor-side torque
+    (dynamics/drive.py), located on the rows."""
+    from ..kinematics.schedule import schedule
+
+    system = result.system
+    if len(result) < 4:
+        return []
+    t = np.asarray(result.t, dtype=float)
+    order = np.argsort(t, kind="stable")
+    period = float(schedule(system).period) if result.full_cycle else None
+    out: list[float] = []
+    for d in system.motion_drivers:
+        for word in ("torque", "force"):
+            for tail in ("", "_friction", "_friction_approx"):
+                name = f"{d.name}.{word}{tail}"
+                if name in result.columns:
+                    out += _crossings(t[order], np.asarray(result[name])[order], period)
+    return out
+
+
+def _friction_kinks(result: Result) -> list[float]:
+    """Times where a joint's friction law has a kink (:meth:`Joint.friction_kinks` through
+    zero, e.g. a slide's normal force): of the frictionless λ, which the approximate
+    solution uses, and of the consistent solution's λ, located on the rows."""
+    from ..kinematics.schedule import schedule
+
+    system = result.system
+    joints = [k for k, j in enumerate(system.model.joints) if j.has_friction]
+    if not joints or len(result) < 4:
+        return []
+    t = np.asarray(result.t, dtype=float)
+    order = np.argsort(t, kind="stable")
+    t = t[order]
+    period = float(schedule(system).period) if result.full_cycle else None
+    qe = np.concatenate((result.q, np.zeros(result.q.shape[:-1] + (3,))), axis=-1)[order]
+    out: list[float] = []
+    for k in joints:
+        joint, (i, j) = system.model.joints[k], system.ends[k]
+        qi, qj = qe[..., 3 * i : 3 * i + 3], qe[..., 3 * j : 3 * j + 3]
+        for lam in (result.lam, result.lam_friction):
+            if lam is None or lam.shape[-1] == 0:
+                continue
+            vals = joint.friction_kinks(lam[order][..., system.rows_of(k)], qi, qj)
+            for m in range(vals.shape[-1]):
+                out += _crossings(t, vals[..., m], period)
+    return out
+
+
+def _breaks(result: Result, ta: float, tb: float, friction: bool) -> np.ndarray:
+    """The span's ends, the load events, the reversals of the resisting loads, the breaks
+    of the pairs' motion (a cam law's segment ends), the zeros of the drivers' efforts
+    (kinks of a motor's torque behind a reduction) and, with friction, the reversals of
+    the joints with friction and the kinks of their laws inside it (times), sorted."""
     inner = []
     full = result.full_cycle
-    for te in [float(e.t) for e in result.events] + _reversals(result):
+    reversals = _reversals(result) + _motion_breaks(result) + _effort_zeros(result)
+    if friction and result.system.model.has_friction:
+        rows = result
+        if rows.lam_friction is None:  # rows without the friction solutions: solve them
+            # there, for the kinks of the consistent solution and its effort's zeros
+            rows = replace(
+                analyze(result.system, times=result.t, friction=True, events=False),
+                full_cycle=result.full_cycle,
+            )
+            reversals += _effort_zeros(rows)
+        reversals += _friction_reversals(rows) + _friction_kinks(rows)
+    for te in [float(e.t) for e in result.events] + reversals:
         if full:
             te = ta + np.mod(te - ta, tb - ta)
         if ta < te < tb:
@@ -125,7 +279,7 @@ def cycle_nodes(result: Result, *, friction: bool | None = None) -> tuple[np.nda
         cache[friction] = (np.ones(len(result.t)), result)
         return cache[friction]
     x, w = np.polynomial.legendre.leggauss(NODES)
-    edges = _breaks(result, ta, tb)
+    edges = _breaks(result, ta, tb, friction)
     times, weights = [], []
     for a, b in zip(edges[:-1], edges[1:]):
         m = max(1, int(np.ceil((b - a) / ((tb - ta) / PIECES) - 1e-9)))

@@ -257,6 +257,7 @@ def _result(
         indeterminate=False if kin is None else kin.indeterminate,
         full_cycle=full,
         extremes={} if extremes is None else extremes,
+        lam_friction=None if fric is None else fric["solution"].x,
     )
 
 

@@ -369,7 +369,8 @@ class Result:
     ``result["rod.omega"]`` is a ``(n_pos,)`` array; ``result.columns`` the
     names in CSV order; ``result.units[name]`` the unit.  Raw: ``t`` (s),
     ``coordinate`` (rad or m), ``q``, ``qd``, ``qdd`` ``(n_pos, n_q)`` and
-    ``lam`` ``(n_pos, n_lam)`` (frictionless multipliers and driver efforts).
+    ``lam`` ``(n_pos, n_lam)`` (frictionless multipliers and driver efforts), and
+    ``lam_friction`` the same of the consistent friction solution (None without it).
 
     Tables (:mod:`.frames`, naming rule ``member.quantity``): :meth:`members`,
     :meth:`select`, :meth:`to_pandas`, :meth:`to_xarray`.
@@ -389,6 +390,7 @@ class Result:
     indeterminate: bool = False
     full_cycle: bool = True
     extremes: dict = field(default_factory=dict)
+    lam_friction: np.ndarray | None = None
 
     def __getitem__(self, name: str) -> np.ndarray:
         try:

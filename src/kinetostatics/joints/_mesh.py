@@ -159,6 +159,9 @@ class MeshFriction:
     def friction_magnitude(self, lam, qi, qj):
         return self.loss_ratio * math.cos(self.alpha) * np.abs(lam[..., 0])
 
+    def friction_kinks(self, lam, qi, qj):
+        return lam[..., :1]
+
     def friction_gradient(self, lam, qi, qj):
         return self.loss_ratio * math.cos(self.alpha) * np.sign(lam)
 

@@ -270,6 +270,19 @@ class Joint(ABC):
         """∂ friction_magnitude / ∂λ, ``(..., n_eq)`` (for Newton on the consistent solution)."""
         return np.zeros(lam.shape)
 
+    def motion_breaks(self, qi: np.ndarray, qj: np.ndarray) -> np.ndarray:
+        """Values whose sign changes mark where a derivative of the pair's constraint jumps
+        along the motion (a cam law's segment ends), ``(..., m)``: the cycle's quadrature
+        is cut there.  None by default (``m = 0``)."""
+        return np.zeros(np.broadcast_shapes(qi.shape[:-1], qj.shape[:-1]) + (0,))
+
+    def friction_kinks(self, lam: np.ndarray, qi: np.ndarray, qj: np.ndarray) -> np.ndarray:
+        """The arguments of the absolute values in ``friction_magnitude``, ``(..., m)``: where
+        one changes sign the friction law has a kink, and the cycle's quadrature is cut
+        there (a normal force through zero).  None by default (``m = 0``); a smooth law
+        such as ρ|F| of a pin, whose |F| only vanishes with both components, has none."""
+        return np.zeros(lam.shape[:-1] + (0,))
+
     def friction_constants(self) -> tuple[Any, ...]:
         """The constants ``friction_magnitude`` reads (ρ, f, 1 − η …), for a caller that
         must know whether they differ between stacked variants; () without friction."""

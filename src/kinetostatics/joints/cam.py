@@ -440,6 +440,15 @@ class Cam(Joint, kind="cam"):
     def friction_magnitude(self, lam, qi, qj):
         return self.f * np.abs(lam[..., 0]) * self._normal(qi, qj)[0]
 
+    def friction_kinks(self, lam, qi, qj):
+        return lam[..., :1]
+
+    def motion_breaks(self, qi, qj):
+        """sin(θ − b) for the law's breaks b (θ the contact's cam angle): through zero at
+        every segment end (and half a turn on, a harmless extra cut)."""
+        b = np.unique(np.mod(self.synthesis.law.breaks, 2 * math.pi))
+        return np.sin(self._contact(qi, qj)[0][..., None] - b)
+
     def friction_gradient(self, lam, qi, qj):
         return (self.f * np.sign(lam[..., 0]) * self._normal(qi, qj)[0])[..., None]
 

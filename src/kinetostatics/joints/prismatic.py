@@ -178,6 +178,11 @@ class Prismatic(Joint, kind="prismatic"):
         n1, n2 = self._edges(lam)
         return self.f * (np.abs(n1) + np.abs(n2))
 
+    def friction_kinks(self, lam, qi, qj):
+        if self.length is None:
+            return lam[..., :1]
+        return np.stack(self._edges(lam), axis=-1)
+
     def friction_gradient(self, lam, qi, qj):
         grad = np.zeros(lam.shape)
         if self.length is None:

@@ -1,0 +1,97 @@
+"""The cycle integrator (analysis/cycle.py) is exact between its breaks: Gauss–Legendre of
+order 8 and of order 16 on twice as many pieces agree to round-off only if every jump and
+kink of the integrand is a break.  Each kind of break is checked by removing it: the two
+orders then disagree by orders of magnitude more (the check can fail).
+
+The breaks: load events, load reversals, friction reversals (the friction effort jumps),
+kinks of the friction laws (a normal force through zero), a cam law's segment ends (an
+acceleration jumps) and the zeros of the driving effort (a motor's torque behind a
+reduction has a kink there).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import kinetostatics as ks
+from kinetostatics.analysis import cycle
+
+from .helpers import ROOT
+
+
+def _stats(name: str, columns, nodes: int, pieces: int, monkeypatch, **off):
+    monkeypatch.setattr(cycle, "NODES", nodes)
+    monkeypatch.setattr(cycle, "PIECES", pieces)
+    for fn in off:
+        monkeypatch.setattr(cycle, fn, lambda result: [])
+    path = ROOT / "mechanisms" / f"{name}.yaml"
+    if not path.exists():
+        path = ROOT / "tests" / "drive" / f"{name}.yaml"
+    r = ks.analyze(ks.load(path))
+    return cycle.cycle_stats(r, columns)
+
+
+def _disagreement(name, columns, monkeypatch, **off) -> float:
+    """Largest |mean or RMS (order 8) − (order 16)| over the RMS, among ``columns``."""
+    a = _stats(name, columns, 8, 36, monkeypatch, **off)
+    b = _stats(name, columns, 16, 72, monkeypatch, **off)
+    return max(abs(a[c][k] - b[c][k]) / abs(b[c]["rms"]) for c in columns for k in ("mean", "rms"))
+
+
+CASES = [  # (file, columns, the break that matters there, its disagreement without it)
+    ("slotting_machine", ["motor.torque_friction"], "_friction_kinks", 1e-7),
+    ("slotting_machine", ["motor.torque_friction"], "_friction_reversals", 1e-6),
+    ("slider_crank", ["motor.torque_friction"], "_friction_kinks", 1e-8),
+    ("shaper", ["motor.torque_friction"], "_friction_reversals", 1e-6),
+    ("jaw_crusher", ["motor.torque_friction"], "_friction_reversals", 1e-5),
+    ("cam_roller", ["motor.torque"], "_motion_breaks", 1e-8),
+    ("cam_roller", ["motor.torque_friction"], "_motion_breaks", 1e-7),
+    ("cam_roller", ["motor.torque_friction"], "_friction_kinks", 1e-8),
+]
+
+
+@pytest.mark.parametrize(("name", "columns", "brk", "without"), CASES)
+def test_two_orders_agree_with_the_breaks_and_not_without(name, columns, brk, without, monkeypatch):
+    # with every break: round-off, or the 1e-9·speed dead band of a friction reversal
+    # (docs/conventions.md: no friction effort where |ċ| ≤ 1e-9 of its reference)
+    assert _disagreement(name, columns, monkeypatch) < 1e-9
+    assert _disagreement(name, columns, monkeypatch, **{brk: None}) > without
+
+
+def test_the_motor_torque_behind_a_reduction_is_exact(monkeypatch):
+    """The drive's motor-side mean and RMS (a kink where the power turns) agree between the
+    two orders; without the zeros of the driving torque as breaks they do not."""
+    from kinetostatics.dynamics.drive import size
+
+    def motor(off):
+        out = []
+        for nodes, pieces in ((8, 36), (16, 72)):
+            monkeypatch.setattr(cycle, "NODES", nodes)
+            monkeypatch.setattr(cycle, "PIECES", pieces)
+            if off:
+                monkeypatch.setattr(cycle, "_effort_zeros", lambda result: [])
+            r = ks.analyze(ks.load(ROOT / "tests" / "drive" / "slotting_machine_drive.yaml"))
+            out.append(size(r).motor["torque"])
+        (a, b) = out
+        return max(abs(a[k] - b[k]) / abs(b["rms"]) for k in ("mean", "rms"))
+
+    assert motor(off=False) < 1e-8
+    assert motor(off=True) > 1e-8
+
+
+def test_crossings_are_fourth_order_and_cyclic():
+    """``_crossings`` finds each sign change of a sampled periodic function, also the one
+    between the last sample and the first a period on, to O(h⁴): halving the spacing
+    divides the error by about 16."""
+
+    def found(n):
+        t = np.arange(n) / n + 0.013  # no sample on a root
+        v = np.sin(2 * np.pi * (t - 0.99)) + 0.3 * np.sin(4 * np.pi * (t - 0.03))
+        return np.sort(np.mod(cycle._crossings(t, v, 1.0), 1.0))
+
+    ref = found(4096)
+    assert len(ref) == 2 and ref[0] < 0.013  # before the first sample: the wrap-around bracket
+    e = [np.max(np.abs(found(n) - ref)) for n in (20, 40)]
+    assert 10 < e[0] / e[1] < 25
+    assert cycle._crossings(np.arange(10) / 10, np.ones(10), 1.0) == []
