@@ -90,6 +90,8 @@ def test_poses_with_their_frame_give_the_same_numbers(joint):
         *zip(joint.jacobian(qi, qj), joint.jacobian(fi, fj)),
         *zip(joint.motion_direction(qi, qj), joint.motion_direction(fi, fj)),
         *zip(joint.reaction(lam, qi, qj).values(), joint.reaction(lam, fi, fj).values()),
+        (joint.friction_kinks(lam, qi, qj), joint.friction_kinks(lam, fi, fj)),
+        (joint.motion_breaks(qi, qj), joint.motion_breaks(fi, fj)),
     ]
     for bare, framed in pairs:
         assert bare.shape == framed.shape
@@ -262,3 +264,24 @@ def test_describe_and_label_are_text(joint):
     assert all(isinstance(v, str) for v in text.values())
     assert isinstance(joint.label(), str) and joint.label()
     assert isinstance(joint.friction_constants(), tuple)
+
+
+@pytest.mark.parametrize("joint", JOINTS, ids=IDS)
+def test_friction_kinks_are_where_the_friction_magnitude_bends(joint):
+    """Along a straight path in λ, friction_magnitude is linear except where a value of
+    friction_kinks passes zero: its second difference vanishes away from those crossings."""
+    qi, qj, _, _ = _states(batch=(1,))
+    a, b = RNG.normal(size=joint.n_eq), RNG.normal(size=joint.n_eq)
+    s = np.linspace(-3, 3, 601)
+    lam = a + s[:, None] * b
+    mu = joint.friction_magnitude(lam[:, None, :], qi, qj)[:, 0]
+    k = joint.friction_kinks(lam[:, None, :], qi, qj)[:, 0, :]
+    bend = np.abs(np.diff(mu, 2)) > 1e-9 * (1 + np.max(np.abs(mu)))
+    cross = np.zeros(len(s) - 2, dtype=bool)
+    for m in range(k.shape[-1]):
+        sign = np.sign(k[:, m])
+        change = sign[:-1] * sign[1:] <= 0
+        cross |= change[:-1] | change[1:]
+    if joint.kind == "revolute":  # ρ|F|: smooth unless the line passes through F = 0
+        return
+    assert not np.any(bend & ~cross)
