@@ -165,23 +165,32 @@ def _crossings(t: np.ndarray, v: np.ndarray, period: float | None) -> list[float
     return out
 
 
+def _in_time(result: Result):
+    """(t, order, period, qe): the rows' times sorted (``order`` sorts the rows), the period
+    of a full cycle (None otherwise) and q with the ground's zeros appended, sorted."""
+    from ..kinematics.schedule import schedule
+
+    t = np.asarray(result.t, dtype=float)
+    order = np.argsort(t, kind="stable")
+    period = float(schedule(result.system).period) if result.full_cycle else None
+    qe = np.concatenate((result.q, np.zeros(result.q.shape[:-1] + (3,))), axis=-1)[order]
+    return t[order], order, period, qe
+
+
+def _poses_of(system, qe: np.ndarray, k: int) -> tuple[np.ndarray, np.ndarray]:
+    i, j = system.ends[k]
+    return qe[..., 3 * i : 3 * i + 3], qe[..., 3 * j : 3 * j + 3]
+
+
 def _motion_breaks(result: Result) -> list[float]:
     """Times where a pair's kinematics has a jump in a derivative (:meth:`Joint.motion_breaks`
     through zero, e.g. a cam law's segment ends), located on the rows."""
-    from ..kinematics.schedule import schedule
-
-    system = result.system
     if len(result) < 4:
         return []
-    t = np.asarray(result.t, dtype=float)
-    order = np.argsort(t, kind="stable")
-    t = t[order]
-    period = float(schedule(system).period) if result.full_cycle else None
-    qe = np.concatenate((result.q, np.zeros(result.q.shape[:-1] + (3,))), axis=-1)[order]
+    t, _, period, qe = _in_time(result)
     out: list[float] = []
-    for k, joint in enumerate(system.model.joints):
-        i, j = system.ends[k]
-        vals = joint.motion_breaks(qe[..., 3 * i : 3 * i + 3], qe[..., 3 * j : 3 * j + 3])
+    for k, joint in enumerate(result.system.model.joints):
+        vals = joint.motion_breaks(*_poses_of(result.system, qe, k))
         for m in range(vals.shape[-1]):
             out += _crossings(t, vals[..., m], period)
     return out
@@ -191,21 +200,16 @@ def _effort_zeros(result: Result) -> list[float]:
     """Times where a motion driver's effort (frictionless and with friction) passes through
     zero: the power flow through a reduction turns there, a kink of the motor-side torque
     (dynamics/drive.py), located on the rows."""
-    from ..kinematics.schedule import schedule
-
-    system = result.system
     if len(result) < 4:
         return []
-    t = np.asarray(result.t, dtype=float)
-    order = np.argsort(t, kind="stable")
-    period = float(schedule(system).period) if result.full_cycle else None
+    t, order, period, _ = _in_time(result)
     out: list[float] = []
-    for d in system.motion_drivers:
+    for d in result.system.motion_drivers:
         for word in ("torque", "force"):
             for tail in ("", "_friction", "_friction_approx"):
                 name = f"{d.name}.{word}{tail}"
                 if name in result.columns:
-                    out += _crossings(t[order], np.asarray(result[name])[order], period)
+                    out += _crossings(t, np.asarray(result[name])[order], period)
     return out
 
 
@@ -213,25 +217,18 @@ def _friction_kinks(result: Result) -> list[float]:
     """Times where a joint's friction law has a kink (:meth:`Joint.friction_kinks` through
     zero, e.g. a slide's normal force): of the frictionless λ, which the approximate
     solution uses, and of the consistent solution's λ, located on the rows."""
-    from ..kinematics.schedule import schedule
-
     system = result.system
     joints = [k for k, j in enumerate(system.model.joints) if j.has_friction]
     if not joints or len(result) < 4:
         return []
-    t = np.asarray(result.t, dtype=float)
-    order = np.argsort(t, kind="stable")
-    t = t[order]
-    period = float(schedule(system).period) if result.full_cycle else None
-    qe = np.concatenate((result.q, np.zeros(result.q.shape[:-1] + (3,))), axis=-1)[order]
+    t, order, period, qe = _in_time(result)
     out: list[float] = []
     for k in joints:
-        joint, (i, j) = system.model.joints[k], system.ends[k]
-        qi, qj = qe[..., 3 * i : 3 * i + 3], qe[..., 3 * j : 3 * j + 3]
+        qi, qj = _poses_of(system, qe, k)
         for lam in (result.lam, result.lam_friction):
             if lam is None or lam.shape[-1] == 0:
                 continue
-            vals = joint.friction_kinks(lam[order][..., system.rows_of(k)], qi, qj)
+            vals = system.model.joints[k].friction_kinks(lam[order][..., system.rows_of(k)], qi, qj)
             for m in range(vals.shape[-1]):
                 out += _crossings(t, vals[..., m], period)
     return out
