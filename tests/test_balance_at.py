@@ -108,7 +108,9 @@ def test_the_flywheel_does_not_depend_on_where_the_effort_is_taken(path, own, jo
         assert getattr(alt, name) == pytest.approx(getattr(ref, name), rel=1e-9, abs=1e-12), name
     for name in ("mean", "min", "max"):
         assert alt.machine_inertia[name] == pytest.approx(ref.machine_inertia[name], rel=1e-9)
-    assert alt.at_max == pytest.approx(ref.at_max, abs=1e-9)
+    # where ΔW peaks is a root of M_d − M_b: the moments' round-off (1e-10 of their scale,
+    # below) moves it by that over the moment's slope there (~1e-9 rad on the rack rocker)
+    assert alt.at_max == pytest.approx(ref.at_max, abs=1e-8)
     np.testing.assert_allclose(
         alt.curve["moment"],
         ref.curve["moment"],

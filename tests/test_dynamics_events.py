@@ -209,3 +209,31 @@ def test_slider_crank_energy_across_the_working_stroke_switches():
     assert np.max(np.abs(e - (e[0] - 1000.0 * stroke * done))[back]) <= (
         1e-6 * cols["energy.kinetic"].max()
     )
+
+
+def test_a_stop_on_a_load_switch_is_not_run_past():
+    """Started exactly where the cutting force switches on and stopped one turn later, at
+    the same switch: the piece ends at the switch and the stop there is still taken (it
+    lies at the next piece's start, where an event function's root is not seen)."""
+    model = ks.load(ROOT / "mechanisms" / "slotting_machine.yaml")
+    fw = design(model)
+    on = fw.at_max  # the largest stored energy: where cutting starts (the moment jumps)
+    assert any(abs(on - e) < 1e-9 for e in fw.events)
+    free = with_effort(model, fw.driver, EffortLaw("constant", value=fw.sense * fw.mean_torque))
+    period = 2 * np.pi / fw.omega_m
+    stop = on + fw.sense * 2 * np.pi
+    sim = simulate(
+        free,
+        6 * period,
+        initial={fw.driver: (on, fw.sense * fw.omega_m)},
+        inertia={fw.driver: fw.inertia_net},
+        stop_at=stop,
+        mark=on,
+        ref_speed=fw.omega_m,
+        method="RK45",
+        rtol=1e-8,
+        friction=False,
+    )
+    assert sim.status == "stopped"
+    assert sim.t_end == pytest.approx(period, rel=0.05)  # one turn at about ω_m
+    assert sim.events[-1]["kind"] == "stop"

@@ -29,7 +29,7 @@ from ..base.arrays import sorted_distinct
 from .pipeline import analyze
 from .results import Result
 
-__all__ = ["NODES", "cycle_stats", "cycle_nodes"]
+__all__ = ["NODES", "cycle_stats", "cycle_nodes", "cycle_pieces"]
 
 NODES = 8  # Gauss–Legendre nodes per sub-interval
 PIECES = 36  # sub-intervals per span at least (each ≤ span/36)
@@ -264,6 +264,14 @@ def cycle_nodes(result: Result, *, friction: bool | None = None) -> tuple[np.nda
     """(weights, node result): the quadrature weights (s, summing to the span) and the
     result of the pipeline at the nodes.  ``friction``: solve the friction solutions at
     the nodes (default: when the result has them).  Cached on the result."""
+    return cycle_pieces(result, friction=friction)[:2]
+
+
+def cycle_pieces(
+    result: Result, *, friction: bool | None = None
+) -> tuple[np.ndarray, Result, np.ndarray | None]:
+    """(weights, node result, pieces): :func:`cycle_nodes` with the pieces ``(P, 2)``, each
+    (t₀, t₁) holding :data:`NODES` consecutive nodes (None for a run of one row)."""
     if friction is None:
         friction = "friction.status" in result.columns
     cache = result.__dict__.setdefault("_cycle_nodes", {})
@@ -273,11 +281,11 @@ def cycle_nodes(result: Result, *, friction: bool | None = None) -> tuple[np.nda
         return cache[True]
     ta, tb = _span(result)
     if not tb > ta:  # one row: its values
-        cache[friction] = (np.ones(len(result.t)), result)
+        cache[friction] = (np.ones(len(result.t)), result, None)
         return cache[friction]
     x, w = np.polynomial.legendre.leggauss(NODES)
     edges = _breaks(result, ta, tb, friction)
-    times, weights = [], []
+    times, weights, pieces = [], [], []
     for a, b in zip(edges[:-1], edges[1:]):
         m = max(1, int(np.ceil((b - a) / ((tb - ta) / PIECES) - 1e-9)))
         cuts = np.linspace(a, b, m + 1)
@@ -285,12 +293,14 @@ def cycle_nodes(result: Result, *, friction: bool | None = None) -> tuple[np.nda
             half = 0.5 * (c1 - c0)
             times.append(c0 + half * (x + 1.0))
             weights.append(half * w)
+            pieces.append((c0, c1))
     times, weights = np.concatenate(times), np.concatenate(weights)
     nodes = analyze(result.system, times=times, friction=friction, events=False)
     order = np.argsort(times, kind="stable")  # the pipeline returns rows in time order
+    grouped = np.array(pieces)
     if not np.allclose(nodes.t, times[order], rtol=0, atol=1e-9 * (tb - ta)):
-        order = np.arange(len(times))
-    cache[friction] = (weights[order], nodes)
+        order, grouped = np.arange(len(times)), None
+    cache[friction] = (weights[order], nodes, grouped)
     return cache[friction]
 
 

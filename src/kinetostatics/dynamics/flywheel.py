@@ -3,10 +3,12 @@
 From the balancing moment M_b(φ) of a 1-DOF machine at its nominal constant
 crank speed ω_m (``analyze``: the driver torque, link inertia torques included,
 frictionless by default) and a constant driving moment equal to its cycle mean
-M_d, the energy surplus ΔW(φ) = ∫₀^φ (M_d − M_b) dφ' is integrated piecewise
-between the load events (trapezoid rule on a fine grid plus both one-sided
-values at every event, where M_b jumps), its extremes located exactly on the
-piecewise-linear interpolant, and
+M_d, the energy surplus ΔW(φ) = ∫₀^φ (M_d − M_b) dφ' is integrated exactly on the
+cycle integrator's pieces (:func:`~kinetostatics.analysis.cycle.cycle_pieces`: cut
+at the load events, where M_b jumps, and at the friction reversals and kinks): on
+each piece M_d − M_b is the polynomial through its Gauss–Legendre nodes, ΔW its
+integral, and the extremes of ΔW lie at the pieces' ends or at the polynomials'
+roots, and
 
     ΔW_max = max ΔW − min ΔW,   J_F = ΔW_max / (ω_m² δ)
 
@@ -15,7 +17,9 @@ machine's own inertia; ``inertia_net`` = J_F − J_e,mean subtracts its cycle-me
 equivalent inertia.  Referred to a motor shaft turning ``ratio`` times faster:
 J/ratio².  Angles here run in the sense of motion ("travel" φ); M in that sense.
 
-Numpy only: ``kinetostatics run`` computes this without scipy.  The check by
+The moment on a fine grid (:func:`energy_curve`) is for the pictures only, computed
+when a design's ``curve`` is first asked for.  Numpy only: ``kinetostatics run``
+computes this without scipy.  The check by
 simulation (:func:`verify`) needs scipy.integrate and lives outside ``run``.
 """
 
@@ -25,12 +29,14 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+import numpy.polynomial.legendre as leg
 
 from ..analysis import analyze
-from ..analysis.cycle import cycle_stats
+from ..analysis.cycle import cycle_pieces, cycle_stats
 from ..analysis.results import Result
 from ..base.arguments import real_number
 from ..errors import Location, StructureError
+from ..kinematics.schedule import schedule
 from ..kinetics.reactions import effort_ratio
 from ..model import EffortLaw, Model, MotionLaw
 from ..structure.system import System, build_system
@@ -62,7 +68,20 @@ class FlywheelDesign:
     positions: int = 0
     events: tuple = ()  # driver coordinates (rad) of the load events used
     assumptions: tuple = ()
-    curve: dict = field(default_factory=dict, repr=False, compare=False)
+    system: Any = field(default=None, repr=False, compare=False)  # for the curve, on demand
+
+    @property
+    def curve(self) -> dict[str, np.ndarray]:
+        """The driving moment and J_e over the cycle on :attr:`positions` positions (plus
+        both sides of every load event), for the pictures (:func:`energy_curve`): computed
+        when first asked for, not by the design's numbers."""
+        cached = self.__dict__.get("_curve")
+        if cached is None:
+            cached = energy_curve(
+                self.system, list(self.events), friction=self.friction, positions=self.positions
+            )
+            object.__setattr__(self, "_curve", cached)
+        return cached
 
     @property
     def motor_inertia(self) -> float | None:
@@ -220,8 +239,9 @@ ASSUMPTIONS = (
     "integrated exactly between the load events: analysis/cycle.py)",
     "balancing moment at the constant nominal crank speed ω_m = {omega_m:.6g} rad/s "
     "(link inertia torques at that speed included)",
-    "ΔW_max integrated piecewise between the load events (trapezoid rule on "
-    "{positions} positions plus both sides of each event)",
+    "ΔW_max exact: the integral of M_d − M_b over the polynomials that the cycle's "
+    "Gauss–Legendre quadrature integrates, cut at the load events, its extremes at the "
+    "events or at the zeros of M_d − M_b ({positions} positions only for the pictures)",
     "energy method, first order in δ: ω_m = (ω_max + ω_min)/2 and the speed "
     "variation taken by the flywheel alone (inertia) or by the flywheel plus the "
     "machine's cycle-mean equivalent inertia (inertia_net)",
@@ -243,6 +263,56 @@ def assumption_texts(
         translate(t).format(torque=torque, omega_m=omega_m, positions=positions)
         for t in ASSUMPTIONS
     )
+
+
+def _legendre_pieces(pieces: np.ndarray, values: np.ndarray):
+    """Per piece (t₀, t₁) of the cycle nodes, the Legendre series through its n node values
+    (Gauss–Legendre nodes: the interpolant the quadrature integrates exactly): ``(P, n)``
+    coefficients in x = (2t − t₀ − t₁)/(t₁ − t₀)."""
+    n = values.size // len(pieces)
+    x, _ = leg.leggauss(n)
+    vander = leg.legvander(x, n - 1)
+    return np.linalg.solve(vander, values.reshape(len(pieces), n).T).T
+
+
+def _energy_extremes(pieces: np.ndarray, t: np.ndarray, rate: np.ndarray):
+    """((t, ΔW) at the largest and at the smallest ΔW(t) = ∫ rate dt from the span's start):
+    ΔW is the integral of each piece's interpolant, so its extremes are at the pieces' ends
+    or at the interpolants' real roots inside — exact to the quadrature's accuracy, no
+    trapezoid rule."""
+    coef = _legendre_pieces(pieces, rate)
+    half = 0.5 * (pieces[:, 1] - pieces[:, 0])
+    mid = 0.5 * (pieces[:, 1] + pieces[:, 0])
+    cand_t, cand_w, start = [pieces[0, 0]], [0.0], 0.0
+    for p in range(len(pieces)):
+        anti = leg.legint(coef[p], lbnd=-1)
+        roots = leg.legroots(coef[p]) if np.any(coef[p][1:]) else np.zeros(0)
+        roots = roots[np.isreal(roots)].real
+        for r in roots[(roots > -1) & (roots < 1)]:
+            cand_t.append(mid[p] + half[p] * r)
+            cand_w.append(start + half[p] * leg.legval(r, anti))
+        start += half[p] * leg.legval(1.0, anti)
+        cand_t.append(pieces[p, 1])
+        cand_w.append(start)
+    cand_w = np.asarray(cand_w)
+    k_max, k_min = int(np.argmax(cand_w)), int(np.argmin(cand_w))
+    return (cand_t[k_max], float(cand_w[k_max])), (cand_t[k_min], float(cand_w[k_min]))
+
+
+def _value_extremes(pieces: np.ndarray, values: np.ndarray) -> tuple[float, float]:
+    """(min, max) of the pieces' interpolants of ``values`` (at their ends and where their
+    derivatives vanish inside)."""
+    coef = _legendre_pieces(pieces, values)
+    cand = []
+    for c in coef:
+        xs = [-1.0, 1.0]
+        d = leg.legder(c)
+        if np.any(d):
+            r = leg.legroots(d)
+            r = r[np.isreal(r)].real
+            xs += list(r[(r > -1) & (r < 1)])
+        cand += list(leg.legval(np.asarray(xs), c))
+    return float(np.min(cand)), float(np.max(cand))
 
 
 def design(
@@ -285,28 +355,24 @@ def design(
     if base is None:
         base = analyze(system, friction=False)
     events = [e.coordinate for e in base.events]
-    curve = energy_curve(system, events, friction=friction, positions=positions)
-    phi, moment = curve["travel"], curve["moment"]
-    x = np.append(phi, 2 * np.pi + phi[0])
+    w = abs(drv.driver.motion.speed)
+    sense = float(np.sign(drv.driver.motion.speed))
     # M_d: the cycle mean of the one function every output uses (analysis/cycle.py)
+    weights, nodes, pieces = cycle_pieces(base, friction=friction)
+    moment, je = _moment(system, nodes, friction)
     m_d = cycle_stats(base, {"M": lambda r: _moment(system, r, friction)[0]}, friction=friction)[
         "M"
     ]["mean"]
     work = 2 * np.pi * m_d
-    # ΔW closes over the cycle with the mean of its own (trapezoid) rule: no drift
-    y = np.append(moment, moment[0])
-    m_closed = float(np.sum(0.5 * np.diff(x) * (y[:-1] + y[1:]))) / (2 * np.pi)
-    _, f_max, phi_max, f_min, phi_min = _swing(phi, m_closed - moment)
-    swing = f_max - f_min
-    w = abs(drv.driver.motion.speed)
-    sense = float(np.sign(drv.driver.motion.speed))
-    j_f = swing / (w**2 * delta)
-    je = curve["inertia"]
-    je_mean = float(
-        np.sum(0.5 * np.diff(x) * (np.append(je, je[0])[:-1] + np.append(je, je[0])[1:]))
-        / (2 * np.pi)
+    psi = schedule(system)
+    (t_max, swing_max), (t_min, swing_min) = _energy_extremes(
+        pieces, np.asarray(nodes.t), w * (m_d - moment)
     )
-    start = system.model.analysis.start
+    swing = swing_max - swing_min
+    j_f = swing / (w**2 * delta)
+    je_mean = float(np.sum(weights * je) / np.sum(weights))
+    je_min, je_max = _value_extremes(pieces, je)
+    je_min = max(je_min, 0.0)  # J_e = 2T/ψ̇² ≥ 0: an interpolant's −1e-32 is round-off
     assumptions = assumption_texts(friction, w, positions)
     return FlywheelDesign(
         delta=float(delta),
@@ -316,17 +382,17 @@ def design(
         mean_torque=m_d,
         work_per_cycle=work,
         energy_swing=float(swing),
-        at_max=float(start + sense * phi_max),
-        at_min=float(start + sense * phi_min),
+        at_max=float(psi(np.array([t_max]))[0][0, 0]),
+        at_min=float(psi(np.array([t_min]))[0][0, 0]),
         inertia=float(j_f),
-        machine_inertia={"mean": je_mean, "min": float(je.min()), "max": float(je.max())},
+        machine_inertia={"mean": je_mean, "min": je_min, "max": je_max},
         inertia_net=float(j_f - je_mean),
         ratio=ratio,
         friction=friction,
         positions=positions,
         events=tuple(events),
         assumptions=assumptions,
-        curve=curve,
+        system=system,
     )
 
 

@@ -212,6 +212,10 @@ class _Run:
         """A restart at rest, a nudge off the switches at their threshold, one piece to
         the next event.  True when the integration ends."""
         dyn, nf = self.dyn, self.nf
+        if self.t > 0 and self._at_stop():  # a switch ended the last piece on the stop
+            self.sim.events.append({"t": self.t, "kind": "stop"})
+            self.sim.status = "stopped"
+            return True
         if nf == 1 and dyn._at_rest(self.y[nf : 2 * nf]):
             if self._restart_at_rest():
                 return True
@@ -223,6 +227,13 @@ class _Run:
         if near.any() and self._nudge(near):
             return True
         return self._piece(near)
+
+    def _at_stop(self) -> bool:
+        """The state lies on the stop (to round-off): a load switch at the same position ended
+        the piece first, and the next piece would start past the stop's root unseen."""
+        if self.stop_event is None:
+            return False
+        return abs(self.stop_event(self.t, self.y)) <= 1e-12 * max(1.0, abs(self.y[0]))
 
     def _restart_at_rest(self) -> bool:
         """At rest (one free coordinate): the sense it breaks away in, or stuck (True)."""

@@ -478,8 +478,9 @@ ZH.update(
         "integrated exactly between the load events: analysis/cycle.py)": "驱动力矩为常数，等于{torque}的周期平均值（M_d = 每周期功 / 2π，在载荷切换点之间精确积分：analysis/cycle.py）",
         "balancing moment at the constant nominal crank speed ω_m = {omega_m:.6g} rad/s "
         "(link inertia torques at that speed included)": "平衡力矩按曲柄以额定转速 ω_m = {omega_m:.6g} rad/s 匀速转动计算（含该转速下的构件惯性力矩）",
-        "ΔW_max integrated piecewise between the load events (trapezoid rule on "
-        "{positions} positions plus both sides of each event)": "ΔW_max 在各载荷切换点之间分段积分（梯形法，{positions} 个位置，另加每个切换点的两侧）",
+        "ΔW_max exact: the integral of M_d − M_b over the polynomials that the cycle's "
+        "Gauss–Legendre quadrature integrates, cut at the load events, its extremes at the "
+        "events or at the zeros of M_d − M_b ({positions} positions only for the pictures)": "ΔW_max 精确计算：M_d − M_b 在周期高斯–勒让德求积所精确积分的多项式上积分，在载荷切换点处分段，其极值位于切换点或 M_d − M_b 的零点（{positions} 个位置仅用于绘图）",
         "energy method, first order in δ: ω_m = (ω_max + ω_min)/2 and the speed "
         "variation taken by the flywheel alone (inertia) or by the flywheel plus the "
         "machine's cycle-mean equivalent inertia (inertia_net)": "能量法，取 δ 的一阶近似：ω_m = (ω_max + ω_min)/2，速度波动由飞轮单独承担（J_F），或由飞轮与机构的周期平均等效转动惯量共同承担（J_F − J_e）",
