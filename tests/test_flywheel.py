@@ -132,3 +132,24 @@ def test_docs_show_the_script_numbers():
         check=True,
     ).stdout
     assert out.strip() and out.strip() in (ROOT / "docs/dynamics.md").read_text()
+
+
+def test_the_fine_grid_rule_serves_where_the_exact_pieces_cannot(machine, monkeypatch):
+    """Where a node lacks the moment (a self-locked zone with friction) the design falls back
+    on the trapezoid rule over its 3600-position curve: the same design to that rule's
+    error (~3e-7), not a crash."""
+    from kinetostatics.dynamics import flywheel as F
+
+    model, fw = machine
+    real = F._moment
+
+    def missing_one(system, r, friction):
+        m, je = real(system, r, friction)
+        return (np.where(np.arange(len(m)) == 5, np.nan, m), je) if len(m) < 3000 else (m, je)
+
+    monkeypatch.setattr(F, "_moment", missing_one)
+    grid = F.design(model, ratio=24)
+    monkeypatch.setattr(F, "_moment", real)
+    assert grid.energy_swing == pytest.approx(fw.energy_swing, rel=1e-6)
+    assert (np.degrees(grid.at_max - fw.at_max) + 180) % 360 - 180 == pytest.approx(0, abs=1e-3)
+    assert grid.machine_inertia["mean"] == pytest.approx(fw.machine_inertia["mean"], rel=1e-6)

@@ -299,6 +299,24 @@ def _energy_extremes(pieces: np.ndarray, t: np.ndarray, rate: np.ndarray):
     return (cand_t[k_max], float(cand_w[k_max])), (cand_t[k_min], float(cand_w[k_min]))
 
 
+def _on_the_grid(system, events, friction, positions, w):
+    """The trapezoid rule on :func:`energy_curve`'s grid, where the exact pieces cannot
+    serve (a moment missing at some nodes): ((t, ΔW) at the largest and the smallest ΔW,
+    (J_e mean, min, max)); NaN where the moment is missing."""
+    c = energy_curve(system, events, friction=friction, positions=positions)
+    x = np.append(c["travel"], 2 * np.pi + c["travel"][0])
+    y = np.append(c["moment"], c["moment"][0])  # ΔW closes with its own rule's mean
+    m_closed = float(np.sum(0.5 * np.diff(x) * (y[:-1] + y[1:]))) / (2 * np.pi)
+    _, f_max, phi_max, f_min, phi_min = _swing(c["travel"], m_closed - c["moment"])
+    je = np.append(c["inertia"], c["inertia"][0])
+    je_mean = float(np.sum(0.5 * np.diff(x) * (je[:-1] + je[1:])) / (2 * np.pi))
+    return (
+        (phi_max / w, f_max),
+        (phi_min / w, f_min),
+        (je_mean, float(np.min(c["inertia"])), float(np.max(c["inertia"]))),
+    )
+
+
 def _value_extremes(pieces: np.ndarray, values: np.ndarray) -> tuple[float, float]:
     """(min, max) of the pieces' interpolants of ``values`` (at their ends and where their
     derivatives vanish inside)."""
@@ -365,14 +383,19 @@ def design(
     ]["mean"]
     work = 2 * np.pi * m_d
     psi = schedule(system)
-    (t_max, swing_max), (t_min, swing_min) = _energy_extremes(
-        pieces, np.asarray(nodes.t), w * (m_d - moment)
-    )
+    if pieces is not None and np.all(np.isfinite(moment)) and np.all(np.isfinite(je)):
+        (t_max, swing_max), (t_min, swing_min) = _energy_extremes(
+            pieces, np.asarray(nodes.t), w * (m_d - moment)
+        )
+        je_mean = float(np.sum(weights * je) / np.sum(weights))
+        je_min, je_max = _value_extremes(pieces, je)
+        je_min = max(je_min, 0.0)  # J_e = 2T/ψ̇² ≥ 0: an interpolant's −1e-32 is round-off
+    else:  # no moment somewhere (a self-locked zone with friction): the fine grid's rule
+        (t_max, swing_max), (t_min, swing_min), (je_mean, je_min, je_max) = _on_the_grid(
+            system, events, friction, positions, w
+        )
     swing = swing_max - swing_min
     j_f = swing / (w**2 * delta)
-    je_mean = float(np.sum(weights * je) / np.sum(weights))
-    je_min, je_max = _value_extremes(pieces, je)
-    je_min = max(je_min, 0.0)  # J_e = 2T/ψ̇² ≥ 0: an interpolant's −1e-32 is round-off
     assumptions = assumption_texts(friction, w, positions)
     return FlywheelDesign(
         delta=float(delta),
