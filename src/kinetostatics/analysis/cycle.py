@@ -26,6 +26,7 @@ from typing import Any
 import numpy as np
 
 from ..base.arrays import sorted_distinct
+from ..structure.system import link_pair
 from .pipeline import analyze
 from .results import Result
 
@@ -47,23 +48,44 @@ def _span(result: Result) -> tuple[float, float]:
     return float(np.min(t)), float(np.max(t))
 
 
+def _exact_roots(result: Result, rates: list) -> list[float]:
+    """Times where the value of each ``rate(q, q̇, q̈) -> (value, its time derivative)``
+    changes sign over the rows, located exactly (refined on the motion itself)."""
+    from ..kinematics.events import find_roots
+    from ..kinematics.schedule import schedule
+
+    if not rates or len(result) < 2:
+        return []
+    system = result.system
+    sched = schedule(system)
+    period = float(sched.period) if result.full_cycle else np.inf
+    out: list[float] = []
+    for f in rates:
+        vals = f(result.q, result.qd, result.qdd)[0]
+        scale = np.max(np.abs(vals), initial=0.0)
+        if not scale > 0:  # never moves: no reversal
+            continue
+        vals = np.where(np.abs(vals) <= 1e-12 * scale, 0.0, vals)  # round-off is no sign
+        roots, _ = find_roots(
+            system, sched, result.t, result.q, result.qd, result.qdd, vals, f,
+            result.full_cycle, period,
+        )  # fmt: skip
+        out += [float(r) for r in roots]
+    return out
+
+
 def _reversals(result: Result) -> list[float]:
     """Times where a load that opposes a velocity reverses (a ``resistance`` whose point's
     velocity along its axis, a ``resisting_torque`` whose angular velocity changes sign):
-    switching events too, located as exact roots over the rows."""
-    from ..kinematics.events import find_roots
-    from ..kinematics.schedule import schedule
+    switching events too."""
     from ..kinematics.state import local_point, point_state
     from ..kinetics.forces import resisting_torque_other
 
     system = result.system
-    loads = [ld for ld in system.model.loads if ld.kind in ("resistance", "resisting_torque")]
-    if not loads or len(result) < 2:
-        return []
-    sched = schedule(system)
-    period = float(sched.period) if result.full_cycle else np.inf
-    out: list[float] = []
-    for load in loads:
+    rates = []
+    for load in system.model.loads:
+        if load.kind not in ("resistance", "resisting_torque"):
+            continue
         k = system.link_index(load.link)
         if load.kind == "resisting_torque":
             other = resisting_torque_other(system, load)
@@ -73,6 +95,7 @@ def _reversals(result: Result) -> list[float]:
                 if other is not None:
                     w, a = w - qd[..., 3 * other + 2], a - qdd[..., 3 * other + 2]
                 return w, a
+
         else:
             p = local_point(system, load.link, load.point)
 
@@ -80,53 +103,24 @@ def _reversals(result: Result) -> list[float]:
                 _, vel, acc = point_state(q, qd, qdd, k, p)
                 return vel @ axis, acc @ axis
 
-        vals = f(result.q, result.qd, result.qdd)[0]
-        roots, _ = find_roots(
-            system,
-            sched,
-            result.t,
-            result.q,
-            result.qd,
-            result.qdd,
-            vals,
-            f,
-            result.full_cycle,
-            period,
-        )
-        out += [float(r) for r in roots]
-    return out
+        rates.append(f)
+    return _exact_roots(result, rates)
 
 
 def _friction_reversals(result: Result) -> list[float]:
     """Times where a joint with friction reverses its relative motion: its friction effort
-    −sign(ċ)·μ jumps there, so the quadrature is cut there too (located as exact roots of
-    ċ over the rows, as the load reversals)."""
-    from ..kinematics.events import coordinate_rates, find_roots
-    from ..kinematics.schedule import schedule
+    −sign(ċ)·μ jumps there, so the quadrature is cut there too."""
+    from ..kinematics.events import coordinate_rates
 
     system = result.system
-    joints = [k for k, j in enumerate(system.model.joints) if j.has_friction]
-    if not joints or len(result) < 2:
-        return []
-    sched = schedule(system)
-    period = float(sched.period) if result.full_cycle else np.inf
-    out: list[float] = []
-    for k in joints:
-
-        def f(q, qd, qdd, k=k):
-            return coordinate_rates(system, q, qd, qdd, k)
-
-        vals = f(result.q, result.qd, result.qdd)[0]
-        scale = np.max(np.abs(vals), initial=0.0)
-        if not scale > 0:  # a joint that never moves: no reversal
-            continue
-        vals = np.where(np.abs(vals) <= 1e-12 * scale, 0.0, vals)  # round-off is no sign
-        roots, _ = find_roots(
-            system, sched, result.t, result.q, result.qd, result.qdd, vals, f,
-            result.full_cycle, period,
-        )  # fmt: skip
-        out += [float(r) for r in roots]
-    return out
+    return _exact_roots(
+        result,
+        [
+            lambda q, qd, qdd, k=k: coordinate_rates(system, q, qd, qdd, k)
+            for k, j in enumerate(system.model.joints)
+            if j.has_friction
+        ],
+    )
 
 
 def _crossings(t: np.ndarray, v: np.ndarray, period: float | None) -> list[float]:
@@ -166,20 +160,14 @@ def _crossings(t: np.ndarray, v: np.ndarray, period: float | None) -> list[float
 
 
 def _in_time(result: Result):
-    """(t, order, period, qe): the rows' times sorted (``order`` sorts the rows), the period
-    of a full cycle (None otherwise) and q with the ground's zeros appended, sorted."""
+    """(t, order, period): the rows' times sorted (``order`` sorts the rows) and the period
+    of a full cycle (None otherwise)."""
     from ..kinematics.schedule import schedule
 
     t = np.asarray(result.t, dtype=float)
     order = np.argsort(t, kind="stable")
     period = float(schedule(result.system).period) if result.full_cycle else None
-    qe = np.concatenate((result.q, np.zeros(result.q.shape[:-1] + (3,))), axis=-1)[order]
-    return t[order], order, period, qe
-
-
-def _poses_of(system, qe: np.ndarray, k: int) -> tuple[np.ndarray, np.ndarray]:
-    i, j = system.ends[k]
-    return qe[..., 3 * i : 3 * i + 3], qe[..., 3 * j : 3 * j + 3]
+    return t[order], order, period
 
 
 def _motion_breaks(result: Result) -> list[float]:
@@ -187,10 +175,11 @@ def _motion_breaks(result: Result) -> list[float]:
     through zero, e.g. a cam law's segment ends), located on the rows."""
     if len(result) < 4:
         return []
-    t, _, period, qe = _in_time(result)
+    t, order, period = _in_time(result)
+    q = result.q[order]
     out: list[float] = []
     for k, joint in enumerate(result.system.model.joints):
-        vals = joint.motion_breaks(*_poses_of(result.system, qe, k))
+        vals = joint.motion_breaks(*link_pair(result.system, q, k))
         for m in range(vals.shape[-1]):
             out += _crossings(t, vals[..., m], period)
     return out
@@ -202,7 +191,7 @@ def _effort_zeros(result: Result) -> list[float]:
     (dynamics/drive.py), located on the rows."""
     if len(result) < 4:
         return []
-    t, order, period, _ = _in_time(result)
+    t, order, period = _in_time(result)
     out: list[float] = []
     for d in result.system.motion_drivers:
         for word in ("torque", "force"):
@@ -221,10 +210,11 @@ def _friction_kinks(result: Result) -> list[float]:
     joints = [k for k, j in enumerate(system.model.joints) if j.has_friction]
     if not joints or len(result) < 4:
         return []
-    t, order, period, qe = _in_time(result)
+    t, order, period = _in_time(result)
+    q = result.q[order]
     out: list[float] = []
     for k in joints:
-        qi, qj = _poses_of(system, qe, k)
+        qi, qj = link_pair(system, q, k)
         for lam in (result.lam, result.lam_friction):
             if lam is None or lam.shape[-1] == 0:
                 continue

@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..base.geometry import perp, rotate
-from ..structure.system import System
+from ..structure.system import System, link_pair
 
 __all__ = ["point_state", "local_point", "joint_coordinate", "joint_coordinate_bias"]
 
@@ -32,24 +32,13 @@ def local_point(system: System, link: str, point: str | None) -> np.ndarray:
     return system.model.link(link).points[point] if point else np.zeros(2)
 
 
-def _with_ground(x: np.ndarray) -> np.ndarray:
-    return np.concatenate((x, np.zeros(x.shape[:-1] + (3,))), axis=-1)
-
-
 def joint_coordinate(system: System, q: np.ndarray, k: int) -> np.ndarray:
     """The relative coordinate of constraint ``k`` (a joint's angle or distance), ``(...)``."""
-    qe = _with_ground(q)
-    i, j = system.ends[k]
-    return system.constraints[k].coordinate(qe[..., 3 * i : 3 * i + 3], qe[..., 3 * j : 3 * j + 3])
+    return system.constraints[k].coordinate(*link_pair(system, q, k))
 
 
 def joint_coordinate_bias(system: System, q: np.ndarray, qd: np.ndarray, k: int) -> np.ndarray:
     """b in c̈ = g·q̈ + b of constraint ``k``'s relative coordinate c, ``(...)``."""
-    qe, ve = _with_ground(q), _with_ground(qd)
-    i, j = system.ends[k]
     return system.constraints[k].coordinate_bias(
-        qe[..., 3 * i : 3 * i + 3],
-        qe[..., 3 * j : 3 * j + 3],
-        ve[..., 3 * i : 3 * i + 3],
-        ve[..., 3 * j : 3 * j + 3],
+        *link_pair(system, q, k), *link_pair(system, qd, k)
     )

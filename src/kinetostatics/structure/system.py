@@ -32,6 +32,7 @@ __all__ = [
     "gamma",
     "nu",
     "coordinate_gradient",
+    "link_pair",
 ]
 
 
@@ -237,6 +238,12 @@ def jacobian_blocks(system: System, q: np.ndarray) -> list[tuple[np.ndarray, np.
         out.append((blk[..., rows, np.arange(done.size, blk.shape[-1])], lower))  # layout
         done = np.concatenate((done, p.cols))
     return out
+
+
+def link_pair(system: System, x: np.ndarray, k: int) -> tuple[np.ndarray, np.ndarray]:
+    """The coordinates (or rates) of constraint ``k``'s two links from ``x (..., n_q)``,
+    ``(..., 3)`` each, ground as zeros."""
+    return _pair(_ext(x), system.ends[k])
 
 
 def coordinate_gradient(system: System, q: np.ndarray, k: int, ground: bool = False) -> np.ndarray:
