@@ -85,10 +85,10 @@ def main(argv=None) -> int:
     block = "\n".join(lines)
     print(block)
     if a.write:
-        doc = ROOT / "docs" / "verification.md"
-        text = doc.read_text(encoding="utf-8")
-        i, j = text.index(BEGIN), text.index(END) + len(END)
-        doc.write_text(text[:i] + block + text[j:], encoding="utf-8")
+        sys.path.insert(0, str(HERE))
+        from long_run import write_block
+
+        write_block(block, BEGIN, END)
     return 0
 
 

@@ -135,11 +135,17 @@ def main(argv=None):
     block = _block(a, R, [done[s] for s in seeds if s in done])
     print(block)
     if a.write:
-        doc = ROOT / "docs" / "verification.md"
-        text = doc.read_text(encoding="utf-8")
-        i, j = text.index(BEGIN), text.index(END) + len(END)
-        doc.write_text(text[:i] + block + text[j:], encoding="utf-8")
+        write_block(block, BEGIN, END)
     return 0
+
+
+def write_block(block: str, begin: str, end: str) -> None:
+    """Replace the part of docs/verification.md from ``begin`` to ``end`` (the markers
+    included: ``block`` carries them) with ``block``."""
+    doc = ROOT / "docs" / "verification.md"
+    text = doc.read_text(encoding="utf-8")
+    i, j = text.index(begin), text.index(end) + len(end)
+    doc.write_text(text[:i] + block + text[j:], encoding="utf-8")
 
 
 def _block(a, R, outs: list[dict]) -> str:
