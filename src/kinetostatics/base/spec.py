@@ -29,10 +29,24 @@ __all__ = [
     "RESERVED",
     "describe_node",
     "expression_message",
+    "name_problem",
 ]
 
 NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 RESERVED = frozenset({"time", "angle", "stroke", "travel", "power", "friction", "shaking"})
+
+
+def name_problem(what: str, name: str) -> str | None:
+    """The message for a ``what`` (link, point, parameter, …) named ``name`` that is not a
+    valid name, with a valid one to use instead; None for a valid name."""
+    if NAME.match(name):
+        return None
+    fixed = re.sub(r"[^A-Za-z0-9_]", "_", name) or "_"
+    fixed = "_" + fixed if fixed[0].isdigit() else fixed
+    return (
+        f"{what} name '{name}' is not a valid name: use letters, digits and _, not starting "
+        f"with a digit (e.g. '{fixed}')"
+    )
 
 
 class _Problems(Collector):

@@ -9,7 +9,7 @@ import yaml
 
 from ..base.keys import NUMBER, VECTOR, Keys
 from ..base.limits import MAGNITUDE, MAX_LINKS
-from ..base.spec import NAME, Entry
+from ..base.spec import Entry, name_problem
 from ..errors import KinetostaticsError, Location, did_you_mean
 from ..joints import Joint, Revolute, joint_type
 from ..model import Link
@@ -102,12 +102,8 @@ class BodySections:
         ok = True
         if (pts := e.get("points")) is not None and pts.mapping():
             for pname, pe in pts.items():
-                if not NAME.match(pname):
-                    self.problems.add(
-                        pts.key_where(pname),
-                        f"point name '{pname}' is not a valid name: use letters, "
-                        "digits and _, not starting with a digit",
-                    )
+                if problem := name_problem("point", pname):
+                    self.problems.add(pts.key_where(pname), problem)
                     ok = False
                     continue
                 v = pe.vector("length")
@@ -173,12 +169,8 @@ class BodySections:
             return None
         out: list[tuple[float, np.ndarray, float]] | None = []
         for name, c in section.items():
-            if not NAME.match(name):
-                self.problems.add(
-                    section.key_where(name),
-                    f"counterweight name '{name}' is not a valid name: use letters, "
-                    "digits and _, not starting with a digit",
-                )
+            if problem := name_problem("counterweight", name):
+                self.problems.add(section.key_where(name), problem)
                 out = None
                 continue
             if not c.check(COUNTERWEIGHT_KEYS):

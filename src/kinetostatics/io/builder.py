@@ -9,14 +9,13 @@ and :mod:`kinetostatics.outputs.loading` expands the model with it.
 
 from __future__ import annotations
 
-import re
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 
 import numpy as np
 
 from ..base.document import compose, read_text
-from ..base.spec import NAME, RESERVED, Entry, _Context
+from ..base.spec import RESERVED, Entry, _Context, name_problem
 from ..errors import Location, did_you_mean
 from ..model import Model
 from .bodies import BodySections
@@ -212,14 +211,8 @@ class Builder(
     def _claim(self, section: Entry, name: str, what: str) -> bool:
         """Register ``name`` (a key of ``section``) as a ``what``; report a bad name."""
         where = section.key_where(name)
-        if not NAME.match(name):
-            fixed = re.sub(r"[^A-Za-z0-9_]", "_", name) or "_"
-            fixed = "_" + fixed if fixed[0].isdigit() else fixed
-            self.problems.add(
-                where,
-                f"{what} name '{name}' is not a valid name: use letters, "
-                f"digits and _, not starting with a digit (e.g. '{fixed}')",
-            )
+        if problem := name_problem(what, name):
+            self.problems.add(where, problem)
         elif name in RESERVED:
             self.problems.add(
                 where,

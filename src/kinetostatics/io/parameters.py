@@ -6,7 +6,7 @@ from __future__ import annotations
 import yaml
 
 from ..base import expressions, units
-from ..base.spec import NAME, Entry, describe_node, expression_message
+from ..base.spec import Entry, describe_node, expression_message, name_problem
 from ..errors import Location, did_you_mean
 
 
@@ -57,12 +57,8 @@ class ParameterSections:
         pending: dict[str, tuple[Entry, str, list[str]]] = {}
         for key, e in p.items():
             where = p.key_where(key)
-            if not NAME.match(key):
-                self.problems.add(
-                    where,
-                    f"parameter name '{key}' is not a valid name: use "
-                    "letters, digits and _, not starting with a digit",
-                )
+            if problem := name_problem("parameter", key):
+                self.problems.add(where, problem)
             elif key in expressions.FUNCTIONS:
                 self.problems.add(
                     where, f"'{key}' is the name of a function; choose another parameter name"
