@@ -39,6 +39,7 @@ COUNTS = {
     "grid": 10,
     "derivatives": 17,
     "energy": 3,
+    "quadrature": 10,
 }
 _total = sum(COUNTS.values())
 _want = int(os.environ.get("KINETOSTATICS_NET_MECHANISMS", _total))
@@ -184,3 +185,8 @@ def test_random_units_give_the_same_si_results():
         assert value <= R.TOLERANCE["units"], (seed, other["units"], R.WORST)
 
     check()
+
+
+@pytest.mark.parametrize("case", _cases("quadrature"))
+def test_cycle_quadrature_is_converged(case):
+    _run("quadrature", case)
