@@ -136,11 +136,12 @@ def _crossings(t: np.ndarray, v: np.ndarray, period: float | None) -> list[float
         lo, hi = 2, 2 + n  # brackets (k, k + 1) for k in [lo, hi)
     else:
         lo, hi = 0, n - 1
+    a_, b_ = v[lo:hi], v[lo + 1 : hi + 1]  # the brackets with a sign change (or a zero start)
+    with np.errstate(invalid="ignore"):
+        brackets = np.isfinite(a_) & np.isfinite(b_) & (a_ * b_ <= 0) & ((a_ != 0) | (b_ != 0))
     out = []
-    for k in range(lo, hi):
+    for k in lo + np.flatnonzero(brackets):
         a, b = v[k], v[k + 1]
-        if not (np.isfinite(a) and np.isfinite(b)) or a * b > 0 or a == b == 0:
-            continue
         if a == 0:
             out.append(float(t[k]))
             continue
