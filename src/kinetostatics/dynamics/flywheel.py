@@ -378,12 +378,16 @@ def design(
     # M_d: the cycle mean of the one function every output uses (analysis/cycle.py)
     weights, nodes, pieces = cycle_pieces(base, friction=friction)
     moment, je = _moment(system, nodes, friction)
-    m_d = cycle_stats(base, {"M": lambda r: _moment(system, r, friction)[0]}, friction=friction)[
-        "M"
-    ]["mean"]
+    exact = pieces is not None and np.all(np.isfinite(moment)) and np.all(np.isfinite(je))
+    if exact:  # the cycle mean by the integrator's own weights (cycle_stats' sum, once)
+        m_d = float(np.sum(weights * moment) / np.sum(weights))
+    else:  # over the part of the cycle where the moment exists
+        m_d = cycle_stats(
+            base, {"M": lambda r: _moment(system, r, friction)[0]}, friction=friction
+        )["M"]["mean"]
     work = 2 * np.pi * m_d
     psi = schedule(system)
-    if pieces is not None and np.all(np.isfinite(moment)) and np.all(np.isfinite(je)):
+    if exact:
         (t_max, swing_max), (t_min, swing_min) = _energy_extremes(
             pieces, np.asarray(nodes.t), w * (m_d - moment)
         )
