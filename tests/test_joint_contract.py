@@ -98,6 +98,33 @@ def test_poses_with_their_frame_give_the_same_numbers(joint):
         np.testing.assert_array_equal(framed, bare)
 
 
+@pytest.mark.parametrize("kind", sorted(SAMPLES))
+def test_a_stack_gives_each_joints_own_numbers(kind):
+    """``Joint.stack``: the joints of a type stacked on an axis before the last give, at
+    poses stacked the same way, each joint's own residual, Jacobian and γ to the bit
+    (the system evaluates a type's joints in one call; None: one by one)."""
+    joints = SAMPLES[kind] * 2  # at least two, and different ones where shipped
+    stacked = type(joints[0]).stack(joints)
+    if stacked is None:
+        pytest.skip(f"{kind} joints are evaluated one by one")
+    q = RNG.normal(size=(2, 4, len(joints), 3)) * [0.3, 0.3, 2.0]
+    vi, vj = RNG.normal(size=(2, 4, len(joints), 3)) * [1.0, 1.0, 5.0]
+    qi, qj = _with_frame(q[0]), _with_frame(q[1])
+    got = (
+        stacked.residual(qi, qj),
+        *stacked.jacobian(qi, qj),
+        stacked.acceleration_rhs(qi, qj, vi, vj),
+    )
+    for k, joint in enumerate(joints):
+        own = (
+            joint.residual(qi[:, k], qj[:, k]),
+            *joint.jacobian(qi[:, k], qj[:, k]),
+            joint.acceleration_rhs(qi[:, k], qj[:, k], vi[:, k], vj[:, k]),
+        )
+        for a, b in zip(got, own):
+            np.testing.assert_array_equal(a[:, k], b)
+
+
 @pytest.mark.parametrize("joint", JOINTS, ids=IDS)
 def test_jacobian_matches_central_differences(joint):
     qi, qj, _, _ = _states()

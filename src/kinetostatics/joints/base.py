@@ -28,6 +28,7 @@ with no picture and no report text of its own.
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, ClassVar
 
@@ -49,6 +50,8 @@ __all__ = [
     "Line",
     "Circle",
     "Curve",
+    "stack_vectors",
+    "stack_scalars",
 ]
 
 JOINT_TYPES: dict[str, type[Joint]] = {}
@@ -63,6 +66,16 @@ def joint_type(kind: str) -> type[Joint]:
             f"unknown joint type '{kind}'{did_you_mean(kind, JOINT_TYPES)}; "
             f"known: {', '.join(sorted(JOINT_TYPES))}"
         ) from None
+
+
+def stack_vectors(vectors: Sequence[np.ndarray]) -> np.ndarray:
+    """Vectors ``(..., 2)`` of k joints as one array ``(..., k, 2)`` (see ``Joint.stack``)."""
+    return np.stack(np.broadcast_arrays(*vectors), axis=-2)
+
+
+def stack_scalars(values: Sequence) -> np.ndarray:
+    """Scalars (or stacked-variant arrays ``(...)``) of k joints as ``(..., k)``."""
+    return np.stack(np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in values)), axis=-1)
 
 
 @dataclass(frozen=True)
@@ -219,6 +232,20 @@ class Joint(ABC):
     @abstractmethod
     def reaction(self, lam: np.ndarray, qi: np.ndarray, qj: np.ndarray) -> dict[str, np.ndarray]:
         """λ block ``(..., n_eq)`` -> labelled components of the force of i on j."""
+
+    @classmethod
+    def stack(cls, joints: Sequence[Joint]) -> Joint | None:
+        """One joint of this type standing for ``joints`` (all of this type), or None: each
+        is evaluated on its own (the default).
+
+        Its arrays are the joints' own, stacked on a new axis — before the last for
+        vectors (:func:`stack_vectors`: ``(..., k, 2)``), as the last for scalars
+        (:func:`stack_scalars`: ``(..., k)``) — so that ``residual``, ``jacobian`` and
+        ``acceleration_rhs`` at poses ``(..., k, 5)`` give the k joints' values on that
+        axis (``(..., k, n_eq)``, ``(..., k, n_eq, 3)``), each equal to the joint's own to
+        the bit.  The system evaluates all a type's joints in one call so (the plan of
+        ``structure/evaluation.py``); nothing else is called on the stack."""
+        return None
 
     # -- the relative coordinate (drivers, friction, efforts) ----------------
     @abstractmethod

@@ -68,12 +68,9 @@ def closed_form_path(
     ang = slice(2, None, 3)  # angles nearest the start pose, as the guess
     q[..., ang] += 2 * np.pi * np.round((q0[..., ang] - q[..., ang]) / (2 * np.pi))
     start = len(t)
-    for k in range(len(system.links)):  # unwrap angles along the path
-        col = 3 * k + 2
-        q[:, order, col] = np.unwrap(q[:, order, col], axis=-1)
-        q[:, :, col] += (2 * np.pi * np.round((q0[:, 0, col] - q[:, start, col]) / (2 * np.pi)))[
-            :, None
-        ]
+    path = q[:, order][..., ang]  # every angle unwrapped along the path at once
+    q[:, order, ang] = np.unwrap(path, axis=1)
+    q[..., ang] += (2 * np.pi * np.round((q0[:, 0, ang] - q[:, start, ang]) / (2 * np.pi)))[:, None]
     q = q[:, :start]
     probe = slice(None, None, max(1, start // 32))
     res = np.max(np.abs(phi(system, q[:, probe], psi[:start][probe])), axis=(-2, -1))

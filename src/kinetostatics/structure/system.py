@@ -19,6 +19,15 @@ from ..base.geometry import poses
 from ..joints import Joint
 from ..model import Model
 from .drivers import DriverConstraint
+from .evaluation import (
+    BlockLayout,
+    ConstraintSet,
+    block_layout,
+    constraint_sets,
+    gamma_all,
+    jacobian_blocks_all,
+    phi_all,
+)
 from .graph import Group, Structure, structure
 
 __all__ = [
@@ -59,6 +68,8 @@ class System:
     plans: tuple[GroupPlan, ...]
     l_ref: float | np.ndarray  # longest link dimension, m ((V, 1) stacked)
     n_joint_rows: int = field(default=0)
+    sets: tuple[ConstraintSet, ...] = ()  # the evaluation plan (structure/evaluation.py)
+    layout: BlockLayout | None = None  # where Φ_q's entries go among the group blocks
     memo: dict = field(default_factory=dict, repr=False)  # what later stages compute once per
     # system (the start pose, the whole motion); held here, not in module-level tables, so it
     # goes with the system; not pickled
@@ -111,8 +122,19 @@ def build_system(model: Model) -> System:
         plans.append(GroupPlan(g, cols, rows.astype(int), cons))
     l_ref = _reference_length(model)
     n_joint_rows = int(row_start[len(model.joints)])
+    sets = constraint_sets(constraints, ends, row_start, len(model.joints))
     return System(
-        model, st, links, tuple(constraints), ends, row_start, tuple(plans), l_ref, n_joint_rows
+        model,
+        st,
+        links,
+        tuple(constraints),
+        ends,
+        row_start,
+        tuple(plans),
+        l_ref,
+        n_joint_rows,
+        sets,
+        block_layout(sets, plans, ends, row_start, 3 * len(links)),
     )
 
 
@@ -175,6 +197,8 @@ def phi(
 
     ``psi (..., n_drivers)`` are the prescribed driver coordinates.
     """
+    if which is None:
+        return phi_all(system.sets, system.n_rows, _poses(system, q), psi)
     pe, out = _poses(system, q), []
     n_j = len(system.model.joints)
     for k in _selection(system, which):
@@ -229,7 +253,16 @@ def jacobian(
 def jacobian_blocks(system: System, q: np.ndarray) -> list[tuple[np.ndarray, np.ndarray | None]]:
     """Φ_q by Assur group, as :class:`~kinetostatics.base.linalg.BlockFactor` takes it:
     for each plan, (its diagonal block, rows × its own columns; its rows × the earlier
-    groups' columns, or None for the first).  Each constraint is evaluated once."""
+    groups' columns, or None for the first).  Each constraint is evaluated once, by the
+    system's evaluation plan; the blocks are views of one buffer."""
+    return jacobian_blocks_all(system.sets, system.layout, _poses(system, q))
+
+
+def _jacobian_blocks_one_by_one(
+    system: System, q: np.ndarray
+) -> list[tuple[np.ndarray, np.ndarray | None]]:
+    """:func:`jacobian_blocks` evaluating each constraint on its own (the reference the
+    plan is tested against)."""
     out, done, pe = [], np.zeros(0, dtype=int), _poses(system, q)
     for p in system.plans:
         blk = jacobian(system, q, p.constraints, np.concatenate((done, p.cols)), pe=pe)
@@ -264,6 +297,20 @@ def nu(system: System, psi_d: np.ndarray) -> np.ndarray:
 
 def gamma(system: System, q: np.ndarray, qd: np.ndarray, psi_dd: np.ndarray) -> np.ndarray:
     """γ such that Φ_q q̈ = γ, ``(..., n_rows)``."""
+    pe, ve = _poses(system, q), _ext(qd)
+    return gamma_all(
+        system.sets,
+        system.n_rows,
+        pe,
+        ve.reshape(ve.shape[:-1] + (len(system.links) + 1, 3)),
+        psi_dd,
+    )
+
+
+def _gamma_one_by_one(
+    system: System, q: np.ndarray, qd: np.ndarray, psi_dd: np.ndarray
+) -> np.ndarray:
+    """:func:`gamma` evaluating each constraint on its own (the reference of the plan)."""
     pe, ve, out = _poses(system, q), _ext(qd), []
     n_j = len(system.model.joints)
     for k, c in enumerate(system.constraints):

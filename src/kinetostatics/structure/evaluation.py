@@ -1,0 +1,186 @@
+"""The compiled evaluation plan of a system: Φ, Φ_q and γ by joint type.
+
+A system's constraints are evaluated in *sets*: all the joints of a type that can stack
+(:meth:`~kinetostatics.joints.Joint.stack`) in one call, on poses gathered for all of
+them at once, and every other constraint (a driver, a type that does not stack) on its
+own.  Where each value goes is fixed when the system is built: its rows of Φ and γ, and
+its place in the group blocks of Φ_q (:class:`BlockLayout`) — so an evaluation is one
+gather, one call and one scatter per set, whatever the number of joints.  The values
+are those of the joints evaluated one by one, to the bit (elementwise operations on the
+same numbers).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["ConstraintSet", "BlockLayout", "constraint_sets", "block_layout"]
+
+
+@dataclass(frozen=True, eq=False)
+class ConstraintSet:
+    """Constraints evaluated in one call: ``constraint`` (a stacked joint when ``stacked``,
+    else the single constraint ``members[0]``), the indices ``members`` into the system's
+    constraints, their links ``ends (2, k)`` (ground = n_links), their rows of Φ
+    ``rows (k, n_eq)``, and ``driver``: the motion driver's column of ψ (or None)."""
+
+    constraint: object
+    members: tuple[int, ...]
+    ends: np.ndarray
+    rows: np.ndarray
+    stacked: bool
+    driver: int | None = None
+
+    def pairs(self, pe: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The poses of the members' two links from the system poses ``pe (..., n+1, 5)``:
+        ``(..., k, 5)`` each when stacked, else ``(..., 5)``."""
+        if self.stacked:
+            return pe[..., self.ends[0], :], pe[..., self.ends[1], :]
+        return pe[..., self.ends[0, 0], :], pe[..., self.ends[1, 0], :]
+
+
+def constraint_sets(
+    constraints: Sequence, ends: np.ndarray, row_start: np.ndarray, n_joints: int
+) -> tuple[ConstraintSet, ...]:
+    """The sets of ``constraints`` (joints first, then ``n_joints`` … motion drivers): the
+    joints of a type that stacks together (two or more), everything else alone."""
+    by_type: dict[type, list[int]] = {}
+    for k, c in enumerate(constraints[:n_joints]):
+        by_type.setdefault(type(c), []).append(k)
+    sets, alone = [], []
+    for kind, members in by_type.items():
+        joint = kind.stack([constraints[k] for k in members]) if len(members) > 1 else None
+        if joint is None:
+            alone += members
+            continue
+        sets.append(_set(joint, members, ends, row_start, stacked=True))
+    for k in alone:
+        sets.append(_set(constraints[k], [k], ends, row_start, stacked=False))
+    for k in range(n_joints, len(constraints)):
+        sets.append(_set(constraints[k], [k], ends, row_start, stacked=False, driver=k - n_joints))
+    return tuple(sets)
+
+
+def _set(constraint, members, ends, row_start, *, stacked, driver=None) -> ConstraintSet:
+    rows = np.array([np.arange(row_start[k], row_start[k + 1]) for k in members], dtype=int)
+    return ConstraintSet(
+        constraint, tuple(members), np.ascontiguousarray(ends[members].T), rows, stacked, driver
+    )
+
+
+def _scatter(out: np.ndarray, s: ConstraintSet, values: np.ndarray) -> None:
+    """Each member's rows ``(..., [k,] n_eq)`` into ``out (..., n_rows)``."""
+    out[..., s.rows if s.stacked else s.rows[0]] = values
+
+
+def phi_all(sets, n_rows: int, pe: np.ndarray, psi: np.ndarray) -> np.ndarray:
+    """Φ of every constraint, ``(..., n_rows)``, at poses ``pe`` and driver coordinates ψ."""
+    out = np.empty(pe.shape[:-2] + (n_rows,))
+    for s in sets:
+        qi, qj = s.pairs(pe)
+        c = s.constraint
+        values = c.residual(qi, qj) if s.driver is None else c.residual(qi, qj, psi[..., s.driver])
+        _scatter(out, s, values)
+    return out
+
+
+def gamma_all(sets, n_rows: int, pe: np.ndarray, ve: np.ndarray, psi_dd: np.ndarray) -> np.ndarray:
+    """γ of every constraint, ``(..., n_rows)``, at poses ``pe`` and link rates ``ve``
+    ``(..., n+1, 3)`` (ground last)."""
+    out = np.empty(pe.shape[:-2] + (n_rows,))
+    for s in sets:
+        qi, qj = s.pairs(pe)
+        vi, vj = s.pairs(ve)
+        c = s.constraint
+        if s.driver is None:
+            values = c.acceleration_rhs(qi, qj, vi, vj)
+        else:
+            values = c.acceleration_rhs(qi, qj, vi, vj, psi_dd[..., s.driver])
+        _scatter(out, s, values)
+    return out
+
+
+@dataclass(frozen=True, eq=False)
+class BlockLayout:
+    """Where each constraint's Φ_q entries go among the Assur groups' blocks.
+
+    The blocks live in one buffer ``(size + 1, ...)``: group g's diagonal block (its rows
+    × its columns) at ``diag[g]`` and its rows × the earlier groups' columns at
+    ``lower[g]`` (offset, rows, columns), row-major; entries of no block (the ground's
+    columns) go to the last, spare slot.  ``dest[s] = (to_i, to_j)``: the slots of set
+    s's two links' entries, ``([k,] n_eq, 3)`` each."""
+
+    size: int
+    diag: tuple[tuple[int, int, int], ...]
+    lower: tuple[tuple[int, int, int] | None, ...]
+    dest: tuple[tuple[np.ndarray, np.ndarray], ...]
+
+
+def block_layout(sets, plans, ends: np.ndarray, row_start: np.ndarray, n_q: int) -> BlockLayout:
+    """The :class:`BlockLayout` of ``sets`` over the group ``plans`` (q has ``n_q`` columns)."""
+    slot = {}  # (row of Φ, column of q) -> slot
+    diag, lower, at = [], [], 0
+    done = np.zeros(0, dtype=int)
+    for p in plans:
+        r, c, d = len(p.rows), len(p.cols), len(done)
+        for a, row in enumerate(p.rows):
+            for b, col in enumerate(p.cols):
+                slot[int(row), int(col)] = at + a * c + b
+            for b, col in enumerate(done):
+                slot[int(row), int(col)] = at + r * c + a * d + b
+        diag.append((at, r, c))
+        lower.append((at + r * c, r, d) if d else None)
+        at += r * (c + d)
+        done = np.concatenate((done, p.cols))
+    spare = at
+    dest = []
+    for s in sets:
+        sides = []
+        for link in s.ends:
+            to = np.array(
+                [
+                    [
+                        [slot.get((int(row), 3 * int(li) + x), spare) for x in range(3)]
+                        for row in rows
+                    ]
+                    for rows, li in zip(s.rows, link)
+                ],
+                dtype=np.intp,
+            )
+            sides.append(to if s.stacked else to[0])
+        dest.append(tuple(sides))
+    return BlockLayout(spare, tuple(diag), tuple(lower), tuple(dest))
+
+
+def jacobian_blocks_all(
+    sets, layout: BlockLayout, pe: np.ndarray
+) -> list[tuple[np.ndarray, np.ndarray | None]]:
+    """Φ_q by group, as ``jacobian_blocks`` returns it, at poses ``pe``: each set's two
+    parts added to their zero slots (0 + J: a −0 is written +0, as a sum onto zeros gives;
+    link j's part onto what is there: zero, unless a joint joins a link to itself).
+
+    The buffer is component-major, ``(size + 1, ...)``: each block ``(..., r, c)`` is a
+    view with the positions as its fastest axis (long contiguous runs per entry)."""
+    lead = pe.shape[:-2]
+    buf = np.zeros((layout.size + 1,) + lead)
+    for s, (to_i, to_j) in zip(sets, layout.dest):
+        ji, jj = s.constraint.jacobian(*s.pairs(pe))
+        buf[to_i] = _entries_first(ji, to_i.ndim) + 0.0
+        buf[to_j] += _entries_first(jj, to_j.ndim)
+
+    def view(at):
+        if at is None:
+            return None
+        off, r, c = at
+        block = buf[off : off + r * c].reshape((r, c) + lead)
+        return np.moveaxis(block, (0, 1), (-2, -1))
+
+    return [(view(d), view(lo)) for d, lo in zip(layout.diag, layout.lower)]
+
+
+def _entries_first(a: np.ndarray, d: int) -> np.ndarray:
+    """``a (..., e1 … ed)`` as a view ``(e1 … ed, ...)``."""
+    return np.moveaxis(a, tuple(range(a.ndim - d, a.ndim)), tuple(range(d)))

@@ -1,0 +1,76 @@
+"""The system's evaluation plan (structure/evaluation.py) against the constraints evaluated
+one by one: Φ, γ and the group blocks of Φ_q equal to the bit, on every shipped mechanism,
+on stacked design variants, and with the blocks where Φ_q has them.
+
+The truth is each constraint's own method, called alone on its two links' poses, and the
+whole Φ_q assembled entry by entry (``jacobian``)."""
+
+import numpy as np
+import pytest
+
+import kinetostatics as ks
+from kinetostatics.batch.variants import Template
+from kinetostatics.model.stacking import stack
+from kinetostatics.structure import system as S
+
+from .conftest import MECHANISMS, ROOT
+
+RNG = np.random.default_rng(5)
+
+
+def _state(system, lead):
+    q = RNG.normal(size=lead + (system.n_q,)) * np.tile([0.3, 0.3, 3.0], len(system.links))
+    qd = RNG.normal(size=lead + (system.n_q,))
+    psi = RNG.normal(size=lead + (len(system.motion_drivers),))
+    return q, qd, psi
+
+
+def _same_blocks(got, want):
+    for (d, lo), (d0, lo0) in zip(got, want, strict=True):
+        np.testing.assert_array_equal(d, d0)
+        assert (lo is None) == (lo0 is None)
+        if lo is not None:
+            np.testing.assert_array_equal(lo, lo0)
+
+
+def _check(system, lead):
+    q, qd, psi = _state(system, lead)
+    every = range(len(system.constraints))
+    np.testing.assert_array_equal(S.phi(system, q, psi), S.phi(system, q, psi, every))
+    np.testing.assert_array_equal(
+        S.gamma(system, q, qd, psi), S._gamma_one_by_one(system, q, qd, psi)
+    )
+    blocks = S.jacobian_blocks(system, q)
+    _same_blocks(blocks, S._jacobian_blocks_one_by_one(system, q))
+    jac, done = S.jacobian(system, q), np.zeros(0, dtype=int)  # entry by entry
+    for p, (d, lo) in zip(system.plans, blocks):
+        np.testing.assert_array_equal(d, jac[..., p.rows[:, None], p.cols])
+        if done.size:
+            np.testing.assert_array_equal(lo, jac[..., p.rows[:, None], done])
+        done = np.concatenate((done, p.cols))
+
+
+@pytest.mark.parametrize("path", MECHANISMS, ids=lambda p: p.stem)
+@pytest.mark.parametrize("lead", [(), (7,), (2, 5)])
+def test_the_plan_gives_each_constraints_own_numbers(path, lead):
+    system = S.build_system(ks.load(path))
+    assert sum(len(s.members) for s in system.sets) == len(system.constraints)
+    _check(system, lead)
+
+
+@pytest.mark.parametrize("name", ["slotting_machine", "watt_sixbar", "shaper"])
+def test_the_plan_on_stacked_variants(name):
+    """Design variants stacked on a leading axis (joints' points ``(V, 1, 2)``)."""
+    tpl = Template.load(ROOT / "mechanisms" / f"{name}.yaml")
+    scale = {k: v * 1.02 for k, v in tpl.parameters.items() if isinstance(v, float)}
+    model = stack([tpl.model({}), tpl.model(scale)])
+    system = S.build_system(model)
+    assert any(s.stacked for s in system.sets)
+    _check(system, (2, 6))
+
+
+def test_one_joint_type_in_one_call():
+    """The slotting machine's five revolutes and two slides are two calls, its driver one."""
+    system = S.build_system(ks.load(ROOT / "mechanisms" / "slotting_machine.yaml"))
+    kinds = sorted((type(s.constraint).__name__, len(s.members)) for s in system.sets)
+    assert kinds == [("DriverConstraint", 1), ("Prismatic", 2), ("Revolute", 5)]
