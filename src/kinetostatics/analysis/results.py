@@ -20,7 +20,7 @@ from ..base.tables import write_columns
 from ..errors import did_you_mean
 from ..kinematics.state import point_state
 from ..kinetics.elements import element_states
-from ..structure.system import System, coordinate_gradient
+from ..structure.system import System, coordinate_gradient, link_poses
 
 __all__ = ["Result", "build_columns", "joint_warnings"]
 
@@ -188,7 +188,7 @@ def build_columns(system: System, t, psi, q, qd, qdd, x0, fric, power, cond, sha
     )
 
     def point(k, p):
-        pos, vel, acc = point_state(q, qd, qdd, k, p)
+        pos, vel, acc = point_state(q, qd, qdd, k, p, link_poses(system, q)[..., k, :])
         return pos[..., 0], pos[..., 1], vel[..., 0], vel[..., 1], acc[..., 0], acc[..., 1]
 
     for k, name in enumerate(system.links):
@@ -210,9 +210,9 @@ def build_columns(system: System, t, psi, q, qd, qdd, x0, fric, power, cond, sha
 
     for prefix, label in _dyad_angle_names(system):
         put([(f"{prefix}.{label}", "deg")], lambda prefix=prefix: (dyad_angles()[prefix][1],))
+    qe = _padded(q)
     for k, j in enumerate(model.joints):  # a type's own columns (a cam's pressure angle)
         i_, j_ = system.ends[k]
-        qe = _padded(q)
         qi, qj = qe[..., 3 * i_ : 3 * i_ + 3], qe[..., 3 * j_ : 3 * j_ + 3]
         own = j.columns(qi, qj, None if x0 is None else x0[..., system.rows_of(k)])
         if own:

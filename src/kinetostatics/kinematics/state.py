@@ -7,16 +7,18 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..base.geometry import perp, rotate
+from ..base.geometry import perp, rotate, turn
 from ..structure.system import System, link_pair
 
 __all__ = ["point_state", "local_point", "joint_coordinate", "joint_coordinate_bias"]
 
 
-def point_state(q, qd, qdd, k: int, p: np.ndarray):
-    """Global position, velocity, acceleration of local point ``p`` of moving link ``k``."""
+def point_state(q, qd, qdd, k: int, p: np.ndarray, pose: np.ndarray | None = None):
+    """Global position, velocity, acceleration of local point ``p`` of moving link ``k``;
+    ``pose``: the link's pose with its frame ``(..., 5)`` when the caller has it (the
+    same numbers, without evaluating cos θ and sin θ again)."""
     th, w = q[..., 3 * k + 2], qd[..., 3 * k + 2]
-    rp = rotate(th, p)
+    rp = rotate(th, p) if pose is None else turn(pose, p)
     pos = q[..., 3 * k : 3 * k + 2] + rp
     vel = qd[..., 3 * k : 3 * k + 2] + w[..., None] * perp(rp)
     if qdd is None:

@@ -42,6 +42,7 @@ __all__ = [
     "nu",
     "coordinate_gradient",
     "link_pair",
+    "link_poses",
 ]
 
 
@@ -176,10 +177,24 @@ def _pair(qe: np.ndarray, ends: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return qe[..., 3 * i : 3 * i + 3], qe[..., 3 * j : 3 * j + 3]
 
 
-def _poses(system: System, q: np.ndarray) -> np.ndarray:
+def link_poses(system: System, q: np.ndarray) -> np.ndarray:
     """The links' poses with their frames (cos θ, sin θ computed once for this state, not
-    once per joint and use), ``(..., n_links + 1, 5)``, ground last."""
-    return poses(q, len(system.links))
+    once per joint and use), ``(..., n_links + 1, 5)``, ground last.
+
+    The last state's are kept with the system: the stages of one analysis ask for the
+    poses of the same q several times (Φ_q, γ, each effort's gradient).  The key is the
+    state's content (an exact comparison, far cheaper than the cosines), and the poses
+    kept are read-only, so a hit is the same numbers as a new computation."""
+    hit = system.memo.get("poses")
+    if hit is not None and hit[0].shape == q.shape and np.array_equal(hit[0], q):
+        return hit[1]
+    pe = poses(q, len(system.links))
+    pe.flags.writeable = False
+    system.memo["poses"] = (np.array(q, dtype=float), pe)
+    return pe
+
+
+_poses = link_poses
 
 
 def _pose_pair(pe: np.ndarray, ends: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
