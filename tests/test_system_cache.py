@@ -86,3 +86,24 @@ def test_a_repeated_analysis_gives_the_first_ones_numbers_and_change_points():
         np.testing.assert_array_equal(r.qd, first.qd)
     short = ks.analyze(m, positions=np.radians([90.0, 120.0, 150.0]))
     assert short.singular == ()  # this span holds no change point
+
+
+def test_the_poses_kept_follow_a_state_changed_in_place():
+    """The last state's poses are kept with the system under an exact content key: a q
+    changed in place gets its own poses (a hinge's residual is that of the new angles,
+    computed afresh from cos and sin), and the poses handed out cannot be written."""
+    system = S.system_of(ks.load(ROOT / "mechanisms" / "slider_crank.yaml"))
+    rng = np.random.default_rng(3)
+    q = rng.normal(size=(4, system.n_q))
+    first = S.link_poses(system, q)
+    assert S.link_poses(system, q.copy()) is first  # the same content: kept
+    with pytest.raises(ValueError):
+        first[0, 0, 0] = 1.0
+    q[:, 2::3] += 0.5  # every angle, in place
+    again = S.link_poses(system, q)
+    assert again is not first
+    np.testing.assert_array_equal(again[..., :-1, 3], np.cos(q[:, 2::3]))
+    np.testing.assert_array_equal(again[..., :-1, 4], np.sin(q[:, 2::3]))
+    psi = np.zeros((4, 1))
+    fresh = S.phi(S.build_system(system.model), q, psi)  # a new system: nothing kept
+    np.testing.assert_array_equal(S.phi(system, q, psi), fresh)
