@@ -11,9 +11,8 @@ Up to 3×3 they are inverted by the adjugate; larger ones (a dyad's 6×6, a tria
 they are inverted by Gauss–Jordan elimination over the entries that are nonzero in
 some matrix of the stack, each a contiguous array over all positions, following a
 plan worked out once per pattern and row order (:class:`_Plan`).  On the shipped
-mechanisms' dyad blocks at 36,000 positions this is ~10× faster than
-``np.linalg.inv`` (tests/benchmarks/bench_small_inverse.py).  Below
-:data:`SPARSE_FROM` matrices LAPACK inverts them.
+mechanisms' dyad blocks this is ~4× faster than ``np.linalg.inv`` at 360 positions
+and ~10× at 36,000 (tests/benchmarks/bench_small_inverse.py).
 """
 
 from __future__ import annotations
@@ -219,9 +218,8 @@ def _sparse_pays(n: int, count: int, plan: _Plan) -> bool:
 
 
 PIVOT_RATIO = 0.1
-SPARSE_FROM = 2048  # matrices; below, LAPACK whatever the pattern (the elimination
-# pays from ~40–60 dyad blocks on, _sparse_pays, but rounds differently: the golden
-# files, at 360 positions, hold LAPACK's last bits of quantities that are zero)
+SPARSE_FROM = 32  # matrices; below, LAPACK whatever the pattern (~15 µs of pattern
+# and pivots saved; the elimination pays from ~40–60 dyad blocks on, _sparse_pays)
 
 
 def small_inverse(a: np.ndarray) -> np.ndarray:
