@@ -11,8 +11,8 @@ Up to 3×3 they are inverted by the adjugate; larger ones (a dyad's 6×6, a tria
 they are inverted by Gauss–Jordan elimination over the entries that are nonzero in
 some matrix of the stack, each a contiguous array over all positions, following a
 plan worked out once per pattern and row order (:class:`_Plan`).  On the shipped
-mechanisms' dyad blocks this is ~4× faster than ``np.linalg.inv`` at 360 positions
-and ~10× at 36,000 (tests/benchmarks/bench_small_inverse.py).
+mechanisms' dyad blocks this is ~3–4× faster than ``np.linalg.inv`` at 360 positions
+and ~7–15× at 36,000 (tests/benchmarks/bench_small_inverse.py).
 """
 
 from __future__ import annotations
