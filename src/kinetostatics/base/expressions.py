@@ -531,7 +531,7 @@ def evaluate_parameters(items: Sequence[tuple[str, object]]) -> dict[str, float]
         try:
             if isinstance(expr, str):
                 tree = _parse(expr)
-                used = _variable_names(tree)
+                used = _names_of(expr)  # kept by text, as the trees: a batch re-reads them
                 for var in used:
                     if var not in exprs and var not in CONSTANTS:
                         known = [n for n in exprs if n != name]
