@@ -5,6 +5,8 @@ an example to be covered (asserted).  Each check compares with independent
 truth: central differences of the type's own residual and coordinate.
 """
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -98,15 +100,28 @@ def test_poses_with_their_frame_give_the_same_numbers(joint):
         np.testing.assert_array_equal(framed, bare)
 
 
+def _moved(joint):
+    """``joint`` with each real field (a number, an array of them) moved at random."""
+    moved = {}
+    for f in dataclasses.fields(joint):
+        v = getattr(joint, f.name)
+        if isinstance(v, float) or (isinstance(v, np.ndarray) and v.dtype.kind == "f"):
+            moved[f.name] = v + RNG.uniform(0.1, 0.2, size=np.shape(v))
+    return dataclasses.replace(joint, **moved)
+
+
 @pytest.mark.parametrize("kind", sorted(SAMPLES))
 def test_a_stack_gives_each_joints_own_numbers(kind):
     """``Joint.stack``: the joints of a type stacked on an axis before the last give, at
     poses stacked the same way, each joint's own residual, Jacobian and γ to the bit
     (the system evaluates a type's joints in one call; None: one by one)."""
-    joints = SAMPLES[kind] * 2  # at least two, and different ones where shipped
-    stacked = type(joints[0]).stack(joints)
-    if stacked is None:
+    cls = JOINT_TYPES[kind]
+    if cls.stack(SAMPLES[kind] * 2) is None:
         pytest.skip(f"{kind} joints are evaluated one by one")
+    # the shipped joints and copies with every real number they hold moved: a field
+    # the methods read but the stack does not stack would give the first joint's value
+    joints = SAMPLES[kind] + [_moved(j) for j in SAMPLES[kind]]
+    stacked = cls.stack(joints)
     q = RNG.normal(size=(2, 4, len(joints), 3)) * [0.3, 0.3, 2.0]
     vi, vj = RNG.normal(size=(2, 4, len(joints), 3)) * [1.0, 1.0, 5.0]
     qi, qj = _with_frame(q[0]), _with_frame(q[1])

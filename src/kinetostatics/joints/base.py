@@ -29,7 +29,7 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
@@ -233,19 +233,29 @@ class Joint(ABC):
     def reaction(self, lam: np.ndarray, qi: np.ndarray, qj: np.ndarray) -> dict[str, np.ndarray]:
         """λ block ``(..., n_eq)`` -> labelled components of the force of i on j."""
 
+    # the fields ``stack`` stacks: vectors (..., 2) and scalars; none: evaluated one by one
+    stacked_vectors: ClassVar[tuple[str, ...]] = ()
+    stacked_scalars: ClassVar[tuple[str, ...]] = ()
+
     @classmethod
     def stack(cls, joints: Sequence[Joint]) -> Joint | None:
         """One joint of this type standing for ``joints`` (all of this type), or None: each
-        is evaluated on its own (the default).
+        is evaluated on its own (a type that declares no ``stacked_vectors`` or
+        ``stacked_scalars``).
 
-        Its arrays are the joints' own, stacked on a new axis — before the last for
-        vectors (:func:`stack_vectors`: ``(..., k, 2)``), as the last for scalars
-        (:func:`stack_scalars`: ``(..., k)``) — so that ``residual``, ``jacobian`` and
-        ``acceleration_rhs`` at poses ``(..., k, 5)`` give the k joints' values on that
-        axis (``(..., k, n_eq)``, ``(..., k, n_eq, 3)``), each equal to the joint's own to
-        the bit.  The system evaluates all a type's joints in one call so (the plan of
-        ``structure/evaluation.py``); nothing else is called on the stack."""
-        return None
+        Its ``stacked_vectors`` are the joints' own, stacked on a new axis before their
+        last (:func:`stack_vectors`: ``(..., k, 2)``), its ``stacked_scalars`` on a new
+        last axis (:func:`stack_scalars`: ``(..., k)``); they must be every field that
+        ``residual``, ``jacobian`` and ``acceleration_rhs`` read, so that at poses
+        ``(..., k, 5)`` these give the k joints' values on that axis (``(..., k, n_eq)``,
+        ``(..., k, n_eq, 3)``), each equal to the joint's own to the bit.  The system
+        evaluates all a type's joints in one call so (``structure/evaluation.py``);
+        nothing else is called on the stack."""
+        if not (cls.stacked_vectors or cls.stacked_scalars):
+            return None
+        fields = {f: stack_vectors([getattr(j, f) for j in joints]) for f in cls.stacked_vectors}
+        fields |= {f: stack_scalars([getattr(j, f) for j in joints]) for f in cls.stacked_scalars}
+        return replace(joints[0], name="+".join(j.name for j in joints), **fields)
 
     # -- the relative coordinate (drivers, friction, efforts) ----------------
     @abstractmethod

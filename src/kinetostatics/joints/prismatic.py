@@ -2,14 +2,14 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import Any, ClassVar
 
 import numpy as np
 
 from ..base.geometry import dot, perp, turn, wrap_angle
 from ..base.keys import NAME, NUMBER, Keys, names
-from .base import AXIS_KEYS, Anchor, Block, Glyph, Joint, Line, stack_scalars, stack_vectors
+from .base import AXIS_KEYS, Anchor, Block, Glyph, Joint, Line
 
 FRICTION_KEYS = Keys({"coefficient": NUMBER}, required=("coefficient",))
 
@@ -46,6 +46,9 @@ class Prismatic(Joint, kind="prismatic"):
         required=("type", "links", "axis"),
     )
     reports_stroke: ClassVar[bool] = True
+
+    stacked_vectors: ClassVar[tuple[str, ...]] = ("a", "u", "p")
+    stacked_scalars: ClassVar[tuple[str, ...]] = ("angle",)
 
     a: np.ndarray = None
     u: np.ndarray = None
@@ -105,17 +108,6 @@ class Prismatic(Joint, kind="prismatic"):
         return spec
 
     # -- geometry -----------------------------------------------------------
-    @classmethod
-    def stack(cls, joints):
-        return replace(
-            joints[0],
-            name="+".join(j.name for j in joints),
-            a=stack_vectors([j.a for j in joints]),
-            u=stack_vectors([j.u for j in joints]),
-            p=stack_vectors([j.p for j in joints]),
-            angle=stack_scalars([j.angle for j in joints]),
-        )
-
     def _frame(self, qi, qj):
         A = turn(qi, self.a)
         U = turn(qi, self.u)

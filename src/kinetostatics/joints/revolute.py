@@ -2,14 +2,14 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import Any, ClassVar
 
 import numpy as np
 
 from ..base.geometry import perp, turn
 from ..base.keys import NAME, NUMBER, Keys, names
-from .base import Anchor, Glyph, Joint, stack_vectors
+from .base import Anchor, Glyph, Joint
 
 FRICTION_KEYS = Keys({"radius": NUMBER, "journal_radius": NUMBER, "coefficient": NUMBER})
 
@@ -41,6 +41,8 @@ class Revolute(Joint, kind="revolute"):
         required=("type", "links"),
     )
     pin: ClassVar[bool] = True
+
+    stacked_vectors: ClassVar[tuple[str, ...]] = ("p_i", "p_j")
 
     p_i: np.ndarray = None
     p_j: np.ndarray = None
@@ -88,15 +90,6 @@ class Revolute(Joint, kind="revolute"):
         return spec
 
     # -- kinematics ---------------------------------------------------------
-    @classmethod
-    def stack(cls, joints):
-        return replace(
-            joints[0],
-            name="+".join(j.name for j in joints),
-            p_i=stack_vectors([j.p_i for j in joints]),
-            p_j=stack_vectors([j.p_j for j in joints]),
-        )
-
     def residual(self, qi, qj):
         return qi[..., :2] + turn(qi, self.p_i) - qj[..., :2] - turn(qj, self.p_j)
 
