@@ -266,16 +266,18 @@ class BlockFactor:
     """Factorisation of a stacked Φ_q ``(..., n, n)`` along the group partition.
 
     ``blocks``: each group's (rows, cols).  Give either the whole ``jac`` or, with
-    ``jac=None``, ``parts``: each group's (diagonal block, rows × the earlier groups'
-    columns or None), as :func:`~kinetostatics.structure.system.jacobian_blocks`
-    builds them without the structural zeros.
+    ``jac=None``, ``parts``: each group's (diagonal block, coupling block, its columns):
+    the group's rows × the earlier groups' columns its constraints touch (None and an
+    empty array for none), as :func:`~kinetostatics.structure.system.jacobian_blocks`
+    builds them without the structural zeros.  Given ``jac``, a coupling block spans all
+    the earlier columns.
     """
 
     def __init__(
         self,
         jac: np.ndarray | None,
         blocks: list[tuple[np.ndarray, np.ndarray]],
-        parts: list[tuple[np.ndarray, np.ndarray | None]] | None = None,
+        parts: list[tuple[np.ndarray, np.ndarray | None, np.ndarray]] | None = None,
     ):
         self.blocks = blocks
         self._jac = jac
@@ -284,14 +286,11 @@ class BlockFactor:
             parts, done = [], np.zeros(0, dtype=int)
             for rows, cols in blocks:
                 lower = jac[..., rows[:, None], done] if done.size else None
-                parts.append((jac[..., rows[:, None], cols], lower))
+                parts.append((jac[..., rows[:, None], cols], lower, done))
                 done = np.concatenate((done, cols))
-        self.diag = [d for d, _ in parts]
+        self.diag = [d for d, _, _ in parts]
         self.inv = [small_inverse(d) for d in self.diag]
-        self._lower, done = [], np.zeros(0, dtype=int)  # each group's rows × earlier columns
-        for (_, cols), (_, lower) in zip(blocks, parts):
-            self._lower.append((done, lower))
-            done = np.concatenate((done, cols))
+        self._lower = [(cols, lower) for _, lower, cols in parts]  # coupling: rows × cols
         self._upper = None
 
     @property
@@ -328,29 +327,35 @@ class BlockFactor:
             x[..., cols, :] = inv @ r
         return x
 
-    def _coupling(self, g: int, h: int) -> np.ndarray:
-        """Φ_q's block rows of group h × columns of group g < h."""
-        start = sum(len(cols) for _, cols in self.blocks[:g])
-        return self._lower[h][1][..., start : start + len(self.blocks[g][1])]
+    def _coupling(self, g: int, h: int) -> np.ndarray | None:
+        """Φ_q's block rows of group h × columns of group g < h (None: no entries)."""
+        cols, lower = self._lower[h]
+        if lower is None:
+            return None
+        own = self.blocks[g][1]
+        at = np.nonzero(np.isin(cols, own))[0]
+        if not at.size:
+            return None
+        if at.size == own.size and np.array_equal(cols[at], own):
+            return lower[..., at]
+        out = np.zeros(lower.shape[:-1] + (own.size,))
+        out[..., [int(np.flatnonzero(own == c)[0]) for c in cols[at]]] = lower[..., at]
+        return out
 
     def solve_transposed(self, rhs: np.ndarray) -> np.ndarray:
-        """y with Φ_qᵀ y = rhs (back substitution over the groups)."""
+        """y with Φ_qᵀ y = rhs (back substitution over the groups, through the coupling
+        blocks that exist)."""
         n_g = len(self.blocks)
-        if self._upper is None:  # each group's columns × the later groups' rows
-            self._upper, later = [], np.zeros(0, dtype=int)
+        if self._upper is None:  # each group's columns × the later rows that touch them
+            self._upper = []
             for g in reversed(range(n_g)):
-                rows, _ = self.blocks[g]
-                upper = None
-                if later.size:
-                    upper = np.swapaxes(
-                        np.concatenate(
-                            [self._coupling(g, h) for h in reversed(range(g + 1, n_g))], axis=-2
-                        ),
-                        -1,
-                        -2,
-                    )
+                parts = [(h, self._coupling(g, h)) for h in reversed(range(g + 1, n_g))]
+                parts = [(h, c) for h, c in parts if c is not None]
+                upper, later = None, np.zeros(0, dtype=int)
+                if parts:
+                    later = np.concatenate([self.blocks[h][0] for h, _ in parts])
+                    upper = np.swapaxes(np.concatenate([c for _, c in parts], axis=-2), -1, -2)
                 self._upper.append((later, upper))
-                later = np.concatenate((later, rows))
         n_rows = sum(len(rows) for rows, _ in self.blocks)
         y = np.zeros(rhs.shape[:-1] + (n_rows,))
         for (rows, cols), inv, (later, upper) in zip(

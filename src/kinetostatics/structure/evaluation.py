@@ -108,31 +108,38 @@ class BlockLayout:
     """Where each constraint's Φ_q entries go among the Assur groups' blocks.
 
     The blocks live in one buffer ``(size + 1, ...)``: group g's diagonal block (its rows
-    × its columns) at ``diag[g]`` and its rows × the earlier groups' columns at
-    ``lower[g]`` (offset, rows, columns), row-major; entries of no block (the ground's
-    columns) go to the last, spare slot.  ``dest[s] = (to_i, to_j)``: the slots of set
-    s's two links' entries, ``([k,] n_eq, 3)`` each."""
+    × its columns) at ``diag[g]``, and its coupling block at ``lower[g]`` (offset, rows,
+    columns; None for none): its rows × ``lower_cols[g]``, the earlier groups' columns
+    its constraints touch (in solve order) — the only ones where Φ_q has entries, so the
+    blocks grow with the links a group is jointed to, not with all the links before it.
+    Row-major; entries of no block (the ground's columns) go to the last, spare slot.
+    ``dest[s] = (to_i, to_j)``: the slots of set s's two links' entries, ``([k,] n_eq,
+    3)`` each."""
 
     size: int
     diag: tuple[tuple[int, int, int], ...]
     lower: tuple[tuple[int, int, int] | None, ...]
+    lower_cols: tuple[np.ndarray, ...]
     dest: tuple[tuple[np.ndarray, np.ndarray], ...]
 
 
 def block_layout(sets, plans, ends: np.ndarray, row_start: np.ndarray, n_q: int) -> BlockLayout:
     """The :class:`BlockLayout` of ``sets`` over the group ``plans`` (q has ``n_q`` columns)."""
     slot = {}  # (row of Φ, column of q) -> slot
-    diag, lower, at = [], [], 0
+    diag, lower, lower_cols, at = [], [], [], 0
     done = np.zeros(0, dtype=int)
     for p in plans:
-        r, c, d = len(p.rows), len(p.cols), len(done)
+        touched = {3 * int(li) + x for k in p.constraints for li in ends[k] for x in range(3)}
+        cols = np.array([c for c in done if c in touched], dtype=int)
+        r, c, d = len(p.rows), len(p.cols), len(cols)
         for a, row in enumerate(p.rows):
             for b, col in enumerate(p.cols):
                 slot[int(row), int(col)] = at + a * c + b
-            for b, col in enumerate(done):
+            for b, col in enumerate(cols):
                 slot[int(row), int(col)] = at + r * c + a * d + b
         diag.append((at, r, c))
         lower.append((at + r * c, r, d) if d else None)
+        lower_cols.append(cols)
         at += r * (c + d)
         done = np.concatenate((done, p.cols))
     spare = at
@@ -152,13 +159,14 @@ def block_layout(sets, plans, ends: np.ndarray, row_start: np.ndarray, n_q: int)
             )
             sides.append(to if s.stacked else to[0])
         dest.append(tuple(sides))
-    return BlockLayout(spare, tuple(diag), tuple(lower), tuple(dest))
+    return BlockLayout(spare, tuple(diag), tuple(lower), tuple(lower_cols), tuple(dest))
 
 
 def jacobian_blocks_all(
     sets, layout: BlockLayout, pe: np.ndarray
-) -> list[tuple[np.ndarray, np.ndarray | None]]:
-    """Φ_q by group, as ``jacobian_blocks`` returns it, at poses ``pe``: each set's two
+) -> list[tuple[np.ndarray, np.ndarray | None, np.ndarray]]:
+    """Φ_q by group, as ``jacobian_blocks`` returns it (diagonal block, coupling block,
+    the coupling block's columns), at poses ``pe``: each set's two
     parts added to their zero slots (0 + J: a −0 is written +0, as a sum onto zeros gives;
     link j's part onto what is there: zero, unless a joint joins a link to itself).
 
@@ -178,7 +186,10 @@ def jacobian_blocks_all(
         block = buf[off : off + r * c].reshape((r, c) + lead)
         return np.moveaxis(block, (0, 1), (-2, -1))
 
-    return [(view(d), view(lo)) for d, lo in zip(layout.diag, layout.lower)]
+    return [
+        (view(d), view(lo), cols)
+        for d, lo, cols in zip(layout.diag, layout.lower, layout.lower_cols)
+    ]
 
 
 def _entries_first(a: np.ndarray, d: int) -> np.ndarray:

@@ -265,25 +265,28 @@ def jacobian(
     return out
 
 
-def jacobian_blocks(system: System, q: np.ndarray) -> list[tuple[np.ndarray, np.ndarray | None]]:
+def jacobian_blocks(
+    system: System, q: np.ndarray
+) -> list[tuple[np.ndarray, np.ndarray | None, np.ndarray]]:
     """Φ_q by Assur group, as :class:`~kinetostatics.base.linalg.BlockFactor` takes it:
-    for each plan, (its diagonal block, rows × its own columns; its rows × the earlier
-    groups' columns, or None for the first).  Each constraint is evaluated once, by the
-    system's evaluation plan; the blocks are views of one buffer."""
+    for each plan, (its diagonal block, rows × its own columns; its coupling block, rows
+    × the earlier groups' columns its constraints touch, or None; those columns).  Each
+    constraint is evaluated once, by the system's evaluation plan; the blocks are views
+    of one buffer."""
     return jacobian_blocks_all(system.sets, system.layout, _poses(system, q))
 
 
 def _jacobian_blocks_one_by_one(
     system: System, q: np.ndarray
-) -> list[tuple[np.ndarray, np.ndarray | None]]:
-    """:func:`jacobian_blocks` evaluating each constraint on its own (the reference the
-    plan is tested against)."""
+) -> list[tuple[np.ndarray, np.ndarray | None, np.ndarray]]:
+    """:func:`jacobian_blocks` evaluating each constraint on its own, with coupling
+    blocks over all the earlier columns (the reference the plan is tested against)."""
     out, done, pe = [], np.zeros(0, dtype=int), _poses(system, q)
     for p in system.plans:
         blk = jacobian(system, q, p.constraints, np.concatenate((done, p.cols)), pe=pe)
-        rows = np.arange(len(p.rows))[:, None]  # gathered as Φ_q[rows, cols] would be:
-        lower = blk[..., rows, np.arange(done.size)] if done.size else None  # same memory
-        out.append((blk[..., rows, np.arange(done.size, blk.shape[-1])], lower))  # layout
+        rows = np.arange(len(p.rows))[:, None]
+        lower = blk[..., rows, np.arange(done.size)] if done.size else None
+        out.append((blk[..., rows, np.arange(done.size, blk.shape[-1])], lower, done))
         done = np.concatenate((done, p.cols))
     return out
 
