@@ -83,3 +83,26 @@ def test_one_joint_type_in_one_call():
     system = S.build_system(ks.load(ROOT / "mechanisms" / "slotting_machine.yaml"))
     kinds = sorted((type(s.constraint).__name__, len(s.members)) for s in system.sets)
     assert kinds == [("DriverConstraint", 1), ("Prismatic", 2), ("Revolute", 5)]
+
+
+def test_coupling_blocks_grow_with_the_joints_not_with_the_links_before():
+    """In a chain of RRR dyads each dyad is jointed to one earlier link: its coupling
+    block spans that link's three columns, so the blocks' storage grows linearly with
+    the chain (all earlier columns would make it quadratic), and the chain's
+    velocities still satisfy Φ_q q̇ = ν entry by entry."""
+    from .chains import dyad_chain
+
+    sizes = {}
+    for n in (10, 40):
+        system = S.build_system(ks.loads(dyad_chain(n)))
+        widths = [len(c) for c in system.layout.lower_cols]
+        assert max(widths) <= 6, widths  # the four-bar's rocker pin: two links at most
+        sizes[n] = system.layout.size
+    assert sizes[40] / sizes[10] < 4.5  # 4× the dyads (quadratic: ~16×)
+    r = ks.analyze(ks.loads(dyad_chain(40, positions=12)))
+    system = r.system
+    jac = S.jacobian(system, r.q)
+    nu = S.nu(system, np.ones((len(r.q), 1)) * system.model.drivers[0].motion.speed)
+    np.testing.assert_allclose(
+        np.einsum("...ij,...j->...i", jac, r.qd), nu, atol=1e-9 * np.abs(nu).max()
+    )
