@@ -11,6 +11,7 @@ import pytest
 import kinetostatics as ks
 from kinetostatics.batch.variants import Template
 from kinetostatics.model.stacking import stack
+from kinetostatics.structure import evaluation
 from kinetostatics.structure import system as S
 
 from .conftest import MECHANISMS, ROOT
@@ -65,6 +66,19 @@ def test_the_plan_gives_each_constraints_own_numbers(path, lead):
     system = S.build_system(ks.load(path))
     assert sum(len(s.members) for s in system.sets) == len(system.constraints)
     _check(system, lead)
+
+
+@pytest.mark.parametrize("path", MECHANISMS, ids=lambda p: p.stem)
+def test_stacks_split_over_many_positions_give_the_same_numbers(path, monkeypatch):
+    """Over more than STACK_UP_TO positions a stack's joints are evaluated one by one
+    (the same blocks and rows, to the bit)."""
+    monkeypatch.setattr(evaluation, "STACK_UP_TO", 3)
+    system = S.build_system(ks.load(path))
+    pe = S.link_poses(system, _state(system, (7,))[0])
+    split = [m for _, m, *_ in evaluation._units(system.sets, pe) if m is not None]
+    assert len(split) == sum(len(s.members) for s in system.sets if s.stacked)
+    _check(system, (7,))
+    _check(system, (2, 5))
 
 
 @pytest.mark.parametrize("name", ["slotting_machine", "watt_sixbar", "shaper"])

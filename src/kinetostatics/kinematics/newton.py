@@ -54,23 +54,19 @@ def condition_number(
     S = D_r J D_c (lengths over L_ref, rows equilibrated), from J and J⁻¹, ``(...)``.
 
     It bounds the 2-norm condition number from above by at most the block size.
-    Computed entry-major, ``(r, c, ...)``: the blocks of an analysis are laid out
-    so (``jacobian_blocks``), and every operation is then one long contiguous run.
     """
-    lead = jac.shape[:-2]
-    j_cm = np.moveaxis(jac, (-2, -1), (0, 1))  # (r, c, ...)
-    inv_cm = np.moveaxis(inv, (-2, -1), (0, 1))  # (c, r, ...)
-    angle = (np.arange(len(plan.cols)) % 3 == 2).reshape((-1,) + (1,) * len(lead))
-    col = np.where(angle, 1.0, np.asarray(system.l_ref, dtype=float))  # as _scales
-    s = j_cm * col
-    norm = np.max(np.abs(s), axis=1)
+    l_ref = np.asarray(system.l_ref)[..., None]  # (V, 1, 1) for stacked variants
+    col = np.where(np.arange(len(plan.cols)) % 3 == 2, 1.0, l_ref)  # as _scales, in place
+    s = jac * col[..., None, :]
+    norm = np.max(np.abs(s), axis=-1)
     row = 1.0 / np.where(norm > 0, norm, 1.0)
-    s *= row[:, None]
-    s_inv = inv_cm / col[:, None]
-    s_inv /= row[None]
+    s *= row[..., None]
+    s_inv = inv / col[..., :, None]
+    s_inv /= row[..., None, :]
     with np.errstate(over="ignore", invalid="ignore"):
-        c = np.sqrt(np.sum(s * s, axis=(0, 1))) * np.sqrt(np.sum(s_inv * s_inv, axis=(0, 1)))
-        # each norm on its own: their product overflows only past the largest float
+        c = np.sqrt(np.einsum("...ij,...ij->...", s, s)) * np.sqrt(
+            np.einsum("...ij,...ij->...", s_inv, s_inv)
+        )  # each norm on its own: their product overflows only past the largest float
     return np.where(np.isfinite(c), c, np.inf)
 
 
