@@ -17,7 +17,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["ConstraintSet", "BlockLayout", "constraint_sets", "block_layout"]
+__all__ = [
+    "ConstraintSet",
+    "BlockLayout",
+    "STACK_UP_TO",
+    "constraint_sets",
+    "block_layout",
+    "phi_all",
+    "gamma_all",
+    "jacobian_blocks_all",
+]
 
 
 @dataclass(frozen=True, eq=False)
@@ -34,6 +43,9 @@ class ConstraintSet:
     stacked: bool
     driver: int | None = None
     joints: tuple = ()  # a stack's own joints, for evaluating them one by one
+
+    def __getstate__(self):  # the poses kept by ``pairs`` stay behind
+        return {k: v for k, v in self.__dict__.items() if k != "_last"}
 
     def pairs(self, pe: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The poses of the members' two links from the system poses ``pe (..., n+1, 5)``:
@@ -156,8 +168,9 @@ class BlockLayout:
     dest: tuple[tuple[np.ndarray, np.ndarray], ...]
 
 
-def block_layout(sets, plans, ends: np.ndarray, row_start: np.ndarray, n_q: int) -> BlockLayout:
-    """The :class:`BlockLayout` of ``sets`` over the group ``plans`` (q has ``n_q`` columns)."""
+def block_layout(sets, plans, ends: np.ndarray) -> BlockLayout:
+    """The :class:`BlockLayout` of ``sets`` over the group ``plans``; ``ends (n_c, 2)``: each
+    constraint's two links."""
     slot = {}  # (row of Φ, column of q) -> slot
     diag, lower, lower_cols, at = [], [], [], 0
     done = np.zeros(0, dtype=int)
@@ -199,9 +212,9 @@ def jacobian_blocks_all(
     sets, layout: BlockLayout, pe: np.ndarray
 ) -> list[tuple[np.ndarray, np.ndarray | None, np.ndarray]]:
     """Φ_q by group, as ``jacobian_blocks`` returns it (diagonal block, coupling block,
-    the coupling block's columns), at poses ``pe``: each set's two
-    parts added to their zero slots (0 + J: a −0 is written +0, as a sum onto zeros gives;
-    link j's part onto what is there: zero, unless a joint joins a link to itself).
+    the coupling block's columns), at poses ``pe``: each set's two parts added to their
+    zero slots (0 + J: a −0 is written +0, as a sum onto zeros gives; link j's part onto
+    what is there: zero, unless a joint joins a link to itself).
 
     The buffer is component-major, ``(size + 1, ...)``: each block ``(..., r, c)`` is a
     view with the positions as its fastest axis (long contiguous runs per entry)."""

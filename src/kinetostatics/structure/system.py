@@ -135,7 +135,7 @@ def build_system(model: Model) -> System:
         l_ref,
         n_joint_rows,
         sets,
-        block_layout(sets, plans, ends, row_start, 3 * len(links)),
+        block_layout(sets, plans, ends),
     )
 
 
