@@ -37,7 +37,7 @@ from kinetostatics.kinetics.forces import (
     mass_vector,
 )
 from kinetostatics.kinetics.reactions import effort_joints, ground_reaction
-from kinetostatics.structure.system import coordinate_gradient, gamma, jacobian, nu
+from kinetostatics.structure.system import coordinate_gradient, gamma, jacobian_blocks, nu
 
 NAMES = ("slider_crank", "slotting_machine")
 SIZES = (360, 36_000)
@@ -94,8 +94,8 @@ def stage_times(name: str, n: int, timing: bool):
     psi, psi_d, psi_dd = sched(t)
     blocks = [(p.rows, p.cols) for p in system.plans]
 
-    def velocities():
-        lu = BlockFactor(jacobian(system, q), blocks)
+    def velocities():  # as kinematics.derivatives: Φ_q by the system's evaluation plan
+        lu = BlockFactor(None, blocks, jacobian_blocks(system, q))
         return lu, lu.solve(nu(system, psi_d))
 
     rows.append(("velocities (Φ_q, block inverses, solve ν)", T(velocities), False))
@@ -144,7 +144,7 @@ def stage_times(name: str, n: int, timing: bool):
 
     def conds():
         return {
-            p.group: condition_number(system, p, lu.jac[..., p.rows[:, None], p.cols], lu.inv[g])
+            p.group: condition_number(system, p, lu.diag[g], lu.inv[g])
             for g, p in enumerate(system.plans)
             if p.group.kind != "driven"
         }
