@@ -36,6 +36,19 @@ def test_consistent_converges_quadratically_to_approximate():
         assert 50 < ratio < 200, ratios  # ≈ 100 for a tenfold smaller friction
 
 
+def test_homotopy_on_the_kinematic_factors():
+    """The motor's own effort (A = Φ_qᵀ, handed to the friction solutions as the block
+    factors, never assembled dense): at 60 times the friction the fixed point fails at
+    some rows, the homotopy takes them, and others self-lock; where a solution is
+    reported it is an equilibrium with its own friction (the power balance closes)."""
+    r = ks.analyze(_scaled(60.0))
+    st = r["friction.status"]
+    assert (st == 0).sum() >= 10 and (st == 1).sum() >= 10 and (st == 2).sum() >= 10
+    ok = st < 2
+    scale = np.max(np.abs(r["power.input"]))
+    assert np.max(np.abs(r["power.residual_friction"][ok])) < 1e-9 * scale
+
+
 LOCKING = "tests/hard/slider_crank_self_locking.yaml"
 
 

@@ -259,3 +259,23 @@ def test_elimination_and_lapack_give_the_same_analysis(name, monkeypatch):
     pairs += [(np.asarray(whole[c]), np.asarray(lapack[c])) for c in conds]
     for a, b in pairs:
         np.testing.assert_allclose(a, b, rtol=0, atol=1e-12 * np.abs(a).max())
+
+
+@pytest.mark.parametrize("name", ["slider_crank", "slotting_machine", "watt_sixbar"])
+def test_products_by_the_blocks_equal_the_dense_transpose(name):
+    """Φ_qᵀ y by the group blocks (the friction solutions' A x, with coupling blocks over
+    the touched columns only) against the dense Φ_q assembled entry by entry."""
+    from kinetostatics.structure.system import jacobian, jacobian_blocks, system_of
+
+    model = ks.load(MECHANISMS[0].parent / f"{name}.yaml")
+    system = system_of(model)
+    q = ks.analyze(model, positions=np.linspace(0.0, 6.0, 50), kinematics_only=True).q
+    blocks = [(p.rows, p.cols) for p in system.plans]
+    lu = BlockFactor(None, blocks, jacobian_blocks(system, q))
+    dense = jacobian(system, q)
+    y = RNG.normal(size=q.shape[:-1] + (dense.shape[-2],))
+    want = np.einsum("...ji,...j->...i", dense, y)
+    np.testing.assert_allclose(
+        lu.product_transposed(y), want, rtol=0, atol=1e-13 * np.abs(want).max()
+    )
+    np.testing.assert_array_equal(lu.transposed_at(7), dense[7].T)

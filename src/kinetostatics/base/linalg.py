@@ -317,6 +317,20 @@ class BlockFactor:
             x[..., cols] = np.einsum("...ij,...j->...i", inv, r)
         return x
 
+    def product_transposed(self, y: np.ndarray) -> np.ndarray:
+        """Φ_qᵀ y, ``(..., n)``, by the blocks (the dense Φ_q is never assembled)."""
+        out = np.zeros(y.shape[:-1] + (self.n,))
+        for (rows, cols), d, (done, lower) in zip(self.blocks, self.diag, self._lower):
+            r = y[..., rows]
+            out[..., cols] += np.einsum("...ji,...j->...i", d, r)
+            if lower is not None:
+                out[..., done] += np.einsum("...ji,...j->...i", lower, r)
+        return out
+
+    def transposed_at(self, index) -> np.ndarray:
+        """Φ_qᵀ at one position ``index`` of the leading axes, ``(n, n_rows)``."""
+        return np.swapaxes(self.jac[index], -1, -2)
+
     def solve_many(self, rhs: np.ndarray) -> np.ndarray:
         """X with Φ_q X = rhs for ``rhs (..., n, k)`` (k right-hand sides at once)."""
         x = np.zeros(rhs.shape[:-2] + (self.n, rhs.shape[-1]))

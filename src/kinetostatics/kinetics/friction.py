@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..base.linalg import BlockFactor
 from ..structure.system import System, coordinate_gradient
 
 __all__ = ["FrictionSetup", "setup", "efforts", "approximate", "consistent", "FrictionSolution"]
@@ -128,9 +129,15 @@ class FrictionSolution:
 
 
 def consistent(
-    system: System, fs: FrictionSetup, a: np.ndarray, solve_a, q_load: np.ndarray, x0: np.ndarray
+    system: System,
+    fs: FrictionSetup,
+    a: np.ndarray | BlockFactor,
+    solve_a,
+    q_load: np.ndarray,
+    x0: np.ndarray,
 ) -> FrictionSolution:
-    """The consistent solution on the branch connected to x₀ (see module docs)."""
+    """The consistent solution on the branch connected to x₀ (see module docs).  ``a``: A,
+    dense, or the kinematic factors where A = Φ_qᵀ (its products by the blocks)."""
     x = x0.copy()
     scale = np.maximum(np.max(np.abs(x0), axis=-1), 1e-300)
     it = np.zeros(x.shape[:-1], dtype=int)
@@ -171,8 +178,15 @@ def consistent(
     return FrictionSolution(x, e, status, it, reach)
 
 
+def _product(a, x: np.ndarray) -> np.ndarray:
+    """A x, for A given dense or as the kinematic factors (A = Φ_qᵀ, by their blocks)."""
+    if isinstance(a, BlockFactor):
+        return a.product_transposed(x)
+    return np.einsum("...ij,...j->...i", a, x)
+
+
 def _residual(system, fs, a, q_load, x):
-    r = np.einsum("...ij,...j->...i", a, x) + q_load + _generalized(fs, efforts(system, fs, x))
+    r = _product(a, x) + q_load + _generalized(fs, efforts(system, fs, x))
     return np.max(np.abs(r), axis=-1)
 
 
@@ -210,7 +224,8 @@ def _homotopy(
         fs.zero[index],
         fs.q[index],
     )
-    a, ql, x0 = a[index], q_load[index], x0[index]
+    a = a.transposed_at(index) if isinstance(a, BlockFactor) else a[index]
+    ql, x0 = q_load[index], x0[index]
     n = len(x0)
     qs = max(np.max(np.abs(ql)), 1e-300)
     qh = ql / qs  # t scaled by |Q|: τ = t·|Q|, x = y·|Q|/τ

@@ -128,7 +128,7 @@ def kinetics(
                 a_inv = np.linalg.inv(a)
             solve_a = lambda rhs: np.einsum("...ij,...j->...i", a_inv, rhs)  # noqa: E731
         xa, ea = fr.approximate(system, fs, solve_a, q_load, x0)
-        a_full = np.swapaxes(lu.jac, -1, -2) if a is None else a
+        a_full = lu if a is None else a  # Φ_qᵀ by its blocks: no dense matrix assembled
         cons = fr.consistent(system, fs, a_full, solve_a, q_load, x0)
         fric = dict(setup=fs, x_approx=xa, e_approx=ea, solution=cons)
     eff = effort_joints(system)
