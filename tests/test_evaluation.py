@@ -26,6 +26,33 @@ def _state(system, lead):
     return q, qd, psi
 
 
+def _gamma_one_by_one(system, q, qd, psi_dd):
+    """γ with each constraint's own ``acceleration_rhs`` called alone on its two links."""
+    pe, n_j, out = S.link_poses(system, q), len(system.model.joints), []
+    for k, c in enumerate(system.constraints):
+        i, j = system.ends[k]
+        args = (pe[..., i, :], pe[..., j, :], *S.link_pair(system, qd, k))
+        out.append(
+            c.acceleration_rhs(*args, psi_dd[..., k - n_j])
+            if k >= n_j
+            else c.acceleration_rhs(*args)
+        )
+    return np.concatenate(out, axis=-1)
+
+
+def _blocks_one_by_one(system, q):
+    """The group blocks gathered from Φ_q built one constraint at a time (``jacobian``
+    with a selection), coupling blocks over all the earlier columns."""
+    out, done = [], np.zeros(0, dtype=int)
+    for p in system.plans:
+        blk = S.jacobian(system, q, p.constraints, np.concatenate((done, p.cols)))
+        rows = np.arange(len(p.rows))[:, None]
+        lower = blk[..., rows, np.arange(done.size)] if done.size else None
+        out.append((blk[..., rows, np.arange(done.size, blk.shape[-1])], lower, done))
+        done = np.concatenate((done, p.cols))
+    return out
+
+
 def _same_blocks(got, want):
     """The plan's blocks against the reference's: the same diagonal blocks, and coupling
     blocks over the columns the group touches that equal the reference's (taken over all
@@ -49,10 +76,10 @@ def _check(system, lead):
     every = range(len(system.constraints))
     np.testing.assert_array_equal(S.phi(system, q, psi), S.phi(system, q, psi, every))
     np.testing.assert_array_equal(
-        S.gamma(system, q, qd, psi), S._gamma_one_by_one(system, q, qd, psi)
+        S.gamma(system, q, qd, psi), _gamma_one_by_one(system, q, qd, psi)
     )
     blocks = S.jacobian_blocks(system, q)
-    _same_blocks(blocks, S._jacobian_blocks_one_by_one(system, q))
+    _same_blocks(blocks, _blocks_one_by_one(system, q))
     jac = S.jacobian(system, q)  # entry by entry
     for p, (d, lo, cols) in zip(system.plans, blocks):
         np.testing.assert_array_equal(d, jac[..., p.rows[:, None], p.cols])

@@ -31,18 +31,21 @@ __all__ = [
 
 @dataclass(frozen=True, eq=False)
 class ConstraintSet:
-    """Constraints evaluated in one call: ``constraint`` (a stacked joint when ``stacked``,
-    else the single constraint ``members[0]``), the indices ``members`` into the system's
-    constraints, their links ``ends (2, k)`` (ground = n_links), their rows of Φ
-    ``rows (k, n_eq)``, and ``driver``: the motion driver's column of ψ (or None)."""
+    """Constraints evaluated in one call: ``constraint`` (a stacked joint standing for
+    ``joints``, or else the single constraint ``members[0]``), the indices ``members`` into
+    the system's constraints, their links ``ends (2, k)`` (ground = n_links), their rows
+    of Φ ``rows (k, n_eq)``, and ``driver``: the motion driver's column of ψ (or None)."""
 
     constraint: object
     members: tuple[int, ...]
     ends: np.ndarray
     rows: np.ndarray
-    stacked: bool
     driver: int | None = None
-    joints: tuple = ()  # a stack's own joints, for evaluating them one by one
+    joints: tuple = ()  # a stack's own joints (two or more); () for a single constraint
+
+    @property
+    def stacked(self) -> bool:
+        return bool(self.joints)
 
     def __getstate__(self):  # the poses kept by ``pairs`` stay behind
         return {k: v for k, v in self.__dict__.items() if k != "_last"}
@@ -80,26 +83,19 @@ def constraint_sets(
         if joint is None:
             alone += members
             continue
-        sets.append(_set(joint, members, ends, row_start, stacked=True, joints=constraints))
+        sets.append(_set(joint, members, ends, row_start, [constraints[k] for k in members]))
     for k in alone:
-        sets.append(_set(constraints[k], [k], ends, row_start, stacked=False))
+        sets.append(_set(constraints[k], [k], ends, row_start))
     for k in range(n_joints, len(constraints)):
-        sets.append(_set(constraints[k], [k], ends, row_start, stacked=False, driver=k - n_joints))
+        sets.append(_set(constraints[k], [k], ends, row_start, driver=k - n_joints))
     return tuple(sets)
 
 
-def _set(constraint, members, ends, row_start, *, stacked, driver=None, joints=()) -> ConstraintSet:
+def _set(constraint, members, ends, row_start, stack=(), driver=None) -> ConstraintSet:
+    """The set of ``constraint`` (a stack of the joints ``stack``, or one constraint)."""
     rows = np.array([np.arange(row_start[k], row_start[k + 1]) for k in members], dtype=int)
-    own = tuple(joints[k] for k in members) if stacked else ()
-    return ConstraintSet(
-        constraint,
-        tuple(members),
-        np.ascontiguousarray(ends[members].T),
-        rows,
-        stacked,
-        driver,
-        own,
-    )
+    ends = np.ascontiguousarray(ends[members].T)
+    return ConstraintSet(constraint, tuple(members), ends, rows, driver, tuple(stack))
 
 
 STACK_UP_TO = 1024

@@ -194,9 +194,6 @@ def link_poses(system: System, q: np.ndarray) -> np.ndarray:
     return pe
 
 
-_poses = link_poses
-
-
 def _pose_pair(pe: np.ndarray, ends: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return pe[..., ends[0], :], pe[..., ends[1], :]
 
@@ -213,8 +210,8 @@ def phi(
     ``psi (..., n_drivers)`` are the prescribed driver coordinates.
     """
     if which is None:
-        return phi_all(system.sets, system.n_rows, _poses(system, q), psi)
-    pe, out = _poses(system, q), []
+        return phi_all(system.sets, system.n_rows, link_poses(system, q), psi)
+    pe, out = link_poses(system, q), []
     n_j = len(system.model.joints)
     for k in _selection(system, which):
         c = system.constraints[k]
@@ -235,9 +232,9 @@ def jacobian(
 
     With ``ground=True`` the three columns of the ground link are kept at the end.
     Only the columns asked for are built (Φ_q is mostly structural zeros).  ``pe``:
-    the poses of q (``_poses``) when the caller has them already.
+    the poses of q (:func:`link_poses`) when the caller has them already.
     """
-    pe = _poses(system, q) if pe is None else pe
+    pe = link_poses(system, q) if pe is None else pe
     which = list(_selection(system, which))
     width = q.shape[-1] + (3 if ground else 0)
     cols = np.arange(width) if cols is None else np.arange(width)[cols]
@@ -273,22 +270,7 @@ def jacobian_blocks(
     × the earlier groups' columns its constraints touch, or None; those columns).  Each
     constraint is evaluated once, by the system's evaluation plan; the blocks are views
     of one buffer."""
-    return jacobian_blocks_all(system.sets, system.layout, _poses(system, q))
-
-
-def _jacobian_blocks_one_by_one(
-    system: System, q: np.ndarray
-) -> list[tuple[np.ndarray, np.ndarray | None, np.ndarray]]:
-    """:func:`jacobian_blocks` evaluating each constraint on its own, with coupling
-    blocks over all the earlier columns (the reference the plan is tested against)."""
-    out, done, pe = [], np.zeros(0, dtype=int), _poses(system, q)
-    for p in system.plans:
-        blk = jacobian(system, q, p.constraints, np.concatenate((done, p.cols)), pe=pe)
-        rows = np.arange(len(p.rows))[:, None]
-        lower = blk[..., rows, np.arange(done.size)] if done.size else None
-        out.append((blk[..., rows, np.arange(done.size, blk.shape[-1])], lower, done))
-        done = np.concatenate((done, p.cols))
-    return out
+    return jacobian_blocks_all(system.sets, system.layout, link_poses(system, q))
 
 
 def link_pair(system: System, x: np.ndarray, k: int) -> tuple[np.ndarray, np.ndarray]:
@@ -300,7 +282,9 @@ def link_pair(system: System, x: np.ndarray, k: int) -> tuple[np.ndarray, np.nda
 def coordinate_gradient(system: System, q: np.ndarray, k: int, ground: bool = False) -> np.ndarray:
     """Gradient of constraint ``k``'s joint coordinate over all of q, ``(..., n_q)``."""
     i, j = system.ends[k]
-    gi, gj = system.constraints[k].motion_direction(*_pose_pair(_poses(system, q), system.ends[k]))
+    gi, gj = system.constraints[k].motion_direction(
+        *_pose_pair(link_poses(system, q), system.ends[k])
+    )
     out = np.zeros(q.shape[:-1] + (q.shape[-1] + 3,))
     out[..., 3 * i : 3 * i + 3] += gi
     out[..., 3 * j : 3 * j + 3] += gj
@@ -315,7 +299,7 @@ def nu(system: System, psi_d: np.ndarray) -> np.ndarray:
 
 def gamma(system: System, q: np.ndarray, qd: np.ndarray, psi_dd: np.ndarray) -> np.ndarray:
     """γ such that Φ_q q̈ = γ, ``(..., n_rows)``."""
-    pe, ve = _poses(system, q), _ext(qd)
+    pe, ve = link_poses(system, q), _ext(qd)
     return gamma_all(
         system.sets,
         system.n_rows,
@@ -323,20 +307,3 @@ def gamma(system: System, q: np.ndarray, qd: np.ndarray, psi_dd: np.ndarray) -> 
         ve.reshape(ve.shape[:-1] + (len(system.links) + 1, 3)),
         psi_dd,
     )
-
-
-def _gamma_one_by_one(
-    system: System, q: np.ndarray, qd: np.ndarray, psi_dd: np.ndarray
-) -> np.ndarray:
-    """:func:`gamma` evaluating each constraint on its own (the reference of the plan)."""
-    pe, ve, out = _poses(system, q), _ext(qd), []
-    n_j = len(system.model.joints)
-    for k, c in enumerate(system.constraints):
-        qi, qj = _pose_pair(pe, system.ends[k])
-        vi, vj = _pair(ve, system.ends[k])
-        out.append(
-            c.acceleration_rhs(qi, qj, vi, vj, psi_dd[..., k - n_j])
-            if k >= n_j
-            else c.acceleration_rhs(qi, qj, vi, vj)
-        )
-    return np.concatenate(out, axis=-1)
