@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import importlib.util
 import re
 from concurrent.futures import Executor, Future
 from pathlib import Path
@@ -11,6 +12,14 @@ import numpy as np
 import kinetostatics as ks
 
 ROOT = Path(__file__).resolve().parent.parent
+
+
+def load_script(path: Path):
+    """The script at ``path`` (docs/scripts) imported as a module, under its file's name."""
+    spec = importlib.util.spec_from_file_location(path.stem, path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
 
 
 def variant(name: str, **replacements: str) -> ks.Model:

@@ -10,7 +10,6 @@ search run again, ~10 s) is a check of the long run."""
 
 from __future__ import annotations
 
-import importlib.util
 import math
 import re
 
@@ -21,7 +20,7 @@ import kinetostatics as ks
 from kinetostatics.batch.optimize_files import with_parameters
 from kinetostatics.batch.variants import Template, analyze_variants
 
-from .helpers import ROOT
+from .helpers import ROOT, load_script
 
 SCRIPT = ROOT / "docs" / "scripts" / "optimisation_example.py"
 FILE = ROOT / "mechanisms" / "slotting_machine.yaml"
@@ -30,10 +29,7 @@ LIMIT = 10.0  # the pressure-angle limit of the example, degrees
 
 @pytest.fixture(scope="module")
 def ex():
-    spec = importlib.util.spec_from_file_location("optimisation_example", SCRIPT)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return load_script(SCRIPT)
 
 
 @pytest.fixture(scope="module")
