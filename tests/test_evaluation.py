@@ -80,11 +80,22 @@ def _check(system, lead):
     )
     blocks = S.jacobian_blocks(system, q)
     _same_blocks(blocks, _blocks_one_by_one(system, q))
-    jac = S.jacobian(system, q)  # entry by entry
+    jac = S.jacobian(system, q, ground=True)  # entry by entry, the ground's columns last
     for p, (d, lo, cols) in zip(system.plans, blocks):
         np.testing.assert_array_equal(d, jac[..., p.rows[:, None], p.cols])
         if lo is not None:
             np.testing.assert_array_equal(lo, jac[..., p.rows[:, None], cols])
+    # the ground's block kept from that evaluation: every joint jointed to the ground, its
+    # rows × the ground's columns (the shaking force's map)
+    ground = len(system.links)
+    rows, kept = S.ground_jacobian(system, q)
+    touching = [k for k in range(len(system.model.joints)) if ground in system.ends[k]]
+    want = [r for k in touching for r in range(system.row_start[k], system.row_start[k + 1])]
+    np.testing.assert_array_equal(rows, want)
+    if rows.size:
+        np.testing.assert_array_equal(kept, np.take(jac, rows, axis=-2)[..., -3:])
+        system.memo.clear()  # not kept: evaluated, the same numbers
+        np.testing.assert_array_equal(S.ground_jacobian(system, q)[1], kept)
 
 
 @pytest.mark.parametrize("path", MECHANISMS, ids=lambda p: p.stem)

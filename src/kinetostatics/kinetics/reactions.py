@@ -14,7 +14,7 @@ import warnings
 import numpy as np
 
 from ..kinematics.derivatives import velocities
-from ..structure.system import System, coordinate_gradient, jacobian
+from ..structure.system import System, coordinate_gradient, ground_jacobian, jacobian
 
 __all__ = [
     "effort_joints",
@@ -159,11 +159,9 @@ def ground_reaction(system: System, q: np.ndarray, x: np.ndarray) -> np.ndarray:
     shaking force and moment."""
     ground = len(system.links)
     out = np.zeros(q.shape[:-1] + (3,))
-    touching = [k for k in range(len(system.model.joints)) if ground in system.ends[k]]
-    if touching:
-        jac = jacobian(system, q, touching, np.arange(-3, 0), ground=True)
-        lam = np.concatenate([x[..., system.rows_of(k)] for k in touching], axis=-1)
-        out += np.einsum("...ij,...i->...j", jac, lam)
+    rows, jac = ground_jacobian(system, q)
+    if rows.size:
+        out += np.einsum("...ij,...i->...j", jac, x[..., rows])
     n_j = system.n_joint_rows
     for d, k in enumerate(effort_joints(system)):
         if ground in system.ends[k]:

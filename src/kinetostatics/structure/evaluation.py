@@ -153,7 +153,10 @@ class BlockLayout:
     columns; None for none): its rows × ``lower_cols[g]``, the earlier groups' columns
     its constraints touch (in solve order) — the only ones where Φ_q has entries, so the
     blocks grow with the links a group is jointed to, not with all the links before it.
-    Row-major; entries of no block (the ground's columns) go to the last, spare slot.
+    The ground's columns of the joints jointed to it, ``ground`` (offset, rows, 3; None
+    for none), follow: the rows ``ground_rows`` in order, × the ground's x, y, θ (the
+    shaking force's map, :func:`~kinetostatics.kinetics.reactions.ground_reaction`).
+    Row-major; entries of no block (a driver's ground columns) go to the last, spare slot.
     ``dest[s] = (to_i, to_j)``: the slots of set s's two links' entries, ``([k,] n_eq,
     3)`` each."""
 
@@ -162,11 +165,14 @@ class BlockLayout:
     lower: tuple[tuple[int, int, int] | None, ...]
     lower_cols: tuple[np.ndarray, ...]
     dest: tuple[tuple[np.ndarray, np.ndarray], ...]
+    ground: tuple[int, int, int] | None = None
+    ground_rows: np.ndarray = None
 
 
-def block_layout(sets, plans, ends: np.ndarray) -> BlockLayout:
+def block_layout(sets, plans, ends: np.ndarray, ground: int, n_joints: int) -> BlockLayout:
     """The :class:`BlockLayout` of ``sets`` over the group ``plans``; ``ends (n_c, 2)``: each
-    constraint's two links."""
+    constraint's two links, ``ground`` the ground's index there; the first ``n_joints``
+    constraints are the joints."""
     slot = {}  # (row of Φ, column of q) -> slot
     diag, lower, lower_cols, at = [], [], [], 0
     done = np.zeros(0, dtype=int)
@@ -184,6 +190,13 @@ def block_layout(sets, plans, ends: np.ndarray) -> BlockLayout:
         lower_cols.append(cols)
         at += r * (c + d)
         done = np.concatenate((done, p.cols))
+    of = {k: r for s in sets for k, r in zip(s.members, s.rows)}  # constraint -> its rows
+    rows = [row for k in range(n_joints) if ground in ends[k] for row in of[k]]
+    for a, row in enumerate(rows):
+        for x in range(3):
+            slot[int(row), 3 * ground + x] = at + 3 * a + x
+    ground_at = (at, len(rows), 3) if rows else None
+    at += 3 * len(rows)
     spare = at
     dest = []
     for s in sets:
@@ -201,19 +214,29 @@ def block_layout(sets, plans, ends: np.ndarray) -> BlockLayout:
             )
             sides.append(to if s.stacked else to[0])
         dest.append(tuple(sides))
-    return BlockLayout(spare, tuple(diag), tuple(lower), tuple(lower_cols), tuple(dest))
+    return BlockLayout(
+        spare,
+        tuple(diag),
+        tuple(lower),
+        tuple(lower_cols),
+        tuple(dest),
+        ground_at,
+        np.array(rows, dtype=int),
+    )
 
 
 def jacobian_blocks_all(
     sets, layout: BlockLayout, pe: np.ndarray
-) -> list[tuple[np.ndarray, np.ndarray | None, np.ndarray]]:
+) -> tuple[list[tuple[np.ndarray, np.ndarray | None, np.ndarray]], np.ndarray | None]:
     """Φ_q by group, as ``jacobian_blocks`` returns it (diagonal block, coupling block,
-    the coupling block's columns), at poses ``pe``: each set's two parts added to their
-    zero slots (0 + J: a −0 is written +0, as a sum onto zeros gives; link j's part onto
-    what is there: zero, unless a joint joins a link to itself).
+    the coupling block's columns), and the ground's block ``(..., rows, 3)`` (None for
+    none), at poses ``pe``: each set's two parts added to their zero slots (0 + J: a −0
+    is written +0, as a sum onto zeros gives; link j's part onto what is there: zero,
+    unless a joint joins a link to itself).
 
     The buffer is component-major, ``(size + 1, ...)``: each block ``(..., r, c)`` is a
-    view with the positions as its fastest axis (long contiguous runs per entry)."""
+    view with the positions as its fastest axis (long contiguous runs per entry); the
+    ground's block is a copy (the small part a caller may keep)."""
     lead = pe.shape[:-2]
     buf = np.zeros((layout.size + 1,) + lead)
     for n, m, _, c, pair, _, _ in _units(sets, pe):
@@ -224,16 +247,21 @@ def jacobian_blocks_all(
 
     back = tuple(range(2, 2 + len(lead))) + (0, 1)  # (r, c, ...) -> (..., r, c)
 
-    def view(at):
+    def view(at, part=buf):
         if at is None:
             return None
         off, r, c = at
-        return buf[off : off + r * c].reshape((r, c) + lead).transpose(back)
+        return part[off : off + r * c].reshape((r, c) + lead).transpose(back)
 
-    return [
+    ground = None
+    if layout.ground is not None:
+        off, r, c = layout.ground
+        ground = view((0, r, c), buf[off : off + r * c].copy())
+    blocks = [
         (view(d), view(lo), cols)
         for d, lo, cols in zip(layout.diag, layout.lower, layout.lower_cols)
     ]
+    return blocks, ground
 
 
 def _entries_first(a: np.ndarray, d: int) -> np.ndarray:

@@ -38,6 +38,7 @@ __all__ = [
     "phi",
     "jacobian",
     "jacobian_blocks",
+    "ground_jacobian",
     "gamma",
     "nu",
     "coordinate_gradient",
@@ -135,7 +136,7 @@ def build_system(model: Model) -> System:
         l_ref,
         n_joint_rows,
         sets,
-        block_layout(sets, plans, ends),
+        block_layout(sets, plans, ends, len(links), len(model.joints)),
     )
 
 
@@ -269,8 +270,24 @@ def jacobian_blocks(
     for each plan, (its diagonal block, rows × its own columns; its coupling block, rows
     × the earlier groups' columns its constraints touch, or None; those columns).  Each
     constraint is evaluated once, by the system's evaluation plan; the blocks are views
-    of one buffer."""
-    return jacobian_blocks_all(system.sets, system.layout, link_poses(system, q))
+    of one buffer.  The ground's block is kept with the poses (:func:`ground_jacobian`)."""
+    pe = link_poses(system, q)
+    blocks, ground = jacobian_blocks_all(system.sets, system.layout, pe)
+    system.memo["ground_jacobian"] = (pe, ground)
+    return blocks
+
+
+def ground_jacobian(system: System, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The rows of Φ (of the joints jointed to the ground, in order) and Φ_q there over
+    the ground's three columns, ``(..., rows, 3)``: kept from :func:`jacobian_blocks` at
+    the same state (its poses), else evaluated."""
+    pe = link_poses(system, q)
+    rows = system.layout.ground_rows
+    hit = system.memo.get("ground_jacobian")
+    if hit is not None and hit[0] is pe and hit[1] is not None:
+        return rows, hit[1]
+    touching = [k for k in range(len(system.model.joints)) if len(system.links) in system.ends[k]]
+    return rows, jacobian(system, q, touching, np.arange(-3, 0), ground=True, pe=pe)
 
 
 def link_pair(system: System, x: np.ndarray, k: int) -> tuple[np.ndarray, np.ndarray]:
