@@ -237,6 +237,12 @@ def test_block_solves_match_a_dense_solve():
         np.linalg.solve(np.swapaxes(jac, -1, -2), rhs[..., None])[..., 0],
         atol=1e-12,
     )
+    many = RNG.normal(size=(50, 9, 4))  # four right-hand sides at once
+    np.testing.assert_allclose(
+        lu.solve_transposed_many(many),
+        np.linalg.solve(np.swapaxes(jac, -1, -2), many),
+        atol=1e-12,
+    )
 
 
 @pytest.mark.parametrize("name", ["slider_crank", "slotting_machine"])
@@ -279,3 +285,9 @@ def test_products_by_the_blocks_equal_the_dense_transpose(name):
         lu.product_transposed(y), want, rtol=0, atol=1e-13 * np.abs(want).max()
     )
     np.testing.assert_array_equal(lu.transposed_at(7), dense[7].T)
+    # Φ_qᵀ Y = R for several right-hand sides (the friction efforts' columns), by the blocks
+    r = RNG.normal(size=q.shape[:-1] + (dense.shape[-1], 3))
+    want = np.linalg.solve(np.swapaxes(dense, -1, -2), r)
+    np.testing.assert_allclose(
+        lu.solve_transposed_many(r), want, rtol=0, atol=1e-11 * np.abs(want).max()
+    )

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["sorted_distinct"]
+__all__ = ["sorted_distinct", "max_abs_last"]
 
 
 def sorted_distinct(values) -> np.ndarray:
@@ -12,3 +12,14 @@ def sorted_distinct(values) -> np.ndarray:
     import of ``numpy.ma`` (~7 ms at the first call, on every ``kinetostatics run``)."""
     v = np.sort(np.asarray(values, dtype=float).ravel())
     return v[np.append(True, v[1:] != v[:-1])] if v.size else v
+
+
+def max_abs_last(a: np.ndarray) -> np.ndarray:
+    """The largest |entry| along the last axis, ``(...)`` (NaN where one is NaN), as
+    ``np.max(np.abs(a), axis=-1)`` gives it: NumPy reduces a short last axis one row at a
+    time (~40 ns per entry); along a copy with that axis first it runs ~10–20× faster."""
+    a = np.abs(a)
+    m = a.shape[-1] if a.ndim else 0
+    if a.ndim < 2 or m == 0:
+        return np.max(a, axis=-1)
+    return np.ascontiguousarray(a.reshape(-1, m).T).max(axis=0).reshape(a.shape[:-1])

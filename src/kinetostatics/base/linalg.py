@@ -356,11 +356,11 @@ class BlockFactor:
         out[..., [int(np.flatnonzero(own == c)[0]) for c in cols[at]]] = lower[..., at]
         return out
 
-    def solve_transposed(self, rhs: np.ndarray) -> np.ndarray:
-        """y with Φ_qᵀ y = rhs (back substitution over the groups, through the coupling
-        blocks that exist)."""
-        n_g = len(self.blocks)
-        if self._upper is None:  # each group's columns × the later rows that touch them
+    def _upper_parts(self) -> list[tuple[np.ndarray, np.ndarray | None]]:
+        """Per group, the last first: the later rows that touch its columns, and Φ_qᵀ's
+        block of its columns × those rows (None for none)."""
+        if self._upper is None:
+            n_g = len(self.blocks)
             self._upper = []
             for g in reversed(range(n_g)):
                 parts = [(h, self._coupling(g, h)) for h in reversed(range(g + 1, n_g))]
@@ -370,13 +370,31 @@ class BlockFactor:
                     later = np.concatenate([self.blocks[h][0] for h, _ in parts])
                     upper = np.swapaxes(np.concatenate([c for _, c in parts], axis=-2), -1, -2)
                 self._upper.append((later, upper))
+        return self._upper
+
+    def solve_transposed(self, rhs: np.ndarray) -> np.ndarray:
+        """y with Φ_qᵀ y = rhs (back substitution over the groups, through the coupling
+        blocks that exist)."""
         n_rows = sum(len(rows) for rows, _ in self.blocks)
         y = np.zeros(rhs.shape[:-1] + (n_rows,))
         for (rows, cols), inv, (later, upper) in zip(
-            reversed(self.blocks), reversed(self.inv), self._upper
+            reversed(self.blocks), reversed(self.inv), self._upper_parts()
         ):
             r = rhs[..., cols]
             if upper is not None:
                 r = r - np.einsum("...ij,...j->...i", upper, y[..., later])
             y[..., rows] = np.einsum("...ji,...j->...i", inv, r)
+        return y
+
+    def solve_transposed_many(self, rhs: np.ndarray) -> np.ndarray:
+        """Y with Φ_qᵀ Y = rhs for ``rhs (..., n, k)`` (k right-hand sides at once)."""
+        n_rows = sum(len(rows) for rows, _ in self.blocks)
+        y = np.zeros(rhs.shape[:-2] + (n_rows, rhs.shape[-1]))
+        for (rows, cols), inv, (later, upper) in zip(
+            reversed(self.blocks), reversed(self.inv), self._upper_parts()
+        ):
+            r = rhs[..., cols, :]
+            if upper is not None:
+                r = r - upper @ y[..., later, :]
+            y[..., rows, :] = np.swapaxes(inv, -1, -2) @ r
         return y

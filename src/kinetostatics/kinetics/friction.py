@@ -11,11 +11,11 @@ force it is ``g e`` with g the coordinate gradient, so equilibrium reads
 (a) *approximate*: e from the frictionless x₀, then one solve.
 (b) *consistent*: the solution of the nonlinear equation on the branch
 connected to x₀ by the homotopy μ → σμ, σ: 0 → 1.  A fixed-point iteration
-from x₀ (A factorised once per position — the kinematic block factors
-when A = Φ_qᵀ — only the right-hand side changes) is accepted where it converges
-(status 0); elsewhere the homotopy is run with Newton at each σ (status 1).  A fold
-of the branch (sign change of det J) or divergence before σ = 1 is self-locking
-(status 2, NaN values).
+from x₀, x ← x₀ + Σ e_k(x) A⁻¹(−g_k) (the n_f columns solved once per position, by
+the kinematic block factors when A = Φ_qᵀ; an iteration evaluates the efforts only),
+is accepted where it converges (status 0); elsewhere the homotopy is run with Newton
+at each σ (status 1).  A fold of the branch (sign change of det J) or divergence before
+σ = 1 is self-locking (status 2, NaN values).
 """
 
 from __future__ import annotations
@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..base.arrays import max_abs_last
 from ..base.linalg import BlockFactor
 from ..structure.system import System, coordinate_gradient
 
@@ -139,7 +140,14 @@ def consistent(
     """The consistent solution on the branch connected to x₀ (see module docs).  ``a``: A,
     dense, or the kinematic factors where A = Φ_qᵀ (its products by the blocks)."""
     x = x0.copy()
-    scale = np.maximum(np.max(np.abs(x0), axis=-1), 1e-300)
+    scale = np.maximum(max_abs_last(x0), 1e-300)
+    # A x = −Q − Σ g_k e_k is linear in the efforts: x = x₀ + Σ e_k A⁻¹(−g_k), with the
+    # n_f columns A⁻¹(−g_k) solved once; an iteration then evaluates the efforts only
+    with np.errstate(all="ignore"):
+        if isinstance(a, BlockFactor):
+            per_effort = a.solve_transposed_many(-np.swapaxes(fs.grad, -1, -2))
+        else:
+            per_effort = np.moveaxis(solve_a(np.moveaxis(-fs.grad, -2, 0)), 0, -1)
     it = np.zeros(x.shape[:-1], dtype=int)
     converged = np.zeros(x.shape[:-1], dtype=bool)
     live = np.ones(x.shape[:-1], dtype=bool)
@@ -147,8 +155,8 @@ def consistent(
         for _ in range(FIXED_POINT_ITER):
             if not live.any():
                 break
-            xn = solve_a(-q_load - _generalized(fs, efforts(system, fs, x)))
-            step = np.max(np.abs(xn - x), axis=-1) / scale
+            xn = x0 + np.einsum("...nk,...k->...n", per_effort, efforts(system, fs, x))
+            step = max_abs_last(xn - x) / scale
             x = np.where(live[..., None], xn, x)
             it += live
             converged |= live & (step <= TOL)
