@@ -291,3 +291,55 @@ def test_expression_error_is_value_error():
     err = ExpressionError("x")
     assert isinstance(err, ValueError)
     assert err.name is None
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "120",
+        "-0",
+        "-0.0",
+        "+.5",
+        " 7 ",
+        "1_000",
+        "1e-3",
+        "-2.5e2",
+        "1e999",
+        "0x10",
+        "True",
+        "a",
+        " a ",
+        "pi",
+        "e",
+        "tau",
+        "sin",
+        "undefined_one",
+        "-a",
+        "a*2",
+        "nan",
+        "inf",
+        "",
+    ],
+)
+def test_short_cuts_give_what_the_whole_evaluation_gives(text):
+    """A lone number or name is evaluated without walking its tree (most numbers of a
+    file): the same value, or the same error, as the tree walk gives."""
+    from kinetostatics.base import expressions as ex
+
+    env = {"a": 2.5, "pi": 3.0}  # a parameter may shadow a constant
+
+    def outcome(f):
+        try:
+            return ("value", f())
+        except ExpressionError as exc:
+            return ("error", str(exc))
+
+    def walked():
+        tree = ex._parse(text)
+        ex._names_of(text)
+        return ex._eval_node(tree, env)
+
+    got, want = outcome(lambda: evaluate(text, env)), outcome(walked)
+    assert got == want
+    if got[0] == "value":
+        assert math.copysign(1.0, got[1]) == math.copysign(1.0, want[1])  # -0 stays -0

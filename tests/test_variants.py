@@ -68,6 +68,15 @@ def test_a_variant_that_breaks_the_file_is_a_model_error_at_its_key():
         tpl.model({"G3": -1})
 
 
+@pytest.mark.parametrize("value", [math.nan, math.inf, -math.inf])
+def test_a_variant_value_that_is_not_finite_is_named_at_its_parameter(value):
+    tpl = Template.load(MECH / "slotting_machine.yaml")
+    with pytest.raises(
+        ModelError, match=r"slotting_machine.yaml:\d+:\d+: parameters\.K: number is not finite"
+    ):
+        tpl.model({"K": value})
+
+
 def test_stack_keeps_equal_numbers_and_stacks_the_others():
     tpl = Template.load(MECH / "slotting_machine.yaml")
     a, b = tpl.model({"K": 1.6}), tpl.model({"K": 2.0})

@@ -192,6 +192,8 @@ def _suggest(word: str, candidates: Iterable[str]) -> str:
 
 def _to_float(value: object) -> float:
     """Convert a literal number to a finite float, refusing bools and complex numbers."""
+    if type(value) is float and math.isfinite(value):  # the usual case, without the ABC
+        return value
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise ExpressionError(f"expected a number or expression, got {type(value).__name__}")
     try:
@@ -453,9 +455,35 @@ def evaluate(text: str | int | float, env: Mapping[str, float]) -> float:
     """
     if not isinstance(text, str):
         return _to_float(text)
+    kind, value = _shape(text)
+    if kind is _NUMBER:
+        return value
+    if kind is _NAME and value in env:
+        return _to_float(env[value])
     tree = _parse(text)
     _names_of(text)  # refuses a function used as a variable
     return _eval_node(tree, env)
+
+
+_NUMBER, _NAME, _OTHER = "number", "name", "other"
+
+
+@functools.lru_cache(maxsize=4096)
+def _shape(text: str) -> tuple[str, object]:
+    """What an expression is, for :func:`evaluate`'s short cuts (most numbers of a file are
+    written as numbers): a number, with its value as the evaluation gives it; one
+    variable's name; or anything else (an error included: the evaluation reports it)."""
+    try:
+        body = _parse(text).body
+        if isinstance(body, ast.Name):
+            return (_NAME, body.id) if _names_of(text) else (_OTHER, None)
+        if isinstance(body, ast.Constant) or (
+            isinstance(body, ast.UnaryOp) and isinstance(body.operand, ast.Constant)
+        ):
+            return _NUMBER, _eval_node(body, {})
+    except ExpressionError:
+        pass
+    return _OTHER, None
 
 
 def _check_parameter_name(name: object) -> str:

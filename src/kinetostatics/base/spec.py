@@ -117,26 +117,45 @@ class Entry:
         return [key for key, _, _ in self._pairs()]
 
     def _child(self, key: str | int, node: yaml.Node) -> Entry:
-        cache = self.node.__dict__.setdefault("_ks_where", {})
-        where = cache.get((self.where, key))
-        if where is None:
+        return Entry(node, self._where_of(key, node, "_ks_where"), self.ctx)
+
+    def _where_of(self, key: str | int, node: yaml.Node | None, kind: str) -> Location:
+        """The location of ``node`` (a key's value, or with ``kind="_ks_key"`` the key
+        itself; None: absent) below this entry, kept on the node for the next variant.
+        Kept by the parent location's identity: a tree is re-read with the same
+        locations, and a node reached through an alias has other ones."""
+        cache = self.node.__dict__.get(kind)
+        if cache is None:
+            cache = self.node.__dict__[kind] = {}
+        hit = cache.get((id(self.where), key))
+        if hit is not None and hit[0] is self.where:
+            return hit[1]
+        if node is None:
+            where = self.where.child(key)
+        else:
             m = node.start_mark
-            where = cache[(self.where, key)] = self.where.child(key, m.line + 1, m.column + 1)
-        return Entry(node, where, self.ctx)
+            where = self.where.child(key, m.line + 1, m.column + 1)
+        cache[(id(self.where), key)] = (self.where, where)  # holds the parent: its id stays
+        return where
+
+    def _index(self) -> dict[str, tuple[yaml.Node, yaml.Node]]:
+        """Key -> (key node, value node) of a mapping (its first, as ``_pairs`` runs)."""
+        index = self.node.__dict__.get("_ks_index")
+        if index is None:
+            index = {}
+            for k, knode, v in self._pairs():
+                index.setdefault(k, (knode, v))
+            self.node._ks_index = index
+        return index
 
     def key_where(self, key: str) -> Location:
         """The location of ``key`` itself (not of its value)."""
-        for k, knode, _ in self._pairs():
-            if k == key:
-                m = knode.start_mark
-                return self.where.child(key, m.line + 1, m.column + 1)
-        return self.where.child(key)
+        found = self._index().get(key) if self.is_mapping else None
+        return self._where_of(key, None if found is None else found[0], "_ks_key")
 
     def get(self, key: str) -> Entry | None:
-        for k, _, v in self._pairs():
-            if k == key:
-                return self._child(k, v)
-        return None
+        found = self._index().get(key) if self.is_mapping else None
+        return None if found is None else self._child(key, found[1])
 
     def __getitem__(self, key: str) -> Entry:
         entry = self.get(key)
@@ -156,9 +175,12 @@ class Entry:
 
     def check_keys(self, required: Iterable[str] = (), optional: Iterable[str] = ()) -> bool:
         """Report unknown keys (with a suggestion) and missing required keys."""
+        required, optional = tuple(required), tuple(optional)
+        passed = self.node.__dict__.get("_ks_checked")
+        if passed is not None and (required, optional) in passed:
+            return True  # the keys are the node's own: a tree re-read passes again
         if not self.mapping():
             return False
-        required, optional = tuple(required), tuple(optional)
         allowed = (
             optional
             if set(required) <= set(optional)
@@ -179,6 +201,8 @@ class Entry:
             if key not in present:
                 self.error(f"missing required key '{key}'")
                 ok = False
+        if ok:
+            self.node.__dict__.setdefault("_ks_checked", set()).add((required, optional))
         return ok
 
     def check(self, keys: Keys) -> bool:

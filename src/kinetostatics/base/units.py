@@ -134,6 +134,8 @@ def _normalise(unit: str) -> str:
     return text
 
 
+_ANGULAR_NORMALISED = frozenset(_normalise(u) for u in _ANGULAR_SPEEDS)
+
 _NORMALISED: dict[str, dict[str, float]] = {
     kind: {_normalise(u): f for u, f in units.items()} for kind, units in UNITS.items()
 }
@@ -203,8 +205,7 @@ def is_angular_speed(unit: str) -> bool:
         If ``unit`` is not a known speed unit.
     """
     factor("speed", unit)
-    normalised = _normalise(unit)
-    return normalised in {_normalise(u) for u in _ANGULAR_SPEEDS}
+    return _normalise(unit) in _ANGULAR_NORMALISED
 
 
 def unit_table(spec: Mapping[str, str] | None) -> dict[str, float]:

@@ -71,8 +71,8 @@ class ParameterSections:
                 except expressions.ExpressionError as exc:
                     e.error(expression_message(exc))
                 else:
-                    if key in overrides:
-                        pending[key] = (e, repr(float(overrides[key])), [])
+                    if key in overrides:  # a number: evaluated as such, nothing to parse
+                        pending[key] = (e, float(overrides[key]), [])
                         continue
                     pending[key] = (e, e.node.value, [n for n in used if n in declared])
                     undefined = [
