@@ -140,6 +140,30 @@ def test_a_stack_gives_each_joints_own_numbers(kind):
             np.testing.assert_array_equal(a[:, k], b)
 
 
+@pytest.mark.parametrize("kind", sorted(SAMPLES))
+def test_a_friction_stack_gives_each_joints_own_magnitude(kind):
+    """``Joint.stack_friction``: the joints of a type stacked on a last axis give, for
+    reactions stacked on an axis before the last, each joint's own friction magnitude to
+    the bit (the friction solutions evaluate a type's efforts in one call; None: one by
+    one)."""
+    cls = JOINT_TYPES[kind]
+    if cls.stack_friction(SAMPLES[kind] * 2) is None:
+        pytest.skip(f"{kind} friction efforts are evaluated one by one")
+    # with every real number moved: a field friction_magnitude reads but the stack does
+    # not stack would give the first joint's value
+    joints = SAMPLES[kind] + [_moved(j) for j in SAMPLES[kind]]
+    stacked = cls.stack_friction(joints)
+    k = len(joints)
+    lam = RNG.normal(size=(2, 4, k, joints[0].n_eq)) * 100.0
+    q = RNG.normal(size=(2, 2, 4, k, 3)) * [0.3, 0.3, 2.0]
+    got = stacked.friction_magnitude(lam, q[0], q[1])
+    assert got.shape == (2, 4, k)
+    for m, joint in enumerate(joints):
+        own = joint.friction_magnitude(lam[..., m, :], q[0][..., m, :], q[1][..., m, :])
+        np.testing.assert_array_equal(got[..., m], own)
+    assert np.all(np.any(got != 0.0, axis=(0, 1))[len(SAMPLES[kind]) :])  # moved: friction
+
+
 @pytest.mark.parametrize("joint", JOINTS, ids=IDS)
 def test_jacobian_matches_central_differences(joint):
     qi, qj, _, _ = _states()

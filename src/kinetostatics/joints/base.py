@@ -257,6 +257,24 @@ class Joint(ABC):
         fields |= {f: stack_scalars([getattr(j, f) for j in joints]) for f in cls.stacked_scalars}
         return replace(joints[0], name="+".join(j.name for j in joints), **fields)
 
+    # the fields ``friction_magnitude`` reads, stacked by ``stack_friction``; none: one by one
+    friction_scalars: ClassVar[tuple[str, ...]] = ()
+
+    @classmethod
+    def stack_friction(cls, joints: Sequence[Joint]) -> Joint | None:
+        """One joint of this type standing for ``joints`` in ``friction_magnitude``, or
+        None: each is evaluated on its own (a type that declares no ``friction_scalars``).
+
+        Its ``friction_scalars`` are the joints' own on a new last axis (:func:`stack_scalars`,
+        ``(..., k)``); they must be every field ``friction_magnitude`` reads, so that for
+        reactions ``(..., k, n_eq)`` and poses ``(..., k, 5)`` it gives the k joints'
+        magnitudes ``(..., k)``, each equal to the joint's own to the bit.  The friction
+        solutions evaluate all a type's efforts in one call so (``kinetics/friction.py``)."""
+        if not cls.friction_scalars:
+            return None
+        fields = {f: stack_scalars([getattr(j, f) for j in joints]) for f in cls.friction_scalars}
+        return replace(joints[0], name="+".join(j.name for j in joints), **fields)
+
     # -- the relative coordinate (drivers, friction, efforts) ----------------
     @abstractmethod
     def coordinate(self, qi: np.ndarray, qj: np.ndarray) -> np.ndarray:

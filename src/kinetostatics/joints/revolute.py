@@ -43,6 +43,7 @@ class Revolute(Joint, kind="revolute"):
     pin: ClassVar[bool] = True
 
     stacked_vectors: ClassVar[tuple[str, ...]] = ("p_i", "p_j")
+    friction_scalars: ClassVar[tuple[str, ...]] = ("rho",)
 
     p_i: np.ndarray = None
     p_j: np.ndarray = None

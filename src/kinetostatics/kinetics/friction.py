@@ -76,21 +76,64 @@ def setup(system: System, q: np.ndarray, qd: np.ndarray, ref_speed: float) -> Fr
 
 
 def efforts(system: System, fs: FrictionSetup, x: np.ndarray, scale: float = 1.0) -> np.ndarray:
-    """Signed friction efforts of i on j, ``(..., n_f)``."""
+    """Signed friction efforts of i on j, ``(..., n_f)``: a type's joints in one call where
+    it stacks them (:meth:`~kinetostatics.joints.Joint.stack_friction`), the same numbers."""
     out = np.zeros(x.shape[:-1] + (len(fs.joints),))
-    for n, (k, b) in enumerate(zip(fs.joints, fs.blocks)):
-        j = system.model.joints[k]
-        qi, qj = _link_q(system, fs, k)
-        out[..., n] = -fs.sign[..., n] * scale * j.friction_magnitude(x[..., b], qi, qj)
+    for cols, joint, rows, ks in _effort_sets(system, tuple(fs.joints)):
+        qi, qj = _link_q(system, fs, ks)
+        out[..., cols] = (
+            -fs.sign[..., cols] * scale * joint.friction_magnitude(x[..., rows], qi, qj)
+        )
     return out
 
 
-def _link_q(system: System, fs: FrictionSetup, k: int):
-    if k not in fs.pairs:
+def _effort_sets(system: System, joints: tuple[int, ...]) -> list[tuple]:
+    """The calls of :func:`efforts`, worked out once per system: (the efforts' columns,
+    the joint or the stack of a type's joints, their rows of λ, the joints' indices) —
+    one column, the joint's rows (a slice) and one index when alone; ``(k,)``, ``(k,
+    n_eq)`` and k indices for a stack."""
+    key = ("friction_sets", joints)
+    sets = system.memo.get(key)
+    if sets is None:
+        by_type: dict[type, list[int]] = {}
+        for n, k in enumerate(joints):
+            by_type.setdefault(type(system.model.joints[k]), []).append(n)
+        sets = []
+        for kind, ns in by_type.items():
+            members = [system.model.joints[joints[n]] for n in ns]
+            stack = kind.stack_friction(members) if len(ns) > 1 else None
+            if stack is None:
+                sets += [
+                    (n, j, system.rows_of(joints[n]), (joints[n],)) for n, j in zip(ns, members)
+                ]
+                continue
+            rows = np.array(
+                [
+                    np.arange(system.row_start[joints[n]], system.row_start[joints[n] + 1])
+                    for n in ns
+                ]
+            )
+            sets.append((np.array(ns), stack, rows, tuple(joints[n] for n in ns)))
+        system.memo[key] = sets
+    return sets
+
+
+def _link_q(system: System, fs: FrictionSetup, ks: tuple[int, ...]):
+    """The two links' poses ``(..., 3)`` of joint ``ks[0]``, or ``(..., k, 3)`` of the k
+    joints ``ks`` of a stack (ground as zeros)."""
+    if ks not in fs.pairs:
         qe = np.concatenate((fs.q, np.zeros(fs.q.shape[:-1] + (3,))), axis=-1)
-        i, j = system.ends[k]
-        fs.pairs[k] = qe[..., 3 * i : 3 * i + 3], qe[..., 3 * j : 3 * j + 3]
-    return fs.pairs[k]
+        pairs = [_pair(qe, system.ends[k]) for k in ks]
+        if len(ks) == 1:
+            fs.pairs[ks] = pairs[0]
+        else:
+            fs.pairs[ks] = tuple(np.stack(side, axis=-2) for side in zip(*pairs))
+    return fs.pairs[ks]
+
+
+def _pair(qe: np.ndarray, ends) -> tuple[np.ndarray, np.ndarray]:
+    i, j = ends
+    return qe[..., 3 * i : 3 * i + 3], qe[..., 3 * j : 3 * j + 3]
 
 
 def _generalized(fs: FrictionSetup, e: np.ndarray) -> np.ndarray:
@@ -104,7 +147,7 @@ def _jacobian(
     jac = a.copy()
     for n, (k, b) in enumerate(zip(fs.joints, fs.blocks)):
         j = system.model.joints[k]
-        qi, qj = _link_q(system, fs, k)
+        qi, qj = _link_q(system, fs, (k,))
         de = -fs.sign[..., n, None] * scale * j.friction_gradient(x[..., b], qi, qj)
         jac[..., :, b] += fs.grad[..., n, :, None] * de[..., None, :]
     return jac
