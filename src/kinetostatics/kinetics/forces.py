@@ -30,16 +30,26 @@ __all__ = [
 def mass_vector(system: System) -> np.ndarray:
     """Diagonal of the mass matrix, ``(n_q,)``: m, m, J per moving link
     (``(V, 1, n_q)`` for stacked variants)."""
-    model = system.model
-    values = [v for n in system.links for v in (model.link(n).mass,) * 2 + (model.link(n).inertia,)]
-    return np.stack(np.broadcast_arrays(*values), axis=-1).astype(float)
+    hit = system.memo.get("mass_vector")  # the system's own numbers: once per system
+    if hit is None:
+        model = system.model
+        values = [
+            v for n in system.links for v in (model.link(n).mass,) * 2 + (model.link(n).inertia,)
+        ]
+        hit = np.stack(np.broadcast_arrays(*values), axis=-1).astype(float)
+        hit.flags.writeable = False
+        system.memo["mass_vector"] = hit
+    return hit
 
 
 def gravity_forces(system: System, shape: tuple[int, ...]) -> np.ndarray:
     """m g on each link's CoM, ``shape + (n_q,)``."""
-    m = mass_vector(system)
-    g = np.tile(np.append(system.model.gravity, 0.0), len(system.links))
-    return np.broadcast_to(m * g, shape + (system.n_q,))
+    weights = system.memo.get("weights")
+    if weights is None:
+        g = np.tile(np.append(system.model.gravity, 0.0), len(system.links))
+        weights = system.memo["weights"] = mass_vector(system) * g
+        weights.flags.writeable = False
+    return np.broadcast_to(weights, shape + (system.n_q,))
 
 
 def inertia_forces(system: System, qdd: np.ndarray) -> np.ndarray:
