@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["sorted_distinct", "max_abs_last"]
+__all__ = ["sorted_distinct", "max_abs_last", "entries_first", "entries_last"]
 
 
 def sorted_distinct(values) -> np.ndarray:
@@ -23,3 +23,16 @@ def max_abs_last(a: np.ndarray) -> np.ndarray:
     if a.ndim < 2 or m == 0:
         return np.max(a, axis=-1)
     return np.ascontiguousarray(a.reshape(-1, m).T).max(axis=0).reshape(a.shape[:-1])
+
+
+def entries_first(a: np.ndarray, d: int = 2) -> np.ndarray:
+    """``a (..., e1 … ed)`` as a view ``(e1 … ed, ...)``: its last ``d`` axes (a matrix's
+    entries) first, the positions after them (``np.moveaxis`` without its Python calls)."""
+    n = a.ndim
+    return a.transpose(tuple(range(n - d, n)) + tuple(range(n - d)))
+
+
+def entries_last(a: np.ndarray, d: int = 2) -> np.ndarray:
+    """The inverse of :func:`entries_first`: ``(e1 … ed, ...)`` as a view ``(..., e1 … ed)``."""
+    n = a.ndim
+    return a.transpose(tuple(range(d, n)) + tuple(range(d)))

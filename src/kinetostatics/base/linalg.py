@@ -22,34 +22,37 @@ import math
 
 import numpy as np
 
+from .arrays import entries_first, entries_last
+
 __all__ = ["BlockFactor", "small_inverse"]
 
 
 def _adjugate(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(adjugate, determinant) of a stack of 1×1, 2×2 or 3×3 matrices."""
+    """(adjugate ``(n, n, ...)``, entry-major, determinant ``(...)``) of a stack of 1×1,
+    2×2 or 3×3 matrices ``a (..., n, n)``."""
     n = a.shape[-1]
-    adj = np.empty(a.shape)
+    adj = np.empty((n, n) + a.shape[:-2])
     if n == 1:
-        adj[..., 0, 0] = 1.0
+        adj[0, 0] = 1.0
         return adj, a[..., 0, 0].copy()
     if n == 2:
         (a00, a01), (a10, a11) = [[a[..., i, j] for j in range(2)] for i in range(2)]
-        adj[..., 0, 0], adj[..., 0, 1] = a11, -a01
-        adj[..., 1, 0], adj[..., 1, 1] = -a10, a00
+        adj[0, 0], adj[0, 1] = a11, -a01
+        adj[1, 0], adj[1, 1] = -a10, a00
         return adj, a00 * a11 - a01 * a10
     (a00, a01, a02), (a10, a11, a12), (a20, a21, a22) = [
         [a[..., i, j] for j in range(3)] for i in range(3)
     ]
-    adj[..., 0, 0] = a11 * a22 - a12 * a21
-    adj[..., 0, 1] = a02 * a21 - a01 * a22
-    adj[..., 0, 2] = a01 * a12 - a02 * a11
-    adj[..., 1, 0] = a12 * a20 - a10 * a22
-    adj[..., 1, 1] = a00 * a22 - a02 * a20
-    adj[..., 1, 2] = a02 * a10 - a00 * a12
-    adj[..., 2, 0] = a10 * a21 - a11 * a20
-    adj[..., 2, 1] = a01 * a20 - a00 * a21
-    adj[..., 2, 2] = a00 * a11 - a01 * a10
-    return adj, a00 * adj[..., 0, 0] + a01 * adj[..., 1, 0] + a02 * adj[..., 2, 0]
+    adj[0, 0] = a11 * a22 - a12 * a21
+    adj[0, 1] = a02 * a21 - a01 * a22
+    adj[0, 2] = a01 * a12 - a02 * a11
+    adj[1, 0] = a12 * a20 - a10 * a22
+    adj[1, 1] = a00 * a22 - a02 * a20
+    adj[1, 2] = a02 * a10 - a00 * a12
+    adj[2, 0] = a10 * a21 - a11 * a20
+    adj[2, 1] = a01 * a20 - a00 * a21
+    adj[2, 2] = a00 * a11 - a01 * a10
+    return adj, a00 * adj[0, 0] + a01 * adj[1, 0] + a02 * adj[2, 0]
 
 
 def _lapack_inverse(a: np.ndarray) -> np.ndarray:
@@ -192,21 +195,21 @@ def _run(plan: _Plan, m: np.ndarray) -> tuple[list, np.ndarray]:
 
 
 def _sparse_gauss_jordan(m: np.ndarray, plan: _Plan) -> np.ndarray:
-    """Inverses ``(N, n, n)`` of the matrices whose entries are ``m (n, n, N)``, by
+    """Inverses, entry-major ``(n, n, N)``, of the matrices whose entries are ``m (n, n, N)``, by
     :class:`_Plan`; a matrix failing the pivot check is inverted by LAPACK instead."""
     n, count = m.shape[0], m.shape[-1]
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         v, worst = _run(plan, m)
-    out = np.zeros((count, n * n))
+    entries = np.zeros((n * n, count))
     for s, k, negate in plan.stores:
         if negate:
-            np.negative(v[s], out=out[:, k])
+            np.negative(v[s], out=entries[k])
         else:
-            out[:, k] = v[s]
-    out = out.reshape(count, n, n)
+            entries[k] = v[s]
+    out = entries.reshape(n, n, count)
     bad = ~(worst <= 1.0 / PIVOT_RATIO)
     if bad.any():
-        out[bad] = _lapack_inverse(np.moveaxis(m[:, :, bad], -1, 0))
+        out[:, :, bad] = entries_first(_lapack_inverse(entries_last(m[:, :, bad])))
     return out
 
 
@@ -240,8 +243,10 @@ def small_inverse(a: np.ndarray) -> np.ndarray:
     matrices, or a pattern with so many operations that LAPACK costs less
     (:func:`_sparse_pays`), go to ``np.linalg.inv`` directly.  An exactly singular
     matrix (finite entries, zero determinant) gets its pseudo-inverse; a matrix with a
-    NaN entry gives NaN entries.  The result is C-contiguous, each matrix contiguous
-    (the solves' products run ~10× faster than on a strided view).
+    NaN entry gives NaN entries.  The result is a view ``(..., n, n)`` of entry-major
+    storage, each entry contiguous over the positions as the blocks are (the adjugate and
+    the elimination write it so; LAPACK's stays C-ordered): the solves' products run ~2×
+    faster on it than on C-ordered matrices at 360 and at 36,000 positions.
     """
     a = np.asarray(a, dtype=float)
     n = a.shape[-1]
@@ -249,14 +254,14 @@ def small_inverse(a: np.ndarray) -> np.ndarray:
         count = math.prod(a.shape[:-2])
         if count < SPARSE_FROM:
             return _lapack_inverse(a)
-        m = np.moveaxis(a, (-2, -1), (0, 1)).reshape(n, n, count)  # a view for the
+        m = entries_first(a).reshape(n, n, count)  # a view for the
         plan = _plan(np.any(m != 0, axis=-1), _first_pivots(m[:, :, 0]))  # blocks as built
         if not plan.feasible or not _sparse_pays(n, count, plan):
             return _lapack_inverse(a)
-        return _sparse_gauss_jordan(m, plan).reshape(a.shape)
+        return entries_last(_sparse_gauss_jordan(m, plan).reshape((n, n) + a.shape[:-2]))
     adj, det = _adjugate(a)
     with np.errstate(divide="ignore", invalid="ignore"):
-        inv = adj / det[..., None, None]
+        inv = entries_last(adj / det)
     singular = (det == 0) & np.all(np.isfinite(a), axis=(-2, -1))
     if singular.any():
         inv[singular] = np.linalg.pinv(a[singular])

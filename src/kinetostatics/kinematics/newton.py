@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..base.arrays import entries_first
 from ..structure.system import GroupPlan, System, jacobian, phi
 
 __all__ = [
@@ -55,17 +56,21 @@ def condition_number(
 
     It bounds the 2-norm condition number from above by at most the block size.
     """
-    l_ref = np.asarray(system.l_ref)[..., None]  # (V, 1, 1) for stacked variants
-    col = np.where(np.arange(len(plan.cols)) % 3 == 2, 1.0, l_ref)  # as _scales, in place
-    s = jac * col[..., None, :]
-    norm = np.max(np.abs(s), axis=-1)
+    # entry-major views (k, k, ...): every operation runs along the positions (the blocks
+    # are stored so; a trailing axis of k under a broadcast would run k entries per loop)
+    j_t, inv_t = entries_first(jac), entries_first(inv)
+    l_ref = np.asarray(system.l_ref)
+    ang = (np.arange(len(plan.cols)) % 3 == 2).reshape((-1,) + (1,) * (j_t.ndim - 2))
+    col = np.where(ang, 1.0, l_ref[..., None] if l_ref.ndim else l_ref)  # as _scales
+    s = j_t * col
+    norm = np.max(np.abs(s), axis=1)
     row = 1.0 / np.where(norm > 0, norm, 1.0)
-    s *= row[..., None]
-    s_inv = inv / col[..., :, None]
-    s_inv /= row[..., None, :]
+    s *= row[:, None]
+    s_inv = inv_t / col[:, None]
+    s_inv /= row
     with np.errstate(over="ignore", invalid="ignore"):
-        c = np.sqrt(np.einsum("...ij,...ij->...", s, s)) * np.sqrt(
-            np.einsum("...ij,...ij->...", s_inv, s_inv)
+        c = np.sqrt(np.einsum("ij...,ij...->...", s, s)) * np.sqrt(
+            np.einsum("ij...,ij...->...", s_inv, s_inv)
         )  # each norm on its own: their product overflows only past the largest float
     return np.where(np.isfinite(c), c, np.inf)
 

@@ -17,6 +17,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..base.arrays import entries_first
+
 __all__ = [
     "ConstraintSet",
     "BlockLayout",
@@ -242,8 +244,8 @@ def jacobian_blocks_all(
     for n, m, _, c, pair, _, _ in _units(sets, pe):
         to_i, to_j = layout.dest[n] if m is None else (d[m] for d in layout.dest[n])
         ji, jj = c.jacobian(*pair)
-        buf[to_i] = _entries_first(ji, to_i.ndim) + 0.0
-        buf[to_j] += _entries_first(jj, to_j.ndim)
+        buf[to_i] = entries_first(ji, to_i.ndim) + 0.0
+        buf[to_j] += entries_first(jj, to_j.ndim)
 
     back = tuple(range(2, 2 + len(lead))) + (0, 1)  # (r, c, ...) -> (..., r, c)
 
@@ -262,9 +264,3 @@ def jacobian_blocks_all(
         for d, lo, cols in zip(layout.diag, layout.lower, layout.lower_cols)
     ]
     return blocks, ground
-
-
-def _entries_first(a: np.ndarray, d: int) -> np.ndarray:
-    """``a (..., e1 … ed)`` as a view ``(e1 … ed, ...)``."""
-    n = a.ndim
-    return a.transpose(tuple(range(n - d, n)) + tuple(range(n - d)))
