@@ -109,16 +109,37 @@ def test_vectorised_rows_equal_single_runs(name):
 
 
 def test_vectorised_path_is_taken_for_the_slotting_machine(monkeypatch):
-    from kinetostatics import analysis
+    """No variant is analysed on its own: the one-by-one path takes over silently when the
+    vectorised one raises, so only this count shows that the vectorised one ran."""
+    from kinetostatics.analysis import pipeline
 
     calls = []
-    real = analysis.analyze
-    monkeypatch.setattr(analysis, "analyze", lambda *a, **k: calls.append(1) or real(*a, **k))
+    real = pipeline.analyze  # where analyze_variants takes it from, at its call
+    monkeypatch.setattr(pipeline, "analyze", lambda *a, **k: calls.append(1) or real(*a, **k))
     tpl = Template.load(MECH / "slotting_machine.yaml")
     rows = analyze_variants(
         tpl, _perturbed(tpl, np.random.default_rng(1), 5), positions=24, flywheel=False
     )
     assert all(r["status"] == "ok" for r in rows) and not calls
+
+
+def test_stacked_group_conditions_are_each_variants_own():
+    """The condition number of a group over stacked variants (L_ref ``(V, 1)``) against
+    each variant's system alone, at the same positions."""
+    from kinetostatics.kinematics.newton import group_condition
+    from kinetostatics.structure.system import build_system
+
+    tpl = Template.load(MECH / "slotting_machine.yaml")
+    models = [tpl.model({}, positions=12), tpl.model({"K": 1.8, "H": 90.0}, positions=12)]
+    results = [ks.analyze(m, kinematics_only=True) for m in models]
+    stacked = build_system(stack(models))
+    q = np.stack([r.q for r in results])
+    for plan in stacked.plans[1:]:
+        got = group_condition(stacked, q, plan)
+        for v, m in enumerate(models):
+            own = build_system(m)
+            want = group_condition(own, results[v].q, own.plans[stacked.plans.index(plan)])
+            np.testing.assert_allclose(got[v], want, rtol=1e-12)
 
 
 def test_a_variant_that_cannot_assemble_is_a_row_with_its_reason():

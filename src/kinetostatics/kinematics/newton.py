@@ -59,9 +59,8 @@ def condition_number(
     # entry-major views (k, k, ...): every operation runs along the positions (the blocks
     # are stored so; a trailing axis of k under a broadcast would run k entries per loop)
     j_t, inv_t = entries_first(jac), entries_first(inv)
-    l_ref = np.asarray(system.l_ref)
     ang = (np.arange(len(plan.cols)) % 3 == 2).reshape((-1,) + (1,) * (j_t.ndim - 2))
-    col = np.where(ang, 1.0, l_ref[..., None] if l_ref.ndim else l_ref)  # as _scales
+    col = np.where(ang, 1.0, system.l_ref)  # as _scales; L_ref is (V, 1) for stacked variants
     s = j_t * col
     norm = np.max(np.abs(s), axis=1)
     row = 1.0 / np.where(norm > 0, norm, 1.0)
