@@ -26,7 +26,7 @@ import numpy as np
 
 from ..base.arrays import max_abs_last
 from ..base.linalg import BlockFactor
-from ..structure.system import System, coordinate_gradient
+from ..structure.system import System, coordinate_gradients
 
 __all__ = ["FrictionSetup", "setup", "efforts", "approximate", "consistent", "FrictionSolution"]
 
@@ -62,7 +62,7 @@ def setup(system: System, q: np.ndarray, qd: np.ndarray, ref_speed: float) -> Fr
             np.zeros(q.shape[:-1], dtype=bool),
             q,
         )
-    grad = np.stack([coordinate_gradient(system, q, k) for k in joints], axis=-2)
+    grad = coordinate_gradients(system, q, joints)
     speed = np.einsum("...kn,...n->...k", grad, qd)
     ref = np.stack(
         np.broadcast_arrays(

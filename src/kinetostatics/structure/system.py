@@ -42,6 +42,7 @@ __all__ = [
     "gamma",
     "nu",
     "coordinate_gradient",
+    "coordinate_gradients",
     "link_pair",
     "link_poses",
 ]
@@ -298,13 +299,21 @@ def link_pair(system: System, x: np.ndarray, k: int) -> tuple[np.ndarray, np.nda
 
 def coordinate_gradient(system: System, q: np.ndarray, k: int, ground: bool = False) -> np.ndarray:
     """Gradient of constraint ``k``'s joint coordinate over all of q, ``(..., n_q)``."""
-    i, j = system.ends[k]
-    gi, gj = system.constraints[k].motion_direction(
-        *_pose_pair(link_poses(system, q), system.ends[k])
-    )
-    out = np.zeros(q.shape[:-1] + (q.shape[-1] + 3,))
-    out[..., 3 * i : 3 * i + 3] += gi
-    out[..., 3 * j : 3 * j + 3] += gj
+    return coordinate_gradients(system, q, (k,), ground)[..., 0, :]
+
+
+def coordinate_gradients(
+    system: System, q: np.ndarray, ks: Sequence[int], ground: bool = False
+) -> np.ndarray:
+    """The gradients of the constraints ``ks``' joint coordinates over all of q, in one
+    array ``(..., len(ks), n_q)`` (``n_q + 3`` columns with the ground's)."""
+    pe = link_poses(system, q)
+    out = np.zeros(q.shape[:-1] + (len(ks), q.shape[-1] + 3))
+    for n, k in enumerate(ks):
+        i, j = system.ends[k]
+        gi, gj = system.constraints[k].motion_direction(*_pose_pair(pe, system.ends[k]))
+        out[..., n, 3 * i : 3 * i + 3] += gi
+        out[..., n, 3 * j : 3 * j + 3] += gj
     return out if ground else out[..., :-3]
 
 
