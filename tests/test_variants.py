@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import kinetostatics as ks
-from kinetostatics.batch.variants import ROW_UNITS, Template, analyze_variants
+from kinetostatics.batch.variants import ROW_UNITS, Template, analyze_variants, summary_row
 from kinetostatics.errors import ModelError
 from kinetostatics.model.stacking import TopologyMismatch, stack
 
@@ -121,6 +121,31 @@ def test_vectorised_path_is_taken_for_the_slotting_machine(monkeypatch):
         tpl, _perturbed(tpl, np.random.default_rng(1), 5), positions=24, flywheel=False
     )
     assert all(r["status"] == "ok" for r in rows) and not calls
+
+
+def test_variants_off_the_path_leave_the_others_in_one_pass(monkeypatch):
+    """A variant that assembles far from its sketch is taken out of the stacked analysis,
+    which goes on with the others in the same pass; it gets its reason from its own
+    analysis, and the others the rows of theirs."""
+    from kinetostatics.analysis import pipeline, vectorised
+
+    tpl = Template.load(MECH / "slotting_machine.yaml")
+    far = {"K": 2.261, "H": 81.026, "L_O2O3": 135.699, "BC_ratio": 0.909}  # C ~54 mm off
+    variants = [{}, far, {"K": 1.9}, {"H": 95.0}]
+    passes, alone = [], []
+    real_stacked, real_one = vectorised.analyze_stacked, pipeline.analyze
+    monkeypatch.setattr(
+        vectorised, "analyze_stacked", lambda m, **k: passes.append(len(m)) or real_stacked(m, **k)
+    )
+    monkeypatch.setattr(pipeline, "analyze", lambda *a, **k: alone.append(1) or real_one(*a, **k))
+    rows = analyze_variants(tpl, variants, positions=24, flywheel=False)
+    assert passes == [4] and len(alone) == 1
+    assert rows[1]["status"] == "failed" and "sketched position" in rows[1]["reason"]
+    for v in (0, 2, 3):
+        one = summary_row(ks.analyze(tpl.model(variants[v], positions=24)), flywheel=False)
+        for k, x in one.items():
+            if isinstance(x, float) and math.isfinite(x):
+                assert rows[v][k] == pytest.approx(x, rel=1e-11, abs=1e-11), (v, k)
 
 
 def test_stacked_group_conditions_are_each_variants_own():

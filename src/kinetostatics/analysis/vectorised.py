@@ -6,9 +6,10 @@ for many variants at once on a model stacked by
 one constant-speed motion driver over a full cycle, every Assur group with
 a closed form (RRR, RRP, RPR dyads and driven links) that passes no
 singular position, no event rows.  Variants it cannot take — they do not
-assemble at the start, pass a singular position, or the model is
-outside that case — are returned as *left over*, for the per-variant
-analysis, which reports or handles them exactly as a single run would.
+assemble at the start or pass a singular position — are left out of
+``Stacked.members``; when the model is outside that case, :class:`Unsupported` is
+raised.  Either way the per-variant analysis takes them, and reports or handles
+them exactly as a single run would.
 
 Per variant the results are those of a single run to rounding: the same
 functions evaluate the same formulas, only over one more leading axis.
@@ -39,8 +40,10 @@ __all__ = ["analyze_stacked", "Stacked"]
 
 @dataclass
 class Stacked:
-    """The arrays of a stacked analysis; ``ok (V,)`` marks the variants analysed."""
+    """The arrays of a stacked analysis of the variants ``members`` (indices into the models
+    given, in order); ``ok`` marks those whose rows stand (a stroke may still fail)."""
 
+    members: np.ndarray  # (V,) int
     system: System
     t: np.ndarray  # (N,)
     psi: np.ndarray  # (V, N, 1)
@@ -60,11 +63,8 @@ class Unsupported(Exception):
 
 
 class LeftOver(Unsupported):
-    """Some variants do not assemble at the start or leave the closed forms' path;
-    ``ok (V,)`` marks the others.  Raised before the costly stages (derivatives,
-    loads, friction solutions), which a failing variant would only slow down (its
-    NaN rows send the friction solution into its homotopy): analyse the ``ok``
-    variants again on their own, the others one by one."""
+    """Fewer than two variants assemble at the start and stay on the closed forms' path;
+    ``ok (V,)`` marks them: analyse every variant one by one."""
 
     def __init__(self, ok: np.ndarray):
         self.ok = ok
@@ -138,9 +138,16 @@ def _check_supported(sm: Model, friction: bool) -> None:
 def analyze_stacked(
     models: Sequence[Model], *, friction: bool | None = None, stacked: Model | None = None
 ) -> Stacked:
-    """The analysis of every variant at once (see the module's text); ``stacked``:
+    """The analysis of the variants at once (see the module's text); ``stacked``:
     ``stack(models)`` if at hand.  Raises :class:`Unsupported` if the model is
-    outside the vectorised case."""
+    outside the vectorised case.
+
+    The variants that do not assemble at the start or leave the closed forms' path are
+    taken out before the costly stages (derivatives, loads, friction solutions), which
+    they would only slow down (NaN rows send the friction solution into its homotopy):
+    the others go on with their start poses and paths as solved (each variant is solved
+    on its own axis, so these are what they would be alone), on the model stacked
+    without them; ``Stacked.members`` lists the variants analysed."""
     sm = stack(models) if stacked is None else stacked
     if sm.analysis.at or sm.analysis.events:
         raise Unsupported("extra positions or event rows")
@@ -156,8 +163,19 @@ def analyze_stacked(
         raise Unsupported("a group without a closed form")
     q, ok_path, _ = closed_form_path(system, solvers, q0, t, sched)
     ok &= ok_path
+    members = np.arange(len(models))
     if not ok.all():
-        raise LeftOver(ok)
+        members = np.flatnonzero(ok)
+        if members.size < 2:
+            raise LeftOver(ok)
+        sm = stack([models[v] for v in members])
+        system = build_system(sm)
+        sched = _schedule(system)
+        if not np.array_equal(sample_times(system, sched, None)[0], t):
+            raise LeftOver(ok)  # pragma: no cover - the times are the file's, alike in all
+        q0, q = q0[members], q[members]
+        solvers = [closed_form(system, plan, q0) for plan in system.plans]
+        ok = ok[members]
     psi, psi_d, psi_dd = sched(t)
     psi, psi_d, psi_dd = (np.broadcast_to(x, q.shape[:-1] + (1,)) for x in (psi, psi_d, psi_dd))
     qd, qdd, lu = derivatives(system, q, psi_d, psi_dd)
@@ -173,7 +191,7 @@ def analyze_stacked(
         ref_speed=sched.reference,
         friction=sm.has_friction if friction is None else friction,
     )
-    return Stacked(system, t, psi, q, qd, qdd, lu, kin, extremes, ok, sched, solvers)
+    return Stacked(members, system, t, psi, q, qd, qdd, lu, kin, extremes, ok, sched, solvers)
 
 
 def output_strokes(st: Stacked) -> dict[str, dict[str, np.ndarray]]:

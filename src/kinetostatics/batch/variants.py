@@ -315,31 +315,27 @@ def _vectorised_rows(models: dict[int, Model], rows: list, friction: bool | None
         for v, m in models.items():
             groups.setdefault(signature(m), ([], None))[0].append(v)
     for members, stacked in groups.values():
-        for _ in range(3):  # variants that leave the path go, the rest again
-            if len(members) < 2:
-                break
-            try:
-                with warnings.catch_warnings():
-                    warnings.simplefilter("ignore")
-                    with np.errstate(all="ignore"):
-                        st = vectorised.analyze_stacked(
-                            [models[v] for v in members], friction=friction, stacked=stacked
-                        )
-                        strokes = vectorised.output_strokes(st)
-                        row = summary_row(vectorised.as_result(st), flywheel=False, strokes=strokes)
-            except vectorised.LeftOver as exc:
-                members, stacked = [v for v, ok in zip(members, exc.ok) if ok], None
-                continue
-            except (
-                vectorised.Unsupported,
-                TopologyMismatch,
-                ValueError,
-                IndexError,
-                ArithmeticError,
-                np.linalg.LinAlgError,
-            ):
-                break  # the per-variant analysis takes them, exactly
-            for v, ok, r in zip(members, st.ok, split_rows(row, len(members))):
-                if ok and not r.get("friction.self_locking_positions"):  # a locked zone's
-                    rows[v] = r  # edges: one by one
-            break
+        if len(members) < 2:
+            continue
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                with np.errstate(all="ignore"):
+                    st = vectorised.analyze_stacked(
+                        [models[v] for v in members], friction=friction, stacked=stacked
+                    )
+                    strokes = vectorised.output_strokes(st)
+                    row = summary_row(vectorised.as_result(st), flywheel=False, strokes=strokes)
+        except (
+            vectorised.Unsupported,  # LeftOver included
+            TopologyMismatch,
+            ValueError,
+            IndexError,
+            ArithmeticError,
+            np.linalg.LinAlgError,
+        ):
+            continue  # the per-variant analysis takes them, exactly
+        analysed = [members[i] for i in st.members]  # the others: one by one
+        for v, ok, r in zip(analysed, st.ok, split_rows(row, len(analysed)), strict=True):
+            if ok and not r.get("friction.self_locking_positions"):  # a locked zone's
+                rows[v] = r  # edges: one by one
