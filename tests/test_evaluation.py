@@ -158,3 +158,23 @@ def test_coupling_blocks_grow_with_the_joints_not_with_the_links_before():
     np.testing.assert_allclose(
         np.einsum("...ij,...j->...i", jac, r.qd), nu, atol=1e-9 * np.abs(nu).max()
     )
+
+
+@pytest.mark.parametrize("path", MECHANISMS, ids=lambda p: p.stem)
+def test_condition_numbers_in_chunks_are_those_of_one_pass(path, monkeypatch):
+    """Over more than COND_CHUNK positions the groups' condition numbers are computed a
+    chunk at a time: the same numbers, to the bit, as in one pass."""
+    from kinetostatics.base.linalg import small_inverse
+    from kinetostatics.kinematics import newton
+
+    system = S.build_system(ks.load(path))
+    q = _state(system, (29,))[0]
+    blocks = S.jacobian_blocks(system, q)
+    for plan, (d, _, _) in zip(system.plans, blocks):
+        if d.shape[-1] != d.shape[-2]:  # an overconstrained group: no inverse, no number
+            continue
+        inv = small_inverse(d)
+        whole = newton.condition_number(system, plan, d, inv)
+        monkeypatch.setattr(newton, "COND_CHUNK", 8)  # four passes of 7 or 8
+        np.testing.assert_array_equal(newton.condition_number(system, plan, d, inv), whole)
+        monkeypatch.setattr(newton, "COND_CHUNK", 10**9)
