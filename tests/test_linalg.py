@@ -242,10 +242,10 @@ def test_block_solves_match_a_dense_solve():
         np.linalg.solve(np.swapaxes(jac, -1, -2), rhs[..., None])[..., 0],
         atol=1e-12,
     )
-    many = RNG.normal(size=(50, 9, 4))  # four right-hand sides at once
+    rows = RNG.normal(size=(50, 4, 9))  # four right-hand sides at once, as rows
     np.testing.assert_allclose(
-        lu.solve_transposed_many(many),
-        np.linalg.solve(np.swapaxes(jac, -1, -2), many),
+        lu.solve_transposed_rows(rows),
+        np.swapaxes(np.linalg.solve(np.swapaxes(jac, -1, -2), np.swapaxes(rows, -1, -2)), -1, -2),
         atol=1e-12,
     )
 
@@ -290,9 +290,9 @@ def test_products_by_the_blocks_equal_the_dense_transpose(name):
         lu.product_transposed(y), want, rtol=0, atol=1e-13 * np.abs(want).max()
     )
     np.testing.assert_array_equal(lu.transposed_at(7), dense[7].T)
-    # Φ_qᵀ Y = R for several right-hand sides (the friction efforts' columns), by the blocks
-    r = RNG.normal(size=q.shape[:-1] + (dense.shape[-1], 3))
-    want = np.linalg.solve(np.swapaxes(dense, -1, -2), r)
+    # Φ_qᵀ yᵢ = rᵢ for several right-hand sides as rows (the friction efforts'), by the blocks
+    r = RNG.normal(size=q.shape[:-1] + (3, dense.shape[-1]))
+    want = np.swapaxes(np.linalg.solve(np.swapaxes(dense, -1, -2), np.swapaxes(r, -1, -2)), -1, -2)
     np.testing.assert_allclose(
-        lu.solve_transposed_many(r), want, rtol=0, atol=1e-11 * np.abs(want).max()
+        lu.solve_transposed_rows(r), want, rtol=0, atol=1e-11 * np.abs(want).max()
     )

@@ -405,15 +405,17 @@ class BlockFactor:
             y[..., rows] = np.einsum("...ji,...j->...i", inv, r)
         return y
 
-    def solve_transposed_many(self, rhs: np.ndarray) -> np.ndarray:
-        """Y with Φ_qᵀ Y = rhs for ``rhs (..., n, k)`` (k right-hand sides at once)."""
+    def solve_transposed_rows(self, rhs: np.ndarray) -> np.ndarray:
+        """Y with Φ_qᵀ yᵢ = rᵢ for k right-hand sides given as the rows of ``rhs (..., k, n)``,
+        ``(..., k, n_rows)``: each yᵢ a row, so that a combination Σ cᵢ yᵢ runs over the
+        rows (an inner axis of n_rows, not of k)."""
         n_rows = sum(len(rows) for rows, _ in self.blocks)
-        y = np.zeros(rhs.shape[:-2] + (n_rows, rhs.shape[-1]))
+        y = np.zeros(rhs.shape[:-1] + (n_rows,))
         for (rows, cols), inv, (later, upper) in zip(
             reversed(self.blocks), reversed(self.inv), self._upper_parts()
         ):
-            r = rhs[..., cols, :]
+            r = rhs[..., cols]
             if upper is not None:
-                r = r - upper @ y[..., later, :]
-            y[..., rows, :] = np.swapaxes(inv, -1, -2) @ r
+                r = r - y[..., later] @ np.swapaxes(upper, -1, -2)
+            y[..., rows] = r @ inv
         return y

@@ -185,12 +185,13 @@ def consistent(
     x = x0.copy()
     scale = np.maximum(max_abs_last(x0), 1e-300)
     # A x = −Q − Σ g_k e_k is linear in the efforts: x = x₀ + Σ e_k A⁻¹(−g_k), with the
-    # n_f columns A⁻¹(−g_k) solved once; an iteration then evaluates the efforts only
+    # n_f vectors A⁻¹(−g_k) solved once (as rows, (..., n_f, n_λ)); an iteration then
+    # evaluates the efforts only
     with np.errstate(all="ignore"):
         if isinstance(a, BlockFactor):
-            per_effort = a.solve_transposed_many(-np.swapaxes(fs.grad, -1, -2))
+            per_effort = a.solve_transposed_rows(-fs.grad)
         else:
-            per_effort = np.moveaxis(solve_a(np.moveaxis(-fs.grad, -2, 0)), 0, -1)
+            per_effort = np.moveaxis(solve_a(np.moveaxis(-fs.grad, -2, 0)), 0, -2)
     it = np.zeros(x.shape[:-1], dtype=int)
     converged = np.zeros(x.shape[:-1], dtype=bool)
     live = np.ones(x.shape[:-1], dtype=bool)
@@ -198,7 +199,7 @@ def consistent(
         for _ in range(FIXED_POINT_ITER):
             if not live.any():
                 break
-            xn = x0 + np.einsum("...nk,...k->...n", per_effort, efforts(system, fs, x))
+            xn = x0 + np.einsum("...kn,...k->...n", per_effort, efforts(system, fs, x))
             step = max_abs_last(xn - x) / scale
             x = np.where(live[..., None], xn, x)
             it += live
