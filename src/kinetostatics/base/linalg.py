@@ -394,21 +394,22 @@ class BlockFactor:
     def solve_transposed(self, rhs: np.ndarray) -> np.ndarray:
         """y with Φ_qᵀ y = rhs (back substitution over the groups, through the coupling
         blocks that exist)."""
-        n_rows = sum(len(rows) for rows, _ in self.blocks)
-        y = np.zeros(rhs.shape[:-1] + (n_rows,))
-        for (rows, cols), inv, (later, upper) in zip(
-            reversed(self.blocks), reversed(self.inv), self._upper_parts()
-        ):
-            r = rhs[..., cols]
-            if upper is not None:
-                r = r - np.einsum("...ij,...j->...i", upper, y[..., later])
-            y[..., rows] = np.einsum("...ji,...j->...i", inv, r)
-        return y
+        return self._back_substitution(
+            rhs,
+            lambda upper, y: np.einsum("...ij,...j->...i", upper, y),
+            lambda inv, r: np.einsum("...ji,...j->...i", inv, r),
+        )
 
     def solve_transposed_rows(self, rhs: np.ndarray) -> np.ndarray:
         """Y with Φ_qᵀ yᵢ = rᵢ for k right-hand sides given as the rows of ``rhs (..., k, n)``,
         ``(..., k, n_rows)``: each yᵢ a row, so that a combination Σ cᵢ yᵢ runs over the
         rows (an inner axis of n_rows, not of k)."""
+        return self._back_substitution(
+            rhs, lambda upper, y: y @ np.swapaxes(upper, -1, -2), lambda inv, r: r @ inv
+        )
+
+    def _back_substitution(self, rhs: np.ndarray, coupled, solved) -> np.ndarray:
+        """The groups from the last: y_g = solved(inv_g, rhs_g − coupled(upper_g, y_later))."""
         n_rows = sum(len(rows) for rows, _ in self.blocks)
         y = np.zeros(rhs.shape[:-1] + (n_rows,))
         for (rows, cols), inv, (later, upper) in zip(
@@ -416,6 +417,6 @@ class BlockFactor:
         ):
             r = rhs[..., cols]
             if upper is not None:
-                r = r - y[..., later] @ np.swapaxes(upper, -1, -2)
-            y[..., rows] = r @ inv
+                r = r - coupled(upper, y[..., later])
+            y[..., rows] = solved(inv, r)
         return y
