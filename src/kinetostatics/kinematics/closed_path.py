@@ -141,6 +141,9 @@ def _branch_signs(flips: list, t: np.ndarray) -> np.ndarray:
     change points ``flips[g] (V, K)`` (NaN: none) lie between t = 0 and t."""
     out = []
     for f in flips:
+        if not f.shape[-1]:  # no change point: +1 everywhere (most paths)
+            out.append(np.ones(t.shape))
+            continue
         f, tt = f[:, None, :], t[..., None]
         with np.errstate(invalid="ignore"):
             n = np.sum(((f > 0) & (f <= tt)) | ((f < 0) & (f >= tt)), axis=-1)
