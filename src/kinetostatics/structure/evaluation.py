@@ -169,6 +169,7 @@ class BlockLayout:
     dest: tuple[tuple[np.ndarray, np.ndarray], ...]
     ground: tuple[int, int, int] | None = None
     ground_rows: np.ndarray = None
+    ground_joints: tuple[int, ...] = ()  # the joints whose rows those are, in order
 
 
 def block_layout(sets, plans, ends: np.ndarray, ground: int, n_joints: int) -> BlockLayout:
@@ -193,7 +194,8 @@ def block_layout(sets, plans, ends: np.ndarray, ground: int, n_joints: int) -> B
         at += r * (c + d)
         done = np.concatenate((done, p.cols))
     of = {k: r for s in sets for k, r in zip(s.members, s.rows)}  # constraint -> its rows
-    rows = [row for k in range(n_joints) if ground in ends[k] for row in of[k]]
+    touching = tuple(k for k in range(n_joints) if ground in ends[k])
+    rows = [row for k in touching for row in of[k]]
     for a, row in enumerate(rows):
         for x in range(3):
             slot[int(row), 3 * ground + x] = at + 3 * a + x
@@ -224,6 +226,7 @@ def block_layout(sets, plans, ends: np.ndarray, ground: int, n_joints: int) -> B
         tuple(dest),
         ground_at,
         np.array(rows, dtype=int),
+        touching,
     )
 
 

@@ -282,13 +282,15 @@ def ground_jacobian(system: System, q: np.ndarray) -> tuple[np.ndarray, np.ndarr
     """The rows of Φ (of the joints jointed to the ground, in order) and Φ_q there over
     the ground's three columns, ``(..., rows, 3)``: kept from :func:`jacobian_blocks` at
     the same state (its poses), else evaluated."""
+    layout = system.layout
+    if not layout.ground_joints:
+        return layout.ground_rows, np.zeros(q.shape[:-1] + (0, 3))
     pe = link_poses(system, q)
-    rows = system.layout.ground_rows
     hit = system.memo.get("ground_jacobian")
-    if hit is not None and hit[0] is pe and hit[1] is not None:
-        return rows, hit[1]
-    touching = [k for k in range(len(system.model.joints)) if len(system.links) in system.ends[k]]
-    return rows, jacobian(system, q, touching, np.arange(-3, 0), ground=True, pe=pe)
+    if hit is not None and hit[0] is pe:
+        return layout.ground_rows, hit[1]
+    jac = jacobian(system, q, layout.ground_joints, np.arange(-3, 0), ground=True, pe=pe)
+    return layout.ground_rows, jac
 
 
 def link_pair(system: System, x: np.ndarray, k: int) -> tuple[np.ndarray, np.ndarray]:
