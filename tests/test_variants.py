@@ -124,9 +124,10 @@ def test_vectorised_path_is_taken_for_the_slotting_machine(monkeypatch):
 
 
 def test_variants_off_the_path_leave_the_others_in_one_pass(monkeypatch):
-    """A variant that assembles far from its sketch is taken out of the stacked analysis,
-    which goes on with the others in the same pass; it gets its reason from its own
-    analysis, and the others the rows of theirs."""
+    """A variant that assembles far from its sketch, at the start and where the sketch is,
+    is taken out of the stacked analysis, which goes on with the others in the same pass;
+    its row has the error its own analysis raises, without that analysis, and the others
+    the rows of theirs."""
     from kinetostatics.analysis import pipeline, vectorised
 
     tpl = Template.load(MECH / "slotting_machine.yaml")
@@ -139,13 +140,41 @@ def test_variants_off_the_path_leave_the_others_in_one_pass(monkeypatch):
     )
     monkeypatch.setattr(pipeline, "analyze", lambda *a, **k: alone.append(1) or real_one(*a, **k))
     rows = analyze_variants(tpl, variants, positions=24, flywheel=False)
-    assert passes == [4] and len(alone) == 1
-    assert rows[1]["status"] == "failed" and "sketched position" in rows[1]["reason"]
+    assert passes == [4] and not alone
+    with pytest.raises(ModelError) as own:
+        ks.analyze(tpl.model(far, positions=24))
+    assert rows[1] == {"status": "failed", "reason": str(own.value).splitlines()[0]} | {
+        "full_cycle": False
+    }
+    assert "C is assembled 5" in rows[1]["reason"]  # ~54 mm
     for v in (0, 2, 3):
         one = summary_row(ks.analyze(tpl.model(variants[v], positions=24)), flywheel=False)
         for k, x in one.items():
             if isinstance(x, float) and math.isfinite(x):
                 assert rows[v][k] == pytest.approx(x, rel=1e-11, abs=1e-11), (v, k)
+
+
+def test_a_variant_started_away_from_its_sketch_is_carried_there_alone(monkeypatch):
+    """The analysis starts at 180°; a variant whose sketch is of the crank at 0° assembles
+    far from it there, assembles where the sketch is, and is analysed alone (carried along
+    its branch to the start) as a single run does; the others, sketched at 180°, in one
+    pass."""
+    from kinetostatics.analysis import pipeline
+
+    text = (MECH / "slider_crank.yaml").read_text()
+    text = text.replace("analysis: {start: 0,", "analysis: {start: 180,")
+    text = text.replace("  r2: 120", "  r2: 120\n  s: -1  # the sketch's crank: 1 at 0°, -1 at 180°")
+    text = text.replace("A: [a, 0]\n  B: [a + b - 10, e]", "A: [s*a, 0]\n  B: [s*a + b - 10, e]")
+    tpl = Template.loads(text, "started.yaml")
+    alone = []
+    real = pipeline.analyze
+    monkeypatch.setattr(pipeline, "analyze", lambda *a, **k: alone.append(1) or real(*a, **k))
+    ovs = [{"b": 340.0}, {"s": 1.0}, {"a": 95.0}]
+    rows = analyze_variants(tpl, ovs, positions=24)
+    assert len(alone) == 1 and all(r["status"] == "ok" for r in rows)
+    monkeypatch.setattr(pipeline, "analyze", real)
+    for ov, row in zip(ovs, rows):
+        assert not _same(row, summary_row(ks.analyze(tpl.model(ov, positions=24))))
 
 
 def test_stacked_group_conditions_are_each_variants_own():

@@ -18,7 +18,7 @@ functions evaluate the same formulas, only over one more leading axis.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -28,7 +28,13 @@ from ..kinematics.dyads import closed_form
 from ..kinematics.events import output_strokes_stacked
 from ..kinematics.newton import group_condition, group_newton, group_signature
 from ..kinematics.schedule import Schedule, sample_times, schedule
-from ..kinematics.start import SKETCH_TOL, initial_guess, sketch_distances
+from ..kinematics.start import (
+    SKETCH_TOL,
+    initial_guess,
+    sketch_distances,
+    sketch_far_error,
+    sketch_step,
+)
 from ..kinetics.conditions import travel_extremes_stacked
 from ..kinetics.inverse import kinetics
 from ..model import Model, MotionLaw
@@ -41,7 +47,8 @@ __all__ = ["analyze_stacked", "Stacked"]
 @dataclass
 class Stacked:
     """The arrays of a stacked analysis of the variants ``members`` (indices into the models
-    given, in order); ``ok`` marks those whose rows stand (a stroke may still fail)."""
+    given, in order); ``ok`` marks those whose rows stand (a stroke may still fail);
+    ``failed`` maps variants left out to the error their own analysis raises."""
 
     members: np.ndarray  # (V,) int
     system: System
@@ -56,6 +63,7 @@ class Stacked:
     ok: np.ndarray  # (V,) bool
     sched: Schedule
     solvers: list
+    failed: dict[int, Exception] = field(default_factory=dict)
 
 
 class Unsupported(Exception):
@@ -94,24 +102,54 @@ def _schedule(system: System) -> Schedule:
     return schedule(system)
 
 
-def _start(system: System, models: Sequence[Model], sched: Schedule):
-    """(q0 (V, 1, n_q), ok (V,)): each variant's sketch solved group by group on
-    its branch; a variant whose sketch is ambiguous or that does not assemble is
-    not ok (the per-variant analysis reports it)."""
-    q = np.broadcast_to(initial_guess(system), (len(models), system.n_q))[:, None].copy()
-    psi = sched(np.zeros(1))[0][None]
-    ok = np.ones(len(models), dtype=bool)
+def _assemble(system: System, q: np.ndarray, psi: np.ndarray, ok: np.ndarray):
+    """(q, ok): group by group Newton from ``q (V, 1, n_q)`` at ``psi``, each group on the
+    branch of its start pose, as :func:`~kinetostatics.kinematics.start.assemble_start` does
+    for one; a variant not ``ok`` (or whose group is ambiguous, does not converge or changes
+    branch) keeps its pose from there on and is not ok."""
     for plan in system.plans:
         s0 = group_signature(system, q, plan)[:, 0]
         cond0 = group_condition(system, q, plan)[:, 0]
         qn, conv, _ = group_newton(system, q, psi, plan)
         s1 = group_signature(system, qn, plan)[:, 0]
-        ok &= (s0 != 0) & (cond0 <= 1e10) & conv[:, 0] & (s1 == s0)
+        ok = ok & (s0 != 0) & (cond0 <= 1e10) & conv[:, 0] & (s1 == s0)
         q = np.where(ok[:, None, None], qn, q)
-    tol = SKETCH_TOL * np.broadcast_to(system.l_ref, (len(models), 1))
-    for sp in sketch_distances(system, q):  # assembled far from the sketch: refused
-        ok &= np.broadcast_to(sp.distance, (len(models), 1))[:, 0] <= tol[:, 0]
     return q, ok
+
+
+def _near_sketch(system: System, q: np.ndarray) -> np.ndarray:
+    """(V,): every sketched point within ``SKETCH_TOL``·L_ref of where ``q`` put it."""
+    v = len(q)
+    tol = SKETCH_TOL * np.broadcast_to(system.l_ref, (v, 1))[:, 0]
+    near = np.ones(v, dtype=bool)
+    for sp in sketch_distances(system, q):
+        near &= np.broadcast_to(sp.distance, (v, 1))[:, 0] <= tol
+    return near
+
+
+def _start(system: System, models: Sequence[Model], sched: Schedule):
+    """(q0 (V, 1, n_q), ok (V,), failed): each variant's sketch solved group by group on
+    its branch.  A variant that does not assemble there, or whose sketch is ambiguous, is
+    not ok (the per-variant analysis reports it).  One that assembles far from its sketch
+    is tried where the sketch is, as one analysis does
+    (:func:`~kinetostatics.kinematics.start.assemble_start`): if it does not assemble
+    there either (or the sketch is of the start), ``failed`` maps it to the error one
+    analysis raises; if it does, it is not ok (the per-variant analysis carries it along
+    its branch)."""
+    v = len(models)
+    guess = np.broadcast_to(initial_guess(system), (v, system.n_q))
+    psi = sched(np.zeros(1))[0][None]
+    q, ok = _assemble(system, guess[:, None].copy(), psi, np.ones(v, dtype=bool))
+    far = ok & ~_near_sketch(system, q)
+    failed: dict[int, Exception] = {}
+    if far.any():
+        ok &= ~far
+        psi_s, _, same = sketch_step(system, guess, psi[0, 0])
+        q_s, there = _assemble(system, guess[:, None].copy(), psi_s[:, None], far & ~same)
+        there &= _near_sketch(system, q_s)
+        for k in np.flatnonzero(far & ~there):
+            failed[int(k)] = sketch_far_error(system, q, variant=int(k))
+    return q, ok, failed
 
 
 def _check_supported(sm: Model, friction: bool) -> None:
@@ -157,7 +195,7 @@ def analyze_stacked(
     t, full = sample_times(system, sched, None)
     if not full:
         raise Unsupported("not a full cycle")
-    q0, ok = _start(system, models, sched)
+    q0, ok, failed = _start(system, models, sched)
     solvers = [closed_form(system, plan, q0) for plan in system.plans]
     if any(s is None for s in solvers):
         raise Unsupported("a group without a closed form")
@@ -191,7 +229,9 @@ def analyze_stacked(
         ref_speed=sched.reference,
         friction=sm.has_friction if friction is None else friction,
     )
-    return Stacked(members, system, t, psi, q, qd, qdd, lu, kin, extremes, ok, sched, solvers)
+    return Stacked(
+        members, system, t, psi, q, qd, qdd, lu, kin, extremes, ok, sched, solvers, failed
+    )
 
 
 def output_strokes(st: Stacked) -> dict[str, dict[str, np.ndarray]]:

@@ -335,6 +335,8 @@ def _vectorised_rows(models: dict[int, Model], rows: list, friction: bool | None
             np.linalg.LinAlgError,
         ):
             continue  # the per-variant analysis takes them, exactly
+        for i, exc in st.failed.items():  # the error their own analysis raises
+            rows[members[i]] = failure_row(exc)
         analysed = [members[i] for i in st.members]  # the others: one by one
         for v, ok, r in zip(analysed, st.ok, split_rows(row, len(analysed)), strict=True):
             if ok and not r.get("friction.self_locking_positions"):  # a locked zone's

@@ -9,7 +9,7 @@ with it the groups' closed-form solvers (:func:`closed_form_solvers`).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -28,6 +28,8 @@ __all__ = [
     "initial_guess",
     "joint_points",
     "sketch_distances",
+    "sketch_far_error",
+    "sketch_step",
     "assemble_start",
     "start_pose",
     "closed_form_solvers",
@@ -127,12 +129,10 @@ def assemble_start(system: System, t0: float, drive: Drive) -> tuple[np.ndarray,
     except ModelError as exc:
         if not getattr(exc, "sketch_far", False):
             raise
-        psi_s = _sketch_coordinates(system, guess)
-        step = psi - psi_s
-        angular = np.array([d.joint.angular for d in system.motion_drivers])
-        step = np.where(angular, wrap_angle(step), step)
-        if np.all(np.abs(step) <= 1e-9 * np.where(angular, 1.0, np.max(system.l_ref))):
+        psi_s, step, same = sketch_step(system, guess, psi)
+        if same:
             raise  # the sketched pose is the start: refused
+        angular = _angular(system)
         try:
             q, sig = _assemble_at(system, guess, psi_s, check=True)
         except KinetostaticsError:
@@ -156,14 +156,35 @@ def assemble_start(system: System, t0: float, drive: Drive) -> tuple[np.ndarray,
         return qs[-1], np.array([float(group_signature(system, qs[-1], p)) for p in system.plans])
 
 
-def _sketch_coordinates(system: System, q: np.ndarray) -> np.ndarray:
-    """The motion drivers' coordinates at the pose ``q`` (the sketched pose)."""
-    qe = np.concatenate((q, np.zeros(3)))
-    out = []
-    for d in system.motion_drivers:
-        i, j = system.ends[system.constraints.index(d)]
-        out.append(float(d.coordinate(qe[3 * i : 3 * i + 3], qe[3 * j : 3 * j + 3])))
-    return np.array(out)
+def _angular(system: System) -> np.ndarray:
+    return np.array([d.joint.angular for d in system.motion_drivers])
+
+
+def sketch_step(
+    system: System, guess: np.ndarray, psi: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(ψ_s, ψ − ψ_s, same): the motion drivers' coordinates ψ_s at the sketched pose
+    ``guess`` (:func:`initial_guess`), the step from them to ``psi`` (angles wrapped), and
+    whether that step is nil (the sketched pose is the start's).  ``guess (..., n_q)``:
+    ``(..., n_drivers)`` and ``(...)`` for a stacked system's variants."""
+    qe = np.concatenate((guess, np.zeros(guess.shape[:-1] + (3,))), axis=-1)
+    psi_s = np.stack(
+        [
+            np.asarray(d.coordinate(*_pair_of(qe, system.ends[system.constraints.index(d)])))
+            for d in system.motion_drivers
+        ],
+        axis=-1,
+    ).astype(float)
+    angular = _angular(system)
+    step = psi - psi_s
+    step = np.where(angular, wrap_angle(step), step)
+    same = np.all(np.abs(step) <= 1e-9 * np.where(angular, 1.0, system.l_ref), axis=-1)
+    return psi_s, step, same
+
+
+def _pair_of(qe: np.ndarray, ends) -> tuple[np.ndarray, np.ndarray]:
+    i, j = ends
+    return qe[..., 3 * i : 3 * i + 3], qe[..., 3 * j : 3 * j + 3]
 
 
 def _assemble_at(
@@ -247,40 +268,55 @@ def sketch_distances(system: System, q: np.ndarray) -> list[SketchPoint]:
 
 
 def _check_sketch(system: System, q: np.ndarray) -> None:
-    """A sketched point farther than ``SKETCH_TOL``·L_ref from where the start pose put
-    it is a model error: the linkage assembled on a branch other than the sketched one
-    (the sketch was not specific enough: e.g. one revolute of a pin shared by three
-    links left unsketched)."""
+    """Raise :func:`sketch_far_error` if there is one."""
+    exc = sketch_far_error(system, q)
+    if exc is not None:
+        raise exc
+
+
+def sketch_far_error(
+    system: System, q: np.ndarray, variant: int | None = None
+) -> ModelError | None:
+    """A sketched point farther than ``SKETCH_TOL``·L_ref from where the pose ``q`` put it
+    is a model error: the linkage assembled on a branch other than the sketched one (the
+    sketch was not specific enough: e.g. one revolute of a pin shared by three links left
+    unsketched).  That error (``sketch_far`` set), or None.  ``variant``: of a stacked
+    system, the error of that variant (``q (V, 1, n_q)``)."""
     model = system.model
     unit = model.units.get("length", "m")
     scale = factor("length", unit)
     tol = SKETCH_TOL * np.asarray(system.l_ref)
+    points = sketch_distances(system, q)
+    if variant is not None:
+        tol = tol[variant]
+        points = [replace(sp, distance=sp.distance[variant]) for sp in points]
     worst: dict = {}
-    for sp in sketch_distances(system, q):
+    for sp in points:
         where = model.sketch_where.get(sp.key, Location(model.source, path=f"sketch.{sp.key}"))
         if np.all(sp.distance <= tol) or (
             where in worst and np.max(worst[where].distance) >= np.max(sp.distance)
         ):
             continue
         worst[where] = sp
-    if worst:
-        exc = ModelError(
-            [
-                (
-                    where,
-                    f"{where.path.removeprefix('sketch.')} is assembled "
-                    f"{np.max(sp.distance) / scale:.4g} {unit} from its sketched position "
-                    f"(placed by {sp.group}; the tolerance is {SKETCH_TOL:g} L_ref = "
-                    f"{np.max(tol) / scale:.4g} {unit}): the linkage assembled on another "
-                    "branch than sketched; sketch the joints of that group (every revolute "
-                    "of a pin shared by three links) closer to the intended pose at "
-                    "analysis.start",
-                )
-                for where, sp in worst.items()
-            ]
-        )
-        exc.sketch_far = True
-        raise exc
+    if not worst:
+        return None
+    exc = ModelError(
+        [
+            (
+                where,
+                f"{where.path.removeprefix('sketch.')} is assembled "
+                f"{np.max(sp.distance) / scale:.4g} {unit} from its sketched position "
+                f"(placed by {sp.group}; the tolerance is {SKETCH_TOL:g} L_ref = "
+                f"{np.max(tol) / scale:.4g} {unit}): the linkage assembled on another "
+                "branch than sketched; sketch the joints of that group (every revolute "
+                "of a pin shared by three links) closer to the intended pose at "
+                "analysis.start",
+            )
+            for where, sp in worst.items()
+        ]
+    )
+    exc.sketch_far = True
+    return exc
 
 
 def start_pose(system: System, drive: Drive) -> tuple[np.ndarray, np.ndarray]:
