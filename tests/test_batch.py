@@ -215,19 +215,19 @@ def test_an_interrupted_batch_resumes_without_recomputing(tmp_path, monkeypatch)
     with open(tmp_path / "b" / "summary.csv", "a") as fh:
         fh.write("05,95.0,300")  # a row cut short by the interrupt
     seen = []
-    real = variants.analyze_variants
+    real = variants._analyze_variants  # what a chunk calls
 
     def counting(template, overrides, **kw):
         overrides = list(overrides)
         seen.extend(overrides)
         return real(template, overrides, **kw)
 
-    monkeypatch.setattr(variants, "analyze_variants", counting)
+    monkeypatch.setattr(variants, "_analyze_variants", counting)
     s = batch.run_batch(str(SLIDER), tasks, tmp_path / "b", **opts)
     assert (s.reused, s.computed) == (4, 6)
     assert seen == [ov for _, ov in vs[4:]]  # only the unfinished ones, 05 included
     assert json.loads((tmp_path / "b" / "batch.json").read_text())["computed"] == 10
-    monkeypatch.setattr(variants, "analyze_variants", real)
+    monkeypatch.setattr(variants, "_analyze_variants", real)
     batch.run_batch(str(SLIDER), tasks, tmp_path / "fresh", **opts)
     assert _rows(tmp_path / "b") == _rows(tmp_path / "fresh")
     header = (tmp_path / "b" / "summary.csv").read_text().splitlines()
@@ -303,8 +303,26 @@ def test_a_local_dask_cluster_gives_the_same_rows(tmp_path, dask_cluster):
     _same_rows(_rows(tmp_path / "ref"), _rows(tmp_path / "dask"))
 
 
+def test_a_chunk_brings_its_variants_parameters_as_the_table_evaluates_them():
+    """The worker sends each variant's parameters as its model has them; the table's
+    parameter columns used to be evaluated again in the batch's own process, by
+    ``variant_parameters`` (the file's parameters in dependency order): the same numbers,
+    and the same evaluation where a variant's model is not built."""
+    from kinetostatics.batch.executors import analyze_chunk
+    from kinetostatics.batch.sources import Chunk, Source, template_of, variant_parameters
+
+    source = Source(str(SLOTTER), SLOTTER.read_text())
+    ovs = ({}, {"K": 1.8, "H": 95.0}, {"L_O2O3": 140.0, "BC_ratio": 0.9}, {"G3": -1.0})
+    rows = analyze_chunk(Chunk(source, ("1", "2", "3", "4"), ovs, positions=12))
+    tpl = template_of(source.file, source.text)
+    assert [r["status"] for r in rows] == ["ok", "ok", "ok", "failed"]  # G3 < 0: no model
+    for ov, params in zip(ovs[:3], rows.parameters):
+        assert list(params.items()) == list(variant_parameters(tpl, ov).items())
+    assert rows.parameters[3] is None  # the table evaluates it
+
+
 def test_a_crashing_chunk_is_an_error_row_and_a_rerun_retries_it(tmp_path, monkeypatch):
-    real = variants.analyze_variants
+    real = variants._analyze_variants  # what a chunk calls
 
     def crash_on_k2(template, overrides, **kw):
         overrides = list(overrides)
@@ -312,13 +330,13 @@ def test_a_crashing_chunk_is_an_error_row_and_a_rerun_retries_it(tmp_path, monke
             raise MemoryError("worker lost")
         return real(template, overrides, **kw)
 
-    monkeypatch.setattr(variants, "analyze_variants", crash_on_k2)
+    monkeypatch.setattr(variants, "_analyze_variants", crash_on_k2)
     tasks = _tasks([("1", {"a": 90.0}), ("2", {"a": 95.0}), ("3", {"a": 100.0})])
     s = batch.run_batch(str(SLIDER), tasks, tmp_path, executor="serial", chunk=1, positions=12)
     rows = _rows(tmp_path)
     assert s.errors == 1 and rows["2"]["status"] == "error"
     assert rows["2"]["reason"] == "MemoryError: worker lost" and rows["3"]["status"] == "ok"
-    monkeypatch.setattr(variants, "analyze_variants", real)
+    monkeypatch.setattr(variants, "_analyze_variants", real)
     s = batch.run_batch(str(SLIDER), tasks, tmp_path, executor="serial", chunk=1, positions=12)
     assert (s.computed, s.errors, _rows(tmp_path)["2"]["status"]) == (1, 0, "ok")
 

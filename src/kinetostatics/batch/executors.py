@@ -20,7 +20,15 @@ __all__ = ["analyze_chunk"]
 
 
 # -- the worker ------------------------------------------------------------------------
-def analyze_chunk(chunk: Chunk) -> list[dict[str, Any]]:
+class ChunkRows(list):
+    """The rows of a chunk (a list), with ``parameters``: each variant's parameters as its
+    model has them (file units), or None where the model was not built — what the table's
+    parameter columns show, computed where the model is built."""
+
+    parameters: list[dict[str, float] | None]
+
+
+def analyze_chunk(chunk: Chunk) -> ChunkRows:
     """The rows of a chunk, in order (the function every executor runs).
     With ``results_dir`` it also writes ``<results_dir>/<id>/results.csv`` and
     ``summary.json`` of each variant that succeeded (a second, single analysis)."""
@@ -29,14 +37,16 @@ def analyze_chunk(chunk: Chunk) -> list[dict[str, Any]]:
     try:
         template = template_of(chunk.source.file, chunk.source.text)
     except KinetostaticsError as exc:
-        return [variants.failure_row(exc) for _ in chunk.ids]
-    rows = variants.analyze_variants(
+        return ChunkRows(variants.failure_row(exc) for _ in chunk.ids)
+    found, parameters = variants._analyze_variants(
         template,
         chunk.overrides,
         positions=chunk.positions,
         friction=chunk.friction,
         flywheel=chunk.flywheel,
     )
+    rows = ChunkRows(found)
+    rows.parameters = parameters
     if chunk.results_dir:
         from ..analysis.pipeline import analyze
 

@@ -311,7 +311,8 @@ def _run_locked(
 
     def record(part: Sequence[Task], rows: Sequence[Mapping[str, Any]]) -> None:
         """A chunk's rows into the table, and the progress bar on."""
-        bar.update(len(part), _record(table, templates, where, list(zip(part, rows))))
+        parameters = getattr(rows, "parameters", None)
+        bar.update(len(part), _record(table, templates, where, list(zip(part, rows)), parameters))
 
     if broken:
         record(broken, [failure_row(templates[t.source]) for t in broken])
@@ -370,13 +371,18 @@ def _run_locked(
     )
 
 
-def _record(table: _Table, templates, where: str, task_rows) -> int:
+def _record(table: _Table, templates, where: str, task_rows, parameters=None) -> int:
     """Append finished variants' rows, with their parameters, to the table; the
-    number of rows that are not ``ok``."""
+    number of rows that are not ``ok``.  ``parameters``: the variants' as their models have
+    them (:class:`~kinetostatics.batch.executors.ChunkRows`), evaluated here where None."""
     cells = []
-    for task, row in task_rows:
+    for k, (task, row) in enumerate(task_rows):
         tpl = templates[task.source]
-        params = {} if isinstance(tpl, BaseException) else variant_parameters(tpl, task.overrides)
+        params = parameters[k] if parameters is not None else None
+        if params is None:
+            params = (
+                {} if isinstance(tpl, BaseException) else variant_parameters(tpl, task.overrides)
+            )
         text = {
             "variant": task.vid,
             **{k: _cell(v) for k, v in params.items()},

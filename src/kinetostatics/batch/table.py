@@ -32,12 +32,17 @@ FIXED = ("status", "reason")
 
 
 # -- the table on disk -----------------------------------------------------------------
+_FLOATS = frozenset((float, np.float64))
+
+
 def _cell(v: Any) -> str:
     """A CSV cell: numbers at full precision, NaN empty, booleans True/False.
 
     >>> [_cell(x) for x in (np.float64(0.1), np.nan, np.True_, np.int64(3), "a–b", None)]
     ['0.1', '', 'True', '3', 'a–b', '']
     """
+    if type(v) in _FLOATS:  # most cells: one test
+        return "" if v != v else repr(float(v))
     if v is None:
         return ""
     if isinstance(v, (bool, np.bool_)):
@@ -94,6 +99,8 @@ class _Table:
         self.path, self.order = path, order
         self.params: list[str] = []
         self.metrics: list[str] = []
+        self.param_set: set[str] = set()
+        self.known: set[str] = {"variant", *FIXED}  # every column so far
         self.rows: dict[str, dict[str, str]] = {}
 
     @property
@@ -101,14 +108,18 @@ class _Table:
         return ["variant", *self.params, *FIXED, *self.metrics]
 
     def _learn(self, row: Mapping[str, str], params: Iterable[str]) -> bool:
+        """Take the columns ``row`` and ``params`` bring; whether there were new ones."""
         new = False
         for k in params:
-            if k not in self.params:
+            if k not in self.param_set:
                 self.params.append(k)
+                self.param_set.add(k)
+                self.known.add(k)
                 new = True
         for k in row:
-            if k not in self.params and k not in FIXED and k != "variant" and k not in self.metrics:
+            if k not in self.known:
                 self.metrics.append(k)
+                self.known.add(k)
                 new = True
         return new
 
@@ -117,6 +128,8 @@ class _Table:
         if "status" in header:
             k = header.index("status")
             self.params = [h for h in header[1:k]]
+            self.param_set = set(self.params)
+            self.known |= self.param_set
         for row in rows:
             if row.get("variant") in self.order and row.get("status") != "error":
                 self._learn(row, ())

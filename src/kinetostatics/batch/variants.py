@@ -278,6 +278,19 @@ def analyze_variants(
     analysed all at once where :mod:`~kinetostatics.analysis.vectorised` can, one by
     one otherwise (``vectorise=False``: always one by one) — with the same rows.
     """
+    return _analyze_variants(template, overrides, positions, friction, flywheel, vectorise)[0]
+
+
+def _analyze_variants(
+    template: Template,
+    overrides: Iterable[Mapping[str, float]],
+    positions: int | None = None,
+    friction: bool | None = None,
+    flywheel: bool | None = None,
+    vectorise: bool = True,
+) -> tuple[list[dict[str, Any]], list[dict[str, float] | None]]:
+    """(rows, parameters): :func:`analyze_variants`, with each variant's parameters as
+    its model has them (None where the model could not be built: the row says why)."""
     overrides = list(overrides)
     rows: list[dict[str, Any] | None] = [None] * len(overrides)
     models: dict[int, Model] = {}
@@ -286,6 +299,7 @@ def analyze_variants(
             models[v] = template.model(ov, positions=positions)
         except (KinetostaticsError, ValueError, ArithmeticError) as exc:
             rows[v] = failure_row(exc)
+    parameters = [models[v].parameters if v in models else None for v in range(len(rows))]
     wants_flywheel = flywheel or (flywheel is None and template.base.flywheel is not None)
     if vectorise and not wants_flywheel and len(models) > 1:
         _vectorised_rows(models, rows, friction)
@@ -298,7 +312,7 @@ def analyze_variants(
             rows[v] = summary_row(analyze(model, friction=friction), flywheel=flywheel)
         except (KinetostaticsError, ValueError, ArithmeticError, np.linalg.LinAlgError) as exc:
             rows[v] = failure_row(exc)
-    return rows
+    return rows, parameters
 
 
 def _vectorised_rows(models: dict[int, Model], rows: list, friction: bool | None) -> None:
