@@ -77,6 +77,35 @@ def test_a_variant_value_that_is_not_finite_is_named_at_its_parameter(value):
         tpl.model({"K": value})
 
 
+def test_variants_built_from_one_tree_in_threads_are_their_own():
+    """A tree's entries are kept from one build to the next (Entry.rebuilt): builds from
+    threads (a thread executor, Dask's workers) take turns, and each model and error is
+    that of a build alone."""
+    import pickle
+    import sys
+    from concurrent.futures import ThreadPoolExecutor
+
+    tpl = Template.load(MECH / "slotting_machine.yaml")
+    rng = np.random.default_rng(3)
+    ovs = _perturbed(tpl, rng, 40, spread=0.3) + [{"G3": -1.0}, {"KK": 2.0}] * 5
+
+    def built(ov):
+        try:
+            return pickle.dumps(tpl.model(ov))
+        except ModelError as exc:
+            return str(exc)
+
+    alone = [built(ov) for ov in ovs]
+    switch = sys.getswitchinterval()
+    sys.setswitchinterval(1e-6)  # threads change as often as they can
+    try:
+        with ThreadPoolExecutor(4) as ex:
+            threaded = list(ex.map(built, ovs))
+    finally:
+        sys.setswitchinterval(switch)
+    assert threaded == alone
+
+
 def test_stack_keeps_equal_numbers_and_stacks_the_others():
     tpl = Template.load(MECH / "slotting_machine.yaml")
     a, b = tpl.model({"K": 1.6}), tpl.model({"K": 2.0})
@@ -163,7 +192,9 @@ def test_a_variant_started_away_from_its_sketch_is_carried_there_alone(monkeypat
 
     text = (MECH / "slider_crank.yaml").read_text()
     text = text.replace("analysis: {start: 0,", "analysis: {start: 180,")
-    text = text.replace("  r2: 120", "  r2: 120\n  s: -1  # the sketch's crank: 1 at 0°, -1 at 180°")
+    text = text.replace(
+        "  r2: 120", "  r2: 120\n  s: -1  # the sketched crank: 1 at 0°, -1 at 180°"
+    )
     text = text.replace("A: [a, 0]\n  B: [a + b - 10, e]", "A: [s*a, 0]\n  B: [s*a + b - 10, e]")
     tpl = Template.loads(text, "started.yaml")
     alone = []

@@ -13,6 +13,7 @@ return ``None``.  Problems are raised together as one
 from __future__ import annotations
 
 import re
+import threading
 from collections.abc import Iterable
 
 import numpy as np
@@ -82,11 +83,29 @@ def expression_message(exc: Exception) -> str:
     return message
 
 
+_ABSENT = object()  # a key looked up and not there
+
+# A tree is read by one builder at a time: its entries are kept from one reading to the
+# next and carry the reading's context (Entry.rebuilt).
+READING = threading.RLock()
+
+
 class Entry:
     """A YAML node with its location; typed readers report problems and return ``None``."""
 
     def __init__(self, node: yaml.Node, where: Location, ctx: _Context):
         self.node, self.where, self.ctx = node, where, ctx
+        self._kids: dict = {}  # key -> child entry (or _ABSENT), kept for the next build
+
+    def rebuilt(self, ctx: _Context) -> Entry:
+        """This entry for another reading of the tree (a batch's next variant): an entry
+        kept for that, whose children are kept as they are met and take ``ctx`` as they are
+        reached through it — one reading at a time (:data:`READING`)."""
+        root = self.__dict__.get("_root")
+        if root is None:
+            root = self._root = Entry(self.node, self.where, ctx)
+        root.ctx = ctx
+        return root
 
     # -- structure ----------------------------------------------------------
     def error(self, message: str) -> None:
@@ -117,7 +136,12 @@ class Entry:
         return [key for key, _, _ in self._pairs()]
 
     def _child(self, key: str | int, node: yaml.Node) -> Entry:
-        return Entry(node, self._where_of(key, node, "_ks_where"), self.ctx)
+        kid = self._kids.get(key)
+        if kid is None or kid is _ABSENT or kid.node is not node:
+            kid = self._kids[key] = Entry(node, self._where_of(key, node, "_ks_where"), self.ctx)
+        else:
+            kid.ctx = self.ctx
+        return kid
 
     def _where_of(self, key: str | int, node: yaml.Node | None, kind: str) -> Location:
         """The location of ``node`` (a key's value, or with ``kind="_ks_key"`` the key
@@ -154,8 +178,17 @@ class Entry:
         return self._where_of(key, None if found is None else found[0], "_ks_key")
 
     def get(self, key: str) -> Entry | None:
+        kid = self._kids.get(key)
+        if kid is _ABSENT:
+            return None
+        if kid is not None:
+            kid.ctx = self.ctx
+            return kid
         found = self._index().get(key) if self.is_mapping else None
-        return None if found is None else self._child(key, found[1])
+        if found is None:
+            self._kids[key] = _ABSENT
+            return None
+        return self._child(key, found[1])
 
     def __getitem__(self, key: str) -> Entry:
         entry = self.get(key)

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from ..base.document import compose, read_text
-from ..base.spec import RESERVED, Entry, _Context, name_problem
+from ..base.spec import READING, RESERVED, Entry, _Context, name_problem
 from ..errors import Location, did_you_mean
 from ..model import Model
 from .bodies import BodySections
@@ -76,7 +76,8 @@ def build(top: Entry, parameters: Mapping[str, float] | None = None) -> Model:
     (:func:`kinetostatics.outputs.loading.build` expands them).  Raises :class:`ModelError`."""
     ctx = _Context(top.ctx.file)
     ctx.overrides = dict(parameters or {})
-    return Builder(Entry(top.node, top.where, ctx), ctx).build()
+    with READING:
+        return Builder(top.rebuilt(ctx), ctx).build()
 
 
 class Builder(
