@@ -137,6 +137,33 @@ def test_vectorised_rows_equal_single_runs(name):
         assert not _same(a, b), (v, _same(a, b))
 
 
+def test_a_subset_of_stacked_variants_analyses_as_those_variants_stacked_afresh():
+    """``subset`` takes variants out of a stacked model (a variant that leaves the path)
+    without stacking again; a number that differs in all the variants but not in the
+    subset stays stacked there: the rows are those of the subset stacked afresh, to the
+    bit."""
+    from kinetostatics.analysis import vectorised
+    from kinetostatics.model.stacking import subset
+
+    tpl = Template.load(MECH / "slotting_machine.yaml")
+    ovs = [{"K": 1.8, "G3": 150.0}, {"K": 2.1}, {"K": 1.8, "H": 95.0}, {"G5": 300.0}]
+    models = [tpl.model(ov, positions=24) for ov in ovs]
+    members = [0, 2]
+    taken = subset(stack(models), models, members)
+    assert taken.parameters == models[0].parameters
+    assert np.ndim(taken.joint("A").p_i) == 3  # K: equal in the members, still stacked
+
+    def rows(stacked):
+        st = vectorised.analyze_stacked([models[v] for v in members], stacked=stacked)
+        strokes = vectorised.output_strokes(st)
+        return summary_row(vectorised.as_result(st), flywheel=False, strokes=strokes)
+
+    a, b = rows(taken), rows(None)
+    assert a.keys() == b.keys()
+    for k in a:
+        np.testing.assert_array_equal(a[k], b[k], err_msg=k)
+
+
 def test_vectorised_path_is_taken_for_the_slotting_machine(monkeypatch):
     """No variant is analysed on its own: the one-by-one path takes over silently when the
     vectorised one raises, so only this count shows that the vectorised one ran."""

@@ -38,7 +38,7 @@ from ..kinematics.start import (
 from ..kinetics.conditions import travel_extremes_stacked
 from ..kinetics.inverse import kinetics
 from ..model import Model, MotionLaw
-from ..model.stacking import is_stacked, stack
+from ..model.stacking import is_stacked, stack, subset
 from ..structure.system import System, build_system
 
 __all__ = ["analyze_stacked", "Stacked"]
@@ -206,7 +206,7 @@ def analyze_stacked(
         members = np.flatnonzero(ok)
         if members.size < 2:
             raise LeftOver(ok)
-        sm = stack([models[v] for v in members])
+        sm = subset(sm, models, members)
         system = build_system(sm)
         sched = _schedule(system)
         if not np.array_equal(sample_times(system, sched, None)[0], t):

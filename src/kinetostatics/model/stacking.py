@@ -18,7 +18,7 @@ import numpy as np
 
 from . import Model
 
-__all__ = ["stack", "signature", "is_stacked", "TopologyMismatch"]
+__all__ = ["stack", "subset", "signature", "is_stacked", "TopologyMismatch"]
 
 
 class TopologyMismatch(ValueError):
@@ -85,6 +85,40 @@ def stack(models: Sequence[Model]) -> Model:
     parameters = models[0].parameters
     out = _stack([dataclasses.replace(m, parameters={}) for m in models], "model")
     return dataclasses.replace(out, parameters=parameters)
+
+
+def subset(stacked: Model, models: Sequence[Model], members: Sequence[int]) -> Model:
+    """``stack([models[v] for v in members])`` from ``stacked = stack(models)`` without
+    stacking again: the variant axis of every stacked value taken at ``members`` (at least
+    two).  A value :func:`stack` kept as the first model's (the same object) is that
+    model's; one stacked stays stacked even where the members agree — the same numbers
+    per variant, so the same results."""
+    members = np.asarray(members)
+    first = models[0]
+
+    def take(s: Any, f: Any) -> Any:
+        if s is f:
+            return s
+        if isinstance(s, np.ndarray):
+            return s[members]
+        if dataclasses.is_dataclass(s) and not isinstance(s, type):
+            changes = {}
+            for fd in dataclasses.fields(s):
+                if fd.compare:
+                    a, b = getattr(s, fd.name), getattr(f, fd.name)
+                    if (t := take(a, b)) is not a:
+                        changes[fd.name] = t
+            return dataclasses.replace(s, **changes) if changes else s
+        if isinstance(s, (tuple, list)):
+            return type(s)(take(a, b) for a, b in zip(s, f))
+        if isinstance(s, dict):
+            return {k: take(s[k], f[k]) for k in s}
+        return s  # pragma: no cover - stack keeps anything else as the first model's
+
+    out = take(
+        dataclasses.replace(stacked, parameters={}), dataclasses.replace(first, parameters={})
+    )
+    return dataclasses.replace(out, parameters=models[int(members[0])].parameters)
 
 
 def is_stacked(x: Any) -> bool:
