@@ -84,6 +84,8 @@ def expression_message(exc: Exception) -> str:
 
 
 _ABSENT = object()  # a key looked up and not there
+_LITERALS: dict[str, float] = {}  # text -> value of a number written without names
+_LITERALS_MAX = 4096
 
 # A tree is read by one builder at a time: its entries are kept from one reading to the
 # next and carry the reading's context (Entry.rebuilt).
@@ -327,11 +329,24 @@ class Entry:
             self.error(f"expected a number or an expression, got {describe_node(self.node)}")
             return None
         text = self.node.value
+        value = _LITERALS.get(text)
+        if value is not None:
+            return value
         try:
             used = expressions.names_in(text)
         except expressions.ExpressionError as exc:
             self.error(expression_message(exc))
             return None
+        if not used:  # a number (or an expression of numbers): the same in every build
+            try:
+                value = expressions.evaluate(text, {})
+            except expressions.ExpressionError as exc:
+                self.error(expression_message(exc))
+                return None
+            if len(_LITERALS) >= _LITERALS_MAX:
+                _LITERALS.clear()
+            _LITERALS[text] = value
+            return value
         env = self.ctx.env
         if used & self.ctx.broken_parameters:
             return None  # that parameter's problem is already reported
