@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Sequence
+from operator import attrgetter, itemgetter
 from typing import Any
 
 import numpy as np
@@ -29,16 +30,31 @@ def _is_number(x: Any) -> bool:
     return isinstance(x, (int, float, np.floating, np.integer)) and not isinstance(x, bool)
 
 
+_NUMBER_TYPES = (int, float, np.floating, np.integer)
+
+
+def _all_numbers(types: set[type]) -> bool:
+    """Whether values of these types are all numbers (:func:`_is_number`)."""
+    return all(issubclass(t, _NUMBER_TYPES) and not issubclass(t, bool) for t in types)
+
+
 def _stack(values: Sequence[Any], path: str) -> Any:
+    # The checks run over the variants in C (map, zip, list.count): a chunk stacks ~125
+    # models of a few hundred values each.
     first = values[0]
+    types = set(map(type, values))
     if isinstance(first, np.ndarray) and first.dtype.kind == "f":
-        if any(not isinstance(v, np.ndarray) or v.shape != first.shape for v in values):
+        if not all(issubclass(t, np.ndarray) for t in types) or (
+            len(set(map(np.shape, values))) != 1
+        ):
             raise TopologyMismatch(f"{path}: shapes differ")
         arr = np.stack(values)
         return first if np.array_equal(arr, np.broadcast_to(first, arr.shape)) else arr[:, None]
     if _is_number(first):
-        if not all(_is_number(v) for v in values):
+        if not _all_numbers(types):
             raise TopologyMismatch(f"{path}: not all numbers")
+        if values.count(first) == len(values):  # equal (NaN: never, as below)
+            return first
         arr = np.array(values, dtype=float)
         if np.all(arr == arr[0]):
             return first
@@ -46,32 +62,33 @@ def _stack(values: Sequence[Any], path: str) -> Any:
             raise TopologyMismatch(f"{path}: counts differ")
         return arr[:, None]
     if dataclasses.is_dataclass(first) and not isinstance(first, type):
-        if any(type(v) is not type(first) for v in values):
+        if len(types) != 1:
             raise TopologyMismatch(f"{path}: kinds differ")
         changes = {}
         for f in dataclasses.fields(first):
             if not f.compare:  # locations: the first variant's
                 continue
-            items = [getattr(v, f.name) for v in values]
+            items = list(map(attrgetter(f.name), values))
             stacked = _stack(items, f"{path}.{f.name}")
             if stacked is not items[0]:
                 changes[f.name] = stacked
         return dataclasses.replace(first, **changes) if changes else first
     if isinstance(first, (tuple, list)):
-        if any(not isinstance(v, type(first)) or len(v) != len(first) for v in values):
+        if not all(issubclass(t, type(first)) for t in types) or len(set(map(len, values))) != 1:
             raise TopologyMismatch(f"{path}: lengths differ")
-        items = [_stack([v[k] for v in values], f"{path}[{k}]") for k in range(len(first))]
+        items = [_stack(list(column), f"{path}[{k}]") for k, column in enumerate(zip(*values))]
         if all(a is b for a, b in zip(items, first)):
             return first
         return type(first)(items)
     if isinstance(first, dict) or hasattr(first, "keys"):
-        if any(list(v.keys()) != list(first.keys()) for v in values):
+        keys = list(first.keys())
+        if any(list(v.keys()) != keys for v in values):
             raise TopologyMismatch(f"{path}: keys differ")
-        items = {k: _stack([v[k] for v in values], f"{path}.{k}") for k in first}
+        items = {k: _stack(list(map(itemgetter(k), values)), f"{path}.{k}") for k in first}
         if all(items[k] is first[k] for k in first):
             return first
         return type(first)(items) if isinstance(first, dict) else items
-    if all(v == first for v in values[1:]):
+    if values.count(first) == len(values):
         return first
     raise TopologyMismatch(f"{path}: {first!r} differs")
 
