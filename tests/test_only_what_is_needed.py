@@ -42,3 +42,19 @@ def test_one_reaction_builds_only_its_own_columns():
     assert r.columns.computed == 2  # O3.Fx and O3.Fy, nothing else
     np.testing.assert_array_equal(fx, r["O3.Fx"])
     assert len(r.columns) > 100
+    assert "guide.N" in r.columns and "guide.N_friction" in r.columns and "x.Fx" not in r.columns
+    assert r.columns.computed == 2  # asking whether a column is there computes nothing
+
+
+def test_a_joints_reaction_is_solved_once_for_all_its_columns(monkeypatch):
+    from kinetostatics.joints.prismatic import Prismatic
+
+    calls = []
+    real = Prismatic.reaction
+    monkeypatch.setattr(Prismatic, "reaction", lambda *a: calls.append(1) or real(*a))
+    r = ks.analyze(ks.load("mechanisms/slotting_machine.yaml"))
+    labels = [c for c in r.columns if c.startswith("guide.") and c[6:] in ("N", "M", "Fx", "Fy")]
+    assert len(labels) > 1
+    for c in labels:
+        r[c]
+    assert len(calls) == 1

@@ -119,6 +119,9 @@ class Columns(Mapping):
             self._done[g] = tuple(np.asarray(a, dtype=float) for a in self._groups[g]())
         return self._done[g][k]
 
+    def __contains__(self, name: object) -> bool:  # without computing it
+        return name in self._where
+
     def __iter__(self):
         return iter(self._where)
 
@@ -272,6 +275,10 @@ def _element_columns(system: System, put, q, qd) -> None:
         put(names, lambda name=e.name: of(name))
 
 
+def _in_order(values: Mapping[str, np.ndarray], labels) -> tuple:
+    return tuple(values[label] for label in labels)
+
+
 def _kinetic_columns(system: System, put, q, qd, x0, fric, power) -> None:
     model = system.model
     qe = _padded(q)
@@ -285,8 +292,8 @@ def _kinetic_columns(system: System, put, q, qd, x0, fric, power) -> None:
         labels = j.reaction_labels
         put(
             [(f"{j.name}.{label}", force_unit.get(label, "N")) for label in labels],
-            lambda j=j, qi=qi, qj=qj, block=block, labels=labels: tuple(
-                j.reaction(x0[..., block], qi, qj)[label] for label in labels
+            lambda j=j, qi=qi, qj=qj, block=block, labels=labels: _in_order(
+                j.reaction(x0[..., block], qi, qj), labels
             ),
         )
         if not fric:
