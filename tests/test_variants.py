@@ -106,6 +106,18 @@ def test_variants_built_from_one_tree_in_threads_are_their_own():
     assert threaded == alone
 
 
+def test_a_models_arrays_are_its_own():
+    """Numbers written without names are read once per tree; each model still gets arrays
+    of its own: one changed in place does not change the next variant's."""
+    tpl = Template.load(MECH / "slotting_machine.yaml")
+    a = tpl.model({"K": 2.1})
+    a.gravity[:] = 0.0
+    a.sketch["C"][:] = 0.0
+    b = tpl.model({"K": 2.2})
+    np.testing.assert_array_equal(b.gravity, [0.0, -10.0])
+    np.testing.assert_array_equal(b.sketch["C"], [0.0933, 0.150])
+
+
 def test_stack_keeps_equal_numbers_and_stacks_the_others():
     tpl = Template.load(MECH / "slotting_machine.yaml")
     a, b = tpl.model({"K": 1.6}), tpl.model({"K": 2.0})

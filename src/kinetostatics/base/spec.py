@@ -98,6 +98,8 @@ class Entry:
     def __init__(self, node: yaml.Node, where: Location, ctx: _Context):
         self.node, self.where, self.ctx = node, where, ctx
         self._kids: dict = {}  # key -> child entry (or _ABSENT), kept for the next build
+        self._keys_at: dict[str, Location] = {}  # key -> where the key is written
+        self._vectors: dict[tuple, np.ndarray] = {}  # a vector of numbers without names
 
     def rebuilt(self, ctx: _Context) -> Entry:
         """This entry for another reading of the tree (a batch's next variant): an entry
@@ -176,8 +178,12 @@ class Entry:
 
     def key_where(self, key: str) -> Location:
         """The location of ``key`` itself (not of its value)."""
-        found = self._index().get(key) if self.is_mapping else None
-        return self._where_of(key, None if found is None else found[0], "_ks_key")
+        where = self._keys_at.get(key)
+        if where is None:
+            found = self._index().get(key) if self.is_mapping else None
+            where = self._where_of(key, None if found is None else found[0], "_ks_key")
+            self._keys_at[key] = where
+        return where
 
     def get(self, key: str) -> Entry | None:
         kid = self._kids.get(key)
@@ -363,6 +369,10 @@ class Entry:
     def vector(self, kind: str | None, n: int = 2, bound: str | None = None) -> np.ndarray | None:
         """``n`` numbers of ``kind``; ``bound``: the :data:`MAGNITUDE` entry that limits them
         when it is not ``kind``'s (gravity: numbers in m/s², bounded as an acceleration)."""
+        key = (kind, n, bound, self.ctx.units[kind] if kind else 1.0)
+        kept = self._vectors.get(key)
+        if kept is not None:
+            return kept.copy()
         shape = "[x, y]" if n == 2 else f"a list of {n} numbers"
         if not isinstance(self.node, yaml.SequenceNode):
             self.error(f"expected {shape}, got {describe_node(self.node)}")
@@ -377,7 +387,12 @@ class Entry:
         values = [e.number(kind, bounded=bound is None) for e in items]
         if bound is not None:
             values = [v if v is None or e.within(v, bound) else None for e, v in zip(items, values)]
-        return None if any(v is None for v in values) else np.array(values, dtype=float)
+        if any(v is None for v in values):
+            return None
+        out = np.array(values, dtype=float)
+        if all(e.node.value in _LITERALS for e in items):  # the same in every build
+            self._vectors[key] = out.copy()
+        return out
 
     def unit(self, v: np.ndarray) -> np.ndarray | None:
         norm = float(np.hypot(*v))
