@@ -6,6 +6,7 @@ truth: central differences of the type's own residual and coordinate.
 """
 
 import dataclasses
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -351,3 +352,25 @@ def test_friction_kinks_are_where_the_friction_magnitude_bends(joint):
     if joint.kind == "revolute":  # ρ|F|: smooth unless the line passes through F = 0
         return
     assert not np.any(bend & ~cross)
+
+
+def test_a_type_is_imported_when_a_file_names_it():
+    """A run of a linkage of revolutes and slides imports no gear or cam module; a file
+    with a gear imports it; iterating JOINT_TYPES lists every built-in type."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, kinetostatics as ks;"
+        "ks.analyze(ks.load('mechanisms/slotting_machine.yaml'));"
+        "print(sorted(m.rsplit('.', 1)[1] for m in sys.modules"
+        " if m.startswith('kinetostatics.joints.')));"
+        "ks.load('mechanisms/geared_fivebar.yaml');"
+        "print('kinetostatics.joints.gear' in sys.modules)"
+    )
+    root = Path(__file__).resolve().parents[1]
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=root
+    ).stdout.splitlines()
+    assert out == ["['base', 'prismatic', 'revolute']", "True"]
+    assert list(JOINT_TYPES) == ["cam", "gear", "prismatic", "rack", "revolute"]

@@ -27,8 +27,9 @@ with no picture and no report text of its own.
 
 from __future__ import annotations
 
+import importlib
 from abc import ABC, abstractmethod
-from collections.abc import Sequence
+from collections.abc import Iterator, MutableMapping, Sequence
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any, ClassVar
 
@@ -54,7 +55,56 @@ __all__ = [
     "stack_scalars",
 ]
 
-JOINT_TYPES: dict[str, type[Joint]] = {}
+# The built-in types and their modules in this package: a module is imported when its type
+# is first named (a file without gears does not pay for importing them).
+BUILT_IN = {
+    "cam": "cam",
+    "gear": "gear",
+    "prismatic": "prismatic",
+    "rack": "rack",
+    "revolute": "revolute",
+}
+
+
+class _Registry(MutableMapping):
+    """YAML ``type:`` -> joint class: the types registered (a subclass of :class:`Joint`
+    with ``kind=`` registers itself when its module is imported) and the built-in ones,
+    imported when first looked up; iterating imports them all."""
+
+    def __init__(self) -> None:
+        self._types: dict[str, type[Joint]] = {}
+
+    def _load(self, kinds) -> None:
+        for kind in kinds:
+            if kind not in self._types and kind in BUILT_IN:
+                importlib.import_module(f"{__package__}.{BUILT_IN[kind]}")
+
+    def __getitem__(self, kind: str) -> type[Joint]:
+        self._load((kind,))
+        return self._types[kind]
+
+    def __setitem__(self, kind: str, cls: type[Joint]) -> None:
+        self._types[kind] = cls
+
+    def __delitem__(self, kind: str) -> None:
+        del self._types[kind]
+
+    def __contains__(self, kind: object) -> bool:
+        return kind in BUILT_IN or kind in self._types
+
+    def __iter__(self) -> Iterator[str]:
+        self._load(BUILT_IN)
+        return iter([*(k for k in BUILT_IN if k in self._types), *self._extra()])
+
+    def _extra(self) -> list[str]:
+        return [k for k in self._types if k not in BUILT_IN]
+
+    def __len__(self) -> int:
+        self._load(BUILT_IN)
+        return len(self._types)
+
+
+JOINT_TYPES: MutableMapping[str, type[Joint]] = _Registry()
 
 
 def joint_type(kind: str) -> type[Joint]:
@@ -62,9 +112,10 @@ def joint_type(kind: str) -> type[Joint]:
     try:
         return JOINT_TYPES[kind]
     except KeyError:
+        known = list(JOINT_TYPES)
         raise KeyError(
-            f"unknown joint type '{kind}'{did_you_mean(kind, JOINT_TYPES)}; "
-            f"known: {', '.join(sorted(JOINT_TYPES))}"
+            f"unknown joint type '{kind}'{did_you_mean(kind, known)}; "
+            f"known: {', '.join(sorted(known))}"
         ) from None
 
 
