@@ -275,6 +275,30 @@ def _legendre_pieces(pieces: np.ndarray, values: np.ndarray):
     return np.linalg.solve(vander, values.reshape(len(pieces), n).T).T
 
 
+def _legroots(coefs: np.ndarray) -> list[np.ndarray]:
+    """``[leg.legroots(c) for c in coefs]`` (``coefs (P, n)``) in one eigenvalue call per
+    degree: the companion matrices legcompanion builds, by the same operations, each solved
+    by the same LAPACK routine — the same roots to the bit."""
+    out: list[np.ndarray] = [np.zeros(0)] * len(coefs)
+    full = coefs[:, -1] != 0  # of degree n - 1 (legroots trims trailing zeros)
+    for p in np.flatnonzero(~full):
+        out[p] = leg.legroots(coefs[p])
+    rows = np.flatnonzero(full)
+    n = coefs.shape[1] - 1
+    if n == 1:
+        for p in rows:
+            out[p] = np.array([-coefs[p, 0] / coefs[p, 1]])
+    elif n > 1 and rows.size:
+        c = coefs[rows]
+        scl = 1.0 / np.sqrt(2 * np.arange(n) + 1)
+        mats = np.repeat(leg.legcompanion(np.eye(n + 1)[n])[None], len(rows), axis=0)
+        mats[:, :, -1] -= (c[:, :-1] / c[:, -1:]) * (scl / scl[-1]) * (n / (2 * n - 1))
+        roots = np.sort(np.linalg.eigvals(mats[:, ::-1, ::-1]), axis=-1)
+        for p, r in zip(rows, roots):
+            out[p] = r
+    return out
+
+
 def _energy_extremes(pieces: np.ndarray, t: np.ndarray, rate: np.ndarray):
     """((t, ΔW) at the largest and at the smallest ΔW(t) = ∫ rate dt from the span's start):
     ΔW is the integral of each piece's interpolant, so its extremes are at the pieces' ends
@@ -284,9 +308,10 @@ def _energy_extremes(pieces: np.ndarray, t: np.ndarray, rate: np.ndarray):
     half = 0.5 * (pieces[:, 1] - pieces[:, 0])
     mid = 0.5 * (pieces[:, 1] + pieces[:, 0])
     cand_t, cand_w, start = [pieces[0, 0]], [0.0], 0.0
+    all_roots = _legroots(coef)
     for p in range(len(pieces)):
         anti = leg.legint(coef[p], lbnd=-1)
-        roots = leg.legroots(coef[p]) if np.any(coef[p][1:]) else np.zeros(0)
+        roots = all_roots[p] if np.any(coef[p][1:]) else np.zeros(0)
         roots = roots[np.isreal(roots)].real
         for r in roots[(roots > -1) & (roots < 1)]:
             cand_t.append(mid[p] + half[p] * r)
@@ -322,11 +347,12 @@ def _value_extremes(pieces: np.ndarray, values: np.ndarray) -> tuple[float, floa
     derivatives vanish inside)."""
     coef = _legendre_pieces(pieces, values)
     cand = []
-    for c in coef:
+    ders = leg.legder(coef, axis=1)
+    all_roots = _legroots(ders)
+    for c, d, roots in zip(coef, ders, all_roots):
         xs = [-1.0, 1.0]
-        d = leg.legder(c)
         if np.any(d):
-            r = leg.legroots(d)
+            r = roots
             r = r[np.isreal(r)].real
             xs += list(r[(r > -1) & (r < 1)])
         cand += list(leg.legval(np.asarray(xs), c))
