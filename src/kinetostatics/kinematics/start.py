@@ -20,7 +20,7 @@ from ..structure.system import System
 from . import dyads
 from .continuation import COARSE_STEP, Drive, closing_miss, continue_path, coordinate_text
 from .newton import group_condition, group_newton, group_signature
-from .state import point_state
+from .state import joint_coordinate, point_state
 
 __all__ = [
     "SKETCH_TOL",
@@ -167,10 +167,9 @@ def sketch_step(
     ``guess`` (:func:`initial_guess`), the step from them to ``psi`` (angles wrapped), and
     whether that step is nil (the sketched pose is the start's).  ``guess (..., n_q)``:
     ``(..., n_drivers)`` and ``(...)`` for a stacked system's variants."""
-    qe = np.concatenate((guess, np.zeros(guess.shape[:-1] + (3,))), axis=-1)
     psi_s = np.stack(
         [
-            np.asarray(d.coordinate(*_pair_of(qe, system.ends[system.constraints.index(d)])))
+            np.asarray(joint_coordinate(system, guess, system.constraints.index(d)))
             for d in system.motion_drivers
         ],
         axis=-1,
@@ -180,11 +179,6 @@ def sketch_step(
     step = np.where(angular, wrap_angle(step), step)
     same = np.all(np.abs(step) <= 1e-9 * np.where(angular, 1.0, system.l_ref), axis=-1)
     return psi_s, step, same
-
-
-def _pair_of(qe: np.ndarray, ends) -> tuple[np.ndarray, np.ndarray]:
-    i, j = ends
-    return qe[..., 3 * i : 3 * i + 3], qe[..., 3 * j : 3 * j + 3]
 
 
 def _assemble_at(
