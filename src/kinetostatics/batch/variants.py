@@ -282,15 +282,11 @@ def analyze_variants(
 
 
 def _analyze_variants(
-    template: Template,
-    overrides: Iterable[Mapping[str, float]],
-    positions: int | None = None,
-    friction: bool | None = None,
-    flywheel: bool | None = None,
-    vectorise: bool = True,
+    template: Template, overrides, positions=None, friction=None, flywheel=None, vectorise=True
 ) -> tuple[list[dict[str, Any]], list[dict[str, float] | None]]:
-    """(rows, parameters): :func:`analyze_variants`, with each variant's parameters as
-    its model has them (None where the model could not be built: the row says why)."""
+    """(rows, parameters): :func:`analyze_variants` (the same arguments), with each
+    variant's parameters as its model has them (None where the model could not be built:
+    the row says why)."""
     overrides = list(overrides)
     rows: list[dict[str, Any] | None] = [None] * len(overrides)
     models: dict[int, Model] = {}
