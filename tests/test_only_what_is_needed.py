@@ -58,3 +58,31 @@ def test_a_joints_reaction_is_solved_once_for_all_its_columns(monkeypatch):
     for c in labels:
         r[c]
     assert len(calls) == 1
+
+
+def test_a_run_imports_only_what_its_file_uses():
+    """The slotting machine (revolutes and slides, constant speed, no clearance) imports
+    no gear or cam module, no motion-law or contact-law module, and no difflib (the
+    "did you mean" of an error): each costs the start of every run."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    lazy = [
+        "difflib",
+        "kinetostatics.joints.cam",
+        "kinetostatics.joints.gear",
+        "kinetostatics.joints.rack",
+        "kinetostatics.model.motion",
+        "kinetostatics.model.contact_law",
+    ]
+    code = (
+        "import sys, kinetostatics as ks;"
+        "r = ks.analyze(ks.load('mechanisms/slotting_machine.yaml')); r.summary();"
+        f"print([m for m in {lazy!r} if m in sys.modules])"
+    )
+    root = Path(__file__).resolve().parents[1]
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=root
+    )
+    assert out.stdout.strip() == "[]"

@@ -18,7 +18,6 @@ Examples
 from __future__ import annotations
 
 import ast
-import difflib
 import functools
 import math
 import numbers
@@ -186,6 +185,8 @@ def _fmt(x: float) -> str:
 
 def _suggest(word: str, candidates: Iterable[str]) -> str:
     """Return ``" (did you mean 'x'?)"`` for the closest candidate, or ``""``."""
+    import difflib  # on the error path only
+
     matches = difflib.get_close_matches(word, sorted(set(candidates)), n=1, cutoff=0.5)
     return f" (did you mean '{matches[0]}'?)" if matches else ""
 

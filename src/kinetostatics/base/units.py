@@ -16,7 +16,6 @@ means a product (``"kg mm^2"``).
 
 from __future__ import annotations
 
-import difflib
 import math
 import re
 from collections.abc import Mapping
@@ -143,6 +142,8 @@ _NORMALISED: dict[str, dict[str, float]] = {
 
 def _check_kind(kind: object) -> str:
     if not isinstance(kind, str) or kind not in UNITS:
+        import difflib  # on the error path only
+
         matches = difflib.get_close_matches(str(kind), QUANTITY_KINDS, n=1)
         hint = f" (did you mean '{matches[0]}'?)" if matches else ""
         raise UnitError(f"unknown quantity kind '{kind}'{hint}; known: {', '.join(QUANTITY_KINDS)}")
@@ -179,6 +180,8 @@ def factor(kind: str, unit: str) -> float:
     normalised = _normalise(unit)
     if normalised in _NORMALISED[kind]:
         return _NORMALISED[kind][normalised]
+    import difflib  # on the error path only
+
     matches = difflib.get_close_matches(unit, list(units), n=1)
     hint = f" (did you mean '{matches[0]}'?)" if matches else ""
     known = ", ".join(sorted(_CANONICAL[kind]))

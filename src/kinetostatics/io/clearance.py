@@ -7,7 +7,6 @@ from __future__ import annotations
 from ..base.keys import NUMBER, Keys, enum, list_of, one_of
 from ..errors import did_you_mean
 from ..model import Clearance
-from ..model.contact_law import ContactLaw
 
 CLEARANCE_MODELS = ("prescribed", "contact")
 CONTACT_KEYS = Keys(
@@ -95,6 +94,8 @@ class ClearanceSection:
 def read_contact(e):
     """A :class:`ContactLaw` from the YAML entry ``contact: {journal_radius, young,
     poisson, restitution, stiffness, floor}`` (young in Pa, one value or [E_i, E_j])."""
+    from ..model.contact_law import ContactLaw  # when a file has a clearance
+
     if not e.check(CONTACT_KEYS):
         return None
     kw = {}

@@ -11,7 +11,6 @@ from ..base.limits import MAGNITUDE, MAX_LAW_ACCELERATION, MAX_TURNS, SPEED_RANG
 from ..base.spec import Entry
 from ..errors import did_you_mean
 from ..joints import Joint
-from ..model.motion import HarmonicLaw, PolynomialLaw, TableLaw
 
 # ``motion:`` with a ``law:``, per law (docs/yaml.md); without one, CONSTANT_KEYS
 LAW_KEYS = {
@@ -129,6 +128,8 @@ class LawSections:
 
     def _law(self, m: Entry, law: str, joint: Joint):
         """The harmonic, polynomial or table law of ``motion:`` (its keys checked)."""
+        from ..model.motion import HarmonicLaw, PolynomialLaw, TableLaw  # when a file has one
+
         kind = "angle" if joint.angular else "length"
         si = "rad" if joint.angular else "m"
         if law == "harmonic":

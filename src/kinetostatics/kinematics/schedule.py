@@ -13,7 +13,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model import MotionLaw
-from ..model.motion import turning_times
 from ..structure.system import System
 from .start import initial_guess
 
@@ -58,6 +57,10 @@ class Schedule:
 
     def turning_times(self, lo: float, hi: float) -> np.ndarray:
         """Times in [lo, hi] where a driver's law turns back (ψ̇ = 0); none at constant speed."""
+        if not any(law is not None for law in self.laws):
+            return np.zeros(0)
+        from ..model.motion import turning_times  # a law is there: its module is loaded
+
         return np.concatenate(
             [np.zeros(0)] + [turning_times(law, lo, hi) for law in self.laws if law is not None]
         )
