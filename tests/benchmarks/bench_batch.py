@@ -3,10 +3,11 @@
 loop of single analyses (``ks.analyze`` + ``summary_row``, one process) over a
 sub-sample, both measured in the same run.
 
-Issue 10: 10,000 variants must complete on a 2-core machine; target ≥ 500
-variants/s.  The file's flywheel is not sized (``--flywheel`` sizes it; that
-path analyses one variant at a time).  The variants are a seeded random sample over K, H, L_O2O3,
-BC_ratio, the weights and the cutting force, in ranges that assemble.
+10,000 variants must complete on a 2-core machine: at least 500 variants/s, and
+the speed target is 1,000 variants/s on a quiet 2-core machine.  The file's
+flywheel is not sized (``--flywheel`` sizes it; that path analyses one variant at
+a time).  The variants are a seeded random sample over K, H, L_O2O3, BC_ratio,
+the weights and the cutting force, in ranges that assemble.
 
     python tests/benchmarks/bench_batch.py              # 10,000 variants, loop of 200
     python tests/benchmarks/bench_batch.py --n 500 --loop 50
@@ -118,8 +119,9 @@ def main() -> None:
     )
     print(
         f"speed-up over the loop: {rate_batch / rate_loop:.2f}x "
-        f"({rate_batch / rate_loop / s.workers:.2f}x per worker); target >= 500 variants/s: "
-        f"{'met' if rate_batch >= 500 else 'not met'}"
+        f"({rate_batch / rate_loop / s.workers:.2f}x per worker); target >= 1,000 variants/s "
+        f"on a quiet 2-core machine: {'met' if rate_batch >= 1000 else 'not met'} (>= 500: "
+        f"{'met' if rate_batch >= 500 else 'not met'})"
     )
     print(
         f"batch rows vs the loop's, max relative difference: {worst:.2e}"

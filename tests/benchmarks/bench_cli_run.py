@@ -2,10 +2,14 @@
 ``python -c "import numpy"`` (issue 17), interleaved so that both see the same load.
 
     python tests/benchmarks/bench_cli_run.py [N] [TREE ...]
+    python tests/benchmarks/bench_cli_run.py --stages [N]
 
 N runs of each command (default 5), the median reported; each TREE is a source tree
 (its ``src`` goes on PYTHONPATH; default this checkout).  The environment is inherited:
 with ``PYTHONDONTWRITEBYTECODE=1`` every module is compiled from source on every run.
+``--stages``: what a run spends its time on, each stage timed in a fresh process as
+``run`` calls it (medians of N processes): importing NumPy, then the package, reading
+the file, the analysis, the summary, ``results.csv`` and ``summary.json``.
 """
 
 from __future__ import annotations
@@ -31,7 +35,47 @@ def _time(cmd: list[str], env: dict[str, str]) -> tuple[float, float]:
     return wall, r1.ru_utime + r1.ru_stime - r0.ru_utime - r0.ru_stime
 
 
+STAGES = """
+import time
+t = [time.perf_counter()]
+import numpy
+t.append(time.perf_counter())
+import kinetostatics.cli
+from kinetostatics.analysis import analyze
+from kinetostatics.outputs.loading import load
+t.append(time.perf_counter())
+model = load({mechanism!r}); t.append(time.perf_counter())
+result = analyze(model); t.append(time.perf_counter())
+s = result.summary(); t.append(time.perf_counter())
+result.to_csv({out!r} + "/results.csv"); t.append(time.perf_counter())
+result.to_json({out!r} + "/summary.json", s); t.append(time.perf_counter())
+print(" ".join(str(b - a) for a, b in zip(t, t[1:])))
+"""
+NAMES = ("import numpy", "import the package", "read the file", "analysis", "summary",
+         "results.csv", "summary.json")  # fmt: skip
+
+
+def stages(n: int) -> None:
+    out = Path(os.environ.get("TMPDIR", "/tmp")) / "bench_cli_run"
+    out.mkdir(parents=True, exist_ok=True)
+    code = STAGES.format(mechanism=str(MECHANISM), out=str(out))
+    env = dict(os.environ, PYTHONPATH=str(ROOT / "src"))
+    cmd = [sys.executable, "-c", code]
+    subprocess.run(cmd, env=env, check=True, capture_output=True)  # bytecode written
+    runs = [
+        [float(x) for x in subprocess.run(cmd, env=env, check=True, capture_output=True,
+                                          text=True).stdout.split()]
+        for _ in range(n)
+    ]  # fmt: skip
+    for k, name in enumerate(NAMES):
+        print(f"{name}: {statistics.median(r[k] for r in runs) * 1e3:.1f} ms")
+    print(f"in all: {statistics.median(sum(r) for r in runs) * 1e3:.1f} ms (after Python starts)")
+
+
 def main(argv: list[str]) -> None:
+    if argv[:1] == ["--stages"]:
+        stages(int(argv[1]) if len(argv) > 1 else 5)
+        return
     n = int(argv[0]) if argv else 5
     trees = [Path(t).resolve() for t in argv[1:]] or [ROOT]
     out = Path(os.environ.get("TMPDIR", "/tmp")) / "bench_cli_run"
