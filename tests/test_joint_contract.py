@@ -85,6 +85,7 @@ def test_poses_with_their_frame_give_the_same_numbers(joint):
     qi, qj, vi, vj = _states()
     fi, fj = _with_frame(qi), _with_frame(qj)
     lam = RNG.normal(size=(2, 3, joint.n_eq))
+    e = RNG.normal(size=(2, 3))  # a friction effort
     pairs = [
         (joint.residual(qi, qj), joint.residual(fi, fj)),
         (joint.acceleration_rhs(qi, qj, vi, vj), joint.acceleration_rhs(fi, fj, vi, vj)),
@@ -93,6 +94,7 @@ def test_poses_with_their_frame_give_the_same_numbers(joint):
         *zip(joint.jacobian(qi, qj), joint.jacobian(fi, fj)),
         *zip(joint.motion_direction(qi, qj), joint.motion_direction(fi, fj)),
         *zip(joint.reaction(lam, qi, qj).values(), joint.reaction(lam, fi, fj).values()),
+        *zip(joint.effort_force(e, qi, qj).values(), joint.effort_force(e, fi, fj).values()),
         (joint.friction_kinks(lam, qi, qj), joint.friction_kinks(lam, fi, fj)),
         (joint.motion_breaks(qi, qj), joint.motion_breaks(fi, fj)),
     ]

@@ -281,19 +281,22 @@ def _in_order(values: Mapping[str, np.ndarray], labels) -> tuple:
 
 def _kinetic_columns(system: System, put, q, qd, x0, fric, power) -> None:
     model = system.model
-    qe = _padded(q)
     sol = fric["solution"] if fric else None
     n_f = {k: n for n, k in enumerate(fric["setup"].joints)} if fric else {}
     force_unit = {"M": "N*m"}
+
+    def pair(k: int) -> tuple[np.ndarray, np.ndarray]:
+        """Joint k's links' poses with their frames (cos θ, sin θ once per state)."""
+        pe = link_poses(system, q)
+        return pe[..., system.ends[k][0], :], pe[..., system.ends[k][1], :]
+
     for k, j in enumerate(model.joints):
-        i_, j_ = system.ends[k]
-        qi, qj = qe[..., 3 * i_ : 3 * i_ + 3], qe[..., 3 * j_ : 3 * j_ + 3]
         block = system.rows_of(k)
         labels = j.reaction_labels
         put(
             [(f"{j.name}.{label}", force_unit.get(label, "N")) for label in labels],
-            lambda j=j, qi=qi, qj=qj, block=block, labels=labels: _in_order(
-                j.reaction(x0[..., block], qi, qj), labels
+            lambda j=j, k=k, block=block, labels=labels: _in_order(
+                j.reaction(x0[..., block], *pair(k)), labels
             ),
         )
         if not fric:
@@ -305,7 +308,8 @@ def _kinetic_columns(system: System, put, q, qd, x0, fric, power) -> None:
                 lambda n=n_f[k]: (fric["e_approx"][..., n], sol.e[..., n]),
             )
 
-        def with_friction(j=j, k=k, qi=qi, qj=qj, block=block, labels=labels):
+        def with_friction(j=j, k=k, block=block, labels=labels):
+            qi, qj = pair(k)
             reac = j.reaction(sol.x[..., block], qi, qj)
             if k in n_f:  # a friction force along a slide is a force too
                 for label, extra in j.effort_force(sol.e[..., n_f[k]], qi, qj).items():
