@@ -192,6 +192,8 @@ def test_a_variant_that_cannot_assemble_is_a_row_with_its_reason(tmp_path):
     s = batch.run_batch(str(SLIDER), _tasks(vs), tmp_path, executor="serial", positions=24, chunk=3)
     rows = _rows(tmp_path)
     assert (s.total, s.failed) == (3, 1)
+    assert s.alone == 1  # 2: out of the vectorised analysis, for its reason; counted
+    assert json.loads((tmp_path / "batch.json").read_text())["runs"][-1]["alone"] == 1
     assert [rows[k]["status"] for k in "123"] == ["ok", "failed", "ok"]
     assert "RRP dyad {rod, slider} cannot assemble" in rows["2"]["reason"]
     assert rows["2"]["failed.group"] == "RRP dyad {rod, slider}" and rows["1"]["failed.group"] == ""
@@ -234,6 +236,19 @@ def test_an_interrupted_batch_resumes_without_recomputing(tmp_path, monkeypatch)
     assert header[0].startswith("# units: ,file,file,") and [
         line.split(",")[0] for line in header[2:]
     ] == [vid for vid, _ in vs]  # in variant order at the end
+
+
+def test_the_variants_analysed_one_by_one_are_counted_and_shown(tmp_path, capsys):
+    """The vectorised analysis is the fast path; a variant it does not take is analysed
+    alone, with the same row: the batch counts those (batch.json, the summary line), so
+    a batch that leaves the fast path does not do so silently."""
+    args = ["batch", str(SLOTTER), "--set", "K=1.9,2.1", "--positions", "12", "--chunk", "2"]
+    assert main([*args, "--out", str(tmp_path / "fast"), "--no-flywheel"]) == 0
+    assert "one by one" not in capsys.readouterr().out
+    assert main([*args, "--out", str(tmp_path / "slow"), "--flywheel"]) == 0  # one by one
+    assert "; 2 analysed one by one (outside the vectorised analysis)" in capsys.readouterr().out
+    state = json.loads((tmp_path / "slow" / "batch.json").read_text())
+    assert state["runs"][-1]["alone"] == 2
 
 
 def test_a_rerun_with_another_sweep_is_refused(tmp_path):

@@ -110,7 +110,8 @@ def main() -> None:
     )
     print(
         f"batch: {args.n} variants in {t_batch:.1f} s = {rate_batch:.1f} variants/s "
-        f"({s.workers} workers, chunks of {s.chunk}; {s.failed} failed, {s.errors} errors)"
+        f"({s.workers} workers, chunks of {s.chunk}; {s.failed} failed, {s.errors} errors; "
+        f"{s.alone} analysed one by one)"
         f" -> {s.summary_csv}"
     )
     print(

@@ -23,9 +23,11 @@ __all__ = ["analyze_chunk"]
 class ChunkRows(list):
     """The rows of a chunk (a list), with ``parameters``: each variant's parameters as its
     model has them (file units), or None where the model was not built — what the table's
-    parameter columns show, computed where the model is built."""
+    parameter columns show, computed where the model is built; and ``alone``: how many of
+    its variants were analysed one by one (the slow path, counted so that it shows)."""
 
     parameters: list[dict[str, float] | None]
+    alone: int = 0
 
 
 def analyze_chunk(chunk: Chunk) -> ChunkRows:
@@ -38,7 +40,7 @@ def analyze_chunk(chunk: Chunk) -> ChunkRows:
         template = template_of(chunk.source.file, chunk.source.text)
     except KinetostaticsError as exc:
         return ChunkRows(variants.failure_row(exc) for _ in chunk.ids)
-    found, parameters = variants._analyze_variants(
+    found, parameters, alone = variants._analyze_variants(
         template,
         chunk.overrides,
         positions=chunk.positions,
@@ -46,7 +48,7 @@ def analyze_chunk(chunk: Chunk) -> ChunkRows:
         flywheel=chunk.flywheel,
     )
     rows = ChunkRows(found)
-    rows.parameters = parameters
+    rows.parameters, rows.alone = parameters, alone
     if chunk.results_dir:
         from ..analysis.pipeline import analyze
 

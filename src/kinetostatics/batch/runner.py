@@ -87,6 +87,7 @@ class BatchSummary:
     seconds: float
     chunk: int
     workers: int
+    alone: int = 0  # variants computed one by one, outside the vectorised analysis
 
     @property
     def summary_csv(self) -> Path:
@@ -309,9 +310,12 @@ def _run_locked(
 
     bar = _Progress(len(tasks), reused, sys.stderr.isatty() if progress is None else progress)
 
+    alone = [0]
+
     def record(part: Sequence[Task], rows: Sequence[Mapping[str, Any]]) -> None:
         """A chunk's rows into the table, and the progress bar on."""
         parameters = getattr(rows, "parameters", None)
+        alone[0] += getattr(rows, "alone", 0)
         bar.update(len(part), _record(table, templates, where, list(zip(part, rows)), parameters))
 
     if broken:
@@ -355,7 +359,7 @@ def _run_locked(
         raise
     finally:
         computed = _finish(
-            pool, bar, table, out / STATE, state, reused, t_run, size, where, failure
+            pool, bar, table, out / STATE, state, reused, t_run, size, where, failure, alone[0]
         )
     statuses = [r.get("status") for r in table.rows.values()]
     return BatchSummary(
@@ -368,6 +372,7 @@ def _run_locked(
         time.perf_counter() - t_start,
         size,
         pool.slots,
+        alone[0],
     )
 
 
@@ -458,7 +463,17 @@ def _collect(pool: _Pool, pending, retry, record, out: Path, after_chunk) -> Non
 
 
 def _finish(
-    pool: _Pool, bar, table: _Table, state_path: Path, state, reused, t_run, size, where, failure
+    pool: _Pool,
+    bar,
+    table: _Table,
+    state_path: Path,
+    state,
+    reused,
+    t_run,
+    size,
+    where,
+    failure,
+    alone: int = 0,
 ) -> int:
     """Close the executor and the bar, add this run to ``batch.json`` and rewrite the
     table in variant order; the number of rows computed now."""
@@ -474,6 +489,7 @@ def _finish(
         *state.get("runs", []),
         {
             "computed": computed,
+            "alone": alone,
             "reused": reused,
             "seconds": round(seconds, 3),
             "chunk": size,

@@ -284,9 +284,10 @@ def analyze_variants(
 def _analyze_variants(
     template: Template, overrides, positions=None, friction=None, flywheel=None, vectorise=True
 ) -> tuple[list[dict[str, Any]], list[dict[str, float] | None]]:
-    """(rows, parameters): :func:`analyze_variants` (the same arguments), with each
+    """(rows, parameters, alone): :func:`analyze_variants` (the same arguments), with each
     variant's parameters as its model has them (None where the model could not be built:
-    the row says why)."""
+    the row says why) and the number of variants analysed one by one (outside the
+    vectorised analysis, or left by it)."""
     overrides = list(overrides)
     rows: list[dict[str, Any] | None] = [None] * len(overrides)
     models: dict[int, Model] = {}
@@ -301,14 +302,16 @@ def _analyze_variants(
         _vectorised_rows(models, rows, friction)
     from ..analysis.pipeline import analyze
 
+    alone = 0
     for v, model in models.items():
         if rows[v] is not None:
             continue
+        alone += 1
         try:
             rows[v] = summary_row(analyze(model, friction=friction), flywheel=flywheel)
         except (KinetostaticsError, ValueError, ArithmeticError, np.linalg.LinAlgError) as exc:
             rows[v] = failure_row(exc)
-    return rows, parameters
+    return rows, parameters, alone
 
 
 def _vectorised_rows(models: dict[int, Model], rows: list, friction: bool | None) -> None:

@@ -228,6 +228,8 @@ def _batch(args) -> int:
     )
     if s.reused:
         line += f", {s.reused} from the previous run"
+    if s.alone:
+        line += f"; {s.alone} analysed one by one (outside the vectorised analysis)"
     print(
         line
         + f"; {s.failed} failed"
