@@ -283,7 +283,7 @@ def analyze_variants(
 
 def _analyze_variants(
     template: Template, overrides, positions=None, friction=None, flywheel=None, vectorise=True
-) -> tuple[list[dict[str, Any]], list[dict[str, float] | None]]:
+) -> tuple[list[dict[str, Any]], list[dict[str, float] | None], int]:
     """(rows, parameters, alone): :func:`analyze_variants` (the same arguments), with each
     variant's parameters as its model has them (None where the model could not be built:
     the row says why) and the number of variants analysed one by one (outside the

@@ -352,8 +352,7 @@ def _value_extremes(pieces: np.ndarray, values: np.ndarray) -> tuple[float, floa
     for c, d, roots in zip(coef, ders, all_roots):
         xs = [-1.0, 1.0]
         if np.any(d):
-            r = roots
-            r = r[np.isreal(r)].real
+            r = roots[np.isreal(roots)].real
             xs += list(r[(r > -1) & (r < 1)])
         cand += list(leg.legval(np.asarray(xs), c))
     return float(np.min(cand)), float(np.max(cand))
