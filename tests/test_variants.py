@@ -17,6 +17,8 @@ from kinetostatics.batch.variants import ROW_UNITS, Template, analyze_variants, 
 from kinetostatics.errors import ModelError
 from kinetostatics.model.stacking import TopologyMismatch, stack
 
+from .conftest import MECHANISMS
+
 MECH = Path(__file__).resolve().parents[1] / "mechanisms"
 
 
@@ -75,6 +77,28 @@ def test_a_variant_value_that_is_not_finite_is_named_at_its_parameter(value):
         ModelError, match=r"slotting_machine.yaml:\d+:\d+: parameters\.K: number is not finite"
     ):
         tpl.model({"K": value})
+
+
+@pytest.mark.parametrize("path", MECHANISMS, ids=lambda p: p.stem)
+def test_a_kept_tree_builds_what_a_fresh_one_builds(path):
+    """A template keeps its tree's entries, key locations and plain-number vectors from
+    one variant's build to the next: each variant's model (or error) is the one a tree
+    composed afresh builds, byte for byte, on every shipped mechanism."""
+    import pickle
+
+    from kinetostatics.base.document import compose, read_text
+    from kinetostatics.outputs.loading import build
+
+    def built(make, ov):
+        try:
+            return pickle.dumps(make(ov))
+        except ModelError as exc:
+            return str(exc)
+
+    tpl = Template.load(path)
+    fresh = lambda ov: build(compose(read_text(path), str(path)), ov or None)  # noqa: E731
+    for ov in [{}, *_perturbed(tpl, np.random.default_rng(5), 3, spread=0.2)]:
+        assert built(tpl.model, ov) == built(fresh, ov), ov
 
 
 def test_variants_built_from_one_tree_in_threads_are_their_own():
