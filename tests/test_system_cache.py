@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 import kinetostatics as ks
+from kinetostatics.base.geometry import poses
 from kinetostatics.structure import system as S
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -107,3 +108,19 @@ def test_the_poses_kept_follow_a_state_changed_in_place():
     psi = np.zeros((4, 1))
     fresh = S.phi(S.build_system(system.model), q, psi)  # a new system: nothing kept
     np.testing.assert_array_equal(S.phi(system, q, psi), fresh)
+
+
+def test_poses_run_contiguously_over_the_positions():
+    """Each link's x, y, θ, cos θ, sin θ is one contiguous run over the positions (the
+    joints' formulas read them so), with the values of the pose-major layout."""
+    rng = np.random.default_rng(5)
+    q = rng.normal(size=(7, 3, 6))  # positions × variants × two links' coordinates
+    pe = poses(q, 2)
+    assert pe.shape == (7, 3, 3, 5)
+    for link in range(3):
+        for c in range(5):
+            assert pe[..., link, c].flags.c_contiguous
+    np.testing.assert_array_equal(pe[..., :2, :3], q.reshape(7, 3, 2, 3))
+    np.testing.assert_array_equal(pe[..., :2, 3], np.cos(q[..., 2::3]))
+    np.testing.assert_array_equal(pe[..., :2, 4], np.sin(q[..., 2::3]))
+    np.testing.assert_array_equal(pe[..., 2, :], np.broadcast_to([0.0, 0, 0, 1, 0], (7, 3, 5)))
