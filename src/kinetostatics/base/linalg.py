@@ -369,10 +369,11 @@ class BlockFactor:
         at, where = _coupling_index(tuple(cols.tolist()), tuple(own.tolist()))
         if at is None:
             return None
+        lower = entries_first(lower)  # (rows, cols, ...): each entry's run of positions
         if where is None:
-            return lower[..., at]
-        out = np.zeros(lower.shape[:-1] + (own.size,))
-        out[..., where] = lower[..., at]
+            return lower[:, at]
+        out = np.zeros((lower.shape[0], own.size) + lower.shape[2:])
+        out[:, where] = lower[:, at]
         return out
 
     def _upper_parts(self) -> list[tuple[np.ndarray, np.ndarray | None]]:
@@ -387,7 +388,7 @@ class BlockFactor:
                 upper, later = None, np.zeros(0, dtype=int)
                 if parts:
                     later = np.concatenate([self.blocks[h][0] for h, _ in parts])
-                    upper = np.swapaxes(np.concatenate([c for _, c in parts], axis=-2), -1, -2)
+                    upper = entries_last(np.concatenate([c for _, c in parts]).swapaxes(0, 1))
                 self._upper.append((later, upper))
         return self._upper
 
