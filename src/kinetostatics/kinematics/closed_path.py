@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..base.arrays import sorted_distinct
+from ..base.arrays import entries_first, entries_last, sorted_distinct
 from ..structure.system import System, phi
 from .continuation import COARSE_STEP, Drive, Singularity, time_step
 from .dyads import MARGIN
@@ -68,10 +68,10 @@ def closed_form_path(
     ang = slice(2, None, 3)  # angles nearest the start pose, as the guess
     q[..., ang] += 2 * np.pi * np.round((q0[..., ang] - q[..., ang]) / (2 * np.pi))
     start = len(t)
-    path = q[:, order][..., ang]  # every angle unwrapped along the path at once
+    path = q[:, order, ang]  # every angle unwrapped along the path at once
     q[:, order, ang] = np.unwrap(path, axis=1)
     q[..., ang] += (2 * np.pi * np.round((q0[:, 0, ang] - q[:, start, ang]) / (2 * np.pi)))[:, None]
-    q = q[:, :start]
+    q = np.ascontiguousarray(q[:, :start])
     probe = slice(None, None, max(1, start // 32))
     res = np.max(np.abs(phi(system, q[:, probe], psi[:start][probe])), axis=(-2, -1))
     ok &= res <= 1e3 * TOL * np.ravel(np.broadcast_to(system.l_ref, (n_v, 1)))
@@ -128,7 +128,7 @@ def _closed_forms(
 ) -> tuple[np.ndarray, np.ndarray]:
     """The closed forms in solve order, group g on its start sign × ``signs[..., g]``:
     (q, the groups' discriminants D ``(..., n_groups)``)."""
-    q = np.array(q, dtype=float)
+    q = entries_last(np.array(entries_first(q, 1), dtype=float), 1)  # coordinate-major
     disc = []
     for g, solve in enumerate(solvers):
         q, d = solve(q, psi, signs[..., g])

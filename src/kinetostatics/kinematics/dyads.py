@@ -29,7 +29,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ..base.geometry import cross, perp, rotate, wrap_angle
+from ..base.geometry import cross, dot, perp, rotate, wrap_angle
 from ..joints import Prismatic, Revolute
 from ..structure.system import GroupPlan, System
 
@@ -120,7 +120,7 @@ def _rrr(system, plan, joints, q0) -> Solver | None:
         sg = sigma if sign is None else sigma * sign
         pa, pb = points(q)
         dv = pb - pa
-        d2 = np.sum(dv * dv, axis=-1)
+        d2 = dot(dv, dv)
         d = np.sqrt(d2)
         x = (la * la - lb * lb + d2) / (2 * d)
         h2 = la * la - x * x
@@ -169,15 +169,15 @@ def _rrp(system, plan, joints, q0) -> Solver | None:
     tb0, u0, w0 = frame(q0)
     pm0 = _world(system, q0, a, _pin(m, a))
     pa0 = _world(system, q0, _other(ja, a), _pin(ja, _other(ja, a)))
-    wu0 = np.sum(w0 * u0, axis=-1)
-    s0 = np.sum((pm0 - pa0 - w0) * u0, axis=-1)
+    wu0 = dot(w0, u0)
+    s0 = dot(pm0 - pa0 - w0, u0)
     sigma = np.sign(s0 + wu0)
 
     def solve(q, psi, sign=None):
         sg = sigma if sign is None else sigma * sign
         tb, u, w = frame(q)
-        wu = np.sum(w * u, axis=-1)
-        disc = wu * wu - np.sum(w * w, axis=-1) + la * la
+        wu = dot(w, u)
+        disc = wu * wu - dot(w, w) + la * la
         sval = -wu + sg * np.sqrt(np.maximum(disc, 0.0))
         pa = _world(system, q, _other(ja, a), _pin(ja, _other(ja, a)))
         pm = pa + w + sval[..., None] * u
@@ -203,7 +203,7 @@ def _rpr(system, plan, joints, q0) -> Solver | None:
     e = s.a - _pin(jb, b)  # b's frame: pivot -> axis point
     n_l = perp(s.u)
     nu_ang = _heading(n_l)
-    k_const = np.sum(n_l * (e - rotate(s.angle, delta)), axis=-1)
+    k_const = dot(n_l, e - rotate(s.angle, delta))
 
     def ends(q):
         return (
