@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 import kinetostatics as ks
+from kinetostatics.base.arrays import entry_major_zeros
 from kinetostatics.base.geometry import poses
 from kinetostatics.structure import system as S
 
@@ -124,3 +125,28 @@ def test_poses_run_contiguously_over_the_positions():
     np.testing.assert_array_equal(pe[..., :2, 3], np.cos(q[..., 2::3]))
     np.testing.assert_array_equal(pe[..., :2, 4], np.sin(q[..., 2::3]))
     np.testing.assert_array_equal(pe[..., 2, :], np.broadcast_to([0.0, 0, 0, 1, 0], (7, 3, 5)))
+
+
+def test_joint_jacobians_and_gamma_run_contiguously_over_the_positions():
+    """A hinge's and a slide's Φ_q parts are stored entry-major and γ row-major: each entry
+    one contiguous run over the positions (the blocks gather them so), with the values of
+    the joints' formulas."""
+    system = S.system_of(ks.load(ROOT / "mechanisms" / "slotting_machine.yaml"))
+    rng = np.random.default_rng(8)
+    q, qd = rng.normal(size=(2, 50, system.n_q))
+    pe = S.link_poses(system, q)
+    for k, joint in enumerate(system.model.joints):
+        i, j = system.ends[k]
+        for part in joint.jacobian(pe[..., i, :], pe[..., j, :]):
+            assert part.shape == (50, joint.n_eq, 3)
+            assert all(
+                part[..., r, c].flags.c_contiguous for r in range(joint.n_eq) for c in range(3)
+            )
+    g = S.gamma(system, q, qd, np.zeros((50, 1)))
+    assert all(g[..., r].flags.c_contiguous for r in range(g.shape[-1]))
+
+
+def test_entry_major_zeros():
+    z = entry_major_zeros((4, 3, 2, 3))
+    assert z.shape == (4, 3, 2, 3) and not z.any()
+    assert z[..., 1, 2].flags.c_contiguous and z[..., 1, 2].shape == (4, 3)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["sorted_distinct", "max_abs_last", "entries_first", "entries_last"]
+__all__ = ["sorted_distinct", "max_abs_last", "entries_first", "entries_last", "entry_major_zeros"]
 
 
 def sorted_distinct(values) -> np.ndarray:
@@ -36,3 +36,10 @@ def entries_last(a: np.ndarray, d: int = 2) -> np.ndarray:
     """The inverse of :func:`entries_first`: ``(e1 … ed, ...)`` as a view ``(..., e1 … ed)``."""
     n = a.ndim
     return a.transpose(tuple(range(d, n)) + tuple(range(d)))
+
+
+def entry_major_zeros(shape: tuple[int, ...], d: int = 2) -> np.ndarray:
+    """Zeros of ``shape (..., e1 … ed)`` stored entry-major (a view of ``(e1 … ed, ...)``):
+    each entry one contiguous run over the positions, as Φ_q's group blocks are stored,
+    so that writing an entry and gathering the entries into the blocks run along memory."""
+    return entries_last(np.zeros(shape[len(shape) - d :] + shape[: len(shape) - d]), d)

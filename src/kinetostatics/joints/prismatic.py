@@ -7,6 +7,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from ..base.arrays import entry_major_zeros
 from ..base.geometry import dot, perp, turn, wrap_angle
 from ..base.keys import NAME, NUMBER, Keys, names
 from .base import AXIS_KEYS, Anchor, Block, Glyph, Joint, Line
@@ -122,7 +123,7 @@ class Prismatic(Joint, kind="prismatic"):
     def jacobian(self, qi, qj):
         A, U, N, P, d = self._frame(qi, qj)
         shape = d.shape[:-1] + (2, 3)
-        ji, jj = np.zeros(shape), np.zeros(shape)
+        ji, jj = entry_major_zeros(shape), entry_major_zeros(shape)
         ji[..., 0, :2], ji[..., 0, 2] = -N, -dot(U, d) - dot(N, perp(A))
         jj[..., 0, :2], jj[..., 0, 2] = N, dot(N, perp(P))
         ji[..., 1, 2], jj[..., 1, 2] = -1.0, 1.0

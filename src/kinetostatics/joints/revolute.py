@@ -7,6 +7,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from ..base.arrays import entry_major_zeros
 from ..base.geometry import perp, turn
 from ..base.keys import NAME, NUMBER, Keys, names
 from .base import Anchor, Glyph, Joint
@@ -96,7 +97,7 @@ class Revolute(Joint, kind="revolute"):
 
     def jacobian(self, qi, qj):
         shape = np.broadcast_shapes(qi.shape, qj.shape)[:-1] + (2, 3)
-        ji, jj = np.zeros(shape), np.zeros(shape)
+        ji, jj = entry_major_zeros(shape), entry_major_zeros(shape)
         ji[..., 0, 0] = ji[..., 1, 1] = 1.0
         jj[..., 0, 0] = jj[..., 1, 1] = -1.0
         ji[..., :, 2] = perp(turn(qi, self.p_i))

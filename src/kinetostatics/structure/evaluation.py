@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..base.arrays import entries_first
+from ..base.arrays import entries_first, entries_last
 
 __all__ = [
     "ConstraintSet",
@@ -136,8 +136,9 @@ def phi_all(sets, n_rows: int, pe: np.ndarray, psi: np.ndarray) -> np.ndarray:
 
 def gamma_all(sets, n_rows: int, pe: np.ndarray, ve: np.ndarray, psi_dd: np.ndarray) -> np.ndarray:
     """γ of every constraint, ``(..., n_rows)``, at poses ``pe`` and link rates ``ve``
-    ``(..., n+1, 3)`` (ground last)."""
-    out = np.empty(pe.shape[:-2] + (n_rows,))
+    ``(..., n+1, 3)`` (ground last); stored row-major (each row of γ a contiguous run over
+    the positions, as the solves gather them)."""
+    out = entries_last(np.empty((n_rows,) + pe.shape[:-2]), 1)
     for _, _, s, c, (qi, qj), (vi, vj), rows in _units(sets, pe, ve):
         if s.driver is None:
             out[..., rows] = c.acceleration_rhs(qi, qj, vi, vj)
