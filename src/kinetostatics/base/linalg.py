@@ -271,12 +271,14 @@ def small_inverse(a: np.ndarray) -> np.ndarray:
 @functools.lru_cache(maxsize=1024)
 def _coupling_index(cols: tuple[int, ...], own: tuple[int, ...]) -> tuple:
     """Which of a coupling block's columns ``cols`` are group g's ``own`` (their indices
-    there; None for none), and where they go among g's columns (None: all of them, in
-    order).  Cached: the same few groups recur in every analysis."""
+    there, a slice for a run; None for none), and where they go among g's columns (None:
+    all of them, in order).  Cached: the same few groups recur in every analysis."""
     at = [k for k, c in enumerate(cols) if c in own]
     if not at:
         return None, None
     if len(at) == len(own) and all(cols[a] == c for a, c in zip(at, own)):
+        if at == list(range(at[0], at[-1] + 1)):  # a run: a view, not a gather
+            return slice(at[0], at[-1] + 1), None
         return at, None
     return at, [own.index(cols[a]) for a in at]
 
@@ -388,7 +390,8 @@ class BlockFactor:
                 upper, later = None, np.zeros(0, dtype=int)
                 if parts:
                     later = np.concatenate([self.blocks[h][0] for h, _ in parts])
-                    upper = entries_last(np.concatenate([c for _, c in parts]).swapaxes(0, 1))
+                    both = parts[0][1] if len(parts) == 1 else np.concatenate([c for _, c in parts])
+                    upper = entries_last(both.swapaxes(0, 1))
                 self._upper.append((later, upper))
         return self._upper
 
