@@ -15,6 +15,7 @@ from functools import cached_property
 
 import numpy as np
 
+from ..base.arrays import entries_first, entries_last
 from ..base.geometry import poses
 from ..joints import Joint
 from ..model import Model
@@ -327,11 +328,13 @@ def nu(system: System, psi_d: np.ndarray) -> np.ndarray:
 
 def gamma(system: System, q: np.ndarray, qd: np.ndarray, psi_dd: np.ndarray) -> np.ndarray:
     """γ such that Φ_q q̈ = γ, ``(..., n_rows)``."""
-    pe, ve = link_poses(system, q), _ext(qd)
-    return gamma_all(
-        system.sets,
-        system.n_rows,
-        pe,
-        ve.reshape(ve.shape[:-1] + (len(system.links) + 1, 3)),
-        psi_dd,
-    )
+    return gamma_all(system.sets, system.n_rows, link_poses(system, q), _rates(qd), psi_dd)
+
+
+def _rates(qd: np.ndarray) -> np.ndarray:
+    """The links' rates ``(..., n + 1, 3)``, the ground's zeros last, stored component-major
+    as the poses are (:func:`~kinetostatics.base.geometry.poses`)."""
+    n, lead = qd.shape[-1] // 3, qd.shape[:-1]
+    out = np.zeros((n + 1, 3) + lead)
+    out[:n] = entries_first(qd.reshape(lead + (n, 3)))
+    return entries_last(out)
