@@ -21,6 +21,8 @@ import re
 from collections.abc import Mapping
 from types import MappingProxyType
 
+from ..errors import did_you_mean
+
 __all__ = [
     "QUANTITY_KINDS",
     "SI_UNITS",
@@ -142,10 +144,7 @@ _NORMALISED: dict[str, dict[str, float]] = {
 
 def _check_kind(kind: object) -> str:
     if not isinstance(kind, str) or kind not in UNITS:
-        import difflib  # on the error path only
-
-        matches = difflib.get_close_matches(str(kind), QUANTITY_KINDS, n=1)
-        hint = f" (did you mean '{matches[0]}'?)" if matches else ""
+        hint = did_you_mean(str(kind), QUANTITY_KINDS)
         raise UnitError(f"unknown quantity kind '{kind}'{hint}; known: {', '.join(QUANTITY_KINDS)}")
     return kind
 
@@ -180,10 +179,7 @@ def factor(kind: str, unit: str) -> float:
     normalised = _normalise(unit)
     if normalised in _NORMALISED[kind]:
         return _NORMALISED[kind][normalised]
-    import difflib  # on the error path only
-
-    matches = difflib.get_close_matches(unit, list(units), n=1)
-    hint = f" (did you mean '{matches[0]}'?)" if matches else ""
+    hint = did_you_mean(unit, units)
     known = ", ".join(sorted(_CANONICAL[kind]))
     raise UnitError(f"unknown {kind} unit '{unit}'{hint}; known: {known}")
 
