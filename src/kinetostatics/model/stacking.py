@@ -26,11 +26,11 @@ class TopologyMismatch(ValueError):
     """The variants differ in more than numbers."""
 
 
-def _is_number(x: Any) -> bool:
-    return isinstance(x, (int, float, np.floating, np.integer)) and not isinstance(x, bool)
-
-
 _NUMBER_TYPES = (int, float, np.floating, np.integer)
+
+
+def _is_number(x: Any) -> bool:
+    return isinstance(x, _NUMBER_TYPES) and not isinstance(x, bool)
 
 
 def _all_numbers(types: set[type]) -> bool:
@@ -53,7 +53,7 @@ def _stack(values: Sequence[Any], path: str) -> Any:
     if _is_number(first):
         if not _all_numbers(types):
             raise TopologyMismatch(f"{path}: not all numbers")
-        if values.count(first) == len(values):  # equal (NaN: never, as below)
+        if values.count(first) == len(values):  # all equal (or one NaN object repeated)
             return first
         arr = np.array(values, dtype=float)
         if np.all(arr == arr[0]):
