@@ -6,7 +6,18 @@ import numpy as np
 
 from .arrays import entries_last
 
-__all__ = ["rotate", "turn", "turn_back", "poses", "perp", "dot", "cross", "wrap_angle", "stack_xy"]
+__all__ = [
+    "rotate",
+    "rotated",
+    "turn",
+    "turn_back",
+    "poses",
+    "perp",
+    "dot",
+    "cross",
+    "wrap_angle",
+    "stack_xy",
+]
 
 
 def rotate(theta: np.ndarray, p: np.ndarray) -> np.ndarray:
@@ -24,7 +35,9 @@ def rotate(theta: np.ndarray, p: np.ndarray) -> np.ndarray:
     return out
 
 
-def _rotated(c: np.ndarray, s: np.ndarray, p: np.ndarray) -> np.ndarray:
+def rotated(c: np.ndarray, s: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """:func:`rotate` by an angle given as its (cos, sin), computed once by the caller:
+    the same numbers as ``rotate(theta, p)`` with ``c, s = cos θ, sin θ``."""
     px, py = p[..., 0], p[..., 1]
     x = c * px - s * py
     out = np.empty(np.shape(x) + (2,))
@@ -50,13 +63,13 @@ def turn(q: np.ndarray, p: np.ndarray) -> np.ndarray:
     array([0., 1.])
     """
     c, s = _frame(q)
-    return _rotated(c, s, p)
+    return rotated(c, s, p)
 
 
 def turn_back(q: np.ndarray, p: np.ndarray) -> np.ndarray:
     """World vectors ``p (..., 2)`` in the axes of a link at pose ``q`` (rotated by −θ)."""
     c, s = _frame(q)
-    return _rotated(c, -s, p)
+    return rotated(c, -s, p)
 
 
 def poses(q: np.ndarray, n_links: int) -> np.ndarray:

@@ -129,9 +129,9 @@ def _closed_forms(
     """The closed forms in solve order, group g on its start sign × ``signs[..., g]``:
     (q, the groups' discriminants D ``(..., n_groups)``)."""
     q = entries_last(np.array(entries_first(q, 1), dtype=float), 1)  # coordinate-major
-    disc = []
+    disc, frames = [], {}  # each link's (cos θ, sin θ), once per pass
     for g, solve in enumerate(solvers):
-        q, d = solve(q, psi, signs[..., g])
+        q, d = solve(q, psi, signs[..., g], frames)
         disc.append(np.broadcast_to(d, q.shape[:-1]))
     return q, np.stack(disc, axis=-1)
 
@@ -266,9 +266,9 @@ def closed_form_near(solvers, guess: np.ndarray, psi: np.ndarray) -> tuple[np.nd
     ``psi``, angles taken nearest to ``guess``; ``ok (...)`` where every group's
     margin √D stays above ``dyads.MARGIN``."""
     q = guess.copy()
-    ok = np.ones(guess.shape[:-1], dtype=bool)
+    ok, frames = np.ones(guess.shape[:-1], dtype=bool), {}
     for solve in solvers:
-        q, disc = solve(q, psi)
+        q, disc = solve(q, psi, None, frames)
         ok &= disc >= MARGIN**2
     ang = slice(2, None, 3)
     q[..., ang] += 2 * np.pi * np.round((guess[..., ang] - q[..., ang]) / (2 * np.pi))

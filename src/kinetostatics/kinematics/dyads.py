@@ -15,7 +15,11 @@ of the known links' poses (no square root is taken), so it can be
 interpolated and minimised along a path: ``√D`` is the distance of the
 assembly from the singular pose (the margin).
 
-A solver is ``f(q, psi, sign=None) -> (q, D)`` filling the group's columns of ``q``.
+A solver is ``f(q, psi, sign=None, frames=None) -> (q, D)`` filling the group's
+columns of ``q``.  ``frames`` (a dict, one per pass of the solvers over one ``q``)
+keeps each link's (cos θ, sin θ) once computed: a link placed by one group and read
+by the next is turned with the same numbers, without evaluating cos and sin again
+(at 36,000 positions each pair costs ~0.7 ms).
 
 The closed forms are formulas of revolute and prismatic pairs by nature (like
 pyslvs' PLLP), so this module names the joint classes and reads their
@@ -29,7 +33,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ..base.geometry import cross, dot, perp, rotate, wrap_angle
+from ..base.geometry import cross, dot, perp, rotate, rotated, wrap_angle
 from ..joints import Prismatic, Revolute
 from ..structure.system import GroupPlan, System
 
@@ -37,14 +41,23 @@ __all__ = ["closed_form", "MARGIN"]
 
 MARGIN = 1e-3  # below this margin √D a solve near a guess hands over to Newton
 
-Solver = Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]
+Solver = Callable[..., tuple[np.ndarray, np.ndarray]]
 
 
-def _world(system: System, q: np.ndarray, link: str, p: np.ndarray) -> np.ndarray:
+def _frame(frames: dict, link: str, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(cos θ, sin θ) of ``link`` at angle ``theta``, kept in ``frames`` for the pass: a
+    link's angle is set once per pass, so a later use turns with the same numbers."""
+    cs = frames.get(link)
+    if cs is None:
+        cs = frames[link] = (np.cos(theta), np.sin(theta))
+    return cs
+
+
+def _world(system: System, q: np.ndarray, link: str, p: np.ndarray, frames: dict) -> np.ndarray:
     if link == system.model.ground.name:
         return np.broadcast_to(p, q.shape[:-1] + (2,))
     k = system.link_index(link)
-    return q[..., 3 * k : 3 * k + 2] + rotate(q[..., 3 * k + 2], p)
+    return q[..., 3 * k : 3 * k + 2] + rotated(*_frame(frames, link, q[..., 3 * k + 2]), p)
 
 
 def _angle(system: System, q: np.ndarray, link: str):
@@ -60,11 +73,12 @@ def _place(
     theta: np.ndarray,
     world: np.ndarray,
     local: np.ndarray,
+    frames: dict,
 ) -> None:
     """Set link's pose so that local point ``local`` lies at ``world``."""
     k = system.link_index(link)
     q[..., 3 * k + 2] = theta
-    q[..., 3 * k : 3 * k + 2] = world - rotate(theta, local)
+    q[..., 3 * k : 3 * k + 2] = world - rotated(*_frame(frames, link, theta), local)
 
 
 def _heading(v: np.ndarray) -> np.ndarray:
@@ -106,19 +120,20 @@ def _rrr(system, plan, joints, q0) -> Solver | None:
     if np.any(la == 0) or np.any(lb == 0):
         return None
 
-    def points(q):
+    def points(q, frames):
         return (
-            _world(system, q, _other(ja, a), _pin(ja, _other(ja, a))),
-            _world(system, q, _other(jb, b), _pin(jb, _other(jb, b))),
+            _world(system, q, _other(ja, a), _pin(ja, _other(ja, a)), frames),
+            _world(system, q, _other(jb, b), _pin(jb, _other(jb, b)), frames),
         )
 
-    pa0, pb0 = points(q0)
-    pm0 = _world(system, q0, a, _pin(m, a))
+    pa0, pb0 = points(q0, {})
+    pm0 = _world(system, q0, a, _pin(m, a), {})
     sigma = np.sign(cross(pb0 - pa0, pm0 - pa0))
 
-    def solve(q, psi, sign=None):
+    def solve(q, psi, sign=None, frames=None):
         sg = sigma if sign is None else sigma * sign
-        pa, pb = points(q)
+        frames = {} if frames is None else frames
+        pa, pb = points(q, frames)
         dv = pb - pa
         d2 = dot(dv, dv)
         d = np.sqrt(d2)
@@ -129,8 +144,8 @@ def _rrr(system, plan, joints, q0) -> Solver | None:
         pm = pa + x[..., None] * e + (sg * h)[..., None] * perp(e)
         ta = _heading(pm - pa) - alpha_a
         tb = _heading(pm - pb) - alpha_b
-        _place(system, q, a, ta, pa, _pin(ja, a))
-        _place(system, q, b, tb, pb, _pin(jb, b))
+        _place(system, q, a, ta, pa, _pin(ja, a), frames)
+        _place(system, q, b, tb, pb, _pin(jb, b), frames)
         return q, h2 / np.minimum(la, lb) ** 2
 
     return solve
@@ -155,35 +170,36 @@ def _rrp(system, plan, joints, q0) -> Solver | None:
     alpha_a = _heading(la_vec)
     offset = _pin(m, b) - s.p  # from the sliding point to the pin, b's frame
 
-    def frame(q):
+    def frame(q, frames):  # b's angle is set to tb in this pass: its frame is kept
         tk = _angle(system, q, k)
         tb = tk + s.angle
-        u = rotate(tk, s.u)
+        u = rotated(*_frame(frames, k, tk), s.u)
         w = (
-            _world(system, q, k, s.a)
-            + rotate(tb, offset)
-            - _world(system, q, _other(ja, a), _pin(ja, _other(ja, a)))
+            _world(system, q, k, s.a, frames)
+            + rotated(*_frame(frames, b, tb), offset)
+            - _world(system, q, _other(ja, a), _pin(ja, _other(ja, a)), frames)
         )
         return tb, u, w
 
-    tb0, u0, w0 = frame(q0)
-    pm0 = _world(system, q0, a, _pin(m, a))
-    pa0 = _world(system, q0, _other(ja, a), _pin(ja, _other(ja, a)))
+    tb0, u0, w0 = frame(q0, {})
+    pm0 = _world(system, q0, a, _pin(m, a), {})
+    pa0 = _world(system, q0, _other(ja, a), _pin(ja, _other(ja, a)), {})
     wu0 = dot(w0, u0)
     s0 = dot(pm0 - pa0 - w0, u0)
     sigma = np.sign(s0 + wu0)
 
-    def solve(q, psi, sign=None):
+    def solve(q, psi, sign=None, frames=None):
         sg = sigma if sign is None else sigma * sign
-        tb, u, w = frame(q)
+        frames = {} if frames is None else frames
+        tb, u, w = frame(q, frames)
         wu = dot(w, u)
         disc = wu * wu - dot(w, w) + la * la
         sval = -wu + sg * np.sqrt(np.maximum(disc, 0.0))
-        pa = _world(system, q, _other(ja, a), _pin(ja, _other(ja, a)))
+        pa = _world(system, q, _other(ja, a), _pin(ja, _other(ja, a)), frames)
         pm = pa + w + sval[..., None] * u
         ta = _heading(pm - pa) - alpha_a
-        _place(system, q, a, ta, pa, _pin(ja, a))
-        _place(system, q, b, tb, pm, _pin(m, b))
+        _place(system, q, a, ta, pa, _pin(ja, a), frames)
+        _place(system, q, b, tb, pm, _pin(m, b), frames)
         return q, disc / (la * la)
 
     return solve
@@ -205,29 +221,30 @@ def _rpr(system, plan, joints, q0) -> Solver | None:
     nu_ang = _heading(n_l)
     k_const = dot(n_l, e - rotate(s.angle, delta))
 
-    def ends(q):
+    def ends(q, frames):
         return (
-            _world(system, q, _other(ja, a), _pin(ja, _other(ja, a))),
-            _world(system, q, _other(jb, b), _pin(jb, _other(jb, b))),
+            _world(system, q, _other(ja, a), _pin(ja, _other(ja, a)), frames),
+            _world(system, q, _other(jb, b), _pin(jb, _other(jb, b)), frames),
         )
 
-    pa0, pb0 = ends(q0)
+    pa0, pb0 = ends(q0, {})
     dv0 = pa0 - pb0
     beta0 = _heading(dv0)
     tb0 = _angle(system, q0, b)
     sigma = -np.sign(wrap_angle(beta0 - nu_ang - tb0))
 
-    def solve(q, psi, sign=None):
+    def solve(q, psi, sign=None, frames=None):
         sg = sigma if sign is None else sigma * sign
-        pa, pb = ends(q)
+        frames = {} if frames is None else frames
+        pa, pb = ends(q, frames)
         dv = pa - pb
         d = np.hypot(dv[..., 0], dv[..., 1])
         beta = np.arctan2(dv[..., 1], dv[..., 0])
         c = k_const / d
         tb = beta - nu_ang + sg * np.arccos(np.clip(c, -1.0, 1.0))
         ta = tb + s.angle
-        _place(system, q, b, tb, pb, _pin(jb, b))
-        _place(system, q, a, ta, pa, _pin(ja, a))
+        _place(system, q, b, tb, pb, _pin(jb, b), frames)
+        _place(system, q, a, ta, pa, _pin(ja, a), frames)
         return q, 1.0 - c * c
 
     return solve
@@ -247,9 +264,11 @@ def _driven(system, plan, joints, q0) -> Solver | None:
     other = _other(j, link)
     turn = 1.0 if j.links[1] == link else -1.0  # coordinate θ_j − θ_i
 
-    def solve(q, psi, sign=None):
+    def solve(q, psi, sign=None, frames=None):
+        frames = {} if frames is None else frames
         theta = _angle(system, q, other) + turn * (psi[..., d_index] - d.driver.offset)
-        _place(system, q, link, theta, _world(system, q, other, _pin(j, other)), _pin(j, link))
+        at = _world(system, q, other, _pin(j, other), frames)
+        _place(system, q, link, theta, at, _pin(j, link), frames)
         return q, np.ones(q.shape[:-1])
 
     return solve

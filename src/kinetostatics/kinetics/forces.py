@@ -122,7 +122,6 @@ def external_forces(system: System, q, qd, psi, extremes, ref_speed: float) -> n
         value = load.value_at(psi, period)
         k = system.link_index(load.link)
         p = local_point(system, load.link, load.point)
-        pos, vel, _ = point_state(q, qd, None, k, p)
         on = activity(system, load, q, qd, psi, extremes, ref_speed)
         if load.kind == "torque":
             out[..., 3 * k + 2] += np.where(on, value, 0.0)
@@ -136,8 +135,8 @@ def external_forces(system: System, q, qd, psi, extremes, ref_speed: float) -> n
             continue
         if load.kind == "force":
             force = value
-        else:
-            v = vel @ load.axis
+        else:  # a resistance: against the point's velocity
+            v = point_state(q, qd, None, k, p)[1] @ load.axis
             sign = np.where(np.abs(v) > zero_speed(system, ref_speed), np.sign(v), 0.0)
             force = -(value * sign)[..., None] * load.axis
         force = np.where(on[..., None], force, 0.0)
