@@ -150,3 +150,37 @@ def test_entry_major_zeros():
     z = entry_major_zeros((4, 3, 2, 3))
     assert z.shape == (4, 3, 2, 3) and not z.any()
     assert z[..., 1, 2].flags.c_contiguous and z[..., 1, 2].shape == (4, 3)
+
+
+def test_the_closed_forms_turn_each_link_once_with_the_numbers_of_a_fresh_pass():
+    """The closed-form dyads keep each link's (cos θ, sin θ) for their pass over q: every
+    shipped file whose groups all have one gives, along its sweep, the bits of the solvers
+    called each on its own (every frame computed afresh from q), and the sweep satisfies
+    Φ = 0 (the kept frames are those of the angles placed)."""
+    from kinetostatics.kinematics.closed_path import _closed_forms
+    from kinetostatics.kinematics.schedule import schedule
+    from kinetostatics.kinematics.start import closed_form_solvers, start_pose
+
+    checked = 0
+    for path in sorted((ROOT / "mechanisms").glob("*.yaml")):
+        m = ks.load(path)
+        system = S.system_of(m)
+        if len(system.motion_drivers) != system.structure.mobility or not system.motion_drivers:
+            continue  # effort-driven: no closed-form sweep
+        sched = schedule(system)
+        solvers = closed_form_solvers(system, sched)
+        if solvers is None:
+            continue
+        t = np.linspace(0.0, 0.9 * sched.period if sched.period else 1.0, 97)
+        psi = sched(t)[0]
+        q0 = np.broadcast_to(start_pose(system, sched)[0], (len(t), system.n_q))
+        signs = np.ones((len(t), len(solvers)))
+        kept, _ = _closed_forms(solvers, q0, psi, signs)
+        fresh = np.array(q0)
+        for g, solve in enumerate(solvers):
+            fresh, _ = solve(fresh, psi, signs[..., g])  # frames=None: computed from q
+        assert np.array_equal(kept, fresh), path.name
+        res = np.max(np.abs(S.phi(system, kept, psi)))
+        assert res <= 1e-9 * system.l_ref, (path.name, res)
+        checked += 1
+    assert checked >= 5  # the slider-crank and the slotting machine among them
