@@ -5,9 +5,10 @@ from __future__ import annotations
 from dataclasses import replace
 from typing import Any
 
+import numpy as np
 import yaml
 
-from ..model import EffortLaw, Element, Model, MotionLaw
+from ..model import Condition, EffortLaw, Element, Load, Model, MotionLaw
 
 __all__ = ["dump"]
 
@@ -40,6 +41,42 @@ def _element_spec(e: Element) -> dict[str, Any]:
         spec["stiffness"] = float(e.stiffness)
         spec["free_angle" if e.rotational else "free_length"] = float(e.free)
         spec["preload"] = float(e.preload)
+    return spec
+
+
+def _floats(a) -> float | list:
+    """An array's numbers as YAML numbers (nested lists; a float for a scalar)."""
+    return np.asarray(a, dtype=float).tolist()
+
+
+def _condition_spec(c: Condition) -> dict[str, Any]:
+    """An ``active:`` condition in SI; its point written out (the load's, when it had none)."""
+    if c.kind == "angle":
+        return {"angle": _floats(c.bounds)}
+    spec: dict[str, Any] = (
+        {"moving": _floats(c.axis)}
+        if c.kind == "moving"
+        else {"travel": _floats(c.bounds), "along": _floats(c.axis)}
+    )
+    spec["point"] = f"{c.link}.{c.point}" if c.point else c.link
+    return spec
+
+
+def _load_spec(load: Load) -> dict[str, Any]:
+    """A load's keys in SI (io/loads.py reads them back)."""
+    spec: dict[str, Any] = {"type": load.kind, "link": load.link}
+    if load.table is None:
+        spec["value"] = _floats(load.value)
+    else:
+        spec["table"] = {"at": _floats(load.table[0]), "value": _floats(load.table[1])}
+    if load.point is not None:
+        spec["point"] = load.point
+    if load.axis is not None:
+        spec["axis"] = _floats(load.axis)
+    if load.joint is not None:
+        spec["joint"] = load.joint
+    if load.active:
+        spec["active"] = [_condition_spec(c) for c in load.active]
     return spec
 
 
@@ -110,6 +147,8 @@ def dump(model: Model) -> str:
             if d.balance_at:
                 spec["balance_at"] = d.balance_at
             doc["drivers"][d.name] = spec
+    if model.loads:
+        doc["loads"] = {load.name: _load_spec(load) for load in model.loads}
     if model.elements:
         doc["elements"] = {e.name: _element_spec(e) for e in model.elements}
     if model.sketch:
@@ -126,6 +165,8 @@ def dump(model: Model) -> str:
             "at": list(a.at),
             "events": a.events,
         }
+    if model.loops is not None:
+        doc["loops"] = [list(loop) for loop in model.loops]
     if model.flywheel is not None:
         f = model.flywheel
         doc["flywheel"] = {
