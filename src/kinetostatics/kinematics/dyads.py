@@ -19,7 +19,7 @@ A solver is ``f(q, psi, sign=None, frames=None) -> (q, D)`` filling the group's
 columns of ``q``.  ``frames`` (a dict, one per pass of the solvers over one ``q``)
 keeps each link's (cos θ, sin θ) once computed: a link placed by one group and read
 by the next is turned with the same numbers, without evaluating cos and sin again
-(at 36,000 positions each pair costs ~0.7 ms).
+(at 36,000 positions each pair costs ~0.7–1 ms).
 
 The closed forms are formulas of revolute and prismatic pairs by nature (like
 pyslvs' PLLP), so this module names the joint classes and reads their
