@@ -152,11 +152,12 @@ def test_entry_major_zeros():
     assert z[..., 1, 2].flags.c_contiguous and z[..., 1, 2].shape == (4, 3)
 
 
-def test_the_closed_forms_turn_each_link_once_with_the_numbers_of_a_fresh_pass():
+def test_the_closed_forms_turn_each_link_once_with_the_numbers_of_a_fresh_pass(monkeypatch):
     """The closed-form dyads keep each link's (cos θ, sin θ) for their pass over q: every
-    shipped file whose groups all have one gives, along its sweep, the bits of the solvers
-    called each on its own (every frame computed afresh from q), and the sweep satisfies
-    Φ = 0 (the kept frames are those of the angles placed)."""
+    shipped file whose groups all have one gives, along its sweep, the bits of a pass that
+    evaluates cos θ and sin θ at every use, and the sweep satisfies Φ = 0 (the kept frames
+    are those of the angles placed)."""
+    from kinetostatics.kinematics import dyads
     from kinetostatics.kinematics.closed_path import _closed_forms
     from kinetostatics.kinematics.schedule import schedule
     from kinetostatics.kinematics.start import closed_form_solvers, start_pose
@@ -176,9 +177,9 @@ def test_the_closed_forms_turn_each_link_once_with_the_numbers_of_a_fresh_pass()
         q0 = np.broadcast_to(start_pose(system, sched)[0], (len(t), system.n_q))
         signs = np.ones((len(t), len(solvers)))
         kept, _ = _closed_forms(solvers, q0, psi, signs)
-        fresh = np.array(q0)
-        for g, solve in enumerate(solvers):
-            fresh, _ = solve(fresh, psi, signs[..., g])  # frames=None: computed from q
+        with monkeypatch.context() as mp:  # every use evaluates its own cos θ, sin θ
+            mp.setattr(dyads, "_frame", lambda frames, link, theta: (np.cos(theta), np.sin(theta)))
+            fresh, _ = _closed_forms(solvers, q0, psi, signs)
         assert np.array_equal(kept, fresh), path.name
         res = np.max(np.abs(S.phi(system, kept, psi)))
         assert res <= 1e-9 * system.l_ref, (path.name, res)

@@ -234,8 +234,8 @@ class Row:
         return "yes" if (self.ratio <= bound if how == "≤" else self.ratio < bound) else "no"
 
     def budget(self) -> float | None:
-        """The time (s) that meets the target: its ratio × the closed form's time."""
-        return None if self._bound() is None or self.fixed is None else self._bound()[1] * self.ref
+        """The time (s) that meets the target: its ratio × the reference side's time."""
+        return None if self._bound() is None else self._bound()[1] * self.ref
 
 
 LEVEL_KW = {
