@@ -81,7 +81,8 @@ def _load_spec(load: Load) -> dict[str, Any]:
 
 
 def dump(model: Model) -> str:
-    """The model as YAML text in SI (a round trip through :func:`loads` gives an equal model).
+    """The model as YAML text in SI (a round trip through :func:`loads` gives an equal model:
+    every field but ``parameters`` and ``units``, whose values are written evaluated, in SI).
 
     A model expanded with clearances is written as its ideal model plus the
     ``clearance:`` section that expands it again (a model as read, not yet expanded,
