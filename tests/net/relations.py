@@ -239,7 +239,9 @@ def _rot(v, phi):
 def transformed(doc, phi=0.0, shift=(0.0, 0.0), mirror=False):
     """The mechanism rotated by phi and shifted (ground, sketch, directions in
     global axes, gravity, angle bands and start), or mirrored y → −y (then
-    also moving links' local points, speeds, torques, gear phase and flank)."""
+    also moving links' local points, speeds, torques, gear phase and flank); a
+    load table's driver coordinates move as the start does.  A resisting torque
+    opposes the rotation whatever its sense: its magnitude stays."""
     d = copy.deepcopy(doc)
     M = (lambda v: [v[0], -v[1]]) if mirror else (lambda v: v)
     P = lambda v: [a + b for a, b in zip(_rot(M(v), phi), shift)]  # noqa: E731
@@ -276,7 +278,9 @@ def transformed(doc, phi=0.0, shift=(0.0, 0.0), mirror=False):
         drv["motion"]["speed"] = -drv["motion"]["speed"]
     sgn = -1 if mirror else 1
     for load in d.get("loads", {}).values():
-        if load["type"] == "force":
+        if "table" in load:
+            _move_table(load, V, sgn, phi)
+        elif load["type"] == "force":
             load["value"] = V(load["value"])
         elif load["type"] == "torque" and mirror:
             load["value"] = -load["value"]
@@ -293,6 +297,18 @@ def transformed(doc, phi=0.0, shift=(0.0, 0.0), mirror=False):
     an = d["analysis"]
     an["start"] = sgn * an.get("start", 0.0) + phi
     return d
+
+
+def _move_table(load, V, sgn, phi):
+    """A load table carried through ``transformed``: over the driver coordinate ψ, which
+    becomes sgn ψ + φ (rows sorted again); its forces turned, its torques × sgn."""
+    t = load["table"]
+    if load["type"] == "force":
+        values = [V(v) for v in t["value"]]
+    else:
+        values = [sgn * v for v in t["value"]]
+    rows = sorted(zip((sgn * a + phi for a in t["at"]), values))
+    t["at"], t["value"] = [a for a, _ in rows], [v for _, v in rows]
 
 
 def _vector_pairs(names):

@@ -41,6 +41,9 @@ COUNTS = {
     "energy": 3,
     "quadrature": 10,
 }
+# generated mechanisms with a resisting torque and a load table added (generate.
+# with_more_loads), per relation: kinds of load that no shipped file uses
+MORE_LOADS = {"subset": 2, "rigid": 3, "units": 3, "mirror": 3, "power": 3, "grid": 2}
 _total = sum(COUNTS.values())
 _want = int(os.environ.get("KINETOSTATICS_NET_MECHANISMS", _total))
 SCALE = _want / _total
@@ -60,12 +63,18 @@ def _cases(relation: str):
     n = max(1, round(COUNTS[relation] * SCALE))
     for seed in range(SEED_BASE[relation], SEED_BASE[relation] + n):
         out.append(pytest.param(f"seed:{seed}", id=f"seed{seed}"))
+    more = max(1, round(MORE_LOADS.get(relation, 0) * SCALE)) if relation in MORE_LOADS else 0
+    for seed in range(SEED_BASE[relation] + 50_000, SEED_BASE[relation] + 50_000 + more):
+        out.append(pytest.param(f"loads:{seed}", id=f"loads{seed}"))
     return out
 
 
 def _doc(case: str) -> dict:
     kind, _, key = case.partition(":")
-    return R.shipped(ROOT / "mechanisms" / key) if kind == "shipped" else G.generate(int(key))
+    if kind == "shipped":
+        return R.shipped(ROOT / "mechanisms" / key)
+    doc = G.generate(int(key))
+    return G.with_more_loads(doc, int(key)) if kind == "loads" else doc
 
 
 def _run(relation: str, case: str):
@@ -94,7 +103,7 @@ def _run(relation: str, case: str):
 
 def _seed(case: str) -> int:
     kind, _, key = case.partition(":")
-    return int(key) if kind == "seed" else sum(map(ord, key))
+    return int(key) if kind in ("seed", "loads") else sum(map(ord, key))
 
 
 @pytest.mark.parametrize("case", _cases("subset"))
