@@ -12,7 +12,11 @@ from ..kinematics.events import output_strokes, state_near
 from ..kinematics.schedule import schedule
 from ..kinetics.inverse import kinetics
 
-__all__ = ["summarize", "output_strokes", "locking_zones"]
+__all__ = ["summarize", "output_strokes", "locking_zones", "ROUND_OFF"]
+
+ROUND_OFF = 1e-9
+"""A value at most this times the largest |value| of its unit (among the columns) is
+round-off: 0 in the extremes of summary.json and in the report's tables."""
 
 
 def _at(result, k: int) -> float:
@@ -155,12 +159,23 @@ def _finite(f, arr) -> float:
 
 def _extremes(result) -> dict[str, dict[str, float]]:
     """Each column's largest and smallest finite value and where (the first row) they
-    occur; a column without a finite value has none.  All columns at once."""
+    occur; a column without a finite value has none.  All columns at once.
+
+    A value within round-off of zero (``ROUND_OFF`` of the largest |value| of its unit)
+    counts as 0: a fixed pivot's x, zero but for ±1e-17 m, has extremes 0 at the first
+    row, not a "largest" value of 2.8e-17 m somewhere in the cycle."""
     names = list(result.columns)
     if not names or not len(result):
         return {}
     data = np.column_stack([result.columns[name] for name in names])
     finite = np.isfinite(data)
+    size = np.max(np.abs(np.where(finite, data, 0.0)), axis=0)
+    units = [result.units.get(name, "") for name in names]
+    scale = {u: 0.0 for u in units}
+    for u, m in zip(units, size.tolist()):
+        scale[u] = max(scale[u], m)
+    floor = ROUND_OFF * np.array([scale[u] for u in units])
+    data = np.where(np.abs(data) <= floor, 0.0, data)  # NaN stays NaN
     kmax = np.argmax(np.where(finite, data, -np.inf), axis=0).tolist()
     kmin = np.argmin(np.where(finite, data, np.inf), axis=0).tolist()
     extremes = {}

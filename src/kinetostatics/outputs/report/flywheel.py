@@ -7,8 +7,8 @@ import numpy as np
 
 from ...dynamics.flywheel import assumption_texts
 from ..lang import tr, tr_unit
+from ..summary import ROUND_OFF
 from .blocks import _Heading, _List, _Para, _Table
-from .results import ROUND_OFF
 
 
 def _g(v, digits: int = 6) -> str:

@@ -11,10 +11,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..lang import tr
+from ..summary import ROUND_OFF
 from .blocks import _Heading, _List, _Table
 
 # -- numbers -------------------------------------------------------------------------
-ROUND_OFF = 1e-9  # a value ≤ this times its column's (unit's) largest prints as 0
 GROUP = 9  # data columns per printed table: wider tables are split into column groups
 
 
