@@ -10,7 +10,7 @@ import pytest
 
 import kinetostatics as ks
 from kinetostatics.base.arrays import entry_major_zeros
-from kinetostatics.base.geometry import poses
+from kinetostatics.base.geometry import poses, rotate
 from kinetostatics.structure import system as S
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -178,7 +178,7 @@ def test_the_closed_forms_turn_each_link_once_with_the_numbers_of_a_fresh_pass(m
         signs = np.ones((len(t), len(solvers)))
         kept, _ = _closed_forms(solvers, q0, psi, signs)
         with monkeypatch.context() as mp:  # every use evaluates its own cos θ, sin θ
-            mp.setattr(dyads, "_frame", lambda frames, link, theta: (np.cos(theta), np.sin(theta)))
+            mp.setattr(dyads, "_turned", lambda frames, link, theta, p: rotate(theta, p))
             fresh, _ = _closed_forms(solvers, q0, psi, signs)
         assert np.array_equal(kept, fresh), path.name
         res = np.max(np.abs(S.phi(system, kept, psi)))

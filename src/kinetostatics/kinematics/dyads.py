@@ -44,20 +44,21 @@ MARGIN = 1e-3  # below this margin √D a solve near a guess hands over to Newto
 Solver = Callable[..., tuple[np.ndarray, np.ndarray]]
 
 
-def _frame(frames: dict, link: str, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(cos θ, sin θ) of ``link`` at angle ``theta``, kept in ``frames`` for the pass: a
-    link's angle is set once per pass, so a later use turns with the same numbers."""
+def _turned(frames: dict, link: str, theta: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """``rotate(theta, p)`` for ``link`` at angle ``theta``, its (cos θ, sin θ) kept in
+    ``frames`` for the pass: a link's angle is set once per pass, so a later use turns
+    with the same numbers."""
     cs = frames.get(link)
     if cs is None:
         cs = frames[link] = (np.cos(theta), np.sin(theta))
-    return cs
+    return rotated(*cs, p)
 
 
 def _world(system: System, q: np.ndarray, link: str, p: np.ndarray, frames: dict) -> np.ndarray:
     if link == system.model.ground.name:
         return np.broadcast_to(p, q.shape[:-1] + (2,))
     k = system.link_index(link)
-    return q[..., 3 * k : 3 * k + 2] + rotated(*_frame(frames, link, q[..., 3 * k + 2]), p)
+    return q[..., 3 * k : 3 * k + 2] + _turned(frames, link, q[..., 3 * k + 2], p)
 
 
 def _angle(system: System, q: np.ndarray, link: str):
@@ -78,7 +79,7 @@ def _place(
     """Set link's pose so that local point ``local`` lies at ``world``."""
     k = system.link_index(link)
     q[..., 3 * k + 2] = theta
-    q[..., 3 * k : 3 * k + 2] = world - rotated(*_frame(frames, link, theta), local)
+    q[..., 3 * k : 3 * k + 2] = world - _turned(frames, link, theta, local)
 
 
 def _heading(v: np.ndarray) -> np.ndarray:
@@ -173,10 +174,10 @@ def _rrp(system, plan, joints, q0) -> Solver | None:
     def frame(q, frames):  # b's angle is set to tb in this pass: its frame is kept
         tk = _angle(system, q, k)
         tb = tk + s.angle
-        u = rotated(*_frame(frames, k, tk), s.u)
+        u = _turned(frames, k, tk, s.u)
         w = (
             _world(system, q, k, s.a, frames)
-            + rotated(*_frame(frames, b, tb), offset)
+            + _turned(frames, b, tb, offset)
             - _world(system, q, _other(ja, a), _pin(ja, _other(ja, a)), frames)
         )
         return tb, u, w
