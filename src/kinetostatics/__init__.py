@@ -44,6 +44,7 @@ __all__ = [
     "NearSingularWarning",
     "build_system",
     "optimize",
+    "set_backend",
 ]
 
 
@@ -60,6 +61,10 @@ def __getattr__(name):  # keep `import kinetostatics` light: load stages on use
         from .batch.optimize import optimize
 
         return optimize
+    if name == "set_backend":
+        from .base.kernels import set_backend
+
+        return set_backend
     if name == "build_system":
         from .structure.system import build_system
 

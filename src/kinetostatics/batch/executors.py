@@ -12,6 +12,7 @@ from concurrent.futures import Executor, Future
 from pathlib import Path
 from typing import Any
 
+from ..base import kernels
 from ..errors import KinetostaticsError, OutputError
 from .sources import BatchError, Chunk, template_of
 from .table import SUMMARY
@@ -65,6 +66,12 @@ def analyze_chunk(chunk: Chunk) -> ChunkRows:
 
 
 # -- executors -------------------------------------------------------------------------
+def _start_worker(parent: int, backend: str) -> None:
+    """Pool initializer: the parent's backend (base/kernels.py), and death with it."""
+    kernels.set_backend(backend)
+    _die_with_parent(parent)
+
+
 def _die_with_parent(parent: int) -> None:
     """Pool initializer: a worker dies with the batch that started it, even when
     the batch is killed (SIGKILL runs no clean-up).  On Linux the kernel sends
@@ -113,7 +120,7 @@ def _open_executor(executor: Any, workers: int | None) -> tuple[Executor, int, C
 
         n = workers or os.cpu_count() or 1
         ex = ProcessPoolExecutor(
-            max_workers=n, initializer=_die_with_parent, initargs=(os.getpid(),)
+            max_workers=n, initializer=_start_worker, initargs=(os.getpid(), kernels.backend())
         )
         return ex, n, lambda: ex.shutdown(wait=False, cancel_futures=True)
     if isinstance(executor, Executor):

@@ -29,12 +29,13 @@ from __future__ import annotations
 
 import importlib
 from abc import ABC, abstractmethod
-from collections.abc import Iterator, MutableMapping, Sequence
+from collections.abc import Callable, Iterator, MutableMapping, Sequence
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
+from ..base.kernels import Kernels, compiled
 from ..base.keys import NAME, VECTOR, Keys, names
 from ..errors import Location, did_you_mean
 
@@ -307,6 +308,41 @@ class Joint(ABC):
         fields = {f: stack_vectors([getattr(j, f) for j in joints]) for f in cls.stacked_vectors}
         fields |= {f: stack_scalars([getattr(j, f) for j in joints]) for f in cls.stacked_scalars}
         return replace(joints[0], name="+".join(j.name for j in joints), **fields)
+
+    # the compiled backend's kernels (base/kernels.py): plain functions over the positions,
+    # the same operations in the same order as ``jacobian``, ``acceleration_rhs``,
+    # ``motion_direction`` and ``coordinate_bias``; None: those are evaluated by NumPy
+    jacobian_kernel: ClassVar[Callable | None] = None  # (par, P, ends, ji, jj)
+    gamma_kernel: ClassVar[Callable | None] = None  # (par, P, V, ends, out)
+    direction_kernel: ClassVar[Callable | None] = None  # (par, P, ends, gi, gj)
+    bias_kernel: ClassVar[Callable | None] = None  # (par, P, V, ends, out)
+
+    def kernel_params(self, k: int) -> np.ndarray | None:
+        """What the kernels read of this joint, or of a stack of ``k``: its
+        ``stacked_vectors`` then its ``stacked_scalars`` per joint, ``(k, m)``; None where
+        they are not one value per joint (stacked variants: evaluated by NumPy)."""
+        parts = []
+        for f, size in [(f, 2) for f in self.stacked_vectors] + [
+            (f, 1) for f in self.stacked_scalars
+        ]:
+            v = np.asarray(getattr(self, f), dtype=float)
+            if v.size != k * size:
+                return None
+            parts.append(v.reshape(k, size))
+        return np.ascontiguousarray(np.concatenate(parts, axis=1)) if parts else None
+
+    def kernels(self, k: int) -> Kernels | None:
+        """This joint's (or stack of ``k``'s) compiled Φ_q and γ with its parameters bound,
+        or None: evaluated by NumPy (a type without kernels, stacked variants)."""
+        cls = type(self)
+        par = self.kernel_params(k)
+        if cls.jacobian_kernel is None or cls.gamma_kernel is None or par is None:
+            return None
+        jac, gam = compiled(cls.jacobian_kernel), compiled(cls.gamma_kernel)
+        return Kernels(
+            lambda P, ends, ji, jj: jac(par, P, ends, ji, jj),
+            lambda P, V, ends, extra, out: gam(par, P, V, ends, out),
+        )
 
     # the fields ``friction_magnitude`` reads, stacked by ``stack_friction``; none: one by one
     friction_scalars: ClassVar[tuple[str, ...]] = ()

@@ -9,12 +9,88 @@ import numpy as np
 
 from ..base.arrays import entry_major_zeros
 from ..base.geometry import dot, perp, turn, wrap_angle
+from ..base.kernels import helper
 from ..base.keys import NAME, NUMBER, Keys, names
 from .base import AXIS_KEYS, Anchor, Block, Glyph, Joint, Line
 
 FRICTION_KEYS = Keys({"coefficient": NUMBER}, required=("coefficient",))
 
 __all__ = ["Prismatic"]
+
+
+# -- kernels of the compiled backend (base/kernels.py) -------------------------------------
+# The formulas of Prismatic, position by position: the same operations in the same order,
+# so the same numbers to the bit.  ``par[m]`` = (a, u, p, angle) of joint m of a stack;
+# P (n + 1, 5, N) the poses (x, y, θ, cos θ, sin θ), V (n + 1, 3, N) the rates.
+@helper
+def _frame_at(par, P, m, i, j, p):
+    """``_frame`` at one position: A, U, P, d (N = perp(U) is (−U_y, U_x))."""
+    ci, si, cj, sj = P[i, 3, p], P[i, 4, p], P[j, 3, p], P[j, 4, p]
+    ax, ay = ci * par[m, 0] - si * par[m, 1], si * par[m, 0] + ci * par[m, 1]
+    ux, uy = ci * par[m, 2] - si * par[m, 3], si * par[m, 2] + ci * par[m, 3]
+    px, py = cj * par[m, 4] - sj * par[m, 5], sj * par[m, 4] + cj * par[m, 5]
+    dx = P[j, 0, p] + px - P[i, 0, p] - ax
+    dy = P[j, 1, p] + py - P[i, 1, p] - ay
+    return ax, ay, ux, uy, px, py, dx, dy
+
+
+@helper
+def _rates_at(ax, ay, px, py, V, i, j, p):
+    """``_rates`` at one position: ω_i, ḋ and the velocity part of d̈."""
+    wi, wj = V[i, 2, p], V[j, 2, p]
+    ddx = V[j, 0, p] + wj * -py - V[i, 0, p] - wi * -ay
+    ddy = V[j, 1, p] + wj * px - V[i, 1, p] - wi * ax
+    wj2, wi2 = -(wj * wj), wi * wi
+    return wi, ddx, ddy, wj2 * px + wi2 * ax, wj2 * py + wi2 * ay
+
+
+def _jacobian_kernel(par, P, ends, ji, jj):
+    for m in range(ends.shape[1]):
+        i, j = ends[0, m], ends[1, m]
+        for p in range(P.shape[2]):
+            ax, ay, ux, uy, px, py, dx, dy = _frame_at(par, P, m, i, j, p)
+            ji[m, 0, 0, p], ji[m, 0, 1, p] = uy, -ux  # −N, N = (−U_y, U_x)
+            ji[m, 0, 2, p] = -(ux * dx + uy * dy) - (-uy * -ay + ux * ax)
+            jj[m, 0, 0, p], jj[m, 0, 1, p], jj[m, 0, 2, p] = -uy, ux, -uy * -py + ux * px
+            ji[m, 1, 0, p], ji[m, 1, 1, p], ji[m, 1, 2, p] = 0.0, 0.0, -1.0
+            jj[m, 1, 0, p], jj[m, 1, 1, p], jj[m, 1, 2, p] = 0.0, 0.0, 1.0
+
+
+def _gamma_kernel(par, P, V, ends, out):
+    for m in range(ends.shape[1]):
+        i, j = ends[0, m], ends[1, m]
+        for p in range(P.shape[2]):
+            ax, ay, ux, uy, px, py, dx, dy = _frame_at(par, P, m, i, j, p)
+            wi, ddx, ddy, d2x, d2y = _rates_at(ax, ay, px, py, V, i, j, p)
+            out[m, 0, p] = (
+                wi * wi * (-uy * dx + ux * dy)
+                + 2.0 * wi * (ux * ddx + uy * ddy)
+                - (-uy * d2x + ux * d2y)
+            )
+            out[m, 1, p] = 0.0
+
+
+def _direction_kernel(par, P, ends, gi, gj):
+    for m in range(ends.shape[1]):
+        i, j = ends[0, m], ends[1, m]
+        for p in range(P.shape[2]):
+            ax, ay, ux, uy, px, py, dx, dy = _frame_at(par, P, m, i, j, p)
+            gi[m, 0, p], gi[m, 1, p] = -ux, -uy
+            gi[m, 2, p] = (-uy * dx + ux * dy) - (ux * -ay + uy * ax)
+            gj[m, 0, p], gj[m, 1, p], gj[m, 2, p] = ux, uy, ux * -py + uy * px
+
+
+def _bias_kernel(par, P, V, ends, out):
+    for m in range(ends.shape[1]):
+        i, j = ends[0, m], ends[1, m]
+        for p in range(P.shape[2]):
+            ax, ay, ux, uy, px, py, dx, dy = _frame_at(par, P, m, i, j, p)
+            wi, ddx, ddy, d2x, d2y = _rates_at(ax, ay, px, py, V, i, j, p)
+            out[m, p] = (
+                -(wi * wi) * (ux * dx + uy * dy)
+                + 2.0 * wi * (-uy * ddx + ux * ddy)
+                + (ux * d2x + uy * d2y)
+            )
 
 
 @dataclass(frozen=True)
@@ -150,6 +226,12 @@ class Prismatic(Joint, kind="prismatic"):
     def effort_force(self, effort, qi, qj):
         U = turn(qi, self.u)
         return {"Fx": effort * U[..., 0], "Fy": effort * U[..., 1]}
+
+    # -- compiled backend (base/kernels.py): the formulas above, position by position --
+    jacobian_kernel = staticmethod(_jacobian_kernel)
+    gamma_kernel = staticmethod(_gamma_kernel)
+    direction_kernel = staticmethod(_direction_kernel)
+    bias_kernel = staticmethod(_bias_kernel)
 
     # -- relative coordinate --------------------------------------------------
     def coordinate(self, qi, qj):

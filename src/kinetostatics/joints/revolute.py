@@ -17,6 +17,47 @@ FRICTION_KEYS = Keys({"radius": NUMBER, "journal_radius": NUMBER, "coefficient":
 __all__ = ["Revolute"]
 
 
+# -- kernels of the compiled backend (base/kernels.py) -------------------------------------
+# The formulas of Revolute, position by position: the same operations in the same order, so
+# the same numbers to the bit.  ``par[m]`` = (p_i, p_j) of joint m of a stack; P (n + 1, 5, N)
+# the poses (x, y, θ, cos θ, sin θ), V (n + 1, 3, N) the rates, component-major.
+def _jacobian_kernel(par, P, ends, ji, jj):
+    for m in range(ends.shape[1]):
+        i, j = ends[0, m], ends[1, m]
+        ax, ay, bx, by = par[m, 0], par[m, 1], par[m, 2], par[m, 3]
+        for p in range(P.shape[2]):
+            c, s = P[i, 3, p], P[i, 4, p]
+            ji[m, 0, 0, p], ji[m, 0, 1, p], ji[m, 0, 2, p] = 1.0, 0.0, -(s * ax + c * ay)
+            ji[m, 1, 0, p], ji[m, 1, 1, p], ji[m, 1, 2, p] = 0.0, 1.0, c * ax - s * ay
+            c, s = P[j, 3, p], P[j, 4, p]
+            jj[m, 0, 0, p], jj[m, 0, 1, p], jj[m, 0, 2, p] = -1.0, 0.0, s * bx + c * by
+            jj[m, 1, 0, p], jj[m, 1, 1, p], jj[m, 1, 2, p] = 0.0, -1.0, -(c * bx - s * by)
+
+
+def _gamma_kernel(par, P, V, ends, out):
+    for m in range(ends.shape[1]):
+        i, j = ends[0, m], ends[1, m]
+        ax, ay, bx, by = par[m, 0], par[m, 1], par[m, 2], par[m, 3]
+        for p in range(P.shape[2]):
+            ci, si, cj, sj = P[i, 3, p], P[i, 4, p], P[j, 3, p], P[j, 4, p]
+            wi, wj = V[i, 2, p] * V[i, 2, p], V[j, 2, p] * V[j, 2, p]
+            out[m, 0, p] = (ci * ax - si * ay) * wi - (cj * bx - sj * by) * wj
+            out[m, 1, p] = (si * ax + ci * ay) * wi - (sj * bx + cj * by) * wj
+
+
+def _direction_kernel(par, P, ends, gi, gj):
+    for m in range(ends.shape[1]):
+        for p in range(P.shape[2]):
+            gi[m, 0, p], gi[m, 1, p], gi[m, 2, p] = 0.0, 0.0, -1.0
+            gj[m, 0, p], gj[m, 1, p], gj[m, 2, p] = 0.0, 0.0, 1.0
+
+
+def _bias_kernel(par, P, V, ends, out):
+    for m in range(ends.shape[1]):
+        for p in range(P.shape[2]):
+            out[m, p] = 0.0
+
+
 @dataclass(frozen=True)
 class Revolute(Joint, kind="revolute"):
     """Pin joint.  ``p_i``, ``p_j``: the pin in each link's frame, relative to its CoM.
@@ -109,6 +150,12 @@ class Revolute(Joint, kind="revolute"):
 
     def reaction(self, lam, qi, qj):
         return {"Fx": -lam[..., 0], "Fy": -lam[..., 1]}
+
+    # -- compiled backend (base/kernels.py): the formulas above, position by position --
+    jacobian_kernel = staticmethod(_jacobian_kernel)
+    gamma_kernel = staticmethod(_gamma_kernel)
+    direction_kernel = staticmethod(_direction_kernel)
+    bias_kernel = staticmethod(_bias_kernel)
 
     # -- relative coordinate --------------------------------------------------
     def coordinate(self, qi, qj):

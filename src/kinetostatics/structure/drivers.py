@@ -9,7 +9,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
+
 from ..base.geometry import wrap_angle
+from ..base.kernels import Kernels, compiled
 from ..joints import Joint
 from ..model import Driver
 
@@ -45,3 +48,17 @@ class DriverConstraint:
 
     def acceleration_rhs(self, qi, qj, vi, vj, psi_dd):
         return (psi_dd - self.joint.coordinate_bias(qi, qj, vi, vj))[..., None]
+
+    def kernels(self, k: int = 1) -> Kernels | None:
+        """The compiled ``jacobian`` and ``acceleration_rhs`` (base/kernels.py): the joint's
+        direction and bias kernels, or None where it has none."""
+        cls, par = type(self.joint), self.joint.kernel_params(1)
+        if cls.direction_kernel is None or cls.bias_kernel is None or par is None:
+            return None
+        direction, bias = compiled(cls.direction_kernel), compiled(cls.bias_kernel)
+
+        def gamma(P, V, ends, extra, out):
+            bias(par, P, V, ends, out[:, 0])
+            np.subtract(extra, out[:, 0], out=out[:, 0])
+
+        return Kernels(lambda P, ends, ji, jj: direction(par, P, ends, ji[:, 0], jj[:, 0]), gamma)

@@ -17,7 +17,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..base import kernels
 from ..base.arrays import entries_first, entries_last
+from ..base.kernels import Kernels
 
 __all__ = [
     "ConstraintSet",
@@ -49,8 +51,14 @@ class ConstraintSet:
     def stacked(self) -> bool:
         return bool(self.joints)
 
-    def __getstate__(self):  # the poses kept by ``pairs`` stay behind
-        return {k: v for k, v in self.__dict__.items() if k != "_last"}
+    def __getstate__(self):  # the poses kept by ``pairs`` and the kernels stay behind
+        return {k: v for k, v in self.__dict__.items() if k not in ("_last", "_kernels")}
+
+    def kernels(self) -> Kernels | None:
+        """The set's compiled evaluations (base/kernels.py), or None: NumPy's."""
+        if "_kernels" not in self.__dict__:
+            self.__dict__["_kernels"] = self.constraint.kernels(len(self.members))
+        return self.__dict__["_kernels"]
 
     def pairs(self, pe: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The poses of the members' two links from the system poses ``pe (..., n+1, 5)``:
@@ -107,12 +115,14 @@ saved no longer pay for it (a slider-crank's three pins: one call is 1.2× faste
 positions, 1.4× slower at 4,000; the slotting machine's five: 1.5× faster, 1.3× slower)."""
 
 
-def _units(sets, pe: np.ndarray, ve: np.ndarray | None = None):
+def _units(sets, pe: np.ndarray, ve: np.ndarray | None = None, done=()):
     """The calls an evaluation makes: ``(set index, member or None, set, constraint,
     (qi, qj), (vi, vj) or None, rows of Φ)`` — a stack whole, or its joints one by one
-    over more than :data:`STACK_UP_TO` positions."""
+    over more than :data:`STACK_UP_TO` positions; the sets ``done`` (indices) left out."""
     many = pe[..., 0, 0].size > STACK_UP_TO
     for n, s in enumerate(sets):
+        if n in done:
+            continue
         if s.stacked and many:
             for m, (joint, i, j) in enumerate(zip(s.joints, *s.ends)):
                 rates = None if ve is None else (ve[..., i, :], ve[..., j, :])
@@ -139,7 +149,8 @@ def gamma_all(sets, n_rows: int, pe: np.ndarray, ve: np.ndarray, psi_dd: np.ndar
     ``(..., n+1, 3)`` (ground last); stored row-major (each row of γ a contiguous run over
     the positions, as the solves gather them)."""
     out = entries_last(np.empty((n_rows,) + pe.shape[:-2]), 1)
-    for _, _, s, c, (qi, qj), (vi, vj), rows in _units(sets, pe, ve):
+    done = _compiled_gamma(sets, pe, ve, psi_dd, out) if kernels.active() else ()
+    for _, _, s, c, (qi, qj), (vi, vj), rows in _units(sets, pe, ve, done):
         if s.driver is None:
             out[..., rows] = c.acceleration_rhs(qi, qj, vi, vj)
         else:
@@ -245,7 +256,8 @@ def jacobian_blocks_all(
     ground's block is a copy (the small part a caller may keep)."""
     lead = pe.shape[:-2]
     buf = np.zeros((layout.size + 1,) + lead)
-    for n, m, _, c, pair, _, _ in _units(sets, pe):
+    done = _compiled_blocks(sets, layout, pe, buf) if kernels.active() else ()
+    for n, m, _, c, pair, _, _ in _units(sets, pe, done=done):
         to_i, to_j = layout.dest[n] if m is None else (d[m] for d in layout.dest[n])
         ji, jj = c.jacobian(*pair)
         buf[to_i] = entries_first(ji, to_i.ndim) + 0.0
@@ -268,3 +280,52 @@ def jacobian_blocks_all(
         for d, lo, cols in zip(layout.diag, layout.lower, layout.lower_cols)
     ]
     return blocks, ground
+
+
+# -- the compiled backend (base/kernels.py) ------------------------------------------------
+def _flat(a: np.ndarray, d: int) -> np.ndarray:
+    """A component-major array ``(..., e1 … ed)`` as ``(e1 … ed, N)``, the positions on one
+    axis (a view where it is stored so, as the system's poses, rates and blocks are)."""
+    first = entries_first(a, d)
+    return first.reshape(first.shape[:d] + (-1,))
+
+
+def _compiled_blocks(sets, layout: BlockLayout, pe: np.ndarray, buf: np.ndarray) -> set[int]:
+    """The sets that have kernels, their Φ_q entries put in ``buf`` as the NumPy path puts
+    them; returns their indices."""
+    done, P, flat = set(), None, None
+    for n, s in enumerate(sets):
+        k = s.kernels()
+        if k is None:
+            continue
+        if P is None:
+            P, flat = np.ascontiguousarray(_flat(pe, 2)), buf.reshape(buf.shape[0], -1)
+        shape = (len(s.members), s.constraint.n_eq, 3, P.shape[2])
+        ji, jj = np.empty(shape), np.empty(shape)
+        k.jacobian(P, s.ends, ji, jj)
+        to_i, to_j = (d.reshape((-1,) + d.shape[-2:]) for d in layout.dest[n])
+        kernels.compiled(kernels.scatter_blocks)(flat, to_i, to_j, ji, jj)
+        done.add(n)
+    return done
+
+
+def _compiled_gamma(sets, pe, ve, psi_dd, out) -> set[int]:
+    """The sets that have kernels, their rows of γ written in ``out`` (row-major, as
+    :func:`gamma_all` stores it); returns their indices."""
+    done, P, V, flat, lead = set(), None, None, None, ()
+    for n, s in enumerate(sets):
+        k = s.kernels()
+        if k is None:
+            continue
+        if P is None:
+            P, V = (np.ascontiguousarray(_flat(a, 2)) for a in (pe, ve))
+            flat, lead = _flat(out, 1), pe.shape[:-2]
+        rows = s.rows.reshape(len(s.members), -1)
+        part = np.empty(rows.shape + (P.shape[2],))
+        extra = None  # ψ̈ of a motion driver, over the positions as P has them
+        if s.driver is not None:
+            extra = np.broadcast_to(psi_dd[..., s.driver], lead).reshape(-1)
+        k.gamma(P, V, s.ends, extra, part)
+        flat[rows] = part
+        done.add(n)
+    return done

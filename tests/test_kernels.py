@@ -1,0 +1,168 @@
+"""The optional compiled backend (base/kernels.py): the joints' kernels give the numbers of
+their NumPy formulas to the bit, and so does a whole analysis on the numba backend.
+
+The kernels are plain Python: the first tests run them uncompiled (no numba needed), on
+random poses and rates, against the NumPy path of the same system — so a kernel whose
+formula is wrong fails here whether numba is installed or not.  The rest compile them.
+"""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import kinetostatics as ks
+from kinetostatics.base import kernels
+from kinetostatics.base.geometry import poses
+from kinetostatics.errors import MissingPackageError, ModelError
+from kinetostatics.structure import evaluation
+from kinetostatics.structure.system import _rates, build_system
+from tests.helpers import ROOT, motion_driven
+from tests.net import generate
+
+SHIPPED = [ROOT / "mechanisms" / f"{name}.yaml" for name in motion_driven()]
+HARD = sorted((ROOT / "tests" / "hard").glob("*.yaml"))
+SEEDS = range(8)  # generated mechanisms (tests/net): dyads, triads, sliders on moving links
+
+
+def _name(source) -> str:
+    return source.stem if isinstance(source, Path) else f"seed{source}"
+
+
+def _model(source) -> ks.Model:
+    if isinstance(source, Path):
+        return ks.load(source)
+    return ks.loads(generate.to_text(generate.generate(source)), f"seed{source}.yaml")
+
+
+@pytest.fixture
+def backend():
+    """Set the backend inside a test; the default (NumPy) back after it."""
+    yield kernels.set_backend
+    kernels.set_backend("numpy")
+
+
+@pytest.fixture
+def uncompiled(monkeypatch, backend):
+    """The kernel path with the kernels run as plain Python (not compiled)."""
+    identity = lambda f: f  # noqa: E731
+    monkeypatch.setattr(kernels, "compiled", identity)
+    monkeypatch.setattr("kinetostatics.joints.base.compiled", identity)
+    monkeypatch.setattr("kinetostatics.structure.drivers.compiled", identity)
+    monkeypatch.setattr(kernels, "active", lambda: True)
+
+
+def _state(system, rng, n=7):
+    """Random coordinates, rates and ψ̈ at ``n`` positions (not assembled: the formulas
+    hold anywhere)."""
+    q = rng.uniform(-2.0, 2.0, (n, system.n_q))
+    qd = rng.uniform(-3.0, 3.0, (n, system.n_q))
+    psi_dd = rng.uniform(-5.0, 5.0, (n, len(system.motion_drivers)))
+    return poses(q, len(system.links)), _rates(qd), psi_dd
+
+
+def _evaluate(system, pe, ve, psi_dd):
+    blocks, ground = evaluation.jacobian_blocks_all(system.sets, system.layout, pe)
+    gamma = evaluation.gamma_all(system.sets, system.n_rows, pe, ve, psi_dd)
+    parts = [p for d, lo, _ in blocks for p in (d, lo) if p is not None]
+    return [np.array(p) for p in parts] + ([] if ground is None else [ground]) + [gamma]
+
+
+@pytest.mark.parametrize("source", SHIPPED + HARD + list(SEEDS), ids=_name)
+def test_kernels_give_the_numpy_formulas_to_the_bit(source, uncompiled, monkeypatch):
+    """Φ_q's group blocks, the ground's block and γ at random states: every set with
+    kernels evaluated by them (uncompiled), against every set by NumPy."""
+    model = _model(source)
+    rng = np.random.default_rng(7)
+    system = build_system(model)
+    if not any(s.kernels() is not None for s in system.sets):
+        pytest.skip("no joint type with kernels")
+    state = _state(system, rng)
+    with_kernels = _evaluate(system, *state)
+    monkeypatch.setattr(kernels, "active", lambda: False)
+    by_numpy = _evaluate(system, *state)
+    for a, b in zip(with_kernels, by_numpy):
+        assert a.shape == b.shape
+        np.testing.assert_array_equal(a, b)
+
+
+def test_a_type_without_kernels_and_stacked_variants_stay_on_numpy():
+    """A gear (no kernels) has none; stacked variants (a field per variant) have none."""
+    model = ks.load(ROOT / "mechanisms" / "geared_fivebar.yaml")
+    kinds = {j.kind: j for j in model.joints}
+    assert kinds["gear"].kernels(1) is None
+    pin = kinds["revolute"]
+    assert pin.kernel_params(1).shape == (1, 4)
+    varied = type(pin)(pin.name, pin.links, pin.where, np.ones((3, 2)), pin.p_j)
+    assert varied.kernel_params(1) is None
+
+
+def test_backend_choice_and_errors(backend, monkeypatch):
+    with pytest.raises(ModelError, match="unknown backend 'fortran'; known: numpy, numba"):
+        backend("fortran")
+    monkeypatch.setattr(kernels, "_chosen", [])
+    monkeypatch.setenv("KINETOSTATICS_BACKEND", "cuda")
+    with pytest.raises(ModelError, match="environment variable KINETOSTATICS_BACKEND"):
+        kernels.backend()
+    monkeypatch.setenv("KINETOSTATICS_BACKEND", "")
+    assert kernels.backend() == "numpy"
+
+    def missing(module, extra, feature):
+        raise MissingPackageError(f"{feature} needs {module}: pip install 'kinetostatics[{extra}]'")
+
+    monkeypatch.setattr(kernels, "require", missing)
+    with pytest.raises(MissingPackageError, match=r"kinetostatics\[numba\]"):
+        backend("numba")
+    assert kernels.backend() == "numpy"  # unchanged by the refusal
+
+
+# -- compiled --------------------------------------------------------------------------------
+@pytest.mark.parametrize("source", SHIPPED + HARD + list(SEEDS), ids=_name)
+def test_numba_backend_gives_every_column_to_the_bit(source, backend):
+    """A whole analysis (kinematics, reactions, both friction solutions, checks) on the
+    numba backend: every column equal to the default backend's, NaN where it is NaN."""
+    pytest.importorskip("numba")
+    model = _model(source)
+    results = []
+    for name in ("numpy", "numba"):
+        backend(name)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            try:
+                results.append(ks.analyze(model))
+            except ks.KinetostaticsError as e:
+                results.append(type(e))
+    a, b = results
+    if isinstance(a, type):
+        assert a is b  # the same refusal
+        return
+    assert list(a.columns) == list(b.columns)
+    for c in a.columns:
+        np.testing.assert_array_equal(np.asarray(a[c]), np.asarray(b[c]), err_msg=c)
+
+
+def test_numba_backend_compiles_the_kernels_of_a_run(backend):
+    """The kernel path is the one taken: every set of the slotting machine has kernels."""
+    pytest.importorskip("numba")
+    backend("numba")
+    system = build_system(ks.load(ROOT / "mechanisms" / "slotting_machine.yaml"))
+    assert all(s.kernels() is not None for s in system.sets)
+    assert kernels.active()
+
+
+def test_batch_workers_take_the_backend_of_their_parent(backend, monkeypatch):
+    """A batch's worker processes run on the backend chosen in the process that starts
+    them, whatever their environment says."""
+    pytest.importorskip("numba")
+    from kinetostatics.batch import executors
+
+    monkeypatch.setenv("KINETOSTATICS_BACKEND", "numpy")
+    backend("numba")
+    ex, _, close = executors._open_executor("processes", 1)
+    try:
+        assert ex.submit(kernels.backend).result(timeout=60) == "numba"
+    finally:
+        close()
