@@ -19,6 +19,9 @@ under the same load.  The targets are printed beside them; nothing here is a
 test.  ``--quick`` takes fewer repetitions; ``--write`` rewrites the table of
 docs/accuracy.md between ``<!-- speed:begin -->`` and ``<!-- speed:end -->``
 with a header naming the machine and its load; ``--note TEXT`` adds TEXT there.
+Where numba is installed, each ratio row also times the same call with the optional
+compiled backend (``KINETOSTATICS_BACKEND=numba``, docs/python.md) in the same turns:
+the column "ks, numba backend"; the targets are read on the default (NumPy) column.
 
     PYTHONPATH=src python tests/benchmarks/bench_speed.py [--quick] [--write] [--note TEXT]
 """
@@ -43,7 +46,15 @@ import speed_closed_forms as cf
 from _common import ROOT
 
 import kinetostatics as ks
+from kinetostatics.base import kernels
 from tests.oracles import slider_crank_closed_form as oracle
+
+try:
+    import numba  # noqa: F401  (the optional compiled backend: its column, where installed)
+
+    HAVE_NUMBA = True
+except ImportError:
+    HAVE_NUMBA = False
 
 DOC = ROOT / "docs" / "accuracy.md"
 BEGIN, END = "<!-- speed:begin -->", "<!-- speed:end -->"
@@ -218,6 +229,7 @@ class Row:
     ours_label: str = ""
     ref_label: str = ""
     fixed: float | None = None  # s: the same call at 10 positions (the cost that N leaves)
+    compiled: float | None = None  # s: the same call with the numba backend (None: no numba)
 
     @property
     def ratio(self) -> float:
@@ -268,9 +280,11 @@ def ratio_row(c: Case, level: str, repeat: int, sample: float) -> Row:
         names.append("motor.torque_friction")
     err = check(c, level, ks.analyze(c.model, **kw))
     few = case(c.name, 10).generic(names, **kw)  # what does not scale with the positions
-    ours, ref, fixed = interleaved(
-        [c.generic(names, **kw), c.closed_form(level), few], repeat, sample
-    )
+    fns = [c.generic(names, **kw), c.closed_form(level), few]
+    if HAVE_NUMBA:  # the optional compiled backend, timed in the same turns
+        check(c, level, with_backend("numba", lambda: ks.analyze(c.model, **kw))())
+        fns.append(with_backend("numba", c.generic(names, **kw)))
+    ours, ref, fixed, *compiled = interleaved(fns, repeat, sample)
     return Row(
         c.name,
         LEVEL_TEXT[level],
@@ -280,7 +294,21 @@ def ratio_row(c: Case, level: str, repeat: int, sample: float) -> Row:
         TARGETS[c.name, c.n, level],
         f"{err:.0e}",
         fixed=fixed,
+        compiled=compiled[0] if compiled else None,
     )
+
+
+def with_backend(name: str, fn):
+    """``fn`` run with the backend ``name`` (base/kernels.py), the default restored after."""
+
+    def run():
+        kernels.set_backend(name)
+        try:
+            return fn()
+        finally:
+            kernels.set_backend("numpy")
+
+    return run
 
 
 def rows(quick: bool, log=print) -> list[Row]:
@@ -380,17 +408,19 @@ def ms(s: float) -> str:
 def table(rs: list[Row]) -> str:
     lines = [
         "| mechanism | row | positions | ks [ms] | closed form [ms] | ratio | target | met "
-        "| ks at the target [ms] | ks at 10 positions [ms] | closed-form error |",
-        "|---|---|---|---|---|---|---|---|---|---|---|",
+        "| ks at the target [ms] | ks at 10 positions [ms] | ks, numba backend [ms] (ratio) "
+        "| closed-form error |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in rs:
         ours = f"{r.ours_label}: {ms(r.ours)}" if r.ours_label else ms(r.ours)
         ref = f"{r.ref_label}: {ms(r.ref)}" if r.ref_label else ms(r.ref)
-        budget, fixed = r.budget(), r.fixed
+        budget, fixed, fast = r.budget(), r.fixed, r.compiled
+        fast = "—" if fast is None else f"{ms(fast)} ({fast / r.ref:.3g}×)"
         lines.append(
             f"| {r.mechanism} | {r.what} | {r.positions} | {ours} | {ref} | {r.ratio:.3g}× | "
             f"{r.target} | {r.met()} | {'—' if budget is None else ms(budget)} | "
-            f"{'—' if fixed is None else ms(fixed)} | {r.error} |"
+            f"{'—' if fixed is None else ms(fixed)} | {fast} | {r.error} |"
         )
     return "\n".join(lines)
 

@@ -1,0 +1,103 @@
+"""The compiled backend's two stages against NumPy's: Φ_q's group blocks and γ.
+
+For each reference machine at 360 and 36,000 positions, the state of its own analysis
+(the poses and rates that ``ks.analyze`` evaluates them at) is kept, and
+``jacobian_blocks_all`` and ``gamma_all`` are timed on it with each backend in turns
+(medians of alternated samples); the two backends' arrays are checked equal to the bit
+first.  Needs numba (``pip install 'kinetostatics[numba]'``).
+
+    PYTHONPATH=src python tests/benchmarks/bench_kernels.py
+"""
+
+from __future__ import annotations
+
+import re
+import time
+
+import numpy as np
+from _common import ROOT
+
+import kinetostatics as ks
+from kinetostatics.base import kernels
+from kinetostatics.structure import evaluation, system
+
+
+def state(name: str, n: int):
+    """(sets, layout, poses, rates, ψ̈) of the last evaluation in an analysis of
+    ``mechanisms/<name>.yaml`` at ``n`` positions."""
+    text = (ROOT / "mechanisms" / f"{name}.yaml").read_text()
+    model = ks.loads(re.sub(r"positions: 360}", f"positions: {n}}}", text), f"{name}.yaml")
+    kept = {}
+    blocks, gamma = system.jacobian_blocks_all, system.gamma_all
+
+    def keep_blocks(sets, layout, pe):
+        kept["blocks"] = (sets, layout, pe)
+        return blocks(sets, layout, pe)
+
+    def keep_gamma(sets, n_rows, pe, ve, psi_dd):
+        kept["gamma"] = (sets, n_rows, pe, ve, psi_dd)
+        return gamma(sets, n_rows, pe, ve, psi_dd)
+
+    system.jacobian_blocks_all, system.gamma_all = keep_blocks, keep_gamma
+    try:
+        ks.analyze(model, kinematics_only=True)
+    finally:
+        system.jacobian_blocks_all, system.gamma_all = blocks, gamma
+    return kept["blocks"], kept["gamma"]
+
+
+def timed(fn, rounds: int = 7) -> dict[str, float]:
+    """Median time (s) of ``fn()`` per backend, the backends alternated."""
+    times: dict[str, list[float]] = {"numpy": [], "numba": []}
+    for name in times:  # warm: compiled and cached
+        kernels.set_backend(name)
+        fn()
+    for _ in range(rounds):
+        for name in times:
+            kernels.set_backend(name)
+            number, t0 = 0, time.perf_counter()
+            while number < 3 or time.perf_counter() - t0 < 0.05:
+                fn()
+                number += 1
+            times[name].append((time.perf_counter() - t0) / number)
+    kernels.set_backend("numpy")
+    return {k: float(np.median(v)) for k, v in times.items()}
+
+
+def arrays(out) -> list[np.ndarray]:
+    """The arrays of ``jacobian_blocks_all``'s (blocks, ground) or of γ."""
+    if isinstance(out, np.ndarray):
+        return [out]
+    blocks, ground = out
+    parts = [p for d, lo, _ in blocks for p in (d, lo) if p is not None]
+    return parts + ([] if ground is None else [ground])
+
+
+def main() -> None:
+    print("| mechanism | positions | stage | NumPy [ms] | numba [ms] | ratio |")
+    print("|---|---|---|---|---|---|")
+    for name in ("slider_crank", "slotting_machine"):
+        for n in (360, 36_000):
+            b, g = state(name, n)
+            stages = {
+                "Φ_q blocks": lambda b=b: evaluation.jacobian_blocks_all(*b),
+                "γ": lambda g=g: evaluation.gamma_all(*g),
+            }
+            for label, fn in stages.items():
+                out = {}
+                for backend in ("numpy", "numba"):
+                    kernels.set_backend(backend)
+                    out[backend] = fn()
+                kernels.set_backend("numpy")
+                a, c = (arrays(out[k]) for k in ("numpy", "numba"))
+                if not all(np.array_equal(x, y) for x, y in zip(a, c)):
+                    raise SystemExit(f"{name}, {label}: the backends differ")
+                t = timed(fn)
+                print(
+                    f"| {name} | {n:,} | {label} | {t['numpy'] * 1e3:.3g} | "
+                    f"{t['numba'] * 1e3:.3g} | {t['numpy'] / t['numba']:.2g}× |"
+                )
+
+
+if __name__ == "__main__":
+    main()
