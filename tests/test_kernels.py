@@ -18,6 +18,7 @@ import kinetostatics as ks
 from kinetostatics.base import kernels
 from kinetostatics.base.geometry import poses
 from kinetostatics.errors import MissingPackageError, ModelError
+from kinetostatics.kinetics import friction
 from kinetostatics.structure import evaluation
 from kinetostatics.structure.system import _rates, build_system
 from tests.helpers import ROOT, motion_driven
@@ -89,6 +90,55 @@ def test_kernels_give_the_numpy_formulas_to_the_bit(source, uncompiled, monkeypa
         np.testing.assert_array_equal(a, b)
 
 
+@pytest.mark.parametrize("source", SHIPPED + HARD + list(SEEDS), ids=_name)
+def test_friction_kernels_give_the_efforts_to_the_bit(source):
+    """Each joint's friction magnitude by its kernel (uncompiled), at random reactions and
+    speed signs, against the efforts of the NumPy path."""
+    system = build_system(_model(source))
+    joints = [k for k, j in enumerate(system.model.joints) if j.has_friction]
+    if not joints:
+        pytest.skip("no friction")
+    rng = np.random.default_rng(11)
+    n = 9
+    fs = friction.FrictionSetup(
+        joints,
+        [system.rows_of(k) for k in joints],
+        None,
+        rng.choice([-1.0, 0.0, 1.0], (n, len(joints))),
+        None,
+        None,
+        rng.uniform(-2.0, 2.0, (n, system.n_q)),
+    )
+    x = rng.uniform(-1e3, 1e3, (n, system.n_rows))
+    by_numpy = friction.efforts(system, fs, x)
+    sets = friction._effort_kernels(system, fs)
+    if sets is None:
+        pytest.skip("a joint with friction has no kernel")
+    mu = np.empty((len(joints), n))
+    for kernel, par, rows, cols in sets:
+        part = np.empty((len(cols), n))
+        kernel.py_func(par, x, rows, part)
+        mu[cols] = part
+    np.testing.assert_array_equal(-fs.sign * mu.T, by_numpy)
+
+
+@pytest.mark.parametrize("source", SHIPPED + HARD + list(SEEDS[:3]), ids=_name)
+def test_an_uncompiled_analysis_gives_every_column_to_the_bit(source, uncompiled):
+    """A whole analysis with every kernel run as plain Python — the fixed point of the
+    consistent friction solution included — against the NumPy path."""
+    model = _model(source)
+    results = []
+    for active in (True, False):
+        kernels.active = lambda active=active: active  # the fixture restores it
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            try:
+                results.append(ks.analyze(model))
+            except ks.KinetostaticsError as e:
+                results.append(type(e))
+    _same(*results)
+
+
 def test_a_type_without_kernels_and_stacked_variants_stay_on_numpy():
     """A gear (no kernels) has none; stacked variants (a field per variant) have none."""
     model = ks.load(ROOT / "mechanisms" / "geared_fivebar.yaml")
@@ -135,9 +185,14 @@ def test_numba_backend_gives_every_column_to_the_bit(source, backend):
                 results.append(ks.analyze(model))
             except ks.KinetostaticsError as e:
                 results.append(type(e))
-    a, b = results
+    _same(*results)
+
+
+def _same(a, b) -> None:
+    """Two results with the same columns, equal to the bit (NaN where NaN), or the same
+    refusal."""
     if isinstance(a, type):
-        assert a is b  # the same refusal
+        assert a is b
         return
     assert list(a.columns) == list(b.columns)
     for c in a.columns:

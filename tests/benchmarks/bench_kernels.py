@@ -1,10 +1,11 @@
-"""The compiled backend's two stages against NumPy's: Φ_q's group blocks and γ.
+"""The compiled backend's stages against NumPy's: Φ_q's group blocks, γ and the consistent
+friction solution (its fixed point and checks, ``friction.consistent``).
 
 For each reference machine at 360 and 36,000 positions, the state of its own analysis
-(the poses and rates that ``ks.analyze`` evaluates them at) is kept, and
-``jacobian_blocks_all`` and ``gamma_all`` are timed on it with each backend in turns
-(medians of alternated samples); the two backends' arrays are checked equal to the bit
-first.  Needs numba (``pip install 'kinetostatics[numba]'``).
+(the poses, rates and reactions that ``ks.analyze`` evaluates them at) is kept, and each
+stage is timed on it with each backend in turns (medians of alternated samples); the two
+backends' arrays are checked equal to the bit first.  Needs numba (``pip install
+'kinetostatics[numba]'``).
 
     PYTHONPATH=src python tests/benchmarks/bench_kernels.py
 """
@@ -19,6 +20,7 @@ from _common import ROOT
 
 import kinetostatics as ks
 from kinetostatics.base import kernels
+from kinetostatics.kinetics import friction, inverse
 from kinetostatics.structure import evaluation, system
 
 
@@ -38,12 +40,22 @@ def state(name: str, n: int):
         kept["gamma"] = (sets, n_rows, pe, ve, psi_dd)
         return gamma(sets, n_rows, pe, ve, psi_dd)
 
+    consistent = friction.consistent
+
+    def keep_consistent(*args):
+        kept["friction"] = args
+        return consistent(*args)
+
     system.jacobian_blocks_all, system.gamma_all = keep_blocks, keep_gamma
+    inverse.fr.consistent = keep_consistent
     try:
         ks.analyze(model, kinematics_only=True)
+        blocks_state, gamma_state = kept["blocks"], kept["gamma"]
+        ks.analyze(model)
     finally:
         system.jacobian_blocks_all, system.gamma_all = blocks, gamma
-    return kept["blocks"], kept["gamma"]
+        inverse.fr.consistent = consistent
+    return blocks_state, gamma_state, kept["friction"]
 
 
 def timed(fn, rounds: int = 7) -> dict[str, float]:
@@ -68,6 +80,8 @@ def arrays(out) -> list[np.ndarray]:
     """The arrays of ``jacobian_blocks_all``'s (blocks, ground) or of γ."""
     if isinstance(out, np.ndarray):
         return [out]
+    if isinstance(out, friction.FrictionSolution):
+        return [out.x, out.e, out.status, out.iterations, out.reach]
     blocks, ground = out
     parts = [p for d, lo, _ in blocks for p in (d, lo) if p is not None]
     return parts + ([] if ground is None else [ground])
@@ -78,10 +92,11 @@ def main() -> None:
     print("|---|---|---|---|---|---|")
     for name in ("slider_crank", "slotting_machine"):
         for n in (360, 36_000):
-            b, g = state(name, n)
+            b, g, f = state(name, n)
             stages = {
                 "Φ_q blocks": lambda b=b: evaluation.jacobian_blocks_all(*b),
                 "γ": lambda g=g: evaluation.gamma_all(*g),
+                "consistent friction": lambda f=f: friction.consistent(*f),
             }
             for label, fn in stages.items():
                 out = {}
@@ -90,7 +105,7 @@ def main() -> None:
                     out[backend] = fn()
                 kernels.set_backend("numpy")
                 a, c = (arrays(out[k]) for k in ("numpy", "numba"))
-                if not all(np.array_equal(x, y) for x, y in zip(a, c)):
+                if not all(np.array_equal(x, y, equal_nan=True) for x, y in zip(a, c)):
                     raise SystemExit(f"{name}, {label}: the backends differ")
                 t = timed(fn)
                 print(

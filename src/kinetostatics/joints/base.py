@@ -317,14 +317,26 @@ class Joint(ABC):
     direction_kernel: ClassVar[Callable | None] = None  # (par, P, ends, gi, gj)
     bias_kernel: ClassVar[Callable | None] = None  # (par, P, V, ends, out)
 
+    friction_kernel: ClassVar[Callable | None] = None  # (par, x, rows, out): friction_magnitude
+
     def kernel_params(self, k: int) -> np.ndarray | None:
         """What the kernels read of this joint, or of a stack of ``k``: its
         ``stacked_vectors`` then its ``stacked_scalars`` per joint, ``(k, m)``; None where
         they are not one value per joint (stacked variants: evaluated by NumPy)."""
+        return self._per_joint(
+            [(f, 2) for f in self.stacked_vectors] + [(f, 1) for f in self.stacked_scalars], k
+        )
+
+    def friction_kernel_params(self, k: int) -> np.ndarray | None:
+        """What ``friction_kernel`` reads of this joint or of a stack of ``k`` (a
+        ``stack_friction``): its ``friction_scalars`` per joint, ``(k, m)``, or None."""
+        return self._per_joint([(f, 1) for f in self.friction_scalars], k)
+
+    def _per_joint(self, fields, k: int) -> np.ndarray | None:
+        """The fields ``(name, size)`` as one row per joint of ``k``, or None where they
+        are not one value per joint (or there are none)."""
         parts = []
-        for f, size in [(f, 2) for f in self.stacked_vectors] + [
-            (f, 1) for f in self.stacked_scalars
-        ]:
+        for f, size in fields:
             v = np.asarray(getattr(self, f), dtype=float)
             if v.size != k * size:
                 return None

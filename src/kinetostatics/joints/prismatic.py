@@ -21,7 +21,8 @@ __all__ = ["Prismatic"]
 # -- kernels of the compiled backend (base/kernels.py) -------------------------------------
 # The formulas of Prismatic, position by position: the same operations in the same order,
 # so the same numbers to the bit.  ``par[m]`` = (a, u, p, angle) of joint m of a stack;
-# P (n + 1, 5, N) the poses (x, y, θ, cos θ, sin θ), V (n + 1, 3, N) the rates.
+# P (n + 1, 5, N) the poses (x, y, θ, cos θ, sin θ), V (n + 1, 3, N) the rates; the
+# friction kernel reads (N, M) from ``x (N, n_λ)`` at its ``rows (1, 2)``, ``par`` = (f, L).
 @helper
 def _frame_at(par, P, m, i, j, p):
     """``_frame`` at one position: A, U, P, d (N = perp(U) is (−U_y, U_x))."""
@@ -91,6 +92,17 @@ def _bias_kernel(par, P, V, ends, out):
                 + 2.0 * wi * (-uy * ddx + ux * ddy)
                 + (ux * d2x + uy * d2y)
             )
+
+
+def _friction_kernel(par, x, rows, out):
+    for m in range(rows.shape[0]):
+        a, b, f, length = rows[m, 0], rows[m, 1], par[m, 0], par[m, 1]
+        for p in range(x.shape[0]):
+            if length != length:  # no contact length: f|N|
+                out[m, p] = f * abs(x[p, a])
+            else:  # two edges, N/2 ± M/L
+                half = 0.5 * x[p, a]
+                out[m, p] = f * (abs(half + x[p, b] / length) + abs(half - x[p, b] / length))
 
 
 @dataclass(frozen=True)
@@ -232,6 +244,14 @@ class Prismatic(Joint, kind="prismatic"):
     gamma_kernel = staticmethod(_gamma_kernel)
     direction_kernel = staticmethod(_direction_kernel)
     bias_kernel = staticmethod(_bias_kernel)
+    friction_kernel = staticmethod(_friction_kernel)
+
+    def friction_kernel_params(self, k: int) -> np.ndarray | None:
+        """(f, L) of the joint, L NaN without a contact length; None for variants."""
+        if k != 1 or np.size(self.f) != 1 or np.size(self.length) > 1:
+            return None
+        length = np.nan if self.length is None else float(self.length)
+        return np.array([[float(self.f), length]])
 
     # -- relative coordinate --------------------------------------------------
     def coordinate(self, qi, qj):

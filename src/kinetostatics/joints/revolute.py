@@ -20,7 +20,8 @@ __all__ = ["Revolute"]
 # -- kernels of the compiled backend (base/kernels.py) -------------------------------------
 # The formulas of Revolute, position by position: the same operations in the same order, so
 # the same numbers to the bit.  ``par[m]`` = (p_i, p_j) of joint m of a stack; P (n + 1, 5, N)
-# the poses (x, y, θ, cos θ, sin θ), V (n + 1, 3, N) the rates, component-major.
+# the poses (x, y, θ, cos θ, sin θ), V (n + 1, 3, N) the rates, component-major; the
+# friction kernel reads λ from ``x (N, n_λ)`` at its ``rows (k, 2)``, ``par[m]`` = (ρ,).
 def _jacobian_kernel(par, P, ends, ji, jj):
     for m in range(ends.shape[1]):
         i, j = ends[0, m], ends[1, m]
@@ -56,6 +57,13 @@ def _bias_kernel(par, P, V, ends, out):
     for m in range(ends.shape[1]):
         for p in range(P.shape[2]):
             out[m, p] = 0.0
+
+
+def _friction_kernel(par, x, rows, out):
+    for m in range(rows.shape[0]):
+        a, b, rho = rows[m, 0], rows[m, 1], par[m, 0]
+        for p in range(x.shape[0]):
+            out[m, p] = rho * np.hypot(x[p, a], x[p, b])
 
 
 @dataclass(frozen=True)
@@ -156,6 +164,7 @@ class Revolute(Joint, kind="revolute"):
     gamma_kernel = staticmethod(_gamma_kernel)
     direction_kernel = staticmethod(_direction_kernel)
     bias_kernel = staticmethod(_bias_kernel)
+    friction_kernel = staticmethod(_friction_kernel)
 
     # -- relative coordinate --------------------------------------------------
     def coordinate(self, qi, qj):

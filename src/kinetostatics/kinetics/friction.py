@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..base import kernels
 from ..base.arrays import max_abs_last
 from ..base.linalg import BlockFactor
 from ..structure.system import System, coordinate_gradients
@@ -195,8 +196,11 @@ def consistent(
     it = np.zeros(x.shape[:-1], dtype=int)
     converged = np.zeros(x.shape[:-1], dtype=bool)
     live = np.ones(x.shape[:-1], dtype=bool)
+    compiled = _effort_kernels(system, fs) if kernels.active() else None
     with np.errstate(all="ignore"):
-        for _ in range(FIXED_POINT_ITER):
+        if compiled is not None:
+            _compiled_fixed_point(compiled, fs, x0, per_effort, scale, x, it, converged, live)
+        for _ in range(0 if compiled is not None else FIXED_POINT_ITER):
             if not live.any():
                 break
             xn = x0 + np.einsum("...kn,...k->...n", per_effort, efforts(system, fs, x))
@@ -228,6 +232,81 @@ def consistent(
         it[index] += n
     e = efforts(system, fs, x)
     return FrictionSolution(x, e, status, it, reach)
+
+
+# -- the compiled backend (base/kernels.py) ------------------------------------------------
+def _effort_kernels(system: System, fs: FrictionSetup) -> list[tuple] | None:
+    """The fixed point's efforts by the joints' friction kernels, per set of
+    :func:`_effort_sets`: (compiled kernel, its parameters, the rows of λ ``(k, n_eq)``,
+    the efforts' columns ``(k,)``); None where a joint has none (then NumPy's loop)."""
+    key = ("friction_kernels", tuple(fs.joints))
+    if key not in system.memo:
+        out: list[tuple] | None = []
+        for cols, joint, rows, ks in _effort_sets(system, tuple(fs.joints)):
+            kernel, par = type(joint).friction_kernel, joint.friction_kernel_params(len(ks))
+            if kernel is None or par is None:
+                out = None
+                break
+            if isinstance(rows, slice):  # a joint alone
+                rows, cols = np.arange(rows.start, rows.stop)[None], np.array([cols])
+            out.append((kernels.compiled(kernel), par, np.ascontiguousarray(rows), cols))
+        system.memo[key] = out
+    return system.memo[key]
+
+
+def _compiled_fixed_point(sets, fs, x0, per_effort, scale, x, it, converged, live) -> None:
+    """The fixed point's loop of :func:`consistent` with the efforts' magnitudes by the
+    friction kernels and each iteration's update by :func:`_fixed_point_step`: the same
+    operations position by position, so the same numbers to the bit.  Updates ``x``,
+    ``it``, ``converged`` and ``live`` (contiguous, as ``consistent`` makes them)."""
+    n_f, n = per_effort.shape[-2], it.size
+    flat = x.reshape(n, -1)
+    x0 = np.ascontiguousarray(x0).reshape(n, -1)
+    per_effort = np.ascontiguousarray(per_effort).reshape(n, n_f, -1)
+    sign = np.ascontiguousarray(fs.sign).reshape(n, n_f)
+    scale = np.ascontiguousarray(np.broadcast_to(scale, it.shape)).reshape(n)
+    mu = np.empty((n_f, n))
+    parts = [np.empty((len(cols), n)) for _, _, _, cols in sets]
+    step = kernels.compiled(_fixed_point_step)
+    state = it.reshape(n), converged.reshape(n), live.reshape(n)
+    for _ in range(FIXED_POINT_ITER):
+        for (kernel, par, rows, cols), part in zip(sets, parts):
+            kernel(par, flat, rows, part)
+            mu[cols] = part
+        if not step(x0, per_effort, mu, sign, scale, flat, *state, TOL):
+            break
+
+
+def _fixed_point_step(x0, per_effort, mu, sign, scale, x, it, converged, live, tol):
+    """One iteration at the live positions: x ← x₀ + Σ e_k A⁻¹(−g_k), e_k = −s_k μ_k (the
+    sum in ``einsum``'s order), its step max|Δx|/scale, and the tests of ``consistent``;
+    returns how many positions stay live."""
+    n, n_f, n_x = per_effort.shape
+    xn = np.empty(n_x)
+    count = 0
+    for p in range(n):
+        if not live[p]:
+            continue
+        worst = 0.0
+        for c in range(n_x):
+            acc = 0.0
+            for k in range(n_f):
+                acc += per_effort[p, k, c] * (-sign[p, k] * mu[k, p])
+            xn[c] = x0[p, c] + acc
+            d = abs(xn[c] - x[p, c])
+            if d != d or d > worst:  # a NaN stays: nothing is greater
+                worst = d
+        step = worst / scale[p]
+        for c in range(n_x):
+            x[p, c] = xn[c]
+        it[p] += 1
+        if step <= tol:
+            converged[p] = True
+        if converged[p] or not (step < 1e6):  # not finite, or diverging
+            live[p] = False
+        else:
+            count += 1
+    return count
 
 
 def _product(a, x: np.ndarray) -> np.ndarray:
