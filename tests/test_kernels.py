@@ -28,6 +28,14 @@ SHIPPED = [ROOT / "mechanisms" / f"{name}.yaml" for name in motion_driven()]
 HARD = sorted((ROOT / "tests" / "hard").glob("*.yaml"))
 SEEDS = range(8)  # generated mechanisms (tests/net): dyads, triads, sliders on moving links
 
+try:
+    import numba  # noqa: F401
+
+    HAVE_NUMBA = True
+except ImportError:  # the extra is optional: the tests that compile are skipped
+    HAVE_NUMBA = False
+compiling = pytest.mark.skipif(not HAVE_NUMBA, reason="numba is not installed")
+
 
 def _name(source) -> str:
     return source.stem if isinstance(source, Path) else f"seed{source}"
@@ -91,7 +99,7 @@ def test_kernels_give_the_numpy_formulas_to_the_bit(source, uncompiled, monkeypa
 
 
 @pytest.mark.parametrize("source", SHIPPED + HARD + list(SEEDS), ids=_name)
-def test_friction_kernels_give_the_efforts_to_the_bit(source):
+def test_friction_kernels_give_the_efforts_to_the_bit(source, uncompiled):
     """Each joint's friction magnitude by its kernel (uncompiled), at random reactions and
     speed signs, against the efforts of the NumPy path."""
     system = build_system(_model(source))
@@ -117,7 +125,7 @@ def test_friction_kernels_give_the_efforts_to_the_bit(source):
     mu = np.empty((len(joints), n))
     for kernel, par, rows, cols in sets:
         part = np.empty((len(cols), n))
-        kernel.py_func(par, x, rows, part)
+        kernel(par, x, rows, part)
         mu[cols] = part
     np.testing.assert_array_equal(-fs.sign * mu.T, by_numpy)
 
@@ -170,11 +178,11 @@ def test_backend_choice_and_errors(backend, monkeypatch):
 
 
 # -- compiled --------------------------------------------------------------------------------
+@compiling
 @pytest.mark.parametrize("source", SHIPPED + HARD + list(SEEDS), ids=_name)
 def test_numba_backend_gives_every_column_to_the_bit(source, backend):
     """A whole analysis (kinematics, reactions, both friction solutions, checks) on the
     numba backend: every column equal to the default backend's, NaN where it is NaN."""
-    pytest.importorskip("numba")
     model = _model(source)
     results = []
     for name in ("numpy", "numba"):
@@ -199,19 +207,19 @@ def _same(a, b) -> None:
         np.testing.assert_array_equal(np.asarray(a[c]), np.asarray(b[c]), err_msg=c)
 
 
+@compiling
 def test_numba_backend_compiles_the_kernels_of_a_run(backend):
     """The kernel path is the one taken: every set of the slotting machine has kernels."""
-    pytest.importorskip("numba")
     backend("numba")
     system = build_system(ks.load(ROOT / "mechanisms" / "slotting_machine.yaml"))
     assert all(s.kernels() is not None for s in system.sets)
     assert kernels.active()
 
 
+@compiling
 def test_batch_workers_take_the_backend_of_their_parent(backend, monkeypatch):
     """A batch's worker processes run on the backend chosen in the process that starts
     them, whatever their environment says."""
-    pytest.importorskip("numba")
     from kinetostatics.batch import executors
 
     monkeypatch.setenv("KINETOSTATICS_BACKEND", "numpy")
@@ -223,6 +231,7 @@ def test_batch_workers_take_the_backend_of_their_parent(backend, monkeypatch):
         close()
 
 
+@compiling
 @pytest.mark.parametrize(
     "variants",
     [
@@ -234,7 +243,6 @@ def test_batch_workers_take_the_backend_of_their_parent(backend, monkeypatch):
 def test_a_batch_gives_the_same_table_on_both_backends(variants, backend, tmp_path):
     """The batch's stacked analysis (variants × positions on the kernels' one axis, ψ̈
     broadcast over the variants) gives the same summary table, to the last digit."""
-    pytest.importorskip("numba")
     from kinetostatics import batch
 
     tasks = [batch.Task(str(k), 0, v) for k, v in enumerate(variants)]
@@ -248,6 +256,7 @@ def test_a_batch_gives_the_same_table_on_both_backends(variants, backend, tmp_pa
     assert tables[0] == tables[1]
 
 
+@compiling
 @pytest.mark.parametrize(
     "variants",
     [
@@ -259,7 +268,6 @@ def test_a_batch_gives_the_same_table_on_both_backends(variants, backend, tmp_pa
 def test_stacked_variants_give_the_same_columns_on_both_backends(variants, backend):
     """The variants of one topology in one pass (``(V, N)`` poses on the kernels' one axis
     of positions, ψ̈ broadcast over the variants): every column to the bit."""
-    pytest.importorskip("numba")
     from kinetostatics.analysis import vectorised
 
     path = ROOT / "mechanisms" / "slotting_machine.yaml"
