@@ -278,3 +278,16 @@ def test_stacked_variants_give_the_same_columns_on_both_backends(variants, backe
         results.append(vectorised.as_result(vectorised.analyze_stacked(models)))
     assert results[0]["ram.x"].shape == (4, 360)
     _same(*results)
+
+
+def test_an_extra_that_is_installed_but_broken_is_not_called_missing(tmp_path, monkeypatch):
+    """numba built for another NumPy fails at import: the message says so, with the
+    reason, instead of "not installed"."""
+    from kinetostatics.base.optional import require
+
+    (tmp_path / "brokenextra.py").write_text('raise ImportError("built for NumPy 1.x")\n')
+    monkeypatch.syspath_prepend(str(tmp_path))
+    with pytest.raises(MissingPackageError, match=r"cannot be imported \(built for NumPy 1\.x\)"):
+        require("brokenextra", "numba", "the compiled backend")
+    with pytest.raises(MissingPackageError, match="which is not installed"):
+        require("absentextra", "numba", "the compiled backend")
