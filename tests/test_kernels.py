@@ -148,10 +148,10 @@ def test_an_uncompiled_analysis_gives_every_column_to_the_bit(source, uncompiled
 
 
 def test_a_type_without_kernels_and_stacked_variants_stay_on_numpy():
-    """A gear (no kernels) has none; stacked variants (a field per variant) have none."""
-    model = ks.load(ROOT / "mechanisms" / "geared_fivebar.yaml")
-    kinds = {j.kind: j for j in model.joints}
-    assert kinds["gear"].kernels(1) is None
+    """A cam (no kernels) has none; stacked variants (a field per variant) have none."""
+    kinds = {j.kind: j for j in ks.load(ROOT / "mechanisms" / "cam_roller.yaml").joints}
+    assert kinds["cam"].kernels(1) is None
+    kinds = {j.kind: j for j in ks.load(ROOT / "mechanisms" / "geared_fivebar.yaml").joints}
     pin = kinds["revolute"]
     assert pin.kernel_params(1).shape == (1, 4)
     varied = type(pin)(pin.name, pin.links, pin.where, np.ones((3, 2)), pin.p_j)

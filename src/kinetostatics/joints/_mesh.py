@@ -140,9 +140,20 @@ def read_loss(entry, loss_per_mu: float | None) -> float | None:
     return 2.0 * zeta / (2.0 + zeta)  # 1 − η with η = (2 − ζ)/(2 + ζ)
 
 
+def _friction_kernel(par, x, rows, out):
+    """``friction_magnitude`` for the compiled backend (base/kernels.py): ``par[m]`` =
+    (ζ cos α,), the same product as the NumPy formula's."""
+    for m in range(rows.shape[0]):
+        a, c = rows[m, 0], par[m, 0]
+        for p in range(x.shape[0]):
+            out[m, p] = c * abs(x[p, a])
+
+
 class MeshFriction:
     """Friction of a toothed pair as a mesh efficiency; the pair keeps ``loss`` = 1 − η
     and its pressure angle ``alpha`` (rad).  Put it before ``Joint`` in the bases."""
+
+    friction_kernel = staticmethod(_friction_kernel)
 
     loss: float
     alpha: float
@@ -158,6 +169,12 @@ class MeshFriction:
 
     def friction_magnitude(self, lam, qi, qj):
         return self.loss_ratio * math.cos(self.alpha) * np.abs(lam[..., 0])
+
+    def friction_kernel_params(self, k: int) -> np.ndarray | None:
+        """(ζ cos α,) of the pair; None for a stack or for variants that differ in it."""
+        if k != 1 or np.size(self.loss) != 1 or np.size(self.alpha) != 1:
+            return None
+        return np.array([[self.loss_ratio * math.cos(self.alpha)]])
 
     def friction_kinks(self, lam, qi, qj):
         return lam[..., :1]

@@ -109,6 +109,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from ..base.geometry import dot, perp, turn
+from ..base.kernels import helper
 from ..base.keys import NAME, NUMBER, Keys, enum, names
 from ._mesh import (
     MESH_KEYS,
@@ -125,6 +126,90 @@ from .base import Anchor, Circle, Glyph, Joint
 __all__ = ["Gear"]
 
 MESHES = ("external", "internal")
+
+
+# -- kernels of the compiled backend (base/kernels.py) -------------------------------------
+# The formulas of Gear, position by position: the same operations in the same order, so the
+# same numbers to the bit.  ``par[0]`` = (c_i, c_j, K_i, K_j, k, ρ_i, ρ_j) (Gear.kernel_params).
+@helper
+def _frame_at(par, P, i, j, p):
+    """``_frame`` at one position: R_i, R_j, D, d and e (t = perp(e) is (−e_y, e_x))."""
+    ci, si, cj, sj = P[i, 3, p], P[i, 4, p], P[j, 3, p], P[j, 4, p]
+    rix, riy = ci * par[0, 0] - si * par[0, 1], si * par[0, 0] + ci * par[0, 1]
+    rjx, rjy = cj * par[0, 2] - sj * par[0, 3], sj * par[0, 2] + cj * par[0, 3]
+    dx = P[j, 0, p] + rjx - P[i, 0, p] - rix
+    dy = P[j, 1, p] + rjy - P[i, 1, p] - riy
+    d = np.hypot(dx, dy)
+    return rix, riy, rjx, rjy, d, dx / d, dy / d
+
+
+@helper
+def _gradient_at(par, d, ex, ey):
+    """``_gradient``: G = ∂Φ/∂D."""
+    a = -((par[0, 5] - par[0, 4]) / d)
+    return a * -ey + par[0, 6] * ex, a * ex + par[0, 6] * ey
+
+
+@helper
+def _rates_at(rix, riy, rjx, rjy, d, ex, ey, V, i, j, p):
+    """``_rates``: D̈'s velocity part, β̇ and ḋ."""
+    wi, wj = V[i, 2, p], V[j, 2, p]
+    ddx = V[j, 0, p] + wj * -rjy - V[i, 0, p] - wi * -riy
+    ddy = V[j, 1, p] + wj * rjx - V[i, 1, p] - wi * rix
+    wj2, wi2 = -(wj * wj), wi * wi
+    return (
+        wj2 * rjx + wi2 * rix,
+        wj2 * rjy + wi2 * riy,
+        (-ey * ddx + ex * ddy) / d,
+        ex * ddx + ey * ddy,
+    )
+
+
+def _jacobian_kernel(par, P, ends, ji, jj):
+    i, j = ends[0, 0], ends[1, 0]
+    for p in range(P.shape[2]):
+        rix, riy, rjx, rjy, d, ex, ey = _frame_at(par, P, i, j, p)
+        g0, g1 = _gradient_at(par, d, ex, ey)
+        ji[0, 0, 0, p], ji[0, 0, 1, p] = -g0, -g1
+        ji[0, 0, 2, p] = -par[0, 4] - (g0 * -riy + g1 * rix)
+        jj[0, 0, 0, p], jj[0, 0, 1, p] = g0, g1
+        jj[0, 0, 2, p] = par[0, 5] + (g0 * -rjy + g1 * rjx)
+
+
+def _gamma_kernel(par, P, V, ends, out):
+    i, j = ends[0, 0], ends[1, 0]
+    big_k = par[0, 5] - par[0, 4]
+    for p in range(P.shape[2]):
+        rix, riy, rjx, rjy, d, ex, ey = _frame_at(par, P, i, j, p)
+        g0, g1 = _gradient_at(par, d, ex, ey)
+        d2x, d2y, beta_d, d_d = _rates_at(rix, riy, rjx, rjy, d, ex, ey, V, i, j, p)
+        out[0, 0, p] = -(
+            2.0 * big_k * beta_d * d_d / d
+            + par[0, 6] * d * (beta_d * beta_d)
+            + (g0 * d2x + g1 * d2y)
+        )
+
+
+def _direction_kernel(par, P, ends, gi, gj):
+    i, j = ends[0, 0], ends[1, 0]
+    half = -0.5 * (par[0, 7] + par[0, 8])
+    for p in range(P.shape[2]):
+        rix, riy, rjx, rjy, d, ex, ey = _frame_at(par, P, i, j, p)
+        c = half / d
+        g0, g1 = c * -ey, c * ex
+        gi[0, 0, p], gi[0, 1, p] = -g0, -g1
+        gi[0, 2, p] = 0.5 * par[0, 7] - (g0 * -riy + g1 * rix)
+        gj[0, 0, p], gj[0, 1, p] = g0, g1
+        gj[0, 2, p] = 0.5 * par[0, 8] + (g0 * -rjy + g1 * rjx)
+
+
+def _bias_kernel(par, P, V, ends, out):
+    i, j = ends[0, 0], ends[1, 0]
+    half = -0.5 * (par[0, 7] + par[0, 8])
+    for p in range(P.shape[2]):
+        rix, riy, rjx, rjy, d, ex, ey = _frame_at(par, P, i, j, p)
+        d2x, d2y, beta_d, d_d = _rates_at(rix, riy, rjx, rjy, d, ex, ey, V, i, j, p)
+        out[0, p] = half * ((-ey * d2x + ex * d2y) - 2.0 * d_d * beta_d) / d
 
 
 @dataclass(frozen=True)
@@ -379,6 +464,20 @@ class Gear(MeshFriction, Joint, kind="gear"):
         Ddd, beta_d, d_d = self._rates(Ri, Rj, d, e, t, vi, vj)
         # β̈ = (t·D̈ − 2 ḋ β̇)/d, so the velocity part of c̈ = −½(ρ_i + ρ_j) β̈ is:
         return -0.5 * (rho_i + rho_j) * (dot(t, Ddd) - 2.0 * d_d * beta_d) / d
+
+    # -- compiled backend (base/kernels.py): the formulas above, position by position --
+    jacobian_kernel = staticmethod(_jacobian_kernel)
+    gamma_kernel = staticmethod(_gamma_kernel)
+    direction_kernel = staticmethod(_direction_kernel)
+    bias_kernel = staticmethod(_bias_kernel)
+
+    def kernel_params(self, k: int) -> np.ndarray | None:
+        """(c_i, c_j, K_i, K_j, k, ρ_i, ρ_j), as ``_coefficients`` and ``signed_radii`` give
+        them; None for a stack or for variants that differ in them."""
+        values = (self.c_i, self.c_j, *self._coefficients(), *self.signed_radii)
+        if k != 1 or [np.size(v) for v in values] != [2, 2, 1, 1, 1, 1, 1]:
+            return None
+        return np.concatenate([np.ravel(v) for v in values]).astype(float)[None]
 
     def effort_force(self, effort, qi, qj):
         Ri, Rj, D, d, e, t = self._frame(qi, qj)

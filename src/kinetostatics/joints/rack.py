@@ -70,6 +70,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from ..base.geometry import dot, perp, turn
+from ..base.kernels import helper
 from ..base.keys import NAME, NUMBER, Keys, names
 from ._mesh import (
     MESH_KEYS,
@@ -84,6 +85,81 @@ from ._mesh import (
 from .base import AXIS_KEYS, Anchor, Circle, Glyph, Joint, Line
 
 __all__ = ["Rack"]
+
+
+# -- kernels of the compiled backend (base/kernels.py) -------------------------------------
+# The formulas of Rack, position by position: the same operations in the same order, so the
+# same numbers to the bit.  ``par[0]`` = (a, u, c, κ, cos α, sin α, r) (Rack.kernel_params).
+@helper
+def _frame_at(par, P, i, j, p):
+    """``_frame`` at one position: A, U, C, D and ν (N = perp(U) is (−U_y, U_x))."""
+    ci, si, cj, sj = P[i, 3, p], P[i, 4, p], P[j, 3, p], P[j, 4, p]
+    ax, ay = ci * par[0, 0] - si * par[0, 1], si * par[0, 0] + ci * par[0, 1]
+    ux, uy = ci * par[0, 2] - si * par[0, 3], si * par[0, 2] + ci * par[0, 3]
+    cx, cy = cj * par[0, 4] - sj * par[0, 5], sj * par[0, 4] + cj * par[0, 5]
+    dx = P[j, 0, p] + cx - P[i, 0, p] - ax
+    dy = P[j, 1, p] + cy - P[i, 1, p] - ay
+    nu = 1.0 if -uy * dx + ux * dy >= 0.0 else -1.0
+    return ax, ay, ux, uy, cx, cy, dx, dy, nu
+
+
+@helper
+def _rates_at(ax, ay, ux, uy, cx, cy, dx, dy, V, i, j, p):
+    """``_rates``: the velocity-product parts of s̈ and ḧ."""
+    wi, wj = V[i, 2, p], V[j, 2, p]
+    ddx = V[j, 0, p] + wj * -cy - V[i, 0, p] - wi * -ay
+    ddy = V[j, 1, p] + wj * cx - V[i, 1, p] - wi * ax
+    wj2, wi2 = -(wj * wj), wi * wi
+    d2x, d2y = wj2 * cx + wi2 * ax, wj2 * cy + wi2 * ay
+    s_b = (
+        -(wi * wi) * (ux * dx + uy * dy) + 2.0 * wi * (-uy * ddx + ux * ddy) + (ux * d2x + uy * d2y)
+    )
+    h_b = (
+        -(wi * wi) * (-uy * dx + ux * dy)
+        - 2.0 * wi * (ux * ddx + uy * ddy)
+        + (-uy * d2x + ux * d2y)
+    )
+    return s_b, h_b
+
+
+def _jacobian_kernel(par, P, ends, ji, jj):
+    i, j = ends[0, 0], ends[1, 0]
+    for p in range(P.shape[2]):
+        ax, ay, ux, uy, cx, cy, dx, dy, nu = _frame_at(par, P, i, j, p)
+        kc, ks = par[0, 6] * nu * par[0, 7], par[0, 8] * nu
+        g0, g1 = kc * ux + ks * -uy, kc * uy + ks * ux
+        s, h = ux * dx + uy * dy, -uy * dx + ux * dy
+        ji[0, 0, 0, p], ji[0, 0, 1, p] = -g0, -g1
+        ji[0, 0, 2, p] = kc * (h - nu * par[0, 9]) - ks * s - (g0 * -ay + g1 * ax)
+        jj[0, 0, 0, p], jj[0, 0, 1, p] = g0, g1
+        jj[0, 0, 2, p] = kc * nu * par[0, 9] + (g0 * -cy + g1 * cx)
+
+
+def _gamma_kernel(par, P, V, ends, out):
+    i, j = ends[0, 0], ends[1, 0]
+    for p in range(P.shape[2]):
+        ax, ay, ux, uy, cx, cy, dx, dy, nu = _frame_at(par, P, i, j, p)
+        kc, ks = par[0, 6] * nu * par[0, 7], par[0, 8] * nu
+        s_b, h_b = _rates_at(ax, ay, ux, uy, cx, cy, dx, dy, V, i, j, p)
+        out[0, 0, p] = -(kc * s_b + ks * h_b)
+
+
+def _direction_kernel(par, P, ends, gi, gj):
+    i, j = ends[0, 0], ends[1, 0]
+    for p in range(P.shape[2]):
+        ax, ay, ux, uy, cx, cy, dx, dy, nu = _frame_at(par, P, i, j, p)
+        half = 0.5 * nu * par[0, 9]
+        gi[0, 0, p], gi[0, 1, p] = -0.5 * ux, -0.5 * uy
+        gi[0, 2, p] = 0.5 * ((-uy * dx + ux * dy) - (ux * -ay + uy * ax)) + half
+        gj[0, 0, p], gj[0, 1, p] = 0.5 * ux, 0.5 * uy
+        gj[0, 2, p] = 0.5 * (ux * -cy + uy * cx) - half
+
+
+def _bias_kernel(par, P, V, ends, out):
+    i, j = ends[0, 0], ends[1, 0]
+    for p in range(P.shape[2]):
+        ax, ay, ux, uy, cx, cy, dx, dy, nu = _frame_at(par, P, i, j, p)
+        out[0, p] = 0.5 * _rates_at(ax, ay, ux, uy, cx, cy, dx, dy, V, i, j, p)[0]
 
 
 @dataclass(frozen=True)
@@ -304,6 +380,20 @@ class Rack(MeshFriction, Joint, kind="rack"):
     def coordinate_bias(self, qi, qj, vi, vj):
         A, U, N, C, D, nu = self._frame(qi, qj)
         return 0.5 * self._rates(A, U, N, C, D, vi, vj)[0]
+
+    # -- compiled backend (base/kernels.py): the formulas above, position by position --
+    jacobian_kernel = staticmethod(_jacobian_kernel)
+    gamma_kernel = staticmethod(_gamma_kernel)
+    direction_kernel = staticmethod(_direction_kernel)
+    bias_kernel = staticmethod(_bias_kernel)
+
+    def kernel_params(self, k: int) -> np.ndarray | None:
+        """(a, u, c, κ, cos α, sin α, r); None for a stack or for variants that differ."""
+        values = (self.a, self.u, self.c, self.flank, self.alpha, self.r)
+        if k != 1 or [np.size(v) for v in values] != [2, 2, 2, 1, 1, 1]:
+            return None
+        scalars = (self.flank, math.cos(self.alpha), math.sin(self.alpha), self.r)
+        return np.concatenate([self.a, self.u, self.c, scalars]).astype(float)[None]
 
     def effort_force(self, effort, qi, qj):
         U = turn(qi, self.u)
