@@ -291,3 +291,40 @@ def test_an_extra_that_is_installed_but_broken_is_not_called_missing(tmp_path, m
         require("brokenextra", "numba", "the compiled backend")
     with pytest.raises(MissingPackageError, match="which is not installed"):
         require("absentextra", "numba", "the compiled backend")
+
+
+def _hard_stacks(rng):
+    """Stacks of 1×1 to 3×3 blocks with the cases the adjugate treats apart: an exactly
+    singular one (its pseudo-inverse), a zero, a NaN and an infinity."""
+    out = []
+    for n in (1, 2, 3):
+        a = rng.uniform(-2.0, 2.0, (300, n, n))
+        a[5] = 0.0
+        a[5, 0, 0] = 2.0
+        a[6] = 0.0
+        a[7, -1, 0] = np.nan
+        a[8, 0, -1] = np.inf
+        out.append(a)
+    return out
+
+
+@pytest.mark.parametrize("compile_them", [False, True], ids=["uncompiled", "compiled"])
+def test_the_block_inverses_are_the_same_to_the_bit(compile_them, monkeypatch, request):
+    """small_inverse's adjugate (blocks up to 3×3) by its kernel against NumPy's, on
+    positions-fastest storage as the blocks have it."""
+    if compile_them and not HAVE_NUMBA:
+        pytest.skip("numba is not installed")
+    if not compile_them:
+        request.getfixturevalue("uncompiled")
+    from kinetostatics.base.arrays import entries_first, entries_last
+    from kinetostatics.base.linalg import small_inverse
+
+    for a in _hard_stacks(np.random.default_rng(5)):
+        stored = entries_last(np.ascontiguousarray(entries_first(a)))
+        monkeypatch.setattr(kernels, "active", lambda: True)
+        with np.errstate(all="ignore"):
+            mine = small_inverse(stored)
+        monkeypatch.setattr(kernels, "active", lambda: False)
+        with np.errstate(all="ignore"):
+            ref = small_inverse(stored)
+        np.testing.assert_array_equal(mine, ref, err_msg=f"{a.shape[-1]}×{a.shape[-1]}")

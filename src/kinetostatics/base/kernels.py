@@ -83,7 +83,7 @@ def compiled(kernel):
         if getattr(value, "kernel_helper", False) and not getattr(value, "kernel_ready", False):
             numba.extending.register_jitable(value)
             value.kernel_ready = True
-    return numba.njit(cache=True)(kernel)
+    return numba.njit(cache=True, error_model="numpy")(kernel)  # x/0: inf or NaN, as NumPy
 
 
 @dataclass(frozen=True)

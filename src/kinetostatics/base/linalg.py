@@ -22,6 +22,7 @@ import math
 
 import numpy as np
 
+from . import kernels
 from .arrays import entries_first, entries_last
 
 __all__ = ["BlockFactor", "small_inverse"]
@@ -53,6 +54,34 @@ def _adjugate(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     adj[2, 1] = a01 * a20 - a00 * a21
     adj[2, 2] = a00 * a11 - a01 * a10
     return adj, a00 * adj[0, 0] + a01 * adj[1, 0] + a02 * adj[2, 0]
+
+
+def _adjugate_inverse(m, inv, det):
+    """:func:`_adjugate` over the determinant compiled (base/kernels.py): ``m (n, n, N)``,
+    n ≤ 3, into ``inv (n, n, N)`` and ``det (N,)``, the same operations in the same order."""
+    n = m.shape[0]
+    for p in range(m.shape[2]):
+        if n == 1:
+            det[p] = m[0, 0, p]
+            inv[0, 0, p] = 1.0 / det[p]
+        elif n == 2:
+            a00, a01, a10, a11 = m[0, 0, p], m[0, 1, p], m[1, 0, p], m[1, 1, p]
+            d = a00 * a11 - a01 * a10
+            inv[0, 0, p], inv[0, 1, p] = a11 / d, -a01 / d
+            inv[1, 0, p], inv[1, 1, p] = -a10 / d, a00 / d
+            det[p] = d
+        else:
+            a00, a01, a02 = m[0, 0, p], m[0, 1, p], m[0, 2, p]
+            a10, a11, a12 = m[1, 0, p], m[1, 1, p], m[1, 2, p]
+            a20, a21, a22 = m[2, 0, p], m[2, 1, p], m[2, 2, p]
+            c00, c01, c02 = a11 * a22 - a12 * a21, a02 * a21 - a01 * a22, a01 * a12 - a02 * a11
+            c10, c11, c12 = a12 * a20 - a10 * a22, a00 * a22 - a02 * a20, a02 * a10 - a00 * a12
+            c20, c21, c22 = a10 * a21 - a11 * a20, a01 * a20 - a00 * a21, a00 * a11 - a01 * a10
+            d = a00 * c00 + a01 * c10 + a02 * c20
+            inv[0, 0, p], inv[0, 1, p], inv[0, 2, p] = c00 / d, c01 / d, c02 / d
+            inv[1, 0, p], inv[1, 1, p], inv[1, 2, p] = c10 / d, c11 / d, c12 / d
+            inv[2, 0, p], inv[2, 1, p], inv[2, 2, p] = c20 / d, c21 / d, c22 / d
+            det[p] = d
 
 
 def _lapack_inverse(a: np.ndarray) -> np.ndarray:
@@ -259,9 +288,15 @@ def small_inverse(a: np.ndarray) -> np.ndarray:
         if not plan.feasible or not _sparse_pays(n, count, plan):
             return _lapack_inverse(a)
         return entries_last(_sparse_gauss_jordan(m, plan).reshape((n, n) + a.shape[:-2]))
-    adj, det = _adjugate(a)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        inv = entries_last(adj / det)
+    if kernels.active():  # the same operations, position by position (base/kernels.py)
+        inv, det = np.empty((n, n) + a.shape[:-2]), np.empty(a.shape[:-2])
+        m = entries_first(a).reshape(n, n, -1)
+        kernels.compiled(_adjugate_inverse)(m, inv.reshape(n, n, -1), det.reshape(-1))
+        inv = entries_last(inv)
+    else:
+        adj, det = _adjugate(a)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            inv = entries_last(adj / det)
     singular = (det == 0) & np.all(np.isfinite(a), axis=(-2, -1))
     if singular.any():
         inv[singular] = np.linalg.pinv(a[singular])
