@@ -1,5 +1,6 @@
-"""The compiled backend's stages against NumPy's: Φ_q's group blocks, γ and the consistent
-friction solution (its fixed point and checks, ``friction.consistent``).
+"""The compiled backend's stages against NumPy's: Φ_q's group blocks, γ, the inverse of the
+driven crank's 3×3 block (the adjugate) and the consistent friction solution (its fixed
+point and checks, ``friction.consistent``).
 
 For each reference machine at 360 and 36,000 positions, the state of its own analysis
 (the poses, rates and reactions that ``ks.analyze`` evaluates them at) is kept, and each
@@ -20,6 +21,7 @@ from _common import ROOT
 
 import kinetostatics as ks
 from kinetostatics.base import kernels
+from kinetostatics.base.linalg import small_inverse
 from kinetostatics.kinetics import friction, inverse
 from kinetostatics.structure import evaluation, system
 
@@ -93,9 +95,13 @@ def main() -> None:
     for name in ("slider_crank", "slotting_machine"):
         for n in (360, 36_000):
             b, g, f = state(name, n)
+            blocks = evaluation.jacobian_blocks_all(*b)[0]
+            small = next(d for d, _, _ in blocks if d.shape[-1] <= 3)  # the crank's group
+            k = small.shape[-1]
             stages = {
                 "Φ_q blocks": lambda b=b: evaluation.jacobian_blocks_all(*b),
                 "γ": lambda g=g: evaluation.gamma_all(*g),
+                f"{k}×{k} block inverse": lambda a=small: small_inverse(a),
                 "consistent friction": lambda f=f: friction.consistent(*f),
             }
             for label, fn in stages.items():
