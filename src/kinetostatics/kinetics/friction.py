@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..base import kernels
-from ..base.arrays import max_abs_last
+from ..base.arrays import entries_last, max_abs_last
 from ..base.linalg import BlockFactor
 from ..structure.system import System, coordinate_gradients
 
@@ -79,6 +79,15 @@ def setup(system: System, q: np.ndarray, qd: np.ndarray, ref_speed: float) -> Fr
 def efforts(system: System, fs: FrictionSetup, x: np.ndarray, scale: float = 1.0) -> np.ndarray:
     """Signed friction efforts of i on j, ``(..., n_f)``: a type's joints in one call where
     it stacks them (:meth:`~kinetostatics.joints.Joint.stack_friction`), the same numbers."""
+    sets = _effort_kernels(system, fs) if kernels.active() and fs.joints else None
+    if sets is not None:  # the same numbers (base/kernels.py), each set in one compiled loop
+        flat = np.ascontiguousarray(x).reshape(-1, x.shape[-1])
+        mu = np.empty((len(fs.joints), flat.shape[0]))
+        for kernel, par, rows, cols in sets:
+            part = np.empty((len(cols), flat.shape[0]))
+            kernel(par, flat, rows, part)
+            mu[cols] = part
+        return -fs.sign * scale * entries_last(mu, 1).reshape(fs.sign.shape)
     out = np.zeros(x.shape[:-1] + (len(fs.joints),))
     for cols, joint, rows, ks in _effort_sets(system, tuple(fs.joints)):
         qi, qj = _link_q(system, fs, ks)

@@ -15,6 +15,7 @@ from functools import cached_property
 
 import numpy as np
 
+from ..base import kernels
 from ..base.arrays import entries_first, entries_last
 from ..base.geometry import poses
 from ..joints import Joint
@@ -312,12 +313,34 @@ def coordinate_gradients(
     array ``(..., len(ks), n_q)`` (``n_q + 3`` columns with the ground's)."""
     pe = link_poses(system, q)
     out = np.zeros(q.shape[:-1] + (len(ks), q.shape[-1] + 3))
+    flat = None
     for n, k in enumerate(ks):
         i, j = system.ends[k]
-        gi, gj = system.constraints[k].motion_direction(*_pose_pair(pe, system.ends[k]))
+        kernel = _direction_kernel(system, k) if kernels.active() else None
+        if kernel is None:
+            gi, gj = system.constraints[k].motion_direction(*_pose_pair(pe, system.ends[k]))
+        else:  # the same numbers (base/kernels.py), in one compiled loop
+            if flat is None:
+                flat = np.ascontiguousarray(entries_first(pe).reshape(pe.shape[-2:] + (-1,)))
+            gi, gj = np.empty((2, 1, 3, flat.shape[-1]))
+            kernel[0](kernel[1], flat, system.ends[k][:, None], gi, gj)
+            gi, gj = (entries_last(g[0], 1).reshape(q.shape[:-1] + (3,)) for g in (gi, gj))
         out[..., n, 3 * i : 3 * i + 3] += gi
         out[..., n, 3 * j : 3 * j + 3] += gj
     return out if ground else out[..., :-3]
+
+
+def _direction_kernel(system: System, k: int) -> tuple | None:
+    """Constraint k's compiled ``motion_direction`` and its parameters, or None (kept)."""
+    key = ("direction kernel", k)
+    if key not in system.memo:
+        c, hit = system.constraints[k], None
+        kernel = getattr(type(c), "direction_kernel", None)
+        par = c.kernel_params(1) if kernel is not None else None
+        if par is not None:
+            hit = (kernels.compiled(kernel), par)
+        system.memo[key] = hit
+    return system.memo[key]
 
 
 def nu(system: System, psi_d: np.ndarray) -> np.ndarray:
