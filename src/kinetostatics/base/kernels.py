@@ -3,10 +3,11 @@
 NumPy is the default backend.  With the backend ``"numba"`` (:func:`set_backend`, or the
 environment variable ``KINETOSTATICS_BACKEND=numba`` read at the first analysis; the
 extra ``pip install 'kinetostatics[numba]'``), a joint type that declares kernels
-(:attr:`~kinetostatics.joints.Joint.jacobian_kernel`, ...) has its Φ_q entries, γ and
-friction magnitudes evaluated by them: one compiled loop over the positions per set of
-joints, instead of one whole-array NumPy operation per term of the formula.  A type
-without kernels is evaluated by NumPy as before, in the same analysis.  Two
+(:attr:`~kinetostatics.joints.Joint.jacobian_kernel`, ...) has its Φ_q entries, γ,
+coordinate gradients and friction magnitudes evaluated by them: one compiled loop over
+the positions per set of joints, instead of one whole-array NumPy operation per term of
+the formula.  A type without kernels is evaluated by NumPy as before, in the same
+analysis.  Two
 joint-agnostic stages have kernels beside their NumPy code: the adjugate inverses
 (``base/linalg.py``) and the friction fixed point's step (``kinetics/friction.py``).
 
