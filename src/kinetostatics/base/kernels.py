@@ -7,9 +7,9 @@ extra ``pip install 'kinetostatics[numba]'``), a joint type that declares kernel
 coordinate gradients and friction magnitudes evaluated by them: one compiled loop over
 the positions per set of joints, instead of one whole-array NumPy operation per term of
 the formula.  A type without kernels is evaluated by NumPy as before, in the same
-analysis.  Two
-joint-agnostic stages have kernels beside their NumPy code: the adjugate inverses
-(``base/linalg.py``) and the friction fixed point's step (``kinetics/friction.py``).
+analysis.  Two joint-agnostic stages have kernels beside their NumPy code: the adjugate
+inverses (``base/linalg.py``) and the friction fixed point's step
+(``kinetics/friction.py``).
 
 A kernel is plain Python (it runs, slowly, without numba) written with the same
 operations in the same order as the type's NumPy formula, so both backends give the same
