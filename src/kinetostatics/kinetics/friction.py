@@ -83,10 +83,7 @@ def efforts(system: System, fs: FrictionSetup, x: np.ndarray, scale: float = 1.0
     if sets is not None:  # the same numbers (base/kernels.py), each set in one compiled loop
         flat = np.ascontiguousarray(x).reshape(-1, x.shape[-1])
         mu = np.empty((len(fs.joints), flat.shape[0]))
-        for kernel, par, rows, cols in sets:
-            part = np.empty((len(cols), flat.shape[0]))
-            kernel(par, flat, rows, part)
-            mu[cols] = part
+        _magnitudes(sets, flat, mu, _parts(sets, flat.shape[0]))
         return -fs.sign * scale * entries_last(mu, 1).reshape(fs.sign.shape)
     out = np.zeros(x.shape[:-1] + (len(fs.joints),))
     for cols, joint, rows, ks in _effort_sets(system, tuple(fs.joints)):
@@ -274,16 +271,26 @@ def _compiled_fixed_point(sets, fs, x0, per_effort, scale, x, it, converged, liv
     per_effort = np.ascontiguousarray(per_effort).reshape(n, n_f, -1)
     sign = np.ascontiguousarray(fs.sign).reshape(n, n_f)
     scale = np.ascontiguousarray(np.broadcast_to(scale, it.shape)).reshape(n)
-    mu = np.empty((n_f, n))
-    parts = [np.empty((len(cols), n)) for _, _, _, cols in sets]
+    mu, parts = np.empty((n_f, n)), _parts(sets, n)
     step = kernels.compiled(_fixed_point_step)
     state = it.reshape(n), converged.reshape(n), live.reshape(n)
     for _ in range(FIXED_POINT_ITER):
-        for (kernel, par, rows, cols), part in zip(sets, parts):
-            kernel(par, flat, rows, part)
-            mu[cols] = part
+        _magnitudes(sets, flat, mu, parts)
         if not step(x0, per_effort, mu, sign, scale, flat, *state, TOL):
             break
+
+
+def _parts(sets, n: int) -> list[np.ndarray]:
+    """Work arrays for :func:`_magnitudes`: one ``(k, n)`` per set."""
+    return [np.empty((len(cols), n)) for _, _, _, cols in sets]
+
+
+def _magnitudes(sets, flat: np.ndarray, mu: np.ndarray, parts) -> None:
+    """The joints' friction magnitudes at the reactions ``flat (n, n_λ)`` into ``mu (n_f,
+    n)``, each set by its kernel (:func:`_effort_kernels`) into its work array."""
+    for (kernel, par, rows, cols), part in zip(sets, parts):
+        kernel(par, flat, rows, part)
+        mu[cols] = part
 
 
 def _fixed_point_step(x0, per_effort, mu, sign, scale, x, it, converged, live, tol):
