@@ -124,14 +124,13 @@ def test_random_beyond_the_limit_and_a_set_beyond_it_name_the_limit(tmp_path, ca
     assert "NUM 100000000 is more than the limit of 10000000 values" in line, line
 
 
+@pytest.mark.timeout(60)  # refused before 10 million variants are made: a hang otherwise
 def test_a_sweep_larger_than_memory_is_refused_before_it_is_made(tmp_path, capsys, monkeypatch):
     monkeypatch.setattr(limits, "available_memory", lambda: 2**20)  # 1 MiB free
-    t0 = time.perf_counter()
     with pytest.raises(sweeps.SweepError, match="10000000 variants: about 76.3 GB"):
         sweeps.expand(sweeps.from_options(["a=90:110:10000000"]))  # the documented maximum
     with pytest.raises(sweeps.SweepError, match="the grid has 1000 variants"):
         sweeps.expand(sweeps.from_options(["a=90:110:10", "b=300:400:100"]))
-    assert time.perf_counter() - t0 < 5
     assert (
         main(
             [

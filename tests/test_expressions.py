@@ -1,7 +1,6 @@
 """Tests for kinetostatics.base.expressions."""
 
 import math
-import time
 
 import pytest
 
@@ -231,11 +230,10 @@ def test_evaluate_rejects_non_numbers(value):
         evaluate(value, {})
 
 
+@pytest.mark.timeout(30)  # computed, 9**9**9 would not finish: a hang, not a slow machine
 def test_huge_power_refused_quickly():
-    start = time.perf_counter()
     with pytest.raises(ExpressionError, match="exponent too large"):
         evaluate("9**9**9", {})
-    assert time.perf_counter() - start < 0.1
 
 
 @pytest.mark.parametrize("text", ["10.0**400", "2**1001", "exp(1000)", "1e308*10", "1e308+1e308"])
@@ -257,11 +255,10 @@ def test_too_long():
     "text",
     ["(" * 200 + "1" + ")" * 200, "-" * 60 + "1", "sin(" * 60 + "1" + ")" * 60, "1" + "+1" * 60],
 )
+@pytest.mark.timeout(30)
 def test_deep_nesting(text):
-    start = time.perf_counter()
     with pytest.raises(ExpressionError, match="nested too deeply"):
         evaluate(text, {})
-    assert time.perf_counter() - start < 0.1
 
 
 def test_moderate_nesting_ok():

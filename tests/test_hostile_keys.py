@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import json
 import re
-import time
 from pathlib import Path
 
 import numpy as np
@@ -269,26 +268,34 @@ def test_expression_nesting_limit_counts_operations():
             ex.evaluate(make(n + 1), {})
 
 
+@pytest.mark.timeout(120)  # 3 s on a quiet machine; 15-24 s when it was refused after reading
 def test_a_long_flat_list_is_refused_while_it_is_read():
     """The node limit is applied while composing (it used to be applied after a 1 MB list
     of 330,000 numbers was built: 15-24 s and 350 MB); the message points at the node."""
     text = "junk: [" + ", ".join(["1"] * 200_000) + "]\n"
-    t0 = time.perf_counter()
-    message = _refused(text)
-    assert time.perf_counter() - t0 < 30  # 3 s here; the position shows it stopped early
+    message = _refused(text)  # the position in the message shows it stopped early
     assert re.match(
         rf"h\.yaml:1:\d+: more than {yaml_io.MAX_NODES} YAML nodes; refused$", message
     ), message
     assert int(message.split(":")[2]) > 100_000
 
 
-def test_slide_friction_coefficient_of_5_is_analysed_quickly():
-    t0 = time.perf_counter()
-    try:
-        ks.analyze(ks.loads(TEXT.replace("coefficient: 0.10", "coefficient: 5"), file="h.yaml"))
-    except ks.KinetostaticsError:
-        pass
-    assert time.perf_counter() - t0 < 20  # was 54-73 s for the 360 positions
+@pytest.mark.timeout(300)  # 4 s on a quiet machine (it was 54-73 s): a hang, not a slow one
+def test_slide_friction_coefficient_of_5_is_analysed():
+    """μ = 5 at the slide locks the slider-crank over two zones: the result says so
+    (the friction check fails on the self-locked rows, which are empty), and every other
+    row keeps its power balance with friction."""
+    result = ks.analyze(
+        ks.loads(TEXT.replace("coefficient: 0.10", "coefficient: 5"), file="h.yaml")
+    )
+    summary = result.summary()
+    assert summary["checks"]["failed"] == ["friction"]
+    assert "self-locking" in summary["checks"]["friction"]["where"]
+    zones = summary["self_locking"]
+    assert len(zones) >= 1 and all(z["from"] < z["to"] for z in zones)
+    locked = np.isnan(result["motor.torque_friction"])
+    assert locked.any() and not locked.all()
+    assert summary["checks"]["power_friction"]["ok"]
 
 
 # -- the key walk ---------------------------------------------------------------------------
