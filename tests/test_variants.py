@@ -22,6 +22,20 @@ from .conftest import MECHANISMS
 MECH = Path(__file__).resolve().parents[1] / "mechanisms"
 
 
+@pytest.fixture
+def fixed_sketch(tmp_path) -> Path:
+    """The slotting machine with its sketch in numbers (the pose for K = 2, H = 100), not
+    in the expressions that follow K and H: a variant far enough from K = 2 assembles away
+    from it."""
+    text = (MECH / "slotting_machine.yaml").read_text(encoding="utf-8")
+    head, rest = text.split("\nsketch:", 1)
+    tail = rest.split("\nanalysis:", 1)[1]
+    literal = "\nsketch:\n  A: [-112.5, -65]\n  B: [86.6, 50]\n  C: [93.3, 150]\nanalysis:"
+    path = tmp_path / "slotting_machine.yaml"
+    path.write_text(head + literal + tail, encoding="utf-8")
+    return path
+
+
 def _same(a: dict, b: dict, rtol: float = 1e-12) -> list[str]:
     """Keys whose values differ (numbers relative to the larger, a dimensionless one
     relative to 1 at least; NaN equals NaN)."""
@@ -130,10 +144,10 @@ def test_variants_built_from_one_tree_in_threads_are_their_own():
     assert threaded == alone
 
 
-def test_a_models_arrays_are_its_own():
+def test_a_models_arrays_are_its_own(fixed_sketch):
     """Numbers written without names are read once per tree; each model still gets arrays
     of its own: one changed in place does not change the next variant's."""
-    tpl = Template.load(MECH / "slotting_machine.yaml")
+    tpl = Template.load(fixed_sketch)
     a = tpl.model({"K": 2.1})
     a.gravity[:] = 0.0
     a.sketch["C"][:] = 0.0
@@ -215,14 +229,14 @@ def test_vectorised_path_is_taken_for_the_slotting_machine(monkeypatch):
     assert all(r["status"] == "ok" for r in rows) and not calls
 
 
-def test_variants_off_the_path_leave_the_others_in_one_pass(monkeypatch):
+def test_variants_off_the_path_leave_the_others_in_one_pass(monkeypatch, fixed_sketch):
     """A variant that assembles far from its sketch, at the start and where the sketch is,
     is taken out of the stacked analysis, which goes on with the others in the same pass;
     its row has the error its own analysis raises, without that analysis, and the others
     the rows of theirs."""
     from kinetostatics.analysis import pipeline, vectorised
 
-    tpl = Template.load(MECH / "slotting_machine.yaml")
+    tpl = Template.load(fixed_sketch)
     far = {"K": 2.261, "H": 81.026, "L_O2O3": 135.699, "BC_ratio": 0.909}  # C ~54 mm off
     variants = [{}, far, {"K": 1.9}, {"H": 95.0}]
     passes, alone = [], []
