@@ -58,12 +58,12 @@ def _cases():
         slow = any(c[1] in SLOW for c in cmds)
         if cmds:
             marks = [pytest.mark.slow] if slow else []
-            yield pytest.param(page, cmds, id=page.name, marks=marks)
+            yield pytest.param(page, cmds, id=str(page.relative_to(ROOT)), marks=marks)
     for page in PAGES:  # the quick commands of a page with slow ones still run by default
         cmds = commands(page)
         quick = [c for c in cmds if c[1] not in SLOW]
         if quick and len(quick) < len(cmds):
-            yield pytest.param(page, quick, id=f"{page.name}-quick")
+            yield pytest.param(page, quick, id=f"{page.relative_to(ROOT)}-quick")
 
 
 def _folder(tmp_path: Path) -> Path:
@@ -98,7 +98,7 @@ def test_the_commands_of_a_page_run_as_written(page, cmds, tmp_path, monkeypatch
 
 def test_the_pages_show_commands():
     """The reader finds commands: README's set-up and use, and the docs' examples."""
-    shown = {page.name: commands(page) for page in PAGES}
+    shown = {str(page.relative_to(ROOT)): commands(page) for page in PAGES}
     assert ["kinetostatics", "run", "mechanisms/slotting_machine.yaml", "--out", "out"] in shown[
         "README.md"
     ]
