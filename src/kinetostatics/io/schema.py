@@ -9,7 +9,10 @@ prints it; docs/yaml.md tells how to point an editor at it.
 
 What a schema cannot see (the loader reports it): a number written as a word
 (``mass: heavy`` is text like the expression ``2*m``), names that refer to nothing,
-values out of range, geometry that does not assemble.
+values out of range (but for a count such as ``analysis.positions``), geometry that does
+not assemble.  It does see a unit name that is not a unit (each kind's spellings as a
+pattern), a count that is not whole, and a key that another key requires (a
+``journal_radius`` with its ``coefficient``, an axis's ``direction`` with its ``point``).
 """
 
 from __future__ import annotations
@@ -82,8 +85,11 @@ def _sections() -> dict[str, Any]:
         "name": TEXT,
         "units": {
             "type": "object",
+            "properties": {
+                kind: {"type": "string", "pattern": units.unit_pattern(kind)}
+                for kind in units.QUANTITY_KINDS
+            },
             "propertyNames": {"enum": list(units.QUANTITY_KINDS)},
-            "additionalProperties": NAME,
         },
         "parameters": _named(NUMBER, reserved=False),
         "gravity": VECTOR,

@@ -211,7 +211,11 @@ class Glyph:
 
 
 # ``axis:`` of a slide (prismatic, rack): a point and a direction, or two points on link i
-AXIS_KEYS = Keys({"point": NAME, "direction": VECTOR, "points": names(2)})
+AXIS_KEYS = Keys(
+    {"point": NAME, "direction": VECTOR, "points": names(2)},
+    # without ``points``, a point and a direction
+    extra={"if": {"not": {"required": ["points"]}}, "then": {"required": ["point", "direction"]}},
+)
 
 
 @dataclass(frozen=True)

@@ -12,7 +12,13 @@ from ..base.geometry import perp, turn
 from ..base.keys import NAME, NUMBER, Keys, names
 from .base import Anchor, Glyph, Joint
 
-FRICTION_KEYS = Keys({"radius": NUMBER, "journal_radius": NUMBER, "coefficient": NUMBER})
+FRICTION_KEYS = Keys(
+    {"radius": NUMBER, "journal_radius": NUMBER, "coefficient": NUMBER},
+    # a journal radius with its coefficient (friction_radius)
+    extra={
+        "dependentRequired": {"journal_radius": ["coefficient"], "coefficient": ["journal_radius"]}
+    },
+)
 
 __all__ = ["Revolute"]
 
