@@ -455,6 +455,12 @@ class Joint(ABC):
         """
         return ()
 
+    def coincident(self) -> tuple[tuple[Anchor, Anchor], ...]:
+        """Pairs of points, one on each link, that this pair holds at the same place at
+        every position (a revolute's two pins); () where none.  The loader refuses a
+        spring or damper between two such points (its direction is undefined)."""
+        return ()
+
     def glyph(self, qi: np.ndarray, qj: np.ndarray) -> Glyph:
         """Drawing primitives at poses ``qi``, ``qj`` ``(..., 3)`` (global, m, batched)."""
         return Glyph()

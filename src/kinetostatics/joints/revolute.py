@@ -205,6 +205,9 @@ class Revolute(Joint, kind="revolute"):
             Anchor(j, self.point_names[1], self.p_j, at_joint=True),
         )
 
+    def coincident(self):
+        return (self.anchors(),)
+
     def glyph(self, qi, qj):
         return Glyph(point=qj[..., :2] + turn(qj, self.p_j))
 
