@@ -146,3 +146,41 @@ def test_element_apart_is_not_warned():
     with warnings.catch_warnings():
         warnings.simplefilter("error", ks.errors.ElementWarning)
         ks.analyze(ks.build_system(ks.loads(_four_bar("ground.S, rocker.B"))))
+
+
+# -- output: what docs/yaml.md says it names, and nothing else (issue 36, item 17) --------
+KINDS = (
+    "output takes a moving link that no motion driver moves on the frame, an undriven "
+    "revolute, or an undriven prismatic pair on the frame"
+)
+
+
+@pytest.mark.parametrize(
+    ("value", "head"),
+    [
+        (
+            "crank",
+            "link 'crank' is moved on the frame by joint 'O' of motion driver 'motor': "
+            "it is the input",
+        ),  # accepted before, with an empty outputs
+        ("O", "'O' is the joint of motion driver 'motor', the input"),
+        ("ground", "'ground' is the frame, not an output"),
+        ("rockr", "unknown link or joint 'rockr' (did you mean 'rocker'?)"),
+    ],
+)
+def test_output_refusals_name_the_key_and_the_kinds(value, head):
+    text = _four_bar("ground.S, rocker.B") + f"output: {value}\n"
+    with pytest.raises(ks.ModelError) as info:
+        ks.loads(text, file="m.yaml")
+    (where, message), *rest = info.value.problems
+    assert not rest and where.path == "output"
+    assert message == f"{head}; {KINDS}"
+
+
+@pytest.mark.parametrize("value", ["rocker", "coupler", "D", "B"])
+def test_output_accepts_what_the_docs_name(value):
+    """A moving link other than the input, an undriven revolute on the frame (D) or
+    between moving links (B): each gives one output with a swing."""
+    s = ks.analyze(ks.loads(_four_bar("ground.S, rocker.B") + f"output: {value}\n")).summary()
+    assert s["output"] == value and len(s["outputs"]) == 1
+    assert next(iter(s["outputs"].values()))["swing"] > 0
