@@ -7,7 +7,6 @@ CSV (``angle``, ``travel`` and ``<link>.theta`` in degrees).
 
 from __future__ import annotations
 
-import json
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -16,6 +15,7 @@ from typing import Any
 
 import numpy as np
 
+from ..base.files import json_text
 from ..base.tables import write_columns
 from ..errors import did_you_mean
 from ..kinematics.state import point_state
@@ -519,4 +519,4 @@ class Result:
 
     def to_json(self, path: str | Path, summary: dict[str, Any] | None = None) -> None:
         """Write :meth:`summary` (or the one given, already computed) as JSON."""
-        Path(path).write_text(json.dumps(self.summary() if summary is None else summary, indent=2))
+        Path(path).write_text(json_text(self.summary() if summary is None else summary))

@@ -17,11 +17,11 @@ pattern), a count that is not whole, and a key that another key requires (a
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Any
 
 from ..base import units
+from ..base.files import json_text
 from ..base.keys import ANY, NAME, NUMBER, TEXT, VECTOR, list_of, names, shape_schema
 from ..base.spec import NAME as NAME_RE
 from ..base.spec import RESERVED
@@ -136,4 +136,4 @@ def schema() -> dict[str, Any]:
 
 def schema_text() -> str:
     """:func:`schema` as the text of ``mechanism.schema.json``."""
-    return json.dumps(schema(), indent=2, ensure_ascii=False) + "\n"
+    return json_text(schema(), ensure_ascii=False) + "\n"
