@@ -4,6 +4,7 @@ positions 1…12, 1′ and 8′, the HTML is self-contained, and a flywheel entr
 the summary gets its own section."""
 
 import csv
+import json
 import re
 from html.parser import HTMLParser
 
@@ -11,6 +12,12 @@ import pytest
 
 from kinetostatics.cli import main
 from tests.conftest import ROOT
+
+# a ``name:`` that would be HTML, a comment, links and a table cell if copied raw
+HOSTILE = (
+    "<script>alert(1)</script><img src=x onerror=alert(2)> ](javascript:alert(3)) | col | "
+    "<!-- x [a](javascript:alert(4)) \\<b>"
+)
 
 
 def _csv(path):
@@ -127,12 +134,18 @@ def _check_against_csv(tables, header, rows):
 
 @pytest.fixture(scope="module")
 def slotting_report(tmp_path_factory):
+    """The shipped slotting machine's report, the file's ``name:`` made hostile (HOSTILE)."""
     out = tmp_path_factory.mktemp("report")
+    text = (ROOT / "mechanisms" / "slotting_machine.yaml").read_text(encoding="utf-8")
+    text, n = re.subn(r"(?m)^name: .*$", lambda m: "name: " + json.dumps(HOSTILE), text)
+    assert n == 1
+    path = tmp_path_factory.mktemp("file") / "slotting_machine.yaml"
+    path.write_text(text, encoding="utf-8")
     assert (
         main(
             [
                 "report",
-                str(ROOT / "mechanisms" / "slotting_machine.yaml"),
+                str(path),
                 "--out",
                 str(out),
                 "--polygons",
@@ -252,3 +265,48 @@ def test_unknown_polygon_position_is_one_line(tmp_path, capsys):
     )
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "no course position '13'" in err[0]
+
+
+class _Tags(HTMLParser):
+    """The tags, comments and h1 text of an HTML text."""
+
+    def __init__(self):
+        super().__init__()
+        self.tags, self.comments, self.h1, self._in_h1 = [], [], [], False
+
+    def handle_starttag(self, tag, attrs):
+        self.tags.append((tag, dict(attrs)))
+        self._in_h1 = self._in_h1 or tag == "h1"
+
+    def handle_endtag(self, tag):
+        self._in_h1 = self._in_h1 and tag != "h1"
+
+    def handle_data(self, data):
+        if self._in_h1:
+            self.h1.append(data)
+
+    def handle_comment(self, data):
+        self.comments.append(data)
+
+
+def _check_rendered(html_text: str, title: str) -> None:
+    parsed = _Tags()
+    parsed.feed(html_text)
+    assert "".join(parsed.h1) == title  # shown as written
+    assert not parsed.comments
+    for tag, attrs in parsed.tags:
+        assert tag not in ("script", "a", "iframe"), (tag, attrs)
+        assert not any(k.startswith("on") for k in attrs), (tag, attrs)
+        if tag == "img":
+            assert attrs["src"].startswith(("img/", "data:image/png;base64,")), attrs
+
+
+def test_report_escapes_the_name_in_markdown_and_html(slotting_report):
+    """The report of a ``name:`` holding HTML, a comment, links and a table pipe (issue 36):
+    text in report.md (rendered by a CommonMark renderer with raw HTML on) and in
+    report.html; no tag, link or comment comes of it, and the heading shows it as written."""
+    markdown_it = pytest.importorskip("markdown_it")
+    title = "Course-design report: " + HOSTILE
+    md = (slotting_report / "report.md").read_text(encoding="utf-8")
+    _check_rendered(markdown_it.MarkdownIt("commonmark").render(md), title)
+    _check_rendered((slotting_report / "report.html").read_text(encoding="utf-8"), title)

@@ -38,6 +38,13 @@ SHAPE = {
     "links_empty.yaml": "should be non-empty",
     "top_level_list.yaml": "is not of type 'object'",
     "empty_file.yaml": "None is not of type 'object'",
+    # a key another key requires, a count that is not whole or below 1, a unit that is none
+    "journal_without_radius.yaml": "'journal_radius' is a dependency of 'coefficient'",
+    "prismatic_axis_no_point.yaml": "'point' is a required property",
+    "positions_fraction.yaml": "1.5 is not of type 'integer', 'string'",
+    "positions_zero.yaml": "0 is less than the minimum of 1",
+    "unknown_unit.yaml": "'mmm' does not match",
+    "two_problems.yaml": "'mmm' does not match",
 }
 # rejected, though their point lies elsewhere (the loader's limits on the text itself):
 # the alias bomb's carrier key 'notes' and the nested lists given as the name
@@ -139,3 +146,56 @@ def test_cli_schema(tmp_path, capsys):
     assert out.read_text(encoding="utf-8") == schema_text()
     assert main(["schema", "--out", str(tmp_path / "no" / "such.json")]) == 2
     assert "--out" in capsys.readouterr().err
+
+
+def test_unit_pattern_is_the_loader_s_units():
+    """Each kind's pattern accepts exactly what units.factor accepts, over every spelling of
+    every kind written with the freedom the loader allows (spaces, ·, ², µ) and broken ones."""
+    import re
+
+    from kinetostatics.base import units
+
+    written = set()
+    for spellings in units.UNITS.values():
+        for u in spellings:
+            written |= {
+                u,
+                f" {u} ",
+                u.replace("*", " "),
+                u.replace("*", " · "),
+                u.replace("^2", "²"),
+                u.replace("^2", " ** 2"),
+                u.replace("u", "µ"),
+                u.replace("/", " / "),
+                u + "x",
+                u.upper(),
+                "k" + u,
+            }
+    for kind in units.QUANTITY_KINDS:
+        pattern = re.compile(units.unit_pattern(kind))
+        for u in written:
+            try:
+                units.factor(kind, u)
+                known = True
+            except units.UnitError:
+                known = False
+            assert bool(pattern.search(u)) == known, (kind, u)
+
+
+def test_issue_36_shapes_rejected(validator):
+    """A missing key that another requires, ``positions: 1.5``, an unknown unit: each is
+    refused by the schema (and by the loader), while the shipped files stay valid."""
+    text = (ROOT / "mechanisms" / "slider_crank.yaml").read_text()
+    base = yaml.safe_load(text)
+    assert not list(validator.iter_errors(base))
+    joints = {**base["joints"], "O": {**base["joints"]["O"], "friction": {"coefficient": 0.1}}}
+    cases = [
+        ({**base, "units": {**base["units"], "length": "furlong"}}, "does not match"),
+        ({**base, "analysis": {**base.get("analysis", {}), "positions": 1.5}}, "'integer'"),
+        ({**base, "joints": joints}, "'journal_radius' is a dependency"),
+    ]
+    for doc, message in cases:
+        errors = [e.message for e in validator.iter_errors(doc)]
+        assert any(message in m for m in errors), (message, errors)
+        with pytest.raises(ks.ModelError):
+            ks.loads(yaml.safe_dump(doc))

@@ -24,6 +24,7 @@ __all__ = [
     "NonFiniteResultError",
     "NearSingularWarning",
     "JointWarning",
+    "ElementWarning",
     "SingularEquilibriumWarning",
     "Collector",
     "did_you_mean",
@@ -146,6 +147,12 @@ class NearSingularWarning(UserWarning):
 class JointWarning(UserWarning):
     """A joint type's own warning about a result: a cam follower that would leave
     its cam (the contact force would pull), naming the cam angles."""
+
+
+class ElementWarning(UserWarning):
+    """An element's warning about a result: a spring or damper whose two points meet
+    (its length reaches zero: its direction, so its force, is undefined there), naming
+    the driver positions."""
 
 
 class SingularEquilibriumWarning(NearSingularWarning):

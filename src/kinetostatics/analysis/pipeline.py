@@ -15,6 +15,7 @@ import numpy as np
 
 from ..base.arguments import real_array
 from ..errors import (
+    ElementWarning,
     JointWarning,
     Location,
     NearSingularWarning,
@@ -35,7 +36,7 @@ from ..kinetics.reactions import ground_reaction
 from ..model import Model
 from ..structure.system import System, jacobian, system_of
 from .reachable import solve_run
-from .results import Result, build_columns, joint_warnings
+from .results import Result, build_columns, element_warnings, joint_warnings
 
 __all__ = [
     "analyze",
@@ -236,6 +237,9 @@ def _result(
     if kin is not None and q.ndim == 2:
         for message in joint_warnings(system, q, kin.x0):
             warnings.warn(message, JointWarning, stacklevel=3)  # the caller of analyze
+    if q.ndim == 2:
+        for message in element_warnings(system, q, psi[..., 0]):
+            warnings.warn(message, ElementWarning, stacklevel=3)
     x0, fric, power = (None, None, None) if kin is None else (kin.x0, kin.friction, kin.power)
     shaking = None if kin is None else ground_reaction(system, q, x0)
     _check_finite(

@@ -7,7 +7,6 @@ CSV (``angle``, ``travel`` and ``<link>.theta`` in degrees).
 
 from __future__ import annotations
 
-import json
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -16,13 +15,15 @@ from typing import Any
 
 import numpy as np
 
+from ..base.files import json_text
 from ..base.tables import write_columns
 from ..errors import did_you_mean
 from ..kinematics.state import point_state
+from ..kinetics.elements import coordinate as element_coordinate
 from ..kinetics.elements import element_states
 from ..structure.system import System, coordinate_gradient, link_poses
 
-__all__ = ["Result", "build_columns", "joint_warnings"]
+__all__ = ["Result", "build_columns", "joint_warnings", "element_warnings"]
 
 
 def _joint_position(system: System, q: np.ndarray, name: str) -> np.ndarray:
@@ -243,6 +244,37 @@ def joint_warnings(system: System, q: np.ndarray, x0: np.ndarray) -> list[str]:
         i_, j_ = system.ends[k]
         lam = x0[..., system.rows_of(k)]
         out += j.warnings(lam, qe[..., 3 * i_ : 3 * i_ + 3], qe[..., 3 * j_ : 3 * j_ + 3])
+    return out
+
+
+def element_warnings(system: System, q: np.ndarray, coord: np.ndarray) -> list[str]:
+    """A line per spring or damper whose length reaches zero (≤ 1e-9 L_ref) at some rows
+    ``q (N, n_q)``, naming those rows by the first motion driver's coordinate ``coord
+    (N,)`` (rad or m): there its direction is undefined and its force acts on nothing."""
+    out = []
+    driver = system.motion_drivers[0] if system.motion_drivers else None
+    for e in system.model.elements:
+        if e.rotational:
+            continue
+        length = element_coordinate(system, e, q)[0]
+        rows = np.nonzero(length <= 1e-9 * np.max(system.l_ref))[0]
+        if not rows.size:
+            continue
+        if driver is None:
+            where = "rows " + ", ".join(str(int(k)) for k in rows[:8])
+        elif driver.joint.angular:
+            where = f"{driver.name} = " + ", ".join(
+                f"{np.degrees(coord[k]) % 360:.4g}°" for k in rows[:8]
+            )
+        else:
+            where = f"{driver.name} = " + ", ".join(f"{coord[k] * 1e3:.6g} mm" for k in rows[:8])
+        more = " …" if rows.size > 8 else ""
+        ends = " and ".join(f"{link}.{point}" for link, point in zip(e.links, e.points))
+        out.append(
+            f"element '{e.name}': {ends} meet (length 0) at {rows.size} position(s), "
+            f"{where}{more}: the {e.kind}'s direction is undefined there and its force acts "
+            "on nothing"
+        )
     return out
 
 
@@ -487,4 +519,4 @@ class Result:
 
     def to_json(self, path: str | Path, summary: dict[str, Any] | None = None) -> None:
         """Write :meth:`summary` (or the one given, already computed) as JSON."""
-        Path(path).write_text(json.dumps(self.summary() if summary is None else summary, indent=2))
+        Path(path).write_text(json_text(self.summary() if summary is None else summary))

@@ -2,11 +2,20 @@
 
 from __future__ import annotations
 
+import json
+import math
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from pathlib import Path
+from typing import Any
 
-__all__ = ["make_folder", "write_whole"]
+import numpy as np
+
+__all__ = ["make_folder", "write_whole", "json_text", "NON_FINITE"]
+
+# the key that lists, in a JSON mapping written by json_text, the values that were not
+# finite numbers and are written as null: {"path.to[2].value": "Infinity" | "-Infinity" | "NaN"}
+NON_FINITE = "non_finite"
 
 
 def write_whole(path: Path, write: Callable[[Path], None]) -> None:
@@ -39,3 +48,41 @@ def make_folder(out: Path, what: str) -> None:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise output_error(exc, what) from None
+
+
+def json_text(data: Any, indent: int | None = 2, **options: Any) -> str:
+    """``data`` as strict JSON (RFC 8259: no ``Infinity`` or ``NaN``, which most JSON
+    readers refuse): every JSON file the package writes is made here.  A value that is
+    not a finite number is written as ``null``, and a mapping at the top gains the key
+    :data:`NON_FINITE` naming each such value's path and what it was
+    (``{"singular[2].condition": "Infinity"}``), so that a null is never mistaken for a
+    missing value.  NumPy scalars and arrays are written as Python numbers and lists.
+    ``options``: more keywords of :func:`json.dumps` (``ensure_ascii``, ``sort_keys``).
+
+    >>> json_text({"a": [1.0, float("inf")]}, indent=None)
+    '{"a": [1.0, null], "non_finite": {"a[1]": "Infinity"}}'
+    """
+    found: dict[str, str] = {}
+    clean = _finite(data, "", found)
+    if found and isinstance(clean, dict):
+        clean[NON_FINITE] = found
+    return json.dumps(clean, indent=indent, allow_nan=False, **options)
+
+
+def _finite(value: Any, path: str, found: dict[str, str]) -> Any:
+    """``value`` with its non-finite numbers replaced by None (their paths in ``found``)."""
+    if isinstance(value, Mapping):
+        return {k: _finite(v, f"{path}.{k}" if path else str(k), found) for k, v in value.items()}
+    if isinstance(value, (list, tuple, np.ndarray)):
+        return [_finite(v, f"{path}[{i}]", found) for i, v in enumerate(value)]
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    if isinstance(value, (int, np.integer)):
+        return int(value)
+    if isinstance(value, (float, np.floating)):
+        x = float(value)
+        if math.isfinite(x):
+            return x
+        found[path] = "NaN" if math.isnan(x) else ("Infinity" if x > 0 else "-Infinity")
+        return None
+    return value

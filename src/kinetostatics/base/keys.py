@@ -17,6 +17,7 @@ from typing import Any
 __all__ = [
     "Keys",
     "NUMBER",
+    "whole",
     "TEXT",
     "NAME",
     "BOOLEAN",
@@ -30,11 +31,19 @@ __all__ = [
 ]
 
 NUMBER: dict[str, Any] = {"type": ["number", "string"]}  # a number or an expression
+
+
 TEXT: dict[str, Any] = {"type": ["string", "number"]}  # any scalar read as text
 NAME: dict[str, Any] = {"type": "string"}  # a link, joint, point or unit name
 BOOLEAN: dict[str, Any] = {"type": "boolean"}
 VECTOR: dict[str, Any] = {"type": "array", "items": NUMBER, "minItems": 2, "maxItems": 2}
 ANY: dict[str, Any] = {}
+
+
+def whole(minimum: int, maximum: int) -> dict[str, Any]:
+    """A whole number from ``minimum`` to ``maximum``, or an expression (the bounds apply
+    to a number only)."""
+    return {"type": ["integer", "string"], "minimum": minimum, "maximum": maximum}
 
 
 def names(n: int | None = None, minimum: int = 1) -> dict[str, Any]:
@@ -58,11 +67,19 @@ def enum(values) -> dict[str, Any]:
 
 class Keys:
     """The keys of one mapping, in the order the loader lists them in its messages,
-    each with the shape of its value; ``required`` the keys that must be there."""
+    each with the shape of its value; ``required`` the keys that must be there;
+    ``extra``: JSON Schema keywords for what the loader requires of the keys together
+    (``dependentRequired``, an ``if``/``then``), added to the mapping's schema."""
 
-    def __init__(self, shapes: Mapping[str, Any], required: tuple[str, ...] = ()):
+    def __init__(
+        self,
+        shapes: Mapping[str, Any],
+        required: tuple[str, ...] = (),
+        extra: Mapping[str, Any] | None = None,
+    ):
         self.shapes = dict(shapes)
         self.required = tuple(required)
+        self.extra = dict(extra or {})
         missing = set(self.required) - set(self.shapes)
         if missing:
             raise ValueError(f"required keys without a shape: {sorted(missing)}")
@@ -80,6 +97,7 @@ class Keys:
         }
         if self.required:
             out["required"] = list(self.required)
+        out.update(_convert(self.extra))
         return out
 
 

@@ -31,6 +31,7 @@ __all__ = [
     "factor",
     "is_angular_speed",
     "unit_table",
+    "unit_pattern",
 ]
 
 
@@ -235,3 +236,28 @@ def unit_table(spec: Mapping[str, str] | None) -> dict[str, float]:
     for kind, unit in spec.items():
         table[_check_kind(kind)] = factor(kind, unit)
     return table
+
+
+# how each character of a normalised unit may be written (the inverse of _normalise)
+_WRITTEN = {
+    "*": r"(?:\s*[*·⋅]\s*|\s+)",
+    "/": r"\s*/\s*",
+    "u": "[uµμ]",
+}
+_SQUARE = r"(?:\s*\^\s*2|\s*\*\s*\*\s*2|²)"
+
+
+def unit_pattern(kind: str) -> str:
+    """A regular expression (JSON Schema ``pattern``: ECMA-262 and Python alike) that
+    matches exactly the spellings of a ``kind``'s units that :func:`factor` accepts:
+    every unit of :data:`UNITS` with the freedom :func:`_normalise` allows (spaces,
+    ``*`` ``·`` ``⋅`` or a space for a product, ``^2`` ``**2`` ``²``, ``u`` ``µ`` ``μ``)."""
+    forms = sorted(_NORMALISED[_check_kind(kind)], key=lambda u: (-len(u), u))
+    alternatives = []
+    for form in forms:
+        parts = form.split("^2")
+        written = _SQUARE.join(
+            "".join(_WRITTEN.get(ch, re.escape(ch)) for ch in part) for part in parts
+        )
+        alternatives.append(written)
+    return r"^\s*(?:" + "|".join(alternatives) + r")\s*$"

@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from ..base.files import write_whole
+from ..base.files import json_text, write_whole
 from ..base.tables import write_table
 from ..errors import output_error
 from .sources import BatchError, Source, Task
@@ -173,7 +173,7 @@ def _replace(path: Path, text: str, write: Callable[[Path, str, str], None]) -> 
 
 
 def _write_state(path: Path, state: Mapping) -> None:
-    _replace(path, json.dumps(state, indent=1), _Table._write)
+    _replace(path, json_text(state, indent=1), _Table._write)
 
 
 def _start_table(
@@ -301,7 +301,8 @@ def _host() -> str:
 
 def _fingerprint(sources: Sequence[Source], tasks: Sequence[Task], options: Mapping) -> str:
     h = hashlib.sha256()
-    h.update(json.dumps([[s.file, s.text] for s in sources]).encode())
-    h.update(json.dumps([[t.vid, t.source, sorted(t.overrides.items())] for t in tasks]).encode())
-    h.update(json.dumps(options, sort_keys=True).encode())
+    h.update(json_text([[s.file, s.text] for s in sources], indent=None).encode())
+    overrides = [[t.vid, t.source, sorted(t.overrides.items())] for t in tasks]
+    h.update(json_text(overrides, indent=None).encode())
+    h.update(json_text(options, indent=None, sort_keys=True).encode())
     return h.hexdigest()

@@ -63,9 +63,11 @@ class BodySections:
         where = self.top.key_where("links")
         if not keys:
             self.problems.add(where, "no links: give the ground and the moving links")
+            self.lost.add("link")
             return []
-        if len(keys) > MAX_LINKS:
+        if len(keys) > MAX_LINKS:  # refused whole: nothing that names a link is checked
             self.problems.add(where, f"{len(keys)} links; the limit is {MAX_LINKS}")
+            self.lost.add("link")
             return []
         if (g := self.top.get("ground")) is not None:
             name = g.text()

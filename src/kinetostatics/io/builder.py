@@ -52,6 +52,13 @@ TOP_KEYS = (
 )
 
 
+# what ``output:`` takes (docs/yaml.md, Output), the tail of each refusal
+OUTPUT_KINDS = (
+    "output takes a moving link that no motion driver moves on the frame, an undriven "
+    "revolute, or an undriven prismatic pair on the frame"
+)
+
+
 def read(path: str | Path, parameters: Mapping[str, float] | None = None) -> Model:
     """A mechanism read from a YAML file as written: its clearances are in
     ``Model.clearances``, not expanded (:func:`kinetostatics.load` expands them).
@@ -162,8 +169,9 @@ class Builder(
 
     def _output(self, links, joints, drivers) -> str | None:
         """``output: <link or joint>``: the machine's output member (its stroke or swing,
-        limit positions and time ratio head summary.json).  Not the frame, not a motion
-        driver's joint, not a slide between two moving links (a relative motion)."""
+        limit positions and time ratio head summary.json).  Not the frame, not the input
+        (a motion driver's joint or the link it moves on the frame), not a slide between
+        two moving links (a relative motion); every refusal ends with what it takes."""
         e = self.top.get("output")
         if e is None:
             return None
@@ -173,37 +181,38 @@ class Builder(
         by_link = {link.name: link for link in links}
         by_joint = {j.name: j for j in joints}
         ground = next((link.name for link in links if link.ground), None)
-        driven = {d.joint for d in drivers if d.motion is not None}
+        driven = {d.joint: d.name for d in drivers if d.motion is not None}
         if name in by_link:
             if by_link[name].ground:
-                e.error(f"'{name}' is the frame; name the moving link or joint that is the output")
+                e.error(f"'{name}' is the frame, not an output; {OUTPUT_KINDS}")
+                return None
+            held = [j for j in joints if name in j.links and ground in j.links and j.name in driven]
+            if held:
+                e.error(
+                    f"link '{name}' is moved on the frame by joint '{held[0].name}' of motion "
+                    f"driver '{driven[held[0].name]}': it is the input; {OUTPUT_KINDS}"
+                )
                 return None
             return name
         if name not in by_joint:
             if not self._broken("link", name) and not self._broken("joint", name):
                 e.error(
                     self._unknown("link or joint", name, [*by_link, *by_joint])
-                    + " (output: names the output link or its joint)"
+                    + f"; {OUTPUT_KINDS}"
                 )
             return None
         j = by_joint[name]
         if name in driven:
-            e.error(
-                f"'{name}' is the joint of a motion driver, the input; name the output "
-                "link or joint"
-            )
+            driver = driven[name]
+            e.error(f"'{name}' is the joint of motion driver '{driver}', the input; {OUTPUT_KINDS}")
             return None
         if not (j.reports_stroke or j.reports_swing):
-            e.error(
-                f"joint '{name}' has no stroke or swing to report; name a link, a revolute "
-                "or a prismatic pair"
-            )
+            e.error(f"joint '{name}' ({j.kind}) has no stroke or swing to report; {OUTPUT_KINDS}")
             return None
         if j.reports_stroke and ground not in j.links:
             e.error(
                 f"'{name}' slides between two moving links ({', '.join(j.links)}): a relative "
-                "motion, not the machine's output; name the output link or its pair on the "
-                "frame"
+                f"motion, not the machine's output; {OUTPUT_KINDS}"
             )
             return None
         return name

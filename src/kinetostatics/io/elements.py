@@ -50,6 +50,43 @@ ELEMENT_KEYS = {  # each type's keys, for the loader and the JSON Schema
 }
 
 
+def _held_together(ends, points, joints) -> list | None:
+    """The joints that hold the two points ``ends`` ((link, point), (link, point)) at the
+    same place at every position, or None if nothing does: a path from one to the other
+    through the pairs of points that a joint keeps together (``Joint.coincident``, a
+    revolute's pins) and the points of one link at the same local coordinates."""
+    scale = max(
+        (float(np.max(np.abs(p))) for pts in points.values() for p in pts.values()), default=0.0
+    )
+    tol = 1e-12 * scale
+
+    def at(link: str, xy) -> list[tuple[str, str]]:
+        """The named points of ``link`` at ``xy`` (its frame)."""
+        return [(link, n) for n, p in points.get(link, {}).items() if np.max(np.abs(p - xy)) <= tol]
+
+    edges: dict[tuple[str, str], list] = {}
+    for j in joints:
+        for a, b in j.coincident():
+            for u in at(a.link, a.xy):
+                for v in at(b.link, b.xy):
+                    edges.setdefault(u, []).append((v, j))
+                    edges.setdefault(v, []).append((u, j))
+    start, goal = ends
+    targets = set(at(goal[0], points[goal[0]][goal[1]]))
+    seen = {u: [] for u in at(start[0], points[start[0]][start[1]])}
+    todo = list(seen)
+    while todo:
+        node = todo.pop(0)
+        if node in targets:
+            return seen[node]
+        for v, j in edges.get(node, ()):
+            for w in at(v[0], points[v[0]][v[1]]):
+                if w not in seen:
+                    seen[w] = [*seen[node], j]
+                    todo.append(w)
+    return None
+
+
 class ElementSections:
     """Reads ``elements:`` (a mixin of :class:`~kinetostatics.io.builder.Builder`)."""
 
@@ -93,7 +130,7 @@ class ElementSections:
             per = u["torque"] / u["angle"]  # N·m per rad
             free_kind, force_kind, s_kind = "angle", "torque", "angle"
         else:
-            ends_pts = self._element_points(e, points)
+            ends_pts = self._element_points(e, points, joints, kind)
             if ends_pts is None:
                 return None
             ends, pts, joint = ends_pts[0], ends_pts[1], None
@@ -161,7 +198,7 @@ class ElementSections:
             return None
         return tuple(known[name].links)
 
-    def _element_points(self, e: Entry, points):
+    def _element_points(self, e: Entry, points, joints, kind: str):
         refs = e["between"].names(2)
         if any(r is None for r in refs):
             return None
@@ -175,7 +212,17 @@ class ElementSections:
                 "rigid link does nothing"
             )
             return None
-        return ends, tuple(r.partition(".")[2] for r in refs)
+        names = tuple(r.partition(".")[2] for r in refs)
+        held = _held_together(tuple(zip(ends, names)), points, joints)
+        if held is not None:
+            by = ", ".join(f"{j.kind} '{j.name}'" for j in held)
+            e["between"].error(
+                f"{refs[0]} and {refs[1]} are at the same place at every position (held "
+                f"together by {by}): the {kind}'s direction is undefined and it would act on "
+                "nothing; join two points that move apart"
+            )
+            return None
+        return ends, names
 
     def _element_table(self, e: Entry, s_kind: str, force_kind: str):
         """``table: {length|angle: [...], force|torque: [...]}``, increasing in s."""

@@ -94,7 +94,7 @@ class LoadSections:
             value = (
                 e["value"].vector("force")
                 if kind == "force"
-                else e["value"].number("torque" if torque_like else "force")
+                else self._load_number(e["value"], kind)
             )
         else:
             table = self._table(e["table"], kind, joints, drivers)
@@ -136,6 +136,20 @@ class LoadSections:
             joint,
         )
 
+    def _load_number(self, x: Entry, kind: str) -> float | None:
+        """A scalar load value (``value`` or a table entry) in SI; a resisting torque's is
+        a magnitude: a negative one would drive the machine, so it is refused."""
+        unit = "torque" if kind in ("torque", "resisting_torque") else "force"
+        if kind == "resisting_torque":
+            raw = x.raw_number()
+            if raw is not None and raw < 0:
+                x.error(
+                    f"a resisting torque is a magnitude that opposes the rotation: it must be "
+                    f"zero or positive, got {raw:g} (a torque that drives is type: torque)"
+                )
+                return None
+        return x.number(unit)
+
     def _relative_joint(self, e: Entry, kind: str, link: str, joints) -> str | None:
         """``joint:`` of a resisting torque: a revolute that holds ``link``."""
         name = e.text()
@@ -176,8 +190,9 @@ class LoadSections:
             )
             return None
         at = [x.number("angle" if angular else "length") for x in at_items]
-        unit = "torque" if kind in ("torque", "resisting_torque") else "force"
-        vals = [x.vector(unit) if kind == "force" else x.number(unit) for x in val_items]
+        vals = [
+            x.vector("force") if kind == "force" else self._load_number(x, kind) for x in val_items
+        ]
         if any(v is None for v in at) or any(v is None for v in vals):
             return None
         at_arr = np.array(at, dtype=float)

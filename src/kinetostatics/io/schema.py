@@ -9,16 +9,19 @@ prints it; docs/yaml.md tells how to point an editor at it.
 
 What a schema cannot see (the loader reports it): a number written as a word
 (``mass: heavy`` is text like the expression ``2*m``), names that refer to nothing,
-values out of range, geometry that does not assemble.
+values out of range (but for a count such as ``analysis.positions``), geometry that does
+not assemble.  It does see a unit name that is not a unit (each kind's spellings as a
+pattern), a count that is not whole, and a key that another key requires (a
+``journal_radius`` with its ``coefficient``, an axis's ``direction`` with its ``point``).
 """
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Any
 
 from ..base import units
+from ..base.files import json_text
 from ..base.keys import ANY, NAME, NUMBER, TEXT, VECTOR, list_of, names, shape_schema
 from ..base.spec import NAME as NAME_RE
 from ..base.spec import RESERVED
@@ -82,8 +85,11 @@ def _sections() -> dict[str, Any]:
         "name": TEXT,
         "units": {
             "type": "object",
+            "properties": {
+                kind: {"type": "string", "pattern": units.unit_pattern(kind)}
+                for kind in units.QUANTITY_KINDS
+            },
             "propertyNames": {"enum": list(units.QUANTITY_KINDS)},
-            "additionalProperties": NAME,
         },
         "parameters": _named(NUMBER, reserved=False),
         "gravity": VECTOR,
@@ -130,4 +136,4 @@ def schema() -> dict[str, Any]:
 
 def schema_text() -> str:
     """:func:`schema` as the text of ``mechanism.schema.json``."""
-    return json.dumps(schema(), indent=2, ensure_ascii=False) + "\n"
+    return json_text(schema(), ensure_ascii=False) + "\n"

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..base import units
-from ..base.keys import BOOLEAN, NUMBER, Keys, list_of
+from ..base.keys import BOOLEAN, NUMBER, Keys, list_of, whole
 from ..base.limits import MAX_POSITIONS, MAX_TRAVEL, MAX_TURNS
 from ..base.spec import Entry
 from ..errors import did_you_mean
@@ -17,7 +17,7 @@ ANALYSIS_KEYS = Keys(
     {
         "start": NUMBER,
         "sweep": NUMBER,
-        "positions": NUMBER,
+        "positions": whole(1, MAX_POSITIONS),
         "at": list_of(NUMBER),
         "events": BOOLEAN,
     }

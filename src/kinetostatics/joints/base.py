@@ -211,7 +211,11 @@ class Glyph:
 
 
 # ``axis:`` of a slide (prismatic, rack): a point and a direction, or two points on link i
-AXIS_KEYS = Keys({"point": NAME, "direction": VECTOR, "points": names(2)})
+AXIS_KEYS = Keys(
+    {"point": NAME, "direction": VECTOR, "points": names(2)},
+    # without ``points``, a point and a direction
+    extra={"if": {"not": {"required": ["points"]}}, "then": {"required": ["point", "direction"]}},
+)
 
 
 @dataclass(frozen=True)
@@ -449,6 +453,12 @@ class Joint(ABC):
         Used by the sketch's initial guess (the ``at_joint`` ones), the default traced
         paths, a driver's default reference point, the pictures and the report.
         """
+        return ()
+
+    def coincident(self) -> tuple[tuple[Anchor, Anchor], ...]:
+        """Pairs of points, one on each link, that this pair holds at the same place at
+        every position (a revolute's two pins); () where none.  The loader refuses a
+        spring or damper between two such points (its direction is undefined)."""
         return ()
 
     def glyph(self, qi: np.ndarray, qj: np.ndarray) -> Glyph:

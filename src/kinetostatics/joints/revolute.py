@@ -12,7 +12,13 @@ from ..base.geometry import perp, turn
 from ..base.keys import NAME, NUMBER, Keys, names
 from .base import Anchor, Glyph, Joint
 
-FRICTION_KEYS = Keys({"radius": NUMBER, "journal_radius": NUMBER, "coefficient": NUMBER})
+FRICTION_KEYS = Keys(
+    {"radius": NUMBER, "journal_radius": NUMBER, "coefficient": NUMBER},
+    # a journal radius with its coefficient (friction_radius)
+    extra={
+        "dependentRequired": {"journal_radius": ["coefficient"], "coefficient": ["journal_radius"]}
+    },
+)
 
 __all__ = ["Revolute"]
 
@@ -198,6 +204,9 @@ class Revolute(Joint, kind="revolute"):
             Anchor(i, self.point_names[0], self.p_i, at_joint=True),
             Anchor(j, self.point_names[1], self.p_j, at_joint=True),
         )
+
+    def coincident(self):
+        return (self.anchors(),)
 
     def glyph(self, qi, qj):
         return Glyph(point=qj[..., :2] + turn(qj, self.p_j))

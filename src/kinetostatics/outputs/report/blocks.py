@@ -48,22 +48,55 @@ class _List:
     items: list[str]
 
 
-def _md_cell(s: str) -> str:
-    return str(s).replace("|", "\\|").replace("\n", " ")
+# characters of a text that Markdown could read as markup beyond code spans and emphasis:
+# raw HTML (tags, comments) and entities, written as character references (markup-neutral
+# in and out of code spans, so however a text's backticks pair up it never holds a tag);
+# links and images, their brackets escaped (a backslash too, so that none escapes
+# another's escape); line breaks, which could start a block of their own.
+_MD_TEXT = str.maketrans(
+    {
+        "&": "&amp;",
+        "<": "&lt;",
+        ">": "&gt;",
+        "\\": "\\\\",
+        "[": "\\[",
+        "]": "\\]",
+        "\n": " ",
+        "\r": " ",
+        "\u2028": " ",
+        "\u2029": " ",
+    }
+)
+
+
+def md_text(text: object) -> str:
+    """``text`` safe in a Markdown report: every text of the report (a mechanism's
+    ``name:``, the names of its links, joints and drivers, the program's own sentences)
+    goes through here on its way into ``report.md`` (the HTML report escapes with
+    ``html.escape``); its `code` spans stay code spans.
+
+    >>> print(md_text("<script>x</script> [a](javascript:b)"))
+    &lt;script&gt;x&lt;/script&gt; \\[a\\](javascript:b)
+    """
+    return str(text).translate(_MD_TEXT)
+
+
+def _md_cell(s: object) -> str:
+    return md_text(s).replace("|", "\\|")
 
 
 def _to_markdown(blocks, out: Path) -> str:
     lines: list[str] = []
     for b in blocks:
         if isinstance(b, _Heading):
-            lines += ["#" * b.level + " " + b.text, ""]
+            lines += ["#" * b.level + " " + md_text(b.text), ""]
         elif isinstance(b, _Para):
-            lines += [b.text, ""]
+            lines += [md_text(b.text), ""]
         elif isinstance(b, _List):
-            lines += [f"- {item}" for item in b.items] + [""]
+            lines += [f"- {md_text(item)}" for item in b.items] + [""]
         elif isinstance(b, _Table):
             if b.caption:
-                lines += [f"*{b.caption}*", ""]
+                lines += [f"*{md_text(b.caption)}*", ""]
             lines.append("| " + " | ".join(_md_cell(h) for h in b.header) + " |")
             lines.append("|" + "|".join("---" for _ in b.header) + "|")
             for r in b.rows:
@@ -71,7 +104,8 @@ def _to_markdown(blocks, out: Path) -> str:
             lines.append("")
         elif isinstance(b, _Image):
             rel = b.path.relative_to(out).as_posix()
-            lines += [f"![{b.caption}]({rel})", "", f"*{b.caption}*", ""]
+            caption = md_text(b.caption)
+            lines += [f"![{caption}]({rel})", "", f"*{caption}*", ""]
     return "\n".join(lines).rstrip() + "\n"
 
 

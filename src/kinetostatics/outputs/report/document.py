@@ -3,12 +3,12 @@
 
 from __future__ import annotations
 
-import json
 from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 
+from ...base.files import json_text
 from ...model import Model
 from .. import plotting as pl
 from ..lang import check_lang, cjk_font, tr
@@ -103,7 +103,7 @@ def write_report(
 
         dsg = design(result)
     summary = summarize(result, flywheel=dsg)
-    summary_path.write_text(json.dumps(summary, indent=2, default=float))
+    summary_path.write_text(json_text(summary, default=float))
     T = lambda s, **k: tr(s, lang, **k)  # noqa: E731
 
     def image(fig, name: str, caption: str, true_scale: bool = False) -> _Image:
