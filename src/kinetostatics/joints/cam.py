@@ -50,13 +50,13 @@ force would pull (the follower leaves the cam; a spring or preload must keep it 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 from typing import Any, ClassVar
 
 import numpy as np
 
-from ..base.geometry import dot, perp, rotate, turn, turn_back
+from ..base.geometry import dot, perp, rotate, turn, turn_back, wrap_angle
 from ..base.keys import NAME, NUMBER, VECTOR, Keys, enum, names
 from ._camlaw import LAW_SHAPE, read_law
 from ._camprofile import Synthesis
@@ -67,6 +67,7 @@ __all__ = ["Cam"]
 FOLLOWERS = ("knife", "roller", "flat")
 SENSES = {"ccw": 1, "cw": -1}
 _SENSE = enum(SENSES)
+PHASE_TOL = 1e-7  # the follower's misfit at the start, relative to the prime radius
 _TRANSLATING = Keys({"direction": VECTOR, "offset": NUMBER}, required=("direction",))
 _OSCILLATING = Keys(
     {"pivot": VECTOR, "arm": NUMBER, "offset": NUMBER, "rise": _SENSE}, required=("pivot",)
@@ -217,6 +218,86 @@ class Cam(Joint, kind="cam"):
         if self.f:
             spec["friction"] = {"coefficient": self.f}
         return spec
+
+    # -- the phase at the start ------------------------------------------------------
+    def _misfit(self, syn: Synthesis, qi, qj) -> float:
+        """How far (relative to the prime radius) the follower lies, at poses ``(3,)`` with
+        the frame at zero, from where ``syn``'s law puts it at the cam's rotation: its
+        point (knife, roller) or its face's angle and support value (flat)."""
+        Ao, Ap, d, z, phi = self._pose(qi, qj)
+        theta = np.array([syn.sigma * qi[2]])
+        scale = syn.base + syn.radius
+        if syn.flat:
+            b, _, _, h, _, _ = syn.support(theta)
+            beta = float(b[0]) + syn.sigma * float(theta[0])  # the normal in the frame
+            n = self._face_angle(phi) + qi[2]
+            N = np.array([math.cos(n), math.sin(n)])
+            return abs(wrap_angle(n - beta)) + abs(float(dot(N, d)) - float(h[0])) / scale
+        F = complex(syn.frame_point(theta)[0][0])
+        return abs(F - complex(d[0], d[1])) / scale
+
+    def _phase_fix(self, qi, qj) -> str:
+        """The one change of the cam's keys that fits the assembled pose, or where to
+        sketch the follower."""
+        s = self.synthesis
+        other = {1: "cw", -1: "ccw"}
+        tries = []
+        if s.pivot is not None:
+            tries.append(
+                (
+                    replace(s, kappa=-s.kappa),
+                    f"`oscillating.rise: {other[s.kappa]}` fits the "
+                    "assembly (the arm rising the other way)",
+                )  # fmt: skip
+            )
+        tries.append(
+            (replace(s, sigma=-s.sigma), f"`rotation: {other[s.sigma]}` fits the assembly")
+        )
+        if s.pivot is None and not s.flat:
+            d = self._pose(qi, qj)[2]
+            e = float(dot(d, -s.sigma * perp(np.asarray(s.direction, float))))
+            if abs(e - s.offset) > PHASE_TOL * (s.base + s.radius):
+                return (
+                    f"the follower point runs {e * 1e3:.6g} mm from the cam centre across "
+                    f"its guide, not at `translating.offset: {s.offset * 1e3:.6g}` mm: give "
+                    "the guide's offset (or move the guide)"
+                )
+        for syn, text in tries:
+            if syn.pivot is not None and isinstance(syn.beta0(), str):
+                continue
+            if self._misfit(syn, qi, qj) <= PHASE_TOL:
+                return text
+        where = ""
+        if not s.flat:
+            F = complex(s.frame_point(np.array([s.sigma * qi[2]]))[0][0])
+            x = qi[:2] + turn(qi, self.o) + np.array([F.real, F.imag])
+            where = f" near [{x[0] * 1e3:.6g}, {x[1] * 1e3:.6g}] mm"
+        keys = "`oscillating.rise`" if s.pivot is not None else "`translating.direction`"
+        return (
+            f"sketch the follower point {self.links[1]}.{self.names[1]}{where} (where the law "
+            f"puts it at the start), or if it belongs where it is, reverse {keys} or `rotation`"
+        )
+
+    def start_problem(self, qi, qj) -> str:
+        """The follower must touch the cam where its law puts it: the contact's cam angle
+        is the cam's rotation from the frame (the ground) in its sense ``rotation``.  A
+        follower sketched on the mirror side, a ``rise`` of the wrong sense or an
+        ``offset`` that is not the guide's assemble on the profile at another cam angle:
+        the law's phase is lost, silently; the message names both angles and the fix."""
+        qi, qj = np.asarray(qi, float), np.asarray(qj, float)
+        s = self.synthesis
+        if self._misfit(s, qi, qj) <= PHASE_TOL:
+            return ""
+        found = float(np.mod(self._contact(qi, qj)[0], 2 * math.pi))
+        expected = float(np.mod(s.sigma * qi[2], 2 * math.pi))
+        lift = s.law.value(np.array([found, expected]))[0]
+        unit, k = ("°", 180 / math.pi) if s.pivot is not None else (" mm", 1e3)
+        return (
+            f"cam joint '{self.name}': the follower is out of phase with its law: at the "
+            f"start it touches the cam at cam angle {math.degrees(found):.4g}° while the cam "
+            f"is at {math.degrees(expected):.4g}° (lift {lift[0] * k:.4g}{unit} instead of "
+            f"{lift[1] * k:.4g}{unit}); {self._phase_fix(qi, qj)}"
+        )
 
     # -- the profile ------------------------------------------------------------
     def _problem(self) -> str:
