@@ -80,3 +80,61 @@ def test_an_offset_that_is_not_the_guides_is_a_model_error():
     assert "the follower point runs 15 mm from the cam centre across its guide, not at " in str(
         info.value
     ) and "`translating.offset: 10` mm" in str(info.value)
+
+
+# -- item 16: every segment is checked, however narrow ---------------------------------
+def _load_error(text):
+    with pytest.raises(ModelError) as info:
+        ks.loads(text)
+    return str(info.value)
+
+
+def test_a_rise_over_1e_9_degrees_is_refused_by_the_loader():
+    text = _load_error((CASES / "cam_rise_over_1e-9.yaml").read_text())
+    assert "joints.contact.motion: cam joint 'contact': the pitch point does not turn" in text
+    assert "in motion[0] (rise 20 mm over 1e-09°)" in text
+
+
+def test_a_narrow_spike_is_refused_by_the_loader_naming_its_segment():
+    text = _load_error((CASES / "cam_narrow_spike_undercut.yaml").read_text())
+    assert "in motion[1] (rise 2 mm over 0.1°)" in text
+
+
+def test_a_spike_between_the_uniform_samples_is_undercut():
+    """A 0.01 mm spike over 100.05°–100.17°, between two of the 2048 uniform samples
+    (100.02° and 100.20°): at its crest a cycloidal rise's s'' = −h(2π/β)² (β = 0.06°)
+    bends the pitch curve with a radius far under the 12 mm roller's."""
+    src = (CASES / "cam_narrow_spike_undercut.yaml").read_text()
+    src = src.replace("{rise: 2, over: 0.1,", "{rise: 0.01, over: 0.06,")
+    src = src.replace("{return: 2, over: 0.1,", "{return: 0.01, over: 0.06,")
+    src = src.replace("{dwell: 259.75}", "{dwell: 259.83}")
+    text = _load_error(src)
+    assert "the profile is undercut at cam angle 10" in text and "in motion[" in text
+    ang = float(text.split("cam angle ")[1].split("°")[0])
+    assert 100.05 <= ang <= 100.17
+
+
+# -- item 17: one separation warning, its angles as ranges ------------------------------
+def test_a_separation_is_warned_once_with_its_angles_as_ranges():
+    """The run and its summary (whose cycle integral analyses the quadrature nodes again)
+    warn once; the ranges are the runs of consecutive rows with status 1, from the run's
+    own columns, each listed once."""
+    import warnings
+
+    from kinetostatics.errors import JointWarning
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        r = ks.analyze(ks.load(CASES / "cam_leaves_duplicate_warning.yaml"))
+        r.summary()
+    joint = [str(w.message) for w in caught if issubclass(w.category, JointWarning)]
+    assert len(joint) == 1, joint
+    status = np.asarray(r["contact.status"]) == 1
+    rows = np.flatnonzero(status)
+    runs = np.split(rows, np.flatnonzero(np.diff(rows) > 1) + 1)
+    angle = np.asarray(r["contact.cam_angle"])
+    ranges = [f"{angle[g[0]]:.4g}°–{angle[g[-1]]:.4g}°" for g in runs]
+    assert len(runs) == 2  # the rise's second half and the return's first (61°–119°, 181°–239°)
+    assert (
+        f"at {rows.size} of {len(angle)} positions, cam angles {', '.join(ranges)}:" in (joint[0])
+    )

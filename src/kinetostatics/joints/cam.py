@@ -311,7 +311,7 @@ class Cam(Joint, kind="cam"):
         if isinstance(tables, str):
             return tables
         self._memo["tables"] = tables
-        th = tables[0]
+        th = s.check_grid
         rc = self._curvature(th)
         bad = np.nonzero((rc <= 0) & (rc > -s.radius))[0] if not s.flat else np.nonzero(rc <= 0)[0]
         if s.follower == "knife":
@@ -320,7 +320,8 @@ class Cam(Joint, kind="cam"):
             worst = bad[np.argmin(rc[bad])]
             what = "cusp" if s.follower == "flat" else "undercut"
             return (
-                f"the profile is {what} at cam angle {math.degrees(th[worst]):.4g}° "
+                f"the profile is {what} at cam angle {math.degrees(th[worst]):.4g}°"
+                f"{s.law.where(th[worst], s.pivot is not None)} "
                 f"(radius of curvature {rc[worst] * 1e3:.4g} mm, {bad.size} of "
                 f"{len(th)} sampled angles): a larger base circle"
                 + (" or a smaller roller" if s.follower == "roller" else "")
@@ -649,14 +650,23 @@ class Cam(Joint, kind="cam"):
         return out
 
     def warnings(self, lam, qi, qj):
+        """One warning for the rows where the contact force would pull, their cam angles
+        as the ranges of consecutive rows, each listed once."""
         pull = np.asarray(lam[..., 0] < 0)
         if pull.ndim != 1 or not pull.any():
             return ()
-        theta = np.degrees(np.mod(self._contact(qi, qj)[0], 2 * math.pi))[pull]
-        shown = ", ".join(f"{a:.4g}°" for a in theta[:8]) + (" …" if theta.size > 8 else "")
+        theta = np.degrees(np.mod(self._contact(qi, qj)[0], 2 * math.pi))
+        edges = np.diff(np.concatenate(([0], pull.astype(np.int8), [0])))
+        parts: list[str] = []
+        for a, b in zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1):
+            lo, hi = f"{theta[a]:.4g}°", f"{theta[b]:.4g}°"
+            text = lo if lo == hi else f"{lo}–{hi}"
+            if text not in parts:
+                parts.append(text)
+        shown = ", ".join(parts[:6]) + (", …" if len(parts) > 6 else "")
         return (
-            f"cam joint '{self.name}': the follower would leave the cam at {theta.size} "
-            f"position(s), cam angles {shown} (from {theta.min():.4g}° to {theta.max():.4g}°): "
-            f"the contact force there would pull ({self.name}.status = 1); a spring or a "
-            "larger preload keeps the follower on the cam",
+            f"cam joint '{self.name}': the follower would leave the cam at {int(pull.sum())} "
+            f"of {pull.size} positions, cam angles {shown}: the contact force there would "
+            f"pull ({self.name}.status = 1); a spring or a larger preload keeps the follower "
+            "on the cam",
         )
