@@ -138,3 +138,34 @@ def test_a_separation_is_warned_once_with_its_angles_as_ranges():
     assert (
         f"at {rows.size} of {len(angle)} positions, cam angles {', '.join(ranges)}:" in (joint[0])
     )
+
+
+def test_a_large_friction_coefficient_inverts_the_profile_once_per_pose(monkeypatch):
+    """f = 266: the fixed point diverges and the friction solution follows its homotopy,
+    hundreds of iterations, each asking the cam for its contact normal at the same pose.
+    The normal (an inversion of the profile by Newton over the law) is computed once per
+    pose, not once per iteration: fewer inversions than friction iterations.  The result:
+    rows solved by the homotopy (status 1) and self-locked rows (status 2, their
+    consistent friction columns empty)."""
+    import warnings
+
+    from kinetostatics.joints._camprofile import Synthesis
+
+    calls = [0]
+    invert = Synthesis.invert
+
+    def counted(self, *args):
+        calls[0] += 1
+        return invert(self, *args)
+
+    monkeypatch.setattr(Synthesis, "invert", counted)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = ks.analyze(ks.load(CASES / "cam_friction_266_slow.yaml"))
+    status = np.asarray(r["friction.status"])
+    iterations = float(np.nansum(r["friction.iterations"]))
+    assert np.any(status == 1) and np.any(status == 2)
+    assert np.all(np.isnan(np.asarray(r["motor.torque_friction"])[status == 2]))
+    assert np.all(np.isfinite(np.asarray(r["motor.torque_friction"])[status == 1]))
+    assert iterations > 10 * len(status)  # the homotopy's work
+    assert calls[0] < iterations / 2, (calls[0], iterations)

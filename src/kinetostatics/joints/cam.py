@@ -490,9 +490,22 @@ class Cam(Joint, kind="cam"):
         return -self._second(qi, qj, vi, vj, self._phi(qi, qj))[..., None]
 
     def _normal(self, qi, qj):
-        """|∇_z Φ| (1 for a flat face) and ∇_z Φ in global axes."""
+        """|∇_z Φ| (1 for a flat face) and ∇_z Φ in global axes.  Those of the last poses
+        are kept: the friction solution asks for them at every iteration of its fixed
+        point and homotopy, at the same poses with new reactions, and each costs an
+        inversion of the profile (Newton over the law)."""
+        qi, qj = np.asarray(qi, float), np.asarray(qj, float)
+        key = (qi.shape, qj.shape, qi.tobytes(), qj.tobytes())
+        hit = self._memo.get("normal")
+        if hit is not None and hit[0] == key:
+            return hit[1]
         gz = self._phi(qi, qj)[1]
-        return np.hypot(gz[..., 0], gz[..., 1]), turn(qi, gz)
+        out = np.hypot(gz[..., 0], gz[..., 1]), turn(qi, gz)
+        for a in out:
+            if isinstance(a, np.ndarray):
+                a.flags.writeable = False
+        self._memo["normal"] = (key, out)
+        return out
 
     def reaction(self, lam, qi, qj):
         size, G = self._normal(qi, qj)
