@@ -169,3 +169,37 @@ def test_a_large_friction_coefficient_inverts_the_profile_once_per_pose(monkeypa
     assert np.all(np.isfinite(np.asarray(r["motor.torque_friction"])[status == 1]))
     assert iterations > 10 * len(status)  # the homotopy's work
     assert calls[0] < iterations / 2, (calls[0], iterations)
+
+
+def test_a_guide_that_leaves_the_laws_phase_is_warned():
+    """The guide through the follower's start point F(0) but tilted (direction [0.05, 1]
+    where the joint says [0, 1]): in phase at the start, out of it wherever the lift is
+    not zero — the rise, dwell and return (0°–300° but for round-off at the ends), back
+    in it in the last dwell."""
+    import warnings
+
+    from kinetostatics.errors import JointWarning
+
+    text = (ROOT / "mechanisms" / "cam_roller.yaml").read_text()
+    text = text.replace("points: {O: [0, 0], G: [e, 0]}", "points: {O: [0, 0], G: [e, y0]}")
+    text = text.replace("direction: [0, 1]}\n    point: C", "direction: [0.05, 1]}\n    point: C")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        r = ks.analyze(ks.loads(text))
+    phase = [str(w.message) for w in caught if "phase" in str(w.message)]
+    assert len(phase) == 1 and issubclass(caught[0].category, JointWarning)
+    assert "the follower leaves its law's phase at" in phase[0]
+    assert "`translating` (its direction)" in phase[0]
+    lo, hi = phase[0].split("cam angles ")[1].split(":")[0].split("–")
+    assert 0 < float(lo.rstrip("°")) <= 3 and 297 <= float(hi.rstrip("°")) < 300
+    assert np.asarray(r["contact.lift"]).max() > 0  # it ran
+
+
+@pytest.mark.parametrize("name", ["cam_roller.yaml", "cam_flat_oscillating.yaml"])
+def test_the_shipped_cams_stay_in_phase(name):
+    import warnings
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        ks.analyze(ks.load(ROOT / "mechanisms" / name))
+    assert not [w for w in caught if "phase" in str(w.message)]

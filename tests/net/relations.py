@@ -252,6 +252,7 @@ def transformed(doc, phi=0.0, shift=(0.0, 0.0), mirror=False):
     P = lambda v: [a + b for a, b in zip(_rot(M(v), phi), shift)]  # noqa: E731
     V = lambda v: _rot(M(v), phi)  # noqa: E731
     ground = d.get("ground", "ground")
+    turned: set = set()  # the cam links whose own axes are turned with the frame
     for name, link in d["links"].items():
         if name == ground:
             link["points"] = {k: P(v) for k, v in link["points"].items()}
@@ -275,8 +276,8 @@ def transformed(doc, phi=0.0, shift=(0.0, 0.0), mirror=False):
             j["phase"] = -j.get("phase", 0.0)
         if j["type"] in ("gear", "rack") and mirror:
             j["flank"] = {"cw": "ccw", "ccw": "cw"}[j.get("flank", "ccw")]
-        if j["type"] == "cam" and mirror:
-            _mirror_cam(j, M)
+        if j["type"] == "cam":
+            _transformed_cam(d, j, M if mirror else None, phi, turned)
     d["gravity"] = V(d.get("gravity", [0, -9.81]))
     drv = d["drivers"]["motor"]
     if mirror:
@@ -347,11 +348,14 @@ def _expected(res, doc, phi, shift, mirror):
             out[cy] += shift[1]
         paired |= {cx, cy}
     kinds = {j: v["type"] for j, v in doc["joints"].items()}
+    turned = cam_links(doc) if phi else set()
     for c in names:
         if c in paired or c in SKIP:
             continue
         head, _, tail = c.rpartition(".")
-        if c == "angle" or tail == "theta":
+        if tail == "theta" and head in turned:  # its own axes turned with it (_turn_cam)
+            out[c] = sg * out[c]
+        elif c == "angle" or tail == "theta":
             out[c] = sg * out[c] + math.degrees(phi)
         elif not mirror:
             continue
@@ -944,6 +948,44 @@ def diagnose(relation: str, doc: dict, seed: int) -> str | None:
         if value is None or value <= TOLERANCE[relation]:
             return f"passes without its {'/'.join(kinds)} conditions"
     return None
+
+
+def cam_links(doc) -> set:
+    """The moving links that carry a cam (their own axes set the cam angle's zero)."""
+    ground = doc.get("ground", "ground")
+    return {
+        j["links"][0]
+        for j in doc["joints"].values()
+        if j.get("type") == "cam" and j["links"][0] != ground
+    }
+
+
+def _transformed_cam(d, j, M, phi, turned):
+    """A cam joint mirrored (``M``: the mirror map, or None) then turned by ``phi``."""
+    if M is not None:
+        _mirror_cam(j, M)
+    if phi:
+        _turn_cam(d, j, phi, turned)
+
+
+def _turn_cam(d, j, phi, turned):
+    """A cam turned with the frame by ``phi``: its placement (given in the frame's axes)
+    turns, and so do its link's own axes (its points and centre of mass turn by ``phi``
+    in them): the cam angle is the cam link's rotation from the frame, so the law keeps
+    its phase (the link's ``theta`` column is then the same, not ``phi`` more)."""
+    tr, osc = j.get("translating"), j.get("oscillating")
+    if tr is not None:
+        tr["direction"] = _rot(tr["direction"], phi)
+    if osc is not None:
+        osc["pivot"] = _rot(osc["pivot"], phi)
+    link = j["links"][0]
+    if link in turned or link == d.get("ground", "ground"):
+        return
+    turned.add(link)
+    body = d["links"][link]
+    body["points"] = {k: _rot(v, phi) for k, v in body["points"].items()}
+    if "com" in body:
+        body["com"] = _rot(body["com"], phi)
 
 
 def _mirror_cam(j, M):

@@ -220,21 +220,21 @@ class Cam(Joint, kind="cam"):
         return spec
 
     # -- the phase at the start ------------------------------------------------------
-    def _misfit(self, syn: Synthesis, qi, qj) -> float:
-        """How far (relative to the prime radius) the follower lies, at poses ``(3,)`` with
-        the frame at zero, from where ``syn``'s law puts it at the cam's rotation: its
-        point (knife, roller) or its face's angle and support value (flat)."""
+    def _misfit(self, syn: Synthesis, qi, qj):
+        """How far (relative to the prime radius) the follower lies, at poses ``(..., 3)``
+        with the frame at zero, from where ``syn``'s law puts it at the cam's rotation: its
+        point (knife, roller) or its face's angle and support value (flat); ``(...)``."""
         Ao, Ap, d, z, phi = self._pose(qi, qj)
-        theta = np.array([syn.sigma * qi[2]])
+        theta = syn.sigma * qi[..., 2]
         scale = syn.base + syn.radius
         if syn.flat:
             b, _, _, h, _, _ = syn.support(theta)
-            beta = float(b[0]) + syn.sigma * float(theta[0])  # the normal in the frame
-            n = self._face_angle(phi) + qi[2]
-            N = np.array([math.cos(n), math.sin(n)])
-            return abs(wrap_angle(n - beta)) + abs(float(dot(N, d)) - float(h[0])) / scale
-        F = complex(syn.frame_point(theta)[0][0])
-        return abs(F - complex(d[0], d[1])) / scale
+            n = self._face_angle(phi) + qi[..., 2]
+            N = np.stack((np.cos(n), np.sin(n)), axis=-1)
+            beta = b + syn.sigma * theta  # the normal in the frame
+            return np.abs(wrap_angle(n - beta)) + np.abs(dot(N, d) - h) / scale
+        F = syn.frame_point(theta)[0]
+        return np.abs(F - (d[..., 0] + 1j * d[..., 1])) / scale
 
     def _phase_fix(self, qi, qj) -> str:
         """The one change of the cam's keys that fits the assembled pose, or where to
@@ -265,7 +265,7 @@ class Cam(Joint, kind="cam"):
         for syn, text in tries:
             if syn.pivot is not None and isinstance(syn.beta0(), str):
                 continue
-            if self._misfit(syn, qi, qj) <= PHASE_TOL:
+            if float(self._misfit(syn, qi, qj)) <= PHASE_TOL:
                 return text
         where = ""
         if not s.flat:
@@ -286,7 +286,7 @@ class Cam(Joint, kind="cam"):
         the law's phase is lost, silently; the message names both angles and the fix."""
         qi, qj = np.asarray(qi, float), np.asarray(qj, float)
         s = self.synthesis
-        if self._misfit(s, qi, qj) <= PHASE_TOL:
+        if float(self._misfit(s, qi, qj)) <= PHASE_TOL:
             return ""
         found = float(np.mod(self._contact(qi, qj)[0], 2 * math.pi))
         expected = float(np.mod(s.sigma * qi[2], 2 * math.pi))
@@ -663,23 +663,43 @@ class Cam(Joint, kind="cam"):
         return out
 
     def warnings(self, lam, qi, qj):
-        """One warning for the rows where the contact force would pull, their cam angles
-        as the ranges of consecutive rows, each listed once."""
+        """Once per run: the rows where the contact force would pull (the follower leaves
+        the cam), and the rows where the follower is not where its law puts it at the
+        cam's rotation (it left the law's phase: the guide or the pivot is not where the
+        joint places it, though it was at the start), each with its cam angles as the
+        ranges of consecutive rows, each listed once."""
+        out = []
         pull = np.asarray(lam[..., 0] < 0)
-        if pull.ndim != 1 or not pull.any():
-            return ()
-        theta = np.degrees(np.mod(self._contact(qi, qj)[0], 2 * math.pi))
-        edges = np.diff(np.concatenate(([0], pull.astype(np.int8), [0])))
-        parts: list[str] = []
-        for a, b in zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1):
-            lo, hi = f"{theta[a]:.4g}°", f"{theta[b]:.4g}°"
-            text = lo if lo == hi else f"{lo}–{hi}"
-            if text not in parts:
-                parts.append(text)
-        shown = ", ".join(parts[:6]) + (", …" if len(parts) > 6 else "")
-        return (
-            f"cam joint '{self.name}': the follower would leave the cam at {int(pull.sum())} "
-            f"of {pull.size} positions, cam angles {shown}: the contact force there would "
-            f"pull ({self.name}.status = 1); a spring or a larger preload keeps the follower "
-            "on the cam",
-        )
+        if pull.ndim == 1 and pull.any():
+            theta = np.degrees(np.mod(self._contact(qi, qj)[0], 2 * math.pi))
+            out.append(
+                f"cam joint '{self.name}': the follower would leave the cam at "
+                f"{int(pull.sum())} of {pull.size} positions, cam angles {_ranges(pull, theta)}"
+                f": the contact force there would pull ({self.name}.status = 1); a spring or "
+                "a larger preload keeps the follower on the cam"
+            )
+        off = np.asarray(self._misfit(self.synthesis, qi, qj) > PHASE_TOL)
+        if off.ndim == 1 and off.any():
+            s = self.synthesis
+            theta = np.degrees(np.mod(s.sigma * qi[..., 2], 2 * math.pi))
+            where = "`translating` (its direction)" if s.pivot is None else "`oscillating`"
+            out.append(
+                f"cam joint '{self.name}': the follower leaves its law's phase at "
+                f"{int(off.sum())} of {off.size} positions, cam angles {_ranges(off, theta)}: "
+                f"it does not move as {where} places it (its guide or pivot is elsewhere), "
+                f"so {self.name}.cam_angle is not the cam's and the lift not the law's there"
+            )
+        return tuple(out)
+
+
+def _ranges(mask: np.ndarray, angle: np.ndarray) -> str:
+    """``61°–119°, 181°–239°``: the angles (deg) of the runs of consecutive rows in
+    ``mask``, each listed once (six at most)."""
+    edges = np.diff(np.concatenate(([0], mask.astype(np.int8), [0])))
+    parts: list[str] = []
+    for a, b in zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1):
+        lo, hi = f"{angle[a]:.4g}°", f"{angle[b]:.4g}°"
+        text = lo if lo == hi else f"{lo}–{hi}"
+        if text not in parts:
+            parts.append(text)
+    return ", ".join(parts[:6]) + (", …" if len(parts) > 6 else "")
