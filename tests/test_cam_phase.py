@@ -203,3 +203,22 @@ def test_the_shipped_cams_stay_in_phase(name):
         warnings.simplefilter("always")
         ks.analyze(ks.load(ROOT / "mechanisms" / name))
     assert not [w for w in caught if "phase" in str(w.message)]
+
+
+def test_the_stacked_start_takes_out_a_variant_whose_joint_refuses_its_start(monkeypatch):
+    """The vectorised analysis (batch) asks each variant's joints as one analysis does:
+    a variant whose joint refuses its start pose is left out with that model error."""
+    from kinetostatics.analysis.vectorised import analyze_stacked
+    from kinetostatics.joints.revolute import Revolute
+
+    text = (ROOT / "mechanisms" / "slider_crank.yaml").read_text()
+    models = [ks.loads(text.replace("r1: 30 ", f"r1: {r} ")) for r in (28, 30, 32)]
+    assert analyze_stacked(models).failed == {}
+
+    def refuse(self, qi, qj):  # the crank's pin, in the third variant only (its centre of mass)
+        return "refused" if self.name == "O" and abs(qj[0] - 0.032) < 1e-9 else ""
+
+    monkeypatch.setattr(Revolute, "start_problem", refuse, raising=False)
+    st = analyze_stacked(models)
+    assert list(st.failed) == [2] and "refused" in str(st.failed[2])
+    assert list(st.members) == [0, 1]

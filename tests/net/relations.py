@@ -881,6 +881,8 @@ def _cam_lift_measured(j, res):
         far = np.hypot(*(A + L * np.array([math.cos(b + kappa * dd), math.sin(b + kappa * dd)])))
         if far > rp:
             b0 = b
+    if b0 is None:  # the pivot on the cam centre's line of the rise: no such cam
+        return None
     D = P - A
     beta = np.arctan2(D[:, 1], D[:, 0])
     return kappa * _wrap_rad(beta - b0)
