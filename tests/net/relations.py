@@ -35,6 +35,7 @@ TOLERANCE = {
     "derivatives": 1e-3,
     "energy": 1e-4,
     "quadrature": 1e-7,
+    "cam_phase": 1e-9,
 }
 FAMILY_FLOOR = 1e-6  # a column's scale is at least this much of its kind's largest
 WORST = [0.0, ""]
@@ -79,6 +80,10 @@ def _angle_cols(names):
 
 def _wrap(d):
     return (d + 180.0) % 360.0 - 180.0
+
+
+def _wrap_rad(d):
+    return (d + math.pi) % (2 * math.pi) - math.pi
 
 
 _FORCES = {"F", "N", "Fx", "Fy", "F_friction", "N_friction", "Fx_friction", "Fy_friction"}
@@ -247,6 +252,7 @@ def transformed(doc, phi=0.0, shift=(0.0, 0.0), mirror=False):
     P = lambda v: [a + b for a, b in zip(_rot(M(v), phi), shift)]  # noqa: E731
     V = lambda v: _rot(M(v), phi)  # noqa: E731
     ground = d.get("ground", "ground")
+    turned: set = set()  # the cam links whose own axes are turned with the frame
     for name, link in d["links"].items():
         if name == ground:
             link["points"] = {k: P(v) for k, v in link["points"].items()}
@@ -270,8 +276,8 @@ def transformed(doc, phi=0.0, shift=(0.0, 0.0), mirror=False):
             j["phase"] = -j.get("phase", 0.0)
         if j["type"] in ("gear", "rack") and mirror:
             j["flank"] = {"cw": "ccw", "ccw": "cw"}[j.get("flank", "ccw")]
-        if j["type"] == "cam" and mirror:
-            _mirror_cam(j, M)
+        if j["type"] == "cam":
+            _transformed_cam(d, j, M if mirror else None, phi, turned)
     d["gravity"] = V(d.get("gravity", [0, -9.81]))
     drv = d["drivers"]["motor"]
     if mirror:
@@ -342,11 +348,14 @@ def _expected(res, doc, phi, shift, mirror):
             out[cy] += shift[1]
         paired |= {cx, cy}
     kinds = {j: v["type"] for j, v in doc["joints"].items()}
+    turned = cam_links(doc) if phi else set()
     for c in names:
         if c in paired or c in SKIP:
             continue
         head, _, tail = c.rpartition(".")
-        if c == "angle" or tail == "theta":
+        if tail == "theta" and head in turned:  # its own axes turned with it (_turn_cam)
+            out[c] = sg * out[c]
+        elif c == "angle" or tail == "theta":
             out[c] = sg * out[c] + math.degrees(phi)
         elif not mirror:
             continue
@@ -812,6 +821,104 @@ def relation_quadrature(doc, seed):
     return worst
 
 
+def _law_value(motion, theta):
+    """The lift s(θ) of a cam's ``motion:`` segments (SI), from the curves' closed forms
+    (docs/yaml.md), written here again: the relation's own truth.  None for a table."""
+    if isinstance(motion, dict):
+        return None
+    curves = {
+        "harmonic": lambda u: (1 - np.cos(np.pi * u)) / 2,
+        "cycloidal": lambda u: u - np.sin(2 * np.pi * u) / (2 * np.pi),
+        "polynomial": lambda u: 10 * u**3 - 15 * u**4 + 6 * u**5,
+        "polynomial7": lambda u: 35 * u**4 - 84 * u**5 + 70 * u**6 - 20 * u**7,
+    }
+    th = np.mod(theta, 2 * math.pi)
+    out, start, base = np.zeros(th.shape), 0.0, 0.0
+    for seg in motion:
+        kind = next(k for k in ("rise", "dwell", "return") if k in seg)
+        span = float(seg["dwell"] if kind == "dwell" else seg["over"])
+        inside = (th >= start) & (th <= start + span)
+        if kind == "dwell":
+            out = np.where(inside, base, out)
+        else:
+            h = float(seg[kind]) * (1 if kind == "rise" else -1)
+            u = np.clip((th - start) / span, 0.0, 1.0)
+            out = np.where(inside, base + h * curves[seg.get("law", "cycloidal")](u), out)
+            base += h
+        start += span
+    return out
+
+
+def _cam_lift_measured(j, res):
+    """The follower's lift measured on its pose in the frame (the result's point columns),
+    by the placement's definition (docs/yaml.md): translating, the follower point's (a
+    flat face's point's) distance along the rise less its distance at zero lift;
+    oscillating knife or roller, the arm's turn κ(β − β₀) from where the follower point
+    lies on the prime circle, on the side where a rise moves it outwards.  None for an
+    oscillating flat face (its cam angle is checked)."""
+    cam, fol = j["links"]
+    centre = np.stack((res[f"{cam}.{j['centre']}.x"], res[f"{cam}.{j['centre']}.y"]), -1)
+    P = np.stack((res[f"{fol}.{j['point']}.x"], res[f"{fol}.{j['point']}.y"]), -1) - centre
+    rb, rr = float(j["base_radius"]), float(j.get("radius", 0.0))
+    rp = rb + rr
+    if "translating" in j:
+        u = np.asarray(j["translating"]["direction"], float)
+        u = u / np.hypot(*u)
+        e = float(j["translating"].get("offset", 0.0))
+        zero = rb if j["follower"] == "flat" else math.sqrt(rp * rp - e * e)
+        return P @ u - zero
+    if j["follower"] == "flat":
+        return None
+    osc = j["oscillating"]
+    A, L = np.asarray(osc["pivot"], float), float(osc["arm"])
+    kappa = 1 if osc.get("rise", "ccw") == "ccw" else -1
+    a = math.hypot(*A)
+    c = (rp * rp - a * a - L * L) / (2 * L * a)
+    ang = math.atan2(A[1], A[0])
+    b0 = None
+    for b in (ang + math.acos(c), ang - math.acos(c)):
+        dd = 1e-6
+        far = np.hypot(*(A + L * np.array([math.cos(b + kappa * dd), math.sin(b + kappa * dd)])))
+        if far > rp:
+            b0 = b
+    if b0 is None:  # the pivot on the cam centre's line of the rise: no such cam
+        return None
+    D = P - A
+    beta = np.arctan2(D[:, 1], D[:, 0])
+    return kappa * _wrap_rad(beta - b0)
+
+
+def relation_cam_phase(doc, seed):
+    """Every cam runs in phase with its law: at each row the contact's cam angle is the
+    cam link's rotation from the frame in the cam's sense, and the follower's lift
+    measured on its pose equals the law's value at that angle — in particular at the
+    law's zero.  The largest of the angle's misfit (rad) and the lift's misfit relative to
+    the largest lift; None without a cam."""
+    cams = {n: j for n, j in doc["joints"].items() if j.get("type") == "cam"}
+    if not cams:
+        return None
+    res = analyze(doc)
+    worst = 0.0
+    ground = doc.get("ground", "ground")
+    for name, j in cams.items():
+        sigma = 1 if j.get("rotation", "ccw") == "ccw" else -1
+        rot = 0.0 if j["links"][0] == ground else np.radians(res[f"{j['links'][0]}.theta"])
+        phase = np.mod(sigma * rot, 2 * math.pi) * np.ones(len(res["angle"]))
+        found = np.radians(res[f"{name}.cam_angle"])
+        e = float(np.max(np.abs(_wrap_rad(found - phase))))
+        if e > worst:
+            worst, WORST[:] = e, [e, f"{name}.cam_angle"]
+        law = _law_value(j["motion"], phase)
+        lift = _cam_lift_measured(j, res)
+        if law is None or lift is None:
+            continue
+        scale = max(float(seg.get("rise", 0.0)) for seg in j["motion"])
+        e = float(np.max(np.abs(lift - law))) / scale
+        if e > worst:
+            worst, WORST[:] = e, [e, f"{name} lift"]
+    return worst
+
+
 RELATIONS = {
     "subset": relation_subset,
     "rigid": relation_rigid,
@@ -825,6 +932,7 @@ RELATIONS = {
     "derivatives": relation_derivatives,
     "energy": relation_energy,
     "quadrature": relation_quadrature,
+    "cam_phase": relation_cam_phase,
 }
 
 
@@ -842,6 +950,44 @@ def diagnose(relation: str, doc: dict, seed: int) -> str | None:
         if value is None or value <= TOLERANCE[relation]:
             return f"passes without its {'/'.join(kinds)} conditions"
     return None
+
+
+def cam_links(doc) -> set:
+    """The moving links that carry a cam (their own axes set the cam angle's zero)."""
+    ground = doc.get("ground", "ground")
+    return {
+        j["links"][0]
+        for j in doc["joints"].values()
+        if j.get("type") == "cam" and j["links"][0] != ground
+    }
+
+
+def _transformed_cam(d, j, M, phi, turned):
+    """A cam joint mirrored (``M``: the mirror map, or None) then turned by ``phi``."""
+    if M is not None:
+        _mirror_cam(j, M)
+    if phi:
+        _turn_cam(d, j, phi, turned)
+
+
+def _turn_cam(d, j, phi, turned):
+    """A cam turned with the frame by ``phi``: its placement (given in the frame's axes)
+    turns, and so do its link's own axes (its points and centre of mass turn by ``phi``
+    in them): the cam angle is the cam link's rotation from the frame, so the law keeps
+    its phase (the link's ``theta`` column is then the same, not ``phi`` more)."""
+    tr, osc = j.get("translating"), j.get("oscillating")
+    if tr is not None:
+        tr["direction"] = _rot(tr["direction"], phi)
+    if osc is not None:
+        osc["pivot"] = _rot(osc["pivot"], phi)
+    link = j["links"][0]
+    if link in turned or link == d.get("ground", "ground"):
+        return
+    turned.add(link)
+    body = d["links"][link]
+    body["points"] = {k: _rot(v, phi) for k, v in body["points"].items()}
+    if "com" in body:
+        body["com"] = _rot(body["com"], phi)
 
 
 def _mirror_cam(j, M):

@@ -40,6 +40,7 @@ COUNTS = {
     "derivatives": 17,
     "energy": 3,
     "quadrature": 10,
+    "cam_phase": 6,  # applies to the generated mechanisms with cams (others skip)
 }
 # generated mechanisms with a resisting torque and a load table added (generate.
 # with_more_loads), per relation: kinds of load that no shipped file uses
@@ -199,3 +200,29 @@ def test_random_units_give_the_same_si_results():
 @pytest.mark.parametrize("case", _cases("quadrature"))
 def test_cycle_quadrature_is_converged(case):
     _run("quadrature", case)
+
+
+@pytest.mark.parametrize("case", _cases("cam_phase"))
+def test_cam_phase(case):
+    _run("cam_phase", case)
+
+
+CASES = ROOT / "tests" / "cases"
+
+
+@pytest.mark.parametrize("name", ["cam_sketch_mirror.yaml", "cam_rise_wrong_sense.yaml"])
+def test_cam_phase_finds_the_out_of_phase_reproducers(name, monkeypatch):
+    """The relation sees a cam out of phase on its own: with the start pose's check of the
+    joint switched off, the reproducers of issue 36 (a roller sketched on the mirror side, a
+    rise of the wrong sense) are far out; with it on, they are model errors, and the
+    intended file is in phase."""
+    import kinetostatics as ks
+    from kinetostatics.errors import ModelError
+    from kinetostatics.joints.cam import Cam
+
+    with pytest.raises(ModelError, match="out of phase with its law"):
+        ks.analyze(ks.load(CASES / name))
+    monkeypatch.setattr(Cam, "start_problem", lambda self, qi, qj: "")
+    doc = R.shipped(CASES / name)
+    assert R.relation_cam_phase(doc, 0) > 0.1
+    assert R.relation_cam_phase(R.shipped(CASES / "cam_rocker_right.yaml"), 0) <= 1e-9

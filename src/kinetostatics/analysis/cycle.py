@@ -19,6 +19,7 @@ flywheel: their means agree to round-off.  Its nodes are computed once per resul
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Callable, Mapping
 from dataclasses import replace
 from typing import Any
@@ -26,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from ..base.arrays import sorted_distinct
+from ..errors import JointWarning
 from ..structure.system import link_pair
 from .pipeline import analyze
 from .results import Result
@@ -238,7 +240,7 @@ def _breaks(result: Result, ta: float, tb: float, friction: bool) -> np.ndarray:
         if rows.lam_friction is None:  # rows without the friction solutions: solve them
             # there, for the kinks of the consistent solution and its effort's zeros
             rows = replace(
-                analyze(result.system, times=result.t, friction=True, events=False),
+                _quiet_analyze(result.system, times=result.t, friction=True, events=False),
                 full_cycle=result.full_cycle,
             )
             reversals += _effort_zeros(rows)
@@ -249,6 +251,14 @@ def _breaks(result: Result, ta: float, tb: float, friction: bool) -> np.ndarray:
         if ta < te < tb:
             inner.append(te)
     return sorted_distinct(np.concatenate(([ta], inner, [tb])))
+
+
+def _quiet_analyze(system, **kw) -> Result:
+    """``analyze`` at rows of the run's own (its quadrature nodes, its rows again) without
+    the joints' warnings about them: the run has warned about its rows once."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", JointWarning)
+        return analyze(system, **kw)
 
 
 def cycle_nodes(result: Result, *, friction: bool | None = None) -> tuple[np.ndarray, Result]:
@@ -286,7 +296,7 @@ def cycle_pieces(
             weights.append(half * w)
             pieces.append((c0, c1))
     times, weights = np.concatenate(times), np.concatenate(weights)
-    nodes = analyze(result.system, times=times, friction=friction, events=False)
+    nodes = _quiet_analyze(result.system, times=times, friction=friction, events=False)
     order = np.argsort(times, kind="stable")  # the pipeline returns rows in time order
     grouped = np.array(pieces)
     if not np.allclose(nodes.t, times[order], rtol=0, atol=1e-9 * (tb - ta)):

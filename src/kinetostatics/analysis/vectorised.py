@@ -34,6 +34,7 @@ from ..kinematics.start import (
     sketch_distances,
     sketch_far_error,
     sketch_step,
+    start_joint_error,
 )
 from ..kinetics.conditions import travel_extremes_stacked
 from ..kinetics.inverse import kinetics
@@ -149,6 +150,11 @@ def _start(system: System, models: Sequence[Model], sched: Schedule):
         there &= _near_sketch(system, q_s)
         for k in np.flatnonzero(far & ~there):
             failed[int(k)] = sketch_far_error(system, q, variant=int(k))
+    for k in np.flatnonzero(ok):  # a joint out of its definition (a cam out of phase)
+        exc = start_joint_error(system, q, variant=int(k))
+        if exc is not None:
+            ok[k] = False
+            failed[int(k)] = exc
     return q, ok, failed
 
 

@@ -109,6 +109,21 @@ class CamLaw:
             return np.unique(np.concatenate(([0.0, TWO_PI], a)))
         return np.concatenate(([0.0], np.cumsum([s.span for s in self.segments])))
 
+    def where(self, theta: float, angular: bool) -> str:
+        """`` in motion[k] (rise 2 mm over 0.1°)``: the segment at cam angle ``theta``
+        (rad) for a message, its lift in mm or degrees (``angular``); '' for a table."""
+        if not self.segments:
+            return ""
+        th = float(np.mod(theta, TWO_PI))
+        k = np.searchsorted(self.breaks, th, side="right") - 1
+        k = int(np.clip(k, 0, len(self.segments) - 1))
+        seg = self.segments[k]
+        span = f"{math.degrees(seg.span):.4g}°"
+        if seg.kind == "dwell":
+            return f" in motion[{k}] (dwell {span})"
+        lift = f"{math.degrees(seg.lift):.4g}°" if angular else f"{seg.lift * 1e3:.4g} mm"
+        return f" in motion[{k}] ({seg.kind} {lift} over {span})"
+
     def value(self, theta):
         """(s, s', s'', s''') at cam angles ``theta`` (rad, any turn)."""
         th = np.mod(np.asarray(theta, dtype=float), TWO_PI)

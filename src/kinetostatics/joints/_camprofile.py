@@ -41,6 +41,7 @@ from ._camlaw import CamLaw
 __all__ = ["Synthesis"]
 
 GRID = 2048  # cam angles of the inversion table and the quadrature knots
+SUBGRID = 64  # and within each segment of the law
 GAUSS = np.polynomial.legendre.leggauss(8)
 
 
@@ -153,9 +154,25 @@ class Synthesis:
         return np.sign(self.turn) * np.abs(P) * np.hypot(r[1], r[5])
 
     # -- the tables: inversion θ(a) and the cumulative integral ------------------
+    def _grid(self, narrow: float) -> np.ndarray:
+        b = self.law.breaks
+        span = np.diff(b)
+        t = np.linspace(0.0, 1.0, SUBGRID + 1)
+        sub = (b[:-1, None] + span[:, None] * t)[span < narrow].ravel()
+        return np.unique(np.concatenate((np.linspace(0.0, 2 * math.pi, GRID + 1), b, sub)))
+
     @property
     def grid(self) -> np.ndarray:
-        return np.unique(np.concatenate((np.linspace(0.0, 2 * math.pi, GRID + 1), self.law.breaks)))
+        """The table's angles: :data:`GRID` uniform ones, the law's breaks, and a segment
+        narrower than 8 of their steps on its own :data:`SUBGRID` angles."""
+        return self._grid(8 * 2 * math.pi / GRID)
+
+    @property
+    def check_grid(self) -> np.ndarray:
+        """The angles the profile's checks sample: the uniform ones, and every segment (each
+        span between the law's breaks) on its own :data:`SUBGRID` angles, so that no
+        segment, however narrow, falls between the samples."""
+        return self._grid(math.inf)
 
     @property
     def turn(self) -> float:
@@ -165,16 +182,23 @@ class Synthesis:
 
     def tables(self):
         """(θ_k, b_k = sgn(a − a₀) unwrapped, a₀, I_k the cumulative integral), or a message."""
-        th = self.grid
-        a, a1 = self.angle(th)
+        th = self.check_grid  # every segment sampled
         sg = self.turn
-        bad = np.nonzero(sg * a1 <= 0)[0]
+        bad = np.nonzero(sg * self.angle(th)[1] <= 0)[0]
         if bad.size:
             return (
                 f"the {'face normal' if self.flat else 'pitch point'} does not turn one way "
                 f"round the cam centre at cam angle {math.degrees(th[bad[0]]):.4g}°"
-                + (" (|ds/dθ| ≥ 1: a rise too steep for the flat face)" if self.flat else "")
+                + self.law.where(th[bad[0]], self.pivot is not None)
+                + (
+                    " (|ds/dθ| ≥ 1: a rise too steep for the flat face)"
+                    if self.flat
+                    else ": a lift too steep there (a longer `over`, a smaller lift or a "
+                    "larger base circle)"
+                )
             )
+        th = self.grid
+        a = self.angle(th)[0]
         b = sg * np.unwrap(a - a[0])
         lo, hi = th[:-1], th[1:]
         x, w = GAUSS

@@ -483,6 +483,13 @@ class Joint(ABC):
         those that need the reaction.  None by default (a cam's pressure angle, its status)."""
         return {}
 
+    def start_problem(self, qi: np.ndarray, qj: np.ndarray) -> str:
+        """Why the assembled start pose ``qi``, ``qj`` ``(3,)`` (the ground, the frame, at
+        zero) contradicts the joint's own definition, as one line ('' if it does not): a
+        cam whose follower touches it out of phase with its law.  The start pose's check
+        raises it as a model error at the joint."""
+        return ""
+
     def warnings(self, lam: np.ndarray, qi: np.ndarray, qj: np.ndarray) -> tuple[str, ...]:
         """Messages about a result at the poses (rows) ``qi``, ``qj`` with the frictionless
         λ block ``lam``, warned by the analysis (a cam follower that would separate)."""

@@ -16,7 +16,7 @@ import numpy as np
 from ..base.geometry import rotate, wrap_angle
 from ..base.units import factor
 from ..errors import AssemblyError, KinetostaticsError, Location, ModelError
-from ..structure.system import System
+from ..structure.system import System, link_pair
 from . import dyads
 from .continuation import COARSE_STEP, Drive, closing_miss, continue_path, coordinate_text
 from .newton import group_condition, group_newton, group_signature
@@ -31,6 +31,7 @@ __all__ = [
     "sketch_far_error",
     "sketch_step",
     "assemble_start",
+    "start_joint_error",
     "start_pose",
     "closed_form_solvers",
 ]
@@ -221,6 +222,9 @@ def _assemble_at(
         sig.append(float(s1))
     if check:
         _check_sketch(system, q)
+        exc = start_joint_error(system, q)
+        if exc is not None:
+            raise exc
     return q, np.array(sig)
 
 
@@ -311,6 +315,25 @@ def sketch_far_error(
     )
     exc.sketch_far = True
     return exc
+
+
+def start_joint_error(
+    system: System, q: np.ndarray, variant: int | None = None
+) -> ModelError | None:
+    """A model error at each joint whose assembled pose ``q`` contradicts its own
+    definition (:meth:`~kinetostatics.joints.base.Joint.start_problem`: a cam out of phase
+    with its law), or None.  ``variant``: of a stacked system (``q (V, 1, n_q)``), that
+    variant's."""
+    if variant is not None:
+        q = q[variant]
+    problems = []
+    for k, joint in enumerate(system.joints):
+        qi, qj = (np.reshape(x, (-1, 3)) for x in link_pair(system, q, k))
+        for a, b in zip(qi, qj):
+            if text := joint.start_problem(a, b):
+                problems.append((joint.where, text))
+                break
+    return ModelError(problems) if problems else None
 
 
 def start_pose(system: System, drive: Drive) -> tuple[np.ndarray, np.ndarray]:
