@@ -199,3 +199,30 @@ def test_random_units_give_the_same_si_results():
 @pytest.mark.parametrize("case", _cases("quadrature"))
 def test_cycle_quadrature_is_converged(case):
     _run("quadrature", case)
+
+
+# batch row = single run (relations.relation_batch_row): each case runs three variants
+# through two batches and three single runs (1-8 s), so the default run takes a few
+# shipped files and generated mechanisms; every shipped file and 40 more under `slow`
+BATCH_SHIPPED = ("slider_crank.yaml", "slotting_machine.yaml")
+BATCH_SEEDS = 1_300_000
+
+
+def _batch_cases():
+    out = [pytest.param(f"shipped:{n}", id=n) for n in BATCH_SHIPPED]
+    n = max(1, round(4 * SCALE))
+    out += [pytest.param(f"seed:{s}", id=f"seed{s}") for s in range(BATCH_SEEDS, BATCH_SEEDS + n)]
+    slow = [pytest.mark.slow]
+    out += [
+        pytest.param(f"shipped:{n}", id=n, marks=slow) for n in SHIPPED if n not in BATCH_SHIPPED
+    ]
+    out += [
+        pytest.param(f"seed:{s}", id=f"seed{s}", marks=slow)
+        for s in range(BATCH_SEEDS + n, BATCH_SEEDS + n + 40)
+    ]
+    return out
+
+
+@pytest.mark.parametrize("case", _batch_cases())
+def test_batch_row_equals_the_single_run(case):
+    _run("batch_row", case)
