@@ -203,7 +203,8 @@ def test_cycle_quadrature_is_converged(case):
 
 # batch row = single run (relations.relation_batch_row): each case runs three variants
 # through two batches and three single runs (1-8 s), so the default run takes a few
-# shipped files and generated mechanisms; every shipped file and 40 more under `slow`
+# shipped files and generated mechanisms; every shipped file, 40 more and 10 with more
+# kinds of load (generate.with_more_loads) under `slow`
 BATCH_SHIPPED = ("slider_crank.yaml", "slotting_machine.yaml")
 BATCH_SEEDS = 1_300_000
 
@@ -220,6 +221,8 @@ def _batch_cases():
         pytest.param(f"seed:{s}", id=f"seed{s}", marks=slow)
         for s in range(BATCH_SEEDS + n, BATCH_SEEDS + n + 40)
     ]
+    more = range(BATCH_SEEDS + 50_000, BATCH_SEEDS + 50_010)  # a resisting torque, a table
+    out += [pytest.param(f"loads:{s}", id=f"loads{s}", marks=slow) for s in more]
     return out
 
 
