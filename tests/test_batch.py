@@ -504,3 +504,47 @@ def test_ctrl_c_leaves_the_finished_rows_and_the_same_command_resumes(tmp_path):
     runs = json.loads((out / "batch.json").read_text())["runs"]
     assert [r["computed"] for r in runs] == [done, 600 - done]
     assert len(_rows(out)) == 600
+
+
+LOSE_THE_SCHEDULER = """
+import functools, sys, warnings
+import distributed
+import kinetostatics.batch as B
+from kinetostatics.cli import main
+with warnings.catch_warnings():  # the setup's ("Port 8787 is already in use")
+    warnings.simplefilter("ignore")
+    cluster = distributed.LocalCluster(
+        n_workers=1, threads_per_worker=1, processes=False, protocol="tcp", host="127.0.0.1",
+        scheduler_port=0, dashboard_address=None,
+    )
+B.run_batch = functools.partial(B.run_batch, on_chunk=lambda done: cluster.close())
+sys.exit(main(["batch", sys.argv[1], "--out", sys.argv[2], "--set", "a=90:110:6",
+               "--positions", "12", "--chunk", "2", "--scheduler", cluster.scheduler_address]))
+"""
+
+
+def test_a_lost_dask_scheduler_is_one_line(tmp_path):
+    """The scheduler goes away after the first chunk (the cluster is closed): the batch
+    stops with one line on stderr and exit 2, not distributed's reconnection tracebacks
+    (issue 36, item 12: 47 lines before the last)."""
+    import os
+    import subprocess
+    import sys
+
+    from .conftest import distributed_or_skip
+
+    distributed_or_skip()
+    env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
+    p = subprocess.run(
+        [sys.executable, "-c", LOSE_THE_SCHEDULER, str(SLIDER), str(tmp_path / "b")],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env=env,
+    )
+    assert p.returncode == 2, p.stderr
+    lines = p.stderr.strip().splitlines()
+    assert len(lines) == 1, p.stderr
+    assert lines[0].startswith("kinetostatics: --scheduler tcp://127.0.0.1:") and (
+        "run the same command again to resume" in lines[0]
+    )

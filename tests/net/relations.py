@@ -1002,3 +1002,251 @@ def _mirror_cam(j, M):
         osc["rise"] = flip[osc.get("rise", "ccw")]
     if "face_normal" in j:
         j["face_normal"] = M(j["face_normal"])
+
+
+# -- batch row = single run ------------------------------------------------------------
+FACTORS = ("mass_factor", "speed_factor")
+ALONE = []  # (chunk, variants analysed one by one) of each batch: is the vectorised path run
+
+
+def with_factors(doc):
+    """The mechanism with two parameters, both 1 as written: ``mass_factor`` scales every
+    link's mass and inertia, ``speed_factor`` the motion drivers' constant speeds (the
+    variants of a batch; which numbers they scale moves every kinetic quantity)."""
+    d = copy.deepcopy(doc)
+    d["parameters"] = {**d.get("parameters", {}), FACTORS[0]: 1.0, FACTORS[1]: 1.0}
+    for link in d["links"].values():
+        for key in ("mass", "inertia"):
+            if isinstance(link.get(key), (int, float)):
+                link[key] = f"{float(link[key])!r} * {FACTORS[0]}"
+    for drv in d.get("drivers", {}).values():
+        motion = drv.get("motion")
+        if isinstance(motion, dict) and isinstance(motion.get("speed"), (int, float)):
+            motion["speed"] = f"{float(motion['speed'])!r} * {FACTORS[1]}"
+    return d
+
+
+def _finite(x):
+    x = np.asarray(x, dtype=float)
+    return x[np.isfinite(x)]
+
+
+def _largest_abs(x):  # docs/batch.md: max |x| over the finite rows
+    f = _finite(np.abs(np.asarray(x, dtype=float)))
+    return float(f.max()) if f.size else math.nan
+
+
+def _smallest(x):
+    f = _finite(x)
+    return float(f.min()) if f.size else math.nan
+
+
+def _root_mean_square(x):
+    f = _finite(x)
+    return float(np.sqrt(np.mean(f * f))) if f.size else math.nan
+
+
+def expected_row(doc, res):
+    """Every quantity of a batch row (docs/batch.md, *The quantities of a row*), computed
+    from a single run's columns and summary by those definitions, written out here (not
+    by the batch's helpers): {name: float or str}; None where this relation cannot
+    compute it independently (the name must still be in the row)."""
+    cols = res.columns
+    col = lambda name: np.asarray(cols[name], dtype=float)  # noqa: E731
+    out = {"full_cycle": bool(res.full_cycle)}
+    if doc.get("flywheel"):  # not an aggregate of columns: the design of the run
+        from kinetostatics.dynamics.flywheel import design
+
+        # before summary(): after it, design() integrates on the nodes with friction
+        # that summary() leaves cached on the result, and differs by 2e-11 of
+        # inertia_net (slotting machine at 12 positions)
+        fw = design(res)
+        out["flywheel.inertia"], out["flywheel.inertia_net"] = fw.inertia, fw.inertia_net
+    summary = res.summary()
+    ground = res.system.model.ground.name
+    joints = doc["joints"]
+    motion = {
+        name: d for name, d in doc.get("drivers", {}).items() if isinstance(d.get("motion"), dict)
+    }
+    driven = {d["joint"] for d in doc.get("drivers", {}).values()}
+    # output slides: undriven prismatic pairs on the frame; else the row's output link
+    slides = [
+        n
+        for n, j in joints.items()
+        if j.get("type") == "prismatic" and ground in j["links"] and n not in driven
+    ]
+    for name in slides:
+        slider = next(link for link in joints[name]["links"] if link != ground)
+        stroke = summary.get("outputs", {}).get(name, {})
+        out[f"{name}.stroke"] = stroke.get("stroke", math.nan)
+        out[f"{name}.time_ratio"] = stroke.get("time_ratio", math.nan)
+        # a slider on the frame does not turn: every point moves along the axis
+        out[f"{name}.v_peak"] = _largest_abs(np.hypot(col(f"{slider}.vx"), col(f"{slider}.vy")))
+        out[f"{name}.a_peak"] = _largest_abs(np.hypot(col(f"{slider}.ax"), col(f"{slider}.ay")))
+    if not slides:  # the last Assur group's last link
+        link = res.system.plans[-1].group.links[-1]
+        out[f"{link}.omega_peak"] = _largest_abs(col(f"{link}.omega"))
+        out[f"{link}.alpha_peak"] = _largest_abs(col(f"{link}.alpha"))
+    omega = lambda link: 0.0 if link == ground else col(f"{link}.omega")  # noqa: E731
+    for name, d in motion.items():
+        at = d.get("balance_at") or d["joint"]
+        revolute = joints[at].get("type") == "revolute"
+        key = f"{name}.{'torque' if revolute else 'force'}"
+        for suffix in ("", "_friction_approx", "_friction"):
+            if key + suffix in cols:
+                out[f"{key}{suffix}_peak"] = _largest_abs(col(key + suffix))
+                out[f"{key}{suffix}_rms"] = _root_mean_square(col(key + suffix))
+        if key + "_friction" not in cols:
+            continue
+        out[f"{name}.efficiency_min"] = _smallest(col(f"{name}.efficiency"))
+        if revolute:  # the relative angular speed of the effort's joint
+            a, b = joints[at]["links"]
+            rate = np.broadcast_to(omega(b) - omega(a), col(key).shape)
+        elif at == d["joint"] and isinstance(d["motion"].get("speed"), (int, float, str)):
+            rate = np.ones_like(col(key))  # its own slide at a constant speed
+        else:
+            out[f"{name}.efficiency_cycle"] = None
+            continue
+        tau, tau_f = col(key), col(key + "_friction")
+        both = np.isfinite(tau) & np.isfinite(tau_f)
+        w, w_f = np.sum((tau * rate)[both]), np.sum((tau_f * rate)[both])
+        out[f"{name}.efficiency_cycle"] = w / w_f if w_f > 0 else math.nan
+    if "friction.status" in cols:
+        out["friction.self_locking_positions"] = float(np.sum(col("friction.status") == 2))
+        text = lambda v: "…" if v is None else f"{v:.10g}"  # noqa: E731
+        out["friction.self_locking"] = "; ".join(
+            f"{text(z['from'])}–{text(z['to'])}" for z in summary.get("self_locking", [])
+        )
+    for name in joints:
+        for suffix in ("", "_friction"):
+            if f"{name}.Fx{suffix}" in cols:
+                out[f"{name}.reaction_peak{suffix}"] = _largest_abs(
+                    np.hypot(col(f"{name}.Fx{suffix}"), col(f"{name}.Fy{suffix}"))
+                )
+    for name in cols:
+        if name.endswith(".pressure_angle"):
+            out[name + "_max"] = _largest_abs(col(name))
+        elif name.endswith(".transmission_angle"):
+            mu = col(name)
+            out[name + "_min"] = _smallest(np.minimum(mu, 180.0 - mu))
+    if "shaking.Fx" in cols:
+        force = np.hypot(col("shaking.Fx"), col("shaking.Fy"))
+        out["shaking.force_peak"] = _largest_abs(force)
+        out["shaking.force_rms"] = _root_mean_square(force)
+        out["shaking.moment_peak"] = _largest_abs(col("shaking.M"))
+        out["shaking.moment_rms"] = _root_mean_square(col("shaking.M"))
+    return out
+
+
+def _cell(text):
+    if text in ("True", "False"):
+        return text == "True"
+    try:
+        return float(text) if text != "" else math.nan
+    except ValueError:
+        return text
+
+
+def batch_rows(doc, overrides, chunk, folder):
+    """The rows of ``kinetostatics batch`` of ``doc`` (with :func:`with_factors`) over the
+    variants ``overrides``, in chunks of ``chunk``, serial: [{name: value}]."""
+    from kinetostatics.batch import Task, read_summary, run_batch
+
+    path = folder / "mechanism.yaml"
+    path.write_text(G.to_text(doc))
+    out = folder / f"chunk{chunk}"
+    tasks = [Task(str(k), 0, ov) for k, ov in enumerate(overrides)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        done = run_batch(str(path), tasks, out, executor="serial", chunk=chunk, progress=False)
+    ALONE.append((chunk, done.alone))
+    header, rows = read_summary(out / "summary.csv")
+    params = header[1 : header.index("status")]
+    return [
+        {k: _cell(v) for k, v in row.items() if k not in params and k != "variant"}
+        for row in sorted(rows, key=lambda r: int(r["variant"]))
+    ]
+
+
+def relation_batch_row(doc, seed, n=3, positions=12):
+    """Each quantity of a batch row equals the same quantity computed from the single run
+    of that variant (:func:`expected_row`): variants of the mechanism (masses and speed
+    scaled, :func:`with_factors`), batched in one chunk (the vectorised analysis) and in
+    chunks of one, against ``kinetostatics.analyze`` of each variant's file.  The row
+    names exactly the quantities computed; a variant fails in the batch exactly when its
+    single run fails, with the same reason.  Relative to each quantity's largest value
+    over the variants (text and counts: equal)."""
+    import tempfile
+    from pathlib import Path
+
+    rng = np.random.default_rng([seed, 37])
+    base = with_factors(doc)
+    base["analysis"] = {**base.get("analysis", {}), "positions": positions}
+    base["analysis"].pop("at", None)
+    base["analysis"]["events"] = False  # event rows: one by one (docs/batch.md)
+    # one speed for all (variants that differ in speed are analysed one by one: the
+    # vectorised analysis takes one schedule), the masses of each its own
+    speed = round(float(rng.uniform(0.7, 1.4)), 6)  # written to the file exactly
+    overrides = [{FACTORS[0]: 1.0, FACTORS[1]: speed}] + [
+        {FACTORS[0]: round(float(rng.uniform(0.5, 2.0)), 6), FACTORS[1]: speed}
+        for _ in range(n - 1)
+    ]
+    expected = []
+    for ov in overrides:
+        d = copy.deepcopy(base)
+        d["parameters"].update(ov)
+        try:
+            res = analyze(d)
+        except Exception as exc:  # noqa: BLE001 - the batch row must say the same
+            expected.append(str(exc).splitlines()[0])
+            continue
+        expected.append(expected_row(d, res))
+    worst = 0.0
+    with tempfile.TemporaryDirectory() as tmp:
+        batches = {c: batch_rows(base, overrides, c, Path(tmp)) for c in (n, 1)}
+    scale = {}
+    for exp in expected:
+        if isinstance(exp, dict):
+            for k, v in exp.items():
+                if isinstance(v, float) and math.isfinite(v):
+                    scale[k] = max(scale.get(k, 0.0), abs(v))
+    for chunk, rows in batches.items():
+        for v, (row, exp) in enumerate(zip(rows, expected, strict=True)):
+            where = f"chunk {chunk}, variant {v}"
+            if isinstance(exp, str):
+                if row["status"] != "failed" or row["reason"] != exp:
+                    WORST[:] = [math.inf, f"{where}: {row['status']} {row['reason']!r} != {exp!r}"]
+                    return math.inf
+                continue
+            if row["status"] != "ok":
+                WORST[:] = [math.inf, f"{where}: {row['status']} {row['reason']!r}"]
+                return math.inf
+            names = set(row) - {"status", "reason"}
+            if names != set(exp):
+                WORST[:] = [
+                    math.inf,
+                    f"{where}: row only {sorted(names - set(exp))}, "
+                    f"single run only {sorted(set(exp) - names)}",
+                ]
+                return math.inf
+            for k, want in exp.items():
+                got = row[k]
+                if want is None:
+                    continue
+                if isinstance(want, str) and isinstance(got, float) and math.isnan(got):
+                    got = ""  # an empty cell
+                if isinstance(want, (bool, str)) or isinstance(got, (bool, str)):
+                    e = 0.0 if got == want else math.inf
+                elif math.isnan(want) or math.isnan(got):
+                    e = 0.0 if math.isnan(want) and math.isnan(got) else math.inf
+                else:
+                    e = abs(got - want) / (scale.get(k, 0.0) + 1e-300)
+                if e > worst:
+                    worst = e
+                    WORST[:] = [e, f"{k} ({where}): batch {got!r}, single run {want!r}"]
+    return worst
+
+
+RELATIONS["batch_row"] = relation_batch_row
+# the batch's rows are the single runs' to rounding (docs/batch.md: 5e-14 of each column)
+TOLERANCE["batch_row"] = 1e-10

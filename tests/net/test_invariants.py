@@ -226,3 +226,33 @@ def test_cam_phase_finds_the_out_of_phase_reproducers(name, monkeypatch):
     doc = R.shipped(CASES / name)
     assert R.relation_cam_phase(doc, 0) > 0.1
     assert R.relation_cam_phase(R.shipped(CASES / "cam_rocker_right.yaml"), 0) <= 1e-9
+
+
+# batch row = single run (relations.relation_batch_row): each case runs three variants
+# through two batches and three single runs (1-8 s), so the default run takes a few
+# shipped files and generated mechanisms; every shipped file, 40 more and 10 with more
+# kinds of load (generate.with_more_loads) under `slow`
+BATCH_SHIPPED = ("slider_crank.yaml", "slotting_machine.yaml")
+BATCH_SEEDS = 1_300_000
+
+
+def _batch_cases():
+    out = [pytest.param(f"shipped:{n}", id=n) for n in BATCH_SHIPPED]
+    n = max(1, round(4 * SCALE))
+    out += [pytest.param(f"seed:{s}", id=f"seed{s}") for s in range(BATCH_SEEDS, BATCH_SEEDS + n)]
+    slow = [pytest.mark.slow]
+    out += [
+        pytest.param(f"shipped:{n}", id=n, marks=slow) for n in SHIPPED if n not in BATCH_SHIPPED
+    ]
+    out += [
+        pytest.param(f"seed:{s}", id=f"seed{s}", marks=slow)
+        for s in range(BATCH_SEEDS + n, BATCH_SEEDS + n + 40)
+    ]
+    more = range(BATCH_SEEDS + 50_000, BATCH_SEEDS + 50_010)  # a resisting torque, a table
+    out += [pytest.param(f"loads:{s}", id=f"loads{s}", marks=slow) for s in more]
+    return out
+
+
+@pytest.mark.parametrize("case", _batch_cases())
+def test_batch_row_equals_the_single_run(case):
+    _run("batch_row", case)

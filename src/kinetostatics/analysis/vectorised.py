@@ -177,6 +177,9 @@ def _check_supported(sm: Model, friction: bool) -> None:
             )
     if friction and any(is_stacked(c) for j in sm.joints for c in j.friction_constants()):
         raise Unsupported("friction coefficients differ between variants")
+    for j in sm.joints:
+        if any(is_stacked(c) for c in j.shape_constants()):
+            raise Unsupported(f"the geometry of joint '{j.name}' differs between variants")
 
 
 def analyze_stacked(

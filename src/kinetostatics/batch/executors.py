@@ -132,22 +132,61 @@ def _open_executor(executor: Any, workers: int | None) -> tuple[Executor, int, C
             raise BatchError(
                 f"--scheduler {executor}: Dask is not installed (pip install 'kinetostatics[dask]')"
             ) from None
+        restore = _quiet_dask()
         try:
             client = Client(executor, timeout=10)
         except (OSError, TimeoutError) as exc:
+            restore()
             raise BatchError(f"--scheduler {executor}: cannot connect ({exc})") from None
-        n = workers or max(1, sum(client.nthreads().values()))
-        ex = client.get_executor()
+        except BaseException:
+            restore()
+            raise
+        try:
+            n = workers or max(1, sum(client.nthreads().values()))
+            ex = client.get_executor()
+        except BaseException:
+            client.close()
+            restore()
+            raise
 
         def close() -> None:
-            ex.shutdown(wait=False)
-            client.close()
+            try:
+                ex.shutdown(wait=False)
+                client.close()
+            finally:
+                restore()
 
         return ex, n, close
     raise BatchError(
         f"executor {executor!r}: use 'processes', 'serial', a Dask scheduler "
         "address or a concurrent.futures.Executor"
     )
+
+
+# distributed logs through these (its client's reconnection, tornado's event loop)
+_DASK_LOGGERS = ("distributed", "tornado", "asyncio")
+
+
+def _quiet_dask() -> Callable[[], None]:
+    """Silence distributed's loggers (and those it logs through) while we use a cluster;
+    returns the function that restores them.  A lost scheduler is then the one line of
+    :func:`_executor_error`, not distributed's tracebacks of its reconnection (36 lines
+    before it).  The loggers are disabled, each as it was restored after."""
+    import logging
+
+    def ours(name: str) -> bool:
+        return any(name == n or name.startswith(n + ".") for n in _DASK_LOGGERS)
+
+    names = {*_DASK_LOGGERS, *(n for n in logging.root.manager.loggerDict if ours(n))}
+    saved = {n: logging.getLogger(n).disabled for n in names}
+    for n in names:
+        logging.getLogger(n).disabled = True
+
+    def restore() -> None:
+        for n, was in saved.items():
+            logging.getLogger(n).disabled = was
+
+    return restore
 
 
 class _Pool:

@@ -60,29 +60,141 @@ class Template:
         return model
 
 
-# -- summary rows ----------------------------------------------------------------------
-ROW_UNITS = {
-    "stroke": "m",
-    "time_ratio": "1",
-    "v_peak": "m/s",
-    "a_peak": "m/s^2",
-    "omega_peak": "rad/s",
-    "alpha_peak": "rad/s^2",
-    "reaction_peak": "N",
-    "reaction_peak_friction": "N",
-    "efficiency_min": "1",
-    "efficiency_cycle": "1",
-    "self_locking": "deg",
-    "self_locking_positions": "1",
-    "pressure_angle_max": "deg",
-    "transmission_angle_min": "deg",
-    "inertia": "kg*m^2",
-    "inertia_net": "kg*m^2",
-    "force_peak": "N",
-    "force_rms": "N",
-    "moment_peak": "N*m",
-    "moment_rms": "N*m",
+# -- summary rows ---------------------------------------------------------------------
+@dataclass(frozen=True)
+class Quantity:
+    """One quantity of a batch row, ``<member>.<name>``: its unit, whether it is a
+    magnitude (never negative: a peak of |x|, an RMS, a stroke, a folded angle) or a
+    signed value, and how it is computed from the run's columns (docs/batch.md lists
+    them all from this table)."""
+
+    unit: str
+    sense: str  # "magnitude", "signed", "count" or "text"
+    meaning: str
+
+
+def _efforts() -> dict[str, Quantity]:
+    out = {}
+    for word, unit in (("torque", "N*m"), ("force", "N")):
+        for suffix, what in (
+            ("", "frictionless"),
+            ("_friction_approx", "approximate friction solution"),
+            ("_friction", "consistent friction solution"),
+        ):
+            column = f"`<driver>.{word}{suffix}`"
+            out[f"<driver>.{word}{suffix}_peak"] = Quantity(
+                unit, "magnitude", f"max |{column}| ({what})"
+            )
+            out[f"<driver>.{word}{suffix}_rms"] = Quantity(
+                unit, "magnitude", f"√(mean of {column}²) ({what})"
+            )
+    return out
+
+
+# The one table of a row's quantities, ``<member>.<quantity>`` (``<slide>``: each output
+# slide; ``<link>``: the output link when there is no output slide; ``<driver>``: each
+# motion driver, ``force`` for an effort at a prismatic joint; ``<joint>``: each joint;
+# ``<member>``: each column ``*.pressure_angle``, of an RRP dyad or a cam joint;
+# ``<dyad>``: each RRR dyad).  Every max, min and mean is over the run's rows where the
+# column is finite (a singular row is NaN); a variant without a finite row gives NaN.
+QUANTITIES: dict[str, Quantity] = {
+    "<slide>.stroke": Quantity(
+        "m",
+        "magnitude",
+        "largest − least slide coordinate between the slide's two exact stops (summary.json "
+        "`outputs.<slide>.stroke`); empty when it does not stop exactly twice per cycle",
+    ),
+    "<slide>.time_ratio": Quantity(
+        "1",
+        "magnitude",
+        "the slower stroke's time over the faster's (≥ 1; summary.json "
+        "`outputs.<slide>.time_ratio`); empty as the stroke",
+    ),
+    "<slide>.v_peak": Quantity(
+        "m/s", "magnitude", "max |sliding speed| of the slide (its coordinate's rate)"
+    ),
+    "<slide>.a_peak": Quantity("m/s^2", "magnitude", "max |its coordinate's second rate|"),
+    "<link>.omega_peak": Quantity("rad/s", "magnitude", "max |`<link>.omega`|"),
+    "<link>.alpha_peak": Quantity("rad/s^2", "magnitude", "max |`<link>.alpha`|"),
+    **_efforts(),
+    "<driver>.efficiency_min": Quantity(
+        "1",
+        "signed",
+        "min of `<driver>.efficiency` (0 ≤ η ≤ 1 where defined: docs/friction.md); "
+        "empty when it is defined nowhere",
+    ),
+    "<driver>.efficiency_cycle": Quantity(
+        "1",
+        "signed",
+        "Σ τ·ċ / Σ τ_friction·ċ over the rows where both efforts are finite (ċ the relative "
+        "speed of the joint that carries the effort); empty when the denominator is not > 0",
+    ),
+    "friction.self_locking_positions": Quantity("1", "count", "rows with `friction.status` = 2"),
+    "friction.self_locking": Quantity(
+        "deg",
+        "text",
+        "the self-locked zones of summary.json `self_locking` with their located edges, "
+        "`from–to; …` in the driver coordinate",
+    ),
+    "<joint>.reaction_peak": Quantity(
+        "N", "magnitude", "max |(`<joint>.Fx`, `<joint>.Fy`)| (frictionless reaction)"
+    ),
+    "<joint>.reaction_peak_friction": Quantity(
+        "N", "magnitude", "max |(`<joint>.Fx_friction`, `<joint>.Fy_friction`)|"
+    ),
+    "<member>.pressure_angle_max": Quantity(
+        "deg",
+        "magnitude",
+        "max |`<member>.pressure_angle`| (an RRP dyad's column is 0–90°; a cam's is "
+        "signed: its worst angle is the largest magnitude, on the rise or the return)",
+    ),
+    "<dyad>.transmission_angle_min": Quantity(
+        "deg",
+        "magnitude",
+        "min of min(μ, 180° − μ), μ = `<dyad>.transmission_angle` (0–90°)",
+    ),
+    "shaking.force_peak": Quantity("N", "magnitude", "max |(`shaking.Fx`, `shaking.Fy`)|"),
+    "shaking.force_rms": Quantity("N", "magnitude", "√(mean of `shaking.Fx`² + `shaking.Fy`²)"),
+    "shaking.moment_peak": Quantity("N*m", "magnitude", "max |`shaking.M`|"),
+    "shaking.moment_rms": Quantity("N*m", "magnitude", "√(mean of `shaking.M`²)"),
+    "flywheel.inertia": Quantity(
+        "kg*m^2", "magnitude", "J_F of the flywheel's design (docs/dynamics.md)"
+    ),
+    "flywheel.inertia_net": Quantity(
+        "kg*m^2", "signed", "J_F − J_e,mean: less the machine's own mean inertia"
+    ),
 }
+# the unit of a row's column by its last name part (one unit per part)
+ROW_UNITS = {name.rpartition(".")[2]: q.unit for name, q in QUANTITIES.items()}
+
+
+def _finite(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(x, its finite rows' mask) over the last axis."""
+    x = np.asarray(x, dtype=float)
+    return x, np.isfinite(x)
+
+
+def peak(x: np.ndarray) -> np.ndarray:
+    """Max |x| over the finite rows (last axis); NaN where there is none."""
+    x, ok = _finite(x)
+    with np.errstate(invalid="ignore"):
+        m = np.max(np.where(ok, np.abs(x), -np.inf), axis=-1)
+    return np.where(np.any(ok, axis=-1), m, np.nan)
+
+
+def least(x: np.ndarray) -> np.ndarray:
+    """Min of x over the finite rows (last axis); NaN where there is none."""
+    x, ok = _finite(x)
+    m = np.min(np.where(ok, x, np.inf), axis=-1)
+    return np.where(np.any(ok, axis=-1), m, np.nan)
+
+
+def rms(x: np.ndarray) -> np.ndarray:
+    """√(mean x²) over the finite rows (last axis); NaN where there is none."""
+    x, ok = _finite(x)
+    n = np.count_nonzero(ok, axis=-1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(n > 0, np.sqrt(np.sum(np.where(ok, x * x, 0.0), axis=-1) / n), np.nan)
 
 
 def _outputs(system) -> list[tuple[str, str, int]]:
@@ -143,11 +255,10 @@ def summary_row(
             row[f"{name}.stroke"] = s.get("stroke", np.nan)
             row[f"{name}.time_ratio"] = s.get("time_ratio", np.nan)
             v, a = coordinate_rates(system, result.q, result.qd, result.qdd, k)
-            row[f"{name}.v_peak"] = np.max(np.abs(v), axis=-1)
-            row[f"{name}.a_peak"] = np.max(np.abs(a), axis=-1)
+            row[f"{name}.v_peak"], row[f"{name}.a_peak"] = peak(v), peak(a)
         else:
-            row[f"{name}.omega_peak"] = np.max(np.abs(cols[f"{name}.omega"]), axis=-1)
-            row[f"{name}.alpha_peak"] = np.max(np.abs(cols[f"{name}.alpha"]), axis=-1)
+            row[f"{name}.omega_peak"] = peak(cols[f"{name}.omega"])
+            row[f"{name}.alpha_peak"] = peak(cols[f"{name}.alpha"])
     angle = cols["angle"] if "angle" in cols else cols["stroke"]
     from ..kinetics.reactions import effort_joints
 
@@ -156,22 +267,16 @@ def summary_row(
         key = f"{d.name}.{word}"
         for suffix in ("", "_friction_approx", "_friction"):
             if key + suffix in cols:
-                arr = cols[key + suffix]
-                row[f"{key}{suffix}_peak"] = np.nanmax(np.abs(arr), axis=-1)
-                row[f"{key}{suffix}_rms"] = np.sqrt(np.nanmean(arr * arr, axis=-1))
+                row[f"{key}{suffix}_peak"] = peak(cols[key + suffix])
+                row[f"{key}{suffix}_rms"] = rms(cols[key + suffix])
         if key + "_friction" in cols:
-            # the driving phase: both efforts drive in the sense of motion of the joint that
-            # carries them (the driver's own, or balance_at: its relative speed changes sign)
             tau, tau_f = cols[key], cols[key + "_friction"]
+            # the effort's joint's relative speed (the driver's own, or balance_at's)
             rel = np.einsum(
                 "...n,...n->...", coordinate_gradient(system, result.q, k_eff), result.qd
             )
-            sense = np.sign(rel)
-            driving = (tau * sense > 0) & (tau_f * sense > 0)
+            row[f"{d.name}.efficiency_min"] = least(cols[f"{d.name}.efficiency"])
             with np.errstate(divide="ignore", invalid="ignore"):
-                ratio = np.where(driving, tau / np.where(driving, tau_f, 1.0), np.inf)
-                e_min = np.min(ratio, axis=-1)
-                row[f"{d.name}.efficiency_min"] = np.where(np.isfinite(e_min), e_min, np.nan)
                 both = np.isfinite(tau) & np.isfinite(tau_f)  # input work ∝ Σ effort·speed
                 w_in = np.sum(np.where(both, tau * rel, 0.0), axis=-1)  # over the rows
                 w_in_f = np.sum(np.where(both, tau_f * rel, 0.0), axis=-1)  # with both
@@ -187,20 +292,19 @@ def summary_row(
     for j in system.model.joints:
         if f"{j.name}.Fx" not in cols:
             continue
-        mag = np.hypot(cols[f"{j.name}.Fx"], cols[f"{j.name}.Fy"])  # NaN: singular rows
-        peak = np.max(np.where(np.isfinite(mag), mag, -np.inf), axis=-1)
-        row[f"{j.name}.reaction_peak"] = np.where(peak > -np.inf, peak, np.nan)
+        # NaN: singular rows
+        row[f"{j.name}.reaction_peak"] = peak(np.hypot(cols[f"{j.name}.Fx"], cols[f"{j.name}.Fy"]))
         if f"{j.name}.Fx_friction" in cols:
-            magf = np.hypot(cols[f"{j.name}.Fx_friction"], cols[f"{j.name}.Fy_friction"])
-            peak = np.max(np.where(np.isfinite(magf), magf, -np.inf), axis=-1)
-            row[f"{j.name}.reaction_peak_friction"] = np.where(peak > -np.inf, peak, np.nan)
+            row[f"{j.name}.reaction_peak_friction"] = peak(
+                np.hypot(cols[f"{j.name}.Fx_friction"], cols[f"{j.name}.Fy_friction"])
+            )
     if "shaking.Fx" in cols:
         row.update(shaking_row(cols))
     for name in cols:
-        if name.endswith(".pressure_angle"):
-            row[name + "_max"] = np.max(cols[name], axis=-1)
+        if name.endswith(".pressure_angle"):  # a cam's is signed: its largest magnitude
+            row[name + "_max"] = peak(cols[name])
         elif name.endswith(".transmission_angle"):
-            row[name + "_min"] = np.min(np.minimum(cols[name], 180.0 - cols[name]), axis=-1)
+            row[name + "_min"] = least(np.minimum(cols[name], 180.0 - cols[name]))
     if flywheel or (flywheel is None and getattr(system.model, "flywheel", None) is not None):
         from ..dynamics.flywheel import design
 
@@ -221,14 +325,8 @@ def shaking_row(cols) -> dict[str, Any]:
     singular rows (NaN) are left out, a variant without a finite row gives NaN."""
     out = {}
     force = np.hypot(cols["shaking.Fx"], cols["shaking.Fy"])
-    for word, v in (("force", force), ("moment", np.abs(cols["shaking.M"]))):
-        ok = np.isfinite(v)
-        n = np.count_nonzero(ok, axis=-1)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            peak = np.max(np.where(ok, v, -np.inf), axis=-1)
-            mean_sq = np.sum(np.where(ok, v * v, 0.0), axis=-1) / n
-        out[f"shaking.{word}_peak"] = np.where(n > 0, peak, np.nan)
-        out[f"shaking.{word}_rms"] = np.where(n > 0, np.sqrt(mean_sq), np.nan)
+    for word, v in (("force", force), ("moment", cols["shaking.M"])):
+        out[f"shaking.{word}_peak"], out[f"shaking.{word}_rms"] = peak(v), rms(v)
     return out
 
 

@@ -446,6 +446,13 @@ class Joint(ABC):
         must know whether they differ between stacked variants; () without friction."""
         return ()
 
+    def shape_constants(self) -> tuple[Any, ...]:
+        """The constants the pair builds its geometry from once (a cam's profile,
+        synthesised from its law and dimensions), which a stacked model cannot carry on a
+        variant axis: the vectorised analysis leaves variants where they differ to the
+        per-variant one.  () by default (constants that broadcast)."""
+        return ()
+
     # -- what the rest of the code may ask (pictures, report, sketch, dump) -----
     def anchors(self) -> tuple[Anchor, ...]:
         """The named points of the links this pair ties, in a fixed order (link i's first).

@@ -474,6 +474,9 @@ class Cam(Joint, kind="cam"):
     def friction_constants(self) -> tuple:
         return (self.f,)
 
+    def shape_constants(self) -> tuple:
+        return (self.o, self.p, self.face, self.synthesis)  # the profile's tables: scalars
+
     # -- what the outputs ask ----------------------------------------------------------
     def _contact(self, qi, qj):
         """(θ, contact point X, unit normal n, follower point, all in the cam's frame)."""
