@@ -170,6 +170,8 @@ def test_ctrl_c_stops_with_one_line_and_the_same_command_resumes(tmp_path, monke
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
+        # Python turns SIGINT into KeyboardInterrupt only where it is not ignored
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )
     designs = out / "designs.csv"
     deadline = time.monotonic() + 120
@@ -238,3 +240,30 @@ def test_a_folder_of_another_search_is_refused_unless_overwrite(tmp_path, capsys
     assert code == 0
     _, rows = read_summary(out / "designs.csv")
     assert rows and len(rows) == len({r["evaluation"] for r in rows})
+
+
+def test_ctrl_c_at_a_terminal_with_workers_is_one_line(tmp_path):
+    """A terminal's Ctrl-C reaches the whole process group: the pool's workers, waiting for
+    their next chunk between two generations, printed a traceback each."""
+    out = tmp_path / "o"
+    p = subprocess.Popen(
+        [sys.executable, "-m", "kinetostatics.cli", "optimize", str(FOURBAR), *SEARCH]
+        + ["--maxiter", "1000", "--workers", "2", "--out", str(out)],
+        env=ENV,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,  # its own process group, as a terminal's job
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
+    designs = out / "designs.csv"
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and p.poll() is None:
+        if designs.exists() and len(read_summary(designs)[1]) >= 3 * 2 * 3:  # 3 generations
+            break
+        time.sleep(0.01)
+    assert p.poll() is None, p.communicate()
+    os.killpg(p.pid, signal.SIGINT)
+    _, stderr = p.communicate(timeout=120)
+    assert p.returncode == 130, stderr
+    assert "interrupted" in _one_line(stderr)
