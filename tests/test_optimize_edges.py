@@ -88,6 +88,46 @@ def test_an_objective_with_no_value_at_any_design_says_so(tmp_path, capsys, expr
     assert not out.exists() or not any(out.iterdir())  # no designs.csv, no best.yaml
 
 
+SLIDER_CRANK = """
+name: centred slider-crank
+units: {length: mm, angle: deg, speed: rpm}
+parameters: {a: 80, b: 300}
+links:
+  ground: {points: {O: [0, 0], guide: [0, 0]}}
+  crank: {points: {O: [0, 0], A: [a, 0]}, com: [a/2, 0], mass: 1, inertia: 0.001}
+  rod: {points: {A: [0, 0], B: [b, 0]}, com: [b/2, 0], mass: 2, inertia: 0.01}
+  slider: {points: {B: [0, 0]}, mass: 1}
+joints:
+  O: {type: revolute, links: [ground, crank]}
+  A: {type: revolute, links: [crank, rod]}
+  B: {type: revolute, links: [rod, slider]}
+  slide: {type: prismatic, links: [ground, slider], axis: {point: guide, direction: [1, 0]},
+          point: B}
+drivers:
+  motor: {joint: O, motion: {speed: 60}}
+sketch: {A: [a, 0], B: [a + b, 0]}
+"""
+
+
+def test_bounds_where_no_design_can_be_analysed_say_so(tmp_path, capsys):
+    """A rod b shorter than the crank a = 80 cannot assemble over the turn: no design of
+    b in [20, 60] is analysed.  This was 'INFEASIBLE (no design met every constraint)'
+    with no constraint, exit 0, and a best.yaml of a design that does not assemble."""
+    path = tmp_path / "sc.yaml"
+    path.write_text(SLIDER_CRANK, encoding="utf-8")
+    out = tmp_path / "o"
+    code = main(
+        ["optimize", str(path), "--vary", "b=20:60", "--minimize", "motor.torque_rms"]
+        + ["--out", str(out), *SMALL]
+    )
+    stdout, err = capsys.readouterr()
+    assert code == 2 and "INFEASIBLE" not in stdout
+    line = _one_line(err)
+    assert line.startswith("kinetostatics: --vary b=20:60: none of the")
+    assert "could be analysed (e.g. RRP dyad {rod, slider} cannot assemble" in line
+    assert not out.exists() or not any(out.iterdir())
+
+
 def test_a_best_design_on_a_bound_is_said_to_be_on_it(tmp_path, capsys):
     """y1 over [0, 0.1] is least at 0, its lower bound (the file's own design, x1 = y1 = 0,
     is in the first population); x1 = 0 lies inside [−0.3, 0.1].  −x1 + y1 over

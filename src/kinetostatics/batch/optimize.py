@@ -19,7 +19,13 @@ value (a self-locked machine's friction quantities are NaN), and one that breaks
 constraint or where a constraint has no value.  In the search a design is ranked by
 (Deb's rules, as a penalty): a feasible design by its objective; an infeasible one behind
 every feasible one, by its total violation (:data:`INFEASIBLE` + violation); a failed one
-last (:data:`FAILED`).  Nothing raises for a bad variant.
+last (:data:`FAILED`).  Nothing raises for a bad variant; a search in which no design
+could be analysed, or none gave the objective a value, raises :class:`OptimizeError`.
+
+With ``out``, ``designs.csv`` is appended to as the designs are evaluated
+(:func:`~.optimize_files.designs_on_disk`, the batch table's helpers); the same search
+run again replays the seeded search and takes every design it meets from the file, so an
+interrupted search resumes and ends as the uninterrupted one.
 """
 
 from __future__ import annotations
@@ -356,9 +362,15 @@ def optimize(
         )
         best = problem.best()
         analysed = [r for r in problem.visited.values() if r["status"] != "failed"]
-        if analysed and all(math.isnan(r["objective"]) for r in analysed):
-            if disk is not None:  # a mistake, not a search to resume: nothing left
+        if all(math.isnan(r["objective"]) for r in analysed):  # a mistake, not a search
+            if disk is not None:  # to resume: nothing left
                 disk.discard()
+            if not analysed:
+                vary = " ".join(f"{n}={bounds[n][0]:g}:{bounds[n][1]:g}" for n in names)
+                raise OptimizeError(
+                    f"--vary {vary}: none of the {len(problem.visited)} designs within these "
+                    f"bounds could be analysed (e.g. {best['reason'] or 'failed'})"
+                )
             raise OptimizeError(
                 f"--minimize {minimize!r}: could not be evaluated at any of the "
                 f"{len(analysed)} designs analysed (no finite value: an overflow, a function "

@@ -1,6 +1,8 @@
 """The files of an optimisation: ``best.yaml`` (the file as written, its varied
-parameters' values replaced in place), ``designs.csv`` (every evaluated design) and
-``convergence.png`` (the best score over the evaluations)."""
+parameters' values replaced in place, after a comment for each parameter on a bound),
+``designs.csv`` (every evaluated design, appended as the search goes and read back by a
+resumed search: :func:`designs_on_disk`) and ``convergence.png`` (the best score over the
+evaluations)."""
 
 from __future__ import annotations
 
