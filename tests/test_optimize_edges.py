@@ -307,3 +307,54 @@ def test_ctrl_c_at_a_terminal_with_workers_is_one_line(tmp_path):
     _, stderr = p.communicate(timeout=120)
     assert p.returncode == 130, stderr
     assert "interrupted" in _one_line(stderr)
+
+
+@pytest.mark.parametrize("after", [0, 4])
+def test_a_full_disk_is_one_line_and_the_same_command_resumes(tmp_path, capsys, monkeypatch, after):
+    """ENOSPC at optimize.json, or in the second append (half of its text written): one
+    line, exit 2, no temporary file; the rerun keeps the whole rows, drops the cut one and
+    ends with the designs of an uninterrupted search."""
+    from kinetostatics.batch import table as batch_table
+
+    real, calls = batch_table._Table._write, {"n": 0}
+
+    def full(path, text, mode):
+        calls["n"] += 1
+        if calls["n"] > after:
+            with open(path, mode, encoding="utf-8", newline="") as fh:
+                fh.write(text[: len(text) // 2])
+            raise OSError(28, os.strerror(28), str(path))
+        real(path, text, mode)
+
+    out = tmp_path / "o"
+    args = ["--vary", "x1=-0.3:0.1", "--minimize", "shaking.force_rms", *SMALL]
+    monkeypatch.setattr(batch_table._Table, "_write", staticmethod(full))
+    code, _, err = _cli(capsys, *args, "--out", str(out))
+    assert code == 2 and _one_line(err).endswith("No space left on device")
+    assert not any(p.name.endswith(".tmp") for p in out.iterdir())
+    monkeypatch.undo()
+    assert _cli(capsys, *args, "--out", str(out))[0] == 0
+    assert _cli(capsys, *args, "--out", str(tmp_path / "fresh"))[0] == 0
+    _, resumed = read_summary(out / "designs.csv")
+    _, fresh = read_summary(tmp_path / "fresh" / "designs.csv")
+    assert [r["evaluation"] for r in resumed] == [r["evaluation"] for r in fresh]
+    for a, b in zip(resumed, fresh):
+        assert float(a["x1"]) == pytest.approx(float(b["x1"]), abs=1e-12 * 0.4)
+
+
+def test_a_second_search_on_the_same_out_is_refused(tmp_path, capsys):
+    from kinetostatics.batch.table import _Lock
+
+    out = tmp_path / "o"
+    out.mkdir()
+    held = _Lock(out)
+    held.path = out / "optimize.lock"
+    held.acquire()
+    try:
+        code, _, err = _cli(
+            capsys, "--vary", "x1=-0.3:0.1", "--minimize", "y1", "--out", str(out), *SMALL
+        )
+    finally:
+        held.release()
+    assert code == 2
+    assert "another search is writing to this folder" in _one_line(err)

@@ -140,6 +140,7 @@ def designs_on_disk(out, source, search: dict, names, constraints, overwrite: bo
         yield None
         return
     from .objectives import OptimizeError
+    from .sources import BatchError
     from .table import _fingerprint, _Lock, _read_state, _replace, _Table, _write_state
 
     out = Path(out)
@@ -152,6 +153,8 @@ def designs_on_disk(out, source, search: dict, names, constraints, overwrite: bo
         lock.acquire()
     except OSError as exc:
         raise output_error(exc, where) from None
+    except BatchError as exc:  # the lock's words are a batch's
+        raise OptimizeError(str(exc).replace("another batch", "another search")) from None
     try:
         fingerprint = _fingerprint([source], [], search)
         state_path = out / STATE
