@@ -91,10 +91,10 @@ def test_an_objective_with_no_value_at_any_design_says_so(tmp_path, capsys, expr
 SLIDER_CRANK = """
 name: centred slider-crank
 units: {length: mm, angle: deg, speed: rpm}
-parameters: {a: 80, b: 300}
+parameters: {a: 80, b: 300, m: 1}
 links:
   ground: {points: {O: [0, 0], guide: [0, 0]}}
-  crank: {points: {O: [0, 0], A: [a, 0]}, com: [a/2, 0], mass: 1, inertia: 0.001}
+  crank: {points: {O: [0, 0], A: [a, 0]}, com: [a/2, 0], mass: m, inertia: 0.001}
   rod: {points: {A: [0, 0], B: [b, 0]}, com: [b/2, 0], mass: 2, inertia: 0.01}
   slider: {points: {B: [0, 0]}, mass: 1}
 joints:
@@ -110,21 +110,22 @@ sketch: {A: [a, 0], B: [a + b, 0]}
 
 
 def test_bounds_where_no_design_can_be_analysed_say_so(tmp_path, capsys):
-    """A rod b shorter than the crank a = 80 cannot assemble over the turn: no design of
-    b in [20, 60] is analysed.  This was 'INFEASIBLE (no design met every constraint)'
-    with no constraint, exit 0, and a best.yaml of a design that does not assemble."""
+    """A negative mass makes the file invalid: no design of m in [−2, −1] is analysed.
+    This was 'INFEASIBLE (no design met every constraint)' with no constraint, exit 0,
+    and a best.yaml that does not load.  (A rod shorter than the crank fails as surely,
+    but a batch takes over a second to say so for each design.)"""
     path = tmp_path / "sc.yaml"
     path.write_text(SLIDER_CRANK, encoding="utf-8")
     out = tmp_path / "o"
     code = main(
-        ["optimize", str(path), "--vary", "b=20:60", "--minimize", "motor.torque_rms"]
+        ["optimize", str(path), "--vary", "m=-2:-1", "--minimize", "motor.torque_rms"]
         + ["--out", str(out), *SMALL]
     )
     stdout, err = capsys.readouterr()
     assert code == 2 and "INFEASIBLE" not in stdout
     line = _one_line(err)
-    assert line.startswith("kinetostatics: --vary b=20:60: none of the")
-    assert "could be analysed (e.g. RRP dyad {rod, slider} cannot assemble" in line
+    assert line.startswith("kinetostatics: --vary m=-2:-1: none of the")
+    assert "could be analysed (e.g. " in line and "links.crank.mass: must be zero or" in line
     assert not out.exists() or not any(out.iterdir())
 
 
