@@ -67,9 +67,15 @@ def analyze_chunk(chunk: Chunk) -> ChunkRows:
 
 # -- executors -------------------------------------------------------------------------
 def _start_worker(parent: int, backend: str) -> None:
-    """Pool initializer: the parent's backend (base/kernels.py), and death with it."""
+    """Pool initializer: the parent's backend (base/kernels.py), death with it, and
+    Ctrl-C left to it: a terminal's SIGINT reaches the whole process group, and a worker
+    waiting for its next chunk would print a traceback of its own; the parent stops
+    (one line) and shuts the pool down."""
+    import signal
+
     kernels.set_backend(backend)
     _die_with_parent(parent)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
 def _die_with_parent(parent: int) -> None:

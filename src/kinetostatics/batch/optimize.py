@@ -19,7 +19,13 @@ value (a self-locked machine's friction quantities are NaN), and one that breaks
 constraint or where a constraint has no value.  In the search a design is ranked by
 (Deb's rules, as a penalty): a feasible design by its objective; an infeasible one behind
 every feasible one, by its total violation (:data:`INFEASIBLE` + violation); a failed one
-last (:data:`FAILED`).  Nothing raises for a bad variant.
+last (:data:`FAILED`).  Nothing raises for a bad variant; a search in which no design
+could be analysed, or none gave the objective a value, raises :class:`OptimizeError`.
+
+With ``out``, ``designs.csv`` is appended to as the designs are evaluated
+(:func:`~.optimize_files.designs_on_disk`, the batch table's helpers); the same search
+run again replays the seeded search and takes every design it meets from the file, so an
+interrupted search resumes and ends as the uninterrupted one.
 """
 
 from __future__ import annotations
@@ -34,9 +40,19 @@ import numpy as np
 
 from ..base.document import read_text
 from .objectives import FAILED, INFEASIBLE, Constraint, Expression, OptimizeError
+from .optimize_files import designs_on_disk
 from .sources import Chunk, Source, template_of
 
 __all__ = ["optimize", "Optimum", "OptimizeError", "INFEASIBLE", "FAILED", "parse_vary"]
+
+# |LO|, |HI| of a --vary at most half the largest float: the search's designs are
+# midpoint + u·span, and both stay finite
+MAX_BOUND = float(np.finfo(float).max) / 2
+# The options' ranges (the command refuses others with one line): designs per
+# generation = popsize × the number of varied parameters (at least 5, scipy's rule)
+RANGES = {"popsize": (1, 1000), "maxiter": (0, 100_000), "seed": (0, 2**63 - 1)}
+# a best design this close to a bound (a fraction of HI − LO) is reported on it
+ON_BOUND = 1e-6
 
 
 def parse_vary(items: Sequence[str] | Mapping[str, Sequence[float]]) -> dict[str, tuple]:
@@ -50,6 +66,14 @@ def parse_vary(items: Sequence[str] | Mapping[str, Sequence[float]]) -> dict[str
             raise OptimizeError(f"--vary {name}: expected LO:HI, got {bounds!r}") from None
         if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
             raise OptimizeError(f"--vary {name}={lo:g}:{hi:g}: needs finite LO < HI")
+        if max(abs(lo), abs(hi)) > MAX_BOUND:
+            # the search works on the midpoint and the span, which must stay finite
+            raise OptimizeError(
+                f"--vary {name}={lo:g}:{hi:g}: bounds beyond ±{MAX_BOUND:.4g} (half the "
+                "largest float) would give designs that are not finite numbers"
+            )
+        if name in out:
+            raise OptimizeError(f"--vary {name}: named twice; give each parameter once")
         out[name] = (lo, hi)
     if not out:
         raise OptimizeError("nothing to vary: give --vary NAME=LO:HI")
@@ -71,7 +95,9 @@ class Optimum:
     ``row`` (its batch row) at it; ``feasible``; ``designs``: every evaluated design
     (``{"evaluation", "stage", <parameters>, "status", "reason", "objective",
     "violation", "score"}``); ``history``: the best score after each generation and then
-    after each local step; ``files``: what was written."""
+    after each local step; ``on_bound``: ``{name: "lower" | "upper"}`` for each
+    parameter of the best design on a bound of its ``vary`` (within 1e-6 of HI − LO:
+    the optimum may lie beyond it); ``files``: what was written."""
 
     parameters: dict[str, float]
     objective: float
@@ -80,6 +106,7 @@ class Optimum:
     designs: list[dict[str, Any]]
     history: list[tuple[str, int, float]]
     message: str
+    on_bound: dict[str, str] = field(default_factory=dict)
     files: dict[str, Path] = field(default_factory=dict)
 
     def __repr__(self) -> str:
@@ -99,6 +126,11 @@ class _Problem:
         self.options, self.executor, self.workers = options, executor, workers
         self.designs: list[dict[str, Any]] = []
         self.cache: dict[tuple[float, ...], dict[str, Any]] = {}
+        # the designs this run has asked for (a resumed run replays the search: the
+        # designs read back are in the cache, and enter here as the search reaches them)
+        self.visited: dict[tuple[float, ...], dict[str, Any]] = {}
+        self.sink = None  # called with the new records of each evaluation (designs.csv)
+        self.positions = 1  # of a design's analysis: the chunks in this process fit memory
         self.stage = "initial"
         self.bar = None
         self.pool = None
@@ -108,13 +140,17 @@ class _Problem:
     def rows(self, overrides: list[dict[str, float]]) -> list[dict[str, Any]]:
         """The batch rows of the designs: one chunk (serial), or chunks on the executor."""
         from .executors import _open_executor, analyze_chunk
+        from .sources import auto_chunk
 
         def chunk(ovs):
-            ids = tuple(str(len(self.designs) + k) for k in range(len(ovs)))
+            ids = tuple(str(k) for k in range(len(ovs)))
             return Chunk(self.source, ids, tuple(ovs), **self.options)
 
         if self.executor == "serial" or len(overrides) < 2:
-            return analyze_chunk(chunk(overrides))
+            # a large population in parts, each within a batch chunk's memory bound
+            size = auto_chunk(4 * len(overrides), self.positions, 1)
+            parts = [overrides[k : k + size] for k in range(0, len(overrides), size)]
+            return [r for p in parts for r in analyze_chunk(chunk(p))]
         if self.pool is None:
             self.pool = _open_executor(self.executor, self.workers)
         ex, slots, _ = self.pool
@@ -133,12 +169,35 @@ class _Problem:
     def evaluate(self, xs: np.ndarray) -> list[dict[str, Any]]:
         """The records of the designs ``xs`` ``(S, n)``, from the cache or analysed."""
         keys = [tuple(float(v) for v in x) for x in xs]
+        for k in keys:
+            if not all(map(math.isfinite, k)):  # guarded by MAX_BOUND; never analysed
+                raise OptimizeError(
+                    "optimize: a design that is not finite ("
+                    + ", ".join(f"{n}={v!r}" for n, v in zip(self.names, k))
+                    + "); narrow the --vary bounds"
+                )
         todo = list(dict.fromkeys(k for k in keys if k not in self.cache))
         if todo:
             rows = self.rows([dict(zip(self.names, k)) for k in todo])
+            new = []
             for k, row in zip(todo, rows):
                 self.cache[k] = self._record(k, row)
+                new.append(self.cache[k])
+            if self.sink is not None:
+                self.sink(new)
+        for k in keys:
+            self.visited.setdefault(k, self.cache[k])
         return [self.cache[k] for k in keys]
+
+    def load(self, records: Sequence[dict[str, Any]]) -> None:
+        """Designs read back from an interrupted run's ``designs.csv``: evaluated, not
+        visited yet (their batch rows are not kept; the best design's is computed again)."""
+        for rec in records:
+            key = tuple(float(rec[n]) for n in self.names)
+            self.designs.append(rec)
+            self.cache[key] = rec
+            if rec["status"] == "ok":
+                self.checked = True  # its names were checked when it was evaluated
 
     def _record(self, key: tuple[float, ...], row: dict[str, Any]) -> dict[str, Any]:
         from .sources import variant_parameters
@@ -156,7 +215,7 @@ class _Problem:
             self.checked = True
         f = self.objective.value(env) if rec["status"] == "ok" else math.nan
         margins = [c.margin(env) for c in self.constraints] if rec["status"] == "ok" else []
-        violation = sum(max(0.0, -m) if not math.isnan(m) else math.inf for m in margins)
+        violation = float(sum(max(0.0, -m) if not math.isnan(m) else math.inf for m in margins))
         rec["objective"] = f
         for c, m in zip(self.constraints, margins):
             rec[c.text] = m
@@ -176,7 +235,13 @@ class _Problem:
         return rec
 
     def best(self) -> dict[str, Any] | None:
-        return min(self.designs, key=lambda r: r["score"], default=None)
+        return min(self.visited.values(), key=lambda r: r["score"], default=None)
+
+    def row_of(self, rec: dict[str, Any]) -> dict[str, Any]:
+        """The batch row of a design (analysed again for one read back from disk)."""
+        if rec.get("row") is None:
+            rec["row"] = self.rows([{n: float(rec[n]) for n in self.names}])[0]
+        return rec["row"]
 
 
 def _source(model_or_path) -> Source:
@@ -212,6 +277,7 @@ def optimize(
     executor: Any = "serial",
     workers: int | None = None,
     out: str | Path | None = None,
+    overwrite: bool = False,
     progress: bool = True,
 ) -> Optimum:
     """Minimise ``minimize`` over the parameters ``vary`` (``{NAME: (LO, HI)}`` in the
@@ -227,10 +293,15 @@ def optimize(
     or a ``concurrent.futures.Executor``, as :func:`~kinetostatics.batch.run_batch`'s:
     each population is cut into one chunk per worker; the result is the same on every
     executor (the local steps run in this process).  ``out``: a folder for
-    ``best.yaml``, ``designs.csv`` and ``convergence.png``.  Raises
-    :class:`OptimizeError` for a bad name or expression, never for a bad design."""
+    ``best.yaml``, ``designs.csv`` and ``convergence.png``; ``designs.csv`` is appended
+    to as the designs are evaluated, and the same search run again into the same folder
+    after an interrupt reuses them (``overwrite``: start afresh in a folder that holds
+    another search).  Raises :class:`OptimizeError` for a bad name, expression or
+    option and for an objective that has no value at any design, never for a bad
+    design."""
     from scipy.optimize import differential_evolution
 
+    _check_ranges(popsize=popsize, maxiter=maxiter, seed=seed)
     source = _source(model_or_path)
     template = template_of(source.file, source.text)
     bounds = parse_vary(vary)
@@ -252,7 +323,96 @@ def optimize(
     lo = np.array([bounds[n][0] for n in names])
     hi = np.array([bounds[n][1] for n in names])
     problem = _Problem(source, names, objective, constraints, options, executor, workers)
+    problem.positions = positions or template.base.analysis.positions
     history: list[tuple[str, int, float]] = []
+    search = {
+        "vary": {n: list(bounds[n]) for n in names},
+        "minimize": minimize,
+        "subject_to": list(subject_to),
+        "seed": seed,
+        "maxiter": maxiter,
+        "popsize": popsize,
+        "tol": tol,
+        "polish": polish,
+        "local_maxiter": local_maxiter,
+        "positions": positions,
+        "friction": friction,
+    }
+    with designs_on_disk(out, source, search, names, constraints, overwrite) as disk:
+        if disk is not None:
+            problem.load(disk.records)
+            problem.sink = disk.add
+        message = _run(
+            differential_evolution,
+            problem,
+            known,
+            names,
+            lo,
+            hi,
+            history,
+            executor,
+            workers,
+            maxiter=maxiter,
+            popsize=popsize,
+            tol=tol,
+            seed=seed,
+            polish=polish,
+            local_maxiter=local_maxiter,
+            progress=progress,
+        )
+        best = problem.best()
+        analysed = [r for r in problem.visited.values() if r["status"] != "failed"]
+        if all(math.isnan(r["objective"]) for r in analysed):  # a mistake, not a search
+            if disk is not None:  # to resume: nothing left
+                disk.discard()
+            if not analysed:
+                vary = " ".join(f"{n}={bounds[n][0]:g}:{bounds[n][1]:g}" for n in names)
+                raise OptimizeError(
+                    f"--vary {vary}: none of the {len(problem.visited)} designs within these "
+                    f"bounds could be analysed (e.g. {best['reason'] or 'failed'})"
+                )
+            raise OptimizeError(
+                f"--minimize {minimize!r}: could not be evaluated at any of the "
+                f"{len(analysed)} designs analysed (no finite value: an overflow, a function "
+                "outside its domain, or a quantity these designs lack)"
+            )
+        result = Optimum(
+            parameters={n: float(best[n]) for n in names},
+            objective=float(best["objective"]),
+            feasible=best["status"] == "ok",
+            row=dict(problem.row_of(best)),
+            designs=problem.designs,
+            history=history,
+            message=message,
+            on_bound=_on_bound(best, names, lo, hi),
+        )
+        if out is not None:
+            from .optimize_files import write_outputs
+
+            result.files = write_outputs(result, source, template, names, constraints, Path(out))
+    return result
+
+
+def _run(
+    differential_evolution,
+    problem,
+    known,
+    names,
+    lo,
+    hi,
+    history,
+    executor,
+    workers,
+    *,
+    maxiter,
+    popsize,
+    tol,
+    seed,
+    polish,
+    local_maxiter,
+    progress,
+) -> str:
+    """The search, then the local refinement; their messages."""
     bar = _bar(progress, maxiter + 1 + (local_maxiter if polish else 0))
     try:
         if executor != "serial":  # a scheduler that cannot be reached stops here
@@ -290,21 +450,30 @@ def optimize(
     finally:
         bar.close()
         problem.close()
-    best = problem.best()
-    result = Optimum(
-        parameters={n: float(best[n]) for n in names},
-        objective=float(best["objective"]),
-        feasible=best["status"] == "ok",
-        row=dict(best["row"]),
-        designs=problem.designs,
-        history=history,
-        message=message,
-    )
-    if out is not None:
-        from .optimize_files import write_outputs
+    return message
 
-        result.files = write_outputs(result, source, template, names, constraints, Path(out))
-    return result
+
+def _check_ranges(**values: int) -> None:
+    """OptimizeError for an option outside its range (:data:`RANGES`)."""
+    for name, value in values.items():
+        lo, hi = RANGES[name]
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+            raise OptimizeError(f"--{name} {value!r}: must be a whole number from {lo} to {hi}")
+        if not lo <= value <= hi:
+            raise OptimizeError(f"--{name} {value}: must be from {lo} to {hi}")
+
+
+def _on_bound(best: Mapping[str, Any], names, lo, hi) -> dict[str, str]:
+    """``{name: "lower" | "upper"}`` for each parameter of ``best`` within
+    :data:`ON_BOUND` × (HI − LO) of a bound."""
+    out = {}
+    for n, a, b in zip(names, lo, hi):
+        tol = ON_BOUND * (b - a)
+        if best[n] - a <= tol:
+            out[n] = "lower"
+        elif b - best[n] <= tol:
+            out[n] = "upper"
+    return out
 
 
 def _search(differential_evolution, population, lo, hi, maxiter, popsize, tol, seed, x0):

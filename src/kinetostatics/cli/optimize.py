@@ -6,6 +6,9 @@ Imports neither scipy nor matplotlib at import time (``run`` stays light).
 
 from __future__ import annotations
 
+import sys
+from pathlib import Path
+
 from .batch import analysis_options
 
 __all__ = ["register"]
@@ -38,9 +41,16 @@ def register(sub) -> None:
         help="a constraint 'EXPR <= EXPR' or 'EXPR >= EXPR'; repeat for each",
     )
     p.add_argument("--out", help="output folder (default: print only)")
+    p.add_argument(
+        "--overwrite",
+        action="store_true",
+        help="start afresh in an --out folder that holds the designs of another search",
+    )
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
-    p.add_argument("--maxiter", type=int, default=60, help="generations (default 60)")
-    p.add_argument("--popsize", type=int, default=12, help="population per parameter (12)")
+    p.add_argument("--maxiter", type=int, default=60, help="generations, 0 to 100000 (60)")
+    p.add_argument(
+        "--popsize", type=int, default=12, help="population per parameter, 1 to 1000 (12)"
+    )
     p.add_argument("--no-polish", dest="polish", action="store_false", help="no local step")
     analysis_options(p)
     ex = p.add_mutually_exclusive_group()
@@ -71,28 +81,45 @@ def _optimize(args) -> int:
         executor = "processes"
     else:
         executor = "serial"
-    result = optimize(
-        args.file,
-        args.vary,
-        args.minimize,
-        args.subject_to,
-        seed=args.seed,
-        maxiter=args.maxiter,
-        popsize=args.popsize,
-        polish=args.polish,
-        positions=args.positions,
-        friction=args.friction,
-        executor=executor,
-        workers=args.workers,
-        out=args.out,
-        progress=not args.quiet,
-    )
+    try:
+        result = optimize(
+            args.file,
+            args.vary,
+            args.minimize,
+            args.subject_to,
+            seed=args.seed,
+            maxiter=args.maxiter,
+            popsize=args.popsize,
+            polish=args.polish,
+            positions=args.positions,
+            friction=args.friction,
+            executor=executor,
+            workers=args.workers,
+            out=args.out,
+            overwrite=args.overwrite,
+            progress=not args.quiet,
+        )
+    except KeyboardInterrupt:
+        where = (
+            f"the designs evaluated are in {Path(args.out) / 'designs.csv'}; run the same "
+            "command again to resume"
+            if args.out
+            else "no --out, so nothing was written"
+        )
+        print(f"kinetostatics: interrupted; {where}", file=sys.stderr)
+        return 130
     state = "feasible" if result.feasible else "INFEASIBLE (no design met every constraint)"
     print(f"best design ({state}), {len(result.designs)} designs evaluated:")
     for name, value in result.parameters.items():
-        print(f"  {name} = {value:.10g}")
+        side = result.on_bound.get(name)
+        print(f"  {name} = {value:.10g}" + (f" (on its {side} bound)" if side else ""))
     print(f"  {args.minimize} = {result.objective:.10g}")
     print(result.message)
+    if result.on_bound:
+        print(
+            f"on a bound: {', '.join(result.on_bound)} (the optimum may lie beyond it; "
+            "widen --vary to see)"
+        )
     for key, path in result.files.items():
         print(f"{key}: {path}")
     return 0
