@@ -10,6 +10,7 @@ import math
 
 import numpy as np
 import pytest
+from scipy.integrate import trapezoid
 
 import kinetostatics as ks
 from kinetostatics.cli import main
@@ -138,7 +139,7 @@ def test_reflected_inertia_against_the_motion_law():
     ta = 0.01 * pdd
     tm = np.where(ta * pd >= 0, ta / 8, ta * 0.08) + 0.03 * pdd
     assert s.motor["torque"]["rms"] == pytest.approx(
-        math.sqrt(np.trapezoid(tm**2, tt) / 0.5), rel=1e-8
+        math.sqrt(trapezoid(tm**2, tt) / 0.5), rel=1e-8
     )
     assert s.motor["inertia_torque"]["peak"] == pytest.approx(0.03 * a * w0**2, rel=1e-6)
     assert s.motor["speed"]["max"] == pytest.approx(10 * a * w0, rel=1e-6)

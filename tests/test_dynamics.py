@@ -10,7 +10,7 @@ the consistent acceleration.
 
 import numpy as np
 import pytest
-from scipy.integrate import solve_ivp
+from scipy.integrate import solve_ivp, trapezoid
 from scipy.special import ellipk
 
 import kinetostatics as ks
@@ -210,7 +210,7 @@ def test_motor_curve_start_up_settles_at_the_speed_where_the_curve_meets_the_loa
     t = np.linspace(sim.marks[-2], sim.marks[-1], 20001)  # the last whole revolution
     w = sim.sample(t)[:, 1]
     # the work balance over a whole cycle fixes the angle-average of ω: ∫ω² dt / ∫ω dt
-    assert np.trapezoid(w**2, t) / np.trapezoid(w, t) == pytest.approx(
+    assert trapezoid(w**2, t) / trapezoid(w, t) == pytest.approx(
         w_n * (1 + s * (1 - load / m)), rel=3e-5
     )  # the start-up has decayed
     assert np.ptp(w) > 0.5 * w.mean()  # while the speed fluctuates strongly
