@@ -50,7 +50,8 @@ def _span(result: Result) -> tuple[float, float]:
 
 def _exact_roots(result: Result, rates: list) -> list[float]:
     """Times where the value of each ``rate(q, q̇, q̈) -> (value, its time derivative)``
-    changes sign over the rows, located exactly (refined on the motion itself)."""
+    changes sign over the rows, located exactly (refined on the motion itself).  An entry
+    may be a pair ``(rate, keep)``: ``keep(q, q̇, q̈)`` says which of its roots count."""
     from ..kinematics.events import find_roots
     from ..kinematics.schedule import schedule
 
@@ -60,18 +61,98 @@ def _exact_roots(result: Result, rates: list) -> list[float]:
     sched = schedule(system)
     period = float(sched.period) if result.full_cycle else np.inf
     out: list[float] = []
-    for f in rates:
+    for entry in rates:
+        f, keep = entry if isinstance(entry, tuple) else (entry, None)
         vals = f(result.q, result.qd, result.qdd)[0]
         scale = np.max(np.abs(vals), initial=0.0)
         if not scale > 0:  # never moves: no reversal
             continue
         vals = np.where(np.abs(vals) <= 1e-12 * scale, 0.0, vals)  # round-off is no sign
-        roots, _ = find_roots(
+        roots, states = find_roots(
             system, sched, result.t, result.q, result.qd, result.qdd, vals, f,
             result.full_cycle, period,
         )  # fmt: skip
+        if keep is not None and len(roots):
+            roots = np.asarray(roots)[np.asarray(keep(*states), dtype=bool)]
         out += [float(r) for r in roots]
     return out
+
+
+def _level_rates(x, levels, period: float | None) -> list:
+    """Rates for :func:`_exact_roots` whose roots are where the quantity ``x(q, q̇, q̈) ->
+    (value, its time derivative)`` passes one of ``levels``: x − L; with a ``period`` (a
+    revolute's coordinate: the level again every turn), sin(x − L), whose other zeros
+    (x − L = π) are not kept."""
+    out: list = []
+    if period is None:
+        for level in sorted_distinct(levels):
+            out.append(lambda q, qd, qdd, level=level: _shifted(x(q, qd, qdd), level))
+        return out
+    for level in sorted_distinct(np.mod(np.asarray(levels, dtype=float), period)):
+
+        def f(q, qd, qdd, level=level):
+            v, dv = x(q, qd, qdd)
+            return np.sin(v - level), np.cos(v - level) * dv
+
+        out.append((f, lambda q, qd, qdd, level=level: np.cos(x(q, qd, qdd)[0] - level) > 0))
+    return out
+
+
+def _shifted(pair, level):
+    return pair[0] - level, pair[1]
+
+
+def _table_kinks(result: Result) -> list[float]:
+    """Times where a table has a corner (each table's own module says where: a load's
+    :meth:`~kinetostatics.model.Load.kinks` over the first motion driver's coordinate, an
+    effort law's :meth:`~kinetostatics.model.EffortLaw.kinks` over its driver's coordinate
+    or speed, a table spring's :func:`~kinetostatics.kinetics.elements.force_kinks` over
+    its length or angle), located exactly on the motion as the reversals are.  A motion
+    table's knots are times (:meth:`~kinetostatics.kinematics.schedule.Schedule.breaks`)."""
+    from ..kinematics.events import coordinate_rates
+    from ..kinematics.state import joint_coordinate
+    from ..kinetics.elements import coordinate_rate, force_kinks
+    from ..model import EffortLaw
+
+    system = result.system
+    model = system.model
+    names = [j.name for j in model.joints]
+
+    def of(driver):
+        """(coordinate, speed, period) of a driver: each ``(q, q̇, q̈) -> (x, ẋ)``."""
+        k = names.index(driver.joint)
+
+        def coordinate(q, qd, qdd):
+            return joint_coordinate(system, q, k) + driver.offset, coordinate_rates(
+                system, q, qd, qdd, k
+            )[0]
+
+        def speed(q, qd, qdd):
+            return coordinate_rates(system, q, qd, qdd, k)
+
+        return coordinate, speed, (2 * np.pi if model.joints[k].angular else None)
+
+    rates: list = []
+    levels = [load.kinks() for load in model.loads]
+    if system.motion_drivers and any(x.size for x in levels):
+        coordinate, _, period = of(system.motion_drivers[0].driver)
+        rates += _level_rates(coordinate, np.concatenate(levels), period)
+    for d in model.drivers:
+        if isinstance(d.effort, EffortLaw):
+            variable, at = d.effort.kinks()
+            if len(at):
+                coordinate, speed, period = of(d)
+                if variable == "coordinate":
+                    rates += _level_rates(coordinate, at, period)
+                else:
+                    rates += _level_rates(speed, at, None)
+    for e in model.elements:
+        at = force_kinks(e)
+        if at.size:
+            rates += _level_rates(
+                lambda q, qd, qdd, e=e: coordinate_rate(system, e, q, qd), at, None
+            )
+    return _exact_roots(result, rates)
 
 
 def _reversals(result: Result) -> list[float]:
@@ -226,13 +307,17 @@ def _friction_kinks(result: Result) -> list[float]:
 
 
 def _breaks(result: Result, ta: float, tb: float, friction: bool) -> np.ndarray:
-    """The span's ends, the load events, the reversals of the resisting loads, the breaks
-    of the pairs' motion (a cam law's segment ends), the zeros of the drivers' efforts
-    (kinks of a motor's torque behind a reduction) and, with friction, the reversals of
-    the joints with friction and the kinks of their laws inside it (times), sorted."""
+    """The span's ends, the load events, the reversals of the resisting loads, the corners
+    of the tables and the motion tables' knots, the breaks of the pairs' motion (a cam
+    law's segment ends), the zeros of the drivers' efforts (kinks of a motor's torque
+    behind a reduction) and, with friction, the reversals of the joints with friction and
+    the kinks of their laws inside it (times), sorted."""
+    from ..kinematics.schedule import schedule
+
     inner = []
     full = result.full_cycle
     reversals = _reversals(result) + _motion_breaks(result) + _effort_zeros(result)
+    reversals += _table_kinks(result) + list(schedule(result.system).breaks(ta, tb))
     if friction and result.system.model.has_friction:
         rows = result
         if rows.lam_friction is None:  # rows without the friction solutions: solve them
