@@ -11,7 +11,6 @@ reduction has a kink there).
 
 from __future__ import annotations
 
-import numpy as np
 import pytest
 
 import kinetostatics as ks
@@ -78,20 +77,3 @@ def test_the_motor_torque_behind_a_reduction_is_exact(monkeypatch):
 
     assert motor(off=False) < 1e-8
     assert motor(off=True) > 1e-8
-
-
-def test_crossings_are_fourth_order_and_cyclic():
-    """``_crossings`` finds each sign change of a sampled periodic function, also the one
-    between the last sample and the first a period on, to O(h⁴): halving the spacing
-    divides the error by about 16."""
-
-    def found(n):
-        t = np.arange(n) / n + 0.013  # no sample on a root
-        v = np.sin(2 * np.pi * (t - 0.99)) + 0.3 * np.sin(4 * np.pi * (t - 0.03))
-        return np.sort(np.mod(cycle._crossings(t, v, 1.0), 1.0))
-
-    ref = found(4096)
-    assert len(ref) == 2 and ref[0] < 0.013  # before the first sample: the wrap-around bracket
-    e = [np.max(np.abs(found(n) - ref)) for n in (20, 40)]
-    assert 10 < e[0] / e[1] < 25
-    assert cycle._crossings(np.arange(10) / 10, np.ones(10), 1.0) == []

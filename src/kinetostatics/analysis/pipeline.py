@@ -142,6 +142,37 @@ def analyze(
     return _result(system, sol, t, psi, q, qd, qdd, lu, full, kin, found, extremes)
 
 
+def analyze_near(result: Result, times: np.ndarray, *, friction: bool) -> Result:
+    """The pipeline at ``times`` inside the run of ``result``, each position continued from
+    its nearest row (:func:`~kinetostatics.kinematics.positions.state_at`: the same
+    branch, without the run's continuation from the start) and the loads with the run's
+    travel extremes: the rows on which the cycle's integrator locates a kink
+    (analysis/cycle.py).  No event rows."""
+    from ..kinematics.positions import PositionSolution, state_at
+
+    system = result.system
+    sched = schedule(system)
+    t = np.asarray(times, dtype=float)
+    rows = np.asarray(result.t, dtype=float)
+    n = np.argmin(np.abs(rows[None, :] - t[:, None]), axis=1)
+    q, qd, qdd = state_at(system, sched, t, rows[n], result.q[n], result.qd[n], result.qdd[n])
+    psi = sched(t)[0]
+    kin = kinetics(
+        system,
+        q,
+        qd,
+        qdd,
+        psi,
+        extremes=result.extremes,
+        ref_speed=sched.reference,
+        friction=friction,
+    )
+    sol = PositionSolution(q, np.zeros((len(t), 0)), np.zeros(len(t), dtype=int))
+    with warnings.catch_warnings():  # the run warned about its own rows
+        warnings.simplefilter("ignore")
+        return _result(system, sol, t, psi, q, qd, qdd, None, False, kin, (), result.extremes)
+
+
 # -- the stages -------------------------------------------------------------------------
 def _require_motion_drivers(system: System) -> None:
     """StructureError unless the motion drivers are as many as the mobility (at least one)."""

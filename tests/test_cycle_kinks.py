@@ -1,0 +1,85 @@
+"""The kinks the cycle integral is cut at are located on the solved state (analysis/cycle.py,
+``_solved_kinks``), as the load events are: a zero of the driving torque a few degrees from
+a load switch is not placed by a cubic through rows on both sides of the jump.
+
+Drive sizing's motor-side torque T_M = T/(i·η) where the shaft takes power and T·η/i where
+it gives it back has a kink at each zero of T.  The reference integrates T_M by 20-point
+Gauss–Legendre on eight sub-pieces of each piece between the switches and the zeros of T,
+each zero found by bisection (``brentq``) on single-position analyses; T_M is formed here
+from the rows' torque by the rule above.  The means must agree to 1e-12 of the largest |T_M|.
+"""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+from scipy.optimize import brentq
+
+import kinetostatics as ks
+from kinetostatics.dynamics.drive import size
+
+from .helpers import ROOT
+
+BAND = (75.5, 181.5)  # the brake acts here: each end within a degree of a zero of the torque
+RATIO, EFF = 10.0, 0.8
+
+
+def _model() -> ks.Model:
+    """The shipped slider-crank without friction and its resistance, braked on an arc that
+    starts 1.5° after a zero of its torque (74.0°) and ends 0.6° after another (180.9°)."""
+    text = (ROOT / "mechanisms" / "slider_crank.yaml").read_text()
+    text = re.sub(r", friction: \{[^}]*\}", "", text)
+    text = text.replace("    friction: {coefficient: 0.10}\n", "")
+    text = text[: text.index("loads:")] + text[text.index("sketch:") :]
+    text += (
+        f"loads:\n  brake: {{type: torque, link: crank, value: -20, "
+        f"active: [{{angle: [{BAND[0]}, {BAND[1]}]}}]}}\n"
+        f"drive: {{reduction: {{ratio: {RATIO}, efficiency: {EFF}}}}}\n"
+    )
+    return ks.loads(text, file="slider_crank_braked.yaml")
+
+
+def _torque(model, deg) -> np.ndarray:
+    r = ks.analyze(model, positions=np.radians(np.atleast_1d(deg)), events=False)
+    return np.asarray(r["motor.torque"], dtype=float)
+
+
+def _motor_side(tau):
+    return np.where(tau >= 0, tau / (RATIO * EFF), tau * EFF / RATIO)
+
+
+def _reference(model):
+    """(mean, RMS) of T_M over the turn, the pieces cut at the switches and at the zeros."""
+    ends = [0.0, *BAND, 360.0]
+    cuts = list(ends)
+    for a, b in zip(ends[:-1], ends[1:]):  # the zeros of the torque between the switches
+        grid = np.linspace(a, b, 401)[1:-1]
+        v = _torque(model, grid)
+        for k in np.flatnonzero(np.sign(v[:-1]) != np.sign(v[1:])):
+            f = lambda x: float(_torque(model, x)[0])  # noqa: E731
+            cuts.append(brentq(f, grid[k], grid[k + 1], xtol=1e-13, rtol=1e-15))
+    cuts = np.sort(cuts)
+    x, w = np.polynomial.legendre.leggauss(20)
+    nodes, weights = [], []
+    for a, b in zip(cuts[:-1], cuts[1:]):
+        sub = np.linspace(a, b, 9)
+        for c0, c1 in zip(sub[:-1], sub[1:]):
+            nodes.append(c0 + (c1 - c0) * (x + 1) / 2)
+            weights.append((c1 - c0) / 2 * w)
+    nodes, weights = np.concatenate(nodes), np.concatenate(weights)
+    tm = _motor_side(_torque(model, nodes))
+    return np.sum(weights * tm) / 360.0, np.sqrt(np.sum(weights * tm**2) / 360.0), cuts
+
+
+def test_the_motor_side_means_near_a_load_switch_are_exact():
+    model = _model()
+    mean, rms, cuts = _reference(model)
+    zeros = cuts[~np.isin(cuts, [0.0, *BAND, 360.0])]
+    # the case at stake: a zero of the torque within 2° of a switch
+    assert np.min(np.abs(zeros[:, None] - np.array(BAND)[None, :])) < 2.0
+    r = ks.analyze(model)
+    motor = size(r).motor["torque"]
+    scale = float(np.max(np.abs(_motor_side(r["motor.torque"]))))
+    assert abs(motor["mean"] - mean) <= 1e-12 * scale, motor["mean"] - mean
+    assert abs(motor["rms"] - rms) <= 1e-12 * scale, motor["rms"] - rms
