@@ -40,10 +40,19 @@ COUNTS = {
     "derivatives": 17,
     "energy": 3,
     "quadrature": 10,
+    "cycle_means": 8,
 }
 # generated mechanisms with a resisting torque and a load table added (generate.
 # with_more_loads), per relation: kinds of load that no shipped file uses
-MORE_LOADS = {"subset": 2, "rigid": 3, "units": 3, "mirror": 3, "power": 3, "grid": 2}
+MORE_LOADS = {
+    "subset": 2,
+    "rigid": 3,
+    "units": 3,
+    "mirror": 3,
+    "power": 3,
+    "grid": 2,
+    "cycle_means": 3,
+}
 _total = sum(COUNTS.values())
 _want = int(os.environ.get("KINETOSTATICS_NET_MECHANISMS", _total))
 SCALE = _want / _total
@@ -199,3 +208,21 @@ def test_random_units_give_the_same_si_results():
 @pytest.mark.parametrize("case", _cases("quadrature"))
 def test_cycle_quadrature_is_converged(case):
     _run("quadrature", case)
+
+
+@pytest.mark.parametrize("case", _cases("cycle_means"))
+def test_cycle_means_are_converged(case):
+    _run("cycle_means", case)
+
+
+_MORE = SEED_BASE["cycle_means"]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    "case",
+    [f"seed:{s}" for s in range(_MORE + 1000, _MORE + 1060)]
+    + [f"loads:{s}" for s in range(_MORE + 51000, _MORE + 51020)],
+)
+def test_cycle_means_are_converged_on_more_mechanisms(case):
+    _run("cycle_means", case)

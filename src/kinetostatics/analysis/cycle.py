@@ -519,23 +519,97 @@ def cycle_pieces(
     edges = cache.get(("edges", friction))
     if edges is None:
         edges = cache[("edges", friction)] = _breaks(result, ta, tb, friction)
-    times, weights, pieces = [], [], []
+    pieces = []
     for a, b in zip(edges[:-1], edges[1:]):
         m = max(1, int(np.ceil((b - a) / ((tb - ta) / n_pieces) - 1e-9)))
         cuts = np.linspace(a, b, m + 1)
-        for c0, c1 in zip(cuts[:-1], cuts[1:]):
-            half = 0.5 * (c1 - c0)
-            times.append(c0 + half * (x + 1.0))
-            weights.append(half * w)
-            pieces.append((c0, c1))
-    times, weights = np.concatenate(times), np.concatenate(weights)
+        pieces += list(zip(cuts[:-1], cuts[1:]))
+    grouped = np.array(pieces)
+    times, weights = _nodes_of(grouped, x, w)
     nodes = analyze(result.system, times=times, friction=friction, events=False)
     order = np.argsort(times, kind="stable")  # the pipeline returns rows in time order
-    grouped = np.array(pieces)
     if not np.allclose(nodes.t, times[order], rtol=0, atol=1e-9 * (tb - ta)):
         order, grouped = np.arange(len(times)), None
+    elif len(grouped):
+        finer = _resolved(result, nodes, grouped, x, w, friction)
+        if finer is not None:  # pieces halved where the efforts were not resolved
+            grouped = finer
+            times, weights = _nodes_of(grouped, x, w)
+            nodes = analyze(result.system, times=times, friction=friction, events=False)
+            order = np.argsort(times, kind="stable")
     cache[key] = (weights[order], nodes, grouped)
     return cache[key]
+
+
+RESOLVED = 1e-13  # of an effort's largest |value|: a piece's predicted quadrature error
+SPLITS = 5  # a piece is halved at most this many times (to 1/32 of it)
+
+
+def _nodes_of(pieces: np.ndarray, x: np.ndarray, w: np.ndarray):
+    """(times, weights) of the Gauss–Legendre rule (nodes ``x``, weights ``w`` on
+    [−1, 1]) on each piece (t₀, t₁), piece after piece."""
+    half = 0.5 * (pieces[:, 1] - pieces[:, 0])
+    times = pieces[:, :1] + half[:, None] * (x + 1.0)
+    return times.ravel(), (half[:, None] * w).ravel()
+
+
+def _unresolved(nodes: Result, x: np.ndarray, scales: list[float]) -> np.ndarray:
+    """Per piece of ``nodes`` (n consecutive nodes each), whether the quadrature may be off
+    by more than :data:`RESOLVED` of an effort's scale: from the Legendre coefficients
+    c_k of the interpolant through its n values, decaying like ρ^k from the head (c_0…c_2)
+    to the tail (c_{n−2}, c_{n−1}), the rule's error is about that of c_{2n} ≈
+    tail·ρ^{n+1}.  A smooth effort's pieces are resolved (ρ ~ 0.1); a sharp peak beside a
+    singular position is not (ρ ~ 0.4, the two orders then differ by 1e-9)."""
+    n = len(x)
+    inv = np.linalg.inv(np.polynomial.legendre.legvander(x, n - 1))
+    out = np.zeros(len(nodes) // n, dtype=bool)
+    for fn, scale in zip(_effort_zeros(nodes), scales):
+        v = np.asarray(fn(nodes), dtype=float).reshape(-1, n)
+        c = np.abs(v @ inv.T)
+        tail, head = np.max(c[:, -2:], axis=1), np.max(c[:, :3], axis=1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            rho = (tail / head) ** (1.0 / (n - 2))
+            out |= np.isfinite(rho) & (tail * rho ** (n + 1) > RESOLVED * scale)
+    return out
+
+
+def _resolved(result: Result, nodes: Result, pieces, x, w, friction: bool):
+    """The pieces halved (at most :data:`SPLITS` times) until the driving efforts are
+    resolved on each (:func:`_unresolved`), or None when they already are."""
+    scales = []
+    for fn in _effort_zeros(nodes):
+        v = np.abs(np.asarray(fn(nodes), dtype=float))
+        scales.append(float(np.max(v[np.isfinite(v)], initial=0.0)))
+    bad = _unresolved(nodes, x, scales)
+    if not SPLITS or not bad.any():
+        return None
+    done, pending = [pieces[~bad]], pieces[bad]
+    for level in range(SPLITS):
+        mid = 0.5 * (pending[:, 0] + pending[:, 1])
+        halves = np.column_stack(
+            (
+                np.ravel(np.column_stack((pending[:, 0], mid))),
+                np.ravel(np.column_stack((mid, pending[:, 1]))),
+            )
+        )
+        if level == SPLITS - 1:
+            done.append(halves)
+            break
+        times = _nodes_of(halves, x, w)[0]
+        try:  # each position continued from the nearest row
+            part = analyze_near(result, times, friction=friction)
+        except AssemblyError:
+            part = analyze(result.system, times=times, friction=friction, events=False)
+        if len(part) != len(times) or not np.array_equal(part.t, times):
+            done.append(halves)
+            break
+        bad = _unresolved(part, x, scales)
+        done.append(halves[~bad])
+        pending = halves[bad]
+        if not len(pending):
+            break
+    out = np.concatenate(done)
+    return out[np.argsort(out[:, 0], kind="stable")]
 
 
 def cycle_stats(
