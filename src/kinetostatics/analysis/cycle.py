@@ -442,7 +442,8 @@ def _secant(
 
 def _breaks(result: Result, ta: float, tb: float, friction: bool) -> np.ndarray:
     """The span's ends and the cuts inside it (times), sorted: the jumps (the load events,
-    the reversals of the resisting loads and, with friction, of the joints with friction),
+    the reversals of the resisting loads, a motion law's turning points and, with
+    friction, the reversals of the joints with friction),
     the corners of the tables and the motion tables' knots, located exactly; and the kinks
     located on the solved state (:func:`_solved_kinks`): the breaks of the pairs' motion
     (a cam law's segment ends), the zeros of the drivers' efforts (kinks of a motor's
@@ -451,7 +452,10 @@ def _breaks(result: Result, ta: float, tb: float, friction: bool) -> np.ndarray:
 
     full = result.full_cycle
     rows = result
-    jumps = [float(e.t) for e in result.events] + _reversals(result)
+    # a motion law turning back (ψ̇ = 0): the power through a reduction changes sign
+    # there with the effort ≠ 0, a jump of the motor's torque (dynamics/drive.py)
+    turns = list(schedule(result.system).turning_times(ta, tb))
+    jumps = [float(e.t) for e in result.events] + _reversals(result) + turns
     if friction and result.system.model.has_friction:
         if rows.lam_friction is None:  # rows without the friction solutions: solve them
             # there, for the kinks of the consistent solution and its effort's zeros
