@@ -443,18 +443,19 @@ def _secant(
 def _breaks(result: Result, ta: float, tb: float, friction: bool) -> np.ndarray:
     """The span's ends and the cuts inside it (times), sorted: the jumps (the load events,
     the reversals of the resisting loads, a motion law's turning points and, with
-    friction, the reversals of the joints with friction),
-    the corners of the tables and the motion tables' knots, located exactly; and the kinks
-    located on the solved state (:func:`_solved_kinks`): the breaks of the pairs' motion
-    (a cam law's segment ends), the zeros of the drivers' efforts (kinks of a motor's
-    torque behind a reduction) and, with friction, the kinks of the friction laws."""
+    friction, the reversals of the joints with friction), the corners of the tables and
+    the motion tables' knots, all located exactly; and the kinks located on the solved
+    state (:func:`_solved_kinks`): the breaks of the pairs' motion (a cam law's segment
+    ends), the zeros of the drivers' efforts (kinks of a motor's torque behind a
+    reduction) and, with friction, the kinks of the friction laws."""
     from ..kinematics.schedule import schedule
 
+    sched = schedule(result.system)
     full = result.full_cycle
     rows = result
     # a motion law turning back (ψ̇ = 0): the power through a reduction changes sign
     # there with the effort ≠ 0, a jump of the motor's torque (dynamics/drive.py)
-    turns = list(schedule(result.system).turning_times(ta, tb))
+    turns = list(sched.turning_times(ta, tb))
     jumps = [float(e.t) for e in result.events] + _reversals(result) + turns
     if friction and result.system.model.has_friction:
         if rows.lam_friction is None:  # rows without the friction solutions: solve them
@@ -465,7 +466,7 @@ def _breaks(result: Result, ta: float, tb: float, friction: bool) -> np.ndarray:
             )
         jumps += _friction_reversals(rows)
     jumps = [ta + np.mod(te - ta, tb - ta) if full else te for te in jumps]
-    kinks = _table_kinks(result) + list(schedule(result.system).breaks(ta, tb))
+    kinks = _table_kinks(result) + list(sched.breaks(ta, tb))
     fns = _motion_breaks(rows) + _effort_zeros(rows)
     if friction and result.system.model.has_friction:
         fns += _friction_kinks(rows)
