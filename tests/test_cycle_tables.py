@@ -205,3 +205,18 @@ def test_a_motion_table_is_integrated_exactly():
     s = cycle_stats(r, ["motor.torque"])["motor.torque"]
     _close(s["mean"], mean, scale)
     _close(s["rms"], rms, scale)
+
+
+@pytest.mark.parametrize("text", [ISSUE, ELEMENTS, MOTION], ids=["load", "effort_spring", "motion"])
+def test_the_net_relation_cycle_means_holds_on_the_tables(text):
+    """The net's ``cycle_means`` relation (tests/net/relations.py) on these files: the
+    means, the flywheel and a drive's motor-side means (efficiency 0.85; the motion table
+    turns back, where the motor's torque jumps) agree between the two orders to 1e-12."""
+    import yaml
+
+    from kinetostatics.yaml_io import dump
+
+    from .net import relations as R
+
+    doc = yaml.safe_load(dump(ks.loads(text)))
+    assert R.relation_cycle_means(doc, 0) <= 1e-12, R.WORST
