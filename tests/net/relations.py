@@ -36,6 +36,7 @@ TOLERANCE = {
     "energy": 1e-4,
     "quadrature": 1e-7,
     "cam_phase": 1e-9,
+    "cycle_means": 1e-12,
 }
 FAMILY_FLOOR = 1e-6  # a column's scale is at least this much of its kind's largest
 WORST = [0.0, ""]
@@ -916,6 +917,72 @@ def relation_cam_phase(doc, seed):
         e = float(np.max(np.abs(lift - law))) / scale
         if e > worst:
             worst, WORST[:] = e, [e, f"{name} lift"]
+
+
+CONVERGED = ((8, 36), (16, 72))  # (nodes, pieces): today's quadrature, and twice the order
+# on half the pieces
+
+
+def relation_cycle_means(doc, seed):
+    """The cycle's means converged: the frictionless mean and RMS of the driving effort,
+    the flywheel's M_d and ΔW (a flywheel of δ = 0.05 on a constant-speed crank) and the
+    drive's means (the file's drive, else a reduction of efficiency 0.85, whose motor-side
+    torque has a kink at every zero of the effort) agree between 8-point Gauss–Legendre on
+    the integrator's pieces and 16-point on twice as many, both between the same cuts, to
+    1e-12 of each quantity's scale (an effort's largest |value| at the rows, 2π times it
+    for a work, the motor's peak torque and power for the drive's): so every jump and kink
+    of the integrand is a cut, located to round-off (a missed or misplaced one leaves
+    1e-10 to 1e-4).  Friction is left to ``relation_quadrature`` (its 1e-9 dead band at a
+    reversal, docs/conventions.md)."""
+    from dataclasses import replace
+
+    from kinetostatics.analysis import cycle
+    from kinetostatics.dynamics.drive import size
+    from kinetostatics.dynamics.flywheel import design
+    from kinetostatics.errors import KinetostaticsError
+    from kinetostatics.model import DriveSpec
+
+    res = analyze(doc)
+    columns = [c for c in res.columns if c in ("motor.torque", "motor.force")]
+    if not columns:
+        return None
+    scale = float(np.max(np.abs(np.asarray(res[columns[0]])[np.isfinite(res[columns[0]])])))
+    if not scale > 0:
+        return None
+    model = res.system.model
+    spec = replace(model.drive or DriveSpec(efficiency=0.85), friction=False)
+    values: list[dict] = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for q in CONVERGED:
+            out = {}
+            st = cycle.cycle_stats(res, columns, friction=False, quadrature=q)[columns[0]]
+            out["mean"], out["rms"] = (st["mean"], scale), (st["rms"], scale)
+            try:
+                fw = design(res, delta=0.05, friction=False, quadrature=q)
+            except (KinetostaticsError, ValueError):  # not a constant-speed crank
+                pass
+            else:
+                out["flywheel.M_d"] = (fw.mean_torque, scale)
+                out["flywheel.dW"] = (fw.energy_swing, 2 * np.pi * scale)
+            try:
+                d = size(res, spec, quadrature=q)
+            except (KinetostaticsError, ValueError):  # no revolute motion driver
+                pass
+            else:
+                top, power = d.motor["torque"]["peak"], d.motor["power"]["peak"]
+                out["drive.motor_torque.mean"] = (d.motor["torque"]["mean"], top)
+                out["drive.motor_torque.rms"] = (d.motor["torque"]["rms"], top)
+                out["drive.motor_power.mean"] = (d.motor["power"]["mean"], power)
+            values.append(out)
+    worst = 0.0
+    for key, (a, sc) in values[0].items():
+        b = values[1][key][0]
+        if not (np.isfinite(a) and np.isfinite(b)):
+            continue
+        e = abs(a - b) / sc
+        if e > worst:
+            worst, WORST[:] = e, [e, key]
     return worst
 
 
@@ -933,6 +1000,7 @@ RELATIONS = {
     "energy": relation_energy,
     "quadrature": relation_quadrature,
     "cam_phase": relation_cam_phase,
+    "cycle_means": relation_cycle_means,
 }
 
 

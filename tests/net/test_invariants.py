@@ -41,10 +41,19 @@ COUNTS = {
     "energy": 3,
     "quadrature": 10,
     "cam_phase": 6,  # applies to the generated mechanisms with cams (others skip)
+    "cycle_means": 8,
 }
 # generated mechanisms with a resisting torque and a load table added (generate.
 # with_more_loads), per relation: kinds of load that no shipped file uses
-MORE_LOADS = {"subset": 2, "rigid": 3, "units": 3, "mirror": 3, "power": 3, "grid": 2}
+MORE_LOADS = {
+    "subset": 2,
+    "rigid": 3,
+    "units": 3,
+    "mirror": 3,
+    "power": 3,
+    "grid": 2,
+    "cycle_means": 3,
+}
 _total = sum(COUNTS.values())
 _want = int(os.environ.get("KINETOSTATICS_NET_MECHANISMS", _total))
 SCALE = _want / _total
@@ -256,3 +265,21 @@ def _batch_cases():
 @pytest.mark.parametrize("case", _batch_cases())
 def test_batch_row_equals_the_single_run(case):
     _run("batch_row", case)
+
+
+@pytest.mark.parametrize("case", _cases("cycle_means"))
+def test_cycle_means_are_converged(case):
+    _run("cycle_means", case)
+
+
+_MORE = SEED_BASE["cycle_means"]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    "case",
+    [f"seed:{s}" for s in range(_MORE + 1000, _MORE + 1060)]
+    + [f"loads:{s}" for s in range(_MORE + 51000, _MORE + 51020)],
+)
+def test_cycle_means_are_converged_on_more_mechanisms(case):
+    _run("cycle_means", case)

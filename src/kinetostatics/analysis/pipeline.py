@@ -143,6 +143,41 @@ def analyze(
     return _result(system, sol, t, psi, q, qd, qdd, lu, full, kin, found, extremes)
 
 
+def analyze_near(result: Result, times: np.ndarray, *, friction: bool) -> Result:
+    """The pipeline at ``times`` inside the run of ``result``, each position continued from
+    its nearest row (as :func:`~kinetostatics.kinematics.positions.state_at` does: the
+    same branch, without the run's continuation from the start) and the loads with the run's
+    travel extremes: the rows on which the cycle's integrator locates a kink
+    (analysis/cycle.py).  No event rows."""
+    from ..kinematics.positions import PositionSolution, positions_near
+
+    system = result.system
+    sched = schedule(system)
+    t = np.asarray(times, dtype=float)
+    rows = np.asarray(result.t, dtype=float)
+    n = np.argmin(np.abs(rows[None, :] - t[:, None]), axis=1)
+    h = (t - rows[n])[:, None]  # Taylor from the nearest row, then Newton (state_at)
+    guess = result.q[n] + h * result.qd[n] + 0.5 * h * h * result.qdd[n]
+    psi, psi_d, psi_dd = sched(t)
+    q = positions_near(system, psi, guess, sched)
+    qd, qdd, lu = derivatives(system, q, psi_d, psi_dd)
+    kin = kinetics(
+        system,
+        q,
+        qd,
+        qdd,
+        psi,
+        lu=lu,
+        extremes=result.extremes,
+        ref_speed=sched.reference,
+        friction=friction,
+    )
+    sol = PositionSolution(q, np.zeros((len(t), 0)), np.zeros(len(t), dtype=int))
+    with warnings.catch_warnings():  # the run warned about its own rows
+        warnings.simplefilter("ignore")
+        return _result(system, sol, t, psi, q, qd, qdd, lu, False, kin, (), result.extremes)
+
+
 # -- the stages -------------------------------------------------------------------------
 def _require_motion_drivers(system: System) -> None:
     """StructureError unless the motion drivers are as many as the mobility (at least one)."""

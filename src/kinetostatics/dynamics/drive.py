@@ -258,11 +258,19 @@ def _peak(of, key: str, result: Result, nodes: Result) -> float:
     return float(np.max(vals)) if vals.size else float("nan")
 
 
-def size(result: Result, spec: DriveSpec | None = None, *, flywheel=None) -> DriveSizing:
+def size(
+    result: Result,
+    spec: DriveSpec | None = None,
+    *,
+    flywheel=None,
+    quadrature: tuple[int, int] | None = None,
+) -> DriveSizing:
     """The drive of ``result``'s model (``spec``: default ``drive:`` of the file) over the run.
 
     ``flywheel``: the model's flywheel design when the caller has it
-    (:func:`~kinetostatics.dynamics.flywheel.design`), for the flywheel check's J_F."""
+    (:func:`~kinetostatics.dynamics.flywheel.design`), for the flywheel check's J_F.
+    ``quadrature``: the cycle integrator's (nodes, pieces), another than the default only
+    to check that the means have converged (:func:`~kinetostatics.analysis.cycle.cycle_nodes`)."""
     system = result.system
     model = system.model
     spec = spec if spec is not None else model.drive
@@ -273,8 +281,8 @@ def size(result: Result, spec: DriveSpec | None = None, *, flywheel=None) -> Dri
     of, name, sense, i = _curves(system, spec, friction)
     keys = ("torque", "power", "speed", "motor_torque", "motor_power", "motor_speed")
     what = {key: (lambda r, key=key: of(r)[key]) for key in keys + ("inertia_torque",)}
-    stats = cycle_stats(result, what, friction=friction)
-    _, nodes = cycle_nodes(result, friction=friction)
+    stats = cycle_stats(result, what, friction=friction, quadrature=quadrature)
+    _, nodes = cycle_nodes(result, friction=friction, quadrature=quadrature)
     peak = {key: _peak(of, key, result, nodes) for key in what}
 
     def side(prefix: str) -> dict:

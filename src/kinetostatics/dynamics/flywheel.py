@@ -33,9 +33,10 @@ import numpy.polynomial.legendre as leg
 
 from ..analysis import analyze
 from ..analysis.cycle import cycle_pieces, cycle_stats
+from ..analysis.pipeline import analyze_near
 from ..analysis.results import Result
 from ..base.arguments import real_number
-from ..errors import Location, StructureError
+from ..errors import AssemblyError, Location, StructureError
 from ..kinematics.schedule import schedule
 from ..kinetics.reactions import effort_ratio
 from ..model import EffortLaw, Model, MotionLaw
@@ -299,15 +300,19 @@ def _legroots(coefs: np.ndarray) -> list[np.ndarray]:
     return out
 
 
-def _energy_extremes(pieces: np.ndarray, t: np.ndarray, rate: np.ndarray):
+def _energy_extremes(pieces: np.ndarray, t: np.ndarray, rate: np.ndarray, partial=None):
     """((t, ΔW) at the largest and at the smallest ΔW(t) = ∫ rate dt from the span's start):
     ΔW is the integral of each piece's interpolant, so its extremes are at the pieces' ends
-    or at the interpolants' real roots inside — exact to the quadrature's accuracy, no
-    trapezoid rule."""
+    or at the interpolants' real roots inside — no trapezoid rule.  At a piece's end ΔW
+    is the quadrature's sum (exact to round-off); inside one, the interpolant's integral
+    up to the root is only as exact as the interpolation, so there ``partial(t₀, t)``, the
+    integral of the rate from the piece's start t₀ by the quadrature on [t₀, t], replaces
+    it (the root misplaced by δ costs O(δ²) there)."""
     coef = _legendre_pieces(pieces, rate)
     half = 0.5 * (pieces[:, 1] - pieces[:, 0])
     mid = 0.5 * (pieces[:, 1] + pieces[:, 0])
     cand_t, cand_w, start = [pieces[0, 0]], [0.0], 0.0
+    cand_in: list[tuple[int, float] | None] = [None]  # (piece, ΔW at its start) if inside
     all_roots = _legroots(coef)
     for p in range(len(pieces)):
         anti = leg.legint(coef[p], lbnd=-1)
@@ -316,12 +321,20 @@ def _energy_extremes(pieces: np.ndarray, t: np.ndarray, rate: np.ndarray):
         for r in roots[(roots > -1) & (roots < 1)]:
             cand_t.append(mid[p] + half[p] * r)
             cand_w.append(start + half[p] * leg.legval(r, anti))
+            cand_in.append((p, start))
         start += half[p] * leg.legval(1.0, anti)
         cand_t.append(pieces[p, 1])
         cand_w.append(start)
+        cand_in.append(None)
     cand_w = np.asarray(cand_w)
-    k_max, k_min = int(np.argmax(cand_w)), int(np.argmin(cand_w))
-    return (cand_t[k_max], float(cand_w[k_max])), (cand_t[k_min], float(cand_w[k_min]))
+    out = []
+    for k in (int(np.argmax(cand_w)), int(np.argmin(cand_w))):
+        w = float(cand_w[k])
+        if partial is not None and cand_in[k] is not None:
+            p, w0 = cand_in[k]
+            w = w0 + float(partial(pieces[p, 0], cand_t[k]))
+        out.append((cand_t[k], w))
+    return out[0], out[1]
 
 
 def _on_the_grid(system, events, friction, positions, w):
@@ -365,12 +378,15 @@ def design(
     ratio: float | None = None,
     friction: bool | None = None,
     positions: int = 3600,
+    quadrature: tuple[int, int] | None = None,
 ) -> FlywheelDesign:
     """Size the flywheel for ``delta`` (default the model's ``flywheel.delta``).
 
     ``source``: a full-cycle :class:`Result` (its events are reused), a model or a
     system.  ``ratio``: motor speed / crank speed (default ``flywheel.ratio``);
     ``friction``: size from the balancing moment with friction (consistent).
+    ``quadrature``: the cycle integrator's (nodes, pieces), another than the default only
+    to check that the design has converged (:func:`~kinetostatics.analysis.cycle.cycle_nodes`).
     """
     if isinstance(source, Result):
         system, base = source.system, source if source.full_cycle else None
@@ -401,20 +417,34 @@ def design(
     w = abs(drv.driver.motion.speed)
     sense = float(np.sign(drv.driver.motion.speed))
     # M_d: the cycle mean of the one function every output uses (analysis/cycle.py)
-    weights, nodes, pieces = cycle_pieces(base, friction=friction)
+    weights, nodes, pieces = cycle_pieces(base, friction=friction, quadrature=quadrature)
     moment, je = _moment(system, nodes, friction)
     exact = pieces is not None and np.all(np.isfinite(moment)) and np.all(np.isfinite(je))
     if exact:  # the cycle mean by the integrator's own weights (cycle_stats' sum, once)
         m_d = float(np.sum(weights * moment) / np.sum(weights))
     else:  # over the part of the cycle where the moment exists
         m_d = cycle_stats(
-            base, {"M": lambda r: _moment(system, r, friction)[0]}, friction=friction
+            base,
+            {"M": lambda r: _moment(system, r, friction)[0]},
+            friction=friction,
+            quadrature=quadrature,
         )["M"]["mean"]
     work = 2 * np.pi * m_d
     psi = schedule(system)
     if exact:
+        x, wx = leg.leggauss(len(weights) // len(pieces))
+
+        def partial(a: float, b: float) -> float:  # ∫ w·(M_d − M) from a to b, a piece's part
+            times = a + 0.5 * (b - a) * (x + 1.0)
+            try:  # each position continued from the nearest row
+                part = analyze_near(base, times, friction=friction)
+            except AssemblyError:
+                part = analyze(system, times=times, friction=friction, events=False)
+            m = _moment(system, part, friction)[0]
+            return 0.5 * (b - a) * float(np.sum(wx * w * (m_d - m)))
+
         (t_max, swing_max), (t_min, swing_min) = _energy_extremes(
-            pieces, np.asarray(nodes.t), w * (m_d - moment)
+            pieces, np.asarray(nodes.t), w * (m_d - moment), partial
         )
         je_mean = float(np.sum(weights * je) / np.sum(weights))
         je_min, je_max = _value_extremes(pieces, je)

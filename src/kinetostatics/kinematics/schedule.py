@@ -65,6 +65,21 @@ class Schedule:
             [np.zeros(0)] + [turning_times(law, lo, hi) for law in self.laws if law is not None]
         )
 
+    def breaks(self, lo: float, hi: float) -> np.ndarray:
+        """Times in [lo, hi] where a driver's law has a jump in a derivative of ψ (a table
+        law's knots, every period of a cyclic one); none at constant speed."""
+        out = [np.zeros(0)]
+        for law in self.laws:
+            b = np.asarray(getattr(law, "breaks", ()), dtype=float)
+            if law is None or not b.size:
+                continue
+            if law.cyclic:
+                d = law.duration
+                k = np.arange(np.floor(lo / d) - 1, np.ceil(hi / d) + 1)
+                b = (b[None, :] + d * k[:, None]).ravel()
+            out.append(b[(b >= lo) & (b <= hi)])
+        return np.concatenate(out)
+
     @property
     def period(self) -> float:
         """Time of one cycle (s): one turn at constant speed, a cyclic law's duration."""

@@ -401,6 +401,7 @@ def _switches(system, drive, sched, t, q, qd, qdd, full, period_t, extremes):
     """[(Event, state or None)]: angle-band switches (from the schedule) and the sign
     changes of the other conditions between the samples ``t``, refined, sorted by time."""
     psi = drive(t)[0][..., 0]
+    span = float(np.max(t) - np.min(t)) if len(t) > 1 else 1.0
     events: list = []
     for load in system.model.loads:
         for c in load.active:
@@ -444,10 +445,16 @@ def _switches(system, drive, sched, t, q, qd, qdd, full, period_t, extremes):
                 )
                 for r, qr, qdr, qddr in zip(roots, qs[:, None], qds[:, None], qdds[:, None]):
                     g, dg = f(qr[0], qdr[0], qddr[0])
-                    psi_r = drive(np.array([r]))[0][..., 0]
-                    if not _others_hold(system, load, c, qr, qdr, psi_r, extremes, sched):
-                        continue
                     inside_up = dg > 0 if c.kind == "moving" or offset == c.bounds[0] else dg < 0
+                    # the others on the side the load switches to: just after an "on",
+                    # just before an "off" (at the root itself another condition that
+                    # changes at the same instant, a member at rest moving two points
+                    # at once, is at its own zero, and the switch was lost)
+                    tp = r + (span if inside_up else -span) * SIDE
+                    qp, qdp, _ = state_near(system, drive, tp, t, q, qd, qdd)
+                    psi_p = drive(np.array([tp]))[0][..., 0]
+                    if not _others_hold(system, load, c, qp, qdp, psi_p, extremes, sched):
+                        continue
                     events.append(
                         (
                             Event(
@@ -461,7 +468,18 @@ def _switches(system, drive, sched, t, q, qd, qdd, full, period_t, extremes):
                         )
                     )
     events.sort(key=lambda e: e[0].t)
-    return events
+    out: list = []  # one event where two conditions switch a load at the same instant
+    for e in events:
+        if out and any(
+            o.load == e[0].load and o.switch == e[0].switch and abs(o.t - e[0].t) <= SIDE * span
+            for o, _ in out[-4:]
+        ):
+            continue
+        out.append(e)
+    return out
+
+
+SIDE = 1e-8  # of the run's span: where the other conditions of a switch are looked at
 
 
 def _others_hold(system, load, cond, q, qd, psi, extremes, sched) -> bool:

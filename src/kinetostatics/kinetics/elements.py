@@ -25,7 +25,15 @@ from ..base.geometry import perp, rotate
 from ..model import Element
 from ..structure.system import System, coordinate_gradient
 
-__all__ = ["ElementStates", "element_states", "coordinate", "force", "energy"]
+__all__ = [
+    "ElementStates",
+    "element_states",
+    "coordinate",
+    "coordinate_rate",
+    "force",
+    "force_kinks",
+    "energy",
+]
 
 
 @dataclass
@@ -109,6 +117,21 @@ def force(e: Element, s: np.ndarray, rate: np.ndarray) -> np.ndarray:
     if e.table is not None:
         return np.interp(s, *e.table)
     return e.preload + e.stiffness * (s - e.free)
+
+
+def force_kinks(e: Element) -> np.ndarray:
+    """The coordinates s where the element's force has a kink: a table spring's entries
+    (linear between them, held constant outside); none for a linear spring or a damper.
+    The cycle's quadrature is cut where s passes one."""
+    if e.spring and e.table is not None:
+        return np.asarray(e.table[0], dtype=float)
+    return np.zeros(0)
+
+
+def coordinate_rate(system: System, e: Element, q, qd) -> tuple[np.ndarray, np.ndarray]:
+    """(s, ṡ) of element ``e`` at states (q, q̇), ``(...)`` each."""
+    s, grad = coordinate(system, e, q)
+    return s, np.einsum("...n,...n->...", grad, qd)
 
 
 def energy(e: Element, s: np.ndarray) -> np.ndarray:

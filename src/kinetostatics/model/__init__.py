@@ -99,6 +99,15 @@ class EffortLaw:
             )
         return np.broadcast_to(np.interp(psi_d, self.at, self.values), shape)
 
+    def kinks(self) -> tuple[str, np.ndarray]:
+        """(variable, levels): where the law has a kink, as values of ``"coordinate"`` (a
+        table: its driver coordinates, each repeating every turn for a revolute) or of
+        ``"speed"`` (a curve: its speeds); no levels for a constant or the motor line.
+        The cycle's quadrature is cut where the variable passes a level."""
+        if self.kind in ("table", "curve"):
+            return ("coordinate" if self.kind == "table" else "speed"), np.asarray(self.at)
+        return "coordinate", np.zeros(0)
+
 
 @dataclass(frozen=True)
 class Driver:
@@ -174,6 +183,12 @@ class Load:
         cols = vals.reshape(len(at), -1).T
         out = np.stack([np.interp(psi, at, c, period=period) for c in cols], axis=-1)
         return out.reshape(np.shape(psi) + vals.shape[1:])
+
+    def kinks(self) -> np.ndarray:
+        """The driver coordinates where the value has a kink: the table's entries (each
+        repeating every turn for a revolute driver; none for a constant).  The cycle's
+        quadrature is cut where the driver passes one."""
+        return np.zeros(0) if self.table is None else np.asarray(self.table[0], dtype=float)
 
 
 ELEMENT_KINDS = ("spring", "damper", "torsion_spring", "rotary_damper")

@@ -14,6 +14,7 @@ interface:
   thresholds and the continuation step, as the speed of a constant-speed law);
 * ``duration`` (s) — the time a run covers; ``cyclic`` — whether ψ(duration)
   = ψ(0) with the same derivatives (a run then does not repeat its end point);
+* ``breaks`` — the times in one run where a derivative of ψ jumps (a table's knots);
 * ``to_spec()`` — the YAML ``motion:`` mapping in SI.
 
 >>> law = HarmonicLaw(centre=1.0, amplitude=0.5, period=2.0)
@@ -80,6 +81,8 @@ class HarmonicLaw:
     def duration(self) -> float:
         return self.period
 
+    breaks = ()  # smooth: no jump in any derivative
+
     def to_spec(self) -> dict:
         return {
             "law": "harmonic",
@@ -98,6 +101,7 @@ class PolynomialLaw:
     duration: float  # s
     kind = "polynomial"
     cyclic = False
+    breaks = ()  # smooth: no jump in any derivative
 
     def value(self, start, t):
         t = np.asarray(t, dtype=float)
@@ -165,6 +169,14 @@ class TableLaw:
     @cached_property
     def speed(self) -> float:
         return _peak(self, np.linspace(0.0, self.duration, _SAMPLES))
+
+    @property
+    def breaks(self) -> tuple[float, ...]:
+        """Times (from the run's start) of the inner knots: ψ is a cubic between them, its
+        third derivative jumps at each (ψ̈ has a kink there), so the cycle's quadrature is
+        cut there."""
+        t = np.asarray(self.time, dtype=float)
+        return tuple(float(x) for x in t[1:-1] - t[0])
 
     def to_spec(self) -> dict:
         spec = {"law": "table", "time": list(self.time), "value": list(self.values)}
