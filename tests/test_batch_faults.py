@@ -464,9 +464,9 @@ def test_a_killed_worker_is_replaced_and_every_row_is_computed_once(tmp_path):
 
 
 # -- failing variants and the stacked analysis ------------------------------------------
-def test_failing_variants_do_not_reach_the_stacked_friction_solution(monkeypatch):
-    tpl = variants.Template.load(SLOTTER)
-    # 1 and 3 do not assemble (the ram's guide out of reach), 2 and 4 do
+def test_failing_variants_do_not_reach_the_stacked_friction_solution(monkeypatch, fixed_sketch):
+    tpl = variants.Template.load(fixed_sketch)
+    # 1 and 3 assemble away from the sketch of K = 2 (on another branch), 2 and 4 near it
     ovs = [
         {"K": 1.2, "H": 140.0, "L_O2O3": 180.0},
         {"K": 2.8, "H": 140.0, "L_O2O3": 120.0},

@@ -22,20 +22,6 @@ from .conftest import MECHANISMS
 MECH = Path(__file__).resolve().parents[1] / "mechanisms"
 
 
-@pytest.fixture
-def fixed_sketch(tmp_path) -> Path:
-    """The slotting machine with its sketch in numbers (the pose for K = 2, H = 100), not
-    in the expressions that follow K and H: a variant far enough from K = 2 assembles away
-    from it."""
-    text = (MECH / "slotting_machine.yaml").read_text(encoding="utf-8")
-    head, rest = text.split("\nsketch:", 1)
-    tail = rest.split("\nanalysis:", 1)[1]
-    literal = "\nsketch:\n  A: [-112.5, -65]\n  B: [86.6, 50]\n  C: [93.3, 150]\nanalysis:"
-    path = tmp_path / "slotting_machine.yaml"
-    path.write_text(head + literal + tail, encoding="utf-8")
-    return path
-
-
 def _same(a: dict, b: dict, rtol: float = 1e-12) -> list[str]:
     """Keys whose values differ (numbers relative to the larger, a dimensionless one
     relative to 1 at least; NaN equals NaN)."""
