@@ -14,7 +14,7 @@ from __future__ import annotations
 import pytest
 
 import kinetostatics as ks
-from kinetostatics.analysis import cycle
+from kinetostatics.analysis import cuts, cycle
 
 from .helpers import ROOT
 
@@ -26,7 +26,7 @@ def _stats(name: str, columns, nodes: int, pieces: int, monkeypatch, **off):
     # for a missing break (at the cost of more nodes), and these tests are about the breaks
     monkeypatch.setattr(cycle, "SPLITS", 0)
     for fn in off:
-        monkeypatch.setattr(cycle, fn, lambda result: [])
+        monkeypatch.setattr(cuts, fn, lambda result: [])
     path = ROOT / "mechanisms" / f"{name}.yaml"
     if not path.exists():
         path = ROOT / "tests" / "drive" / f"{name}.yaml"
@@ -73,7 +73,7 @@ def test_the_motor_torque_behind_a_reduction_is_exact(monkeypatch):
             monkeypatch.setattr(cycle, "PIECES", pieces)
             monkeypatch.setattr(cycle, "SPLITS", 0)  # the fixed rule (see _stats)
             if off:
-                monkeypatch.setattr(cycle, "_effort_zeros", lambda result: [])
+                monkeypatch.setattr(cuts, "effort_zeros", lambda result: [])
             r = ks.analyze(ks.load(ROOT / "tests" / "drive" / "slotting_machine_drive.yaml"))
             out.append(size(r).motor["torque"])
         (a, b) = out

@@ -917,6 +917,7 @@ def relation_cam_phase(doc, seed):
         e = float(np.max(np.abs(lift - law))) / scale
         if e > worst:
             worst, WORST[:] = e, [e, f"{name} lift"]
+    return worst
 
 
 CONVERGED = ((8, 36), (16, 72))  # (nodes, pieces): today's quadrature, and twice the order
