@@ -293,7 +293,7 @@ def _animate(args) -> int:
 
     out = Path(args.out)
     if out.suffix.lower() not in (".gif", ".mp4"):
-        raise pl.PictureError(f"{out}: write the animation as .gif (or .mp4 with ffmpeg)")
+        raise pl.PictureError(f"--out {out}: write the animation as .gif (or .mp4 with ffmpeg)")
     model = load(args.file)
     result = pl.analyze_for_pictures(model, frames=args.frames, events=False)
     paths = _default_paths(model) if args.paths is None else args.paths
