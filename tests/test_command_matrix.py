@@ -140,6 +140,7 @@ CASES = [
     *_option_cases("simulate", SIMULATE, "--slip", POSITIVE_BAD),
     *_option_cases("simulate", SIMULATE, "--method", ("Euler", "")),
     *_out_cases("simulate", SIMULATE, FOLDERS),
+    *_option_cases("simulate", SIMULATE, "--flywheel", ("constant", "none")),
     pytest.param(
         ["simulate", "{stiff}", "--until", "0.05", "--out", "{out}"],
         "lost to round-off",
