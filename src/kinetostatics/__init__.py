@@ -11,6 +11,7 @@ from .base.version import VERSION
 from .errors import (
     AssemblyError,
     KinetostaticsError,
+    LostInertiaError,
     ModelError,
     NearSingularWarning,
     NonFiniteResultError,
@@ -40,6 +41,7 @@ __all__ = [
     "SingularConfigurationError",
     "SelfLockingError",
     "NonFiniteResultError",
+    "LostInertiaError",
     "OutputError",
     "NearSingularWarning",
     "build_system",

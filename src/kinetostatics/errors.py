@@ -22,6 +22,7 @@ __all__ = [
     "SingularConfigurationError",
     "SelfLockingError",
     "NonFiniteResultError",
+    "LostInertiaError",
     "NearSingularWarning",
     "JointWarning",
     "ElementWarning",
@@ -119,6 +120,12 @@ class NonFiniteResultError(KinetostaticsError, RuntimeError):
     def __init__(self, column: str, row: int, message: str):
         self.column, self.row = column, row
         super().__init__(message)
+
+
+class LostInertiaError(KinetostaticsError, RuntimeError):
+    """The equations of motion cannot be solved at a state: the free coordinates'
+    inertia is lost to round-off against the other terms (a spring, a load or a
+    speed far larger than the masses can balance in double precision)."""
 
 
 class OutputError(KinetostaticsError, RuntimeError):

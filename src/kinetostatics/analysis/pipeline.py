@@ -18,6 +18,7 @@ from ..errors import (
     ElementWarning,
     JointWarning,
     Location,
+    ModelError,
     NearSingularWarning,
     NonFiniteResultError,
     StructureError,
@@ -212,6 +213,8 @@ def _rows(system: System, sched: Schedule, positions, times) -> tuple[np.ndarray
         t, full = _checked_times(system, sched, times), False
     else:
         t, full = sample_times(system, sched, positions)
+    given_as = "positions" if positions is not None else ("times" if times is not None else None)
+    _check_memory(system, len(t), given_as)
     # rows given as driver coordinates (positions=, `at`), placed a turn ahead by sample_times
     given = np.zeros(len(t), dtype=bool)
     if positions is not None:
@@ -221,6 +224,21 @@ def _rows(system: System, sched: Schedule, positions, times) -> tuple[np.ndarray
         order = np.argsort(t, kind="stable")  # `at` rows take their place in the run
         t, given = t[order], given[order]
     return t, given, full
+
+
+def _check_memory(system: System, n: int, given: str | None) -> None:
+    """Refuse ``n`` rows, before any is analysed, when they would need more memory
+    than is available (:func:`~kinetostatics.base.memory.memory_shortfall`, the
+    estimate of a batch's): a ModelError naming ``analysis.positions``, or a
+    ValueError naming the ``positions``/``times`` argument."""
+    from ..base.memory import memory_shortfall
+
+    if (why := memory_shortfall(n, "the analysis")) is None:
+        return
+    if given is None:
+        where = Location(system.model.source, path="analysis.positions")
+        raise ModelError([(where, f"{why}; analyse fewer positions")])
+    raise ValueError(f"{given}: {why}")
 
 
 def _motion(system: System, sched: Schedule, t, q, by: str, step: float):

@@ -70,8 +70,12 @@ def real_number(
             bounds = bounds.replace(
                 f"from {low:g} to {high:g}", f"greater than {low:g} and below {high:g}", 1
             )
+        elif strict_low and low is not None and high is not None:
+            bounds = bounds.replace(
+                f"from {low:g} to {high:g}", f"greater than {low:g} and at most {high:g}", 1
+            )
         elif strict_low:
-            bounds = bounds.replace("at least", "greater than", 1)
+            bounds = bounds.replace("of at least", "greater than", 1)
         raise ValueError(f"{name} = {v!r}: {bounds}")
     return v
 

@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["make_folder", "write_whole", "json_text", "NON_FINITE"]
+__all__ = ["make_folder", "write_file", "write_outputs", "write_whole", "json_text", "NON_FINITE"]
 
 # the key that lists, in a JSON mapping written by json_text, the values that were not
 # finite numbers and are written as null: {"path.to[2].value": "Infinity" | "-Infinity" | "NaN"}
@@ -48,6 +48,33 @@ def make_folder(out: Path, what: str) -> None:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise output_error(exc, what) from None
+
+
+def write_file(path: Path, what: str, write: Callable[[Path], None]) -> None:
+    """Write the file ``path`` whole (:func:`write_whole`); a ``path`` that is a folder
+    (``--out .``) or an ``OSError`` (a missing or read-only folder, a full disk) is
+    one :class:`~kinetostatics.errors.OutputError` line starting with ``what`` (e.g.
+    ``--out FILE``).  A writer gets a temporary name: it must state its format (for
+    example ``savefig(..., format="png")``), not guess it from the name."""
+    from ..errors import OutputError, output_error
+
+    path = Path(path)
+    if path.is_dir() or path.name in ("", ".", ".."):
+        raise OutputError(f"{what}: is a folder, not a file")
+    try:
+        write_whole(path, write)
+    except OSError as exc:
+        raise output_error(exc, what) from None
+
+
+def write_outputs(out: Path, what: str, writers) -> None:
+    """Make the folder ``out`` (:func:`make_folder`) and write each ``(path, write)``
+    whole (:func:`write_file`): every command writes its files through here or
+    :func:`write_file`, so that none is left half-written or under a temporary name,
+    and a failure is one line naming the path."""
+    make_folder(Path(out), what)
+    for path, write in writers:
+        write_file(path, what, write)
 
 
 def json_text(data: Any, indent: int | None = 2, **options: Any) -> str:

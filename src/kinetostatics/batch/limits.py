@@ -4,8 +4,7 @@ memory available (:func:`available_memory`) holds at :data:`BYTES_PER_VARIANT` e
 
 from __future__ import annotations
 
-import os
-
+from ..base.memory import available_memory, gigabytes
 from ..errors import Location, ModelError
 
 __all__ = [
@@ -31,41 +30,6 @@ class SweepError(ModelError):
 
     def __init__(self, where: Location, message: str):
         super().__init__([(where, message)])
-
-
-def available_memory() -> int:
-    """Bytes of memory available now: ``MemAvailable`` of ``/proc/meminfo`` (and at
-    most what a cgroup limit leaves), else the free physical pages; 2**62 when
-    the system does not say."""
-    free = None
-    try:
-        with open("/proc/meminfo", encoding="ascii") as fh:
-            for line in fh:
-                if line.startswith("MemAvailable:"):
-                    free = int(line.split()[1]) * 1024
-                    break
-    except (OSError, ValueError, IndexError):
-        pass
-    if free is None:
-        try:
-            free = os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
-        except (ValueError, OSError, AttributeError):
-            return 2**62
-    try:
-        with open("/sys/fs/cgroup/memory.max", encoding="ascii") as fh:
-            limit = fh.read().strip()
-        with open("/sys/fs/cgroup/memory.current", encoding="ascii") as fh:
-            used = int(fh.read().strip())
-        if limit != "max":
-            free = min(free, max(int(limit) - used, 0))
-    except (OSError, ValueError):
-        pass
-    return free
-
-
-def gigabytes(n: float) -> str:
-    """``n`` bytes as ``'1.2 GB'`` (GiB)."""
-    return f"{n / 2**30:.1f} GB"
 
 
 def check_size(n: int, where: Location, what: str = "the sweep") -> None:

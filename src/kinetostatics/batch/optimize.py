@@ -39,6 +39,7 @@ from typing import Any
 import numpy as np
 
 from ..base.document import read_text
+from ..base.limits import MAX_POSITIONS
 from .objectives import FAILED, INFEASIBLE, Constraint, Expression, OptimizeError
 from .optimize_files import designs_on_disk
 from .sources import Chunk, Source, template_of
@@ -50,7 +51,12 @@ __all__ = ["optimize", "Optimum", "OptimizeError", "INFEASIBLE", "FAILED", "pars
 MAX_BOUND = float(np.finfo(float).max) / 2
 # The options' ranges (the command refuses others with one line): designs per
 # generation = popsize × the number of varied parameters (at least 5, scipy's rule)
-RANGES = {"popsize": (1, 1000), "maxiter": (0, 100_000), "seed": (0, 2**63 - 1)}
+RANGES = {
+    "popsize": (1, 1000),
+    "maxiter": (0, 100_000),
+    "seed": (0, 2**63 - 1),
+    "positions": (1, MAX_POSITIONS),
+}
 # a best design this close to a bound (a fraction of HI − LO) is reported on it
 ON_BOUND = 1e-6
 
@@ -302,6 +308,8 @@ def optimize(
     from scipy.optimize import differential_evolution
 
     _check_ranges(popsize=popsize, maxiter=maxiter, seed=seed)
+    if positions is not None:
+        _check_ranges(positions=positions)
     source = _source(model_or_path)
     template = template_of(source.file, source.text)
     bounds = parse_vary(vary)
@@ -342,24 +350,29 @@ def optimize(
         if disk is not None:
             problem.load(disk.records)
             problem.sink = disk.add
-        message = _run(
-            differential_evolution,
-            problem,
-            known,
-            names,
-            lo,
-            hi,
-            history,
-            executor,
-            workers,
-            maxiter=maxiter,
-            popsize=popsize,
-            tol=tol,
-            seed=seed,
-            polish=polish,
-            local_maxiter=local_maxiter,
-            progress=progress,
-        )
+        try:
+            message = _run(
+                differential_evolution,
+                problem,
+                known,
+                names,
+                lo,
+                hi,
+                history,
+                executor,
+                workers,
+                maxiter=maxiter,
+                popsize=popsize,
+                tol=tol,
+                seed=seed,
+                polish=polish,
+                local_maxiter=local_maxiter,
+                progress=progress,
+            )
+        except OptimizeError:  # a mistake (an unknown name), found at the first designs
+            if disk is not None and not disk.records:  # a fresh search: nothing to resume
+                disk.discard()
+            raise
         best = problem.best()
         analysed = [r for r in problem.visited.values() if r["status"] != "failed"]
         if all(math.isnan(r["objective"]) for r in analysed):  # a mistake, not a search

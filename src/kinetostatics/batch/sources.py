@@ -12,6 +12,7 @@ from pathlib import Path
 from typing import Any
 
 from ..base.document import read_text
+from ..base.memory import BYTES_PER_POSITION
 from ..errors import KinetostaticsError
 
 __all__ = [
@@ -28,9 +29,8 @@ __all__ = [
 ]
 
 # Memory bound of one chunk: a variant costs about BYTES_PER_POSITION per
-# position while it is analysed (result columns, q, q', q'', reactions).
+# position while it is analysed (base.memory).
 MEMORY_BUDGET = 256 * 2**20
-BYTES_PER_POSITION = 8 * 2**10
 # Larger chunks gain nothing: the vectorised analysis of the slotting machine
 # at 72 positions runs fastest per variant around 125 variants a chunk (one
 # process: 370 variants/s at 125, 312 at 250, 283 at 1,000, 241 at 2,000).

@@ -259,14 +259,18 @@ class _Lock:
                 same = False
             if same:
                 self.fd = fd
-                os.ftruncate(fd, 0)
-                os.write(
-                    fd,
-                    (
-                        f"pid {os.getpid()} on {_host()} since "
-                        f"{time.strftime('%Y-%m-%d %H:%M:%S')}\n"
-                    ).encode(),
-                )
+                try:
+                    os.ftruncate(fd, 0)
+                    os.write(
+                        fd,
+                        (
+                            f"pid {os.getpid()} on {_host()} since "
+                            f"{time.strftime('%Y-%m-%d %H:%M:%S')}\n"
+                        ).encode(),
+                    )
+                except BaseException:  # a full disk, Ctrl-C: no lock file left behind
+                    self.release()
+                    raise
                 return
             os.close(fd)
         raise BatchError(f"{self.path}: cannot take the lock")  # pragma: no cover

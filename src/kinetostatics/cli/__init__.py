@@ -82,7 +82,9 @@ def _run(args) -> int:
     result = analyze(model, reachable=bool(getattr(args, "reachable", False)))
     s = result.summary()  # before anything is written: a failed run writes nothing
     out = Path(args.out)
-    _write_outputs(
+    from ..base.files import write_outputs
+
+    write_outputs(
         out,
         f"--out {args.out}",
         [
@@ -185,10 +187,11 @@ def _print_drive(d: dict) -> None:
 def _drive_picture(result, out: Path) -> None:
     """``drive.png``: the four-quadrant torque-speed picture (matplotlib: only with a
     ``drive:`` section)."""
+    from ..base.files import write_outputs
     from ..outputs.plotting.drive import torque_speed
 
     path = out / "drive.png"
-    _write_outputs(
+    write_outputs(
         out, "drive picture", [(path, lambda p: torque_speed(result).savefig(p, format="png"))]
     )
     print(f"four-quadrant torque-speed picture -> {path}")
@@ -213,21 +216,6 @@ def _print_output(name: str, o: dict, named: bool) -> None:
     )
 
 
-def _write_outputs(out: Path, what: str, writers) -> None:
-    """Make the folder ``out`` and write each ``(path, write)``; an ``OSError`` (a
-    folder that is a file or read-only, a full disk) is one line naming the path,
-    and no file is left half-written: each is written to a temporary name first."""
-    from ..base.files import make_folder, write_whole
-    from ..errors import output_error
-
-    make_folder(out, what)
-    for path, write in writers:
-        try:
-            write_whole(path, write)
-        except OSError as exc:
-            raise output_error(exc, what) from None
-
-
 # Modules adding subcommands: each defines ``register(subparsers)`` that adds its
 # parsers with ``set_defaults(func=...)``.  They must not import matplotlib or
 # scipy at import time (``run`` stays light).
@@ -240,10 +228,20 @@ EXTENSIONS: tuple[str, ...] = (
 )
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with a usage error on one line (``kinetostatics run: error: ...``, exit
+    2), like every other user error; ``--help`` still prints the usage."""
+
+    def error(self, message: str):
+        from ..errors import printable
+
+        self.exit(2, f"{self.prog}: error: {printable(message)} (see {self.prog} --help)\n")
+
+
 def main(argv: list[str] | None = None) -> int:
     import importlib
 
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="kinetostatics",
         description="Kinetostatic analysis of planar linkages described in YAML.",
     )
@@ -289,6 +287,10 @@ def main(argv: list[str] | None = None) -> int:
             prefixed = file and line.startswith(file)
             print(line if prefixed else f"kinetostatics: {line}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:  # Ctrl-C: one line; each file is whole or absent (write_whole)
+        sys.stdout.flush()
+        print(f"kinetostatics: {args.command}: interrupted", file=sys.stderr)
+        return 130
     except BrokenPipeError:  # the reader went away (`kinetostatics check FILE | head`)
         import os
 

@@ -181,6 +181,15 @@ def _ranges() -> tuple[tuple[str, int, int], ...]:
     )
 
 
+def _check_ranges(args, error) -> None:
+    """Each whole-number option of ``args`` within its range (:func:`_ranges`), else
+    ``error`` naming it."""
+    for option, lo, hi in _ranges():
+        v = getattr(args, option, None)
+        if v is not None and not lo <= v <= hi:
+            raise error(f"--{option} {v}: must be from {lo} to {hi}")
+
+
 # More worker processes than this are refused: each holds a copy of the
 # interpreter and numpy (about 60 MB) and two chunks in flight.
 MAX_WORKERS = 1024
@@ -191,10 +200,7 @@ def _batch(args) -> int:
 
     if args.where and not args.best:
         raise BatchError("--where needs --best")
-    for option, lo, hi in _ranges():
-        v = getattr(args, option)
-        if v is not None and not lo <= v <= hi:
-            raise BatchError(f"--{option} {v}: must be from {lo} to {hi}")
+    _check_ranges(args, BatchError)
     sources = sources_of(args.file)
     if len(sources) == 1:
         template_of(sources[0].file, sources[0].text)  # a broken file stops here
@@ -245,6 +251,7 @@ def _batch(args) -> int:
 def _best(args) -> int:
     from ..batch.best import BestError, best
 
+    _check_ranges(args, BestError)
     path = Path(args.file)
     if path.is_dir():
         path = path / "summary.csv"

@@ -18,6 +18,43 @@ class _UserError(KinetostaticsError):
     pass
 
 
+METHODS = ("RK45", "DOP853", "RK23", "Radau", "BDF", "LSODA")
+
+
+def _option(name: str, value, **bounds) -> None:
+    """``--name value`` checked by :func:`~kinetostatics.base.arguments.real_number`
+    (finite, within ``bounds``): one line naming the option."""
+    from ..base.arguments import real_number
+
+    try:
+        real_number(name, value, **bounds)
+    except ValueError as exc:
+        raise _UserError(f"--{name} {value:g}: {str(exc).split(': ', 1)[1]}") from None
+
+
+def _check_options(args) -> None:
+    """The numbers of the command line, before any work: a time up to the file
+    limit's, tolerances in (0, 1], rows within MAX_POSITIONS and the memory
+    available, an initial speed within SPEED_RANGE."""
+    from ..base.limits import MAGNITUDE, MAX_POSITIONS, SPEED_RANGE
+    from ..base.memory import memory_shortfall
+
+    _option("until", args.until, low=0.0, strict_low=True, high=MAGNITUDE["time"][1], why="s")
+    _option("rtol", args.rtol, low=0.0, strict_low=True, high=1.0)
+    if args.atol is not None:
+        _option("atol", args.atol, low=0.0, strict_low=True)
+    if not 2 <= args.points <= MAX_POSITIONS:
+        raise _UserError(f"--points {args.points}: must be from 2 to {MAX_POSITIONS}")
+    if why := memory_shortfall(args.points, "the table"):
+        raise _UserError(f"--points {args.points}: {why}")
+    if args.speed is not None:
+        hi = SPEED_RANGE[1]
+        _option("speed", args.speed, low=-hi, high=hi, why="rad/s or m/s")
+    if args.angle is not None:
+        _option("angle", args.angle)  # its range once the driver is known
+    _option("slip", args.slip, low=MAGNITUDE[None][0], high=MAGNITUDE[None][1])
+
+
 def register(sub) -> None:
     p = sub.add_parser(
         "simulate",
@@ -39,6 +76,8 @@ def register(sub) -> None:
     p.add_argument(
         "--method",
         default="RK45",
+        choices=METHODS,
+        metavar="METHOD",
         help="scipy solve_ivp method: RK45, DOP853, RK23, Radau, BDF, LSODA (default RK45)",
     )
     p.add_argument("--rtol", type=float, default=1e-8, help="relative tolerance (default 1e-8)")
@@ -90,9 +129,12 @@ def register(sub) -> None:
 def _simulate(args) -> int:
     import numpy as np
 
+    from ..base.files import make_folder, write_outputs
     from ..dynamics import simulate, speed_fluctuation, write_csv
     from ..outputs.loading import load
 
+    _check_options(args)
+    make_folder(Path(args.out), f"--out {args.out}")  # a file there: before the work
     model = load(args.file)
     initial = {}
     mark = None
@@ -135,12 +177,11 @@ def _simulate(args) -> int:
         joint = model.joint(free[0].joint)
         psi, w = initial.get(first, (model.analysis.start, 0.0))
         if args.angle is not None:
+            _angle_in_range(args.angle, joint.angular)
             psi = np.radians(args.angle) if joint.angular else args.angle
         if args.speed is not None:
             w = args.speed
         initial[first] = (psi, w)
-    if args.until <= 0:
-        raise _UserError("--until must be positive")
     sim = simulate(
         model,
         args.until,
@@ -154,10 +195,9 @@ def _simulate(args) -> int:
         progress=sys.stderr.isatty() if args.progress is None else args.progress,
     )
     out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
     cols, units = sim.table(points=args.points)
     sim_csv = out / "simulation.csv"
-    write_csv(sim_csv, cols, units)
+    write_outputs(out, f"--out {args.out}", [(sim_csv, lambda p: write_csv(p, cols, units))])
     print(
         f"{model.name}: simulated {sim.t_end:.6g} s ({sim.nfev} evaluations, "
         f"{len(sim.events)} events, {sim.status}) -> {sim_csv}"
@@ -188,15 +228,22 @@ def _simulate(args) -> int:
         )
     if not args.no_plot:
         png = out / "simulation.png"
-        plot_simulation(
-            cols,
-            units,
-            sim.dynamics.free_names
-            + [n for n in sim.dynamics.names if n not in sim.dynamics.free_names],
-            png,
+        names = sim.dynamics.free_names + [
+            n for n in sim.dynamics.names if n not in sim.dynamics.free_names
+        ]
+        write_outputs(
+            out, f"--out {args.out}", [(png, lambda p: plot_simulation(cols, units, names, p))]
         )
         print(f"plot -> {png}")
     return 0
+
+
+def _angle_in_range(angle: float, angular: bool) -> None:
+    """``--angle``: within MAX_TURNS turns of 0 (deg), or a length within MAGNITUDE (m)."""
+    from ..base.limits import MAGNITUDE, MAX_TURNS
+
+    hi = 360.0 * MAX_TURNS if angular else MAGNITUDE["length"][1]
+    _option("angle", angle, low=-hi, high=hi, why="deg" if angular else "m")
 
 
 def plot_simulation(cols, units, drivers, path) -> None:
@@ -226,5 +273,7 @@ def plot_simulation(cols, units, drivers, path) -> None:
         ax.legend(loc="best", fontsize=8)
     axes[-1].set_xlabel("time [s]")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    try:
+        fig.savefig(path, dpi=110, format="png")
+    finally:
+        plt.close(fig)

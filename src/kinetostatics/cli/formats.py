@@ -9,6 +9,8 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from .pictures import finite_number
+
 __all__ = ["register"]
 
 
@@ -17,13 +19,13 @@ def _schema(args) -> int:
 
     text = schema_text()
     if args.out:
-        from ..base.files import write_whole
-        from ..errors import output_error
+        from ..base.files import write_file
 
-        try:
-            write_whole(Path(args.out), lambda path: path.write_text(text, encoding="utf-8"))
-        except OSError as exc:
-            raise output_error(exc, f"--out {args.out}") from None
+        write_file(
+            Path(args.out),
+            f"--out {args.out}",
+            lambda path: path.write_text(text, encoding="utf-8"),
+        )
         print(f"JSON Schema of a mechanism file -> {args.out}")
     else:
         sys.stdout.write(text)
@@ -43,16 +45,13 @@ def _export(args) -> int:
     row = pl.row_at(result, args.at)
     out = Path(args.out) if args.out else Path(f"{Path(args.file).stem}.{args.format}")
     write = export_dxf if args.format == "dxf" else export_svg
-    from ..base.files import write_whole
-    from ..errors import output_error
+    from ..base.files import write_file
 
-    try:
-        write_whole(
-            out,
-            lambda path: write(result, row, path, forces=args.forces, friction=args.friction),
-        )
-    except OSError as exc:
-        raise output_error(exc, f"--out {out}") from None
+    write_file(
+        out,
+        f"--out {out}",
+        lambda path: write(result, row, path, forces=args.forces, friction=args.friction),
+    )
     from ..errors import printable
 
     name = "angle" if "angle" in result.columns else "stroke"
@@ -61,19 +60,6 @@ def _export(args) -> int:
         f"{printable(model.name)}: {name} {value:g} {'deg' if name == 'angle' else 'mm'} -> {out}"
     )
     return 0
-
-
-def _number(text: str) -> float:
-    import argparse
-    import math
-
-    try:
-        v = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number, got '{text}'") from None
-    if not math.isfinite(v):
-        raise argparse.ArgumentTypeError(f"expected a finite number, got '{text}'")
-    return v
 
 
 def register(sub) -> None:
@@ -87,7 +73,7 @@ def register(sub) -> None:
     p.add_argument("file", help="mechanism YAML file")
     p.add_argument(
         "--at",
-        type=_number,
+        type=finite_number,
         help="driver coordinate in deg (mm for a prismatic driver); "
         "default: the first position of the analysis",
     )

@@ -9,7 +9,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-__all__ = ["WHAT", "register"]
+__all__ = ["WHAT", "MAX_DPI", "MAX_FPS", "MAX_FRAMES", "finite_number", "register"]
 
 WHAT = (
     "drawing",
@@ -23,23 +23,52 @@ WHAT = (
 )
 
 
-def _positive_int(text: str) -> int:
+# The largest resolution, frame rate and number of frames: a picture at 1,200 dpi
+# is about 10,000 pixels a side (print quality; matplotlib refuses 65,536), a GIF
+# counts its delays in hundredths of a second, and every frame of an animation is
+# held in memory until it is written (about 0.3 MB each at 110 dpi).
+MAX_DPI = 1200.0
+MAX_FPS = 100.0
+MAX_FRAMES = 10_000
+
+
+def _frames(text: str) -> int:
     try:
         n = int(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"expected a whole number, got '{text}'") from None
-    if n < 2:
-        raise argparse.ArgumentTypeError(f"need at least 2 frames, got {n}")
+    if not 2 <= n <= MAX_FRAMES:
+        raise argparse.ArgumentTypeError(f"must be from 2 to {MAX_FRAMES} frames, got {n}")
     return n
 
 
-def _positive_float(text: str) -> float:
+def _up_to(limit: float):
+    """An argparse type: a number greater than 0 and at most ``limit``."""
+
+    def positive(text: str) -> float:
+        try:
+            v = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected a number, got '{text}'") from None
+        if not 0 < v <= limit:
+            raise argparse.ArgumentTypeError(
+                f"must be greater than 0 and at most {limit:g}, got {text}"
+            )
+        return v
+
+    return positive
+
+
+def finite_number(text: str) -> float:
+    """An argparse type: a finite number (a driver coordinate)."""
+    import math
+
     try:
         v = float(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"expected a number, got '{text}'") from None
-    if not v > 0:
-        raise argparse.ArgumentTypeError(f"must be positive, got {text}")
+    if not math.isfinite(v):
+        raise argparse.ArgumentTypeError(f"expected a finite number, got '{text}'")
     return v
 
 
@@ -66,7 +95,7 @@ def register(sub) -> None:
     )
     p.add_argument(
         "--position",
-        type=float,
+        type=finite_number,
         default=None,
         help="driver coordinate of the drawing and the polygons, deg (mm for a "
         "prismatic driver); default: the first position of the analysis",
@@ -97,7 +126,7 @@ def register(sub) -> None:
     p.add_argument(
         "--format", choices=("png", "svg", "pdf"), default="png", help="image format (default: png)"
     )
-    p.add_argument("--dpi", type=_positive_float, default=110.0, help="resolution (default: 110)")
+    p.add_argument("--dpi", type=_up_to(MAX_DPI), default=110.0, help="resolution (default: 110)")
     p.add_argument(
         "--driver",
         default=None,
@@ -116,12 +145,12 @@ def register(sub) -> None:
     p.add_argument("--out", required=True, help="output file, .gif (or .mp4 with ffmpeg)")
     p.add_argument(
         "--frames",
-        type=_positive_int,
+        type=_frames,
         default=120,
         help="number of frames over the cycle (default: 120)",
     )
     p.add_argument(
-        "--fps", type=_positive_float, default=20.0, help="frames per second (default: 20)"
+        "--fps", type=_up_to(MAX_FPS), default=20.0, help="frames per second (default: 20)"
     )
     p.add_argument("--forces", action="store_true", help="overlay the loads at one force scale")
     p.add_argument(
@@ -134,7 +163,7 @@ def register(sub) -> None:
         metavar="LINK.POINT",
         help="points whose paths are traced (default: the moving pins)",
     )
-    p.add_argument("--dpi", type=_positive_float, default=110.0, help="resolution (default: 110)")
+    p.add_argument("--dpi", type=_up_to(MAX_DPI), default=110.0, help="resolution (default: 110)")
     _lang_option(p)
     p.set_defaults(func=_animate)
 
@@ -153,7 +182,7 @@ def register(sub) -> None:
         metavar="LABELS",
         help="course positions for the polygons, comma-separated, e.g. 2,7,8' (default: 2,7)",
     )
-    p.add_argument("--dpi", type=_positive_float, default=110.0, help="resolution (default: 110)")
+    p.add_argument("--dpi", type=_up_to(MAX_DPI), default=110.0, help="resolution (default: 110)")
     p.add_argument(
         "--format",
         nargs="+",
@@ -216,7 +245,9 @@ def _plot(args) -> int:
             )
     lang = args.lang
     out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+    from ..base.files import make_folder, write_file
+
+    make_folder(out, f"--out {args.out}")
     paths = _default_paths(model) if args.paths is None else args.paths
     written = []
     for name in what:
@@ -246,7 +277,11 @@ def _plot(args) -> int:
         else:
             fig = pl.polygon_figure(result, name, row=row, dpi=args.dpi, lang=lang)
         path = out / f"{name}.{args.format}"
-        fig.savefig(path, dpi=args.dpi)
+        write_file(
+            path,
+            f"--out {args.out}",
+            lambda tmp, fig=fig: fig.savefig(tmp, dpi=args.dpi, format=args.format),
+        )
         written.append(path)
     print(f"{model.name}: {', '.join(str(p) for p in written)}")
     return 0
@@ -258,20 +293,25 @@ def _animate(args) -> int:
 
     out = Path(args.out)
     if out.suffix.lower() not in (".gif", ".mp4"):
-        raise pl.PictureError(f"{out}: write the animation as .gif (or .mp4 with ffmpeg)")
+        raise pl.PictureError(f"--out {out}: write the animation as .gif (or .mp4 with ffmpeg)")
     model = load(args.file)
     result = pl.analyze_for_pictures(model, frames=args.frames, events=False)
     paths = _default_paths(model) if args.paths is None else args.paths
-    pl.animate(
-        result,
-        out,
-        forces=args.forces,
-        friction=args.friction,
-        paths=paths,
-        fps=args.fps,
-        dpi=args.dpi,
-        lang=args.lang,
-    )
+    from ..errors import output_error
+
+    try:
+        pl.animate(
+            result,
+            out,
+            forces=args.forces,
+            friction=args.friction,
+            paths=paths,
+            fps=args.fps,
+            dpi=args.dpi,
+            lang=args.lang,
+        )
+    except OSError as exc:
+        raise output_error(exc, f"--out {args.out}") from None
     print(f"{model.name}: {len(result)} frames -> {out}")
     return 0
 
@@ -283,7 +323,13 @@ def _report(args) -> int:
     if args.pdf and "pdf" not in formats:
         formats.append("pdf")
     paths = write_report(
-        args.file, args.out, polygons=args.polygons, dpi=args.dpi, formats=formats, lang=args.lang
+        args.file,
+        args.out,
+        polygons=args.polygons,
+        dpi=args.dpi,
+        formats=formats,
+        lang=args.lang,
+        what=f"--out {args.out}",
     )
     docs = [str(paths[k]) for k in ("markdown", "html", "pdf") if k in paths]
     print(f"report: {', '.join(docs)} (data: {paths['csv']}, {paths['summary']})")

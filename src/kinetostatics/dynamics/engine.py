@@ -12,6 +12,7 @@ import numpy as np
 from ..errors import (
     KinetostaticsError,
     Location,
+    LostInertiaError,
     SelfLockingError,
     SingularConfigurationError,
     StructureError,
@@ -363,12 +364,30 @@ class Dynamics:
             )
         return x
 
+    def _check_inertia(self, ev: _Eval, mass: np.ndarray) -> None:
+        """Refuse a state whose inertia M (the efforts per unit free acceleration,
+        formed as a difference of efforts) is known to fewer than 3 digits: the
+        efforts at zero acceleration are over 1e-3/eps times it (a stiff spring, a
+        huge speed), and M would be round-off (or exactly singular)."""
+        big = float(np.max(np.abs(ev.tau0), initial=0.0))
+        m = np.abs(np.diag(mass))
+        if np.all(np.isfinite(mass)) and np.min(m) > 1e3 * np.finfo(float).eps * big:
+            return
+        at = ", ".join(f"{n} = {v:.6g}" for n, v in zip(self.names, ev.psi))
+        raise LostInertiaError(
+            f"the motion cannot be integrated at t = {ev.t:.6g} s ({at}): the inertia of "
+            f"the free coordinates ({np.min(m):.3g}) is lost to round-off against efforts "
+            f"of {big:.3g} (a very stiff spring, a huge load or speed); make them smaller "
+            "or the masses larger"
+        )
+
     def accelerations(self, ev: _Eval, psid_f) -> _Eval:
         """Solve (M + J_x) a = τ_app − h (frictionless) or, with friction,
         τ_app − J_x a − τ_f(a) = 0 by Broyden's method."""
         free = self.free
         mass = ev.dtau[:, free].T + np.diag(self.added)
         applied = self.applied(ev.psi[free], psid_f)
+        self._check_inertia(ev, mass)
         accel = np.linalg.solve(mass, applied - ev.tau0[free])
         tau = ev.tau0 + accel @ ev.dtau
         if self.friction:

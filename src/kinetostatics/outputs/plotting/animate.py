@@ -31,7 +31,6 @@ def animate(
     Returns the path written.
     """
     import shutil
-    import subprocess
 
     path = Path(path)
     suffix = path.suffix.lower()
@@ -43,6 +42,23 @@ def animate(
     ffmpeg = shutil.which("ffmpeg") if suffix == ".mp4" else None
     if suffix == ".mp4" and ffmpeg is None:
         raise PictureError(f"{path}: writing MP4 needs ffmpeg on the PATH; write a .gif instead")
+    from ...base.files import write_whole
+
+    path.parent.mkdir(parents=True, exist_ok=True)
+    write_whole(
+        path,
+        lambda tmp: _write(
+            result, tmp, path, ffmpeg, forces, friction, paths, fps, dpi, max_size_mm, lang
+        ),
+    )
+    return path
+
+
+def _write(result, tmp, path, ffmpeg, forces, friction, paths, fps, dpi, max_size_mm, lang):
+    """The frames of :func:`animate` written to ``tmp`` (``path`` names it in messages):
+    MP4 through ``ffmpeg`` when given, else GIF."""
+    import subprocess
+
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.text import Text
 
@@ -89,7 +105,9 @@ def animate(
                     "yuv420p",
                     "-vf",
                     "pad=ceil(iw/2)*2:ceil(ih/2)*2",
-                    str(path),
+                    "-f",
+                    "mp4",
+                    str(tmp),
                 ],
                 stdin=subprocess.PIPE,
             )
@@ -137,10 +155,10 @@ def animate(
         proc.stdin.close()
         if proc.wait() != 0:
             raise PictureError(f"{path}: ffmpeg failed (exit {proc.returncode})")
-        return path
-    path.parent.mkdir(parents=True, exist_ok=True)
+        return
     frames[0].save(
-        path,
+        tmp,
+        format="GIF",
         save_all=True,
         append_images=frames[1:],
         duration=int(round(1000 / fps)),
@@ -148,4 +166,3 @@ def animate(
         optimize=False,
         disposal=1,
     )
-    return path

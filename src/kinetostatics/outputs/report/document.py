@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ...base.files import json_text
+from ...base.files import json_text, make_folder, write_file
 from ...model import Model
 from .. import plotting as pl
 from ..lang import check_lang, cjk_font, tr
@@ -56,6 +56,7 @@ def write_report(
     dpi: float = 110,
     formats: Sequence[str] = ("md", "html"),
     lang: str = "en",
+    what: str | None = None,
 ) -> dict[str, Path]:
     """Analyse ``source`` (a YAML path or a Model) and write the report to ``out``.
 
@@ -68,7 +69,10 @@ def write_report(
     'kinetostatics[pdf]'``).  ``lang``: ``en`` or ``zh`` (Chinese headings and labels;
     needs a font with Chinese glyphs: ``KINETOSTATICS_CJK_FONT``, a system font, or ``pip
     install 'kinetostatics[zh]'``).  Returns the paths written (``markdown``,
-    ``html``, ``pdf`` as asked, ``csv``, ``summary``).
+    ``html``, ``pdf`` as asked, ``csv``, ``summary``).  Each file is written whole
+    (:func:`~kinetostatics.base.files.write_file`); an ``out`` that is a file, a
+    full disk or a read-only folder is an :class:`~kinetostatics.errors.OutputError`
+    whose line starts with ``what`` (default: ``out``).
     """
     formats = list(dict.fromkeys(formats))
     for f in formats:
@@ -86,8 +90,10 @@ def write_report(
             "a file with effort drivers is simulated (kinetostatics simulate)"
         )
     out = Path(out)
+    what = str(out) if what is None else what
     img = out / "img"
-    img.mkdir(parents=True, exist_ok=True)
+    make_folder(out, what)
+    make_folder(img, what)
     result = pl.analyze_for_pictures(model, course=True, events=True)
     system = result.system
     course = pl.course_positions(result)
@@ -96,19 +102,20 @@ def write_report(
     polygons = _polygon_labels(polygons, labels, n_turns)
     rows = _rows(result, course)
     csv_path, summary_path = out / "results.csv", out / "summary.json"
-    result.to_csv(csv_path)
+    write_file(csv_path, what, result.to_csv)
     dsg = None
     if model.flywheel is not None:  # designed once: its numbers and its curve
         from ...dynamics.flywheel import design
 
         dsg = design(result)
     summary = summarize(result, flywheel=dsg)
-    summary_path.write_text(json_text(summary, default=float))
+    text = json_text(summary, default=float)
+    write_file(summary_path, what, lambda p: p.write_text(text, encoding="utf-8"))
     T = lambda s, **k: tr(s, lang, **k)  # noqa: E731
 
     def image(fig, name: str, caption: str, true_scale: bool = False) -> _Image:
         path = img / f"{name}.png"
-        fig.savefig(path, dpi=dpi)
+        write_file(path, what, lambda p: fig.savefig(p, dpi=dpi, format="png"))
         w, h = fig.get_size_inches() * 25.4
         return _Image(path, caption, float(w), float(h), true_scale)
 
@@ -294,12 +301,15 @@ def write_report(
     written: dict[str, Path] = {}
     if "md" in formats:
         written["markdown"] = out / "report.md"
-        written["markdown"].write_text(_to_markdown(blocks, out), encoding="utf-8")
+        text = _to_markdown(blocks, out)
+        write_file(written["markdown"], what, lambda p: p.write_text(text, encoding="utf-8"))
     if "html" in formats:
         written["html"] = out / "report.html"
-        written["html"].write_text(_to_html(blocks, title, lang), encoding="utf-8")
+        text = _to_html(blocks, title, lang)
+        write_file(written["html"], what, lambda p: p.write_text(text, encoding="utf-8"))
     if "pdf" in formats:
         from .pdf import write_pdf
 
-        written["pdf"] = write_pdf(blocks, out / "report.pdf", title, lang)
+        written["pdf"] = out / "report.pdf"
+        write_file(written["pdf"], what, lambda p: write_pdf(blocks, p, title, lang))
     return written | {"csv": csv_path, "summary": summary_path}

@@ -18,7 +18,6 @@ caption says by how much.
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 from ..lang import cjk_font, tr
@@ -103,9 +102,7 @@ def write_pdf(blocks, path: Path, title: str, lang: str = "en") -> Path:
         elif isinstance(b, _Image):
             _image(pdf, font, b, lang)
     path = Path(path)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    pdf.output(str(tmp))
-    tmp.replace(path)
+    pdf.output(str(path))  # write_report writes it whole (base.files.write_file)
     return path
 
 
