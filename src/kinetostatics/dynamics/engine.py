@@ -366,12 +366,15 @@ class Dynamics:
 
     def _check_inertia(self, ev: _Eval, mass: np.ndarray) -> None:
         """Refuse a state whose inertia M (the efforts per unit free acceleration,
-        formed as a difference of efforts) is known to fewer than 3 digits: the
-        efforts at zero acceleration are over 1e-3/eps times it (a stiff spring, a
-        huge speed), and M would be round-off (or exactly singular)."""
-        big = float(np.max(np.abs(ev.tau0), initial=0.0))
+        formed as a difference of efforts) is known to fewer than 3 digits: a free
+        coordinate's efforts at zero acceleration are over 1e-3/eps times its own
+        inertia (a stiff spring, a huge speed), and M would be round-off (or exactly
+        singular).  Row by row: a nearly massless coordinate (a clearance link) with
+        small efforts of its own is no sign, whatever the other rows carry."""
+        tau = np.abs(ev.tau0[self.free])
+        big = float(np.max(tau, initial=0.0))
         m = np.abs(np.diag(mass))
-        if np.all(np.isfinite(mass)) and np.min(m) > 1e3 * np.finfo(float).eps * big:
+        if np.all(np.isfinite(mass)) and np.all(m > 1e3 * np.finfo(float).eps * tau):
             return
         at = ", ".join(f"{n} = {v:.6g}" for n, v in zip(self.names, ev.psi))
         raise LostInertiaError(
