@@ -84,17 +84,22 @@ def cycle_pieces(
         pieces += list(zip(cuts[:-1], cuts[1:]))
     grouped = np.array(pieces)
     times, weights = _nodes_of(grouped, x, w)
-    nodes = quiet_analyze(result.system, times=times, friction=friction, events=False)
+    # the pieces are chosen on the frictionless efforts (cheap: no friction solution at
+    # the nodes, which at self-locked nodes is a homotopy each), then the nodes analysed
+    # once as asked
+    nodes = quiet_analyze(result.system, times=times, friction=False, events=False)
     order = np.argsort(times, kind="stable")  # the pipeline returns rows in time order
+    again = friction
     if not np.allclose(nodes.t, times[order], rtol=0, atol=1e-9 * (tb - ta)):
         order, grouped = np.arange(len(times)), None
     elif len(grouped):
-        finer = _resolved(result, nodes, grouped, x, w, friction)
+        finer = _resolved(result, nodes, grouped, x, w, False)
         if finer is not None:  # pieces halved where the efforts were not resolved
-            grouped = finer
+            grouped, again = finer, True
             times, weights = _nodes_of(grouped, x, w)
-            nodes = quiet_analyze(result.system, times=times, friction=friction, events=False)
             order = np.argsort(times, kind="stable")
+    if again:
+        nodes = quiet_analyze(result.system, times=times, friction=friction, events=False)
     cache[key] = (weights[order], nodes, grouped)
     return cache[key]
 
@@ -132,8 +137,9 @@ def _unresolved(nodes: Result, x: np.ndarray, scales: list[float]) -> np.ndarray
 
 
 def _resolved(result: Result, nodes: Result, pieces, x, w, friction: bool):
-    """The pieces halved (at most :data:`SPLITS` times) until the driving efforts are
-    resolved on each (:func:`_unresolved`), or None when they already are."""
+    """The pieces halved (at most :data:`SPLITS` times) until the driving efforts of
+    ``nodes`` are resolved on each (:func:`_unresolved`), or None when they already are;
+    the halves analysed with ``friction`` or without."""
     scales = []
     for fn in effort_zeros(nodes):
         v = np.abs(np.asarray(fn(nodes), dtype=float))
