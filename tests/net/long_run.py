@@ -46,9 +46,11 @@ def check_one(args):
     import relations as R
 
     out = {"seed": seed, "results": {}}
+    t0 = time.time()
     try:
         doc = G.generate(seed)
         out["rejected"] = G.rejections(seed)
+        out["features"] = sorted(G.features(doc))
     except Exception as exc:  # noqa: BLE001
         out["error"] = f"{type(exc).__name__}: {exc}"[:200]
         return out
@@ -68,6 +70,7 @@ def check_one(args):
         out["results"][name] = (
             [v, (col if hint is None else f"{col} [{hint}]")[:160]] if failed else v
         )
+    out["seconds"] = round(time.time() - t0, 2)
     return out
 
 
@@ -151,6 +154,8 @@ def write_block(block: str, begin: str, end: str) -> None:
 def _block(a, R, outs: list[dict]) -> str:
     stats = {n: {"checked": 0, "failed": 0, "na": 0, "max": 0.0, "seeds": []} for n in R.RELATIONS}
     generated = rejected = errors = 0
+    seconds = 0.0
+    featured = {}
     commits = sorted({out.get("commit", "unknown") for out in outs})
     for out in outs:
         if "error" in out:
@@ -158,6 +163,9 @@ def _block(a, R, outs: list[dict]) -> str:
             continue
         generated += 1
         rejected += out["rejected"]
+        seconds += out.get("seconds", 0.0)
+        for f in out.get("features", []) + (["any"] if out.get("features") else []):
+            featured[f] = featured.get(f, 0) + 1
         for name, res in out["results"].items():
             s = stats[name]
             v, col = res if isinstance(res, list) else (res, "")
@@ -180,6 +188,15 @@ def _block(a, R, outs: list[dict]) -> str:
         "",
         f"- mechanisms generated: {generated}; candidates rejected on the way: {rejected}; "
         f"seeds without an acceptable mechanism: {errors}",
+        f"- time: {seconds / 3600:.2f} h in the workers (generation and relations, "
+        f"{seconds / max(generated, 1):.1f} s per mechanism)",
+        "- mechanisms with each feature (generate.FEATURES): "
+        + (
+            ", ".join(f"{k} {v}" for k, v in sorted(featured.items()) if k != "any")
+            + f"; with at least one: {featured.get('any', 0)}"
+            if featured
+            else "not recorded"
+        ),
         "",
         "| relation | checked | not applicable | failed "
         "| largest discrepancy among the passing | tolerance |",

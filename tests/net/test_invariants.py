@@ -50,7 +50,26 @@ SCALE = _want / _total
 SEED_BASE = {name: 100_000 * (k + 1) for k, name in enumerate(COUNTS)}
 
 # (relation, case) -> reason; case is a shipped file name or "seed:<n>"
-KNOWN: dict[tuple[str, str], str] = {}
+TABLE_CORNERS = (
+    "issue 36 item 3: a table's corners are not cuts of the cycle integral "
+    "(being fixed on its own branch)"
+)
+ZERO_SPEED_LAG = (
+    "the cycle integral cuts where a resistance's (friction's) speed leaves 0, the rows "
+    "switch it on where it leaves the zero-speed threshold: after a cam's dwell, up to "
+    "1e-4 s later (docs/verification.md, What the net found)"
+)
+KNOWN: dict[tuple[str, str], str] = {
+    ("quadrature", "seed:1200001"): ZERO_SPEED_LAG,
+    ("quadrature", "seed:1200002"): TABLE_CORNERS,
+    ("quadrature", "seed:1200004"): ZERO_SPEED_LAG,
+}
+
+
+def _seeds(relation: str) -> list[int]:
+    """The generated mechanisms' seeds of a relation in this run."""
+    n = max(1, round(COUNTS[relation] * SCALE))
+    return list(range(SEED_BASE[relation], SEED_BASE[relation] + n))
 
 
 def _cases(relation: str):
@@ -60,9 +79,10 @@ def _cases(relation: str):
             reason = KNOWN.get((relation, name))
             marks = [pytest.mark.xfail(reason=reason, strict=False)] if reason else []
             out.append(pytest.param(f"shipped:{name}", marks=marks, id=name))
-    n = max(1, round(COUNTS[relation] * SCALE))
-    for seed in range(SEED_BASE[relation], SEED_BASE[relation] + n):
-        out.append(pytest.param(f"seed:{seed}", id=f"seed{seed}"))
+    for seed in _seeds(relation):
+        reason = KNOWN.get((relation, f"seed:{seed}"))
+        marks = [pytest.mark.xfail(reason=reason, strict=False)] if reason else []
+        out.append(pytest.param(f"seed:{seed}", marks=marks, id=f"seed{seed}"))
     more = max(1, round(MORE_LOADS.get(relation, 0) * SCALE)) if relation in MORE_LOADS else 0
     for seed in range(SEED_BASE[relation] + 50_000, SEED_BASE[relation] + 50_000 + more):
         out.append(pytest.param(f"loads:{seed}", id=f"loads{seed}"))
@@ -199,3 +219,23 @@ def test_random_units_give_the_same_si_results():
 @pytest.mark.parametrize("case", _cases("quadrature"))
 def test_cycle_quadrature_is_converged(case):
     _run("quadrature", case)
+
+
+def test_the_run_has_every_feature():
+    """The generated mechanisms of this run (each relation's seeds) include cams, elements,
+    tables, drives and the other features of the generator, in at least a third of them
+    (``generate.FEATURES``; the relations' cases have generated them already: cached)."""
+    seen = [G.features(G.generate(s)) for r in COUNTS for s in _seeds(r)]
+    share = sum(bool(f) for f in seen) / len(seen)
+    assert share >= 1 / 3, f"only {share:.0%} of the mechanisms have a feature"
+    missing = set(G.FEATURES) - set().union(*seen)
+    assert not missing, f"no mechanism of the run has {sorted(missing)}"
+
+
+def test_features_can_be_asked_for():
+    """``generate(seed, features=...)`` gives a mechanism with those features, the same one
+    for the same arguments."""
+    for feature in ("cam", "tables"):
+        doc = G.generate(5, (feature,))
+        assert feature in G.features(doc)
+        assert doc == G.generate(5, (feature,))
