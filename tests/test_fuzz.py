@@ -3,7 +3,8 @@
 Every shipped file in ``mechanisms/`` is mutated and fed through the whole
 pipeline: ``kinetostatics.loads`` (or ``load`` for byte-level edits), then,
 only when it loads, ``build_system`` and ``analyze`` with at most
-:data:`ANALYSED_POSITIONS` positions.  Each stage must either succeed or raise
+:data:`ANALYSED_POSITIONS` positions, and for a file with ``drive:`` or
+``flywheel:`` the summary (the drive's sizing, the flywheel's design).  Each stage must either succeed or raise
 :class:`kinetostatics.KinetostaticsError`; any other exception fails the test,
 and so does an example that runs longer than :data:`DEADLINE` seconds (a hard
 per-example deadline by ``SIGALRM``, which interrupts a real hang).
@@ -155,6 +156,9 @@ def exercise(counter: Counter, *, text: str | None = None, path: Path | None = N
                 stage = "analyze"
                 result = ks.analyze(system)
                 assert len(result) >= 1
+                if model.drive is not None or model.flywheel is not None:
+                    stage = "summary"  # the drive's sizing and the flywheel's design
+                    result.summary()
                 stage = "accepted"
             except ks.NonFiniteResultError:
                 raise  # the file's limits promise that a file that loads does not overflow

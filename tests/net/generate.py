@@ -67,8 +67,7 @@ fully, a table spring's lengths (angles) span the element's range.
 
 Loads: constant forces at link points, torques, resistances along a slider's
 axis, with random ``active:`` windows (angle bands, ``moving:``, ``travel:``
-bands); ``with_more_loads`` adds a resisting torque and a load given by a table
-over the driver coordinate.  Random masses, centres of mass, inertias and gravity
+bands).  Random masses, centres of mass, inertias and gravity
 (magnitude 0 or 9.81 in a random direction); friction at some joints (friction
 circles of 0.3–2 mm, Coulomb coefficients 0.02–0.12 at slides and 0.01–0.08 at
 cams, mesh efficiency 0.97).
@@ -900,36 +899,6 @@ def _loads(B, rng, r):
             load["active"] = active
         loads[name] = load
     return loads
-
-
-def with_more_loads(doc: dict, seed: int) -> dict:
-    """``doc`` with two more loads, deterministic in ``seed``: a resisting torque on a
-    moving link (half the time relative to a revolute that holds it, whose other link
-    takes the reaction) and a force at a link point or a torque given by a table over
-    the driver coordinate (5 values, interpolated periodically)."""
-    d = copy.deepcopy(doc)
-    rng = np.random.default_rng([seed, 31])
-    ground = d.get("ground", "ground")
-    moving = [n for n in d["links"] if n != ground]
-    loads = d.setdefault("loads", {})
-    link = moving[rng.integers(len(moving))]
-    rt = {"type": "resisting_torque", "link": link, "value": rng.uniform(1, 20)}
-    holders = [n for n, j in d["joints"].items() if j["type"] == "revolute" and link in j["links"]]
-    if holders and rng.random() < 0.5:
-        rt["joint"] = holders[rng.integers(len(holders))]
-    loads["resisting"] = rt
-    at = np.sort(rng.uniform(0, 2 * math.pi, 5))
-    link = moving[rng.integers(len(moving))]
-    if rng.random() < 0.5:
-        points = sorted(d["links"][link]["points"])
-        values = [rng.uniform(10, 200) * _unit(rng.uniform(0, 2 * math.pi)) for _ in at]
-        table = {"type": "force", "link": link, "point": points[rng.integers(len(points))]}
-    else:
-        values = [rng.choice([-1, 1]) * rng.uniform(1, 20) for _ in at]
-        table = {"type": "torque", "link": link}
-    table["table"] = {"at": at, "value": values}
-    loads["tabled"] = table
-    return _clean(d)
 
 
 def _clean(x):
