@@ -4,10 +4,11 @@ Every shipped file in ``mechanisms/`` is mutated and fed through the whole
 pipeline: ``kinetostatics.loads`` (or ``load`` for byte-level edits), then,
 only when it loads, ``build_system`` and ``analyze`` with at most
 :data:`ANALYSED_POSITIONS` positions, and for a file with ``drive:`` or
-``flywheel:`` the summary (the drive's sizing, the flywheel's design).  Each stage must either succeed or raise
-:class:`kinetostatics.KinetostaticsError`; any other exception fails the test,
-and so does an example that runs longer than :data:`DEADLINE` seconds (a hard
-per-example deadline by ``SIGALRM``, which interrupts a real hang).
+``flywheel:`` the summary (the drive's sizing, the flywheel's design).  Each
+stage must either succeed or raise :class:`kinetostatics.KinetostaticsError`;
+any other exception fails the test, and so does an example that runs longer
+than :data:`DEADLINE` seconds (a hard per-example deadline by ``SIGALRM``, which
+interrupts a real hang).
 
 Two kinds of mutation:
 
