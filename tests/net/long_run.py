@@ -6,9 +6,10 @@ Mechanism k (seed k) is generated and put through every relation of
 ``relations.RELATIONS`` (the energy check on one mechanism in ``--energy-every``,
 it integrates the motion).  Work is spread over ``--workers`` processes; a
 progress line is printed.  Each mechanism's outcome is appended as one JSON line
-to ``--results`` (default ``tests/net/long_run/results.jsonl``, with the commit it
-ran at), so an interrupted run resumes where it stopped: seeds already in the
-file are not run again (``--fresh`` starts over).  The counts (mechanisms
+to ``--results`` (default ``tests/net/long_run/features.jsonl``, with the commit it
+ran at, the mechanism's features and its time; ``results.jsonl`` holds the run of the
+generator before it had features), so an interrupted run resumes where it stopped:
+seeds already in the file are not run again (``--fresh`` starts over).  The counts (mechanisms
 generated, candidates rejected, relations checked / failed / not applicable, the
 largest discrepancy per relation and the failing seeds), taken over every seed of
 the requested range found in the file, are printed, and with ``--write`` replace
@@ -30,7 +31,7 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parents[1]
-RESULTS = HERE / "long_run" / "results.jsonl"
+RESULTS = HERE / "long_run" / "features.jsonl"  # results.jsonl: the run before the features
 BEGIN = "<!-- long-run:begin -->"
 END = "<!-- long-run:end -->"
 
