@@ -442,12 +442,64 @@ def relation_mirror(doc, seed, n=12):
 
 
 def relation_units(doc, seed, n=12):
-    """The same generated mechanism in mm/deg/rpm and in m/rad/(rad/s)."""
+    """The same generated mechanism in mm/deg/rpm and in m/rad/(rad/s); with ``drive:`` or
+    ``flywheel:`` also the drive's sizing and the flywheel's design of the summary."""
     d = copy.deepcopy(doc)
     d["analysis"]["positions"] = n
     a = analyze(d)
     b = analyze(G.in_units(d, "mm", "deg", "rpm"))
-    return compare(b, a)
+    worst = compare(b, a)
+    if "drive" in d or "flywheel" in d:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            worst = max(worst, compare_summaries(b.summary(), a.summary()))
+    return worst
+
+
+def _leaves(x, path=""):
+    """The numbers (and booleans) of a summary section, by their path."""
+    if isinstance(x, dict):
+        for k, v in x.items():
+            yield from _leaves(v, f"{path}.{k}")
+    elif isinstance(x, (list, tuple)):
+        for k, v in enumerate(x):
+            yield from _leaves(v, f"{path}[{k}]")
+    elif isinstance(x, (bool, int, float)) or x is None:
+        yield path, x
+
+
+def compare_summaries(a, b):
+    """The largest relative difference between the numbers of the ``drive`` and ``flywheel``
+    sections of two summaries (SI both), each measured against |b| plus 10⁻⁶ of the
+    section's largest number (a mean torque of ±10⁻¹³ N·m is a round-off zero); a
+    boolean that differs, a number where the other has none: inf."""
+    worst = 0.0
+    for section in ("drive", "flywheel"):
+        if section not in b:
+            continue
+        la, lb = dict(_leaves(a.get(section))), dict(_leaves(b[section]))
+        if la.keys() != lb.keys():
+            WORST[:] = [math.inf, f"summary {section}: keys differ"]
+            return math.inf
+        floats = [abs(v) for v in lb.values() if type(v) is float and math.isfinite(v)]
+        floor = FAMILY_FLOOR * max(floats, default=0.0) + 1e-300
+        for k, y in lb.items():
+            x = la[k]
+            if isinstance(y, bool) or y is None or x is None or isinstance(x, bool):
+                bad = x != y
+            elif math.isnan(y) or math.isnan(x):
+                bad = math.isnan(y) != math.isnan(x)
+            else:
+                e = abs(x - y) / (abs(y) + floor)
+                bad = False
+                if e > worst:
+                    worst = e
+                    if e > WORST[0]:
+                        WORST[:] = [e, f"summary {section}{k}"]
+            if bad:
+                WORST[:] = [math.inf, f"summary {section}{k}: {x!r} against {y!r}"]
+                return math.inf
+    return worst
 
 
 def _masses(doc):
