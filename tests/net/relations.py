@@ -376,6 +376,12 @@ def _expected(res, doc, phi, shift, mirror):
         if head in elements and "joint" in elements[head] and tail in ("angle", "speed"):
             turn = _turn_of(doc, elements[head]["joint"], phi, cams) if tail == "angle" else 0
             out[c] = sg * out[c] + math.degrees(turn)
+        elif head in elements and tail == "energy" and mirror and "joint" in elements[head]:
+            # a table spring's energy counts from its first table angle, which the mirror
+            # makes the last: E(−s) = E(s) − ∫ f over the whole table (exact, piecewise linear)
+            t = elements[head].get("table")
+            if t is not None:
+                out[c] = out[c] - float(np.trapezoid(t["torque"], t["angle"]))
         elif c == "angle" or tail == "theta":
             out[c] = sg * out[c] + (0.0 if head in cams else math.degrees(phi))
         elif not mirror:

@@ -30,18 +30,18 @@ SHIPPED = sorted(
 # whose cost is mostly the generation, take more; the mechanisms are distinct, four in five
 # with features: cams, elements, tables, drives, ...)
 COUNTS = {
-    "subset": 12,
-    "rigid": 14,
-    "units": 16,
-    "mirror": 20,
-    "power": 36,
+    "subset": 8,
+    "rigid": 10,
+    "units": 10,
+    "mirror": 16,
+    "power": 40,
     "power_fd": 16,
-    "balance_at": 18,
-    "sketch": 40,
-    "grid": 8,
-    "derivatives": 15,
+    "balance_at": 12,
+    "sketch": 70,
+    "grid": 5,
+    "derivatives": 10,
     "energy": 3,
-    "quadrature": 8,
+    "quadrature": 6,
 }
 _total = sum(COUNTS.values())
 _want = int(os.environ.get("KINETOSTATICS_NET_MECHANISMS", _total))
