@@ -34,6 +34,8 @@ def _variant(name: str, **edits) -> dict:
 
 
 SC = "slider_crank.yaml"
+UNITS = {"length": "mm", "angle": "deg", "speed": "rpm", "mass": "kg", "force": "N",
+         "torque": "N*m", "inertia": "kg*m^2"}  # fmt: skip
 SLIDE = {"speed": "mm/s"}
 FEW = {"positions": 8}
 
@@ -238,6 +240,122 @@ def _seeds() -> dict[str, dict]:
             },
             "rd": {"type": "rotary_damper", "joint": "O", "damping": 0.2},
         },
+        analysis=FEW,
+    )
+    # cams with springs, dampers, table laws, counterweights and a drive: every kind of
+    # follower and placement the cam joint takes, mutated with its elements and the drive
+    out["cam rocker, spring and drive"] = {
+        "name": "cam with roller rocker, return spring and a motor",
+        "units": UNITS,
+        "parameters": {
+            "rb": 40,
+            "rr": 15,
+            "d": 120,
+            "l": 100,
+            "n": 600,
+            "xc": "((rb + rr)**2 - l**2 + d**2)/(2*d)",
+            "yc": "sqrt((rb + rr)**2 - xc**2)",
+        },  # fmt: skip
+        "gravity": [0, -9.81],
+        "links": {
+            "ground": {"points": {"O": [0, 0], "A": ["d", 0], "S": [66.6, -100]}},
+            "cam": {
+                "points": {"O": [0, 0], "K": [30, 0]},
+                "com": [0, 0],
+                "mass": 1.5,
+                "inertia": 0.0015,
+                "counterweights": {"cw": {"at": [-10, 0], "mass": 0.2}},
+            },  # fmt: skip
+            "arm": {
+                "points": {"A": [0, 0], "E": [60, 0], "C": ["l", 0], "T": [130, 0]},
+                "com": [50, 0],
+                "mass": 0.6,
+                "inertia": 0.0006,
+            },  # fmt: skip
+        },
+        "joints": {
+            "O": {"type": "revolute", "links": ["ground", "cam"], "friction": {"radius": 4}},
+            "A": {"type": "revolute", "links": ["ground", "arm"]},
+            "contact": {
+                "type": "cam",
+                "links": ["cam", "arm"],
+                "centre": "O",
+                "point": "C",
+                "follower": "roller",
+                "radius": "rr",
+                "base_radius": "rb",
+                "rotation": "ccw",
+                "oscillating": {"pivot": ["d", 0], "arm": "l", "rise": "cw"},
+                "motion": [
+                    {"rise": 20, "over": 120, "law": "cycloidal"},
+                    {"dwell": 60},
+                    {"return": 20, "over": 120, "law": "harmonic"},
+                    {"dwell": 60},
+                ],
+                "friction": {"coefficient": 0.01},
+            },  # fmt: skip
+        },
+        "drivers": {"motor": {"joint": "O", "points": ["x", "K"], "motion": {"speed": "n"}}},
+        "loads": {"lift_load": {"type": "force", "link": "arm", "point": "T", "value": [0, 15]}},
+        "elements": {
+            "return_spring": {
+                "type": "spring",
+                "between": ["ground.S", "arm.E"],
+                "stiffness": 1,
+                "free_length": 80,
+                "preload": 40,
+            },
+            "shock": {"type": "damper", "between": ["ground.S", "arm.T"], "damping": 0.01},
+            "hinge": {"type": "rotary_damper", "joint": "A", "damping": 1e-5},
+        },  # fmt: skip
+        "drive": {
+            "reduction": {"ratio": 5, "efficiency": 0.9, "inertia": 1e-4},
+            "motor": {"rated_torque": 1, "peak_torque": 3, "rated_speed": 3000, "inertia": 1e-4},
+        },
+        "flywheel": {"delta": 0.05},
+        "sketch": {"arm.C": ["xc", "yc"]},
+        "analysis": {"start": 0, "sweep": 360, "positions": 8},
+    }
+    out["cam knife, table law and springs"] = _variant(
+        "cam_roller.yaml",
+        joints__contact__follower="knife",
+        joints__contact__radius=None,
+        joints__contact__motion={
+            "angle": [0, 60, 120, 180, 240, 300],
+            "lift": [0, 5, 15, 20, 12, 4],
+        },
+        links__ground__points={"O": [0, 0], "G": ["e", 0], "S": [60, 150]},
+        sketch={"follower.C": ["e", "sqrt(rb**2 - e**2)"]},
+        elements={
+            "spring": {
+                "type": "spring",
+                "between": ["ground.S", "follower.T"],
+                "table": {"length": [50, 80, 120], "force": [10, 30, 90]},
+            },
+            "damper": {"type": "damper", "between": ["ground.O", "follower.T"], "damping": 0.02},
+        },
+        drive={"motor": {"rated_torque": 2, "inertia": 1e-4}},
+        analysis=FEW,
+    )
+    out["cam flat face, torsion springs"] = _variant(
+        "cam_flat_oscillating.yaml",
+        elements={
+            "hinge": {
+                "type": "torsion_spring",
+                "joint": "A",
+                "stiffness": 0.02,
+                "free_angle": -10,
+                "preload": 0.5,
+            },
+            "hinge_table": {
+                "type": "torsion_spring",
+                "joint": "A",
+                "table": {"angle": [-30, 0, 30], "torque": [-1, 0.2, 2]},
+            },
+            "drag": {"type": "rotary_damper", "joint": "O", "damping": 1e-4},
+        },
+        drive={"reduction": {"ratio": 3}, "friction": False},
+        flywheel={"delta": 0.1},
         analysis=FEW,
     )
     swing = "ammunition_swing.yaml"

@@ -3,10 +3,12 @@
 Every shipped file in ``mechanisms/`` is mutated and fed through the whole
 pipeline: ``kinetostatics.loads`` (or ``load`` for byte-level edits), then,
 only when it loads, ``build_system`` and ``analyze`` with at most
-:data:`ANALYSED_POSITIONS` positions.  Each stage must either succeed or raise
-:class:`kinetostatics.KinetostaticsError`; any other exception fails the test,
-and so does an example that runs longer than :data:`DEADLINE` seconds (a hard
-per-example deadline by ``SIGALRM``, which interrupts a real hang).
+:data:`ANALYSED_POSITIONS` positions, and for a file with ``drive:`` or
+``flywheel:`` the summary (the drive's sizing, the flywheel's design).  Each
+stage must either succeed or raise :class:`kinetostatics.KinetostaticsError`;
+any other exception fails the test, and so does an example that runs longer
+than :data:`DEADLINE` seconds (a hard per-example deadline by ``SIGALRM``, which
+interrupts a real hang).
 
 Two kinds of mutation:
 
@@ -27,7 +29,9 @@ Two kinds of mutation:
 Number of cases: 1,000 by default, 350 data level and 650 text level (deterministic:
 ``derandomize=True``).  ``KINETOSTATICS_FUZZ_EXAMPLES=N`` runs about N cases
 in all, 60 % data level and 40 % text level, with fresh randomness
-(``KINETOSTATICS_FUZZ_SEED`` fixes it).  The number of cases actually run and
+(``KINETOSTATICS_FUZZ_SEED`` fixes it; with ``KINETOSTATICS_FUZZ_KEEP=DIR`` the counts
+so far are also written to ``DIR/counts-*.json`` every 100 cases, for a run that is
+stopped before its report).  The number of cases actually run and
 their outcomes are reported as a :class:`FuzzReport` warning, so they appear in
 the "warnings summary" of a normal pytest run, e.g.::
 
@@ -40,6 +44,7 @@ from __future__ import annotations
 
 import copy
 import dataclasses
+import json
 import math
 import os
 import signal
@@ -155,6 +160,9 @@ def exercise(counter: Counter, *, text: str | None = None, path: Path | None = N
                 stage = "analyze"
                 result = ks.analyze(system)
                 assert len(result) >= 1
+                if model.drive is not None or model.flywheel is not None:
+                    stage = "summary"  # the drive's sizing and the flywheel's design
+                    result.summary()
                 stage = "accepted"
             except ks.NonFiniteResultError:
                 raise  # the file's limits promise that a file that loads does not overflow
@@ -185,6 +193,9 @@ def exercise(counter: Counter, *, text: str | None = None, path: Path | None = N
     elapsed = time.perf_counter() - t0
     counter["slowest"] = max(counter["slowest"], elapsed)
     crashed = stage.startswith("CRASH")
+    if KEEP and counter["cases"] % 100 == 0:  # the counts so far, if the run is stopped
+        KEEP.mkdir(parents=True, exist_ok=True)
+        (KEEP / f"counts-{os.getpid()}-{id(counter)}.json").write_text(json.dumps(counter))
     if KEEP and (elapsed > 1.0 or crashed):  # for the record of a long run
         KEEP.mkdir(parents=True, exist_ok=True)
         name = (

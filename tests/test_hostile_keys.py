@@ -370,3 +370,18 @@ def test_a_clearance_without_size_is_a_located_problem():
     assert re.search(r"h\.yaml:\d+:\d+: clearance\.B: missing required key 'size'", message), (
         message
     )
+
+
+def test_clearances_in_a_file_without_drivers_are_a_located_problem():
+    """Found by the fuzz (2026-11-29, ``drivers: {}`` in the ammunition swing): the
+    clearances' start state assembled a linkage with no driver, and the loader died with a
+    bare ``LinAlgError`` from the group's (non-square) Jacobian; it is now the structure
+    error ``analyze`` gives such a file, located at ``drivers``."""
+    doc = yaml.safe_load((ROOT / "mechanisms" / "ammunition_swing.yaml").read_text())
+    assert doc["clearance"] and doc["drivers"]
+    doc["drivers"] = {}
+    with pytest.raises(ks.StructureError) as info:
+        ks.loads(yaml.safe_dump(doc, sort_keys=False), file="h.yaml")
+    message = str(info.value)
+    assert message.startswith("h.yaml: drivers: "), message
+    assert "motion drivers as the mobility (1); the file has 0" in message

@@ -6,9 +6,10 @@ Mechanism k (seed k) is generated and put through every relation of
 ``relations.RELATIONS`` (the energy check on one mechanism in ``--energy-every``,
 it integrates the motion).  Work is spread over ``--workers`` processes; a
 progress line is printed.  Each mechanism's outcome is appended as one JSON line
-to ``--results`` (default ``tests/net/long_run/results.jsonl``, with the commit it
-ran at), so an interrupted run resumes where it stopped: seeds already in the
-file are not run again (``--fresh`` starts over).  The counts (mechanisms
+to ``--results`` (default ``tests/net/long_run/features.jsonl``, with the commit it
+ran at, the mechanism's features and its time; ``results.jsonl`` holds the run of the
+generator before it had features), so an interrupted run resumes where it stopped:
+seeds already in the file are not run again (``--fresh`` starts over).  The counts (mechanisms
 generated, candidates rejected, relations checked / failed / not applicable, the
 largest discrepancy per relation and the failing seeds), taken over every seed of
 the requested range found in the file, are printed, and with ``--write`` replace
@@ -30,7 +31,7 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parents[1]
-RESULTS = HERE / "long_run" / "results.jsonl"
+RESULTS = HERE / "long_run" / "features.jsonl"  # results.jsonl: the run before the features
 BEGIN = "<!-- long-run:begin -->"
 END = "<!-- long-run:end -->"
 
@@ -46,9 +47,11 @@ def check_one(args):
     import relations as R
 
     out = {"seed": seed, "results": {}}
+    t0 = time.time()
     try:
         doc = G.generate(seed)
         out["rejected"] = G.rejections(seed)
+        out["features"] = sorted(G.features(doc))
     except Exception as exc:  # noqa: BLE001
         out["error"] = f"{type(exc).__name__}: {exc}"[:200]
         return out
@@ -68,6 +71,7 @@ def check_one(args):
         out["results"][name] = (
             [v, (col if hint is None else f"{col} [{hint}]")[:160]] if failed else v
         )
+    out["seconds"] = round(time.time() - t0, 2)
     return out
 
 
@@ -151,6 +155,8 @@ def write_block(block: str, begin: str, end: str) -> None:
 def _block(a, R, outs: list[dict]) -> str:
     stats = {n: {"checked": 0, "failed": 0, "na": 0, "max": 0.0, "seeds": []} for n in R.RELATIONS}
     generated = rejected = errors = 0
+    seconds = 0.0
+    featured = {}
     commits = sorted({out.get("commit", "unknown") for out in outs})
     for out in outs:
         if "error" in out:
@@ -158,6 +164,9 @@ def _block(a, R, outs: list[dict]) -> str:
             continue
         generated += 1
         rejected += out["rejected"]
+        seconds += out.get("seconds", 0.0)
+        for f in out.get("features", []) + (["any"] if out.get("features") else []):
+            featured[f] = featured.get(f, 0) + 1
         for name, res in out["results"].items():
             s = stats[name]
             v, col = res if isinstance(res, list) else (res, "")
@@ -180,6 +189,15 @@ def _block(a, R, outs: list[dict]) -> str:
         "",
         f"- mechanisms generated: {generated}; candidates rejected on the way: {rejected}; "
         f"seeds without an acceptable mechanism: {errors}",
+        f"- time: {seconds / 3600:.2f} h in the workers (generation and relations, "
+        f"{seconds / max(generated, 1):.1f} s per mechanism)",
+        "- mechanisms with each feature (generate.FEATURES): "
+        + (
+            ", ".join(f"{k} {v}" for k, v in sorted(featured.items()) if k != "any")
+            + f"; with at least one: {featured.get('any', 0)}"
+            if featured
+            else "not recorded"
+        ),
         "",
         "| relation | checked | not applicable | failed "
         "| largest discrepancy among the passing | tolerance |",

@@ -89,6 +89,13 @@ def _wrap_rad(d):
 
 _FORCES = {"F", "N", "Fx", "Fy", "F_friction", "N_friction", "Fx_friction", "Fy_friction"}
 _MOMENTS = {"M", "M_friction"}
+# angles in degrees that are not positions (compared on their own scale, not modulo 360°):
+# one kind with the links' θ, so that one that is 0 in exact arithmetic (the pressure angle
+# of a flat face on a translating follower, ±4e-14°) is not measured against its round-off
+_DEGREES = {"pressure_angle", "transmission_angle"}
+# an element's length and speed (m, m/s; a rotational one's rad/s) are measured with the
+# positions and velocities too: a spring to a fixed point of the crank has speed ±1e-15
+_ELEMENT_KINDS = {"length": ("x", "y"), "speed": ("vx", "vy", "omega")}
 
 
 def _family(c):
@@ -97,6 +104,8 @@ def _family(c):
     if c.startswith("power."):
         return "power"
     tail = c.rpartition(".")[2]
+    if tail in _DEGREES:
+        return "theta"
     return "force" if tail in _FORCES else tail
 
 
@@ -162,6 +171,9 @@ def compare(a, b, rows_a=None, rows_b=None, columns=None, floor=1e-9, scales=Non
             kind = family.get(_family(c), 0.0)
             if _family(c) == "alpha":  # α ~ ω² where every α is zero in exact arithmetic
                 kind = max(kind, family.get("omega", 0.0) ** 2)
+            for tail, like in _ELEMENT_KINDS.items():  # an element's length, speed: of the
+                if _family(c) == tail:  # kinds of the points' and links' motion
+                    kind = max([kind] + [family.get(k, 0.0) for k in like])
             scale = np.nanmax(np.abs(np.asarray(b[c], float))) + max(FAMILY_FLOOR * kind, floor)
             d = np.abs(x - y) / scale
         if float(np.max(d)) > worst:
@@ -253,37 +265,47 @@ def transformed(doc, phi=0.0, shift=(0.0, 0.0), mirror=False):
     P = lambda v: [a + b for a, b in zip(_rot(M(v), phi), shift)]  # noqa: E731
     V = lambda v: _rot(M(v), phi)  # noqa: E731
     ground = d.get("ground", "ground")
-    turned: set = set()  # the cam links whose own axes are turned with the frame
+    cams = _cam_links(d)
+    _check_cams(d, cams)
     for name, link in d["links"].items():
         if name == ground:
             link["points"] = {k: P(v) for k, v in link["points"].items()}
-        elif mirror:
-            link["points"] = {k: M(v) for k, v in link["points"].items()}
-            if "com" in link:
-                link["com"] = M(link["com"])
+            continue
+        # a cam's profile is made in the frame's axes from the follower's placement there,
+        # and the cam angle is 0 where the cam's axes are the frame's: a cam turns with the
+        # frame as the frame turns, its own axes with it (so it starts in phase)
+        L = V if name in cams else M
+        link["points"] = {k: L(v) for k, v in link["points"].items()}
+        if "com" in link:
+            link["com"] = L(link["com"])
+        for cw in link.get("counterweights", {}).values():
+            cw["at"] = L(cw["at"])
     for j in d["joints"].values():
         if j["type"] == "prismatic":
             ax = j["axis"]
-            if j["links"][0] == ground:
+            turned = j["links"][0] == ground or j["links"][0] in cams  # axes turned by phi
+            if turned:
                 if "direction" in ax:
                     ax["direction"] = V(ax["direction"])
             elif mirror and "direction" in ax:
                 ax["direction"] = M(ax["direction"])
             if mirror and "angle" in j:
                 j["angle"] = -j["angle"]
-            if j["links"][0] == ground:  # the slider's frame turns with the guide
+            if turned:  # the slider's frame turns with the guide
                 j["angle"] = j.get("angle", 0.0) + phi
         if j["type"] == "gear" and mirror:
             j["phase"] = -j.get("phase", 0.0)
         if j["type"] in ("gear", "rack") and mirror:
             j["flank"] = {"cw": "ccw", "ccw": "cw"}[j.get("flank", "ccw")]
         if j["type"] == "cam":
-            _transformed_cam(d, j, M if mirror else None, phi, turned)
+            _mirror_cam(j, M) if mirror else None
+            _turn_cam(j, phi)
+    sgn = -1 if mirror else 1
+    _transform_features(d, phi, sgn, cams)
     d["gravity"] = V(d.get("gravity", [0, -9.81]))
     drv = d["drivers"]["motor"]
     if mirror:
         drv["motion"]["speed"] = -drv["motion"]["speed"]
-    sgn = -1 if mirror else 1
     for load in d.get("loads", {}).values():
         if "table" in load:
             _move_table(load, V, sgn, phi)
@@ -312,8 +334,10 @@ def _move_table(load, V, sgn, phi):
     t = load["table"]
     if load["type"] == "force":
         values = [V(v) for v in t["value"]]
-    else:
+    elif load["type"] == "torque":
         values = [sgn * v for v in t["value"]]
+    else:  # a resistance's or a resisting torque's magnitude
+        values = list(t["value"])
     rows = sorted(zip((sgn * a + phi for a in t["at"]), values))
     t["at"], t["value"] = [a for a, _ in rows], [v for _, v in rows]
 
@@ -349,15 +373,23 @@ def _expected(res, doc, phi, shift, mirror):
             out[cy] += shift[1]
         paired |= {cx, cy}
     kinds = {j: v["type"] for j, v in doc["joints"].items()}
-    turned = cam_links(doc) if phi else set()
+    cams = _cam_links(doc)
+    elements = doc.get("elements") or {}
     for c in names:
         if c in paired or c in SKIP:
             continue
         head, _, tail = c.rpartition(".")
-        if tail == "theta" and head in turned:  # its own axes turned with it (_turn_cam)
-            out[c] = sg * out[c]
+        if head in elements and "joint" in elements[head] and tail in ("angle", "speed"):
+            turn = _turn_of(doc, elements[head]["joint"], phi, cams) if tail == "angle" else 0
+            out[c] = sg * out[c] + math.degrees(turn)
+        elif head in elements and tail == "energy" and mirror and "joint" in elements[head]:
+            # a table spring's energy counts from its first table angle, which the mirror
+            # makes the last: E(−s) = E(s) − ∫ f over the whole table (exact, piecewise linear)
+            t = elements[head].get("table")
+            if t is not None:
+                out[c] = out[c] - float(np.trapezoid(t["torque"], t["angle"]))
         elif c == "angle" or tail == "theta":
-            out[c] = sg * out[c] + math.degrees(phi)
+            out[c] = sg * out[c] + (0.0 if head in cams else math.degrees(phi))
         elif not mirror:
             continue
         elif tail in (
@@ -422,20 +454,84 @@ def relation_mirror(doc, seed, n=12):
 
 
 def relation_units(doc, seed, n=12):
-    """The same generated mechanism in mm/deg/rpm and in m/rad/(rad/s)."""
+    """The same generated mechanism in mm/deg/rpm and in m/rad/(rad/s); with ``drive:`` or
+    ``flywheel:`` also the drive's sizing and the flywheel's design of the summary."""
     d = copy.deepcopy(doc)
     d["analysis"]["positions"] = n
     a = analyze(d)
     b = analyze(G.in_units(d, "mm", "deg", "rpm"))
-    return compare(b, a)
+    worst = compare(b, a)
+    if "drive" in d or "flywheel" in d:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            worst = max(worst, compare_summaries(b.summary(), a.summary()))
+    return worst
+
+
+def _leaves(x, path=""):
+    """The numbers (and booleans) of a summary section, by their path."""
+    if isinstance(x, dict):
+        for k, v in x.items():
+            yield from _leaves(v, f"{path}.{k}")
+    elif isinstance(x, (list, tuple)):
+        for k, v in enumerate(x):
+            yield from _leaves(v, f"{path}[{k}]")
+    elif isinstance(x, (bool, int, float)) or x is None:
+        yield path, x
+
+
+def compare_summaries(a, b):
+    """The largest relative difference between the numbers of the ``drive`` and ``flywheel``
+    sections of two summaries (SI both), each measured against |b| plus 10⁻⁶ of the
+    section's largest number (a mean torque of ±10⁻¹³ N·m is a round-off zero); a
+    boolean that differs, a number where the other has none: inf."""
+    worst = 0.0
+    for section in ("drive", "flywheel"):
+        if section not in b:
+            continue
+        la, lb = dict(_leaves(a.get(section))), dict(_leaves(b[section]))
+        if la.keys() != lb.keys():
+            WORST[:] = [math.inf, f"summary {section}: keys differ"]
+            return math.inf
+        floats = [abs(v) for v in lb.values() if type(v) is float and math.isfinite(v)]
+        floor = FAMILY_FLOOR * max(floats, default=0.0) + 1e-300
+        for k, y in lb.items():
+            x = la[k]
+            if isinstance(y, bool) or y is None or x is None or isinstance(x, bool):
+                bad = x != y
+            elif math.isnan(y) or math.isnan(x):
+                bad = math.isnan(y) != math.isnan(x)
+            else:
+                e = abs(x - y) / (abs(y) + floor)
+                bad = False
+                if e > worst:
+                    worst = e
+                    if e > WORST[0]:
+                        WORST[:] = [e, f"summary {section}{k}"]
+            if bad:
+                WORST[:] = [math.inf, f"summary {section}{k}: {x!r} against {y!r}"]
+                return math.inf
+    return worst
 
 
 def _masses(doc):
+    """(mass, inertia about the centre of mass) of each moving link, its counterweights
+    added by the parallel-axis theorem (docs/yaml.md, *Counterweights*)."""
     ground = doc.get("ground", "ground")
     out = {}
     for name, link in doc["links"].items():
-        if name != ground:
-            out[name] = (float(link.get("mass", 0.0)), float(link.get("inertia", 0.0)))
+        if name == ground:
+            continue
+        m0, J0 = float(link.get("mass", 0.0)), float(link.get("inertia", 0.0))
+        c0 = np.asarray(link.get("com", [0.0, 0.0]), float)
+        parts = [(m0, J0, c0)] + [
+            (float(cw["mass"]), float(cw.get("inertia", 0.0)), np.asarray(cw["at"], float))
+            for cw in link.get("counterweights", {}).values()
+        ]
+        m = sum(p[0] for p in parts)
+        c = sum(p[0] * p[2] for p in parts) / m if m > 0 else c0
+        J = sum(p[1] + p[0] * float(np.sum((p[2] - c) ** 2)) for p in parts)
+        out[name] = (m, J)
     return out
 
 
@@ -443,43 +539,48 @@ def relation_power(doc, seed, n=12):
     """Σ driver power = dT/dt + dV/dt + P_ext (+ friction loss), from the
     power columns; dT/dt also from finite differences of the kinetic energy."""
     res = analyze(doc, positions=grid(doc, n))
-    scale = max(
-        np.max(np.abs(res["power.input"])),
-        np.max(np.abs(res["power.kinetic"])),
-        np.max(np.abs(res["power.potential"])),
-        np.max(np.abs(res["power.external"])),
-        1e-12,
-    )
+    terms = ["power.kinetic", "power.potential", "power.elastic", "power.damping"]
+    terms = [t for t in terms if t in res.names] + ["power.external"]
+    scale = max(max(float(np.max(np.abs(res[t]))) for t in ["power.input", *terms]), 1e-12)
+    stored = sum(res[t] for t in terms)
     w = effort_speed(doc, res)
-    worst = (
-        float(
-            np.max(
-                np.abs(
-                    res["power.input"]
-                    - res["power.kinetic"]
-                    - res["power.potential"]
-                    - res["power.external"]
-                )
-            )
-        )
-        / scale
-    )
+    worst = float(np.max(np.abs(res["power.input"] - stored))) / scale
+    worst = max(worst, _element_powers(doc, res) / scale)
     if w is None:  # the effort at a slide: power.input is the check
         return worst
     worst = max(worst, float(np.max(np.abs(res["motor.torque"] * w - res["power.input"]))) / scale)
     if "power.friction" in res.names and "motor.torque_friction" in res.names:
         ok = np.isfinite(res["motor.torque_friction"])
         pin_f = res["motor.torque_friction"][ok] * w[ok]
-        bal = (
-            pin_f
-            - res["power.kinetic"][ok]
-            - res["power.potential"][ok]
-            - res["power.external"][ok]
-            - res["power.friction"][ok]
-        )
+        bal = pin_f - stored[ok] - res["power.friction"][ok]
         worst = max(worst, float(np.max(np.abs(bal), initial=0.0)) / scale)
         if np.any(res["power.friction"][ok] < -1e-9 * scale):
             worst = math.inf
+    return worst
+
+
+def _element_powers(doc, res):
+    """The largest |power.elastic − Σ springs' power| and |power.damping − Σ dampers'
+    power| (each element's power f·ṡ from its own F or M and speed columns), inf where a
+    damper's power is negative: it only dissipates."""
+    elements = doc.get("elements") or {}
+    if not elements:
+        return 0.0
+    worst = 0.0
+    for term, kinds in (("power.elastic", ("spring", "torsion_spring")),
+                        ("power.damping", ("damper", "rotary_damper"))):  # fmt: skip
+        names = [n for n, e in elements.items() if e["type"] in kinds]
+        if not names:
+            continue
+        each = [
+            np.asarray(res[f"{n}.{'M' if 'joint' in elements[n] else 'F'}"])
+            * np.asarray(res[f"{n}.speed"])
+            for n in names
+        ]
+        worst = max(worst, float(np.max(np.abs(res[term] - sum(each)))))
+        scale = max(float(np.max(np.abs(res[term]))), 1e-12)
+        if term == "power.damping" and np.any(res[term] < -1e-12 * scale):
+            return math.inf
     return worst
 
 
@@ -559,6 +660,7 @@ def relation_balance_at(doc, seed, n=12):
     base = analyze(doc, positions=grid(doc, n), friction=False)
     d2 = copy.deepcopy(doc)
     d2["drivers"]["motor"]["balance_at"] = j
+    d2.pop("drive", None)  # a drive sizes the effort at the driver's own joint
     li, lj = doc["joints"][j]["links"]
     ground = doc.get("ground", "ground")
     wrel = (base[f"{lj}.omega"] if lj != ground else 0.0) - (
@@ -739,13 +841,19 @@ def relation_derivatives(doc, seed, h=2e-2, k=2, levels=8):
 
 
 def relation_energy(doc, seed, turns=0.3):
-    """Frictionless forward dynamics with only gravity conserves T + V."""
+    """Frictionless forward dynamics with only gravity and the elements conserves
+    T + V + the springs' energy + the work the dampers have dissipated.  The loads and
+    the other drivers' efforts (known forces that are not conservative) are taken off,
+    as friction is; springs and dampers stay, their energy and dissipation counted."""
     from kinetostatics import dynamics
 
     d = copy.deepcopy(doc)
     for j in d["joints"].values():
         j.pop("friction", None)
     d["loads"] = {}
+    d["drivers"] = {"motor": d["drivers"]["motor"]}
+    d.pop("drive", None)
+    d.pop("flywheel", None)
     w = speed(d)
     drv = d["drivers"]["motor"]
     drv.pop("motion")
@@ -759,7 +867,7 @@ def relation_energy(doc, seed, turns=0.3):
             model, turns * 2 * math.pi / abs(w), initial={"motor": (start, w)}, rtol=1e-9
         )
         cols, _ = sim.table(points=21)
-    E = cols["energy.total"]
+    E = cols["energy.total"] + (cols["work.dampers"] if "work.dampers" in cols else 0.0)
     scale = max(np.max(np.abs(cols["energy.kinetic"])), 1e-12)
     return float(np.max(np.abs(E - E[0]))) / scale
 
@@ -1019,44 +1127,6 @@ def diagnose(relation: str, doc: dict, seed: int) -> str | None:
         if value is None or value <= TOLERANCE[relation]:
             return f"passes without its {'/'.join(kinds)} conditions"
     return None
-
-
-def cam_links(doc) -> set:
-    """The moving links that carry a cam (their own axes set the cam angle's zero)."""
-    ground = doc.get("ground", "ground")
-    return {
-        j["links"][0]
-        for j in doc["joints"].values()
-        if j.get("type") == "cam" and j["links"][0] != ground
-    }
-
-
-def _transformed_cam(d, j, M, phi, turned):
-    """A cam joint mirrored (``M``: the mirror map, or None) then turned by ``phi``."""
-    if M is not None:
-        _mirror_cam(j, M)
-    if phi:
-        _turn_cam(d, j, phi, turned)
-
-
-def _turn_cam(d, j, phi, turned):
-    """A cam turned with the frame by ``phi``: its placement (given in the frame's axes)
-    turns, and so do its link's own axes (its points and centre of mass turn by ``phi``
-    in them): the cam angle is the cam link's rotation from the frame, so the law keeps
-    its phase (the link's ``theta`` column is then the same, not ``phi`` more)."""
-    tr, osc = j.get("translating"), j.get("oscillating")
-    if tr is not None:
-        tr["direction"] = _rot(tr["direction"], phi)
-    if osc is not None:
-        osc["pivot"] = _rot(osc["pivot"], phi)
-    link = j["links"][0]
-    if link in turned or link == d.get("ground", "ground"):
-        return
-    turned.add(link)
-    body = d["links"][link]
-    body["points"] = {k: _rot(v, phi) for k, v in body["points"].items()}
-    if "com" in body:
-        body["com"] = _rot(body["com"], phi)
 
 
 def _mirror_cam(j, M):
@@ -1319,3 +1389,70 @@ def relation_batch_row(doc, seed, n=3, positions=12):
 RELATIONS["batch_row"] = relation_batch_row
 # the batch's rows are the single runs' to rounding (docs/batch.md: 5e-14 of each column)
 TOLERANCE["batch_row"] = 1e-10
+
+
+def _cam_links(doc):
+    """The links that carry a cam (link i of a cam joint)."""
+    return {j["links"][0] for j in doc["joints"].values() if j["type"] == "cam"}
+
+
+def _check_cams(d, cams):
+    """``transformed`` turns a cam's axes with the frame: a gear or rack on a cam's link
+    would need its phase moved too, which it does not do."""
+    for name, j in d["joints"].items():
+        if j["type"] in ("gear", "rack") and cams & set(j["links"]):
+            raise NotImplementedError(f"transformed: {name} meshes with a cam's link")
+
+
+def _turn_cam(j, phi):
+    """A cam's placement in the frame turned by ``phi`` with the frame."""
+    if not phi:
+        return
+    tr, osc = j.get("translating"), j.get("oscillating")
+    if tr is not None:
+        tr["direction"] = _rot(tr["direction"], phi)
+    if osc is not None:
+        osc["pivot"] = _rot(osc["pivot"], phi)
+
+
+def _turn_of(doc, joint, phi, cams):
+    """How much θ_j − θ_i of a revolute's links grows when the mechanism is turned by
+    ``phi``: a moving link's angle grows by phi, the ground's and a cam's (whose axes turn
+    with the frame: ``transformed``) do not."""
+    ground = doc.get("ground", "ground")
+    li, lj = doc["joints"][joint]["links"][:2]
+    turns = [0.0 if k == ground or k in cams else phi for k in (li, lj)]
+    return turns[1] - turns[0]
+
+
+def _move_rotational(el, sgn, delta):
+    """A torsion spring carried through ``transformed``: s → sgn·s + delta, torque × sgn."""
+    if "free_angle" in el:
+        el["free_angle"] = sgn * el["free_angle"] + delta
+    if "preload" in el:
+        el["preload"] = sgn * el["preload"]
+    if "table" in el:
+        t = el["table"]
+        rows = sorted(zip((sgn * a + delta for a in t["angle"]), (sgn * v for v in t["torque"])))
+        t["angle"], t["torque"] = [a for a, _ in rows], [v for _, v in rows]
+
+
+def _transform_features(d, phi, sgn, cams):
+    """``transformed`` of the torsion springs and the effort drivers (angles between two
+    links: mirrored, and turned where one of them is fixed)."""
+    ground = d.get("ground", "ground")
+    for el in d.get("elements", {}).values():
+        if "joint" in el:  # s = θ_j − θ_i: mirrored, and turned where one link is fixed
+            _move_rotational(el, sgn, _turn_of(d, el["joint"], phi, cams))
+    for drv in d["drivers"].values():
+        if "effort" in drv:  # its own angle, to a +x axis where link i is the ground
+            li, lj = d["joints"][drv["joint"]]["links"][:2]
+            delta = phi * ((lj != ground) - (li != ground))
+            if isinstance(drv["effort"], dict):
+                t = drv["effort"]["table"]
+                rows = sorted(
+                    zip((sgn * a + delta for a in t["at"]), (sgn * v for v in t["value"]))
+                )
+                t["at"], t["value"] = [a for a, _ in rows], [v for _, v in rows]
+            else:
+                drv["effort"] = sgn * drv["effort"]

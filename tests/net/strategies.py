@@ -11,17 +11,18 @@ SEEDS = st.integers(min_value=0, max_value=2**31 - 1)
 
 
 @st.composite
-def mechanisms(draw, seeds=SEEDS):
-    """An accepted random mechanism (an SI YAML-like dict) and its seed."""
+def mechanisms(draw, seeds=SEEDS, features=()):
+    """An accepted random mechanism (an SI YAML-like dict) and its seed; ``features``
+    (names from ``generate.FEATURES``, e.g. ``("cam",)``) it has for sure."""
     seed = draw(seeds)
-    return seed, G.generate(seed)
+    return seed, G.generate(seed, features)
 
 
 @st.composite
-def mechanisms_in_units(draw, seeds=SEEDS):
+def mechanisms_in_units(draw, seeds=SEEDS, features=()):
     """A generated mechanism and the same one written in random length/angle/speed
     units: ``(seed, si_doc, doc_in_units)``."""
-    seed, doc = draw(mechanisms(seeds))
+    seed, doc = draw(mechanisms(seeds, features))
     length = draw(st.sampled_from(sorted(G.LENGTH_UNITS)))
     angle = draw(st.sampled_from(sorted(G.ANGLE_UNITS)))
     speed = draw(st.sampled_from(sorted(G.SPEED_UNITS)))

@@ -26,33 +26,24 @@ SHIPPED = sorted(
     if p.name not in ("ammunition_swing.yaml", "andrews_squeezer.yaml", "double_four_bar.yaml")
 )  # an effort driver: simulate only
 
-# generated mechanisms per relation in the default run (cost-weighted)
+# generated mechanisms per relation in the default run (cost-weighted: the cheap relations,
+# whose cost is mostly the generation, take more; the mechanisms are distinct, four in five
+# with features: cams, elements, tables, drives, ...)
 COUNTS = {
-    "subset": 12,
-    "rigid": 22,
-    "units": 22,
-    "mirror": 22,
-    "power": 28,
-    "power_fd": 12,
-    "balance_at": 18,
-    "sketch": 34,
-    "grid": 10,
-    "derivatives": 17,
+    "subset": 8,
+    "rigid": 10,
+    "units": 10,
+    "mirror": 16,
+    "power": 40,
+    "power_fd": 16,
+    "balance_at": 12,
+    "sketch": 70,
+    "grid": 5,
+    "derivatives": 10,
     "energy": 3,
-    "quadrature": 10,
+    "quadrature": 6,
     "cam_phase": 6,  # applies to the generated mechanisms with cams (others skip)
     "cycle_means": 8,
-}
-# generated mechanisms with a resisting torque and a load table added (generate.
-# with_more_loads), per relation: kinds of load that no shipped file uses
-MORE_LOADS = {
-    "subset": 2,
-    "rigid": 3,
-    "units": 3,
-    "mirror": 3,
-    "power": 3,
-    "grid": 2,
-    "cycle_means": 3,
 }
 _total = sum(COUNTS.values())
 _want = int(os.environ.get("KINETOSTATICS_NET_MECHANISMS", _total))
@@ -60,7 +51,21 @@ SCALE = _want / _total
 SEED_BASE = {name: 100_000 * (k + 1) for k, name in enumerate(COUNTS)}
 
 # (relation, case) -> reason; case is a shipped file name or "seed:<n>"
-KNOWN: dict[tuple[str, str], str] = {}
+ZERO_SPEED_LAG = (
+    "the cycle integral cuts where a resistance's (friction's) speed leaves 0, the rows "
+    "switch it on where it leaves the zero-speed threshold: after a cam's dwell, up to "
+    "1e-4 s later (docs/verification.md, What the net found)"
+)
+KNOWN: dict[tuple[str, str], str] = {
+    ("quadrature", "seed:1200001"): ZERO_SPEED_LAG,
+    ("quadrature", "seed:1200004"): ZERO_SPEED_LAG,
+}
+
+
+def _seeds(relation: str) -> list[int]:
+    """The generated mechanisms' seeds of a relation in this run."""
+    n = max(1, round(COUNTS[relation] * SCALE))
+    return list(range(SEED_BASE[relation], SEED_BASE[relation] + n))
 
 
 def _cases(relation: str):
@@ -70,12 +75,10 @@ def _cases(relation: str):
             reason = KNOWN.get((relation, name))
             marks = [pytest.mark.xfail(reason=reason, strict=False)] if reason else []
             out.append(pytest.param(f"shipped:{name}", marks=marks, id=name))
-    n = max(1, round(COUNTS[relation] * SCALE))
-    for seed in range(SEED_BASE[relation], SEED_BASE[relation] + n):
-        out.append(pytest.param(f"seed:{seed}", id=f"seed{seed}"))
-    more = max(1, round(MORE_LOADS.get(relation, 0) * SCALE)) if relation in MORE_LOADS else 0
-    for seed in range(SEED_BASE[relation] + 50_000, SEED_BASE[relation] + 50_000 + more):
-        out.append(pytest.param(f"loads:{seed}", id=f"loads{seed}"))
+    for seed in _seeds(relation):
+        reason = KNOWN.get((relation, f"seed:{seed}"))
+        marks = [pytest.mark.xfail(reason=reason, strict=False)] if reason else []
+        out.append(pytest.param(f"seed:{seed}", marks=marks, id=f"seed{seed}"))
     return out
 
 
@@ -83,8 +86,9 @@ def _doc(case: str) -> dict:
     kind, _, key = case.partition(":")
     if kind == "shipped":
         return R.shipped(ROOT / "mechanisms" / key)
-    doc = G.generate(int(key))
-    return G.with_more_loads(doc, int(key)) if kind == "loads" else doc
+    if kind == "loads":  # a resisting torque and a load table, kinds no shipped file uses
+        return G.generate(int(key), ("resisting", "tables"))
+    return G.generate(int(key))
 
 
 def _run(relation: str, case: str):
@@ -240,7 +244,7 @@ def test_cam_phase_finds_the_out_of_phase_reproducers(name, monkeypatch):
 # batch row = single run (relations.relation_batch_row): each case runs three variants
 # through two batches and three single runs (1-8 s), so the default run takes a few
 # shipped files and generated mechanisms; every shipped file, 40 more and 10 with more
-# kinds of load (generate.with_more_loads) under `slow`
+# kinds of load (generate(seed, ("resisting", "tables"))) under `slow`
 BATCH_SHIPPED = ("slider_crank.yaml", "slotting_machine.yaml")
 BATCH_SEEDS = 1_300_000
 
@@ -283,3 +287,23 @@ _MORE = SEED_BASE["cycle_means"]
 )
 def test_cycle_means_are_converged_on_more_mechanisms(case):
     _run("cycle_means", case)
+
+
+def test_the_run_has_every_feature():
+    """The generated mechanisms of this run (each relation's seeds) include cams, elements,
+    tables, drives and the other features of the generator, in at least a third of them
+    (``generate.FEATURES``; the relations' cases have generated them already: cached)."""
+    seen = [G.features(G.generate(s)) for r in COUNTS for s in _seeds(r)]
+    share = sum(bool(f) for f in seen) / len(seen)
+    assert share >= 1 / 3, f"only {share:.0%} of the mechanisms have a feature"
+    missing = set(G.FEATURES) - set().union(*seen)
+    assert not missing, f"no mechanism of the run has {sorted(missing)}"
+
+
+def test_features_can_be_asked_for():
+    """``generate(seed, features=...)`` gives a mechanism with those features, the same one
+    for the same arguments."""
+    for feature in ("cam", "tables"):
+        doc = G.generate(5, (feature,))
+        assert feature in G.features(doc)
+        assert doc == G.generate(5, (feature,))

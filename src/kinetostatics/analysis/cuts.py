@@ -280,12 +280,14 @@ def _guess(ts, vs, seg, i) -> tuple[float, float]:
     ]
     if len(idx) < 3:
         return chord
-    p = np.polyfit(ts[idx] - ts[i], vs[idx], len(idx) - 1)
-    inside = [r.real for r in np.roots(p) if abs(r.imag) <= 1e-9 * h and 0 < r.real < h]
+    with warnings.catch_warnings():  # samples beside a jump lie close: a first guess only
+        warnings.simplefilter("ignore", np.exceptions.RankWarning)
+        p = np.polyfit((ts[idx] - ts[i]) / h, vs[idx], len(idx) - 1)  # in steps of h
+    inside = [r.real for r in np.roots(p) if abs(r.imag) <= 1e-9 and 0 < r.real < 1]
     if not inside:
         return chord
-    x = min(inside, key=lambda x: abs(x + ts[i] - chord[0]))
-    return float(x + ts[i]), float(np.polyval(np.polyder(p), x))
+    u = min(inside, key=lambda u: abs(ts[i] + u * h - chord[0]))
+    return float(ts[i] + u * h), float(np.polyval(np.polyder(p), u) / h)
 
 
 def _solved_kinks(rows: Result, fns: list, jumps: list[float], ta: float, tb: float) -> list:

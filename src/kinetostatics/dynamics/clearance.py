@@ -89,6 +89,7 @@ def with_clearance(
 def _start_state(model: Model):
     """(system, q, q̇, q̈, ψ) of the model at t = 0: the first analysis position, or
     at rest under the effort drivers (forward dynamics' first evaluation)."""
+    from ..analysis.pipeline import _require_motion_drivers
     from ..structure.system import build_system
 
     if any(d.motion is None for d in model.drivers):
@@ -98,6 +99,7 @@ def _start_state(model: Model):
         ev = dyn.state(0.0, np.concatenate((dyn.start(), np.zeros(dyn.n_f), [0.0])))
         return dyn.system, ev.q, ev.qd, ev.qdd0 + ev.accel @ ev.dqdd, ev.psi
     system = build_system(model)
+    _require_motion_drivers(system)  # a file without drivers: a located error, not a crash
     drive = schedule(system)
     q, _ = start_pose(system, drive)
     psi, pd, pdd = (x[0] for x in drive(np.array([0.0])))
