@@ -5,7 +5,11 @@ times left out; every table cell outside the timing columns must match the
 block of the same name in docs/accuracy.md.  Numbers are compared to the
 printed precision (two digits: within 10 %), and values at round-off level
 (both ≤ 1e-13) are accepted as equal, since their last bits depend on the
-platform.  Regenerate the page with ``--update`` (see docs/accuracy.md).
+platform.  An error column (``… error``) of a difference quotient is held to a factor
+of 2: at the small steps its error is round-off divided by h or h², which moves with
+the CPU's summation (1.7e-07 against 1.9e-07 with NumPy's AVX-512 loops switched off);
+what the table says is its order of magnitude.  Regenerate the page with ``--update``
+(see docs/accuracy.md).
 """
 
 from __future__ import annotations
@@ -41,11 +45,14 @@ def _tables(text: str) -> list[list[list[str]]]:
     return tables
 
 
-def _same(a: str, b: str) -> bool:
+def _same(a: str, b: str, factor: float | None = None) -> bool:
+    """``a`` and ``b`` alike to the printed precision, or within ``factor`` of each other."""
     if NUMBER.sub("#", a) != NUMBER.sub("#", b):
         return False
     for x, y in zip(map(float, NUMBER.findall(a)), map(float, NUMBER.findall(b))):
         if abs(x) <= 1e-13 and abs(y) <= 1e-13:
+            continue
+        if factor and x * y > 0 and max(x / y, y / x) <= factor:
             continue
         if abs(x - y) > 0.1 * max(abs(x), abs(y)):
             return False
@@ -80,4 +87,7 @@ def test_accuracy_tables_are_current(name):
                 for col, a, b in zip(header, r_ours, r_doc):
                     if a == "·":  # a wall time: not reproducible
                         continue
-                    assert _same(a, b), f"{block_name}: column '{col}': script {a!r}, doc {b!r}"
+                    factor = 2.0 if col.endswith("error") else None
+                    assert _same(a, b, factor), (
+                        f"{block_name}: column '{col}': script {a!r}, doc {b!r}"
+                    )
