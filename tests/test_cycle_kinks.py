@@ -50,16 +50,17 @@ def _motor_side(tau):
     return np.where(tau >= 0, tau / (RATIO * EFF), tau * EFF / RATIO)
 
 
-def _reference(model):
-    """(mean, RMS) of T_M over the turn, the pieces cut at the switches and at the zeros."""
-    ends = [0.0, *BAND, 360.0]
+def _gauss_between_zeros(fn, ends, samples: int, xtol: float):
+    """(nodes, weights, cuts) of the reference rule: the span cut at ``ends`` and at the
+    zeros of ``fn`` between them (sign changes on ``samples`` points, then brentq on
+    single-time analyses), each piece in eight sub-pieces of 20-point Gauss–Legendre."""
     cuts = list(ends)
-    for a, b in zip(ends[:-1], ends[1:]):  # the zeros of the torque between the switches
-        grid = np.linspace(a, b, 401)[1:-1]
-        v = _torque(model, grid)
+    for a, b in zip(ends[:-1], ends[1:]):
+        grid = np.linspace(a, b, samples)[1:-1]
+        v = fn(grid)
         for k in np.flatnonzero(np.sign(v[:-1]) != np.sign(v[1:])):
-            f = lambda x: float(_torque(model, x)[0])  # noqa: E731
-            cuts.append(brentq(f, grid[k], grid[k + 1], xtol=1e-13, rtol=1e-15))
+            f = lambda x: float(fn(x)[0])  # noqa: E731
+            cuts.append(brentq(f, grid[k], grid[k + 1], xtol=xtol, rtol=1e-15))
     cuts = np.sort(cuts)
     x, w = np.polynomial.legendre.leggauss(20)
     nodes, weights = [], []
@@ -68,7 +69,14 @@ def _reference(model):
         for c0, c1 in zip(sub[:-1], sub[1:]):
             nodes.append(c0 + (c1 - c0) * (x + 1) / 2)
             weights.append((c1 - c0) / 2 * w)
-    nodes, weights = np.concatenate(nodes), np.concatenate(weights)
+    return np.concatenate(nodes), np.concatenate(weights), cuts
+
+
+def _reference(model):
+    """(mean, RMS) of T_M over the turn, the pieces cut at the switches and at the zeros."""
+    nodes, weights, cuts = _gauss_between_zeros(
+        lambda deg: _torque(model, deg), [0.0, *BAND, 360.0], 401, 1e-13
+    )
     tm = _motor_side(_torque(model, nodes))
     return np.sum(weights * tm) / 360.0, np.sqrt(np.sum(weights * tm**2) / 360.0), cuts
 
@@ -170,22 +178,8 @@ def test_the_motor_torque_of_a_rocking_drive_is_cut_where_the_law_turns():
     def torque(t):
         return np.asarray(ks.analyze(model, times=np.atleast_1d(t), events=False)["motor.torque"])
 
-    cuts = list(ends)
-    for a, b in zip(ends[:-1], ends[1:]):  # and the zeros of the torque, by bisection
-        grid = np.linspace(a, b, 201)[1:-1]
-        v = torque(grid)
-        for k in np.flatnonzero(np.sign(v[:-1]) != np.sign(v[1:])):
-            f = lambda t: float(torque(t)[0])  # noqa: E731
-            cuts.append(brentq(f, grid[k], grid[k + 1], xtol=1e-15, rtol=1e-15))
-    cuts = np.sort(cuts)
-    x, w = np.polynomial.legendre.leggauss(20)
-    nodes, weights = [], []
-    for a, b in zip(cuts[:-1], cuts[1:]):
-        sub = np.linspace(a, b, 9)
-        for c0, c1 in zip(sub[:-1], sub[1:]):
-            nodes.append(c0 + (c1 - c0) * (x + 1) / 2)
-            weights.append((c1 - c0) / 2 * w)
-    nodes, weights = np.concatenate(nodes), np.concatenate(weights)
+    # the pieces cut at the turning times and at the zeros of the torque
+    nodes, weights, _ = _gauss_between_zeros(torque, ends, 201, 1e-15)
     tau = torque(nodes)
     psi_d = np.cos(omega * nodes + phase)  # the sign of ψ̇; the sense of motion is +
     tm = np.where(tau * psi_d >= 0, tau / (5 * 0.8), tau * 0.8 / 5)
