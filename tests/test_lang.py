@@ -16,7 +16,7 @@ import matplotlib.text
 import pytest
 
 from kinetostatics.cli import main
-from kinetostatics.outputs import lang
+from kinetostatics.outputs import fonts, lang
 from kinetostatics.outputs import plotting as pl
 from kinetostatics.outputs.loading import load
 from tests.conftest import ROOT
@@ -31,7 +31,7 @@ HAS_MPLFONTS = importlib.util.find_spec("mplfonts") is not None
 def _need_cjk():
     """A CJK font; skip only when neither the zh extra nor a system font is there."""
     try:
-        return lang.cjk_font()
+        return fonts.cjk_font()
     except lang.LanguageError:
         if HAS_MPLFONTS:
             raise
@@ -119,7 +119,7 @@ def test_no_english_is_left_in_the_chinese_pictures(name):
 @pytest.fixture
 def fresh(monkeypatch):
     """No font remembered from an earlier call, no KINETOSTATICS_CJK_FONT."""
-    monkeypatch.setattr(lang, "_FOUND", {})
+    monkeypatch.setattr(fonts, "_FOUND", {})
     monkeypatch.delenv("KINETOSTATICS_CJK_FONT", raising=False)
     return monkeypatch
 
@@ -128,31 +128,31 @@ def fresh(monkeypatch):
 def test_the_font_order(fresh, tmp_path):
     from matplotlib import font_manager as fm
 
-    shipped = lang._mplfonts_font()
+    shipped = fonts._mplfonts_font()
     assert shipped is not None and shipped.endswith("SimHei.ttf")  # TrueType first
     assert "mplfonts" not in sys.modules  # found, not imported (its init rewrites rc)
     # 1. the environment variable wins over everything
-    fresh.setattr(lang, "_system_font", lambda: "/no/such/system/font.ttf")
+    fresh.setattr(fonts, "_system_font", lambda: "/no/such/system/font.ttf")
     fresh.setenv("KINETOSTATICS_CJK_FONT", shipped)
-    family, path = lang.cjk_font()
+    family, path = fonts.cjk_font()
     assert path == shipped
     # 2. then a system font
     fresh.delenv("KINETOSTATICS_CJK_FONT")
-    fresh.setattr(lang, "_FOUND", {})
-    fresh.setattr(lang, "_system_font", lambda: shipped)  # stands for an installed font
-    assert lang.cjk_font()[1] == shipped
+    fresh.setattr(fonts, "_FOUND", {})
+    fresh.setattr(fonts, "_system_font", lambda: shipped)  # stands for an installed font
+    assert fonts.cjk_font()[1] == shipped
     # 3. then the fonts of mplfonts, registered with matplotlib's font manager
-    fresh.setattr(lang, "_FOUND", {})
-    fresh.setattr(lang, "_system_font", lambda: None)
-    family, path = lang.cjk_font()
+    fresh.setattr(fonts, "_FOUND", {})
+    fresh.setattr(fonts, "_system_font", lambda: None)
+    family, path = fonts.cjk_font()
     assert path == shipped and family == "SimHei"
     assert path in {f.fname for f in fm.fontManager.ttflist}
     assert fm.findfont(fm.FontProperties(family=family), fallback_to_default=False) == path
     # 4. nothing: the message says what to install
-    fresh.setattr(lang, "_FOUND", {})
-    fresh.setattr(lang, "_mplfonts_font", lambda: None)
+    fresh.setattr(fonts, "_FOUND", {})
+    fresh.setattr(fonts, "_mplfonts_font", lambda: None)
     with pytest.raises(lang.LanguageError) as err:
-        lang.cjk_font()
+        fonts.cjk_font()
     assert "pip install 'kinetostatics[zh]'" in str(err.value)
     assert "KINETOSTATICS_CJK_FONT" in str(err.value)
 
@@ -161,7 +161,7 @@ def test_the_font_order(fresh, tmp_path):
 def test_the_pdf_embeds_the_font_of_the_zh_extra(fresh, tmp_path):
     pypdf = pytest.importorskip("pypdf")
     pytest.importorskip("fpdf")
-    fresh.setattr(lang, "_system_font", lambda: None)  # as on a machine without CJK fonts
+    fresh.setattr(fonts, "_system_font", lambda: None)  # as on a machine without CJK fonts
     code = main(
         [
             "report",
@@ -182,12 +182,12 @@ def test_the_pdf_embeds_the_font_of_the_zh_extra(fresh, tmp_path):
     for heading in ("1. 原始数据", "2. 机构结构分析", "6. 全周期曲线", "8. 运动副反力极坐标图"):
         assert re.sub(r"\s+", "", heading) in re.sub(r"\s+", "", text), heading
     assert "\x00" not in text  # a TrueType font: the text map extracts cleanly
-    fonts = {
+    embedded = {
         str(f.get_object()["/BaseFont"])
         for page in reader.pages
         for f in page["/Resources"]["/Font"].values()
     }
-    assert any(f.endswith("SimHei") for f in fonts), fonts
+    assert any(f.endswith("SimHei") for f in embedded), embedded
 
 
 # -- the flywheel chapter ---------------------------------------------------------------

@@ -139,7 +139,7 @@ def test_an_effort_driven_file_is_one_line(tmp_path, capsys):
 
 
 def test_chinese_without_a_font_says_what_to_install(tmp_path, capsys, monkeypatch):
-    from kinetostatics.outputs import lang
+    from kinetostatics.outputs import fonts
 
     not_a_font = tmp_path / "font.ttf"
     not_a_font.write_text("no glyphs here")
@@ -158,15 +158,15 @@ def test_chinese_without_a_font_says_what_to_install(tmp_path, capsys, monkeypat
     err = capsys.readouterr().err
     assert "KINETOSTATICS_CJK_FONT" in err and "Chinese glyphs" in err
     assert not (tmp_path / "out" / "report.md").exists()
-    assert "pip install 'kinetostatics[zh]'" in lang._HINT  # when nothing is found
-    assert "fonts-noto-cjk" in lang._HINT and "KINETOSTATICS_CJK_FONT" in lang._HINT
+    assert "pip install 'kinetostatics[zh]'" in fonts._HINT  # when nothing is found
+    assert "fonts-noto-cjk" in fonts._HINT and "KINETOSTATICS_CJK_FONT" in fonts._HINT
 
 
 def test_chinese_report_when_a_font_is_there(tmp_path):
-    from kinetostatics.outputs import lang
+    from kinetostatics.outputs import fonts, lang
 
     try:
-        lang.cjk_font()
+        fonts.cjk_font()
     except lang.LanguageError:
         if importlib.util.find_spec("mplfonts") is not None:
             raise  # the zh extra (part of test) is there: the test runs, never skips

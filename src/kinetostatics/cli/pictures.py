@@ -227,7 +227,7 @@ def _plot(args) -> int:
 
     model = load(args.file)
     if args.lang == "zh":
-        from ..outputs.lang import cjk_font
+        from ..outputs.fonts import cjk_font
 
         cjk_font()  # a clear message before any work when there is no CJK font
     what = list(WHAT) if "all" in args.what else list(dict.fromkeys(args.what))

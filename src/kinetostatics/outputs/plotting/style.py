@@ -86,7 +86,7 @@ def _figure(width_mm: float, height_mm: float, dpi: float = DPI):
 
 def _rc(lang: str = "en"):
     """The style (and for ``lang="zh"`` a font with Chinese glyphs) while a figure is drawn."""
-    from ..lang import rc_fonts
+    from ..fonts import rc_fonts
 
     matplotlib, _ = _mpl()
     return matplotlib.rc_context({**STYLE, **rc_fonts(lang)})

@@ -11,7 +11,8 @@ import numpy as np
 from ...base.files import json_text, make_folder, write_file
 from ...model import Model
 from .. import plotting as pl
-from ..lang import check_lang, cjk_font, tr
+from ..fonts import cjk_font
+from ..lang import check_lang, tr
 from ..loading import load
 from ..summary import summarize
 from .blocks import ReportError, _Heading, _Image, _Para, _to_html, _to_markdown

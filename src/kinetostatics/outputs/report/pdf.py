@@ -20,7 +20,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..lang import cjk_font, tr
+from ..fonts import cjk_font
+from ..lang import tr
 from .blocks import ReportError, _Heading, _Image, _List, _Para, _Table
 
 MARGIN = 14.0  # mm

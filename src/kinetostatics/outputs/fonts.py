@@ -1,0 +1,139 @@
+"""The fonts of the report and the pictures.  Chinese glyphs need a CJK font:
+:func:`cjk_font` takes the file named by the environment variable
+``KINETOSTATICS_CJK_FONT``, else a system font found through matplotlib's font manager,
+else a font of the optional package ``mplfonts`` (``pip install 'kinetostatics[zh]'``),
+and raises a clear error naming both when there is none.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from .lang import LanguageError
+
+# -- fonts -------------------------------------------------------------------------------
+# Where a font with Chinese glyphs is looked for, in this order: the file named by the
+# environment variable KINETOSTATICS_CJK_FONT; the fonts installed on the system (through
+# matplotlib's font manager; the families below first, most common first: Linux, Windows,
+# macOS; then any other whose name says CJK/SC/CN); the fonts shipped by the optional
+# package ``mplfonts`` (``pip install 'kinetostatics[zh]'``), located without importing it
+# (its ``init`` would rewrite matplotlib's configuration).
+_CJK_FAMILIES = (
+    "Noto Sans CJK SC",
+    "Noto Sans SC",
+    "Noto Serif CJK SC",
+    "Source Han Sans SC",
+    "Source Han Sans CN",
+    "WenQuanYi Micro Hei",
+    "WenQuanYi Zen Hei",
+    "Droid Sans Fallback",
+    "AR PL UMing CN",
+    "AR PL UKai CN",
+    "Microsoft YaHei",
+    "SimHei",
+    "SimSun",
+    "PingFang SC",
+    "Hiragino Sans GB",
+    "Heiti SC",
+    "STHeiti",
+    "Arial Unicode MS",
+)
+# mplfonts' files, TrueType first: fpdf2 embeds a TrueType (glyf) font with a text map
+# that PDF readers extract; a CFF .otf comes out with a NUL before every character.
+_MPLFONTS_FILES = (
+    "SimHei.ttf",
+    "NotoSansCJKsc-Regular.otf",
+    "SourceHanSerifSC-Regular.otf",
+    "NotoSerifCJKsc-Regular.otf",
+)
+_ENV = "KINETOSTATICS_CJK_FONT"
+_HINT = (
+    "no font with Chinese glyphs found for --lang zh. Install one: "
+    "pip install 'kinetostatics[zh]' (the fonts of the package mplfonts), or a system font "
+    "('apt-get install fonts-noto-cjk' on Debian/Ubuntu, 'dnf install "
+    "google-noto-sans-cjk-fonts' on Fedora); or name a .ttf/.otf/.ttc file with the "
+    "environment variable KINETOSTATICS_CJK_FONT. (matplotlib may cache the font list: after "
+    "installing a system font, delete ~/.cache/matplotlib if it is still not found.)"
+)
+
+
+def _has_han(path: str) -> bool:
+    """Whether the font file maps 中 (U+4E2D) and 力 (U+529B)."""
+    try:
+        from fontTools.ttLib import TTCollection, TTFont
+
+        fonts = TTCollection(path).fonts if path.lower().endswith(".ttc") else [TTFont(path)]
+        cmap = fonts[0].getBestCmap() or {}
+        return 0x4E2D in cmap and 0x529B in cmap
+    except Exception:  # unreadable or not a font: not this one
+        return False
+
+
+def _system_font() -> str | None:
+    """The file of an installed font with Chinese glyphs that matplotlib knows, or None."""
+    from matplotlib import font_manager as fm
+
+    entries = {f.name: f.fname for f in fm.fontManager.ttflist}
+    names = [n for n in _CJK_FAMILIES if n in entries]
+    names += sorted(
+        n
+        for n in entries
+        if n not in names and any(w in n for w in ("CJK", " SC", " CN", "Hei", "Song", "Kai"))
+    )
+    return next((entries[n] for n in names if _has_han(entries[n])), None)
+
+
+def _mplfonts_font() -> str | None:
+    """A font file shipped by the package ``mplfonts`` (the ``zh`` extra), or None.  The
+    package is found, not imported."""
+    import importlib.util
+
+    try:
+        spec = importlib.util.find_spec("mplfonts")
+    except (ImportError, ValueError):
+        return None
+    if spec is None or not spec.submodule_search_locations:
+        return None
+    for folder in spec.submodule_search_locations:
+        for name in _MPLFONTS_FILES:
+            path = Path(folder) / "fonts" / name
+            if path.is_file() and _has_han(str(path)):
+                return str(path)
+    return None
+
+
+_FOUND: dict[str | None, tuple[str, str]] = {}  # by the value of KINETOSTATICS_CJK_FONT
+
+
+def cjk_font() -> tuple[str, str]:
+    """``(family, path)`` of a font with Chinese glyphs, registered with matplotlib's font
+    manager: KINETOSTATICS_CJK_FONT, else a system font, else one of ``mplfonts``.
+
+    Raises :class:`LanguageError` (saying what to install) when there is none."""
+    from matplotlib import font_manager as fm
+
+    env = os.environ.get(_ENV) or None
+    if env in _FOUND:
+        return _FOUND[env]
+    if env:
+        if not Path(env).is_file() or not _has_han(env):
+            raise LanguageError(f"{_ENV}={env}: not a font file with Chinese glyphs")
+        path = env
+    else:
+        path = _system_font() or _mplfonts_font()
+        if path is None:
+            raise LanguageError(_HINT)
+    if path not in {f.fname for f in fm.fontManager.ttflist}:
+        fm.fontManager.addfont(path)
+    family = fm.FontProperties(fname=path).get_name()
+    _FOUND[env] = (family, path)
+    return _FOUND[env]
+
+
+def rc_fonts(lang: str) -> dict:
+    """matplotlib rc settings for ``lang``: the CJK family first for Chinese."""
+    if lang != "zh":
+        return {}
+    family, _ = cjk_font()
+    return {"font.family": [family, "DejaVu Sans"]}  # named: kept by every Text at creation
