@@ -50,29 +50,8 @@ _want = int(os.environ.get("KINETOSTATICS_NET_MECHANISMS", _total))
 SCALE = _want / _total
 SEED_BASE = {name: 100_000 * (k + 1) for k, name in enumerate(COUNTS)}
 
-# (relation, case) -> reason; case is a shipped file name or "seed:<n>"
-ZERO_SPEED_LAG = (
-    "the cycle integral cuts where a resistance's (friction's) speed leaves 0, the rows "
-    "switch it on where it leaves the zero-speed threshold: after a cam's dwell, up to "
-    "1e-4 s later (docs/verification.md, What the net found)"
-)
-UNEXPLAINED_DRIVE_MEAN = (
-    "not yet explained: the drive's motor-side mean power of a generated linkage with springs, "
-    "a resisting torque and a reduction differs by 2.9e-8 between the two orders (not its "
-    "load conditions: 2.9e-8 with them switched off too)"
-)
-UNEXPLAINED_MEANS = (
-    "not yet explained: found by the slow run on the generator with features (cams, "
-    "elements, tables, drives); the two orders differ by 7e-11 to 2.4e-7"
-)
-KNOWN: dict[tuple[str, str], str] = {
-    ("cycle_means", "seed:1401025"): UNEXPLAINED_DRIVE_MEAN,
-    ("cycle_means", "seed:1401057"): UNEXPLAINED_MEANS,
-    ("cycle_means", "loads:1451017"): UNEXPLAINED_MEANS,
-    ("cycle_means", "loads:1451018"): UNEXPLAINED_MEANS,
-    ("quadrature", "seed:1200001"): ZERO_SPEED_LAG,
-    ("quadrature", "seed:1200004"): ZERO_SPEED_LAG,
-}
+# (relation, case) -> reason; case is a shipped file name or "seed:<n>"; none open now
+KNOWN: dict[tuple[str, str], str] = {}
 
 
 def _seeds(relation: str) -> list[int]:

@@ -25,8 +25,23 @@ from ..errors import AssemblyError, ElementWarning, JointWarning, NearSingularWa
 from ..structure.system import link_pair
 from .pipeline import analyze, analyze_near
 from .results import Result
+from .switches import (
+    condition_rates,
+    exact_roots,
+    friction_rates,
+    reversal_rates,
+    table_rates,
+)
 
-__all__ = ["breaks", "effort_zeros", "quiet_analyze", "quiet_near", "span"]
+__all__ = [
+    "breaks",
+    "effort_zeros",
+    "merged_cuts",
+    "missed_cuts",
+    "quiet_analyze",
+    "quiet_near",
+    "span",
+]
 
 
 def span(result: Result) -> tuple[float, float]:
@@ -39,162 +54,6 @@ def span(result: Result) -> tuple[float, float]:
         t0 = float(np.min(t))
         return t0, t0 + float(period)
     return float(np.min(t)), float(np.max(t))
-
-
-def _exact_roots(result: Result, rates: list) -> list[float]:
-    """Times where the value of each ``rate(q, q̇, q̈) -> (value, its time derivative)``
-    changes sign over the rows, located exactly (refined on the motion itself).  An entry
-    may be a pair ``(rate, keep)``: ``keep(q, q̇, q̈)`` says which of its roots count."""
-    from ..kinematics.events import find_roots
-    from ..kinematics.schedule import schedule
-
-    if not rates or len(result) < 2:
-        return []
-    system = result.system
-    sched = schedule(system)
-    period = float(sched.period) if result.full_cycle else np.inf
-    out: list[float] = []
-    for entry in rates:
-        f, keep = entry if isinstance(entry, tuple) else (entry, None)
-        vals = f(result.q, result.qd, result.qdd)[0]
-        scale = np.max(np.abs(vals), initial=0.0)
-        if not scale > 0:  # never moves: no reversal
-            continue
-        vals = np.where(np.abs(vals) <= 1e-12 * scale, 0.0, vals)  # round-off is no sign
-        roots, states = find_roots(
-            system, sched, result.t, result.q, result.qd, result.qdd, vals, f,
-            result.full_cycle, period,
-        )  # fmt: skip
-        if keep is not None and len(roots):
-            roots = np.asarray(roots)[np.asarray(keep(*states), dtype=bool)]
-        out += [float(r) for r in roots]
-    return out
-
-
-def _level_rates(x, levels, period: float | None) -> list:
-    """Rates for :func:`_exact_roots` whose roots are where the quantity ``x(q, q̇, q̈) ->
-    (value, its time derivative)`` passes one of ``levels``: x − L; with a ``period`` (a
-    revolute's coordinate: the level again every turn), sin(x − L), whose other zeros
-    (x − L = π) are not kept."""
-    out: list = []
-    if period is None:
-        for level in sorted_distinct(levels):
-            out.append(lambda q, qd, qdd, level=level: _shifted(x(q, qd, qdd), level))
-        return out
-    for level in sorted_distinct(np.mod(np.asarray(levels, dtype=float), period)):
-
-        def f(q, qd, qdd, level=level):
-            v, dv = x(q, qd, qdd)
-            return np.sin(v - level), np.cos(v - level) * dv
-
-        out.append((f, lambda q, qd, qdd, level=level: np.cos(x(q, qd, qdd)[0] - level) > 0))
-    return out
-
-
-def _shifted(pair, level):
-    return pair[0] - level, pair[1]
-
-
-def _table_kinks(result: Result) -> list[float]:
-    """Times where a table has a corner (each table's own module says where: a load's
-    :meth:`~kinetostatics.model.Load.kinks` over the first motion driver's coordinate, an
-    effort law's :meth:`~kinetostatics.model.EffortLaw.kinks` over its driver's coordinate
-    or speed, a table spring's :func:`~kinetostatics.kinetics.elements.force_kinks` over
-    its length or angle), located exactly on the motion as the reversals are.  A motion
-    table's knots are times (:meth:`~kinetostatics.kinematics.schedule.Schedule.breaks`)."""
-    from ..kinematics.events import coordinate_rates
-    from ..kinematics.state import joint_coordinate
-    from ..kinetics.elements import coordinate_rate, force_kinks
-    from ..model import EffortLaw
-
-    system = result.system
-    model = system.model
-    names = [j.name for j in model.joints]
-
-    def of(driver):
-        """(coordinate, speed, period) of a driver: each ``(q, q̇, q̈) -> (x, ẋ)``."""
-        k = names.index(driver.joint)
-
-        def coordinate(q, qd, qdd):
-            return joint_coordinate(system, q, k) + driver.offset, coordinate_rates(
-                system, q, qd, qdd, k
-            )[0]
-
-        def speed(q, qd, qdd):
-            return coordinate_rates(system, q, qd, qdd, k)
-
-        return coordinate, speed, (2 * np.pi if model.joints[k].angular else None)
-
-    rates: list = []
-    levels = [load.kinks() for load in model.loads]
-    if system.motion_drivers and any(x.size for x in levels):
-        coordinate, _, period = of(system.motion_drivers[0].driver)
-        rates += _level_rates(coordinate, np.concatenate(levels), period)
-    for d in model.drivers:
-        if isinstance(d.effort, EffortLaw):
-            variable, at = d.effort.kinks()
-            if len(at):
-                coordinate, speed, period = of(d)
-                if variable == "coordinate":
-                    rates += _level_rates(coordinate, at, period)
-                else:
-                    rates += _level_rates(speed, at, None)
-    for e in model.elements:
-        at = force_kinks(e)
-        if at.size:
-            rates += _level_rates(
-                lambda q, qd, qdd, e=e: coordinate_rate(system, e, q, qd), at, None
-            )
-    return _exact_roots(result, rates)
-
-
-def _reversals(result: Result) -> list[float]:
-    """Times where a load that opposes a velocity reverses (a ``resistance`` whose point's
-    velocity along its axis, a ``resisting_torque`` whose angular velocity changes sign):
-    switching events too."""
-    from ..kinematics.state import local_point, point_state
-    from ..kinetics.forces import resisting_torque_other
-
-    system = result.system
-    rates = []
-    for load in system.model.loads:
-        if load.kind not in ("resistance", "resisting_torque"):
-            continue
-        k = system.link_index(load.link)
-        if load.kind == "resisting_torque":
-            other = resisting_torque_other(system, load)
-
-            def f(q, qd, qdd, k=k, other=other):
-                w, a = qd[..., 3 * k + 2], qdd[..., 3 * k + 2]
-                if other is not None:
-                    w, a = w - qd[..., 3 * other + 2], a - qdd[..., 3 * other + 2]
-                return w, a
-
-        else:
-            p = local_point(system, load.link, load.point)
-
-            def f(q, qd, qdd, k=k, p=p, axis=load.axis):
-                _, vel, acc = point_state(q, qd, qdd, k, p)
-                return vel @ axis, acc @ axis
-
-        rates.append(f)
-    return _exact_roots(result, rates)
-
-
-def _friction_reversals(result: Result) -> list[float]:
-    """Times where a joint with friction reverses its relative motion: its friction effort
-    −sign(ċ)·μ jumps there, so the quadrature is cut there too."""
-    from ..kinematics.events import coordinate_rates
-
-    system = result.system
-    return _exact_roots(
-        result,
-        [
-            lambda q, qd, qdd, k=k: coordinate_rates(system, q, qd, qdd, k)
-            for k, j in enumerate(system.model.joints)
-            if j.has_friction
-        ],
-    )
 
 
 def _in_time(result: Result):
@@ -263,7 +122,7 @@ def _friction_kinks(result: Result) -> list:
     return out
 
 
-JUMP_GAP = 1e-8  # of the span: a jump's sides are sampled this far from it
+JUMP_GAP = 1e-8  # of the span: a jump's sides are sampled this far from it (at most)
 
 
 def _guess(ts, vs, seg, i) -> tuple[float, float]:
@@ -299,30 +158,20 @@ def _solved_kinks(rows: Result, fns: list, jumps: list[float], ta: float, tb: fl
     interpolating across a jump."""
     if not fns or len(rows) < 2:
         return []
-    system = rows.system
-    friction = rows.lam_friction is not None
     t, order, period = _in_time(rows)
     span = tb - ta
     gap = JUMP_GAP * span
-
-    def at(times) -> np.ndarray:
-        times = np.asarray(times, dtype=float)
-        if period is not None:
-            times = ta + np.mod(times - ta, period)
-        try:  # each continued from its nearest row
-            res = quiet_near(rows, times, friction=friction)
-        except AssemblyError:  # too far from the rows for Newton: the whole run's way
-            uniq, inv = np.unique(times, return_inverse=True)
-            res = quiet_analyze(system, times=uniq, friction=friction, events=False)
-            return _columns(res, fns)[inv.ravel()]
-        return _columns(res, fns)
-
+    at = _evaluator(rows, fns, ta, period, rows.lam_friction is not None)
     vals = _columns(rows, fns)[order]
     jumps = sorted_distinct([j for j in jumps if ta < j < tb])
     near = np.zeros(len(t), dtype=bool)  # rows on a jump (event rows): their side unknown
     for j in jumps:
         near |= np.abs(t - j) <= 1e-12 * span
-    sides = np.concatenate([(j - gap, j + gap) for j in jumps]) if len(jumps) else np.zeros(0)
+    # each side of a jump sampled ``gap`` from it, or halfway to the next jump if that is
+    # nearer (a moving condition's event and its zero-speed band's edge lie 1e-10 apart)
+    room = np.diff(np.concatenate(([ta], jumps, [tb]))) / 2
+    left, right = np.minimum(gap, room[:-1]), np.minimum(gap, room[1:])
+    sides = np.ravel(np.column_stack((jumps - left, jumps + right)))
     ts = np.concatenate((t[~near], sides))
     vs = np.concatenate((vals[~near], at(sides) if sides.size else np.zeros((0, vals.shape[1]))))
     o = np.argsort(ts, kind="stable")
@@ -360,14 +209,107 @@ def _solved_kinks(rows: Result, fns: list, jumps: list[float], ta: float, tb: fl
             slope.append(g[1])
             col.append(m)
             scales.append(scale)
-    if not lo:
+    return _located(at, (lo, hi, flo, fhi, x0, slope, col, scales), span)
+
+
+def _evaluator(rows: Result, fns: list, ta: float, period: float | None, friction: bool):
+    """``at(times) -> (len(times), m)``: the kink functions on the pipeline at single
+    times (with the friction solutions or without), each continued from the nearest row of
+    ``rows`` (times taken into the period of a full cycle)."""
+
+    def at(times) -> np.ndarray:
+        times = np.asarray(times, dtype=float)
+        if period is not None:
+            times = ta + np.mod(times - ta, period)
+        try:  # each continued from its nearest row
+            res = quiet_near(rows, times, friction=friction)
+        except AssemblyError:  # too far from the rows for Newton: the whole run's way
+            uniq, inv = np.unique(times, return_inverse=True)
+            res = quiet_analyze(rows.system, times=uniq, friction=friction, events=False)
+            return _columns(res, fns)[inv.ravel()]
+        return _columns(res, fns)
+
+    return at
+
+
+def _located(at, brackets, span: float) -> list[float]:
+    """The zeros in the brackets ``(lo, hi, flo, fhi, guess, slope, column, scale)`` (lists,
+    one entry a bracket), found by :func:`_secant` on ``at``."""
+    if not brackets[0]:
         return []
-    lo, hi, flo, fhi, x, slope, col, scales = (
-        np.array(z) for z in (lo, hi, flo, fhi, x0, slope, col, scales)
-    )
+    lo, hi, flo, fhi, x, slope, col, scales = (np.array(z) for z in brackets)
     f = lambda tt, cc: at(tt)[np.arange(len(tt)), cc]  # noqa: E731
     roots = _secant(f, lo, hi, flo, fhi, x, slope, col, span, 1e-13 * scales)
     return [float(r) for r in roots]
+
+
+def _stretch_changes(ts: np.ndarray, vals: np.ndarray, seg: np.ndarray):
+    """Per column of ``vals`` (samples at the sorted times ``ts``, each in the stretch
+    ``seg`` between two cuts), the samples ``a`` after which the sign changes before the
+    next sample of the same stretch (round-off, 1e-12 of the column's largest |value|, is
+    no sign): ``[(column, a, scale)]``."""
+    out = []
+    for m in range(vals.shape[1]):
+        v = vals[:, m]
+        ok = np.isfinite(v)
+        scale = np.max(np.abs(v[ok]), initial=0.0)
+        sign = np.where(ok & (np.abs(v) > 1e-12 * scale), np.sign(v), 0.0)
+        for a in np.flatnonzero((sign[:-1] * sign[1:] < 0) & (seg[:-1] == seg[1:])):
+            out.append((m, int(a), scale))
+    return out
+
+
+def missed_cuts(rows: Result, nodes: Result, edges: np.ndarray, friction: bool) -> list[float]:
+    """Switches and kinks the rows did not bracket — a pair of them between two rows: a
+    rocker reversing and turning back, an effort through zero and back — that the
+    quadrature ``nodes`` see: a sign change between two consecutive nodes with no cut
+    (``edges``, sorted, the span's ends included) between them.  First the switches on the
+    motion (:mod:`.switches`: the reversals of the resisting loads and, with ``friction``,
+    of the joints with friction, the loads' conditions, the tables' corners), located
+    exactly; where there are none, the kinks the pipeline gives (a cam law's segment
+    ends, the drivers' efforts), located as :func:`_solved_kinks` does, continued from
+    the ``rows``.  Empty, and nothing solved, when the nodes see nothing new."""
+    if len(nodes) < 2:
+        return []
+    ts, order, _ = _in_time(nodes)
+    seg = np.searchsorted(edges, ts)  # the stretch between two cuts of each node
+    rates = reversal_rates(rows) + condition_rates(rows) + table_rates(rows)
+    if friction and rows.system.model.has_friction:
+        rates += friction_rates(rows)
+    q, qd, qdd = nodes.q[order], nodes.qd[order], nodes.qdd[order]
+    seen = []
+    for entry in rates:
+        f, keep = entry if isinstance(entry, tuple) else (entry, None)
+        v = np.asarray(f(q, qd, qdd)[0], dtype=float)
+        if keep is not None:  # the roots that do not count: no sign there
+            v = np.where(keep(q, qd, qdd), v, 0.0)
+        if _stretch_changes(ts, v[:, None], seg):
+            seen.append(entry)
+    if seen:
+        return exact_roots(nodes, seen)
+    fns = _motion_breaks(nodes) + effort_zeros(nodes)
+    if not fns:
+        return []
+    vals = _columns(nodes, fns)[order]
+    brackets: tuple[list, ...] = ([], [], [], [], [], [], [], [])
+    for m, a, scale in _stretch_changes(ts, vals, seg):
+        v = vals[:, m]
+        guess = _guess(ts, v, seg, a)
+        for z, value in zip(brackets, (ts[a], ts[a + 1], v[a], v[a + 1], *guess, m, scale)):
+            z.append(value)
+    at = _evaluator(rows, fns, float(edges[0]), None, nodes.lam_friction is not None)
+    return _located(at, brackets, float(edges[-1] - edges[0]))
+
+
+def merged_cuts(ta: float, tb: float, times) -> np.ndarray:
+    """The span's ends and the ``times`` inside it, sorted; a time within round-off
+    (1e-12 of the span) of another is that one, the span's end kept."""
+    inner = [te for te in times if ta < te < tb]
+    edges = sorted_distinct(np.concatenate(([ta], inner, [tb])))
+    keep = np.append(True, np.diff(edges) > 1e-12 * (tb - ta))
+    if not keep[-1]:  # the span's end stays, the cut beside it goes
+        keep[-1], keep[-2] = True, False
+    return edges[keep]
 
 
 def _secant(
@@ -431,12 +373,14 @@ def _secant(
 
 def breaks(result: Result, ta: float, tb: float, friction: bool) -> np.ndarray:
     """The span's ends and the cuts inside it (times), sorted: the jumps (the load events,
-    the reversals of the resisting loads, a motion law's turning points and, with
-    friction, the reversals of the joints with friction), the corners of the tables and
-    the motion tables' knots, all located exactly; and the kinks located on the solved
-    state (:func:`_solved_kinks`): the breaks of the pairs' motion (a cam law's segment
-    ends), the zeros of the drivers' efforts (kinks of a motor's torque behind a
-    reduction) and, with friction, the kinks of the friction laws."""
+    where a ``moving`` condition's speed leaves the zero-speed band, the reversals of the
+    resisting loads, a motion law's turning points and, with friction, the reversals of
+    the joints with friction: these two at the edges of the zero-speed band), the
+    corners of the tables and the motion tables' knots, all located exactly; and the
+    kinks located on the solved state (:func:`_solved_kinks`): the breaks of the pairs'
+    motion (a cam law's segment ends), the zeros of the drivers' efforts (kinks of a
+    motor's torque behind a reduction) and, with friction, the kinks of the friction
+    laws."""
     from ..kinematics.schedule import schedule
 
     sched = schedule(result.system)
@@ -445,7 +389,8 @@ def breaks(result: Result, ta: float, tb: float, friction: bool) -> np.ndarray:
     # a motion law turning back (ψ̇ = 0): the power through a reduction changes sign
     # there with the effort ≠ 0, a jump of the motor's torque (dynamics/drive.py)
     turns = list(sched.turning_times(ta, tb))
-    jumps = [float(e.t) for e in result.events] + _reversals(result) + turns
+    jumps = [float(e.t) for e in result.events] + turns
+    jumps += exact_roots(result, reversal_rates(result) + condition_rates(result))
     if friction and result.system.model.has_friction:
         if rows.lam_friction is None:  # rows without the friction solutions: solve them
             # there, for the kinks of the consistent solution and its effort's zeros
@@ -453,25 +398,15 @@ def breaks(result: Result, ta: float, tb: float, friction: bool) -> np.ndarray:
                 quiet_analyze(result.system, times=result.t, friction=True, events=False),
                 full_cycle=result.full_cycle,
             )
-        jumps += _friction_reversals(rows)
+        jumps += exact_roots(rows, friction_rates(rows))
     jumps = [ta + np.mod(te - ta, tb - ta) if full else te for te in jumps]
-    kinks = _table_kinks(result) + list(sched.breaks(ta, tb))
+    kinks = exact_roots(result, table_rates(result)) + list(sched.breaks(ta, tb))
     fns = _motion_breaks(rows) + effort_zeros(rows)
     if friction and result.system.model.has_friction:
         fns += _friction_kinks(rows)
     kinks += _solved_kinks(rows, fns, jumps, ta, tb)
-    inner = []
-    for te in jumps + kinks:
-        if full:
-            te = ta + np.mod(te - ta, tb - ta)
-        if ta < te < tb:
-            inner.append(te)
-    edges = sorted_distinct(np.concatenate(([ta], inner, [tb])))
-    # a kink found within round-off of another cut is that cut
-    keep = np.append(True, np.diff(edges) > 1e-12 * (tb - ta))
-    if not keep[-1]:  # the span's end stays, the cut beside it goes
-        keep[-1], keep[-2] = True, False
-    return edges[keep]
+    times = [ta + np.mod(te - ta, tb - ta) if full else te for te in jumps + kinks]
+    return merged_cuts(ta, tb, times)
 
 
 QUIET = (JointWarning, ElementWarning, NearSingularWarning)  # said once, by the run

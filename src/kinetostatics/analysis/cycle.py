@@ -29,13 +29,22 @@ from typing import Any
 import numpy as np
 
 from ..errors import AssemblyError
-from .cuts import breaks, effort_zeros, quiet_analyze, quiet_near, span
+from .cuts import (
+    breaks,
+    effort_zeros,
+    merged_cuts,
+    missed_cuts,
+    quiet_analyze,
+    quiet_near,
+    span,
+)
 from .results import Result
 
 __all__ = ["NODES", "cycle_stats", "cycle_nodes", "cycle_pieces"]
 
 NODES = 8  # Gauss–Legendre nodes per sub-interval
 PIECES = 36  # sub-intervals per span at least (each ≤ span/36)
+MISSED = 3  # rounds of cuts the nodes found and the rows missed, at most
 
 
 def cycle_nodes(
@@ -77,17 +86,17 @@ def cycle_pieces(
     edges = cache.get(("edges", friction))
     if edges is None:
         edges = cache[("edges", friction)] = breaks(result, ta, tb, friction)
-    pieces = []
-    for a, b in zip(edges[:-1], edges[1:]):
-        m = max(1, int(np.ceil((b - a) / ((tb - ta) / n_pieces) - 1e-9)))
-        cuts = np.linspace(a, b, m + 1)
-        pieces += list(zip(cuts[:-1], cuts[1:]))
-    grouped = np.array(pieces)
-    times, weights = _nodes_of(grouped, x, w)
     # the pieces are chosen on the frictionless efforts (cheap: no friction solution at
     # the nodes, which at self-locked nodes is a homotopy each), then the nodes analysed
-    # once as asked
-    nodes = quiet_analyze(result.system, times=times, friction=False, events=False)
+    # once as asked; a switch or kink the rows missed (a pair between two rows) but the
+    # nodes see is cut too, and the nodes placed again (switches first, then kinks)
+    grouped, times, weights, nodes = _placed(result, edges, n_pieces, x, w)
+    for _ in range(MISSED):
+        missed = missed_cuts(result, nodes, edges, friction)
+        if not missed:
+            break
+        edges = cache[("edges", friction)] = merged_cuts(ta, tb, [*edges, *missed])
+        grouped, times, weights, nodes = _placed(result, edges, n_pieces, x, w)
     order = np.argsort(times, kind="stable")  # the pipeline returns rows in time order
     again = friction
     if not np.allclose(nodes.t, times[order], rtol=0, atol=1e-9 * (tb - ta)):
@@ -102,6 +111,22 @@ def cycle_pieces(
         nodes = quiet_analyze(result.system, times=times, friction=friction, events=False)
     cache[key] = (weights[order], nodes, grouped)
     return cache[key]
+
+
+def _placed(result: Result, edges: np.ndarray, n_pieces: int, x: np.ndarray, w: np.ndarray):
+    """(pieces, times, weights, frictionless node result): the stretches between the cuts
+    ``edges`` divided into pieces of at most 1/``n_pieces`` of the span, and the
+    Gauss–Legendre rule (nodes ``x``, weights ``w``) on each."""
+    width = (edges[-1] - edges[0]) / n_pieces
+    pieces = []
+    for a, b in zip(edges[:-1], edges[1:]):
+        m = max(1, int(np.ceil((b - a) / width - 1e-9)))
+        cuts = np.linspace(a, b, m + 1)
+        pieces += list(zip(cuts[:-1], cuts[1:]))
+    grouped = np.array(pieces)
+    times, weights = _nodes_of(grouped, x, w)
+    nodes = quiet_analyze(result.system, times=times, friction=False, events=False)
+    return grouped, times, weights, nodes
 
 
 RESOLVED = 1e-13  # of an effort's largest |value|: a piece's predicted quadrature error

@@ -62,7 +62,8 @@ def refine(system, drive, f, t0, tn, qn, qdn, qddn, max_iter=12, bracket=None):
         g, dg = f(q, qd, qdd)
         dt = np.divide(-g, dg, out=np.zeros_like(g), where=dg != 0)
         tol = 1e-14 * np.maximum(np.abs(t[idx]), 1.0)
-        done = (np.abs(dt) <= tol) | (g == 0)
+        # a zero slope (a follower at rest in a cam's dwell) gives no step, not a root
+        done = ((np.abs(dt) <= tol) & (dg != 0)) | (g == 0)
         if bracket is None:
             done |= dg == 0
             t[idx] += dt

@@ -1,0 +1,221 @@
+"""Where the loads, the tables and the friction switch on the motion: rate functions
+``rate(q, q̇, q̈) -> (value, its time derivative)`` whose roots are those switches — a
+table's corners, a load that opposes a velocity reversing, a joint with friction
+reversing, a load's condition coming true or false — and :func:`exact_roots`, which
+locates their roots on the motion itself (Newton on the time from the nearest sample).
+The cycle integral cuts there (:mod:`.cuts`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..base.arrays import sorted_distinct
+from .results import Result
+
+__all__ = [
+    "condition_rates",
+    "dead_band",
+    "exact_roots",
+    "friction_rates",
+    "level_rates",
+    "reversal_rates",
+    "table_rates",
+]
+
+
+def exact_roots(result: Result, rates: list) -> list[float]:
+    """Times where the value of each ``rate(q, q̇, q̈) -> (value, its time derivative)``
+    changes sign over the rows, located exactly (refined on the motion itself).  An entry
+    may be a pair ``(rate, keep)``: ``keep(q, q̇, q̈)`` says which of its roots count."""
+    from ..kinematics.events import find_roots
+    from ..kinematics.schedule import schedule
+
+    if not rates or len(result) < 2:
+        return []
+    system = result.system
+    sched = schedule(system)
+    period = float(sched.period) if result.full_cycle else np.inf
+    out: list[float] = []
+    for entry in rates:
+        f, keep = entry if isinstance(entry, tuple) else (entry, None)
+        vals = f(result.q, result.qd, result.qdd)[0]
+        scale = np.max(np.abs(vals), initial=0.0)
+        if not scale > 0:  # never moves: no reversal
+            continue
+        vals = np.where(np.abs(vals) <= 1e-12 * scale, 0.0, vals)  # round-off is no sign
+        roots, states = find_roots(
+            system, sched, result.t, result.q, result.qd, result.qdd, vals, f,
+            result.full_cycle, period,
+        )  # fmt: skip
+        if keep is not None and len(roots):
+            roots = np.asarray(roots)[np.asarray(keep(*states), dtype=bool)]
+        out += [float(r) for r in roots]
+    return out
+
+
+def level_rates(x, levels, period: float | None) -> list:
+    """Rates for :func:`exact_roots` whose roots are where the quantity ``x(q, q̇, q̈) ->
+    (value, its time derivative)`` passes one of ``levels``: x − L; with a ``period`` (a
+    revolute's coordinate: the level again every turn), sin(x − L), whose other zeros
+    (x − L = π) are not kept."""
+    out: list = []
+    if period is None:
+        for level in sorted_distinct(levels):
+            out.append(lambda q, qd, qdd, level=level: _shifted(x(q, qd, qdd), level))
+        return out
+    for level in sorted_distinct(np.mod(np.asarray(levels, dtype=float), period)):
+
+        def f(q, qd, qdd, level=level):
+            v, dv = x(q, qd, qdd)
+            return np.sin(v - level), np.cos(v - level) * dv
+
+        out.append((f, lambda q, qd, qdd, level=level: np.cos(x(q, qd, qdd)[0] - level) > 0))
+    return out
+
+
+def _shifted(pair, level):
+    return pair[0] - level, pair[1]
+
+
+def table_rates(result: Result) -> list:
+    """Rates whose roots are where a table has a corner (each table's own module says
+    where: a load's :meth:`~kinetostatics.model.Load.kinks` over the first motion
+    driver's coordinate, an effort law's :meth:`~kinetostatics.model.EffortLaw.kinks`
+    over its driver's coordinate or speed, a table spring's
+    :func:`~kinetostatics.kinetics.elements.force_kinks` over its length or angle).  A
+    motion table's knots are times
+    (:meth:`~kinetostatics.kinematics.schedule.Schedule.breaks`)."""
+    from ..kinematics.events import coordinate_rates
+    from ..kinematics.state import joint_coordinate
+    from ..kinetics.elements import coordinate_rate, force_kinks
+    from ..model import EffortLaw
+
+    system = result.system
+    model = system.model
+    names = [j.name for j in model.joints]
+
+    def of(driver):
+        """(coordinate, speed, period) of a driver: each ``(q, q̇, q̈) -> (x, ẋ)``."""
+        k = names.index(driver.joint)
+
+        def coordinate(q, qd, qdd):
+            return joint_coordinate(system, q, k) + driver.offset, coordinate_rates(
+                system, q, qd, qdd, k
+            )[0]
+
+        def speed(q, qd, qdd):
+            return coordinate_rates(system, q, qd, qdd, k)
+
+        return coordinate, speed, (2 * np.pi if model.joints[k].angular else None)
+
+    rates: list = []
+    levels = [load.kinks() for load in model.loads]
+    if system.motion_drivers and any(x.size for x in levels):
+        coordinate, _, period = of(system.motion_drivers[0].driver)
+        rates += level_rates(coordinate, np.concatenate(levels), period)
+    for d in model.drivers:
+        if isinstance(d.effort, EffortLaw):
+            variable, at = d.effort.kinks()
+            if len(at):
+                coordinate, speed, period = of(d)
+                if variable == "coordinate":
+                    rates += level_rates(coordinate, at, period)
+                else:
+                    rates += level_rates(speed, at, None)
+    for e in model.elements:
+        at = force_kinks(e)
+        if at.size:
+            rates += level_rates(
+                lambda q, qd, qdd, e=e: coordinate_rate(system, e, q, qd), at, None
+            )
+    return rates
+
+
+def dead_band(result: Result, rate, angular: bool) -> list:
+    """Rates for :func:`exact_roots` whose roots are where the relative speed ``rate``
+    enters or leaves the band counted as zero speed, |x| ≤ 1e-9·x_ref (x_ref the driver
+    speed, times L_ref for a speed of travel; docs/conventions.md): where the effort that
+    opposes it switches on or off, at the rows and the nodes alike.  (Cut at the speed's
+    zero instead, a speed that leaves 0 slowly — a follower after a cam's dwell — was
+    cut up to 1e-4 s from where its effort switched.)"""
+    from ..kinematics.schedule import schedule
+    from ..kinetics.conditions import ZERO_SPEED
+
+    system = result.system
+    band = ZERO_SPEED * float(schedule(system).reference) * (1.0 if angular else system.l_ref)
+    return level_rates(rate, [-band, band], None)
+
+
+def reversal_rates(result: Result) -> list:
+    """Rates whose roots are where a load that opposes a velocity reverses (a
+    ``resistance`` whose point's velocity along its axis, a ``resisting_torque`` whose
+    angular velocity changes sign: switching events too), at the edges of the zero-speed
+    band (:func:`dead_band`)."""
+    from ..kinematics.state import local_point, point_state
+    from ..kinetics.forces import resisting_torque_other
+
+    system = result.system
+    rates = []
+    for load in system.model.loads:
+        if load.kind not in ("resistance", "resisting_torque"):
+            continue
+        k = system.link_index(load.link)
+        if load.kind == "resisting_torque":
+            other = resisting_torque_other(system, load)
+
+            def f(q, qd, qdd, k=k, other=other):
+                w, a = qd[..., 3 * k + 2], qdd[..., 3 * k + 2]
+                if other is not None:
+                    w, a = w - qd[..., 3 * other + 2], a - qdd[..., 3 * other + 2]
+                return w, a
+
+            rates += dead_band(result, f, True)
+        else:
+            p = local_point(system, load.link, load.point)
+
+            def f(q, qd, qdd, k=k, p=p, axis=load.axis):
+                _, vel, acc = point_state(q, qd, qdd, k, p)
+                return vel @ axis, acc @ axis
+
+            rates += dead_band(result, f, False)
+    return rates
+
+
+def friction_rates(result: Result) -> list:
+    """Rates whose roots are where a joint with friction reverses its relative motion: its
+    friction effort −sign(ċ)·μ jumps there, so the quadrature is cut there too (at the edges of the
+    zero-speed band, :func:`dead_band`)."""
+    from ..kinematics.events import coordinate_rates
+
+    system = result.system
+    rates = []
+    for k, j in enumerate(system.model.joints):
+        if j.has_friction:
+            rate = lambda q, qd, qdd, k=k: coordinate_rates(system, q, qd, qdd, k)  # noqa: E731
+            rates += dead_band(result, rate, j.angular)
+    return rates
+
+
+def condition_rates(result: Result) -> list:
+    """Rates whose roots are where a load's ``moving`` condition starts to hold: its
+    point's speed along the axis leaves the zero-speed band (1e-9·|driver speed|·L_ref,
+    docs/conventions.md), where :func:`~kinetostatics.kinetics.conditions.activity` sees
+    the load come on or go off.  The load's event is at the speed's zero; a speed that
+    crosses zero at a rate is out of the band within round-off, but one that leaves 0
+    slowly — a follower after a cam's dwell — only up to 1e-4 s later."""
+    from ..kinematics.schedule import schedule
+    from ..kinetics.conditions import ZERO_SPEED, condition_state
+
+    system = result.system
+    band = ZERO_SPEED * float(schedule(system).reference) * float(system.l_ref)
+    rates: list = []
+    for load in system.model.loads:
+        for c in load.active:
+            if c.kind == "moving":
+
+                def x(q, qd, qdd, c=c):
+                    return condition_state(system, c, q, qd, qdd, None, result.extremes)
+
+                rates += level_rates(x, [band], None)
+    return rates
