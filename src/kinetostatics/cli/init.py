@@ -17,7 +17,8 @@ def _init(args) -> int:
 
     if args.list:
         for t in templates():
-            print(f"{t.name:<12} {t.zh}  rows {', '.join(t.rows)}: {t.title}: {t.description}")
+            print(f"{t.name:<12} {t.title} ({t.zh}); rows {', '.join(t.rows)}")
+            print(f"{'':<12} {t.description}")
         return 0
     if args.template is None or args.out is None:
         raise TemplateError(
