@@ -553,3 +553,18 @@ def saw(p, table, summary):
         e_ |= {"guide.N": f["N"][i], "guide.M": f["M_slide"][i], "motor.torque": f["M1"][i]}
         expected.append(e_)
     return rows, expected
+
+
+def test_the_docs_page_shows_every_row_of_every_template():
+    """docs/templates.md holds each template's data table as the templates have it."""
+    page = (ROOT / "docs" / "templates.md").read_text(encoding="utf-8")
+    for t in templates():
+        keys = list(next(iter(t.rows.values())))
+        lines = ["| row | " + " | ".join(f"`{k}`" for k in keys) + " |"]
+        lines.append("|---|" + "---:|" * len(keys))
+        lines += [
+            f"| {r} | " + " | ".join(f"{v:g}" for v in row.values()) + " |"
+            for r, row in t.rows.items()
+        ]
+        assert "\n".join(lines) in page, t.name
+        assert f"### `{t.name}` ({t.zh})" in page
