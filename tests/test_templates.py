@@ -391,6 +391,9 @@ def press(p, table, summary):
     th = abs(top - bottom - 180)
     assert out["time_ratio"] == pytest.approx((180 + th) / (180 - th), rel=1e-9)
     np.testing.assert_allclose(limits(summary, "guide"), sorted([top % 360, bottom]), atol=1e-7)
+    # the template's comment: the transmission angle at C stays above 35°
+    d = (table["coupler.theta"] - table["rocker.theta"]) % 180
+    assert np.min(np.minimum(d, 180 - d)) > 35
     E1 = -lDE * np.exp(-0.5j * psi)  # E with the ram at its top
     y_top = E1.imag - math.sqrt(lEF**2 - (X - E1.real) ** 2)
     # the branch of the RRR group: C at C1 at the top
@@ -537,6 +540,11 @@ def saw(p, table, summary):
     assert out["stroke"] == pytest.approx(H, rel=1e-12)
     assert out["time_ratio"] == pytest.approx(K, rel=1e-9)
     np.testing.assert_allclose(limits(summary, "guide"), sorted([left, right]), atol=1e-7)
+    # the template's comment: the rod 2 to 2.5 times the crank, the pressure angle at B
+    # (the rod against the guide) below 50°
+    assert 2 <= b / a <= 2.5
+    d = table["rod.theta"] % 180
+    assert np.max(np.minimum(d, 180 - d)) < 50
     model = sc.SliderCrank(
         a=a, b=b, e=-e, r1=0.0, r2=p["S2_ratio"] * b, m1=0.0, m2=p["G2"] / g, m3=p["G3"] / g,
         J1=0.0, J2=p["J_S2"], omega1=p["n1"] * math.pi / 30, g=(0.0, -g), Fr=p["F"],
