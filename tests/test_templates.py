@@ -59,6 +59,9 @@ def test_the_template_files_are_the_listed_ones():
     on_disk = {p.stem for p in (ROOT / "src" / "kinetostatics" / "templates").glob("*.yaml")}
     assert on_disk == set(NAMES)
     assert "templates/*.yaml" in (ROOT / "pyproject.toml").read_text()  # the wheel has them
+    for t in templates():  # every row gives every data line (none left at row I's value)
+        assert len({tuple(row) for row in t.rows.values()}) == 1, t.name
+        assert list(t.rows)[:3] == ["I", "II", "III"], t.name
 
 
 def test_list_names_every_template_its_chinese_name_and_rows(capsys):
