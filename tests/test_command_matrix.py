@@ -102,6 +102,7 @@ PLOT = ["plot", "{mech}", "--what", "motion", "--out", "{out}"]
 ANIMATE = ["animate", "{mech}", "--frames", "4", "--dpi", "20", "--out", "{out}/a.gif"]
 REPORT = ["report", "{mech}", "--out", "{out}"]
 EXPORT = ["export", "{mech}", "--format", "svg", "--out", "{out}/m.svg"]
+INIT = ["init", "slotting", "--out", "{out}/t.yaml"]
 BATCH = ["batch", "{mech}", "--set", "a=90,110", "--serial", "--out", "{out}"]
 OPTIMIZE = [
     *("optimize", "{mech}", "--vary", "a=90:110", "--minimize", "motor.torque_peak"),
@@ -178,6 +179,11 @@ CASES = [
     *_out_cases("export", EXPORT, FILES),
     # -- schema (item 9) --
     *[pytest.param(["schema", "--out", f], "--out", id=f"schema --out {f}") for f in FILES],
+    # -- init (issue 37 item 11): an existing file is never overwritten --
+    *_out_cases("init", INIT, (*FILES, "{file}")),
+    *_option_cases("init", INIT, "--data", ("IV", "0", "x")),
+    pytest.param(["init", "nobody", "--out", "{out}/t.yaml"], "nobody", id="init unknown"),
+    pytest.param(["init", "slotting"], "--out", id="init without --out"),
     # -- check and run --
     *[
         pytest.param([verb, f], None, id=f"{verb} {f}")
@@ -252,6 +258,7 @@ WRITERS = {
     "export": EXPORT,
     "export dxf": ["export", "{mech}", "--out", "{out}/m.dxf"],
     "schema": ["schema", "--out", "{out}/schema.json"],
+    "init": INIT,
     "batch": BATCH,
     "optimize": OPTIMIZE,
 }
@@ -468,7 +475,7 @@ def test_the_matrix_covers_every_verb_and_150_cases():
     verbs = set(seen["sub"].choices)
     covered = {p.values[0][0] for p in CASES if p.values[0]}
     assert verbs <= covered, verbs - covered
-    assert verbs - {"best"} <= set(READERS) | {"schema"}
+    assert verbs - {"best"} <= set(READERS) | {"schema", "init"}
     total = len(CASES) + 2 * len(WRITERS) + len(READERS) + 1
     assert total >= 150, total
 

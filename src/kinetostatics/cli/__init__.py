@@ -225,6 +225,7 @@ EXTENSIONS: tuple[str, ...] = (
     "kinetostatics.cli.batch",
     "kinetostatics.cli.formats",
     "kinetostatics.cli.optimize",
+    "kinetostatics.cli.init",
 )
 
 
