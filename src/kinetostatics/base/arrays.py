@@ -4,7 +4,14 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["sorted_distinct", "max_abs_last", "entries_first", "entries_last", "entry_major_zeros"]
+__all__ = [
+    "sorted_distinct",
+    "max_abs_last",
+    "entries_first",
+    "entries_last",
+    "entry_major_zeros",
+    "runs",
+]
 
 
 def sorted_distinct(values) -> np.ndarray:
@@ -43,3 +50,11 @@ def entry_major_zeros(shape: tuple[int, ...], d: int = 2) -> np.ndarray:
     each entry one contiguous run over the positions, as Φ_q's group blocks are stored,
     so that writing an entry and gathering the entries into the blocks run along memory."""
     return entries_last(np.zeros(shape[len(shape) - d :] + shape[: len(shape) - d]), d)
+
+
+def runs(mask) -> list[tuple[int, int]]:
+    """The runs of consecutive ``True`` entries of a 1-D boolean ``mask``: ``[(first,
+    last)]``, both indices included."""
+    edges = np.diff(np.concatenate(([0], np.asarray(mask, dtype=np.int8), [0])))
+    first, last = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1
+    return list(zip(first.tolist(), last.tolist()))

@@ -16,6 +16,7 @@ from typing import Any
 
 import numpy as np
 
+from ..base.arrays import runs
 from ..base.document import compose, read_text
 from ..errors import KinetostaticsError
 from ..kinematics.events import coordinate_rates, output_slides, output_strokes
@@ -210,13 +211,7 @@ def _outputs(system) -> list[tuple[str, str, int]]:
 
 def _ranges(angle: np.ndarray, mask: np.ndarray) -> str:
     """Runs of consecutive positions where ``mask`` holds, as 'a–b; c–d' in deg."""
-    if not mask.any():
-        return ""
-    idx = np.nonzero(mask)[0]
-    breaks = np.nonzero(np.diff(idx) > 1)[0]
-    starts = np.concatenate(([idx[0]], idx[breaks + 1]))
-    ends = np.concatenate((idx[breaks], [idx[-1]]))
-    return "; ".join(f"{angle[a]:.4g}–{angle[b]:.4g}" for a, b in zip(starts, ends))
+    return "; ".join(f"{angle[a]:.4g}–{angle[b]:.4g}" for a, b in runs(mask))
 
 
 def _zones(result) -> str:

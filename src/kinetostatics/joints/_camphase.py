@@ -13,6 +13,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from ..base.arrays import runs
 from ..base.geometry import dot, perp, turn, wrap_angle
 from ._camprofile import Synthesis
 
@@ -138,9 +139,8 @@ def drift_warning(cam, qi, qj) -> str:
 def ranges(mask: np.ndarray, angle: np.ndarray) -> str:
     """``61°–119°, 181°–239°``: the angles (deg) of the runs of consecutive rows in
     ``mask``, each listed once (six at most)."""
-    edges = np.diff(np.concatenate(([0], mask.astype(np.int8), [0])))
     parts: list[str] = []
-    for a, b in zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1):
+    for a, b in runs(mask):
         lo, hi = f"{angle[a]:.4g}°", f"{angle[b]:.4g}°"
         text = lo if lo == hi else f"{lo}–{hi}"
         if text not in parts:
