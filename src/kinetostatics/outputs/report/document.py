@@ -21,7 +21,7 @@ from .drive import drive_blocks
 from .elements import element_blocks
 from .flywheel import flywheel_blocks
 from .pdf import pdf_module
-from .results import _summary_blocks, length_unit, report_tables
+from .results import _summary_blocks, balancing, length_unit, report_tables
 
 FORMATS = ("md", "html", "pdf")
 
@@ -139,8 +139,8 @@ def write_report(
                 "Kinetostatic analysis by `kinetostatics` (exact positions, velocities "
                 "and accelerations; d'Alembert inertia loads; Newton–Euler reactions; "
                 "friction by the approximate and the consistent solution). Conventions: "
-                "x right, y up, angles and moments counter-clockwise positive; a joint's "
-                "reaction F_ij is the force of link i on link j."
+                "x right, y up, angles and moments counter-clockwise positive; the total "
+                "reaction F_R of a joint is the force of link i on link j."
             )
         ),
         _Para(
@@ -221,8 +221,9 @@ def write_report(
                 pl.torque_curves(result, d.name, dpi=dpi, lang=lang),
                 "torque" if d is d0 else f"torque_{d.name}",
                 T(
-                    "Driving effort of {driver} without friction, with the approximate and "
-                    "with the consistent friction solution.",
+                    "{effort} of {driver} without friction, with the approximate and with "
+                    "the consistent friction solution.",
+                    effort=T(balancing(model, d.name)),
                     driver=d.name,
                 ),
             )
@@ -239,7 +240,7 @@ def write_report(
         image(
             pl.reaction_curves(result, friction=model.has_friction, dpi=dpi, lang=lang),
             "reactions",
-            T("Magnitudes of the joint reactions."),
+            T("Magnitudes of the total reactions F_R of the joints."),
         )
     )
     blocks.append(_Heading(2, T("7. Velocity and acceleration polygons")))
@@ -262,10 +263,11 @@ def write_report(
                 pl.draw_mechanism(result, row=k, forces=True, dpi=dpi, lang=lang),
                 f"forces_{tag}",
                 T(
-                    "Position {pos}: the loads drawn to scale (reactions of link i on link j "
-                    "at the joints, inertia forces and couples, weights, process load, "
-                    "driving torque).",
+                    "Position {pos}: the loads drawn to scale (total reactions F_R of link i "
+                    "on link j at the joints, inertia forces F_I and inertia couples M_I, "
+                    "weights G, the process load and the {effort}).",
                     pos=lab,
+                    effort=T(balancing(model, d0.name)),
                 ),
                 True,
             )
