@@ -429,6 +429,8 @@ ZH.update(
         "equivalent inertia (J_F − J_e)": "能量法，取 δ 的一阶近似：ω_m = (ω_max + ω_min)/2，速度波动由飞轮单独承担（J_F），或由飞轮与机构的周期平均等效转动惯量共同承担（J_F − J_e）",
         "flywheel on the crank shaft; on the motor shaft J_F/i² (i: the reduction ratio; gear "
         "inertia neglected)": "飞轮装于曲柄轴；装于电机轴时为 J_F/i²（i 为传动比；忽略齿轮惯量）",
+        " These chapters are at the positions assigned ({labels}); the results, curves and "
+        "diagrams over the cycle cover all positions.": "以上各章仅含指定位置（{labels}）；全周期的计算结果、曲线与线图包含所有位置。",
         "means and RMS values over one cycle, integrated exactly between the load events; "
         "peaks: the largest values over the positions sampled in the cycle": "平均值与均方根值按一个周期在载荷切换点之间精确积分；峰值为一个周期内各采样位置上的最大值",
     }
