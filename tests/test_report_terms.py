@@ -35,9 +35,8 @@ def _report(path, out, lang_code):
 
 
 @pytest.fixture(scope="module")
-def slotting(tmp_path_factory):
-    path = ROOT / "mechanisms" / "slotting_machine.yaml"
-    return {c: _report(path, tmp_path_factory.mktemp(c), c) for c in ("en", "zh")}
+def slotting(slotting_reports):
+    return {c: (d / "report.md").read_text(encoding="utf-8") for c, d in slotting_reports.items()}
 
 
 def _items(model, lang_code):
