@@ -175,6 +175,12 @@ def test_the_translation_table_names_no_implementation():
     assert not [t for t in texts if _implementation(t)]
 
 
+def test_no_peak_of_a_bar_in_the_table():
+    """'峰值 |·|', '峰值 |转矩|' are not notation: the largest magnitude (绝对值最大)."""
+    texts = list(lang.ZH) + list(lang.ZH.values())
+    assert not [t for t in texts if "|·|" in t or re.search(r"峰值 ?\|", t)]
+
+
 def test_the_slotting_report_names_no_implementation(slotting):
     for text in slotting.values():
         assert not _implementation(text)

@@ -168,7 +168,7 @@ ZH.update(
         "(reduced to {p} %: divide the scales by {s})": "（缩小至 {p} %：比例尺除以 {s}）",
         "always": "始终",
         " (tabulated)": "（表格给定）",
-        "{law} law, peak speed {speed}": "{law} 运动规律，峰值速度 {speed}",
+        "{law} law, peak speed {speed}": "{law} 运动规律，最大速度 {speed}",
         "effort {e}": "驱动力 {e}",
         "driver angle φ in [{a}, {b}]°": "原动件转角 φ 在 [{a}, {b}]° 内",
         "; with friction: no consistent solution at any position (self-locking; approximate "
@@ -334,9 +334,7 @@ ZH.update(
         "motor": "电机",
         "mean torque (N·m)": "平均转矩 (N·m)",
         "RMS torque (N·m)": "均方根转矩 (N·m)",
-        "peak |torque| (N·m)": "峰值 |转矩| (N·m)",
         "mean power (W)": "平均功率 (W)",
-        "peak |power| (W)": "峰值 |功率| (W)",
         "largest speed (rpm)": "最高转速 (rpm)",
         "motor torque with the flywheel (constant)": "装飞轮时的电机转矩（常数）",
         "largest motor speed": "电机最高转速",
@@ -431,6 +429,8 @@ ZH.update(
         "inertia neglected)": "飞轮装于曲柄轴；装于电机轴时为 J_F/i²（i 为传动比；忽略齿轮惯量）",
         " These chapters are at the positions assigned ({labels}); the results, curves and "
         "diagrams over the cycle cover all positions.": "以上各章仅含指定位置（{labels}）；全周期的计算结果、曲线与线图包含所有位置。",
+        "largest |torque| (N·m)": "转矩绝对值最大值 (N·m)",
+        "largest |power| (W)": "功率绝对值最大值 (W)",
         "means and RMS values over one cycle, integrated exactly between the load events; "
         "peaks: the largest values over the positions sampled in the cycle": "平均值与均方根值按一个周期在载荷切换点之间精确积分；峰值为一个周期内各采样位置上的最大值",
     }

@@ -71,9 +71,9 @@ def drive_blocks(d: dict, result, image, lang: str = "en", number: int = 10) -> 
         "",
         T("mean torque (N·m)"),
         T("RMS torque (N·m)"),
-        T("peak |torque| (N·m)"),
+        T("largest |torque| (N·m)"),
         T("mean power (W)"),
-        T("peak |power| (W)"),
+        T("largest |power| (W)"),
         T("largest speed (rpm)"),
     ]
     blocks: list = [
