@@ -193,3 +193,16 @@ def test_no_shipped_report_names_its_implementation(name, tmp_path):
     for code in ("en", "zh"):
         text = _report(path, tmp_path / code, code)
         assert not _implementation(text), (code, _implementation(text))
+
+
+def test_the_loads_drawn_name_the_balancing_torque():
+    """The drawing of the loads at a position labels the driver's torque M_b."""
+    import matplotlib.pyplot as plt
+    from matplotlib.text import Text
+
+    result = pl.analyze_for_pictures(load(ROOT / "mechanisms" / "slotting_machine.yaml"))
+    fig = pl.draw_mechanism(result, row=30, forces=True, dpi=30)
+    texts = [t.get_text() for t in fig.findobj(Text)]
+    plt.close(fig)
+    assert any(t.startswith("M_b") for t in texts), texts
+    assert not any("M_motor" in t for t in texts)
