@@ -54,3 +54,20 @@ def fixed_sketch(tmp_path) -> Path:
     path = tmp_path / "slotting_machine.yaml"
     path.write_text(head + literal + tail, encoding="utf-8")
     return path
+
+
+@pytest.fixture(scope="session")
+def slotting_reports(tmp_path_factory) -> dict[str, Path]:
+    """The shipped slotting machine's Markdown report in English and in Chinese (dpi 30),
+    written once for the tests of the report's terms and of ``--positions``:
+    ``{"en": folder, "zh": folder}``."""
+    from kinetostatics.cli import main
+
+    out = {}
+    for lang in ("en", "zh"):
+        folder = tmp_path_factory.mktemp(f"slotting_{lang}")
+        args = ["report", str(ROOT / "mechanisms" / "slotting_machine.yaml"), "--out"]
+        args += [str(folder), "--format", "md", "--dpi", "30", "--lang", lang]
+        assert main(args) == 0
+        out[lang] = folder
+    return out

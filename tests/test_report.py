@@ -197,8 +197,8 @@ def test_markdown_tables_are_the_csv_rows(slotting_report):
     for section in (
         "Data",
         "Structure",
-        "RPR dyad {block, bar}",
-        "RRP dyad {rod, ram}",
+        "RPR dyad (class II) {block, bar}",
+        "RRP dyad (class II) {rod, ram}",
         "Velocity and acceleration polygons",
         "Polar diagrams",
     ):

@@ -180,7 +180,19 @@ def register(sub) -> None:
         type=_labels,
         default=None,
         metavar="LABELS",
-        help="course positions for the polygons, comma-separated, e.g. 2,7,8' (default: 2,7)",
+        help="course positions for the polygons, comma-separated, e.g. 2,7,8' (default: 2,7, "
+        "or the --positions)",
+    )
+    p.add_argument(
+        "--positions",
+        type=_labels,
+        default=None,
+        metavar="LABELS",
+        help="the student's assigned course positions, comma-separated, e.g. 2,7 (numbered as "
+        "the report prints them: 1 at analysis.start, then every 30° of crank travel; 1', 8' "
+        "where a load switches): the tables at the positions, the loads drawn and the "
+        "polygons only for these; the results, curves and diagrams over the cycle for all "
+        "(default: all positions)",
     )
     p.add_argument("--dpi", type=_up_to(MAX_DPI), default=110.0, help="resolution (default: 110)")
     p.add_argument(
@@ -326,6 +338,7 @@ def _report(args) -> int:
         args.file,
         args.out,
         polygons=args.polygons,
+        positions=args.positions,
         dpi=args.dpi,
         formats=formats,
         lang=args.lang,

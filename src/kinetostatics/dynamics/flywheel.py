@@ -235,18 +235,19 @@ def _swing(phi: np.ndarray, f: np.ndarray) -> tuple[np.ndarray, float, float, fl
 
 # The assumptions of a design: sentence templates (the report translates them, then fills
 # in the same numbers), the torque phrase by whether friction is counted.
-ASSUMPTIONS = (
+ASSUMPTIONS = (  # what is assumed, not how it is computed (no module or rule named)
     "driving moment constant, equal to the cycle mean of {torque} (M_d = work per cycle / 2π, "
-    "integrated exactly between the load events: analysis/cycle.py)",
+    "the work integrated exactly over one cycle, piece by piece between the load events)",
     "balancing moment at the constant nominal crank speed ω_m = {omega_m:.6g} rad/s "
     "(link inertia torques at that speed included)",
-    "ΔW_max exact: the integral of M_d − M_b over the polynomials that the cycle's "
-    "Gauss–Legendre quadrature integrates, cut at the load events, its extremes at the "
-    "events or at the zeros of M_d − M_b ({positions} positions only for the pictures)",
+    "ΔW_max exact: ΔW(φ) integrated over one cycle piece by piece between the load events, "
+    "where M_b is smooth, its extremes at the load events or where M_d = M_b "
+    "({positions} positions only for the pictures)",
     "energy method, first order in δ: ω_m = (ω_max + ω_min)/2 and the speed "
-    "variation taken by the flywheel alone (inertia) or by the flywheel plus the "
-    "machine's cycle-mean equivalent inertia (inertia_net)",
-    "flywheel on the crank shaft; on the motor shaft J/ratio² (gear inertia neglected)",
+    "variation taken by the flywheel alone (J_F) or by the flywheel plus the "
+    "machine's cycle-mean equivalent inertia (J_F − J_e)",
+    "flywheel on the crank shaft; on the motor shaft J_F/i² (i: the reduction ratio; gear "
+    "inertia neglected)",
 )
 TORQUE_PHRASE = {
     False: "the frictionless balancing moment",

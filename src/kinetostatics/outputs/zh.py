@@ -18,7 +18,6 @@ ZH.update(
         "7. Velocity and acceleration polygons": "7. 速度多边形与加速度多边形",
         "8. Polar diagrams of the joint loads": "8. 运动副反力极坐标图",
         "{n}. Flywheel": "{n}. 飞轮设计",
-        "; with friction mean {m} (approximate {a}), peak {p}": "；计摩擦时平均 {m}（近似解 {a}），峰值 {p}",
         "Acceleration polygon at position {pos}.": "位置 {pos} 的加速度多边形。",
         "Accelerations: angular accelerations (rad/s², counter-clockwise +) and point "
         "accelerations (m/s²), components and magnitude": "加速度：构件角加速度（rad/s²，逆时针为正）与各点加速度（m/s²），分量与大小",
@@ -31,39 +30,22 @@ ZH.update(
         "coincident points of links 2 and 3), n and k the ends of normal and Coriolis "
         "components.": "按精确结果以所注比例尺 μ_v、μ_a 绘制（按 100 % 打印即为真实比例）：p 为极点，小写字母为各点（a2、a3：构件 2、3 上的重合点），n、k 为法向分量与科氏分量的端点。",
         "Drivers": "原动件",
-        "Driving effort of each driver without friction, with the approximate and the "
-        "consistent friction solution, efficiency, friction status (0 converged, 1 by "
-        "homotopy, 2 self-locking, 3 a relative speed is zero), input power and friction "
-        "loss (W)": "各原动件的驱动力矩（不计摩擦、计摩擦近似解与一致解）、效率、摩擦状态（0 收敛，1 同伦法，2 自锁，3 相对速度为零）、输入功率与摩擦损耗（W）",
-        "Driving effort of {driver} without friction, with the approximate and with the "
-        "consistent friction solution.": "{driver} 的驱动力矩：不计摩擦、计摩擦近似解与一致解。",
         "Energy diagram ΔW–φ: its range ΔW_max sizes the flywheel.": "能量指示图 ΔW–φ：其变化范围 ΔW_max 决定飞轮转动惯量。",
         "Equivalent driving moment M_d (constant) and resisting moment M_r over the cycle; "
         "the shaded areas are the surplus and deficit work.": "一个周期内的等效驱动力矩 M_d（常数）与等效阻力矩 M_r；阴影面积为盈功与亏功。",
         "Equivalent moments and the energy ΔW at the course positions (interpolated on the "
         "design's {n} positions)": "各设计位置的等效力矩与能量 ΔW（由设计所用 {n} 个位置插值）",
-        "F_ij: link i on link j at the joint; FI, MI: inertia; G: weight": "F_ij：构件 i 作用于构件 j 的运动副反力；FI、MI：惯性力与惯性力矩；G：重力",
+        "F_ij: link i on link j at the joint; FI, MI: inertia; G: weight": "F_ij：构件 i 作用于构件 j 的运动副反力；FI：惯性力；MI：惯性力偶矩；G：重力",
         " (with friction)": "（计摩擦）",
         "Flywheel: data": "飞轮：已知数据",
         "Flywheel: result": "飞轮：计算结果",
         "Instantaneous and cycle efficiency of the drive {driver}.": "原动件 {driver} 的瞬时效率与周期效率。",
-        "Joint reactions with friction (consistent solution): force of link i on link j (N) "
-        "and its magnitude": "计摩擦的运动副反力（一致解）：构件 i 对构件 j 的作用力（N）及其大小",
-        "Joint reactions without friction: force of link i on link j (N) and its magnitude; "
-        "prismatic pairs also N (normal force) and M (couple, N·m)": "不计摩擦的运动副反力：构件 i 对构件 j 的作用力（N）及其大小；移动副另有 N（法向力）与 M（力偶，N·m）",
         "Joints (the reaction is the force of link i on link j)": "运动副（反力为构件 i 对构件 j 的作用力）",
-        "Kinetostatic analysis by `kinetostatics` (exact positions, velocities and "
-        "accelerations; d'Alembert inertia loads; Newton–Euler reactions; friction by the "
-        "approximate and the consistent solution). Conventions: x right, y up, angles and "
-        "moments counter-clockwise positive; a joint's reaction F_ij is the force of link i "
-        "on link j.": "由 `kinetostatics` 进行动态静力分析（精确的位置、速度与加速度；达朗贝尔惯性力；牛顿–欧拉法求运动副反力；摩擦按近似解与一致解）。约定：x 向右，y 向上，角度与力矩以逆时针为正；运动副反力 F_ij 为构件 i 对构件 j 的作用力。",
         "Links (numbers as in the pictures; the frame last)": "构件（编号与图中一致；机架编号最后）",
         "Loads": "载荷",
-        "Magnitudes of the joint reactions.": "运动副反力的大小。",
         "Motion diagram of the output ({name}): position, velocity, acceleration; the shaded "
         "zone is where the process load acts.": "输出构件（{name}）的运动线图：位移、速度、加速度；阴影区为工作阻力作用区间。",
         "Parameters": "参数",
-        "Peak joint reactions": "运动副反力峰值",
         "Position angle: every position is named by the angle φ of the first driver "
         "({driver}), measured counter-clockwise from +x in [0, 360)°; link angles θ likewise. "
         "travel is the rotation from position 1 in the sense of motion. Course-design "
@@ -71,8 +53,6 @@ ZH.update(
         "are the positions where a load switches (start and end of cutting), after position "
         "k.": "位置角：各位置以第一原动件（{driver}）的转角 φ 表示，自 +x 轴逆时针量取，取值 [0, 360)°；构件角 θ 同此约定。travel 为沿运动方向自位置 1 起的转角。设计位置 1…12 自分析起点（φ₁ = {start}°）起每隔 30° 取一个；k′ 为载荷切换的位置（切削开始与结束），位于位置 k 之后。",
         " The analysis runs {n} turns of {driver}: k/t is position k of turn t.": " 分析覆盖 {driver} 的 {n} 转：k/t 表示第 t 转的位置 k。",
-        "Position {pos}: the loads drawn to scale (reactions of link i on link j at the "
-        "joints, inertia forces and couples, weights, process load, driving torque).": "位置 {pos}：按比例绘制的载荷（各运动副处构件 i 对构件 j 的反力、惯性力与惯性力偶、重力、工作阻力、驱动力矩）。",
         "Positions: driver angle φ and link angles θ (deg, 0–360, counter-clockwise from +x), "
         "points ({unit})": "位置：原动件转角 φ 与构件角 θ（°，0–360，自 +x 逆时针），各点坐标（{unit}）",
         "Reaction of each revolute joint in the frame of the link that receives it, over the "
@@ -109,12 +89,10 @@ ZH.update(
         "surplus work (M_d > M_r)": "盈功（M_d > M_r）",
         "driver": "原动件",
         "driver (crank shaft)": "原动件（曲柄轴）",
-        "driver {name}: mean {mean} {unit}, peak |·| {peak}": "原动件 {name}：平均 {mean} {unit}，峰值 |·| {peak}",
         "effort at": "驱动力作用处",
         "equivalent driving moment (cycle mean)": "等效驱动力矩（周期平均）",
         "equivalent driving moment M_d = {m} N·m (cycle mean)": "等效驱动力矩 M_d = {m} N·m（周期平均）",
         "equivalent resisting moment M_r (balancing moment)": "等效阻力矩 M_r（平衡力矩）",
-        "event: {load} switches {switch} at φ = {angle}° ({condition})": "事件：{load} 在 φ = {angle}° 处{switch}（{condition}）",
         "on": "开始作用",
         "off": "停止作用",
         "flywheel on the crank shaft, less J_e (net)": "装于曲柄轴的飞轮，扣除 J_e（净值）",
@@ -146,11 +124,6 @@ ZH.update(
         "motion (+ counter-clockwise)": "运动（逆时针为正）",
         "no.": "编号",
         "nominal crank speed": "曲柄额定转速",
-        "output {name}: stroke {stroke} {unit}, time ratio K = {k}; limit positions at φ = {a}° "
-        "and {b}°": "输出 {name}：行程 {stroke} {unit}，行程速比系数 K = {k}；极限位置 φ = {a}° 与 {b}°",
-        "output {name}: swing {swing}° of {link}, time ratio K = {k}; limit positions at φ = {a}° "
-        "({link} at {ta}°) and {b}° ({link} at {tb}°)": "输出 {name}：{link} 摆角 {swing}°，行程速比系数 K = {k}；极限位置 φ = {a}°（{link} 位于 {ta}°）与 {b}°（{link} 位于 {tb}°）",
-        " (over the cycle, integrated between the load events)": "（全周期平均，在载荷切换点之间积分）",
         "knife-edge": "尖顶",
         "flat-faced": "平底",
         "roller r = {r} mm": "滚子 r = {r} mm",
@@ -161,8 +134,6 @@ ZH.update(
         "f = {f}": "f = {f}",
         "parameter": "参数",
         "path of {ref}": "{ref} 的轨迹",
-        "peak |F| with friction (N)": "计摩擦峰值 |F|（N）",
-        "peak |F| without friction (N)": "不计摩擦峰值 |F|（N）",
         "points ({lu}, in the link's own frame)": "点（{lu}，构件自身坐标系）",
         "pos.": "位置",
         "position {pos} ({coord})": "位置 {pos}（{coord}）",
@@ -197,7 +168,7 @@ ZH.update(
         "(reduced to {p} %: divide the scales by {s})": "（缩小至 {p} %：比例尺除以 {s}）",
         "always": "始终",
         " (tabulated)": "（表格给定）",
-        "{law} law, peak speed {speed}": "{law} 运动规律，峰值速度 {speed}",
+        "{law} law, peak speed {speed}": "{law} 运动规律，最大速度 {speed}",
         "effort {e}": "驱动力 {e}",
         "driver angle φ in [{a}, {b}]°": "原动件转角 φ 在 [{a}, {b}]° 内",
         "; with friction: no consistent solution at any position (self-locking; approximate "
@@ -282,8 +253,8 @@ ZH.update(
         "{label} (cycle mean {mean} {unit})": "{label}（周期平均 {mean} {unit}）",
         "self-locking": "自锁",
         "M, {unit} (counter-clockwise +)": "M，{unit}（逆时针为正）",
-        "{model}: driving torque of {driver}": "{model}：{driver} 的驱动力矩",
-        "{model}: driving force of {driver}": "{model}：{driver} 的驱动力",
+        "{model}: driving torque of {driver}": "{model}：{driver} 的平衡力矩 M_b",
+        "{model}: driving force of {driver}": "{model}：{driver} 的平衡力 F_b",
         "η = P / P_friction where the drive delivers power (gaps: undefined)": "η = P / P_friction（仅在原动件输入功率处定义，空缺处无定义）",
         "cycle efficiency (mean M / mean M_friction) = {eta}": "周期效率（M 的平均值 / M_friction 的平均值）= {eta}",
         "efficiency η, 1": "效率 η，1",
@@ -309,17 +280,8 @@ ZH.update(
         "gear": "齿轮副",
         "rack": "齿轮齿条副",
         "links: {links}": "构件：{links}",
-        "driving moment constant, equal to the cycle mean of {torque} (M_d = work per cycle / 2π, "
-        "integrated exactly between the load events: analysis/cycle.py)": "驱动力矩为常数，等于{torque}的周期平均值（M_d = 每周期功 / 2π，在载荷切换点之间精确积分：analysis/cycle.py）",
         "balancing moment at the constant nominal crank speed ω_m = {omega_m:.6g} rad/s "
         "(link inertia torques at that speed included)": "平衡力矩按曲柄以额定转速 ω_m = {omega_m:.6g} rad/s 匀速转动计算（含该转速下的构件惯性力矩）",
-        "ΔW_max exact: the integral of M_d − M_b over the polynomials that the cycle's "
-        "Gauss–Legendre quadrature integrates, cut at the load events, its extremes at the "
-        "events or at the zeros of M_d − M_b ({positions} positions only for the pictures)": "ΔW_max 精确计算：M_d − M_b 在周期高斯–勒让德求积所精确积分的多项式上积分，在载荷切换点处分段，其极值位于切换点或 M_d − M_b 的零点（{positions} 个位置仅用于绘图）",
-        "energy method, first order in δ: ω_m = (ω_max + ω_min)/2 and the speed "
-        "variation taken by the flywheel alone (inertia) or by the flywheel plus the "
-        "machine's cycle-mean equivalent inertia (inertia_net)": "能量法，取 δ 的一阶近似：ω_m = (ω_max + ω_min)/2，速度波动由飞轮单独承担（J_F），或由飞轮与机构的周期平均等效转动惯量共同承担（J_F − J_e）",
-        "flywheel on the crank shaft; on the motor shaft J/ratio² (gear inertia neglected)": "飞轮装于曲柄轴；装于电机轴时为 J/i²（忽略齿轮惯量）",
         "the frictionless balancing moment": "不计摩擦的平衡力矩",
         "the balancing moment with friction (consistent solution)": "计摩擦的平衡力矩（一致解）",
         "{a} on {i}, {b} on {j}": "{i} 上的 {a}，{j} 上的 {b}",
@@ -330,14 +292,12 @@ ZH.update(
         "force": "力",
         "torque": "力矩",
         "resistance": "工作阻力",
-        "{letters} dyad {links}": "{letters} 二杆组 {links}",
-        "triad {links}": "三杆组 {links}",
         "driven link {links}": "原动件 {links}",
         "driven links {links}": "原动件 {links}",
-        "{n}-link group {links}": "{n} 杆组 {links}",
+        "{n}-link group {links}": "由 {n} 个构件组成的杆组 {links}",
         "moving": "运动条件",
-        "travel from": "行程下限",
-        "travel to": "行程上限",
+        "travel from": "行程区间起点",
+        "travel to": "行程区间终点",
         "angle": "转角区间",
     }
 )
@@ -374,9 +334,7 @@ ZH.update(
         "motor": "电机",
         "mean torque (N·m)": "平均转矩 (N·m)",
         "RMS torque (N·m)": "均方根转矩 (N·m)",
-        "peak |torque| (N·m)": "峰值 |转矩| (N·m)",
         "mean power (W)": "平均功率 (W)",
-        "peak |power| (W)": "峰值 |功率| (W)",
         "largest speed (rpm)": "最高转速 (rpm)",
         "motor torque with the flywheel (constant)": "装飞轮时的电机转矩（常数）",
         "largest motor speed": "电机最高转速",
@@ -405,11 +363,75 @@ ZH.update(
         "(braking)": "符号以从动轴的运动方向为正：转矩与转速同号时电机输出功率（电动），异号时吸收功率（制动）",
         "reduction: T_M = T/(i·η) where the driven shaft takes power, T_M = T·η/i where it "
         "gives power back, plus (J_m + J_r)·i·α for the inertia of rotor and reduction": "减速器：从动轴吸收功率时 T_M = T/(i·η)，回馈功率时 T_M = T·η/i，另加转子与减速器的惯性转矩 (J_m + J_r)·i·α",
-        "means and RMS values over one cycle, integrated exactly between the load events "
-        "(analysis/cycle.py); peaks at the analysed positions and the quadrature nodes": "平均值与均方根值按一个周期在载荷事件之间精确积分（analysis/cycle.py）；峰值取自各分析位置与求积节点",
         "RMS ≤ rated torque: the cycle is short next to the motor's thermal time constant": "均方根转矩 ≤ 额定转矩：周期远短于电机的热时间常数",
         "with flywheel: the ideal flywheel of the energy method (δ): the motor gives the "
         "constant mean torque, the rotor and the reduction are part of the flywheel and its "
         "energy swing passes the reduction without loss; start-up is not checked": "装飞轮：按能量法的理想飞轮（δ）：电机输出恒定的平均转矩，转子与减速器计入飞轮，飞轮的能量波动经减速器时不计损失；不校核起动过程",
+    }
+)
+# -- the textbook's terms (issue 37, items 9 and 12): Assur groups by class, the balancing
+# torque, total reactions, the crank angle between the limit positions, load events by
+# the position in the stroke
+ZH.update(
+    {
+        "{letters} dyad (class {c}) {links}": "{letters} 型{c}级杆组 {links}",
+        "class {c} group of {n} links {links}": "{c}级杆组（{n} 个构件）{links}",
+        "class of the mechanism: class {c}": "机构级别：{c}级机构",
+        "output {name}: stroke {stroke} {unit}, time ratio K = {k}, crank angle between the "
+        "limit positions θ = {theta}°; limit positions at φ = {a}° and {b}°": "输出 {name}：行程 {stroke} {unit}，行程速比系数 K = {k}，极位夹角 θ = {theta}°；极限位置 φ = {a}° 与 {b}°",
+        "output {name}: swing {swing}° of {link}, time ratio K = {k}, crank angle between the "
+        "limit positions θ = {theta}°; limit positions at φ = {a}° ({link} at {ta}°) and {b}° "
+        "({link} at {tb}°)": "输出 {name}：{link} 摆角 {swing}°，行程速比系数 K = {k}，极位夹角 θ = {theta}°；极限位置 φ = {a}°（{link} 位于 {ta}°）与 {b}°（{link} 位于 {tb}°）",
+        "event: {load} switches {switch} at φ = {angle}° ({where})": "事件：{load} 在 φ = {angle}° 处{switch}（{where}）",
+        "{p} at a limit position along ({x}, {y})": "{p} 沿 ({x}, {y}) 方向处于极限位置",
+        "{p} {s} {lu} from its highest position": "{p} 距其最高位置 {s} {lu}",
+        "{p} {s} {lu} from its lowest position": "{p} 距其最低位置 {s} {lu}",
+        "{p} {s} {lu} from its rightmost position": "{p} 距其最右位置 {s} {lu}",
+        "{p} {s} {lu} from its leftmost position": "{p} 距其最左位置 {s} {lu}",
+        "{p} {s} {lu} from its extreme position against ({x}, {y})": "{p} 距其逆 ({x}, {y}) 方向的极限位置 {s} {lu}",
+        "balancing torque M_b": "平衡力矩 M_b",
+        "balancing force F_b": "平衡力 F_b",
+        "{effort} of {name}: mean {mean} {unit}, largest magnitude {peak} {unit}": "原动件 {name} 的{effort}：平均值 {mean} {unit}，绝对值最大 {peak} {unit}",
+        "; with friction mean {m} (approximate {a}), largest magnitude {p}": "；计摩擦时平均值 {m}（近似解 {a}），绝对值最大 {p}",
+        " (means over one cycle, integrated between the load events)": "（平均值为一个周期内的平均，在载荷切换点之间分段积分）",
+        "Total reactions F_R of the joints without friction: force of link i on link j (N) and "
+        "its magnitude; prismatic pairs also N (normal force) and M (couple, N·m)": "不计摩擦的运动副总反力 F_R：构件 i 对构件 j 的作用力（N）及其大小；移动副另有 N（法向力）与 M（力偶矩，N·m）",
+        "Total reactions F_R of the joints with friction (consistent solution): force of link i "
+        "on link j (N) and its magnitude": "计摩擦的运动副总反力 F_R（一致解）：构件 i 对构件 j 的作用力（N）及其大小",
+        "Balancing torque M_b of each driver (balancing force F_b of a sliding driver) without "
+        "friction, with the approximate and the consistent friction solution, efficiency, "
+        "friction status (0 converged, 1 by homotopy, 2 self-locking, 3 a relative speed is "
+        "zero), input power and friction loss (W)": "各原动件上的平衡力矩 M_b（移动原动件为平衡力 F_b）：不计摩擦、计摩擦近似解与一致解；效率、摩擦状态（0 收敛，1 同伦法，2 自锁，3 相对速度为零）、输入功率与摩擦损耗（W）",
+        "Largest total reactions F_R of the joints": "运动副总反力 F_R 的最大值",
+        "largest |F_R| without friction (N)": "不计摩擦 |F_R| 最大值（N）",
+        "largest |F_R| with friction (N)": "计摩擦 |F_R| 最大值（N）",
+        "Kinetostatic analysis by `kinetostatics` (exact positions, velocities and "
+        "accelerations; d'Alembert inertia loads; Newton–Euler reactions; friction by the "
+        "approximate and the consistent solution). Conventions: x right, y up, angles and "
+        "moments counter-clockwise positive; the total reaction F_R of a joint is the force of "
+        "link i on link j.": "由 `kinetostatics` 进行动态静力分析（精确的位置、速度与加速度；达朗贝尔惯性力；牛顿–欧拉法求运动副总反力；摩擦按近似解与一致解）。约定：x 向右，y 向上，角度与力矩以逆时针为正；运动副总反力 F_R 为构件 i 对构件 j 的作用力。",
+        "{effort} of {driver} without friction, with the approximate and with the consistent "
+        "friction solution.": "{driver} 的{effort}：不计摩擦、计摩擦近似解与一致解。",
+        "Magnitudes of the total reactions F_R of the joints.": "运动副总反力 F_R 的大小。",
+        "Position {pos}: the loads drawn to scale (total reactions F_R of link i on link j at "
+        "the joints, inertia forces F_I and inertia couples M_I, weights G, the process load "
+        "and the {effort}).": "位置 {pos}：按比例绘制的各力（各运动副处构件 i 对构件 j 的总反力 F_R、惯性力 F_I 与惯性力偶矩 M_I、重力 G、工作阻力与{effort}）。",
+        "driving moment constant, equal to the cycle mean of {torque} (M_d = work per cycle / "
+        "2π, the work integrated exactly over one cycle, piece by piece between the load "
+        "events)": "驱动力矩为常数，等于{torque}的周期平均值（M_d = 每周期功 / 2π，每周期功在一个周期内以载荷切换点分段精确积分）",
+        "ΔW_max exact: ΔW(φ) integrated over one cycle piece by piece between the load events, "
+        "where M_b is smooth, its extremes at the load events or where M_d = M_b ({positions} "
+        "positions only for the pictures)": "ΔW_max 精确计算：ΔW(φ) 在一个周期内以载荷切换点分段积分（各段内 M_b 光滑），其极值位于载荷切换点或 M_d = M_b 处（{positions} 个位置仅用于绘图）",
+        "energy method, first order in δ: ω_m = (ω_max + ω_min)/2 and the speed variation "
+        "taken by the flywheel alone (J_F) or by the flywheel plus the machine's cycle-mean "
+        "equivalent inertia (J_F − J_e)": "能量法，取 δ 的一阶近似：ω_m = (ω_max + ω_min)/2，速度波动由飞轮单独承担（J_F），或由飞轮与机构的周期平均等效转动惯量共同承担（J_F − J_e）",
+        "flywheel on the crank shaft; on the motor shaft J_F/i² (i: the reduction ratio; gear "
+        "inertia neglected)": "飞轮装于曲柄轴；装于电机轴时为 J_F/i²（i 为传动比；忽略齿轮惯量）",
+        " These chapters are at the positions assigned ({labels}); the results, curves and "
+        "diagrams over the cycle cover all positions.": "以上各章仅含指定位置（{labels}）；全周期的计算结果、曲线与线图包含所有位置。",
+        "largest |torque| (N·m)": "转矩绝对值最大值 (N·m)",
+        "largest |power| (W)": "功率绝对值最大值 (W)",
+        "means and RMS values over one cycle, integrated exactly between the load events; "
+        "peaks: the largest values over the positions sampled in the cycle": "平均值与均方根值按一个周期在载荷切换点之间精确积分；峰值为一个周期内各采样位置上的最大值",
     }
 )

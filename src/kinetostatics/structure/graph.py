@@ -30,6 +30,7 @@ __all__ = [
     "independent_loops",
     "check_loops",
     "assur_groups",
+    "assur_class",
     "structure",
 ]
 
@@ -97,7 +98,9 @@ class Group:
     """One solve step: the links found together and the constraints that fix them.
 
     ``kind`` is ``driven`` (links fixed by motion drivers), ``dyad``, ``triad``
-    or ``group``; ``letters`` the dyad's pair string such as ``RRP``.
+    or ``group``; ``letters`` the dyad's pair string such as ``RRP``; ``order`` the
+    group's class (:func:`assur_class`; None for driven links and for a group with a
+    higher pair or that is not an Assur group).
     """
 
     name: str
@@ -106,6 +109,7 @@ class Group:
     links: tuple[str, ...]
     joints: tuple[str, ...]
     drivers: tuple[str, ...]
+    order: int | None = None
 
     @property
     def column(self) -> str:
@@ -297,6 +301,37 @@ def _letters(
     return forward, (a, b)
 
 
+def assur_class(links, joints) -> int | None:
+    """The class of an Assur group (Ⅱ, Ⅲ, Ⅳ …, as 2, 3, 4): the number of pairs of its
+    largest closed contour of internal pairs (pairs between two of its links) — a link
+    holding k ≥ 3 internal pairs is a contour of k, a loop of links through internal
+    pairs one of as many pairs as it has; a dyad is of class Ⅱ.  ``links``: the group's
+    link names; ``joints``: its joints (``links``, ``n_eq``).  None when a joint is not
+    a lower pair (n_eq 2) or 3·links ≠ 2·pairs (not an Assur group of lower pairs)."""
+    links = set(links)
+    if any(j.n_eq != 2 for j in joints) or 3 * len(links) != 2 * len(joints):
+        return None
+    inner = [tuple(j.links) for j in joints if set(j.links) <= links]
+    degree = max((sum(x in e for e in inner) for x in links), default=0)
+    best = degree if degree >= 3 else 2
+
+    def walk(start, node, used: frozenset) -> int:  # the longest loop back to start
+        longest = 0
+        for k, (a, b) in enumerate(inner):
+            if k in used or node not in (a, b):
+                continue
+            other = b if a == node else a
+            if other == start:
+                longest = max(longest, len(used) + 1)
+            elif other > start and all(other not in inner[u] for u in used):
+                longest = max(longest, walk(start, other, used | {k}))
+        return longest
+
+    for x in sorted(links):
+        best = max(best, walk(x, x, frozenset()))
+    return best
+
+
 class _GroupSearch:
     """The search of :func:`assur_groups` for the next group, with its count of the work
     done (at most ``MAX_SEARCH`` steps for the whole decomposition)."""
@@ -440,9 +475,16 @@ def assur_groups(model: Model, g: JointGraph | None = None) -> tuple[Group, ...]
             kind, letters, links = "triad", "", combo
         else:
             kind, letters, links = "group", "", combo
+        order = None if dnames else assur_class(combo, [joints[n] for n in jnames])
         groups.append(
             Group(
-                f"group{len(groups) + 1}", kind, letters, tuple(links), tuple(jnames), tuple(dnames)
+                f"group{len(groups) + 1}",
+                kind,
+                letters,
+                tuple(links),
+                tuple(jnames),
+                tuple(dnames),
+                order,
             )
         )
         known |= set(combo)

@@ -114,7 +114,9 @@ def _loads_at(result, row: int, *, friction: bool = False) -> list[_Arrow]:
         )
         at = _joint_point(result, joint, row)
         if joint.angular and at is not None:
-            out.append(_Arrow("effort", f"M_{d.name}", at, None, e))
+            # the balancing torque M_b (平衡力矩), named by its driver where there are several
+            name = "M_b" if len(system.motion_drivers) == 1 else f"M_b {d.name}"
+            out.append(_Arrow("effort", name, at, None, e))
     return out
 
 

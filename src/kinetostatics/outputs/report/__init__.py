@@ -14,8 +14,9 @@ and the load events 1′, 8′ …), and writes to a folder:
 
 Sections: data, structure (Assur groups), results summary, the mechanism
 drawing, tables of positions, velocities, accelerations, reactions and
-driving torque at the course-design positions, the curves, the velocity and
-acceleration polygons at chosen positions, polar diagrams, a section on the springs
+the balancing torque at the course-design positions (all, or the student's
+``positions``), the curves, the velocity and acceleration polygons at chosen
+positions, polar diagrams, a section on the springs
 and dampers when the file has ``elements:`` (their data and their length, force, energy
 and power at the course-design positions, in the file's units), a flywheel section
 when the summary has a ``flywheel`` entry and a drive-sizing section when it has a ``drive``

@@ -10,7 +10,7 @@ import numpy as np
 from ..lang import tr
 from ..plotting import link_numbers
 from .blocks import _Heading, _List, _Para, _Table
-from .results import group_label, length_unit
+from .results import group_label, length_unit, roman
 
 
 def _data_blocks(model, system, lang: str = "en") -> list:
@@ -187,6 +187,9 @@ def _structure_blocks(system, lang: str = "en") -> list:
         T("independent loops: {n}", n=len(st.loops))
         + ("" if not st.loops else " — " + "; ".join(" – ".join(lp) for lp in st.loops)),
     ]
+    orders = [p.group.order for p in system.plans if p.group.kind != "driven"]
+    if orders and None not in orders:  # the class of the mechanism: its highest group's
+        items.append(T("class of the mechanism: class {c}", c=roman(max(orders), lang)))
     blocks: list = [_Heading(2, T("2. Structure")), _List(items)]
     rows = []
     for k, plan in enumerate(system.plans, 1):

@@ -21,7 +21,7 @@ from .drive import drive_blocks
 from .elements import element_blocks
 from .flywheel import flywheel_blocks
 from .pdf import pdf_module
-from .results import _summary_blocks, length_unit, report_tables
+from .results import _summary_blocks, balancing, length_unit, report_tables
 
 FORMATS = ("md", "html", "pdf")
 
@@ -35,16 +35,42 @@ def _rows(result, course):
     return [(str(n + 1), int(order[k])) for n, k in enumerate(picks)]
 
 
-def _polygon_labels(polygons, labels: list[str], turns: int) -> list[str]:
+def _upper_first(text: str) -> str:
+    """A caption's first letter in upper case ("Balancing torque M_b of …")."""
+    return text[:1].upper() + text[1:]
+
+
+def _have(labels: list[str]) -> str:
+    return ", ".join(labels) or "none: not whole turns of a crank"
+
+
+def _position_labels(positions, labels: list[str]) -> list[str] | None:
+    """The student's positions (``--positions``) as the report labels them, in the order of
+    travel; None for all."""
+    if positions is None:
+        return None
+    chosen = {p.replace("'", "′") for p in positions}
+    for p in sorted(chosen):
+        if p not in labels:
+            raise ReportError(f"--positions: no course position '{p}' (have {_have(labels)})")
+    if not chosen:
+        raise ReportError(f"--positions: no position given (have {_have(labels)})")
+    return [lab for lab in labels if lab in chosen]
+
+
+def _polygon_labels(polygons, labels: list[str], turns: int, chosen=None) -> list[str]:
     if polygons is None:
+        if chosen is not None:  # the student's positions: each with its polygons
+            return chosen
         default = ("2", "7") if turns <= 1 else ("2/1", "7/1")
         return [p for p in default if p in labels] or labels[:1]
     polygons = [p.replace("'", "′") for p in polygons]
     for p in polygons:
         if p not in labels:
+            raise ReportError(f"no course position '{p}' for polygons (have {_have(labels)})")
+        if chosen is not None and p not in chosen:
             raise ReportError(
-                f"no course position '{p}' for polygons (have "
-                f"{', '.join(labels) or 'none: not whole turns of a crank'})"
+                f"--polygons: position '{p}' is not among --positions ({', '.join(chosen)})"
             )
     return polygons
 
@@ -54,6 +80,7 @@ def write_report(
     out: str | Path,
     *,
     polygons: Sequence[str] | None = None,
+    positions: Sequence[str] | None = None,
     dpi: float = 110,
     formats: Sequence[str] = ("md", "html"),
     lang: str = "en",
@@ -64,7 +91,11 @@ def write_report(
     ``polygons``: course-position labels (``"2"``, ``"7"``, ``"1′"``; ``"7/2"`` for
     position 7 of the second turn of a multi-turn sweep) at which to draw velocity and
     acceleration polygons; default positions 2 and 7 (the ones a slotting-machine course
-    design works by hand), or position 1 where there are no such positions.  ``formats``:
+    design works by hand), or position 1 where there are no such positions.  ``positions``:
+    the course positions (labels as ``polygons``) of the detailed chapters — the tables at
+    the course-design positions, the drawings of the loads and the polygons, the springs'
+    table — default all; the cycle's results, curves and diagrams are always over the
+    whole cycle, and ``polygons`` then defaults to, and must be among, these.  ``formats``:
     any of ``md`` (``report.md``, images in ``img/``), ``html`` (``report.html``, images
     embedded) and ``pdf`` (``report.pdf``, A4, needs fpdf2: ``pip install
     'kinetostatics[pdf]'``).  ``lang``: ``en`` or ``zh`` (Chinese headings and labels;
@@ -100,8 +131,10 @@ def write_report(
     course = pl.course_positions(result)
     n_turns = pl.turns(result)
     labels = [lab for lab, _ in course]
-    polygons = _polygon_labels(polygons, labels, n_turns)
-    rows = _rows(result, course)
+    chosen = _position_labels(positions, labels)
+    polygons = _polygon_labels(polygons, labels, n_turns, chosen)
+    all_rows = _rows(result, course)
+    rows = all_rows if chosen is None else [r for r in all_rows if r[0] in chosen]
     csv_path, summary_path = out / "results.csv", out / "summary.json"
     write_file(csv_path, what, result.to_csv)
     dsg = None
@@ -129,7 +162,7 @@ def write_report(
     ]
     out_m = pl.output_motion(result)
     paths = list(dict.fromkeys(moving_pins))
-    first = rows[0][1]
+    first = all_rows[0][1]
     title = T("Course-design report: {name}", name=model.name)
     d0 = system.motion_drivers[0]
     blocks: list = [
@@ -139,8 +172,8 @@ def write_report(
                 "Kinetostatic analysis by `kinetostatics` (exact positions, velocities "
                 "and accelerations; d'Alembert inertia loads; Newton–Euler reactions; "
                 "friction by the approximate and the consistent solution). Conventions: "
-                "x right, y up, angles and moments counter-clockwise positive; a joint's "
-                "reaction F_ij is the force of link i on link j."
+                "x right, y up, angles and moments counter-clockwise positive; the total "
+                "reaction F_R of a joint is the force of link i on link j."
             )
         ),
         _Para(
@@ -184,7 +217,7 @@ def write_report(
             T(
                 "The mechanism at position {pos} with the paths of its moving pins "
                 "(to the scale μ_l stated on it).",
-                pos=rows[0][0],
+                pos=all_rows[0][0],
             ),
             True,
         )
@@ -199,6 +232,15 @@ def write_report(
                 "magnitudes of the components before them. Wide tables are split into groups "
                 "of columns, each repeating the position, its CSV row and its angle.",
                 labels=", ".join(lab for lab, _ in rows),
+            )
+            + (
+                ""
+                if chosen is None
+                else T(
+                    " These chapters are at the positions assigned ({labels}); the results, "
+                    "curves and diagrams over the cycle cover all positions.",
+                    labels=", ".join(chosen),
+                )
             )
         )
     )
@@ -221,8 +263,9 @@ def write_report(
                 pl.torque_curves(result, d.name, dpi=dpi, lang=lang),
                 "torque" if d is d0 else f"torque_{d.name}",
                 T(
-                    "Driving effort of {driver} without friction, with the approximate and "
-                    "with the consistent friction solution.",
+                    "{effort} of {driver} without friction, with the approximate and with "
+                    "the consistent friction solution.",
+                    effort=_upper_first(T(balancing(model, d.name))),
                     driver=d.name,
                 ),
             )
@@ -239,7 +282,7 @@ def write_report(
         image(
             pl.reaction_curves(result, friction=model.has_friction, dpi=dpi, lang=lang),
             "reactions",
-            T("Magnitudes of the joint reactions."),
+            T("Magnitudes of the total reactions F_R of the joints."),
         )
     )
     blocks.append(_Heading(2, T("7. Velocity and acceleration polygons")))
@@ -262,10 +305,11 @@ def write_report(
                 pl.draw_mechanism(result, row=k, forces=True, dpi=dpi, lang=lang),
                 f"forces_{tag}",
                 T(
-                    "Position {pos}: the loads drawn to scale (reactions of link i on link j "
-                    "at the joints, inertia forces and couples, weights, process load, "
-                    "driving torque).",
+                    "Position {pos}: the loads drawn to scale (total reactions F_R of link i "
+                    "on link j at the joints, inertia forces F_I and inertia couples M_I, "
+                    "weights G, the process load and the {effort}).",
                     pos=lab,
+                    effort=T(balancing(model, d0.name)),
                 ),
                 True,
             )
@@ -295,7 +339,7 @@ def write_report(
         blocks += element_blocks(result, rows, section, lang)
         section += 1
     if dsg is not None:
-        blocks += flywheel_blocks(summary["flywheel"], dsg, result, rows, image, lang, section)
+        blocks += flywheel_blocks(summary["flywheel"], dsg, result, all_rows, image, lang, section)
         section += 1
     if "drive" in summary:
         blocks += drive_blocks(summary["drive"], result, image, lang, section)

@@ -20,8 +20,8 @@ ASSUMPTIONS = (
     "and speed have one sign (motoring), takes it back where they differ (braking)",
     "reduction: T_M = T/(i·η) where the driven shaft takes power, T_M = T·η/i where it gives "
     "power back, plus (J_m + J_r)·i·α for the inertia of rotor and reduction",
-    "means and RMS values over one cycle, integrated exactly between the load events "
-    "(analysis/cycle.py); peaks at the analysed positions and the quadrature nodes",
+    "means and RMS values over one cycle, integrated exactly between the load events; peaks: "
+    "the largest values over the positions sampled in the cycle",
     "RMS ≤ rated torque: the cycle is short next to the motor's thermal time constant",
     "with flywheel: the ideal flywheel of the energy method (δ): the motor gives the constant "
     "mean torque, the rotor and the reduction are part of the flywheel and its energy swing "
@@ -71,9 +71,9 @@ def drive_blocks(d: dict, result, image, lang: str = "en", number: int = 10) -> 
         "",
         T("mean torque (N·m)"),
         T("RMS torque (N·m)"),
-        T("peak |torque| (N·m)"),
+        T("largest |torque| (N·m)"),
         T("mean power (W)"),
-        T("peak |power| (W)"),
+        T("largest |power| (W)"),
         T("largest speed (rpm)"),
     ]
     blocks: list = [

@@ -221,8 +221,8 @@ def report_tables(result, rows: Sequence[tuple[str, int]], lang: str = "en") -> 
         rows,
         _reaction_columns(result, ""),
         tr(
-            "Joint reactions without friction: force of link i on link j (N) and its "
-            "magnitude; prismatic pairs also N (normal force) and M (couple, N·m)",
+            "Total reactions F_R of the joints without friction: force of link i on link j "
+            "(N) and its magnitude; prismatic pairs also N (normal force) and M (couple, N·m)",
             lang,
         ),
         lang,
@@ -239,8 +239,9 @@ def report_tables(result, rows: Sequence[tuple[str, int]], lang: str = "en") -> 
         rows,
         [_csv_column(result, n) for n in drv if n in result.columns],
         tr(
-            "Driving effort of each driver without friction, with the approximate and the "
-            "consistent friction solution, efficiency, friction status (0 converged, 1 by "
+            "Balancing torque M_b of each driver (balancing force F_b of a sliding driver) "
+            "without friction, with the approximate and the consistent friction solution, "
+            "efficiency, friction status (0 converged, 1 by "
             "homotopy, 2 self-locking, 3 a relative speed is zero), input power and friction "
             "loss (W)",
             lang,
@@ -253,8 +254,8 @@ def report_tables(result, rows: Sequence[tuple[str, int]], lang: str = "en") -> 
             rows,
             _reaction_columns(result, "_friction"),
             tr(
-                "Joint reactions with friction (consistent solution): force of link i on "
-                "link j (N) and its magnitude",
+                "Total reactions F_R of the joints with friction (consistent solution): force "
+                "of link i on link j (N) and its magnitude",
                 lang,
             ),
             lang,
@@ -285,17 +286,79 @@ def _num(v: float, scale: float, digits: int = 4) -> str:
     return "0" if abs(v) <= ROUND_OFF * scale else f"{v:.{digits}g}"
 
 
+_ROMAN = ("", "I", "II", "III", "IV", "V", "VI", "VII", "VIII")
+_ROMAN_ZH = "\u3000ⅠⅡⅢⅣⅤⅥⅦⅧ"  # the Roman numerals of Chinese text (Ⅱ U+2161 …)
+
+
+def roman(n: int, lang: str = "en") -> str:
+    """The class ``n`` of an Assur group or a mechanism as a Roman numeral (Ⅱ in Chinese)."""
+    if not 0 < n < len(_ROMAN):
+        return str(n)
+    return _ROMAN_ZH[n] if lang == "zh" else _ROMAN[n]
+
+
 def group_label(group, lang: str = "en") -> str:
-    """An Assur group's label (``Group.label``: ``RRR dyad {rod, slider}``) in ``lang``."""
+    """An Assur group's label with its class (``Group.order``): ``RRR dyad (class II)
+    {rod, slider}``, in Chinese ``RRR 型Ⅱ级杆组 {rod, slider}``."""
     links = "{" + ", ".join(group.links) + "}"
-    if group.kind == "dyad":
-        return tr("{letters} dyad {links}", lang, letters=group.letters, links=links)
-    if group.kind == "triad":
-        return tr("triad {links}", lang, links=links)
     if group.kind == "driven":
         many = len(group.links) > 1
         return tr("driven links {links}" if many else "driven link {links}", lang, links=links)
-    return tr("{n}-link group {links}", lang, n=len(group.links), links=links)
+    if group.order is None:
+        return tr("{n}-link group {links}", lang, n=len(group.links), links=links)
+    c = roman(group.order, lang)
+    if group.kind == "dyad":
+        return tr(
+            "{letters} dyad (class {c}) {links}", lang, letters=group.letters, c=c, links=links
+        )
+    return tr("class {c} group of {n} links {links}", lang, c=c, n=len(group.links), links=links)
+
+
+def crank_angle_between(a: float, b: float) -> float:
+    """极位夹角 θ (deg): the acute angle between the crank's positions ``a`` and ``b`` (deg)
+    at the output's two limit positions, |180° − the crank's turn from one to the other|;
+    at constant crank speed θ = 180°(K − 1)/(K + 1)."""
+    return abs(180.0 - (b - a) % 360.0)
+
+
+def balancing(model, driver: str) -> str:
+    """The name of a driver's effort in the kinetostatic analysis: the balancing torque M_b
+    on a crank (平衡力矩), the balancing force F_b on a slide (平衡力)."""
+    d = next(d for d in model.drivers if d.name == driver)
+    return "balancing torque M_b" if model.joint(d.joint).angular else "balancing force F_b"
+
+
+_END = {(0, 1): "highest", (0, -1): "lowest", (1, 0): "rightmost", (-1, 0): "leftmost"}
+
+
+def event_position(model, event: dict, lang: str = "en") -> str:
+    """Where in its travel the point of a load condition is at a load event: a ``travel``
+    band's edge as its distance from the extreme position the travel is measured from (the
+    least p·axis over the motion: the highest position for an axis (0, −1)); a ``moving``
+    condition switches where the point stops along its axis, at a limit position."""
+    load = next((ld for ld in model.loads if ld.name == event["load"]), None)
+    kind = {"travel from": "travel", "travel to": "travel"}.get(event["condition"], "moving")
+    conds = [c for c in load.active if c.kind == kind] if load is not None else []
+    if len(conds) != 1:
+        return tr(event["condition"], lang)
+    c = conds[0]
+    lu, lf = length_unit(model)
+    p, (x, y) = f"{c.link}.{c.point or 'CoM'}", (float(v) for v in c.axis)
+    if kind == "moving":
+        return tr("{p} at a limit position along ({x}, {y})", lang, p=p, x=f"{x:g}", y=f"{y:g}")
+    s = c.bounds[0 if event["condition"] == "travel from" else 1] / lf
+    end = _END.get((round(-x), round(-y))) if abs(x * y) < 1e-12 else None
+    if end is None:
+        return tr(
+            "{p} {s} {lu} from its extreme position against ({x}, {y})",
+            lang,
+            p=p,
+            s=f"{s:.6g}",
+            lu=lu,
+            x=f"{x:g}",
+            y=f"{y:g}",
+        )
+    return tr(f"{{p}} {{s}} {{lu}} from its {end} position", lang, p=p, s=f"{s:.6g}", lu=lu)
 
 
 def _summary_blocks(result, summary, lang: str = "en") -> list:
@@ -314,15 +377,18 @@ def _summary_blocks(result, summary, lang: str = "en") -> list:
     for name, o in summary["outputs"].items():
         lo, hi = o["limit_positions"]["min"], o["limit_positions"]["max"]
         k, a, b = f"{o['time_ratio']:.4f}", f"{lo['angle']:.3f}", f"{hi['angle']:.3f}"
+        theta = f"{crank_angle_between(lo['angle'], hi['angle']):.3f}"
         if o.get("kind") == "swing":
             text = tr(
-                "output {name}: swing {swing}° of {link}, time ratio K = {k}; limit positions "
-                "at φ = {a}° ({link} at {ta}°) and {b}° ({link} at {tb}°)",
+                "output {name}: swing {swing}° of {link}, time ratio K = {k}, crank angle "
+                "between the limit positions θ = {theta}°; limit positions at φ = {a}° "
+                "({link} at {ta}°) and {b}° ({link} at {tb}°)",
                 lang,
                 name=name,
                 swing=f"{o['swing']:.4f}",
                 link=o["link"],
                 k=k,
+                theta=theta,
                 a=a,
                 b=b,
                 ta=f"{lo['theta']:.3f}",
@@ -330,13 +396,14 @@ def _summary_blocks(result, summary, lang: str = "en") -> list:
             )
         else:
             text = tr(
-                "output {name}: stroke {stroke} {unit}, time ratio K = {k}; limit positions "
-                "at φ = {a}° and {b}°",
+                "output {name}: stroke {stroke} {unit}, time ratio K = {k}, crank angle "
+                "between the limit positions θ = {theta}°; limit positions at φ = {a}° and {b}°",
                 lang,
                 name=name,
                 stroke=f"{o['stroke'] / lf:.6g}",
                 unit=lu,
                 k=k,
+                theta=theta,
                 a=a,
                 b=b,
             )
@@ -344,20 +411,21 @@ def _summary_blocks(result, summary, lang: str = "en") -> list:
     for e in summary["events"]:
         items.append(
             tr(
-                "event: {load} switches {switch} at φ = {angle}° ({condition})",
+                "event: {load} switches {switch} at φ = {angle}° ({where})",
                 lang,
                 load=e["load"],
                 switch=tr(e["switch"], lang),
                 angle=f"{e['angle']:.4f}",
-                condition=tr(e["condition"], lang),
+                where=event_position(model, e, lang),
             )
         )
     for name, d in summary["drivers"].items():
         peak = max(abs(d["peak"]), abs(d.get("peak_friction", 0.0) or 0.0))
         unit = _unit(d["unit"])
         line = tr(
-            "driver {name}: mean {mean} {unit}, peak |·| {peak}",
+            "{effort} of {name}: mean {mean} {unit}, largest magnitude {peak} {unit}",
             lang,
+            effort=tr(balancing(model, name), lang),
             name=name,
             mean=_num(d["mean"], peak),
             unit=unit,
@@ -372,13 +440,13 @@ def _summary_blocks(result, summary, lang: str = "en") -> list:
             )
         elif "mean_friction" in d:
             line += tr(
-                "; with friction mean {m} (approximate {a}), peak {p}",
+                "; with friction mean {m} (approximate {a}), largest magnitude {p}",
                 lang,
                 m=_num(d["mean_friction"], peak),
                 a=_num(d["mean_friction_approx"], peak),
                 p=_num(d["peak_friction"], peak),
             )
-        items.append(line + tr(" (over the cycle, integrated between the load events)", lang))
+        items.append(line + tr(" (means over one cycle, integrated between the load events)", lang))
     if "friction.status" in result.columns:
         locked = int(np.sum(result["friction.status"] == 2))
         if locked:
@@ -414,12 +482,12 @@ def _summary_blocks(result, summary, lang: str = "en") -> list:
         _Table(
             [
                 tr("joint", lang),
-                tr("peak |F| without friction (N)", lang),
+                tr("largest |F_R| without friction (N)", lang),
                 tr("at φ (deg)", lang),
-                tr("peak |F| with friction (N)", lang),
+                tr("largest |F_R| with friction (N)", lang),
             ],
             rows,
-            tr("Peak joint reactions", lang),
+            tr("Largest total reactions F_R of the joints", lang),
         )
     )
     return blocks
