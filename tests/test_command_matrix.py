@@ -437,6 +437,9 @@ def test_a_real_sigint_stops_a_simulation_with_one_line(tmp_path):
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
+        # Python turns SIGINT into KeyboardInterrupt only where it is not ignored (a suite
+        # started in the background by a non-interactive shell ignores it)
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )
     for _ in range(600):  # the folder is made inside main(), before the work
         if out.is_dir() or proc.poll() is not None:
