@@ -110,7 +110,7 @@ def write_report(
 
         dsg = design(result)
     summary = summarize(result, flywheel=dsg)
-    text = json_text(summary, default=float)
+    text = json_text(summary, default=float, ensure_ascii=False)
     write_file(summary_path, what, lambda p: p.write_text(text, encoding="utf-8"))
     T = lambda s, **k: tr(s, lang, **k)  # noqa: E731
 

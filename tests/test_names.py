@@ -1,0 +1,196 @@
+"""The student's own names (issue 37, item 6): names in any script (曲柄, 导杆, 切削力) for
+links, joints, points, loads, drivers and parameters, everywhere a name is used, and the
+files written with them valid UTF-8 whatever the locale.
+
+The truth is an identity: the shaper with Chinese names is the shipped shaper renamed,
+so every result column of the one is the same number as the renamed column of the other.
+"""
+
+import csv
+import json
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import kinetostatics as ks
+from kinetostatics.base.expressions import ExpressionError, evaluate
+from kinetostatics.base.names import SCHEMA_PATTERN
+from kinetostatics.batch.objectives import Expression
+from kinetostatics.cli import main
+from kinetostatics.errors import ModelError
+
+ROOT = Path(__file__).resolve().parent.parent
+SHAPER = ROOT / "mechanisms" / "shaper.yaml"
+
+# the shaper's own names -> a student's Chinese names (links, joints, driver, load, points,
+# parameters); `link` is also a key (loads.cutting.link), renamed only where it is a name
+RENAME = {
+    "frame": "机架",
+    "crank": "曲柄",
+    "block": "滑块",
+    "lever": "导杆",
+    "link": "连杆",
+    "ram": "刨头",
+    "slot": "导槽",
+    "guide": "导轨",
+    "motor": "电机",
+    "cutting": "切削力",
+    "tool": "刀尖",
+    "ram_guide": "导路点",
+    "L_O2A": "曲柄长",
+    "G6": "刨头重",
+}
+
+
+def chinese_text(positions: int | None = None) -> str:
+    """The shipped shaper with RENAME applied to its names (not to its keys)."""
+    text = SHAPER.read_text(encoding="utf-8")
+    text = re.sub(r"(?m)^name: .*$", "name: 牛头刨床", text)
+    for old, new in RENAME.items():
+        # a name: not part of a longer name; `link` also a key (`link: ram` in a load)
+        pattern = rf"(?<![\w.]){re.escape(old)}(?![\w])"
+        if old == "link":
+            pattern = r"(?<![\w.])link(?=[,\]]|:\s+#)"
+        text, n = re.subn(pattern, new, text)
+        assert n, old
+    if positions:
+        text, n = re.subn(r"positions: 360", f"positions: {positions}", text)
+        assert n == 1
+    return text
+
+
+def renamed(column: str) -> str:
+    """The column's name in the Chinese file (a group's columns join its links by _)."""
+    member, _, rest = column.partition(".")
+    member = (
+        "_".join(RENAME.get(p, p) for p in member.split("_"))
+        if member not in RENAME
+        else RENAME[member]
+    )
+    return ".".join([member] + [RENAME.get(p, p) for p in rest.split(".")] if rest else [member])
+
+
+def test_chinese_names_give_the_same_numbers_as_ascii_names():
+    ascii_result = ks.analyze(ks.load(SHAPER))
+    model = ks.loads(chinese_text(), file="牛头刨床.yaml")
+    assert model.name == "牛头刨床"
+    assert {lk.name for lk in model.links} == {"机架", "曲柄", "滑块", "导杆", "连杆", "刨头"}
+    result = ks.analyze(model)
+    assert set(result.columns) == {renamed(c) for c in ascii_result.columns}
+    assert "导杆.omega" in result.columns and "导轨.Fx" in result.columns
+    assert "刨头.刀尖.vx" in result.columns and "电机.torque" in result.columns
+    by_unit: dict[str, float] = {}
+    for c in ascii_result.columns:
+        v = np.abs(np.asarray(ascii_result[c], dtype=float))
+        if np.any(np.isfinite(v)):
+            u = ascii_result.units[c]
+            by_unit[u] = max(by_unit.get(u, 0.0), float(np.nanmax(v)))
+    for c in ascii_result.columns:
+        a = np.asarray(ascii_result[c], dtype=float)
+        b = np.asarray(result[renamed(c)], dtype=float)
+        assert np.array_equal(np.isnan(a), np.isnan(b)), c
+        scale = 1e-12 * max(by_unit.get(ascii_result.units[c], 0.0), 1e-300)
+        assert np.nanmax(np.abs(a - b), initial=0.0) <= scale, c
+
+
+@pytest.mark.parametrize(
+    "key, value, message",
+    [
+        ("main-motor", "{joint: O2, motion: {speed: 60}}", "e.g. 'main_motor'"),
+        ("2电机", "{joint: O2, motion: {speed: 60}}", "e.g. '_2电机'"),
+        ("电 机", "{joint: O2, motion: {speed: 60}}", "e.g. '电_机'"),
+        ("ﬁ", "{joint: O2, motion: {speed: 60}}", "e.g. 'fi'"),  # NFKC: the parser's 'fi'
+    ],
+)
+def test_a_name_that_is_not_a_name_is_one_line_with_a_valid_one(key, value, message):
+    text = SHAPER.read_text(encoding="utf-8").replace(
+        "  motor: {joint: O2, motion: {speed: 60}}", f"  {key}: {value}"
+    )
+    with pytest.raises(ModelError) as err:
+        ks.loads(text, file="shaper.yaml")
+    lines = str(err.value).splitlines()
+    assert len(lines) == 1 and f"drivers.{key}" in lines[0] and message in lines[0], lines
+
+
+def test_a_parameter_may_not_be_a_keyword_but_a_link_may():
+    text = SHAPER.read_text(encoding="utf-8").replace("  G4: 200", "  lambda: 200")
+    with pytest.raises(ModelError, match=r"parameters.lambda: .*Python keyword.*'lambda_'"):
+        ks.loads(text, file="shaper.yaml")
+    text = re.sub(r"(?<![\w.])ram(?![\w])", "if", SHAPER.read_text(encoding="utf-8"))
+    assert "if.omega" in ks.analyze(ks.loads(text)).columns  # a column, not an expression
+
+
+def test_expressions_take_names_in_any_script_and_nothing_else_beyond_ascii():
+    assert evaluate("2*曲柄长 + 导杆长", {"曲柄长": 3.0, "导杆长": 4.0}) == 10.0
+    for text, ch in (("100*ℯ", "ℯ"), ("a×b", "×"), ("１+2", "１"), ("a\u0301", "\u0301")):
+        with pytest.raises(ExpressionError, match=f"U\\+{ord(ch):04X}"):
+            evaluate(text, {"a": 1.0, "b": 2.0, "e": 3.0})
+    e = Expression("刨头.stroke*2 + 曲柄长")
+    assert set(e.names.values()) == {"刨头.stroke", "曲柄长"}
+    assert e.value({"刨头.stroke": 0.25, "曲柄长": 1.0}) == 1.5
+
+
+def test_the_schema_pattern_takes_the_loaders_names():
+    pattern = re.compile(SCHEMA_PATTERN)
+    assert SCHEMA_PATTERN.isascii()  # escapes that ECMA-262 and Python's re read alike
+    for name in ("曲柄", "O2", "_x", "F_切削", "导杆4"):
+        assert pattern.search(name), name
+    for name in ("main-motor", "2A", "a.b", "a b", "曲柄 ", "", "x+y", "ram(1)"):
+        assert not pattern.search(name), name
+    jsonschema = pytest.importorskip("jsonschema")
+    import yaml
+
+    schema = json.loads(
+        (ROOT / "src/kinetostatics/io/mechanism.schema.json").read_text(encoding="utf-8")
+    )
+    validator = jsonschema.Draft202012Validator(schema)
+    assert not list(validator.iter_errors(yaml.safe_load(chinese_text())))
+    broken = yaml.safe_load(chinese_text().replace("  导槽:", "  导 槽:"))
+    assert [e.message for e in validator.iter_errors(broken)] == [
+        "'导 槽' does not match " + repr(SCHEMA_PATTERN)
+    ]
+
+
+ASCII_LOCALE = {"LC_ALL": "C", "LANG": "C", "PYTHONUTF8": "0", "PYTHONCOERCECLOCALE": "0"}
+
+
+def test_run_writes_utf8_under_an_ascii_locale(tmp_path):
+    """A terminal or locale without Chinese: the files are still UTF-8 with the names,
+    the output escapes what the terminal cannot show, and nothing stops."""
+    path = tmp_path / "牛头刨床.yaml"
+    path.write_text(chinese_text(positions=36), encoding="utf-8")
+    env = {**os.environ, **ASCII_LOCALE, "PYTHONPATH": str(ROOT / "src")}
+    for verb in (["check"], ["run", "--out", str(tmp_path / "out")]):
+        done = subprocess.run(
+            [sys.executable, "-m", "kinetostatics.cli", verb[0], str(path), *verb[1:]],
+            env=env,
+            capture_output=True,
+        )
+        assert done.returncode == 0, done.stderr.decode(errors="replace")
+        assert b"\\u725b\\u5934\\u5228\\u5e8a" in done.stdout  # 牛头刨床, escaped
+    lines = (tmp_path / "out" / "results.csv").read_text(encoding="utf-8").splitlines()
+    assert "导杆.omega" in next(csv.reader([lines[1]]))
+    summary = (tmp_path / "out" / "summary.json").read_text(encoding="utf-8")
+    assert json.loads(summary)["name"] == "牛头刨床" and "牛头刨床" in summary  # not \u escapes
+
+
+def test_batch_sweeps_a_chinese_parameter_and_best_reads_it_back(tmp_path, capsys):
+    path = tmp_path / "牛头刨床.yaml"
+    path.write_text(chinese_text(positions=36), encoding="utf-8")
+    out = tmp_path / "batch"
+    assert main(["batch", str(path), "--out", str(out), "--set", "曲柄长=100,110", "--serial"]) == 0
+    with open(out / "summary.csv", encoding="utf-8", newline="") as fh:
+        rows = [r for r in csv.reader(fh) if not r[0].startswith("#")]
+    header, body = rows[0], rows[1:]
+    assert "曲柄长" in header and "导轨.stroke" in header and len(body) == 2
+    # the ram's stroke H = 2·L_O3B·L_O2A/L_O2O3 (docs: the shaper's closed form)
+    strokes = sorted(float(r[header.index("导轨.stroke")]) for r in body)
+    assert strokes == pytest.approx([2 * 0.540 * a / 0.380 for a in (0.100, 0.110)], rel=1e-9)
+    capsys.readouterr()
+    assert main(["best", str(out), "--best", "max 导轨.stroke"]) == 0
+    assert "110" in capsys.readouterr().out
