@@ -55,7 +55,7 @@ def chinese_text(positions: int | None = None) -> str:
         # a name: not part of a longer name; `link` also a key (`link: ram` in a load)
         pattern = rf"(?<![\w.]){re.escape(old)}(?![\w])"
         if old == "link":
-            pattern = r"(?<![\w.])link(?=[,\]]|:\s+#)"
+            pattern = r"(?m)(?<![\w.])link(?=[,\]]|:[ \t]*(?:#.*)?$)"
         text, n = re.subn(pattern, new, text)
         assert n, old
     if positions:
@@ -194,3 +194,100 @@ def test_batch_sweeps_a_chinese_parameter_and_best_reads_it_back(tmp_path, capsy
     capsys.readouterr()
     assert main(["best", str(out), "--best", "max 导轨.stroke"]) == 0
     assert "110" in capsys.readouterr().out
+
+
+# -- item 7: the textbook's link numbers (number:) ---------------------------------------
+# the shaper's guide numbers its links so (mechanisms/shaper.yaml's number: keys)
+GUIDE = {"frame": 1, "crank": 2, "block": 3, "lever": 4, "link": 5, "ram": 6}
+
+
+def _shaper(text: str | None = None, **numbers: int | None) -> ks.Model:
+    """The shaper with each link's number: line set to ``numbers`` (None: removed)."""
+    text = text or SHAPER.read_text(encoding="utf-8")
+    for link, n in numbers.items():
+        pattern = rf"(?m)^(  {link}:[^\n]*\n)    number: \d+\n"
+        text, k = re.subn(pattern, rf"\g<1>    number: {n}\n" if n else r"\g<1>", text)
+        assert k == 1, link
+    return ks.loads(text, file="shaper.yaml")
+
+
+def test_the_links_carry_the_numbers_of_the_file():
+    from kinetostatics.outputs.labels import link_numbers
+    from kinetostatics.structure.system import system_of
+
+    assert link_numbers(system_of(ks.load(SHAPER))) == GUIDE
+    none = _shaper(**dict.fromkeys(GUIDE))  # no number: the model's order, the frame last
+    assert link_numbers(system_of(none)) == {
+        "crank": 1,
+        "block": 2,
+        "lever": 3,
+        "link": 4,
+        "ram": 5,
+        "frame": 6,
+    }
+    some = _shaper(**{k: None for k in GUIDE if k != "lever"})  # the others: numbers not given
+    assert link_numbers(system_of(some)) == {
+        "crank": 1,
+        "block": 2,
+        "lever": 4,
+        "link": 3,
+        "ram": 5,
+        "frame": 6,
+    }
+
+
+@pytest.mark.parametrize(
+    "number, message",
+    [
+        ("2", "links.block.number: number 2 is already the number of link 'crank'"),
+        ("2.5", "links.block.number: a link's number must be a whole number from 1 to 99, got 2.5"),
+        ("0", "links.block.number: a link's number must be a whole number from 1 to 99, got 0"),
+        ("-3", "links.block.number: a link's number must be a whole number from 1 to 99, got -3"),
+        ("100", "a whole number from 1 to 99, got 100"),
+        ("three", "links.block.number: undefined parameter 'three'"),
+    ],
+)
+def test_a_wrong_number_is_one_line_naming_its_key(tmp_path, capsys, number, message):
+    text = SHAPER.read_text(encoding="utf-8").replace("    number: 3\n", f"    number: {number}\n")
+    path = tmp_path / "shaper.yaml"
+    path.write_text(text, encoding="utf-8")
+    assert main(["check", str(path)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and message in err[0] and "Traceback" not in err[0], err
+
+
+def test_the_pictures_and_the_report_name_reactions_by_the_numbers(tmp_path):
+    """F_Rij is the force of link i on link j, with the guide's numbers: the crank 2 on the
+    block 3 at A is F_R23, the lever 4 on the link 5 at B F_R45."""
+    from kinetostatics.outputs.plotting.draw import _loads_at
+
+    result = ks.analyze(ks.load(SHAPER))
+    labels = {a.label for a in _loads_at(result, 0)}
+    assert {"F_R12", "F_R23", "F_R43", "F_R14", "F_R45", "F_R56", "F_R16"} <= labels
+    assert {"F_I4", "M_I4", "G4", "F_I6", "G6"} <= labels  # lever 4, ram 6
+    assert main(["report", str(SHAPER), "--out", str(tmp_path), "--dpi", "30"]) == 0
+    md = (tmp_path / "report.md").read_text(encoding="utf-8")
+    joints = {
+        r[0]: r[3]
+        for r in (line.strip("|").split("|") for line in md.splitlines() if "→" in line)
+        for r in [[c.strip() for c in r]]
+        if len(r) == 6 and r[0] != "joint"
+    }
+    assert joints == {
+        "O2": "F_R12",
+        "A": "F_R23",
+        "slot": "F_R43",
+        "O3": "F_R14",
+        "B": "F_R45",
+        "C": "F_R56",
+        "guide": "F_R16",
+    }
+    links = [line.split("|")[1:3] for line in md.splitlines() if line.startswith("| ")]
+    order = [name.strip() for name, n in links if name.strip() in GUIDE and n.strip().isdigit()]
+    assert order == sorted(GUIDE, key=GUIDE.get)  # the links table in the numbers' order
+
+
+def test_two_digit_numbers_are_separated():
+    from kinetostatics.outputs.labels import pair
+
+    assert pair(2, 3) == "23" and pair(10, 11) == "10,11" and pair(1, 12) == "1,12"

@@ -140,7 +140,7 @@ def write_report(
                 "and accelerations; d'Alembert inertia loads; Newton–Euler reactions; "
                 "friction by the approximate and the consistent solution). Conventions: "
                 "x right, y up, angles and moments counter-clockwise positive; a joint's "
-                "reaction F_ij is the force of link i on link j."
+                "reaction F_Rij is the force of link i on link j."
             )
         ),
         _Para(
