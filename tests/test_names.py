@@ -291,3 +291,106 @@ def test_two_digit_numbers_are_separated():
     from kinetostatics.outputs.labels import pair
 
     assert pair(2, 3) == "23" and pair(10, 11) == "10,11" and pair(1, 12) == "1,12"
+
+
+# -- item 8: the quantities in Chinese with the member's name or number -------------------
+def _tables(md: str) -> list[list[list[str]]]:
+    """The Markdown tables of a report with a 'CSV row' column: rows of cells."""
+    from .test_report import _md_tables
+
+    return [t for t in _md_tables(md) if len(t[0]) > 1 and t[0][1] == "CSV row"]
+
+
+DOTTED_COLUMN = re.compile(r"[^\W\d]\w*\.[^\W\d|]")  # lever.omega, crank.A.x, O2.|F|
+
+
+@pytest.fixture(scope="module")
+def chinese_reports(tmp_path_factory):
+    """The report of the Chinese shaper (names and the guide's numbers), zh and en."""
+    folder = tmp_path_factory.mktemp("cn")
+    path = folder / "牛头刨床.yaml"
+    path.write_text(chinese_text(positions=72), encoding="utf-8")
+    out = {}
+    for lang in ("zh", "en"):
+        out[lang] = folder / lang
+        args = ["report", str(path), "--out", str(out[lang]), "--dpi", "30", "--lang", lang]
+        assert main([*args, "--format", "md", "html"]) == 0
+    return path, out
+
+
+def test_the_chinese_tables_name_quantity_member_and_symbol(chinese_reports):
+    _, out = chinese_reports
+    zh = _tables((out["zh"] / "report.md").read_text(encoding="utf-8"))
+    en = _tables((out["en"] / "report.md").read_text(encoding="utf-8"))
+    assert len(zh) == len(en) > 5
+    heads = [h for t in zh for h in t[0][2:]]
+    assert not [h for h in heads if DOTTED_COLUMN.search(h)], heads  # no `导杆.omega`
+    assert not [h for h in heads if re.search(r"[A-Za-z]{4,}", h)], heads  # no English word
+    # the guide's numbers: the lever 4 (导杆), the link 5 (连杆); B joins them, 4 on 5
+    for head in ("构件4 ", " ω₄ (rad/s)", " α₄ (rad/s²)", " θ₄ (°)", "B ", " F_R45x (N)"):
+        assert any(head in h for h in heads), head
+    assert any(h.startswith("构件4 ") and h.endswith(" ω₄ (rad/s)") for h in heads)
+    assert any(
+        h.startswith("导轨 ") and h.endswith(" F_R16y (N)") for h in heads
+    )  # frame 1 on ram 6
+    # the same numbers as the English tables, whose heads are the CSV's columns
+    for t_zh, t_en in zip(zh, en):
+        assert [r[1:] for r in t_zh[1:]] == [r[1:] for r in t_en[1:]]
+        assert len(t_zh[0]) == len(t_en[0])
+        assert any(DOTTED_COLUMN.search(h) for h in t_en[0][2:])
+
+
+def test_the_report_shows_the_names_as_written(chinese_reports):
+    _, out = chinese_reports
+    md = (out["zh"] / "report.md").read_text(encoding="utf-8")
+    assert md.splitlines()[0].endswith("牛头刨床")  # the title: the file's name:
+    html = (out["zh"] / "report.html").read_text(encoding="utf-8")
+    assert "<title>" in html and "牛头刨床" in html.split("</title>")[0]
+    for name in ("曲柄", "导杆", "导槽", "导轨", "电机", "切削力", "曲柄长"):
+        assert name in md, name
+    joints = dict(
+        (r[0].strip(), r[3].strip())
+        for r in (line.strip("|").split("|") for line in md.splitlines() if "→" in line)
+        if len(r) == 6
+    )
+    assert joints["导槽"] == "F_R43" and joints["导轨"] == "F_R16" and joints["A"] == "F_R23"
+
+
+def test_column_labels_in_both_languages():
+    from kinetostatics.outputs.labels import column_label
+
+    result = ks.analyze(ks.loads(chinese_text(positions=12)))
+    system = result.system
+    assert column_label(system, "导杆.omega", "en") == "link 4 angular velocity ω₄"
+    assert column_label(system, "导杆.B.vx", "en") == "point B velocity v_Bx"
+    assert column_label(system, "B.Fx_friction", "en") == "B reaction (with friction) F_R45x"
+    assert column_label(system, "导槽.N", "en") == "导槽 normal force N43"
+    assert column_label(system, "电机.torque", "en") == "电机 driving torque M_b"
+    zh = column_label(system, "导杆.omega", "zh")
+    assert zh.startswith("构件4 ") and zh.endswith(" ω₄") and not re.search("[A-Za-z]{2}", zh)
+    assert column_label(system, "导杆_刨头.cond", "zh") == "导杆_刨头.cond"  # not a quantity
+    # without number: the link's own name, the subscript its number in the pictures
+    plain = ks.analyze(ks.loads(re.sub(r"(?m)^    number: \d+\n", "", chinese_text(12))))
+    label = column_label(plain.system, "导杆.omega", "zh")
+    assert label.startswith("导杆 ") and label.endswith(" ω₃")
+
+
+def test_the_chinese_pictures_say_the_quantities():
+    import kinetostatics.outputs.plotting as pl
+
+    result = pl.analyze_for_pictures(ks.loads(chinese_text(positions=72)))
+
+    def texts(fig):
+        return [t.get_text() for t in fig.findobj(lambda o: hasattr(o, "get_text"))]
+
+    fig = pl.plot_result(result, "导杆.omega", "导轨.Fx", lang="zh")
+    legend = [t for ax in fig.axes if ax.get_legend() for t in texts(ax.get_legend())]
+    assert any(t.startswith("构件4 ") and t.endswith(" ω₄") for t in legend), legend
+    assert any(t.startswith("导轨 ") and t.endswith(" F_R16x") for t in legend), legend
+    title = " ".join(texts(pl.motion_diagram(result, lang="zh")))
+    assert "牛头刨床" in title and not DOTTED_COLUMN.search(title), title
+    row = pl.row_at(result, label="7")
+    for kind in ("velocity", "acceleration"):  # 刀尖 is no mathtext: its font has no 刀
+        words = texts(pl.polygon_figure(result, kind, row=row, lang="zh"))
+        maths = [m for w in words for m in w.split("$")[1::2]]  # the $…$ parts
+        assert maths and not [m for m in maths if re.search(r"[\u4e00-\u9fff]", m)], maths
