@@ -394,3 +394,53 @@ def test_the_chinese_pictures_say_the_quantities():
         words = texts(pl.polygon_figure(result, kind, row=row, lang="zh"))
         maths = [m for w in words for m in w.split("$")[1::2]]  # the $…$ parts
         assert maths and not [m for m in maths if re.search(r"[\u4e00-\u9fff]", m)], maths
+
+
+# -- done when: a Chinese file with the textbook's numbers through every command -----------
+def test_a_chinese_file_runs_through_every_command(tmp_path, capsys):
+    path = tmp_path / "牛头刨床.yaml"
+    path.write_text(chinese_text(positions=36), encoding="utf-8")
+    out = tmp_path / "out"
+    assert main(["check", str(path)]) == 0
+    assert "RPR" in capsys.readouterr().out
+    assert main(["run", str(path), "--out", str(out / "run")]) == 0
+    header = (out / "run" / "results.csv").read_text(encoding="utf-8").splitlines()[1]
+    assert "导杆.omega" in header and "导槽.Fx" in header and "电机.torque" in header
+    for lang in ("zh", "en"):
+        args = ["plot", str(path), "--out", str(out / f"plot_{lang}"), "--lang", lang]
+        assert main([*args, "--what", "drawing", "reactions", "--forces", "--dpi", "30"]) == 0
+        assert {p.name for p in (out / f"plot_{lang}").iterdir()} == {
+            "drawing.png",
+            "reactions.png",
+        }
+    batch = out / "batch"
+    assert main(["batch", str(path), "--out", str(batch), "--set", "曲柄长=100,110"]) == 0
+    assert "导轨.stroke" in (batch / "summary.csv").read_text(encoding="utf-8")
+    assert main(["export", str(path), "--format", "svg", "--out", str(out / "牛头刨床.svg")]) == 0
+    assert (out / "牛头刨床.svg").stat().st_size > 0
+    ezdxf = pytest.importorskip("ezdxf")
+    dxf = out / "牛头刨床.dxf"
+    assert main(["export", str(path), "--format", "dxf", "--out", str(dxf)]) == 0
+    texts = " ".join(e.dxf.text for e in ezdxf.readfile(dxf).modelspace().query("TEXT"))
+    assert "O2" in texts
+
+
+@pytest.mark.slow
+def test_the_pdf_reports_of_a_chinese_file_carry_its_names_and_numbers(chinese_reports):
+    """The PDF in both languages (slow: fonts and pictures): the names, the numbers and
+    the reactions F_Rij as the Markdown has them."""
+    pypdf = pytest.importorskip("pypdf")
+    path, out = chinese_reports
+    for lang in ("zh", "en"):
+        pdf = out[lang] / "pdf"
+        args = ["report", str(path), "--out", str(pdf), "--dpi", "60", "--lang", lang]
+        assert main([*args, "--format", "pdf"]) == 0
+        text = " ".join(p.extract_text() for p in pypdf.PdfReader(str(pdf / "report.pdf")).pages)
+        text = re.sub(r"\s+", " ", text)
+        for word in ("牛头刨床", "曲柄", "导杆", "导轨", "F_R45", "F_R16"):
+            assert word in text, (lang, word)
+        if lang == "zh":
+            assert "构件4" in text and "ω₄" in text
+    for lang in ("zh", "en"):
+        args = ["plot", str(path), "--out", str(out[lang] / "plots"), "--lang", lang]
+        assert main([*args, "--dpi", "40"]) == 0
