@@ -131,7 +131,7 @@ def test_drawing_with_forces_and_paths(slotting):
     ax = fig.axes[0]
     assert ax.get_xlabel() == "x, mm" and ax.get_ylabel() == "y, mm"
     texts = [t.get_text() for t in ax.texts]
-    assert any(t.startswith(" F₄₅") for t in texts)  # rod 4 on ram 5
+    assert any(t.startswith(" F_R₄₅") for t in texts)  # rod 4 on ram 5
     assert any("cutting" in t for t in texts)  # the cutting force acts at 7
     path = [ln for ln in ax.lines if len(ln.get_xdata()) == len(slotting)][0]
     np.testing.assert_allclose(

@@ -48,9 +48,9 @@ def pictures(name: str, label: str, paths: list[str]) -> list[tuple[str, str]]:
         (
             "forces",
             pl.draw_mechanism(result, row=row, forces=True, dpi=DPI),
-            f"The loads at position {label}, to the force scale μ_F: reactions F_ij (link i on "
-            "link j) at the joints, d'Alembert inertia forces FI and couples MI, weights G, the "
-            "process load and the driving torque (frictionless solution).",
+            f"The loads at position {label}, to the force scale μ_F: reactions F_Rij (link i "
+            "on link j) at the joints, d'Alembert inertia forces F_Ii and couples M_Ii, weights "
+            "Gi, the process load and the driving torque (frictionless solution).",
         ),
         (
             "motion",

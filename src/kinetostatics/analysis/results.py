@@ -519,4 +519,5 @@ class Result:
 
     def to_json(self, path: str | Path, summary: dict[str, Any] | None = None) -> None:
         """Write :meth:`summary` (or the one given, already computed) as JSON."""
-        Path(path).write_text(json_text(self.summary() if summary is None else summary))
+        data = self.summary() if summary is None else summary
+        Path(path).write_text(json_text(data, ensure_ascii=False), encoding="utf-8")

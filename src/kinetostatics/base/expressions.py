@@ -21,8 +21,11 @@ import ast
 import functools
 import math
 import numbers
+import unicodedata
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from types import MappingProxyType
+
+from .names import is_name, is_word_character
 
 __all__ = [
     "CONSTANTS",
@@ -287,15 +290,20 @@ def _parse_cached(text: str) -> ast.Expression:
     if not text.strip():
         raise ExpressionError("empty expression")
     if not text.isascii():
-        # Python folds non-ASCII letters of a name (NFKC): '100*ℯ' would read as '100*e'
-        k = next(i for i, ch in enumerate(text) if ord(ch) > 127)
-        ch = text[k]
-        shown = f"'{ch}'" if ch.isprintable() else ascii(ch)[1:-1]
-        raise ExpressionError(
-            f"the character {shown} (U+{ord(ch):04X}) at position "
-            f"{k + 1} is not allowed in an expression: numbers, names and "
-            "operators are plain ASCII"
-        )
+        # a name may be written in any script (曲柄), in the form Python's parser gives it
+        # (NFKC): anything else beyond ASCII is refused, as '100*ℯ' would read as '100*e'
+        bad = [k for k, ch in enumerate(text) if ord(ch) > 127 and not is_word_character(ch)]
+        if not bad and unicodedata.normalize("NFKC", text) != text:
+            bad = [next(k for k, ch in enumerate(text) if ord(ch) > 127)]
+        if bad:
+            k = bad[0]
+            ch = text[k]
+            shown = f"'{ch}'" if ch.isprintable() else ascii(ch)[1:-1]
+            raise ExpressionError(
+                f"the character {shown} (U+{ord(ch):04X}) at position "
+                f"{k + 1} is not allowed in an expression: numbers and operators are "
+                "plain ASCII, names are letters, digits and _"
+            )
     depth = max_depth = 0
     for ch in text:
         if ch in "([{":
@@ -488,7 +496,7 @@ def _shape(text: str) -> tuple[str, object]:
 
 
 def _check_parameter_name(name: object) -> str:
-    if not isinstance(name, str) or not name.isidentifier():
+    if not is_name(name, expression=True):
         raise ExpressionError(f"invalid parameter name {name!r}", None)
     if name in FUNCTIONS:
         raise ExpressionError(f"parameter name '{name}' is reserved for a function", name)

@@ -12,7 +12,6 @@ return ``None``.  Problems are raised together as one
 
 from __future__ import annotations
 
-import re
 import threading
 from collections.abc import Iterable
 
@@ -23,30 +22,33 @@ from ..errors import Collector, Location, did_you_mean
 from . import expressions, units
 from .keys import Keys
 from .limits import MAGNITUDE
+from .names import is_name, suggestion
 
 __all__ = [
     "Entry",
-    "NAME",
     "RESERVED",
     "describe_node",
     "expression_message",
     "name_problem",
 ]
 
-NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 RESERVED = frozenset({"time", "angle", "stroke", "travel", "power", "friction", "shaking"})
 
 
-def name_problem(what: str, name: str) -> str | None:
+def name_problem(what: str, name: str, *, expression: bool = False) -> str | None:
     """The message for a ``what`` (link, point, parameter, …) named ``name`` that is not a
-    valid name, with a valid one to use instead; None for a valid name."""
-    if NAME.match(name):
+    valid name (:mod:`.names`), with a valid one to use instead; None for a valid name.
+    With ``expression`` (a parameter) the name must also be usable in an expression."""
+    if is_name(name, expression=expression):
         return None
-    fixed = re.sub(r"[^A-Za-z0-9_]", "_", name) or "_"
-    fixed = "_" + fixed if fixed[0].isdigit() else fixed
+    if is_name(name):
+        return (
+            f"{what} name '{name}' is a Python keyword and cannot be used in an expression "
+            f"(e.g. '{suggestion(name)}')"
+        )
     return (
         f"{what} name '{name}' is not a valid name: use letters, digits and _, not starting "
-        f"with a digit (e.g. '{fixed}')"
+        f"with a digit (e.g. '{suggestion(name)}')"
     )
 
 

@@ -59,7 +59,7 @@ def write_columns(
     and the rows are joined directly (no cell needs quoting; the :mod:`csv` module's
     one exception, a row of a single empty cell written ``""``, is kept)."""
     names = list(columns)
-    with open(path, "w", newline="") as fh:
+    with open(path, "w", encoding="utf-8", newline="") as fh:
         write_table(fh, names, [units[n] for n in names], ())
         fh.writelines(_lines(columns, names, blank_nonfinite))
 

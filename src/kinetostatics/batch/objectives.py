@@ -32,8 +32,9 @@ __all__ = ["OptimizeError", "Expression", "Constraint", "INFEASIBLE", "FAILED"]
 INFEASIBLE = 1e15  # the score of an infeasible design: INFEASIBLE·(1 + its violation)
 FAILED = 1e18  # the score of a design the batch could not analyse
 
-# a dotted name (member.quantity), not preceded by a letter, digit, '_' or '.' (1.5e3 is safe)
-DOTTED = re.compile(r"(?<![\w.])([A-Za-z_]\w*(?:\.[A-Za-z_]\w*)+)")
+# a dotted name (member.quantity), not preceded by a letter, digit, '_' or '.' (1.5e3 is
+# safe); its parts are names in any script (刨头.stroke), none starting with a digit
+DOTTED = re.compile(r"(?<![\w.])((?!\d)\w+(?:\.(?!\d)\w+)+)")
 RELATION = re.compile(r"(<=|>=|==|<|>|=)")
 
 

@@ -44,7 +44,7 @@ from typing import Any
 import numpy as np
 import yaml
 
-from ..base.spec import NAME
+from ..base.names import is_name
 from ..errors import Location, did_you_mean
 from .limits import (
     BYTES_PER_VARIANT,
@@ -225,7 +225,7 @@ def _values(n: Node) -> list[float]:
 
 
 def _param_name(name: str, where: Location) -> str:
-    if not NAME.match(name):
+    if not is_name(name):
         raise SweepError(where, f"'{name}' is not a parameter name")
     return name
 
@@ -355,7 +355,7 @@ def read_table(path: str | Path, where: Location | None = None) -> list[Variant]
     at = lines[0][0]
     id_col = next((k for k, h in enumerate(header) if h in ("variant", "name")), None)
     for k, h in enumerate(header):
-        if k != id_col and not NAME.match(h):
+        if k != id_col and not is_name(h):
             raise SweepError(
                 Location(str(path), at, None), f"column {k + 1}: '{h}' is not a parameter name"
             )
@@ -456,7 +456,7 @@ def parse_set(text: str, *, random: bool = False) -> tuple[str, Any]:
 
     name, eq, spec = text.partition("=")
     name, spec = name.strip(), spec.strip()
-    if not eq or not NAME.match(name):
+    if not eq or not is_name(name):
         raise bad("expected NAME=VALUES, e.g. K=1.8,2.0 or K=1.5:2.5:11")
 
     def num(s: str) -> float:

@@ -239,9 +239,18 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {printable(message)} (see {self.prog} --help)\n")
 
 
+def _escape_unencodable() -> None:
+    """A terminal or file whose encoding lacks a character of a name (曲柄 under an ASCII
+    locale) shows it escaped (``\\u66f2``) instead of stopping the command."""
+    for stream in (sys.stdout, sys.stderr):
+        if callable(getattr(stream, "reconfigure", None)):
+            stream.reconfigure(errors="backslashreplace")
+
+
 def main(argv: list[str] | None = None) -> int:
     import importlib
 
+    _escape_unencodable()
     parser = _Parser(
         prog="kinetostatics",
         description="Kinetostatic analysis of planar linkages described in YAML.",

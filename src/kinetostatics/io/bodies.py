@@ -4,10 +4,12 @@ links becomes one revolute per pair)."""
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import yaml
 
-from ..base.keys import NUMBER, VECTOR, Keys
+from ..base.keys import NUMBER, VECTOR, Keys, whole
 from ..base.limits import MAGNITUDE, MAX_LINKS
 from ..base.spec import Entry, name_problem
 from ..errors import KinetostaticsError, Location, did_you_mean
@@ -23,8 +25,29 @@ LINK_KEYS = Keys(
         "com": VECTOR,
         "inertia": NUMBER,
         "counterweights": {"type": "object", "additionalProperties": COUNTERWEIGHT_KEYS},
+        "number": whole(1, 99),
     }
 )
+MAX_NUMBER = 99  # a link's textbook number: F_R12 … F_R10,11 stay readable
+
+
+def _number(e: Entry, name: str, numbered: dict[int, str]) -> int | None | bool:
+    """The link's ``number:`` (its number in the textbook's figure: 1 the frame, 2 the
+    crank, …): a whole number from 1 to :data:`MAX_NUMBER`, no two links alike; None when
+    not given, False after a problem (reported)."""
+    if (ne := e.get("number")) is None:
+        return None
+    v = ne.number(None, bounded=False)
+    if v is None:
+        return False
+    if v != int(v) or not 1 <= v <= MAX_NUMBER:
+        ne.error(f"a link's number must be a whole number from 1 to {MAX_NUMBER}, got {v:g}")
+        return False
+    if int(v) in numbered:
+        ne.error(f"number {int(v)} is already the number of link '{numbered[int(v)]}'")
+        return False
+    numbered[int(v)] = name
+    return int(v)
 
 
 def with_counterweights(
@@ -87,14 +110,16 @@ class BodySections:
                 "top-level key 'ground: <link>' naming the frame",
             )
         links = []
+        numbered: dict[int, str] = {}  # number -> the link that has it
         for name, e in section.items():
-            link = None
+            link, n = None, None
             if self._claim(section, name, "link") and e.check(LINK_KEYS):
                 link = self._link(name, e, gravity, section.key_where(name))
-            if link is None:
+                n = _number(e, name, numbered)
+            if link is None or n is False:
                 self.broken["link"].add(name)
             else:
-                links.append(link)
+                links.append(link if n is None else replace(link, number=n))
         return links
 
     def _link(self, name: str, e: Entry, gravity: np.ndarray, where: Location) -> Link | None:

@@ -126,6 +126,8 @@ def dump(model: Model) -> str:
         }
         if not link.ground:
             spec.update(mass=link.mass, inertia=link.inertia, com=[float(c) for c in link.com])
+        if link.number is not None:
+            spec["number"] = link.number
         doc["links"][link.name] = spec
     for j in model.joints:
         doc["joints"][j.name] = {"type": j.kind, "links": list(j.links), **j.to_spec()}

@@ -57,7 +57,7 @@ class ParameterSections:
         pending: dict[str, tuple[Entry, str, list[str]]] = {}
         for key, e in p.items():
             where = p.key_where(key)
-            if problem := name_problem("parameter", key):
+            if problem := name_problem("parameter", key, expression=True):
                 self.problems.add(where, problem)
             elif key in expressions.FUNCTIONS:
                 self.problems.add(

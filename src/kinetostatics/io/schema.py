@@ -23,7 +23,7 @@ from typing import Any
 from ..base import units
 from ..base.files import json_text
 from ..base.keys import ANY, NAME, NUMBER, TEXT, VECTOR, list_of, names, shape_schema
-from ..base.spec import NAME as NAME_RE
+from ..base.names import SCHEMA_PATTERN
 from ..base.spec import RESERVED
 from ..joints import JOINT_TYPES
 from . import bodies, clearance, drive, drivers, elements, loads, settings
@@ -32,8 +32,9 @@ from .builder import TOP_KEYS
 __all__ = ["schema", "schema_text", "SCHEMA_FILE"]
 
 SCHEMA_FILE = Path(__file__).with_name("mechanism.schema.json")
-# a name of the file's own (link, joint, driver, load, parameter): the loader's pattern
-NAME_PATTERN = "^" + NAME_RE.pattern.removesuffix(r"\Z") + "$"
+# a name of the file's own (link, joint, driver, load, parameter): the loader's rule, as far
+# as a JSON Schema pattern can tell it (base/names.py)
+NAME_PATTERN = SCHEMA_PATTERN
 
 
 def _named(item, reserved: bool = True) -> dict[str, Any]:

@@ -44,6 +44,7 @@ class Link:
     com: np.ndarray = field(default_factory=lambda: np.zeros(2))  # CoM in the user's frame, m
     ground: bool = False
     where: Location = field(default=Location(), compare=False, repr=False)
+    number: int | None = None  # the textbook's number (``number:``), for the report and pictures
 
 
 @dataclass(frozen=True)

@@ -131,9 +131,20 @@ def cjk_font() -> tuple[str, str]:
     return _FOUND[env]
 
 
+def cjk_fallback() -> tuple[str, str] | None:
+    """The CJK font for the names in Chinese (曲柄) of an English picture or PDF, as a
+    fallback after DejaVu Sans; None when there is none (the English texts need none)."""
+    try:
+        return cjk_font()
+    except LanguageError:
+        return None
+
+
 def rc_fonts(lang: str) -> dict:
-    """matplotlib rc settings for ``lang``: the CJK family first for Chinese."""
+    """matplotlib rc settings for ``lang``: the CJK family first for Chinese; in English
+    DejaVu Sans, then a CJK family if there is one, for the names the user wrote."""
     if lang != "zh":
-        return {}
+        found = cjk_fallback()
+        return {"font.family": ["DejaVu Sans", found[0]]} if found else {}
     family, _ = cjk_font()
     return {"font.family": [family, "DejaVu Sans"]}  # named: kept by every Text at creation

@@ -408,8 +408,8 @@ ZH.update(
         "Kinetostatic analysis by `kinetostatics` (exact positions, velocities and "
         "accelerations; d'Alembert inertia loads; Newton–Euler reactions; friction by the "
         "approximate and the consistent solution). Conventions: x right, y up, angles and "
-        "moments counter-clockwise positive; the total reaction F_R of a joint is the force of "
-        "link i on link j.": "由 `kinetostatics` 进行动态静力分析（精确的位置、速度与加速度；达朗贝尔惯性力；牛顿–欧拉法求运动副总反力；摩擦按近似解与一致解）。约定：x 向右，y 向上，角度与力矩以逆时针为正；运动副总反力 F_R 为构件 i 对构件 j 的作用力。",
+        "moments counter-clockwise positive; the total reaction F_Rij of a joint is the force "
+        "of link i on link j.": "由 `kinetostatics` 进行动态静力分析（精确的位置、速度与加速度；达朗贝尔惯性力；牛顿–欧拉法求运动副总反力；摩擦按近似解与一致解）。约定：x 向右，y 向上，角度与力矩以逆时针为正；运动副总反力 F_Rij 为构件 i 对构件 j 的作用力。",
         "{effort} of {driver} without friction, with the approximate and with the consistent "
         "friction solution.": "{driver} 的{effort}：不计摩擦、计摩擦近似解与一致解。",
         "Magnitudes of the total reactions F_R of the joints.": "运动副总反力 F_R 的大小。",
@@ -433,5 +433,40 @@ ZH.update(
         "largest |power| (W)": "功率绝对值最大值 (W)",
         "means and RMS values over one cycle, integrated exactly between the load events; "
         "peaks: the largest values over the positions sampled in the cycle": "平均值与均方根值按一个周期在载荷切换点之间精确积分；峰值为一个周期内各采样位置上的最大值",
+    }
+)
+
+# The members and quantities of the tables and pictures (outputs/labels.py: column_label),
+# and the link numbers of the file (number:).
+ZH.update(
+    {
+        "link {n}": "构件{n}",
+        "point {p}": "{p}点",
+        "angular position": "角位置",
+        "angular velocity": "角速度",
+        "angular acceleration": "角加速度",
+        "coordinate": "坐标",
+        "normal force": "法向力",
+        "couple": "力偶矩",
+        "friction effort": "摩擦力（矩）",
+        "driving torque": "驱动力矩",
+        "driving force": "驱动力",
+        "efficiency": "效率",
+        "driver angle": "原动件转角",
+        "driver travel": "原动件转过角度",
+        "driver stroke": "原动件位移",
+        "time": "时间",
+        "friction status": "摩擦状态",
+        "friction iterations": "摩擦迭代次数",
+        "input power": "输入功率",
+        "friction loss": "摩擦损耗功率",
+        " (with friction, approximate)": "（计摩擦，近似解）",
+        "Links (numbers as in the file and the pictures)": "构件（编号同文件与图）",
+        "F_Rij: link i on link j at the joint; F_I, M_I: inertia; G: weight": "F_Rij：构件 i 作用于构件 j 的运动副总反力；F_I、M_I：惯性力与惯性力偶矩；G：重力",
+        "Rows of `results.csv` (the column CSV row) at the positions {labels}; values to 5 "
+        "significant digits (0: below 1e-9 of the largest value of its unit in the table, "
+        "round-off), column names as in the CSV; |v|, |a|, |F| are the magnitudes of the "
+        "components before them. Wide tables are split into groups of columns, each repeating "
+        "the position, its CSV row and its angle.": "下表为 `results.csv` 在位置 {labels} 的行（CSV row 列）；数值取 5 位有效数字（0 表示小于表中同单位最大值的 1e-9，即舍入误差）。列名为各量的名称与符号：θ、ω、α 的下标为构件编号（见第 1 节构件表），F_Rij 为构件 i 对构件 j 的反力；不带 x、y 的 v_B、a_B、F_Rij 为其前两个分量的合成大小。较宽的表格分为若干列组，每组重复位置、CSV 行号与位置角。",
     }
 )

@@ -9,6 +9,7 @@ import numpy as np
 
 from ...errors import did_you_mean
 from ...kinetics.forces import activity
+from ..labels import column_label, reaction_symbol
 from ..lang import tr, tr_unit
 from .rows import (
     _course_ticks,
@@ -107,7 +108,7 @@ def output_motion(result, output: str | None = None, *, lang: str = "en") -> dic
                 ],
                 "axes": [T("relative travel"), T("relative velocity"), T("relative acceleration")],
             }
-        pj = f"{at[0].link}.{at[0].point}"
+        pj = T("point {p}", p=at[0].point)  # the point as the reader names it: C点
         return {
             "name": output,
             "kind": "slide",
@@ -333,7 +334,7 @@ def reaction_curves(
             j = model.joint(name)
             c = CURVE_COLORS[n % len(CURVE_COLORS)]
             mag = np.hypot(result[f"{name}.Fx"], result[f"{name}.Fy"])[order]
-            ax.plot(x, mag, color=c, label=f"{name} (F{nums[j.links[0]]}{nums[j.links[1]]})")
+            ax.plot(x, mag, color=c, label=f"{name} ({reaction_symbol(j.links, nums)})")
             if friction and f"{name}.Fx_friction" in result.columns:
                 magf = np.hypot(result[f"{name}.Fx_friction"], result[f"{name}.Fy_friction"])[order]
                 ax.plot(x, magf, color=c, ls="--", lw=1.0)
@@ -495,8 +496,9 @@ def efficiency_curve(result, driver: str | None = None, *, dpi: float = DPI, lan
 
 
 def plot_result(result, *names: str, dpi: float = DPI, lang: str = "en"):
-    """Any columns over the driver coordinate, one panel per unit (the columns' names as
-    in the results; the axes and marks in ``lang``)."""
+    """Any columns over the driver coordinate, one panel per unit (each column named as the
+    reader names it, :func:`~kinetostatics.outputs.labels.column_label`: ``构件4 角速度 ω₄``;
+    the axes and marks in ``lang``)."""
     if not names:
         raise PictureError("name at least one column to plot")
     for n in names:
@@ -510,7 +512,8 @@ def plot_result(result, *names: str, dpi: float = DPI, lang: str = "en"):
         axes = np.atleast_1d(fig.subplots(len(units), 1, sharex=True))
         for ax, (unit, cols) in zip(axes, units.items()):
             for k, n in enumerate(cols):
-                ax.plot(x, np.asarray(result[n])[order], color=CURVE_COLORS[k % 10], label=n)
+                label = column_label(result.system, n, lang)
+                ax.plot(x, np.asarray(result[n])[order], color=CURVE_COLORS[k % 10], label=label)
             ax.set_ylabel(tr_unit(unit.replace("*", "·").replace("^2", "²"), lang))
             ax.legend(loc="best")
             _mark(ax, result, top=ax is axes[0], lang=lang)

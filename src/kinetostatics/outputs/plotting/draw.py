@@ -10,6 +10,7 @@ import numpy as np
 
 from ...base.geometry import perp
 from ...kinetics.forces import activity, point_state, resisting_torque, resisting_torque_other
+from ..labels import reaction_symbol
 from ..lang import tr
 from .elements import draw_elements
 from .rows import _angular, _driver, _position_title, link_numbers, row_at
@@ -60,19 +61,21 @@ def _loads_at(result, row: int, *, friction: bool = False) -> list[_Arrow]:
         if at is None or fx not in result.columns:
             continue
         F = np.array([result[fx][row], result[fy][row]])
-        out.append(_Arrow("reaction", f"F{nums[j.links[0]]}{nums[j.links[1]]}", at, F))
+        out.append(_Arrow("reaction", reaction_symbol(j.links, nums), at, F))
     g = np.asarray(model.gravity, float)
     for k, n in enumerate(system.links):
         lk = model.link(n)
         S = _to_global(result, n, np.zeros(2), row)
         if lk.mass > 0:
             a = result.qdd[row, 3 * k : 3 * k + 2]
-            out.append(_Arrow("inertia", f"FI{nums[n]}", S, -lk.mass * a))
+            out.append(_Arrow("inertia", f"F_I{nums[n]}", S, -lk.mass * a))
             if np.any(g):
                 out.append(_Arrow("gravity", f"G{nums[n]}", S, lk.mass * g))
         if lk.inertia > 0:
             out.append(
-                _Arrow("inertia", f"MI{nums[n]}", S, None, -lk.inertia * result.qdd[row, 3 * k + 2])
+                _Arrow(
+                    "inertia", f"M_I{nums[n]}", S, None, -lk.inertia * result.qdd[row, 3 * k + 2]
+                )
             )
     ref = abs(_driver(result).driver.motion.speed)
     q, qd = result.q[row : row + 1], result.qd[row : row + 1]
@@ -448,7 +451,7 @@ def _sheet_title(result, scene, paper, mu_f, row=None, friction=False, lang="en"
     lines = [head, scales]
     if mu_f is not None:
         lines.append(
-            tr("F_ij: link i on link j at the joint; FI, MI: inertia; G: weight", lang)
+            tr("F_Rij: link i on link j at the joint; F_I, M_I: inertia; G: weight", lang)
             + (tr(" (with friction)", lang) if friction else "")
         )
     return "\n".join(lines)
@@ -476,9 +479,9 @@ def draw_mechanism(
         row; default the first row (``row`` selects by index instead).
     forces : bool
         Draw the loads at that position to one force scale μ_F: the joint
-        reactions (force of link i on link j, drawn at the joint, ``F_ij`` with
+        reactions (force of link i on link j, drawn at the joint, ``F_Rij`` with
         the picture's link numbers), d'Alembert inertia forces and couples
-        (``FI``, ``MI``), weights (``G``), active external loads and the
+        (``F_Ii``, ``M_Ii``), weights (``Gi``), active external loads and the
         driving torque.  ``friction`` uses the consistent friction solution.
     paths : names ``"link.point"`` whose paths over the analysed rows are traced.
 

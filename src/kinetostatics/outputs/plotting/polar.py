@@ -9,6 +9,7 @@ import numpy as np
 
 from ...base.geometry import rotate
 from ...errors import did_you_mean
+from ..labels import reaction_symbol
 from ..lang import tr
 from .rows import _sorted, course_positions, link_numbers
 from .scene import _poses
@@ -111,7 +112,7 @@ def polar_diagrams(
             j = model.joint(name)
             i_link, j_link = j.links if link == j.links[1] else j.links[::-1]
             ax.set_title(
-                f"{name}: F{nums[j.links[0]]}{nums[j.links[1]]}, "
+                f"{name}: {reaction_symbol(j.links, nums)}, "
                 + tr("{i} on {j}", lang, i=i_link, j=j_link)
                 + "\n"
                 + tr(

@@ -10,6 +10,7 @@ import numpy as np
 
 from ...analysis import analyze
 from ...structure.system import build_system
+from ..labels import link_numbers  # noqa: F401  (the pictures' numbers, from one place)
 from .style import PictureError
 
 
@@ -231,13 +232,6 @@ def _position_title(result, row: int, lang: str = "en") -> str:
     else:
         coord = f"s = {result.coordinate[row] * 1e3:.2f} mm"
     return tr("position {pos} ({coord})", lang, pos=labels[0], coord=coord) if labels else coord
-
-
-def link_numbers(system) -> dict[str, int]:
-    """Link numbers of the pictures: moving links 1… in ``System.links`` order, the frame last."""
-    nums = {name: k + 1 for k, name in enumerate(system.links)}
-    nums[system.model.ground.name] = len(system.links) + 1
-    return nums
 
 
 def _sorted(result, lang: str = "en"):

@@ -116,6 +116,8 @@ def _tex(label: str) -> str:
     """``a2'`` -> mathtext: upright a, subscript 2, a prime; underscores escaped."""
     m = re.match(r"^(.*?)(\d+)?('*)$", label)
     base, digits, primes = m.group(1), m.group(2) or "", m.group(3)
+    if not base.isascii():  # a name in another script (刀尖): mathtext's fonts lack it
+        return base + digits.translate(_SUBSCRIPT) + "′" * len(primes)
     base = base.replace("_", r"\_").replace(" ", r"\ ")
     out = rf"\mathrm{{{base}}}" + (f"_{{{digits}}}" if digits else "") + "'" * len(primes)
     return f"${out}$"

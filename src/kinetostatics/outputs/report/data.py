@@ -7,8 +7,8 @@ import math
 
 import numpy as np
 
+from ..labels import link_numbers, numbered, reaction_symbol
 from ..lang import tr
-from ..plotting import link_numbers
 from .blocks import _Heading, _List, _Para, _Table
 from .results import group_label, length_unit, roman
 
@@ -45,7 +45,10 @@ def _data_blocks(model, system, lang: str = "en") -> list:
             )
         )
     rows = []
-    for lk in model.links:
+    links = list(model.links)
+    if numbered(model):  # the textbook's order: 1 the frame, 2 the crank, …
+        links.sort(key=lambda lk: nums[lk.name])
+    for lk in links:
         pts = "; ".join(f"{p}: ({_mm(np.asarray(v) + lk.com)})" for p, v in lk.points.items())
         rows.append(
             [
@@ -68,7 +71,9 @@ def _data_blocks(model, system, lang: str = "en") -> list:
                 T("points ({lu}, in the link's own frame)", lu=lu),
             ],
             rows,
-            T("Links (numbers as in the pictures; the frame last)"),
+            T("Links (numbers as in the file and the pictures)")
+            if numbered(model)
+            else T("Links (numbers as in the pictures; the frame last)"),
         )
     )
     rows = []
@@ -79,7 +84,7 @@ def _data_blocks(model, system, lang: str = "en") -> list:
                 j.name,
                 T(j.kind),
                 f"{j.links[0]} → {j.links[1]}",
-                f"F{nums[j.links[0]]}{nums[j.links[1]]}",
+                reaction_symbol(j.links, nums),
                 text.get("where", ""),
                 text.get("friction", ""),
             ]

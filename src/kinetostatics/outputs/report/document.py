@@ -143,7 +143,7 @@ def write_report(
 
         dsg = design(result)
     summary = summarize(result, flywheel=dsg)
-    text = json_text(summary, default=float)
+    text = json_text(summary, default=float, ensure_ascii=False)
     write_file(summary_path, what, lambda p: p.write_text(text, encoding="utf-8"))
     T = lambda s, **k: tr(s, lang, **k)  # noqa: E731
 
@@ -173,7 +173,7 @@ def write_report(
                 "and accelerations; d'Alembert inertia loads; Newton–Euler reactions; "
                 "friction by the approximate and the consistent solution). Conventions: "
                 "x right, y up, angles and moments counter-clockwise positive; the total "
-                "reaction F_R of a joint is the force of link i on link j."
+                "reaction F_Rij of a joint is the force of link i on link j."
             )
         ),
         _Para(

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..fonts import cjk_font
+from ..fonts import cjk_fallback, cjk_font
 from ..lang import tr
 from .blocks import ReportError, _Heading, _Image, _List, _Para, _Table
 
@@ -45,7 +45,10 @@ def _fonts(pdf, lang: str) -> str:
     pdf.add_font("dejavu", "", str(ttf / "DejaVuSans.ttf"))
     pdf.add_font("dejavu", "B", str(ttf / "DejaVuSans-Bold.ttf"))
     pdf.add_font("dejavu", "I", str(ttf / "DejaVuSans-Oblique.ttf"))
-    if lang != "zh":
+    if lang != "zh":  # names in Chinese (曲柄) from a CJK font, when there is one
+        if (found := cjk_fallback()) is not None:
+            pdf.add_font("cjk", "", found[1])
+            pdf.set_fallback_fonts(["cjk"], exact_match=False)
         return "dejavu"
     _, path = cjk_font()
     for style in ("", "B", "I"):

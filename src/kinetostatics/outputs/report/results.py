@@ -10,7 +10,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..lang import tr
+from ..labels import column_label
+from ..lang import tr, tr_unit
 from ..summary import ROUND_OFF
 from .blocks import _Heading, _List, _Table
 
@@ -90,14 +91,20 @@ def _split(header: list[str], body: list[list[str]], keys: int, caption: str) ->
     return out
 
 
+def _header(result, c: Column, lang: str) -> str:
+    """A column's head: its CSV name in English (the reader finds it in results.csv); in
+    Chinese the quantity, the member and the symbol (``构件4 角速度 ω₄ (rad/s)``)."""
+    if lang == "en":
+        return f"{c.name} ({c.unit})"
+    return f"{column_label(result.system, c.name, lang)} ({tr_unit(c.unit, lang)})"
+
+
 def _table(
     result, rows: list[tuple[str, int]], columns: list[Column], caption: str, lang: str = "en"
 ) -> list[_Table]:
     key = _key_column(result)
     columns = [c for c in columns if c.name != key.name]
-    header = [tr("pos.", lang), "CSV row", f"{key.name} ({key.unit})"] + [
-        f"{c.name} ({c.unit})" for c in columns
-    ]
+    header = [tr("pos.", lang), "CSV row"] + [_header(result, c, lang) for c in [key] + columns]
 
     def size(c):
         v = np.abs(c.values)
