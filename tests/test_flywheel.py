@@ -172,3 +172,23 @@ def test_the_pieces_roots_are_numpys_legroots():
         for mine, theirs in zip(_legroots(c), [leg.legroots(row) for row in c]):
             np.testing.assert_array_equal(mine, theirs)
             assert mine.shape == theirs.shape
+
+
+def test_a_flywheel_with_friction_on_a_self_locking_machine_is_said_undefined(monkeypatch):
+    """A slide with a friction coefficient of 120 (a fuzz case) self-locks over part of the
+    cycle: the balancing moment with friction does not exist there, so neither does the
+    energy over the cycle.  The design says why (and `run` prints it) instead of spending
+    20 s on a 3600-position grid of friction homotopies to return NaN."""
+    from kinetostatics.dynamics import flywheel as F
+
+    def no_grid(*args, **kw):
+        raise AssertionError("the fine grid was analysed")
+
+    monkeypatch.setattr(F, "_on_the_grid", no_grid)
+    r = ks.analyze(ks.load(ROOT / "tests" / "cases" / "flywheel_friction_self_locked.yaml"))
+    assert (np.asarray(r["friction.status"]) == 2).any()  # self-locked rows
+    fw = F.design(r)
+    assert fw.friction and fw.undefined == F.SELF_LOCKED
+    assert np.isnan(fw.energy_swing) and np.isnan(fw.inertia)
+    d = fw.to_dict()
+    assert d["undefined"] == F.SELF_LOCKED and np.isnan(d["max_energy_at"])

@@ -108,7 +108,9 @@ def _run(args) -> int:
             f"singular position: {sp['group']} at {sp['angle']:.4f}°, t = {sp['time']:.6g} s "
             f"(condition {sp['condition']:.3g})"
         )
-    if fw := s.get("flywheel"):
+    if (fw := s.get("flywheel")) and fw.get("undefined"):
+        print(f"flywheel for delta = {fw['delta']:g}: {fw['undefined']}")
+    elif fw:
         line = (
             f"flywheel for delta = {fw['delta']:g}: J_F = {fw['inertia']['crank']:.4g} "
             f"kg*m^2 on the crank ({fw['inertia']['crank_net']:.4g} less the machine's "

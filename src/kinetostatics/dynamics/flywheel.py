@@ -46,6 +46,11 @@ from .reduced import equivalent, equivalent_inertia, with_effort
 __all__ = ["FlywheelDesign", "design", "verify", "energy_curve"]
 
 EPS = 1e-7  # rad: the one-sided values at an event are taken this far from it
+SELF_LOCKED = (
+    "no energy swing with friction: the machine self-locks over part of the cycle "
+    "(self_locking), where no balancing moment exists; size the flywheel without friction "
+    "(flywheel: {friction: false})"
+)
 
 
 @dataclass(frozen=True)
@@ -70,6 +75,7 @@ class FlywheelDesign:
     events: tuple = ()  # driver coordinates (rad) of the load events used
     assumptions: tuple = ()
     system: Any = field(default=None, repr=False, compare=False)  # for the curve, on demand
+    undefined: str | None = None  # why ΔW_max (and J_F) is not defined, else None
 
     @property
     def curve(self) -> dict[str, np.ndarray]:
@@ -127,6 +133,8 @@ class FlywheelDesign:
         }
         if self.ratio is not None:
             out["inertia"].update(motor=self.motor_inertia, motor_net=self.motor_inertia_net)
+        if self.undefined is not None:
+            out["undefined"] = self.undefined
         return out
 
 
@@ -432,6 +440,7 @@ def design(
         )["M"]["mean"]
     work = 2 * np.pi * m_d
     psi = schedule(system)
+    undefined = None
     if exact:
         x, wx = leg.leggauss(len(weights) // len(pieces))
 
@@ -450,6 +459,12 @@ def design(
         je_mean = float(np.sum(weights * je) / np.sum(weights))
         je_min, je_max = _value_extremes(pieces, je)
         je_min = max(je_min, 0.0)  # J_e = 2T/ψ̇² ≥ 0: an interpolant's −1e-32 is round-off
+    elif friction and not np.all(np.isfinite(moment)):  # self-locked at some nodes
+        # no balancing moment there, so no energy over the cycle: said, not computed
+        finite = je[np.isfinite(je)]
+        t_max = t_min = swing_max = swing_min = float("nan")
+        je_mean, je_min, je_max = (float(f(finite)) for f in (np.mean, np.min, np.max))
+        undefined = SELF_LOCKED
     else:  # no moment somewhere (a self-locked zone with friction): the fine grid's rule
         (t_max, swing_max), (t_min, swing_min), (je_mean, je_min, je_max) = _on_the_grid(
             system, events, friction, positions, w
@@ -476,6 +491,7 @@ def design(
         events=tuple(events),
         assumptions=assumptions,
         system=system,
+        undefined=undefined,
     )
 
 
