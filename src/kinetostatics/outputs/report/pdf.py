@@ -64,6 +64,18 @@ def write_pdf(blocks, path: Path, title: str, lang: str = "en") -> Path:
     page_word = tr("page", lang)
 
     class _Doc(FPDF):
+        def _render_styled_text_line(self, *args, **kwargs):
+            # fpdf2 (2.8.1 to 2.8.9 at least) draws a glyph the main font lacks with the
+            # fallback font and, when a line ends with such a glyph, leaves the PDF's text
+            # font at the fallback font while believing the main one is still set: the
+            # next text would be shown with the wrong font's resource (garbage, empty
+            # boxes).  Have it set the font again before the next text.
+            done = super()._render_styled_text_line(*args, **kwargs)
+            size = self.font_size_pt
+            self.set_font_size(size + 1.0)
+            self.set_font_size(size)
+            return done
+
         def footer(self):
             self.set_y(-10)
             self.set_font(font, "", 7)
@@ -95,7 +107,9 @@ def write_pdf(blocks, path: Path, title: str, lang: str = "en") -> Path:
             pdf.set_font(font, "", 9)
             for item in b.items:
                 pdf.set_x(MARGIN + 2)
+                pdf.set_font("dejavu", "", 9)  # a CJK font may have no U+2022
                 pdf.cell(4, 4.4, "•")
+                pdf.set_font(font, "", 9)
                 pdf.multi_cell(0, 4.4, _plain(item), new_x="LMARGIN", new_y="NEXT")
             pdf.ln(1.5)
         elif isinstance(b, _Table):

@@ -1,0 +1,102 @@
+"""What the PDF shows is what the Markdown report says (issue 37, the rendering defects):
+every heading, paragraph and list item of ``report.md`` is in the PDF's extracted text,
+in English and in Chinese, whatever glyph the CJK font lacks (a bullet, ², μ, ≤, –, ·
+drawn from the fallback font must not garble the text after them); no picture or PDF
+draws a glyph its font does not have (``tests/conftest.py`` fails any test that does)."""
+
+import html
+import re
+from pathlib import Path
+
+import pytest
+
+from kinetostatics.cli import main
+from tests.conftest import ROOT
+from tests.helpers import motion_driven
+
+pypdf = pytest.importorskip("pypdf")
+pytest.importorskip("fpdf")
+
+MOTION = motion_driven()  # the files the report handles
+FAST = {("slider_crank", "zh")}  # the lists and ² of the Chinese report, in the default run
+
+
+def _squash(text: str) -> str:
+    return re.sub(r"\s+", "", text)
+
+
+def _pdf_text(path: Path) -> str:
+    reader = pypdf.PdfReader(str(path))
+    return "\n".join(page.extract_text() for page in reader.pages)
+
+
+def _md_texts(md: str) -> list[str]:
+    """The headings, paragraphs, list items and captions of a Markdown report, its markup
+    taken off: ``#``, ``- ``, ``*emphasis*``, backticks, backslash escapes, entities."""
+    texts = []
+    for line in md.splitlines():
+        line = line.strip()
+        if not line or line.startswith(("|", "![")):
+            continue
+        line = re.sub(r"^#+ |^- ", "", line)
+        if len(line) > 1 and line[0] == line[-1] == "*":
+            line = line[1:-1]
+        line = re.sub(r"\\(.)", r"\1", line.replace("`", ""))
+        texts.append(html.unescape(line))
+    return texts
+
+
+def _has_cjk_font() -> bool:
+    from kinetostatics.outputs import fonts, lang
+
+    try:
+        fonts.cjk_font()
+    except lang.LanguageError:
+        return False
+    return True
+
+
+def test_text_after_a_glyph_from_the_fallback_font_is_intact(tmp_path):
+    """Bullets and lines ending with a glyph SimHei lacks (fpdf2 draws it from DejaVu
+    Sans), followed by Chinese text: each item comes out of the PDF as written."""
+    if not _has_cjk_font():
+        pytest.skip("no CJK font: pip install 'kinetostatics[zh]'")
+    from kinetostatics.outputs.report.blocks import _Heading, _List, _Para
+    from kinetostatics.outputs.report.pdf import write_pdf
+
+    items = [
+        "自由度：1",
+        "加速度 m/s²",
+        "μ_a = 0.04 (m/s²)/mm ≤ 5 – a·b，ω₃ 与 α₃",
+        "转动惯量 kg·m²",
+        "第三段 中文 " * 14 + "²",
+        "之后的中文",
+    ]
+    blocks = [_Heading(1, "标题"), _List(items), _Para("段落 m/s²"), _Para("再一段中文")]
+    path = write_pdf(blocks, tmp_path / "t.pdf", "t", "zh")
+    flat = _squash(_pdf_text(path))
+    for text in ["标题", "•" + items[0], *items, "段落 m/s²", "再一段中文"]:
+        assert _squash(text) in flat, text
+
+
+def _cases():
+    for name in MOTION:
+        for lang in ("en", "zh"):
+            slow = () if (name, lang) in FAST else pytest.mark.slow
+            yield pytest.param(name, lang, marks=slow, id=f"{name}-{lang}")
+
+
+@pytest.mark.parametrize("name, lang", list(_cases()))
+def test_every_paragraph_and_list_item_is_on_paper(name, lang, tmp_path):
+    if lang == "zh" and not _has_cjk_font():
+        pytest.skip("no CJK font: pip install 'kinetostatics[zh]'")
+    out = tmp_path / "out"
+    args = ["report", str(ROOT / "mechanisms" / f"{name}.yaml"), "--out", str(out)]
+    code = main([*args, "--dpi", "40", "--format", "md", "pdf", "--lang", lang])
+    assert code == 0
+    md = (out / "report.md").read_text(encoding="utf-8")
+    flat = _squash(_pdf_text(out / "report.pdf"))
+    texts = _md_texts(md)
+    assert len(texts) > 30
+    missing = [t for t in texts if _squash(t) not in flat]
+    assert not missing, missing[:3]
