@@ -7,7 +7,9 @@ and raises a clear error naming both when there is none.
 
 from __future__ import annotations
 
+import functools
 import os
+import re
 from pathlib import Path
 
 from .lang import LanguageError
@@ -132,8 +134,49 @@ def cjk_font() -> tuple[str, str]:
 
 
 def rc_fonts(lang: str) -> dict:
-    """matplotlib rc settings for ``lang``: the CJK family first for Chinese."""
+    """matplotlib rc settings for ``lang``: for Chinese the CJK family, then DejaVu Sans
+    for every glyph it lacks (², ≤, subscripts …; matplotlib ≥ 3.6 falls back glyph by
+    glyph along ``font.family``).  The text around the formulas of a mathtext label is
+    drawn from the first family alone: :func:`math_fallback` mends it."""
     if lang != "zh":
         return {}
     family, _ = cjk_font()
     return {"font.family": [family, "DejaVu Sans"]}  # named: kept by every Text at creation
+
+
+@functools.cache
+def _font_file(path: str):
+    from matplotlib.ft2font import FT2Font
+
+    return FT2Font(path)
+
+
+@functools.lru_cache(maxsize=4096)
+def _lacks(path: str, ch: str) -> bool:
+    """Whether the font file ``path`` has no glyph for ``ch``."""
+    return _font_file(path).get_char_index(ord(ch)) == 0
+
+
+def math_fallback(text: str, path: str) -> str:
+    r"""``text``, a mathtext label (``$…$`` in it) whose plain parts matplotlib draws from
+    the font file ``path`` only, with each character that font lacks set as a formula
+    ``$\mathrm{c}$`` (drawn from the math fonts, DejaVu Sans by default).
+
+    >>> import matplotlib
+    >>> dejavu = matplotlib.get_data_path() + "/fonts/ttf/DejaVuSans.ttf"
+    >>> print(math_fallback(r"$\mu_a$ = 0.04 (m/s²)/mm", dejavu))  # DejaVu has ²
+    $\mu_a$ = 0.04 (m/s²)/mm
+    >>> print(math_fallback(r"$\mu_a$ = 0.04 m/s² 中", dejavu))  # but not 中
+    $\mu_a$ = 0.04 m/s² $\mathrm{中}$
+    >>> print(math_fallback("中 $5 (an odd dollar)", dejavu))  # no formula: as it is
+    中 $5 (an odd dollar)
+    """
+    parts = re.split(r"(?<!\\)\$", text)
+    if len(parts) < 3 or len(parts) % 2 == 0:
+        return text  # no formula: plain text, with the fallback along font.family
+    for i in range(0, len(parts), 2):
+        parts[i] = "".join(
+            c if c.isspace() or ord(c) < 128 or not _lacks(path, c) else f"$\\mathrm{{{c}}}$"
+            for c in parts[i]
+        )
+    return "$".join(parts)

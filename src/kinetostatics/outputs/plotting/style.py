@@ -79,9 +79,43 @@ def _mpl():
     return matplotlib, Figure
 
 
+def _mend_math(fig) -> None:
+    """Each mathtext label of ``fig`` through :func:`..fonts.math_fallback`: its plain
+    text is drawn from the first font family alone (for ``--lang zh`` the CJK font, which
+    may lack ², ≤ …).  Done before the figure's texts are measured or drawn."""
+    from matplotlib.font_manager import findfont
+    from matplotlib.text import Text
+
+    from ..fonts import math_fallback
+
+    for t in fig.findobj(Text):
+        text = t.get_text()
+        if "$" in text and not t.get_usetex():
+            mended = math_fallback(text, findfont(t.get_fontproperties()))
+            if mended != text:
+                t.set_text(mended)
+
+
+_SHEET = []  # the Figure class below, made on first use
+
+
+def _sheet_class():
+    """matplotlib's Figure, mending its mathtext labels (:func:`_mend_math`) whenever it
+    is drawn, whatever saves or shows it (``plot``, ``report``, the SVG export)."""
+    if not _SHEET:
+        _, Figure = _mpl()
+
+        class Sheet(Figure):
+            def draw(self, renderer):
+                _mend_math(self)
+                super().draw(renderer)
+
+        _SHEET.append(Sheet)
+    return _SHEET[0]
+
+
 def _figure(width_mm: float, height_mm: float, dpi: float = DPI):
-    _, Figure = _mpl()
-    return Figure(figsize=(width_mm * MM, height_mm * MM), dpi=dpi)
+    return _sheet_class()(figsize=(width_mm * MM, height_mm * MM), dpi=dpi)
 
 
 def _rc(lang: str = "en"):
@@ -262,6 +296,7 @@ MIN_AXES_MM = (120.0, 80.0)  # the smallest drawing area of a true-scale drawing
 def _renderer(fig):
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
+    _mend_math(fig)  # before any text is measured
     canvas = fig.canvas if isinstance(fig.canvas, FigureCanvasAgg) else FigureCanvasAgg(fig)
     return canvas.get_renderer()
 
