@@ -67,6 +67,9 @@ CURVE_COLORS = (
 EVENT_COLOR = "#c0392b"
 ELEMENT_COLOR = "#7f8c8d"  # springs and dampers
 MM = 1.0 / 25.4  # inches per mm
+# the room for a picture on an A4 page of the PDF report (report/pdf.py: 14 mm margins,
+# 14 mm kept for the caption): a true-scale picture this small prints at 100 %
+A4_TEXT_MM = (182.0, 255.0)
 ROUND_OFF = 1e-9  # a value ≤ this times its scale is round-off: drawn and printed as 0
 DPI = 110
 
