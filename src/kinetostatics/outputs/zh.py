@@ -413,3 +413,11 @@ ZH.update(
         "energy swing passes the reduction without loss; start-up is not checked": "装飞轮：按能量法的理想飞轮（δ）：电机输出恒定的平均转矩，转子与减速器计入飞轮，飞轮的能量波动经减速器时不计损失；不校核起动过程",
     }
 )
+
+# issue 37, the rendering: the energy diagram names its two extremes and the swing apart
+ZH.update(
+    {
+        "E_{word}: ΔW = {w} J (φ = {phi}°)": "E_{word}：ΔW = {w} J（φ = {phi}°）",
+        "maximum energy swing ΔW_max = E_max − E_min = {s} J": "最大盈亏功 ΔW_max = E_max − E_min = {s} J",
+    }
+)
