@@ -100,3 +100,67 @@ def test_every_paragraph_and_list_item_is_on_paper(name, lang, tmp_path):
     assert len(texts) > 30
     missing = [t for t in texts if _squash(t) not in flat]
     assert not missing, missing[:3]
+
+
+def _picture(path: Path) -> Path:
+    from PIL import Image
+
+    Image.new("RGB", (60, 60), "white").save(path)
+    return path
+
+
+def _pages(path: Path) -> list[str]:
+    return [_squash(p.extract_text()) for p in pypdf.PdfReader(str(path)).pages]
+
+
+def test_chinese_lines_are_full_and_flush_left(tmp_path):
+    """fpdf2 broke a Chinese paragraph at its spaces only: "由 kinetostatics" alone on a
+    justified first line, widened to the margin. Broken between characters instead, the
+    first line goes on past it; no line starts with a closing mark."""
+    if not _has_cjk_font():
+        pytest.skip("no CJK font: pip install 'kinetostatics[zh]'")
+    from kinetostatics.outputs.report.blocks import _Para
+    from kinetostatics.outputs.report.pdf import write_pdf
+
+    text = (
+        "由 kinetostatics 进行动态静力分析（精确的位置、速度与加速度；达朗贝尔惯性力；"
+        "牛顿–欧拉法求运动副反力；摩擦按近似解与一致解）。约定：x 向右，y 向上，"
+        "角度与力矩以逆时针为正；运动副反力 F_ij 为构件 i 对构件 j 的作用力。" * 3
+    )
+    path = write_pdf([_Para(text)], tmp_path / "t.pdf", "t", "zh")
+    lines = [ln for ln in pypdf.PdfReader(str(path)).pages[0].extract_text().splitlines()]
+    assert "进行动态静力分析" in lines[0], lines[:2]
+    assert len(lines) >= 4 and not any(ln.lstrip()[:1] in "，。、；：）" for ln in lines)
+    assert _squash(text) in _squash("".join(lines))
+
+
+def test_a_heading_goes_to_the_next_page_with_its_picture(tmp_path):
+    from kinetostatics.outputs.report.blocks import _Heading, _Image, _Para
+    from kinetostatics.outputs.report.pdf import write_pdf
+
+    png = _picture(tmp_path / "p.png")
+    filler = [_Para(f"Paragraph {k}. " + "Some words of text. " * 20) for k in range(9)]
+    blocks = [
+        *filler,
+        _Heading(2, "7. Polygons"),
+        _Image(png, "A drawing to scale.", 150.0, 150.0, true_scale=True),
+    ]
+    pages = _pages(write_pdf(blocks, tmp_path / "t.pdf", "t"))
+    assert len(pages) == 2
+    assert "7.Polygons" in pages[1] and "Adrawingtoscale." in pages[1], pages[0][-80:]
+
+
+def test_a_curve_is_reduced_to_fit_the_rest_of_a_page(tmp_path):
+    """A curve (not to scale) that fits the rest of the page at 75 % or more is placed
+    there, not on the next page; a drawing to scale never is."""
+    from kinetostatics.outputs.report.blocks import _Image, _Para
+    from kinetostatics.outputs.report.pdf import write_pdf
+
+    png = _picture(tmp_path / "p.png")
+    filler = [_Para(f"Paragraph {k}. " + "Some words of text. " * 20) for k in range(6)]
+    for true_scale, n_pages in ((False, 1), (True, 2)):
+        blocks = [*filler, _Image(png, "A curve.", 165.0, 160.0, true_scale=true_scale)]
+        path = write_pdf(blocks, tmp_path / f"{true_scale}.pdf", "t")
+        pages = _pages(path)
+        assert len(pages) == n_pages, true_scale
+        assert "Paragraph5" in pages[0] and "Acurve." in pages[-1]

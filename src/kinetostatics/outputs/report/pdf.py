@@ -18,13 +18,20 @@ caption says by how much.
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 from ..fonts import cjk_font
 from ..lang import tr
+from ..plotting.style import A4_TEXT_MM
 from .blocks import ReportError, _Heading, _Image, _List, _Para, _Table
 
 MARGIN = 14.0  # mm
+LINE = 4.4  # mm between the lines of the body text (9 pt)
+CAPTION = 10.0  # mm kept below an image for its caption
+TABLE_START = 31.0  # mm for a table's caption, heading row and first rows on one page
+SHRINK = 0.75  # a curve may be reduced this far to fit the rest of a page
+_HEADING = {1: 15.0, 2: 12.5, 3: 11.0, 4: 11.0, 5: 11.0, 6: 11.0}  # pt
 
 
 def pdf_module():
@@ -90,30 +97,29 @@ def write_pdf(blocks, path: Path, title: str, lang: str = "en") -> Path:
     pdf.set_margins(MARGIN, MARGIN, MARGIN)
     pdf.set_auto_page_break(True, MARGIN)
     pdf.add_page()
-    for b in blocks:
+    for i, b in enumerate(blocks):
         if isinstance(b, _Heading):
-            size = {1: 15, 2: 12.5}.get(b.level, 11)
-            if b.level == 2 and pdf.get_y() > pdf.h - 60:
-                pdf.add_page()
-            pdf.ln(3 if b.level > 1 else 0)
+            if pdf.get_y() + _need(pdf, blocks, i) > pdf.h - MARGIN:
+                pdf.add_page()  # a heading never ends a page: it goes with its block
+            size = _HEADING[b.level]
+            pdf.ln(3 if b.level > 1 and pdf.get_y() > MARGIN + 1 else 0)
             pdf.set_font(font, "B", size)
-            pdf.multi_cell(0, size * 0.5, _plain(b.text), new_x="LMARGIN", new_y="NEXT")
+            _text(pdf, b.text, size * 0.5, lang)
             pdf.ln(1.5)
         elif isinstance(b, _Para):
             pdf.set_font(font, "", 9)
-            pdf.multi_cell(0, 4.4, _plain(b.text), new_x="LMARGIN", new_y="NEXT")
+            _text(pdf, b.text, LINE, lang)
             pdf.ln(1.5)
         elif isinstance(b, _List):
-            pdf.set_font(font, "", 9)
             for item in b.items:
                 pdf.set_x(MARGIN + 2)
                 pdf.set_font("dejavu", "", 9)  # a CJK font may have no U+2022
-                pdf.cell(4, 4.4, "•")
+                pdf.cell(4, LINE, "•")
                 pdf.set_font(font, "", 9)
-                pdf.multi_cell(0, 4.4, _plain(item), new_x="LMARGIN", new_y="NEXT")
+                _text(pdf, item, LINE, lang)
             pdf.ln(1.5)
         elif isinstance(b, _Table):
-            _table(pdf, font, b)
+            _table(pdf, font, b, lang)
         elif isinstance(b, _Image):
             _image(pdf, font, b, lang)
     path = Path(path)
@@ -121,15 +127,15 @@ def write_pdf(blocks, path: Path, title: str, lang: str = "en") -> Path:
     return path
 
 
-def _table(pdf, font: str, t: _Table) -> None:
+def _table(pdf, font: str, t: _Table, lang: str) -> None:
     from fpdf.fonts import FontFace
 
     epw = pdf.w - 2 * MARGIN
-    if pdf.get_y() > pdf.h - 45:  # caption, heading row and a few rows together
+    if pdf.get_y() + TABLE_START > pdf.h - MARGIN:  # caption, heading row, a few rows
         pdf.add_page()
     if t.caption:
         pdf.set_font(font, "I", 8)
-        pdf.multi_cell(0, 3.8, _plain(t.caption), new_x="LMARGIN", new_y="NEXT")
+        _text(pdf, t.caption, 3.8, lang)
         pdf.ln(0.8)
     size = 7.0
     widths = []
@@ -170,16 +176,29 @@ def _table(pdf, font: str, t: _Table) -> None:
     pdf.ln(3)
 
 
-def _image(pdf, font: str, im: _Image, lang: str) -> None:
+def _placed(pdf, im: _Image) -> tuple[float, float, float]:
+    """Width, height (mm) and scale of an image placed at the current height: at 100 %
+    (at most the page's width and height); a curve (not to scale) that does not fit the
+    rest of the page but would at ``SHRINK`` or more is reduced to fit there, instead of
+    leaving that part of the page empty."""
     epw = pdf.w - 2 * MARGIN
     w, h = im.width_mm or epw, im.height_mm or epw * 0.6
-    scale = min(1.0, epw / w, (pdf.h - 2 * MARGIN - 14) / h)
-    w, h = w * scale, h * scale
-    if pdf.get_y() + h + 10 > pdf.h - MARGIN:
+    scale = min(1.0, epw / w, A4_TEXT_MM[1] / h)  # the room polygons are made to fit
+    room = pdf.h - MARGIN - CAPTION - pdf.get_y()
+    if not im.true_scale and room < h * scale and room >= SHRINK * h * scale:
+        scale = room / h
+    return w * scale, h * scale, scale
+
+
+def _image(pdf, font: str, im: _Image, lang: str) -> None:
+    epw = pdf.w - 2 * MARGIN
+    w, h, scale = _placed(pdf, im)
+    if pdf.get_y() + h + CAPTION > pdf.h - MARGIN:
         pdf.add_page()
+        w, h, scale = _placed(pdf, im)
     pdf.image(str(im.path), x=MARGIN + (epw - w) / 2, y=pdf.get_y(), w=w, h=h)
     pdf.set_y(pdf.get_y() + h + 1)
-    caption = _plain(im.caption)
+    caption = im.caption
     if im.true_scale:
         caption += " " + (
             tr("(printed at 100 %: the scales hold on paper)", lang)
@@ -192,5 +211,67 @@ def _image(pdf, font: str, im: _Image, lang: str) -> None:
             )
         )
     pdf.set_font(font, "I", 8)
-    pdf.multi_cell(0, 3.8, caption, new_x="LMARGIN", new_y="NEXT")
+    _text(pdf, caption, 3.8, lang)
     pdf.ln(3)
+
+
+def _need(pdf, blocks, i: int) -> float:
+    """The height (mm) a heading needs below it on its page: itself and the start of the
+    block after it (two lines of text, a table's caption, heading row and first rows,
+    an image whole)."""
+    b = blocks[i]
+    if isinstance(b, _Heading):
+        own = _HEADING[b.level] * 0.5 + 4.5
+        return own + (_need(pdf, blocks, i + 1) if i + 1 < len(blocks) else 0.0)
+    if isinstance(b, (_Para, _List)):
+        return 2 * LINE + 1.5
+    if isinstance(b, _Table):
+        return TABLE_START
+    if isinstance(b, _Image):
+        return _placed(pdf, b)[1] + CAPTION
+    return 0.0
+
+
+# -- Chinese lines ---------------------------------------------------------------------
+# fpdf2 breaks lines at spaces only and justifies them by widening the spaces: a Chinese
+# sentence (no spaces) came out as "由            kinetostatics" and a run of characters
+# on the next line.  Chinese text is broken here instead, between any two Chinese
+# characters and at spaces, never inside a Latin word nor before a closing mark or after
+# an opening one, and set flush left.
+_CJK = "\u2e80-\u9fff\uf900-\ufaff\ufe30-\ufe4f\uff00-\uffef\u3000-\u303f"
+_TOKEN = re.compile(f"[{_CJK}]|[^\\s{_CJK}]+|\\s+")
+_NO_START = set("，。、；：！？）》」』】〕…%,.;:!?)]}°′″")  # never first on a line
+_NO_END = set("（《「『【〔([{")  # never last on a line
+
+
+def _lines(pdf, text: str, width: float) -> list[str]:
+    """``text`` in lines of at most ``width`` mm in the current font."""
+    tokens: list[str] = []
+    for t in _TOKEN.findall(text):
+        if tokens and not t.isspace() and (t[0] in _NO_START or tokens[-1][-1] in _NO_END):
+            tokens[-1] += t
+        elif pdf.get_string_width(t) > width:  # longer than a line: character by character
+            tokens += list(t)
+        else:
+            tokens.append(t)
+    lines, line, used = [], "", 0.0
+    for t in tokens:
+        w = pdf.get_string_width(t)
+        if line and not t.isspace() and used + w > width:
+            lines.append(line.rstrip())
+            line, used = "", 0.0
+        if line or not t.isspace():
+            line, used = line + t, used + w
+    return lines + [line.rstrip()]
+
+
+def _text(pdf, text: str, height: float, lang: str) -> None:
+    """A paragraph from the current position to the right margin, lines ``height`` mm
+    apart: English justified, Chinese broken by :func:`_lines` and set flush left."""
+    text = _plain(text)
+    if lang != "zh":
+        pdf.multi_cell(0, height, text, new_x="LMARGIN", new_y="NEXT")
+        return
+    width = pdf.w - pdf.r_margin - pdf.get_x() - 2 * pdf.c_margin - 0.5  # round-off room
+    text = "\n".join(_lines(pdf, text, width))
+    pdf.multi_cell(0, height, text, align="L", new_x="LMARGIN", new_y="NEXT")
