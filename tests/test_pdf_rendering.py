@@ -77,6 +77,7 @@ def test_text_after_a_glyph_from_the_fallback_font_is_intact(tmp_path):
     flat = _squash(_pdf_text(path))
     for text in ["标题", "•" + items[0], *items, "段落 m/s²", "再一段中文"]:
         assert _squash(text) in flat, text
+    assert flat.endswith("t—第1页，共1页")  # the footer, in Chinese word order
 
 
 def _cases():

@@ -419,5 +419,6 @@ ZH.update(
     {
         "E_{word}: ΔW = {w} J (φ = {phi}°)": "E_{word}：ΔW = {w} J（φ = {phi}°）",
         "maximum energy swing ΔW_max = E_max − E_min = {s} J": "最大盈亏功 ΔW_max = E_max − E_min = {s} J",
+        "page {n}/{nb}": "第 {n} 页，共 {nb} 页",
     }
 )

@@ -68,7 +68,6 @@ def _plain(text: str) -> str:
 def write_pdf(blocks, path: Path, title: str, lang: str = "en") -> Path:
     """Write the blocks as an A4 portrait PDF; returns ``path``."""
     FPDF = pdf_module()
-    page_word = tr("page", lang)
 
     class _Doc(FPDF):
         def _render_styled_text_line(self, *args, **kwargs):
@@ -87,7 +86,8 @@ def write_pdf(blocks, path: Path, title: str, lang: str = "en") -> Path:
             self.set_y(-10)
             self.set_font(font, "", 7)
             self.set_text_color(110)
-            self.cell(0, 4, f"{title} — {page_word} {self.page_no()}/{{nb}}", align="C")
+            page = tr("page {n}/{nb}", lang, n=self.page_no(), nb="{nb}")  # fpdf2: {nb} pages
+            self.cell(0, 4, f"{title} — {page}", align="C")
             self.set_text_color(0)
 
     pdf = _Doc(orientation="P", unit="mm", format="A4")
