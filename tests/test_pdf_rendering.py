@@ -5,6 +5,7 @@ drawn from the fallback font must not garble the text after them); no picture or
 draws a glyph its font does not have (``tests/conftest.py`` fails any test that does)."""
 
 import html
+import io
 import re
 from pathlib import Path
 
@@ -165,3 +166,33 @@ def test_a_curve_is_reduced_to_fit_the_rest_of_a_page(tmp_path):
         pages = _pages(path)
         assert len(pages) == n_pages, true_scale
         assert "Paragraph5" in pages[0] and "Acurve." in pages[-1]
+
+
+def test_a_chinese_name_in_an_english_report(tmp_path):
+    """The English pictures and PDF fall back to the CJK font for a name written in
+    Chinese (no empty box: the glyph check of conftest.py)."""
+    if not _has_cjk_font():
+        pytest.skip("no CJK font: pip install 'kinetostatics[zh]'")
+    text = (ROOT / "mechanisms" / "slider_crank.yaml").read_text(encoding="utf-8")
+    path = tmp_path / "crank.yaml"
+    path.write_text(re.sub(r"(?m)^name: .*$", "name: 曲柄滑块机构", text), encoding="utf-8")
+    out = tmp_path / "out"
+    args = ["report", str(path), "--out", str(out), "--dpi", "40", "--format", "md", "pdf"]
+    assert main([*args, "--polygons", "2"]) == 0
+    pages = _pages(out / "report.pdf")
+    assert "曲柄滑块机构" in pages[0]
+    assert all(p.endswith(f"page{k + 1}/{len(pages)}") for k, p in enumerate(pages))
+
+
+def test_no_word_about_a_bold_face_the_cjk_font_does_not_have(caplog):
+    """The point labels are bold; the CJK font has no bold face and its regular one
+    stands in, without matplotlib's warning on every drawing (English and Chinese)."""
+    if not _has_cjk_font():
+        pytest.skip("no CJK font: pip install 'kinetostatics[zh]'")
+    import kinetostatics as ks
+    from kinetostatics.outputs import plotting as pl
+
+    result = ks.analyze(ks.load(ROOT / "mechanisms" / "slider_crank.yaml"))
+    for lang in ("en", "zh"):
+        pl.draw_mechanism(result, row=0, lang=lang).savefig(io.BytesIO(), format="png")
+    assert not [r for r in caplog.records if "font weight" in r.getMessage()]

@@ -83,9 +83,10 @@ def _mpl():
 
 
 def _mend_math(fig) -> None:
-    """Each mathtext label of ``fig`` through :func:`..fonts.math_fallback`: its plain
-    text is drawn from the first font family alone (for ``--lang zh`` the CJK font, which
-    may lack ², ≤ …).  Done before the figure's texts are measured or drawn."""
+    """Each mathtext label of ``fig`` drawn as :func:`..fonts.math_fallback` says: its
+    plain text is drawn from one font alone, not along the chain of families (for
+    ``--lang zh`` the CJK font, which may lack ², ≤ …; in English DejaVu Sans, which
+    lacks the Chinese of a name).  Done before the figure's texts are measured or drawn."""
     from matplotlib.font_manager import findfont
     from matplotlib.text import Text
 
@@ -93,10 +94,20 @@ def _mend_math(fig) -> None:
 
     for t in fig.findobj(Text):
         text = t.get_text()
-        if "$" in text and not t.get_usetex():
-            mended = math_fallback(text, findfont(t.get_fontproperties()))
-            if mended != text:
-                t.set_text(mended)
+        if "$" not in text or t.get_usetex():
+            continue
+        prop = t.get_fontproperties()
+        families = list(prop.get_family())
+        paths = []
+        for family in families:
+            one = prop.copy()
+            one.set_family(family)
+            paths.append(findfont(one))
+        best, mended = math_fallback(text, paths)
+        if best:  # the family that has the text first, the others after it
+            t.set_fontfamily([families[best], *families[:best], *families[best + 1 :]])
+        if mended != text:
+            t.set_text(mended)
 
 
 _SHEET = []  # the Figure class below, made on first use

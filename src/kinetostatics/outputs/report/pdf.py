@@ -22,7 +22,7 @@ import re
 from pathlib import Path
 
 from ..fonts import cjk_font
-from ..lang import tr
+from ..lang import LanguageError, tr
 from ..plotting.style import A4_TEXT_MM
 from .blocks import ReportError, _Heading, _Image, _List, _Para, _Table
 
@@ -45,13 +45,23 @@ def pdf_module():
     return FPDF
 
 
-def _fonts(pdf, lang: str) -> str:
+def _fonts(pdf, lang: str, han: bool = False) -> str:
+    """Register the fonts; returns the main one.  Chinese: the CJK font, DejaVu Sans for
+    the glyphs it lacks.  English: DejaVu Sans, and the CJK font (when there is one) for
+    Chinese characters in the text (``han``: a name the user gave)."""
     import matplotlib
 
     ttf = Path(matplotlib.get_data_path()) / "fonts" / "ttf"
     pdf.add_font("dejavu", "", str(ttf / "DejaVuSans.ttf"))
     pdf.add_font("dejavu", "B", str(ttf / "DejaVuSans-Bold.ttf"))
     pdf.add_font("dejavu", "I", str(ttf / "DejaVuSans-Oblique.ttf"))
+    if lang != "zh" and han:
+        try:
+            _, path = cjk_font()
+        except LanguageError:
+            return "dejavu"  # without a CJK font the names show as boxes
+        pdf.add_font("cjk", "", path)
+        pdf.set_fallback_fonts(["cjk"], exact_match=False)
     if lang != "zh":
         return "dejavu"
     _, path = cjk_font()
@@ -59,6 +69,19 @@ def _fonts(pdf, lang: str) -> str:
         pdf.add_font("cjk", style, path)
     pdf.set_fallback_fonts(["dejavu"], exact_match=False)
     return "cjk"
+
+
+def _han(blocks, title: str) -> bool:
+    """Whether the title or a block has Chinese characters."""
+    texts = [title]
+    for b in blocks:
+        if isinstance(b, _Table):
+            texts += [b.caption, *map(str, b.header), *(str(c) for r in b.rows for c in r)]
+        elif isinstance(b, _List):
+            texts += b.items
+        else:
+            texts.append(getattr(b, "text", "") or getattr(b, "caption", ""))
+    return any(re.search(f"[{_CJK}]", t) for t in texts)
 
 
 def _plain(text: str) -> str:
@@ -91,7 +114,7 @@ def write_pdf(blocks, path: Path, title: str, lang: str = "en") -> Path:
             self.set_text_color(0)
 
     pdf = _Doc(orientation="P", unit="mm", format="A4")
-    font = _fonts(pdf, lang)
+    font = _fonts(pdf, lang, han=lang != "zh" and _han(blocks, title))
     pdf.set_title(title)
     pdf.set_creator("kinetostatics")
     pdf.set_margins(MARGIN, MARGIN, MARGIN)
