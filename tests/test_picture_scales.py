@@ -67,7 +67,13 @@ def test_the_energy_diagram_names_the_swing_once(slotting, lang):
     from kinetostatics.dynamics.flywheel import design
 
     if lang == "zh":
-        pytest.importorskip("mplfonts")
+        from kinetostatics.outputs import fonts
+        from kinetostatics.outputs import lang as language
+
+        try:
+            fonts.cjk_font()
+        except language.LanguageError:
+            pytest.skip("no CJK font: pip install 'kinetostatics[zh]'")
     dsg = design(slotting)
     texts = _texts(pl.energy_diagram(dsg, slotting, dpi=40, lang=lang))
     named = [t for t in texts if "ΔW_max" in t]

@@ -67,7 +67,7 @@ def _fonts(pdf, lang: str, han: bool = False) -> str:
     _, path = cjk_font()
     for style in ("", "B", "I"):
         pdf.add_font("cjk", style, path)
-    pdf.set_fallback_fonts(["dejavu"], exact_match=False)
+    pdf.set_fallback_fonts(["dejavu", "cjk"], exact_match=False)  # "cjk": the footer's
     return "cjk"
 
 
@@ -106,10 +106,12 @@ def write_pdf(blocks, path: Path, title: str, lang: str = "en") -> Path:
             return done
 
         def footer(self):
+            # in DejaVu Sans, the Chinese from the CJK font: fpdf2 2.8.1 replaces the
+            # alias {nb} (the number of pages) in the font it loaded first only
             self.set_y(-10)
-            self.set_font(font, "", 7)
+            self.set_font("dejavu", "", 7)
             self.set_text_color(110)
-            page = tr("page {n}/{nb}", lang, n=self.page_no(), nb="{nb}")  # fpdf2: {nb} pages
+            page = tr("page {n}/{nb}", lang, n=self.page_no(), nb="{nb}")
             self.cell(0, 4, f"{title} — {page}", align="C")
             self.set_text_color(0)
 
