@@ -196,3 +196,23 @@ def test_no_word_about_a_bold_face_the_cjk_font_does_not_have(caplog):
     for lang in ("en", "zh"):
         pl.draw_mechanism(result, row=0, lang=lang).savefig(io.BytesIO(), format="png")
     assert not [r for r in caplog.records if "font weight" in r.getMessage()]
+
+
+def test_a_table_never_leaves_a_row_or_two_alone(tmp_path):
+    """Wherever a 14-row table starts, a page holds none of its rows or at least 3, and
+    the page after at least 2 (a table that fits is never split)."""
+    from kinetostatics.outputs.report.blocks import _Para, _Table
+    from kinetostatics.outputs.report.pdf import write_pdf
+
+    rows = [[f"row{k:02d}", f"{k * 1.5:.4g}", "kg·m²"] for k in range(1, 15)]
+    table = _Table(["quantity", "value", "unit"], rows, "Flywheel: result")
+    seen = set()
+    for n in range(28, 40):
+        filler = [_Para(f"Line {k}.") for k in range(n)]
+        pages = _pages(write_pdf([*filler, table], tmp_path / f"{n}.pdf", "t"))
+        counts = [sum(f"row{k:02d}" in p for k in range(1, 15)) for p in pages]
+        assert sum(counts) == 14, counts
+        on = [c for c in counts if c]
+        assert on[0] >= 3 and on[-1] >= 2, (n, counts)
+        seen.add(len(on))
+    assert seen == {1, 2}  # split, and moved or fitted whole, both met

@@ -18,6 +18,7 @@ caption says by how much.
 
 from __future__ import annotations
 
+import math
 import re
 from pathlib import Path
 
@@ -28,8 +29,8 @@ from .blocks import ReportError, _Heading, _Image, _List, _Para, _Table
 
 MARGIN = 14.0  # mm
 LINE = 4.4  # mm between the lines of the body text (9 pt)
+TOP = MARGIN + 1.0  # below this, the top of a page: nothing is moved to the next one
 CAPTION = 10.0  # mm kept below an image for its caption
-TABLE_START = 31.0  # mm for a table's caption, heading row and first rows on one page
 SHRINK = 0.75  # a curve may be reduced this far to fit the rest of a page
 _HEADING = {1: 15.0, 2: 12.5, 3: 11.0, 4: 11.0, 5: 11.0, 6: 11.0}  # pt
 
@@ -124,10 +125,11 @@ def write_pdf(blocks, path: Path, title: str, lang: str = "en") -> Path:
     pdf.add_page()
     for i, b in enumerate(blocks):
         if isinstance(b, _Heading):
-            if pdf.get_y() + _need(pdf, blocks, i) > pdf.h - MARGIN:
+            y = pdf.get_y()
+            if y > TOP and y + _need(pdf, blocks, i, font, y) > pdf.h - MARGIN:
                 pdf.add_page()  # a heading never ends a page: it goes with its block
             size = _HEADING[b.level]
-            pdf.ln(3 if b.level > 1 and pdf.get_y() > MARGIN + 1 else 0)
+            pdf.ln(3 if b.level > 1 and pdf.get_y() > TOP else 0)
             pdf.set_font(font, "B", size)
             _text(pdf, b.text, size * 0.5, lang)
             pdf.ln(1.5)
@@ -152,16 +154,10 @@ def write_pdf(blocks, path: Path, title: str, lang: str = "en") -> Path:
     return path
 
 
-def _table(pdf, font: str, t: _Table, lang: str) -> None:
-    from fpdf.fonts import FontFace
-
+def _columns(pdf, font: str, t: _Table) -> tuple[float, list[float]]:
+    """The font size and column widths (mm) of a table: 7 pt, narrowed to 6 pt only if it
+    does not fit the page, then its cells wrapped."""
     epw = pdf.w - 2 * MARGIN
-    if pdf.get_y() + TABLE_START > pdf.h - MARGIN:  # caption, heading row, a few rows
-        pdf.add_page()
-    if t.caption:
-        pdf.set_font(font, "I", 8)
-        _text(pdf, t.caption, 3.8, lang)
-        pdf.ln(0.8)
     size = 7.0
     widths = []
     for size in (7.0, 6.5, 6.0):
@@ -179,25 +175,82 @@ def _table(pdf, font: str, t: _Table, lang: str) -> None:
     total = sum(widths)
     if total > epw:  # long free text: share the page, cells wrap
         widths = [w * epw / total for w in widths]
-        total = epw
+    return size, widths
+
+
+def _table_heights(pdf, font: str, t: _Table) -> tuple[float, list[float]]:
+    """About how tall (mm) a table's caption with the space after it and its heading row
+    are, and each of its rows: as many lines as its fullest cell takes."""
+    size, widths = _columns(pdf, font, t)
+    top = 0.0
+    if t.caption:
+        pdf.set_font(font, "I", 8)
+        lines = math.ceil(pdf.get_string_width(_plain(t.caption)) / (pdf.w - 2 * MARGIN - 3))
+        top += 3.8 * max(lines, 1) + 0.8
+    rows = []
+    for k, row in enumerate([t.header, *t.rows]):
+        pdf.set_font(font, "B" if k == 0 else "", size)
+        cells = zip(row, widths, strict=False)
+        lines = max(
+            (math.ceil(pdf.get_string_width(_plain(str(c))) / max(w - 1.6, 1.0)) for c, w in cells),
+            default=1,
+        )
+        rows.append(size * 0.5 * max(lines, 1) + 1.2)
+    return top + rows[0], rows[1:]
+
+
+def _table_start(pdf, font: str, t: _Table, y: float) -> tuple[float, int]:
+    """How a table starts at the height ``y``: the height (mm) of its part on this page
+    and the number of its rows there.  All of it if it fits; else its caption, heading
+    row and the rows that fit, at least 3 and leaving at least 2 for the next page (a
+    table longer than a page: as many as fit); else ``(inf, 0)``: it starts on the next
+    page."""
+    top, rows = _table_heights(pdf, font, t)
+    room = pdf.h - MARGIN - y
+    height, fit = top, 0
+    while fit < len(rows) and height + rows[fit] <= room:
+        height, fit = height + rows[fit], fit + 1
+    if fit < len(rows) and top + sum(rows) <= pdf.h - 2 * MARGIN:
+        while fit > 0 and len(rows) - fit < 2:  # no row or two alone on the next page
+            fit -= 1
+            height -= rows[fit]
+    return (height, fit) if fit >= min(3, len(rows)) else (math.inf, 0)
+
+
+def _table(pdf, font: str, t: _Table, lang: str) -> None:
+    from fpdf.fonts import FontFace
+
+    height, here = _table_start(pdf, font, t, pdf.get_y())
+    if pdf.get_y() > TOP and math.isinf(height):
+        pdf.add_page()
+        here = len(t.rows)  # from the top of a page, fpdf2 breaks it where it must
+    if t.caption:
+        pdf.set_font(font, "I", 8)
+        _text(pdf, t.caption, 3.8, lang)
+        pdf.ln(0.8)
+    size, widths = _columns(pdf, font, t)
     align = ["LEFT"] + ["RIGHT"] * (len(t.header) - 1)
     if any(len(str(r[c])) > 30 for r in t.rows for c in range(1, len(r))):
         align = ["LEFT"] * len(t.header)
-    head = FontFace(emphasis="BOLD", fill_color=(232, 239, 248))
-    with pdf.table(
-        width=total,
-        col_widths=widths,
-        align="LEFT",
-        text_align=align,
-        line_height=size * 0.5,
-        headings_style=head,
-        repeat_headings=1,
-        padding=0.6,
-        borders_layout="ALL",
-    ) as table:
-        table.row([str(h) for h in t.header])
-        for r in t.rows:
-            table.row([_plain(str(c)) for c in r])
+    parts = [t.rows[:here], t.rows[here:]] if 0 < here < len(t.rows) else [t.rows]
+    page = pdf.page
+    for k, part in enumerate(parts):
+        if k and pdf.page == page:
+            pdf.add_page()  # the rest on the next page, under the heading row again
+        with pdf.table(
+            width=sum(widths),
+            col_widths=widths,
+            align="LEFT",
+            text_align=align,
+            line_height=size * 0.5,
+            headings_style=FontFace(emphasis="BOLD", fill_color=(232, 239, 248)),
+            repeat_headings=1,
+            padding=0.6,
+            borders_layout="ALL",
+        ) as table:
+            table.row([str(h) for h in t.header])
+            for r in part:
+                table.row([_plain(str(c)) for c in r])
     pdf.ln(3)
 
 
@@ -240,18 +293,18 @@ def _image(pdf, font: str, im: _Image, lang: str) -> None:
     pdf.ln(3)
 
 
-def _need(pdf, blocks, i: int) -> float:
-    """The height (mm) a heading needs below it on its page: itself and the start of the
-    block after it (two lines of text, a table's caption, heading row and first rows,
-    an image whole)."""
+def _need(pdf, blocks, i: int, font: str, y: float) -> float:
+    """The height (mm) a heading needs below ``y`` on its page: itself and the start of
+    the block after it (two lines of text, a table's part on this page, an image whole);
+    ``inf`` if that block would start on the next page."""
     b = blocks[i]
     if isinstance(b, _Heading):
         own = _HEADING[b.level] * 0.5 + 4.5
-        return own + (_need(pdf, blocks, i + 1) if i + 1 < len(blocks) else 0.0)
+        return own + (_need(pdf, blocks, i + 1, font, y + own) if i + 1 < len(blocks) else 0.0)
     if isinstance(b, (_Para, _List)):
         return 2 * LINE + 1.5
     if isinstance(b, _Table):
-        return TABLE_START
+        return _table_start(pdf, font, b, y)[0]
     if isinstance(b, _Image):
         return _placed(pdf, b)[1] + CAPTION
     return 0.0
