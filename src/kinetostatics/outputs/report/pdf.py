@@ -238,7 +238,7 @@ def _table(pdf, font: str, t: _Table, lang: str) -> None:
         if k and pdf.page == page:
             pdf.add_page()  # the rest on the next page, under the heading row again
         with pdf.table(
-            width=sum(widths),
+            width=min(sum(widths), pdf.epw),  # a sum of widths scaled to the page: round-off
             col_widths=widths,
             align="LEFT",
             text_align=align,
