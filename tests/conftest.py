@@ -1,10 +1,41 @@
+import logging
 import os
+import re
 from pathlib import Path
 
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
 MECHANISMS = sorted((ROOT / "mechanisms").glob("*.yaml"))
+
+
+# a glyph drawn from no font (an empty box on paper): matplotlib's text warns (a UserWarning,
+# an error by pyproject's filterwarnings), its mathtext and fpdf2 log it
+_NO_GLYPH = re.compile(r"does not have a glyph|missing the following glyphs|missing from font")
+
+
+class _NoGlyphLog(logging.Handler):
+    def __init__(self):
+        super().__init__(logging.WARNING)
+        self.messages: list[str] = []
+
+    def emit(self, record):
+        if _NO_GLYPH.search(record.getMessage()):
+            self.messages.append(record.getMessage())
+
+
+@pytest.fixture(autouse=True)
+def no_missing_glyph():
+    """Every test fails that draws a picture or a PDF with a character its fonts lack."""
+    handler = _NoGlyphLog()
+    loggers = [logging.getLogger(name) for name in ("matplotlib", "fpdf")]
+    for logger in loggers:
+        logger.addHandler(handler)
+    yield
+    for logger in loggers:
+        logger.removeHandler(handler)
+    if handler.messages:
+        pytest.fail(f"{len(handler.messages)} missing glyph(s): {handler.messages[0]}")
 
 
 @pytest.fixture(scope="session")

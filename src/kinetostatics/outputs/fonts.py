@@ -7,7 +7,10 @@ and raises a clear error naming both when there is none.
 
 from __future__ import annotations
 
+import functools
+import logging
 import os
+import re
 from pathlib import Path
 
 from .lang import LanguageError
@@ -103,6 +106,22 @@ def _mplfonts_font() -> str | None:
     return None
 
 
+class _RegularForBold(logging.Filter):
+    """Drops matplotlib's warning that the CJK family has no bold face (a point label is
+    bold; its Chinese characters are drawn regular), said on every drawing otherwise."""
+
+    def __init__(self, family: str):
+        super().__init__()
+        self.family = family
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        return not (
+            str(record.msg).startswith("findfont: Failed to find font weight")
+            and len(record.args or ()) == 3
+            and record.args[1] == self.family  # type: ignore[index]
+        )
+
+
 _FOUND: dict[str | None, tuple[str, str]] = {}  # by the value of KINETOSTATICS_CJK_FONT
 
 
@@ -127,6 +146,7 @@ def cjk_font() -> tuple[str, str]:
     if path not in {f.fname for f in fm.fontManager.ttflist}:
         fm.fontManager.addfont(path)
     family = fm.FontProperties(fname=path).get_name()
+    logging.getLogger("matplotlib.font_manager").addFilter(_RegularForBold(family))
     _FOUND[env] = (family, path)
     return _FOUND[env]
 
@@ -141,10 +161,55 @@ def cjk_fallback() -> tuple[str, str] | None:
 
 
 def rc_fonts(lang: str) -> dict:
-    """matplotlib rc settings for ``lang``: the CJK family first for Chinese; in English
-    DejaVu Sans, then a CJK family if there is one, for the names the user wrote."""
+    """matplotlib rc settings for ``lang``: a chain of fonts that matplotlib (≥ 3.6) falls
+    back along glyph by glyph.  For Chinese the CJK family, then DejaVu Sans for every
+    glyph it lacks (², ≤, subscripts …); for English the default sans-serif, then a CJK
+    family when there is one (for the Chinese names a user may give).  The plain text of
+    a mathtext label is drawn from one font alone: :func:`math_fallback` mends it."""
     if lang != "zh":
         found = cjk_fallback()
-        return {"font.family": ["DejaVu Sans", found[0]]} if found else {}
+        return {"font.family": ["sans-serif", found[0]]} if found else {}
     family, _ = cjk_font()
     return {"font.family": [family, "DejaVu Sans"]}  # named: kept by every Text at creation
+
+
+@functools.cache
+def _font_file(path: str):
+    from matplotlib.ft2font import FT2Font
+
+    return FT2Font(path)
+
+
+@functools.lru_cache(maxsize=4096)
+def _lacks(path: str, ch: str) -> bool:
+    """Whether the font file ``path`` has no glyph for ``ch``."""
+    return _font_file(path).get_char_index(ord(ch)) == 0
+
+
+def math_fallback(text: str, paths: list[str]) -> tuple[int, str]:
+    r"""How to draw ``text``, a mathtext label (``$…$`` in it), whose plain parts
+    matplotlib draws from one font file alone: which of the font files ``paths`` (the
+    chain of the label's families) has most of the plain parts' characters, and the text
+    with each character that file lacks set as a formula ``$\mathrm{c}$`` (drawn from
+    the math fonts, DejaVu Sans by default).  ``(0, text)`` for a text without formulas.
+
+    >>> import matplotlib
+    >>> dejavu = matplotlib.get_data_path() + "/fonts/ttf/DejaVuSans.ttf"
+    >>> math_fallback(r"$\mu_a$ = 0.04 (m/s²)/mm", [dejavu])  # DejaVu has ²
+    (0, '$\\mu_a$ = 0.04 (m/s²)/mm')
+    >>> math_fallback(r"$\mu_a$ ≤ 1 中", [dejavu])  # but not 中
+    (0, '$\\mu_a$ ≤ 1 $\\mathrm{中}$')
+    >>> math_fallback("中 $5 (an odd dollar)", [dejavu])  # no formula: as it is
+    (0, '中 $5 (an odd dollar)')
+    """
+    parts = re.split(r"(?<!\\)\$", text)
+    if len(parts) < 3 or len(parts) % 2 == 0:
+        return 0, text  # no formula: plain text, with the fallback along font.family
+    plain = {c for part in parts[::2] for c in part if not c.isspace()}
+    best = max(range(len(paths)), key=lambda i: (sum(not _lacks(paths[i], c) for c in plain), -i))
+    for i in range(0, len(parts), 2):
+        parts[i] = "".join(
+            c if c.isspace() or ord(c) < 128 or not _lacks(paths[best], c) else f"$\\mathrm{{{c}}}$"
+            for c in parts[i]
+        )
+    return best, "$".join(parts)

@@ -470,3 +470,12 @@ ZH.update(
         "the position, its CSV row and its angle.": "下表为 `results.csv` 在位置 {labels} 的行（CSV row 列）；数值取 5 位有效数字（0 表示小于表中同单位最大值的 1e-9，即舍入误差）。列名为各量的名称与符号：θ、ω、α 的下标为构件编号（见第 1 节构件表），F_Rij 为构件 i 对构件 j 的反力；不带 x、y 的 v_B、a_B、F_Rij 为其前两个分量的合成大小。较宽的表格分为若干列组，每组重复位置、CSV 行号与位置角。",
     }
 )
+
+# issue 37, the rendering: the energy diagram names its two extremes and the swing apart
+ZH.update(
+    {
+        "E_{word}: ΔW = {w} J (φ = {phi}°)": "E_{word}：ΔW = {w} J（φ = {phi}°）",
+        "maximum energy swing ΔW_max = E_max − E_min = {s} J": "最大盈亏功 ΔW_max = E_max − E_min = {s} J",
+        "page {n}/{nb}": "第 {n} 页，共 {nb} 页",
+    }
+)

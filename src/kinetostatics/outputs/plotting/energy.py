@@ -108,8 +108,9 @@ def equivalent_moments(design, result, *, dpi: float = DPI, lang: str = "en"):
 
 
 def energy_diagram(design, result, *, dpi: float = DPI, lang: str = "en"):
-    """ΔW(φ) = ∫ (M_d − M_r) dφ over one cycle, its maximum and minimum marked and the
-    swing ΔW_max = max − min that sizes the flywheel."""
+    """ΔW(φ) = ∫ (M_d − M_r) dφ over one cycle, its maximum and minimum marked (where the
+    kinetic energy is largest, E_max, and smallest, E_min) and the maximum energy swing
+    ΔW_max = E_max − E_min that sizes the flywheel."""
     e = energy_data(design)
     x, w = e["phi"], e["energy"]
     k_max, k_min = int(np.argmax(w)), int(np.argmin(w))
@@ -118,10 +119,18 @@ def energy_diagram(design, result, *, dpi: float = DPI, lang: str = "en"):
         ax = fig.add_subplot()
         ax.plot(x, w, color=CURVE_COLORS[0], label=tr("ΔW(φ) = ∫(M_d − M_r) dφ", lang))
         ax.axhline(0, color="black", lw=0.5)
+        # the extremes of ΔW(φ) = E(φ) − E(φ₁) are where the kinetic energy E is largest
+        # and smallest; the swing between them, ΔW_max = E_max − E_min, sizes the flywheel
         for k, word in ((k_max, "max"), (k_min, "min")):
             ax.plot([x[k]], [w[k]], "o", color=CURVE_COLORS[3], ms=4)
             ax.annotate(
-                tr("ΔW_" + word, lang) + f" = {w[k]:.4g} J (φ = {x[k]:.1f}°)",
+                tr(
+                    "E_{word}: ΔW = {w} J (φ = {phi}°)",
+                    lang,
+                    word=word,
+                    w=f"{w[k]:.4g}",
+                    phi=f"{x[k]:.1f}",
+                ),
                 (x[k], w[k]),
                 xytext=(0, 6 if word == "max" else -6),
                 textcoords="offset points",
@@ -129,7 +138,16 @@ def energy_diagram(design, result, *, dpi: float = DPI, lang: str = "en"):
                 va="bottom" if word == "max" else "top",
                 fontsize=7,
             )
-        ax.plot([], [], " ", label=tr("swing ΔW_max = {s} J", lang, s=f"{design.energy_swing:.5g}"))
+        ax.plot(
+            [],
+            [],
+            " ",
+            label=tr(
+                "maximum energy swing ΔW_max = E_max − E_min = {s} J",
+                lang,
+                s=f"{design.energy_swing:.5g}",
+            ),
+        )
         _mark(ax, result, lang=lang)
         lo, hi = float(np.min(w)), float(np.max(w))
         pad = 0.18 * max(hi - lo, 1e-12)

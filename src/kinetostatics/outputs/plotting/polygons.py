@@ -18,6 +18,7 @@ from .curves import _joint_coordinate
 from .rows import _position_title, link_numbers, row_at
 from .scene import _poses, _to_global
 from .style import (
+    A4_TEXT_MM,
     DPI,
     LINK_COLORS,
     MM,
@@ -357,6 +358,7 @@ def polygon_figure(
     dpi: float = DPI,
     lang: str = "en",
     max_size_mm: float = 105.0,
+    fit_mm: tuple[float, float] | None = A4_TEXT_MM,
 ):
     """The velocity or acceleration polygon at one position, to a stated scale.
 
@@ -364,7 +366,11 @@ def polygon_figure(
     points; relative vectors (thin; dashed components end at the intermediate
     points n (normal) and k (Coriolis)) that close it.  Axes in m/s or m/s²;
     printed at 100 %, 1 mm of paper is μ_v (μ_a) as stated.  The magnitudes
-    and directions of all vectors are listed beside it.
+    and directions of all vectors are listed beside it.  The scale is a round one
+    (:func:`.style.nice_scale`) drawing the polygon about ``max_size_mm`` across, or
+    the next coarser round one while the sheet is larger than ``fit_mm`` (width,
+    height; by default the text area of an A4 page, so that the report prints it
+    at 100 %).
     """
     k = row if row is not None else row_at(result, position)
     poly = polygon(result, k, kind)
@@ -381,11 +387,7 @@ def polygon_figure(
             p = p + v
             tips.append(p.copy())
     allp = np.array(tips)
-    lo, hi = allp.min(axis=0), allp.max(axis=0)
-    span = float(max(np.max(hi - lo), 1e-12))
-    mu = nice_scale(span / max_size_mm)
-    pad = 0.1 * span + 7 * mu
-    lo, hi = lo - pad, hi + pad
+    span = float(max(np.max(allp.max(axis=0) - allp.min(axis=0)), 1e-12))
     colors = {n: LINK_COLORS[i % len(LINK_COLORS)] for i, n in enumerate(result.system.links)}
     sym = "a" if acc else "v"
     # the list of vectors
@@ -424,6 +426,31 @@ def polygon_figure(
             lines.append(
                 f"${head}_{{\\mathrm{{{sub}}}}}$ = {size(v)} {poly.unit}, {direction} ({owner})"
             )
+    # the scale: the round value that draws the polygon about max_size_mm across, or the
+    # next coarser ones of the series until the sheet fits fit_mm (printed at 100 %, the
+    # scale holds on paper: a report never reduces it to an odd one)
+    mu = nice_scale(span / max_size_mm)
+    for _ in range(12):
+        fig = _polygon_sheet(result, poly, chains, lines, allp, span, mu, colors, nums, dpi, lang)
+        W, H = fig.get_size_inches() / MM
+        if fit_mm is None or (W <= fit_mm[0] and H <= fit_mm[1]):
+            break
+        mu = nice_scale(mu * 1.01)  # the next value of the series
+    return fig
+
+
+def _polygon_sheet(result, poly, chains, lines, allp, span, mu, colors, nums, dpi, lang):
+    """The polygon's sheet at the scale ``mu`` (data units per paper mm)."""
+    acc = poly.kind == "acceleration"
+    prime = "'" if acc else ""
+    sym = "a" if acc else "v"
+    kind = poly.kind
+    k = poly.row
+    model = result.system.model
+    scale_ref = max([float(np.hypot(*nd.vector)) for nd in poly.nodes.values()] + [1e-300])
+    T = lambda s, **k: tr(s, lang, **k)  # noqa: E731
+    pad = 0.1 * span + 7 * mu
+    lo, hi = allp.min(axis=0) - pad, allp.max(axis=0) + pad
     list_mm = 3.35 * len(lines) + 8
     with _rc(lang):
         fig, ax = _layout(

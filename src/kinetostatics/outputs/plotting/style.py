@@ -67,6 +67,9 @@ CURVE_COLORS = (
 EVENT_COLOR = "#c0392b"
 ELEMENT_COLOR = "#7f8c8d"  # springs and dampers
 MM = 1.0 / 25.4  # inches per mm
+# the room for a picture on an A4 page of the PDF report (report/pdf.py: 14 mm margins,
+# 14 mm kept for the caption): a true-scale picture this small prints at 100 %
+A4_TEXT_MM = (182.0, 255.0)
 ROUND_OFF = 1e-9  # a value ≤ this times its scale is round-off: drawn and printed as 0
 DPI = 110
 
@@ -79,9 +82,54 @@ def _mpl():
     return matplotlib, Figure
 
 
+def _mend_math(fig) -> None:
+    """Each mathtext label of ``fig`` drawn as :func:`..fonts.math_fallback` says: its
+    plain text is drawn from one font alone, not along the chain of families (for
+    ``--lang zh`` the CJK font, which may lack ², ≤ …; in English DejaVu Sans, which
+    lacks the Chinese of a name).  Done before the figure's texts are measured or drawn."""
+    from matplotlib.font_manager import findfont
+    from matplotlib.text import Text
+
+    from ..fonts import math_fallback
+
+    for t in fig.findobj(Text):
+        text = t.get_text()
+        if "$" not in text or t.get_usetex():
+            continue
+        prop = t.get_fontproperties()
+        families = list(prop.get_family())
+        paths = []
+        for family in families:
+            one = prop.copy()
+            one.set_family(family)
+            paths.append(findfont(one))
+        best, mended = math_fallback(text, paths)
+        if best:  # the family that has the text first, the others after it
+            t.set_fontfamily([families[best], *families[:best], *families[best + 1 :]])
+        if mended != text:
+            t.set_text(mended)
+
+
+_SHEET = []  # the Figure class below, made on first use
+
+
+def _sheet_class():
+    """matplotlib's Figure, mending its mathtext labels (:func:`_mend_math`) whenever it
+    is drawn, whatever saves or shows it (``plot``, ``report``, the SVG export)."""
+    if not _SHEET:
+        _, Figure = _mpl()
+
+        class Sheet(Figure):
+            def draw(self, renderer):
+                _mend_math(self)
+                super().draw(renderer)
+
+        _SHEET.append(Sheet)
+    return _SHEET[0]
+
+
 def _figure(width_mm: float, height_mm: float, dpi: float = DPI):
-    _, Figure = _mpl()
-    return Figure(figsize=(width_mm * MM, height_mm * MM), dpi=dpi)
+    return _sheet_class()(figsize=(width_mm * MM, height_mm * MM), dpi=dpi)
 
 
 def _rc(lang: str = "en"):
@@ -264,6 +312,7 @@ MIN_AXES_MM = (120.0, 80.0)  # the smallest drawing area of a true-scale drawing
 def _renderer(fig):
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
+    _mend_math(fig)  # before any text is measured
     canvas = fig.canvas if isinstance(fig.canvas, FigureCanvasAgg) else FigureCanvasAgg(fig)
     return canvas.get_renderer()
 

@@ -18,13 +18,21 @@ caption says by how much.
 
 from __future__ import annotations
 
+import math
+import re
 from pathlib import Path
 
 from ..fonts import cjk_fallback, cjk_font
 from ..lang import tr
+from ..plotting.style import A4_TEXT_MM
 from .blocks import ReportError, _Heading, _Image, _List, _Para, _Table
 
 MARGIN = 14.0  # mm
+LINE = 4.4  # mm between the lines of the body text (9 pt)
+TOP = MARGIN + 1.0  # below this, the top of a page: nothing is moved to the next one
+CAPTION = 10.0  # mm kept below an image for its caption
+SHRINK = 0.75  # a curve may be reduced this far to fit the rest of a page
+_HEADING = {1: 15.0, 2: 12.5, 3: 11.0, 4: 11.0, 5: 11.0, 6: 11.0}  # pt
 
 
 def pdf_module():
@@ -38,23 +46,41 @@ def pdf_module():
     return FPDF
 
 
-def _fonts(pdf, lang: str) -> str:
+def _fonts(pdf, lang: str, han: bool = False) -> str:
+    """Register the fonts; returns the main one.  Chinese: the CJK font, DejaVu Sans for
+    the glyphs it lacks.  English: DejaVu Sans, and the CJK font (when there is one) for
+    Chinese characters in the text (``han``: a name the user gave)."""
     import matplotlib
 
     ttf = Path(matplotlib.get_data_path()) / "fonts" / "ttf"
     pdf.add_font("dejavu", "", str(ttf / "DejaVuSans.ttf"))
     pdf.add_font("dejavu", "B", str(ttf / "DejaVuSans-Bold.ttf"))
     pdf.add_font("dejavu", "I", str(ttf / "DejaVuSans-Oblique.ttf"))
-    if lang != "zh":  # names in Chinese (曲柄) from a CJK font, when there is one
-        if (found := cjk_fallback()) is not None:
-            pdf.add_font("cjk", "", found[1])
-            pdf.set_fallback_fonts(["cjk"], exact_match=False)
+    if lang != "zh" and han:  # names in Chinese (曲柄) from a CJK font, when there is one
+        if (found := cjk_fallback()) is None:
+            return "dejavu"  # without a CJK font the names show as boxes
+        pdf.add_font("cjk", "", found[1])
+        pdf.set_fallback_fonts(["cjk"], exact_match=False)
+    if lang != "zh":
         return "dejavu"
     _, path = cjk_font()
     for style in ("", "B", "I"):
         pdf.add_font("cjk", style, path)
-    pdf.set_fallback_fonts(["dejavu"], exact_match=False)
+    pdf.set_fallback_fonts(["dejavu", "cjk"], exact_match=False)  # "cjk": the footer's
     return "cjk"
+
+
+def _han(blocks, title: str) -> bool:
+    """Whether the title or a block has Chinese characters."""
+    texts = [title]
+    for b in blocks:
+        if isinstance(b, _Table):
+            texts += [b.caption, *map(str, b.header), *(str(c) for r in b.rows for c in r)]
+        elif isinstance(b, _List):
+            texts += b.items
+        else:
+            texts.append(getattr(b, "text", "") or getattr(b, "caption", ""))
+    return any(re.search(f"[{_CJK}]", t) for t in texts)
 
 
 def _plain(text: str) -> str:
@@ -64,45 +90,61 @@ def _plain(text: str) -> str:
 def write_pdf(blocks, path: Path, title: str, lang: str = "en") -> Path:
     """Write the blocks as an A4 portrait PDF; returns ``path``."""
     FPDF = pdf_module()
-    page_word = tr("page", lang)
 
     class _Doc(FPDF):
+        def _render_styled_text_line(self, *args, **kwargs):
+            # fpdf2 (2.8.1 to 2.8.9 at least) draws a glyph the main font lacks with the
+            # fallback font and, when a line ends with such a glyph, leaves the PDF's text
+            # font at the fallback font while believing the main one is still set: the
+            # next text would be shown with the wrong font's resource (garbage, empty
+            # boxes).  Have it set the font again before the next text.
+            done = super()._render_styled_text_line(*args, **kwargs)
+            size = self.font_size_pt
+            self.set_font_size(size + 1.0)
+            self.set_font_size(size)
+            return done
+
         def footer(self):
+            # in DejaVu Sans, the Chinese from the CJK font: fpdf2 2.8.1 replaces the
+            # alias {nb} (the number of pages) in the font it loaded first only
             self.set_y(-10)
-            self.set_font(font, "", 7)
+            self.set_font("dejavu", "", 7)
             self.set_text_color(110)
-            self.cell(0, 4, f"{title} — {page_word} {self.page_no()}/{{nb}}", align="C")
+            page = tr("page {n}/{nb}", lang, n=self.page_no(), nb="{nb}")
+            self.cell(0, 4, f"{title} — {page}", align="C")
             self.set_text_color(0)
 
     pdf = _Doc(orientation="P", unit="mm", format="A4")
-    font = _fonts(pdf, lang)
+    font = _fonts(pdf, lang, han=lang != "zh" and _han(blocks, title))
     pdf.set_title(title)
     pdf.set_creator("kinetostatics")
     pdf.set_margins(MARGIN, MARGIN, MARGIN)
     pdf.set_auto_page_break(True, MARGIN)
     pdf.add_page()
-    for b in blocks:
+    for i, b in enumerate(blocks):
         if isinstance(b, _Heading):
-            size = {1: 15, 2: 12.5}.get(b.level, 11)
-            if b.level == 2 and pdf.get_y() > pdf.h - 60:
-                pdf.add_page()
-            pdf.ln(3 if b.level > 1 else 0)
+            y = pdf.get_y()
+            if y > TOP and y + _need(pdf, blocks, i, font, y) > pdf.h - MARGIN:
+                pdf.add_page()  # a heading never ends a page: it goes with its block
+            size = _HEADING[b.level]
+            pdf.ln(3 if b.level > 1 and pdf.get_y() > TOP else 0)
             pdf.set_font(font, "B", size)
-            pdf.multi_cell(0, size * 0.5, _plain(b.text), new_x="LMARGIN", new_y="NEXT")
+            _text(pdf, b.text, size * 0.5, lang)
             pdf.ln(1.5)
         elif isinstance(b, _Para):
             pdf.set_font(font, "", 9)
-            pdf.multi_cell(0, 4.4, _plain(b.text), new_x="LMARGIN", new_y="NEXT")
+            _text(pdf, b.text, LINE, lang)
             pdf.ln(1.5)
         elif isinstance(b, _List):
-            pdf.set_font(font, "", 9)
             for item in b.items:
                 pdf.set_x(MARGIN + 2)
-                pdf.cell(4, 4.4, "•")
-                pdf.multi_cell(0, 4.4, _plain(item), new_x="LMARGIN", new_y="NEXT")
+                pdf.set_font("dejavu", "", 9)  # a CJK font may have no U+2022
+                pdf.cell(4, LINE, "•")
+                pdf.set_font(font, "", 9)
+                _text(pdf, item, LINE, lang)
             pdf.ln(1.5)
         elif isinstance(b, _Table):
-            _table(pdf, font, b)
+            _table(pdf, font, b, lang)
         elif isinstance(b, _Image):
             _image(pdf, font, b, lang)
     path = Path(path)
@@ -110,16 +152,10 @@ def write_pdf(blocks, path: Path, title: str, lang: str = "en") -> Path:
     return path
 
 
-def _table(pdf, font: str, t: _Table) -> None:
-    from fpdf.fonts import FontFace
-
+def _columns(pdf, font: str, t: _Table) -> tuple[float, list[float]]:
+    """The font size and column widths (mm) of a table: 7 pt, narrowed to 6 pt only if it
+    does not fit the page, then its cells wrapped."""
     epw = pdf.w - 2 * MARGIN
-    if pdf.get_y() > pdf.h - 45:  # caption, heading row and a few rows together
-        pdf.add_page()
-    if t.caption:
-        pdf.set_font(font, "I", 8)
-        pdf.multi_cell(0, 3.8, _plain(t.caption), new_x="LMARGIN", new_y="NEXT")
-        pdf.ln(0.8)
     size = 7.0
     widths = []
     for size in (7.0, 6.5, 6.0):
@@ -137,38 +173,108 @@ def _table(pdf, font: str, t: _Table) -> None:
     total = sum(widths)
     if total > epw:  # long free text: share the page, cells wrap
         widths = [w * epw / total for w in widths]
-        total = epw
+    return size, widths
+
+
+def _table_heights(pdf, font: str, t: _Table) -> tuple[float, list[float]]:
+    """About how tall (mm) a table's caption with the space after it and its heading row
+    are, and each of its rows: as many lines as its fullest cell takes."""
+    size, widths = _columns(pdf, font, t)
+    top = 0.0
+    if t.caption:
+        pdf.set_font(font, "I", 8)
+        lines = math.ceil(pdf.get_string_width(_plain(t.caption)) / (pdf.w - 2 * MARGIN - 3))
+        top += 3.8 * max(lines, 1) + 0.8
+    rows = []
+    for k, row in enumerate([t.header, *t.rows]):
+        pdf.set_font(font, "B" if k == 0 else "", size)
+        cells = zip(row, widths, strict=False)
+        lines = max(
+            (math.ceil(pdf.get_string_width(_plain(str(c))) / max(w - 1.6, 1.0)) for c, w in cells),
+            default=1,
+        )
+        rows.append(size * 0.5 * max(lines, 1) + 1.2)
+    return top + rows[0], rows[1:]
+
+
+def _table_start(pdf, font: str, t: _Table, y: float) -> tuple[float, int]:
+    """How a table starts at the height ``y``: the height (mm) of its part on this page
+    and the number of its rows there.  All of it if it fits; else its caption, heading
+    row and the rows that fit, at least 3 and leaving at least 2 for the next page (a
+    table longer than a page: as many as fit); else ``(inf, 0)``: it starts on the next
+    page."""
+    top, rows = _table_heights(pdf, font, t)
+    room = pdf.h - MARGIN - y
+    height, fit = top, 0
+    while fit < len(rows) and height + rows[fit] <= room:
+        height, fit = height + rows[fit], fit + 1
+    if fit < len(rows) and top + sum(rows) <= pdf.h - 2 * MARGIN:
+        while fit > 0 and len(rows) - fit < 2:  # no row or two alone on the next page
+            fit -= 1
+            height -= rows[fit]
+    return (height, fit) if fit >= min(3, len(rows)) else (math.inf, 0)
+
+
+def _table(pdf, font: str, t: _Table, lang: str) -> None:
+    from fpdf.fonts import FontFace
+
+    height, here = _table_start(pdf, font, t, pdf.get_y())
+    if pdf.get_y() > TOP and math.isinf(height):
+        pdf.add_page()
+        here = len(t.rows)  # from the top of a page, fpdf2 breaks it where it must
+    if t.caption:
+        pdf.set_font(font, "I", 8)
+        _text(pdf, t.caption, 3.8, lang)
+        pdf.ln(0.8)
+    size, widths = _columns(pdf, font, t)
     align = ["LEFT"] + ["RIGHT"] * (len(t.header) - 1)
     if any(len(str(r[c])) > 30 for r in t.rows for c in range(1, len(r))):
         align = ["LEFT"] * len(t.header)
-    head = FontFace(emphasis="BOLD", fill_color=(232, 239, 248))
-    with pdf.table(
-        width=total,
-        col_widths=widths,
-        align="LEFT",
-        text_align=align,
-        line_height=size * 0.5,
-        headings_style=head,
-        repeat_headings=1,
-        padding=0.6,
-        borders_layout="ALL",
-    ) as table:
-        table.row([str(h) for h in t.header])
-        for r in t.rows:
-            table.row([_plain(str(c)) for c in r])
+    parts = [t.rows[:here], t.rows[here:]] if 0 < here < len(t.rows) else [t.rows]
+    page = pdf.page
+    for k, part in enumerate(parts):
+        if k and pdf.page == page:
+            pdf.add_page()  # the rest on the next page, under the heading row again
+        with pdf.table(
+            width=min(sum(widths), pdf.epw),  # a sum of widths scaled to the page: round-off
+            col_widths=widths,
+            align="LEFT",
+            text_align=align,
+            line_height=size * 0.5,
+            headings_style=FontFace(emphasis="BOLD", fill_color=(232, 239, 248)),
+            repeat_headings=1,
+            padding=0.6,
+            borders_layout="ALL",
+        ) as table:
+            table.row([str(h) for h in t.header])
+            for r in part:
+                table.row([_plain(str(c)) for c in r])
     pdf.ln(3)
+
+
+def _placed(pdf, im: _Image) -> tuple[float, float, float]:
+    """Width, height (mm) and scale of an image placed at the current height: at 100 %
+    (at most the page's width and height); a curve (not to scale) that does not fit the
+    rest of the page but would at ``SHRINK`` or more is reduced to fit there, instead of
+    leaving that part of the page empty."""
+    epw = pdf.w - 2 * MARGIN
+    w, h = im.width_mm or epw, im.height_mm or epw * 0.6
+    scale = min(1.0, epw / w, A4_TEXT_MM[1] / h)  # the room polygons are made to fit
+    room = pdf.h - MARGIN - CAPTION - pdf.get_y()
+    if not im.true_scale and room < h * scale and room >= SHRINK * h * scale:
+        scale = room / h
+    return w * scale, h * scale, scale
 
 
 def _image(pdf, font: str, im: _Image, lang: str) -> None:
     epw = pdf.w - 2 * MARGIN
-    w, h = im.width_mm or epw, im.height_mm or epw * 0.6
-    scale = min(1.0, epw / w, (pdf.h - 2 * MARGIN - 14) / h)
-    w, h = w * scale, h * scale
-    if pdf.get_y() + h + 10 > pdf.h - MARGIN:
+    w, h, scale = _placed(pdf, im)
+    if pdf.get_y() + h + CAPTION > pdf.h - MARGIN:
         pdf.add_page()
+        w, h, scale = _placed(pdf, im)
     pdf.image(str(im.path), x=MARGIN + (epw - w) / 2, y=pdf.get_y(), w=w, h=h)
     pdf.set_y(pdf.get_y() + h + 1)
-    caption = _plain(im.caption)
+    caption = im.caption
     if im.true_scale:
         caption += " " + (
             tr("(printed at 100 %: the scales hold on paper)", lang)
@@ -181,5 +287,67 @@ def _image(pdf, font: str, im: _Image, lang: str) -> None:
             )
         )
     pdf.set_font(font, "I", 8)
-    pdf.multi_cell(0, 3.8, caption, new_x="LMARGIN", new_y="NEXT")
+    _text(pdf, caption, 3.8, lang)
     pdf.ln(3)
+
+
+def _need(pdf, blocks, i: int, font: str, y: float) -> float:
+    """The height (mm) a heading needs below ``y`` on its page: itself and the start of
+    the block after it (two lines of text, a table's part on this page, an image whole);
+    ``inf`` if that block would start on the next page."""
+    b = blocks[i]
+    if isinstance(b, _Heading):
+        own = _HEADING[b.level] * 0.5 + 4.5
+        return own + (_need(pdf, blocks, i + 1, font, y + own) if i + 1 < len(blocks) else 0.0)
+    if isinstance(b, (_Para, _List)):
+        return 2 * LINE + 1.5
+    if isinstance(b, _Table):
+        return _table_start(pdf, font, b, y)[0]
+    if isinstance(b, _Image):
+        return _placed(pdf, b)[1] + CAPTION
+    return 0.0
+
+
+# -- Chinese lines ---------------------------------------------------------------------
+# fpdf2 breaks lines at spaces only and justifies them by widening the spaces: a Chinese
+# sentence (no spaces) came out as "由            kinetostatics" and a run of characters
+# on the next line.  Chinese text is broken here instead, between any two Chinese
+# characters and at spaces, never inside a Latin word nor before a closing mark or after
+# an opening one, and set flush left.
+_CJK = "\u2e80-\u9fff\uf900-\ufaff\ufe30-\ufe4f\uff00-\uffef\u3000-\u303f"
+_TOKEN = re.compile(f"[{_CJK}]|[^\\s{_CJK}]+|\\s+")
+_NO_START = set("，。、；：！？）》」』】〕…%,.;:!?)]}°′″")  # never first on a line
+_NO_END = set("（《「『【〔([{")  # never last on a line
+
+
+def _lines(pdf, text: str, width: float) -> list[str]:
+    """``text`` in lines of at most ``width`` mm in the current font."""
+    tokens: list[str] = []
+    for t in _TOKEN.findall(text):
+        if tokens and not t.isspace() and (t[0] in _NO_START or tokens[-1][-1] in _NO_END):
+            tokens[-1] += t
+        elif pdf.get_string_width(t) > width:  # longer than a line: character by character
+            tokens += list(t)
+        else:
+            tokens.append(t)
+    lines, line, used = [], "", 0.0
+    for t in tokens:
+        w = pdf.get_string_width(t)
+        if line and not t.isspace() and used + w > width:
+            lines.append(line.rstrip())
+            line, used = "", 0.0
+        if line or not t.isspace():
+            line, used = line + t, used + w
+    return lines + [line.rstrip()]
+
+
+def _text(pdf, text: str, height: float, lang: str) -> None:
+    """A paragraph from the current position to the right margin, lines ``height`` mm
+    apart: English justified, Chinese broken by :func:`_lines` and set flush left."""
+    text = _plain(text)
+    if lang != "zh":
+        pdf.multi_cell(0, height, text, new_x="LMARGIN", new_y="NEXT")
+        return
+    width = pdf.w - pdf.r_margin - pdf.get_x() - 2 * pdf.c_margin - 0.5  # round-off room
+    text = "\n".join(_lines(pdf, text, width))
+    pdf.multi_cell(0, height, text, align="L", new_x="LMARGIN", new_y="NEXT")
