@@ -447,7 +447,10 @@ def test_a_real_sigint_stops_a_simulation_with_one_line(tmp_path):
         time.sleep(0.05)
     time.sleep(0.3)
     proc.send_signal(signal.SIGINT)
-    _, err = proc.communicate(timeout=60)
+    try:
+        _, err = proc.communicate(timeout=60)
+    finally:  # never left running (a simulation to t = 1e6 s) when the test fails
+        proc.kill()
     assert proc.returncode == 130, err
     assert err.strip().splitlines() == ["kinetostatics: simulate: interrupted"], err
     assert [p for p in out.rglob("*") if p.is_file()] == []
