@@ -253,15 +253,16 @@ class Synthesis:
         x = sg * (np.asarray(target, float) - a0)
         turns = np.floor(x / (2 * math.pi))
         theta = np.interp(x - 2 * math.pi * turns, b, th)
-        before = last = None  # θ two steps and one step back
+        seen = [b"", theta.tobytes()]  # the bits of θ two steps and one step back
         for k in range(NEWTON):
             a, a1 = self.angle(theta)
-            before, last = last, theta
-            theta = theta - _wrap(a - target) / a1
-            if before is not None and np.array_equal(theta, before, equal_nan=True):
+            last, theta = theta, theta - _wrap(a - target) / a1
+            bits = theta.tobytes()
+            if bits == seen[-2]:  # a cycle of two: the last step's θ again at an even count
                 return (theta if (NEWTON - 1 - k) % 2 == 0 else last), turns
-            if np.array_equal(theta, last, equal_nan=True):
+            if bits == seen[-1]:
                 return theta, turns
+            seen.append(bits)
         return theta, turns
 
     def integral(self, tables, theta, turns):
