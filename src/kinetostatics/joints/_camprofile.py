@@ -258,7 +258,7 @@ class Synthesis:
             a, a1 = self.angle(theta)
             last, theta = theta, theta - _wrap(a - target) / a1
             bits = theta.tobytes()
-            if bits == seen[-2]:  # a cycle of two: the last step's θ again at an even count
+            if bits == seen[-2]:  # θ alternates with the last: the rest end on θ if even
                 return (theta if (NEWTON - 1 - k) % 2 == 0 else last), turns
             if bits == seen[-1]:
                 return theta, turns
