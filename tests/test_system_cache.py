@@ -24,6 +24,17 @@ def test_the_system_is_reused_for_the_same_model():
     assert a.system is b.system
 
 
+@pytest.mark.parametrize("name", ["cam_roller.yaml", "cam_flat_oscillating.yaml"])
+def test_the_values_a_cam_keeps_of_its_last_poses_stay_out_of_the_fingerprint(name):
+    """A cam keeps Φ, its coordinate and normal of the last poses (each an inversion of
+    its profile): an analysis that leaves them must not make the model a new one."""
+    m = ks.load(ROOT / "mechanisms" / name)
+    system = S.system_of(m)
+    a = ks.analyze(m)
+    b = ks.analyze(m, friction=False)
+    assert a.system is system and b.system is system and S.system_of(m) is system
+
+
 def test_a_model_changed_in_place_is_built_again():
     """The crank's pin moved in place in the loaded model: the result equals that of the
     changed file, read afresh (the slider's stroke is twice the crank, a closed form)."""

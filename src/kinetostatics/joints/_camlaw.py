@@ -24,6 +24,7 @@ above the joints.
 
 from __future__ import annotations
 
+import bisect
 import math
 from dataclasses import dataclass, field
 
@@ -36,24 +37,34 @@ __all__ = ["CamLaw", "Segment", "CURVES", "LAW_SHAPE", "read_law"]
 TWO_PI = 2.0 * math.pi
 PI = math.pi
 SNAP = 1e-12  # rad: angles this close to a segment's end are at it
+SMALL = 8  # up to this many angles are evaluated one by one, in Python floats
 
 
-def _harmonic(u):
-    s, c = np.sin(PI * u), np.cos(PI * u)
+def _harmonic(u, m=np):
+    s, c = m.sin(PI * u), m.cos(PI * u)
     return 0.5 * (1.0 - c), 0.5 * PI * s, 0.5 * PI**2 * c, -0.5 * PI**3 * s
 
 
-def _cycloidal(u):
-    s, c = np.sin(TWO_PI * u), np.cos(TWO_PI * u)
+def _cycloidal(u, m=np):
+    s, c = m.sin(TWO_PI * u), m.cos(TWO_PI * u)
     return u - s / TWO_PI, 1.0 - c, TWO_PI * s, TWO_PI**2 * c
 
 
 def _poly(coef):
     p = np.polynomial.Polynomial(coef)
-    ds = [p, p.deriv(1), p.deriv(2), p.deriv(3)]
-    return lambda u: tuple(d(u) for d in ds)
+    ds = [tuple(float(c) for c in p.deriv(n).coef) for n in range(4)]
+
+    def horner(c, u):  # NumPy's polyval, also on a Python float
+        out = c[-1]
+        for ck in c[-2::-1]:
+            out = ck + out * u
+        return out
+
+    return lambda u, m=np: tuple(horner(c, u) for c in ds)
 
 
+# y(u) and its derivatives y', y'', y''' of each curve: on an array (sin and cos of NumPy),
+# or on a Python float with ``m=math``
 CURVES = {
     "harmonic": _harmonic,
     "cycloidal": _cycloidal,
@@ -92,6 +103,9 @@ class CamLaw:
     angles: tuple[float, ...] = ()
     lifts: tuple[float, ...] = ()
     _spline: object = field(default=None, init=False, repr=False, compare=False)
+    _pieces: tuple = field(default=(), init=False, repr=False, compare=False)
+    _edges: object = field(default=None, init=False, repr=False, compare=False)
+    _edge_list: list = field(default=None, init=False, repr=False, compare=False)
 
     def __post_init__(self):
         if self.angles:
@@ -100,6 +114,20 @@ class CamLaw:
             x = np.append(np.asarray(self.angles, float), self.angles[0] + TWO_PI)
             y = np.append(np.asarray(self.lifts, float), self.lifts[0])
             object.__setattr__(self, "_spline", make_interp_spline(x, y, k=5, bc_type="periodic"))
+            return
+        # each segment as (start θ₀, span β, signed lift ±h, lift at its start, curve or '')
+        pieces, base = [], 0.0
+        edges = self.breaks
+        for k, seg in enumerate(self.segments):
+            if seg.kind == "dwell":
+                pieces.append((float(edges[k]), seg.span, 0.0, base, ""))
+                continue
+            h = seg.lift if seg.kind == "rise" else -seg.lift
+            pieces.append((float(edges[k]), seg.span, h, base, seg.curve))
+            base += h
+        object.__setattr__(self, "_pieces", tuple(pieces))
+        object.__setattr__(self, "_edges", edges)
+        object.__setattr__(self, "_edge_list", edges.tolist())
 
     @property
     def breaks(self) -> np.ndarray:
@@ -125,33 +153,47 @@ class CamLaw:
         return f" in motion[{k}] ({seg.kind} {lift} over {span})"
 
     def value(self, theta):
-        """(s, s', s'', s''') at cam angles ``theta`` (rad, any turn)."""
+        """(s, s', s'', s''') at cam angles ``theta`` (rad, any turn).
+
+        At a segment's end a derivative may jump: an angle within :data:`SNAP` of an end
+        takes the segment that starts there (360° − 1e-14 is 0°), whichever side round-off
+        put it.  Each angle is evaluated on its own segment only: up to :data:`SMALL`
+        angles one by one in Python floats, more grouped by segment."""
         th = np.mod(np.asarray(theta, dtype=float), TWO_PI)
         if self._spline is not None:
             x0 = self.angles[0]
             x = x0 + np.mod(th - x0, TWO_PI)
             return tuple(self._spline(x, nu=k) for k in range(4))
-        out = [np.zeros(th.shape) for _ in range(4)]
-        start, base = 0.0, 0.0
-        edges = self.breaks
-        # at a segment's end a derivative may jump: an angle within round-off of an end takes
-        # the segment that starts there (360° − 1e-14 is 0°), whichever side round-off put it
+        if 0 < th.size <= SMALL:
+            rows = np.array([self._at(x) for x in th.ravel().tolist()], dtype=float)
+            return tuple(np.ascontiguousarray(rows.T).reshape((4,) + th.shape))
         th = np.where(th > TWO_PI - SNAP, th - TWO_PI, th)
-        index = np.searchsorted(edges, th + SNAP, side="right") - 1
-        index = np.clip(index, 0, len(self.segments) - 1)
-        for k, seg in enumerate(self.segments):
-            start = edges[k]
+        index = np.searchsorted(self._edges, th + SNAP, side="right") - 1
+        index = np.clip(index, 0, len(self._pieces) - 1)
+        out = [np.zeros(th.shape) for _ in range(4)]
+        for k, (start, span, h, base, curve) in enumerate(self._pieces):
             m = index == k
-            if seg.kind == "dwell":
-                out[0] = np.where(m, base, out[0])
+            if not m.any():
                 continue
-            sign = 1.0 if seg.kind == "rise" else -1.0
-            y = CURVES[seg.curve](np.where(m, (th - start) / seg.span, 0.0))
-            for n in range(4):
-                val = sign * seg.lift * y[n] / seg.span**n + (base if n == 0 else 0.0)
-                out[n] = np.where(m, val, out[n])
-            base += sign * seg.lift
+            if not curve:
+                out[0][m] = base
+                continue
+            y = CURVES[curve]((th[m] - start) / span)
+            out[0][m] = h * y[0] + base
+            for n in range(1, 4):
+                out[n][m] = h * y[n] / span**n
         return tuple(out)
+
+    def _at(self, th: float) -> tuple[float, float, float, float]:
+        """:meth:`value` at one angle in [0, 2π), in Python floats."""
+        if th > TWO_PI - SNAP:
+            th -= TWO_PI
+        k = bisect.bisect_right(self._edge_list, th + SNAP) - 1
+        start, span, h, base, curve = self._pieces[min(max(k, 0), len(self._pieces) - 1)]
+        if not curve:
+            return base, 0.0, 0.0, 0.0
+        y = CURVES[curve]((th - start) / span, math)
+        return h * y[0] + base, h * y[1] / span, h * y[2] / span**2, h * y[3] / span**3
 
     def to_spec(self):
         if self.angles:

@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -43,6 +44,7 @@ __all__ = ["Synthesis"]
 GRID = 2048  # cam angles of the inversion table and the quadrature knots
 SUBGRID = 64  # and within each segment of the law
 GAUSS = np.polynomial.legendre.leggauss(8)
+NEWTON = 6  # Newton steps of the inversion
 
 
 def _wrap(a):
@@ -71,6 +73,10 @@ class Synthesis:
     # -- the follower in the frame -------------------------------------------------
     def beta0(self) -> float | str:
         """β₀ of an oscillating follower, or a message why there is none."""
+        return self._beta0
+
+    @cached_property
+    def _beta0(self) -> float | str:
         A = np.asarray(self.pivot, float)
         a, ang = math.hypot(*A), math.atan2(A[1], A[0])
         if self.flat:
@@ -90,19 +96,22 @@ class Synthesis:
                 return b
         return "the pivot lies on the cam centre's line of the rise"
 
-    def frame_point(self, theta):
-        """F, F', F'', F''' (complex, frame) of a knife or roller follower."""
+    def frame_point(self, theta, first: bool = False):
+        """F, F', F'', F''' (complex, frame) of a knife or roller follower (``first``: F, F'
+        only)."""
         s = self.law.value(theta)
         if self.pivot is None:
             u = complex(*self.direction)
             rp = self.base + self.radius
             w = -self.sigma * 1j * u
             F = self.offset * w + (math.sqrt(rp * rp - self.offset**2) + s[0]) * u
-            return F, s[1] * u, s[2] * u, s[3] * u
+            return (F, s[1] * u) if first else (F, s[1] * u, s[2] * u, s[3] * u)
         b0, k, L = self.beta0(), self.kappa, self.arm
         d = np.exp(1j * (b0 + k * s[0]))
         F = complex(*self.pivot) + L * d
         F1 = L * k * s[1] * 1j * d
+        if first:
+            return F, F1
         F2 = L * (k * s[2] * 1j * d - s[1] ** 2 * d)
         F3 = L * (k * s[3] * 1j * d - 3 * s[1] * s[2] * d - k * s[1] ** 3 * 1j * d)
         return F, F1, F2, F3
@@ -138,12 +147,21 @@ class Synthesis:
         return nu, k * s[1] - self.sigma, k * s[2], h, k * s[1] * TA, k * s[2] * TA - s[1] ** 2 * NA
 
     def angle(self, theta):
-        """(a, a') over θ: the polar angle ψ of the pitch point, or the face's ν."""
+        """(a, a') over θ: the polar angle ψ of the pitch point, or the face's ν (the first
+        terms of :meth:`pitch` and :meth:`support`, with their formulas)."""
+        th = np.asarray(theta, float)
+        if self.flat and self.pivot is None:  # ν = β_u − σθ: no lift in it
+            b = math.atan2(self.direction[1], self.direction[0])
+            return b - self.sigma * th, np.zeros(th.shape) - self.sigma
         if self.flat:
-            r = self.support(theta)
-            return r[0], r[1]
-        r = self.pitch(theta)[0]
-        return r[0], r[1]
+            s = self.law.value(th)
+            N = np.exp(1j * (self.beta0() + self.kappa * s[0]))
+            return np.angle(N) - self.sigma * th, self.kappa * s[1] - self.sigma
+        F, F1 = self.frame_point(th, first=True)
+        sj = self.sigma * 1j
+        Q = np.exp(-sj * th)
+        P = Q * F
+        return np.angle(P), (Q * (F1 - sj * F) / P).imag
 
     def integrand(self, theta):
         """d/dθ of the coordinate's integral: sgn·|P'| (pitch arc), or h ν' (flat)."""
@@ -152,6 +170,25 @@ class Synthesis:
             return r[3] * r[1]
         r, P = self.pitch(theta)
         return np.sign(self.turn) * np.abs(P) * np.hypot(r[1], r[5])
+
+    def curvature(self, theta):
+        """The profile's radius of curvature at cam angles θ (> 0 convex, < 0 concave,
+        ±inf straight); a roller's undercut or a flat face's cusp shows as ≤ 0."""
+        if self.flat:
+            nu, nu1, nu2, h, h1, h2 = self.support(theta)
+            hv = h1 / nu1
+            return h + (h2 - hv * nu2) / nu1**2  # ρ = h + h''(ν)
+        r, P = self.pitch(theta)
+        a1, L1, a2, L2 = r[1], r[5], r[2], r[6]
+        Lp = L1 / a1
+        Lpp = (L2 - Lp * a2) / a1**2
+        R = np.abs(P)
+        # curvature of ρ = R(ψ): κ = (R² + 2R′² − R R″)/(R² + R′²)^{3/2}
+        R1, R2 = R * Lp, R * (Lpp + Lp**2)
+        kappa = (R**2 + 2 * R1**2 - R * R2) / (R**2 + R1**2) ** 1.5
+        with np.errstate(divide="ignore"):
+            rho = np.where(kappa != 0, 1.0 / np.where(kappa != 0, kappa, 1.0), np.inf)
+        return rho - self.radius
 
     # -- the tables: inversion θ(a) and the cumulative integral ------------------
     def _grid(self, narrow: float) -> np.ndarray:
@@ -174,7 +211,7 @@ class Synthesis:
         segment, however narrow, falls between the samples."""
         return self._grid(math.inf)
 
-    @property
+    @cached_property
     def turn(self) -> float:
         """+1 if a grows with θ, −1 if it falls."""
         a, a1 = self.angle(np.array([0.0]))
@@ -208,15 +245,24 @@ class Synthesis:
         return th, b, float(a[0]), np.concatenate(([0.0], np.cumsum(parts)))
 
     def invert(self, tables, target):
-        """(θ, turns) with a(θ) = target (a ψ or ν, unwrapped), by Newton from the table."""
+        """(θ, turns) with a(θ) = target (a ψ or ν, unwrapped), by :data:`NEWTON` steps of
+        Newton from the table.  Once the steps have converged to a fixed point or a cycle
+        of two (round-off) the rest are known, and not taken: the same θ to the bit."""
         th, b, a0, _ = tables
         sg = self.turn
         x = sg * (np.asarray(target, float) - a0)
         turns = np.floor(x / (2 * math.pi))
         theta = np.interp(x - 2 * math.pi * turns, b, th)
-        for _ in range(6):
+        seen = [b"", theta.tobytes()]  # the bits of θ two steps and one step back
+        for k in range(NEWTON):
             a, a1 = self.angle(theta)
-            theta = theta - _wrap(a - target) / a1
+            last, theta = theta, theta - _wrap(a - target) / a1
+            bits = theta.tobytes()
+            if bits == seen[-2]:  # θ alternates with the last: the rest end on θ if even
+                return (theta if (NEWTON - 1 - k) % 2 == 0 else last), turns
+            if bits == seen[-1]:
+                return theta, turns
+            seen.append(bits)
         return theta, turns
 
     def integral(self, tables, theta, turns):

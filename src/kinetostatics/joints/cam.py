@@ -51,7 +51,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from functools import cached_property
+from functools import cached_property, wraps
 from typing import Any, ClassVar
 
 import numpy as np
@@ -76,6 +76,30 @@ _OSCILLATING = Keys(
 
 def _outer(a, b):
     return a[..., :, None] * b[..., None, :]
+
+
+def _kept(name):
+    """A method of the poses (qi, qj) whose result is kept for the last poses (read-only
+    arrays): a position solve asks for Φ and its Jacobian at the same poses, the friction
+    solution for the normal at each iteration; each costs an inversion of the profile."""
+
+    def wrap(f):
+        @wraps(f)
+        def kept(self, qi, qj):
+            qi, qj = np.asarray(qi, float), np.asarray(qj, float)
+            key = (qi.shape, qj.shape, qi.tobytes(), qj.tobytes())
+            hit = self._memo.get(name)
+            if hit is None or hit[0] != key:
+                out = f(self, qi, qj)
+                for a in out:
+                    if isinstance(a, np.ndarray):
+                        a.flags.writeable = False
+                self._memo[name] = hit = (key, out)
+            return hit[1]
+
+        return kept
+
+    return wrap
 
 
 @dataclass(frozen=True)
@@ -236,7 +260,7 @@ class Cam(Joint, kind="cam"):
             return tables
         self._memo["tables"] = tables
         th = s.check_grid
-        rc = self._curvature(th)
+        rc = s.curvature(th)
         bad = np.nonzero((rc <= 0) & (rc > -s.radius))[0] if not s.flat else np.nonzero(rc <= 0)[0]
         if s.follower == "knife":
             bad = bad[:0]
@@ -258,25 +282,6 @@ class Cam(Joint, kind="cam"):
         if "tables" not in self._memo:
             self._memo["tables"] = self.synthesis.tables()
         return self._memo["tables"]
-
-    def _curvature(self, theta):
-        """The profile's radius of curvature at cam angles θ (> 0 convex, < 0 concave,
-        ±inf straight); a roller's undercut or a flat face's cusp shows as ≤ 0."""
-        s = self.synthesis
-        if s.flat:
-            nu, nu1, nu2, h, h1, h2 = s.support(theta)
-            hv = h1 / nu1
-            return h + (h2 - hv * nu2) / nu1**2  # ρ = h + h''(ν)
-        r, P = s.pitch(theta)
-        a1, L1, a2, L2 = r[1], r[5], r[2], r[6]
-        Lp = L1 / a1
-        Lpp = (L2 - Lp * a2) / a1**2
-        R = np.abs(P)
-        # curvature of ρ = R(ψ): κ = (R² + 2R′² − R R″)/(R² + R′²)^{3/2}
-        R1, R2 = R * Lp, R * (Lpp + Lp**2)
-        kappa = (R**2 + 2 * R1**2 - R * R2) / (R**2 + R1**2) ** 1.5
-        with np.errstate(divide="ignore"):
-            return np.where(kappa != 0, 1.0 / np.where(kappa != 0, kappa, 1.0), np.inf) - s.radius
 
     def _polar(self, psi):
         """(θ, turns, R, R′, R″, R‴) of the pitch curve at polar angles ψ."""
@@ -308,6 +313,13 @@ class Cam(Joint, kind="cam"):
     def _face_angle(self, phi):
         return phi + math.atan2(-self.face[1], -self.face[0])
 
+    def __getstate__(self):  # the poses kept stay behind: the pickle is the model's key
+        state = dict(self.__dict__)
+        state["_memo"] = {k: v for k, v in self._memo.items() if k == "tables"}
+        state.pop("_outline", None)
+        return state
+
+    @_kept("phi")
     def _phi(self, qi, qj):
         """Φ: (value, ∇_z, ∂/∂φ, H_zz, H_zφ, H_φφ)."""
         Ao, Ap, d, z, phi = self._pose(qi, qj)
@@ -333,6 +345,7 @@ class Cam(Joint, kind="cam"):
         zero = np.zeros(rho.shape)
         return rho - R, g, zero, H, np.zeros(z.shape), zero
 
+    @_kept("coord")
     def _coord(self, qi, qj):
         """c: (value, ∇_z, ∂/∂φ, H_zz, H_zφ, H_φφ)."""
         Ao, Ap, d, z, phi = self._pose(qi, qj)
@@ -413,23 +426,11 @@ class Cam(Joint, kind="cam"):
     def acceleration_rhs(self, qi, qj, vi, vj):
         return -self._second(qi, qj, vi, vj, self._phi(qi, qj))[..., None]
 
+    @_kept("normal")
     def _normal(self, qi, qj):
-        """|∇_z Φ| (1 for a flat face) and ∇_z Φ in global axes.  Those of the last poses
-        are kept: the friction solution asks for them at every iteration of its fixed
-        point and homotopy, at the same poses with new reactions, and each costs an
-        inversion of the profile (Newton over the law)."""
-        qi, qj = np.asarray(qi, float), np.asarray(qj, float)
-        key = (qi.shape, qj.shape, qi.tobytes(), qj.tobytes())
-        hit = self._memo.get("normal")
-        if hit is not None and hit[0] == key:
-            return hit[1]
+        """|∇_z Φ| (1 for a flat face) and ∇_z Φ in global axes."""
         gz = self._phi(qi, qj)[1]
-        out = np.hypot(gz[..., 0], gz[..., 1]), turn(qi, gz)
-        for a in out:
-            if isinstance(a, np.ndarray):
-                a.flags.writeable = False
-        self._memo["normal"] = (key, out)
-        return out
+        return np.hypot(gz[..., 0], gz[..., 1]), turn(qi, gz)
 
     def reaction(self, lam, qi, qj):
         size, G = self._normal(qi, qj)
@@ -583,7 +584,7 @@ class Cam(Joint, kind="cam"):
             "lift_d2": (unit[2], lift[2]),
             "lift_d3": (unit[3], lift[3]),
             "pressure_angle": ("deg", np.degrees(alpha)),
-            "curvature_radius": ("m", self._curvature(theta)),
+            "curvature_radius": ("m", s.curvature(theta)),
         }
         if lam is not None:
             out["status"] = ("1", (lam[..., 0] < 0).astype(float))
