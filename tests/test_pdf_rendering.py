@@ -1,8 +1,9 @@
 """What the PDF shows is what the Markdown report says (issue 37, the rendering defects):
 every heading, paragraph and list item of ``report.md`` is in the PDF's extracted text,
-in English and in Chinese, whatever glyph the CJK font lacks (a bullet, ², μ, ≤, –, ·
-drawn from the fallback font must not garble the text after them); no picture or PDF
-draws a glyph its font does not have (``tests/conftest.py`` fails any test that does)."""
+in English and in Chinese, for every shipped mechanism and every template of ``init``,
+whatever glyph the CJK font lacks (a bullet, ², μ, ≤, –, · drawn from the fallback font
+must not garble the text after them); no picture or PDF draws a glyph its font does not
+have (``tests/conftest.py`` fails any test that does)."""
 
 import html
 import io
@@ -12,6 +13,7 @@ from pathlib import Path
 import pytest
 
 from kinetostatics.cli import main
+from kinetostatics.io.templates import NAMES as TEMPLATES
 from tests.conftest import ROOT
 from tests.helpers import motion_driven
 
@@ -88,12 +90,13 @@ def _cases():
             yield pytest.param(name, lang, marks=slow, id=f"{name}-{lang}")
 
 
-@pytest.mark.parametrize("name, lang", list(_cases()))
-def test_every_paragraph_and_list_item_is_on_paper(name, lang, tmp_path):
+def _assert_on_paper(path: Path, lang: str, tmp_path: Path) -> None:
+    """The report of ``path`` in ``lang``, Markdown and PDF: every heading, paragraph and
+    list item of the Markdown is in the PDF's text (the glyph check is conftest.py's)."""
     if lang == "zh" and not _has_cjk_font():
         pytest.skip("no CJK font: pip install 'kinetostatics[zh]'")
     out = tmp_path / "out"
-    args = ["report", str(ROOT / "mechanisms" / f"{name}.yaml"), "--out", str(out)]
+    args = ["report", str(path), "--out", str(out)]
     code = main([*args, "--dpi", "40", "--format", "md", "pdf", "--lang", lang])
     assert code == 0
     md = (out / "report.md").read_text(encoding="utf-8")
@@ -102,6 +105,21 @@ def test_every_paragraph_and_list_item_is_on_paper(name, lang, tmp_path):
     assert len(texts) > 30
     missing = [t for t in texts if _squash(t) not in flat]
     assert not missing, missing[:3]
+
+
+@pytest.mark.parametrize("name, lang", list(_cases()))
+def test_every_paragraph_and_list_item_is_on_paper(name, lang, tmp_path):
+    _assert_on_paper(ROOT / "mechanisms" / f"{name}.yaml", lang, tmp_path)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("lang", ["en", "zh"])
+@pytest.mark.parametrize("name", TEMPLATES)
+def test_every_template_is_on_paper(name, lang, tmp_path):
+    """The same for the file ``kinetostatics init`` writes from each template (row I)."""
+    path = tmp_path / f"{name}.yaml"
+    assert main(["init", name, "--out", str(path)]) == 0
+    _assert_on_paper(path, lang, tmp_path)
 
 
 def _picture(path: Path) -> Path:
