@@ -206,3 +206,14 @@ def test_the_loads_drawn_name_the_balancing_torque():
     plt.close(fig)
     assert any(t.startswith("M_b") for t in texts), texts
     assert not any("M_motor" in t for t in texts)
+
+
+def test_the_output_is_named_by_the_member_that_moves():
+    """The shaper's output is the ram, link 6 in the guide's numbering (frame 1, crank 2,
+    block 3, guide bar 4, link 5, ram 6), measured at its slide `guide`: the report names
+    the member (构件6 ram), not the pair, in the results and the motion diagram's caption."""
+    model = load(ROOT / "mechanisms" / "shaper.yaml")
+    zh = [i for i in _items(model, "zh") if i.startswith("输出")]
+    en = [i for i in _items(model, "en") if i.startswith("output")]
+    assert len(zh) == len(en) == 1
+    assert zh[0].startswith("输出 构件6 ram：行程") and en[0].startswith("output link 6 ram: stroke")

@@ -379,9 +379,9 @@ ZH.update(
         "class of the mechanism: class {c}": "机构级别：{c}级机构",
         "output {name}: stroke {stroke} {unit}, time ratio K = {k}, crank angle between the "
         "limit positions θ = {theta}°; limit positions at φ = {a}° and {b}°": "输出 {name}：行程 {stroke} {unit}，行程速比系数 K = {k}，极位夹角 θ = {theta}°；极限位置 φ = {a}° 与 {b}°",
-        "output {name}: swing {swing}° of {link}, time ratio K = {k}, crank angle between the "
-        "limit positions θ = {theta}°; limit positions at φ = {a}° ({link} at {ta}°) and {b}° "
-        "({link} at {tb}°)": "输出 {name}：{link} 摆角 {swing}°，行程速比系数 K = {k}，极位夹角 θ = {theta}°；极限位置 φ = {a}°（{link} 位于 {ta}°）与 {b}°（{link} 位于 {tb}°）",
+        "output {name}: swing {swing}°, time ratio K = {k}, crank angle between the limit "
+        "positions θ = {theta}°; limit positions at φ = {a}° ({name} at {ta}°) and {b}° "
+        "({name} at {tb}°)": "输出 {name}：摆角 {swing}°，行程速比系数 K = {k}，极位夹角 θ = {theta}°；极限位置 φ = {a}°（{name} 位于 {ta}°）与 {b}°（{name} 位于 {tb}°）",
         "event: {load} switches {switch} at φ = {angle}° ({where})": "事件：{load} 在 φ = {angle}° 处{switch}（{where}）",
         "{p} at a limit position along ({x}, {y})": "{p} 沿 ({x}, {y}) 方向处于极限位置",
         "{p} {s} {lu} from its highest position": "{p} 距其最高位置 {s} {lu}",

@@ -12,6 +12,7 @@ from ...base.files import json_text, make_folder, write_file
 from ...model import Model
 from .. import plotting as pl
 from ..fonts import cjk_font
+from ..labels import link_numbers, member, numbered
 from ..lang import check_lang, tr
 from ..loading import load
 from ..summary import summarize
@@ -161,6 +162,11 @@ def write_report(
         if a.at_joint and a.link == j.links[1]
     ]
     out_m = pl.output_motion(result)
+    shown = out_m["name"]  # the member that moves, not the pair a slide is measured at
+    if out_m["kind"] == "slide":
+        moved = next(k for k in model.joint(shown).links if k != model.ground.name)
+        shown = member(moved, link_numbers(system), model, lang)
+        shown = f"{shown} {moved}" if numbered(model) else moved
     paths = list(dict.fromkeys(moving_pins))
     first = all_rows[0][1]
     title = T("Course-design report: {name}", name=model.name)
@@ -253,7 +259,7 @@ def write_report(
             T(
                 "Motion diagram of the output ({name}): position, velocity, acceleration; "
                 "the shaded zone is where the process load acts.",
-                name=out_m["name"],
+                name=shown,
             ),
         )
     )

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..labels import column_label
+from ..labels import column_label, link_numbers, member, numbered
 from ..lang import tr, tr_unit
 from ..summary import ROUND_OFF
 from .blocks import _Heading, _List, _Table
@@ -381,19 +381,22 @@ def _summary_blocks(result, summary, lang: str = "en") -> list:
             full=tr("yes" if result.full_cycle else "no", lang),
         )
     ]
-    for name, o in summary["outputs"].items():
+    model, nums = result.system.model, link_numbers(result.system)
+    for o in summary["outputs"].values():
+        # the member that moves (构件6 ram), not the pair the output is measured at
+        name = member(o["link"], nums, model, lang)
+        name = f"{name} {o['link']}" if numbered(model) else name
         lo, hi = o["limit_positions"]["min"], o["limit_positions"]["max"]
         k, a, b = f"{o['time_ratio']:.4f}", f"{lo['angle']:.3f}", f"{hi['angle']:.3f}"
         theta = f"{crank_angle_between(lo['angle'], hi['angle']):.3f}"
         if o.get("kind") == "swing":
             text = tr(
-                "output {name}: swing {swing}° of {link}, time ratio K = {k}, crank angle "
+                "output {name}: swing {swing}°, time ratio K = {k}, crank angle "
                 "between the limit positions θ = {theta}°; limit positions at φ = {a}° "
-                "({link} at {ta}°) and {b}° ({link} at {tb}°)",
+                "({name} at {ta}°) and {b}° ({name} at {tb}°)",
                 lang,
                 name=name,
                 swing=f"{o['swing']:.4f}",
-                link=o["link"],
                 k=k,
                 theta=theta,
                 a=a,
