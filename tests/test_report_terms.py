@@ -217,3 +217,12 @@ def test_the_output_is_named_by_the_member_that_moves():
     en = [i for i in _items(model, "en") if i.startswith("output")]
     assert len(zh) == len(en) == 1
     assert zh[0].startswith("输出 构件6 ram：行程") and en[0].startswith("output link 6 ram: stroke")
+
+
+def test_captions_name_friction_solutions_only_where_a_joint_has_friction(tmp_path, slotting):
+    """The balancing torque's table and picture of a file without friction (the balanced
+    four-bar) say so, instead of promising friction columns and curves it has not."""
+    md = _report(ROOT / "mechanisms" / "fourbar_balancing.yaml", tmp_path / "out", "en")
+    assert "consistent friction solution" not in md
+    assert md.count("no joint has friction") >= 2  # the table's caption and the picture's
+    assert "consistent friction solution" in slotting["en"]  # the slotting machine has it

@@ -477,5 +477,8 @@ ZH.update(
         "E_{word}: ΔW = {w} J (φ = {phi}°)": "E_{word}：ΔW = {w} J（φ = {phi}°）",
         "maximum energy swing ΔW_max = E_max − E_min = {s} J": "最大盈亏功 ΔW_max = E_max − E_min = {s} J",
         "page {n}/{nb}": "第 {n} 页，共 {nb} 页",
+        "{effort} of {driver} (no joint has friction).": "{driver} 的{effort}（各运动副均不计摩擦）。",
+        "Balancing torque M_b of each driver (balancing force F_b of a sliding driver) "
+        "and the input power (W); no joint has friction": "各原动件上的平衡力矩 M_b（移动原动件为平衡力 F_b）与输入功率（W）；各运动副均不计摩擦",
     }
 )

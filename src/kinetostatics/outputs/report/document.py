@@ -270,7 +270,9 @@ def write_report(
                 "torque" if d is d0 else f"torque_{d.name}",
                 T(
                     "{effort} of {driver} without friction, with the approximate and with "
-                    "the consistent friction solution.",
+                    "the consistent friction solution."
+                    if model.has_friction
+                    else "{effort} of {driver} (no joint has friction).",
                     effort=_upper_first(T(balancing(model, d.name))),
                     driver=d.name,
                 ),

@@ -252,6 +252,12 @@ def report_tables(result, rows: Sequence[tuple[str, int]], lang: str = "en") -> 
             "homotopy, 2 self-locking, 3 a relative speed is zero), input power and friction "
             "loss (W)",
             lang,
+        )
+        if "friction.status" in result.columns
+        else tr(
+            "Balancing torque M_b of each driver (balancing force F_b of a sliding driver) "
+            "and the input power (W); no joint has friction",
+            lang,
         ),
         lang,
     )
