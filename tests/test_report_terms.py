@@ -216,7 +216,8 @@ def test_the_output_is_named_by_the_member_that_moves():
     zh = [i for i in _items(model, "zh") if i.startswith("输出")]
     en = [i for i in _items(model, "en") if i.startswith("output")]
     assert len(zh) == len(en) == 1
-    assert zh[0].startswith("输出 构件6 ram：行程") and en[0].startswith("output link 6 ram: stroke")
+    assert zh[0].startswith("输出 构件6 ram：行程")
+    assert en[0].startswith("output link 6 ram: stroke")
 
 
 def test_captions_name_friction_solutions_only_where_a_joint_has_friction(tmp_path, slotting):

@@ -53,6 +53,7 @@ OWN_LIMITS = {
     "drivers.*.motion.coefficients[]": "finite in SI; the law's SPEED_RANGE, "
     "MAX_LAW_ACCELERATION, MAGNITUDE of its coordinate, "
     "MAX_TURNS or MAX_TRAVEL of its path",
+    "links.*.number": "a whole number from 1 to 99 (io/bodies.py MAX_NUMBER)",
 }
 """The numbers of a file that are bounded by a limit of their own instead of (or besides)
 :data:`MAGNITUDE`: key pattern (names as ``*``, indices as ``[]``) -> the limit.  Every other

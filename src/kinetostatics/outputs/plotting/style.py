@@ -392,7 +392,7 @@ def _dodge(fig, ax, labels, fixed=(), step_mm: float = 2.0) -> None:
     px = fig.dpi * MM * step_mm
     moves = [(0, 0)] + [
         (dx * s, dy * s)
-        for s in (1, 2, 3, 4.5)
+        for s in (1, 2, 3, 4.5, 6, 8, 10)
         for dx, dy in ((0, 1), (0, -1), (1, 0), (-1, 0), (1, 1), (-1, 1), (1, -1), (-1, -1))
     ]
     for t in labels:
