@@ -106,3 +106,22 @@ def test_output_cut_short_by_the_reader_is_not_an_error():
     err = p.stderr.read().decode()
     assert p.wait() == 0, err
     assert "Traceback" not in err and "Exception ignored" not in err, err
+
+
+def test_python_dash_m_kinetostatics_is_the_command(tmp_path):
+    """``python -m kinetostatics`` runs the command line (the package had no __main__)."""
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    env = dict(os.environ, PYTHONPATH=str(Path(__file__).parents[1] / "src"))
+    out = subprocess.run(
+        [sys.executable, "-m", "kinetostatics", "--version"],
+        cwd=tmp_path,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert out.returncode == 0 and out.stdout.startswith("kinetostatics "), out
