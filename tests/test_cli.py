@@ -111,8 +111,6 @@ def test_output_cut_short_by_the_reader_is_not_an_error():
 def test_python_dash_m_kinetostatics_is_the_command(tmp_path):
     """``python -m kinetostatics`` runs the command line (the package had no __main__)."""
     import os
-    import subprocess
-    import sys
     from pathlib import Path
 
     env = dict(os.environ, PYTHONPATH=str(Path(__file__).parents[1] / "src"))
