@@ -222,8 +222,10 @@ def test_the_output_is_named_by_the_member_that_moves():
 
 def test_captions_name_friction_solutions_only_where_a_joint_has_friction(tmp_path, slotting):
     """The balancing torque's table and picture of a file without friction (the balanced
-    four-bar) say so, instead of promising friction columns and curves it has not."""
+    four-bar) say so, instead of promising friction columns and curves it has not; the
+    table of the largest reactions has no (empty) column with friction."""
     md = _report(ROOT / "mechanisms" / "fourbar_balancing.yaml", tmp_path / "out", "en")
     assert "consistent friction solution" not in md
     assert md.count("no joint has friction") >= 2  # the table's caption and the picture's
+    assert "largest |F_R| with friction" not in md.replace("\\|", "|")  # no empty column
     assert "consistent friction solution" in slotting["en"]  # the slotting machine has it

@@ -490,20 +490,16 @@ def _summary_blocks(result, summary, lang: str = "en") -> list:
     if summary["indeterminate_reactions"]:
         items.append(tr("redundant constraints: reactions are the minimum-norm solution", lang))
     blocks.append(_List(items))
+    friction = model.has_friction  # else no column with friction (it would be empty)
     rows = [
-        [n, f"{p['peak']:.5g}", f"{p['at']:.4g}", _fmt(p.get("peak_friction", math.nan), 0.0)]
+        [n, f"{p['peak']:.5g}", f"{p['at']:.4g}"]
+        + ([_fmt(p.get("peak_friction", math.nan), 0.0)] if friction else [])
         for n, p in summary["reaction_peaks"].items()
     ]
-    blocks.append(
-        _Table(
-            [
-                tr("joint", lang),
-                tr("largest |F_R| without friction (N)", lang),
-                tr("at φ (deg)", lang),
-                tr("largest |F_R| with friction (N)", lang),
-            ],
-            rows,
-            tr("Largest total reactions F_R of the joints", lang),
-        )
-    )
+    head = [
+        tr("joint", lang),
+        tr("largest |F_R| without friction (N)", lang),
+        tr("at φ (deg)", lang),
+    ] + ([tr("largest |F_R| with friction (N)", lang)] if friction else [])
+    blocks.append(_Table(head, rows, tr("Largest total reactions F_R of the joints", lang)))
     return blocks
