@@ -266,9 +266,9 @@ def missed_cuts(rows: Result, nodes: Result, edges: np.ndarray, friction: bool) 
     (``edges``, sorted, the span's ends included) between them.  First the switches on the
     motion (:mod:`.switches`: the reversals of the resisting loads and, with ``friction``,
     of the joints with friction, the loads' conditions, the tables' corners), located
-    exactly; where there are none, the kinks the pipeline gives (a cam law's segment
-    ends, the drivers' efforts), located as :func:`_solved_kinks` does, continued from
-    the ``rows``.  Empty, and nothing solved, when the nodes see nothing new."""
+    exactly; where none is new (off the cuts), the kinks the pipeline gives (a cam law's
+    segment ends, the drivers' efforts), located as :func:`_solved_kinks` does, continued
+    from the ``rows``.  Empty, and nothing solved, when the nodes see nothing new."""
     if len(nodes) < 2:
         return []
     ts, order, _ = _in_time(nodes)
@@ -285,8 +285,10 @@ def missed_cuts(rows: Result, nodes: Result, edges: np.ndarray, friction: bool) 
             v = np.where(keep(q, qd, qdd), v, 0.0)
         if _stretch_changes(ts, v[:, None], seg):
             seen.append(entry)
-    if seen:
-        return exact_roots(nodes, seen)
+    span = float(edges[-1] - edges[0])
+    new = [r for r in exact_roots(nodes, seen) if np.min(np.abs(edges - r)) > 1e-12 * span]
+    if new:
+        return new
     fns = _motion_breaks(nodes) + effort_zeros(nodes)
     if not fns:
         return []
@@ -298,7 +300,7 @@ def missed_cuts(rows: Result, nodes: Result, edges: np.ndarray, friction: bool) 
         for z, value in zip(brackets, (ts[a], ts[a + 1], v[a], v[a + 1], *guess, m, scale)):
             z.append(value)
     at = _evaluator(rows, fns, float(edges[0]), None, nodes.lam_friction is not None)
-    return _located(at, brackets, float(edges[-1] - edges[0]))
+    return _located(at, brackets, span)
 
 
 def merged_cuts(ta: float, tb: float, times) -> np.ndarray:
