@@ -117,6 +117,17 @@ class _Serial(Executor):
         return f
 
 
+def _shut(ex) -> None:
+    """Shut a process pool down: the calls not started cancelled, the ones running (their
+    workers ignore Ctrl-C) finished and the pool's thread joined, so that Python 3.11's
+    exit hook does not race that thread ("Exception ignored … Bad file descriptor" after
+    the one line of an interrupt).  A second Ctrl-C stops the wait."""
+    try:
+        ex.shutdown(wait=True, cancel_futures=True)
+    except KeyboardInterrupt:
+        pass
+
+
 def _open_executor(executor: Any, workers: int | None) -> tuple[Executor, int, Callable[[], None]]:
     """(executor, number of parallel slots, close)."""
     if executor == "serial":
@@ -128,7 +139,7 @@ def _open_executor(executor: Any, workers: int | None) -> tuple[Executor, int, C
         ex = ProcessPoolExecutor(
             max_workers=n, initializer=_start_worker, initargs=(os.getpid(), kernels.backend())
         )
-        return ex, n, lambda: ex.shutdown(wait=False, cancel_futures=True)
+        return ex, n, lambda: _shut(ex)
     if isinstance(executor, Executor):
         return executor, workers or os.cpu_count() or 1, lambda: None
     if isinstance(executor, str):
