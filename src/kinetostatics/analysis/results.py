@@ -215,10 +215,11 @@ def build_columns(system: System, t, psi, q, qd, qdd, x0, fric, power, cond, sha
     for prefix, label in _dyad_angle_names(system):
         put([(f"{prefix}.{label}", "deg")], lambda prefix=prefix: (dyad_angles()[prefix][1],))
     qe = _padded(q)
+    seen = None if x0 is None else _seen(x0)
     for k, j in enumerate(model.joints):  # a type's own columns (a cam's pressure angle)
         i_, j_ = system.ends[k]
         qi, qj = qe[..., 3 * i_ : 3 * i_ + 3], qe[..., 3 * j_ : 3 * j_ + 3]
-        own = j.columns(qi, qj, None if x0 is None else _block(system, x0, k))
+        own = j.columns(qi, qj, None if seen is None else seen[..., system.rows_of(k)])
         if own:
             put(
                 [(f"{j.name}.{label}", unit) for label, (unit, _) in own.items()],
@@ -237,25 +238,24 @@ def _padded(q: np.ndarray) -> np.ndarray:
     return np.concatenate((q, np.zeros(q.shape[:-1] + (3,))), axis=-1)
 
 
-def _block(system: System, x0: np.ndarray, k: int) -> np.ndarray:
-    """Joint ``k``'s λ block of the frictionless solution ``x0``, as its columns and
-    warnings see it: an entry within round-off (1e-12) of the run's largest |value| (of
-    each variant's run, for stacked variants) is 0.
-    (A cam follower at rest in a dwell with nothing pressing it has a contact force of 0
-    in exact arithmetic, ±6e-15 N computed: its status and the separation warning
-    followed that sign, and the same row said 0 in one run and 1 in another.)"""
-    lam = x0[..., system.rows_of(k)]
+def _seen(x0: np.ndarray) -> np.ndarray:
+    """The frictionless solution ``x0`` as the joints' columns and warnings see it: an
+    entry within round-off (1e-12) of the run's largest |value| (of each variant's run,
+    for stacked variants) is 0.  (A cam follower at rest in a dwell with nothing pressing
+    it has a contact force of 0 in exact arithmetic, ±6e-15 N computed: its status and the
+    separation warning followed that sign, and the same row said 0 in one run and 1 in
+    another.)"""
     axes = tuple(range(max(x0.ndim - 2, 0), x0.ndim))  # a run's rows; variants apart
     floor = 1e-12 * np.max(np.abs(np.nan_to_num(x0)), axis=axes, keepdims=True, initial=0.0)
-    return np.where(np.abs(lam) <= floor, 0.0, lam)
+    return np.where(np.abs(x0) <= floor, 0.0, x0)
 
 
 def joint_warnings(system: System, q: np.ndarray, x0: np.ndarray) -> list[str]:
     """What each joint type has to say about the rows (``Joint.warnings``)."""
-    qe, out = _padded(q), []
+    qe, out, seen = _padded(q), [], _seen(x0)
     for k, j in enumerate(system.model.joints):
         i_, j_ = system.ends[k]
-        lam = _block(system, x0, k)
+        lam = seen[..., system.rows_of(k)]
         out += j.warnings(lam, qe[..., 3 * i_ : 3 * i_ + 3], qe[..., 3 * j_ : 3 * j_ + 3])
     return out
 
