@@ -125,7 +125,7 @@ def _package_parents(edges: dict[str, set[str]]) -> dict[str, set[str]]:
 
 
 def _functions():
-    for m, path, tree in _modules():
+    for m, _path, tree in _modules():
         for node in ast.walk(tree):
             if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
                 yield m, node
@@ -150,7 +150,7 @@ def _cache_name(node: ast.AST) -> str | None:
 
 def _hidden_caches() -> list[tuple[str, int, str]]:
     found = []
-    for m, path, tree in _modules():
+    for m, _path, tree in _modules():
         for fn in ast.walk(tree):
             if isinstance(fn, ast.ClassDef):
                 for item in fn.body:
