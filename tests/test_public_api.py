@@ -68,3 +68,82 @@ def test_dir_keeps_the_import_light():
     assert "analyze" in names and "Result" in names
     for heavy in ("matplotlib", "scipy.integrate", "kinetostatics.batch.optimize"):
         assert heavy not in modules, heavy
+
+
+# --- docstrings: numpydoc sections on every public callable (docs/api.md) -------------------
+
+# numpydoc's checks left out, with why; every other check of numpydoc.validate applies.
+IGNORED = {
+    "SA01": "See Also is given where a related name helps, not required on every callable",
+    "ES01": "an extended summary is optional: a one-line summary suffices for many methods",
+}
+
+
+def public_callables() -> list[str]:
+    """The dotted names of ``kinetostatics.__all__``'s callables and their public methods
+    (the counts of tests/architecture_counts.py count the same)."""
+    import inspect
+
+    names = []
+    for name in ks.__all__:
+        obj = getattr(ks, name)
+        if not callable(obj):
+            continue
+        names.append(f"kinetostatics.{name}")
+        if inspect.isclass(obj) and not issubclass(obj, BaseException | Warning):
+            names += [
+                f"kinetostatics.{name}.{attr}"
+                for attr, member in vars(obj).items()
+                if not attr.startswith("_") and callable(member)
+            ]
+    return names
+
+
+def test_the_public_callables_are_the_ones_counted():
+    names = public_callables()
+    assert len(names) == len(set(names)) == 28
+    assert "kinetostatics.Result.summary" in names and "kinetostatics.analyze" in names
+
+
+def test_every_public_callable_has_valid_numpydoc_sections():
+    from numpydoc.validate import validate
+
+    problems = []
+    for name in public_callables():
+        for code, message in validate(name)["errors"]:
+            if code not in IGNORED:
+                problems.append(f"{name}: {code} {message}")
+    assert not problems, "\n".join(problems)
+
+
+def test_every_public_callable_has_typed_signatures():
+    import inspect
+
+    for name in public_callables():
+        obj = ks
+        for part in name.split(".")[1:]:
+            obj = getattr(obj, part)
+        sig = inspect.signature(obj)
+        untyped = [p for n, p in sig.parameters.items() if n not in ("self", "cls")]
+        untyped = [p.name for p in untyped if p.annotation is inspect.Parameter.empty]
+        assert not untyped, (name, untyped)
+        if not inspect.isclass(obj):
+            assert sig.return_annotation is not inspect.Signature.empty, name
+
+
+def test_the_examples_run(monkeypatch):
+    """Each public docstring's Examples, those that need no file, run as doctests."""
+    import doctest
+
+    monkeypatch.chdir(ROOT)
+    finder, runner = doctest.DocTestFinder(recurse=False), doctest.DocTestRunner()
+    ran = 0
+    for name in public_callables():
+        obj = ks
+        for part in name.split(".")[1:]:
+            obj = getattr(obj, part)
+        for test in finder.find(obj, name, globs={}):
+            result = runner.run(test)
+            assert result.failed == 0, name
+            ran += sum(not e.options.get(doctest.SKIP) for e in test.examples)
+    assert ran >= 20  # the Examples of the exceptions, loads and set_backend run

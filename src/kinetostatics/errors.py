@@ -80,58 +80,200 @@ def printable(text: str) -> str:
 
 
 class KinetostaticsError(Exception):
-    """Base class of every user-caused error."""
+    """Base class of every user-caused error.
+
+    Parameters
+    ----------
+    *args : object
+        The message (one ``str``), as for :class:`Exception`.
+
+    See Also
+    --------
+    ModelError : A problem in a mechanism file or model.
+
+    Examples
+    --------
+    >>> import kinetostatics as ks
+    >>> try:
+    ...     ks.load("no/such/file.yaml")
+    ... except ks.KinetostaticsError as e:
+    ...     print(type(e).__name__)
+    ModelError
+    """
+
+    def __init__(self, *args: object) -> None:
+        super().__init__(*args)
 
 
 class ModelError(KinetostaticsError, ValueError):
-    """One or more problems in a model; ``problems`` lists ``(Location, message)``."""
+    """One or more problems in a model, each with where it was written.
 
-    def __init__(self, problems: Iterable[tuple[Location, str]]):
+    The message has one line per problem, ``FILE:LINE:COL: key.path: message``.
+
+    Parameters
+    ----------
+    problems : iterable of (Location, str)
+        Each problem's place in the file and its message; kept as the list
+        ``problems``, the first place as ``location``.
+
+    Examples
+    --------
+    >>> from kinetostatics import ModelError
+    >>> from kinetostatics.errors import Location
+    >>> e = ModelError([(Location("m.yaml", 3, 5, "links.rod.mass"), "must be positive")])
+    >>> print(e)
+    m.yaml:3:5: links.rod.mass: must be positive
+    >>> e.location.line
+    3
+    """
+
+    def __init__(self, problems: Iterable[tuple[Location, str]]) -> None:
         self.problems = list(problems)
         self.location = self.problems[0][0] if self.problems else Location()
         super().__init__("\n".join(printable(f"{loc}: {msg}") for loc, msg in self.problems))
 
 
 class StructureError(ModelError):
-    """The topology does not match the drivers or the listed loops."""
+    """The topology does not match the drivers or the listed loops.
+
+    Parameters
+    ----------
+    problems : iterable of (Location, str)
+        As for :class:`ModelError`.
+
+    Examples
+    --------
+    >>> import kinetostatics as ks
+    >>> issubclass(ks.StructureError, ks.ModelError)
+    True
+    """
 
 
 class AssemblyError(KinetostaticsError, RuntimeError):
-    """A group cannot be assembled at a driver coordinate."""
+    """A group cannot be assembled at a driver coordinate.
 
-    def __init__(self, group: str, coordinate: str, reason: str):
+    Parameters
+    ----------
+    group : str
+        The Assur group (its label, e.g. ``"RRR(rod, rocker)"``).
+    coordinate : str
+        The driver coordinate, as text with its unit.
+    reason : str
+        Why (no solution, a limit position).
+
+    Examples
+    --------
+    >>> import kinetostatics as ks
+    >>> print(ks.AssemblyError("RRR(rod, rocker)", "crank = 90 deg", "no solution"))
+    RRR(rod, rocker) cannot assemble at crank = 90 deg: no solution
+    """
+
+    def __init__(self, group: str, coordinate: str, reason: str) -> None:
         self.group, self.coordinate, self.reason = group, coordinate, reason
         super().__init__(f"{group} cannot assemble at {coordinate}: {reason}")
 
 
 class SingularConfigurationError(AssemblyError):
-    """The motion cannot be continued through a singular position."""
+    """The motion cannot be continued through a singular position.
+
+    Parameters
+    ----------
+    group : str
+        The Assur group.
+    coordinate : str
+        The driver coordinate, as text with its unit.
+    reason : str
+        Why the motion cannot go on.
+
+    Examples
+    --------
+    >>> import kinetostatics as ks
+    >>> issubclass(ks.SingularConfigurationError, ks.AssemblyError)
+    True
+    """
 
 
 class SelfLockingError(KinetostaticsError, RuntimeError):
-    """The consistent friction solution does not exist (the mechanism self-locks)."""
+    """The consistent friction solution does not exist (the mechanism self-locks).
+
+    Parameters
+    ----------
+    *args : object
+        The message (one ``str``).
+
+    Examples
+    --------
+    >>> import kinetostatics as ks
+    >>> issubclass(ks.SelfLockingError, (ks.KinetostaticsError, RuntimeError))
+    True
+    """
 
 
 class NonFiniteResultError(KinetostaticsError, RuntimeError):
-    """An analysis produced a NaN or infinite value that no status explains (not a
-    self-locked friction solution, not a singular position): the numbers of the model
-    overflow.  ``column``: the result column; ``row``: the row (0-based)."""
+    """An analysis produced a NaN or infinite value that no status explains.
 
-    def __init__(self, column: str, row: int, message: str):
+    Not a self-locked friction solution, not a singular position: the numbers of the
+    model overflow.
+
+    Parameters
+    ----------
+    column : str
+        The result column that holds the value (kept as ``column``).
+    row : int
+        Its row, 0-based (kept as ``row``).
+    message : str
+        The message.
+
+    Examples
+    --------
+    >>> import kinetostatics as ks
+    >>> e = ks.NonFiniteResultError("rod.omega", 4, "rod.omega is inf at row 4")
+    >>> e.column, e.row
+    ('rod.omega', 4)
+    """
+
+    def __init__(self, column: str, row: int, message: str) -> None:
         self.column, self.row = column, row
         super().__init__(message)
 
 
 class LostInertiaError(KinetostaticsError, RuntimeError):
-    """The equations of motion cannot be solved at a state: the free coordinates'
-    inertia is lost to round-off against the other terms (a spring, a load or a
-    speed far larger than the masses can balance in double precision)."""
+    """The equations of motion cannot be solved at a state.
+
+    The free coordinates' inertia is lost to round-off against the other terms (a
+    spring, a load or a speed far larger than the masses can balance in double
+    precision).
+
+    Parameters
+    ----------
+    *args : object
+        The message (one ``str``).
+
+    Examples
+    --------
+    >>> import kinetostatics as ks
+    >>> issubclass(ks.LostInertiaError, RuntimeError)
+    True
+    """
 
 
 class OutputError(KinetostaticsError, RuntimeError):
-    """An output cannot be written or a batch's machinery failed: an ``--out`` that
-    is a file, a folder without write permission, a full disk, a lost Dask
-    scheduler.  The message is one line naming the path (or the scheduler)."""
+    """An output cannot be written or a batch's machinery failed.
+
+    An ``--out`` that is a file, a folder without write permission, a full disk, a
+    lost Dask scheduler.  The message is one line naming the path (or the scheduler).
+
+    Parameters
+    ----------
+    *args : object
+        The message (one ``str``).
+
+    Examples
+    --------
+    >>> import kinetostatics as ks
+    >>> print(ks.OutputError("--out out: is a file, not a folder"))
+    --out out: is a file, not a folder
+    """
 
 
 def output_error(exc: OSError, what: str) -> OutputError:
@@ -148,7 +290,26 @@ class MissingPackageError(KinetostaticsError, ImportError):
 
 
 class NearSingularWarning(UserWarning):
-    """A group is near a singular position (large condition number)."""
+    """A group is near a singular position (large condition number).
+
+    Parameters
+    ----------
+    *args : object
+        The message (one ``str``), as for :class:`UserWarning`.
+
+    Examples
+    --------
+    >>> import warnings
+    >>> import kinetostatics as ks
+    >>> with warnings.catch_warnings(record=True) as caught:
+    ...     warnings.simplefilter("always")
+    ...     warnings.warn("RRR(rod, rocker) near a singular position", ks.NearSingularWarning)
+    >>> caught[0].category.__name__
+    'NearSingularWarning'
+    """
+
+    def __init__(self, *args: object) -> None:
+        super().__init__(*args)
 
 
 class JointWarning(UserWarning):

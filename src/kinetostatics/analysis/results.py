@@ -11,7 +11,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -22,77 +22,14 @@ from ..kinematics.state import point_state
 from ..kinetics.elements import coordinate as element_coordinate
 from ..kinetics.elements import element_states
 from ..structure.system import System, coordinate_gradient, link_poses
+from .angles import dyad_angle_names as _dyad_angle_names
+from .angles import dyad_angles as _dyad_angles
+
+if TYPE_CHECKING:  # the optional table packages, for the return types only
+    import pandas
+    import xarray
 
 __all__ = ["Result", "build_columns", "joint_warnings", "element_warnings"]
-
-
-def _joint_position(system: System, q: np.ndarray, name: str) -> np.ndarray:
-    """Global position of a pin: its point on link i."""
-    j = system.model.joint(name)
-    link = j.links[0]
-    p = next(a.xy for a in j.anchors() if a.at_joint and a.link == link)
-    if link == system.model.ground.name:
-        return np.broadcast_to(p, q.shape[:-1] + (2,))
-    k = system.link_index(link)
-    return point_state(q, q, None, k, p)[0]
-
-
-def _pose(system: System, q: np.ndarray, link: str) -> np.ndarray:
-    """(x, y, θ) of a link, ``(..., 3)``; the frame's are zeros."""
-    if link == system.model.ground.name:
-        return np.zeros(q.shape[:-1] + (3,))
-    k = system.link_index(link)
-    return q[..., 3 * k : 3 * k + 3]
-
-
-def _dyad_angle_names(system: System) -> list[tuple[str, str]]:
-    """(column prefix, label) of the dyads that have a transmission or pressure angle."""
-    label = {"RRR": "transmission_angle", "RRP": "pressure_angle"}
-    return [
-        (p.group.column, label[p.group.letters])
-        for p in system.plans
-        if p.group.kind == "dyad" and p.group.letters in label
-    ]
-
-
-def _angle_between(u: np.ndarray, v: np.ndarray, unsigned: bool = False) -> np.ndarray:
-    """Angle between vectors ``u`` and ``v (..., 2)`` in deg, from 0 to 180° (to 90° between
-    their lines when ``unsigned``); NaN where either is zero.
-
-    atan2 of cross and dot keeps full relative precision at every angle; the arccos of
-    their cosine loses half the digits near 0° and 180° (a pressure angle of 0.0007° came out
-    5e-10° apart from two equal positions, 7e-7 of itself: net seed 1005175).
-    """
-    cross = u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
-    dot = np.sum(u * v, axis=-1)
-    ang = np.arctan2(np.abs(cross), np.abs(dot) if unsigned else dot)
-    zero = (np.linalg.norm(u, axis=-1) == 0) | (np.linalg.norm(v, axis=-1) == 0)
-    return np.degrees(np.where(zero, np.nan, ang))
-
-
-def _dyad_angles(system: System, q: np.ndarray) -> dict[str, tuple[str, np.ndarray]]:
-    """Transmission angle of RRR dyads and pressure angle of RRP dyads, deg."""
-    out = {}
-    joints = {j.name: j for j in system.model.joints}
-    for plan in system.plans:
-        g = plan.group
-        if g.kind != "dyad" or g.letters not in ("RRR", "RRP"):
-            continue
-        a, b = g.links
-        inner = [n for n in g.joints if set(joints[n].links) == {a, b}][0]
-        ext_a = [n for n in g.joints if a in joints[n].links and n != inner][0]
-        ext_b = [n for n in g.joints if b in joints[n].links and n != inner][0]
-        pa, pm = _joint_position(system, q, ext_a), _joint_position(system, q, inner)
-        u = pa - pm
-        if g.letters == "RRR":
-            v = _joint_position(system, q, ext_b) - pm
-            out[g.column] = ("transmission_angle", _angle_between(u, v))
-        else:
-            s = joints[ext_b]
-            qi, qj = (_pose(system, q, link) for link in s.links)
-            axis = s.glyph(qi, qj).guide.direction  # the slide's axis
-            out[g.column] = ("pressure_angle", _angle_between(u, axis, unsigned=True))
-    return out
 
 
 class Columns(Mapping):
@@ -422,14 +359,34 @@ def _kinetic_columns(system: System, put, q, qd, x0, fric, power) -> None:
 class Result:
     """Named arrays over the positions, with the raw arrays for advanced use.
 
-    ``result["rod.omega"]`` is a ``(n_pos,)`` array; ``result.columns`` the
-    names in CSV order; ``result.units[name]`` the unit.  Raw: ``t`` (s),
-    ``coordinate`` (rad or m), ``q``, ``qd``, ``qdd`` ``(n_pos, n_q)`` and
-    ``lam`` ``(n_pos, n_lam)`` (frictionless multipliers and driver efforts), and
-    ``lam_friction`` the same of the consistent friction solution (None without it).
+    :func:`analyze` makes it: ``result["rod.omega"]`` is a column, ``result.units`` the
+    units, ``result.checks`` the self-checks (computed on first use).
 
-    Tables (:mod:`.frames`, naming rule ``member.quantity``): :meth:`members`,
-    :meth:`select`, :meth:`to_pandas`, :meth:`to_xarray`.
+    Parameters
+    ----------
+    system : System
+        The compiled mechanism.
+    t, coordinate : numpy.ndarray
+        Time (s) and driver coordinate (rad or m) of each position, ``(n_pos,)``.
+    q, qd, qdd, lam : numpy.ndarray
+        Poses, velocities, accelerations ``(n_pos, n_q)``; multipliers ``(n_pos, n_lam)``.
+    columns, units : mapping of str to numpy.ndarray, dict of str to str
+        The named columns in CSV order, and their units.
+    events, singular : tuple, optional
+        The load switches and the singular positions met.
+    indeterminate, full_cycle : bool, optional
+        Some reactions are statically indeterminate; the positions span a cycle.
+    extremes : dict, optional
+        The travel extremes of the output members.
+    lam_friction : numpy.ndarray, optional
+        ``lam`` of the consistent friction solution (None without it).
+
+    Examples
+    --------
+    >>> import kinetostatics as ks
+    >>> result = ks.analyze(ks.load("mechanisms/slider_crank.yaml"))  # doctest: +SKIP
+    >>> result.units["motor.torque"], result.checks.ok  # doctest: +SKIP
+    ('N*m', True)
     """
 
     system: System
@@ -468,31 +425,93 @@ class Result:
         return html_repr(self)
 
     def members(self) -> dict[str, list[str]]:
-        """``{member: [column names]}``: the columns of each link, joint, driver, load…
-        (a name is ``member.quantity``, split at the first dot; :mod:`.frames`)."""
+        """Group the column names by member (link, joint, driver, load…).
+
+        Returns
+        -------
+        dict of str to list of str
+            ``{member: [names]}``; a name is ``member.quantity``, split at the first dot.
+
+        Examples
+        --------
+        >>> result.members()["motor"][0]  # doctest: +SKIP
+        'motor.torque'
+        """
         from .frames import members
 
         return members(self)
 
     def select(self, member: str) -> dict[str, np.ndarray]:
-        """``{quantity: array}`` of one member's columns: ``select("rocker")["B.vx"]``
-        is ``result["rocker.B.vx"]``."""
+        """Return one member's columns by quantity.
+
+        Parameters
+        ----------
+        member : str
+            A link, joint, driver, load… (a key of :meth:`members`).
+
+        Returns
+        -------
+        dict of str to numpy.ndarray
+            ``{quantity: column}``: ``select("rod")["B.vx"]`` is ``result["rod.B.vx"]``.
+
+        Raises
+        ------
+        KeyError
+            No column belongs to ``member``.
+
+        Examples
+        --------
+        >>> result.select("rod")["B.vx"] is result["rod.B.vx"]  # doctest: +SKIP
+        True
+        """
         from .frames import select
 
         return select(self, member)
 
-    def to_pandas(self, multiindex: bool = False):
-        """A pandas DataFrame of the columns, units in ``df.attrs["units"]``;
-        ``multiindex=True`` splits ``rocker.y`` into ``("rocker", "y")``.  Needs
-        ``pip install 'kinetostatics[pandas]'``."""
+    def to_pandas(self, multiindex: bool = False) -> pandas.DataFrame:
+        """Return the columns as a pandas DataFrame (``pip install 'kinetostatics[pandas]'``).
+
+        Parameters
+        ----------
+        multiindex : bool, default False
+            Split each name at its first dot: ``rod.omega`` becomes ``("rod", "omega")``.
+
+        Returns
+        -------
+        pandas.DataFrame
+            One row per position; the units in ``df.attrs["units"]``.
+
+        Raises
+        ------
+        MissingPackageError
+            pandas is not installed (the message gives the line that installs it).
+
+        Examples
+        --------
+        >>> result.to_pandas(multiindex=True)["rod"]["omega"].max()  # doctest: +SKIP
+        """
         from .frames import to_pandas
 
         return to_pandas(self, multiindex)
 
-    def to_xarray(self):
-        """An xarray Dataset over the dimension ``position`` (``time``, ``angle`` or
-        ``stroke``, ``travel`` as coordinates), units as attributes.  Needs
-        ``pip install 'kinetostatics[xarray]'``."""
+    def to_xarray(self) -> xarray.Dataset:
+        """Return the columns as an xarray Dataset over the dimension ``position``.
+
+        Returns
+        -------
+        xarray.Dataset
+            One variable per column, its unit as attribute (needs the xarray extra).
+
+        Raises
+        ------
+        MissingPackageError
+            xarray is not installed (the message gives the line that installs it).
+
+        Examples
+        --------
+        >>> result.to_xarray()["motor.torque"].attrs["units"]  # doctest: +SKIP
+        'N*m'
+        """
         from .frames import to_xarray
 
         return to_xarray(self)
@@ -511,11 +530,32 @@ class Result:
         return list(self.columns)
 
     def to_csv(self, path: str | Path) -> None:
-        """Write ``results.csv``: a ``# units:`` line, the header, one row per position."""
+        """Write the columns as CSV: a ``# units:`` line, the header, a row per position.
+
+        Parameters
+        ----------
+        path : str or pathlib.Path
+            The file to write.
+
+        Examples
+        --------
+        >>> result.to_csv("results.csv")  # doctest: +SKIP
+        """
         write_columns(path, self.columns, self.units)
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-safe: ``{"columns": {name: [..]}, "units": {...}}`` (NaN as None)."""
+        """Return the columns and units as JSON-safe lists and dicts.
+
+        Returns
+        -------
+        dict of str to Any
+            ``{"columns": {name: [float or None, ...]}, "units": {name: unit}}``.
+
+        Examples
+        --------
+        >>> result.to_dict()["units"]["motor.torque"]  # doctest: +SKIP
+        'N*m'
+        """
         return {
             "columns": {
                 n: [None if not np.isfinite(v) else float(v) for v in a]
@@ -525,12 +565,34 @@ class Result:
         }
 
     def summary(self) -> dict[str, Any]:
-        """Extremes of every column and where they occur, events, singular positions."""
+        """Summarise the result: extremes of every column, events, singular positions.
+
+        Returns
+        -------
+        dict of str to Any
+            The contents of ``summary.json``.
+
+        Examples
+        --------
+        >>> summary = result.summary()  # doctest: +SKIP
+        """
         from ..outputs.summary import summarize
 
         return summarize(self)
 
     def to_json(self, path: str | Path, summary: dict[str, Any] | None = None) -> None:
-        """Write :meth:`summary` (or the one given, already computed) as JSON."""
+        """Write :meth:`summary` as JSON.
+
+        Parameters
+        ----------
+        path : str or pathlib.Path
+            The file to write.
+        summary : dict of str to Any, optional
+            A summary already computed, written instead of a new one.
+
+        Examples
+        --------
+        >>> result.to_json("summary.json")  # doctest: +SKIP
+        """
         data = self.summary() if summary is None else summary
         Path(path).write_text(json_text(data, ensure_ascii=False), encoding="utf-8")

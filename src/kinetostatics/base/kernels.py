@@ -54,10 +54,37 @@ def backend() -> str:
 
 
 def set_backend(name: str, where: str = "set_backend") -> None:
-    """Use the backend ``name`` (``"numpy"`` or ``"numba"``) for the analyses that follow.
+    """Use the backend ``name`` for the analyses that follow.
 
-    ``"numba"`` needs the package numba (:class:`~kinetostatics.errors.MissingPackageError`
-    with the line that installs it, if it is missing)."""
+    The backend evaluates the constraint Jacobians and accelerations: NumPy (the
+    default) or the joints' kernels compiled by numba.  Both give the same numbers to
+    round-off.  The environment variable ``KINETOSTATICS_BACKEND`` sets it at start.
+
+    Parameters
+    ----------
+    name : {"numpy", "numba"}
+        The backend.
+    where : str, optional
+        What the error message names as the source of ``name`` (default
+        ``"set_backend"``).
+
+    Raises
+    ------
+    ModelError
+        ``name`` is not a known backend.
+    MissingPackageError
+        ``name`` is ``"numba"`` and numba is not installed (the message gives the
+        line that installs it).
+
+    Examples
+    --------
+    >>> import kinetostatics as ks
+    >>> ks.set_backend("numba")  # doctest: +SKIP
+    >>> ks.set_backend("fortran")
+    Traceback (most recent call last):
+    ...
+    kinetostatics.errors.ModelError: set_backend: unknown backend 'fortran'; known: numpy, numba
+    """
     if name not in BACKENDS:
         known = ", ".join(BACKENDS)
         raise ModelError([(Location(where), f"unknown backend '{name}'; known: {known}")])

@@ -21,16 +21,20 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Iterable, Mapping
+import sys
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 
 from ..base.expressions import ExpressionError, evaluate, names_in
 from ..errors import KinetostaticsError, did_you_mean
 
-__all__ = ["OptimizeError", "Expression", "Constraint", "INFEASIBLE", "FAILED"]
+__all__ = ["OptimizeError", "Expression", "Constraint", "INFEASIBLE", "FAILED", "parse_vary"]
 
 INFEASIBLE = 1e15  # the score of an infeasible design: INFEASIBLE·(1 + its violation)
 FAILED = 1e18  # the score of a design the batch could not analyse
+# |LO|, |HI| of a --vary at most half the largest float: the search's designs are
+# midpoint + u·span, and both stay finite
+MAX_BOUND = sys.float_info.max / 2
 
 # a dotted name (member.quantity), not preceded by a letter, digit, '_' or '.' (1.5e3 is
 # safe); its parts are names in any script (刨头.stroke), none starting with a digit
@@ -149,3 +153,36 @@ class Constraint:
             return math.nan
         slack = rhs - lhs if self.op == "<=" else lhs - rhs
         return slack / (abs(rhs) if rhs != 0 else 1.0)
+
+
+def parse_vary(items: Sequence[str] | Mapping[str, Sequence[float]]) -> dict[str, tuple]:
+    """``["NAME=LO:HI", …]`` or ``{NAME: (LO, HI)}`` → ``{NAME: (LO, HI)}``."""
+    out: dict[str, tuple[float, float]] = {}
+    pairs = items.items() if isinstance(items, Mapping) else [_split_vary(t) for t in items]
+    for name, bounds in pairs:
+        try:
+            lo, hi = (float(b) for b in bounds)
+        except (TypeError, ValueError):
+            raise OptimizeError(f"--vary {name}: expected LO:HI, got {bounds!r}") from None
+        if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
+            raise OptimizeError(f"--vary {name}={lo:g}:{hi:g}: needs finite LO < HI")
+        if max(abs(lo), abs(hi)) > MAX_BOUND:
+            # the search works on the midpoint and the span, which must stay finite
+            raise OptimizeError(
+                f"--vary {name}={lo:g}:{hi:g}: bounds beyond ±{MAX_BOUND:.4g} (half the "
+                "largest float) would give designs that are not finite numbers"
+            )
+        if name in out:
+            raise OptimizeError(f"--vary {name}: named twice; give each parameter once")
+        out[name] = (lo, hi)
+    if not out:
+        raise OptimizeError("nothing to vary: give --vary NAME=LO:HI")
+    return out
+
+
+def _split_vary(text: str) -> tuple[str, tuple[str, ...]]:
+    name, eq, rest = text.partition("=")
+    bounds = tuple(rest.split(":"))
+    if not eq or not name.strip() or len(bounds) != 2:
+        raise OptimizeError(f"--vary {text!r}: expected NAME=LO:HI")
+    return name.strip(), bounds

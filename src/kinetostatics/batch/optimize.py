@@ -34,21 +34,21 @@ import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..base.document import read_text
 from ..base.limits import MAX_POSITIONS
-from .objectives import FAILED, INFEASIBLE, Constraint, Expression, OptimizeError
+from .objectives import FAILED, INFEASIBLE, Constraint, Expression, OptimizeError, parse_vary
 from .optimize_files import designs_on_disk
 from .sources import Chunk, Source, template_of
 
+if TYPE_CHECKING:
+    from ..model import Model
+
 __all__ = ["optimize", "Optimum", "OptimizeError", "INFEASIBLE", "FAILED", "parse_vary"]
 
-# |LO|, |HI| of a --vary at most half the largest float: the search's designs are
-# midpoint + u·span, and both stay finite
-MAX_BOUND = float(np.finfo(float).max) / 2
 # The options' ranges (the command refuses others with one line): designs per
 # generation = popsize × the number of varied parameters (at least 5, scipy's rule)
 RANGES = {
@@ -59,39 +59,6 @@ RANGES = {
 }
 # a best design this close to a bound (a fraction of HI − LO) is reported on it
 ON_BOUND = 1e-6
-
-
-def parse_vary(items: Sequence[str] | Mapping[str, Sequence[float]]) -> dict[str, tuple]:
-    """``["NAME=LO:HI", …]`` or ``{NAME: (LO, HI)}`` → ``{NAME: (LO, HI)}``."""
-    out: dict[str, tuple[float, float]] = {}
-    pairs = items.items() if isinstance(items, Mapping) else [_split_vary(t) for t in items]
-    for name, bounds in pairs:
-        try:
-            lo, hi = (float(b) for b in bounds)
-        except (TypeError, ValueError):
-            raise OptimizeError(f"--vary {name}: expected LO:HI, got {bounds!r}") from None
-        if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
-            raise OptimizeError(f"--vary {name}={lo:g}:{hi:g}: needs finite LO < HI")
-        if max(abs(lo), abs(hi)) > MAX_BOUND:
-            # the search works on the midpoint and the span, which must stay finite
-            raise OptimizeError(
-                f"--vary {name}={lo:g}:{hi:g}: bounds beyond ±{MAX_BOUND:.4g} (half the "
-                "largest float) would give designs that are not finite numbers"
-            )
-        if name in out:
-            raise OptimizeError(f"--vary {name}: named twice; give each parameter once")
-        out[name] = (lo, hi)
-    if not out:
-        raise OptimizeError("nothing to vary: give --vary NAME=LO:HI")
-    return out
-
-
-def _split_vary(text: str) -> tuple[str, tuple[str, ...]]:
-    name, eq, rest = text.partition("=")
-    bounds = tuple(rest.split(":"))
-    if not eq or not name.strip() or len(bounds) != 2:
-        raise OptimizeError(f"--vary {text!r}: expected NAME=LO:HI")
-    return name.strip(), bounds
 
 
 @dataclass
@@ -267,7 +234,7 @@ def _source(model_or_path) -> Source:
 
 
 def optimize(
-    model_or_path,
+    model_or_path: Model | str | Path,
     vary: Mapping[str, Sequence[float]] | Sequence[str],
     minimize: str,
     subject_to: Sequence[str] = (),
@@ -286,25 +253,64 @@ def optimize(
     overwrite: bool = False,
     progress: bool = True,
 ) -> Optimum:
-    """Minimise ``minimize`` over the parameters ``vary`` (``{NAME: (LO, HI)}`` in the
-    file's units, or ``["NAME=LO:HI", …]``) subject to ``subject_to`` (``"EXPR <= EXPR"``
-    or ``>=``); expressions over the batch row's quantities and the file's parameters
-    (docs/optimisation.md).  Differential evolution (``seed``, ``maxiter`` generations of
-    ``popsize`` × (number of parameters) designs, ``tol``), then a local refinement
-    (``polish``: Nelder–Mead, or COBYLA with constraints, at most ``local_maxiter``
-    steps).  ``positions``, ``friction``: as for a batch (a ``flywheel:`` of the file is
-    sized only when an expression names ``flywheel.…``); ``executor``: ``"serial"``
-    (default: each population as one vectorised batch in this process), ``"processes"``
-    (a pool of ``workers`` processes), a Dask scheduler address (``"tcp://host:8786"``)
-    or a ``concurrent.futures.Executor``, as :func:`~kinetostatics.batch.run_batch`'s:
-    each population is cut into one chunk per worker; the result is the same on every
-    executor (the local steps run in this process).  ``out``: a folder for
-    ``best.yaml``, ``designs.csv`` and ``convergence.png``; ``designs.csv`` is appended
-    to as the designs are evaluated, and the same search run again into the same folder
-    after an interrupt reuses them (``overwrite``: start afresh in a folder that holds
-    another search).  Raises :class:`OptimizeError` for a bad name, expression or
-    option and for an objective that has no value at any design, never for a bad
-    design."""
+    """Minimise an expression over some of a mechanism file's parameters.
+
+    A differential evolution, then a local refinement; expressions are over the batch
+    row's quantities and the file's parameters (docs/optimisation.md).
+
+    Parameters
+    ----------
+    model_or_path : Model or str or pathlib.Path
+        The mechanism file, or a model read from one (its ``source``).
+    vary : mapping of str to (float, float), or sequence of str
+        The parameters to vary and their bounds in the file's units:
+        ``{NAME: (LO, HI)}`` or ``["NAME=LO:HI", ...]``.
+    minimize : str
+        The objective, an expression (``"shaking.force_rms"``).
+    subject_to : sequence of str, optional
+        Constraints ``"EXPR <= EXPR"`` or ``"EXPR >= EXPR"``.
+    seed, maxiter, popsize : int, optional
+        The evolution's seed (default 0), generations (60) and designs per generation
+        and varied parameter (12).
+    tol : float, optional
+        Its relative tolerance on the population's scores (default 1e-6).
+    polish, local_maxiter : bool and int, optional
+        Refine the best design locally (default True: Nelder–Mead, or COBYLA with
+        constraints) in at most ``local_maxiter`` steps (400).
+    positions, friction : int and bool, optional
+        As for a batch (default: the file's).  A ``flywheel:`` is sized only when an
+        expression names ``flywheel.…``.
+    executor, workers : str or concurrent.futures.Executor, and int, optional
+        ``"serial"`` (default: a population as one vectorised batch), ``"processes"``
+        (a pool of ``workers``), a Dask scheduler address or an executor; each
+        population is cut into one chunk per worker.  The result is the same on each.
+    out : str or pathlib.Path, optional
+        A folder for ``best.yaml``, ``designs.csv`` (appended to as designs are
+        evaluated: the same search run again after an interrupt reuses them) and
+        ``convergence.png``.
+    overwrite, progress : bool, optional
+        Start afresh in an ``out`` that holds another search (default False); show a
+        progress bar (default True).
+
+    Returns
+    -------
+    Optimum
+        The best design (``parameters``, file units), its ``objective``,
+        ``constraints``, ``row`` and ``feasible``; ``designs``, ``history``,
+        ``on_bound`` (parameters on a bound) and the ``files`` written.
+
+    Raises
+    ------
+    OptimizeError
+        A bad name, expression or option, or an objective with no value at any design
+        (never a bad design: that one scores as failed).
+
+    Examples
+    --------
+    >>> import kinetostatics as ks
+    >>> best = ks.optimize("mechanisms/fourbar_balancing.yaml", {"x1": (-0.3, 0.1)},
+    ...                    "shaking.force_rms", maxiter=5, progress=False)  # doctest: +SKIP
+    """
     from scipy.optimize import differential_evolution
 
     _check_ranges(popsize=popsize, maxiter=maxiter, seed=seed)

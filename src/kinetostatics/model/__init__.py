@@ -302,9 +302,66 @@ class Clearance:
 
 @dataclass(frozen=True)
 class Model:
-    """A planar linkage in SI.  ``sketch`` maps point references (``joint`` or
-    ``link.point``) to rough global positions that select the assembly branch;
-    ``sketch_where`` where each was written (for the messages of the sketch check)."""
+    """A planar linkage in SI units: what a mechanism file says, as frozen data.
+
+    :func:`load` and :func:`loads` build it from YAML; its fields are those of the file
+    (docs/yaml.md), after units and parameters are applied.
+
+    Parameters
+    ----------
+    name : str
+        The mechanism's name.
+    links : tuple of Link
+        The links, the ground among them.
+    joints : tuple of Joint
+        The kinematic pairs.
+    drivers : tuple of Driver, optional
+        The prescribed motions.
+    loads : tuple of Load, optional
+        External forces and torques.
+    gravity : numpy.ndarray, optional
+        The gravity vector (m/s², default ``[0, -9.81]``).
+    sketch : mapping of str to numpy.ndarray, optional
+        Point references (``joint`` or ``link.point``) to rough global positions that
+        select the assembly branch.
+    analysis : Analysis, optional
+        The positions to analyse and the solver settings (``analysis:``).
+    loops : tuple of tuple of str, optional
+        The loops as listed in the file (checked against the structure), or None.
+    parameters : mapping of str to float, optional
+        The file's named parameters, in its units.
+    units : mapping of str to str, optional
+        The file's units.
+    source : str, optional
+        Where the model was read from.
+    flywheel : FlywheelSpec, optional
+        The flywheel to size (``flywheel:``).
+    clearances : tuple, optional
+        The clearance specifications, as read (``ideal`` None) or expanded.
+    ideal : Model, optional
+        The model before its clearances were expanded.
+    output : str, optional
+        The machine's output member, a link or a joint (``output:``).
+    sketch_where : mapping of str to Location, optional
+        Where each sketch entry was written (for the sketch check's messages).
+    elements : tuple of Element, optional
+        Springs and dampers.
+    drive : DriveSpec, optional
+        The motor and its reduction (``drive:``).
+    _compiled : tuple, optional
+        Internal: the compiled system, kept with the model (never pass it).
+
+    See Also
+    --------
+    load : Read a model from a file.
+
+    Examples
+    --------
+    >>> import kinetostatics as ks
+    >>> model = ks.load("mechanisms/slider_crank.yaml")  # doctest: +SKIP
+    >>> [link.name for link in model.moving_links]  # doctest: +SKIP
+    ['crank', 'rod', 'slider']
+    """
 
     name: str
     links: tuple[Link, ...]
@@ -342,9 +399,55 @@ class Model:
         return tuple(link for link in self.links if not link.ground)
 
     def link(self, name: str) -> Link:
+        """The link called ``name``.
+
+        Parameters
+        ----------
+        name : str
+            The link's name in the file.
+
+        Returns
+        -------
+        Link
+            The link.
+
+        Raises
+        ------
+        StopIteration
+            No link has that name.
+
+        Examples
+        --------
+        >>> import kinetostatics as ks
+        >>> ks.load("mechanisms/slider_crank.yaml").link("rod").mass  # doctest: +SKIP
+        3.0
+        """
         return next(link for link in self.links if link.name == name)
 
     def joint(self, name: str) -> Joint:
+        """The joint called ``name``.
+
+        Parameters
+        ----------
+        name : str
+            The joint's name in the file.
+
+        Returns
+        -------
+        Joint
+            The joint.
+
+        Raises
+        ------
+        StopIteration
+            No joint has that name.
+
+        Examples
+        --------
+        >>> import kinetostatics as ks
+        >>> ks.load("mechanisms/slider_crank.yaml").joint("A").links  # doctest: +SKIP
+        ('crank', 'rod')
+        """
         return next(j for j in self.joints if j.name == name)
 
     @property

@@ -106,7 +106,34 @@ class System:
 
 
 def build_system(model: Model) -> System:
-    """Compile the model: structure, q layout, constraint rows and group plans."""
+    """Compile the model: structure, q layout, constraint rows and group plans.
+
+    :func:`analyze` does this once per model and keeps the system with it; call this to
+    analyse one system several times, or to look at its structure.
+
+    Parameters
+    ----------
+    model : Model
+        A loaded mechanism.
+
+    Returns
+    -------
+    System
+        The compiled mechanism (an opaque value for the public API: pass it to
+        :func:`analyze`).
+
+    Raises
+    ------
+    StructureError
+        The topology does not match the drivers or the listed loops (no Assur-group
+        decomposition).
+
+    Examples
+    --------
+    >>> import kinetostatics as ks
+    >>> system = ks.build_system(ks.load("mechanisms/slider_crank.yaml"))  # doctest: +SKIP
+    >>> result = ks.analyze(system)  # doctest: +SKIP
+    """
     st = structure(model)
     links = tuple(link.name for link in model.moving_links)
     index = {name: k for k, name in enumerate(links)}
