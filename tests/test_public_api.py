@@ -147,3 +147,53 @@ def test_the_examples_run(monkeypatch):
             assert result.failed == 0, name
             ran += sum(not e.options.get(doctest.SKIP) for e in test.examples)
     assert ran >= 20  # the Examples of the exceptions, loads and set_backend run
+
+
+# --- types: py.typed, and mypy over the modules that define the public API -----------------
+
+
+def _pyproject() -> dict:
+    try:
+        import tomllib
+    except ImportError:  # Python 3.10: mypy brings tomli
+        import tomli as tomllib
+    return tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))
+
+
+def test_the_package_says_it_is_typed():
+    assert (SRC / "kinetostatics" / "py.typed").is_file()
+    data = _pyproject()["tool"]["setuptools"]["package-data"]["kinetostatics"]
+    assert "py.typed" in data  # so the wheel has it (.ci/run checks the installed one)
+
+
+def test_mypy_checks_every_module_that_defines_a_public_callable():
+    import inspect
+
+    files = set(_pyproject()["tool"]["mypy"]["files"])
+    for name in public_callables():
+        obj = ks
+        for part in name.split(".")[1:]:
+            obj = getattr(obj, part)
+        path = Path(inspect.getsourcefile(obj)).resolve().relative_to(ROOT).as_posix()
+        assert path in files, (name, path)
+    assert "src/kinetostatics/__init__.py" in files
+
+
+def test_mypy_passes_on_the_public_modules():
+    """mypy with the configuration of pyproject.toml ([tool.mypy]); its cache is kept in
+    the temporary folder, so a run after the first takes about a second (the first one,
+    about five seconds of CPU)."""
+    import hashlib
+    import tempfile
+
+    cache = Path(tempfile.gettempdir()) / (
+        "kinetostatics-mypy-" + hashlib.sha1(str(ROOT).encode()).hexdigest()[:12]
+    )
+    proc = subprocess.run(
+        [sys.executable, "-m", "mypy", "--cache-dir", str(cache), "--no-color-output"],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+    )
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert proc.stdout.startswith("Success: no issues found"), proc.stdout

@@ -311,7 +311,7 @@ def _result(
         for message in element_warnings(system, q, psi[..., 0]):
             warnings.warn(message, ElementWarning, stacklevel=3)
     x0, fric, power = (None, None, None) if kin is None else (kin.x0, kin.friction, kin.power)
-    shaking = None if kin is None else ground_reaction(system, q, x0)
+    shaking = None if kin is None else ground_reaction(system, q, kin.x0)
     _check_finite(
         system, t, psi, cond, sol.singular, q=q, qd=qd, qdd=qdd, x0=x0, fric=fric, power=power
     )
@@ -323,7 +323,7 @@ def _result(
         q=q,
         qd=qd,
         qdd=qdd,
-        lam=np.zeros(q.shape[:-1] + (0,)) if kin is None else x0,
+        lam=np.zeros(q.shape[:-1] + (0,)) if kin is None else kin.x0,
         columns=columns,
         units=units,
         events=tuple(found),

@@ -142,7 +142,7 @@ def build_columns(system: System, t, psi, q, qd, qdd, x0, fric, power, cond, sha
         _kinetic_columns(system, put, q, qd, x0, fric, power)
     for g, c in cond.items():
         put([(f"{g.column}.cond", "1")], lambda c=c: (c,))
-    angles = {}
+    angles: dict[str, tuple[str, np.ndarray]] = {}
 
     def dyad_angles():
         if not angles:
@@ -189,7 +189,8 @@ def _seen(x0: np.ndarray) -> np.ndarray:
 
 def joint_warnings(system: System, q: np.ndarray, x0: np.ndarray) -> list[str]:
     """What each joint type has to say about the rows (``Joint.warnings``)."""
-    qe, out, seen = _padded(q), [], _seen(x0)
+    qe, seen = _padded(q), _seen(x0)
+    out: list[str] = []
     for k, j in enumerate(system.model.joints):
         i_, j_ = system.ends[k]
         lam = seen[..., system.rows_of(k)]
@@ -263,7 +264,7 @@ def _in_order(values: Mapping[str, np.ndarray], labels) -> tuple:
 
 def _kinetic_columns(system: System, put, q, qd, x0, fric, power) -> None:
     model = system.model
-    sol = fric["solution"] if fric else None
+    sol: Any = fric["solution"] if fric else None  # read only where fric is given
     n_f = {k: n for n, k in enumerate(fric["setup"].joints)} if fric else {}
     force_unit = {"M": "N*m"}
 

@@ -220,6 +220,7 @@ class _Problem:
 def _source(model_or_path) -> Source:
     """The mechanism file as a batch :class:`~.sources.Source`: a path, or a model read
     from a file (its ``source``)."""
+    path: Path | None
     if isinstance(model_or_path, (str, Path)):
         path = Path(model_or_path)
     else:
@@ -380,6 +381,7 @@ def optimize(
                 disk.discard()
             raise
         best = problem.best()
+        assert best is not None  # the search evaluates at least one design
         analysed = [r for r in problem.visited.values() if r["status"] != "failed"]
         if all(math.isnan(r["objective"]) for r in analysed):  # a mistake, not a search
             if disk is not None:  # to resume: nothing left

@@ -12,6 +12,7 @@ import pickle
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
+from typing import cast
 
 import numpy as np
 
@@ -247,7 +248,10 @@ def phi(
     for k in _selection(system, which):
         c = system.constraints[k]
         qi, qj = _pose_pair(pe, system.ends[k])
-        out.append(c.residual(qi, qj, psi[..., k - n_j]) if k >= n_j else c.residual(qi, qj))
+        if k >= n_j:  # a driver's constraint: its row reads the driver coordinate
+            out.append(cast(DriverConstraint, c).residual(qi, qj, psi[..., k - n_j]))
+        else:
+            out.append(cast(Joint, c).residual(qi, qj))
     return np.concatenate(out, axis=-1)
 
 
@@ -302,6 +306,7 @@ def jacobian_blocks(
     constraint is evaluated once, by the system's evaluation plan; the blocks are views
     of one buffer.  The ground's block is kept with the poses (:func:`ground_jacobian`)."""
     pe = link_poses(system, q)
+    assert system.layout is not None  # set by build_system
     blocks, ground = jacobian_blocks_all(system.sets, system.layout, pe)
     system.memo["ground_jacobian"] = (pe, ground)
     return blocks
@@ -312,6 +317,7 @@ def ground_jacobian(system: System, q: np.ndarray) -> tuple[np.ndarray, np.ndarr
     the ground's three columns, ``(..., rows, 3)``: kept from :func:`jacobian_blocks` at
     the same state (its poses), else evaluated."""
     layout = system.layout
+    assert layout is not None  # set by build_system
     if not layout.ground_joints:
         return layout.ground_rows, np.zeros(q.shape[:-1] + (0, 3))
     pe = link_poses(system, q)
@@ -345,7 +351,8 @@ def coordinate_gradients(
         i, j = system.ends[k]
         kernel = _direction_kernel(system, k) if kernels.active() else None
         if kernel is None:
-            gi, gj = system.constraints[k].motion_direction(*_pose_pair(pe, system.ends[k]))
+            c = cast(Joint, system.constraints[k])  # a joint's coordinate: ks are joints
+            gi, gj = c.motion_direction(*_pose_pair(pe, system.ends[k]))
         else:  # the same numbers (base/kernels.py), in one compiled loop
             if flat is None:
                 flat = np.ascontiguousarray(entries_first(pe).reshape(pe.shape[-2:] + (-1,)))
@@ -361,7 +368,7 @@ def _direction_kernel(system: System, k: int) -> tuple | None:
     """Constraint k's compiled ``motion_direction`` and its parameters, or None (kept)."""
     key = ("direction kernel", k)
     if key not in system.memo:
-        c, hit = system.constraints[k], None
+        c, hit = cast(Joint, system.constraints[k]), None  # a joint (as above)
         kernel = getattr(type(c), "direction_kernel", None)
         par = c.kernel_params(1) if kernel is not None else None
         if par is not None:
