@@ -197,3 +197,23 @@ def test_mypy_passes_on_the_public_modules():
     )
     assert proc.returncode == 0, proc.stdout + proc.stderr
     assert proc.stdout.startswith("Success: no issues found"), proc.stdout
+
+
+# --- the API reference: Sphinx over docs/api, warnings as errors --------------------------
+
+
+def test_the_api_reference_builds_and_lists_the_public_api_only(tmp_path):
+    """docs/api/ built by Sphinx with warnings as errors (a few seconds); its page has an
+    entry for every public name and for nothing else, and links nowhere outside itself."""
+    import re
+
+    env = dict(os.environ, PYTHONPATH=str(SRC))
+    out = tmp_path / "html"
+    cmd = [sys.executable, "-m", "sphinx", "-W", "-q", "-b", "html", "docs/api", str(out)]
+    proc = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    page = (out / "index.html").read_text(encoding="utf-8")
+    entries = set(re.findall(r'<dt class="sig[^"]*" id="(kinetostatics[\w.]*)"', page))
+    assert entries == {*public_callables(), "kinetostatics.__version__"}
+    assert not re.search(r'(?:href|src)="(?:https?:)?//', page)  # nothing outside
+    assert "Parameters" in page and "Examples" in page  # the numpydoc sections rendered
