@@ -109,9 +109,6 @@ class System:
 def build_system(model: Model) -> System:
     """Compile the model: structure, q layout, constraint rows and group plans.
 
-    :func:`analyze` does this once per model and keeps the system with it; call this to
-    analyse one system several times, or to look at its structure.
-
     Parameters
     ----------
     model : Model
@@ -120,8 +117,8 @@ def build_system(model: Model) -> System:
     Returns
     -------
     System
-        The compiled mechanism (an opaque value for the public API: pass it to
-        :func:`analyze`).
+        The compiled mechanism, opaque: :func:`analyze` takes it (and compiles a
+        model once, keeping the system with it).
 
     Raises
     ------
