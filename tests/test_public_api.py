@@ -179,7 +179,7 @@ def test_mypy_checks_every_module_that_defines_a_public_callable():
     assert "src/kinetostatics/__init__.py" in files
 
 
-def test_mypy_passes_on_the_public_modules():
+def _mypy(*args: str) -> subprocess.CompletedProcess:
     """mypy with the configuration of pyproject.toml ([tool.mypy]); its cache is kept in
     the temporary folder, so a run after the first takes about a second (the first one,
     about five seconds of CPU)."""
@@ -189,14 +189,46 @@ def test_mypy_passes_on_the_public_modules():
     cache = Path(tempfile.gettempdir()) / (
         "kinetostatics-mypy-" + hashlib.sha1(str(ROOT).encode()).hexdigest()[:12]
     )
-    proc = subprocess.run(
-        [sys.executable, "-m", "mypy", "--cache-dir", str(cache), "--no-color-output"],
-        cwd=ROOT,
-        capture_output=True,
-        text=True,
-    )
+    cmd = [sys.executable, "-m", "mypy", "--cache-dir", str(cache), "--no-color-output", *args]
+    return subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
+
+
+def test_mypy_passes_on_the_public_modules():
+    proc = _mypy()
     assert proc.returncode == 0, proc.stdout + proc.stderr
     assert proc.stdout.startswith("Success: no issues found"), proc.stdout
+
+
+# A user's script as a type checker sees it through py.typed: the lazy names have their
+# types, and a wrong call is an error (mypy is told Python 3.10: assert_type from
+# typing_extensions, whose stubs mypy carries).
+USER_SCRIPT = """\
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from typing_extensions import assert_type
+
+import kinetostatics as ks
+
+
+def use(path: Path) -> None:
+    model = ks.load(path, parameters={"r": 0.1})
+    assert_type(model, ks.Model)
+    result = ks.analyze(model, positions=np.radians([0.0, 90.0]), friction=False)
+    assert_type(result, ks.Result)
+    assert_type(result.summary(), dict[str, Any])
+    assert_type(ks.build_system(model), ks.Result)  # line 16, wrong: a System
+    ks.set_backend(3)  # line 17, wrong: a str
+"""
+
+
+def test_a_users_type_checker_sees_the_public_types(tmp_path):
+    script = tmp_path / "script.py"
+    script.write_text(USER_SCRIPT, encoding="utf-8")
+    proc = _mypy(str(script))
+    errors = [line for line in proc.stdout.splitlines() if ": error:" in line]
+    assert [e.split(":")[1] for e in errors] == ["16", "17"], proc.stdout + proc.stderr
 
 
 # --- the API reference: Sphinx over docs/api, warnings as errors --------------------------

@@ -117,12 +117,13 @@ def analyze(
 
     Examples
     --------
+    >>> import numpy as np
     >>> import kinetostatics as ks
     >>> model = ks.load("mechanisms/slider_crank.yaml")  # doctest: +SKIP
     >>> result = ks.analyze(model)  # doctest: +SKIP
     >>> result["motor.torque"].shape  # doctest: +SKIP
     (360,)
-    >>> ks.analyze(model, positions=[0.0, 1.5708], friction=False)  # doctest: +SKIP
+    >>> ks.analyze(model, positions=np.radians([0.0, 90.0]), friction=False)  # doctest: +SKIP
     <Result 'offset slider-crank': 2 positions, 81 columns, 14 members; checks ok>
     """
     system = model if isinstance(model, System) else system_of(model)
