@@ -13,11 +13,16 @@ ROOT = Path(__file__).resolve().parents[1]
 SRC = ROOT / "src"
 
 
+def _env() -> dict[str, str]:
+    """The environment, with this checkout's package first on the path."""
+    path = [str(SRC), *filter(None, [os.environ.get("PYTHONPATH")])]
+    return dict(os.environ, PYTHONPATH=os.pathsep.join(path))
+
+
 def _fresh(code: str) -> str:
     """Run ``code`` in a new interpreter on this checkout's package; its stdout."""
-    env = dict(os.environ, PYTHONPATH=str(SRC))
     proc = subprocess.run(
-        [sys.executable, "-c", code], env=env, cwd=ROOT, capture_output=True, text=True
+        [sys.executable, "-c", code], env=_env(), cwd=ROOT, capture_output=True, text=True
     )
     assert proc.returncode == 0, proc.stderr
     return proc.stdout
@@ -76,6 +81,8 @@ def test_dir_keeps_the_import_light():
 IGNORED = {
     "SA01": "See Also is given where a related name helps, not required on every callable",
     "ES01": "an extended summary is optional: a one-line summary suffices for many methods",
+    "GL01": "the summary starts on the line of the opening quotes (PEP 257, the project's "
+    "style); numpydoc 1.8 asks for the next line, later versions accept both",
 }
 
 
@@ -239,7 +246,7 @@ def test_the_api_reference_builds_and_lists_the_public_api_only(tmp_path):
     entry for every public name and for nothing else, and links nowhere outside itself."""
     import re
 
-    env = dict(os.environ, PYTHONPATH=str(SRC))
+    env = _env()
     out = tmp_path / "html"
     cmd = [sys.executable, "-m", "sphinx", "-W", "-q", "-b", "html", "docs/api", str(out)]
     proc = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True)

@@ -208,7 +208,9 @@ class _Problem:
         return rec
 
     def best(self) -> dict[str, Any] | None:
-        return min(self.visited.values(), key=lambda r: r["score"], default=None)
+        if not self.visited:
+            return None
+        return min(self.visited.values(), key=lambda r: r["score"])
 
     def row_of(self, rec: dict[str, Any]) -> dict[str, Any]:
         """The batch row of a design (analysed again for one read back from disk)."""

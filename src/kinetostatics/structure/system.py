@@ -142,7 +142,7 @@ def build_system(model: Model) -> System:
         DriverConstraint(d, joints[d.joint]) for d in model.drivers if d.motion is not None
     ]
     ends = np.array([[index[c.links[0]], index[c.links[1]]] for c in constraints], dtype=int)
-    row_start = np.concatenate(([0], np.cumsum([c.n_eq for c in constraints]))).astype(int)
+    row_start = np.cumsum([0, *(c.n_eq for c in constraints)]).astype(int)
     by_name = {c.name: k for k, c in enumerate(constraints)}
     plans = []
     for g in st.groups:
