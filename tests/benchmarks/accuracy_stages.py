@@ -25,6 +25,7 @@ from kinetostatics import friction as fr
 from kinetostatics.analysis.results import Result, build_columns
 from kinetostatics.base.linalg import BlockFactor
 from kinetostatics.kinematics.derivatives import derivatives
+from kinetostatics.kinematics.motion import Motion
 from kinetostatics.kinematics.newton import condition_number
 from kinetostatics.kinematics.positions import solve_positions
 from kinetostatics.kinematics.schedule import sample_times, schedule
@@ -107,7 +108,8 @@ def stage_times(name: str, n: int, timing: bool):
     assert all(
         np.array_equal(a, b) for a, b in zip((qd, qdd), derivatives(system, q, psi_d, psi_dd))
     )
-    ev = lambda: load_events(system, sched, sched, t, q, qd, qdd, full)  # noqa: E731
+    motion = Motion(t, psi, q, qd, qdd, psi_d, psi_dd, lu)
+    ev = lambda: load_events(system, sched, motion, full)  # noqa: E731
     rows.append(("load switching events, travel extremes", T(ev), False))
     extremes, _, _ = ev()
 

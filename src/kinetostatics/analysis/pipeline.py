@@ -24,15 +24,15 @@ from ..errors import (
     StructureError,
 )
 from ..kinematics.continuation import Singularity
-from ..kinematics.derivatives import derivatives
 from ..kinematics.differences import difference_derivatives
 from ..kinematics.events import state_near
+from ..kinematics.motion import Motion, motion_at
 from ..kinematics.newton import condition_number, group_condition
 from ..kinematics.positions import solve_positions
 from ..kinematics.schedule import Schedule, sample_times, schedule
 from ..kinematics.start import initial_guess
 from ..kinetics.conditions import Event, load_events, travel_extremes, whole_motion
-from ..kinetics.inverse import Kinetics, kinetics
+from ..kinetics.inverse import Kinetics, inverse_dynamics, kinetics
 from ..kinetics.reactions import ground_reaction
 from ..model import Model
 from ..structure.system import System, jacobian, system_of
@@ -43,6 +43,7 @@ __all__ = [
     "analyze",
     "kinetics",
     "Kinetics",
+    "Motion",
     "Schedule",
     "Event",
     "numerical_mobility",
@@ -122,26 +123,20 @@ def analyze(
         by_times=times is not None,
         reachable=reachable,
     )
-    q = sol.q
-    psi, qd, qdd, lu = _motion(system, sched, t, q, derivatives_by, step)
+    motion = _motion(system, sched, t, sol.q, derivatives_by, step)
     if kinematics_only:
-        return _result(system, sol, t, psi, q, qd, qdd, lu, full)
-    extremes, found, states = load_events(system, sched, sched, t, q, qd, qdd, full)
+        return _result(system, sol, motion, full)
+    extremes, found, states = load_events(system, sched, motion, full)
     if (system.model.analysis.events if events is None else events) and found:
-        t, q, qd, qdd = _with_event_rows(system, sched, found, states, t, q, qd, qdd)
-        psi, lu = sched(t)[0], None
-    kin = kinetics(
+        motion = _with_event_rows(system, sched, found, states, motion)
+    kin = inverse_dynamics(
         system,
-        q,
-        qd,
-        qdd,
-        psi,
-        lu=lu,
+        motion,
         extremes=extremes,
         ref_speed=sched.reference,
         friction=system.model.has_friction if friction is None else friction,
     )
-    return _result(system, sol, t, psi, q, qd, qdd, lu, full, kin, found, extremes)
+    return _result(system, sol, motion, full, kin, found, extremes)
 
 
 def analyze_near(result: Result, times: np.ndarray, *, friction: bool) -> Result:
@@ -159,24 +154,15 @@ def analyze_near(result: Result, times: np.ndarray, *, friction: bool) -> Result
     n = np.argmin(np.abs(rows[None, :] - t[:, None]), axis=1)
     h = (t - rows[n])[:, None]  # Taylor from the nearest row, then Newton (state_at)
     guess = result.q[n] + h * result.qd[n] + 0.5 * h * h * result.qdd[n]
-    psi, psi_d, psi_dd = sched(t)
-    q = positions_near(system, psi, guess, sched)
-    qd, qdd, lu = derivatives(system, q, psi_d, psi_dd)
-    kin = kinetics(
-        system,
-        q,
-        qd,
-        qdd,
-        psi,
-        lu=lu,
-        extremes=result.extremes,
-        ref_speed=sched.reference,
-        friction=friction,
+    motion = motion_at(system, sched, t, positions_near(system, sched(t)[0], guess, sched))
+    kin = inverse_dynamics(
+        system, motion, extremes=result.extremes, ref_speed=sched.reference, friction=friction
     )
-    sol = PositionSolution(q, np.zeros((len(t), 0)), np.zeros(len(t), dtype=int))
+    n = len(t)
+    sol = PositionSolution(motion.q, np.zeros((n, 0)), np.zeros(n, dtype=int))
     with warnings.catch_warnings():  # the run warned about its own rows
         warnings.simplefilter("ignore")
-        return _result(system, sol, t, psi, q, qd, qdd, lu, False, kin, (), result.extremes)
+        return _result(system, sol, motion, False, kin, (), result.extremes)
 
 
 # -- the stages -------------------------------------------------------------------------
@@ -241,22 +227,22 @@ def _check_memory(system: System, n: int, given: str | None) -> None:
     raise ValueError(f"{given}: {why}")
 
 
-def _motion(system: System, sched: Schedule, t, q, by: str, step: float):
-    """(ψ, q̇, q̈, lu): the drivers' coordinates and the velocities and accelerations at the
-    rows, from the constraint Jacobian (``lu``: its factors) or by differences."""
-    psi, psi_d, psi_dd = sched(t)
+def _motion(system: System, sched: Schedule, t, q, by: str, step: float) -> Motion:
+    """The :class:`~kinetostatics.kinematics.motion.Motion` of the rows: the drivers'
+    coordinates and the velocities and accelerations, from the constraint Jacobian (``lu``:
+    its factors) or by differences (no factors: the reactions build their own)."""
     if by == "jacobian":
-        qd, qdd, lu = derivatives(system, q, psi_d, psi_dd)
-    else:  # no kinematic factors: the reactions build their own
-        qd, qdd = difference_derivatives(system, sched, t, q, by, step)
-        lu = None
-    return psi, qd, qdd, lu
+        return motion_at(system, sched, t, q)
+    psi, psi_d, psi_dd = sched(t)
+    qd, qdd = difference_derivatives(system, sched, t, q, by, step)
+    return Motion(t, psi, q, qd, qdd, psi_d, psi_dd, None)
 
 
-def _with_event_rows(system: System, sched: Schedule, found, states, t, q, qd, qdd):
-    """(t, q, q̇, q̈) with a row added at each load switch ``found`` (its state from
+def _with_event_rows(system: System, sched: Schedule, found, states, motion: Motion) -> Motion:
+    """``motion`` with a row added at each load switch ``found`` (its state from
     :func:`~kinetostatics.kinetics.conditions.load_events`, or continued from the nearest row),
-    sorted by time."""
+    sorted by time; without the kinematic factors (the equilibrium is assembled anew)."""
+    t, q, qd, qdd = motion.t, motion.q, motion.qd, motion.qdd
     te = np.array([e.t for e in found])
     qe, qde, qdde = zip(
         *(
@@ -271,15 +257,16 @@ def _with_event_rows(system: System, sched: Schedule, found, states, t, q, qd, q
         np.concatenate((a, np.concatenate(b))) for a, b in ((q, qe), (qd, qde), (qdd, qdde))
     )
     order = np.argsort(t, kind="stable")
-    return t[order], q[order], qd[order], qdd[order]
+    t = t[order]
+    psi, psi_d, psi_dd = sched(t)
+    return Motion(t, psi, q[order], qd[order], qdd[order], psi_d, psi_dd, None)
 
 
-def _result(
-    system: System, sol, t, psi, q, qd, qdd, lu, full, kin=None, found=(), extremes=None
-) -> Result:
+def _result(system: System, sol, motion: Motion, full, kin=None, found=(), extremes=None) -> Result:
     """The :class:`~kinetostatics.analysis.results.Result` of the rows (kinematics only if
     no ``kin``): group conditions (warned about near a singular position), the singular positions
     of the equilibrium, the guard against unexplained NaN, the columns."""
+    t, psi, q, qd, qdd, lu = motion.t, motion.psi, motion.q, motion.qd, motion.qdd, motion.lu
     if kin is not None:
         sol.singular.extend(
             Singularity("equilibrium", float(t[k]), float(psi[k, 0]), float(kin.condition[k]))

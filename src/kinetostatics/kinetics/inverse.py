@@ -13,6 +13,7 @@ import numpy as np
 
 from ..base.linalg import BlockFactor
 from ..errors import Location, SingularEquilibriumWarning, StructureError
+from ..kinematics.motion import Motion
 from ..structure.system import System, coordinate_gradient
 from . import friction as fr
 from .conditions import travel_extremes
@@ -27,7 +28,7 @@ from .reactions import (
     solve_equilibrium,
 )
 
-__all__ = ["Kinetics", "kinetics", "redundant_joints"]
+__all__ = ["Kinetics", "inverse_dynamics", "kinetics", "redundant_joints"]
 
 
 @dataclass
@@ -60,6 +61,30 @@ class Kinetics:
     @property
     def q_load(self) -> np.ndarray:
         return self.q_gravity + self.q_inertia + self.q_external + self.q_element
+
+
+def inverse_dynamics(
+    system: System,
+    motion: Motion,
+    *,
+    ref_speed: float,
+    extremes: dict | None = None,
+    friction: bool = False,
+) -> Kinetics:
+    """Inverse dynamics at the rows of ``motion`` (a
+    :class:`~kinetostatics.kinematics.motion.Motion`: its states, driver coordinates and
+    kinematic factors), as :func:`kinetics`."""
+    return kinetics(
+        system,
+        motion.q,
+        motion.qd,
+        motion.qdd,
+        motion.psi,
+        lu=motion.lu,
+        ref_speed=ref_speed,
+        extremes=extremes,
+        friction=friction,
+    )
 
 
 def kinetics(
