@@ -19,19 +19,20 @@ from .schedule import Schedule
 __all__ = ["Motion", "motion_at"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Motion:
     """The states of the rows of a run (arrays over positions; stacked variants lead).
 
-    ``t (N,)`` the times (s); ``psi``, ``psi_d``, ``psi_dd`` ``(..., N, n_d)`` the motion
-    drivers' coordinates (rad or m) and their first and second time derivatives (None
-    where not known: a state given by a caller); ``q``, ``qd``, ``qdd`` ``(..., N, n_q)``
-    the link coordinates and their rates; ``lu`` the block factorisation of Φ_q at ``q``
-    that gave q̇ and q̈ (None when they came by differences or rows were added after it:
-    the inverse dynamics then assembles its own equilibrium matrix).
+    ``t (N,)`` the times (s; None for states given without them); ``psi``, ``psi_d``,
+    ``psi_dd`` ``(..., N, n_d)`` the motion drivers' coordinates (rad or m) and their first
+    and second time derivatives (None where not known: a state given by a caller); ``q``,
+    ``qd``, ``qdd`` ``(..., N, n_q)`` the link coordinates and their rates; ``lu`` the block
+    factorisation of Φ_q at ``q`` that gave q̇ and q̈ (None when they came by differences or
+    rows were added after it: the inverse dynamics then assembles its own equilibrium
+    matrix).
     """
 
-    t: np.ndarray
+    t: np.ndarray | None
     psi: np.ndarray
     q: np.ndarray
     qd: np.ndarray
