@@ -37,6 +37,13 @@ from kinetostatics.kinetics.forces import (
     inertia_forces,
     mass_vector,
 )
+from kinetostatics.kinetics.inverse import (
+    Equilibrium,
+    FrictionSolutions,
+    Kinetics,
+    Loads,
+    Power,
+)
 from kinetostatics.kinetics.reactions import effort_joints, ground_reaction
 from kinetostatics.structure.system import coordinate_gradient, gamma, jacobian_blocks, nu
 
@@ -153,11 +160,16 @@ def stage_times(name: str, n: int, timing: bool):
 
     rows.append(("condition numbers", T(conds), False))
     cond = conds()
-    fric = dict(setup=fs, x_approx=xa, e_approx=ea, solution=cons)
+    kin = Kinetics(
+        Loads(q_grav, q_inert, q_ext),
+        Equilibrium(x0, None, lu, np.zeros(len(t), dtype=bool)),
+        FrictionSolutions(fs, xa, ea, cons),
+        Power(**power),
+    )
 
     def columns():
         shaking = ground_reaction(system, q, x0)
-        return build_columns(system, t, psi, q, qd, qdd, x0, fric, power, cond, shaking, full)
+        return build_columns(system, motion, kin, cond=cond, shaking=shaking)
 
     rows.append(("shaking force, result columns", T(columns), False))
     cols, units = columns()

@@ -280,12 +280,9 @@ def _result(system: System, sol, motion: Motion, full, kin=None, found=(), extre
     if q.ndim == 2:
         for message in element_warnings(system, q, psi[..., 0]):
             warnings.warn(message, ElementWarning, stacklevel=3)
-    x0, fric, power = (None, None, None) if kin is None else (kin.x0, kin.friction, kin.power)
-    shaking = None if kin is None else ground_reaction(system, q, x0)
-    _check_finite(
-        system, t, psi, cond, sol.singular, q=q, qd=qd, qdd=qdd, x0=x0, fric=fric, power=power
-    )
-    columns, units = build_columns(system, t, psi, q, qd, qdd, x0, fric, power, cond, shaking, full)
+    shaking = None if kin is None else ground_reaction(system, q, kin.x0)
+    _check_finite(system, motion, kin, cond, sol.singular)
+    columns, units = build_columns(system, motion, kin, cond=cond, shaking=shaking)
     return Result(
         system=system,
         t=t,
@@ -293,7 +290,7 @@ def _result(system: System, sol, motion: Motion, full, kin=None, found=(), extre
         q=q,
         qd=qd,
         qdd=qdd,
-        lam=np.zeros(q.shape[:-1] + (0,)) if kin is None else x0,
+        lam=np.zeros(q.shape[:-1] + (0,)) if kin is None else kin.x0,
         columns=columns,
         units=units,
         events=tuple(found),
@@ -301,7 +298,7 @@ def _result(system: System, sol, motion: Motion, full, kin=None, found=(), extre
         indeterminate=False if kin is None else kin.indeterminate,
         full_cycle=full,
         extremes={} if extremes is None else extremes,
-        lam_friction=None if fric is None else fric["solution"].x,
+        lam_friction=None if kin is None or kin.friction is None else kin.friction.solution.x,
     )
 
 
@@ -369,7 +366,7 @@ position: non-finite velocities or reactions there are explained, not a defect."
 
 
 def _check_finite(
-    system: System, t, psi, cond: dict, singular, *, q, qd, qdd, x0=None, fric=None, power=None
+    system: System, motion: Motion, kin: Kinetics | None, cond: dict, singular
 ) -> None:
     """The last guard of :func:`analyze`: a NaN or infinity that no status explains raises
     :class:`~kinetostatics.errors.NonFiniteResultError` naming the column and the row.
@@ -381,9 +378,11 @@ def _check_finite(
     (``yaml_io.MAGNITUDE``) keep the products of a model far from overflow, so a
     NaN here comes from a model built in Python with values beyond them.
     """
+    t, psi, q, qd, qdd = motion.t, motion.psi, motion.q, motion.qd, motion.qdd
+    x0, fric, power = (None, None, None) if kin is None else (kin.x0, kin.friction, kin.power)
     values = [q, qd, qdd, x0, *(power or {}).values()]
     if fric is not None:
-        values += [fric["solution"].x, fric["solution"].e, fric["x_approx"]]
+        values += [fric.solution.x, fric.solution.e, fric.x_approx]
     if all(v is None or np.isfinite(v).all() for v in values):
         return  # the common case: nothing to explain
     n = len(t)
@@ -396,7 +395,7 @@ def _check_finite(
         excused |= np.isclose(t, sp.t, rtol=0.0, atol=1e-9 * max(1.0, abs(sp.t)))
     locked = excused.copy()
     if fric is not None:
-        locked |= np.asarray(fric["solution"].status).reshape(-1) == 2
+        locked |= np.asarray(fric.solution.status).reshape(-1) == 2
     names = [f"{name}.{label}" for name in system.links for label in ("x", "y", "theta")]
     rate = {"x": "vx", "y": "vy", "theta": "omega"}
     acc = {"x": "ax", "y": "ay", "theta": "alpha"}
@@ -421,16 +420,16 @@ def _check_finite(
             labels[n_j + d_index] = f"{d.name}.{'torque' if effort_joint.angular else 'force'}"
         arrays.append((x0, labels, excused))
     if fric is not None:
-        sol = fric["solution"]
+        sol = fric.solution
         arrays.append((sol.x, [f"{x} (with friction)" for x in labels], locked))
         arrays.append(
             (
                 sol.e,
-                [f"{system.model.joints[k].name}.friction" for k in fric["setup"].joints],
+                [f"{system.model.joints[k].name}.friction" for k in fric.setup.joints],
                 locked,
             )
         )
-        arrays.append((fric["x_approx"], [f"{x} (approximate friction)" for x in labels], excused))
+        arrays.append((fric.x_approx, [f"{x} (approximate friction)" for x in labels], excused))
     for key, value in (power or {}).items():
         late = key in ("friction", "input_friction", "residual_friction")
         arrays.append((np.asarray(value)[..., None], [f"power.{key}"], locked if late else excused))

@@ -18,9 +18,11 @@ import numpy as np
 from ..base.files import json_text
 from ..base.tables import write_columns
 from ..errors import did_you_mean
+from ..kinematics.motion import Motion
 from ..kinematics.state import point_state
 from ..kinetics.elements import coordinate as element_coordinate
 from ..kinetics.elements import element_states
+from ..kinetics.inverse import Kinetics
 from ..structure.system import System, coordinate_gradient, link_poses
 
 __all__ = ["Result", "build_columns", "joint_warnings", "element_warnings"]
@@ -135,9 +137,15 @@ class Columns(Mapping):
         return sum(len(v) for v in self._done.values())
 
 
-def build_columns(system: System, t, psi, q, qd, qdd, x0, fric, power, cond, shaking, full):
-    """Ordered lazy columns and units (docs/conventions.md); ``x0`` None: kinematics only."""
+def build_columns(
+    system: System, motion: Motion, kin: Kinetics | None, *, cond: dict, shaking=None
+) -> tuple[Columns, dict[str, str]]:
+    """Ordered lazy columns and units (docs/conventions.md) of the rows of ``motion``;
+    ``kin`` None: kinematics only.  ``cond``: each Assur group's condition numbers (a
+    ``<group>.cond`` column each); ``shaking``: the frame's reaction, ``(..., 3)``."""
     model = system.model
+    t, psi, q, qd, qdd = motion.t, motion.psi, motion.q, motion.qd, motion.qdd
+    x0 = None if kin is None else kin.x0
     cols = Columns()
     units: dict[str, str] = {}
 
@@ -202,7 +210,7 @@ def build_columns(system: System, t, psi, q, qd, qdd, x0, fric, power, cond, sha
                 lambda k=k, p=p: point(k, p),
             )
     if x0 is not None:
-        _kinetic_columns(system, put, q, qd, x0, fric, power)
+        _kinetic_columns(system, put, motion, kin)
     for g, c in cond.items():
         put([(f"{g.column}.cond", "1")], lambda c=c: (c,))
     angles = {}
@@ -324,10 +332,12 @@ def _in_order(values: Mapping[str, np.ndarray], labels) -> tuple:
     return tuple(values[label] for label in labels)
 
 
-def _kinetic_columns(system: System, put, q, qd, x0, fric, power) -> None:
+def _kinetic_columns(system: System, put, motion: Motion, kin: Kinetics) -> None:
+    """The columns of the loads: reactions, friction, efforts, elements and power."""
     model = system.model
-    sol = fric["solution"] if fric else None
-    n_f = {k: n for n, k in enumerate(fric["setup"].joints)} if fric else {}
+    q, qd, x0, fric, power = motion.q, motion.qd, kin.x0, kin.friction, kin.power
+    sol = fric.solution if fric else None
+    n_f = {k: n for n, k in enumerate(fric.setup.joints)} if fric else {}
     force_unit = {"M": "N*m"}
 
     def pair(k: int) -> tuple[np.ndarray, np.ndarray]:
@@ -350,7 +360,7 @@ def _kinetic_columns(system: System, put, q, qd, x0, fric, power) -> None:
         if k in n_f:
             put(
                 [(f"{j.name}.friction_approx", unit), (f"{j.name}.friction", unit)],
-                lambda n=n_f[k]: (fric["e_approx"][..., n], sol.e[..., n]),
+                lambda n=n_f[k]: (fric.e_approx[..., n], sol.e[..., n]),
             )
 
         def with_friction(j=j, k=k, block=block, labels=labels):
@@ -391,7 +401,7 @@ def _kinetic_columns(system: System, put, q, qd, x0, fric, power) -> None:
 
             put(
                 [(f"{d.name}.{word}_friction_approx", unit), (f"{d.name}.{word}_friction", unit)],
-                lambda col=col: (fric["x_approx"][..., col], sol.x[..., col]),
+                lambda col=col: (fric.x_approx[..., col], sol.x[..., col]),
             )
             put([(f"{d.name}.efficiency", "1")], efficiency)
     if fric:
