@@ -36,7 +36,7 @@ from ..kinetics.inverse import Kinetics, inverse_dynamics, kinetics
 from ..kinetics.reactions import ground_reaction
 from ..model import Model
 from ..structure.system import System, jacobian, system_of
-from .reachable import solve_run
+from .reachable import Rows, solve_run
 from .results import Result, build_columns, element_warnings, joint_warnings
 
 __all__ = [
@@ -112,17 +112,8 @@ def analyze(
     system = model if isinstance(model, System) else system_of(model)
     _require_motion_drivers(system)
     sched = schedule(system)
-    t, given, full = _rows(system, sched, positions, times)
-    t, sol, full = solve_run(
-        system,
-        sched,
-        t,
-        given,
-        full,
-        by_coordinates=positions is not None,
-        by_times=times is not None,
-        reachable=reachable,
-    )
+    rows = _rows(system, sched, positions, times, reachable)
+    t, sol, full = solve_run(system, sched, rows)
     motion = _motion(system, sched, t, sol.q, derivatives_by, step)
     if kinematics_only:
         return _result(system, sol, motion, full)
@@ -187,10 +178,10 @@ def _require_motion_drivers(system: System) -> None:
         raise StructureError([(Location(system.model.source, path="drivers"), message)])
 
 
-def _rows(system: System, sched: Schedule, positions, times) -> tuple[np.ndarray, np.ndarray, bool]:
-    """(t, given, full): the times of the rows asked for (``analysis.positions`` and ``at``,
-    or ``positions=``/``times=``, checked), which of them were given as driver coordinates,
-    and whether they cover a full cycle."""
+def _rows(system: System, sched: Schedule, positions, times, reachable: bool) -> Rows:
+    """The rows asked for (``analysis.positions`` and ``at``, or ``positions=``/``times=``,
+    checked): their times, which of them were given as driver coordinates, and whether
+    they cover a full cycle."""
     if times is not None and positions is not None:
         raise ValueError("give positions (driver coordinates) or times, not both")
     if positions is not None:
@@ -209,7 +200,7 @@ def _rows(system: System, sched: Schedule, positions, times) -> tuple[np.ndarray
         given[len(t) - len(system.model.analysis.at) :] = True
         order = np.argsort(t, kind="stable")  # `at` rows take their place in the run
         t, given = t[order], given[order]
-    return t, given, full
+    return Rows(t, given, full, given_as, reachable)
 
 
 def _check_memory(system: System, n: int, given: str | None) -> None:
