@@ -369,9 +369,9 @@ def _check_finite(
     (``yaml_io.MAGNITUDE``) keep the products of a model far from overflow, so a
     NaN here comes from a model built in Python with values beyond them.
     """
-    t, psi, q, qd, qdd = motion.t, motion.psi, motion.q, motion.qd, motion.qdd
+    t, psi = motion.t, motion.psi
     x0, fric, power = (None, None, None) if kin is None else (kin.x0, kin.friction, kin.power)
-    values = [q, qd, qdd, x0, *(power or {}).values()]
+    values = [motion.q, motion.qd, motion.qdd, x0, *(power or {}).values()]
     if fric is not None:
         values += [fric.solution.x, fric.solution.e, fric.x_approx]
     if all(v is None or np.isfinite(v).all() for v in values):
@@ -387,44 +387,7 @@ def _check_finite(
     locked = excused.copy()
     if fric is not None:
         locked |= np.asarray(fric.solution.status).reshape(-1) == 2
-    names = [f"{name}.{label}" for name in system.links for label in ("x", "y", "theta")]
-    rate = {"x": "vx", "y": "vy", "theta": "omega"}
-    acc = {"x": "ax", "y": "ay", "theta": "alpha"}
-    arrays = [
-        (q, names, excused),
-        (qd, [n.rsplit(".", 1)[0] + "." + rate[n.rsplit(".", 1)[1]] for n in names], excused),
-        (qdd, [n.rsplit(".", 1)[0] + "." + acc[n.rsplit(".", 1)[1]] for n in names], excused),
-    ]
-    if x0 is not None:
-        n_j = system.n_joint_rows
-        labels = [""] * x0.shape[-1]
-        for k, j in enumerate(system.model.joints):
-            for r in range(x0.shape[-1])[system.rows_of(k)]:
-                labels[r] = (
-                    f"the reaction of joint {j.name} "
-                    f"({', '.join(f'{j.name}.{x}' for x in j.reaction_labels)})"
-                )
-        for d_index, d in enumerate(system.motion_drivers):
-            effort_joint = (
-                system.model.joint(d.driver.balance_at) if d.driver.balance_at else d.joint
-            )
-            labels[n_j + d_index] = f"{d.name}.{'torque' if effort_joint.angular else 'force'}"
-        arrays.append((x0, labels, excused))
-    if fric is not None:
-        sol = fric.solution
-        arrays.append((sol.x, [f"{x} (with friction)" for x in labels], locked))
-        arrays.append(
-            (
-                sol.e,
-                [f"{system.model.joints[k].name}.friction" for k in fric.setup.joints],
-                locked,
-            )
-        )
-        arrays.append((fric.x_approx, [f"{x} (approximate friction)" for x in labels], excused))
-    for key, value in (power or {}).items():
-        late = key in ("friction", "input_friction", "residual_friction")
-        arrays.append((np.asarray(value)[..., None], [f"power.{key}"], locked if late else excused))
-    for arr, labels, ok in arrays:
+    for arr, labels, ok in _labelled(system, motion, kin, excused, locked):
         arr = np.asarray(arr, dtype=float)
         if arr.ndim != 2 or arr.shape[0] != n:
             continue  # stacked variants: not checked here
@@ -447,6 +410,54 @@ def _check_finite(
                 "lengths, loads or gravity too large or too small; see the input limits in "
                 "docs/errors.md)",
             )
+
+
+def _labelled(system: System, motion: Motion, kin: Kinetics | None, excused, locked) -> list:
+    """The arrays :func:`_check_finite` checks, in order, each with its columns' labels
+    and the rows where a non-finite value is explained (``excused``: singular; ``locked``:
+    also self-locked, for what the friction solution gives)."""
+    names = [f"{name}.{label}" for name in system.links for label in ("x", "y", "theta")]
+    rate = {"x": "vx", "y": "vy", "theta": "omega"}
+    acc = {"x": "ax", "y": "ay", "theta": "alpha"}
+    arrays = [
+        (motion.q, names, excused),
+        (
+            motion.qd,
+            [n.rsplit(".", 1)[0] + "." + rate[n.rsplit(".", 1)[1]] for n in names],
+            excused,
+        ),
+        (
+            motion.qdd,
+            [n.rsplit(".", 1)[0] + "." + acc[n.rsplit(".", 1)[1]] for n in names],
+            excused,
+        ),
+    ]
+    if kin is None:
+        return arrays
+    x0, fric = kin.x0, kin.friction
+    n_j = system.n_joint_rows
+    labels = [""] * x0.shape[-1]
+    for k, j in enumerate(system.model.joints):
+        for r in range(x0.shape[-1])[system.rows_of(k)]:
+            labels[r] = (
+                f"the reaction of joint {j.name} "
+                f"({', '.join(f'{j.name}.{x}' for x in j.reaction_labels)})"
+            )
+    for d_index, d in enumerate(system.motion_drivers):
+        effort_joint = system.model.joint(d.driver.balance_at) if d.driver.balance_at else d.joint
+        labels[n_j + d_index] = f"{d.name}.{'torque' if effort_joint.angular else 'force'}"
+    arrays.append((x0, labels, excused))
+    if fric is not None:
+        sol = fric.solution
+        arrays.append((sol.x, [f"{x} (with friction)" for x in labels], locked))
+        arrays.append(
+            (sol.e, [f"{system.model.joints[k].name}.friction" for k in fric.setup.joints], locked)
+        )
+        arrays.append((fric.x_approx, [f"{x} (approximate friction)" for x in labels], excused))
+    for key, value in kin.power.items():
+        late = key in ("friction", "input_friction", "residual_friction")
+        arrays.append((np.asarray(value)[..., None], [f"power.{key}"], locked if late else excused))
+    return arrays
 
 
 COND_WARN = 1e8

@@ -143,9 +143,6 @@ def build_columns(
     """Ordered lazy columns and units (docs/conventions.md) of the rows of ``motion``;
     ``kin`` None: kinematics only.  ``cond``: each Assur group's condition numbers (a
     ``<group>.cond`` column each); ``shaking``: the frame's reaction, ``(..., 3)``."""
-    model = system.model
-    t, psi, q, qd, qdd = motion.t, motion.psi, motion.q, motion.qd, motion.qdd
-    x0 = None if kin is None else kin.x0
     cols = Columns()
     units: dict[str, str] = {}
 
@@ -153,31 +150,55 @@ def build_columns(
         cols.add([n for n, _ in names_units], compute)
         units.update(names_units)
 
-    first = system.motion_drivers[0]
-    coord = psi[..., 0]
+    t, coord = motion.t, motion.psi[..., 0]
     put([("time", "s")], lambda: (t - t[0] if len(t) else t,))
-    if first.joint.angular:
+    if system.motion_drivers[0].joint.angular:
         put(
             [("angle", "deg"), ("travel", "deg")],
             lambda: (np.mod(np.degrees(coord), 360.0), np.degrees(np.abs(coord - coord[0]))),
         )
     else:
         put([("stroke", "m"), ("travel", "m")], lambda: (coord, np.abs(coord - coord[0])))
-    link_units = (
-        ("x", "m"),
-        ("y", "m"),
-        ("theta", "deg"),
-        ("vx", "m/s"),
-        ("vy", "m/s"),
-        ("omega", "rad/s"),
-        ("ax", "m/s^2"),
-        ("ay", "m/s^2"),
-        ("alpha", "rad/s^2"),
-    )
+    _link_columns(system, put, motion)
+    if kin is not None:
+        _kinetic_columns(system, put, motion, kin)
+    _group_and_joint_columns(system, put, motion.q, None if kin is None else kin.x0, cond)
+    if shaking is not None:
+        put(
+            [("shaking.Fx", "N"), ("shaking.Fy", "N"), ("shaking.M", "N*m")],
+            lambda: (shaking[..., 0], shaking[..., 1], shaking[..., 2]),
+        )
+    return cols, units
+
+
+_LINK_UNITS = (
+    ("x", "m"),
+    ("y", "m"),
+    ("theta", "deg"),
+    ("vx", "m/s"),
+    ("vy", "m/s"),
+    ("omega", "rad/s"),
+    ("ax", "m/s^2"),
+    ("ay", "m/s^2"),
+    ("alpha", "rad/s^2"),
+)
+_POINT_UNITS = (
+    ("x", "m"),
+    ("y", "m"),
+    ("vx", "m/s"),
+    ("vy", "m/s"),
+    ("ax", "m/s^2"),
+    ("ay", "m/s^2"),
+)
+
+
+def _link_columns(system: System, put, motion: Motion) -> None:
+    """Each link's pose, velocity and acceleration, then each named point's."""
+    q, qd, qdd = motion.q, motion.qd, motion.qdd
     for k, name in enumerate(system.links):
         s = slice(3 * k, 3 * k + 3)
         put(
-            [(f"{name}.{label}", unit) for label, unit in link_units],
+            [(f"{name}.{label}", unit) for label, unit in _LINK_UNITS],
             lambda s=s: (
                 q[..., s][..., 0],
                 q[..., s][..., 1],
@@ -190,27 +211,22 @@ def build_columns(
                 qdd[..., s][..., 2],
             ),
         )
-    point_units = (
-        ("x", "m"),
-        ("y", "m"),
-        ("vx", "m/s"),
-        ("vy", "m/s"),
-        ("ax", "m/s^2"),
-        ("ay", "m/s^2"),
-    )
 
     def point(k, p):
         pos, vel, acc = point_state(q, qd, qdd, k, p, link_poses(system, q)[..., k, :])
         return pos[..., 0], pos[..., 1], vel[..., 0], vel[..., 1], acc[..., 0], acc[..., 1]
 
     for k, name in enumerate(system.links):
-        for pname, p in model.link(name).points.items():
+        for pname, p in system.model.link(name).points.items():
             put(
-                [(f"{name}.{pname}.{label}", unit) for label, unit in point_units],
+                [(f"{name}.{pname}.{label}", unit) for label, unit in _POINT_UNITS],
                 lambda k=k, p=p: point(k, p),
             )
-    if x0 is not None:
-        _kinetic_columns(system, put, motion, kin)
+
+
+def _group_and_joint_columns(system: System, put, q, x0, cond: dict) -> None:
+    """Each group's condition number, the dyads' transmission and pressure angles, and
+    each joint type's own columns (a cam's pressure angle; ``x0`` None: kinematics only)."""
     for g, c in cond.items():
         put([(f"{g.column}.cond", "1")], lambda c=c: (c,))
     angles = {}
@@ -224,7 +240,7 @@ def build_columns(
         put([(f"{prefix}.{label}", "deg")], lambda prefix=prefix: (dyad_angles()[prefix][1],))
     qe = _padded(q)
     seen = None if x0 is None else _seen(x0)
-    for k, j in enumerate(model.joints):  # a type's own columns (a cam's pressure angle)
+    for k, j in enumerate(system.model.joints):
         i_, j_ = system.ends[k]
         qi, qj = qe[..., 3 * i_ : 3 * i_ + 3], qe[..., 3 * j_ : 3 * j_ + 3]
         own = j.columns(qi, qj, None if seen is None else seen[..., system.rows_of(k)])
@@ -233,12 +249,6 @@ def build_columns(
                 [(f"{j.name}.{label}", unit) for label, (unit, _) in own.items()],
                 lambda own=own: tuple(v for _, v in own.values()),
             )
-    if shaking is not None:
-        put(
-            [("shaking.Fx", "N"), ("shaking.Fy", "N"), ("shaking.M", "N*m")],
-            lambda: (shaking[..., 0], shaking[..., 1], shaking[..., 2]),
-        )
-    return cols, units
 
 
 def _padded(q: np.ndarray) -> np.ndarray:
@@ -332,10 +342,39 @@ def _in_order(values: Mapping[str, np.ndarray], labels) -> tuple:
     return tuple(values[label] for label in labels)
 
 
+_POWER_COLUMNS = (
+    "input",
+    "kinetic",
+    "potential",
+    "elastic",
+    "damping",
+    "external",
+    "friction",
+    "residual",
+    "residual_friction",
+)
+
+
 def _kinetic_columns(system: System, put, motion: Motion, kin: Kinetics) -> None:
     """The columns of the loads: reactions, friction, efforts, elements and power."""
-    model = system.model
-    q, qd, x0, fric, power = motion.q, motion.qd, kin.x0, kin.friction, kin.power
+    _reaction_columns(system, put, motion.q, kin)
+    _effort_columns(system, put, motion, kin)
+    sol = kin.friction.solution if kin.friction else None
+    if sol is not None:
+        put(
+            [("friction.status", "1"), ("friction.iterations", "1")],
+            lambda: (sol.status, sol.iterations),
+        )
+    _element_columns(system, put, motion.q, motion.qd)
+    power = kin.power
+    names = [n for n in _POWER_COLUMNS if n in power]
+    put([(f"power.{n}", "W") for n in names], lambda: tuple(power[n] for n in names))
+
+
+def _reaction_columns(system: System, put, q: np.ndarray, kin: Kinetics) -> None:
+    """Each joint's reactions in its own labels; with friction, its friction effort
+    (approximate and consistent) and its reactions with friction."""
+    x0, fric = kin.x0, kin.friction
     sol = fric.solution if fric else None
     n_f = {k: n for n, k in enumerate(fric.setup.joints)} if fric else {}
     force_unit = {"M": "N*m"}
@@ -345,7 +384,7 @@ def _kinetic_columns(system: System, put, motion: Motion, kin: Kinetics) -> None
         pe = link_poses(system, q)
         return pe[..., system.ends[k][0], :], pe[..., system.ends[k][1], :]
 
-    for k, j in enumerate(model.joints):
+    for k, j in enumerate(system.model.joints):
         block = system.rows_of(k)
         labels = j.reaction_labels
         put(
@@ -375,6 +414,14 @@ def _kinetic_columns(system: System, put, motion: Motion, kin: Kinetics) -> None
             [(f"{j.name}.{label}_friction", force_unit.get(label, "N")) for label in labels],
             with_friction,
         )
+
+
+def _effort_columns(system: System, put, motion: Motion, kin: Kinetics) -> None:
+    """Each motion driver's torque or force; with friction, the same with friction
+    (approximate and consistent) and the drive's efficiency."""
+    model, q, qd = system.model, motion.q, motion.qd
+    x0, fric = kin.x0, kin.friction
+    sol = fric.solution if fric else None
     n_j = system.n_joint_rows
     names = [j.name for j in model.joints]
     for d_index, d in enumerate(system.motion_drivers):
@@ -382,50 +429,29 @@ def _kinetic_columns(system: System, put, motion: Motion, kin: Kinetics) -> None
         word, unit = ("torque", "N*m") if effort_joint.angular else ("force", "N")
         col = n_j + d_index
         put([(f"{d.name}.{word}", unit)], lambda col=col: (x0[..., col],))
-        if fric:
-            k_effort = names.index(effort_joint.name)
+        if not fric:
+            continue
+        k_effort = names.index(effort_joint.name)
 
-            def efficiency(col=col, k=k_effort):
-                # η = P_0/P_f, the driver's input power without over with friction, defined
-                # only where the drive delivers power with friction (P_f > 0) and the power
-                # it passes on is not negative (P_0 = P_f − friction loss ≥ 0): there
-                # 0 ≤ η ≤ 1.  NaN (empty) elsewhere: the machine drives the motor back, the
-                # drive idles (0/0), or the friction consumes more than the drive delivers
-                # (docs/friction.md)
-                rel = np.einsum("...n,...n->...", coordinate_gradient(system, q, k), qd)
-                p0, pf = x0[..., col] * rel, sol.x[..., col] * rel
-                # a P_0 within round-off of 0 (a limit position of a massless drive) is 0
-                ok = (pf > 0.0) & (p0 >= -1e-9 * pf)
-                with np.errstate(divide="ignore", invalid="ignore"):
-                    return (np.where(ok, np.maximum(p0 / pf, 0.0), np.nan),)
+        def efficiency(col=col, k=k_effort):
+            # η = P_0/P_f, the driver's input power without over with friction, defined
+            # only where the drive delivers power with friction (P_f > 0) and the power
+            # it passes on is not negative (P_0 = P_f − friction loss ≥ 0): there
+            # 0 ≤ η ≤ 1.  NaN (empty) elsewhere: the machine drives the motor back, the
+            # drive idles (0/0), or the friction consumes more than the drive delivers
+            # (docs/friction.md)
+            rel = np.einsum("...n,...n->...", coordinate_gradient(system, q, k), qd)
+            p0, pf = x0[..., col] * rel, sol.x[..., col] * rel
+            # a P_0 within round-off of 0 (a limit position of a massless drive) is 0
+            ok = (pf > 0.0) & (p0 >= -1e-9 * pf)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                return (np.where(ok, np.maximum(p0 / pf, 0.0), np.nan),)
 
-            put(
-                [(f"{d.name}.{word}_friction_approx", unit), (f"{d.name}.{word}_friction", unit)],
-                lambda col=col: (fric.x_approx[..., col], sol.x[..., col]),
-            )
-            put([(f"{d.name}.efficiency", "1")], efficiency)
-    if fric:
         put(
-            [("friction.status", "1"), ("friction.iterations", "1")],
-            lambda: (sol.status, sol.iterations),
+            [(f"{d.name}.{word}_friction_approx", unit), (f"{d.name}.{word}_friction", unit)],
+            lambda col=col: (fric.x_approx[..., col], sol.x[..., col]),
         )
-    _element_columns(system, put, q, qd)
-    names = [
-        n
-        for n in (
-            "input",
-            "kinetic",
-            "potential",
-            "elastic",
-            "damping",
-            "external",
-            "friction",
-            "residual",
-            "residual_friction",
-        )
-        if n in power
-    ]
-    put([(f"power.{n}", "W") for n in names], lambda: tuple(power[n] for n in names))
+        put([(f"{d.name}.efficiency", "1")], efficiency)
 
 
 @dataclass(frozen=True, repr=False)
