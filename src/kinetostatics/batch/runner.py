@@ -280,10 +280,7 @@ def _plan(sources: Sequence[Source] | str | Path, tasks, opts: BatchOptions) -> 
                 f"{source.file}: --flywheel needs a flywheel: {{delta: ...}} "
                 "section in the file (docs/dynamics.md)"
             )
-    n_pos = opts.positions or max(
-        (tpl.base.analysis.positions for tpl in templates if not isinstance(tpl, BaseException)),
-        default=None,
-    )
+    n_pos = _positions(opts, templates, None)
     workers = opts.workers or os.cpu_count() or 1
     _check_memory(
         0,
@@ -344,23 +341,8 @@ def _run_locked(
     if broken:
         record(broken, [failure_row(templates[t.source]) for t in broken])
     pool = _Pool(opts.executor, opts.workers)
-    n_pos = opts.positions or max(
-        (tpl.base.analysis.positions for tpl in templates if not isinstance(tpl, BaseException)),
-        default=1,
-    )
-    size = opts.chunk or auto_chunk(len(todo), n_pos, pool.slots)
-    results_dir = str(out / "variants") if opts.results else None
-
-    def job(part: list[Task]) -> Chunk:
-        return Chunk(
-            plan.sources[part[0].source],
-            tuple(t.vid for t in part),
-            tuple(dict(t.overrides) for t in part),
-            opts.positions,
-            opts.friction,
-            opts.flywheel,
-            results_dir,
-        )
+    size = opts.chunk or auto_chunk(len(todo), _positions(opts, templates, 1), pool.slots)
+    job = _chunk_job(plan.sources, opts, str(out / "variants") if opts.results else None)
 
     def after_chunk() -> None:
         if opts.on_chunk is not None:
@@ -388,6 +370,33 @@ def _run_locked(
         pool.slots,
         alone[0],
     )
+
+
+def _positions(opts: BatchOptions, templates, default: int | None) -> int | None:
+    """The positions of one variant's analysis: ``opts.positions``, or the most any file
+    asks for (``default`` if none could be read)."""
+    return opts.positions or max(
+        (tpl.base.analysis.positions for tpl in templates if not isinstance(tpl, BaseException)),
+        default=default,
+    )
+
+
+def _chunk_job(sources: list[Source], opts: BatchOptions, results_dir: str | None):
+    """The function making the :class:`~.sources.Chunk` of a part of the variants (all of
+    one source file) that a worker analyses."""
+
+    def job(part: list[Task]) -> Chunk:
+        return Chunk(
+            sources[part[0].source],
+            tuple(t.vid for t in part),
+            tuple(dict(t.overrides) for t in part),
+            opts.positions,
+            opts.friction,
+            opts.flywheel,
+            results_dir,
+        )
+
+    return job
 
 
 def _drain(pool: _Pool, parts, job, record, out: Path, after_chunk) -> None:
