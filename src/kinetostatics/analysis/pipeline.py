@@ -52,7 +52,7 @@ __all__ = [
 ]
 
 
-def analyze(
+def analyze(  # noqa: PLR0913  the public keywords of analyze (docs/python.md)
     model: Model | System,
     *,
     positions: np.ndarray | None = None,
