@@ -127,7 +127,7 @@ def analyze(  # noqa: PLR0913  the public keywords of analyze (docs/python.md)
         ref_speed=sched.reference,
         friction=system.model.has_friction if friction is None else friction,
     )
-    return _result(system, sol, motion, full, kin, found, extremes)
+    return _result(system, sol, motion, full, kin, found)
 
 
 def analyze_near(result: Result, times: np.ndarray, *, friction: bool) -> Result:
@@ -153,7 +153,7 @@ def analyze_near(result: Result, times: np.ndarray, *, friction: bool) -> Result
     sol = PositionSolution(motion.q, np.zeros((n, 0)), np.zeros(n, dtype=int))
     with warnings.catch_warnings():  # the run warned about its own rows
         warnings.simplefilter("ignore")
-        return _result(system, sol, motion, False, kin, (), result.extremes)
+        return _result(system, sol, motion, False, kin)
 
 
 # -- the stages -------------------------------------------------------------------------
@@ -253,10 +253,11 @@ def _with_event_rows(system: System, sched: Schedule, found, states, motion: Mot
     return Motion(t, psi, q[order], qd[order], qdd[order], psi_d, psi_dd, None)
 
 
-def _result(system: System, sol, motion: Motion, full, kin=None, found=(), extremes=None) -> Result:
+def _result(system: System, sol, motion: Motion, full, kin=None, found=()) -> Result:
     """The :class:`~kinetostatics.analysis.results.Result` of the rows (kinematics only if
-    no ``kin``): group conditions (warned about near a singular position), the singular positions
-    of the equilibrium, the guard against unexplained NaN, the columns."""
+    no ``kin``; ``found`` the load switches): group conditions (warned about near a
+    singular position), the singular positions of the equilibrium, the guard against
+    unexplained NaN, the columns."""
     t, psi, q, qd, qdd, lu = motion.t, motion.psi, motion.q, motion.qd, motion.qdd, motion.lu
     if kin is not None:
         sol.singular.extend(
@@ -288,7 +289,7 @@ def _result(system: System, sol, motion: Motion, full, kin=None, found=(), extre
         singular=tuple(sol.singular),
         indeterminate=False if kin is None else kin.indeterminate,
         full_cycle=full,
-        extremes={} if extremes is None else extremes,
+        extremes={} if kin is None or kin.extremes is None else kin.extremes,
         lam_friction=None if kin is None or kin.friction is None else kin.friction.solution.x,
     )
 

@@ -49,12 +49,14 @@ __all__ = [
 class Loads:
     """The generalized forces of the loads at the rows, ``(..., n_q)`` each: gravity,
     d'Alembert inertia, the external loads acting there, and the springs' and dampers'
-    states (None: the model has none)."""
+    states (None: the model has none); ``extremes``: the extremes of the ``travel``
+    conditions the external loads were switched by (``Result.extremes``)."""
 
     gravity: np.ndarray
     inertia: np.ndarray
     external: np.ndarray
     elements: ElementStates | None = None
+    extremes: dict | None = None
 
     @property
     def total(self) -> np.ndarray:
@@ -211,6 +213,11 @@ class Kinetics:
         return self.loads.external
 
     @property
+    def extremes(self) -> dict | None:
+        """The extremes of the ``travel`` conditions the loads were evaluated with."""
+        return self.loads.extremes
+
+    @property
     def elements(self) -> ElementStates | None:
         """Springs and dampers (None: the model has none)."""
         return self.loads.elements
@@ -286,6 +293,7 @@ def loads(system: System, motion: Motion, extremes: dict, ref_speed: float) -> L
         inertia_forces(system, motion.qdd),
         external_forces(system, q, qd, motion.psi[..., 0], extremes, ref_speed),
         element_states(system, q, qd) if system.model.elements else None,
+        extremes,
     )
 
 
