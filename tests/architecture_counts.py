@@ -132,7 +132,7 @@ def _functions():
                 yield m, node
 
 
-def _length(fn: ast.FunctionDef) -> int:
+def function_length(fn: ast.FunctionDef) -> int:
     """Lines from the ``def`` to the end, the docstring not counted (a function's
     documentation is not its size)."""
     lines = fn.end_lineno - fn.lineno + 1
@@ -234,7 +234,7 @@ def counts() -> dict:
     edges, lazy = _graph()
     cycles = _sccs(_package_parents(edges))
     funcs = list(_functions())
-    long = [(m, f.name, _length(f)) for m, f in funcs]
+    long = [(m, f.name, function_length(f)) for m, f in funcs]
     long = [x for x in long if x[2] > LONG]
     wide = [(m, f.name, len(_params(f))) for m, f in funcs if len(_params(f)) >= WIDE]
     lazy_out = [(m, n) for m, n in lazy if not m.startswith("kinetostatics.cli")]

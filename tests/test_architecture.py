@@ -16,6 +16,8 @@ import pytest
 
 from kinetostatics import joints
 
+from .architecture_counts import function_length
+
 ROOT = Path(__file__).resolve().parents[1]
 PKG = ROOT / "src" / "kinetostatics"
 # the modules that may name pair types: each is a method defined for specific pairs
@@ -116,3 +118,97 @@ def test_docs_tree_is_the_tree():
     on_disk = {rel for rel, _ in _modules()}
     assert sorted(on_disk - listed) == [], "modules missing from docs/architecture.md"
     assert sorted(listed - on_disk) == [], "docs/architecture.md lists modules that do not exist"
+
+
+# -- function length ---------------------------------------------------------------------
+MAX_FUNCTION_LINES = 60
+_IO_SECTION = "one YAML section: its keys checked and read in turn, each with its message"
+_CLI_OPTIONS = "the command's argparse declarations, one add_argument per option"
+_FIGURE = "one figure: its axes, curves, labels and legend in drawing order"
+_CHAPTER = "one part of the report: its blocks in reading order (a document, not logic)"
+_S1 = "reshaped in this step by the cycle-stage slice (issue 39 item 2); review at merge"
+_S3 = "reshaped in this step by the load/condition dispatch (issue 39 item 4); review at merge"
+# {module:qualified name: why it may be longer than MAX_FUNCTION_LINES (def to last line,
+# the docstring not counted)}
+LONG_FUNCTIONS = {
+    "analysis/checks.py:result_checks": _S1,
+    "base/document.py:compose": "one walk of the YAML event stream, a branch per node kind",
+    "batch/variants.py:summary_row": _S1,
+    "cli/__init__.py:_run": _S1,
+    "cli/batch.py:register": _CLI_OPTIONS,
+    "cli/dynamics.py:register": _CLI_OPTIONS,
+    "cli/pictures.py:register": _CLI_OPTIONS,
+    "cli/dynamics.py:_simulate": "the simulate command: each option applied, then the files",
+    "cli/pictures.py:_plot": "one branch per kind of picture",
+    "dynamics/clearance.py:expand": "the clearance macro: journal, bushing, joints built in turn",
+    "dynamics/contact.py:simulate_contact": "12 lines of keywords, 9 of doc; one integration loop",
+    "dynamics/engine.py:Dynamics.__init__": "the engine's constant arrays, set up once, by kind",
+    "dynamics/flywheel.py:design": _S1,
+    "dynamics/simulation.py:Simulation.table": "one table: a block of columns per quantity",
+    "io/drive.py:DriveSection._drive": _IO_SECTION,
+    "io/dump.py:dump": "Model → YAML: one block per section, in the file's order",
+    "io/laws.py:LawSections._law": _IO_SECTION,
+    "io/loads.py:LoadSections._load": _IO_SECTION,
+    "io/loads.py:LoadSections._conditions": _IO_SECTION,
+    "io/parameters.py:ParameterSections._parameters": _IO_SECTION,
+    "io/settings.py:SettingSections._analysis": _IO_SECTION,
+    "kinetics/conditions.py:travel_extremes": _S3,
+    "kinetics/conditions.py:_switches": _S3,
+    "kinetics/friction.py:_homotopy": "one continuation in μ (predictor, corrector); 17 of doc",
+    "outputs/plotting/animate.py:_write": "the frames drawn and written, as GIF or MP4",
+    "outputs/plotting/curves.py:output_motion": _S1,
+    "outputs/plotting/curves.py:torque_curves": _S1,
+    "outputs/plotting/draw.py:_loads_at": "the loads' arrows at one row, a branch per load kind",
+    "outputs/plotting/drive.py:torque_speed": _FIGURE,
+    "outputs/plotting/energy.py:equivalent_moments": _FIGURE,
+    "outputs/plotting/export.py:export_dxf": "the DXF drawing written entity by entity",
+    "outputs/plotting/polar.py:polar_diagrams": _FIGURE,
+    "outputs/plotting/polygons.py:polygon_figure": _FIGURE,
+    "outputs/plotting/polygons.py:_polygon_sheet": _FIGURE,
+    "outputs/plotting/scene.py:_Scene.__init__": "the drawing's geometry gathered once, by kind",
+    "outputs/report/data.py:_data_blocks": _CHAPTER,
+    "outputs/report/document.py:write_report": _CHAPTER,
+    "outputs/report/drive.py:drive_blocks": _CHAPTER,
+    "outputs/report/elements.py:element_blocks": _CHAPTER,
+    "outputs/report/flywheel.py:flywheel_blocks": _CHAPTER,
+    "outputs/report/pdf.py:write_pdf": "the PDF rendered block by block",
+    "outputs/report/results.py:report_tables": _CHAPTER,
+    "outputs/report/results.py:_summary_blocks": _CHAPTER,
+    "outputs/summary.py:summarize": _S1,
+    "structure/graph.py:structure": "the structure in its steps: graph, loops, mobility, groups",
+}
+
+
+def _long_functions() -> dict[str, int]:
+    """{module:qualified name: lines} of every function and method (nested ones too)
+    longer than MAX_FUNCTION_LINES, from its ``def`` to its last line, its docstring not
+    counted (tests/architecture_counts.py's rule)."""
+
+    def walk(node, prefix):
+        for child in ast.iter_child_nodes(node):
+            if isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                yield prefix + child.name, child
+                yield from walk(child, f"{prefix}{child.name}.")
+            elif isinstance(child, ast.ClassDef):
+                yield from walk(child, f"{prefix}{child.name}.")
+            else:
+                yield from walk(child, prefix)
+
+    out = {}
+    for rel, text in _modules():
+        for name, fn in walk(ast.parse(text), ""):
+            lines = function_length(fn)
+            if lines > MAX_FUNCTION_LINES:
+                out[f"{rel}:{name}"] = lines
+    return out
+
+
+def test_functions_stay_short():
+    """No function is longer than MAX_FUNCTION_LINES unless LONG_FUNCTIONS says why; an
+    entry whose function became short (or went) leaves the list."""
+    long = _long_functions()
+    unexplained = {k: v for k, v in long.items() if k not in LONG_FUNCTIONS}
+    assert not unexplained, f"functions over {MAX_FUNCTION_LINES} lines: {unexplained}"
+    stale = sorted(set(LONG_FUNCTIONS) - set(long))
+    assert not stale, f"LONG_FUNCTIONS names functions that are short or gone: {stale}"
+    assert all(why.strip() for why in LONG_FUNCTIONS.values())

@@ -548,3 +548,16 @@ def test_a_lost_dask_scheduler_is_one_line(tmp_path):
     assert lines[0].startswith("kinetostatics: --scheduler tcp://127.0.0.1:") and (
         "run the same command again to resume" in lines[0]
     )
+
+
+def test_batch_options_fingerprint_only_what_changes_the_rows():
+    """run_batch's keywords as one frozen record; batch.json's options (the fingerprint of
+    the rows) are the analysis's three, not how the batch runs."""
+    import dataclasses
+
+    from kinetostatics.batch.runner import BatchOptions
+
+    o = BatchOptions(positions=36, executor="serial", chunk=3, friction=False)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        o.chunk = 4
+    assert o.analysis == {"positions": 36, "friction": False, "flywheel": None}

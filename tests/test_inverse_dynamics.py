@@ -42,3 +42,47 @@ def test_positions_near_follows_the_guess_branch():
     q = positions_near(system, np.radians([[101.0]]), r.q, schedule(system))
     assert np.max(np.abs(q - r.q)) < 0.05  # one degree away: a nearby pose
     assert np.max(np.abs(residual(system, q, np.radians([[101.0]])))) < 1e-12
+
+
+def test_inverse_dynamics_of_a_motion_record_is_frozen_and_balances_power():
+    """The stages' records: the Motion of the kinematic stage gives, through the four stages,
+    a frozen Kinetics whose power terms are a read-only mapping that balances (the drive's
+    input equals the rates of kinetic and potential energy plus the external loads' and the
+    friction loss: the work–energy theorem); kinetics() from the loose arrays is the same."""
+    import dataclasses
+
+    import pytest
+
+    from kinetostatics.kinematics.motion import motion_at
+    from kinetostatics.kinetics.inverse import inverse_dynamics
+
+    system = ks.build_system(ks.load("mechanisms/slotting_machine.yaml"))
+    base = ks.analyze(system, friction=False)
+    sched = schedule(system)
+    motion = motion_at(system, sched, base.t[::6], base.q[::6])
+    kin = inverse_dynamics(
+        system, motion, ref_speed=sched.reference, extremes=base.extremes, friction=True
+    )
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        kin.power = None
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        motion.q = None
+    p = kin.power
+    assert list(p)[:4] == ["input", "kinetic", "potential", "external"]
+    assert {"friction", "residual_friction"} <= set(p) and "elastic" not in p
+    scale = np.max(np.abs(p["input_friction"]))
+    balance = p.kinetic + p.potential + p.external + p.friction
+    assert np.max(np.abs(p.input_friction - balance)) <= 1e-9 * scale
+    assert kin.friction.solution is kin.friction["solution"]
+    old = kinetics(
+        system,
+        motion.q,
+        motion.qd,
+        motion.qdd,
+        motion.psi,
+        lu=motion.lu,
+        ref_speed=sched.reference,
+        extremes=base.extremes,
+        friction=True,
+    )
+    np.testing.assert_allclose(old.friction.solution.x, kin.friction.solution.x, rtol=1e-12)

@@ -12,6 +12,7 @@ def test_kinematics_only_assembles_no_loads(monkeypatch):
         raise AssertionError("kinetics was called")
 
     monkeypatch.setattr(analysis, "kinetics", forbidden)
+    monkeypatch.setattr(analysis, "inverse_dynamics", forbidden)
     monkeypatch.setattr(analysis, "load_events", forbidden)
     r = ks.analyze(ks.load("mechanisms/slotting_machine.yaml"), kinematics_only=True)
     assert "ram.vy" in r.columns and "rod_ram.pressure_angle" in r.columns

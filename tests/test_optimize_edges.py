@@ -359,3 +359,20 @@ def test_a_second_search_on_the_same_out_is_refused(tmp_path, capsys):
         held.release()
     assert code == 2
     assert "another search is writing to this folder" in _one_line(err)
+
+
+def test_the_keywords_make_a_frozen_search_options_checked_before_any_design():
+    """optimize's keywords as one record: frozen, its whole numbers checked against
+    RANGES with the command's one line, the bar as long as the generations (maxiter + 1,
+    the initial population) and the local steps."""
+    import dataclasses
+
+    o = opt.SearchOptions(popsize=0)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        o.seed = 1
+    with pytest.raises(opt.OptimizeError, match=r"^--popsize 0: must be from 1 to 1000$"):
+        o.check()
+    with pytest.raises(opt.OptimizeError, match=r"^--positions 0: must be from 1 to"):
+        opt.SearchOptions(positions=0).check()
+    assert opt.SearchOptions(maxiter=5, local_maxiter=7).steps == 13
+    assert opt.SearchOptions(maxiter=5, polish=False).steps == 6

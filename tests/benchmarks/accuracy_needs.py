@@ -76,7 +76,7 @@ def kinematics_only(timing: bool) -> Table:
         ("ks.analyze(model, kinematics_only=True)", dict(kinematics_only=True)),
         ("ks.analyze(model)", {}),
     ):
-        with Calls(analysis, "kinetics") as kin, Calls(analysis, "load_events") as ev:
+        with Calls(analysis, "inverse_dynamics") as kin, Calls(analysis, "load_events") as ev:
             r = ks.analyze(system, **kw)
         tab.add(
             label,

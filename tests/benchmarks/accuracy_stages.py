@@ -22,9 +22,11 @@ from accuracy_common import Table
 
 import kinetostatics as ks
 from kinetostatics import friction as fr
-from kinetostatics.analysis.results import Result, build_columns
+from kinetostatics.analysis.columns import build_columns
+from kinetostatics.analysis.results import Result
 from kinetostatics.base.linalg import BlockFactor
 from kinetostatics.kinematics.derivatives import derivatives
+from kinetostatics.kinematics.motion import Motion
 from kinetostatics.kinematics.newton import condition_number
 from kinetostatics.kinematics.positions import solve_positions
 from kinetostatics.kinematics.schedule import sample_times, schedule
@@ -35,6 +37,13 @@ from kinetostatics.kinetics.forces import (
     gravity_forces,
     inertia_forces,
     mass_vector,
+)
+from kinetostatics.kinetics.inverse import (
+    Equilibrium,
+    FrictionSolutions,
+    Kinetics,
+    Loads,
+    Power,
 )
 from kinetostatics.kinetics.reactions import effort_joints, ground_reaction
 from kinetostatics.structure.system import coordinate_gradient, gamma, jacobian_blocks, nu
@@ -107,7 +116,8 @@ def stage_times(name: str, n: int, timing: bool):
     assert all(
         np.array_equal(a, b) for a, b in zip((qd, qdd), derivatives(system, q, psi_d, psi_dd))
     )
-    ev = lambda: load_events(system, sched, sched, t, q, qd, qdd, full)  # noqa: E731
+    motion = Motion(t, psi, q, qd, qdd, psi_d, psi_dd, lu)
+    ev = lambda: load_events(system, sched, motion, full)  # noqa: E731
     rows.append(("load switching events, travel extremes", T(ev), False))
     extremes, _, _ = ev()
 
@@ -151,11 +161,16 @@ def stage_times(name: str, n: int, timing: bool):
 
     rows.append(("condition numbers", T(conds), False))
     cond = conds()
-    fric = dict(setup=fs, x_approx=xa, e_approx=ea, solution=cons)
+    kin = Kinetics(
+        Loads(q_grav, q_inert, q_ext),
+        Equilibrium(x0, None, lu, np.zeros(len(t), dtype=bool)),
+        FrictionSolutions(fs, xa, ea, cons),
+        Power(**power),
+    )
 
     def columns():
         shaking = ground_reaction(system, q, x0)
-        return build_columns(system, t, psi, q, qd, qdd, x0, fric, power, cond, shaking, full)
+        return build_columns(system, motion, kin, cond=cond, shaking=shaking)
 
     rows.append(("shaking force, result columns", T(columns), False))
     cols, units = columns()

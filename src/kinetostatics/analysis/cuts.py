@@ -314,7 +314,7 @@ def merged_cuts(ta: float, tb: float, times) -> np.ndarray:
     return edges[keep]
 
 
-def _secant(
+def _secant(  # noqa: PLR0913  the brackets' arrays of one vectorised root search
     f, lo, hi, flo, fhi, x, slope, col, span: float, small, max_iter: int = 40
 ) -> np.ndarray:
     """The zeros of ``f(times, columns)`` in the brackets [lo, hi] (values flo, fhi of

@@ -24,25 +24,27 @@ from ..errors import (
     StructureError,
 )
 from ..kinematics.continuation import Singularity
-from ..kinematics.derivatives import derivatives
 from ..kinematics.differences import difference_derivatives
 from ..kinematics.events import state_near
+from ..kinematics.motion import Motion, motion_at
 from ..kinematics.newton import condition_number, group_condition
 from ..kinematics.positions import solve_positions
 from ..kinematics.schedule import Schedule, sample_times, schedule
 from ..kinematics.start import initial_guess
 from ..kinetics.conditions import Event, load_events, travel_extremes, whole_motion
-from ..kinetics.inverse import Kinetics, kinetics
+from ..kinetics.inverse import Kinetics, inverse_dynamics, kinetics
 from ..kinetics.reactions import ground_reaction
 from ..model import Model
 from ..structure.system import System, jacobian, system_of
-from .reachable import solve_run
-from .results import Result, build_columns, element_warnings, joint_warnings
+from .columns import build_columns, element_warnings, joint_warnings
+from .reachable import Rows, solve_run
+from .results import Result
 
 __all__ = [
     "analyze",
     "kinetics",
     "Kinetics",
+    "Motion",
     "Schedule",
     "Event",
     "numerical_mobility",
@@ -51,7 +53,7 @@ __all__ = [
 ]
 
 
-def analyze(
+def analyze(  # noqa: PLR0913  the public keywords of analyze (docs/python.md)
     model: Model | System,
     *,
     positions: np.ndarray | None = None,
@@ -129,37 +131,22 @@ def analyze(
     system = model if isinstance(model, System) else system_of(model)
     _require_motion_drivers(system)
     sched = schedule(system)
-    t, given, full = _rows(system, sched, positions, times)
-    t, sol, full = solve_run(
-        system,
-        sched,
-        t,
-        given,
-        full,
-        by_coordinates=positions is not None,
-        by_times=times is not None,
-        reachable=reachable,
-    )
-    q = sol.q
-    psi, qd, qdd, lu = _motion(system, sched, t, q, derivatives_by, step)
+    rows = _rows(system, sched, positions, times, reachable)
+    t, sol, full = solve_run(system, sched, rows)
+    motion = _motion(system, sched, t, sol.q, derivatives_by, step)
     if kinematics_only:
-        return _result(system, sol, t, psi, q, qd, qdd, lu, full)
-    extremes, found, states = load_events(system, sched, sched, t, q, qd, qdd, full)
+        return _result(system, sol, motion, full)
+    extremes, found, states = load_events(system, sched, motion, full)
     if (system.model.analysis.events if events is None else events) and found:
-        t, q, qd, qdd = _with_event_rows(system, sched, found, states, t, q, qd, qdd)
-        psi, lu = sched(t)[0], None
-    kin = kinetics(
+        motion = _with_event_rows(system, sched, found, states, motion)
+    kin = inverse_dynamics(
         system,
-        q,
-        qd,
-        qdd,
-        psi,
-        lu=lu,
+        motion,
         extremes=extremes,
         ref_speed=sched.reference,
         friction=system.model.has_friction if friction is None else friction,
     )
-    return _result(system, sol, t, psi, q, qd, qdd, lu, full, kin, found, extremes)
+    return _result(system, sol, motion, full, kin, found)
 
 
 def analyze_near(result: Result, times: np.ndarray, *, friction: bool) -> Result:
@@ -177,24 +164,15 @@ def analyze_near(result: Result, times: np.ndarray, *, friction: bool) -> Result
     n = np.argmin(np.abs(rows[None, :] - t[:, None]), axis=1)
     h = (t - rows[n])[:, None]  # Taylor from the nearest row, then Newton (state_at)
     guess = result.q[n] + h * result.qd[n] + 0.5 * h * h * result.qdd[n]
-    psi, psi_d, psi_dd = sched(t)
-    q = positions_near(system, psi, guess, sched)
-    qd, qdd, lu = derivatives(system, q, psi_d, psi_dd)
-    kin = kinetics(
-        system,
-        q,
-        qd,
-        qdd,
-        psi,
-        lu=lu,
-        extremes=result.extremes,
-        ref_speed=sched.reference,
-        friction=friction,
+    motion = motion_at(system, sched, t, positions_near(system, sched(t)[0], guess, sched))
+    kin = inverse_dynamics(
+        system, motion, extremes=result.extremes, ref_speed=sched.reference, friction=friction
     )
-    sol = PositionSolution(q, np.zeros((len(t), 0)), np.zeros(len(t), dtype=int))
+    n = len(t)
+    sol = PositionSolution(motion.q, np.zeros((n, 0)), np.zeros(n, dtype=int))
     with warnings.catch_warnings():  # the run warned about its own rows
         warnings.simplefilter("ignore")
-        return _result(system, sol, t, psi, q, qd, qdd, lu, False, kin, (), result.extremes)
+        return _result(system, sol, motion, False, kin)
 
 
 # -- the stages -------------------------------------------------------------------------
@@ -219,10 +197,10 @@ def _require_motion_drivers(system: System) -> None:
         raise StructureError([(Location(system.model.source, path="drivers"), message)])
 
 
-def _rows(system: System, sched: Schedule, positions, times) -> tuple[np.ndarray, np.ndarray, bool]:
-    """(t, given, full): the times of the rows asked for (``analysis.positions`` and ``at``,
-    or ``positions=``/``times=``, checked), which of them were given as driver coordinates,
-    and whether they cover a full cycle."""
+def _rows(system: System, sched: Schedule, positions, times, reachable: bool) -> Rows:
+    """The rows asked for (``analysis.positions`` and ``at``, or ``positions=``/``times=``,
+    checked): their times, which of them were given as driver coordinates, and whether
+    they cover a full cycle."""
     if times is not None and positions is not None:
         raise ValueError("give positions (driver coordinates) or times, not both")
     if positions is not None:
@@ -241,7 +219,7 @@ def _rows(system: System, sched: Schedule, positions, times) -> tuple[np.ndarray
         given[len(t) - len(system.model.analysis.at) :] = True
         order = np.argsort(t, kind="stable")  # `at` rows take their place in the run
         t, given = t[order], given[order]
-    return t, given, full
+    return Rows(t, given, full, given_as, reachable)
 
 
 def _check_memory(system: System, n: int, given: str | None) -> None:
@@ -259,22 +237,22 @@ def _check_memory(system: System, n: int, given: str | None) -> None:
     raise ValueError(f"{given}: {why}")
 
 
-def _motion(system: System, sched: Schedule, t, q, by: str, step: float):
-    """(ψ, q̇, q̈, lu): the drivers' coordinates and the velocities and accelerations at the
-    rows, from the constraint Jacobian (``lu``: its factors) or by differences."""
-    psi, psi_d, psi_dd = sched(t)
+def _motion(system: System, sched: Schedule, t, q, by: str, step: float) -> Motion:
+    """The :class:`~kinetostatics.kinematics.motion.Motion` of the rows: the drivers'
+    coordinates and the velocities and accelerations, from the constraint Jacobian (``lu``:
+    its factors) or by differences (no factors: the reactions build their own)."""
     if by == "jacobian":
-        qd, qdd, lu = derivatives(system, q, psi_d, psi_dd)
-    else:  # no kinematic factors: the reactions build their own
-        qd, qdd = difference_derivatives(system, sched, t, q, by, step)
-        lu = None
-    return psi, qd, qdd, lu
+        return motion_at(system, sched, t, q)
+    psi, psi_d, psi_dd = sched(t)
+    qd, qdd = difference_derivatives(system, sched, t, q, by, step)
+    return Motion(t, psi, q, qd, qdd, psi_d, psi_dd, None)
 
 
-def _with_event_rows(system: System, sched: Schedule, found, states, t, q, qd, qdd):
-    """(t, q, q̇, q̈) with a row added at each load switch ``found`` (its state from
+def _with_event_rows(system: System, sched: Schedule, found, states, motion: Motion) -> Motion:
+    """``motion`` with a row added at each load switch ``found`` (its state from
     :func:`~kinetostatics.kinetics.conditions.load_events`, or continued from the nearest row),
-    sorted by time."""
+    sorted by time; without the kinematic factors (the equilibrium is assembled anew)."""
+    t, q, qd, qdd = motion.times, motion.q, motion.qd, motion.qdd
     te = np.array([e.t for e in found])
     qe, qde, qdde = zip(
         *(
@@ -289,15 +267,17 @@ def _with_event_rows(system: System, sched: Schedule, found, states, t, q, qd, q
         np.concatenate((a, np.concatenate(b))) for a, b in ((q, qe), (qd, qde), (qdd, qdde))
     )
     order = np.argsort(t, kind="stable")
-    return t[order], q[order], qd[order], qdd[order]
+    t = t[order]
+    psi, psi_d, psi_dd = sched(t)
+    return Motion(t, psi, q[order], qd[order], qdd[order], psi_d, psi_dd, None)
 
 
-def _result(
-    system: System, sol, t, psi, q, qd, qdd, lu, full, kin=None, found=(), extremes=None
-) -> Result:
+def _result(system: System, sol, motion: Motion, full, kin=None, found=()) -> Result:
     """The :class:`~kinetostatics.analysis.results.Result` of the rows (kinematics only if
-    no ``kin``): group conditions (warned about near a singular position), the singular positions
-    of the equilibrium, the guard against unexplained NaN, the columns."""
+    no ``kin``; ``found`` the load switches): group conditions (warned about near a
+    singular position), the singular positions of the equilibrium, the guard against
+    unexplained NaN, the columns."""
+    t, psi, q, qd, qdd, lu = motion.times, motion.psi, motion.q, motion.qd, motion.qdd, motion.lu
     if kin is not None:
         sol.singular.extend(
             Singularity("equilibrium", float(t[k]), float(psi[k, 0]), float(kin.condition[k]))
@@ -311,12 +291,9 @@ def _result(
     if q.ndim == 2:
         for message in element_warnings(system, q, psi[..., 0]):
             warnings.warn(message, ElementWarning, stacklevel=3)
-    x0, fric, power = (None, None, None) if kin is None else (kin.x0, kin.friction, kin.power)
     shaking = None if kin is None else ground_reaction(system, q, kin.x0)
-    _check_finite(
-        system, t, psi, cond, sol.singular, q=q, qd=qd, qdd=qdd, x0=x0, fric=fric, power=power
-    )
-    columns, units = build_columns(system, t, psi, q, qd, qdd, x0, fric, power, cond, shaking, full)
+    _check_finite(system, motion, kin, cond, sol.singular)
+    columns, units = build_columns(system, motion, kin, cond=cond, shaking=shaking)
     return Result(
         system=system,
         t=t,
@@ -331,8 +308,8 @@ def _result(
         singular=tuple(sol.singular),
         indeterminate=False if kin is None else kin.indeterminate,
         full_cycle=full,
-        extremes={} if extremes is None else extremes,
-        lam_friction=None if fric is None else fric["solution"].x,
+        extremes={} if kin is None or kin.extremes is None else kin.extremes,
+        lam_friction=None if kin is None or kin.friction is None else kin.friction.solution.x,
     )
 
 
@@ -400,7 +377,7 @@ position: non-finite velocities or reactions there are explained, not a defect."
 
 
 def _check_finite(
-    system: System, t, psi, cond: dict, singular, *, q, qd, qdd, x0=None, fric=None, power=None
+    system: System, motion: Motion, kin: Kinetics | None, cond: dict, singular
 ) -> None:
     """The last guard of :func:`analyze`: a NaN or infinity that no status explains raises
     :class:`~kinetostatics.errors.NonFiniteResultError` naming the column and the row.
@@ -412,9 +389,11 @@ def _check_finite(
     (``yaml_io.MAGNITUDE``) keep the products of a model far from overflow, so a
     NaN here comes from a model built in Python with values beyond them.
     """
-    values = [q, qd, qdd, x0, *(power or {}).values()]
+    t, psi = motion.times, motion.psi
+    x0, fric, power = (None, None, None) if kin is None else (kin.x0, kin.friction, kin.power)
+    values = [motion.q, motion.qd, motion.qdd, x0, *(power or {}).values()]
     if fric is not None:
-        values += [fric["solution"].x, fric["solution"].e, fric["x_approx"]]
+        values += [fric.solution.x, fric.solution.e, fric.x_approx]
     if all(v is None or np.isfinite(v).all() for v in values):
         return  # the common case: nothing to explain
     n = len(t)
@@ -427,45 +406,8 @@ def _check_finite(
         excused |= np.isclose(t, sp.t, rtol=0.0, atol=1e-9 * max(1.0, abs(sp.t)))
     locked = excused.copy()
     if fric is not None:
-        locked |= np.asarray(fric["solution"].status).reshape(-1) == 2
-    names = [f"{name}.{label}" for name in system.links for label in ("x", "y", "theta")]
-    rate = {"x": "vx", "y": "vy", "theta": "omega"}
-    acc = {"x": "ax", "y": "ay", "theta": "alpha"}
-    arrays = [
-        (q, names, excused),
-        (qd, [n.rsplit(".", 1)[0] + "." + rate[n.rsplit(".", 1)[1]] for n in names], excused),
-        (qdd, [n.rsplit(".", 1)[0] + "." + acc[n.rsplit(".", 1)[1]] for n in names], excused),
-    ]
-    if x0 is not None:
-        n_j = system.n_joint_rows
-        labels = [""] * x0.shape[-1]
-        for k, j in enumerate(system.model.joints):
-            for r in range(x0.shape[-1])[system.rows_of(k)]:
-                labels[r] = (
-                    f"the reaction of joint {j.name} "
-                    f"({', '.join(f'{j.name}.{x}' for x in j.reaction_labels)})"
-                )
-        for d_index, d in enumerate(system.motion_drivers):
-            effort_joint = (
-                system.model.joint(d.driver.balance_at) if d.driver.balance_at else d.joint
-            )
-            labels[n_j + d_index] = f"{d.name}.{'torque' if effort_joint.angular else 'force'}"
-        arrays.append((x0, labels, excused))
-    if fric is not None:
-        sol = fric["solution"]
-        arrays.append((sol.x, [f"{x} (with friction)" for x in labels], locked))
-        arrays.append(
-            (
-                sol.e,
-                [f"{system.model.joints[k].name}.friction" for k in fric["setup"].joints],
-                locked,
-            )
-        )
-        arrays.append((fric["x_approx"], [f"{x} (approximate friction)" for x in labels], excused))
-    for key, value in (power or {}).items():
-        late = key in ("friction", "input_friction", "residual_friction")
-        arrays.append((np.asarray(value)[..., None], [f"power.{key}"], locked if late else excused))
-    for arr, labels, ok in arrays:
+        locked |= np.asarray(fric.solution.status).reshape(-1) == 2
+    for arr, labels, ok in _labelled(system, motion, kin, excused, locked):
         arr = np.asarray(arr, dtype=float)
         if arr.ndim != 2 or arr.shape[0] != n:
             continue  # stacked variants: not checked here
@@ -488,6 +430,54 @@ def _check_finite(
                 "lengths, loads or gravity too large or too small; see the input limits in "
                 "docs/errors.md)",
             )
+
+
+def _labelled(system: System, motion: Motion, kin: Kinetics | None, excused, locked) -> list:
+    """The arrays :func:`_check_finite` checks, in order, each with its columns' labels
+    and the rows where a non-finite value is explained (``excused``: singular; ``locked``:
+    also self-locked, for what the friction solution gives)."""
+    names = [f"{name}.{label}" for name in system.links for label in ("x", "y", "theta")]
+    rate = {"x": "vx", "y": "vy", "theta": "omega"}
+    acc = {"x": "ax", "y": "ay", "theta": "alpha"}
+    arrays = [
+        (motion.q, names, excused),
+        (
+            motion.qd,
+            [n.rsplit(".", 1)[0] + "." + rate[n.rsplit(".", 1)[1]] for n in names],
+            excused,
+        ),
+        (
+            motion.qdd,
+            [n.rsplit(".", 1)[0] + "." + acc[n.rsplit(".", 1)[1]] for n in names],
+            excused,
+        ),
+    ]
+    if kin is None:
+        return arrays
+    x0, fric = kin.x0, kin.friction
+    n_j = system.n_joint_rows
+    labels = [""] * x0.shape[-1]
+    for k, j in enumerate(system.model.joints):
+        for r in range(x0.shape[-1])[system.rows_of(k)]:
+            labels[r] = (
+                f"the reaction of joint {j.name} "
+                f"({', '.join(f'{j.name}.{x}' for x in j.reaction_labels)})"
+            )
+    for d_index, d in enumerate(system.motion_drivers):
+        effort_joint = system.model.joint(d.driver.balance_at) if d.driver.balance_at else d.joint
+        labels[n_j + d_index] = f"{d.name}.{'torque' if effort_joint.angular else 'force'}"
+    arrays.append((x0, labels, excused))
+    if fric is not None:
+        sol = fric.solution
+        arrays.append((sol.x, [f"{x} (with friction)" for x in labels], locked))
+        arrays.append(
+            (sol.e, [f"{system.model.joints[k].name}.friction" for k in fric.setup.joints], locked)
+        )
+        arrays.append((fric.x_approx, [f"{x} (approximate friction)" for x in labels], excused))
+    for key, value in kin.power.items():
+        late = key in ("friction", "input_friction", "residual_friction")
+        arrays.append((np.asarray(value)[..., None], [f"power.{key}"], locked if late else excused))
+    return arrays
 
 
 COND_WARN = 1e8

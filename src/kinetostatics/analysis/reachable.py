@@ -10,7 +10,7 @@ a motion law, whether the pose repeats decides whether the run is a full cycle.
 
 from __future__ import annotations
 
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -21,38 +21,44 @@ from ..kinematics.positions import PositionSolution, reachable_range, solve_posi
 from ..kinematics.schedule import Schedule
 from ..structure.system import System
 
-__all__ = ["solve_run", "reachable_rows"]
+__all__ = ["Rows", "solve_run", "reachable_rows"]
+
+
+@dataclass(frozen=True, eq=False)
+class Rows:
+    """The rows asked for, before they are solved: their times ``t``, which of them were
+    given as driver coordinates (``given``), whether they cover a full cycle (``full``),
+    how the caller asked for them (``given_as``: ``"positions"``, ``"times"``, or None for
+    the file's ``analysis``) and whether a run the linkage cannot follow becomes one over
+    its reachable range (``reachable``)."""
+
+    t: np.ndarray
+    given: np.ndarray
+    full: bool
+    given_as: str | None = None
+    reachable: bool = False
+
+    @property
+    def by_coordinates(self) -> bool:
+        return self.given_as == "positions"
+
+    @property
+    def by_times(self) -> bool:
+        return self.given_as == "times"
 
 
 def solve_run(
-    system: System,
-    sched: Schedule,
-    t: np.ndarray,
-    given: np.ndarray,
-    full: bool,
-    *,
-    by_coordinates: bool,
-    by_times: bool,
-    reachable: bool,
+    system: System, sched: Schedule, rows: Rows
 ) -> tuple[np.ndarray, PositionSolution, bool]:
-    """(t, solution, full): the positions of the rows, or where the linkage cannot follow
-    the run, those of :func:`reachable_rows`; over one period of a law, whether the pose
-    repeats (a full cycle)."""
+    """(t, solution, full): the positions of the ``rows``, or where the linkage cannot
+    follow the run, those of :func:`reachable_rows`; over one period of a law, whether the
+    pose repeats (a full cycle)."""
+    t, full = rows.t, rows.full
     closing = full and sched.law is not None  # one period of the law: does the pose repeat?
     try:
         sol = solve_positions(system, np.append(t, sched.law.duration) if closing else t, sched)
     except AssemblyError as exc:
-        t, sol, full = reachable_rows(
-            system,
-            sched,
-            t,
-            given,
-            full,
-            exc,
-            by_coordinates=by_coordinates,
-            by_times=by_times,
-            reachable=reachable,
-        )
+        t, sol, full = reachable_rows(system, sched, rows, exc)
     if closing:
         full = _same_pose(system, sol.q[-1], sol.q[0])
         sol = replace(
@@ -62,35 +68,27 @@ def solve_run(
 
 
 def reachable_rows(
-    system: System,
-    sched: Schedule,
-    t: np.ndarray,
-    given: np.ndarray,
-    full: bool,
-    exc: AssemblyError,
-    *,
-    by_coordinates: bool,
-    by_times: bool,
-    reachable: bool,
+    system: System, sched: Schedule, rows: Rows, exc: AssemblyError
 ) -> tuple[np.ndarray, PositionSolution, bool]:
     """The recovery of a run the linkage cannot follow (``exc``): (t, solution, full) of
     the given rows moved behind the start (:func:`_positions_behind`) or of a run over
     the reachable range (:func:`_reachable_run`), for a constant-speed crank that cannot
     turn fully; otherwise ``exc``, with the reachable range where it is known."""
+    t, given = rows.t, rows.given
     if sched.law is not None:
         raise _law_out_of_reach(system, sched, exc) from None
-    if isinstance(exc, SingularConfigurationError) or by_times:
+    if isinstance(exc, SingularConfigurationError) or rows.by_times:
         raise exc
     behind = (
-        _positions_behind(system, sched, t, given, exc, sort=not by_coordinates)
+        _positions_behind(system, sched, t, given, exc, sort=not rows.by_coordinates)
         if given.any()
         else None
     )
     if behind is not None:
-        return (*behind, full)
-    if by_coordinates:
+        return (*behind, rows.full)
+    if rows.by_coordinates:
         raise exc
-    return _reachable_run(system, sched, t, exc, reachable)
+    return _reachable_run(system, sched, t, exc, rows.reachable)
 
 
 def _reachable_run(

@@ -26,6 +26,7 @@ from ..kinematics.closed_path import closed_form_path
 from ..kinematics.derivatives import derivatives
 from ..kinematics.dyads import closed_form
 from ..kinematics.events import output_strokes_stacked
+from ..kinematics.motion import Motion
 from ..kinematics.newton import group_condition, group_newton, group_signature
 from ..kinematics.schedule import Schedule, sample_times, schedule
 from ..kinematics.start import (
@@ -37,7 +38,7 @@ from ..kinematics.start import (
     start_joint_error,
 )
 from ..kinetics.conditions import travel_extremes_stacked
-from ..kinetics.inverse import kinetics
+from ..kinetics.inverse import inverse_dynamics
 from ..model import Model, MotionLaw
 from ..model.stacking import is_stacked, stack, subset
 from ..structure.system import System, build_system
@@ -227,13 +228,9 @@ def analyze_stacked(
     psi, psi_d, psi_dd = (np.broadcast_to(x, q.shape[:-1] + (1,)) for x in (psi, psi_d, psi_dd))
     qd, qdd, lu = derivatives(system, q, psi_d, psi_dd)
     extremes = travel_extremes_stacked(system, solvers, sched, t, q, qd, qdd)
-    kin = kinetics(
+    kin = inverse_dynamics(
         system,
-        q,
-        qd,
-        qdd,
-        psi,
-        lu=lu,
+        Motion(t, psi, q, qd, qdd, psi_d, psi_dd, lu),
         extremes=extremes,
         ref_speed=sched.reference,
         friction=sm.has_friction if friction is None else friction,
@@ -255,25 +252,14 @@ def output_strokes(st: Stacked) -> dict[str, dict[str, np.ndarray]]:
 def as_result(st: Stacked):
     """A :class:`~kinetostatics.analysis.results.Result` whose columns are ``(V, N)``."""
     from ..kinetics.reactions import ground_reaction
-    from .results import Result, build_columns
+    from .columns import build_columns
+    from .results import Result
 
     kin = st.kin
     with np.errstate(invalid="ignore"):  # a variant's singular rows: NaN shaking
         shaking = ground_reaction(st.system, st.q, kin.x0)
-    columns, units = build_columns(
-        st.system,
-        st.t,
-        st.psi,
-        st.q,
-        st.qd,
-        st.qdd,
-        kin.x0,
-        kin.friction,
-        kin.power,
-        {},
-        shaking,
-        True,
-    )
+    motion = Motion(st.t, st.psi, st.q, st.qd, st.qdd, lu=st.lu)
+    columns, units = build_columns(st.system, motion, kin, cond={}, shaking=shaking)
     return Result(
         system=st.system,
         t=st.t,

@@ -40,14 +40,23 @@ import numpy as np
 
 from ..base.document import read_text
 from ..base.limits import MAX_POSITIONS
+from .designs import _Problem
 from .objectives import FAILED, INFEASIBLE, Constraint, Expression, OptimizeError, parse_vary
 from .optimize_files import designs_on_disk
-from .sources import Chunk, Source, template_of
+from .sources import Source, template_of
 
 if TYPE_CHECKING:
     from ..model import Model
 
-__all__ = ["optimize", "Optimum", "OptimizeError", "INFEASIBLE", "FAILED", "parse_vary"]
+__all__ = [
+    "optimize",
+    "SearchOptions",
+    "Optimum",
+    "OptimizeError",
+    "INFEASIBLE",
+    "FAILED",
+    "parse_vary",
+]
 
 # The options' ranges (the command refuses others with one line): designs per
 # generation = popsize × the number of varied parameters (at least 5, scipy's rule)
@@ -90,135 +99,6 @@ class Optimum:
         )
 
 
-class _Problem:
-    """The designs evaluated so far and their scores (one batch per population)."""
-
-    def __init__(self, source, names, objective, constraints, options, executor, workers):
-        self.source, self.names = source, list(names)
-        self.objective, self.constraints = objective, constraints
-        self.options, self.executor, self.workers = options, executor, workers
-        self.designs: list[dict[str, Any]] = []
-        self.cache: dict[tuple[float, ...], dict[str, Any]] = {}
-        # the designs this run has asked for (a resumed run replays the search: the
-        # designs read back are in the cache, and enter here as the search reaches them)
-        self.visited: dict[tuple[float, ...], dict[str, Any]] = {}
-        self.sink = None  # called with the new records of each evaluation (designs.csv)
-        self.positions = 1  # of a design's analysis: the chunks in this process fit memory
-        self.stage = "initial"
-        self.bar = None
-        self.pool = None
-        self.checked = False
-        self.error: OptimizeError | None = None
-
-    def rows(self, overrides: list[dict[str, float]]) -> list[dict[str, Any]]:
-        """The batch rows of the designs: one chunk (serial), or chunks on the executor."""
-        from .executors import _open_executor, analyze_chunk
-        from .sources import auto_chunk
-
-        def chunk(ovs):
-            ids = tuple(str(k) for k in range(len(ovs)))
-            return Chunk(self.source, ids, tuple(ovs), **self.options)
-
-        if self.executor == "serial" or len(overrides) < 2:
-            # a large population in parts, each within a batch chunk's memory bound
-            size = auto_chunk(4 * len(overrides), self.positions, 1)
-            parts = [overrides[k : k + size] for k in range(0, len(overrides), size)]
-            return [r for p in parts for r in analyze_chunk(chunk(p))]
-        if self.pool is None:
-            self.pool = _open_executor(self.executor, self.workers)
-        ex, slots, _ = self.pool
-        size = max(1, math.ceil(len(overrides) / slots))
-        parts = [overrides[k : k + size] for k in range(0, len(overrides), size)]
-        try:
-            futures = [ex.submit(analyze_chunk, chunk(p)) for p in parts]
-            return [r for f in futures for r in f.result()]
-        except Exception as exc:  # noqa: BLE001 - a lost scheduler, a killed worker
-            raise OptimizeError(_executor_failed(self.executor, exc)) from None
-
-    def close(self) -> None:
-        if self.pool is not None:
-            self.pool[2]()
-
-    def evaluate(self, xs: np.ndarray) -> list[dict[str, Any]]:
-        """The records of the designs ``xs`` ``(S, n)``, from the cache or analysed."""
-        keys = [tuple(float(v) for v in x) for x in xs]
-        for k in keys:
-            if not all(map(math.isfinite, k)):  # guarded by MAX_BOUND; never analysed
-                raise OptimizeError(
-                    "optimize: a design that is not finite ("
-                    + ", ".join(f"{n}={v!r}" for n, v in zip(self.names, k))
-                    + "); narrow the --vary bounds"
-                )
-        todo = list(dict.fromkeys(k for k in keys if k not in self.cache))
-        if todo:
-            rows = self.rows([dict(zip(self.names, k)) for k in todo])
-            new = []
-            for k, row in zip(todo, rows):
-                self.cache[k] = self._record(k, row)
-                new.append(self.cache[k])
-            if self.sink is not None:
-                self.sink(new)
-        for k in keys:
-            self.visited.setdefault(k, self.cache[k])
-        return [self.cache[k] for k in keys]
-
-    def load(self, records: Sequence[dict[str, Any]]) -> None:
-        """Designs read back from an interrupted run's ``designs.csv``: evaluated, not
-        visited yet (their batch rows are not kept; the best design's is computed again)."""
-        for rec in records:
-            key = tuple(float(rec[n]) for n in self.names)
-            self.designs.append(rec)
-            self.cache[key] = rec
-            if rec["status"] == "ok":
-                self.checked = True  # its names were checked when it was evaluated
-
-    def _record(self, key: tuple[float, ...], row: dict[str, Any]) -> dict[str, Any]:
-        from .sources import variant_parameters
-
-        template = template_of(self.source.file, self.source.text)
-        env = {**variant_parameters(template, dict(zip(self.names, key))), **row}
-        rec: dict[str, Any] = {"evaluation": len(self.designs) + 1, "stage": self.stage}
-        rec.update(zip(self.names, key))
-        rec.update(status=row.get("status", "failed"), reason=row.get("reason", ""))
-        if rec["status"] == "ok" and not self.checked:  # names checked on the first row
-            known = [k for k in env if k not in ("status", "reason")]
-            self.objective.check_names(known, "--minimize")
-            for c in self.constraints:
-                c.check_names(known)
-            self.checked = True
-        f = self.objective.value(env) if rec["status"] == "ok" else math.nan
-        margins = [c.margin(env) for c in self.constraints] if rec["status"] == "ok" else []
-        violation = float(sum(max(0.0, -m) if not math.isnan(m) else math.inf for m in margins))
-        rec["objective"] = f
-        for c, m in zip(self.constraints, margins):
-            rec[c.text] = m
-        rec["violation"] = violation if rec["status"] == "ok" else math.nan
-        if rec["status"] != "ok":
-            score = FAILED
-        elif math.isnan(f) or math.isinf(violation):
-            rec["status"], rec["reason"] = "infeasible", rec["reason"] or "no value"
-            score = FAILED / 10
-        elif violation > 0.0:
-            rec["status"] = "infeasible"
-            score = INFEASIBLE * (1.0 + violation)
-        else:
-            score = f
-        rec["score"], rec["margins"], rec["row"] = score, margins, row
-        self.designs.append(rec)
-        return rec
-
-    def best(self) -> dict[str, Any] | None:
-        if not self.visited:
-            return None
-        return min(self.visited.values(), key=lambda r: r["score"])
-
-    def row_of(self, rec: dict[str, Any]) -> dict[str, Any]:
-        """The batch row of a design (analysed again for one read back from disk)."""
-        if rec.get("row") is None:
-            rec["row"] = self.rows([{n: float(rec[n]) for n in self.names}])[0]
-        return rec["row"]
-
-
 def _source(model_or_path) -> Source:
     """The mechanism file as a batch :class:`~.sources.Source`: a path, or a model read
     from a file (its ``source``)."""
@@ -236,7 +116,53 @@ def _source(model_or_path) -> Source:
     return Source(str(path), read_text(path))
 
 
-def optimize(
+@dataclass(frozen=True)
+class SearchOptions:
+    """How :func:`optimize` searches, evaluates and writes: its keywords as one record.
+
+    The search: ``seed``, ``maxiter`` generations of ``popsize`` × (number of parameters)
+    designs, ``tol``; the local refinement: ``polish``, at most ``local_maxiter`` steps.
+    A design's analysis: ``positions``, ``friction`` (as for a batch), on ``executor``
+    with ``workers``.  The files: ``out``, ``overwrite``; ``progress``: the bar."""
+
+    seed: int = 0
+    maxiter: int = 60
+    popsize: int = 12
+    tol: float = 1e-6
+    polish: bool = True
+    local_maxiter: int = 400
+    positions: int | None = None
+    friction: bool | None = None
+    executor: Any = "serial"
+    workers: int | None = None
+    out: str | Path | None = None
+    overwrite: bool = False
+    progress: bool = True
+
+    def check(self) -> None:
+        """OptimizeError for a whole-number option outside its range (:data:`RANGES`)."""
+        _check_ranges(popsize=self.popsize, maxiter=self.maxiter, seed=self.seed)
+        if self.positions is not None:
+            _check_ranges(positions=self.positions)
+
+    @property
+    def steps(self) -> int:
+        """The progress bar's length: the generations, then the local steps."""
+        return self.maxiter + 1 + (self.local_maxiter if self.polish else 0)
+
+
+@dataclass(frozen=True)
+class _Space:
+    """The designs searched: the varied parameters ``names`` within ``lo`` … ``hi`` (file
+    units), and ``x0`` the file's own design."""
+
+    names: list[str]
+    lo: np.ndarray
+    hi: np.ndarray
+    x0: np.ndarray
+
+
+def optimize(  # noqa: PLR0913  the public keywords (docs/optimisation.md, the CLI); they build SearchOptions
     model_or_path: Model | str | Path,
     vary: Mapping[str, Sequence[float]] | Sequence[str],
     minimize: str,
@@ -314,91 +240,63 @@ def optimize(
     >>> best = ks.optimize("mechanisms/fourbar_balancing.yaml", {"x1": (-0.3, 0.1)},
     ...                    "shaking.force_rms", maxiter=5, progress=False)  # doctest: +SKIP
     """
+    opts = SearchOptions(
+        seed=seed,
+        maxiter=maxiter,
+        popsize=popsize,
+        tol=tol,
+        polish=polish,
+        local_maxiter=local_maxiter,
+        positions=positions,
+        friction=friction,
+        executor=executor,
+        workers=workers,
+        out=out,
+        overwrite=overwrite,
+        progress=progress,
+    )
+    return _optimize(model_or_path, vary, minimize, subject_to, opts)
+
+
+def _optimize(model_or_path, vary, minimize: str, subject_to, opts: SearchOptions) -> Optimum:
+    """:func:`optimize` with its keywords in ``opts``: the search over the designs, written
+    to ``opts.out`` as it goes, and the best design."""
     from scipy.optimize import differential_evolution
 
-    _check_ranges(popsize=popsize, maxiter=maxiter, seed=seed)
-    if positions is not None:
-        _check_ranges(positions=positions)
+    opts.check()
     source = _source(model_or_path)
     template = template_of(source.file, source.text)
     bounds = parse_vary(vary)
-    known = template.parameters
-    for name in bounds:
-        if name not in known:
-            raise OptimizeError(
-                f"--vary {name}: the file has no parameter '{name}'"
-                f"{' (it has no parameters: section)' if not known else ''}"
-                f"{_did_you_mean(name, known)}"
-            )
+    space = _space(bounds, template.parameters)
     objective = Expression(minimize)
     constraints = [Constraint.parse(c) for c in subject_to]
     named = [*objective.names.values(), *(n for c in constraints for n in c.names)]
     # the file's flywheel: is sized (variant by variant, slower) only when asked for
     flywheel = None if any(n.startswith("flywheel.") for n in named) else False
-    options = {"positions": positions, "friction": friction, "flywheel": flywheel}
-    names = list(bounds)
-    lo = np.array([bounds[n][0] for n in names])
-    hi = np.array([bounds[n][1] for n in names])
-    problem = _Problem(source, names, objective, constraints, options, executor, workers)
-    problem.positions = positions or template.base.analysis.positions
+    options = {"positions": opts.positions, "friction": opts.friction, "flywheel": flywheel}
+    names = space.names
+    problem = _Problem(source, names, objective, constraints, options, opts.executor, opts.workers)
+    problem.positions = opts.positions or template.base.analysis.positions
     history: list[tuple[str, int, float]] = []
     search = {
         "vary": {n: list(bounds[n]) for n in names},
         "minimize": minimize,
         "subject_to": list(subject_to),
-        "seed": seed,
-        "maxiter": maxiter,
-        "popsize": popsize,
-        "tol": tol,
-        "polish": polish,
-        "local_maxiter": local_maxiter,
-        "positions": positions,
-        "friction": friction,
+        **{k: getattr(opts, k) for k in ("seed", "maxiter", "popsize", "tol", "polish")},
+        **{k: getattr(opts, k) for k in ("local_maxiter", "positions", "friction")},
     }
-    with designs_on_disk(out, source, search, names, constraints, overwrite) as disk:
+    out = opts.out
+    with designs_on_disk(out, source, search, names, constraints, opts.overwrite) as disk:
         if disk is not None:
             problem.load(disk.records)
             problem.sink = disk.add
         try:
-            message = _run(
-                differential_evolution,
-                problem,
-                known,
-                names,
-                lo,
-                hi,
-                history,
-                executor,
-                workers,
-                maxiter=maxiter,
-                popsize=popsize,
-                tol=tol,
-                seed=seed,
-                polish=polish,
-                local_maxiter=local_maxiter,
-                progress=progress,
-            )
+            message = _run(differential_evolution, problem, space, opts, history)
         except OptimizeError:  # a mistake (an unknown name), found at the first designs
             if disk is not None and not disk.records:  # a fresh search: nothing to resume
                 disk.discard()
             raise
-        best = problem.best()
-        assert best is not None  # the search evaluates at least one design
-        analysed = [r for r in problem.visited.values() if r["status"] != "failed"]
-        if all(math.isnan(r["objective"]) for r in analysed):  # a mistake, not a search
-            if disk is not None:  # to resume: nothing left
-                disk.discard()
-            if not analysed:
-                vary = " ".join(f"{n}={bounds[n][0]:g}:{bounds[n][1]:g}" for n in names)
-                raise OptimizeError(
-                    f"--vary {vary}: none of the {len(problem.visited)} designs within these "
-                    f"bounds could be analysed (e.g. {best['reason'] or 'failed'})"
-                )
-            raise OptimizeError(
-                f"--minimize {minimize!r}: could not be evaluated at any of the "
-                f"{len(analysed)} designs analysed (no finite value: an overflow, a function "
-                "outside its domain, or a quantity these designs lack)"
-            )
+        best = _checked_best(problem, bounds, minimize, disk)
         result = Optimum(
             parameters={n: float(best[n]) for n in names},
             objective=float(best["objective"]),
@@ -407,7 +305,7 @@ def optimize(
             designs=problem.designs,
             history=history,
             message=message,
-            on_bound=_on_bound(best, names, lo, hi),
+            on_bound=_on_bound(best, names, space.lo, space.hi),
         )
         if out is not None:
             from .optimize_files import write_outputs
@@ -416,32 +314,56 @@ def optimize(
     return result
 
 
-def _run(
-    differential_evolution,
-    problem,
-    known,
-    names,
-    lo,
-    hi,
-    history,
-    executor,
-    workers,
-    *,
-    maxiter,
-    popsize,
-    tol,
-    seed,
-    polish,
-    local_maxiter,
-    progress,
-) -> str:
+def _space(bounds: Mapping[str, tuple[float, float]], known: Mapping[str, float]) -> _Space:
+    """The designs within ``bounds`` of the file's parameters ``known`` (an OptimizeError
+    names a parameter the file does not have)."""
+    for name in bounds:
+        if name not in known:
+            raise OptimizeError(
+                f"--vary {name}: the file has no parameter '{name}'"
+                f"{' (it has no parameters: section)' if not known else ''}"
+                f"{_did_you_mean(name, known)}"
+            )
+    names = list(bounds)
+    return _Space(
+        names,
+        np.array([bounds[n][0] for n in names]),
+        np.array([bounds[n][1] for n in names]),
+        np.array([known[n] for n in names], dtype=float),
+    )
+
+
+def _checked_best(problem, bounds, minimize: str, disk) -> dict[str, Any]:
+    """The best design of the search, or an OptimizeError (and nothing left on ``disk``
+    to resume) where no design could be analysed or the objective had no value at any."""
+    best = problem.best()
+    analysed = [r for r in problem.visited.values() if r["status"] != "failed"]
+    if not all(math.isnan(r["objective"]) for r in analysed):
+        return best
+    # a mistake, not a search
+    if disk is not None:  # to resume: nothing left
+        disk.discard()
+    if not analysed:
+        vary = " ".join(f"{n}={lo:g}:{hi:g}" for n, (lo, hi) in bounds.items())
+        raise OptimizeError(
+            f"--vary {vary}: none of the {len(problem.visited)} designs within these "
+            f"bounds could be analysed (e.g. {best['reason'] or 'failed'})"
+        )
+    raise OptimizeError(
+        f"--minimize {minimize!r}: could not be evaluated at any of the "
+        f"{len(analysed)} designs analysed (no finite value: an overflow, a function "
+        "outside its domain, or a quantity these designs lack)"
+    )
+
+
+def _run(differential_evolution, problem, space: _Space, opts: SearchOptions, history) -> str:
     """The search, then the local refinement; their messages."""
-    bar = _bar(progress, maxiter + 1 + (local_maxiter if polish else 0))
+    bar = _bar(opts.progress, opts.steps)
     try:
-        if executor != "serial":  # a scheduler that cannot be reached stops here
+        if opts.executor != "serial":  # a scheduler that cannot be reached stops here
             from .executors import _open_executor
 
-            problem.pool = _open_executor(executor, workers)
+            problem.pool = _open_executor(opts.executor, opts.workers)
 
         def population(x: np.ndarray) -> np.ndarray:  # (n, S) -> (S,)
             try:
@@ -455,11 +377,8 @@ def _run(
             bar.update(1)
             return np.array([r["score"] for r in recs])
 
-        x0 = np.array([known[n] for n in names], dtype=float)
         try:
-            de = _search(
-                differential_evolution, population, lo, hi, maxiter, popsize, tol, seed, x0
-            )
+            de = _search(differential_evolution, population, space, opts)
         except RuntimeError:
             if problem.error is not None:
                 raise problem.error from None
@@ -467,9 +386,9 @@ def _run(
         message = f"differential evolution: {de.message}"
 
         best = problem.best()
-        if polish and best is not None and best["score"] < FAILED:
+        if opts.polish and best is not None and best["score"] < FAILED:
             problem.stage = "local"
-            message += "; " + _local(problem, best, names, lo, hi, local_maxiter, history, bar)
+            message += "; " + _local(problem, best, space, opts.local_maxiter, history, bar)
     finally:
         bar.close()
         problem.close()
@@ -499,32 +418,22 @@ def _on_bound(best: Mapping[str, Any], names, lo, hi) -> dict[str, str]:
     return out
 
 
-def _search(differential_evolution, population, lo, hi, maxiter, popsize, tol, seed, x0):
+def _search(differential_evolution, population, space: _Space, opts: SearchOptions):
     """Differential evolution, a generation per call of ``population``; the file's own
     design in the first population when it lies within the bounds."""
+    lo, hi, x0 = space.lo, space.hi, space.x0
     return differential_evolution(
         population,
         list(zip(lo, hi)),
-        maxiter=maxiter,
-        popsize=popsize,
-        tol=tol,
-        rng=np.random.default_rng(seed),
+        maxiter=opts.maxiter,
+        popsize=opts.popsize,
+        tol=opts.tol,
+        rng=np.random.default_rng(opts.seed),
         polish=False,
         updating="deferred",
         vectorized=True,
         x0=x0 if np.all((x0 >= lo) & (x0 <= hi)) else None,
     )
-
-
-def _executor_failed(executor: Any, exc: BaseException) -> str:
-    """One line for an executor that failed while evaluating a population."""
-    what = (
-        f"--scheduler {executor}"
-        if isinstance(executor, str) and executor not in ("processes", "serial")
-        else "the executor"
-    )
-    text = str(exc).splitlines()[0] if str(exc) else ""
-    return f"{what}: failed ({type(exc).__name__}{': ' + text if text else ''})"
 
 
 def _did_you_mean(name: str, known) -> str:
@@ -533,11 +442,12 @@ def _did_you_mean(name: str, known) -> str:
     return did_you_mean(name, list(known))
 
 
-def _local(problem, best, names, lo, hi, maxiter, history, bar) -> str:
+def _local(problem, best, space: _Space, maxiter: int, history, bar) -> str:
     """Refine ``best`` by Nelder–Mead (no constraints) or COBYLA (constraints, and the
     bounds as constraints too), within the bounds; returns the method's message."""
     from scipy.optimize import minimize
 
+    names, lo, hi = space.names, space.lo, space.hi
     span = hi - lo
     x0 = (np.array([best[n] for n in names]) - lo) / span  # in the unit box
 

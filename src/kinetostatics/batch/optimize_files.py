@@ -80,7 +80,7 @@ def _number(cell: str) -> float:
 
 
 def _record(row: dict[str, str], names: Sequence[str], constraints) -> dict[str, Any] | None:
-    """A design read back from ``designs.csv`` as :class:`~.optimize._Problem` keeps it
+    """A design read back from ``designs.csv`` as :class:`~.designs._Problem` keeps it
     (its batch row left out); None for a row that does not read as one."""
     try:
         rec: dict[str, Any] = {"evaluation": int(row["evaluation"]), "stage": row["stage"]}

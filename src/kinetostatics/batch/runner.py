@@ -67,7 +67,7 @@ from .table import (
     _write_state,
 )
 
-__all__ = ["BatchSummary", "run_batch"]
+__all__ = ["BatchOptions", "BatchSummary", "run_batch"]
 
 # A chunk whose worker process died (killed, out of memory) is submitted again
 # to a fresh pool, at most this many times in all, before its rows are errors.
@@ -138,7 +138,47 @@ class _Progress:
 
 
 # -- the batch -------------------------------------------------------------------------
-def run_batch(
+@dataclass(frozen=True)
+class BatchOptions:
+    """How a batch runs: the keywords of :func:`run_batch` as one record.
+
+    ``positions``, ``friction``, ``flywheel`` are the analysis's (part of the batch's
+    fingerprint); the others say how it runs (``chunk``, ``executor``, ``workers``,
+    ``progress``, ``on_chunk``), what it writes (``results``) and whether it may replace
+    another batch (``overwrite``)."""
+
+    chunk: int | None = None
+    executor: Any = None
+    workers: int | None = None
+    positions: int | None = None
+    friction: bool | None = None
+    flywheel: bool | None = None
+    results: bool = False
+    progress: bool | None = None
+    overwrite: bool = False
+    on_chunk: Callable[[int], None] | None = None
+
+    @property
+    def analysis(self) -> dict[str, Any]:
+        """The options that change the rows (``batch.json``'s ``options``)."""
+        return {"positions": self.positions, "friction": self.friction, "flywheel": self.flywheel}
+
+
+@dataclass(frozen=True)
+class _Plan:
+    """A batch's inputs, checked: the files, the variants and their templates (a
+    template that could not be read is its error), each variant's place in the table
+    (``order``), and the state ``batch.json`` starts from with its ``fingerprint``."""
+
+    sources: list[Source]
+    tasks: list[Task]
+    templates: list
+    order: dict[str, int]
+    state: dict[str, Any]
+    fingerprint: str
+
+
+def run_batch(  # noqa: PLR0913  the public keywords (docs/batch.md, the CLI); they build BatchOptions
     sources: Sequence[Source] | str | Path,
     tasks: Sequence[Task] | None,
     out_dir: str | Path,
@@ -181,6 +221,37 @@ def run_batch(
     (a file, no permission, a full disk) or the executor fails as a whole.
     """
     t_start = time.perf_counter()
+    opts = BatchOptions(
+        chunk=chunk,
+        executor=executor,
+        workers=workers,
+        positions=positions,
+        friction=friction,
+        flywheel=flywheel,
+        results=results,
+        progress=progress,
+        overwrite=overwrite,
+        on_chunk=on_chunk,
+    )
+    plan = _plan(sources, tasks, opts)
+    out = Path(out_dir)
+    where = f"--out {out_dir}"
+    make_folder(out, where)
+    lock = _Lock(out)
+    try:
+        lock.acquire()
+    except OSError as exc:
+        raise output_error(exc, where) from None
+    try:
+        return _run_locked(plan, out, where, opts, t_start)
+    finally:
+        lock.release()
+
+
+def _plan(sources: Sequence[Source] | str | Path, tasks, opts: BatchOptions) -> _Plan:
+    """The batch's inputs read and checked before anything is written: unique variant
+    ids, known parameter names, a ``flywheel:`` where ``--flywheel`` asks for one, and the
+    memory of the table and of one variant's analysis per worker."""
     if isinstance(sources, (str, Path)):
         sources = sources_of(sources)
     sources = list(sources)
@@ -188,8 +259,7 @@ def run_batch(
         tasks = _one_per_file(sources)
     tasks = list(tasks)
     _check_memory(len(tasks), None, 1)
-    out = Path(out_dir)
-    options = {"positions": positions, "friction": friction, "flywheel": flywheel}
+    options = opts.analysis
     fingerprint = _fingerprint(sources, tasks, options)
     state = {
         "fingerprint": fingerprint,
@@ -205,52 +275,20 @@ def run_batch(
     templates = _templates(sources)
     _check_names(tasks, sources, templates)
     for source, tpl in zip(sources, templates):
-        if flywheel and not isinstance(tpl, BaseException) and tpl.base.flywheel is None:
+        if opts.flywheel and not isinstance(tpl, BaseException) and tpl.base.flywheel is None:
             raise BatchError(
                 f"{source.file}: --flywheel needs a flywheel: {{delta: ...}} "
                 "section in the file (docs/dynamics.md)"
             )
-    n_pos = positions or max(
-        (tpl.base.analysis.positions for tpl in templates if not isinstance(tpl, BaseException)),
-        default=None,
-    )
+    n_pos = _positions(opts, templates, None)
+    workers = opts.workers or os.cpu_count() or 1
     _check_memory(
         0,
         n_pos,
-        (workers or os.cpu_count() or 1) if executor in (None, "processes") else 1,
-        bool(positions),
+        workers if opts.executor in (None, "processes") else 1,
+        bool(opts.positions),
     )
-    where = f"--out {out_dir}"
-    make_folder(out, where)
-    lock = _Lock(out)
-    try:
-        lock.acquire()
-    except OSError as exc:
-        raise output_error(exc, where) from None
-    try:
-        return _run_locked(
-            sources,
-            tasks,
-            out,
-            where,
-            templates,
-            state,
-            fingerprint,
-            order,
-            chunk=chunk,
-            executor=executor,
-            workers=workers,
-            positions=positions,
-            friction=friction,
-            flywheel=flywheel,
-            results=results,
-            progress=progress,
-            overwrite=overwrite,
-            on_chunk=on_chunk,
-            t_start=t_start,
-        )
-    finally:
-        lock.release()
+    return _Plan(sources, tasks, templates, order, state, fingerprint)
 
 
 def _check_memory(n_tasks: int, positions: int | None, workers: int, option: bool = True) -> None:
@@ -276,40 +314,22 @@ def _check_memory(n_tasks: int, positions: int | None, workers: int, option: boo
 
 
 def _run_locked(
-    sources,
-    tasks,
-    out: Path,
-    where: str,
-    templates,
-    state,
-    fingerprint,
-    order,
-    *,
-    chunk,
-    executor,
-    workers,
-    positions,
-    friction,
-    flywheel,
-    results,
-    progress,
-    overwrite,
-    on_chunk,
-    t_start,
+    plan: _Plan, out: Path, where: str, opts: BatchOptions, t_start: float
 ) -> BatchSummary:
     """The batch, with ``out`` locked: resume or start the table, run the chunks."""
-    table = _Table(out / SUMMARY, order)
-    state = _start_table(table, out / STATE, state, fingerprint, overwrite, where)
+    from .variants import failure_row
+
+    tasks, templates = plan.tasks, plan.templates
+    table = _Table(out / SUMMARY, plan.order)
+    state = _start_table(table, out / STATE, plan.state, plan.fingerprint, opts.overwrite, where)
     reused = len(table.rows)
 
     todo = [t for t in tasks if t.vid not in table.rows]
     broken = [t for t in todo if isinstance(templates[t.source], BaseException)]
     todo = [t for t in todo if not isinstance(templates[t.source], BaseException)]
-
-    from .variants import failure_row
-
-    bar = _Progress(len(tasks), reused, sys.stderr.isatty() if progress is None else progress)
-
+    bar = _Progress(
+        len(tasks), reused, sys.stderr.isatty() if opts.progress is None else opts.progress
+    )
     alone = [0]
 
     def record(part: Sequence[Task], rows: Sequence[Mapping[str, Any]]) -> None:
@@ -320,47 +340,23 @@ def _run_locked(
 
     if broken:
         record(broken, [failure_row(templates[t.source]) for t in broken])
-    pool = _Pool(executor, workers)
-    n_pos = positions or max(
-        (tpl.base.analysis.positions for tpl in templates if not isinstance(tpl, BaseException)),
-        default=1,
-    )
-    size = chunk or auto_chunk(len(todo), n_pos, pool.slots)
-    results_dir = str(out / "variants") if results else None
-
-    def job(part: list[Task]) -> Chunk:
-        return Chunk(
-            sources[part[0].source],
-            tuple(t.vid for t in part),
-            tuple(dict(t.overrides) for t in part),
-            positions,
-            friction,
-            flywheel,
-            results_dir,
-        )
+    pool = _Pool(opts.executor, opts.workers)
+    size = opts.chunk or auto_chunk(len(todo), _positions(opts, templates, 1), pool.slots)
+    job = _chunk_job(plan.sources, opts, str(out / "variants") if opts.results else None)
 
     def after_chunk() -> None:
-        if on_chunk is not None:
-            on_chunk(len(table.rows))
+        if opts.on_chunk is not None:
+            opts.on_chunk(len(table.rows))
 
-    pending: dict[Future, tuple[list[Task], int]] = {}
-    retry: list[tuple[list[Task], int]] = []
-    it = iter(_chunks(todo, size))
-    t_run = time.perf_counter()
+    log = _RunLog(out / STATE, state, reused, time.perf_counter(), size, where)
     failure: BaseException | None = None
     try:
-        while True:
-            _submit(pool, pending, retry, it, job, record, out)
-            if not pending:
-                break
-            _collect(pool, pending, retry, record, out, after_chunk)
+        _drain(pool, _chunks(todo, size), job, record, out, after_chunk)
     except BaseException as exc:
         failure = exc
         raise
     finally:
-        computed = _finish(
-            pool, bar, table, out / STATE, state, reused, t_run, size, where, failure, alone[0]
-        )
+        computed = _finish(pool, bar, table, log, alone[0], failure)
     statuses = [r.get("status") for r in table.rows.values()]
     return BatchSummary(
         out,
@@ -374,6 +370,45 @@ def _run_locked(
         pool.slots,
         alone[0],
     )
+
+
+def _positions(opts: BatchOptions, templates, default: int | None) -> int | None:
+    """The positions of one variant's analysis: ``opts.positions``, or the most any file
+    asks for (``default`` if none could be read)."""
+    return opts.positions or max(
+        (tpl.base.analysis.positions for tpl in templates if not isinstance(tpl, BaseException)),
+        default=default,
+    )
+
+
+def _chunk_job(sources: list[Source], opts: BatchOptions, results_dir: str | None):
+    """The function making the :class:`~.sources.Chunk` of a part of the variants (all of
+    one source file) that a worker analyses."""
+
+    def job(part: list[Task]) -> Chunk:
+        return Chunk(
+            sources[part[0].source],
+            tuple(t.vid for t in part),
+            tuple(dict(t.overrides) for t in part),
+            opts.positions,
+            opts.friction,
+            opts.flywheel,
+            results_dir,
+        )
+
+    return job
+
+
+def _drain(pool: _Pool, parts, job, record, out: Path, after_chunk) -> None:
+    """Submit the chunks ``parts`` and record their rows until none is left or pending."""
+    pending: dict[Future, tuple[list[Task], int]] = {}
+    retry: list[tuple[list[Task], int]] = []
+    it = iter(parts)
+    while True:
+        _submit(pool, pending, retry, it, job, record, out)
+        if not pending:
+            break
+        _collect(pool, pending, retry, record, out, after_chunk)
 
 
 def _record(table: _Table, templates, where: str, task_rows, parameters=None) -> int:
@@ -462,27 +497,29 @@ def _collect(pool: _Pool, pending, retry, record, out: Path, after_chunk) -> Non
         pool.reopen()
 
 
-def _finish(
-    pool: _Pool,
-    bar,
-    table: _Table,
-    state_path: Path,
-    state,
-    reused,
-    t_run,
-    size,
-    where,
-    failure,
-    alone: int = 0,
-) -> int:
+@dataclass(frozen=True)
+class _RunLog:
+    """What ``batch.json`` records of a run: where it is, the state read at the start,
+    the rows reused, when the chunks started, their size, and the ``--out`` for messages."""
+
+    state_path: Path
+    state: dict[str, Any]
+    reused: int
+    t_run: float
+    size: int
+    where: str
+
+
+def _finish(pool: _Pool, bar, table: _Table, log: _RunLog, alone: int, failure) -> int:
     """Close the executor and the bar, add this run to ``batch.json`` and rewrite the
     table in variant order; the number of rows computed now."""
+    state, reused = log.state, log.reused
     try:
         pool.close()
     except Exception:  # noqa: BLE001 - e.g. a Dask client already lost
         pass
     bar.close()
-    seconds = time.perf_counter() - t_run
+    seconds = time.perf_counter() - log.t_run
     computed = len(table.rows) - reused  # rows written now (an interrupt may fall anywhere)
     state["computed"] = state.get("computed", 0) + computed
     state["runs"] = [
@@ -492,7 +529,7 @@ def _finish(
             "alone": alone,
             "reused": reused,
             "seconds": round(seconds, 3),
-            "chunk": size,
+            "chunk": log.size,
             "workers": pool.slots,
             "executor": pool.executor
             if isinstance(pool.executor, (str, type(None)))
@@ -501,10 +538,10 @@ def _finish(
     ]
     try:
         table.rewrite()
-        _write_state(state_path, state)
+        _write_state(log.state_path, state)
     except OSError as exc:
         # the appended rows stay on disk, each whole or recognisably cut; the
         # first failure is the one reported
         if failure is None:
-            raise output_error(exc, where) from None
+            raise output_error(exc, log.where) from None
     return computed

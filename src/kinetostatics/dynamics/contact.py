@@ -78,7 +78,7 @@ def _stiff_jacobian(dyn, contacts):
     return jac
 
 
-def simulate_contact(
+def simulate_contact(  # noqa: PLR0913  the public keywords (docs/clearance.md)
     model,
     until: float,
     *,

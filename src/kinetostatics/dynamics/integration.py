@@ -18,7 +18,7 @@ from .simulation import Simulation, _Segment
 __all__ = ["simulate"]
 
 
-def simulate(
+def simulate(  # noqa: PLR0913  the public keywords (docs/dynamics.md)
     model: Model | Dynamics,
     until: float,
     *,
@@ -185,7 +185,7 @@ class _Run:
     """One integration in pieces: the time, state and sense of motion reached, the loads'
     state known just past a switch, and the pieces and events recorded in ``sim``."""
 
-    def __init__(self, solve_ivp, dyn, sim, until, y, options, max_step, *, mark_event, stop_event):
+    def __init__(self, solve_ivp, dyn, sim, until, y, options, max_step, *, mark_event, stop_event):  # noqa: PLR0913  one integration's state, set once
         self.solve_ivp = solve_ivp
         self.dyn, self.sim, self.until = dyn, sim, until
         self.options = options  # method, rtol, atol of solve_ivp

@@ -145,7 +145,7 @@ class ElementSections:
             return Element(name, kind, ends, pts, joint, damping=c * per * u["time"], where=where)
         return self._spring(name, kind, e, ends, pts, joint, per, free_kind, force_kind, s_kind)
 
-    def _spring(self, name, kind, e, ends, pts, joint, per, free_kind, force_kind, s_kind):
+    def _spring(self, name, kind, e, ends, pts, joint, per, free_kind, force_kind, s_kind):  # noqa: PLR0913  an element's keys read by _element
         free_key = "free_angle" if kind == "torsion_spring" else "free_length"
         linear = [k for k in ("stiffness", free_key, "preload") if e.get(k) is not None]
         if e.get("table") is not None:

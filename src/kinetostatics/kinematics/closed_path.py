@@ -185,73 +185,21 @@ def _change_points(
     ok = np.ones(n_v, dtype=bool)
 
     def disc(t):  # D, D', D'' of every group at times t (V, M): (V, M, G) each
-        at = t[None] + np.array([-eta, 0.0, eta])[:, None, None]
-        at = np.moveaxis(at, 0, -1).reshape(n_v, -1)
-        _, d = _closed_forms(
-            solvers,
-            np.broadcast_to(q0, at.shape + q0.shape[-1:]),
-            drive(at)[0],
-            _branch_signs(flips, at),
-        )
-        d = d.reshape(t.shape + (3, -1))
-        return (
-            d[..., 1, :],
-            (d[..., 2, :] - d[..., 0, :]) / (2 * eta),
-            (d[..., 2, :] - 2 * d[..., 1, :] + d[..., 0, :]) / eta**2,
-        )
+        return _discriminants(solvers, q0, drive, flips, eta, t)
 
     g0 = 0
     while g0 < len(solvers):  # again from a group past which the signs changed
         d, m, _ = disc(ts)
-        h = np.diff(ts, axis=-1)[..., None]
-        d0, d1, m0, m1 = d[:, :-1], d[:, 1:], m[:, :-1] * h, m[:, 1:] * h
-        b = -6 * d0 - 4 * m0 + 6 * d1 - 2 * m1  # Hermite p'(s) = a s² + b s + c, p'' > 0 root
-        a = 6 * d0 + 3 * m0 - 6 * d1 + 3 * m1
-        with np.errstate(all="ignore"):
-            s = 2 * m0 / (-b - np.sqrt(b * b - 4 * a * m0))
-        low = (
-            (s * s * (2 * s - 3) + 1) * d0
-            + s * (s - 1) ** 2 * m0
-            + s * s * (3 - 2 * s) * d1
-            + s * s * (s - 1) * m1
-        )  # the interpolant's minimum
-        inner = (s > 0) & (s < 1) & (low <= 10 * DISC_NEAR)
-        inner[..., :g0] = False
-        tg = ts
-        if inner.any():
-            extra = np.where(inner, ts[:, :-1, None] + np.where(inner, s, 0.0) * h, np.nan)
-            extra = np.sort(extra.reshape(n_v, -1), axis=-1)[:, : int(inner.sum((-2, -1)).max())]
-            tg = np.sort(
-                np.concatenate((ts, np.where(np.isnan(extra), hi, extra)), axis=-1), axis=-1
-            )
+        tg = _with_low_minima(ts, d, m, g0, hi)
+        if tg is not ts:
             d, m, _ = disc(tg)
         ok &= np.all(d[..., g0:] >= -DISC_TOL, axis=(-2, -1))
         for g in range(g0, len(solvers)):
-            dg, mg = d[..., g], m[..., g]
-            br = (
-                (mg[:, :-1] < 0)
-                & (mg[:, 1:] >= 0)
-                & (np.minimum(dg[:, :-1], dg[:, 1:]) <= DISC_NEAR)
-            )
-            n_k = int(br.sum(axis=-1).max())
-            if n_k == 0:
+            brackets = _minimum_brackets(tg, d[..., g], m[..., g])
+            if brackets is None:
                 continue
-            idx = np.argsort(~br, axis=-1, kind="stable")[:, :n_k]
-            valid = np.take_along_axis(br, idx, -1)
-            a_t = np.take_along_axis(tg[:, :-1], idx, -1)
-            b_t = np.take_along_axis(tg[:, 1:], idx, -1)
-            tm = 0.5 * (a_t + b_t)
-            for _ in range(MAX_ITER):  # safeguarded Newton on D'(t) = 0
-                _, mm, c = (x[..., g] for x in disc(tm))
-                a_t, b_t = np.where(mm < 0, tm, a_t), np.where(mm < 0, b_t, tm)
-                with np.errstate(all="ignore"):
-                    tn = tm - mm / c
-                inside = (c > 0) & (tn > a_t) & (tn < b_t)
-                tn = np.where(inside, tn, 0.5 * (a_t + b_t))
-                done = np.all(np.abs(tn - tm) <= 1e-9 * fine)
-                tm = tn
-                if done:
-                    break
+            valid, a_t, b_t = brackets
+            tm = _minimum_in(disc, g, a_t, b_t, 1e-9 * fine)
             dm = disc(tm)[0][..., g]
             ok &= np.all(~valid | (dm >= -DISC_TOL), axis=-1)
             flips[g] = np.where(valid & (np.abs(dm) <= DISC_TOL), tm, np.nan)
@@ -259,6 +207,88 @@ def _change_points(
                 break  # the later groups see these change points
         g0 = g + 1
     return flips, ok
+
+
+def _discriminants(solvers, q0: np.ndarray, drive: Drive, flips: list, eta: float, t):
+    """D, D', D'' of every group's closed form at times ``t (V, M)`` on the branches the
+    change points ``flips`` so far give, the derivatives by central differences of step
+    ``eta``: ``(V, M, G)`` each."""
+    at = t[None] + np.array([-eta, 0.0, eta])[:, None, None]
+    at = np.moveaxis(at, 0, -1).reshape(len(q0), -1)
+    _, d = _closed_forms(
+        solvers,
+        np.broadcast_to(q0, at.shape + q0.shape[-1:]),
+        drive(at)[0],
+        _branch_signs(flips, at),
+    )
+    d = d.reshape(t.shape + (3, -1))
+    return (
+        d[..., 1, :],
+        (d[..., 2, :] - d[..., 0, :]) / (2 * eta),
+        (d[..., 2, :] - 2 * d[..., 1, :] + d[..., 0, :]) / eta**2,
+    )
+
+
+def _with_low_minima(ts: np.ndarray, d: np.ndarray, m: np.ndarray, g0: int, hi: float):
+    """``ts (V, M)`` with the interior minima of the cubic Hermite interpolant of the
+    discriminants ``d`` (slopes ``m``; groups from ``g0`` on) that lie low (≤ 10
+    ``DISC_NEAR``) added as samples, sorted (rows padded with ``hi``); ``ts`` itself where
+    there are none."""
+    h = np.diff(ts, axis=-1)[..., None]
+    d0, d1, m0, m1 = d[:, :-1], d[:, 1:], m[:, :-1] * h, m[:, 1:] * h
+    b = -6 * d0 - 4 * m0 + 6 * d1 - 2 * m1  # Hermite p'(s) = a s² + b s + c, p'' > 0 root
+    a = 6 * d0 + 3 * m0 - 6 * d1 + 3 * m1
+    with np.errstate(all="ignore"):
+        s = 2 * m0 / (-b - np.sqrt(b * b - 4 * a * m0))
+    low = (
+        (s * s * (2 * s - 3) + 1) * d0
+        + s * (s - 1) ** 2 * m0
+        + s * s * (3 - 2 * s) * d1
+        + s * s * (s - 1) * m1
+    )  # the interpolant's minimum
+    inner = (s > 0) & (s < 1) & (low <= 10 * DISC_NEAR)
+    inner[..., :g0] = False
+    if not inner.any():
+        return ts
+    extra = np.where(inner, ts[:, :-1, None] + np.where(inner, s, 0.0) * h, np.nan)
+    extra = np.sort(extra.reshape(len(ts), -1), axis=-1)[:, : int(inner.sum((-2, -1)).max())]
+    return np.sort(np.concatenate((ts, np.where(np.isnan(extra), hi, extra)), axis=-1), axis=-1)
+
+
+def _minimum_brackets(tg: np.ndarray, dg: np.ndarray, mg: np.ndarray):
+    """(valid, a_t, b_t) ``(V, K)``: the samples ``tg`` between which one group's
+    discriminant ``dg`` (slope ``mg``) has a local minimum (the slope turns from − to +
+    with a sample beside it at D ≤ ``DISC_NEAR``), padded where a variant has fewer
+    (``valid`` False); None where none has any."""
+    br = (mg[:, :-1] < 0) & (mg[:, 1:] >= 0) & (np.minimum(dg[:, :-1], dg[:, 1:]) <= DISC_NEAR)
+    n_k = int(br.sum(axis=-1).max())
+    if n_k == 0:
+        return None
+    idx = np.argsort(~br, axis=-1, kind="stable")[:, :n_k]
+    return (
+        np.take_along_axis(br, idx, -1),
+        np.take_along_axis(tg[:, :-1], idx, -1),
+        np.take_along_axis(tg[:, 1:], idx, -1),
+    )
+
+
+def _minimum_in(disc, g: int, a_t: np.ndarray, b_t: np.ndarray, tol: float) -> np.ndarray:
+    """The minima of group ``g``'s discriminant in the brackets [a_t, b_t] (D' < 0 at
+    a_t, ≥ 0 at b_t) by a safeguarded Newton iteration on D'(t) = 0 (bisection where a
+    step leaves the bracket), to ``tol`` in t; ``disc(t)`` gives D, D', D''."""
+    tm = 0.5 * (a_t + b_t)
+    for _ in range(MAX_ITER):
+        _, mm, c = (x[..., g] for x in disc(tm))
+        a_t, b_t = np.where(mm < 0, tm, a_t), np.where(mm < 0, b_t, tm)
+        with np.errstate(all="ignore"):
+            tn = tm - mm / c
+        inside = (c > 0) & (tn > a_t) & (tn < b_t)
+        tn = np.where(inside, tn, 0.5 * (a_t + b_t))
+        done = np.all(np.abs(tn - tm) <= tol)
+        tm = tn
+        if done:
+            break
+    return tm
 
 
 def closed_form_near(solvers, guess: np.ndarray, psi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -180,7 +180,7 @@ def continue_path(
         flipped = ok and np.any(new_sig != sig)
         smooth = ok and jump <= JUMP_RATIO and (not flipped or abs(h) <= fine_h)
         found = [
-            _locate_singular(system, drive, g, t, q, qd, t + h, qn, qdn)
+            _locate_singular(system, drive, g, np.array([t, t + h]), (q, qn), (qd, qdn))
             for g in (np.nonzero(new_sig != sig)[0] if smooth and flipped else ())
         ]
         if smooth and all(f.condition >= SINGULAR_COND for f in found):
@@ -240,20 +240,12 @@ def _fold_beyond(system: System, q: np.ndarray, t: float, delta: float, drive: D
     return None
 
 
-def _locate_singular(
-    system: System,
-    drive: Drive,
-    g: int,
-    ta: float,
-    qa: np.ndarray,
-    qda: np.ndarray,
-    tb: float,
-    qb: np.ndarray,
-    qdb: np.ndarray,
-) -> Singularity:
-    """Bisect the sign change of group g's determinant between two path points."""
+def _locate_singular(system: System, drive: Drive, g: int, ts, qs, qds) -> Singularity:
+    """Bisect the sign change of group g's determinant between two path points: at the
+    times ``ts`` (ta, tb) the positions ``qs`` and velocities ``qds``."""
     plan = system.plans[g]
-    ts, qs, qds = np.array([ta, tb]), np.array([qa, qb]), np.array([qda, qdb])
+    (ta, tb), (qa, _) = ts, qs
+    ts, qs, qds = np.asarray(ts, dtype=float), np.array(qs), np.array(qds)
     sa = group_signature(system, qa, plan)
     lo, hi = ta, tb
     q_mid = qa

@@ -35,7 +35,7 @@ __all__ = [
 
 
 # -- roots over the rows of one run ------------------------------------------------------
-def refine(system, drive, f, t0, tn, qn, qdn, qddn, max_iter=12, bracket=None):
+def refine(system, drive, f, t0, tn, qn, qdn, qddn, max_iter=12, bracket=None):  # noqa: PLR0913  loose sample arrays: several callers' grids
     """Newton on t for f(state) = 0, all roots at once.
 
     ``t0 (k,)`` first guesses, ``tn`` and ``qn``/``qdn``/``qddn`` the solved
@@ -79,7 +79,7 @@ def refine(system, drive, f, t0, tn, qn, qdn, qddn, max_iter=12, bracket=None):
     return t, states
 
 
-def find_roots(system, drive, t, q, qd, qdd, fvals, f, full, period_t):
+def find_roots(system, drive, t, q, qd, qdd, fvals, f, full, period_t):  # noqa: PLR0913  loose sample arrays: several callers' grids
     """Times where fvals changes sign between samples (cyclically if full), refined."""
     order = np.argsort(t)
     ts, fs_ = t[order], fvals[order]
@@ -126,7 +126,7 @@ def state_stacked(system: System, solvers, sched: Schedule, t: np.ndarray, guess
     return q, qd, qdd
 
 
-def refine_stacked(system, solvers, sched, f, t0, q0, qd0, qdd0, max_iter: int = 12):
+def refine_stacked(system, solvers, sched, f, t0, q0, qd0, qdd0, max_iter: int = 12):  # noqa: PLR0913  loose sample arrays of stacked variants
     """Newton on t for ``f(q, q̇, q̈) = (g, ġ) = 0``, all variants and roots at once.
 
     ``t0 (V, M)`` first guesses, ``q0, qd0, qdd0 (V, M, n_q)`` solved states

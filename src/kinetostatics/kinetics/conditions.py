@@ -316,13 +316,15 @@ def travel_extremes_stacked(system, solvers, sched, t, q, qd, qdd) -> dict:
 
 
 # -- the load switches of a run ---------------------------------------------------------
-def load_events(system, drive, sched, t, q, qd, qdd, full):
+def load_events(system, sched, motion, full):
     """(extremes, events, states): the exact minima of the travel conditions over the whole
     motion (:func:`travel_extremes`, not over the analysed rows), and the load switches of
-    the whole motion (found once on its fixed grid) that fall within the run — every one
-    for a full cycle — with their states (q, q̇, q̈); where the whole motion does not cover
-    the run (a law or a prismatic driver's run left, several drivers, a constant
-    acceleration), the switches found between the analysed rows, with states None."""
+    the whole motion (found once on its fixed grid) that fall within the run of ``motion``
+    (a :class:`~kinetostatics.kinematics.motion.Motion`) — every one for a full cycle —
+    with their states (q, q̇, q̈); where the whole motion does not cover the run (a law or
+    a prismatic driver's run left, several drivers, a constant acceleration), the switches
+    found between the analysed rows, with states None."""
+    t, q, qd, qdd, drive = motion.t, motion.q, motion.qd, motion.qdd, sched
     extremes = travel_extremes(system, sched)
     m = None
     switching = any(c.kind != "angle" for load in system.model.loads for c in load.active)

@@ -260,7 +260,7 @@ def _effort_kernels(system: System, fs: FrictionSetup) -> list[tuple] | None:
     return system.memo[key]
 
 
-def _compiled_fixed_point(sets, fs, x0, per_effort, scale, x, it, converged, live) -> None:
+def _compiled_fixed_point(sets, fs, x0, per_effort, scale, x, it, converged, live) -> None:  # noqa: PLR0913  the arrays the compiled step updates in place
     """The fixed point's loop of :func:`consistent` with the efforts' magnitudes by the
     friction kernels and each iteration's update by :func:`_fixed_point_step`: the same
     operations position by position, so the same numbers to the bit.  Updates ``x``,
@@ -293,7 +293,7 @@ def _magnitudes(sets, flat: np.ndarray, mu: np.ndarray, parts) -> None:
         mu[cols] = part
 
 
-def _fixed_point_step(x0, per_effort, mu, sign, scale, x, it, converged, live, tol):
+def _fixed_point_step(x0, per_effort, mu, sign, scale, x, it, converged, live, tol):  # noqa: PLR0913  a numba kernel: plain arrays only
     """One iteration at the live positions: x ← x₀ + Σ e_k A⁻¹(−g_k), e_k = −s_k μ_k (the
     sum in ``einsum``'s order), its step max|Δx|/scale, and the tests of ``consistent``;
     returns how many positions stay live."""

@@ -7,12 +7,14 @@ kinematics, and the engine of forward dynamics (:mod:`~kinetostatics.dynamics`).
 from __future__ import annotations
 
 import warnings
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..base.linalg import BlockFactor
 from ..errors import Location, SingularEquilibriumWarning, StructureError
+from ..kinematics.motion import Motion
 from ..structure.system import System, coordinate_gradient
 from . import friction as fr
 from .conditions import travel_extremes
@@ -27,30 +29,198 @@ from .reactions import (
     solve_equilibrium,
 )
 
-__all__ = ["Kinetics", "kinetics", "redundant_joints"]
+__all__ = [
+    "Kinetics",
+    "Loads",
+    "Equilibrium",
+    "FrictionSolutions",
+    "Power",
+    "inverse_dynamics",
+    "kinetics",
+    "loads",
+    "equilibrium",
+    "friction_solutions",
+    "power_terms",
+    "redundant_joints",
+]
 
 
-@dataclass
+@dataclass(frozen=True, eq=False)
+class Loads:
+    """The generalized forces of the loads at the rows, ``(..., n_q)`` each: gravity,
+    d'Alembert inertia, the external loads acting there, and the springs' and dampers'
+    states (None: the model has none); ``extremes``: the extremes of the ``travel``
+    conditions the external loads were switched by (``Result.extremes``)."""
+
+    gravity: np.ndarray
+    inertia: np.ndarray
+    external: np.ndarray
+    elements: ElementStates | None = None
+    extremes: dict | None = None
+
+    @property
+    def total(self) -> np.ndarray:
+        """The sum the reactions and efforts balance, Q."""
+        q_load = self.gravity + self.inertia + self.external
+        return q_load if self.elements is None else q_load + self.elements.q
+
+
+@dataclass(frozen=True, eq=False)
+class Equilibrium:
+    """The frictionless reactions and driver efforts ``x0 (..., n_λ)`` balancing the loads.
+
+    ``a_given`` the equilibrium matrix A ``(..., n_q, n_λ)``, or None where A = Φ_qᵀ is
+    stood for by the kinematic factors ``lu``; ``a_inv`` its inverse where A is square
+    and was inverted (NaN rows at singular positions); ``singular`` the rows where A is
+    singular (x0 NaN there); ``condition`` the scaled condition number of a square A;
+    ``indeterminate`` a least-squares (minimum-norm) solution of a non-square A."""
+
+    x0: np.ndarray
+    a_given: np.ndarray | None
+    lu: BlockFactor | None
+    singular: np.ndarray
+    condition: np.ndarray | None = None
+    a_inv: np.ndarray | None = None
+    indeterminate: bool = False
+
+    def solve(self, rhs: np.ndarray) -> np.ndarray:
+        """x with A x = ``rhs`` at every row (the friction solutions' solve)."""
+        if self.a_given is None:
+            return self.lu.solve_transposed(rhs)  # A = Φ_qᵀ: back substitution over the groups
+        a_inv = self.a_inv if self.a_inv is not None else np.linalg.inv(self.a_given)
+        return np.einsum("...ij,...j->...i", a_inv, rhs)
+
+
+@dataclass(frozen=True, eq=False)
+class FrictionSolutions:
+    """The friction solutions (docs/friction.md): the per-row ``setup``, the approximate
+    reactions and efforts ``x_approx``, ``e_approx``, and the consistent ``solution``
+    (:class:`~kinetostatics.kinetics.friction.FrictionSolution`).  ``fric["solution"]``
+    reads a field by its name, as the dict of before did."""
+
+    setup: fr.FrictionSetup
+    x_approx: np.ndarray
+    e_approx: np.ndarray
+    solution: fr.FrictionSolution
+
+    def __getitem__(self, name: str):
+        if name not in ("setup", "x_approx", "e_approx", "solution"):
+            raise KeyError(name)
+        return getattr(self, name)
+
+
+@dataclass(frozen=True, eq=False)
+class Power(Mapping):
+    """The power terms at the rows (W, ``(...)`` each): the drivers' ``input``, the rate of
+    the ``kinetic`` and ``potential`` energy, the power taken by the ``external`` loads, the
+    springs' (``elastic``) and dampers' (``damping``) when the model has elements, and the
+    ``residual`` of the balance; with friction also the ``friction`` loss, the drivers'
+    ``input_friction`` and ``residual_friction``.  A read-only mapping of the terms
+    present, in that order (``power["input"]``, ``power.items()``)."""
+
+    input: np.ndarray
+    kinetic: np.ndarray
+    potential: np.ndarray
+    external: np.ndarray
+    residual: np.ndarray
+    elastic: np.ndarray | None = None
+    damping: np.ndarray | None = None
+    friction: np.ndarray | None = None
+    input_friction: np.ndarray | None = None
+    residual_friction: np.ndarray | None = None
+
+    _ORDER = (
+        "input",
+        "kinetic",
+        "potential",
+        "external",
+        "elastic",
+        "damping",
+        "residual",
+        "friction",
+        "input_friction",
+        "residual_friction",
+    )
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        value = getattr(self, name, None) if name in self._ORDER else None
+        if value is None:
+            raise KeyError(name)
+        return value
+
+    def __iter__(self):
+        return (n for n in self._ORDER if getattr(self, n) is not None)
+
+    def __len__(self) -> int:
+        return sum(1 for _ in self)
+
+
+@dataclass(frozen=True, eq=False)
 class Kinetics:
-    """Loads, reactions, friction and power at given states (arrays over positions)."""
+    """Loads, reactions, friction and power at given states (arrays over positions): the
+    records of the stages :func:`loads`, :func:`equilibrium`, :func:`friction_solutions`
+    (None without friction) and :func:`power_terms`."""
 
-    q_gravity: np.ndarray
-    q_inertia: np.ndarray
-    q_external: np.ndarray
-    a_given: np.ndarray | None  # equilibrium matrix A, (..., n_q, n_lam); None: Φ_qᵀ of ``lu``
-    x0: np.ndarray  # frictionless multipliers and driver efforts
-    indeterminate: bool
-    friction: dict | None  # setup, x_approx, e_approx, solution (see friction.py)
-    power: dict
-    singular: np.ndarray | None = None  # (...) A singular there: x0 NaN, friction.status 2
-    condition: np.ndarray | None = None  # (...) scaled condition number of a square A
-    lu: BlockFactor | None = None  # the kinematic factors where A = Φ_qᵀ
-    elements: ElementStates | None = None  # springs and dampers (None: the model has none)
+    loads: Loads
+    equilibrium: Equilibrium
+    friction: FrictionSolutions | None
+    power: Power
+
+    @property
+    def x0(self) -> np.ndarray:
+        """Frictionless multipliers and driver efforts, ``(..., n_λ)``."""
+        return self.equilibrium.x0
+
+    @property
+    def indeterminate(self) -> bool:
+        return self.equilibrium.indeterminate
+
+    @property
+    def singular(self) -> np.ndarray:
+        """``(...)`` A singular there: x0 NaN, friction.status 2."""
+        return self.equilibrium.singular
+
+    @property
+    def condition(self) -> np.ndarray | None:
+        """``(...)`` scaled condition number of a square A (None otherwise)."""
+        return self.equilibrium.condition
+
+    @property
+    def lu(self) -> BlockFactor | None:
+        """The kinematic factors where A = Φ_qᵀ."""
+        return self.equilibrium.lu
+
+    @property
+    def a_given(self) -> np.ndarray | None:
+        """Equilibrium matrix A, (..., n_q, n_λ); None: Φ_qᵀ of ``lu``."""
+        return self.equilibrium.a_given
 
     @property
     def a(self) -> np.ndarray:
         """Equilibrium matrix A, ``(..., n_q, n_lam)`` (Φ_qᵀ assembled on demand)."""
         return self.a_given if self.a_given is not None else np.swapaxes(self.lu.jac, -1, -2)
+
+    @property
+    def q_gravity(self) -> np.ndarray:
+        return self.loads.gravity
+
+    @property
+    def q_inertia(self) -> np.ndarray:
+        return self.loads.inertia
+
+    @property
+    def q_external(self) -> np.ndarray:
+        return self.loads.external
+
+    @property
+    def extremes(self) -> dict | None:
+        """The extremes of the ``travel`` conditions the loads were evaluated with."""
+        return self.loads.extremes
+
+    @property
+    def elements(self) -> ElementStates | None:
+        """Springs and dampers (None: the model has none)."""
+        return self.loads.elements
 
     @property
     def q_element(self) -> np.ndarray:
@@ -62,7 +232,37 @@ class Kinetics:
         return self.q_gravity + self.q_inertia + self.q_external + self.q_element
 
 
-def kinetics(
+# -- the stages -------------------------------------------------------------------------
+def inverse_dynamics(
+    system: System,
+    motion: Motion,
+    *,
+    ref_speed: float,
+    extremes: dict | None = None,
+    friction: bool = False,
+) -> Kinetics:
+    """Inverse dynamics at the rows of ``motion`` (a
+    :class:`~kinetostatics.kinematics.motion.Motion`: its states, the drivers' coordinates
+    ``psi (..., n_d)`` and the kinematic factorisation ``lu`` of Φ_q, if at hand).
+
+    The stages in turn: the loads (gravity, d'Alembert inertia, external loads active at
+    these states, springs and dampers), the frictionless reactions and driver efforts,
+    the friction solutions when ``friction`` and the model has friction, and the power
+    terms.  ``extremes``: the extremes of ``travel`` conditions (``Result.extremes``; by
+    default :func:`travel_extremes`, over the whole motion); ``ref_speed``: the driver
+    speed that scales the zero-speed thresholds.
+    """
+    if extremes is None:
+        extremes = travel_extremes(system)
+    q_loads = loads(system, motion, extremes, ref_speed)
+    eq = equilibrium(system, motion, q_loads)
+    fric = None
+    if friction and system.model.has_friction:
+        fric = friction_solutions(system, motion, q_loads, eq, ref_speed)
+    return Kinetics(q_loads, eq, fric, power_terms(system, motion, q_loads, eq, fric))
+
+
+def kinetics(  # noqa: PLR0913  the arrays' call of before, kept for users and dynamics/
     system: System,
     q: np.ndarray,
     qd: np.ndarray,
@@ -74,98 +274,132 @@ def kinetics(
     extremes: dict | None = None,
     friction: bool = False,
 ) -> Kinetics:
-    """Inverse dynamics at states (q, q̇, q̈) with driver coordinates ``psi (..., n_d)``.
+    """Inverse dynamics at states (q, q̇, q̈) with driver coordinates ``psi (..., n_d)``:
+    :func:`inverse_dynamics` of the :class:`~kinetostatics.kinematics.motion.Motion` they
+    make (``lu``: the kinematic factorisation of Φ_q at q, if at hand)."""
+    motion = Motion(None, psi, q, qd, qdd, lu=lu)
+    return inverse_dynamics(
+        system, motion, ref_speed=ref_speed, extremes=extremes, friction=friction
+    )
 
-    Loads (gravity, d'Alembert inertia, external loads active at these states),
-    the frictionless reactions and driver efforts, the friction solutions when
-    ``friction`` and the model has friction, and the power terms.  ``lu``: the
-    kinematic factorisation of Φ_q at q, if at hand; ``extremes``: the extremes of
-    ``travel`` conditions (``Result.extremes``; by default :func:`travel_extremes`, over
-    the whole motion); ``ref_speed``: the driver speed that scales the zero-speed thresholds.
-    """
-    model = system.model
-    if extremes is None:
-        extremes = travel_extremes(system)
-    q_grav = gravity_forces(system, q.shape[:-1])
-    q_inert = inertia_forces(system, qdd)
-    q_ext = external_forces(system, q, qd, psi[..., 0], extremes, ref_speed)
-    q_load = q_grav + q_inert + q_ext
-    elements = element_states(system, q, qd) if model.elements else None
-    if elements is not None:
-        q_load = q_load + elements.q
-    own_efforts = all(d.driver.balance_at is None for d in system.motion_drivers)
-    singular, condition, a_inv = np.zeros(q.shape[:-1], dtype=bool), None, None
-    if lu is not None and own_efforts:
-        a = None  # A = Φ_qᵀ: the kinematic factors stand for it (square)
-        x0, indeterminate = lu.solve_transposed(-q_load), False
-    else:
-        a = equilibrium_matrix(system, q)
-        if a.shape[-1] == a.shape[-2]:  # singular positions: NaN rows, the rest intact
-            a_inv, singular, condition = invert_equilibrium(a, system.l_ref)
-            if not own_efforts and len(system.motion_drivers) == 1:
-                # the effort's joint (nearly) at rest: no effort to round-off accuracy there
-                near = effort_speed_ratio(system, q, qd) <= EFFORT_SPEED_TOL
-                singular |= near
-                a_inv[near] = np.nan
-            bad = ~np.isfinite(a_inv[..., 0, 0])
-            x0 = np.linalg.solve(
-                np.where(bad[..., None, None], np.eye(a.shape[-1]), a), -q_load[..., None]
-            )[..., 0]
-            x0[bad], indeterminate = np.nan, False
-            if singular.any():
-                _warn_singular_equilibrium(system, singular, psi[..., 0])
-        else:
-            x0, indeterminate = solve_equilibrium(a, -q_load)
-    fric = None
-    if friction and model.has_friction and a is not None and a.shape[-1] != a.shape[-2]:
-        raise StructureError([(Location(model.source, path="joints"), _not_square(system, a))])
-    if friction and model.has_friction:
-        fs = fr.setup(system, q, qd, ref_speed)
-        if lu is not None and own_efforts:
-            solve_a = lu.solve_transposed  # A = Φ_qᵀ: back substitution over the groups
-        else:
-            if a_inv is None:
-                a_inv = np.linalg.inv(a)
-            solve_a = lambda rhs: np.einsum("...ij,...j->...i", a_inv, rhs)  # noqa: E731
-        xa, ea = fr.approximate(system, fs, solve_a, q_load, x0)
-        a_full = lu if a is None else a  # Φ_qᵀ by its blocks: no dense matrix assembled
-        cons = fr.consistent(system, fs, a_full, solve_a, q_load, x0)
-        fric = dict(setup=fs, x_approx=xa, e_approx=ea, solution=cons)
-    eff = effort_joints(system)
+
+def loads(system: System, motion: Motion, extremes: dict, ref_speed: float) -> Loads:
+    """The generalized forces at the rows of ``motion``: gravity, d'Alembert inertia, the
+    external loads acting there (their ``travel`` conditions against ``extremes``; the
+    zero-speed thresholds scaled by ``ref_speed``), and the springs and dampers."""
+    q, qd = motion.q, motion.qd
+    return Loads(
+        gravity_forces(system, q.shape[:-1]),
+        inertia_forces(system, motion.qdd),
+        external_forces(system, q, qd, motion.psi[..., 0], extremes, ref_speed),
+        element_states(system, q, qd) if system.model.elements else None,
+        extremes,
+    )
+
+
+def _own_efforts(system: System) -> bool:
+    """Every motion driver's effort acts at its own joint (no ``balance_at``)."""
+    return all(d.driver.balance_at is None for d in system.motion_drivers)
+
+
+def equilibrium(system: System, motion: Motion, q_loads: Loads) -> Equilibrium:
+    """The frictionless reactions and driver efforts that balance ``q_loads``: by the
+    kinematic factors where A = Φ_qᵀ (``motion.lu``, each effort at its own joint); else
+    by A, inverted where square (NaN rows and a warning at singular positions, and where
+    the effort's joint is at rest), in least squares where not (indeterminate)."""
+    q, lu = motion.q, motion.lu
+    q_load = q_loads.total
+    singular = np.zeros(q.shape[:-1], dtype=bool)
+    own_efforts = _own_efforts(system)
+    if lu is not None and own_efforts:  # A = Φ_qᵀ: the kinematic factors stand for it
+        return Equilibrium(lu.solve_transposed(-q_load), None, lu, singular)
+    a = equilibrium_matrix(system, q)
+    if a.shape[-1] != a.shape[-2]:
+        x0, indeterminate = solve_equilibrium(a, -q_load)
+        return Equilibrium(x0, a, lu, singular, indeterminate=indeterminate)
+    # singular positions: NaN rows, the rest intact
+    a_inv, singular, condition = invert_equilibrium(a, system.l_ref)
+    if not own_efforts and len(system.motion_drivers) == 1:
+        # the effort's joint (nearly) at rest: no effort to round-off accuracy there
+        near = effort_speed_ratio(system, q, motion.qd) <= EFFORT_SPEED_TOL
+        singular |= near
+        a_inv[near] = np.nan
+    bad = ~np.isfinite(a_inv[..., 0, 0])
+    x0 = np.linalg.solve(
+        np.where(bad[..., None, None], np.eye(a.shape[-1]), a), -q_load[..., None]
+    )[..., 0]
+    x0[bad] = np.nan
+    if singular.any():
+        _warn_singular_equilibrium(system, singular, motion.psi[..., 0])
+    return Equilibrium(x0, a, lu, singular, condition, a_inv)
+
+
+def friction_solutions(
+    system: System, motion: Motion, q_loads: Loads, eq: Equilibrium, ref_speed: float
+) -> FrictionSolutions:
+    """The approximate and the consistent friction solutions from the frictionless ``eq``
+    (:mod:`~kinetostatics.kinetics.friction`); a StructureError where A is not square."""
+    a = eq.a_given
+    if a is not None and a.shape[-1] != a.shape[-2]:
+        raise StructureError(
+            [(Location(system.model.source, path="joints"), _not_square(system, a))]
+        )
+    q_load = q_loads.total
+    fs = fr.setup(system, motion.q, motion.qd, ref_speed)
+    solve_a = eq.solve
+    xa, ea = fr.approximate(system, fs, solve_a, q_load, eq.x0)
+    a_full = eq.lu if a is None else a  # Φ_qᵀ by its blocks: no dense matrix assembled
+    cons = fr.consistent(system, fs, a_full, solve_a, q_load, eq.x0)
+    return FrictionSolutions(fs, xa, ea, cons)
+
+
+def power_terms(
+    system: System,
+    motion: Motion,
+    q_loads: Loads,
+    eq: Equilibrium,
+    fric: FrictionSolutions | None,
+) -> Power:
+    """The power balance at the rows: the drivers' input (frictionless, and with friction),
+    the rates of kinetic, potential and elastic energy, the external loads', the dampers'
+    and the friction loss, and the residuals (zero to round-off: ``analysis/checks.py``)."""
+    q, qd = motion.q, motion.qd
     rel = np.stack(
-        [np.einsum("...n,...n->...", coordinate_gradient(system, q, k), qd) for k in eff], axis=-1
+        [
+            np.einsum("...n,...n->...", coordinate_gradient(system, q, k), qd)
+            for k in effort_joints(system)
+        ],
+        axis=-1,
     )
     n_j = system.n_joint_rows
-    power = {
-        "input": np.sum(x0[..., n_j:] * rel, axis=-1),
-        "kinetic": np.einsum("...n,...n->...", qd, mass_vector(system) * qdd),
-        "potential": -np.einsum("...n,...n->...", qd, q_grav),
-        "external": -np.einsum("...n,...n->...", qd, q_ext),
-    }
+    p_input = np.sum(eq.x0[..., n_j:] * rel, axis=-1)
+    kinetic = np.einsum("...n,...n->...", qd, mass_vector(system) * motion.qdd)
+    potential = -np.einsum("...n,...n->...", qd, q_loads.gravity)
+    external = -np.einsum("...n,...n->...", qd, q_loads.external)
+    elastic = damping = None
     stored = 0.0
-    if elements is not None:  # the rate of the springs' energy; the dampers' dissipation
-        power["elastic"] = elements.total("power", springs=True)
-        power["damping"] = elements.total("power", springs=False)
-        stored = power["elastic"] + power["damping"]
-    power["residual"] = (
-        power["input"] - power["kinetic"] - power["potential"] - power["external"] - stored
+    if q_loads.elements is not None:  # the rate of the springs' energy; the dampers' dissipation
+        elastic = q_loads.elements.total("power", springs=True)
+        damping = q_loads.elements.total("power", springs=False)
+        stored = elastic + damping
+    terms = dict(
+        input=p_input,
+        kinetic=kinetic,
+        potential=potential,
+        external=external,
+        residual=p_input - kinetic - potential - external - stored,
+        elastic=elastic,
+        damping=damping,
     )
     if fric is not None:
-        cons = fric["solution"]
-        loss = np.sum(np.abs(cons.e * fric["setup"].speed), axis=-1)
-        power["friction"] = loss
-        power["input_friction"] = np.sum(cons.x[..., n_j:] * rel, axis=-1)
-        power["residual_friction"] = (
-            power["input_friction"]
-            - power["kinetic"]
-            - power["potential"]
-            - power["external"]
-            - stored
-            - loss
+        loss = np.sum(np.abs(fric.solution.e * fric.setup.speed), axis=-1)
+        input_friction = np.sum(fric.solution.x[..., n_j:] * rel, axis=-1)
+        terms.update(
+            friction=loss,
+            input_friction=input_friction,
+            residual_friction=input_friction - kinetic - potential - external - stored - loss,
         )
-    return Kinetics(
-        q_grav, q_inert, q_ext, a, x0, indeterminate, fric, power, singular, condition, lu, elements
-    )
+    return Power(**terms)
 
 
 def _not_square(system: System, a: np.ndarray) -> str:
@@ -226,5 +460,5 @@ def _warn_singular_equilibrium(system: System, singular: np.ndarray, coord: np.n
         "reactions and efforts there are NaN, friction.status 2, listed among the "
         "singular positions as 'equilibrium'",
         SingularEquilibriumWarning,
-        stacklevel=3,
+        stacklevel=4,  # the caller of inverse_dynamics (through equilibrium)
     )

@@ -13,7 +13,7 @@ from .style import PictureError, _fit_sheet, _inside_axes, _rc
 
 
 # -- animation ---------------------------------------------------------------------
-def animate(
+def animate(  # noqa: PLR0913  the public keywords (docs/pictures.md)
     result,
     path: str | Path,
     *,
@@ -54,7 +54,7 @@ def animate(
     return path
 
 
-def _write(result, tmp, path, ffmpeg, forces, friction, paths, fps, dpi, max_size_mm, lang):
+def _write(result, tmp, path, ffmpeg, forces, friction, paths, fps, dpi, max_size_mm, lang):  # noqa: PLR0913  animate's keywords, passed on
     """The frames of :func:`animate` written to ``tmp`` (``path`` names it in messages):
     MP4 through ``ffmpeg`` when given, else GIF."""
     import subprocess

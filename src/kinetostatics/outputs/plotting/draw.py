@@ -457,7 +457,7 @@ def _sheet_title(result, scene, paper, mu_f, row=None, friction=False, lang="en"
     return "\n".join(lines)
 
 
-def draw_mechanism(
+def draw_mechanism(  # noqa: PLR0913  the public keywords (docs/pictures.md)
     result,
     position: float | None = None,
     *,

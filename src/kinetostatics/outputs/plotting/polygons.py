@@ -439,7 +439,7 @@ def polygon_figure(
     return fig
 
 
-def _polygon_sheet(result, poly, chains, lines, allp, span, mu, colors, nums, dpi, lang):
+def _polygon_sheet(result, poly, chains, lines, allp, span, mu, colors, nums, dpi, lang):  # noqa: PLR0913  the polygon's drawing data
     """The polygon's sheet at the scale ``mu`` (data units per paper mm)."""
     acc = poly.kind == "acceleration"
     prime = "'" if acc else ""

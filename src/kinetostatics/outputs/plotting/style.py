@@ -183,7 +183,7 @@ class _Paper:
         self.k = mu_l * 1e3  # data mm per paper mm
 
 
-def _layout(
+def _layout(  # noqa: PLR0913  matplotlib's layout arguments
     xlim,
     ylim,
     per_mm: float,
@@ -215,7 +215,7 @@ def _layout(
     return fig, ax
 
 
-def _hatch_line(ax, a, b, side, depth, color="black", lw=0.8, n=None, zorder=2):
+def _hatch_line(ax, a, b, side, depth, color="black", lw=0.8, n=None, zorder=2):  # noqa: PLR0913  a drawing primitive's style keywords
     """A line a–b with short hatch strokes on ``side`` (unit normal), depth in data units."""
     a, b = np.asarray(a, float), np.asarray(b, float)
     L = float(np.hypot(*(b - a)))
