@@ -38,7 +38,7 @@ from ..kinematics.start import (
 )
 from ..kinetics.conditions import travel_extremes_stacked
 from ..kinetics.inverse import kinetics
-from ..model import Model, MotionLaw
+from ..model import Model
 from ..model.stacking import is_stacked, stack, subset
 from ..structure.system import System, build_system
 
@@ -90,11 +90,7 @@ def _schedule(system: System) -> Schedule:
     if len(drivers) != 1 or system.structure.mobility != 1:
         raise Unsupported("more than one motion driver")
     motion = drivers[0].driver.motion
-    if (
-        not isinstance(motion, MotionLaw)
-        or getattr(motion, "acceleration", 0.0)
-        or getattr(motion, "start", None) is not None
-    ):
+    if motion.own_run or motion.acceleration or motion.start is not None:
         raise Unsupported("a motion law other than constant speed")
     speed = motion.speed
     start = model.analysis.start

@@ -8,7 +8,7 @@ import numpy as np
 from ..base.keys import NAME, NUMBER, VECTOR, Keys, enum, list_of, one_of
 from ..base.spec import Entry
 from ..errors import Location, did_you_mean
-from ..model import Condition, Load, MotionLaw
+from ..model import Condition, Load
 
 LOAD_TYPES = ("force", "torque", "resistance", "resisting_torque")
 CONDITION_KEYS = Keys(
@@ -283,7 +283,7 @@ class LoadSections:
                         c["angle"].error("an angle condition needs a motion driver")
                     return None
                 first = next(d for d in drivers if d.motion is not None)
-                if not isinstance(first.motion, MotionLaw):
+                if first.motion.own_run:
                     c["angle"].error(
                         f"an angle condition needs a constant-speed driver; "
                         f"'{first.name}' follows a {first.motion.kind} law (use a "
