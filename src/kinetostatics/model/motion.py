@@ -18,7 +18,6 @@ is imported only when a file names one of its laws.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from functools import cached_property
 from typing import ClassVar
 
 import numpy as np
@@ -31,8 +30,10 @@ _SAMPLES = 4097  # points at which the peak speed of a polynomial/table law is s
 
 
 def _peak(law, t: np.ndarray) -> float:
-    """Signed reference speed: max |ψ̇| on the samples, sign of the first non-zero ψ̇."""
-    psi_d = law.value(0.0, t)[1]
+    """Signed reference speed: max |ψ̇| on the samples, sign of the first non-zero ψ̇
+    (taken at construction: a law out of range overflows quietly, the loader refuses it)."""
+    with np.errstate(all="ignore"):
+        psi_d = law.value(0.0, t)[1]
     moving = np.nonzero(np.abs(psi_d) > 1e-12 * np.max(np.abs(psi_d), initial=0.0))[0]
     sign = np.sign(psi_d[moving[0]]) if moving.size else 1.0
     return float(sign * np.max(np.abs(psi_d), initial=0.0))
@@ -94,6 +95,10 @@ class PolynomialLaw(Law):
     coefficients: tuple[float, ...]
     duration: float  # s
     kind: ClassVar[str] = "polynomial"
+    speed: float = field(init=False, repr=False, compare=False)  # from the fields, at construction
+
+    def __post_init__(self):
+        object.__setattr__(self, "speed", _peak(self, np.linspace(0.0, self.duration, _SAMPLES)))
 
     def value(self, start, t):
         t = np.asarray(t, dtype=float)
@@ -106,10 +111,6 @@ class PolynomialLaw(Law):
     @property
     def start(self) -> float:
         return float(self.coefficients[0])
-
-    @cached_property
-    def speed(self) -> float:
-        return _peak(self, np.linspace(0.0, self.duration, _SAMPLES))
 
     def to_spec(self) -> dict:
         return {
@@ -129,6 +130,7 @@ class TableLaw(Law):
     periodic: bool = False
     kind: ClassVar[str] = "table"
     _spline: object = field(default=None, init=False, repr=False, compare=False)
+    speed: float = field(init=False, repr=False, compare=False)  # from the fields, at construction
 
     def __post_init__(self):
         from scipy.interpolate import CubicSpline  # only a table law needs it
@@ -140,6 +142,7 @@ class TableLaw(Law):
             bc_type="periodic" if self.periodic else "not-a-knot",
         )
         object.__setattr__(self, "_spline", spline)
+        object.__setattr__(self, "speed", _peak(self, np.linspace(0.0, self.duration, _SAMPLES)))
 
     @property
     def cyclic(self) -> bool:
@@ -157,10 +160,6 @@ class TableLaw(Law):
     @property
     def duration(self) -> float:
         return float(self.time[-1] - self.time[0])
-
-    @cached_property
-    def speed(self) -> float:
-        return _peak(self, np.linspace(0.0, self.duration, _SAMPLES))
 
     @property
     def breaks(self) -> tuple[float, ...]:
