@@ -10,7 +10,8 @@ from ..base.spec import Entry
 from ..errors import Location, did_you_mean
 from ..model import Condition, Load
 
-LOAD_TYPES = ("force", "torque", "resistance", "resisting_torque")
+LOAD_TYPES = ("force", "torque", "resistance", "resisting_torque")  # each: kinetics.kinds
+CONDITION_TYPES = ("moving", "travel", "angle")  # the keys that name a condition's kind
 CONDITION_KEYS = Keys(
     {"moving": VECTOR, "travel": VECTOR, "along": VECTOR, "angle": VECTOR, "point": NAME}
 )
@@ -232,7 +233,7 @@ class LoadSections:
         for c in items:
             if not c.check(CONDITION_KEYS):
                 return None
-            kinds = [k for k in ("moving", "travel", "angle") if c.get(k) is not None]
+            kinds = [k for k in CONDITION_TYPES if c.get(k) is not None]
             if not kinds:
                 c.error("a condition needs one of: moving, travel, angle")
                 return None
