@@ -61,7 +61,7 @@ from ..base.keys import NAME, NUMBER, VECTOR, Keys, enum, names
 from . import _camphase
 from ._camlaw import LAW_SHAPE, read_law
 from ._camprofile import Synthesis
-from .base import Anchor, Circle, Curve, Glyph, Joint, Line
+from .base import Anchor, Circle, Curve, Friction, Glyph, Joint, Line, Presentation, Shaped
 
 __all__ = ["Cam"]
 
@@ -103,7 +103,7 @@ def _kept(name):
 
 
 @dataclass(frozen=True)
-class Cam(Joint, kind="cam"):
+class Cam(Joint, Presentation, Friction, Shaped, kind="cam"):
     """Disc cam (link i, centre ``o``) and follower (link j, point ``p``); ``synthesis``
     the law and the follower's placement; ``face`` (flat) the face normal in j's
     frame towards the cam; ``f`` the friction coefficient."""
