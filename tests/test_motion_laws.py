@@ -250,3 +250,14 @@ def test_the_reference_speed_is_a_field_taken_from_the_law_at_construction():
     assert "speed" in vars(table)
     assert table.speed == pytest.approx(2.0, rel=1e-12)
     assert {f.name for f in dataclasses.fields(law) if not f.init} == {"speed"}
+    # a batch stacks variants whose law differs (model/stacking.py): the stacked law is
+    # built, and left to the per-variant analysis
+    from kinetostatics.model.stacking import stack
+
+    m = ks.load("mechanisms/slider_crank.yaml")
+    laws = (law, PolynomialLaw((0.0, 1.5, -2.0), 1.0))
+    models = [
+        dataclasses.replace(m, drivers=(dataclasses.replace(m.drivers[0], motion=x),)) for x in laws
+    ]
+    stacked = stack(models).drivers[0].motion
+    assert stacked.speed is None and np.shape(stacked.coefficients[1]) == (2, 1)

@@ -95,9 +95,14 @@ class PolynomialLaw(Law):
     coefficients: tuple[float, ...]
     duration: float  # s
     kind: ClassVar[str] = "polynomial"
-    speed: float = field(init=False, repr=False, compare=False)  # from the fields, at construction
+    speed: float | None = field(init=False, repr=False, compare=False)  # set at construction
 
     def __post_init__(self):
+        """The reference speed, from the fields; None for a law stacked over variants
+        (arrays in its fields, model/stacking.py), which only the per-variant analysis runs."""
+        if np.ndim(self.duration) or any(np.ndim(c) for c in self.coefficients):
+            object.__setattr__(self, "speed", None)
+            return
         object.__setattr__(self, "speed", _peak(self, np.linspace(0.0, self.duration, _SAMPLES)))
 
     def value(self, start, t):
