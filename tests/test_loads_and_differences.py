@@ -114,7 +114,7 @@ def test_every_load_and_condition_kind_the_loader_accepts_has_its_entry():
     turns forwards it is a torque of −5 N·m without conditions."""
     from kinetostatics.io.loads import CONDITION_TYPES, LOAD_TYPES
     from kinetostatics.kinetics.kinds import CONDITION_KINDS, LOAD_KINDS
-    from kinetostatics.model import Load
+    from kinetostatics.model import Condition, Load
 
     assert sorted(LOAD_KINDS) == sorted(LOAD_TYPES)
     assert sorted(CONDITION_KINDS) == sorted(CONDITION_TYPES)
@@ -129,6 +129,9 @@ def test_every_load_and_condition_kind_the_loader_accepts_has_its_entry():
         assert (couple is not None) == kind.couple, name
         assert (force is None) == kind.couple, name
         assert (kind.rate(system, load, q, qd)[0] is not None) == kind.opposes, name
+    for name, kind in CONDITION_KINDS.items():  # switches by level, or by the schedule
+        cond = Condition(name, "crank", "A", axis, (0.0, 1.0))
+        assert bool(kind.levels(cond)) != kind.scheduled, name
     rt = LOAD_KINDS["resisting_torque"]
     load = Load("M", "resisting_torque", "crank", 5.0)
     np.testing.assert_array_equal(rt.applied(system, load, q, qd, 5.0, 1.0)[1], [-5.0, 5.0])

@@ -38,6 +38,7 @@ from ..kinematics.start import (
 )
 from ..kinetics.conditions import travel_extremes_stacked
 from ..kinetics.inverse import kinetics
+from ..kinetics.kinds import CONDITION_KINDS, LOAD_KINDS
 from ..model import Model
 from ..model.stacking import is_stacked, stack, subset
 from ..structure.system import System, build_system
@@ -163,10 +164,11 @@ def _check_supported(sm: Model, friction: bool) -> None:
     for load in sm.loads:
         if load.table is not None:
             at, vals = load.table
-            if np.ndim(at) > 1 or np.ndim(vals) > (2 if load.kind == "force" else 1):
+            if np.ndim(at) > 1 or np.ndim(vals) > (2 if LOAD_KINDS[load.kind].vector else 1):
                 raise Unsupported(f"the table of load '{load.name}' differs between variants")
         if is_stacked(load.axis) or any(
-            is_stacked(c.axis) or c.kind == "angle" and is_stacked(c.bounds) for c in load.active
+            is_stacked(c.axis) or CONDITION_KINDS[c.kind].scheduled and is_stacked(c.bounds)
+            for c in load.active
         ):
             raise Unsupported(
                 f"the directions or angle band of load '{load.name}' differ between variants"

@@ -381,7 +381,7 @@ def _switches(system, drive, sched, t, q, qd, qdd, full, period_t, extremes):
     for load in system.model.loads:
         for c in load.active:
             kind = CONDITION_KINDS[c.kind]
-            if not kind.levels(c):  # an angle band: switches at the schedule's times
+            if kind.scheduled:  # an angle band: switches at the schedule's times
                 start, width = angle_band(system, c)
                 if width >= 2 * np.pi:
                     continue  # always on: no switch

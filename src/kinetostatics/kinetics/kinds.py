@@ -76,10 +76,12 @@ class LoadKind:
     """One kind of load.
 
     ``couple``: it is a couple on its link (N·m), not a force at its point (N).
+    ``vector``: its value is a global vector (N), not a magnitude.
     ``opposes``: it acts against a rate (its sign switches where the rate crosses zero)."""
 
     name: ClassVar[str]
     couple: ClassVar[bool] = False
+    vector: ClassVar[bool] = False
     opposes: ClassVar[bool] = False
 
     def applied(self, system: System, load: Load, q, qd, value, ref_speed: float):
@@ -106,6 +108,7 @@ class LoadKind:
 
 class _Force(LoadKind):
     name = "force"
+    vector = True
 
     def applied(self, system, load, q, qd, value, ref_speed):
         return value, None
@@ -220,11 +223,14 @@ class ConditionKind:
 
     ``extremes``: its value needs the point's travel extremes over the whole motion.
     ``at_rest_band``: it holds where its value leaves the zero-speed band (so the cycle's
-    quadrature is cut at the band's edge as well as at the value's zero)."""
+    quadrature is cut at the band's edge as well as at the value's zero).
+    ``scheduled``: it switches at times the schedule gives (no :meth:`levels`), so its
+    bounds cannot differ between stacked variants."""
 
     name: ClassVar[str]
     extremes: ClassVar[bool] = False
     at_rest_band: ClassVar[bool] = False
+    scheduled: ClassVar[bool] = False
 
     def state(self, system: System, cond: Condition, q, qd, qdd, psi, extremes):
         """``(value, rate)``: the quantity whose sign or band decides the condition and its
@@ -322,6 +328,7 @@ class _Angle(ConditionKind):
     modulo 2π; it switches at times the schedule gives, not at a level of its value."""
 
     name = "angle"
+    scheduled = True
 
     def state(self, system, cond, q, qd, qdd, psi, extremes):
         return np.mod((psi - cond.bounds[0]) * _sense(system), 2 * np.pi), None
