@@ -16,7 +16,11 @@ Prints, for ``src/kinetostatics``:
   ``cached_property``, a write into ``__dict__`` or into a dict named ``*memo*``/``*cache*``
   (``system.memo``, the one documented per-system memo, apart), ``object.__setattr__``
   outside ``__post_init__``/``__setstate__``, a ``nonlocal`` (module-level
-  ``functools.cache`` on a pure function of its arguments is not counted: it hides nothing);
+  ``functools.cache`` on a pure function of its arguments is not counted: it hides nothing;
+  nor, for the same reason, the cam's last-pose memo, ``kept`` in ``joints/cam.py``
+  (:data:`KEYED_ON_INPUT`): a pure method's result kept for the last poses it was asked at,
+  keyed on the poses' whole bytes, left out of the joint's pickle, and documented in
+  docs/architecture.md, "What is computed once", as the one joint cache);
 - ``public_functions``: functions and classes that ``kinetostatics.__all__`` names, with
   their public methods, and how many have a typed signature and a numpydoc Parameters (or,
   with no parameter, Returns) section.
@@ -163,9 +167,17 @@ def _cache_name(node: ast.AST) -> str | None:
     return name if ("memo" in last or "cache" in last or last == "__dict__") else None
 
 
+# memos keyed on the whole input of a pure function: (module, function) — see the docstring
+KEYED_ON_INPUT = {("kinetostatics.joints.cam", "kept")}
+
+
 def _hidden_caches() -> list[tuple[str, int, str]]:
     found = []
+    keyed: set[tuple[str, int]] = set()
     for m, _path, tree in _modules():
+        for fn in ast.walk(tree):
+            if isinstance(fn, ast.FunctionDef) and (m, fn.name) in KEYED_ON_INPUT:
+                keyed |= {(m, n) for n in range(fn.lineno, fn.end_lineno + 1)}
         for fn in ast.walk(tree):
             if isinstance(fn, ast.ClassDef):
                 for item in fn.body:
@@ -194,7 +206,7 @@ def _hidden_caches() -> list[tuple[str, int, str]]:
                         and _cache_name(node.func.value)
                     ):
                         found.append((m, node.lineno, f"{func}(...)"))
-    return sorted(set(found))
+    return sorted({f for f in found if f[:2] not in keyed})
 
 
 def _has_numpydoc(obj) -> bool:

@@ -90,6 +90,36 @@ def test_no_joint_sniffing_outside_joints():
     assert not bad, "\n".join(bad)
 
 
+def test_no_law_sniffing_outside_model():
+    """Outside model/ no code asks a motion law for its class or probes its members: the
+    readers ask every law through :class:`kinetostatics.model.Law`."""
+    from kinetostatics import model
+    from kinetostatics.model import motion
+
+    types = (model.Law, model.MotionLaw, *motion.LAWS.values())
+    members = {f.name for cls in types[1:] for f in dataclasses.fields(cls)}
+    members |= {n for cls in types for n in vars(cls) if not n.startswith("__")}
+    only_some = members - set(dir(model.Law)) - set(model.Law.__annotations__)
+    bad = []
+    for rel, text in _modules():
+        if rel.startswith("model/"):
+            continue
+        for node in ast.walk(ast.parse(text)):
+            if not isinstance(node, ast.Call) or not isinstance(node.func, ast.Name):
+                continue
+            if node.func.id == "isinstance" and len(node.args) == 2:
+                names = {n.id for n in ast.walk(node.args[1]) if isinstance(n, ast.Name)}
+                if names & {cls.__name__ for cls in types}:
+                    bad.append(f"{rel}:{node.lineno}: isinstance on a motion-law class")
+            if node.func.id in ("hasattr", "getattr") and len(node.args) >= 2:
+                attr, obj = node.args[1], ast.unparse(node.args[0]).lower()
+                if not isinstance(attr, ast.Constant) or attr.value not in members:
+                    continue
+                if attr.value in only_some or "motion" in obj or "law" in obj:
+                    bad.append(f"{rel}:{node.lineno}: {node.func.id}(…, {attr.value!r}) on a law")
+    assert not bad, "\n".join(bad)
+
+
 def test_modules_stay_small():
     big = [
         f"{rel}: {text.count(chr(10))} lines"
@@ -158,7 +188,6 @@ LONG_FUNCTIONS = {
     "outputs/plotting/animate.py:_write": "the frames drawn and written, as GIF or MP4",
     "outputs/plotting/curves.py:output_motion": _S1,
     "outputs/plotting/curves.py:torque_curves": _S1,
-    "outputs/plotting/draw.py:_loads_at": "the loads' arrows at one row, a branch per load kind",
     "outputs/plotting/drive.py:torque_speed": _FIGURE,
     "outputs/plotting/energy.py:equivalent_moments": _FIGURE,
     "outputs/plotting/export.py:export_dxf": "the DXF drawing written entity by entity",

@@ -236,3 +236,28 @@ def test_undercut_and_bad_keys_are_model_errors():
     bad = SEPARATION.format(m=0.5, h=20, f0=-40, rpm=100.0, follower="rolller", radius="", y0=40)
     with pytest.raises(ModelError, match="follower must be knife, roller or flat, got 'rolller'"):
         ks.loads(bad)
+
+
+def test_the_profile_is_made_when_the_cam_is_built_and_only_the_last_poses_are_kept():
+    """What the profile derives from the cam's fields alone (the sense its pitch point
+    turns, the inversion tables, the outline drawn) is a field set when the synthesis is
+    built; the one thing kept later, Φ at the last poses, stays out of the pickle.  The
+    roller centre at cam angle 0, where the rise starts (lift 0), is on the prime circle:
+    |F| = √(e² + (√(r_p² − e²))²) = r_p = base + roller."""
+    import dataclasses
+    import pickle
+
+    model = ks.load(ROOT / "mechanisms" / "cam_roller.yaml")
+    cam = next(j for j in model.joints if j.kind == "cam")
+    s = cam.synthesis
+    assert {"turn", "inversion", "outline"} <= set(vars(s))
+    assert s.turn in (1.0, -1.0) and not isinstance(s.inversion, str)
+    profile, pitch = s.outline  # a roller: the profile and the pitch curve
+    assert math.hypot(*pitch[0]) == pytest.approx(s.base + s.radius, rel=1e-12)
+    assert np.all(np.hypot(*profile.T) < np.hypot(*pitch.T))  # the profile inside, by r
+    q = np.zeros(3)
+    cam.residual(q, np.array([0.0, s.base + s.radius + 0.01, 0.0]))
+    assert cam._memo and pickle.loads(pickle.dumps(cam))._memo == {}
+    # a batch stacks variants whose cam differs: built, its profile left to each variant
+    stacked = dataclasses.replace(s, base=np.array([[s.base], [1.1 * s.base]]))
+    assert stacked.inversion is None and stacked.outline is None

@@ -268,6 +268,61 @@ def test_yaml_round_trip(path):
             np.testing.assert_allclose(a.points[k], b.points[k], atol=1e-15)
 
 
+# -- the core every type implements and the optional parts it declares (joints/base.py) --
+# the members a type that declares a part must give itself (the rest keep their defaults)
+REQUIRED = {
+    "Presentation": {"letter", "anchors", "glyph"},
+    "Friction": {"has_friction", "friction_magnitude", "friction_gradient", "friction_constants"},
+    "Compiled": set(),
+    "Shaped": set(),
+}
+
+
+def _own_classes(cls):
+    """The type's own classes: those of its MRO that the base ``Joint`` does not have."""
+    from kinetostatics.joints.base import OPTIONAL_PARTS, Joint
+
+    return [c for c in cls.__mro__ if c not in Joint.__mro__ and c not in OPTIONAL_PARTS]
+
+
+@pytest.mark.parametrize("kind", sorted(JOINT_TYPES))
+def test_a_type_implements_the_core(kind):
+    """Every abstract member of the core is the type's own, and its class constants are set."""
+    from kinetostatics.joints.base import JointCore
+
+    cls = JOINT_TYPES[kind]
+    own = {n for c in _own_classes(cls) for n in vars(c)}
+    assert JointCore.__abstractmethods__ <= own, JointCore.__abstractmethods__ - own
+    assert cls.n_eq == len(SAMPLES[kind][0].residual(np.zeros(3), np.zeros(3)))
+    assert isinstance(cls.angular, bool) and cls.reaction_labels
+
+
+@pytest.mark.parametrize("kind", sorted(JOINT_TYPES))
+def test_a_type_gives_the_members_of_exactly_the_parts_it_declares(kind):
+    """A type names each optional part it gives among its bases (directly or through a
+    shared part such as the toothed pairs' ``MeshFriction``): it then gives that part's
+    required members itself, and it overrides no member of a part it does not name."""
+    from kinetostatics.joints.base import OPTIONAL_PARTS
+
+    cls = JOINT_TYPES[kind]
+    mine = _own_classes(cls)  # the type itself and a shared part such as MeshFriction
+    declared = {b for c in mine for b in c.__bases__ if b in OPTIONAL_PARTS}
+    assert set(REQUIRED) == {p.__name__ for p in OPTIONAL_PARTS}
+    for part in OPTIONAL_PARTS:
+        members = {n for n in vars(part) if not n.startswith("__")}
+        given = {n for c in _own_classes(cls) for n in vars(c) if n in members}
+        if part in declared:
+            assert REQUIRED[part.__name__] <= given, (
+                part.__name__,
+                REQUIRED[part.__name__] - given,
+            )
+            assert given, f"{kind} declares {part.__name__} but gives none of its members"
+        else:
+            assert not given, (
+                f"{kind} gives {sorted(given)} of {part.__name__} without declaring it"
+            )
+
+
 # -- the hooks the rest of the code asks (pictures, report, sketch, dump) ---------------
 def test_letters_are_one_character_and_distinct():
     letters = [cls.letter for cls in JOINT_TYPES.values()]

@@ -104,3 +104,36 @@ def test_angle_band_runs_in_the_sense_of_motion():
         if e.load == "brake"
     ]
     assert events == [("on", 300.0), ("off", 60.0)]
+
+
+def test_every_load_and_condition_kind_the_loader_accepts_has_its_entry():
+    """Each kind a file may name is one entry of kinetics/kinds.py, and what the entry says
+    of itself agrees with what it does: a couple kind applies a couple only, a force kind a
+    force only, a kind that opposes a rate has one.  A resisting torque of 5 N·m on the
+    crank turning at +2 and −3 rad/s is −5 and +5 N·m; held on a piece where the crank
+    turns forwards it is a torque of −5 N·m without conditions."""
+    from kinetostatics.io.loads import CONDITION_TYPES, LOAD_TYPES
+    from kinetostatics.kinetics.kinds import CONDITION_KINDS, LOAD_KINDS
+    from kinetostatics.model import Condition, Load
+
+    assert sorted(LOAD_KINDS) == sorted(LOAD_TYPES)
+    assert sorted(CONDITION_KINDS) == sorted(CONDITION_TYPES)
+    r = ks.analyze(ks.load("mechanisms/slider_crank.yaml"), positions=[0.3, 0.3])
+    system, q, qd = r.system, r.q, r.qd.copy()
+    k = system.link_index("crank")
+    qd[:, 3 * k + 2] = [2.0, -3.0]
+    axis = np.array([1.0, 0.0])
+    for name, kind in LOAD_KINDS.items():
+        load = Load("L", name, "crank", 5.0 if kind.couple else axis, "A", axis)
+        force, couple = kind.applied(system, load, q, qd, load.value_at(r.coordinate, None), 1.0)
+        assert (couple is not None) == kind.couple, name
+        assert (force is None) == kind.couple, name
+        assert (kind.rate(system, load, q, qd)[0] is not None) == kind.opposes, name
+    for name, kind in CONDITION_KINDS.items():  # switches by level, or by the schedule
+        cond = Condition(name, "crank", "A", axis, (0.0, 1.0))
+        assert bool(kind.levels(cond)) != kind.scheduled, name
+    rt = LOAD_KINDS["resisting_torque"]
+    load = Load("M", "resisting_torque", "crank", 5.0)
+    np.testing.assert_array_equal(rt.applied(system, load, q, qd, 5.0, 1.0)[1], [-5.0, 5.0])
+    (held,) = rt.held(system, load, 1.0)
+    assert (held.kind, held.value, held.active) == ("torque", -5.0, ())

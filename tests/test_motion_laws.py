@@ -228,3 +228,36 @@ def test_a_law_on_a_prismatic_driver_follows_the_chain_rule():
     np.testing.assert_allclose(law.q, const.q, atol=1e-12)
     np.testing.assert_allclose(law.qd, jac * sd[:, None], atol=1e-12)
     np.testing.assert_allclose(law.qdd, jac * sdd[:, None] + hess * (sd**2)[:, None], atol=1e-10)
+
+
+def test_the_reference_speed_is_a_field_taken_from_the_law_at_construction():
+    """ψ = t − 2t² on [0, 1]: ψ̇ = 1 − 4t, largest |ψ̇| = 3 at t = 1, first motion forwards
+    (+3); over [0, 2] the largest is 7.  A table through (0, 0), (1, 1), (2, 0): the
+    not-a-knot spline is the parabola t(2 − t), ψ̇ = 2 − 2t, largest |ψ̇| = 2, forwards.
+    The value is kept as a field (no cache filled on first use): it is in the law's
+    ``__dict__`` as built, and a replaced law has its own."""
+    import dataclasses
+    import pickle
+
+    from kinetostatics.model.motion import TableLaw
+
+    law = PolynomialLaw((0.0, 1.0, -2.0), 1.0)
+    assert "speed" in vars(law)
+    assert law.speed == pytest.approx(3.0, rel=1e-12)
+    assert dataclasses.replace(law, duration=2.0).speed == pytest.approx(7.0, rel=1e-12)
+    assert pickle.loads(pickle.dumps(law)).speed == pytest.approx(3.0, rel=1e-12)
+    table = TableLaw((0.0, 1.0, 2.0), (0.0, 1.0, 0.0))
+    assert "speed" in vars(table)
+    assert table.speed == pytest.approx(2.0, rel=1e-12)
+    assert {f.name for f in dataclasses.fields(law) if not f.init} == {"speed"}
+    # a batch stacks variants whose law differs (model/stacking.py): the stacked law is
+    # built, and left to the per-variant analysis
+    from kinetostatics.model.stacking import stack
+
+    m = ks.load("mechanisms/slider_crank.yaml")
+    laws = (law, PolynomialLaw((0.0, 1.5, -2.0), 1.0))
+    models = [
+        dataclasses.replace(m, drivers=(dataclasses.replace(m.drivers[0], motion=x),)) for x in laws
+    ]
+    stacked = stack(models).drivers[0].motion
+    assert stacked.speed is None and np.shape(stacked.coefficients[1]) == (2, 1)

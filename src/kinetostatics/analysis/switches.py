@@ -152,33 +152,19 @@ def reversal_rates(result: Result) -> list:
     ``resistance`` whose point's velocity along its axis, a ``resisting_torque`` whose
     angular velocity changes sign: switching events too), at the edges of the zero-speed
     band (:func:`dead_band`)."""
-    from ..kinematics.state import local_point, point_state
-    from ..kinetics.forces import resisting_torque_other
+    from ..kinetics.kinds import LOAD_KINDS
 
     system = result.system
     rates = []
     for load in system.model.loads:
-        if load.kind not in ("resistance", "resisting_torque"):
+        kind = LOAD_KINDS[load.kind]
+        if not kind.opposes:
             continue
-        k = system.link_index(load.link)
-        if load.kind == "resisting_torque":
-            other = resisting_torque_other(system, load)
 
-            def f(q, qd, qdd, k=k, other=other):
-                w, a = qd[..., 3 * k + 2], qdd[..., 3 * k + 2]
-                if other is not None:
-                    w, a = w - qd[..., 3 * other + 2], a - qdd[..., 3 * other + 2]
-                return w, a
+        def f(q, qd, qdd, load=load, kind=kind):
+            return kind.rate(system, load, q, qd, qdd)
 
-            rates += dead_band(result, f, True)
-        else:
-            p = local_point(system, load.link, load.point)
-
-            def f(q, qd, qdd, k=k, p=p, axis=load.axis):
-                _, vel, acc = point_state(q, qd, qdd, k, p)
-                return vel @ axis, acc @ axis
-
-            rates += dead_band(result, f, False)
+        rates += dead_band(result, f, kind.couple)
     return rates
 
 
@@ -206,13 +192,14 @@ def condition_rates(result: Result) -> list:
     slowly — a follower after a cam's dwell — only up to 1e-4 s later."""
     from ..kinematics.schedule import schedule
     from ..kinetics.conditions import ZERO_SPEED, condition_state
+    from ..kinetics.kinds import CONDITION_KINDS
 
     system = result.system
     band = ZERO_SPEED * float(schedule(system).reference) * float(system.l_ref)
     rates: list = []
     for load in system.model.loads:
         for c in load.active:
-            if c.kind == "moving":
+            if CONDITION_KINDS[c.kind].at_rest_band:
 
                 def x(q, qd, qdd, c=c):
                     return condition_state(system, c, q, qd, qdd, None, result.extremes)

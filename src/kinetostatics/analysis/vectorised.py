@@ -39,7 +39,8 @@ from ..kinematics.start import (
 )
 from ..kinetics.conditions import travel_extremes_stacked
 from ..kinetics.inverse import inverse_dynamics
-from ..model import Model, MotionLaw
+from ..kinetics.kinds import CONDITION_KINDS, LOAD_KINDS
+from ..model import Model
 from ..model.stacking import is_stacked, stack, subset
 from ..structure.system import System, build_system
 
@@ -91,11 +92,7 @@ def _schedule(system: System) -> Schedule:
     if len(drivers) != 1 or system.structure.mobility != 1:
         raise Unsupported("more than one motion driver")
     motion = drivers[0].driver.motion
-    if (
-        not isinstance(motion, MotionLaw)
-        or getattr(motion, "acceleration", 0.0)
-        or getattr(motion, "start", None) is not None
-    ):
+    if motion.own_run or motion.acceleration or motion.start is not None:
         raise Unsupported("a motion law other than constant speed")
     speed = motion.speed
     start = model.analysis.start
@@ -168,10 +165,11 @@ def _check_supported(sm: Model, friction: bool) -> None:
     for load in sm.loads:
         if load.table is not None:
             at, vals = load.table
-            if np.ndim(at) > 1 or np.ndim(vals) > (2 if load.kind == "force" else 1):
+            if np.ndim(at) > 1 or np.ndim(vals) > (2 if LOAD_KINDS[load.kind].vector else 1):
                 raise Unsupported(f"the table of load '{load.name}' differs between variants")
         if is_stacked(load.axis) or any(
-            is_stacked(c.axis) or c.kind == "angle" and is_stacked(c.bounds) for c in load.active
+            is_stacked(c.axis) or CONDITION_KINDS[c.kind].scheduled and is_stacked(c.bounds)
+            for c in load.active
         ):
             raise Unsupported(
                 f"the directions or angle band of load '{load.name}' differ between variants"

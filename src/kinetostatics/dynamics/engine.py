@@ -25,6 +25,7 @@ from ..kinetics.conditions import ZERO_SPEED, travel_extremes
 from ..kinetics.elements import element_states
 from ..kinetics.forces import mass_vector
 from ..kinetics.inverse import kinetics
+from ..kinetics.kinds import LOAD_KINDS
 from ..kinetics.reactions import effort_joints
 from ..model import Model, MotionLaw
 from ..structure.system import System, build_system, coordinate_gradient
@@ -142,9 +143,7 @@ class Dynamics:
         self.friction = (
             bool(model.has_friction if friction is None else friction) and model.has_friction
         )
-        self.coulomb = self.friction or any(
-            load.kind in ("resistance", "resisting_torque") for load in model.loads
-        )
+        self.coulomb = self.friction or any(LOAD_KINDS[load.kind].opposes for load in model.loads)
         if self.friction and (self.n_f != 1 or motion):
             raise StructureError(
                 [

@@ -39,7 +39,7 @@ from ..base.arguments import real_number
 from ..errors import AssemblyError, Location, StructureError
 from ..kinematics.schedule import schedule
 from ..kinetics.reactions import effort_ratio
-from ..model import EffortLaw, Model, MotionLaw
+from ..model import EffortLaw, Model
 from ..structure.system import System, build_system
 from .reduced import equivalent, equivalent_inertia, with_effort
 
@@ -145,7 +145,7 @@ def _one_dof(system: System):
         len(drivers) != 1
         or system.structure.mobility != 1
         or not drivers[0].joint.angular
-        or not isinstance(drivers[0].driver.motion, MotionLaw)
+        or drivers[0].driver.motion.own_run
     ):
         raise StructureError(
             [

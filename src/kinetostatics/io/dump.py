@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 import yaml
 
-from ..model import Condition, EffortLaw, Element, Load, Model, MotionLaw
+from ..model import Condition, EffortLaw, Element, Load, Model
 
 __all__ = ["dump"]
 
@@ -136,11 +136,7 @@ def dump(model: Model) -> str:
         for d in model.drivers:
             spec = {"joint": d.joint}
             if d.motion is not None:
-                spec["motion"] = (
-                    {"speed": d.motion.speed}
-                    if isinstance(d.motion, MotionLaw)
-                    else d.motion.to_spec()
-                )
+                spec["motion"] = d.motion.to_spec()
             if isinstance(d.effort, EffortLaw):
                 spec["effort"] = _effort_spec(d.effort)
             elif d.effort is not None:
@@ -158,7 +154,7 @@ def dump(model: Model) -> str:
         doc["sketch"] = {k: [float(c) for c in v] for k, v in model.sketch.items()}
     a = model.analysis
     motion = [d for d in model.drivers if d.motion is not None]
-    if motion and not isinstance(motion[0].motion, MotionLaw):  # the law fixes start and span
+    if motion and motion[0].motion.own_run:  # the law fixes start and span
         doc["analysis"] = {"positions": a.positions, "events": a.events}
     else:
         doc["analysis"] = {

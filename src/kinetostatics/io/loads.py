@@ -8,9 +8,10 @@ import numpy as np
 from ..base.keys import NAME, NUMBER, VECTOR, Keys, enum, list_of, one_of
 from ..base.spec import Entry
 from ..errors import Location, did_you_mean
-from ..model import Condition, Load, MotionLaw
+from ..model import Condition, Load
 
-LOAD_TYPES = ("force", "torque", "resistance", "resisting_torque")
+LOAD_TYPES = ("force", "torque", "resistance", "resisting_torque")  # each: kinetics.kinds
+CONDITION_TYPES = ("moving", "travel", "angle")  # the keys that name a condition's kind
 CONDITION_KEYS = Keys(
     {"moving": VECTOR, "travel": VECTOR, "along": VECTOR, "angle": VECTOR, "point": NAME}
 )
@@ -232,7 +233,7 @@ class LoadSections:
         for c in items:
             if not c.check(CONDITION_KEYS):
                 return None
-            kinds = [k for k in ("moving", "travel", "angle") if c.get(k) is not None]
+            kinds = [k for k in CONDITION_TYPES if c.get(k) is not None]
             if not kinds:
                 c.error("a condition needs one of: moving, travel, angle")
                 return None
@@ -283,7 +284,7 @@ class LoadSections:
                         c["angle"].error("an angle condition needs a motion driver")
                     return None
                 first = next(d for d in drivers if d.motion is not None)
-                if not isinstance(first.motion, MotionLaw):
+                if first.motion.own_run:
                     c["angle"].error(
                         f"an angle condition needs a constant-speed driver; "
                         f"'{first.name}' follows a {first.motion.kind} law (use a "

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..model import EffortLaw, Model, MotionLaw
+from ..model import EffortLaw, Model
 
 __all__ = [
     "MAX_LINK",
@@ -84,7 +84,7 @@ def magnitude_warnings(model: Model) -> list[str]:
             )
     for d in model.drivers:
         where = _where(model, d.where, f"drivers.{d.name}")
-        if isinstance(d.motion, MotionLaw) and np.ndim(d.motion.speed) == 0:
+        if d.motion is not None and not d.motion.own_run and np.ndim(d.motion.speed) == 0:
             rpm = abs(float(d.motion.speed)) * 30.0 / np.pi
             if rpm > MAX_RPM and _angular(model, d.joint):
                 out.append(

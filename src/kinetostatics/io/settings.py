@@ -10,7 +10,7 @@ from ..base.keys import BOOLEAN, NUMBER, Keys, list_of, whole
 from ..base.limits import MAX_POSITIONS, MAX_TRAVEL, MAX_TURNS
 from ..base.spec import Entry
 from ..errors import did_you_mean
-from ..model import Analysis, Driver, FlywheelSpec, MotionLaw
+from ..model import Analysis, Driver, FlywheelSpec
 
 FLYWHEEL_KEYS = Keys({"delta": NUMBER, "ratio": NUMBER, "friction": BOOLEAN}, required=("delta",))
 ANALYSIS_KEYS = Keys(
@@ -91,7 +91,7 @@ class SettingSections:
     def _analysis(self, joints, drivers, links=()) -> Analysis:
         a = self.top.get("analysis")
         motion = [d for d in drivers if d.motion is not None]
-        if motion and not isinstance(motion[0].motion, MotionLaw):
+        if motion and motion[0].motion.own_run:
             return self._law_analysis(a, motion[0])
         if a is None or not a.check(ANALYSIS_KEYS):
             return Analysis()

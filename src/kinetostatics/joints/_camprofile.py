@@ -31,12 +31,13 @@ in the cam's frame is ν = β_N − σθ.
 
 from __future__ import annotations
 
+import dataclasses
 import math
-from dataclasses import dataclass
-from functools import cached_property
+from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..base.geometry import perp
 from ._camlaw import CamLaw
 
 __all__ = ["Synthesis"]
@@ -49,6 +50,16 @@ NEWTON = 6  # Newton steps of the inversion
 
 def _wrap(a):
     return (a + math.pi) % (2.0 * math.pi) - math.pi
+
+
+def _stacked(x) -> bool:
+    """Whether ``x`` holds variants on an axis (arrays where numbers were: a model stacked
+    by ``model/stacking.py``), whose profile only the per-variant analysis makes."""
+    if dataclasses.is_dataclass(x):
+        return any(_stacked(getattr(x, f.name)) for f in dataclasses.fields(x) if f.compare)
+    if isinstance(x, (tuple, list)):
+        return any(_stacked(v) for v in x)
+    return np.ndim(x) > 0
 
 
 @dataclass(frozen=True)
@@ -65,6 +76,33 @@ class Synthesis:
     pivot: tuple[float, float] | None  # oscillating: A
     arm: float  # oscillating point follower: L
     kappa: int  # oscillating: +1 the rise turns the arm ccw
+    # from the fields above, once (__post_init__): β₀ (or why there is none), the sense
+    # in which the pitch point turns, the inversion tables (or why there are none), the
+    # outline drawn; None where the follower cannot be placed or the fields are stacked
+    _beta0: float | str | None = field(default=None, init=False, repr=False, compare=False)
+    turn: float | None = field(default=None, init=False, repr=False, compare=False)
+    inversion: tuple | str | None = field(default=None, init=False, repr=False, compare=False)
+    outline: tuple | None = field(default=None, init=False, repr=False, compare=False)
+
+    def __post_init__(self):
+        if _stacked(self):
+            return
+        if self.pivot is not None:
+            object.__setattr__(self, "_beta0", self._placement())
+        if self.placement_problem():
+            return
+        object.__setattr__(self, "turn", self._turn())
+        object.__setattr__(self, "inversion", self.tables())
+        if not isinstance(self.inversion, str):
+            object.__setattr__(self, "outline", self._outline())
+
+    def placement_problem(self) -> str:
+        """Why the follower cannot be placed ('' if it can)."""
+        if self.pivot is not None and isinstance(self.beta0(), str):
+            return self.beta0()
+        if self.pivot is None and not self.flat and abs(self.offset) >= self.base + self.radius:
+            return "the offset must be smaller than the prime radius (base radius + roller)"
+        return ""
 
     @property
     def flat(self) -> bool:
@@ -75,8 +113,7 @@ class Synthesis:
         """β₀ of an oscillating follower, or a message why there is none."""
         return self._beta0
 
-    @cached_property
-    def _beta0(self) -> float | str:
+    def _placement(self) -> float | str:
         A = np.asarray(self.pivot, float)
         a, ang = math.hypot(*A), math.atan2(A[1], A[0])
         if self.flat:
@@ -211,11 +248,25 @@ class Synthesis:
         segment, however narrow, falls between the samples."""
         return self._grid(math.inf)
 
-    @cached_property
-    def turn(self) -> float:
+    def _turn(self) -> float:
         """+1 if a grows with θ, −1 if it falls."""
         a, a1 = self.angle(np.array([0.0]))
         return 1.0 if a1[0] > 0 else -1.0
+
+    def _outline(self):
+        """The profile and (roller) pitch curve over 360 cam angles, cam frame."""
+        s = self
+        th = np.linspace(0.0, 2 * math.pi, 361)[:-1]
+        if s.flat:
+            nu, nu1, _, h, h1, _ = s.support(th)
+            N = np.stack((np.cos(nu), np.sin(nu)), axis=-1)
+            return ((h1 / nu1)[:, None] * perp(N) + h[:, None] * N,)
+        r, P = s.pitch(th)
+        pitch = np.stack((P.real, P.imag), axis=-1)
+        e = pitch / np.abs(P)[:, None]
+        n = e - (r[5] / r[1])[:, None] * perp(e)  # e − (R′/R) t
+        n /= np.hypot(n[:, 0], n[:, 1])[:, None]
+        return (pitch - s.radius * n, pitch) if s.radius else (pitch,)
 
     def tables(self):
         """(θ_k, b_k = sgn(a − a₀) unwrapped, a₀, I_k the cumulative integral), or a message."""

@@ -13,6 +13,7 @@ import math
 import numpy as np
 
 from ..base.keys import NUMBER, Keys, enum
+from .base import Friction
 
 __all__ = [
     "FLANKS",
@@ -149,9 +150,10 @@ def _friction_kernel(par, x, rows, out):
             out[m, p] = c * abs(x[p, a])
 
 
-class MeshFriction:
-    """Friction of a toothed pair as a mesh efficiency; the pair keeps ``loss`` = 1 − η
-    and its pressure angle ``alpha`` (rad).  Put it before ``Joint`` in the bases."""
+class MeshFriction(Friction):
+    """Friction of a toothed pair as a mesh efficiency (the :class:`~.base.Friction` part);
+    the pair keeps ``loss`` = 1 − η and its pressure angle ``alpha`` (rad).  Put it before
+    ``Joint`` in the bases."""
 
     friction_kernel = staticmethod(_friction_kernel)
 

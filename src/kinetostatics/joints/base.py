@@ -17,12 +17,14 @@ link j.  The *relative coordinate* of a joint (``coordinate``) is what a
 driver prescribes and what friction opposes: θ_j − θ_i for a revolute, the
 sliding distance for a prismatic pair.
 
-Beyond the maths, a type describes itself to the rest of the code through the
-hooks at the end of ``Joint`` (``letter``, ``reports_stroke``, ``reports_swing``, ``pin``,
-``anchors``, ``glyph``, ``label``, ``describe``, ``friction_constants``), so
-that no module outside ``joints/`` needs to ask a joint for its class or
-probe its attributes.  All have defaults: a type that only computes works,
-with no picture and no report text of its own.
+The contract is a small core every pair implements (:class:`JointCore`: its rows of Φ,
+their derivatives, its reaction, its relative coordinate, its YAML keys) and optional
+parts, each with defaults (:class:`Presentation` for the outputs, the sketch and the dump;
+:class:`Friction`; :class:`Compiled`, evaluation in sets and compiled kernels;
+:class:`Shaped`, a geometry built once).  :class:`Joint` is the core with every part's
+defaults, so that no module outside ``joints/`` needs to ask a joint for its class or probe
+its attributes, and a type that only computes works, with no picture and no report text of
+its own.  A type names the parts it gives among its bases (docs/extending.md).
 """
 
 from __future__ import annotations
@@ -44,6 +46,12 @@ if TYPE_CHECKING:
 
 __all__ = [
     "Joint",
+    "JointCore",
+    "Presentation",
+    "Friction",
+    "Compiled",
+    "Shaped",
+    "OPTIONAL_PARTS",
     "JOINT_TYPES",
     "joint_type",
     "Anchor",
@@ -218,9 +226,24 @@ AXIS_KEYS = Keys(
 )
 
 
+def _per_joint(joint, fields, k: int) -> np.ndarray | None:
+    """The fields ``(name, size)`` as one row per joint of ``k``, or None where they
+    are not one value per joint (or there are none)."""
+    parts = []
+    for f, size in fields:
+        v = np.asarray(getattr(joint, f), dtype=float)
+        if v.size != k * size:
+            return None
+        parts.append(v.reshape(k, size))
+    return np.ascontiguousarray(np.concatenate(parts, axis=1)) if parts else None
+
+
 @dataclass(frozen=True)
-class Joint(ABC):
-    """Kinematic pair between links ``links = (i, j)``; one subclass per type.
+class JointCore(ABC):
+    """What every pair is: its rows of Φ, their derivatives, its reaction and its relative
+    coordinate.  The kinematics, the reactions, the drivers and friction's effort call
+    these; a type implements the abstract ones (``coordinate_bias``, ``relative_speed`` and
+    ``effort_force`` have defaults for a coordinate linear in q and a couple).
 
     Subclasses declare ``kind`` (their YAML ``type``), ``n_eq`` and
     ``reaction_labels``, parse their own keys in ``from_spec`` and implement
@@ -231,10 +254,6 @@ class Joint(ABC):
     n_eq: ClassVar[int]
     reaction_labels: ClassVar[tuple[str, ...]]
     angular: ClassVar[bool]  # relative coordinate is an angle (rad) or a length (m)
-    letter: ClassVar[str] = "?"  # pair letter in Assur-group labels such as RRP (one character)
-    reports_stroke: ClassVar[bool] = False  # undriven: its stroke and time ratio are an output
-    reports_swing: ClassVar[bool] = False  # undriven, on the frame: swing angle and time ratio
-    pin: ClassVar[bool] = False  # drawn as a pin at glyph().point; a bearing (polar diagrams)
     # the keys of ``joints.<name>`` that from_spec checks, with their shapes (base/keys.py):
     # the JSON Schema of a mechanism file is made from them; None: any keys
     spec_keys: ClassVar[Keys | None] = None
@@ -289,95 +308,6 @@ class Joint(ABC):
     def reaction(self, lam: np.ndarray, qi: np.ndarray, qj: np.ndarray) -> dict[str, np.ndarray]:
         """λ block ``(..., n_eq)`` -> labelled components of the force of i on j."""
 
-    # the fields ``stack`` stacks: vectors (..., 2) and scalars; none: evaluated one by one
-    stacked_vectors: ClassVar[tuple[str, ...]] = ()
-    stacked_scalars: ClassVar[tuple[str, ...]] = ()
-
-    @classmethod
-    def stack(cls, joints: Sequence[Joint]) -> Joint | None:
-        """One joint of this type standing for ``joints`` (all of this type), or None: each
-        is evaluated on its own (a type that declares no ``stacked_vectors`` or
-        ``stacked_scalars``).
-
-        Its ``stacked_vectors`` are the joints' own, stacked on a new axis before their
-        last (:func:`stack_vectors`: ``(..., k, 2)``), its ``stacked_scalars`` on a new
-        last axis (:func:`stack_scalars`: ``(..., k)``); they must be every field that
-        ``residual``, ``jacobian`` and ``acceleration_rhs`` read, so that at poses
-        ``(..., k, 5)`` these give the k joints' values on that axis (``(..., k, n_eq)``,
-        ``(..., k, n_eq, 3)``), each equal to the joint's own to the bit.  The system
-        evaluates all a type's joints in one call so (``structure/evaluation.py``);
-        nothing else is called on the stack."""
-        if not (cls.stacked_vectors or cls.stacked_scalars):
-            return None
-        fields = {f: stack_vectors([getattr(j, f) for j in joints]) for f in cls.stacked_vectors}
-        fields |= {f: stack_scalars([getattr(j, f) for j in joints]) for f in cls.stacked_scalars}
-        return replace(joints[0], name="+".join(j.name for j in joints), **fields)
-
-    # the compiled backend's kernels (base/kernels.py): plain functions over the positions,
-    # the same operations in the same order as ``jacobian``, ``acceleration_rhs``,
-    # ``motion_direction`` and ``coordinate_bias``; None: those are evaluated by NumPy
-    jacobian_kernel: ClassVar[Callable | None] = None  # (par, P, ends, ji, jj)
-    gamma_kernel: ClassVar[Callable | None] = None  # (par, P, V, ends, out)
-    direction_kernel: ClassVar[Callable | None] = None  # (par, P, ends, gi, gj)
-    bias_kernel: ClassVar[Callable | None] = None  # (par, P, V, ends, out)
-
-    friction_kernel: ClassVar[Callable | None] = None  # (par, x, rows, out): friction_magnitude
-
-    def kernel_params(self, k: int) -> np.ndarray | None:
-        """What the kernels read of this joint, or of a stack of ``k``: its
-        ``stacked_vectors`` then its ``stacked_scalars`` per joint, ``(k, m)``; None where
-        they are not one value per joint (stacked variants: evaluated by NumPy)."""
-        return self._per_joint(
-            [(f, 2) for f in self.stacked_vectors] + [(f, 1) for f in self.stacked_scalars], k
-        )
-
-    def friction_kernel_params(self, k: int) -> np.ndarray | None:
-        """What ``friction_kernel`` reads of this joint or of a stack of ``k`` (a
-        ``stack_friction``): its ``friction_scalars`` per joint, ``(k, m)``, or None."""
-        return self._per_joint([(f, 1) for f in self.friction_scalars], k)
-
-    def _per_joint(self, fields, k: int) -> np.ndarray | None:
-        """The fields ``(name, size)`` as one row per joint of ``k``, or None where they
-        are not one value per joint (or there are none)."""
-        parts = []
-        for f, size in fields:
-            v = np.asarray(getattr(self, f), dtype=float)
-            if v.size != k * size:
-                return None
-            parts.append(v.reshape(k, size))
-        return np.ascontiguousarray(np.concatenate(parts, axis=1)) if parts else None
-
-    def kernels(self, k: int) -> Kernels | None:
-        """This joint's (or stack of ``k``'s) compiled Φ_q and γ with its parameters bound,
-        or None: evaluated by NumPy (a type without kernels, stacked variants)."""
-        cls = type(self)
-        par = self.kernel_params(k)
-        if cls.jacobian_kernel is None or cls.gamma_kernel is None or par is None:
-            return None
-        jac, gam = compiled(cls.jacobian_kernel), compiled(cls.gamma_kernel)
-        return Kernels(
-            lambda P, ends, ji, jj: jac(par, P, ends, ji, jj),
-            lambda P, V, ends, extra, out: gam(par, P, V, ends, out),
-        )
-
-    # the fields ``friction_magnitude`` reads, stacked by ``stack_friction``; none: one by one
-    friction_scalars: ClassVar[tuple[str, ...]] = ()
-
-    @classmethod
-    def stack_friction(cls, joints: Sequence[Joint]) -> Joint | None:
-        """One joint of this type standing for ``joints`` in ``friction_magnitude``, or
-        None: each is evaluated on its own (a type that declares no ``friction_scalars``).
-
-        Its ``friction_scalars`` are the joints' own on a new last axis (:func:`stack_scalars`,
-        ``(..., k)``); they must be every field ``friction_magnitude`` reads, so that for
-        reactions ``(..., k, n_eq)`` and poses ``(..., k, 5)`` it gives the k joints'
-        magnitudes ``(..., k)``, each equal to the joint's own to the bit.  The friction
-        solutions evaluate all a type's efforts in one call so (``kinetics/friction.py``)."""
-        if not cls.friction_scalars:
-            return None
-        fields = {f: stack_scalars([getattr(j, f) for j in joints]) for f in cls.friction_scalars}
-        return replace(joints[0], name="+".join(j.name for j in joints), **fields)
-
     # -- the relative coordinate (drivers, friction, efforts) ----------------
     @abstractmethod
     def coordinate(self, qi: np.ndarray, qj: np.ndarray) -> np.ndarray:
@@ -415,45 +345,17 @@ class Joint(ABC):
         """
         return {}
 
-    # -- friction -----------------------------------------------------------
-    @property
-    def has_friction(self) -> bool:
-        return False
 
-    def friction_magnitude(self, lam: np.ndarray, qi: np.ndarray, qj: np.ndarray) -> np.ndarray:
-        """|friction effort| from the reaction λ: ρ|F| or f|N|; zeros without friction."""
-        return np.zeros(lam.shape[:-1])
+class Presentation:
+    """Optional: what the outputs, the sketch and the dump ask of a pair, so that they never
+    ask for its class.  The defaults draw nothing and write no text: a pair that only
+    computes has no picture and no report text of its own (pair letter ``?``)."""
 
-    def friction_gradient(self, lam: np.ndarray, qi: np.ndarray, qj: np.ndarray) -> np.ndarray:
-        """∂ friction_magnitude / ∂λ, ``(..., n_eq)`` (for Newton on the consistent solution)."""
-        return np.zeros(lam.shape)
+    letter: ClassVar[str] = "?"  # pair letter in Assur-group labels such as RRP (one character)
+    reports_stroke: ClassVar[bool] = False  # undriven: its stroke and time ratio are an output
+    reports_swing: ClassVar[bool] = False  # undriven, on the frame: swing angle and time ratio
+    pin: ClassVar[bool] = False  # drawn as a pin at glyph().point; a bearing (polar diagrams)
 
-    def motion_breaks(self, qi: np.ndarray, qj: np.ndarray) -> np.ndarray:
-        """Values whose sign changes mark where a derivative of the pair's constraint jumps
-        along the motion (a cam law's segment ends), ``(..., m)``: the cycle's quadrature
-        is cut there.  None by default (``m = 0``)."""
-        return np.zeros(np.broadcast_shapes(qi.shape[:-1], qj.shape[:-1]) + (0,))
-
-    def friction_kinks(self, lam: np.ndarray, qi: np.ndarray, qj: np.ndarray) -> np.ndarray:
-        """The arguments of the absolute values in ``friction_magnitude``, ``(..., m)``: where
-        one changes sign the friction law has a kink, and the cycle's quadrature is cut
-        there (a normal force through zero).  None by default (``m = 0``); a smooth law
-        such as ρ|F| of a pin, whose |F| only vanishes with both components, has none."""
-        return np.zeros(lam.shape[:-1] + (0,))
-
-    def friction_constants(self) -> tuple[Any, ...]:
-        """The constants ``friction_magnitude`` reads (ρ, f, 1 − η …), for a caller that
-        must know whether they differ between stacked variants; () without friction."""
-        return ()
-
-    def shape_constants(self) -> tuple[Any, ...]:
-        """The constants the pair builds its geometry from once (a cam's profile,
-        synthesised from its law and dimensions), which a stacked model cannot carry on a
-        variant axis: the vectorised analysis leaves variants where they differ to the
-        per-variant one.  () by default (constants that broadcast)."""
-        return ()
-
-    # -- what the rest of the code may ask (pictures, report, sketch, dump) -----
     def anchors(self) -> tuple[Anchor, ...]:
         """The named points of the links this pair ties, in a fixed order (link i's first).
 
@@ -490,6 +392,149 @@ class Joint(ABC):
         those that need the reaction.  None by default (a cam's pressure angle, its status)."""
         return {}
 
+    def warnings(self, lam: np.ndarray, qi: np.ndarray, qj: np.ndarray) -> tuple[str, ...]:
+        """Messages about a result at the poses (rows) ``qi``, ``qj`` with the frictionless
+        λ block ``lam``, warned by the analysis (a cam follower that would separate)."""
+        return ()
+
+
+class Friction:
+    """Optional: a friction law μ(λ) ≥ 0 of the pair, the effort −sign(ċ)·μ along its
+    relative coordinate (``kinetics/friction.py``), its kinks for the cycle's quadrature
+    (``analysis/switches.py``), its constants for the vectorised batch, its stack and its
+    compiled kernel for the friction solutions.  The defaults: no friction."""
+
+    @property
+    def has_friction(self) -> bool:
+        return False
+
+    def friction_magnitude(self, lam: np.ndarray, qi: np.ndarray, qj: np.ndarray) -> np.ndarray:
+        """|friction effort| from the reaction λ: ρ|F| or f|N|; zeros without friction."""
+        return np.zeros(lam.shape[:-1])
+
+    def friction_gradient(self, lam: np.ndarray, qi: np.ndarray, qj: np.ndarray) -> np.ndarray:
+        """∂ friction_magnitude / ∂λ, ``(..., n_eq)`` (for Newton on the consistent solution)."""
+        return np.zeros(lam.shape)
+
+    def friction_kinks(self, lam: np.ndarray, qi: np.ndarray, qj: np.ndarray) -> np.ndarray:
+        """The arguments of the absolute values in ``friction_magnitude``, ``(..., m)``: where
+        one changes sign the friction law has a kink, and the cycle's quadrature is cut
+        there (a normal force through zero).  None by default (``m = 0``); a smooth law
+        such as ρ|F| of a pin, whose |F| only vanishes with both components, has none."""
+        return np.zeros(lam.shape[:-1] + (0,))
+
+    def friction_constants(self) -> tuple[Any, ...]:
+        """The constants ``friction_magnitude`` reads (ρ, f, 1 − η …), for a caller that
+        must know whether they differ between stacked variants; () without friction."""
+        return ()
+
+    # the fields ``friction_magnitude`` reads, stacked by ``stack_friction``; none: one by one
+    friction_scalars: ClassVar[tuple[str, ...]] = ()
+
+    @classmethod
+    def stack_friction(cls, joints: Sequence[Joint]) -> Joint | None:
+        """One joint of this type standing for ``joints`` in ``friction_magnitude``, or
+        None: each is evaluated on its own (a type that declares no ``friction_scalars``).
+
+        Its ``friction_scalars`` are the joints' own on a new last axis (:func:`stack_scalars`,
+        ``(..., k)``); they must be every field ``friction_magnitude`` reads, so that for
+        reactions ``(..., k, n_eq)`` and poses ``(..., k, 5)`` it gives the k joints'
+        magnitudes ``(..., k)``, each equal to the joint's own to the bit.  The friction
+        solutions evaluate all a type's efforts in one call so (``kinetics/friction.py``)."""
+        if not cls.friction_scalars:
+            return None
+        fields = {f: stack_scalars([getattr(j, f) for j in joints]) for f in cls.friction_scalars}
+        return replace(joints[0], name="+".join(j.name for j in joints), **fields)
+
+    friction_kernel: ClassVar[Callable | None] = None  # (par, x, rows, out): friction_magnitude
+
+    def friction_kernel_params(self, k: int) -> np.ndarray | None:
+        """What ``friction_kernel`` reads of this joint or of a stack of ``k`` (a
+        ``stack_friction``): its ``friction_scalars`` per joint, ``(k, m)``, or None."""
+        return _per_joint(self, [(f, 1) for f in self.friction_scalars], k)
+
+
+class Compiled:
+    """Optional: the pair evaluated in sets and by the compiled backend.  ``stack`` puts a
+    type's joints into one (``structure/evaluation.py``); the kernels fill Φ_q, γ, the
+    coordinate's gradient and bias one position at a time (``base/kernels.py``).  The
+    defaults: each joint evaluated on its own, by NumPy."""
+
+    # the fields ``stack`` stacks: vectors (..., 2) and scalars; none: evaluated one by one
+    stacked_vectors: ClassVar[tuple[str, ...]] = ()
+    stacked_scalars: ClassVar[tuple[str, ...]] = ()
+
+    @classmethod
+    def stack(cls, joints: Sequence[Joint]) -> Joint | None:
+        """One joint of this type standing for ``joints`` (all of this type), or None: each
+        is evaluated on its own (a type that declares no ``stacked_vectors`` or
+        ``stacked_scalars``).
+
+        Its ``stacked_vectors`` are the joints' own, stacked on a new axis before their
+        last (:func:`stack_vectors`: ``(..., k, 2)``), its ``stacked_scalars`` on a new
+        last axis (:func:`stack_scalars`: ``(..., k)``); they must be every field that
+        ``residual``, ``jacobian`` and ``acceleration_rhs`` read, so that at poses
+        ``(..., k, 5)`` these give the k joints' values on that axis (``(..., k, n_eq)``,
+        ``(..., k, n_eq, 3)``), each equal to the joint's own to the bit.  The system
+        evaluates all a type's joints in one call so (``structure/evaluation.py``);
+        nothing else is called on the stack."""
+        if not (cls.stacked_vectors or cls.stacked_scalars):
+            return None
+        fields = {f: stack_vectors([getattr(j, f) for j in joints]) for f in cls.stacked_vectors}
+        fields |= {f: stack_scalars([getattr(j, f) for j in joints]) for f in cls.stacked_scalars}
+        return replace(joints[0], name="+".join(j.name for j in joints), **fields)
+
+    # the compiled backend's kernels (base/kernels.py): plain functions over the positions,
+    # the same operations in the same order as ``jacobian``, ``acceleration_rhs``,
+    # ``motion_direction`` and ``coordinate_bias``; None: those are evaluated by NumPy
+    jacobian_kernel: ClassVar[Callable | None] = None  # (par, P, ends, ji, jj)
+    gamma_kernel: ClassVar[Callable | None] = None  # (par, P, V, ends, out)
+    direction_kernel: ClassVar[Callable | None] = None  # (par, P, ends, gi, gj)
+    bias_kernel: ClassVar[Callable | None] = None  # (par, P, V, ends, out)
+
+    def kernel_params(self, k: int) -> np.ndarray | None:
+        """What the kernels read of this joint, or of a stack of ``k``: its
+        ``stacked_vectors`` then its ``stacked_scalars`` per joint, ``(k, m)``; None where
+        they are not one value per joint (stacked variants: evaluated by NumPy)."""
+        return _per_joint(
+            self,
+            [(f, 2) for f in self.stacked_vectors] + [(f, 1) for f in self.stacked_scalars],
+            k,
+        )
+
+    def kernels(self, k: int) -> Kernels | None:
+        """This joint's (or stack of ``k``'s) compiled Φ_q and γ with its parameters bound,
+        or None: evaluated by NumPy (a type without kernels, stacked variants)."""
+        cls = type(self)
+        par = self.kernel_params(k)
+        if cls.jacobian_kernel is None or cls.gamma_kernel is None or par is None:
+            return None
+        jac, gam = compiled(cls.jacobian_kernel), compiled(cls.gamma_kernel)
+        return Kernels(
+            lambda P, ends, ji, jj: jac(par, P, ends, ji, jj),
+            lambda P, V, ends, extra, out: gam(par, P, V, ends, out),
+        )
+
+
+class Shaped:
+    """Optional: a pair whose geometry is built once from constants (a cam's profile
+    synthesised from its law): the constants a stacked model cannot carry on a variant
+    axis, the places where a derivative of its constraint jumps along the motion, and
+    what makes a start pose contradict it.  The defaults: none of these."""
+
+    def motion_breaks(self, qi: np.ndarray, qj: np.ndarray) -> np.ndarray:
+        """Values whose sign changes mark where a derivative of the pair's constraint jumps
+        along the motion (a cam law's segment ends), ``(..., m)``: the cycle's quadrature
+        is cut there.  None by default (``m = 0``)."""
+        return np.zeros(np.broadcast_shapes(qi.shape[:-1], qj.shape[:-1]) + (0,))
+
+    def shape_constants(self) -> tuple[Any, ...]:
+        """The constants the pair builds its geometry from once (a cam's profile,
+        synthesised from its law and dimensions), which a stacked model cannot carry on a
+        variant axis: the vectorised analysis leaves variants where they differ to the
+        per-variant one.  () by default (constants that broadcast)."""
+        return ()
+
     def start_problem(self, qi: np.ndarray, qj: np.ndarray) -> str:
         """Why the assembled start pose ``qi``, ``qj`` ``(3,)`` (the ground, the frame, at
         zero) contradicts the joint's own definition, as one line ('' if it does not): a
@@ -497,7 +542,18 @@ class Joint(ABC):
         raises it as a model error at the joint."""
         return ""
 
-    def warnings(self, lam: np.ndarray, qi: np.ndarray, qj: np.ndarray) -> tuple[str, ...]:
-        """Messages about a result at the poses (rows) ``qi``, ``qj`` with the frictionless
-        λ block ``lam``, warned by the analysis (a cam follower that would separate)."""
-        return ()
+
+@dataclass(frozen=True)
+class Joint(JointCore, Presentation, Friction, Compiled, Shaped):
+    """Kinematic pair between links ``links = (i, j)``; one subclass per type.
+
+    The core (:class:`JointCore`) and every optional part with its defaults
+    (:class:`Presentation`, :class:`Friction`, :class:`Compiled`, :class:`Shaped`), so that
+    the rest of the code may call any member of any joint.  A type declares the optional
+    parts it gives by naming them among its bases after ``Joint`` (``class Cam(Joint,
+    Presentation, Friction, Shaped, kind="cam")``); ``tests/test_joint_contract.py`` checks
+    that a type overrides the members of exactly the parts it declares.
+    """
+
+
+OPTIONAL_PARTS = (Presentation, Friction, Compiled, Shaped)

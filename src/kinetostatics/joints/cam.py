@@ -51,7 +51,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from functools import cached_property, wraps
+from functools import wraps
 from typing import Any, ClassVar
 
 import numpy as np
@@ -61,7 +61,7 @@ from ..base.keys import NAME, NUMBER, VECTOR, Keys, enum, names
 from . import _camphase
 from ._camlaw import LAW_SHAPE, read_law
 from ._camprofile import Synthesis
-from .base import Anchor, Circle, Curve, Glyph, Joint, Line
+from .base import Anchor, Circle, Curve, Friction, Glyph, Joint, Line, Presentation, Shaped
 
 __all__ = ["Cam"]
 
@@ -103,7 +103,7 @@ def _kept(name):
 
 
 @dataclass(frozen=True)
-class Cam(Joint, kind="cam"):
+class Cam(Joint, Presentation, Friction, Shaped, kind="cam"):
     """Disc cam (link i, centre ``o``) and follower (link j, point ``p``); ``synthesis``
     the law and the follower's placement; ``face`` (flat) the face normal in j's
     frame towards the cam; ``f`` the friction coefficient."""
@@ -251,14 +251,10 @@ class Cam(Joint, kind="cam"):
     def _problem(self) -> str:
         """Why this cam cannot be made ('' if it can): placement, inversion, undercut."""
         s = self.synthesis
-        if s.pivot is not None and isinstance(s.beta0(), str):
-            return s.beta0()
-        if s.pivot is None and not s.flat and abs(s.offset) >= s.base + s.radius:
-            return "the offset must be smaller than the prime radius (base radius + roller)"
-        tables = s.tables()
-        if isinstance(tables, str):
-            return tables
-        self._memo["tables"] = tables
+        if s.placement_problem():
+            return s.placement_problem()
+        if isinstance(s.inversion, str):
+            return s.inversion
         th = s.check_grid
         rc = s.curvature(th)
         bad = np.nonzero((rc <= 0) & (rc > -s.radius))[0] if not s.flat else np.nonzero(rc <= 0)[0]
@@ -279,9 +275,7 @@ class Cam(Joint, kind="cam"):
 
     @property
     def _tables(self):
-        if "tables" not in self._memo:
-            self._memo["tables"] = self.synthesis.tables()
-        return self._memo["tables"]
+        return self.synthesis.inversion
 
     def _polar(self, psi):
         """(θ, turns, R, R′, R″, R‴) of the pitch curve at polar angles ψ."""
@@ -314,10 +308,7 @@ class Cam(Joint, kind="cam"):
         return phi + math.atan2(-self.face[1], -self.face[0])
 
     def __getstate__(self):  # the poses kept stay behind: the pickle is the model's key
-        state = dict(self.__dict__)
-        state["_memo"] = {k: v for k, v in self._memo.items() if k == "tables"}
-        state.pop("_outline", None)
-        return state
+        return dict(self.__dict__, _memo={})
 
     @_kept("phi")
     def _phi(self, qi, qj):
@@ -497,22 +488,6 @@ class Cam(Joint, kind="cam"):
         i, j = self.links
         return (Anchor(i, self.names[0], self.o), Anchor(j, self.names[1], self.p))
 
-    @cached_property
-    def _outline(self):
-        """The profile and (roller) pitch curve over 360 cam angles, cam frame."""
-        s = self.synthesis
-        th = np.linspace(0.0, 2 * math.pi, 361)[:-1]
-        if s.flat:
-            nu, nu1, _, h, h1, _ = s.support(th)
-            N = np.stack((np.cos(nu), np.sin(nu)), axis=-1)
-            return ((h1 / nu1)[:, None] * perp(N) + h[:, None] * N,)
-        r, P = s.pitch(th)
-        pitch = np.stack((P.real, P.imag), axis=-1)
-        e = pitch / np.abs(P)[:, None]
-        n = e - (r[5] / r[1])[:, None] * perp(e)  # e − (R′/R) t
-        n /= np.hypot(n[:, 0], n[:, 1])[:, None]
-        return (pitch - s.radius * n, pitch) if s.radius else (pitch,)
-
     def glyph(self, qi, qj):
         """The contact point; the profile (and pitch curve) on the cam, the roller or face."""
         i, j = self.links
@@ -523,7 +498,7 @@ class Cam(Joint, kind="cam"):
         point = base + turn(qi, X)
         curves = tuple(
             Curve(i, base[..., None, :] + np.einsum("...ab,nb->...na", rot, pts))
-            for pts in self._outline
+            for pts in self.synthesis.outline
         )
         P = qj[..., :2] + turn(qj, self.p)
         s = self.synthesis

@@ -121,7 +121,7 @@ from ._mesh import (
     read_teeth,
     wrap,
 )
-from .base import Anchor, Circle, Glyph, Joint
+from .base import Anchor, Circle, Compiled, Glyph, Joint, Presentation
 
 __all__ = ["Gear"]
 
@@ -213,7 +213,7 @@ def _bias_kernel(par, P, V, ends, out):
 
 
 @dataclass(frozen=True)
-class Gear(MeshFriction, Joint, kind="gear"):
+class Gear(MeshFriction, Joint, Presentation, Compiled, kind="gear"):
     """Spur gear pair.  ``c_i``, ``c_j``: the gear centres in each link's frame
     (relative to its centre of mass); pitch radii ``r_i``, ``r_j``.
 

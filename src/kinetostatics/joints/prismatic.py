@@ -11,7 +11,7 @@ from ..base.arrays import entry_major_zeros
 from ..base.geometry import dot, perp, turn, wrap_angle
 from ..base.kernels import helper
 from ..base.keys import NAME, NUMBER, Keys, names
-from .base import AXIS_KEYS, Anchor, Block, Glyph, Joint, Line
+from .base import AXIS_KEYS, Anchor, Block, Compiled, Friction, Glyph, Joint, Line, Presentation
 
 FRICTION_KEYS = Keys({"coefficient": NUMBER}, required=("coefficient",))
 
@@ -106,7 +106,7 @@ def _friction_kernel(par, x, rows, out):
 
 
 @dataclass(frozen=True)
-class Prismatic(Joint, kind="prismatic"):
+class Prismatic(Joint, Presentation, Friction, Compiled, kind="prismatic"):
     """Slider.  The axis belongs to link i: point ``a`` and unit ``u`` (local, ``a``
     relative to i's CoM); ``p`` is the sliding point of link j (relative to j's CoM).
 

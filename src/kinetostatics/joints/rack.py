@@ -82,7 +82,7 @@ from ._mesh import (
     read_teeth,
     wrap,
 )
-from .base import AXIS_KEYS, Anchor, Circle, Glyph, Joint, Line
+from .base import AXIS_KEYS, Anchor, Circle, Compiled, Glyph, Joint, Line, Presentation
 
 __all__ = ["Rack"]
 
@@ -163,7 +163,7 @@ def _bias_kernel(par, P, V, ends, out):
 
 
 @dataclass(frozen=True)
-class Rack(MeshFriction, Joint, kind="rack"):
+class Rack(MeshFriction, Joint, Presentation, Compiled, kind="rack"):
     """Rack (link i: pitch-line point ``a`` and unit ``u``, local, ``a`` relative to
     i's CoM) meshing with a pinion or sector (link j: centre ``c``, pitch radius ``r``).
 

@@ -10,7 +10,7 @@ import numpy as np
 from ..base.arrays import entry_major_zeros
 from ..base.geometry import perp, turn
 from ..base.keys import NAME, NUMBER, Keys, names
-from .base import Anchor, Glyph, Joint
+from .base import Anchor, Compiled, Friction, Glyph, Joint, Presentation
 
 FRICTION_KEYS = Keys(
     {"radius": NUMBER, "journal_radius": NUMBER, "coefficient": NUMBER},
@@ -73,7 +73,7 @@ def _friction_kernel(par, x, rows, out):
 
 
 @dataclass(frozen=True)
-class Revolute(Joint, kind="revolute"):
+class Revolute(Joint, Presentation, Friction, Compiled, kind="revolute"):
     """Pin joint.  ``p_i``, ``p_j``: the pin in each link's frame, relative to its CoM.
 
     Φ = r_i + A_i p_i − r_j − A_j p_j (2 rows).  λ is the constraint force on

@@ -12,7 +12,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..model import MotionLaw
 from ..structure.system import System
 from .start import initial_guess
 
@@ -70,8 +69,10 @@ class Schedule:
         law's knots, every period of a cyclic one); none at constant speed."""
         out = [np.zeros(0)]
         for law in self.laws:
-            b = np.asarray(getattr(law, "breaks", ()), dtype=float)
-            if law is None or not b.size:
+            if law is None:
+                continue
+            b = np.asarray(law.breaks, dtype=float)
+            if not b.size:
                 continue
             if law.cyclic:
                 d = law.duration
@@ -104,14 +105,9 @@ def schedule(system: System) -> Schedule:
             qe = np.concatenate((q0, np.zeros(3)))
             i, j = system.ends[system.constraints.index(d)]
             starts.append(float(d.coordinate(qe[3 * i : 3 * i + 3], qe[3 * j : 3 * j + 3])))
-    laws = tuple(
-        None if isinstance(d.driver.motion, MotionLaw) else d.driver.motion for d in drivers
-    )
+    laws = tuple(d.driver.motion if d.driver.motion.own_run else None for d in drivers)
     accel = np.array(
-        [
-            getattr(d.driver.motion, "acceleration", 0.0) if law is None else 0.0
-            for d, law in zip(drivers, laws)
-        ]
+        [d.driver.motion.acceleration if law is None else 0.0 for d, law in zip(drivers, laws)]
     )
     return Schedule(
         np.array(starts),

@@ -1,9 +1,10 @@
 """Load conditions: when a load acts (its ``active:`` list of
 :class:`~kinetostatics.model.Condition`).
 
-The one module that knows the kinds of condition — ``moving`` (a point's speed along an
-axis is positive), ``travel`` (its position along an axis, from its least value over the
-whole motion, lies in a band) and ``angle`` (the first driver's coordinate lies in a band):
+What each kind of condition is — ``moving`` (a point's speed along an axis is positive),
+``travel`` (its position along an axis, from its least value over the whole motion, lies in
+a band), ``angle`` (the first driver's coordinate lies in a band) — is its entry in
+:data:`~kinetostatics.kinetics.kinds.CONDITION_KINDS`; this module applies them:
 
 - their values and the activity of a load at given states (:func:`activity`);
 - the travel extremes over the whole motion, sampled on a fixed grid and refined exactly
@@ -25,6 +26,7 @@ from ..kinematics.schedule import Schedule, schedule
 from ..kinematics.state import local_point, point_state
 from ..model import Condition, Load
 from ..structure.system import System
+from .kinds import CONDITION_KINDS, ZERO_SPEED, angle_band
 
 __all__ = [
     "ZERO_SPEED",
@@ -42,8 +44,6 @@ __all__ = [
     "load_events",
 ]
 
-ZERO_SPEED = 1e-9  # relative speeds below this × x_ref count as zero (docs/conventions.md)
-
 
 @dataclass(frozen=True)
 class Event:
@@ -56,18 +56,7 @@ class Event:
     switch: str  # "on" or "off"
 
 
-# -- the kinds of condition -------------------------------------------------------------
-def _sense(system: System) -> float:
-    d = system.motion_drivers
-    return float(np.sign(d[0].driver.motion.speed)) if d else 1.0
-
-
-def angle_band(system: System, cond: Condition) -> tuple[float, float]:
-    """(from, width) of an angle condition, measured in the sense of motion (rad)."""
-    width = (cond.bounds[1] - cond.bounds[0]) * _sense(system)
-    return cond.bounds[0], (width if width >= 2 * np.pi else np.mod(width, 2 * np.pi))
-
-
+# -- the conditions at given states ------------------------------------------------------
 def condition_state(system: System, cond: Condition, q, qd, qdd, psi, extremes):
     """(value, rate): the signed quantity whose sign or band decides a condition, ``(...)``,
     and its time derivative (None for an angle band, or for ``moving`` without ``qdd``).
@@ -75,13 +64,7 @@ def condition_state(system: System, cond: Condition, q, qd, qdd, psi, extremes):
     moving: v·axis (rate a·axis); travel: p·axis − min over the whole motion (rate v·axis);
     angle: the driver coordinate travelled from ``from`` in the sense of motion (mod 2π).
     """
-    if cond.kind == "angle":
-        return np.mod((psi - cond.bounds[0]) * _sense(system), 2 * np.pi), None
-    k = system.link_index(cond.link)
-    pos, vel, acc = point_state(q, qd, qdd, k, local_point(system, cond.link, cond.point))
-    if cond.kind == "moving":
-        return vel @ cond.axis, None if acc is None else acc @ cond.axis
-    return pos @ cond.axis - extremes[id(cond)], vel @ cond.axis
+    return CONDITION_KINDS[cond.kind].state(system, cond, q, qd, qdd, psi, extremes)
 
 
 def condition_values(system: System, cond: Condition, q, qd, psi, extremes) -> np.ndarray:
@@ -92,24 +75,16 @@ def condition_values(system: System, cond: Condition, q, qd, psi, extremes) -> n
 def activity(system: System, load: Load, q, qd, psi, extremes, ref_speed: float) -> np.ndarray:
     """Boolean ``(...)``: all of the load's conditions hold (bands inclusive)."""
     active = np.ones(q.shape[:-1], dtype=bool)
-    tol = ZERO_SPEED * system.l_ref
     for c in load.active:
         v = condition_values(system, c, q, qd, psi, extremes)
-        if c.kind == "moving":
-            active &= v > ZERO_SPEED * ref_speed * system.l_ref
-        elif c.kind == "travel":
-            active &= (v >= c.bounds[0] - tol) & (v <= c.bounds[1] + tol)
-        else:
-            active &= v <= angle_band(system, c)[1] + 1e-12
+        active &= CONDITION_KINDS[c.kind].holds(system, c, v, ref_speed)
     return active
 
 
 def switch_levels(cond: Condition) -> list[tuple[float, str]]:
     """``[(level, label)]``: a ``moving`` or ``travel`` condition switches where its value
     (:func:`condition_state`) crosses a level: 0 (moving), or either edge of the band."""
-    if cond.kind == "moving":
-        return [(0.0, "moving")]
-    return [(cond.bounds[0], "travel from"), (cond.bounds[1], "travel to")]
+    return CONDITION_KINDS[cond.kind].levels(cond)
 
 
 # -- travel extremes over the whole motion ----------------------------------------------
@@ -117,7 +92,7 @@ def travel_conditions(system: System):
     """(condition, link index, local point) of every ``travel`` condition of a load."""
     for load in system.model.loads:
         for c in load.active:
-            if c.kind == "travel":
+            if CONDITION_KINDS[c.kind].extremes:
                 yield c, system.link_index(c.link), local_point(system, c.link, c.point)
 
 
@@ -407,7 +382,8 @@ def _switches(system, drive, sched, t, q, qd, qdd, full, period_t, extremes):
     events: list = []
     for load in system.model.loads:
         for c in load.active:
-            if c.kind == "angle":
+            kind = CONDITION_KINDS[c.kind]
+            if kind.scheduled:  # an angle band: switches at the schedule's times
                 start, width = angle_band(system, c)
                 if width >= 2 * np.pi:
                     continue  # always on: no switch
@@ -422,7 +398,7 @@ def _switches(system, drive, sched, t, q, qd, qdd, full, period_t, extremes):
                                 float(tt),
                                 float(drive(np.array([tt]))[0][0, 0]),
                                 load.name,
-                                "angle",
+                                c.kind,
                                 sw,
                             ),
                             None,
@@ -436,18 +412,14 @@ def _switches(system, drive, sched, t, q, qd, qdd, full, period_t, extremes):
                     return g - offset, dg
 
                 vals = condition_state(system, c, q, qd, qdd, psi, extremes)[0] - offset
-                noise = (
-                    1e-12
-                    * float(np.max(system.l_ref))
-                    * (sched.reference if c.kind == "moving" else 1.0)
-                )
+                noise = 1e-12 * float(np.max(system.l_ref)) * kind.noise(sched.reference)
                 vals = np.where(np.abs(vals) <= noise, 0.0, vals)  # round-off is no switch
                 roots, (qs, qds, qdds) = find_roots(
                     system, drive, t, q, qd, qdd, vals, f, full, period_t
                 )
                 for r, qr, qdr, qddr in zip(roots, qs[:, None], qds[:, None], qdds[:, None]):
                     g, dg = f(qr[0], qdr[0], qddr[0])
-                    inside_up = dg > 0 if c.kind == "moving" or offset == c.bounds[0] else dg < 0
+                    inside_up = kind.rising(c, offset, dg)
                     # the others on the side the load switches to: just after an "on",
                     # just before an "off" (at the root itself another condition that
                     # changes at the same instant, a member at rest moving two points

@@ -1,4 +1,5 @@
-"""Applied and inertia loads as generalized forces (when a load acts: :mod:`.conditions`).
+"""Applied and inertia loads as generalized forces (when a load acts: :mod:`.conditions`;
+what each kind of load applies: :data:`.kinds.LOAD_KINDS`).
 
 Every function broadcasts over leading position axes.  The generalized force
 on link k is (Fx, Fy, M about the CoM) in q's slots.  Sign convention:
@@ -11,9 +12,10 @@ from __future__ import annotations
 import numpy as np
 
 from ..base.geometry import rotate
-from ..kinematics.state import local_point, point_state
+from ..kinematics.state import local_point, point_state  # noqa: F401  (point_state: re-exported)
 from ..structure.system import System
-from .conditions import ZERO_SPEED, activity
+from .conditions import activity
+from .kinds import LOAD_KINDS, resisting_torque, resisting_torque_other, zero_speed
 
 __all__ = [
     "mass_vector",
@@ -88,32 +90,6 @@ def effort_forces(system: System, q: np.ndarray, qd: np.ndarray | None = None) -
     return out
 
 
-def resisting_torque_other(system: System, load) -> int | None:
-    """The index of the moving link a ``resisting_torque`` reacts on (the other link of
-    its ``joint``), or None (no joint, or that link is the frame)."""
-    if load.joint is None:
-        return None
-    j = system.model.joint(load.joint)
-    other = next(x for x in j.links if x != load.link)
-    return None if other == system.model.ground.name else system.link_index(other)
-
-
-def resisting_torque(system: System, load, qd, value, ref_speed: float, other=None):
-    """The couple on ``load.link`` of a resisting torque: −M·sign(ω_rel), ω_rel the link's
-    angular velocity (relative to the other link of ``load.joint``); 0 where |ω_rel| is
-    zero (≤ 1e-9 of the driver speed, docs/conventions.md)."""
-    k = system.link_index(load.link)
-    w = qd[..., 3 * k + 2]
-    if other is not None:
-        w = w - qd[..., 3 * other + 2]
-    sign = np.where(np.abs(w) > ZERO_SPEED * ref_speed, np.sign(w), 0.0)
-    return -value * sign
-
-
-def zero_speed(system: System, ref_speed: float) -> float:
-    return ZERO_SPEED * ref_speed * system.l_ref
-
-
 def external_forces(system: System, q, qd, psi, extremes, ref_speed: float) -> np.ndarray:
     """Generalized external forces of all loads, ``(..., n_q)``."""
     out = effort_forces(system, q, qd)
@@ -123,22 +99,15 @@ def external_forces(system: System, q, qd, psi, extremes, ref_speed: float) -> n
         k = system.link_index(load.link)
         p = local_point(system, load.link, load.point)
         on = activity(system, load, q, qd, psi, extremes, ref_speed)
-        if load.kind == "torque":
-            out[..., 3 * k + 2] += np.where(on, value, 0.0)
-            continue
-        if load.kind == "resisting_torque":
-            other = resisting_torque_other(system, load)
-            m = np.where(on, resisting_torque(system, load, qd, value, ref_speed, other), 0.0)
+        kind = LOAD_KINDS[load.kind]
+        force, couple = kind.applied(system, load, q, qd, value, ref_speed)
+        if couple is not None:
+            m = np.where(on, couple, 0.0)
             out[..., 3 * k + 2] += m
+            other = kind.reacts_on(system, load)
             if other is not None:  # the reaction on the joint's other (moving) link
                 out[..., 3 * other + 2] -= m
             continue
-        if load.kind == "force":
-            force = value
-        else:  # a resistance: against the point's velocity
-            v = point_state(q, qd, None, k, p)[1] @ load.axis
-            sign = np.where(np.abs(v) > zero_speed(system, ref_speed), np.sign(v), 0.0)
-            force = -(value * sign)[..., None] * load.axis
         force = np.where(on[..., None], force, 0.0)
         arm = rotate(q[..., 3 * k + 2], p)
         out[..., 3 * k : 3 * k + 2] += force

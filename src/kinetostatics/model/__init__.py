@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 import numpy as np
 
@@ -18,6 +19,7 @@ from ..joints import Joint
 
 __all__ = [
     "Link",
+    "Law",
     "MotionLaw",
     "EffortLaw",
     "Driver",
@@ -47,24 +49,71 @@ class Link:
     number: int | None = None  # the textbook's number (``number:``), for the report and pictures
 
 
+class Law:
+    """The one interface of every motion law of a driver (:class:`MotionLaw` here, the laws
+    of :mod:`kinetostatics.model.motion`); the schedule, the loader and the outputs read
+    only this, never a law's class.
+
+    * ``kind`` — the law's name in a file (``law:``): ``constant``, ``harmonic``,
+      ``polynomial``, ``table``;
+    * ``own_run`` — whether the law fixes its run: ψ(0) (``start``), the time it covers
+      (``duration``) and whether it repeats (``cyclic``).  False for a constant-speed law,
+      whose run the analysis sets (``analysis.start``, ``sweep``, ``positions``);
+    * ``value(start, t) -> (ψ, ψ̇, ψ̈)`` — ``start`` is ψ(0) for a law that does not fix it,
+      ignored by one that does;
+    * ``start`` — ψ(0), or None where the law leaves it to the analysis or the sketch;
+    * ``speed`` — the *reference speed* (rad/s or m/s), signed: the speed of a
+      constant-speed law; of another, the largest |ψ̇| over the run with the sign of the
+      first motion (it scales the zero-speed thresholds and the continuation step);
+    * ``acceleration`` — the constant ψ̈ of a law that has one (0 at constant speed), else
+      None;
+    * ``duration`` (s) — the time a run covers (None where the analysis sets it);
+      ``cyclic`` — whether ψ(duration) = ψ(0) with the same derivatives (a run then does
+      not repeat its end point);
+    * ``breaks`` — the times in one run where a derivative of ψ jumps (a table's knots);
+    * ``to_spec()`` — the YAML ``motion:`` mapping in SI.
+    """
+
+    kind: ClassVar[str]
+    own_run: ClassVar[bool] = True
+    start: float | None  # annotations only: a subclass gives each as a field or a property
+    speed: float
+    duration: float | None = None
+    acceleration: float | None = None
+    cyclic: bool = False
+    breaks: tuple[float, ...] = ()  # smooth: no jump in any derivative
+
+    def value(self, start, t):  # pragma: no cover - every law defines it
+        raise NotImplementedError
+
+    def to_spec(self) -> dict:  # pragma: no cover - every law defines it
+        raise NotImplementedError
+
+
 @dataclass(frozen=True)
-class MotionLaw:
+class MotionLaw(Law):
     """A prescribed driver coordinate: ``speed`` (rad/s or m/s, signed) at t = 0 and a
     constant ``acceleration`` (rad/s² or m/s², default 0: constant speed);
     ``start``, when given, is ψ(0) (otherwise the analysis start or the sketch).
 
-    The other motion laws (harmonic, polynomial, table) are in
-    :mod:`kinetostatics.model.motion`, with the same ``value``/``speed`` interface."""
+    The laws that fix their own run (harmonic, polynomial, table) are in
+    :mod:`kinetostatics.model.motion`; all answer through :class:`Law`."""
 
     speed: float
     acceleration: float = 0.0
     start: float | None = None
+    kind: ClassVar[str] = "constant"
+    own_run: ClassVar[bool] = False
 
     def value(self, start: float, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(ψ, ψ̇, ψ̈) at times ``t`` for ψ(0) = ``start``."""
         t = np.asarray(t, dtype=float)
         a = self.acceleration
         return (start + self.speed * t + 0.5 * a * t * t, self.speed + a * t, np.full_like(t, a))
+
+    def to_spec(self) -> dict:
+        """``{speed: v}`` (a file gives a constant speed only)."""
+        return {"speed": self.speed}
 
 
 @dataclass(frozen=True)
@@ -122,7 +171,7 @@ class Driver:
 
     name: str
     joint: str
-    motion: MotionLaw | None = None  # or a law of kinetostatics.model.motion
+    motion: Law | None = None  # MotionLaw (constant speed) or a law of model.motion
     effort: float | EffortLaw | None = None  # applied torque (N·m) or force (N): constant or law
     offset: float = 0.0
     points: tuple[str | None, str | None] = (None, None)

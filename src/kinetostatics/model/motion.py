@@ -1,33 +1,28 @@
-"""Motion laws of a driver other than constant speed: ψ(t), ψ̇(t), ψ̈(t) exactly.
+"""The motion laws of a driver that fix their own run: ψ(t), ψ̇(t), ψ̈(t) exactly.
 
-Constant speed is :class:`kinetostatics.model.MotionLaw`.  The laws here give
-the driver coordinate ψ (rad, or m for a prismatic driver) as a function of
-the time t (s) from the first position of the run, with its first and second
-derivatives in closed form (no differences).  Each is plain frozen data
-(built by ``yaml_io`` from ``drivers.<name>.motion``) with the same small
-interface:
-
-* ``value(start, t) -> (ψ, ψ̇, ψ̈)`` — ``start`` is ignored (the law fixes ψ(0));
-* ``start`` — ψ(0);
-* ``speed`` — the *reference speed* (rad/s or m/s), signed: the largest |ψ̇|
-  over the run, with the sign of the first motion (it scales the zero-speed
-  thresholds and the continuation step, as the speed of a constant-speed law);
-* ``duration`` (s) — the time a run covers; ``cyclic`` — whether ψ(duration)
-  = ψ(0) with the same derivatives (a run then does not repeat its end point);
-* ``breaks`` — the times in one run where a derivative of ψ jumps (a table's knots);
-* ``to_spec()`` — the YAML ``motion:`` mapping in SI.
+Constant speed is :class:`kinetostatics.model.MotionLaw`.  The laws here give the driver
+coordinate ψ (rad, or m for a prismatic driver) as a function of the time t (s) from the
+first position of the run, with its first and second derivatives in closed form (no
+differences).  Each is plain frozen data (built by ``io`` from ``drivers.<name>.motion``)
+and answers through the one interface of every motion law,
+:class:`kinetostatics.model.Law`: every reader asks the law, never its class.  This module
+is imported only when a file names one of its laws.
 
 >>> law = HarmonicLaw(centre=1.0, amplitude=0.5, period=2.0)
 >>> [round(float(x), 12) for x in law.value(0.0, 0.5)]
 [1.5, 0.0, -4.934802200545]
+>>> law.own_run, law.cyclic, law.duration
+(True, True, 2.0)
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from functools import cached_property
+from typing import ClassVar
 
 import numpy as np
+
+from . import Law
 
 __all__ = ["HarmonicLaw", "PolynomialLaw", "TableLaw", "LAWS", "turning_times"]
 
@@ -35,23 +30,25 @@ _SAMPLES = 4097  # points at which the peak speed of a polynomial/table law is s
 
 
 def _peak(law, t: np.ndarray) -> float:
-    """Signed reference speed: max |ψ̇| on the samples, sign of the first non-zero ψ̇."""
-    psi_d = law.value(0.0, t)[1]
+    """Signed reference speed: max |ψ̇| on the samples, sign of the first non-zero ψ̇
+    (taken at construction: a law out of range overflows quietly, the loader refuses it)."""
+    with np.errstate(all="ignore"):
+        psi_d = law.value(0.0, t)[1]
     moving = np.nonzero(np.abs(psi_d) > 1e-12 * np.max(np.abs(psi_d), initial=0.0))[0]
     sign = np.sign(psi_d[moving[0]]) if moving.size else 1.0
     return float(sign * np.max(np.abs(psi_d), initial=0.0))
 
 
 @dataclass(frozen=True)
-class HarmonicLaw:
+class HarmonicLaw(Law):
     """ψ = centre + amplitude·sin(2π t / period + phase); one period is one cycle."""
 
     centre: float
     amplitude: float
     period: float  # s
     phase: float = 0.0  # rad
-    kind = "harmonic"
-    cyclic = True
+    kind: ClassVar[str] = "harmonic"
+    cyclic: ClassVar[bool] = True
 
     @property
     def omega(self) -> float:
@@ -81,8 +78,6 @@ class HarmonicLaw:
     def duration(self) -> float:
         return self.period
 
-    breaks = ()  # smooth: no jump in any derivative
-
     def to_spec(self) -> dict:
         return {
             "law": "harmonic",
@@ -94,14 +89,21 @@ class HarmonicLaw:
 
 
 @dataclass(frozen=True)
-class PolynomialLaw:
+class PolynomialLaw(Law):
     """ψ = Σ_k c_k t^k over 0 ≤ t ≤ ``duration``."""
 
     coefficients: tuple[float, ...]
     duration: float  # s
-    kind = "polynomial"
-    cyclic = False
-    breaks = ()  # smooth: no jump in any derivative
+    kind: ClassVar[str] = "polynomial"
+    speed: float | None = field(init=False, repr=False, compare=False)  # set at construction
+
+    def __post_init__(self):
+        """The reference speed, from the fields; None for a law stacked over variants
+        (arrays in its fields, model/stacking.py), which only the per-variant analysis runs."""
+        if np.ndim(self.duration) or any(np.ndim(c) for c in self.coefficients):
+            object.__setattr__(self, "speed", None)
+            return
+        object.__setattr__(self, "speed", _peak(self, np.linspace(0.0, self.duration, _SAMPLES)))
 
     def value(self, start, t):
         t = np.asarray(t, dtype=float)
@@ -115,10 +117,6 @@ class PolynomialLaw:
     def start(self) -> float:
         return float(self.coefficients[0])
 
-    @cached_property
-    def speed(self) -> float:
-        return _peak(self, np.linspace(0.0, self.duration, _SAMPLES))
-
     def to_spec(self) -> dict:
         return {
             "law": "polynomial",
@@ -128,15 +126,16 @@ class PolynomialLaw:
 
 
 @dataclass(frozen=True)
-class TableLaw:
+class TableLaw(Law):
     """ψ through the points (``time``, ``values``): a C² cubic spline (not-a-knot
     ends, or periodic when ``periodic``); time 0 of the run is ``time[0]``."""
 
     time: tuple[float, ...]
     values: tuple[float, ...]
     periodic: bool = False
-    kind = "table"
+    kind: ClassVar[str] = "table"
     _spline: object = field(default=None, init=False, repr=False, compare=False)
+    speed: float = field(init=False, repr=False, compare=False)  # from the fields, at construction
 
     def __post_init__(self):
         from scipy.interpolate import CubicSpline  # only a table law needs it
@@ -148,6 +147,7 @@ class TableLaw:
             bc_type="periodic" if self.periodic else "not-a-knot",
         )
         object.__setattr__(self, "_spline", spline)
+        object.__setattr__(self, "speed", _peak(self, np.linspace(0.0, self.duration, _SAMPLES)))
 
     @property
     def cyclic(self) -> bool:
@@ -165,10 +165,6 @@ class TableLaw:
     @property
     def duration(self) -> float:
         return float(self.time[-1] - self.time[0])
-
-    @cached_property
-    def speed(self) -> float:
-        return _peak(self, np.linspace(0.0, self.duration, _SAMPLES))
 
     @property
     def breaks(self) -> tuple[float, ...]:

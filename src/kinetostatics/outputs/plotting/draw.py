@@ -9,7 +9,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...base.geometry import perp
-from ...kinetics.forces import activity, point_state, resisting_torque, resisting_torque_other
+from ...kinetics.forces import activity, point_state
+from ...kinetics.kinds import LOAD_KINDS
 from ..labels import reaction_symbol
 from ..lang import tr
 from .elements import draw_elements
@@ -88,25 +89,12 @@ def _loads_at(result, row: int, *, friction: bool = False) -> list[_Arrow]:
         value = np.asarray(load.value_at(psi, period))[0]
         k = system.link_index(load.link)
         p = model.link(load.link).points[load.point] if load.point else np.zeros(2)
-        pos, vel, _ = point_state(q, qd, None, k, p)
-        if load.kind == "torque":
-            out.append(_Arrow("external", load.name, pos[0], None, float(value)))
+        pos = point_state(q, qd, None, k, p)[0]
+        force, couple = LOAD_KINDS[load.kind].applied(system, load, q, qd, value, ref)
+        if couple is not None:  # the signed couple on its link
+            out.append(_Arrow("external", load.name, pos[0], None, float(np.ravel(couple)[0])))
             continue
-        if load.kind == "resisting_torque":  # the signed couple on its link
-            other = resisting_torque_other(system, load)
-            m = resisting_torque(system, load, qd, value, ref, other)
-            out.append(_Arrow("external", load.name, pos[0], None, float(np.ravel(m)[0])))
-            continue
-        if load.kind == "force":
-            F = np.asarray(value, float)
-        else:
-            v = float(vel[0] @ load.axis)
-            F = (
-                -float(value) * np.sign(v) * np.asarray(load.axis, float)
-                if abs(v) > 1e-9 * ref * system.l_ref
-                else np.zeros(2)
-            )
-        out.append(_Arrow("external", load.name, pos[0], F))
+        out.append(_Arrow("external", load.name, pos[0], np.asarray(force, float).ravel()))
     for d in system.motion_drivers:
         joint = model.joint(d.driver.balance_at) if d.driver.balance_at else d.joint
         word = "torque" if joint.angular else "force"

@@ -116,7 +116,7 @@ def turns(result) -> int:
     """Whole turns of the first driver that the result covers: 1 for a full cycle, n for
     a sweep of n·360° (two motors of unequal speeds), 0 otherwise (not angular, a motion
     law, a partial sweep)."""
-    if not _angular(result) or getattr(_driver(result).driver.motion, "kind", None):
+    if not _angular(result) or _driver(result).driver.motion.own_run:
         return 0
     if result.full_cycle:
         return 1
@@ -130,7 +130,7 @@ def _abscissa(result, lang: str = "en") -> tuple[np.ndarray, str]:
     from ..lang import tr
 
     d = _driver(result)
-    if getattr(d.driver.motion, "kind", None) is not None:  # a motion law: ψ may reverse
+    if d.driver.motion.own_run:  # a law of its own run: ψ may reverse
         label = tr(
             "time, s ({name}: {law} law)", lang, name=d.name, law=tr(d.driver.motion.kind, lang)
         )

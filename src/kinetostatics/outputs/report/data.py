@@ -105,7 +105,7 @@ def _data_blocks(model, system, lang: str = "en") -> list:
                 if model.joint(d.joint).angular
                 else f"{sp:+.6g} m/s"
             )
-            law = getattr(d.motion, "kind", None)
+            law = d.motion.kind if d.motion.own_run else None
             rows.append(
                 [
                     d.name,
