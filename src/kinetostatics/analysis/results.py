@@ -11,7 +11,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -22,6 +22,9 @@ from ..kinematics.state import point_state
 from ..kinetics.elements import coordinate as element_coordinate
 from ..kinetics.elements import element_states
 from ..structure.system import System, coordinate_gradient, link_poses
+
+if TYPE_CHECKING:
+    from .summary import CycleRecords
 
 __all__ = ["Result", "build_columns", "joint_warnings", "element_warnings"]
 
@@ -524,13 +527,45 @@ class Result:
             "units": dict(self.units),
         }
 
-    def summary(self) -> dict[str, Any]:
-        """Extremes of every column and where they occur, events, singular positions."""
-        from ..outputs.summary import summarize
+    def summary(self, cycle: CycleRecords | None = None) -> dict[str, Any]:
+        """The summary of the result (summary.json's keys), formatted; nothing is solved.
 
-        return summarize(self)
+        Parameters
+        ----------
+        cycle : Cycle, optional
+            The cycle's records (:func:`~kinetostatics.dynamics.stages.cycle_stage`):
+            the driving efforts' means and RMS, the output strokes, the self-locked
+            zones, the flywheel and the drive, as ``kinetostatics run`` writes them.
+            Without it, what the rows hold: the extremes of every column, the reaction
+            peaks, the events, the singular positions, the self-checks and the driving
+            efforts' peaks.
 
-    def to_json(self, path: str | Path, summary: dict[str, Any] | None = None) -> None:
-        """Write :meth:`summary` (or the one given, already computed) as JSON."""
-        data = self.summary() if summary is None else summary
+        Returns
+        -------
+        dict
+            JSON-safe (:func:`~kinetostatics.analysis.summary.summarize`).
+        """
+        from .summary import summarize
+
+        return summarize(self, cycle)
+
+    def to_json(
+        self,
+        path: str | Path,
+        summary: dict[str, Any] | None = None,
+        *,
+        cycle: CycleRecords | None = None,
+    ) -> None:
+        """Write the summary as JSON.
+
+        Parameters
+        ----------
+        path : str or Path
+            The file.
+        summary : dict, optional
+            The summary already computed; default :meth:`summary` of ``cycle``.
+        cycle : Cycle, optional
+            The cycle's records, as for :meth:`summary`.
+        """
+        data = self.summary(cycle) if summary is None else summary
         Path(path).write_text(json_text(data, ensure_ascii=False), encoding="utf-8")

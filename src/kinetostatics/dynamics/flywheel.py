@@ -25,7 +25,7 @@ simulation (:func:`verify`) needs scipy.integrate and lives outside ``run``.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -41,9 +41,18 @@ from ..kinematics.schedule import schedule
 from ..kinetics.reactions import effort_ratio
 from ..model import EffortLaw, Model, MotionLaw
 from ..structure.system import System, build_system
+from .flywheel_texts import ASSUMPTIONS, TORQUE_PHRASE, assumption_texts
 from .reduced import equivalent, equivalent_inertia, with_effort
 
-__all__ = ["FlywheelDesign", "design", "verify", "energy_curve"]
+__all__ = [
+    "FlywheelDesign",
+    "design",
+    "verify",
+    "energy_curve",
+    "ASSUMPTIONS",
+    "TORQUE_PHRASE",
+    "assumption_texts",
+]
 
 EPS = 1e-7  # rad: the one-sided values at an event are taken this far from it
 SELF_LOCKED = (
@@ -76,19 +85,24 @@ class FlywheelDesign:
     assumptions: tuple = ()
     system: Any = field(default=None, repr=False, compare=False)  # for the curve, on demand
     undefined: str | None = None  # why ΔW_max (and J_F) is not defined, else None
+    energy: dict | None = field(default=None, repr=False, compare=False)  # with_curve()'s
 
     @property
     def curve(self) -> dict[str, np.ndarray]:
         """The driving moment and J_e over the cycle on :attr:`positions` positions (plus
-        both sides of every load event), for the pictures (:func:`energy_curve`): computed
-        when first asked for, not by the design's numbers."""
-        cached = self.__dict__.get("_curve")
-        if cached is None:
-            cached = energy_curve(
-                self.system, list(self.events), friction=self.friction, positions=self.positions
-            )
-            object.__setattr__(self, "_curve", cached)
-        return cached
+        both sides of every load event), for the pictures (:func:`energy_curve`): the one
+        the record carries (:meth:`with_curve`), else computed at each call (not by the
+        design's numbers; nothing is kept on the frozen record)."""
+        if self.energy is not None:
+            return self.energy
+        return energy_curve(
+            self.system, list(self.events), friction=self.friction, positions=self.positions
+        )
+
+    def with_curve(self) -> FlywheelDesign:
+        """The design carrying its :attr:`curve`, computed once here: what a caller passes
+        to the pictures, which then solve nothing."""
+        return self if self.energy is not None else replace(self, energy=self.curve)
 
     @property
     def motor_inertia(self) -> float | None:
@@ -239,40 +253,6 @@ def _swing(phi: np.ndarray, f: np.ndarray) -> tuple[np.ndarray, float, float, fl
     cand_x, cand_f = np.array(cand_x), np.array(cand_f)
     kmax, kmin = int(np.argmax(cand_f)), int(np.argmin(cand_f))
     return big_f, cand_f[kmax], cand_x[kmax], cand_f[kmin], cand_x[kmin]
-
-
-# The assumptions of a design: sentence templates (the report translates them, then fills
-# in the same numbers), the torque phrase by whether friction is counted.
-ASSUMPTIONS = (  # what is assumed, not how it is computed (no module or rule named)
-    "driving moment constant, equal to the cycle mean of {torque} (M_d = work per cycle / 2π, "
-    "the work integrated exactly over one cycle, piece by piece between the load events)",
-    "balancing moment at the constant nominal crank speed ω_m = {omega_m:.6g} rad/s "
-    "(link inertia torques at that speed included)",
-    "ΔW_max exact: ΔW(φ) integrated over one cycle piece by piece between the load events, "
-    "where M_b is smooth, its extremes at the load events or where M_d = M_b "
-    "({positions} positions only for the pictures)",
-    "energy method, first order in δ: ω_m = (ω_max + ω_min)/2 and the speed "
-    "variation taken by the flywheel alone (J_F) or by the flywheel plus the "
-    "machine's cycle-mean equivalent inertia (J_F − J_e)",
-    "flywheel on the crank shaft; on the motor shaft J_F/i² (i: the reduction ratio; gear "
-    "inertia neglected)",
-)
-TORQUE_PHRASE = {
-    False: "the frictionless balancing moment",
-    True: "the balancing moment with friction (consistent solution)",
-}
-
-
-def assumption_texts(
-    friction: bool, omega_m: float, positions: int, translate=lambda text: text
-) -> tuple[str, ...]:
-    """The assumptions of a design as sentences; ``translate(text)`` turns each template
-    (and the torque phrase) into another language before the numbers are filled in."""
-    torque = translate(TORQUE_PHRASE[bool(friction)])
-    return tuple(
-        translate(t).format(torque=torque, omega_m=omega_m, positions=positions)
-        for t in ASSUMPTIONS
-    )
 
 
 def _legendre_pieces(pieces: np.ndarray, values: np.ndarray):
