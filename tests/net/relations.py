@@ -1198,9 +1198,9 @@ def expected_row(doc, res):
     if doc.get("flywheel"):  # not an aggregate of columns: the design of the run
         from kinetostatics.dynamics.flywheel import design
 
-        # before the cycle's stage: after it, design() integrates on the nodes with friction
-        # that the stage leaves cached on the result, and differs by 2e-11 of
-        # inertia_net (slotting machine at 12 positions)
+        # design() alone, as the batch row's: on its own frictionless nodes (the cycle's
+        # stage would pass it the nodes with friction, 2e-11 of inertia_net apart on the
+        # slotting machine at 12 positions)
         fw = design(res)
         out["flywheel.inertia"], out["flywheel.inertia_net"] = fw.inertia, fw.inertia_net
     # the strokes and the locked zones' edges: the cycle's stages (no flywheel: above)

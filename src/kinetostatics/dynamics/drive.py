@@ -37,7 +37,7 @@ from typing import Any
 
 import numpy as np
 
-from ..analysis.cycle import cycle_nodes, cycle_stats
+from ..analysis.cycle import Quadrature, cycle_quadrature, cycle_stats
 from ..analysis.results import Result
 from ..model import DriveSpec
 from .motor import (
@@ -159,26 +159,26 @@ def size(
     *,
     flywheel=None,
     quadrature: tuple[int, int] | None = None,
+    nodes: Quadrature | None = None,
 ) -> DriveSizing:
     """The drive of ``result``'s model (``spec``: default ``drive:`` of the file) over the run.
 
     ``flywheel``: the model's flywheel design when the caller has it
     (:func:`~kinetostatics.dynamics.flywheel.design`), for the flywheel check's J_F.
-    ``quadrature``: the cycle integrator's (nodes, pieces), another than the default only
-    to check that the means have converged (:func:`~kinetostatics.analysis.cycle.cycle_nodes`)."""
+    ``quadrature``, ``nodes``: the cycle integrator's rule and the nodes already computed,
+    as for :func:`~kinetostatics.analysis.cycle.cycle_quadrature`."""
     system = result.system
     model = system.model
     spec = spec if spec is not None else model.drive
     if spec is None:
         raise ValueError("no drive: give drive: {...} in the file or spec=")
-    friction = bool(model.has_friction if spec.friction is None else spec.friction)
-    friction = friction and model.has_friction
+    friction = model.has_friction and bool(spec.friction is None or spec.friction)
     of, name, sense, i = shaft_curves(system, spec, friction)
     keys = ("torque", "power", "speed", "motor_torque", "motor_power", "motor_speed")
     what = {key: (lambda r, key=key: of(r)[key]) for key in keys + ("inertia_torque",)}
-    stats = cycle_stats(result, what, friction=friction, quadrature=quadrature)
-    _, nodes = cycle_nodes(result, friction=friction, quadrature=quadrature)
-    peak = {key: _peak(of, key, result, nodes) for key in what}
+    quad = cycle_quadrature(result, friction=friction, quadrature=quadrature, given=nodes)
+    stats = cycle_stats(result, what, friction=friction, quadrature=quadrature, given=quad)
+    peak = {key: _peak(of, key, result, quad.nodes) for key in what}
 
     def side(prefix: str) -> dict:
         t, p, w = (prefix + x for x in ("torque", "power", "speed"))
@@ -198,7 +198,7 @@ def size(
     }
     fw = None
     if model.flywheel is not None:
-        fw = _with_flywheel(result, spec, i, shaft, flywheel)
+        fw = _with_flywheel(result, spec, i, shaft, flywheel, quad)
         checks["flywheel"] = _check(abs(fw["torque"]), abs(fw["torque"]), fw["speed_max"], spec)
     return DriveSizing(
         spec=spec,
@@ -215,7 +215,9 @@ def size(
     )
 
 
-def _with_flywheel(result: Result, spec: DriveSpec, i: float, shaft: dict, design) -> dict:
+def _with_flywheel(
+    result: Result, spec: DriveSpec, i: float, shaft: dict, design, quad: Quadrature
+) -> dict:
     """The ideal flywheel of δ (the energy method): the motor gives the constant cycle-mean
     torque, referred to the motor by :func:`reduce`; the speed reaches ω_m·(1 + δ/2); the
     flywheel the motor shaft still needs is (J_F − J_e)/i² less rotor and reduction."""
@@ -223,7 +225,7 @@ def _with_flywheel(result: Result, spec: DriveSpec, i: float, shaft: dict, desig
     if design is None:
         from .flywheel import design as flywheel_design
 
-        design = flywheel_design(result)
+        design = flywheel_design(result, nodes=quad)
     delta = float(model.flywheel.delta)
     omega = float(design.omega_m)
     mean = float(shaft["torque"]["mean"])

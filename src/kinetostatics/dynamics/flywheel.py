@@ -32,7 +32,7 @@ import numpy as np
 import numpy.polynomial.legendre as leg
 
 from ..analysis import analyze
-from ..analysis.cycle import cycle_pieces, cycle_stats
+from ..analysis.cycle import Quadrature, cycle_quadrature, cycle_stats
 from ..analysis.pipeline import analyze_near
 from ..analysis.results import Result
 from ..base.arguments import real_number
@@ -368,6 +368,7 @@ def design(
     friction: bool | None = None,
     positions: int = 3600,
     quadrature: tuple[int, int] | None = None,
+    nodes: Quadrature | None = None,
 ) -> FlywheelDesign:
     """Size the flywheel for ``delta`` (default the model's ``flywheel.delta``).
 
@@ -376,6 +377,9 @@ def design(
     ``friction``: size from the balancing moment with friction (consistent).
     ``quadrature``: the cycle integrator's (nodes, pieces), another than the default only
     to check that the design has converged (:func:`~kinetostatics.analysis.cycle.cycle_nodes`).
+    ``nodes``: the cycle's quadrature of ``source`` already computed
+    (:func:`~kinetostatics.analysis.cycle.cycle_quadrature`), used when it serves (the
+    nodes with friction serve a frictionless design).
     """
     if isinstance(source, Result):
         system, base = source.system, source if source.full_cycle else None
@@ -406,7 +410,10 @@ def design(
     w = abs(drv.driver.motion.speed)
     sense = float(np.sign(drv.driver.motion.speed))
     # M_d: the cycle mean of the one function every output uses (analysis/cycle.py)
-    weights, nodes, pieces = cycle_pieces(base, friction=friction, quadrature=quadrature)
+    quad = cycle_quadrature(
+        base, friction=friction, quadrature=quadrature, given=nodes if base is source else None
+    )
+    weights, nodes, pieces = quad.weights, quad.nodes, quad.pieces
     moment, je = _moment(system, nodes, friction)
     exact = pieces is not None and np.all(np.isfinite(moment)) and np.all(np.isfinite(je))
     if exact:  # the cycle mean by the integrator's own weights (cycle_stats' sum, once)
@@ -417,6 +424,7 @@ def design(
             {"M": lambda r: _moment(system, r, friction)[0]},
             friction=friction,
             quadrature=quadrature,
+            given=quad,
         )["M"]["mean"]
     work = 2 * np.pi * m_d
     psi = schedule(system)

@@ -30,7 +30,7 @@ from typing import Any
 
 import numpy as np
 
-from ..analysis.cycle import cycle_stats
+from ..analysis.cycle import Quadrature, cycle_quadrature, cycle_stats
 from ..analysis.locking import locking_zones
 from ..analysis.results import Result
 from ..analysis.summary import driver_columns, summarize
@@ -85,13 +85,17 @@ def _frozen(d: Mapping) -> Mapping:
     )
 
 
-def driver_stats(result: Result) -> Mapping[str, Mapping[str, float]]:
+def driver_stats(
+    result: Result, nodes: Quadrature | None = None
+) -> Mapping[str, Mapping[str, float]]:
     """The mean, RMS and peak over the cycle of each driving effort column.
 
     Parameters
     ----------
     result : Result
         The analysis.
+    nodes : Quadrature, optional
+        The cycle's quadrature already computed (:func:`cycle_stage` passes its own).
 
     Returns
     -------
@@ -102,10 +106,10 @@ def driver_stats(result: Result) -> Mapping[str, Mapping[str, float]]:
     """
     wanted = driver_columns(result)
     # over the cycle, integrated exactly between the load events (analysis/cycle.py)
-    return _frozen(cycle_stats(result, wanted) if wanted and len(result) else {})
+    return _frozen(cycle_stats(result, wanted, given=nodes) if wanted and len(result) else {})
 
 
-def cycle_efficiency(result: Result) -> Mapping[str, float]:
+def cycle_efficiency(result: Result, nodes: Quadrature | None = None) -> Mapping[str, float]:
     """The cycle efficiency of each motion driver with friction: the mean driving effort
     without friction over the mean with the consistent friction solution, both over the
     part of the cycle where the one with friction exists.
@@ -114,6 +118,8 @@ def cycle_efficiency(result: Result) -> Mapping[str, float]:
     ----------
     result : Result
         The analysis (a full cycle; otherwise there is none).
+    nodes : Quadrature, optional
+        The cycle's quadrature already computed.
 
     Returns
     -------
@@ -135,6 +141,7 @@ def cycle_efficiency(result: Result) -> Mapping[str, float]:
                     "m0": lambda r, a=key0, b=key1: np.where(np.isfinite(r[b]), r[a], np.nan),
                     "m1": key1,
                 },
+                given=nodes,
             )
             m0, m1 = stats["m0"]["mean"], stats["m1"]["mean"]
             if m1 != 0:
@@ -177,24 +184,26 @@ def cycle_stage(
         The records; a part not asked for is None.
     """
     model = result.system.model
-    # in the order summary.json has always taken them: the driving efforts' nodes first
-    # (with friction when the result has it), which the flywheel and the drive reuse
-    stats = driver_stats(result) if drivers else None
+    fw = flywheel if isinstance(flywheel, FlywheelDesign) else None
+    want_fw = fw is None and (flywheel or (flywheel is None and model.flywheel is not None))
+    want_drive = drive or (drive is None and model.drive is not None)
+    # the cycle's nodes once (with friction when the result has it: they serve the
+    # frictionless integrals too), for the means, the flywheel, the drive and the efficiency
+    nodes = None
+    if driver_columns(result) and len(result) and (drivers or want_fw or want_drive or efficiency):
+        nodes = cycle_quadrature(result)
+    stats = driver_stats(result, nodes) if drivers else None
     strokes = _frozen(output_strokes(result)) if outputs else None
     zones = tuple(_frozen(z) for z in locking_zones(result)) if self_locking else None
-    fw = None
-    if isinstance(flywheel, FlywheelDesign):
-        fw = flywheel
-    elif flywheel or (flywheel is None and model.flywheel is not None):
-        fw = design(result)
-    want_drive = drive or (drive is None and model.drive is not None)
+    if want_fw:
+        fw = design(result, nodes=nodes)
     return Cycle(
         drivers=stats,
         outputs=strokes,
         self_locking=zones,
         flywheel=fw,
-        drive=size(result, flywheel=fw) if want_drive else None,
-        efficiency=cycle_efficiency(result) if efficiency else None,
+        drive=size(result, flywheel=fw, nodes=nodes) if want_drive else None,
+        efficiency=cycle_efficiency(result, nodes) if efficiency else None,
     )
 
 
