@@ -137,3 +137,26 @@ def test_a_flywheel_design_carries_its_curve_only_when_asked(slotting, monkeypat
     np.testing.assert_array_equal(carried.curve["moment"], carried.energy["moment"])
     with pytest.raises(ZeroDivisionError):
         design.curve  # noqa: B018  (computed at each call, nothing kept)
+
+
+def test_the_torque_curves_show_the_mean_of_the_record_they_are_given(slotting):
+    """A picture solves nothing: the cycle mean in its legend is the record's, and without
+    a record there is none."""
+    pytest.importorskip("matplotlib")
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from kinetostatics.outputs import plotting as pl
+
+    cycle = cycle_stage(slotting, outputs=False, self_locking=False, flywheel=False, drive=False)
+    exact = -1000.0 * 0.9 * 0.100 / (2 * np.pi)  # the cutting work over a turn / 2π
+    with_mean = pl.torque_curves(slotting, dpi=40, cycle=cycle)
+    labels = [t.get_text() for t in with_mean.axes[0].get_legend().get_texts()]
+    assert any(f"cycle mean {exact:.4g} N·m" in lab for lab in labels), labels
+    plain = pl.torque_curves(slotting, dpi=40)
+    labels = [t.get_text() for t in plain.axes[0].get_legend().get_texts()]
+    assert labels and not any("cycle mean" in lab for lab in labels), labels
+    plt.close(with_mean)
+    plt.close(plain)
