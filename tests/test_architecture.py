@@ -203,7 +203,6 @@ LONG_FUNCTIONS = {
     "outputs/report/pdf.py:write_pdf": "the PDF rendered block by block",
     "outputs/report/results.py:report_tables": _CHAPTER,
     "outputs/report/results.py:_summary_blocks": _CHAPTER,
-    "outputs/summary.py:summarize": _S1,
     "structure/graph.py:structure": "the structure in its steps: graph, loops, mobility, groups",
 }
 

@@ -12,6 +12,7 @@ import pytest
 
 import kinetostatics as ks
 from kinetostatics.cli import main
+from kinetostatics.dynamics.stages import cycle_stage, full_summary
 from kinetostatics.errors import ModelError
 
 
@@ -74,7 +75,7 @@ def grashof_limits(a, b, c, d):
 )
 def test_crank_rocker_swing_limits_and_time_ratio_match_the_closed_form(dims):
     a, b, c, d = dims
-    s = ks.analyze(ks.loads(fourbar(a, b, c, d))).summary()
+    s = full_summary(ks.analyze(ks.loads(fourbar(a, b, c, d))))
     ref = grashof_limits(a, b, c, d)
     out = s["outputs"]["D"]
     assert out["kind"] == "swing" and out["link"] == "rocker"
@@ -94,8 +95,8 @@ def test_crank_rocker_swing_limits_and_time_ratio_match_the_closed_form(dims):
 
 def test_time_ratio_sense_follows_the_crank():
     """Turning the crank the other way swaps which swing is slow, not K."""
-    ccw = ks.analyze(ks.loads(fourbar())).summary()["outputs"]["D"]
-    cw = ks.analyze(ks.loads(fourbar(speed=-120))).summary()["outputs"]["D"]
+    ccw = full_summary(ks.analyze(ks.loads(fourbar())))["outputs"]["D"]
+    cw = full_summary(ks.analyze(ks.loads(fourbar(speed=-120))))["outputs"]["D"]
     assert cw["time_ratio"] == pytest.approx(ccw["time_ratio"], rel=1e-9)
     assert cw["time_increasing_s"] == pytest.approx(ccw["time_decreasing_s"], rel=1e-9)
 
@@ -103,7 +104,7 @@ def test_time_ratio_sense_follows_the_crank():
 def test_relative_slide_is_never_an_output():
     """The slotting machine's block slides in the guide bar (two moving links): not an
     output; the bar's swing and the ram's stroke are, each with K = 2 (the file's K)."""
-    s = ks.analyze(ks.load("mechanisms/slotting_machine.yaml")).summary()
+    s = full_summary(ks.analyze(ks.load("mechanisms/slotting_machine.yaml")))
     assert "slot" not in s["outputs"]
     assert s["outputs"]["guide"]["time_ratio"] == pytest.approx(2.0, rel=1e-9)
     bar = s["outputs"]["O3"]
@@ -113,14 +114,14 @@ def test_relative_slide_is_never_an_output():
 
 
 def test_output_key_names_the_member():
-    s = ks.analyze(ks.loads(fourbar(extra="output: rocker"))).summary()
+    s = full_summary(ks.analyze(ks.loads(fourbar(extra="output: rocker"))))
     assert s["output"] == "rocker"
     # the named link alone; its swing is the rocker's pair's
     ref = grashof_limits(100, 350, 250, 300)
     assert list(s["outputs"]) == ["D"]  # the rocker's pair on the frame
     out = next(iter(s["outputs"].values()))
     assert out["swing"] == pytest.approx(ref["swing"], abs=1e-8)
-    s = ks.analyze(ks.loads(fourbar(extra="output: coupler"))).summary()
+    s = full_summary(ks.analyze(ks.loads(fourbar(extra="output: coupler"))))
     assert list(s["outputs"]) == ["coupler"]  # the coupler's own swing (absolute angle)
     assert 0 < s["outputs"]["coupler"]["swing"] < 180
 
@@ -145,7 +146,7 @@ def test_output_key_refuses_a_relative_slide():
         ks.loads(text)
     ram = ks.loads(open("mechanisms/slotting_machine.yaml").read() + "\noutput: guide\n")
     s = ks.analyze(ks.loads(open("mechanisms/slotting_machine.yaml").read() + "\noutput: ram\n"))
-    assert list(s.summary()["outputs"]) == ["guide"]
+    assert list(full_summary(s)["outputs"]) == ["guide"]
     from kinetostatics.io import dump
 
     assert dump(ram).count("output: guide") == 1
@@ -198,10 +199,10 @@ def _means(path):
     pictures = pl.analyze_for_pictures(model, course=True, events=True)  # the report's
     return (
         {
-            "run": run.summary()["drivers"]["motor"]["mean"],
-            "report": pictures.summary()["drivers"]["motor"]["mean"],
-            "plot": _cycle_mean(pictures, "motor.torque"),
-            "plot_run": _cycle_mean(run, "motor.torque"),
+            "run": full_summary(run)["drivers"]["motor"]["mean"],
+            "report": full_summary(pictures)["drivers"]["motor"]["mean"],
+            "plot": _cycle_mean(cycle_stage(pictures), "motor.torque"),
+            "plot_run": _cycle_mean(cycle_stage(run), "motor.torque"),
         },
         run,
         design,
@@ -283,7 +284,7 @@ def test_shaper_stroke_time_ratio_and_cutting_work_match_the_crank_guide_bar_clo
     k_ratio = (math.pi + theta) / (math.pi - theta)
     stroke = 2 * lever * math.sin(theta / 2)
     result = ks.analyze(ks.load("mechanisms/shaper.yaml"))
-    s = result.summary()
+    s = full_summary(result)
     assert s["output"] == "ram"
     ram = s["outputs"]["guide"]
     assert ram["stroke"] * 1e3 == pytest.approx(stroke, rel=1e-9)
@@ -298,9 +299,11 @@ def test_shaper_stroke_time_ratio_and_cutting_work_match_the_crank_guide_bar_clo
     np.testing.assert_allclose(sorted([lo["angle"], hi["angle"]]), expect, atol=1e-7)
     mean = s["drivers"]["motor"]["mean"]
     assert mean == pytest.approx(p * 0.9 * stroke * 1e-3 / (2 * math.pi), rel=1e-9)
-    lever_swing = ks.analyze(
-        ks.loads(open("mechanisms/shaper.yaml").read().replace("output: ram", "output: lever"))
-    ).summary()["outputs"]["O3"]
+    lever_swing = full_summary(
+        ks.analyze(
+            ks.loads(open("mechanisms/shaper.yaml").read().replace("output: ram", "output: lever"))
+        )
+    )["outputs"]["O3"]
     assert lever_swing["swing"] == pytest.approx(math.degrees(theta), abs=1e-8)
     assert lever_swing["time_ratio"] == pytest.approx(k_ratio, rel=1e-9)
 
@@ -329,7 +332,7 @@ def test_resisting_torque_power_balance_and_the_work_of_two_swings():
         r["motor.torque"] * 4 * math.pi, 20.0 * np.abs(w), rtol=1e-9, atol=1e-9
     )
     psi = math.radians(grashof_limits(100, 350, 250, 300)["swing"])
-    mean = r.summary()["drivers"]["motor"]["mean"]
+    mean = full_summary(r)["drivers"]["motor"]["mean"]
     assert mean == pytest.approx(20.0 * 2 * psi / (2 * math.pi), rel=1e-9)
 
 

@@ -15,6 +15,7 @@ import yaml
 
 import kinetostatics as ks
 from kinetostatics import yaml_io
+from kinetostatics.dynamics.stages import full_summary
 from kinetostatics.errors import ModelError
 
 from .keywalk import instrumented
@@ -153,7 +154,7 @@ def test_run_writes_no_results_when_the_summary_fails(tmp_path, monkeypatch):
     from kinetostatics import results
     from kinetostatics.cli import main
 
-    def broken(self):
+    def broken(self, *args, **kwargs):
         raise ZeroDivisionError("summary")
 
     monkeypatch.setattr(results.Result, "summary", broken)
@@ -288,7 +289,7 @@ def test_slide_friction_coefficient_of_5_is_analysed():
     result = ks.analyze(
         ks.loads(TEXT.replace("coefficient: 0.10", "coefficient: 5"), file="h.yaml")
     )
-    summary = result.summary()
+    summary = full_summary(result)
     assert summary["checks"]["failed"] == ["friction"]
     assert "self-locking" in summary["checks"]["friction"]["where"]
     zones = summary["self_locking"]

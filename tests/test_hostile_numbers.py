@@ -273,13 +273,14 @@ def locked():
 
 
 def test_the_summary_and_report_of_an_all_self_locked_result_do_not_crash(locked):
+    from kinetostatics.dynamics.stages import full_summary
     from kinetostatics.outputs.report import _summary_blocks
 
     assert np.all(locked["friction.status"] == 2)
     assert np.all(np.isnan(locked["motor.force_friction"]))
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # no "All-NaN slice encountered"
-        summary = locked.summary()
+        summary = full_summary(locked)
     d = summary["drivers"]["motor"]
     assert np.isnan(d["mean_friction"]) and np.isfinite(d["mean"])
     items = _summary_blocks(locked, summary)[1].items

@@ -193,11 +193,13 @@ def test_the_pdf_embeds_the_font_of_the_zh_extra(fresh, tmp_path):
 # -- the flywheel chapter ---------------------------------------------------------------
 def test_flywheel_assumptions_in_chinese_and_one_design(tmp_path, monkeypatch):
     _need_cjk()
-    from kinetostatics.dynamics import flywheel
+    from kinetostatics.dynamics import flywheel, stages
 
     calls = []
     design = flywheel.design
-    monkeypatch.setattr(flywheel, "design", lambda *a, **k: calls.append(1) or design(*a, **k))
+    counted = lambda *a, **k: calls.append(1) or design(*a, **k)  # noqa: E731
+    monkeypatch.setattr(flywheel, "design", counted)
+    monkeypatch.setattr(stages, "design", counted)  # the cycle stage's
     lang.MISSING.clear()
     code = main(
         [

@@ -10,6 +10,7 @@ import pytest
 import kinetostatics as ks
 from kinetostatics.base.limits import MAX_LINKS
 from kinetostatics.cli import main
+from kinetostatics.dynamics.stages import full_summary
 
 
 def _chain(n: int) -> str:
@@ -181,6 +182,6 @@ def test_output_refusals_name_the_key_and_the_kinds(value, head):
 def test_output_accepts_what_the_docs_name(value):
     """A moving link other than the input, an undriven revolute on the frame (D) or
     between moving links (B): each gives one output with a swing."""
-    s = ks.analyze(ks.loads(_four_bar("ground.S, rocker.B") + f"output: {value}\n")).summary()
+    s = full_summary(ks.analyze(ks.loads(_four_bar("ground.S, rocker.B") + f"output: {value}\n")))
     assert s["output"] == value and len(s["outputs"]) == 1
     assert next(iter(s["outputs"].values()))["swing"] > 0

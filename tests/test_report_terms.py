@@ -12,12 +12,12 @@ from scipy.optimize import brentq
 
 from kinetostatics.cli import main
 from kinetostatics.dynamics.flywheel import ASSUMPTIONS as FLYWHEEL_ASSUMPTIONS
+from kinetostatics.dynamics.stages import full_summary
 from kinetostatics.outputs import lang
 from kinetostatics.outputs import plotting as pl
 from kinetostatics.outputs.loading import load
 from kinetostatics.outputs.report.drive import ASSUMPTIONS as DRIVE_ASSUMPTIONS
 from kinetostatics.outputs.report.results import _summary_blocks, crank_angle_between
-from kinetostatics.outputs.summary import summarize
 from tests.conftest import ROOT
 from tests.helpers import motion_driven, variant
 
@@ -42,7 +42,7 @@ def slotting(slotting_reports):
 def _items(model, lang_code):
     """The list items of the results chapter (section 3) of a model's report."""
     result = pl.analyze_for_pictures(model, course=True, events=True)
-    blocks = _summary_blocks(result, summarize(result), lang_code)
+    blocks = _summary_blocks(result, full_summary(result), lang_code)
     return next(b.items for b in blocks if hasattr(b, "items"))
 
 
@@ -89,7 +89,7 @@ def test_crank_angle_between_the_limit_positions(slotting):
 )
 def test_theta_from_the_limit_positions_is_the_closed_form_and_agrees_with_k(name, closed):
     result = pl.analyze_for_pictures(load(ROOT / "mechanisms" / f"{name}.yaml"), course=True)
-    outputs = summarize(result)["outputs"]
+    outputs = full_summary(result)["outputs"]
     assert outputs
     for o in outputs.values():
         lo, hi = o["limit_positions"]["min"]["angle"], o["limit_positions"]["max"]["angle"]

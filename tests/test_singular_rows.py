@@ -30,6 +30,7 @@ import numpy as np
 import pytest
 
 import kinetostatics as ks
+from kinetostatics.dynamics.stages import full_summary
 
 CASE = "tests/hard/slider_crank_slider_driven.yaml"
 A, B = 100.0, 350.0
@@ -163,7 +164,7 @@ def test_friction_only_at_the_slide_locks_only_the_dead_centres():
 
 
 def test_reported_zone_edges_match_the_closed_form(grid):
-    zones = grid.summary()["self_locking"]
+    zones = full_summary(grid)["self_locking"]
     e = _edge_deg()
     zero = [z for z in zones if z["rows"] == 3]
     assert len(zero) == 1 and zero[0]["unit"] == "deg"

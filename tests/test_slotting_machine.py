@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 import kinetostatics as ks
+from kinetostatics.dynamics.stages import full_summary
 
 
 @pytest.fixture(scope="module")
@@ -29,7 +30,7 @@ def test_derived_dimensions(model):
 
 
 def test_stroke_and_time_ratio(result):
-    out = result.summary()["outputs"]["guide"]
+    out = full_summary(result)["outputs"]["guide"]
     assert out["stroke"] == pytest.approx(0.100, rel=1e-12)
     assert out["time_ratio"] == pytest.approx(2.0, rel=1e-9)
     # limit positions: ram top at position 1 (300°), bottom at position 9 (60°)

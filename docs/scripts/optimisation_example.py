@@ -33,6 +33,7 @@ sys.path.insert(0, str(ROOT / "src"))
 import kinetostatics as ks  # noqa: E402
 from kinetostatics.batch.sources import variant_parameters  # noqa: E402
 from kinetostatics.batch.variants import Template, analyze_variants  # noqa: E402
+from kinetostatics.dynamics.stages import full_summary  # noqa: E402
 
 FILE = ROOT / "mechanisms" / "slotting_machine.yaml"
 DOC = ROOT / "docs" / "optimisation.md"
@@ -90,7 +91,7 @@ def block(best: ks.Optimum) -> str:
         a, b = (fmt.format(float(r[key]) * scale) for r in (row0, best.row))
         lines.append(f"| {label} | {a} | {b} |")
     rms = [  # summary.json's: exact between the load events (the rows' is first-order there)
-        ks.analyze(template.model(p)).summary()["drivers"]["motor"]["rms_friction"]
+        full_summary(ks.analyze(template.model(p)))["drivers"]["motor"]["rms_friction"]
         for p in ({}, best.parameters)
     ]
     after = next(k for k, line in enumerate(lines) if line.startswith("| RMS motor torque"))

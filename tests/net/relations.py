@@ -17,6 +17,8 @@ import warnings
 
 import numpy as np
 
+from kinetostatics.dynamics.stages import cycle_stage, full_summary
+
 try:
     from . import generate as G
 except ImportError:  # run as a script from tests/net
@@ -464,7 +466,7 @@ def relation_units(doc, seed, n=12):
     if "drive" in d or "flywheel" in d:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            worst = max(worst, compare_summaries(b.summary(), a.summary()))
+            worst = max(worst, compare_summaries(full_summary(b), full_summary(a)))
     return worst
 
 
@@ -1196,12 +1198,13 @@ def expected_row(doc, res):
     if doc.get("flywheel"):  # not an aggregate of columns: the design of the run
         from kinetostatics.dynamics.flywheel import design
 
-        # before summary(): after it, design() integrates on the nodes with friction
-        # that summary() leaves cached on the result, and differs by 2e-11 of
-        # inertia_net (slotting machine at 12 positions)
+        # design() alone, as the batch row's: on its own frictionless nodes (the cycle's
+        # stage would pass it the nodes with friction, 2e-11 of inertia_net apart on the
+        # slotting machine at 12 positions)
         fw = design(res)
         out["flywheel.inertia"], out["flywheel.inertia_net"] = fw.inertia, fw.inertia_net
-    summary = res.summary()
+    # the strokes and the locked zones' edges: the cycle's stages (no flywheel: above)
+    summary = res.summary(cycle_stage(res, flywheel=False, drive=False))
     ground = res.system.model.ground.name
     joints = doc["joints"]
     motion = {

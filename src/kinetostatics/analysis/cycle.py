@@ -18,12 +18,16 @@ through zero, a friction law's normal force through zero, a cam law's segment en
 located exactly on the solved state, never by interpolating across a jump.
 
 :func:`cycle_stats` serves ``summary.json`` (``run``), the report, the pictures and the
-flywheel: their means agree to round-off.  Its nodes are computed once per result.
+flywheel: their means agree to round-off.  Its nodes are a record
+(:class:`Quadrature`, :func:`cycle_quadrature`): the cycle's stage
+(:mod:`~kinetostatics.dynamics.stages`) computes them once and passes them to every
+integral over the cycle; nothing is cached on the result.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -40,11 +44,57 @@ from .cuts import (
 )
 from .results import Result
 
-__all__ = ["NODES", "cycle_stats", "cycle_nodes", "cycle_pieces"]
+__all__ = [
+    "NODES",
+    "Quadrature",
+    "cycle_nodes",
+    "cycle_pieces",
+    "cycle_quadrature",
+    "cycle_stats",
+]
 
 NODES = 8  # Gauss–Legendre nodes per sub-interval
 PIECES = 36  # sub-intervals per span at least (each ≤ span/36)
 MISSED = 3  # rounds of cuts the nodes found and the rows missed, at most
+
+
+@dataclass(frozen=True)
+class Quadrature:
+    """The cycle's quadrature of one result (:func:`cycle_quadrature`): a record, computed
+    once by the caller that needs the cycle and passed to every stage that integrates over
+    it (the means, the flywheel, the drive), never cached on the result.
+
+    Attributes
+    ----------
+    weights : ndarray
+        The quadrature weights (s), summing to the span, in the nodes' order.
+    nodes : Result
+        The pipeline's result at the nodes.
+    pieces : ndarray or None
+        ``(P, 2)``: each (t₀, t₁) holding :data:`NODES` consecutive nodes (None for a run
+        of one row).
+    friction : bool
+        Whether the nodes carry the friction solutions (they then carry every
+        frictionless column too).
+    rule : tuple of int
+        (nodes per piece, pieces per span at least).
+    """
+
+    weights: np.ndarray
+    nodes: Result
+    pieces: np.ndarray | None
+    friction: bool
+    rule: tuple[int, int]
+
+    def serves(self, friction: bool, rule: tuple[int, int]) -> bool:
+        """Whether these nodes give the integrals asked with ``friction`` and ``rule``."""
+        return self.rule == rule and (self.friction or not friction)
+
+
+def _asked(result: Result, friction: bool | None, quadrature) -> tuple[bool, tuple[int, int]]:
+    if friction is None:
+        friction = "friction.status" in result.columns
+    return bool(friction), tuple(quadrature) if quadrature is not None else (NODES, PIECES)
 
 
 def cycle_nodes(
@@ -52,13 +102,15 @@ def cycle_nodes(
     *,
     friction: bool | None = None,
     quadrature: tuple[int, int] | None = None,
+    given: Quadrature | None = None,
 ) -> tuple[np.ndarray, Result]:
     """(weights, node result): the quadrature weights (s, summing to the span) and the
     result of the pipeline at the nodes.  ``friction``: solve the friction solutions at
     the nodes (default: when the result has them); ``quadrature``: (nodes per piece,
     pieces per span at least), default (:data:`NODES`, :data:`PIECES`) — another only to
-    check that the means have converged.  Cached on the result."""
-    return cycle_pieces(result, friction=friction, quadrature=quadrature)[:2]
+    check that the means have converged; ``given``: nodes already computed
+    (:func:`cycle_quadrature`), used when they serve."""
+    return cycle_pieces(result, friction=friction, quadrature=quadrature, given=given)[:2]
 
 
 def cycle_pieces(
@@ -66,26 +118,50 @@ def cycle_pieces(
     *,
     friction: bool | None = None,
     quadrature: tuple[int, int] | None = None,
+    given: Quadrature | None = None,
 ) -> tuple[np.ndarray, Result, np.ndarray | None]:
     """(weights, node result, pieces): :func:`cycle_nodes` with the pieces ``(P, 2)``, each
     (t₀, t₁) holding :data:`NODES` consecutive nodes (None for a run of one row)."""
-    if friction is None:
-        friction = "friction.status" in result.columns
-    n_nodes, n_pieces = quadrature if quadrature is not None else (NODES, PIECES)
-    cache = result.__dict__.setdefault("_cycle_nodes", {})
-    key = (friction, n_nodes, n_pieces)
-    if key in cache:
-        return cache[key]
-    if (True, n_nodes, n_pieces) in cache:  # the nodes with friction carry every
-        return cache[(True, n_nodes, n_pieces)]  # frictionless column too
+    q = cycle_quadrature(result, friction=friction, quadrature=quadrature, given=given)
+    return q.weights, q.nodes, q.pieces
+
+
+def cycle_quadrature(
+    result: Result,
+    *,
+    friction: bool | None = None,
+    quadrature: tuple[int, int] | None = None,
+    given: Quadrature | None = None,
+) -> Quadrature:
+    """The cycle's quadrature of ``result`` (:class:`Quadrature`): ``given`` when it serves
+    (the nodes with friction serve a frictionless integral too), else computed.
+
+    Parameters
+    ----------
+    result : Result
+        The analysis.
+    friction : bool, optional
+        Solve the friction solutions at the nodes (default: when the result has them).
+    quadrature : tuple of int, optional
+        (nodes per piece, pieces per span at least), default (:data:`NODES`,
+        :data:`PIECES`); another only to check that the means have converged.
+    given : Quadrature, optional
+        Nodes already computed by the caller.
+
+    Returns
+    -------
+    Quadrature
+        The weights, the node result and the pieces.
+    """
+    friction, rule = _asked(result, friction, quadrature)
+    if given is not None and given.serves(friction, rule):
+        return given
+    n_nodes, n_pieces = rule
     ta, tb = span(result)
     if not tb > ta:  # one row: its values
-        cache[key] = (np.ones(len(result.t)), result, None)
-        return cache[key]
+        return Quadrature(np.ones(len(result.t)), result, None, friction, rule)
     x, w = np.polynomial.legendre.leggauss(n_nodes)
-    edges = cache.get(("edges", friction))
-    if edges is None:
-        edges = cache[("edges", friction)] = breaks(result, ta, tb, friction)
+    edges = breaks(result, ta, tb, friction)
     # the pieces are chosen on the frictionless efforts (cheap: no friction solution at
     # the nodes, which at self-locked nodes is a homotopy each), then the nodes analysed
     # once as asked; a switch or kink the rows missed (a pair between two rows) but the
@@ -95,7 +171,7 @@ def cycle_pieces(
         missed = missed_cuts(result, nodes, edges, friction)
         if not missed:
             break
-        edges = cache[("edges", friction)] = merged_cuts(ta, tb, [*edges, *missed])
+        edges = merged_cuts(ta, tb, [*edges, *missed])
         grouped, times, weights, nodes = _placed(result, edges, n_pieces, x, w)
     order = np.argsort(times, kind="stable")  # the pipeline returns rows in time order
     again = friction
@@ -109,8 +185,7 @@ def cycle_pieces(
             order = np.argsort(times, kind="stable")
     if again:
         nodes = quiet_analyze(result.system, times=times, friction=friction, events=False)
-    cache[key] = (weights[order], nodes, grouped)
-    return cache[key]
+    return Quadrature(weights[order], nodes, grouped, friction, rule)
 
 
 def _placed(result: Result, edges: np.ndarray, n_pieces: int, x: np.ndarray, w: np.ndarray):
@@ -207,6 +282,7 @@ def cycle_stats(
     *,
     friction: bool | None = None,
     quadrature: tuple[int, int] | None = None,
+    given: Quadrature | None = None,
 ) -> dict[str, dict[str, Any]]:
     """Mean, RMS and peak |·| over the run (a full cycle: one period) of each quantity.
 
@@ -216,11 +292,12 @@ def cycle_stats(
     the value exists; a mean and RMS are over that part (NaN when it is empty: a friction
     column of a machine self-locked everywhere); ``peak`` is the largest |value| at the
     analysed rows (as the batch table's), at the nodes for a function the rows lack.
-    ``quadrature``: as for :func:`cycle_nodes`.
+    ``quadrature``, ``given``: as for :func:`cycle_quadrature` (a caller that integrates
+    more than once computes the nodes once and passes them).
     """
     if not isinstance(what, Mapping):
         what = {name: name for name in what}
-    weights, nodes = cycle_nodes(result, friction=friction, quadrature=quadrature)
+    weights, nodes = cycle_nodes(result, friction=friction, quadrature=quadrature, given=given)
     out = {}
     for label, source in what.items():
         if callable(source):

@@ -25,6 +25,8 @@ if TYPE_CHECKING:  # the optional table packages, for the return types only
     import pandas
     import xarray
 
+    from .summary import CycleRecords
+
 __all__ = ["Result", "build_columns", "joint_warnings", "element_warnings"]
 
 
@@ -237,35 +239,55 @@ class Result:
             "units": dict(self.units),
         }
 
-    def summary(self) -> dict[str, Any]:
-        """Summarise the result: extremes of every column, events, singular positions.
-
-        Returns
-        -------
-        dict of str to Any
-            The contents of ``summary.json``.
-
-        Examples
-        --------
-        >>> summary = result.summary()  # doctest: +SKIP
-        """
-        from ..outputs.summary import summarize
-
-        return summarize(self)
-
-    def to_json(self, path: str | Path, summary: dict[str, Any] | None = None) -> None:
-        """Write :meth:`summary` as JSON.
+    def summary(self, cycle: CycleRecords | None = None) -> dict[str, Any]:
+        """The summary of the result (summary.json's keys), formatted; nothing is solved.
 
         Parameters
         ----------
-        path : str or pathlib.Path
-            The file to write.
-        summary : dict of str to Any, optional
-            A summary already computed, written instead of a new one.
+        cycle : Cycle, optional
+            The cycle's records (:func:`~kinetostatics.dynamics.stages.cycle_stage`):
+            the driving efforts' means and RMS, the output strokes, the self-locked
+            zones, the flywheel and the drive, as ``kinetostatics run`` writes them.
+            Without it, what the rows hold: the extremes of every column, the reaction
+            peaks, the events, the singular positions, the self-checks and the driving
+            efforts' peaks.
+
+        Returns
+        -------
+        dict
+            JSON-safe (:func:`~kinetostatics.analysis.summary.summarize`).
+
+        Examples
+        --------
+        >>> from kinetostatics.dynamics.stages import cycle_stage
+        >>> rows_only = result.summary()  # doctest: +SKIP
+        >>> as_run_writes_it = result.summary(cycle_stage(result))  # doctest: +SKIP
+        """
+        from .summary import summarize
+
+        return summarize(self, cycle)
+
+    def to_json(
+        self,
+        path: str | Path,
+        summary: dict[str, Any] | None = None,
+        *,
+        cycle: CycleRecords | None = None,
+    ) -> None:
+        """Write the summary as JSON.
+
+        Parameters
+        ----------
+        path : str or Path
+            The file.
+        summary : dict, optional
+            The summary already computed; default :meth:`summary` of ``cycle``.
+        cycle : Cycle, optional
+            The cycle's records, as for :meth:`summary`.
 
         Examples
         --------
         >>> result.to_json("summary.json")  # doctest: +SKIP
         """
-        data = self.summary() if summary is None else summary
+        data = self.summary(cycle) if summary is None else summary
         Path(path).write_text(json_text(data, ensure_ascii=False), encoding="utf-8")

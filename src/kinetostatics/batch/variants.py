@@ -16,8 +16,10 @@ from typing import Any
 
 import numpy as np
 
+from ..analysis.locking import locking_zones
 from ..base.arrays import runs
 from ..base.document import compose, read_text
+from ..dynamics.flywheel import design
 from ..errors import KinetostaticsError
 from ..kinematics.events import coordinate_rates, output_slides, output_strokes
 from ..model import Model
@@ -216,11 +218,9 @@ def _ranges(angle: np.ndarray, mask: np.ndarray) -> str:
 
 def _zones(result) -> str:
     """The self-locked zones of one result with their located edges
-    (:func:`~kinetostatics.outputs.summary.locking_zones`, summary.json ``self_locking``), as
+    (:func:`~kinetostatics.analysis.locking.locking_zones`, summary.json ``self_locking``), as
     'a–b; c–d' (a zone wrapping past 360° is one zone, e.g. '358.516494–1.483505980'); an edge
     beyond a run that is not a full cycle is '…'."""
-    from ..outputs.summary import locking_zones
-
     text = lambda v: "…" if v is None else f"{v:.10g}"  # noqa: E731
     return "; ".join(f"{text(z['from'])}–{text(z['to'])}" for z in locking_zones(result))
 
@@ -301,8 +301,6 @@ def summary_row(
         elif name.endswith(".transmission_angle"):
             row[name + "_min"] = least(np.minimum(cols[name], 180.0 - cols[name]))
     if flywheel or (flywheel is None and getattr(system.model, "flywheel", None) is not None):
-        from ..dynamics.flywheel import design
-
         fw = design(result)
         row["flywheel.inertia"], row["flywheel.inertia_net"] = fw.inertia, fw.inertia_net
     return {

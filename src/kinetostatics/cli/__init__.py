@@ -79,8 +79,12 @@ def _run(args) -> int:
 
     model = load(args.file)
     _print_units(model)
+    from ..dynamics.stages import cycle_stage
+
     result = analyze(model, reachable=bool(getattr(args, "reachable", False)))
-    s = result.summary()  # before anything is written: a failed run writes nothing
+    # the cycle's stages, then the summary: before anything is written (a failed run
+    # writes nothing)
+    s = result.summary(cycle_stage(result))
     out = Path(args.out)
     from ..base.files import write_outputs
 

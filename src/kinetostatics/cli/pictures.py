@@ -261,6 +261,18 @@ def _plot(args) -> int:
 
     make_folder(out, f"--out {args.out}")
     paths = _default_paths(model) if args.paths is None else args.paths
+    cycle = None
+    if "torque" in what or ("efficiency" in what and model.has_friction):
+        from ..dynamics.stages import cycle_stage  # the curves' cycle means
+
+        cycle = cycle_stage(
+            result,
+            outputs=False,
+            self_locking=False,
+            flywheel=False,
+            drive=False,
+            efficiency="efficiency" in what,
+        )
     written = []
     for name in what:
         if name == "drawing":
@@ -276,12 +288,12 @@ def _plot(args) -> int:
         elif name == "motion":
             fig = pl.motion_diagram(result, args.output, dpi=args.dpi, lang=lang)
         elif name == "torque":
-            fig = pl.torque_curves(result, args.driver, dpi=args.dpi, lang=lang)
+            fig = pl.torque_curves(result, args.driver, dpi=args.dpi, lang=lang, cycle=cycle)
         elif name == "efficiency":
             if not model.has_friction:
                 print(f"{model.name}: no friction in the file: no efficiency curve")
                 continue
-            fig = pl.efficiency_curve(result, args.driver, dpi=args.dpi, lang=lang)
+            fig = pl.efficiency_curve(result, args.driver, dpi=args.dpi, lang=lang, cycle=cycle)
         elif name == "reactions":
             fig = pl.reaction_curves(result, friction=model.has_friction, dpi=args.dpi, lang=lang)
         elif name == "polar":
@@ -329,6 +341,7 @@ def _animate(args) -> int:
 
 
 def _report(args) -> int:
+    from ..dynamics.stages import report_stage
     from ..outputs.report import write_report
 
     formats = list(args.format or ["md", "html"])
@@ -343,6 +356,7 @@ def _report(args) -> int:
         formats=formats,
         lang=args.lang,
         what=f"--out {args.out}",
+        cycle=report_stage,
     )
     docs = [str(paths[k]) for k in ("markdown", "html", "pdf") if k in paths]
     print(f"report: {', '.join(docs)} (data: {paths['csv']}, {paths['summary']})")

@@ -55,6 +55,9 @@ _HOME = {  # name -> its module: loaded on first use (a flywheel sizing needs no
     "Simulation": "simulation",
     "speed_fluctuation": "simulation",
     "write_csv": "simulation",
+    "Cycle": "stages",
+    "cycle_stage": "stages",
+    "full_summary": "stages",
 }
 
 __all__ = [
@@ -66,6 +69,9 @@ __all__ = [
     "speed_fluctuation",
     "write_csv",
     "STEP",
+    "Cycle",
+    "cycle_stage",
+    "full_summary",
 ]
 
 

@@ -37,14 +37,27 @@ from typing import Any
 
 import numpy as np
 
-from ..analysis.cycle import cycle_nodes, cycle_stats
+from ..analysis.cycle import Quadrature, cycle_quadrature, cycle_stats
 from ..analysis.results import Result
-from ..errors import Location, StructureError
-from ..kinematics.schedule import schedule
 from ..model import DriveSpec
+from .motor import (
+    LIMIT,
+    RPM,
+    WHAT,
+    check_lines,
+    drive_warning,
+    motor_torque,
+    quadrant_data,
+    ratio_of,
+    reduce,
+    shaft_curves,
+)
 
-__all__ = [
+__all__ = [  # the rows' formulas live in .motor; named here too for the old imports
     "DriveSizing",
+    "LIMIT",
+    "WHAT",
+    "ratio_of",
     "RPM",
     "check_lines",
     "drive_warning",
@@ -53,86 +66,6 @@ __all__ = [
     "reduce",
     "size",
 ]
-
-RPM = 30.0 / np.pi  # rad/s -> rpm
-
-
-def reduce(torque, speed, ratio: float = 1.0, efficiency: float = 1.0) -> np.ndarray:
-    """The load torque of a driven shaft (``torque``, ``speed`` in one sense) at the motor
-    through a reduction: T/(i·η) where the shaft takes power (T·ω ≥ 0), T·η/i where it gives
-    it back (T·ω < 0)."""
-    torque = np.asarray(torque, dtype=float)
-    back = torque * np.asarray(speed, dtype=float) < 0.0
-    return np.where(back, torque * efficiency / ratio, torque / (ratio * efficiency))
-
-
-def motor_torque(torque, speed, acceleration, spec: DriveSpec, ratio: float) -> np.ndarray:
-    """The motor's torque: :func:`reduce` plus the inertia of rotor and reduction,
-    (J_m + J_r)·i·α."""
-    inertia = spec.motor_inertia + spec.gear_inertia
-    return reduce(torque, speed, ratio, spec.efficiency) + inertia * ratio * np.asarray(
-        acceleration, dtype=float
-    )
-
-
-def _driver(system, spec: DriveSpec):
-    drivers = system.motion_drivers
-    chosen = [d for d in drivers if spec.driver in (None, d.name)]
-    if not chosen or not chosen[0].joint.angular:
-        raise StructureError(
-            [
-                (
-                    Location(system.model.source, path="drive"),
-                    "a drive needs a revolute motion driver",
-                )
-            ]
-        )
-    d = chosen[0]
-    return d, drivers.index(d)
-
-
-def ratio_of(model) -> float:
-    """i: ``drive.reduction.ratio``, else ``flywheel.ratio``, else 1."""
-    spec = model.drive
-    if spec is not None and spec.ratio is not None:
-        return float(spec.ratio)
-    if model.flywheel is not None and model.flywheel.ratio is not None:
-        return float(model.flywheel.ratio)
-    return 1.0
-
-
-def _curves(system, spec: DriveSpec, friction: bool):
-    """A function Result -> dict of arrays over its rows: the driven shaft's ``torque``,
-    ``speed``, ``acceleration``, ``power`` and the motor's ``motor_torque``,
-    ``motor_speed``, ``motor_power``, ``inertia_torque``."""
-    d, k = _driver(system, spec)
-    sched = schedule(system)
-    sense = 1.0 if sched.speed[k] >= 0 else -1.0
-    column = f"{d.name}.torque_friction" if friction else f"{d.name}.torque"
-    i = ratio_of(system.model)
-    memo: dict[int, tuple[Result, dict]] = {}
-
-    def of(r: Result) -> dict[str, np.ndarray]:
-        if id(r) in memo and memo[id(r)][0] is r:
-            return memo[id(r)][1]
-        _, psi_d, psi_dd = sched(np.asarray(r.t, dtype=float))
-        w, a = sense * psi_d[..., k], sense * psi_dd[..., k]
-        t = sense * np.asarray(r[column], dtype=float)
-        tm = motor_torque(t, w, a, spec, i)
-        out = {
-            "torque": t,
-            "speed": w,
-            "acceleration": a,
-            "power": t * w,
-            "motor_torque": tm,
-            "motor_speed": i * w,
-            "motor_power": tm * i * w,
-            "inertia_torque": (spec.motor_inertia + spec.gear_inertia) * i * a,
-        }
-        memo[id(r)] = (r, out)
-        return out
-
-    return of, d.name, sense, i
 
 
 @dataclass(frozen=True)
@@ -194,44 +127,6 @@ class DriveSizing:
         }
 
 
-WHAT = {"rms_torque": "RMS torque", "peak_torque": "peak torque", "speed": "speed"}
-LIMIT = {"rms_torque": "rated torque", "peak_torque": "peak torque rating", "speed": "rated speed"}
-
-
-def _item_text(key: str, item: dict) -> str:
-    """``RMS torque 1.07 N*m <= rated torque 1.6 N*m`` (speeds in rpm)."""
-    scale, unit = (RPM, "rpm") if key == "speed" else (1.0, "N*m")
-    text = f"{WHAT[key]} {item['value'] * scale:.4g} {unit}"
-    if item["ok"] is None:
-        return text + " (not checked)"
-    sign = "<=" if item["ok"] else ">"
-    return text + f" {sign} {LIMIT[key]} {item['limit'] * scale:.4g} {unit}"
-
-
-def check_lines(d: dict) -> list[str]:
-    """The checks of a drive's summary entry as lines: one per check, the verdict's marked."""
-    lines = []
-    for name, c in d["checks"].items():
-        how = (
-            "rigid drive" if name == "rigid" else f"with flywheel, delta {d['flywheel']['delta']:g}"
-        )
-        items = "; ".join(_item_text(k, it) for k, it in c["items"].items())
-        mark = " (the verdict)" if name == d["verdict_from"] else ""
-        lines.append(f"drive check ({how}): {items}: {c['verdict']}{mark}")
-    return lines
-
-
-def drive_warning(d: dict) -> str | None:
-    """One line naming what the motor of a drive's summary entry lacks; None when the
-    verdict is not ``undersized``."""
-    c = d["checks"][d["verdict_from"]]
-    if c["verdict"] != "undersized":
-        return None
-    parts = [_item_text(k, it) for k, it in c["items"].items() if it["ok"] is False]
-    how = "with the flywheel" if d["verdict_from"] == "flywheel" else "rigid drive"
-    return f"drive '{d['driver']}': motor undersized ({how}): " + "; ".join(parts)
-
-
 def _check(rms: float, peak: float, speed: float, spec: DriveSpec) -> dict[str, Any]:
     items = {}
     for key, value, limit in (
@@ -264,26 +159,26 @@ def size(
     *,
     flywheel=None,
     quadrature: tuple[int, int] | None = None,
+    nodes: Quadrature | None = None,
 ) -> DriveSizing:
     """The drive of ``result``'s model (``spec``: default ``drive:`` of the file) over the run.
 
     ``flywheel``: the model's flywheel design when the caller has it
     (:func:`~kinetostatics.dynamics.flywheel.design`), for the flywheel check's J_F.
-    ``quadrature``: the cycle integrator's (nodes, pieces), another than the default only
-    to check that the means have converged (:func:`~kinetostatics.analysis.cycle.cycle_nodes`)."""
+    ``quadrature``, ``nodes``: the cycle integrator's rule and the nodes already computed,
+    as for :func:`~kinetostatics.analysis.cycle.cycle_quadrature`."""
     system = result.system
     model = system.model
     spec = spec if spec is not None else model.drive
     if spec is None:
         raise ValueError("no drive: give drive: {...} in the file or spec=")
-    friction = bool(model.has_friction if spec.friction is None else spec.friction)
-    friction = friction and model.has_friction
-    of, name, sense, i = _curves(system, spec, friction)
+    friction = model.has_friction and bool(spec.friction is None or spec.friction)
+    of, name, sense, i = shaft_curves(system, spec, friction)
     keys = ("torque", "power", "speed", "motor_torque", "motor_power", "motor_speed")
     what = {key: (lambda r, key=key: of(r)[key]) for key in keys + ("inertia_torque",)}
-    stats = cycle_stats(result, what, friction=friction, quadrature=quadrature)
-    _, nodes = cycle_nodes(result, friction=friction, quadrature=quadrature)
-    peak = {key: _peak(of, key, result, nodes) for key in what}
+    quad = cycle_quadrature(result, friction=friction, quadrature=quadrature, given=nodes)
+    stats = cycle_stats(result, what, friction=friction, quadrature=quadrature, given=quad)
+    peak = {key: _peak(of, key, result, quad.nodes) for key in what}
 
     def side(prefix: str) -> dict:
         t, p, w = (prefix + x for x in ("torque", "power", "speed"))
@@ -303,7 +198,7 @@ def size(
     }
     fw = None
     if model.flywheel is not None:
-        fw = _with_flywheel(result, spec, i, shaft, flywheel)
+        fw = _with_flywheel(result, spec, i, shaft, flywheel, quad)
         checks["flywheel"] = _check(abs(fw["torque"]), abs(fw["torque"]), fw["speed_max"], spec)
     return DriveSizing(
         spec=spec,
@@ -320,7 +215,9 @@ def size(
     )
 
 
-def _with_flywheel(result: Result, spec: DriveSpec, i: float, shaft: dict, design) -> dict:
+def _with_flywheel(
+    result: Result, spec: DriveSpec, i: float, shaft: dict, design, quad: Quadrature
+) -> dict:
     """The ideal flywheel of δ (the energy method): the motor gives the constant cycle-mean
     torque, referred to the motor by :func:`reduce`; the speed reaches ω_m·(1 + δ/2); the
     flywheel the motor shaft still needs is (J_F − J_e)/i² less rotor and reduction."""
@@ -328,7 +225,7 @@ def _with_flywheel(result: Result, spec: DriveSpec, i: float, shaft: dict, desig
     if design is None:
         from .flywheel import design as flywheel_design
 
-        design = flywheel_design(result)
+        design = flywheel_design(result, nodes=quad)
     delta = float(model.flywheel.delta)
     omega = float(design.omega_m)
     mean = float(shaft["torque"]["mean"])
@@ -347,32 +244,4 @@ def _with_flywheel(result: Result, spec: DriveSpec, i: float, shaft: dict, desig
         "inertia_motor_net": net,
         "inertia_rotor": spec.motor_inertia + spec.gear_inertia,
         "inertia_to_add": net - (spec.motor_inertia + spec.gear_inertia),
-    }
-
-
-def quadrant_data(result: Result, spec: DriveSpec | None = None) -> dict[str, Any]:
-    """The four-quadrant picture's data over the rows (in time order): motor ``speed``
-    (rpm) and ``torque`` (N·m) in the sense of motion, and the ratings (rpm, N·m; None
-    when not given)."""
-    system = result.system
-    model = system.model
-    spec = spec if spec is not None else model.drive
-    friction = bool(model.has_friction if spec.friction is None else spec.friction)
-    friction = (
-        friction
-        and model.has_friction
-        and f"{_driver(system, spec)[0].name}.torque_friction" in result.columns
-    )
-    of, name, sense, i = _curves(system, spec, friction)
-    order = np.argsort(result.t, kind="stable")
-    c = of(result)
-    return {
-        "driver": name,
-        "speed": c["motor_speed"][order] * RPM,
-        "torque": c["motor_torque"][order],
-        "rated_torque": spec.rated_torque,
-        "peak_torque": spec.peak_torque,
-        "rated_speed": None if spec.rated_speed is None else spec.rated_speed * RPM,
-        "friction": friction,
-        "ratio": i,
     }

@@ -25,14 +25,14 @@ simulation (:func:`verify`) needs scipy.integrate and lives outside ``run``.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
 import numpy.polynomial.legendre as leg
 
 from ..analysis import analyze
-from ..analysis.cycle import cycle_pieces, cycle_stats
+from ..analysis.cycle import Quadrature, cycle_quadrature, cycle_stats
 from ..analysis.pipeline import analyze_near
 from ..analysis.results import Result
 from ..base.arguments import real_number
@@ -41,9 +41,18 @@ from ..kinematics.schedule import schedule
 from ..kinetics.reactions import effort_ratio
 from ..model import EffortLaw, Model
 from ..structure.system import System, build_system
+from .flywheel_texts import ASSUMPTIONS, TORQUE_PHRASE, assumption_texts
 from .reduced import equivalent, equivalent_inertia, with_effort
 
-__all__ = ["FlywheelDesign", "design", "verify", "energy_curve"]
+__all__ = [
+    "FlywheelDesign",
+    "design",
+    "verify",
+    "energy_curve",
+    "ASSUMPTIONS",
+    "TORQUE_PHRASE",
+    "assumption_texts",
+]
 
 EPS = 1e-7  # rad: the one-sided values at an event are taken this far from it
 SELF_LOCKED = (
@@ -76,19 +85,24 @@ class FlywheelDesign:
     assumptions: tuple = ()
     system: Any = field(default=None, repr=False, compare=False)  # for the curve, on demand
     undefined: str | None = None  # why ΔW_max (and J_F) is not defined, else None
+    energy: dict | None = field(default=None, repr=False, compare=False)  # with_curve()'s
 
     @property
     def curve(self) -> dict[str, np.ndarray]:
         """The driving moment and J_e over the cycle on :attr:`positions` positions (plus
-        both sides of every load event), for the pictures (:func:`energy_curve`): computed
-        when first asked for, not by the design's numbers."""
-        cached = self.__dict__.get("_curve")
-        if cached is None:
-            cached = energy_curve(
-                self.system, list(self.events), friction=self.friction, positions=self.positions
-            )
-            object.__setattr__(self, "_curve", cached)
-        return cached
+        both sides of every load event), for the pictures (:func:`energy_curve`): the one
+        the record carries (:meth:`with_curve`), else computed at each call (not by the
+        design's numbers; nothing is kept on the frozen record)."""
+        if self.energy is not None:
+            return self.energy
+        return energy_curve(
+            self.system, list(self.events), friction=self.friction, positions=self.positions
+        )
+
+    def with_curve(self) -> FlywheelDesign:
+        """The design carrying its :attr:`curve`, computed once here: what a caller passes
+        to the pictures, which then solve nothing."""
+        return self if self.energy is not None else replace(self, energy=self.curve)
 
     @property
     def motor_inertia(self) -> float | None:
@@ -241,40 +255,6 @@ def _swing(phi: np.ndarray, f: np.ndarray) -> tuple[np.ndarray, float, float, fl
     return big_f, cand_f[kmax], cand_x[kmax], cand_f[kmin], cand_x[kmin]
 
 
-# The assumptions of a design: sentence templates (the report translates them, then fills
-# in the same numbers), the torque phrase by whether friction is counted.
-ASSUMPTIONS = (  # what is assumed, not how it is computed (no module or rule named)
-    "driving moment constant, equal to the cycle mean of {torque} (M_d = work per cycle / 2π, "
-    "the work integrated exactly over one cycle, piece by piece between the load events)",
-    "balancing moment at the constant nominal crank speed ω_m = {omega_m:.6g} rad/s "
-    "(link inertia torques at that speed included)",
-    "ΔW_max exact: ΔW(φ) integrated over one cycle piece by piece between the load events, "
-    "where M_b is smooth, its extremes at the load events or where M_d = M_b "
-    "({positions} positions only for the pictures)",
-    "energy method, first order in δ: ω_m = (ω_max + ω_min)/2 and the speed "
-    "variation taken by the flywheel alone (J_F) or by the flywheel plus the "
-    "machine's cycle-mean equivalent inertia (J_F − J_e)",
-    "flywheel on the crank shaft; on the motor shaft J_F/i² (i: the reduction ratio; gear "
-    "inertia neglected)",
-)
-TORQUE_PHRASE = {
-    False: "the frictionless balancing moment",
-    True: "the balancing moment with friction (consistent solution)",
-}
-
-
-def assumption_texts(
-    friction: bool, omega_m: float, positions: int, translate=lambda text: text
-) -> tuple[str, ...]:
-    """The assumptions of a design as sentences; ``translate(text)`` turns each template
-    (and the torque phrase) into another language before the numbers are filled in."""
-    torque = translate(TORQUE_PHRASE[bool(friction)])
-    return tuple(
-        translate(t).format(torque=torque, omega_m=omega_m, positions=positions)
-        for t in ASSUMPTIONS
-    )
-
-
 def _legendre_pieces(pieces: np.ndarray, values: np.ndarray):
     """Per piece (t₀, t₁) of the cycle nodes, the Legendre series through its n node values
     (Gauss–Legendre nodes: the interpolant the quadrature integrates exactly): ``(P, n)``
@@ -388,6 +368,7 @@ def design(
     friction: bool | None = None,
     positions: int = 3600,
     quadrature: tuple[int, int] | None = None,
+    nodes: Quadrature | None = None,
 ) -> FlywheelDesign:
     """Size the flywheel for ``delta`` (default the model's ``flywheel.delta``).
 
@@ -396,6 +377,9 @@ def design(
     ``friction``: size from the balancing moment with friction (consistent).
     ``quadrature``: the cycle integrator's (nodes, pieces), another than the default only
     to check that the design has converged (:func:`~kinetostatics.analysis.cycle.cycle_nodes`).
+    ``nodes``: the cycle's quadrature of ``source`` already computed
+    (:func:`~kinetostatics.analysis.cycle.cycle_quadrature`), used when it serves (the
+    nodes with friction serve a frictionless design).
     """
     if isinstance(source, Result):
         system, base = source.system, source if source.full_cycle else None
@@ -426,7 +410,10 @@ def design(
     w = abs(drv.driver.motion.speed)
     sense = float(np.sign(drv.driver.motion.speed))
     # M_d: the cycle mean of the one function every output uses (analysis/cycle.py)
-    weights, nodes, pieces = cycle_pieces(base, friction=friction, quadrature=quadrature)
+    quad = cycle_quadrature(
+        base, friction=friction, quadrature=quadrature, given=nodes if base is source else None
+    )
+    weights, nodes, pieces = quad.weights, quad.nodes, quad.pieces
     moment, je = _moment(system, nodes, friction)
     exact = pieces is not None and np.all(np.isfinite(moment)) and np.all(np.isfinite(je))
     if exact:  # the cycle mean by the integrator's own weights (cycle_stats' sum, once)
@@ -437,6 +424,7 @@ def design(
             {"M": lambda r: _moment(system, r, friction)[0]},
             friction=friction,
             quadrature=quadrature,
+            given=quad,
         )["M"]["mean"]
     work = 2 * np.pi * m_d
     psi = schedule(system)

@@ -252,12 +252,14 @@ def _event_legend(ax, result, lang: str = "en"):
         ax.fill_between([], [], color=EVENT_COLOR, alpha=0.1, lw=0, label=label)
 
 
-def _cycle_mean(result, what) -> float:
-    """The mean over the cycle of a column (or a function of a result), as in summary.json
-    (:func:`~kinetostatics.analysis.cycle.cycle_stats`)."""
-    from ...analysis.cycle import cycle_stats
-
-    return cycle_stats(result, {"value": what})["value"]["mean"]
+def _cycle_mean(cycle, key: str) -> float | None:
+    """The cycle mean of a driving effort column from the cycle's record (``cycle.drivers``,
+    :func:`~kinetostatics.dynamics.stages.cycle_stage`), as in summary.json; None without
+    it (the picture then draws no mean: a picture solves nothing)."""
+    drivers = getattr(cycle, "drivers", None)
+    if drivers is None or key not in drivers:
+        return None
+    return float(drivers[key]["mean"])
 
 
 def motion_diagram(result, output: str | None = None, *, dpi: float = DPI, lang: str = "en"):
@@ -365,9 +367,13 @@ def _driver_effort(result, driver: str | None):
     return d, word, unit
 
 
-def torque_curves(result, driver: str | None = None, *, dpi: float = DPI, lang: str = "en"):
+def torque_curves(
+    result, driver: str | None = None, *, dpi: float = DPI, lang: str = "en", cycle=None
+):
     """The driving torque (or force) without friction, with the approximate and
-    with the consistent friction, on one plot; events marked; the cycle means."""
+    with the consistent friction, on one plot; events marked; the cycle means in the
+    legend when ``cycle`` (the cycle's record,
+    :func:`~kinetostatics.dynamics.stages.cycle_stage`) is given."""
     d, word, unit = _driver_effort(result, driver)
     x, order, xlabel = _sorted(result, lang)
     series = [
@@ -388,9 +394,18 @@ def torque_curves(result, driver: str | None = None, *, dpi: float = DPI, lang: 
             if key not in result.columns:
                 continue
             y = np.asarray(result[key])[order]
-            mean = _cycle_mean(result, key)
-            peak = float(np.nanmax(np.abs(y))) if np.any(np.isfinite(y)) else 0.0
-            mean = 0.0 if abs(mean) <= ROUND_OFF * peak else mean  # round-off
+            mean = _cycle_mean(cycle, key)
+            text = tr(label, lang)
+            if mean is not None:
+                peak = float(np.nanmax(np.abs(y))) if np.any(np.isfinite(y)) else 0.0
+                mean = 0.0 if abs(mean) <= ROUND_OFF * peak else mean  # round-off
+                text = tr(
+                    "{label} (cycle mean {mean} {unit})",
+                    lang,
+                    label=text,
+                    mean=f"{mean:.4g}",
+                    unit=unit,
+                )
             ax.plot(
                 x,
                 y,
@@ -398,13 +413,7 @@ def torque_curves(result, driver: str | None = None, *, dpi: float = DPI, lang: 
                 ls=ls,
                 lw=1.6 if ls == "-" else 1.3,
                 zorder=3 if ls == "-" else 4,
-                label=tr(
-                    "{label} (cycle mean {mean} {unit})",
-                    lang,
-                    label=tr(label, lang),
-                    mean=f"{mean:.4g}",
-                    unit=unit,
-                ),
+                label=text,
             )
         status = result.columns.get("friction.status")
         if status is not None and np.any(status[order] == 2):
@@ -437,9 +446,13 @@ def torque_curves(result, driver: str | None = None, *, dpi: float = DPI, lang: 
     return fig
 
 
-def efficiency_curve(result, driver: str | None = None, *, dpi: float = DPI, lang: str = "en"):
+def efficiency_curve(
+    result, driver: str | None = None, *, dpi: float = DPI, lang: str = "en", cycle=None
+):
     """Instantaneous efficiency η = M / M_friction (frictionless over consistent driving
-    torque) where it is one (docs/friction.md: gaps elsewhere) and the cycle efficiency
+    torque) where it is one (docs/friction.md: gaps elsewhere) and, when ``cycle`` (the
+    cycle's record with its ``efficiency``,
+    :func:`~kinetostatics.dynamics.stages.cycle_stage`) is given, the cycle efficiency
     (ratio of the mean input powers)."""
     d, word, _ = _driver_effort(result, driver)
     key = f"{d.name}.efficiency"
@@ -454,12 +467,10 @@ def efficiency_curve(result, driver: str | None = None, *, dpi: float = DPI, lan
         ax.plot(x, eta, color=CURVE_COLORS[2], label=label)
         pin = result.columns.get("power.input")
         pinf = None
+        efficiency = getattr(cycle, "efficiency", None) or {}
         if f"{d.name}.{word}_friction" in result.columns and pin is not None:
-            key0, key1 = f"{d.name}.{word}", f"{d.name}.{word}_friction"
-            m0 = _cycle_mean(result, lambda r: np.where(np.isfinite(r[key1]), r[key0], np.nan))
-            m1 = _cycle_mean(result, key1)
-            if m1 != 0 and result.full_cycle:
-                pinf = m0 / m1
+            pinf = efficiency.get(d.name)
+            if pinf is not None:
                 ax.axhline(
                     pinf,
                     color="black",

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...dynamics.drive import quadrant_data
+from ...dynamics.motor import quadrant_data
 from ..lang import tr
 from .style import CURVE_COLORS, DPI, EVENT_COLOR, _figure, _grow_to_fit, _rc
 

@@ -76,7 +76,7 @@ def _polygon_labels(polygons, labels: list[str], turns: int, chosen=None) -> lis
     return polygons
 
 
-def write_report(
+def write_report(  # noqa: PLR0913  the report's public keywords (docs/pictures.md, the CLI)
     source,
     out: str | Path,
     *,
@@ -86,6 +86,7 @@ def write_report(
     formats: Sequence[str] = ("md", "html"),
     lang: str = "en",
     what: str | None = None,
+    cycle=None,
 ) -> dict[str, Path]:
     """Analyse ``source`` (a YAML path or a Model) and write the report to ``out``.
 
@@ -105,7 +106,12 @@ def write_report(
     ``html``, ``pdf`` as asked, ``csv``, ``summary``).  Each file is written whole
     (:func:`~kinetostatics.base.files.write_file`); an ``out`` that is a file, a
     full disk or a read-only folder is an :class:`~kinetostatics.errors.OutputError`
-    whose line starts with ``what`` (default: ``out``).
+    whose line starts with ``what`` (default: ``out``).  ``cycle``: the cycle's stage,
+    called on the report's result (``cycle(result)`` → a
+    :class:`~kinetostatics.dynamics.stages.Cycle`; ``kinetostatics report`` passes
+    :func:`~kinetostatics.dynamics.stages.report_stage`): the cycle means, the output
+    strokes, the cycle efficiency, the flywheel and the drive chapters come from its
+    record; without it the report holds what the rows hold (this layer solves nothing).
     """
     formats = list(dict.fromkeys(formats))
     for f in formats:
@@ -138,12 +144,9 @@ def write_report(
     rows = all_rows if chosen is None else [r for r in all_rows if r[0] in chosen]
     csv_path, summary_path = out / "results.csv", out / "summary.json"
     write_file(csv_path, what, result.to_csv)
-    dsg = None
-    if model.flywheel is not None:  # designed once: its numbers and its curve
-        from ...dynamics.flywheel import design
-
-        dsg = design(result)
-    summary = summarize(result, flywheel=dsg)
+    records = cycle(result) if cycle is not None else None
+    dsg = records.flywheel if records is not None else None
+    summary = summarize(result, records)
     text = json_text(summary, default=float, ensure_ascii=False)
     write_file(summary_path, what, lambda p: p.write_text(text, encoding="utf-8"))
     T = lambda s, **k: tr(s, lang, **k)  # noqa: E731
@@ -266,7 +269,7 @@ def write_report(
     for d in system.motion_drivers:
         blocks.append(
             image(
-                pl.torque_curves(result, d.name, dpi=dpi, lang=lang),
+                pl.torque_curves(result, d.name, dpi=dpi, lang=lang, cycle=records),
                 "torque" if d is d0 else f"torque_{d.name}",
                 T(
                     "{effort} of {driver} without friction, with the approximate and with "
@@ -281,7 +284,7 @@ def write_report(
         if f"{d.name}.efficiency" in result.columns:
             blocks.append(
                 image(
-                    pl.efficiency_curve(result, d.name, dpi=dpi, lang=lang),
+                    pl.efficiency_curve(result, d.name, dpi=dpi, lang=lang, cycle=records),
                     "efficiency" if d is d0 else f"efficiency_{d.name}",
                     T("Instantaneous and cycle efficiency of the drive {driver}.", driver=d.name),
                 )

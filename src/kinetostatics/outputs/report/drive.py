@@ -6,7 +6,7 @@ assumptions.  The numbers are the summary's ``drive`` entry
 
 from __future__ import annotations
 
-from ...dynamics.drive import LIMIT, RPM, WHAT
+from ...dynamics.motor import LIMIT, RPM, WHAT
 from ..lang import tr
 from .blocks import _Heading, _List, _Para, _Table
 

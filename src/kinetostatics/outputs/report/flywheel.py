@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...dynamics.flywheel import assumption_texts
+from ...dynamics.flywheel_texts import assumption_texts
 from ..lang import tr, tr_unit
 from ..summary import ROUND_OFF
 from .blocks import _Heading, _List, _Para, _Table

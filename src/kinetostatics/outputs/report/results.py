@@ -388,7 +388,7 @@ def _summary_blocks(result, summary, lang: str = "en") -> list:
         )
     ]
     model, nums = result.system.model, link_numbers(result.system)
-    for o in summary["outputs"].values():
+    for o in summary.get("outputs", {}).values():  # without the cycle's records: none
         # the member that moves (构件6 ram), not the pair the output is measured at
         name = member(o["link"], nums, model, lang)
         name = f"{name} {o['link']}" if numbered(model) else name
@@ -436,6 +436,8 @@ def _summary_blocks(result, summary, lang: str = "en") -> list:
             )
         )
     for name, d in summary["drivers"].items():
+        if "mean" not in d:  # without the cycle's records: no means
+            continue
         peak = max(abs(d["peak"]), abs(d.get("peak_friction", 0.0) or 0.0))
         unit = _unit(d["unit"])
         line = tr(
