@@ -206,7 +206,13 @@ def convergence_text() -> str:
     """Model (b) → ideal joint on the crank-rod-slider of tests/test_contact_convergence.py
     (the same runs as the tests)."""
     sys.path.insert(0, str(ROOT))
-    from tests.test_contact_convergence import CRANK_ROD_SLIDER, PUSH, T, deviation, penetration
+    from tests.dynamics.test_contact_convergence import (
+        CRANK_ROD_SLIDER,
+        PUSH,
+        T,
+        deviation,
+        penetration,
+    )
 
     model = ks.loads(CRANK_ROD_SLIDER)
     lines = [

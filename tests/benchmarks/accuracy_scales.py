@@ -19,7 +19,7 @@ import numpy as np
 from accuracy_common import Table, e
 
 import kinetostatics as ks
-from tests import test_scales as ts
+from tests.kinematics import test_scales as ts
 
 FACTORS = ("100", "10", "1", "0.1", "0.01")
 

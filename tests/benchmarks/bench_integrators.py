@@ -18,7 +18,7 @@ import numpy as np
 from _common import ROOT
 
 from kinetostatics.dynamics import simulate
-from tests.test_dynamics import free_slider_crank, lagrange
+from tests.dynamics.test_dynamics import free_slider_crank, lagrange
 
 CASES = [
     ("RK23", 1e-4),
