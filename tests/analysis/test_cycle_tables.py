@@ -214,7 +214,7 @@ def test_the_net_relation_cycle_means_holds_on_the_tables(text):
     turns back, where the motor's torque jumps) agree between the two orders to 1e-12."""
     import yaml
 
-    from kinetostatics.yaml_io import dump
+    from kinetostatics.io import dump
     from tests.net import relations as R
 
     doc = yaml.safe_load(dump(ks.loads(text)))

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import kinetostatics as ks
-from kinetostatics import flywheel
+from kinetostatics.dynamics import flywheel
 from tests.helpers import ROOT, variant
 
 # -- 3. efficiency 0/0 ----------------------------------------------------------------------
@@ -61,7 +61,8 @@ A_SC, B_SC = 100.0, 350.0
 
 def _locking_edge_deg(rho_o=1.5, rho_a=1.2, rho_b=1.0) -> float:
     """Upper edge of the friction-circle locked zone around crank 0° of the slider-driven
-    slider-crank (closed form, see tests/test_singular_rows.py); the lower is its negative."""
+    slider-crank (closed form, see tests/kinetics/test_singular_rows.py); the lower is its
+    negative."""
     g = np.arcsin((rho_o + rho_a) / A_SC) + np.arcsin((rho_a + rho_b) / B_SC)
     return float(np.degrees(np.arctan2(B_SC * np.sin(g), A_SC + B_SC * np.cos(g))))
 

@@ -16,7 +16,7 @@ import kinetostatics as ks
 from kinetostatics.batch.variants import ROW_UNITS, Template, analyze_variants, summary_row
 from kinetostatics.errors import ModelError
 from kinetostatics.model.stacking import TopologyMismatch, stack
-from tests.conftest import MECHANISMS
+from tests.helpers import MECHANISMS
 
 MECH = Path(__file__).resolve().parents[2] / "mechanisms"
 

@@ -12,7 +12,7 @@ import pytest
 import kinetostatics as ks
 from kinetostatics.base import linalg
 from kinetostatics.base.linalg import BlockFactor, small_inverse
-from tests.conftest import MECHANISMS
+from tests.helpers import MECHANISMS
 
 RNG = np.random.default_rng(11)
 

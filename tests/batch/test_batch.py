@@ -531,7 +531,7 @@ def test_a_lost_dask_scheduler_is_one_line(tmp_path):
     import subprocess
     import sys
 
-    from tests.conftest import distributed_or_skip
+    from tests.helpers import distributed_or_skip
 
     distributed_or_skip()
     env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}

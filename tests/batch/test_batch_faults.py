@@ -26,8 +26,7 @@ from kinetostatics.batch import table as batch_table
 from kinetostatics.cli import main
 from kinetostatics.errors import OutputError
 from kinetostatics.kinetics import friction
-from tests.conftest import distributed_or_skip
-from tests.helpers import LosingExecutor
+from tests.helpers import LosingExecutor, distributed_or_skip
 
 ROOT = Path(__file__).resolve().parents[2]
 SLIDER = ROOT / "mechanisms" / "slider_crank.yaml"

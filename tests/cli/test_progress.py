@@ -4,7 +4,7 @@ was done; absent otherwise (stderr is not a terminal under pytest)."""
 import re
 
 from kinetostatics.cli import main
-from tests.conftest import ROOT
+from tests.helpers import ROOT
 
 SLIDER = ROOT / "mechanisms" / "slider_crank.yaml"
 PENDULUM = ROOT / "tests" / "dynamics" / "pendulum.yaml"

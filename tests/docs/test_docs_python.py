@@ -7,7 +7,7 @@ import re
 import matplotlib
 import pytest
 
-from tests.conftest import ROOT
+from tests.helpers import ROOT
 
 DOC = ROOT / "docs" / "python.md"
 FENCE = re.compile(r"^```python\n(.*?)^```[ \t]*$", re.S | re.M)

@@ -16,7 +16,8 @@ from pathlib import Path
 import pytest
 
 import kinetostatics as ks
-from kinetostatics import expressions, units, yaml_io
+from kinetostatics.base import expressions, limits, spec, units
+from kinetostatics.io import TOP_KEYS
 
 DOC = Path(__file__).resolve().parents[2] / "docs" / "yaml.md"
 FENCE = re.compile(r"^```([^\n`]*)\n(.*?)^```[ \t]*$", re.S | re.M)
@@ -81,7 +82,7 @@ def test_broken_example_gives_the_documented_errors(text, expected):
 
 
 def test_every_top_level_key_is_documented(doc):
-    for key in yaml_io.TOP_KEYS:
+    for key in TOP_KEYS:
         assert f"`{key}`" in doc, f"top-level key '{key}' is not in docs/yaml.md"
 
 
@@ -94,7 +95,7 @@ def test_every_unit_is_documented(doc, kind):
 def test_quantity_kinds_reserved_names_and_functions_are_documented(doc):
     for kind in units.QUANTITY_KINDS:
         assert f"`{kind}`" in doc, kind
-    for name in yaml_io.RESERVED:
+    for name in spec.RESERVED:
         assert f"`{name}`" in doc, name
     for name in expressions.FUNCTIONS:
         assert f"`{name}" in doc, name  # `sqrt` or `log(x)`
@@ -103,10 +104,10 @@ def test_quantity_kinds_reserved_names_and_functions_are_documented(doc):
 
 
 def test_limits_are_documented(doc):
-    for value in (yaml_io.MAX_FILE_BYTES, yaml_io.MAX_NODES, yaml_io.MAX_LINKS, yaml_io.MAX_DEPTH):
+    for value in (limits.MAX_FILE_BYTES, limits.MAX_NODES, limits.MAX_LINKS, limits.MAX_DEPTH):
         assert f"{value:,}" in doc, value
     assert (
-        f"{yaml_io.MAX_POSITIONS:,}".replace(",", " ") in doc or f"{yaml_io.MAX_POSITIONS:,}" in doc
+        f"{limits.MAX_POSITIONS:,}".replace(",", " ") in doc or f"{limits.MAX_POSITIONS:,}" in doc
     )
     assert str(expressions.MAX_EXPRESSION_LENGTH) in doc
     assert f"{expressions.MAX_DEPTH} levels" in doc

@@ -11,7 +11,7 @@ textbook defines it."""
 import re
 
 from kinetostatics.outputs.lang import ZH
-from tests.conftest import ROOT
+from tests.helpers import ROOT
 
 PAGE = ROOT / "docs" / "glossary_zh.md"
 

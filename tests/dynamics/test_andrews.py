@@ -12,7 +12,7 @@ import kinetostatics as ks
 from kinetostatics.dynamics import Dynamics, simulate
 from kinetostatics.kinetics.inverse import kinetics
 from tests import andrews_reference as ref
-from tests.conftest import ROOT
+from tests.helpers import ROOT
 
 PATH = ROOT / "mechanisms" / "andrews_squeezer.yaml"
 RTOL = 1e-9  # DOP853: the angles at 0.03 s to 2.7e-8 rad (docs/benchmarks.md)

@@ -12,7 +12,7 @@ import pytest
 import kinetostatics as ks
 from kinetostatics.dynamics import simulate
 from tests import double_four_bar_reference as ref
-from tests.conftest import ROOT
+from tests.helpers import ROOT
 
 PATH = ROOT / "mechanisms" / "double_four_bar.yaml"
 START = {"free": (ref.THETA0, ref.OMEGA0)}

@@ -16,7 +16,7 @@ import kinetostatics as ks
 from kinetostatics.cli import main
 from kinetostatics.dynamics.drive import quadrant_data, reduce, size
 from kinetostatics.errors import ModelError
-from tests.conftest import ROOT
+from tests.helpers import ROOT
 
 DRIVE = ROOT / "tests" / "drive" / "slotting_machine_drive.yaml"
 TEXT = DRIVE.read_text(encoding="utf-8")
@@ -70,8 +70,8 @@ def test_slotting_machine_numbers_against_direct_integration(friction):
     d = size(result, spec)
     phi, t = _fine(friction)
     tm = np.where(t > 0, t / (RATIO * ETA), t * ETA / RATIO)  # the motor always turns forward
-    # the integrator is exact between its cuts (tests/test_cycle.py); the tolerances are the
-    # reference's: a trapezoid rule on the fine grid, not cut where a friction couple flips
+    # the integrator is exact between its cuts (tests/analysis/test_cycle.py); the tolerances
+    # are the reference's: a trapezoid rule on the fine grid, not cut where a friction couple flips
     # or where the motor's torque has its kink (T = 0)
     tol = 1e-6 if not friction else 2e-5
     tol_m = 1e-5

@@ -41,8 +41,8 @@ from pathlib import Path
 import pytest
 
 import kinetostatics as ks
+from kinetostatics.base.limits import MAX_FILE_BYTES
 from kinetostatics.cli import main
-from kinetostatics.yaml_io import MAX_FILE_BYTES
 
 BROKEN = Path(__file__).parents[1] / "broken"
 MECHANISMS = Path(__file__).parents[2] / "mechanisms"

@@ -35,7 +35,7 @@ stopped before its report).  The number of cases actually run and
 their outcomes are reported as a :class:`FuzzReport` warning, so they appear in
 the "warnings summary" of a normal pytest run, e.g.::
 
-    KINETOSTATICS_FUZZ_EXAMPLES=100000 python -m pytest tests/test_fuzz.py -p no:cacheprovider
+    KINETOSTATICS_FUZZ_EXAMPLES=100000 python -m pytest tests/io/test_fuzz.py -p no:cacheprovider
 
 The record of the long run is in ``docs/errors.md``.
 """
@@ -74,7 +74,7 @@ DATA = {name: yaml.safe_load(text) for name, text in SOURCES.items()}
 
 
 # The seeds: the shipped files plus variants that use every section and option the loader
-# accepts (tests/seeds.py; tests/test_hostile_keys.py checks that they cover every key).
+# accepts (tests/seeds.py; tests/io/test_hostile_keys.py checks that they cover every key).
 from tests.seeds import SEEDS  # noqa: E402
 
 for _name, _doc in SEEDS.items():
@@ -872,20 +872,20 @@ def test_cli_user_error_in_the_solver_is_one_line(monkeypatch, tmp_path, capsys)
 
 
 def test_errors_doc_states_the_limits_of_the_code():
-    from kinetostatics import expressions, yaml_io
+    from kinetostatics.base import expressions, limits
 
     doc = (ROOT / "docs" / "errors.md").read_text(encoding="utf-8")
     for value, text in [
-        (yaml_io.MAX_FILE_BYTES, f"{yaml_io.MAX_FILE_BYTES:,} bytes"),
-        (yaml_io.MAX_NODES, f"| {yaml_io.MAX_NODES:,} |"),
-        (yaml_io.MAX_DEPTH, f"{yaml_io.MAX_DEPTH} levels"),
-        (yaml_io.MAX_LINKS, f"| {yaml_io.MAX_LINKS} |"),
-        (yaml_io.MAX_POSITIONS, f"1 to {yaml_io.MAX_POSITIONS:,}"),
-        (yaml_io.MAX_TURNS, f"at most {yaml_io.MAX_TURNS} turns"),
-        (yaml_io.MAX_TRAVEL, f"at most {yaml_io.MAX_TRAVEL} × the largest link"),
+        (limits.MAX_FILE_BYTES, f"{limits.MAX_FILE_BYTES:,} bytes"),
+        (limits.MAX_NODES, f"| {limits.MAX_NODES:,} |"),
+        (limits.MAX_DEPTH, f"{limits.MAX_DEPTH} levels"),
+        (limits.MAX_LINKS, f"| {limits.MAX_LINKS} |"),
+        (limits.MAX_POSITIONS, f"1 to {limits.MAX_POSITIONS:,}"),
+        (limits.MAX_TURNS, f"at most {limits.MAX_TURNS} turns"),
+        (limits.MAX_TRAVEL, f"at most {limits.MAX_TRAVEL} × the largest link"),
         (
-            yaml_io.SPEED_RANGE,
-            f"{yaml_io.SPEED_RANGE[0]:g} ≤ \\|speed\\| ≤ {yaml_io.SPEED_RANGE[1]:g}",
+            limits.SPEED_RANGE,
+            f"{limits.SPEED_RANGE[0]:g} ≤ \\|speed\\| ≤ {limits.SPEED_RANGE[1]:g}",
         ),
         (expressions.MAX_EXPRESSION_LENGTH, f"{expressions.MAX_EXPRESSION_LENGTH} characters"),
         (expressions.MAX_DEPTH, f"{expressions.MAX_DEPTH} levels"),

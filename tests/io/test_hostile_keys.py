@@ -14,7 +14,7 @@ import pytest
 import yaml
 
 import kinetostatics as ks
-from kinetostatics import yaml_io
+from kinetostatics.base import limits
 from kinetostatics.errors import ModelError
 from tests.keywalk import instrumented
 from tests.seeds import SEEDS, SHIPPED
@@ -149,7 +149,7 @@ def test_flywheel_ratio_at_its_limits_gives_valid_json(ratio, tmp_path):
 def test_run_writes_no_results_when_the_summary_fails(tmp_path, monkeypatch):
     """docs/errors.md: a failed run writes no results.csv (it used to be written before the
     summary, whose failure then left it alone)."""
-    from kinetostatics import results
+    from kinetostatics.analysis import results
     from kinetostatics.cli import main
 
     def broken(self):
@@ -249,12 +249,12 @@ def test_nesting_limit_counts_levels_of_lists_and_mappings():
             "name: offset slider-crank", "name: " + "[" * (levels - 1) + "1" + "]" * (levels - 1)
         )
 
-    assert "expected a name, got a list" in _refused(nested(yaml_io.MAX_DEPTH))
-    assert f"nested more than {yaml_io.MAX_DEPTH} deep" in _refused(nested(yaml_io.MAX_DEPTH + 1))
+    assert "expected a name, got a list" in _refused(nested(limits.MAX_DEPTH))
+    assert f"nested more than {limits.MAX_DEPTH} deep" in _refused(nested(limits.MAX_DEPTH + 1))
 
 
 def test_expression_nesting_limit_counts_operations():
-    from kinetostatics import expressions as ex
+    from kinetostatics.base import expressions as ex
 
     n = ex.MAX_DEPTH
     for make in (
@@ -274,7 +274,7 @@ def test_a_long_flat_list_is_refused_while_it_is_read():
     text = "junk: [" + ", ".join(["1"] * 200_000) + "]\n"
     message = _refused(text)  # the position in the message shows it stopped early
     assert re.match(
-        rf"h\.yaml:1:\d+: more than {yaml_io.MAX_NODES} YAML nodes; refused$", message
+        rf"h\.yaml:1:\d+: more than {limits.MAX_NODES} YAML nodes; refused$", message
     ), message
     assert int(message.split(":")[2]) > 100_000
 
@@ -350,8 +350,8 @@ def test_the_seeds_give_every_key_the_loader_accepts(walk):
 def test_every_number_the_loader_reads_has_a_range(walk):
     """Each number is bounded by MAGNITUDE when it is read, or named in OWN_LIMITS with
     the limit that bounds it; docs/errors.md lists every one."""
-    assert walk.unbounded <= set(yaml_io.OWN_LIMITS), walk.unbounded - set(yaml_io.OWN_LIMITS)
-    assert set(yaml_io.OWN_LIMITS) <= walk.unbounded  # no stale entry
+    assert walk.unbounded <= set(limits.OWN_LIMITS), walk.unbounded - set(limits.OWN_LIMITS)
+    assert set(limits.OWN_LIMITS) <= walk.unbounded  # no stale entry
     doc = (ROOT / "docs" / "errors.md").read_text(encoding="utf-8")
     read = {p for _, p in walk.read.values()}
     assert len(read) > 50

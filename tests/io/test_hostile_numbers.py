@@ -101,7 +101,7 @@ def test_a_motion_law_that_reaches_an_absurd_speed_is_refused():
 def test_the_limits_keep_the_products_of_the_analysis_far_from_overflow():
     """The documented claim: with every input at its limit, m·ω²·L, J·ω², m·g·L, F·L and
     the powers stay below 1e60 (and their squares far from the 1.8e308 overflow)."""
-    from kinetostatics.yaml_io import MAGNITUDE, MAX_LAW_ACCELERATION, SPEED_RANGE
+    from kinetostatics.base.limits import MAGNITUDE, MAX_LAW_ACCELERATION, SPEED_RANGE
 
     L, m, J = MAGNITUDE["length"][1], MAGNITUDE["mass"][1], MAGNITUDE["inertia"][1]
     F, T, g = MAGNITUDE["force"][1], MAGNITUDE["torque"][1], MAGNITUDE["acceleration"][1]
@@ -302,7 +302,7 @@ def test_polar_diagrams_of_an_all_self_locked_friction_solution_do_not_crash(loc
 
 
 def test_docs_state_the_limits_of_the_code():
-    from kinetostatics.yaml_io import MAGNITUDE, MAX_LAW_ACCELERATION
+    from kinetostatics.base.limits import MAGNITUDE, MAX_LAW_ACCELERATION
 
     doc = open("docs/errors.md", encoding="utf-8").read()
     stated = {

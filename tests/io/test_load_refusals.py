@@ -107,7 +107,7 @@ def test_element_between_coincident_points(ends, element, keys, by):
 def test_element_at_a_compound_hinge():
     """The jaw crusher's rear and front toggles share the pitman's pin B through two
     revolutes (B3, B4): a spring between rear.B and front.B always has length 0."""
-    from tests.conftest import ROOT
+    from tests.helpers import ROOT
 
     text = (ROOT / "mechanisms" / "jaw_crusher.yaml").read_text()
     text = text.replace(

@@ -18,7 +18,7 @@ import kinetostatics as ks
 from kinetostatics.cli import main
 from kinetostatics.io.schema import SCHEMA_FILE, schema, schema_text
 from kinetostatics.joints import JOINT_TYPES
-from tests.conftest import MECHANISMS, ROOT
+from tests.helpers import MECHANISMS, ROOT
 
 BROKEN = ROOT / "tests" / "broken"
 

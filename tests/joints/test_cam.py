@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 
 import kinetostatics as ks
-from kinetostatics import plotting
 from kinetostatics.errors import JointWarning, ModelError
-from tests.conftest import ROOT
+from kinetostatics.outputs import plotting
+from tests.helpers import ROOT
 
 W300 = 300 * 2 * math.pi / 60
 

@@ -13,7 +13,7 @@ import pytest
 import kinetostatics as ks
 from kinetostatics.joints._camlaw import CamLaw, Segment
 from kinetostatics.joints._camprofile import Synthesis
-from tests.conftest import ROOT
+from tests.helpers import ROOT
 
 LAW = CamLaw(
     segments=(

@@ -13,7 +13,7 @@ import pytest
 import kinetostatics as ks
 from kinetostatics.cli import main
 from kinetostatics.errors import ModelError
-from tests.conftest import ROOT
+from tests.helpers import ROOT
 
 CASES = ROOT / "tests" / "cases"
 RB, RR, D, L = 40.0, 15.0, 120.0, 100.0  # the rocker cam's base circle, roller, pivot, arm

@@ -18,8 +18,9 @@ import pytest
 
 import kinetostatics as ks
 from kinetostatics.cli import main
+from kinetostatics.io import dump
 from kinetostatics.joints import JOINT_TYPES
-from kinetostatics.yaml_io import dump, loads
+from kinetostatics.outputs.loading import loads
 from tests.helpers import ROOT, rel_err
 from tests.joints.test_joint_contract import _fd, _states
 
@@ -198,7 +199,7 @@ def test_rack_speed_is_r_omega(rocker):
 def test_a_mesh_chosen_as_output_gives_its_rolling_travel(rocker):
     """``output_motion`` of a rack pair: the travel along the pitch line, whose rate is
     the rack's speed past the fixed sector (c = ½[s − ν r Δθ], s = u·(C − A): ċ = −v_rack)."""
-    from kinetostatics import plotting as pl
+    from kinetostatics.outputs import plotting as pl
 
     _, r = rocker
     out = pl.output_motion(r, "mesh")

@@ -12,9 +12,10 @@ import numpy as np
 import pytest
 
 import kinetostatics as ks
+from kinetostatics.io import dump
 from kinetostatics.joints import JOINT_TYPES
-from kinetostatics.yaml_io import dump, loads
-from tests.conftest import MECHANISMS
+from kinetostatics.outputs.loading import loads
+from tests.helpers import MECHANISMS
 
 RNG = np.random.default_rng(7)
 SAMPLES = {}

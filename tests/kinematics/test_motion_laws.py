@@ -183,7 +183,7 @@ def test_driver_coordinates_are_refused_for_a_law():
 
 
 def test_a_law_round_trips_through_dump():
-    from kinetostatics.yaml_io import dump
+    from kinetostatics.io import dump
 
     for law in LAWS.values():
         model = _model(law)

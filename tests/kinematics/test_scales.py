@@ -29,7 +29,7 @@ import numpy as np
 import pytest
 
 import kinetostatics as ks
-from kinetostatics import dyads
+from kinetostatics.kinematics import dyads
 from tests.oracles import slider_crank_closed_form as cf
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import kinetostatics as ks
-from tests.conftest import MECHANISMS
+from tests.helpers import MECHANISMS
 
 N = 72  # positions of the reference run (5° steps)
 RTOL = 1e-9

@@ -15,7 +15,7 @@ from kinetostatics.dynamics import simulate
 from kinetostatics.errors import ModelError
 from kinetostatics.kinetics.elements import element_states
 from kinetostatics.structure.system import build_system
-from tests.conftest import ROOT
+from tests.helpers import ROOT
 
 SLIDER = (ROOT / "mechanisms" / "slider_crank.yaml").read_text()
 PENDULUM = (ROOT / "tests" / "dynamics" / "pendulum.yaml").read_text()

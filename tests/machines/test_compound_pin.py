@@ -20,7 +20,7 @@ import pytest
 import kinetostatics as ks
 from kinetostatics import ModelError
 from kinetostatics.cli import main
-from kinetostatics.yaml_io import dump
+from kinetostatics.io import dump
 
 ROOT = Path(__file__).resolve().parents[2]
 MIRRORED = ROOT / "tests" / "hard" / "jaw_crusher_mirrored.yaml"

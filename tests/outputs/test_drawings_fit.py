@@ -10,8 +10,7 @@ import re
 import numpy as np
 import pytest
 
-from tests.conftest import ROOT
-from tests.helpers import motion_driven
+from tests.helpers import ROOT, motion_driven
 
 pytest.importorskip("matplotlib")
 

@@ -19,8 +19,7 @@ from kinetostatics.cli import main
 from kinetostatics.outputs import fonts, lang
 from kinetostatics.outputs import plotting as pl
 from kinetostatics.outputs.loading import load
-from tests.conftest import ROOT
-from tests.helpers import motion_driven
+from tests.helpers import ROOT, motion_driven
 
 SHIPPED = sorted(p.stem for p in (ROOT / "mechanisms").glob("*.yaml"))
 MOTION = motion_driven()  # the effort-driven files are simulated, not analysed

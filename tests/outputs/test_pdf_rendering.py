@@ -14,8 +14,7 @@ import pytest
 
 from kinetostatics.cli import main
 from kinetostatics.io.templates import NAMES as TEMPLATES
-from tests.conftest import ROOT
-from tests.helpers import motion_driven
+from tests.helpers import ROOT, motion_driven
 
 pypdf = pytest.importorskip("pypdf")
 pytest.importorskip("fpdf")

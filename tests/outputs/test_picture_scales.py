@@ -10,7 +10,7 @@ import pytest
 
 import kinetostatics as ks
 from kinetostatics.outputs import plotting as pl
-from tests.conftest import ROOT
+from tests.helpers import ROOT
 
 SLOTTING = ROOT / "mechanisms" / "slotting_machine.yaml"
 # the picture's room on an A4 page of the PDF: 210 × 297 mm less 14 mm margins, and 14 mm

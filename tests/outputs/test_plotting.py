@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 import kinetostatics as ks
-from kinetostatics import plotting as pl
 from kinetostatics.cli import main
-from tests.conftest import MECHANISMS, ROOT
+from kinetostatics.outputs import plotting as pl
+from tests.helpers import MECHANISMS, ROOT
 from tests.oracles import slider_crank_closed_form as cf
 
 

@@ -11,7 +11,7 @@ from html.parser import HTMLParser
 import pytest
 
 from kinetostatics.cli import main
-from tests.conftest import ROOT
+from tests.helpers import ROOT
 
 # a ``name:`` that would be HTML, a comment, links and a table cell if copied raw
 HOSTILE = (

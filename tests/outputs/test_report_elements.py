@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from kinetostatics.cli import main
-from tests.conftest import ROOT
+from tests.helpers import ROOT
 from tests.outputs.test_report import _md_tables
 
 SLIDER = (ROOT / "mechanisms" / "slider_crank.yaml").read_text()

@@ -11,8 +11,7 @@ import re
 import pytest
 
 from kinetostatics.cli import main
-from tests.conftest import ROOT
-from tests.helpers import motion_driven
+from tests.helpers import ROOT, motion_driven
 from tests.outputs.test_report import _md_tables
 
 pypdf = pytest.importorskip("pypdf")

@@ -8,7 +8,7 @@ import re
 import pytest
 
 from kinetostatics.cli import main
-from tests.conftest import ROOT
+from tests.helpers import ROOT
 from tests.outputs.test_report import _md_tables
 
 SLOTTING = ROOT / "mechanisms" / "slotting_machine.yaml"

@@ -18,8 +18,7 @@ from kinetostatics.outputs.loading import load
 from kinetostatics.outputs.report.drive import ASSUMPTIONS as DRIVE_ASSUMPTIONS
 from kinetostatics.outputs.report.results import _summary_blocks, crank_angle_between
 from kinetostatics.outputs.summary import summarize
-from tests.conftest import ROOT
-from tests.helpers import motion_driven, variant
+from tests.helpers import ROOT, motion_driven, variant
 
 # what a student's report must not name: the program's files, modules and numerical rules
 IMPLEMENTATION = re.compile(

@@ -13,7 +13,7 @@ from kinetostatics.batch.variants import Template
 from kinetostatics.model.stacking import stack
 from kinetostatics.structure import evaluation
 from kinetostatics.structure import system as S
-from tests.conftest import MECHANISMS, ROOT
+from tests.helpers import MECHANISMS, ROOT
 
 RNG = np.random.default_rng(5)
 
