@@ -1,6 +1,7 @@
 """The architecture holds (docs/architecture.md): imports point down the layers with no
 cycle (import-linter, pyproject.toml), ruff is clean, joint knowledge stays in joints/,
-modules stay small, and the tree in docs/architecture.md is the tree on disk."""
+modules stay small, the tree in docs/architecture.md is the tree on disk, and its table of
+lazy imports is the code's."""
 
 from __future__ import annotations
 
@@ -15,6 +16,7 @@ from pathlib import Path
 import pytest
 
 from kinetostatics import joints
+from tests.architecture.architecture_counts import lazy_imports
 
 ROOT = Path(__file__).resolve().parents[2]
 PKG = ROOT / "src" / "kinetostatics"
@@ -116,3 +118,24 @@ def test_docs_tree_is_the_tree():
     on_disk = {rel for rel, _ in _modules()}
     assert sorted(on_disk - listed) == [], "modules missing from docs/architecture.md"
     assert sorted(listed - on_disk) == [], "docs/architecture.md lists modules that do not exist"
+
+
+def test_each_lazy_import_has_its_reason():
+    """Outside cli/, the lazy imports of the package's own modules (inside a function) are
+    those of the table in docs/architecture.md, module by module, each with its reason."""
+    doc = (ROOT / "docs" / "architecture.md").read_text(encoding="utf-8")
+    block = doc.split("<!-- lazy:begin -->", 1)[1].split("<!-- lazy:end -->", 1)[0]
+    table = {}
+    for line in block.splitlines():
+        m = re.match(r"^\| `([\w/]+\.py)` \| (\d+) \| (.*) \|$", line)
+        if m:
+            assert m.group(3).strip(), f"{m.group(1)}: no reason given"
+            table[m.group(1)] = int(m.group(2))
+    found = lazy_imports()
+    wrong = [
+        f"{rel}: {len(found.get(rel, []))} in the code (lines {found.get(rel, [])}), "
+        f"{table.get(rel, 0)} in docs/architecture.md"
+        for rel in sorted(set(found) | set(table))
+        if len(found.get(rel, [])) != table.get(rel, 0)
+    ]
+    assert not wrong, "\n".join(wrong)

@@ -22,6 +22,8 @@ from ..kinematics.state import point_state
 from ..kinetics.elements import coordinate as element_coordinate
 from ..kinetics.elements import element_states
 from ..structure.system import System, coordinate_gradient, link_poses
+from .checks import result_checks
+from .frames import html_repr, members, select, short_repr, to_pandas, to_xarray
 
 __all__ = ["Result", "build_columns", "joint_warnings", "element_warnings"]
 
@@ -458,26 +460,22 @@ class Result:
         return len(self.t)
 
     def __repr__(self) -> str:
-        from .frames import short_repr
 
         return short_repr(self)
 
     def _repr_html_(self) -> str:
-        from .frames import html_repr
 
         return html_repr(self)
 
     def members(self) -> dict[str, list[str]]:
         """``{member: [column names]}``: the columns of each link, joint, driver, load…
         (a name is ``member.quantity``, split at the first dot; :mod:`.frames`)."""
-        from .frames import members
 
         return members(self)
 
     def select(self, member: str) -> dict[str, np.ndarray]:
         """``{quantity: array}`` of one member's columns: ``select("rocker")["B.vx"]``
         is ``result["rocker.B.vx"]``."""
-        from .frames import select
 
         return select(self, member)
 
@@ -485,7 +483,6 @@ class Result:
         """A pandas DataFrame of the columns, units in ``df.attrs["units"]``;
         ``multiindex=True`` splits ``rocker.y`` into ``("rocker", "y")``.  Needs
         ``pip install 'kinetostatics[pandas]'``."""
-        from .frames import to_pandas
 
         return to_pandas(self, multiindex)
 
@@ -493,7 +490,6 @@ class Result:
         """An xarray Dataset over the dimension ``position`` (``time``, ``angle`` or
         ``stroke``, ``travel`` as coordinates), units as attributes.  Needs
         ``pip install 'kinetostatics[xarray]'``."""
-        from .frames import to_xarray
 
         return to_xarray(self)
 
@@ -502,7 +498,6 @@ class Result:
         """Self-checks (:class:`~kinetostatics.analysis.checks.Checks`): constraint and
         power-balance residuals, sketch distance, group condition, friction status, each against its
         tolerance; ``checks.ok``, ``checks.failed()``.  Computed on first use."""
-        from .checks import result_checks
 
         return result_checks(self)
 

@@ -38,9 +38,11 @@ from ..kinematics.start import (
 )
 from ..kinetics.conditions import travel_extremes_stacked
 from ..kinetics.inverse import kinetics
+from ..kinetics.reactions import ground_reaction
 from ..model import Model, MotionLaw
 from ..model.stacking import is_stacked, stack, subset
 from ..structure.system import System, build_system
+from .results import Result, build_columns
 
 __all__ = ["analyze_stacked", "Stacked"]
 
@@ -254,8 +256,6 @@ def output_strokes(st: Stacked) -> dict[str, dict[str, np.ndarray]]:
 
 def as_result(st: Stacked):
     """A :class:`~kinetostatics.analysis.results.Result` whose columns are ``(V, N)``."""
-    from ..kinetics.reactions import ground_reaction
-    from .results import Result, build_columns
 
     kin = st.kin
     with np.errstate(invalid="ignore"):  # a variant's singular rows: NaN shaking

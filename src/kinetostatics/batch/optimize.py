@@ -40,9 +40,11 @@ import numpy as np
 
 from ..base.document import read_text
 from ..base.limits import MAX_POSITIONS
+from ..errors import did_you_mean
+from .executors import _open_executor, analyze_chunk
 from .objectives import FAILED, INFEASIBLE, Constraint, Expression, OptimizeError
-from .optimize_files import designs_on_disk
-from .sources import Chunk, Source, template_of
+from .optimize_files import designs_on_disk, write_outputs
+from .sources import Chunk, Source, auto_chunk, template_of, variant_parameters
 
 __all__ = ["optimize", "Optimum", "OptimizeError", "INFEASIBLE", "FAILED", "parse_vary"]
 
@@ -145,8 +147,6 @@ class _Problem:
 
     def rows(self, overrides: list[dict[str, float]]) -> list[dict[str, Any]]:
         """The batch rows of the designs: one chunk (serial), or chunks on the executor."""
-        from .executors import _open_executor, analyze_chunk
-        from .sources import auto_chunk
 
         def chunk(ovs):
             ids = tuple(str(k) for k in range(len(ovs)))
@@ -206,7 +206,6 @@ class _Problem:
                 self.checked = True  # its names were checked when it was evaluated
 
     def _record(self, key: tuple[float, ...], row: dict[str, Any]) -> dict[str, Any]:
-        from .sources import variant_parameters
 
         template = template_of(self.source.file, self.source.text)
         env = {**variant_parameters(template, dict(zip(self.names, key))), **row}
@@ -400,8 +399,6 @@ def optimize(
             on_bound=_on_bound(best, names, lo, hi),
         )
         if out is not None:
-            from .optimize_files import write_outputs
-
             result.files = write_outputs(result, source, template, names, constraints, Path(out))
     return result
 
@@ -429,8 +426,6 @@ def _run(
     bar = _bar(progress, maxiter + 1 + (local_maxiter if polish else 0))
     try:
         if executor != "serial":  # a scheduler that cannot be reached stops here
-            from .executors import _open_executor
-
             problem.pool = _open_executor(executor, workers)
 
         def population(x: np.ndarray) -> np.ndarray:  # (n, S) -> (S,)
@@ -518,7 +513,6 @@ def _executor_failed(executor: Any, exc: BaseException) -> str:
 
 
 def _did_you_mean(name: str, known) -> str:
-    from ..errors import did_you_mean
 
     return did_you_mean(name, list(known))
 

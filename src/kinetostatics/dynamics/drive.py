@@ -42,6 +42,7 @@ from ..analysis.results import Result
 from ..errors import Location, StructureError
 from ..kinematics.schedule import schedule
 from ..model import DriveSpec
+from .flywheel import design as flywheel_design
 
 __all__ = [
     "DriveSizing",
@@ -326,8 +327,6 @@ def _with_flywheel(result: Result, spec: DriveSpec, i: float, shaft: dict, desig
     flywheel the motor shaft still needs is (J_F − J_e)/i² less rotor and reduction."""
     model = result.system.model
     if design is None:
-        from .flywheel import design as flywheel_design
-
         design = flywheel_design(result)
     delta = float(model.flywheel.delta)
     omega = float(design.omega_m)

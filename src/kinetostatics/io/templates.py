@@ -26,7 +26,7 @@ from importlib import resources
 
 import yaml
 
-from ..errors import KinetostaticsError
+from ..errors import KinetostaticsError, did_you_mean
 
 __all__ = ["NAMES", "Template", "TemplateError", "load_template", "render", "templates"]
 
@@ -82,7 +82,6 @@ def load_template(name: str) -> Template:
     for t in all_:
         if name in (t.name, t.zh):
             return t
-    from ..errors import did_you_mean
 
     choices = ", ".join(f"{t.name} ({t.zh})" for t in all_)
     raise TemplateError(

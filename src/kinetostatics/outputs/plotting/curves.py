@@ -7,6 +7,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from ...analysis.cycle import cycle_stats
 from ...errors import did_you_mean
 from ...kinetics.forces import activity
 from ..labels import column_label, reaction_symbol
@@ -255,7 +256,6 @@ def _event_legend(ax, result, lang: str = "en"):
 def _cycle_mean(result, what) -> float:
     """The mean over the cycle of a column (or a function of a result), as in summary.json
     (:func:`~kinetostatics.analysis.cycle.cycle_stats`)."""
-    from ...analysis.cycle import cycle_stats
 
     return cycle_stats(result, {"value": what})["value"]["mean"]
 
