@@ -1,5 +1,5 @@
 """Andrews' squeezer mechanism (mechanisms/andrews_squeezer.yaml): the published reference
-values and the source's relative angles of a state of the model (tests/test_andrews.py,
+values and the source's relative angles of a state of the model (tests/dynamics/test_andrews.py,
 tests/benchmarks/bench_andrews.py).
 
 Source: the "andrews" problem of the Test Set for IVP Solvers (University of Bari,

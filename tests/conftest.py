@@ -1,13 +1,13 @@
+"""The fixtures every folder of the tests shares (tests/README.md); the shared helpers
+are in ``tests/helpers.py``."""
+
 import logging
-import os
 import re
 from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parent.parent
-MECHANISMS = sorted((ROOT / "mechanisms").glob("*.yaml"))
-
+from tests.helpers import ROOT, distributed_or_skip
 
 # a glyph drawn from no font (an empty box on paper): matplotlib's text warns (a UserWarning,
 # an error by pyproject's filterwarnings), its mathtext and fpdf2 log it
@@ -41,16 +41,6 @@ def no_missing_glyph():
 @pytest.fixture(scope="session")
 def root() -> Path:
     return ROOT
-
-
-def distributed_or_skip():
-    """``distributed`` (Dask), or skip where it is not installed — but not under CI
-    (``CI`` set), which installs the test extra: there a missing Dask fails the test."""
-    if os.environ.get("CI"):
-        import distributed
-
-        return distributed
-    return pytest.importorskip("distributed")
 
 
 @pytest.fixture(scope="module")

@@ -1,17 +1,23 @@
-"""Shared helpers for the tests: model variants made by editing a shipped file."""
+"""Shared helpers for the tests (imported as ``from tests.helpers import …`` from every
+folder): the repository's root and shipped mechanisms, model variants made by editing a
+shipped file, relative errors, the motion-driven files, Dask or a skip, an executor that
+loses its scheduler."""
 
 from __future__ import annotations
 
 import importlib.util
+import os
 import re
 from concurrent.futures import Executor, Future
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 import kinetostatics as ks
 
 ROOT = Path(__file__).resolve().parent.parent
+MECHANISMS = sorted((ROOT / "mechanisms").glob("*.yaml"))
 
 
 def load_script(path: Path):
@@ -49,6 +55,16 @@ def motion_driven() -> list[str]:
         if not any("effort" in (d or {}) for d in drivers.values()):
             out.append(path.stem)
     return out
+
+
+def distributed_or_skip():
+    """``distributed`` (Dask), or skip where it is not installed — but not under CI
+    (``CI`` set), which installs the test extra: there a missing Dask fails the test."""
+    if os.environ.get("CI"):
+        import distributed
+
+        return distributed
+    return pytest.importorskip("distributed")
 
 
 class LosingExecutor(Executor):

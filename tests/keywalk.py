@@ -1,5 +1,5 @@
 """Instrumenting the loader: which keys it accepts, which numbers it reads and how
-each is bounded (used by tests/test_hostile_keys.py and tests/test_fuzz.py)."""
+each is bounded (used by tests/io/test_hostile_keys.py and tests/io/test_fuzz.py)."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import re
 from collections import defaultdict
 from contextlib import contextmanager
 
-from kinetostatics import yaml_io
+from kinetostatics.base import spec
 
 NAMED = (
     "parameters",
@@ -55,7 +55,7 @@ class Walk:
 @contextmanager
 def instrumented():
     walk = Walk()
-    Entry = yaml_io.Entry
+    Entry = spec.Entry
     check_keys, number, within, raw_number = (
         Entry.check_keys,
         Entry.number,

@@ -1,9 +1,9 @@
 """Seed files for the fuzz test and the key walk: the shipped mechanisms plus variants of
 them that use every section and option the loader accepts (motion laws, effort drivers,
 ``balance_at``, a flywheel with ``ratio``, a drive, clearances with contact, load tables and
-conditions, the gear and rack alternatives).  ``tests/test_hostile_keys.py`` checks that
+conditions, the gear and rack alternatives).  ``tests/io/test_hostile_keys.py`` checks that
 together they give every key the loader accepts (the batch's top-level ``sweep:``
-section excepted: ``tests/test_batch.py`` covers it)."""
+section excepted: ``tests/batch/test_batch.py`` covers it)."""
 
 from __future__ import annotations
 

@@ -3,7 +3,7 @@ kinetostatics, from their numpydoc docstrings.
 
     sphinx-build -W -b html docs/api OUT
 
-``tests/test_public_api.py`` builds it with warnings as errors.
+``tests/architecture/test_public_api.py`` builds it with warnings as errors.
 """
 
 import sys

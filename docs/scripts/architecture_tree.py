@@ -3,7 +3,7 @@
     python docs/scripts/architecture_tree.py [--write]
 
 With ``--write`` the block between ``<!-- tree:begin -->`` and ``<!-- tree:end -->`` in
-docs/architecture.md is replaced; tests/test_architecture.py checks that the block
+docs/architecture.md is replaced; tests/architecture/test_architecture.py checks that the block
 lists exactly the modules on disk.
 """
 

@@ -203,14 +203,21 @@ def figures(r: dict) -> None:
 
 
 def convergence_text() -> str:
-    """Model (b) → ideal joint on the crank-rod-slider of tests/test_contact_convergence.py
+    """Model (b) → ideal joint on the crank-rod-slider of tests/dynamics/test_contact_convergence.py
     (the same runs as the tests)."""
     sys.path.insert(0, str(ROOT))
-    from tests.test_contact_convergence import CRANK_ROD_SLIDER, PUSH, T, deviation, penetration
+    from tests.dynamics.test_contact_convergence import (
+        CRANK_ROD_SLIDER,
+        PUSH,
+        T,
+        deviation,
+        penetration,
+    )
 
     model = ks.loads(CRANK_ROD_SLIDER)
     lines = [
-        "### Model (b) → the ideal joint: crank-rod-slider (tests/test_contact_convergence.py)",
+        "### Model (b) → the ideal joint: crank-rod-slider"
+        " (tests/dynamics/test_contact_convergence.py)",
         "",
         f"Crank at 60 rpm prescribed, {PUSH:g} N on the slider, clearance at B, 0–{T:g} s; "
         "slider deviations from the closed-form ideal.",

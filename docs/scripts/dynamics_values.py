@@ -153,7 +153,7 @@ def verification_section() -> str:
 
 
 def validation_section() -> str:
-    from tests.test_dynamics import PENDULUM, free_slider_crank, lagrange
+    from tests.dynamics.test_dynamics import PENDULUM, free_slider_crank, lagrange
 
     rows = [
         "| case | method, rtol | simulated | RHS evaluations | result |",

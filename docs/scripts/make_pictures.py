@@ -20,7 +20,7 @@ ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "src"))
 
 import kinetostatics as ks  # noqa: E402  (after the sys.path line above)
-from kinetostatics import plotting as pl  # noqa: E402  (after the sys.path line above)
+from kinetostatics.outputs import plotting as pl  # noqa: E402  (after the sys.path line above)
 
 IMG = ROOT / "docs" / "img"
 PAGE = ROOT / "docs" / "pictures.md"

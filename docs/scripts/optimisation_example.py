@@ -14,7 +14,7 @@ closely every design the search analysed kept them.
     python docs/scripts/optimisation_example.py --scheduler tcp://127.0.0.1:8786
 
 The block sits between ``<!-- BEGIN slotting-optimum -->`` and
-``<!-- END slotting-optimum -->`` in docs/optimisation.md; ``tests/test_docs_optimisation.py``
+``<!-- END slotting-optimum -->`` in docs/optimisation.md; ``tests/docs/test_docs_optimisation.py``
 checks its claims independently (and, in the long run, that it is current).  Same block on
 every executor.  About 20 s serially on one core.
 """

@@ -14,7 +14,7 @@ are computed from its outputs with the short formulas of
 
 The output is a sequence of Markdown blocks, each between
 ``<!-- BEGIN name -->`` and ``<!-- END name -->``; ``docs/validation.md``
-holds the same blocks verbatim (checked by ``tests/test_validation_doc.py``).
+holds the same blocks verbatim (checked by ``tests/docs/test_validation_doc.py``).
 """
 
 from __future__ import annotations

@@ -4,7 +4,7 @@ Each script prints Markdown blocks between ``<!-- BEGIN accuracy:<name> -->``
 and ``<!-- END accuracy:<name> -->``; ``--update`` rewrites the same blocks in
 ``docs/accuracy.md``; ``--quick`` times with fewer repeats.  Columns whose
 header is in :data:`TIMING` hold wall times: they change from run to run and
-machine to machine (``tests/test_docs_accuracy.py`` checks every other cell).
+machine to machine (``tests/docs/test_docs_accuracy.py`` checks every other cell).
 """
 
 from __future__ import annotations

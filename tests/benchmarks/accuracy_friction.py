@@ -28,10 +28,10 @@ from accuracy_common import Table, e, ms
 from friction_levels import scaled
 
 import kinetostatics as ks
-from kinetostatics import friction as fr
 from kinetostatics.analysis.pipeline import kinetics
 from kinetostatics.kinematics.positions import derivatives, solve_positions
 from kinetostatics.kinematics.schedule import sample_times, schedule
+from kinetostatics.kinetics import friction as fr
 
 LEVELS = (0.01, 0.1, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0)
 NAMES = ("slider_crank", "slotting_machine")

@@ -1,6 +1,6 @@
 """Model only what a scene needs: what each request computes, imports and costs.
 
-Four measurements, each beside the behaviour that tests/test_only_what_is_needed.py
+Four measurements, each beside the behaviour that tests/analysis/test_only_what_is_needed.py
 pins (that file asserts the counts; this script adds the wall times):
 
 * *kinematics only*: ``ks.analyze(..., kinematics_only=True)`` against the full

@@ -1,6 +1,6 @@
 """Extreme scales, speeds and mass ratios of the slider-crank against the closed form.
 
-The cases and the error measures are those of tests/test_scales.py (which
+The cases and the error measures are those of tests/kinematics/test_scales.py (which
 asserts them): each case analysed over a full cycle (360 positions) by the
 closed-form fast path and by the general Newton path.  A second table gives the
 largest condition number of the RRP dyad over the cycle when every length of
@@ -19,7 +19,7 @@ import numpy as np
 from accuracy_common import Table, e
 
 import kinetostatics as ks
-from tests import test_scales as ts
+from tests.kinematics import test_scales as ts
 
 FACTORS = ("100", "10", "1", "0.1", "0.01")
 

@@ -21,7 +21,6 @@ import numpy as np
 from accuracy_common import Table
 
 import kinetostatics as ks
-from kinetostatics import friction as fr
 from kinetostatics.analysis.columns import build_columns
 from kinetostatics.analysis.results import Result
 from kinetostatics.base.linalg import BlockFactor
@@ -31,6 +30,7 @@ from kinetostatics.kinematics.newton import condition_number
 from kinetostatics.kinematics.positions import solve_positions
 from kinetostatics.kinematics.schedule import sample_times, schedule
 from kinetostatics.kinematics.start import assemble_start
+from kinetostatics.kinetics import friction as fr
 from kinetostatics.kinetics.conditions import load_events
 from kinetostatics.kinetics.forces import (
     external_forces,

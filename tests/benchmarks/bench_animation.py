@@ -14,7 +14,7 @@ from pathlib import Path
 from _common import ROOT
 
 import kinetostatics as ks
-from kinetostatics import plotting as pl
+from kinetostatics.outputs import plotting as pl
 
 
 def once(out: Path, forces: bool) -> float:

@@ -139,7 +139,7 @@ def section(rows: list[tuple[str, float, dict]]) -> str:
         "projection); it passes because the integration points miss the pose by many orders "
         "of magnitude more than that band, as in the table.",
         "",
-        "**Results** (`tests/test_double_four_bar.py`; the table below is written by "
+        "**Results** (`tests/dynamics/test_double_four_bar.py`; the table below is written by "
         "`python tests/benchmarks/bench_double_four_bar.py --write`). Machine: "
         f"{_machine()}. Errors over 1001 times in [0, 10] s against the exact motion (θ in rad, "
         "θ̇ in rad/s), of B0's (x, y, vx, vy) at 10 s against the exact motion and against "

@@ -3,7 +3,7 @@ the slider-crank (docs/validation.md, "The reference machines", without friction
 and load, gravity kept) under
 a constant 5 N·m from rest, 0.5 s.  Each run's error is taken against a tight
 reference run (DOP853, rtol 1e-13) at 51 times; the reference itself is checked
-against an independent integration of Lagrange's equation (tests/test_dynamics.py).
+against an independent integration of Lagrange's equation (tests/dynamics/test_dynamics.py).
 
     python tests/benchmarks/bench_integrators.py            # print the table
     python tests/benchmarks/bench_integrators.py --write    # and put it into docs/dynamics.md
@@ -18,7 +18,7 @@ import numpy as np
 from _common import ROOT
 
 from kinetostatics.dynamics import simulate
-from tests.test_dynamics import free_slider_crank, lagrange
+from tests.dynamics.test_dynamics import free_slider_crank, lagrange
 
 CASES = [
     ("RK23", 1e-4),

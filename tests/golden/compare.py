@@ -1,6 +1,6 @@
 """How the golden files are compared: every number on the scale of its unit.
 
-One rule, used by ``tests/test_golden.py`` (which fails on a difference) and by
+One rule, used by ``tests/architecture/test_golden.py`` (which fails on a difference) and by
 ``audit.py`` (which prints the worst ratio), so that a golden file means the same on
 every CPU — NumPy's SIMD loops (AVX-512 or not) and the order of a sum move the last
 bits of a result, and a comparison has to be blind to exactly that and nothing more.

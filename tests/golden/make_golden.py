@@ -7,9 +7,9 @@ the command line gives: ``check.txt`` (``kinetostatics check``), and for a file
 with its motion drivers ``results.csv.gz`` and ``summary.json``
 (``kinetostatics run``) and ``geometry.json`` (the drawing data of
 ``plotting.mechanism_geometry`` at rows 0 and 100), for one without them ``simulation.csv.gz``
-(``kinetostatics simulate --until 0.2 --no-plot``; ``UNTIL`` for some).  ``tests/test_golden.py``
-runs the same commands and compares.  Rewrite the files only when a change of
-behaviour is intended, and say so in the commit.
+(``kinetostatics simulate --until 0.2 --no-plot``; ``UNTIL`` for some).
+``tests/architecture/test_golden.py`` runs the same commands and compares.  Rewrite the files
+only when a change of behaviour is intended, and say so in the commit.
 """
 
 from __future__ import annotations
@@ -83,7 +83,7 @@ def geometry(path: Path) -> str:
     import json
 
     import kinetostatics as ks
-    from kinetostatics import plotting
+    from kinetostatics.outputs import plotting
 
     result = ks.analyze(ks.load(path))
     rows = [plotting.mechanism_geometry(result, row) for row in (0, 100)]

@@ -66,7 +66,7 @@ def shipped(path):
     import yaml
 
     import kinetostatics as ks
-    from kinetostatics.yaml_io import dump
+    from kinetostatics.io import dump
 
     doc = yaml.safe_load(dump(ks.load(path)))
     doc["analysis"]["events"] = False

@@ -22,6 +22,7 @@ import numpy as np
 
 from ..base.arrays import sorted_distinct
 from ..errors import AssemblyError, ElementWarning, JointWarning, NearSingularWarning
+from ..kinematics.schedule import schedule
 from ..structure.system import link_pair
 from .pipeline import analyze, analyze_near
 from .results import Result
@@ -48,8 +49,6 @@ def span(result: Result) -> tuple[float, float]:
     """(t_a, t_b) the run covers: one period for a full cycle, else the rows' range."""
     t = np.asarray(result.t, dtype=float)
     if result.full_cycle:
-        from ..kinematics.schedule import schedule
-
         period = schedule(result.system).period
         t0 = float(np.min(t))
         return t0, t0 + float(period)
@@ -59,7 +58,6 @@ def span(result: Result) -> tuple[float, float]:
 def _in_time(result: Result):
     """(t, order, period): the rows' times sorted (``order`` sorts the rows) and the period
     of a full cycle (None otherwise)."""
-    from ..kinematics.schedule import schedule
 
     t = np.asarray(result.t, dtype=float)
     order = np.argsort(t, kind="stable")
@@ -383,7 +381,6 @@ def breaks(result: Result, ta: float, tb: float, friction: bool) -> np.ndarray:
     motion (a cam law's segment ends), the zeros of the drivers' efforts (kinks of a
     motor's torque behind a reduction) and, with friction, the kinks of the friction
     laws."""
-    from ..kinematics.schedule import schedule
 
     sched = schedule(result.system)
     full = result.full_cycle

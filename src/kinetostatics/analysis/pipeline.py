@@ -14,6 +14,8 @@ import warnings
 import numpy as np
 
 from ..base.arguments import real_array
+from ..base.limits import MAGNITUDE, MAX_TRAVEL, MAX_TURNS
+from ..base.memory import memory_shortfall
 from ..errors import (
     ElementWarning,
     JointWarning,
@@ -28,7 +30,7 @@ from ..kinematics.differences import difference_derivatives
 from ..kinematics.events import state_near
 from ..kinematics.motion import Motion, motion_at
 from ..kinematics.newton import condition_number, group_condition
-from ..kinematics.positions import solve_positions
+from ..kinematics.positions import PositionSolution, positions_near, solve_positions
 from ..kinematics.schedule import Schedule, sample_times, schedule
 from ..kinematics.start import initial_guess
 from ..kinetics.conditions import Event, load_events, travel_extremes, whole_motion
@@ -155,7 +157,6 @@ def analyze_near(result: Result, times: np.ndarray, *, friction: bool) -> Result
     same branch, without the run's continuation from the start) and the loads with the run's
     travel extremes: the rows on which the cycle's integrator locates a kink
     (analysis/cycle.py).  No event rows."""
-    from ..kinematics.positions import PositionSolution, positions_near
 
     system = result.system
     sched = schedule(system)
@@ -227,7 +228,6 @@ def _check_memory(system: System, n: int, given: str | None) -> None:
     than is available (:func:`~kinetostatics.base.memory.memory_shortfall`, the
     estimate of a batch's): a ModelError naming ``analysis.positions``, or a
     ValueError naming the ``positions``/``times`` argument."""
-    from ..base.memory import memory_shortfall
 
     if (why := memory_shortfall(n, "the analysis")) is None:
         return
@@ -316,7 +316,6 @@ def _result(system: System, sol, motion: Motion, full, kin=None, found=()) -> Re
 def _checked_positions(system: System, positions) -> np.ndarray:
     """``analyze(positions=...)``: finite driver coordinates within the file's limits (a revolute's
     |ψ| as an angle of the file, a prismatic's distance from ``analysis.start`` as its sweep)."""
-    from ..base.limits import MAGNITUDE, MAX_TRAVEL
 
     if system.motion_drivers[0].joint.angular:
         limit = MAGNITUDE["angle"][1]
@@ -344,7 +343,6 @@ def _checked_times(system: System, sched: Schedule, times) -> np.ndarray:
     law is not defined before its start: its times count from 0.  A constant-speed driver is:
     a negative time is a position before the start, reached by running the linkage backwards
     (as far back as forwards)."""
-    from ..base.limits import MAX_TRAVEL, MAX_TURNS
 
     if sched.law is not None:
         high, why = MAX_TURNS * sched.law.duration, f"s: {MAX_TURNS} times the law's duration"

@@ -19,7 +19,10 @@ from ..base.files import json_text
 from ..base.tables import write_columns
 from ..errors import did_you_mean
 from ..structure.system import System
+from .checks import result_checks
 from .columns import build_columns, element_warnings, joint_warnings
+from .frames import html_repr, members, select, short_repr, to_pandas, to_xarray
+from .summary import summarize
 
 if TYPE_CHECKING:  # the optional table packages, for the return types only
     import pandas
@@ -90,12 +93,10 @@ class Result:
         return len(self.t)
 
     def __repr__(self) -> str:
-        from .frames import short_repr
 
         return short_repr(self)
 
     def _repr_html_(self) -> str:
-        from .frames import html_repr
 
         return html_repr(self)
 
@@ -112,8 +113,6 @@ class Result:
         >>> result.members()["motor"][0]  # doctest: +SKIP
         'motor.torque'
         """
-        from .frames import members
-
         return members(self)
 
     def select(self, member: str) -> dict[str, np.ndarray]:
@@ -139,8 +138,6 @@ class Result:
         >>> result.select("rod")["B.vx"] is result["rod.B.vx"]  # doctest: +SKIP
         True
         """
-        from .frames import select
-
         return select(self, member)
 
     def to_pandas(self, multiindex: bool = False) -> pandas.DataFrame:
@@ -165,8 +162,6 @@ class Result:
         --------
         >>> result.to_pandas(multiindex=True)["rod"]["omega"].max()  # doctest: +SKIP
         """
-        from .frames import to_pandas
-
         return to_pandas(self, multiindex)
 
     def to_xarray(self) -> xarray.Dataset:
@@ -187,8 +182,6 @@ class Result:
         >>> result.to_xarray()["motor.torque"].attrs["units"]  # doctest: +SKIP
         'N*m'
         """
-        from .frames import to_xarray
-
         return to_xarray(self)
 
     @cached_property
@@ -196,7 +189,6 @@ class Result:
         """Self-checks (:class:`~kinetostatics.analysis.checks.Checks`): constraint and
         power-balance residuals, sketch distance, group condition, friction status, each against its
         tolerance; ``checks.ok``, ``checks.failed()``.  Computed on first use."""
-        from .checks import result_checks
 
         return result_checks(self)
 
@@ -263,8 +255,6 @@ class Result:
         >>> rows_only = result.summary()  # doctest: +SKIP
         >>> as_run_writes_it = result.summary(cycle_stage(result))  # doctest: +SKIP
         """
-        from .summary import summarize
-
         return summarize(self, cycle)
 
     def to_json(

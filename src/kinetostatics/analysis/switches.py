@@ -11,6 +11,13 @@ from __future__ import annotations
 import numpy as np
 
 from ..base.arrays import sorted_distinct
+from ..kinematics.events import coordinate_rates, find_roots
+from ..kinematics.schedule import schedule
+from ..kinematics.state import joint_coordinate
+from ..kinetics.conditions import ZERO_SPEED, condition_state
+from ..kinetics.elements import coordinate_rate, force_kinks
+from ..kinetics.kinds import CONDITION_KINDS, LOAD_KINDS
+from ..model import EffortLaw
 from .results import Result
 
 __all__ = [
@@ -28,8 +35,6 @@ def exact_roots(result: Result, rates: list) -> list[float]:
     """Times where the value of each ``rate(q, q̇, q̈) -> (value, its time derivative)``
     changes sign over the rows, located exactly (refined on the motion itself).  An entry
     may be a pair ``(rate, keep)``: ``keep(q, q̇, q̈)`` says which of its roots count."""
-    from ..kinematics.events import find_roots
-    from ..kinematics.schedule import schedule
 
     if not rates or len(result) < 2:
         return []
@@ -86,10 +91,6 @@ def table_rates(result: Result) -> list:
     :func:`~kinetostatics.kinetics.elements.force_kinks` over its length or angle).  A
     motion table's knots are times
     (:meth:`~kinetostatics.kinematics.schedule.Schedule.breaks`)."""
-    from ..kinematics.events import coordinate_rates
-    from ..kinematics.state import joint_coordinate
-    from ..kinetics.elements import coordinate_rate, force_kinks
-    from ..model import EffortLaw
 
     system = result.system
     model = system.model
@@ -139,8 +140,6 @@ def dead_band(result: Result, rate, angular: bool) -> list:
     opposes it switches on or off, at the rows and the nodes alike.  (Cut at the speed's
     zero instead, a speed that leaves 0 slowly — a follower after a cam's dwell — was
     cut up to 1e-4 s from where its effort switched.)"""
-    from ..kinematics.schedule import schedule
-    from ..kinetics.conditions import ZERO_SPEED
 
     system = result.system
     band = ZERO_SPEED * float(schedule(system).reference) * (1.0 if angular else system.l_ref)
@@ -152,8 +151,6 @@ def reversal_rates(result: Result) -> list:
     ``resistance`` whose point's velocity along its axis, a ``resisting_torque`` whose
     angular velocity changes sign: switching events too), at the edges of the zero-speed
     band (:func:`dead_band`)."""
-    from ..kinetics.kinds import LOAD_KINDS
-
     system = result.system
     rates = []
     for load in system.model.loads:
@@ -172,7 +169,6 @@ def friction_rates(result: Result) -> list:
     """Rates whose roots are where a joint with friction reverses its relative motion: its
     friction effort −sign(ċ)·μ jumps there, so the quadrature is cut there too (at the edges of the
     zero-speed band, :func:`dead_band`)."""
-    from ..kinematics.events import coordinate_rates
 
     system = result.system
     rates = []
@@ -190,10 +186,6 @@ def condition_rates(result: Result) -> list:
     the load come on or go off.  The load's event is at the speed's zero; a speed that
     crosses zero at a rate is out of the band within round-off, but one that leaves 0
     slowly — a follower after a cam's dwell — only up to 1e-4 s later."""
-    from ..kinematics.schedule import schedule
-    from ..kinetics.conditions import ZERO_SPEED, condition_state
-    from ..kinetics.kinds import CONDITION_KINDS
-
     system = result.system
     band = ZERO_SPEED * float(schedule(system).reference) * float(system.l_ref)
     rates: list = []

@@ -40,9 +40,12 @@ from ..kinematics.start import (
 from ..kinetics.conditions import travel_extremes_stacked
 from ..kinetics.inverse import inverse_dynamics
 from ..kinetics.kinds import CONDITION_KINDS, LOAD_KINDS
+from ..kinetics.reactions import ground_reaction
 from ..model import Model
 from ..model.stacking import is_stacked, stack, subset
 from ..structure.system import System, build_system
+from .columns import build_columns
+from .results import Result
 
 __all__ = ["analyze_stacked", "Stacked"]
 
@@ -249,10 +252,6 @@ def output_strokes(st: Stacked) -> dict[str, dict[str, np.ndarray]]:
 
 def as_result(st: Stacked):
     """A :class:`~kinetostatics.analysis.results.Result` whose columns are ``(V, N)``."""
-    from ..kinetics.reactions import ground_reaction
-    from .columns import build_columns
-    from .results import Result
-
     kin = st.kin
     with np.errstate(invalid="ignore"):  # a variant's singular rows: NaN shaking
         shaking = ground_reaction(st.system, st.q, kin.x0)

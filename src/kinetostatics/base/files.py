@@ -11,6 +11,8 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import OutputError, output_error
+
 __all__ = ["make_folder", "write_file", "write_outputs", "write_whole", "json_text", "NON_FINITE"]
 
 # the key that lists, in a JSON mapping written by json_text, the values that were not
@@ -40,7 +42,6 @@ def make_folder(out: Path, what: str) -> None:
     """Make the output folder ``out`` (``what`` names it in messages, e.g. ``--out DIR``);
     a path that is a file, or an ``OSError`` (read-only, full disk), is one
     :class:`~kinetostatics.errors.OutputError` line."""
-    from ..errors import OutputError, output_error
 
     if out.exists() and not out.is_dir():
         raise OutputError(f"{what}: is a file, not a folder")
@@ -56,7 +57,6 @@ def write_file(path: Path, what: str, write: Callable[[Path], None]) -> None:
     one :class:`~kinetostatics.errors.OutputError` line starting with ``what`` (e.g.
     ``--out FILE``).  A writer gets a temporary name: it must state its format (for
     example ``savefig(..., format="png")``), not guess it from the name."""
-    from ..errors import OutputError, output_error
 
     path = Path(path)
     if path.is_dir() or path.name in ("", ".", ".."):

@@ -13,7 +13,7 @@ inverses (``base/linalg.py``) and the friction fixed point's step
 
 A kernel is plain Python (it runs, slowly, without numba) written with the same
 operations in the same order as the type's NumPy formula, so both backends give the same
-numbers to the bit (tests/test_kernels.py checks every kernel, and whole analyses of
+numbers to the bit (tests/base/test_kernels.py checks every kernel, and whole analyses of
 the shipped mechanisms).  Compiling takes a few seconds at a process's first analysis;
 the machine code is cached on disk for the next processes (numba's ``cache=True``).
 """

@@ -58,4 +58,4 @@ OWN_LIMITS = {
 """The numbers of a file that are bounded by a limit of their own instead of (or besides)
 :data:`MAGNITUDE`: key pattern (names as ``*``, indices as ``[]``) -> the limit.  Every other
 number is read through :meth:`~kinetostatics.base.spec.Entry.number` and bounded by
-:data:`MAGNITUDE` (``tests/test_hostile_keys.py`` walks the loader to check it)."""
+:data:`MAGNITUDE` (``tests/io/test_hostile_keys.py`` walks the loader to check it)."""

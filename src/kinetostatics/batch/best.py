@@ -16,6 +16,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 
 from ..errors import KinetostaticsError, did_you_mean
+from .table import read_summary
 
 __all__ = ["BestError", "parse_objective", "parse_condition", "select", "best", "format_table"]
 
@@ -113,7 +114,6 @@ def best(
     """The top rows of a batch's summary table as a text table: the variant,
     its parameters (``params``, default those that vary), the objective and the constrained
     columns."""
-    from .table import read_summary
 
     header, rows = read_summary(summary_csv)
     where = list(where)

@@ -14,8 +14,9 @@ from typing import Any
 
 import numpy as np
 
+from .executors import _open_executor, analyze_chunk
 from .objectives import FAILED, INFEASIBLE, OptimizeError
-from .sources import Chunk, template_of
+from .sources import Chunk, auto_chunk, template_of, variant_parameters
 
 __all__: list[str] = []
 
@@ -42,8 +43,6 @@ class _Problem:
 
     def rows(self, overrides: list[dict[str, float]]) -> list[dict[str, Any]]:
         """The batch rows of the designs: one chunk (serial), or chunks on the executor."""
-        from .executors import _open_executor, analyze_chunk
-        from .sources import auto_chunk
 
         def chunk(ovs):
             ids = tuple(str(k) for k in range(len(ovs)))
@@ -103,8 +102,6 @@ class _Problem:
                 self.checked = True  # its names were checked when it was evaluated
 
     def _record(self, key: tuple[float, ...], row: dict[str, Any]) -> dict[str, Any]:
-        from .sources import variant_parameters
-
         template = template_of(self.source.file, self.source.text)
         env = {**variant_parameters(template, dict(zip(self.names, key))), **row}
         rec: dict[str, Any] = {"evaluation": len(self.designs) + 1, "stage": self.stage}

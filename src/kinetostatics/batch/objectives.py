@@ -25,7 +25,7 @@ import sys
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 
-from ..base.expressions import ExpressionError, evaluate, names_in
+from ..base.expressions import CONSTANTS, ExpressionError, evaluate, names_in
 from ..errors import KinetostaticsError, did_you_mean
 
 __all__ = ["OptimizeError", "Expression", "Constraint", "INFEASIBLE", "FAILED", "parse_vary"]
@@ -78,7 +78,6 @@ class Expression:
     def check_names(self, known: Iterable[str], what: str) -> None:
         """OptimizeError naming a name that is neither a row quantity nor a parameter."""
         known = list(known)
-        from ..base.expressions import CONSTANTS
 
         for name in self.names.values():
             if name not in known and name not in CONSTANTS:

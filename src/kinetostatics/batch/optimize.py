@@ -40,9 +40,11 @@ import numpy as np
 
 from ..base.document import read_text
 from ..base.limits import MAX_POSITIONS
+from ..errors import did_you_mean
 from .designs import _Problem
+from .executors import _open_executor
 from .objectives import FAILED, INFEASIBLE, Constraint, Expression, OptimizeError, parse_vary
-from .optimize_files import designs_on_disk
+from .optimize_files import designs_on_disk, write_outputs
 from .sources import Source, template_of
 
 if TYPE_CHECKING:
@@ -308,8 +310,6 @@ def _optimize(model_or_path, vary, minimize: str, subject_to, opts: SearchOption
             on_bound=_on_bound(best, names, space.lo, space.hi),
         )
         if out is not None:
-            from .optimize_files import write_outputs
-
             result.files = write_outputs(result, source, template, names, constraints, Path(out))
     return result
 
@@ -361,8 +361,6 @@ def _run(differential_evolution, problem, space: _Space, opts: SearchOptions, hi
     bar = _bar(opts.progress, opts.steps)
     try:
         if opts.executor != "serial":  # a scheduler that cannot be reached stops here
-            from .executors import _open_executor
-
             problem.pool = _open_executor(opts.executor, opts.workers)
 
         def population(x: np.ndarray) -> np.ndarray:  # (n, S) -> (S,)
@@ -437,7 +435,6 @@ def _search(differential_evolution, population, space: _Space, opts: SearchOptio
 
 
 def _did_you_mean(name: str, known) -> str:
-    from ..errors import did_you_mean
 
     return did_you_mean(name, list(known))
 

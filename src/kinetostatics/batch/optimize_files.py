@@ -16,6 +16,9 @@ from typing import Any
 from ..base.files import make_folder, write_whole
 from ..base.tables import write_table
 from ..errors import output_error
+from .objectives import INFEASIBLE, OptimizeError
+from .sources import BatchError
+from .table import _fingerprint, _Lock, _read_state, _replace, _Table, _write_state, read_summary
 
 __all__ = ["write_outputs", "with_parameters", "designs_on_disk"]
 
@@ -122,7 +125,6 @@ class _Designs:
                 pass
 
     def add(self, designs) -> None:
-        from .table import _Table
 
         text = _rows_text(designs, self.cols, self.units, header=False)
         try:
@@ -139,9 +141,6 @@ def designs_on_disk(out, source, search: dict, names, constraints, overwrite: bo
     if out is None:
         yield None
         return
-    from .objectives import OptimizeError
-    from .sources import BatchError
-    from .table import _fingerprint, _Lock, _read_state, _replace, _Table, _write_state
 
     out = Path(out)
     where = f"--out {out}"
@@ -160,8 +159,6 @@ def designs_on_disk(out, source, search: dict, names, constraints, overwrite: bo
         state_path = out / STATE
         rows = []
         if disk.path.exists() and not overwrite:
-            from .table import read_summary
-
             try:
                 _, rows = read_summary(disk.path)
             except (OSError, UnicodeDecodeError):
@@ -191,8 +188,6 @@ def _plot(result, path: Path) -> None:
     stays positive and spans more than a decade); the infeasible levels are left out."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
-
-    from .objectives import INFEASIBLE
 
     fig = Figure(figsize=(6.4, 4.0), dpi=120)
     FigureCanvasAgg(fig)

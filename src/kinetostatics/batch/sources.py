@@ -12,8 +12,10 @@ from pathlib import Path
 from typing import Any
 
 from ..base.document import read_text
+from ..base.expressions import evaluate_parameters
 from ..base.memory import BYTES_PER_POSITION
 from ..errors import KinetostaticsError
+from .sweeps import check_parameters
 
 __all__ = [
     "template_of",
@@ -95,7 +97,6 @@ def auto_chunk(n_todo: int, positions: int, workers: int) -> int:
 def variant_parameters(template, overrides: Mapping[str, float]) -> dict[str, float]:
     """All the file's parameters evaluated for a variant (file units); only the
     overrides when the values cannot be evaluated (the row then says why)."""
-    from ..base.expressions import evaluate_parameters
 
     if not overrides:
         return template.parameters
@@ -156,7 +157,6 @@ def _templates(sources: Sequence[Source]) -> list[Any]:
 
 def _check_names(tasks: Sequence[Task], sources: Sequence[Source], templates: Sequence) -> None:
     """Fail fast, before any analysis, on a parameter a file does not declare."""
-    from .sweeps import check_parameters
 
     for k, (source, tpl) in enumerate(zip(sources, templates)):
         if not isinstance(tpl, BaseException):

@@ -22,8 +22,11 @@ from ..base.document import compose, read_text
 from ..dynamics.flywheel import design
 from ..errors import KinetostaticsError
 from ..kinematics.events import coordinate_rates, output_slides, output_strokes
+from ..kinetics.reactions import effort_joints
 from ..model import Model
+from ..model.stacking import TopologyMismatch, signature, stack
 from ..outputs.loading import build
+from ..structure.system import coordinate_gradient
 
 __all__ = ["Template", "analyze_variants", "summary_row", "shaking_row", "ROW_UNITS"]
 
@@ -238,7 +241,6 @@ def summary_row(
     result ``(V, N)`` gives arrays ``(V,)`` (:func:`split_rows` makes rows);
     ``strokes`` are :func:`~kinetostatics.kinematics.events.output_strokes` (computed
     when not given)."""
-    from ..structure.system import coordinate_gradient
 
     system = result.system
     cols = result.columns
@@ -255,7 +257,6 @@ def summary_row(
             row[f"{name}.omega_peak"] = peak(cols[f"{name}.omega"])
             row[f"{name}.alpha_peak"] = peak(cols[f"{name}.alpha"])
     angle = cols["angle"] if "angle" in cols else cols["stroke"]
-    from ..kinetics.reactions import effort_joints
 
     for d, k_eff in zip(system.motion_drivers, effort_joints(system)):
         word = "torque" if system.model.joints[k_eff].angular else "force"  # at balance_at
@@ -410,7 +411,6 @@ def _vectorised_rows(models: dict[int, Model], rows: list, friction: bool | None
     import warnings
 
     from ..analysis import vectorised
-    from ..model.stacking import TopologyMismatch, signature, stack
 
     try:  # one topology (the usual case): no signatures needed
         groups = {(): (list(models), stack(list(models.values())))}

@@ -30,8 +30,10 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from ..analysis import analyze
+from ..analysis.pipeline import _require_motion_drivers
 from ..base.geometry import rotate
-from ..errors import ModelError
+from ..errors import AssemblyError, ModelError
 from ..joints.prismatic import Prismatic
 from ..joints.revolute import Revolute
 from ..kinematics.derivatives import derivatives
@@ -39,6 +41,8 @@ from ..kinematics.schedule import schedule
 from ..kinematics.start import start_pose
 from ..kinetics.inverse import kinetics
 from ..model import Clearance, Driver, Link, Model, MotionLaw
+from ..structure.system import build_system
+from .engine import Dynamics
 
 __all__ = [
     "Clearance",
@@ -89,12 +93,8 @@ def with_clearance(
 def _start_state(model: Model):
     """(system, q, q̇, q̈, ψ) of the model at t = 0: the first analysis position, or
     at rest under the effort drivers (forward dynamics' first evaluation)."""
-    from ..analysis.pipeline import _require_motion_drivers
-    from ..structure.system import build_system
 
     if any(d.motion is None for d in model.drivers):
-        from . import Dynamics
-
         dyn = Dynamics(model)
         ev = dyn.state(0.0, np.concatenate((dyn.start(), np.zeros(dyn.n_f), [0.0])))
         return dyn.system, ev.q, ev.qd, ev.qdd0 + ev.accel @ ev.dqdd, ev.psi
@@ -312,8 +312,6 @@ def two_force_member(
     reactions recomputed and β set along the new −F_ij, until |Δβ| ≤ ``tol`` rad.
     At the fixed point the link carries no couple: the effort of its driver is 0.
     """
-    from ..analysis import analyze
-    from ..errors import AssemblyError
 
     names = list(sizes)
     res0 = analyze(model, friction=False, positions=positions)

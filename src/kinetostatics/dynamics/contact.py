@@ -26,6 +26,7 @@ import numpy as np
 
 from ..io.clearance import read_contact
 from ..model.contact_law import ContactLaw, hertz_stiffness
+from .engine import Dynamics
 
 __all__ = ["ContactLaw", "hertz_stiffness", "read_contact", "simulate_contact", "ContactRun"]
 
@@ -100,8 +101,6 @@ def simulate_contact(  # noqa: PLR0913  the public keywords (docs/clearance.md)
     solve_ivp's finite differences).
     """
     from scipy.integrate import solve_ivp
-
-    from . import Dynamics
 
     dyn = Dynamics(model)
     nf = dyn.n_f

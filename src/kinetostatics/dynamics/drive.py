@@ -40,6 +40,7 @@ import numpy as np
 from ..analysis.cycle import Quadrature, cycle_quadrature, cycle_stats
 from ..analysis.results import Result
 from ..model import DriveSpec
+from . import flywheel as flywheel_module
 from .motor import (
     LIMIT,
     RPM,
@@ -223,9 +224,7 @@ def _with_flywheel(
     flywheel the motor shaft still needs is (J_F − J_e)/i² less rotor and reduction."""
     model = result.system.model
     if design is None:
-        from .flywheel import design as flywheel_design
-
-        design = flywheel_design(result, nodes=quad)
+        design = flywheel_module.design(result, nodes=quad)  # looked up: tests count designs
     delta = float(model.flywheel.delta)
     omega = float(design.omega_m)
     mean = float(shaft["torque"]["mean"])

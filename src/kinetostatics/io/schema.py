@@ -4,7 +4,7 @@ Every mapping the loader checks with :meth:`~kinetostatics.base.spec.Entry.check
 :class:`~kinetostatics.base.keys.Keys` table (``LINK_KEYS``, ``DRIVER_KEYS``, a joint
 type's ``spec_keys``, …); :func:`schema` assembles them, so a key added to the loader is
 in the schema too.  ``mechanism.schema.json`` beside this module is the schema written
-out (``tests/test_schema.py`` checks it equals :func:`schema`); ``kinetostatics schema``
+out (``tests/io/test_schema.py`` checks it equals :func:`schema`); ``kinetostatics schema``
 prints it; docs/yaml.md tells how to point an editor at it.
 
 What a schema cannot see (the loader reports it): a number written as a word

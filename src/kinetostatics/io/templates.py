@@ -26,11 +26,11 @@ from importlib import resources
 
 import yaml
 
-from ..errors import KinetostaticsError
+from ..errors import KinetostaticsError, did_you_mean
 
 __all__ = ["NAMES", "Template", "TemplateError", "load_template", "render", "templates"]
 
-# the order of `init --list`; tests/test_templates.py checks it against the files
+# the order of `init --list`; tests/io/test_templates.py checks it against the files
 NAMES: tuple[str, ...] = ("slotting", "shaper", "press", "jaw_crusher", "saw")
 
 _ROMAN = ("I", "II", "III", "IV", "V", "VI", "VII", "VIII", "IX", "X", "XI", "XII")
@@ -82,7 +82,6 @@ def load_template(name: str) -> Template:
     for t in all_:
         if name in (t.name, t.zh):
             return t
-    from ..errors import did_you_mean
 
     choices = ", ".join(f"{t.name} ({t.zh})" for t in all_)
     raise TemplateError(
@@ -109,7 +108,7 @@ def templates() -> list[Template]:
 def _start(text: str) -> int:
     """Where the ``template:`` mapping starts (a line of its own at column 0)."""
     m = re.search(rf"^{_MARK}\s*$", text, re.M)
-    if m is None:  # a shipped template always has one (tests/test_templates.py)
+    if m is None:  # a shipped template always has one (tests/io/test_templates.py)
         raise ValueError("a template without its template: mapping")
     return m.start()
 
@@ -144,7 +143,7 @@ def render(template: Template, label: str | None = None) -> str:
             lines[k] = text + "\n"
             seen.add(m.group(2))
     missing = [name for name in values if name not in seen]
-    if missing:  # a template's rows and its parameters disagree (tests/test_templates.py)
+    if missing:  # a template's rows and its parameters disagree (tests/io/test_templates.py)
         raise ValueError(f"template {template.name}: no parameters line for {missing}")
     intro = (
         f"# Written by `kinetostatics init {template.name} --data {key}` from the template "

@@ -551,7 +551,7 @@ class Joint(JointCore, Presentation, Friction, Compiled, Shaped):
     (:class:`Presentation`, :class:`Friction`, :class:`Compiled`, :class:`Shaped`), so that
     the rest of the code may call any member of any joint.  A type declares the optional
     parts it gives by naming them among its bases after ``Joint`` (``class Cam(Joint,
-    Presentation, Friction, Shaped, kind="cam")``); ``tests/test_joint_contract.py`` checks
+    Presentation, Friction, Shaped, kind="cam")``); ``tests/joints/test_joint_contract.py`` checks
     that a type overrides the members of exactly the parts it declares.
     """
 

@@ -77,7 +77,7 @@ the same numbers as one pass (the operations are per position; a pass of one pos
 would sum its 36 squares in another order), with temporaries of ~2.4 MB for a 6×6
 block instead of ~10 MB over 36,000 positions.  Measured there on the slotting
 machine's two groups: 17.5 ms in one pass, 10.9 in chunks of 2,048, 7.6 of 8,192, 8.4
-of 16,384 — the large temporaries cost fresh memory each time (tests/test_evaluation.py
+of 16,384 — the large temporaries cost fresh memory each time (tests/structure/test_evaluation.py
 checks the bits)."""
 
 

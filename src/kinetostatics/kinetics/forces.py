@@ -13,7 +13,8 @@ import numpy as np
 
 from ..base.geometry import rotate
 from ..kinematics.state import local_point, point_state  # noqa: F401  (point_state: re-exported)
-from ..structure.system import System
+from ..model import EffortLaw
+from ..structure.system import System, coordinate_gradient
 from .conditions import activity
 from .kinds import LOAD_KINDS, resisting_torque, resisting_torque_other, zero_speed
 
@@ -62,8 +63,6 @@ def inertia_forces(system: System, qdd: np.ndarray) -> np.ndarray:
 def effort_forces(system: System, q: np.ndarray, qd: np.ndarray | None = None) -> np.ndarray:
     """Generalized forces of the ``effort:`` drivers (applied by i on j): constants, or
     laws (:class:`~kinetostatics.model.EffortLaw`) of the driver coordinate and speed."""
-    from ..model import EffortLaw
-    from ..structure.system import coordinate_gradient
 
     out = np.zeros(q.shape)
     names = [j.name for j in system.model.joints]

@@ -13,7 +13,7 @@ forward dynamics (:meth:`ConditionKind.switches`).
 
 ``kinetics/forces.py``, ``kinetics/conditions.py``, ``dynamics/switching.py``,
 ``analysis/switches.py`` and the pictures ask these entries, never the kind's name; a new
-kind is one class here and its entry (``tests/test_loads_and_differences.py`` checks that
+kind is one class here and its entry (``tests/kinetics/test_loads_and_differences.py`` checks that
 every kind the loader accepts has one).
 """
 

@@ -5,7 +5,7 @@ links and whose edges are joints (key = joint name).  Motion drivers are not
 edges: they are extra equations on a joint, counted when the Assur groups are
 found.  The graph queries (components, cycle basis) are plain Python: they
 give the same results, in the same order, as the networkx functions they
-replaced (``tests/test_structure_scaling.py`` compares them), without networkx's import
+replaced (``tests/structure/test_structure_scaling.py`` compares them), without networkx's import
 time at the start of every command.
 """
 

@@ -32,7 +32,7 @@ the frame takes the next number, so ``F61`` is the frame (6) on the crank (1).
 
 from .animate import animate
 from .curves import (
-    _active_spans,  # noqa: F401  (tests/test_plotting.py uses it)
+    _active_spans,  # noqa: F401  (tests/outputs/test_plotting.py uses it)
     efficiency_curve,
     motion_diagram,
     output_motion,

@@ -7,6 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ...base.files import write_whole
 from .draw import _draw_moving, _draw_static, _drawing_sheet, _l_ref, _loads_at, _sheet_title
 from .rows import _position_title, _sorted
 from .style import PictureError, _fit_sheet, _inside_axes, _rc
@@ -42,7 +43,6 @@ def animate(  # noqa: PLR0913  the public keywords (docs/pictures.md)
     ffmpeg = shutil.which("ffmpeg") if suffix == ".mp4" else None
     if suffix == ".mp4" and ffmpeg is None:
         raise PictureError(f"{path}: writing MP4 needs ffmpeg on the PATH; write a .gif instead")
-    from ...base.files import write_whole
 
     path.parent.mkdir(parents=True, exist_ok=True)
     write_whole(

@@ -11,6 +11,7 @@ import numpy as np
 from ...analysis import analyze
 from ...structure.system import build_system
 from ..labels import link_numbers  # noqa: F401  (the pictures' numbers, from one place)
+from ..lang import tr
 from .style import PictureError
 
 
@@ -127,7 +128,6 @@ def turns(result) -> int:
 
 
 def _abscissa(result, lang: str = "en") -> tuple[np.ndarray, str]:
-    from ..lang import tr
 
     d = _driver(result)
     if d.driver.motion.own_run:  # a law of its own run: ψ may reverse
@@ -223,7 +223,6 @@ def _course_ticks(result, n: int = 12) -> list[tuple[float, str]]:
 
 
 def _position_title(result, row: int, lang: str = "en") -> str:
-    from ..lang import tr
 
     labels = [lab for lab, k in course_positions(result) if k == row]
     d = _driver(result)

@@ -10,6 +10,7 @@ import re
 import numpy as np
 
 from ...errors import KinetostaticsError
+from ..fonts import math_fallback, rc_fonts
 
 
 class PictureError(KinetostaticsError, ValueError):
@@ -90,8 +91,6 @@ def _mend_math(fig) -> None:
     from matplotlib.font_manager import findfont
     from matplotlib.text import Text
 
-    from ..fonts import math_fallback
-
     for t in fig.findobj(Text):
         text = t.get_text()
         if "$" not in text or t.get_usetex():
@@ -134,7 +133,6 @@ def _figure(width_mm: float, height_mm: float, dpi: float = DPI):
 
 def _rc(lang: str = "en"):
     """The style (and for ``lang="zh"`` a font with Chinese glyphs) while a figure is drawn."""
-    from ..fonts import rc_fonts
 
     matplotlib, _ = _mpl()
     return matplotlib.rc_context({**STYLE, **rc_fonts(lang)})

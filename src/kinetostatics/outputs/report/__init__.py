@@ -25,7 +25,7 @@ entry.
 
 from .document import ReportError, write_report
 from .results import (
-    _summary_blocks,  # noqa: F401  (tests/test_hostile_numbers.py uses it)
+    _summary_blocks,  # noqa: F401  (tests/io/test_hostile_numbers.py uses it)
     report_tables,
 )
 

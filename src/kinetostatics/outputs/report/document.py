@@ -21,7 +21,7 @@ from .data import _data_blocks, _structure_blocks
 from .drive import drive_blocks
 from .elements import element_blocks
 from .flywheel import flywheel_blocks
-from .pdf import pdf_module
+from .pdf import pdf_module, write_pdf
 from .results import _summary_blocks, balancing, length_unit, report_tables
 
 FORMATS = ("md", "html", "pdf")
@@ -364,8 +364,6 @@ def write_report(  # noqa: PLR0913  the report's public keywords (docs/pictures.
         text = _to_html(blocks, title, lang)
         write_file(written["html"], what, lambda p: p.write_text(text, encoding="utf-8"))
     if "pdf" in formats:
-        from .pdf import write_pdf
-
         written["pdf"] = out / "report.pdf"
         write_file(written["pdf"], what, lambda p: write_pdf(blocks, p, title, lang))
     return written | {"csv": csv_path, "summary": summary_path}

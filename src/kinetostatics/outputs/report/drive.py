@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from ...dynamics.motor import LIMIT, RPM, WHAT
 from ..lang import tr
+from ..plotting.drive import torque_speed
 from .blocks import _Heading, _List, _Para, _Table
 
 
@@ -32,7 +33,6 @@ ASSUMPTIONS = (
 def drive_blocks(d: dict, result, image, lang: str = "en", number: int = 10) -> list:
     """Blocks of chapter ``number`` from the summary entry ``d``; ``image(fig, name,
     caption)`` saves a figure as a block."""
-    from ..plotting.drive import torque_speed
 
     T = lambda s, **k: tr(s, lang, **k)  # noqa: E731
     red, md = d["reduction"], d["motor_data"]

@@ -6,7 +6,9 @@ from __future__ import annotations
 import numpy as np
 
 from ...dynamics.flywheel_texts import assumption_texts
+from .. import plotting as pl
 from ..lang import tr, tr_unit
+from ..plotting.energy import energy_data
 from ..summary import ROUND_OFF
 from .blocks import _Heading, _List, _Para, _Table
 
@@ -20,8 +22,6 @@ def flywheel_blocks(
 ) -> list:
     """Blocks of chapter ``number`` from the summary entry ``fw`` (the numbers) and the
     ``design`` (its curve); ``image(fig, name, caption)`` saves a figure as a block."""
-    from .. import plotting as pl
-    from ..plotting.energy import energy_data
 
     T = lambda s, **k: tr(s, lang, **k)  # noqa: E731
     je = fw["machine_inertia"]

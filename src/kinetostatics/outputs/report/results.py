@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...base.units import factor
 from ..labels import column_label, link_numbers, member, numbered
 from ..lang import tr, tr_unit
 from ..summary import ROUND_OFF
@@ -35,7 +36,6 @@ def _unit(u: str) -> str:
 
 def length_unit(model) -> tuple[str, float]:
     """The file's length unit and its size in m (``("mm", 1e-3)``; SI when none)."""
-    from ...base.units import factor
 
     u = model.units.get("length", "m") if model.units else "m"
     return u, factor("length", u)

@@ -1,0 +1,301 @@
+"""The architecture's counts, measured on the source tree (docs/architecture.md, "Counts").
+
+    python tests/architecture/architecture_counts.py [--json]
+
+Prints, for ``src/kinetostatics``:
+
+- ``cycles``: the import cycles among the package's modules (strongly connected components
+  of the module import graph, every import counted: module level, in functions, under
+  ``TYPE_CHECKING``), and the modules they span;
+- ``long_functions``: functions (and methods) longer than 60 lines, decorators and the
+  docstring excluded;
+- ``wide_functions``: functions taking 8 or more parameters (``self`` and ``cls`` not counted);
+- ``lazy_imports``: imports of the package's own modules inside a function, and the modules
+  that hold them (``cli/`` apart, where they keep the command's start light);
+- ``hidden_caches``: values kept on an object or in a closure after construction: a
+  ``cached_property``, a write into ``__dict__`` or into a dict named ``*memo*``/``*cache*``
+  (``system.memo``, the one documented per-system memo, apart), ``object.__setattr__``
+  outside ``__post_init__``/``__setstate__``, a ``nonlocal`` (module-level
+  ``functools.cache`` on a pure function of its arguments is not counted: it hides nothing;
+  nor, for the same reason, the cam's last-pose memo, ``kept`` in ``joints/cam.py``
+  (:data:`KEYED_ON_INPUT`): a pure method's result kept for the last poses it was asked at,
+  keyed on the poses' whole bytes, left out of the joint's pickle, and documented in
+  docs/architecture.md, "What is computed once", as the one joint cache);
+- ``public_functions``: functions and classes that ``kinetostatics.__all__`` names, with
+  their public methods, and how many have a typed signature and a numpydoc Parameters (or,
+  with no parameter, Returns) section.
+
+The numbers are read from the code, never from a run, so they can be compared across
+commits: ``git stash``-free, check out the commit in a worktree and run this file there.
+"""
+
+from __future__ import annotations
+
+import argparse
+import ast
+import importlib
+import inspect
+import json
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+PKG = ROOT / "src" / "kinetostatics"
+LONG = 60
+WIDE = 8
+
+
+def _modules():
+    for path in sorted(PKG.rglob("*.py")):
+        rel = path.relative_to(PKG)
+        parts = list(rel.with_suffix("").parts)
+        if parts[-1] == "__init__":
+            parts = parts[:-1]
+        yield ".".join(["kinetostatics", *parts]), path, ast.parse(path.read_text("utf-8"))
+
+
+def _target(module: str, is_package: bool, node: ast.ImportFrom | ast.Import) -> list[str]:
+    if isinstance(node, ast.Import):
+        return [a.name for a in node.names if a.name.startswith("kinetostatics")]
+    if node.level == 0:
+        base = node.module or ""
+        if not base.startswith("kinetostatics"):
+            return []
+    else:
+        pkg = module.split(".") if is_package else module.split(".")[:-1]
+        pkg = pkg[: len(pkg) - (node.level - 1)]
+        base = ".".join(pkg + ([node.module] if node.module else []))
+    return [base] + [f"{base}.{a.name}" for a in node.names]
+
+
+def _graph():
+    mods = {m: (p, t) for m, p, t in _modules()}
+    edges: dict[str, set[str]] = {m: set() for m in mods}
+    lazy: list[tuple[str, int]] = []
+    for m, (path, tree) in mods.items():
+        is_pkg = path.name == "__init__.py"
+        for fn in ast.walk(tree):
+            if isinstance(fn, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                for node in ast.walk(fn):
+                    if isinstance(node, (ast.Import, ast.ImportFrom)) and _target(m, is_pkg, node):
+                        lazy.append((m, node.lineno))
+        for node in ast.walk(tree):
+            if isinstance(node, (ast.Import, ast.ImportFrom)):
+                for t in _target(m, is_pkg, node):
+                    if t in mods and t != m:
+                        edges[m].add(t)
+    return edges, sorted(set(lazy))
+
+
+def lazy_imports() -> dict[str, list[int]]:
+    """The imports of the package's own modules inside a function, outside ``cli/``: the
+    module's path under ``src/kinetostatics`` (``batch/variants.py``) → their lines."""
+    paths = {m: p.relative_to(PKG).as_posix() for m, p, _ in _modules()}
+    out: dict[str, list[int]] = {}
+    for m, line in _graph()[1]:
+        if not m.startswith("kinetostatics.cli"):
+            out.setdefault(paths[m], []).append(line)
+    return out
+
+
+def _sccs(edges: dict[str, set[str]]) -> list[list[str]]:
+    """Tarjan's strongly connected components with more than one module."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on: set[str] = set()
+    out: list[list[str]] = []
+    sys.setrecursionlimit(10000)
+
+    def visit(v: str) -> None:
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on.add(v)
+        for w in edges[v]:
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                comp.append(w)
+                if w == v:
+                    break
+            if len(comp) > 1:
+                out.append(sorted(comp))
+
+    for v in edges:
+        if v not in index:
+            visit(v)
+    return out
+
+
+def _package_parents(edges: dict[str, set[str]]) -> dict[str, set[str]]:
+    """Drop the edges a module has to the packages above it (importing ``a.b.c`` runs
+    ``a/__init__`` and ``a/b/__init__``: not a dependency the code chose)."""
+    return {m: {t for t in ts if not m.startswith(t + ".")} for m, ts in edges.items()}
+
+
+def _functions():
+    for m, _path, tree in _modules():
+        for node in ast.walk(tree):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                yield m, node
+
+
+def function_length(fn: ast.FunctionDef) -> int:
+    """Lines from the ``def`` to the end, the docstring not counted (a function's
+    documentation is not its size)."""
+    lines = fn.end_lineno - fn.lineno + 1
+    first = fn.body[0]
+    if (
+        isinstance(first, ast.Expr)
+        and isinstance(first.value, ast.Constant)
+        and isinstance(first.value.value, str)
+    ):
+        lines -= first.end_lineno - first.lineno + 1
+    return lines
+
+
+def _params(fn: ast.FunctionDef) -> list[str]:
+    a = fn.args
+    names = [x.arg for x in a.posonlyargs + a.args + a.kwonlyargs]
+    names += [x.arg for x in (a.vararg, a.kwarg) if x is not None]
+    return [n for n in names if n not in ("self", "cls")]
+
+
+def _cache_name(node: ast.AST) -> str | None:
+    """The memo a subscript write or ``setdefault`` goes to, if its name says memo or cache
+    (``system.memo``, the one documented per-system memo, is not hidden)."""
+    name = ast.unparse(node)
+    if name == "system.memo" or name.endswith(".system.memo"):
+        return None
+    last = name.split(".")[-1].lower()
+    return name if ("memo" in last or "cache" in last or last == "__dict__") else None
+
+
+# memos keyed on the whole input of a pure function: (module, function) — see the docstring
+KEYED_ON_INPUT = {("kinetostatics.joints.cam", "kept")}
+
+
+def _hidden_caches() -> list[tuple[str, int, str]]:
+    found = []
+    keyed: set[tuple[str, int]] = set()
+    for m, _path, tree in _modules():
+        for fn in ast.walk(tree):
+            if isinstance(fn, ast.FunctionDef) and (m, fn.name) in KEYED_ON_INPUT:
+                keyed |= {(m, n) for n in range(fn.lineno, fn.end_lineno + 1)}
+        for fn in ast.walk(tree):
+            if isinstance(fn, ast.ClassDef):
+                for item in fn.body:
+                    decs = [ast.unparse(d) for d in getattr(item, "decorator_list", [])]
+                    if any(d.split(".")[-1] == "cached_property" for d in decs):
+                        found.append((m, item.lineno, f"cached_property {fn.name}.{item.name}"))
+            if not isinstance(fn, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                continue
+            for node in ast.walk(fn):
+                if isinstance(node, ast.Nonlocal):
+                    found.append((m, node.lineno, "nonlocal memo"))
+                elif isinstance(node, ast.Assign):
+                    for t in node.targets:
+                        if isinstance(t, ast.Subscript) and _cache_name(t.value):
+                            found.append((m, node.lineno, f"{_cache_name(t.value)}[...] ="))
+                elif isinstance(node, ast.Call):
+                    func = ast.unparse(node.func)
+                    if func == "object.__setattr__" and fn.name not in (
+                        "__post_init__",
+                        "__setstate__",
+                    ):
+                        found.append((m, node.lineno, "object.__setattr__"))
+                    elif (
+                        isinstance(node.func, ast.Attribute)
+                        and node.func.attr == "setdefault"
+                        and _cache_name(node.func.value)
+                    ):
+                        found.append((m, node.lineno, f"{func}(...)"))
+    return sorted({f for f in found if f[:2] not in keyed})
+
+
+def _has_numpydoc(obj) -> bool:
+    doc = inspect.getdoc(obj) or ""
+    return any(f"\n{s}\n" + "-" * len(s) in f"\n{doc}" for s in ("Parameters", "Returns"))
+
+
+def _typed(obj) -> bool:
+    try:
+        sig = inspect.signature(obj)
+    except (TypeError, ValueError):
+        return False
+    params = [p for n, p in sig.parameters.items() if n not in ("self", "cls")]
+    return all(p.annotation is not p.empty for p in params) and (
+        sig.return_annotation is not sig.empty or inspect.isclass(obj)
+    )
+
+
+def _public() -> list[tuple[str, object]]:
+    sys.path.insert(0, str(ROOT / "src"))
+    ks = importlib.import_module("kinetostatics")
+    out = []
+    for name in ks.__all__:
+        obj = getattr(ks, name)
+        if not callable(obj):
+            continue
+        out.append((name, obj))
+        if inspect.isclass(obj) and not issubclass(obj, BaseException | Warning):
+            for attr, member in vars(obj).items():
+                if attr.startswith("_") or not callable(member):
+                    continue
+                out.append((f"{name}.{attr}", member))
+    return out
+
+
+def counts() -> dict:
+    edges, _ = _graph()
+    lazy = lazy_imports()
+    cycles = _sccs(_package_parents(edges))
+    funcs = list(_functions())
+    long = [(m, f.name, function_length(f)) for m, f in funcs]
+    long = [x for x in long if x[2] > LONG]
+    wide = [(m, f.name, len(_params(f))) for m, f in funcs if len(_params(f)) >= WIDE]
+    public = _public()
+    return {
+        "cycles": len(cycles),
+        "modules_in_cycles": sum(map(len, cycles)),
+        "cycle_members": cycles,
+        "long_functions": len(long),
+        "wide_functions": len(wide),
+        "lazy_imports_outside_cli": sum(map(len, lazy.values())),
+        "modules_with_lazy_imports_outside_cli": len(lazy),
+        "hidden_caches": len(_hidden_caches()),
+        "modules_with_hidden_caches": len({m for m, _, _ in _hidden_caches()}),
+        "hidden_cache_sites": [f"{m}:{n} {k}" for m, n, k in _hidden_caches()],
+        "public_callables": len(public),
+        "public_typed": sum(_typed(o) for _, o in public),
+        "public_numpydoc": sum(_has_numpydoc(o) for _, o in public),
+        "long": [f"{m}.{n} ({k})" for m, n, k in sorted(long, key=lambda x: -x[2])],
+        "wide": [f"{m}.{n} ({k})" for m, n, k in sorted(wide, key=lambda x: -x[2])],
+    }
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--json", action="store_true", help="every list, as JSON")
+    a = ap.parse_args(argv)
+    c = counts()
+    if a.json:
+        print(json.dumps(c, indent=1))
+        return 0
+    for k, v in c.items():
+        if not isinstance(v, list):
+            print(f"{k:40s} {v}")
+    for comp in c["cycle_members"]:
+        print("cycle:", " ".join(x.removeprefix("kinetostatics.") for x in comp))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

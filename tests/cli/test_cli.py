@@ -1,0 +1,125 @@
+"""The command line: run writes the CSV and summary of docs/conventions.md; user errors
+exit 2 with one line; run imports neither matplotlib nor scipy's solvers."""
+
+import csv
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import kinetostatics as ks
+from kinetostatics.cli import main
+
+
+def test_run_writes_csv_and_summary(tmp_path, capsys):
+    assert main(["run", "mechanisms/slider_crank.yaml", "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "stroke" in out and "peak reaction" in out and "with friction" in out
+    lines = (tmp_path / "results.csv").read_text().splitlines()
+    assert lines[0].startswith("# units: s,deg,deg,")
+    header = next(csv.reader([lines[1]]))
+    assert header[:3] == ["time", "angle", "travel"]
+    for name in (
+        "crank.x",
+        "rod.theta",
+        "slider.B.vx",
+        "O.Fx",
+        "slide.N",
+        "slide.M",
+        "A.friction_approx",
+        "A.friction",
+        "slide.N_friction",
+        "motor.torque",
+        "motor.torque_friction_approx",
+        "motor.torque_friction",
+        "motor.efficiency",
+        "friction.status",
+        "friction.iterations",
+        "power.input",
+        "power.kinetic",
+        "power.potential",
+        "power.external",
+        "power.friction",
+        "power.residual",
+        "power.residual_friction",
+        "rod_slider.cond",
+        "rod_slider.pressure_angle",
+    ):
+        assert name in header, name
+    assert len(lines) == 2 + 360
+    r = ks.analyze(ks.load("mechanisms/slider_crank.yaml"))
+    row = next(csv.reader([lines[2 + 37]]))
+    for name in ("motor.torque", "B.Fy", "rod.alpha"):
+        assert float(row[header.index(name)]) == r[name][37]  # written at full precision
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["outputs"]["slide"]["stroke"] == pytest.approx(np.ptp(r["slider.x"]), rel=1e-4)
+    assert len(summary["events"]) == 2
+    assert summary["column_units"]["motor.torque"] == "N*m"
+
+
+def test_user_error_is_one_line_and_exit_2(tmp_path, capsys):
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(
+        (open("mechanisms/slider_crank.yaml").read()).replace(
+            "links: [crank, rod]", "links: [crank, rood]"
+        )
+    )
+    assert main(["check", str(bad)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1
+    assert err[0].startswith(f"{bad}:") and "unknown link 'rood' (did you mean 'rod'?)" in err[0]
+
+
+def test_run_imports_no_plotting_or_solvers(tmp_path):
+    proc = subprocess.run(
+        [
+            sys.executable,
+            "-X",
+            "importtime",
+            "-m",
+            "kinetostatics.cli",
+            "run",
+            "mechanisms/slotting_machine.yaml",
+            "--out",
+            str(tmp_path),
+        ],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    imported = {line.split("|")[-1].strip() for line in proc.stderr.splitlines() if "|" in line}
+    assert "kinetostatics.analysis.pipeline" in imported  # the guard sees our imports
+    for forbidden in ("matplotlib", "scipy.optimize", "scipy.integrate", "scipy.interpolate"):
+        assert not any(m == forbidden or m.startswith(forbidden + ".") for m in imported), forbidden
+
+
+def test_output_cut_short_by_the_reader_is_not_an_error():
+    """`kinetostatics check FILE | head -1`: no traceback when the pipe closes early."""
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[2]
+    cmd = [sys.executable, "-m", "kinetostatics.cli", "check", "mechanisms/jaw_crusher.yaml"]
+    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=root)
+    p.stdout.close()  # the reader goes away before anything is written
+    err = p.stderr.read().decode()
+    assert p.wait() == 0, err
+    assert "Traceback" not in err and "Exception ignored" not in err, err
+
+
+def test_python_dash_m_kinetostatics_is_the_command(tmp_path):
+    """``python -m kinetostatics`` runs the command line (the package had no __main__)."""
+    import os
+    from pathlib import Path
+
+    env = dict(os.environ, PYTHONPATH=str(Path(__file__).parents[2] / "src"))
+    out = subprocess.run(
+        [sys.executable, "-m", "kinetostatics", "--version"],
+        cwd=tmp_path,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert out.returncode == 0 and out.stdout.startswith("kinetostatics "), out

@@ -1,0 +1,102 @@
+"""Friction: the consistent solution against the approximate one, self-locking,
+and the zero-speed rule."""
+
+import re
+
+import numpy as np
+import pytest
+
+import kinetostatics as ks
+from tests.helpers import variant
+
+
+def _scaled(s: float, **extra) -> ks.Model:
+    return variant(
+        "slider_crank",
+        r1=(r"radius: 1.5", f"radius: {1.5 * s}"),
+        r2=(r"radius: 1.2", f"radius: {1.2 * s}"),
+        r3=(r"radius: 1.0", f"radius: {1.0 * s}"),
+        f=(r"coefficient: 0.10", f"coefficient: {0.1 * s}"),
+        **extra,
+    )
+
+
+def test_consistent_converges_quadratically_to_approximate():
+    """The approximation neglects friction-on-friction terms: error = O(μ²)."""
+    errs = []
+    for s in (1.0, 0.1, 0.01):
+        r = ks.analyze(_scaled(s))
+        ok = r["friction.status"] < 2
+        errs.append(
+            np.max(np.abs(r["motor.torque_friction"] - r["motor.torque_friction_approx"])[ok])
+        )
+    ratios = [errs[0] / errs[1], errs[1] / errs[2]]
+    for ratio in ratios:
+        assert 50 < ratio < 200, ratios  # ≈ 100 for a tenfold smaller friction
+
+
+def test_homotopy_on_the_kinematic_factors():
+    """The motor's own effort (A = Φ_qᵀ, handed to the friction solutions as the block
+    factors, never assembled dense): at 60 times the friction the fixed point fails at
+    some rows, the homotopy takes them, and others self-lock; where a solution is
+    reported it is an equilibrium with its own friction (the power balance closes)."""
+    r = ks.analyze(_scaled(60.0))
+    st = r["friction.status"]
+    assert (st == 0).sum() >= 10 and (st == 1).sum() >= 10 and (st == 2).sum() >= 10
+    ok = st < 2
+    scale = np.max(np.abs(r["power.input"]))
+    assert np.max(np.abs(r["power.residual_friction"][ok])) < 1e-9 * scale
+
+
+LOCKING = "tests/hard/slider_crank_self_locking.yaml"
+
+
+def _locking(s: float) -> ks.Model:
+    """Crank motion prescribed, effort balanced at the slide; short rod, large friction
+    (tests/hard/slider_crank_self_locking.yaml, its friction level ``s: 3`` times ``s``)."""
+    text, n = re.subn(r"\n  s: 3 ", f"\n  s: {3.0 * s:g} ", open(LOCKING).read())
+    assert n == 1
+    return ks.loads(text, file="slider_crank_self_locking.yaml")
+
+
+@pytest.fixture(scope="module")
+def locking():
+    return ks.analyze(_locking(1.0))
+
+
+def test_self_locking_ranges_and_homotopy(locking):
+    st = locking["friction.status"]
+    assert (st == 2).sum() >= 5 and (st == 1).sum() >= 1 and (st == 0).sum() > 200
+    # self-locked rows have no friction values; the frictionless force exists
+    assert np.isnan(locking["motor.force_friction"][st == 2]).all()
+    assert np.isfinite(locking["motor.force"]).all()
+    # where a solution is reported (fixed point or homotopy) it is an equilibrium
+    # with its own friction: the power balance closes
+    ok = st < 2
+    scale = np.max(np.abs(locking["power.input"]))
+    assert np.max(np.abs(locking["power.residual_friction"][ok])) < 1e-9 * scale
+
+
+def test_self_locking_range_shrinks_with_friction(locking):
+    counts = [int((ks.analyze(_locking(s))["friction.status"] == 2).sum()) for s in (0.5, 0.1)]
+    assert (locking["friction.status"] == 2).sum() > counts[0] > counts[1]
+
+
+def test_self_locking_rows_are_empty_in_csv(locking, tmp_path):
+    locking.to_csv(tmp_path / "r.csv")
+    lines = (tmp_path / "r.csv").read_text().splitlines()
+    header = lines[1].split(",")
+    k = header.index("motor.force_friction")
+    row = int(np.nonzero(locking["friction.status"] == 2)[0][0])
+    assert lines[2 + row].split(",")[k] == ""
+
+
+def test_zero_relative_speed_gives_status_3_and_no_friction_there():
+    model = ks.load("mechanisms/slider_crank.yaml")
+    r0 = ks.analyze(model)
+    dead = [e.coordinate for e in r0.events]  # slider at rest
+    r = ks.analyze(model, positions=dead)
+    assert list(r["friction.status"]) == [3, 3]
+    np.testing.assert_array_equal(r["slide.friction"], 0.0)
+    np.testing.assert_array_equal(r["slide.friction_approx"], 0.0)
+    assert np.all(r["O.friction"] != 0)

@@ -1,0 +1,87 @@
+"""Inverse dynamics at arbitrary driver states (positions_near + kinetics)."""
+
+import numpy as np
+
+import kinetostatics as ks
+from kinetostatics.analysis.pipeline import kinetics
+from kinetostatics.kinematics.positions import derivatives, positions_near
+from kinetostatics.kinematics.schedule import schedule
+from kinetostatics.structure.system import phi as residual
+from tests.oracles import slider_crank_closed_form as cf
+
+
+def test_torque_increment_is_equivalent_inertia_times_crank_acceleration():
+    """τ(φ, ω, α) − τ(φ, ω, 0) = J_e(φ) α, J_e = Σ m (v_S/ω)² + J (ω_k/ω)² (closed form)."""
+    system = ks.build_system(ks.load("mechanisms/slider_crank.yaml"))
+    base = ks.analyze(system, friction=False)
+    phi = np.radians(np.arange(0, 360, 7.0))
+    w, alpha = 31.4, 250.0
+    q = positions_near(system, phi[:, None], base.q[np.arange(0, 360, 7)], schedule(system))
+    taus = []
+    for acc in (0.0, alpha):
+        psi = phi[:, None]
+        qd, qdd, lu = derivatives(system, q, np.full_like(psi, w), np.full_like(psi, acc))
+        kin = kinetics(system, q, qd, qdd, psi, lu=lu, ref_speed=w, extremes=base.extremes)
+        taus.append(kin.x0[:, -1])
+    p = cf.SliderCrank(omega1=1.0)
+    k = cf.kinematics(p, phi)
+    j_e = (
+        p.m1 * (k["S1_vx"] ** 2 + k["S1_vy"] ** 2)
+        + p.J1
+        + p.m2 * (k["S2_vx"] ** 2 + k["S2_vy"] ** 2)
+        + p.J2 * k["omega2"] ** 2
+        + p.m3 * k["vB"] ** 2
+    )
+    np.testing.assert_allclose(taus[1] - taus[0], j_e * alpha, rtol=1e-10)
+
+
+def test_positions_near_follows_the_guess_branch():
+    system = ks.build_system(ks.load("tests/hard/fourbar_change_point.yaml"))
+    r = ks.analyze(system, positions=np.radians([100.0]))
+    q = positions_near(system, np.radians([[101.0]]), r.q, schedule(system))
+    assert np.max(np.abs(q - r.q)) < 0.05  # one degree away: a nearby pose
+    assert np.max(np.abs(residual(system, q, np.radians([[101.0]])))) < 1e-12
+
+
+def test_inverse_dynamics_of_a_motion_record_is_frozen_and_balances_power():
+    """The stages' records: the Motion of the kinematic stage gives, through the four stages,
+    a frozen Kinetics whose power terms are a read-only mapping that balances (the drive's
+    input equals the rates of kinetic and potential energy plus the external loads' and the
+    friction loss: the work–energy theorem); kinetics() from the loose arrays is the same."""
+    import dataclasses
+
+    import pytest
+
+    from kinetostatics.kinematics.motion import motion_at
+    from kinetostatics.kinetics.inverse import inverse_dynamics
+
+    system = ks.build_system(ks.load("mechanisms/slotting_machine.yaml"))
+    base = ks.analyze(system, friction=False)
+    sched = schedule(system)
+    motion = motion_at(system, sched, base.t[::6], base.q[::6])
+    kin = inverse_dynamics(
+        system, motion, ref_speed=sched.reference, extremes=base.extremes, friction=True
+    )
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        kin.power = None
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        motion.q = None
+    p = kin.power
+    assert list(p)[:4] == ["input", "kinetic", "potential", "external"]
+    assert {"friction", "residual_friction"} <= set(p) and "elastic" not in p
+    scale = np.max(np.abs(p["input_friction"]))
+    balance = p.kinetic + p.potential + p.external + p.friction
+    assert np.max(np.abs(p.input_friction - balance)) <= 1e-9 * scale
+    assert kin.friction.solution is kin.friction["solution"]
+    old = kinetics(
+        system,
+        motion.q,
+        motion.qd,
+        motion.qdd,
+        motion.psi,
+        lu=motion.lu,
+        ref_speed=sched.reference,
+        extremes=base.extremes,
+        friction=True,
+    )
+    np.testing.assert_allclose(old.friction.solution.x, kin.friction.solution.x, rtol=1e-12)
