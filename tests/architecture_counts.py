@@ -247,7 +247,7 @@ def _cache_sites() -> list[tuple[str, int, str]]:
     return sorted({f for f in found if f[:2] not in keyed})
 
 
-def _hidden_caches() -> dict[str, list[tuple[str, int, str]]]:
+def hidden_caches() -> dict[str, list[tuple[str, int, str]]]:
     """The cache sites split: ``hidden`` (counted), ``documented``, ``by_design``."""
     out: dict[str, list] = {"hidden": [], "documented": [], "by_design": []}
     for m, n, what in _cache_sites():
@@ -302,7 +302,7 @@ def counts() -> dict:
     wide = [(m, f.name, len(_params(f))) for m, f in funcs if len(_params(f)) >= WIDE]
     lazy_out = [(m, n) for m, n in lazy if not m.startswith("kinetostatics.cli")]
     public = _public()
-    caches = _hidden_caches()
+    caches = hidden_caches()
     return {
         "cycles": len(cycles),
         "modules_in_cycles": sum(map(len, cycles)),

@@ -16,7 +16,7 @@ import pytest
 
 from kinetostatics import joints
 
-from .architecture_counts import function_length
+from .architecture_counts import BY_DESIGN, DOCUMENTED, function_length, hidden_caches
 
 ROOT = Path(__file__).resolve().parents[1]
 PKG = ROOT / "src" / "kinetostatics"
@@ -127,6 +127,18 @@ def test_modules_stay_small():
         if text.count("\n") > MAX_LINES
     ]
     assert not big, big
+
+
+def test_no_hidden_caches():
+    """No value is kept on a frozen object or in a closure after construction unless
+    docs/architecture.md names it ("What is computed once": the counter's DOCUMENTED) or
+    it is the job of a mutable working object (BY_DESIGN); a listed site that went away
+    leaves its list."""
+    sites = hidden_caches()
+    assert not sites["hidden"], sites["hidden"]
+    listed = {(m, what.split(":")[0]) for m, _, what in sites["documented"]}
+    assert set(DOCUMENTED) == listed, set(DOCUMENTED) ^ listed
+    assert set(BY_DESIGN) == {m for m, _, _ in sites["by_design"]}
 
 
 def test_docs_tree_is_the_tree():
