@@ -218,40 +218,67 @@ def result_checks(result) -> Checks:
     checks: dict[str, Any] = {
         "constraints": _constraint_check(value, _row_text(result, k)),
         "sketch": _sketch_check(system, q0),
+        **_power_checks(result),
     }
+    cond = _worst_group_check(result)
+    if cond is not None:
+        checks["cond"] = cond
+    checks["closure"] = _closure_check(result, sched, q)
+    status = None
+    if "friction.status" in result.columns:
+        st = np.asarray(result.columns["friction.status"])
+        status = tuple(int(np.sum(st == s)) for s in range(4))
+        checks["friction"] = _friction_check(result, status)
+    return Checks(**checks, friction_status=status)
+
+
+def _power_reference(cols) -> float:
+    """The scale of the power residuals: the largest input power, or with nothing put in
+    the largest power term (1 W where every term is zero)."""
+    ref = np.nanmax(np.abs(cols["power.input"]), initial=0.0)
+    if ref == 0.0:  # nothing put in: the largest power term instead
+        ref = max(
+            (
+                np.nanmax(np.abs(cols[f"power.{n}"]), initial=0.0)
+                for n in ("kinetic", "potential", "elastic", "damping", "external", "friction")
+                if f"power.{n}" in cols
+            ),
+            default=0.0,
+        )
+    return ref if ref > 0.0 else 1.0
+
+
+def _power_checks(result) -> dict[str, Check]:
+    """The power-balance checks (``power``, ``power_friction``) of the columns that exist,
+    the reported singular rows (and the self-locked rows, for friction) left out."""
     cols = result.columns
-    if "power.residual" in cols:
-        ref = np.nanmax(np.abs(cols["power.input"]), initial=0.0)
-        if ref == 0.0:  # nothing put in: the largest power term instead
-            ref = max(
-                (
-                    np.nanmax(np.abs(cols[f"power.{n}"]), initial=0.0)
-                    for n in ("kinetic", "potential", "elastic", "damping", "external", "friction")
-                    if f"power.{n}" in cols
-                ),
-                default=0.0,
-            )
-        ref = ref if ref > 0.0 else 1.0
-        t = np.asarray(result.t)
-        singular = np.zeros(t.shape, dtype=bool)  # reported singular rows: no effort there
-        for sp in result.singular:
-            singular |= np.isclose(t, sp.t, rtol=0.0, atol=1e-9 * max(1.0, abs(sp.t)))
-        for name, col in (
-            ("power", "power.residual"),
-            ("power_friction", "power.residual_friction"),
-        ):
-            if col not in cols:
-                continue
-            r = np.where(singular, 0.0, np.abs(np.asarray(cols[col])))
-            if name == "power_friction" and "friction.status" in cols:
-                r = np.where(cols["friction.status"] == 2, 0.0, r)  # no solution there
-            r = np.where(np.isnan(r), np.inf, r) / ref
-            k = int(np.argmax(r)) if r.size else 0
-            v = float(r[k]) if r.size else 0.0
-            label = "power" if name == "power" else "power (friction)"
-            checks[name] = Check(name, v, POWER_TOL, _row_text(result, k), f"{label} {v:.0e}")
-    worst, where = 0.0, ""
-    for p in system.plans:
+    if "power.residual" not in cols:
+        return {}
+    ref = _power_reference(cols)
+    t = np.asarray(result.t)
+    singular = np.zeros(t.shape, dtype=bool)  # reported singular rows: no effort there
+    for sp in result.singular:
+        singular |= np.isclose(t, sp.t, rtol=0.0, atol=1e-9 * max(1.0, abs(sp.t)))
+    out = {}
+    for name, col in (("power", "power.residual"), ("power_friction", "power.residual_friction")):
+        if col not in cols:
+            continue
+        r = np.where(singular, 0.0, np.abs(np.asarray(cols[col])))
+        if name == "power_friction" and "friction.status" in cols:
+            r = np.where(cols["friction.status"] == 2, 0.0, r)  # no solution there
+        r = np.where(np.isnan(r), np.inf, r) / ref
+        k = int(np.argmax(r)) if r.size else 0
+        v = float(r[k]) if r.size else 0.0
+        label = "power" if name == "power" else "power (friction)"
+        out[name] = Check(name, v, POWER_TOL, _row_text(result, k), f"{label} {v:.0e}")
+    return out
+
+
+def _worst_group_check(result) -> Check | None:
+    """The condition check of the worst-conditioned undriven group (None without one)."""
+    cols = result.columns
+    worst, where, group = 0.0, "", ""
+    for p in result.system.plans:
         col = f"{p.group.column}.cond"
         if p.group.kind == "driven" or col not in cols:
             continue
@@ -263,33 +290,33 @@ def result_checks(result) -> Checks:
                 f"{p.group.label}, {_row_text(result, k)}",
                 p.group.label,
             )
-    if where:
-        checks["cond"] = _cond_check(worst, where, group)
-    checks["closure"] = _closure_check(result, sched, q)
-    status = None
-    if "friction.status" in cols:
-        st = np.asarray(cols["friction.status"])
-        status = tuple(int(np.sum(st == s)) for s in range(4))
-        parts = [f"{n} {w}" for n, w in zip(status, STATUS_WORDS) if n]
-        # rows whose <driver>.efficiency is undefined although the friction solution exists:
-        # the drive delivers no power there or passes none on (docs/friction.md)
-        undefined = np.zeros(st.shape, dtype=bool)
-        for d in system.motion_drivers:
-            if f"{d.name}.efficiency" in cols:
-                undefined |= np.isnan(np.asarray(cols[f"{d.name}.efficiency"]))
-        undefined &= st != 2
-        n_undef = int(np.sum(undefined))
-        if n_undef:
-            parts.append(f"efficiency undefined at {n_undef}")
-        checks["friction"] = Check(
-            "friction",
-            float(status[2]),
-            0.0,
-            f"{status[2]} row(s) self-locking" if status[2] else "",
-            "friction " + (", ".join(parts) or "no rows"),
-            (("efficiency_undefined", n_undef),),
-        )
-    return Checks(**checks, friction_status=status)
+    return _cond_check(worst, where, group) if where else None
+
+
+def _friction_check(result, status: tuple[int, ...]) -> Check:
+    """The friction check from the rows' solution ``status`` counts: the self-locked rows
+    fail it; the rows whose efficiency is undefined are counted."""
+    cols = result.columns
+    st = np.asarray(cols["friction.status"])
+    parts = [f"{n} {w}" for n, w in zip(status, STATUS_WORDS) if n]
+    # rows whose <driver>.efficiency is undefined although the friction solution exists:
+    # the drive delivers no power there or passes none on (docs/friction.md)
+    undefined = np.zeros(st.shape, dtype=bool)
+    for d in result.system.motion_drivers:
+        if f"{d.name}.efficiency" in cols:
+            undefined |= np.isnan(np.asarray(cols[f"{d.name}.efficiency"]))
+    undefined &= st != 2
+    n_undef = int(np.sum(undefined))
+    if n_undef:
+        parts.append(f"efficiency undefined at {n_undef}")
+    return Check(
+        "friction",
+        float(status[2]),
+        0.0,
+        f"{status[2]} row(s) self-locking" if status[2] else "",
+        "friction " + (", ".join(parts) or "no rows"),
+        (("efficiency_undefined", n_undef),),
+    )
 
 
 def _closure_check(result, sched, q) -> Check | None:

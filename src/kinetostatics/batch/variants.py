@@ -241,11 +241,34 @@ def summary_row(
     result ``(V, N)`` gives arrays ``(V,)`` (:func:`split_rows` makes rows);
     ``strokes`` are :func:`~kinetostatics.kinematics.events.output_strokes` (computed
     when not given)."""
-
     system = result.system
     cols = result.columns
     row: dict[str, Any] = {"status": "ok", "reason": "", "full_cycle": bool(result.full_cycle)}
-    strokes = output_strokes(result) if strokes is None else strokes
+    row.update(_output_row(result, output_strokes(result) if strokes is None else strokes))
+    row.update(_effort_row(result))
+    if "friction.status" in cols:
+        row.update(_locking_row(result))
+    row.update(_reaction_row(cols, system.model.joints))
+    if "shaking.Fx" in cols:
+        row.update(shaking_row(cols))
+    for name in cols:
+        if name.endswith(".pressure_angle"):  # a cam's is signed: its largest magnitude
+            row[name + "_max"] = peak(cols[name])
+        elif name.endswith(".transmission_angle"):
+            row[name + "_min"] = least(np.minimum(cols[name], 180.0 - cols[name]))
+    if flywheel or (flywheel is None and getattr(system.model, "flywheel", None) is not None):
+        fw = design(result)
+        row["flywheel.inertia"], row["flywheel.inertia_net"] = fw.inertia, fw.inertia_net
+    return {
+        k: (v.item() if isinstance(v, np.ndarray) and v.ndim == 0 else v) for k, v in row.items()
+    }
+
+
+def _output_row(result, strokes: dict) -> dict[str, Any]:
+    """The outputs' quantities: a slide's stroke, time ratio and peak speed and
+    acceleration; a rotating output's peak angular speed and acceleration."""
+    system, cols = result.system, result.columns
+    row: dict[str, Any] = {}
     for kind, name, k in _outputs(system):
         if kind == "slide":
             s = strokes.get(name, {})
@@ -256,8 +279,15 @@ def summary_row(
         else:
             row[f"{name}.omega_peak"] = peak(cols[f"{name}.omega"])
             row[f"{name}.alpha_peak"] = peak(cols[f"{name}.alpha"])
-    angle = cols["angle"] if "angle" in cols else cols["stroke"]
+    return row
 
+
+def _effort_row(result) -> dict[str, Any]:
+    """Each motion driver's effort: peak and RMS without and with friction, and with
+    friction the least efficiency and the cycle's (input work without over with it)."""
+
+    system, cols = result.system, result.columns
+    row: dict[str, Any] = {}
     for d, k_eff in zip(system.motion_drivers, effort_joints(system)):
         word = "torque" if system.model.joints[k_eff].angular else "force"  # at balance_at
         key = f"{d.name}.{word}"
@@ -277,36 +307,36 @@ def summary_row(
                 w_in = np.sum(np.where(both, tau * rel, 0.0), axis=-1)  # over the rows
                 w_in_f = np.sum(np.where(both, tau_f * rel, 0.0), axis=-1)  # with both
                 row[f"{d.name}.efficiency_cycle"] = np.where(w_in_f > 0, w_in / w_in_f, np.nan)
-    if "friction.status" in cols:
-        locked = cols["friction.status"] == 2
-        row["friction.self_locking_positions"] = np.count_nonzero(locked, axis=-1)
-        row["friction.self_locking"] = (
+    return row
+
+
+def _locking_row(result) -> dict[str, Any]:
+    """The self-locked rows' count and their ranges of the driver's angle (or stroke)."""
+    cols = result.columns
+    angle = cols["angle"] if "angle" in cols else cols["stroke"]
+    locked = cols["friction.status"] == 2
+    return {
+        "friction.self_locking_positions": np.count_nonzero(locked, axis=-1),
+        "friction.self_locking": (
             _zones(result)
             if locked.ndim == 1
             else np.array([_ranges(a, m) for a, m in zip(angle, locked)], dtype=object)
-        )
-    for j in system.model.joints:
+        ),
+    }
+
+
+def _reaction_row(cols, joints) -> dict[str, Any]:
+    """Each joint's peak reaction magnitude, without and with friction (NaN: singular rows)."""
+    row: dict[str, Any] = {}
+    for j in joints:
         if f"{j.name}.Fx" not in cols:
             continue
-        # NaN: singular rows
         row[f"{j.name}.reaction_peak"] = peak(np.hypot(cols[f"{j.name}.Fx"], cols[f"{j.name}.Fy"]))
         if f"{j.name}.Fx_friction" in cols:
             row[f"{j.name}.reaction_peak_friction"] = peak(
                 np.hypot(cols[f"{j.name}.Fx_friction"], cols[f"{j.name}.Fy_friction"])
             )
-    if "shaking.Fx" in cols:
-        row.update(shaking_row(cols))
-    for name in cols:
-        if name.endswith(".pressure_angle"):  # a cam's is signed: its largest magnitude
-            row[name + "_max"] = peak(cols[name])
-        elif name.endswith(".transmission_angle"):
-            row[name + "_min"] = least(np.minimum(cols[name], 180.0 - cols[name]))
-    if flywheel or (flywheel is None and getattr(system.model, "flywheel", None) is not None):
-        fw = design(result)
-        row["flywheel.inertia"], row["flywheel.inertia_net"] = fw.inertia, fw.inertia_net
-    return {
-        k: (v.item() if isinstance(v, np.ndarray) and v.ndim == 0 else v) for k, v in row.items()
-    }
+    return row
 
 
 def shaking_row(cols) -> dict[str, Any]:

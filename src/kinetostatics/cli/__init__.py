@@ -72,8 +72,6 @@ def _print_checks(checks, label: str = "") -> None:
 
 
 def _run(args) -> int:
-    import numpy as np
-
     from ..analysis import analyze
     from ..outputs.loading import load
 
@@ -102,6 +100,24 @@ def _run(args) -> int:
         f"{printable(model.name)}: {len(result)} positions -> {out / 'results.csv'}, "
         f"{out / 'summary.json'}"
     )
+    _print_motion(s)
+    _print_flywheel(s.get("flywheel"))
+    if dr := s.get("drive"):
+        _print_drive(dr)
+    _print_efforts(model, s)
+    _print_reactions(result, s)
+    _print_checks(result.checks)
+    if dr:
+        from ..dynamics.drive import drive_warning
+
+        if line := drive_warning(dr):
+            print(f"kinetostatics: warning: {line}", file=sys.stderr)
+        _drive_picture(result, out)
+    return 0
+
+
+def _print_motion(s: dict) -> None:
+    """The groups, the outputs, the load events and the singular positions of a summary."""
     print("groups: " + "; ".join(s["structure"]["groups"]))
     for name, o in s["outputs"].items():
         _print_output(name, o, s.get("output") in (name, o["link"]))
@@ -112,7 +128,11 @@ def _run(args) -> int:
             f"singular position: {sp['group']} at {sp['angle']:.4f}°, t = {sp['time']:.6g} s "
             f"(condition {sp['condition']:.3g})"
         )
-    if (fw := s.get("flywheel")) and fw.get("undefined"):
+
+
+def _print_flywheel(fw: dict | None) -> None:
+    """The flywheel's line (summary.json ``flywheel``), if one was designed."""
+    if fw and fw.get("undefined"):
         print(f"flywheel for delta = {fw['delta']:g}: {fw['undefined']}")
     elif fw:
         line = (
@@ -126,8 +146,13 @@ def _run(args) -> int:
                 f"; on the motor shaft (ratio {fw['ratio']:g}): {fw['inertia']['motor']:.4g} kg*m^2"
             )
         print(line)
-    if dr := s.get("drive"):
-        _print_drive(dr)
+
+
+def _print_efforts(model, s: dict) -> None:
+    """The driving efforts' means and peaks (with friction too), the warning of redundant
+    constraints and, without singular positions, of implausible torques."""
+    import numpy as np
+
     if s["indeterminate_reactions"]:
         print(
             "warning: redundant constraints: the reactions are the minimum-norm solution "
@@ -149,6 +174,12 @@ def _run(args) -> int:
         for name, d in s["drivers"].items():
             if line := torque_warning(model, name, d.get("peak", float("nan")), d["unit"]):
                 print(f"kinetostatics: warning: {line}", file=sys.stderr)
+
+
+def _print_reactions(result, s: dict) -> None:
+    """The joints' peak reactions, the self-locked rows and zones."""
+    import numpy as np
+
     for name, p in s["reaction_peaks"].items():
         print(f"joint {name}: peak reaction {p['peak']:.4g} N at {p['at']:.4g}")
     if "friction.status" in result.columns:
@@ -164,14 +195,6 @@ def _run(args) -> int:
                 for v in (z["from"], z["to"])
             ]
             print(f"self-locked zone from {ends[0]} to {ends[1]} ({z['rows']} rows)")
-    _print_checks(result.checks)
-    if dr:
-        from ..dynamics.drive import drive_warning
-
-        if line := drive_warning(dr):
-            print(f"kinetostatics: warning: {line}", file=sys.stderr)
-        _drive_picture(result, out)
-    return 0
 
 
 def _print_drive(d: dict) -> None:

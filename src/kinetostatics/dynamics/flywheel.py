@@ -381,12 +381,91 @@ def design(
     (:func:`~kinetostatics.analysis.cycle.cycle_quadrature`), used when it serves (the
     nodes with friction serve a frictionless design).
     """
+    system, base = _system_and_base(source)
+    delta, ratio, friction = _settings(system.model.flywheel, delta, ratio, friction)
+    drv = _one_dof(system)
+    if base is None:
+        base = analyze(system, friction=False)
+    events = [e.coordinate for e in base.events]
+    w = abs(drv.driver.motion.speed)
+    # M_d: the cycle mean of the one function every output uses (analysis/cycle.py)
+    quad = cycle_quadrature(
+        base, friction=friction, quadrature=quadrature, given=nodes if base is source else None
+    )
+    moment, je = _moment(system, quad.nodes, friction)
+    exact = quad.pieces is not None and np.all(np.isfinite(moment)) and np.all(np.isfinite(je))
+    m_d = _mean_moment(base, quad, moment if exact else None, friction, quadrature)
+    undefined = None
+    if exact:
+        energy, machine = _exact_extremes(base, quad, (moment, je), m_d, friction)
+    elif friction and not np.all(np.isfinite(moment)):  # self-locked at some nodes
+        # no balancing moment there, so no energy over the cycle: said, not computed
+        energy, machine, undefined = _self_locked(je)
+    else:  # no moment somewhere (a self-locked zone with friction): the fine grid's rule
+        *energy, machine = _on_the_grid(system, events, friction, positions, w)
+    (t_max, swing_max), (t_min, swing_min) = energy
+    je_mean, je_min, je_max = machine
+    swing = swing_max - swing_min
+    j_f = swing / (w**2 * delta)
+    psi = schedule(system)
+    return FlywheelDesign(
+        delta=float(delta),
+        driver=drv.name,
+        sense=float(np.sign(drv.driver.motion.speed)),
+        omega_m=w,
+        mean_torque=m_d,
+        work_per_cycle=2 * np.pi * m_d,
+        energy_swing=float(swing),
+        at_max=float(psi(np.array([t_max]))[0][0, 0]),
+        at_min=float(psi(np.array([t_min]))[0][0, 0]),
+        inertia=float(j_f),
+        machine_inertia={"mean": je_mean, "min": je_min, "max": je_max},
+        inertia_net=float(j_f - je_mean),
+        ratio=ratio,
+        friction=friction,
+        positions=positions,
+        events=tuple(events),
+        assumptions=assumption_texts(friction, w, positions),
+        system=system,
+        undefined=undefined,
+    )
+
+
+def _system_and_base(source: Result | Model | System) -> tuple[System, Result | None]:
+    """The system of ``source`` and the full-cycle result it is (None: to be analysed)."""
     if isinstance(source, Result):
-        system, base = source.system, source if source.full_cycle else None
-    else:
-        system = source if isinstance(source, System) else build_system(source)
-        base = None
-    spec = system.model.flywheel
+        return source.system, source if source.full_cycle else None
+    return source if isinstance(source, System) else build_system(source), None
+
+
+def _self_locked(je: np.ndarray):
+    """A design self-locked at some nodes: no energy extremes (NaN), the machine's inertia
+    over the nodes where it is finite, and the sentence saying why."""
+    finite = je[np.isfinite(je)]
+    energy = ((float("nan"), float("nan")), (float("nan"), float("nan")))
+    return energy, tuple(float(f(finite)) for f in (np.mean, np.min, np.max)), SELF_LOCKED
+
+
+def _mean_moment(base: Result, quad: Quadrature, moment, friction: bool, quadrature) -> float:
+    """M_d, the balancing moment's cycle mean: by the integrator's own weights from its
+    values at the nodes (``moment``; cycle_stats' sum, once), or with ``moment`` None over
+    the part of the cycle where the moment exists (:func:`cycle_stats`)."""
+    if moment is not None:
+        return float(np.sum(quad.weights * moment) / np.sum(quad.weights))
+    return cycle_stats(
+        base,
+        {"M": lambda r: _moment(base.system, r, friction)[0]},
+        friction=friction,
+        quadrature=quadrature,
+        given=quad,
+    )["M"]["mean"]
+
+
+def _settings(
+    spec, delta: float | None, ratio: float | None, friction: bool | None
+) -> tuple[float, float | None, bool]:
+    """The design's δ, ratio and friction: each given, else the file's ``flywheel:``
+    section's (``spec``, may be None); δ in (0, 1) and the ratio positive, checked."""
     delta = delta if delta is not None else (spec.delta if spec else None)
     if delta is None:
         raise ValueError("no delta: give flywheel: {delta: ...} in the file or delta=")
@@ -403,84 +482,33 @@ def design(
         ratio = real_number("ratio", ratio, low=0.0, strict_low=True)
     ratio = ratio if ratio is not None else (spec.ratio if spec else None)
     friction = bool(friction if friction is not None else (spec.friction if spec else False))
-    drv = _one_dof(system)
-    if base is None:
-        base = analyze(system, friction=False)
-    events = [e.coordinate for e in base.events]
-    w = abs(drv.driver.motion.speed)
-    sense = float(np.sign(drv.driver.motion.speed))
-    # M_d: the cycle mean of the one function every output uses (analysis/cycle.py)
-    quad = cycle_quadrature(
-        base, friction=friction, quadrature=quadrature, given=nodes if base is source else None
-    )
+    return delta, ratio, friction
+
+
+def _exact_extremes(base: Result, quad: Quadrature, curves, m_d: float, friction: bool):
+    """The energy's extremes ``((t_max, swing_max), (t_min, swing_min))`` and the machine's
+    inertia ``(mean, min, max)`` over the cycle, from the quadrature's nodes and its
+    ``curves`` (the moment M and J_e at the nodes), M_d the mean moment."""
+    system = base.system
+    moment, je = curves
+    w = abs(_one_dof(system).driver.motion.speed)
     weights, nodes, pieces = quad.weights, quad.nodes, quad.pieces
-    moment, je = _moment(system, nodes, friction)
-    exact = pieces is not None and np.all(np.isfinite(moment)) and np.all(np.isfinite(je))
-    if exact:  # the cycle mean by the integrator's own weights (cycle_stats' sum, once)
-        m_d = float(np.sum(weights * moment) / np.sum(weights))
-    else:  # over the part of the cycle where the moment exists
-        m_d = cycle_stats(
-            base,
-            {"M": lambda r: _moment(system, r, friction)[0]},
-            friction=friction,
-            quadrature=quadrature,
-            given=quad,
-        )["M"]["mean"]
-    work = 2 * np.pi * m_d
-    psi = schedule(system)
-    undefined = None
-    if exact:
-        x, wx = leg.leggauss(len(weights) // len(pieces))
+    x, wx = leg.leggauss(len(weights) // len(pieces))
 
-        def partial(a: float, b: float) -> float:  # ∫ w·(M_d − M) from a to b, a piece's part
-            times = a + 0.5 * (b - a) * (x + 1.0)
-            try:  # each position continued from the nearest row
-                part = analyze_near(base, times, friction=friction)
-            except AssemblyError:
-                part = analyze(system, times=times, friction=friction, events=False)
-            m = _moment(system, part, friction)[0]
-            return 0.5 * (b - a) * float(np.sum(wx * w * (m_d - m)))
+    def partial(a: float, b: float) -> float:  # ∫ w·(M_d − M) from a to b, a piece's part
+        times = a + 0.5 * (b - a) * (x + 1.0)
+        try:  # each position continued from the nearest row
+            part = analyze_near(base, times, friction=friction)
+        except AssemblyError:
+            part = analyze(system, times=times, friction=friction, events=False)
+        m = _moment(system, part, friction)[0]
+        return 0.5 * (b - a) * float(np.sum(wx * w * (m_d - m)))
 
-        (t_max, swing_max), (t_min, swing_min) = _energy_extremes(
-            pieces, np.asarray(nodes.t), w * (m_d - moment), partial
-        )
-        je_mean = float(np.sum(weights * je) / np.sum(weights))
-        je_min, je_max = _value_extremes(pieces, je)
-        je_min = max(je_min, 0.0)  # J_e = 2T/ψ̇² ≥ 0: an interpolant's −1e-32 is round-off
-    elif friction and not np.all(np.isfinite(moment)):  # self-locked at some nodes
-        # no balancing moment there, so no energy over the cycle: said, not computed
-        finite = je[np.isfinite(je)]
-        t_max = t_min = swing_max = swing_min = float("nan")
-        je_mean, je_min, je_max = (float(f(finite)) for f in (np.mean, np.min, np.max))
-        undefined = SELF_LOCKED
-    else:  # no moment somewhere (a self-locked zone with friction): the fine grid's rule
-        (t_max, swing_max), (t_min, swing_min), (je_mean, je_min, je_max) = _on_the_grid(
-            system, events, friction, positions, w
-        )
-    swing = swing_max - swing_min
-    j_f = swing / (w**2 * delta)
-    assumptions = assumption_texts(friction, w, positions)
-    return FlywheelDesign(
-        delta=float(delta),
-        driver=drv.name,
-        sense=sense,
-        omega_m=w,
-        mean_torque=m_d,
-        work_per_cycle=work,
-        energy_swing=float(swing),
-        at_max=float(psi(np.array([t_max]))[0][0, 0]),
-        at_min=float(psi(np.array([t_min]))[0][0, 0]),
-        inertia=float(j_f),
-        machine_inertia={"mean": je_mean, "min": je_min, "max": je_max},
-        inertia_net=float(j_f - je_mean),
-        ratio=ratio,
-        friction=friction,
-        positions=positions,
-        events=tuple(events),
-        assumptions=assumptions,
-        system=system,
-        undefined=undefined,
-    )
+    energy = _energy_extremes(pieces, np.asarray(nodes.t), w * (m_d - moment), partial)
+    je_mean = float(np.sum(weights * je) / np.sum(weights))
+    je_min, je_max = _value_extremes(pieces, je)
+    je_min = max(je_min, 0.0)  # J_e = 2T/ψ̇² ≥ 0: an interpolant's −1e-32 is round-off
+    return energy, (je_mean, je_min, je_max)
 
 
 def verify(

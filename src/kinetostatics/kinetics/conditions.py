@@ -190,62 +190,66 @@ def travel_extremes(system: System, sched: Schedule | None = None) -> dict:
         raise
     if m.extremes is not None:
         return dict(m.extremes)
-    t, q, qd, qdd, periodic, drive = m.t, m.q, m.qd, m.qdd, m.periodic, m.drive
-    step = (t[-1] - t[0]) / (len(t) - 1)
+    t, drive = m.t, m.drive
     turning = drive.turning_times(t[0], t[-1]) if drive.laws else np.zeros(0)
-    out: dict[int, float] = {}
-    for c, k, p in conds:
-        pos, vel, _ = point_state(q, qd, None, k, p)
-        s, v = pos @ c.axis, vel @ c.axis
-        best = float(s.min())
-        flat = float(s.max()) - best <= 1e-12 * float(np.max(system.l_ref))
-        if periodic:  # strict on one side: a plateau is not a row of minima
-            low = (s < np.roll(s, 1)) & (s <= np.roll(s, -1))
-        else:  # interior minima: an end of the span counts as sampled
-            low = np.zeros(s.shape, dtype=bool)
-            low[1:-1] = (s[1:-1] < s[:-2]) & (s[1:-1] <= s[2:])
-        idx = np.nonzero(low & ~flat)[0]
-        near = np.abs(turning[:, None] - t[None, :]).argmin(axis=1) if turning.size else idx[:0]
-
-        def f(a, bb, cc, ax=c.axis, kk=k, pp=p):
-            _, v, acc = point_state(a, bb, cc, kk, pp)
-            return v @ ax, acc @ ax
-
-        brackets = [_minimum_bracket(t, v, b, step, periodic) for b in idx]
-        sets = [
-            (
-                t[idx[[i for i, br in enumerate(brackets) if br is not None]]],
-                idx[[i for i, br in enumerate(brackets) if br is not None]],
-                [br for br in brackets if br is not None],
-            ),
-            (
-                np.concatenate(
-                    (t[idx[[i for i, br in enumerate(brackets) if br is None]]], turning)
-                ),
-                np.concatenate((idx[[i for i, br in enumerate(brackets) if br is None]], near)),
-                None,
-            ),
-        ]
-        for t_start, b, br in sets:
-            if not t_start.size:
-                continue
-            bracket = None if br is None else tuple(np.concatenate(x) for x in zip(*br))
-            try:
-                tm, (qm, _, _) = refine(
-                    system, drive, f, t_start, t[b], q[b], qd[b], qdd[b], bracket=bracket
-                )
-            except AssemblyError:  # Newton left the reachable poses: keep the samples
-                continue
-            sm = point_state(qm, qm, None, k, p)[0] @ c.axis
-            inside = (np.abs(tm - t_start) <= 1.5 * step) & (
-                periodic | ((t[0] <= tm) & (tm <= t[-1]))
-            )
-            ok = np.isfinite(sm) & inside  # stayed in its bracket
-            if ok.any():
-                best = min(best, float(np.min(sm[ok])))
-        out[id(c)] = best
+    out = {id(cond[0]): _least_travel(system, m, cond, turning) for cond in conds}
     m.extremes = out
     return dict(out)
+
+
+def _least_travel(system: System, m: _Motion, cond: tuple, turning: np.ndarray) -> float:
+    """The least p·axis of one travel condition ``cond`` (condition, link, point) over the
+    whole motion ``m``: the samples' least, and each sampled local minimum and the law's
+    ``turning`` times refined by Newton on t for v·axis = 0 (kept where it stayed in its
+    bracket)."""
+    c, k, p = cond
+    t, q, qd, qdd, periodic, drive = m.t, m.q, m.qd, m.qdd, m.periodic, m.drive
+    step = (t[-1] - t[0]) / (len(t) - 1)
+    pos, vel, _ = point_state(q, qd, None, k, p)
+    s, v = pos @ c.axis, vel @ c.axis
+    best = float(s.min())
+    flat = float(s.max()) - best <= 1e-12 * float(np.max(system.l_ref))
+    if periodic:  # strict on one side: a plateau is not a row of minima
+        low = (s < np.roll(s, 1)) & (s <= np.roll(s, -1))
+    else:  # interior minima: an end of the span counts as sampled
+        low = np.zeros(s.shape, dtype=bool)
+        low[1:-1] = (s[1:-1] < s[:-2]) & (s[1:-1] <= s[2:])
+    idx = np.nonzero(low & ~flat)[0]
+    near = np.abs(turning[:, None] - t[None, :]).argmin(axis=1) if turning.size else idx[:0]
+
+    def f(a, bb, cc, ax=c.axis, kk=k, pp=p):
+        _, v, acc = point_state(a, bb, cc, kk, pp)
+        return v @ ax, acc @ ax
+
+    brackets = [_minimum_bracket(t, v, b, step, periodic) for b in idx]
+    sets = [
+        (
+            t[idx[[i for i, br in enumerate(brackets) if br is not None]]],
+            idx[[i for i, br in enumerate(brackets) if br is not None]],
+            [br for br in brackets if br is not None],
+        ),
+        (
+            np.concatenate((t[idx[[i for i, br in enumerate(brackets) if br is None]]], turning)),
+            np.concatenate((idx[[i for i, br in enumerate(brackets) if br is None]], near)),
+            None,
+        ),
+    ]
+    for t_start, b, br in sets:
+        if not t_start.size:
+            continue
+        bracket = None if br is None else tuple(np.concatenate(x) for x in zip(*br))
+        try:
+            tm, (qm, _, _) = refine(
+                system, drive, f, t_start, t[b], q[b], qd[b], qdd[b], bracket=bracket
+            )
+        except AssemblyError:  # Newton left the reachable poses: keep the samples
+            continue
+        sm = point_state(qm, qm, None, k, p)[0] @ c.axis
+        inside = (np.abs(tm - t_start) <= 1.5 * step) & (periodic | ((t[0] <= tm) & (tm <= t[-1])))
+        ok = np.isfinite(sm) & inside  # stayed in its bracket
+        if ok.any():
+            best = min(best, float(np.min(sm[ok])))
+    return best
 
 
 def _minimum_bracket(t, v, b, step, periodic):
@@ -384,26 +388,7 @@ def _switches(system, drive, sched, t, q, qd, qdd, full, period_t, extremes):
         for c in load.active:
             kind = CONDITION_KINDS[c.kind]
             if kind.scheduled:  # an angle band: switches at the schedule's times
-                start, width = angle_band(system, c)
-                if width >= 2 * np.pi:
-                    continue  # always on: no switch
-                for bound, sw in ((start, "on"), (start + width * np.sign(sched.speed[0]), "off")):
-                    tt = (
-                        np.mod((bound - sched.start[0]) * np.sign(sched.speed[0]), 2 * np.pi)
-                        / sched.reference
-                    )
-                    events.append(
-                        (
-                            Event(
-                                float(tt),
-                                float(drive(np.array([tt]))[0][0, 0]),
-                                load.name,
-                                c.kind,
-                                sw,
-                            ),
-                            None,
-                        )
-                    )
+                events += _band_switches(system, load, c, drive, sched)
                 continue
             for offset, label in switch_levels(c):
 
@@ -441,8 +426,28 @@ def _switches(system, drive, sched, t, q, qd, qdd, full, period_t, extremes):
                             (qr[0], qdr[0], qddr[0]),
                         )
                     )
-    events.sort(key=lambda e: e[0].t)
-    out: list = []  # one event where two conditions switch a load at the same instant
+    return _merged(events, span)
+
+
+def _band_switches(system, load, c, drive, sched) -> list:
+    """[(Event, None)]: where the angle band ``c`` of ``load`` switches it on and off, at
+    the schedule's times (none for a band of a whole turn or more)."""
+    start, width = angle_band(system, c)
+    if width >= 2 * np.pi:
+        return []  # always on: no switch
+    out = []
+    for bound, sw in ((start, "on"), (start + width * np.sign(sched.speed[0]), "off")):
+        tt = np.mod((bound - sched.start[0]) * np.sign(sched.speed[0]), 2 * np.pi) / sched.reference
+        coordinate = float(drive(np.array([tt]))[0][0, 0])
+        out.append((Event(float(tt), coordinate, load.name, c.kind, sw), None))
+    return out
+
+
+def _merged(events: list, span: float) -> list:
+    """``events`` sorted by time, one kept where two conditions switch a load the same way
+    at the same instant (within ``SIDE`` of the run's ``span``)."""
+    events = sorted(events, key=lambda e: e[0].t)
+    out: list = []
     for e in events:
         if out and any(
             o.load == e[0].load and o.switch == e[0].switch and abs(o.t - e[0].t) <= SIDE * span

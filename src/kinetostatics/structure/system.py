@@ -11,7 +11,6 @@ from __future__ import annotations
 import pickle
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from functools import cached_property
 from typing import cast
 
 import numpy as np
@@ -79,6 +78,14 @@ class System:
     memo: dict = field(default_factory=dict, repr=False)  # what later stages compute once per
     # system (the start pose, the whole motion); held here, not in module-level tables, so it
     # goes with the system; not pickled
+    joints: tuple[Joint, ...] = field(init=False, repr=False)  # the constraints that are joints
+    motion_drivers: tuple[DriverConstraint, ...] = field(init=False, repr=False)  # the others
+
+    def __post_init__(self):
+        is_driver = [isinstance(c, DriverConstraint) for c in self.constraints]
+        pairs = list(zip(self.constraints, is_driver, strict=True))
+        object.__setattr__(self, "joints", tuple(c for c, d in pairs if not d))
+        object.__setattr__(self, "motion_drivers", tuple(c for c, d in pairs if d))
 
     def __getstate__(self):
         return {**self.__dict__, "memo": {}}
@@ -90,14 +97,6 @@ class System:
     @property
     def n_rows(self) -> int:
         return int(self.row_start[-1])
-
-    @cached_property
-    def joints(self) -> tuple[Joint, ...]:
-        return tuple(c for c in self.constraints if not isinstance(c, DriverConstraint))
-
-    @cached_property
-    def motion_drivers(self) -> tuple[DriverConstraint, ...]:
-        return tuple(c for c in self.constraints if isinstance(c, DriverConstraint))
 
     def link_index(self, name: str) -> int:
         return self.links.index(name)

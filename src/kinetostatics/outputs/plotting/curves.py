@@ -69,56 +69,10 @@ def output_motion(result, output: str | None = None, *, lang: str = "en") -> dic
     """
     T = lambda s, **k: tr(s, lang, **k)  # noqa: E731
     system, model = result.system, result.system.model
-    driven = {d.joint.name for d in system.motion_drivers}
-    if output is None:
-        slides = [j for j in model.joints if j.reports_stroke and j.name not in driven]
-        on_frame = [j for j in slides if model.ground.name in j.links]
-        if on_frame or slides:
-            output = (on_frame or slides)[0].name
-        else:
-            output = system.plans[-1].group.links[-1]
+    output = _default_output(system) if output is None else output
     joints = {j.name: j for j in model.joints}
     if output in joints:
-        j = joints[output]
-        c, cd, cdd = _joint_coordinate(result, j)
-        if j.angular:
-            return {
-                "name": output,
-                "kind": "joint",
-                "series": [
-                    (T("relative angle of {name}", name=output), "deg", np.degrees(c)),
-                    (T("relative angular velocity"), "rad/s", cd),
-                    (T("relative angular acceleration"), "rad/s²", cdd),
-                ],
-                "axes": [
-                    T("relative angle"),
-                    T("relative angular velocity"),
-                    T("relative angular acceleration"),
-                ],
-            }
-        at = [a for a in j.anchors() if a.at_joint and a.link == j.links[1]]
-        if not at:  # no point of link j slides (a gear or rack pair): its rolling travel
-            return {
-                "name": output,
-                "kind": "joint",
-                "series": [
-                    (T("relative travel of {name}", name=output), "mm", c * 1e3),
-                    (T("relative velocity"), "m/s", cd),
-                    (T("relative acceleration"), "m/s²", cdd),
-                ],
-                "axes": [T("relative travel"), T("relative velocity"), T("relative acceleration")],
-            }
-        pj = T("point {p}", p=at[0].point)  # the point as the reader names it: C点
-        return {
-            "name": output,
-            "kind": "slide",
-            "series": [
-                (T("s of {point} along {joint}", point=pj, joint=output), "mm", c * 1e3),
-                (T("v = ds/dt"), "m/s", cd),
-                (T("a = d²s/dt²"), "m/s²", cdd),
-            ],
-            "axes": [T("s"), T("v = ds/dt"), T("a = d²s/dt²")],
-        }
+        return _joint_motion(result, joints[output], T)
     if output in system.links:
         return {
             "name": output,
@@ -131,22 +85,7 @@ def output_motion(result, output: str | None = None, *, lang: str = "en") -> dic
             "axes": [T("θ"), T("ω"), T("α")],
         }
     if f"{output}.x" in result.columns and output.count(".") == 1:
-        xy = lambda s: np.column_stack(
-            (
-                result[f"{output}.{s}x" if s else f"{output}.x"],
-                result[f"{output}.{s}y" if s else f"{output}.y"],
-            )
-        )
-        return {
-            "name": output,
-            "kind": "point",
-            "series": [
-                (T("position of {name}", name=output), "mm", xy("") * 1e3),
-                (T("velocity of {name}", name=output), "m/s", xy("v")),
-                (T("acceleration of {name}", name=output), "m/s²", xy("a")),
-            ],
-            "axes": [T("position"), T("velocity"), T("acceleration")],
-        }
+        return _point_motion(result, output, T)
     names = (
         list(joints)
         + list(system.links)
@@ -155,6 +94,84 @@ def output_motion(result, output: str | None = None, *, lang: str = "en") -> dic
     raise PictureError(
         f"no output '{output}' (a joint, a link or link.point){did_you_mean(output, names)}"
     )
+
+
+def _default_output(system) -> str:
+    """The first undriven pair whose stroke is an output on the frame (the output slider),
+    else any such pair, else the last link solved."""
+    model = system.model
+    driven = {d.joint.name for d in system.motion_drivers}
+    slides = [j for j in model.joints if j.reports_stroke and j.name not in driven]
+    on_frame = [j for j in slides if model.ground.name in j.links]
+    if on_frame or slides:
+        return (on_frame or slides)[0].name
+    return system.plans[-1].group.links[-1]
+
+
+def _joint_motion(result, j, T) -> dict:
+    """:func:`output_motion` of the joint ``j``: a revolute's relative angle, a gear or
+    rack pair's rolling travel, a slide's s of its point along it; labels through ``T``."""
+    output = j.name
+    c, cd, cdd = _joint_coordinate(result, j)
+    if j.angular:
+        return {
+            "name": output,
+            "kind": "joint",
+            "series": [
+                (T("relative angle of {name}", name=output), "deg", np.degrees(c)),
+                (T("relative angular velocity"), "rad/s", cd),
+                (T("relative angular acceleration"), "rad/s²", cdd),
+            ],
+            "axes": [
+                T("relative angle"),
+                T("relative angular velocity"),
+                T("relative angular acceleration"),
+            ],
+        }
+    at = [a for a in j.anchors() if a.at_joint and a.link == j.links[1]]
+    if not at:  # no point of link j slides (a gear or rack pair): its rolling travel
+        return {
+            "name": output,
+            "kind": "joint",
+            "series": [
+                (T("relative travel of {name}", name=output), "mm", c * 1e3),
+                (T("relative velocity"), "m/s", cd),
+                (T("relative acceleration"), "m/s²", cdd),
+            ],
+            "axes": [T("relative travel"), T("relative velocity"), T("relative acceleration")],
+        }
+    pj = T("point {p}", p=at[0].point)  # the point as the reader names it: C点
+    return {
+        "name": output,
+        "kind": "slide",
+        "series": [
+            (T("s of {point} along {joint}", point=pj, joint=output), "mm", c * 1e3),
+            (T("v = ds/dt"), "m/s", cd),
+            (T("a = d²s/dt²"), "m/s²", cdd),
+        ],
+        "axes": [T("s"), T("v = ds/dt"), T("a = d²s/dt²")],
+    }
+
+
+def _point_motion(result, output: str, T) -> dict:
+    """:func:`output_motion` of the point ``link.point``: its (x, y) position, velocity
+    and acceleration; labels through ``T``."""
+    xy = lambda s: np.column_stack(
+        (
+            result[f"{output}.{s}x" if s else f"{output}.x"],
+            result[f"{output}.{s}y" if s else f"{output}.y"],
+        )
+    )
+    return {
+        "name": output,
+        "kind": "point",
+        "series": [
+            (T("position of {name}", name=output), "mm", xy("") * 1e3),
+            (T("velocity of {name}", name=output), "m/s", xy("v")),
+            (T("acceleration of {name}", name=output), "m/s²", xy("a")),
+        ],
+        "axes": [T("position"), T("velocity"), T("acceleration")],
+    }
 
 
 def _active_spans(result) -> list[tuple[str, float, float]]:
@@ -367,6 +384,29 @@ def _driver_effort(result, driver: str | None):
     return d, word, unit
 
 
+# the driving effort's curves: (column suffix, legend, colour, line style)
+_EFFORT_SERIES = (
+    ("", "without friction", CURVE_COLORS[0], "-"),
+    (
+        "_friction_approx",
+        "with friction, approximate (from frictionless reactions)",
+        CURVE_COLORS[1],
+        "--",
+    ),
+    ("_friction", "with friction, consistent", CURVE_COLORS[3], "-"),
+)
+
+
+def _with_mean(text: str, y: np.ndarray, mean: float | None, unit: str, lang: str) -> str:
+    """A curve's legend ``text`` with its cycle ``mean`` (none: as it is); a mean within
+    round-off of the curve's peak is written 0."""
+    if mean is None:
+        return text
+    peak = float(np.nanmax(np.abs(y))) if np.any(np.isfinite(y)) else 0.0
+    mean = 0.0 if abs(mean) <= ROUND_OFF * peak else mean  # round-off
+    return tr("{label} (cycle mean {mean} {unit})", lang, label=text, mean=f"{mean:.4g}", unit=unit)
+
+
 def torque_curves(
     result, driver: str | None = None, *, dpi: float = DPI, lang: str = "en", cycle=None
 ):
@@ -376,36 +416,15 @@ def torque_curves(
     :func:`~kinetostatics.dynamics.stages.cycle_stage`) is given."""
     d, word, unit = _driver_effort(result, driver)
     x, order, xlabel = _sorted(result, lang)
-    series = [
-        ("", "without friction", CURVE_COLORS[0], "-"),
-        (
-            "_friction_approx",
-            "with friction, approximate (from frictionless reactions)",
-            CURVE_COLORS[1],
-            "--",
-        ),
-        ("_friction", "with friction, consistent", CURVE_COLORS[3], "-"),
-    ]
     with _rc(lang):
         fig = _figure(165, 95, dpi)
         ax = fig.add_subplot()
-        for suffix, label, c, ls in series:
+        for suffix, label, c, ls in _EFFORT_SERIES:
             key = f"{d.name}.{word}{suffix}"
             if key not in result.columns:
                 continue
             y = np.asarray(result[key])[order]
-            mean = _cycle_mean(cycle, key)
-            text = tr(label, lang)
-            if mean is not None:
-                peak = float(np.nanmax(np.abs(y))) if np.any(np.isfinite(y)) else 0.0
-                mean = 0.0 if abs(mean) <= ROUND_OFF * peak else mean  # round-off
-                text = tr(
-                    "{label} (cycle mean {mean} {unit})",
-                    lang,
-                    label=text,
-                    mean=f"{mean:.4g}",
-                    unit=unit,
-                )
+            text = _with_mean(tr(label, lang), y, _cycle_mean(cycle, key), unit, lang)
             ax.plot(
                 x,
                 y,
