@@ -23,6 +23,15 @@ Prints, for ``src/kinetostatics``:
   optimisation's evaluated designs, an integrator's states, the YAML tree being read),
   which are their objects' job, not a frozen record's hidden state.  ``--json`` lists both
   apart (``documented_cache_sites``, ``by_design_cache_sites``);
+- ``type_checks_outside_home``: code that tells types apart outside the module that owns
+  them: ``isinstance`` against a motion-law class outside ``model/``; ``getattr``/``hasattr``
+  of a law's member on a name that says law or motion outside ``model/``; a load or
+  condition kind compared by its name (``x.kind ==``, ``in``, ``not in``) in ``kinetics/``
+  (outside ``kinetics/kinds.py``, its home), ``dynamics/``, ``analysis/`` and the pictures
+  (``outputs/plotting/``), on the names the code gives a load or a condition (an Assur
+  group's or a polygon's ``kind`` is not a load's). The joints are checked by
+  ``test_no_joint_sniffing_outside_joints``; the report's and the loader's wording of a
+  kind is text, not dispatch, and is not counted;
 - ``public_functions``: functions and classes that ``kinetostatics.__all__`` names, with
   their public methods, and how many have a typed signature and a numpydoc Parameters (or,
   with no parameter, Returns) section.
@@ -271,6 +280,51 @@ def hidden_caches() -> dict[str, list[tuple[str, int, str]]]:
     return out
 
 
+LAW_CLASSES = {"Law", "MotionLaw", "HarmonicLaw", "PolynomialLaw", "TableLaw"}
+LAW_MEMBERS = {
+    "kind", "own_run", "value", "start", "speed", "acceleration", "duration", "cyclic",
+    "breaks", "to_spec", "coefficients", "periodic", "values", "amplitude", "period", "omega",
+}  # fmt: skip
+LOAD_NAMES = {"load", "ld", "c", "cond", "condition"}  # how the code names a load or condition
+KIND_DISPATCH = ("kinetics/", "dynamics/", "analysis/", "outputs/plotting/")
+
+
+def type_checks() -> list[str]:
+    """The sites of ``type_checks_outside_home`` (module docstring)."""
+    found = []
+    for _m, path, tree in _modules():
+        rel = path.relative_to(PKG).as_posix()
+        for n in ast.walk(tree):
+            if not isinstance(n, ast.Call) or not isinstance(n.func, ast.Name):
+                continue
+            if rel.startswith("model/"):
+                continue
+            args = n.args
+            if n.func.id == "isinstance" and len(args) == 2:
+                names = {x.id for x in ast.walk(args[1]) if isinstance(x, ast.Name)}
+                if names & LAW_CLASSES:
+                    found.append(f"{rel}:{n.lineno} isinstance of a law")
+            elif n.func.id in ("getattr", "hasattr") and len(args) >= 2:
+                member = args[1].value if isinstance(args[1], ast.Constant) else None
+                owner = ast.unparse(args[0]).lower()
+                if member in LAW_MEMBERS and ("law" in owner or "motion" in owner):
+                    found.append(f"{rel}:{n.lineno} {n.func.id}(…, {member!r}) of a law")
+        if rel.startswith(KIND_DISPATCH) and rel != "kinetics/kinds.py":
+            for n in ast.walk(tree):
+                if isinstance(n, ast.Compare) and any(
+                    isinstance(op, (ast.Eq, ast.NotEq, ast.In, ast.NotIn)) for op in n.ops
+                ):
+                    left = n.left
+                    if (
+                        isinstance(left, ast.Attribute)
+                        and left.attr == "kind"
+                        and isinstance(n.comparators[0], (ast.Constant, ast.Tuple, ast.Set))
+                        and ast.unparse(left.value).split(".")[-1] in LOAD_NAMES
+                    ):
+                        found.append(f"{rel}:{n.lineno} {ast.unparse(n)}")
+    return found
+
+
 def _has_numpydoc(obj) -> bool:
     doc = inspect.getdoc(obj) or ""
     return any(f"\n{s}\n" + "-" * len(s) in f"\n{doc}" for s in ("Parameters", "Returns"))
@@ -329,6 +383,8 @@ def counts() -> dict:
         "documented_cache_sites": [f"{m}:{n} {k}" for m, n, k in caches["documented"]],
         "by_design_caches": len(caches["by_design"]),
         "by_design_cache_sites": [f"{m}:{n} {k}" for m, n, k in caches["by_design"]],
+        "type_checks_outside_home": len(type_checks()),
+        "type_check_sites": type_checks(),
         "public_callables": len(public),
         "public_typed": sum(_typed(o) for _, o in public),
         "public_numpydoc": sum(_has_numpydoc(o) for _, o in public),

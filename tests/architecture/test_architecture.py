@@ -22,6 +22,7 @@ from tests.architecture.architecture_counts import (
     function_length,
     hidden_caches,
     lazy_imports,
+    type_checks,
 )
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -269,3 +270,10 @@ def test_each_lazy_import_has_its_reason():
         if len(found.get(rel, [])) != table.get(rel, 0)
     ]
     assert not wrong, "\n".join(wrong)
+
+
+def test_no_type_told_apart_outside_its_home():
+    """No motion law is asked for its class or probed outside model/, and no load or
+    condition kind is compared by name outside kinetics/kinds.py in the layers that act on
+    it (tests/architecture/architecture_counts.py, ``type_checks_outside_home``)."""
+    assert type_checks() == []

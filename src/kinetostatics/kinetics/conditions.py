@@ -295,6 +295,13 @@ def travel_extremes_stacked(system, solvers, sched, t, q, qd, qdd) -> dict:
 
 
 # -- the load switches of a run ---------------------------------------------------------
+def _on_the_motion(system: System) -> bool:
+    """Some load acts under a condition on the motion (its switches are found on the whole
+    motion's grid), not only on the schedule (an angle band)."""
+    loads = system.model.loads
+    return any(not CONDITION_KINDS[c.kind].scheduled for load in loads for c in load.active)
+
+
 def load_events(system, sched, motion, full):
     """(extremes, events, states): the exact minima of the travel conditions over the whole
     motion (:func:`travel_extremes`, not over the analysed rows), and the load switches of
@@ -306,7 +313,7 @@ def load_events(system, sched, motion, full):
     t, q, qd, qdd, drive = motion.t, motion.q, motion.qd, motion.qdd, sched
     extremes = travel_extremes(system, sched)
     m = None
-    switching = any(c.kind != "angle" for load in system.model.loads for c in load.active)
+    switching = _on_the_motion(system)
     if switching and len(system.motion_drivers) == 1 and sched.acceleration is None:
         try:
             m = _motion_grid(system, sched)
