@@ -37,7 +37,9 @@ Prints, for ``src/kinetostatics``:
   with no parameter, Returns) section.
 
 The numbers are read from the code, never from a run, so they can be compared across
-commits: ``git stash``-free, check out the commit in a worktree and run this file there.
+commits: ``git archive COMMIT src | tar -x -C DIR`` and ``--root DIR`` measures that commit's
+tree with this file's rules.  ``--write`` rewrites the "now" column of the table in
+docs/architecture.md ("Counts"), which ``tests/architecture/test_architecture.py`` checks.
 """
 
 from __future__ import annotations
@@ -393,11 +395,63 @@ def counts() -> dict:
     }
 
 
+SHOWN = (  # the counts docs/architecture.md shows ("Counts"), in its order
+    ("cycles", "import cycles among the package's modules"),
+    ("modules_in_cycles", "modules in those cycles"),
+    ("long_functions", "functions over 60 lines (docstring not counted)"),
+    ("wide_functions", "functions with 8 or more parameters"),
+    ("lazy_imports_outside_cli", "lazy imports of the package's modules outside cli/"),
+    ("hidden_caches", "hidden caches"),
+    ("type_checks_outside_home", "type checks outside their home"),
+    ("public_callables", "public callables (`__all__` and their methods)"),
+    ("public_typed", "… with a typed signature"),
+    ("public_numpydoc", "… with numpydoc sections"),
+)
+BEGIN, END = "<!-- counts:begin -->", "<!-- counts:end -->"
+DOC = ROOT / "docs" / "architecture.md"
+
+
+def shown(text: str) -> dict[str, str]:
+    """{count: value} of the table between the markers of ``text``'s "now" column."""
+    block = text.split(BEGIN, 1)[1].split(END, 1)[0]
+    labels = {label: key for key, label in SHOWN}
+    out = {}
+    for line in block.splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if len(cells) == 3 and cells[0] in labels:
+            out[labels[cells[0]]] = cells[2]
+    return out
+
+
+def _write(c: dict) -> None:
+    """Rewrite the "now" column of the table in docs/architecture.md (the "before" column
+    is kept: it was measured once, on the commit it names)."""
+    text = DOC.read_text(encoding="utf-8")
+    head, rest = text.split(BEGIN, 1)
+    block, tail = rest.split(END, 1)
+    before = {}
+    for line in block.splitlines():
+        cells = [x.strip() for x in line.strip().strip("|").split("|")]
+        if len(cells) == 3:
+            before[cells[0]] = cells[1]
+    title = [x.strip() for x in block.strip().splitlines()[0].strip().strip("|").split("|")]
+    rows = [f"| {title[0]} | {title[1]} | {title[2]} |", "|---|---:|---:|"]
+    rows += [f"| {label} | {before.get(label, '')} | {c[key]} |" for key, label in SHOWN]
+    DOC.write_text(head + BEGIN + "\n" + "\n".join(rows) + "\n" + END + tail, encoding="utf-8")
+
+
 def main(argv=None) -> int:
+    global ROOT, PKG
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--json", action="store_true", help="every list, as JSON")
+    ap.add_argument("--root", type=Path, help="measure the tree there (an export of a commit)")
+    ap.add_argument("--write", action="store_true", help="docs/architecture.md's table")
     a = ap.parse_args(argv)
+    if a.root is not None:
+        ROOT, PKG = a.root.resolve(), a.root.resolve() / "src" / "kinetostatics"
     c = counts()
+    if a.write:
+        _write(c)
     if a.json:
         print(json.dumps(c, indent=1))
         return 0

@@ -18,10 +18,14 @@ import pytest
 from kinetostatics import joints
 from tests.architecture.architecture_counts import (
     BY_DESIGN,
+    DOC,
     DOCUMENTED,
+    SHOWN,
+    counts,
     function_length,
     hidden_caches,
     lazy_imports,
+    shown,
     type_checks,
 )
 
@@ -277,3 +281,11 @@ def test_no_type_told_apart_outside_its_home():
     condition kind is compared by name outside kinetics/kinds.py in the layers that act on
     it (tests/architecture/architecture_counts.py, ``type_checks_outside_home``)."""
     assert type_checks() == []
+
+
+def test_the_counts_on_the_page_are_the_code_s():
+    """docs/architecture.md's table of counts ("now") is what the script counts today
+    (``python tests/architecture/architecture_counts.py --write`` rewrites it)."""
+    c = counts()
+    page = shown(DOC.read_text(encoding="utf-8"))
+    assert page == {key: str(c[key]) for key, _ in SHOWN}

@@ -87,7 +87,7 @@ IGNORED = {
 
 def public_callables() -> list[str]:
     """The dotted names of ``kinetostatics.__all__``'s callables and their public methods
-    (the counts of tests/architecture_counts.py count the same)."""
+    (the counts of tests/architecture/architecture_counts.py count the same)."""
     import inspect
 
     names = []
