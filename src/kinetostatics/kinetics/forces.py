@@ -9,6 +9,8 @@ on link k is (Fx, Fy, M about the CoM) in q's slots.  Sign convention:
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from ..base.geometry import rotate
@@ -23,6 +25,8 @@ __all__ = [
     "gravity_forces",
     "inertia_forces",
     "external_forces",
+    "AppliedLoad",
+    "applied_loads",
     "effort_forces",
     "zero_speed",
     "resisting_torque",
@@ -89,9 +93,24 @@ def effort_forces(system: System, q: np.ndarray, qd: np.ndarray | None = None) -
     return out
 
 
-def external_forces(system: System, q, qd, psi, extremes, ref_speed: float) -> np.ndarray:
-    """Generalized external forces of all loads, ``(..., n_q)``."""
-    out = effort_forces(system, q, qd)
+@dataclass(frozen=True, eq=False)
+class AppliedLoad:
+    """One external load at the rows, as it acts there (zero where its conditions do not
+    hold): ``force (..., 2)`` at the local ``point`` of moving link ``link`` (an index),
+    or a ``couple (...)`` on it and, where ``other`` is a moving link's index, the
+    opposite couple on that link (a resisting torque's reaction)."""
+
+    name: str
+    link: int
+    point: np.ndarray
+    force: np.ndarray | None
+    couple: np.ndarray | None
+    other: int | None = None
+
+
+def applied_loads(system: System, q, qd, psi, extremes, ref_speed: float):
+    """Each external load of the model as it acts at the rows (:class:`AppliedLoad`), in
+    the model's order: what :func:`external_forces` sums, and the lever method's terms."""
     period = 2 * np.pi if system.motion_drivers and system.motion_drivers[0].joint.angular else None
     for load in system.model.loads:
         value = load.value_at(psi, period)
@@ -102,13 +121,23 @@ def external_forces(system: System, q, qd, psi, extremes, ref_speed: float) -> n
         force, couple = kind.applied(system, load, q, qd, value, ref_speed)
         if couple is not None:
             m = np.where(on, couple, 0.0)
-            out[..., 3 * k + 2] += m
-            other = kind.reacts_on(system, load)
-            if other is not None:  # the reaction on the joint's other (moving) link
-                out[..., 3 * other + 2] -= m
+            yield AppliedLoad(load.name, k, p, None, m, kind.reacts_on(system, load))
+        else:
+            yield AppliedLoad(load.name, k, p, np.where(on[..., None], force, 0.0), None)
+
+
+def external_forces(system: System, q, qd, psi, extremes, ref_speed: float) -> np.ndarray:
+    """Generalized external forces of all loads, ``(..., n_q)``."""
+    out = effort_forces(system, q, qd)
+    for load in applied_loads(system, q, qd, psi, extremes, ref_speed):
+        k = load.link
+        if load.couple is not None:
+            out[..., 3 * k + 2] += load.couple
+            if load.other is not None:  # the reaction on the joint's other (moving) link
+                out[..., 3 * load.other + 2] -= load.couple
             continue
-        force = np.where(on[..., None], force, 0.0)
-        arm = rotate(q[..., 3 * k + 2], p)
+        force = load.force
+        arm = rotate(q[..., 3 * k + 2], load.point)
         out[..., 3 * k : 3 * k + 2] += force
         out[..., 3 * k + 2] += arm[..., 0] * force[..., 1] - arm[..., 1] * force[..., 0]
     return out

@@ -41,6 +41,7 @@ __all__ = [
     "equilibrium",
     "friction_solutions",
     "power_terms",
+    "load_powers",
     "redundant_joints",
 ]
 
@@ -353,6 +354,23 @@ def friction_solutions(
     return FrictionSolutions(fs, xa, ea, cons)
 
 
+def load_powers(system: System, motion: Motion, q_loads: Loads) -> dict:
+    """The power the loads take at the rows (W, ``(...)`` each): the rate of the
+    ``kinetic`` and ``potential`` energy, the ``external`` loads' (−Q_ext·q̇), and with
+    elements the springs' (``elastic``) and dampers' (``damping``), else None; their sum is
+    what the drivers put in, frictionless (the power method of the balancing effort)."""
+    qd = motion.qd
+    elements = q_loads.elements
+    return dict(
+        kinetic=np.einsum("...n,...n->...", qd, mass_vector(system) * motion.qdd),
+        potential=-np.einsum("...n,...n->...", qd, q_loads.gravity),
+        external=-np.einsum("...n,...n->...", qd, q_loads.external),
+        # the rate of the springs' energy; the dampers' dissipation
+        elastic=None if elements is None else elements.total("power", springs=True),
+        damping=None if elements is None else elements.total("power", springs=False),
+    )
+
+
 def power_terms(
     system: System,
     motion: Motion,
@@ -373,24 +391,10 @@ def power_terms(
     )
     n_j = system.n_joint_rows
     p_input = np.sum(eq.x0[..., n_j:] * rel, axis=-1)
-    kinetic = np.einsum("...n,...n->...", qd, mass_vector(system) * motion.qdd)
-    potential = -np.einsum("...n,...n->...", qd, q_loads.gravity)
-    external = -np.einsum("...n,...n->...", qd, q_loads.external)
-    elastic = damping = None
-    stored = 0.0
-    if q_loads.elements is not None:  # the rate of the springs' energy; the dampers' dissipation
-        elastic = q_loads.elements.total("power", springs=True)
-        damping = q_loads.elements.total("power", springs=False)
-        stored = elastic + damping
-    terms = dict(
-        input=p_input,
-        kinetic=kinetic,
-        potential=potential,
-        external=external,
-        residual=p_input - kinetic - potential - external - stored,
-        elastic=elastic,
-        damping=damping,
-    )
+    terms = load_powers(system, motion, q_loads)
+    stored = 0.0 if terms["elastic"] is None else terms["elastic"] + terms["damping"]
+    kinetic, potential, external = terms["kinetic"], terms["potential"], terms["external"]
+    terms.update(input=p_input, residual=p_input - kinetic - potential - external - stored)
     if fric is not None:
         loss = np.sum(np.abs(fric.solution.e * fric.setup.speed), axis=-1)
         input_friction = np.sum(fric.solution.x[..., n_j:] * rel, axis=-1)
