@@ -15,7 +15,7 @@ import pytest
 import kinetostatics as ks
 from kinetostatics.methods.lever import BalancingMoment, lever_stage
 from kinetostatics.outputs.plotting.rows import analyze_for_pictures, course_positions
-from tests.helpers import MECHANISMS, motion_driven, variant
+from tests.helpers import MECHANISMS, ROOT, motion_driven, variant
 
 TOL = 1e-9  # the brief's: the three agree to 1e-9 relative
 MOTION_DRIVEN = set(motion_driven())
@@ -151,3 +151,19 @@ def test_rows_out_of_range_and_results_without_efforts_are_refused():
     result = _analyze(ks.loads(OFFSET_SLIDER_CRANK, file="massless.yaml"))
     with pytest.raises(IndexError, match="not among"):
         lever_stage(result, [len(result)])
+
+
+def test_the_docs_example_runs(monkeypatch, capsys):
+    """docs/methods.md's example of this section runs and prints the three M_b."""
+    text = (ROOT / "docs" / "methods.md").read_text(encoding="utf-8")
+    section = text.split("## The balancing moment, three ways", 1)[1].split("\n## ", 1)[0]
+    code = section.split("```python\n", 1)[1].split("```", 1)[0]
+    monkeypatch.chdir(ROOT)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        exec(compile(code, "docs/methods.md (the lever)", "exec"), {})
+    lines = capsys.readouterr().out.splitlines()
+    assert len(lines) == 4
+    for line in lines:
+        _, lever, power, solution, err = (float(x) for x in line.split())
+        assert lever == pytest.approx(solution, rel=TOL, abs=TOL) and err <= TOL
