@@ -167,3 +167,48 @@ def test_the_docs_example_runs(monkeypatch, capsys):
     for line in lines:
         _, lever, power, solution, err = (float(x) for x in line.split())
         assert lever == pytest.approx(solution, rel=TOL, abs=TOL) and err <= TOL
+
+
+def test_springs_dampers_and_an_effort_driver_are_on_the_lever():
+    """Springs and dampers (their power −f·ṡ) and an ``effort:`` driver beside the motion
+    driver are loads on the lever; the three still agree."""
+    from tests.kinetics.test_elements import slider
+
+    record = lever_stage(_analyze(slider()), [3, 20, 40, 60])
+    powered = {t.name for t in record.positions[0].terms if t.kind == "power"}
+    assert powered == {"spring", "table", "damper", "tors", "rd"}
+    _agree(record)
+    model = variant(
+        "slider_crank",
+        brake=(r"(motor: \{joint: O, .*\}\}\n)", r"\1  brake: {joint: A, effort: 5}\n"),
+    )
+    record = lever_stage(_analyze(model), [3, 100, 200, 300])
+    assert [t.name for t in record.positions[0].terms if t.kind == "power"] == ["efforts"]
+    _agree(record)
+
+
+def test_two_motors_each_balanced_with_the_others_power_from_the_solution():
+    """The five-bar without its gears, driven by two motors: each driver's M_b with the
+    other's power (from the solution) counted as a load."""
+    model = variant(
+        "geared_fivebar",
+        mesh=(r"  mesh:\n(    .*\n)+", ""),
+        motor2=(
+            r"(motor: \{joint: O1.*\n)",
+            r"\1  motor2: {joint: O2, motion: {speed: -120}, points: [x, B]}\n",
+        ),
+    )
+    result = _analyze(model)
+    first, second = (lever_stage(result, [10, 100, 200, 300], driver=i) for i in (0, 1))
+    assert (first.effort, second.effort) == ("motor.torque", "motor2.torque")
+    for record in (first, second):
+        _agree(record)
+    for a, b in zip(first.positions, second.positions):  # each is the other's "others"
+        assert a.others == pytest.approx(b.solution * b.speed, rel=1e-12)
+        assert b.others == pytest.approx(a.solution * a.speed, rel=1e-12)
+
+
+def test_a_kinematics_only_result_is_refused():
+    result = ks.analyze(ks.loads(OFFSET_SLIDER_CRANK, file="m.yaml"), kinematics_only=True)
+    with pytest.raises(ValueError, match="efforts"):
+        lever_stage(result, [0])
