@@ -201,6 +201,7 @@ def test_a_class_three_group_on_three_bodies_defeats_kennedy(triad):
             assert c.xy is not None, c
         if c.xy is None:
             assert c.how == "not found" and set(c.bodies) & {"plate", "b1", "b2", "b3"}
+            assert "triad {plate, b1, b2, b3}" in c.groups, c
     assert len(missing) == 16  # of 28: the other 12 are the 10 pins and two of the four-bar
     checked = {c.body: c for c in rec.checks}
     for body in ("crank", "coupler", "rocker"):

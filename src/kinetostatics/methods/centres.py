@@ -21,7 +21,7 @@ direction it lies along.
 from __future__ import annotations
 
 import itertools
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -46,7 +46,8 @@ class Centre:
     ``xy``: the point (m), or the unit direction it lies along when ``at_infinity``, or
     None when it was not found.  ``how``: ``"joint"`` (given by the pair ``joint`` of type
     ``kind``), ``"kennedy"`` (the meeting point of the two ``lines``, each through two
-    centres named by their bodies) or ``"not found"``.
+    centres named by their bodies) or ``"not found"``, with the Assur ``groups`` its
+    bodies belong to (a class-III group's, typically).
     """
 
     bodies: tuple[str, str]
@@ -56,6 +57,7 @@ class Centre:
     joint: str = ""
     kind: str = ""
     lines: tuple[tuple[tuple[str, str], tuple[str, str]], ...] = ()
+    groups: tuple[str, ...] = ()
 
     def to_dict(self) -> dict:
         return {
@@ -66,6 +68,7 @@ class Centre:
             "joint": self.joint,
             "kind": self.kind,
             "lines": [[list(a), list(b)] for a, b in self.lines],
+            "groups": list(self.groups),
         }
 
 
@@ -203,7 +206,8 @@ def _kennedy(known: dict, loci: dict, n_bodies: int, size: float) -> dict:
     """(a, b) -> (pole, (k, m)) found by Kennedy's theorem, round after round until a round
     finds nothing: the meeting point of the line through the centres with a third body k
     and that with m (−1: the line a pair gives, ``loci``); of a pair's candidates the one
-    whose lines cross at the widest angle."""
+    whose lines cross at the widest angle.  ``known`` (a, b) -> (pole, …) is not changed."""
+    known = dict(known)
 
     def pole(a, b):
         return known.get((min(a, b), max(a, b)), (None,))[0]
@@ -292,9 +296,17 @@ def instant_centres(result: Result, row: int) -> InstantCentres:
     given, loci = _given(result, row)
     known = {key: (pole, None) for key, (pole, _) in given.items()}
     found = _kennedy(known, loci, len(bodies), size)
+    known |= {key: (pole, None) for key, (pole, _) in found.items()}
     centres = tuple(
         _centre(bodies, (a, b), given.get((a, b)), found.get((a, b)), loci.get((a, b)))
         for a, b in itertools.combinations(range(len(bodies)), 2)
+    )
+    group_of = {name: p.group.label for p in system.plans for name in p.group.links}
+    centres = tuple(
+        replace(c, groups=tuple(dict.fromkeys(group_of[b] for b in c.bodies if b in group_of)))
+        if c.xy is None
+        else c
+        for c in centres
     )
     ref = _reference(result, row, known)
     q, qd = np.asarray(result.q[row], float), np.asarray(result.qd[row], float)
