@@ -60,6 +60,7 @@ __all__ = [
     "Line",
     "Circle",
     "Curve",
+    "Pole",
     "stack_vectors",
     "stack_scalars",
 ]
@@ -218,6 +219,19 @@ class Glyph:
     curves: tuple[Curve, ...] = ()
 
 
+@dataclass(frozen=True)
+class Pole:
+    """An instant centre of a pair's two links, given by the pair itself: the point ``xy``
+    (global, m, ``(..., 2)``), or, ``at_infinity``, the unit direction ``xy`` it lies at
+    infinity along (the relative motion is then a translation perpendicular to it); with
+    ``along``, only the line through ``xy`` along that unit direction on which the centre
+    lies (a cam's common normal at the contact)."""
+
+    xy: np.ndarray
+    at_infinity: bool = False
+    along: np.ndarray | None = None
+
+
 # ``axis:`` of a slide (prismatic, rack): a point and a direction, or two points on link i
 AXIS_KEYS = Keys(
     {"point": NAME, "direction": VECTOR, "points": names(2)},
@@ -334,6 +348,14 @@ class JointCore(ABC):
         """Rate of the relative coordinate: ω_j − ω_i, or the sliding speed."""
         gi, gj = self.motion_direction(qi, qj)
         return np.einsum("...k,...k->...", gi, vi) + np.einsum("...k,...k->...", gj, vj)
+
+    def instant_centre(self, qi: np.ndarray, qj: np.ndarray) -> Pole | None:
+        """The instant centre (velocity pole) of links i and j that the pair fixes by itself
+        at poses ``qi``, ``qj`` ``(..., 3)``: a pin's centre, a slide's centre at infinity
+        normal to it, a toothed pair's pitch point, or only a line it lies on (a cam's
+        common normal at the contact).  None by default: the pair fixes nothing of it.
+        Read by the instant centres' method (``methods/centres.py``)."""
+        return None
 
     def effort_force(
         self, effort: np.ndarray, qi: np.ndarray, qj: np.ndarray

@@ -61,7 +61,18 @@ from ..base.keys import NAME, NUMBER, VECTOR, Keys, enum, names
 from . import _camphase
 from ._camlaw import LAW_SHAPE, read_law
 from ._camprofile import Synthesis
-from .base import Anchor, Circle, Curve, Friction, Glyph, Joint, Line, Presentation, Shaped
+from .base import (
+    Anchor,
+    Circle,
+    Curve,
+    Friction,
+    Glyph,
+    Joint,
+    Line,
+    Pole,
+    Presentation,
+    Shaped,
+)
 
 __all__ = ["Cam"]
 
@@ -483,6 +494,12 @@ class Cam(Joint, Presentation, Friction, Shaped, kind="cam"):
         n = gz / np.hypot(gz[..., 0], gz[..., 1])[..., None]
         theta = s.invert(self._tables, np.arctan2(z[..., 1], z[..., 0]))[0]
         return theta, z - s.radius * n, n, z
+
+    def instant_centre(self, qi, qj):
+        """Only the common normal at the contact: the centre lies on it, where Kennedy's
+        theorem puts it (the relative velocity at the contact is along the tangent)."""
+        theta, X, n, z = self._contact(qi, qj)
+        return Pole(qi[..., :2] + turn(qi, self.o) + turn(qi, X), along=turn(qi, n))
 
     def anchors(self):
         i, j = self.links

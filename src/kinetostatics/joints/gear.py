@@ -121,7 +121,7 @@ from ._mesh import (
     read_teeth,
     wrap,
 )
-from .base import Anchor, Circle, Compiled, Glyph, Joint, Presentation
+from .base import Anchor, Circle, Compiled, Glyph, Joint, Pole, Presentation
 
 __all__ = ["Gear"]
 
@@ -483,6 +483,14 @@ class Gear(MeshFriction, Joint, Presentation, Compiled, kind="gear"):
         Ri, Rj, D, d, e, t = self._frame(qi, qj)
         g = self._c_gradient(d, t)
         return {"Fx": effort * g[..., 0], "Fy": effort * g[..., 1]}
+
+    def instant_centre(self, qi, qj):
+        """The operating pitch point C_i + ρ_i (d/d₀) e: it divides the centre distance d in
+        the ratio of the pitch radii (the base circles'), where the two gears roll without
+        slipping while d is held (d constant, as on an arm or on the frame)."""
+        Ri, Rj, D, d, e, t = self._frame(qi, qj)
+        scale = (self.signed_radii[0] * d / self.d0)[..., None]
+        return Pole(qi[..., :2] + Ri + scale * e)
 
     # -- description ----------------------------------------------------------
     def anchors(self):

@@ -11,7 +11,18 @@ from ..base.arrays import entry_major_zeros
 from ..base.geometry import dot, perp, turn, wrap_angle
 from ..base.kernels import helper
 from ..base.keys import NAME, NUMBER, Keys, names
-from .base import AXIS_KEYS, Anchor, Block, Compiled, Friction, Glyph, Joint, Line, Presentation
+from .base import (
+    AXIS_KEYS,
+    Anchor,
+    Block,
+    Compiled,
+    Friction,
+    Glyph,
+    Joint,
+    Line,
+    Pole,
+    Presentation,
+)
 
 FRICTION_KEYS = Keys({"coefficient": NUMBER}, required=("coefficient",))
 
@@ -238,6 +249,10 @@ class Prismatic(Joint, Presentation, Friction, Compiled, kind="prismatic"):
     def effort_force(self, effort, qi, qj):
         U = turn(qi, self.u)
         return {"Fx": effort * U[..., 0], "Fy": effort * U[..., 1]}
+
+    def instant_centre(self, qi, qj):
+        """At infinity normal to the slide: j translates along it relative to i."""
+        return Pole(perp(turn(qi, self.u)), at_infinity=True)
 
     # -- compiled backend (base/kernels.py): the formulas above, position by position --
     jacobian_kernel = staticmethod(_jacobian_kernel)

@@ -82,7 +82,7 @@ from ._mesh import (
     read_teeth,
     wrap,
 )
-from .base import AXIS_KEYS, Anchor, Circle, Compiled, Glyph, Joint, Line, Presentation
+from .base import AXIS_KEYS, Anchor, Circle, Compiled, Glyph, Joint, Line, Pole, Presentation
 
 __all__ = ["Rack"]
 
@@ -398,6 +398,13 @@ class Rack(MeshFriction, Joint, Presentation, Compiled, kind="rack"):
     def effort_force(self, effort, qi, qj):
         U = turn(qi, self.u)
         return {"Fx": 0.5 * effort * U[..., 0], "Fy": 0.5 * effort * U[..., 1]}
+
+    def instant_centre(self, qi, qj):
+        """The operating pitch point C − ν r n: the pinion's pitch circle rolls without
+        slipping on the line parallel to the rack that it touches, while the pinion
+        centre keeps its distance from the rack (as on the frame)."""
+        A, U, N, C, D, nu = self._frame(qi, qj)
+        return Pole(qj[..., :2] + C - (nu * self.r)[..., None] * N)
 
     # -- description ----------------------------------------------------------
     def anchors(self):

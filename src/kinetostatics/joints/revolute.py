@@ -10,7 +10,7 @@ import numpy as np
 from ..base.arrays import entry_major_zeros
 from ..base.geometry import perp, turn
 from ..base.keys import NAME, NUMBER, Keys, names
-from .base import Anchor, Compiled, Friction, Glyph, Joint, Presentation
+from .base import Anchor, Compiled, Friction, Glyph, Joint, Pole, Presentation
 
 FRICTION_KEYS = Keys(
     {"radius": NUMBER, "journal_radius": NUMBER, "coefficient": NUMBER},
@@ -164,6 +164,10 @@ class Revolute(Joint, Presentation, Friction, Compiled, kind="revolute"):
 
     def reaction(self, lam, qi, qj):
         return {"Fx": -lam[..., 0], "Fy": -lam[..., 1]}
+
+    def instant_centre(self, qi, qj):
+        """The pin: both links' points there have one velocity."""
+        return Pole(qj[..., :2] + turn(qj, self.p_j))
 
     # -- compiled backend (base/kernels.py): the formulas above, position by position --
     jacobian_kernel = staticmethod(_jacobian_kernel)

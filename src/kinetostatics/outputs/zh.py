@@ -482,3 +482,12 @@ ZH.update(
         "and the input power (W); no joint has friction": "各原动件上的平衡力矩 M_b（移动原动件为平衡力 F_b）与输入功率（W）；各运动副均不计摩擦",
     }
 )
+
+# issue 38, the instant centres' picture (outputs/plotting/centres.py)
+ZH.update(
+    {
+        "outside the drawing: {items}": "图幅以外：{items}",
+        "at infinity (direction): {items}": "位于无穷远处（方向）：{items}",
+        "not found by Kennedy's theorem: {items}": "三心定理无法求得：{items}",
+    }
+)
