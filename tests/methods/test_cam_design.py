@@ -178,6 +178,19 @@ def test_least_radius_of_curvature_and_roller_limit(translating):
     assert translating.roller_radius == RR < translating.roller_limit
 
 
+def test_pitch_curve_and_profile_points(translating):
+    """The pitch curve is P(θ) = exp(−iθ) F(θ), F = e + i(√(r_p² − e²) + s) (the cam turning
+    ccw), at θ = 0°, 1°, …; the working profile lies r_r inside it, along its normal."""
+    theta = np.radians(np.arange(360.0))
+    s, _, _ = _harmonic_law(theta)
+    P = np.exp(-1j * theta) * (E + 1j * (math.sqrt((0.030 + RR) ** 2 - E**2) + s))
+    pitch, profile = translating.pitch_curve, translating.profile
+    assert pitch.shape == profile.shape == (360, 2)
+    assert np.max(np.abs(pitch[:, 0] + 1j * pitch[:, 1] - P)) <= 1e-12
+    np.testing.assert_allclose(np.hypot(*(pitch - profile).T), RR, rtol=1e-12)
+    assert np.all(np.hypot(*profile.T) < np.hypot(*pitch.T))
+
+
 def test_a_dwell_is_a_circle_arc_of_its_radius():
     """On a dwell the pitch curve is an arc about O: ρ = |F| = √((√(r_p² − e²) + s)² + e²),
     without offset r_b + r_r + s."""
@@ -300,3 +313,59 @@ def test_a_file_without_a_cam_has_no_record_and_bad_arguments_are_refused():
     assert cam_design(model) == ()
     with pytest.raises(ValueError, match="between 0 and 90"):
         cam_design(model, pressure_angle_max=90.0)
+
+
+FLAT = """
+name: translating flat face
+units: {length: mm, angle: deg, speed: rpm, mass: kg, force: N}
+gravity: [0, 0]
+links:
+  ground: {points: {O: [0, 0], G: [0, 0]}}
+  cam: {points: {O: [0, 0], K: [20, 0]}}
+  follower: {points: {C: [0, 0]}, com: [0, 0], mass: 0.3, inertia: 1e-4}
+joints:
+  O: {type: revolute, links: [ground, cam]}
+  guide: {type: prismatic, links: [ground, follower], axis: {point: G, direction: [0, 1]},
+          point: C}
+  contact:
+    type: cam
+    links: [cam, follower]
+    centre: O
+    point: C
+    follower: flat
+    face_normal: [0, -1]
+    base_radius: 30
+    translating: {direction: [0, 1]}
+    motion:
+      - {rise: 20, over: 150, law: harmonic}
+      - {dwell: 30}
+      - {return: 20, over: 150, law: harmonic}
+      - {dwell: 30}
+drivers:
+  motor: {joint: O, points: [x, K], motion: {speed: 100}}
+sketch:
+  follower.C: [0, 30]
+"""
+
+
+def test_translating_flat_face_has_no_pressure_angle_and_its_textbook_curvature():
+    """α ≡ 0 (the face's normal is the guide's direction), so [α] bounds no base radius; the
+    profile's radius of curvature is r_b + s + s″: r_b on the low dwell, r_b + h − hπ²/(2β²)
+    where the harmonic return starts."""
+    model = ks.loads(FLAT)
+    (record,) = cam_design(model)
+    assert record.follower == "flat" and record.roller_limit is None
+    assert np.max(np.abs(record.pressure_angle)) <= 1e-12 and record.peak <= 1e-12
+    assert record.base_radius_min is None and record.method.startswith("none")
+    theta = np.linspace(0, 2 * np.pi, 100_001)
+    s, _, s2 = _harmonic_law(theta)
+    assert abs(record.curvature_min - np.min(0.030 + s + s2)) <= 1e-9 * 0.030
+    (chart,) = [j.profile_design() for j in model.joints if j.profile_design() is not None]
+    rho = chart.pitch_radius(np.radians([180.0, 90.0]))
+    np.testing.assert_allclose(rho[0], 0.030 + H - H * math.pi**2 / (2 * BETA**2), rtol=1e-9)
+    u = 90 / 150
+    s, s2 = (
+        H * (1 - math.cos(math.pi * u)) / 2,
+        H * math.pi**2 / (2 * BETA**2) * math.cos(math.pi * u),
+    )
+    np.testing.assert_allclose(rho[1], 0.030 + s + s2, rtol=1e-9)

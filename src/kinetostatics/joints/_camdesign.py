@@ -86,6 +86,15 @@ class ProfileDesign:
         """Cam angles that sample every segment of the law (its ends among them)."""
         return self.synthesis.check_grid
 
+    def curves(self) -> tuple[np.ndarray | None, np.ndarray]:
+        """(the pitch curve, the working profile), each ``(360, 2)`` in the cam's frame (m)
+        at the cam angles 0°, 1°, …, 359°: the outline the pictures draw.  A knife's pitch
+        curve is its profile; a flat face has no pitch curve (None)."""
+        out = self.synthesis.outline
+        if self.synthesis.flat:
+            return None, out[0]
+        return (out[1], out[0]) if len(out) == 2 else (out[0], out[0])
+
     def law(self, theta) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(s, s′, s″) at cam angles θ."""
         s = self.synthesis.law.value(theta)

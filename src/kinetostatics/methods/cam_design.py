@@ -15,7 +15,8 @@ forms are ``joints/_camdesign.py``'s), :func:`cam_design` samples over the cam a
   translating knife or roller follower (the largest over φ of the per-angle bound, refined
   as above), by bisection on r_b with the closed form α(φ; r_b) for an oscillating
   follower (knife, roller or flat face); none for a translating flat face (α ≡ 0);
-* whether the file's base radius satisfies [α].
+* whether the file's base radius satisfies [α];
+* the pitch curve and the working profile as points in the cam's frame, for a drawing.
 """
 
 from __future__ import annotations
@@ -49,7 +50,9 @@ class CamDesign:
     curve (the profile for a flat face) and ``curvature_at``; ``roller_limit`` the roller
     radius that would undercut (None for a flat face); ``base_radius_min`` the least base
     radius for ``allowed`` [α] (None where [α] does not bound it) and ``method`` how it was
-    found; ``satisfied`` whether the file's base radius keeps |α| ≤ [α]."""
+    found; ``satisfied`` whether the file's base radius keeps |α| ≤ [α]; ``pitch_curve``
+    (None for a flat face) and ``profile``, ``(360, 2)`` points (m) in the cam's frame at
+    the cam angles 0°, 1°, … (what a drawing of the cam draws)."""
 
     joint: str
     follower: str
@@ -71,6 +74,8 @@ class CamDesign:
     base_radius_min: float | None
     method: str
     satisfied: bool
+    pitch_curve: np.ndarray | None
+    profile: np.ndarray
 
     def to_dict(self) -> dict[str, Any]:
         """The record as JSON-safe values (methods.json's ``cam_design.<joint>``)."""
@@ -78,7 +83,7 @@ class CamDesign:
         for name in self.__dataclass_fields__:
             v = getattr(self, name)
             if isinstance(v, np.ndarray):
-                v = [float(x) for x in v]
+                v = v.tolist()
             elif isinstance(v, tuple):
                 v = list(v)
             elif isinstance(v, (float, np.floating)):
@@ -181,6 +186,7 @@ def _design(name: str, chart, allowed_deg: float, samples: int) -> CamDesign:
     peak, peak_at = _largest_alpha(chart, grid, None)
     rho, rho_at = _curvature(chart, grid)
     base_min, method = _least_base(chart, grid, allowed)
+    pitch, profile = chart.curves()
     return CamDesign(
         joint=name,
         follower=chart.follower,
@@ -202,6 +208,8 @@ def _design(name: str, chart, allowed_deg: float, samples: int) -> CamDesign:
         base_radius_min=base_min,
         method=method,
         satisfied=bool(peak <= allowed),
+        pitch_curve=pitch,
+        profile=profile,
     )
 
 
