@@ -311,8 +311,12 @@ def test_shipped_cam_files_give_records(name):
 def test_a_file_without_a_cam_has_no_record_and_bad_arguments_are_refused():
     model = ks.load(ROOT / "mechanisms" / "slider_crank.yaml")
     assert cam_design(model) == ()
-    with pytest.raises(ValueError, match="between 0 and 90"):
+    with pytest.raises(ValueError, match="pressure_angle_max = 90.0: .* below 90"):
         cam_design(model, pressure_angle_max=90.0)
+    with pytest.raises(ValueError, match="samples = 0"):
+        cam_design(model, samples=0)
+    with pytest.raises(ValueError, match="samples = 1.5: expected a whole number"):
+        cam_design(model, samples=1.5)
 
 
 FLAT = """
@@ -369,3 +373,13 @@ def test_translating_flat_face_has_no_pressure_angle_and_its_textbook_curvature(
         H * math.pi**2 / (2 * BETA**2) * math.cos(math.pi * u),
     )
     np.testing.assert_allclose(rho[1], 0.030 + s + s2, rtol=1e-9)
+
+
+def test_a_largest_value_next_to_the_turns_end_is_found():
+    """0° and 360° are one cam angle: a peak just before 360° is refined on that side even
+    when the sample at 0° is the largest (the same value)."""
+    from kinetostatics.methods.cam_design import _peak
+
+    grid = np.linspace(0, 2 * np.pi, 7)
+    value, at = _peak(lambda th: np.cos(th + 1e-4), grid)
+    assert abs(value - 1.0) <= 1e-15 and abs(at - (2 * np.pi - 1e-4)) <= 1e-7

@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from ..analysis.results import Result
+from ..base.arguments import real_number
 from ..model import Model
 
 __all__ = ["CamDesign", "cam_design"]
@@ -119,9 +120,16 @@ def _peak(f: Callable[[np.ndarray], np.ndarray], grid: np.ndarray) -> tuple[floa
         k = int(np.nonzero(np.isnan(v))[0][0])
         return math.inf, float(grid[k])
     k = int(np.argmax(v))
-    lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, len(grid) - 1)]
-    best, at = _golden(f, float(lo), float(hi))
-    return (best, at) if best >= v[k] else (float(v[k]), float(grid[k]))
+    last = len(grid) - 1
+    brackets = [(grid[max(k - 1, 0)], grid[min(k + 1, last)])]
+    if k in (0, last):  # 0° and 360° are one cam angle: refine on both sides of it
+        brackets = [(grid[0], grid[1]), (grid[last - 1], grid[last])]
+    best, at = float(v[k]), float(grid[k])
+    for lo, hi in brackets:
+        value, where = _golden(f, float(lo), float(hi))
+        if value > best:
+            best, at = value, where
+    return best, float(np.mod(at, 2 * math.pi))
 
 
 def _largest_alpha(chart, grid: np.ndarray, base: float | None) -> tuple[float, float]:
@@ -236,15 +244,16 @@ def cam_design(
     """
     if isinstance(model, Result):
         model = model.system.model
-    if not 0.0 < pressure_angle_max < 90.0:
-        raise ValueError(
-            f"pressure_angle_max must lie between 0 and 90 degrees, got {pressure_angle_max}"
-        )
-    if samples < 1:
-        raise ValueError(f"samples must be at least 1, got {samples}")
+    allowed = real_number(
+        "pressure_angle_max", pressure_angle_max, low=0.0, high=90.0, strict_low=True,
+        strict_high=True, why="the allowable pressure angle in degrees",
+    )  # fmt: skip
+    count = real_number("samples", samples, low=1.0, why="cam angles sampled per turn")
+    if count != int(count):
+        raise ValueError(f"samples = {samples!r}: expected a whole number")
     out = []
     for joint in model.joints:
         chart = joint.profile_design()
         if chart is not None:
-            out.append(_design(joint.name, chart, float(pressure_angle_max), int(samples)))
+            out.append(_design(joint.name, chart, allowed, int(count)))
     return tuple(out)
