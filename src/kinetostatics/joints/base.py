@@ -542,7 +542,8 @@ class Shaped:
     """Optional: a pair whose geometry is built once from constants (a cam's profile
     synthesised from its law): the constants a stacked model cannot carry on a variant
     axis, the places where a derivative of its constraint jumps along the motion, and
-    what makes a start pose contradict it.  The defaults: none of these."""
+    what makes a start pose contradict it, and its design chart.  The defaults: none of
+    these."""
 
     def motion_breaks(self, qi: np.ndarray, qj: np.ndarray) -> np.ndarray:
         """Values whose sign changes mark where a derivative of the pair's constraint jumps
@@ -563,6 +564,13 @@ class Shaped:
         cam whose follower touches it out of phase with its law.  The start pose's check
         raises it as a model error at the joint."""
         return ""
+
+    def profile_design(self) -> Any | None:
+        """The design chart of a pair whose profile is synthesised (a cam's: its law's
+        curves, its pressure angle as a closed form of the cam angle and the base radius,
+        its pitch curve's curvature; ``joints/_camdesign.py``), which the cam-design method
+        (``methods/cam_design.py``) reads.  None by default (no profile to design)."""
+        return None
 
 
 @dataclass(frozen=True)

@@ -59,6 +59,7 @@ import numpy as np
 from ..base.geometry import dot, perp, rotate, turn, turn_back
 from ..base.keys import NAME, NUMBER, VECTOR, Keys, enum, names
 from . import _camphase
+from ._camdesign import ProfileDesign
 from ._camlaw import LAW_SHAPE, read_law
 from ._camprofile import Synthesis
 from .base import (
@@ -257,6 +258,9 @@ class Cam(Joint, Presentation, Friction, Shaped, kind="cam"):
     # -- the phase at the start ------------------------------------------------------
     def start_problem(self, qi, qj) -> str:
         return _camphase.start_problem(self, qi, qj)
+
+    def profile_design(self) -> ProfileDesign:
+        return ProfileDesign(self.synthesis)
 
     # -- the profile ------------------------------------------------------------
     def _problem(self) -> str:
