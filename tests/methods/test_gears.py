@@ -110,7 +110,8 @@ def test_undercut_limit_and_least_shift():
     assert g.z_min_exact == pytest.approx(2 / math.sin(ALPHA) ** 2, rel=1e-12)
     assert g.wheels[0].x_min == pytest.approx(5 / 17, abs=1e-12)
     assert g.wheels[0].undercut and not g.wheels[1].undercut
-    assert any("undercut" in n and "0.29412" in n for n in g.notes)
+    notes = [t.format(**dict(v)) for t, v in g.notes]
+    assert any("undercut" in n and "0.29412" in n for n in notes)
     shifted = pair_geometry(_pair(12, 40, shift=(0.3, -0.3)))
     assert not shifted.wheels[0].undercut
     # 14.5°: the textbook's 32 teeth

@@ -110,7 +110,9 @@ class GearGeometry:
     the one the file's pitch radii give (r_1 ± r_2; a rack pair: r), ``working_*`` the
     working pressure angle and centre distance (equal to the reference ones without a
     shift sum).  ``formulas`` are ``(key, text)`` pairs, each a formula with its value
-    (lengths in ``length_unit``); ``notes`` are sentences for the reader.
+    (lengths in ``length_unit``); ``notes`` are sentences for the reader, each an English
+    template and its values (``template.format(**values)``), so that a report translates
+    the template.
     """
 
     joint: str
@@ -131,7 +133,7 @@ class GearGeometry:
     z_min_exact: float
     z_min: int
     formulas: tuple[tuple[str, str], ...]
-    notes: tuple[str, ...]
+    notes: tuple[tuple[str, tuple[tuple[str, str], ...]], ...]
     length_unit: str
 
     def to_dict(self) -> dict:
@@ -155,7 +157,10 @@ class GearGeometry:
             "z_min_exact": self.z_min_exact,
             "z_min": self.z_min,
             "formulas": dict(self.formulas),
-            "notes": list(self.notes),
+            "notes": [
+                {"text": t.format(**dict(v)), "template": t, "values": dict(v)}
+                for t, v in self.notes
+            ],
             "formula_length_unit": self.length_unit,
         }
 
@@ -199,13 +204,7 @@ def gear_geometry(source) -> Gears:
         if data is None:
             continue
         if None in [z for z, r in zip(data.teeth, data.radii, strict=True) if r is not None]:
-            incomplete.append(
-                (
-                    data.joint,
-                    "the pinion's number of teeth is not given (key teeth): "
-                    "its module and tooth geometry are unknown",
-                )
-            )
+            incomplete.append((data.joint, NO_TEETH))
             continue
         pairs.append(pair_geometry(data, unit))
     return Gears(tuple(pairs), tuple(incomplete))
@@ -314,7 +313,7 @@ def _wheel_formulas(g: GearGeometry, n: int, w: Wheel) -> list[tuple[str, str]]:
         tip, root = f"r_{n} + (h_a* + x_{n}{dy})m", f"r_{n} − (h_a* + c* − x_{n})m"
         thickness = f"πm/2 + 2x_{n} m tan α"
     out = [
-        (f"z_{n}", f"z_{n} = {w.teeth} ({w.link}{', annulus' if w.annulus else ''})"),
+        (f"z_{n}", f"z_{n} = {w.teeth}"),
         (f"x_{n}", f"x_{n} = {N(w.shift)}"),
         (f"r_{n}", f"r_{n} = m z_{n}/2 = {L(w.r)}"),
         (f"r_b{n}", f"r_b{n} = r_{n} cos α = {L(w.r_b)}"),
@@ -333,20 +332,19 @@ def _centre_formulas(g: GearGeometry) -> list[tuple[str, str]]:
     L, A, N = _printer(g.length_unit)
     if g.mesh == "rack":
         return [
-            ("a", f"H = r_1 + x_1 m = {L(g.centre_distance)} (the pinion's centre above the "
-                  "rack's reference line)"),
-            ("a_file", f"r_1 = {L(g.centre_distance_file)} (the file's pitch radius)"),
+            ("a", f"H = r_1 + x_1 m = {L(g.centre_distance)}"),
+            ("a_file", f"H_file = r_1 = {L(g.centre_distance_file)}"),
         ]  # fmt: skip
     if g.mesh == "internal":
         i, o = (1, 2) if g.wheels[1].annulus else (2, 1)
         out = [
             ("a", f"a = m(z_{o} − z_{i})/2 = {L(g.centre_distance)}"),
-            ("a_file", f"r_{o} − r_{i} = {L(g.centre_distance_file)} (the file's pitch radii)"),
+            ("a_file", f"a_file = r_{o} − r_{i} = {L(g.centre_distance_file)}"),
         ]
     else:
         out = [
             ("a", f"a = m(z_1 + z_2)/2 = {L(g.centre_distance)}"),
-            ("a_file", f"r_1 + r_2 = {L(g.centre_distance_file)} (the file's pitch radii)"),
+            ("a_file", f"a_file = r_1 + r_2 = {L(g.centre_distance_file)}"),
         ]
     if g.working_alpha != g.alpha:
         y = (g.working_centre_distance - g.centre_distance) / g.module
@@ -390,30 +388,40 @@ def _formulas(g: GearGeometry) -> tuple[tuple[str, str], ...]:
     return tuple(out)
 
 
-def _notes(g: GearGeometry) -> tuple[str, ...]:
-    """What the reader should know of the pair: undercut, a contact ratio below 1, the
-    working centre distance of a shifted pair, the annulus."""
+def _notes(g: GearGeometry) -> tuple[tuple[str, tuple[tuple[str, str], ...]], ...]:
+    """What the reader should know of the pair, as (template, values): undercut, a contact
+    ratio below 1, the working centre distance of a shifted pair, the annulus."""
     L, A, N = _printer(g.length_unit)
     out = []
     for n, w in enumerate(g.wheels, start=1):
         if w.undercut:
-            out.append(
-                f"gear {n} ({w.link}) is undercut: x_{n} = {N(w.shift)} < x_min{n} = "
-                f"{N(w.x_min)} (z_{n} = {w.teeth}, z_min = {g.z_min}); a shift "
-                f"x_{n} ≥ {N(w.x_min)} avoids it"
-            )
+            values = {"n": n, "link": w.link, "x": N(w.shift), "x_min": N(w.x_min)}
+            values |= {"z": w.teeth, "z_min": g.z_min}
+            out.append((UNDERCUT, values))
     if g.contact_ratio < 1.0:
-        out.append(
-            f"ε_α = {N(g.contact_ratio)} < 1: one pair of teeth leaves before the next "
-            "engages (the mesh is not continuous)"
-        )
+        out.append((DISCONTINUOUS, {"eps": N(g.contact_ratio)}))
     if g.working_alpha != g.alpha:
-        out.append(
-            f"the shifted pair works at α' = {A(g.working_alpha)} and a' = "
-            f"{L(g.working_centre_distance)} without backlash; the file's pitch circles are "
-            "the reference circles, and the motion, which reads only the ratio, is the same"
-        )
+        out.append((WORKING, {"alpha_w": A(g.working_alpha), "a_w": L(g.working_centre_distance)}))
     if any(w.annulus for w in g.wheels):
-        out.append("the annulus has no undercut limit; the interference of internal teeth "
-                   "is not checked")  # fmt: skip
-    return tuple(out)
+        out.append((ANNULUS, {}))
+    return tuple((t, tuple((k, str(v)) for k, v in values.items())) for t, values in out)
+
+
+# the notes' templates (the report translates them; outputs/zh.py)
+UNDERCUT = (
+    "gear {n} ({link}) is undercut: x_{n} = {x} < x_min{n} = {x_min} (z_{n} = {z}, "
+    "z_min = {z_min}); a shift x_{n} ≥ {x_min} avoids it"
+)
+DISCONTINUOUS = (
+    "ε_α = {eps} < 1: one pair of teeth leaves before the next engages (the mesh is not continuous)"
+)
+WORKING = (
+    "the shifted pair works at α' = {alpha_w} and a' = {a_w} without backlash; the file's "
+    "pitch circles are the reference circles, and the motion, which reads only the ratio, is "
+    "the same"
+)
+NO_TEETH = (
+    "the pinion's number of teeth is not given (key teeth): its module and tooth geometry "
+    "are unknown"
+)
+ANNULUS = "the annulus has no undercut limit; the interference of internal teeth is not checked"
