@@ -240,6 +240,7 @@ def test_the_tooth_form_keys():
         ("    clearance: 1.5\n", "clearance coefficient must be at most 1"),
         ("    shift: [0.5]\n", "expected a list of 2 profile shift coefficients"),
         ("    shift: [0.5, 4]\n", "must be from -3 to 3"),
+        ("    shift: [-1.5, -1.5]\n", "the pair has no working pressure angle"),
     ],
 )
 def test_the_tooth_form_keys_are_checked(added, message):

@@ -293,13 +293,8 @@ class Gear(MeshFriction, Joint, Presentation, Compiled, kind="gear"):
             inv = 1.0 / teeth[0] + (-1.0 if mesh == "internal" else 1.0) / teeth[1]
             per_mu = 0.5 * math.pi * abs(inv)
         loss = read_loss(entry, per_mu)
-        form, shift = read_tooth_form(entry), read_shift(entry, 2)
-        if shift is not None and mesh == "internal" and any(shift):
-            entry["shift"].error(
-                "a profile shift is supported for an external pair and a rack, "
-                "not for an internal mesh"
-            )
-            shift = None
+        form = read_tooth_form(entry)
+        shift = cls._shift(entry, mesh, teeth, alpha)
         values = (c_i, c_j, teeth, mesh, radii, alpha, flank, phase, loss, form, shift)
         if any(v is None for v in values):
             return None
@@ -322,6 +317,30 @@ class Gear(MeshFriction, Joint, Presentation, Compiled, kind="gear"):
             clearance=form[1],
             shift=shift,
         )
+
+    @staticmethod
+    def _shift(entry, mesh, teeth, alpha):
+        """``shift`` (x_i, x_j): none for an internal mesh; an external pair's sum must leave
+        inv α' = inv α + 2 tan α (x_i + x_j)/(z_i + z_j) positive (a working angle)."""
+        shift = read_shift(entry, 2)
+        if shift is None or not any(shift) or mesh is None:
+            return shift
+        if mesh == "internal":
+            entry["shift"].error(
+                "a profile shift is supported for an external pair and a rack, "
+                "not for an internal mesh"
+            )
+            return None
+        if teeth is not None and alpha is not None:
+            total = sum(shift) / (teeth[0] + teeth[1])
+            if not math.tan(alpha) - alpha + 2.0 * math.tan(alpha) * total > 0.0:
+                entry["shift"].error(
+                    f"the shifts sum to {sum(shift):g}, too little for {teeth[0]} + "
+                    f"{teeth[1]} teeth: the pair has no working pressure angle "
+                    "(inv α' = inv α + 2 tan α (x_i + x_j)/(z_i + z_j) ≤ 0)"
+                )
+                return None
+        return shift
 
     @staticmethod
     def _radii(entry, teeth):
