@@ -378,11 +378,20 @@ def _seeds() -> dict[str, dict]:
         },
     )
     out["rack radius"] = _variant(
-        swing, joints__mesh__module=None, joints__mesh__teeth=None, joints__mesh__radius="m*z/2"
+        swing,
+        joints__mesh__module=None,
+        joints__mesh__teeth=None,
+        joints__mesh__radius="m*z/2",
+        joints__mesh__shift=0.1,  # the tooth form (the gear chapter's keys)
     )
     gear = "geared_fivebar.yaml"
     out["gear radii"] = _variant(
-        gear, joints__mesh__module=None, joints__mesh__radii=["m*z/2", "m*z/2"]
+        gear,
+        joints__mesh__module=None,
+        joints__mesh__radii=["m*z/2", "m*z/2"],
+        joints__mesh__addendum=0.8,
+        joints__mesh__clearance=0.3,
+        joints__mesh__shift=[0.2, -0.1],
     )
     return out
 

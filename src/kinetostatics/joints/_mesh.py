@@ -22,6 +22,8 @@ __all__ = [
     "MeshFriction",
     "read_flank",
     "read_length",
+    "read_shift",
+    "read_tooth_form",
     "read_loss",
     "read_pressure_angle",
     "read_teeth",
@@ -36,6 +38,8 @@ MESH_KEYS = {
     "flank": enum(FLANKS),
     "phase": NUMBER,
     "friction": MESH_FRICTION_KEYS,
+    "addendum": NUMBER,
+    "clearance": NUMBER,
 }
 
 
@@ -83,6 +87,46 @@ def read_pressure_angle(entry) -> float | None:
         e.error(f"a pressure angle must be below 45°, got {math.degrees(a):g}°")
         return None
     return a
+
+
+def read_tooth_form(entry) -> tuple[float, float] | None:
+    """(h_a*, c*): ``addendum`` (default 1, above 0 up to 2) and ``clearance`` (default
+    0.25, from 0 up to 1), the reference profile's coefficients (multiples of the module)."""
+    out = []
+    for key, default, low, high in (("addendum", 1.0, 0.0, 2.0), ("clearance", 0.25, 0.0, 1.0)):
+        if (e := entry.get(key)) is None:
+            out.append(default)
+            continue
+        v = e.number(None, minimum=low, strict=key == "addendum")
+        if v is None:
+            return None
+        if not v <= high:
+            e.error(f"the {key} coefficient must be at most {high:g} (a multiple of the module)")
+            return None
+        out.append(v)
+    return out[0], out[1]
+
+
+def read_shift(entry, n: int) -> tuple[float, ...] | None:
+    """``shift``: ``n`` profile shift coefficients x (default 0), each from −3 to 3."""
+    if (e := entry.get("shift")) is None:
+        return (0.0,) * n
+    items = [e] if n == 1 else e.seq()
+    if items is None:
+        return None
+    if len(items) != n:
+        e.error(f"expected a list of {n} profile shift coefficients, got {len(items)}")
+        return None
+    out = []
+    for item in items:
+        x = item.number(None)
+        if x is None:
+            return None
+        if not abs(x) <= 3.0:
+            item.error(f"a profile shift coefficient must be from -3 to 3, got {x:g}")
+            return None
+        out.append(float(x))
+    return tuple(out)
 
 
 def read_flank(entry) -> int | None:

@@ -43,6 +43,7 @@ from ..errors import Location, did_you_mean
 
 if TYPE_CHECKING:
     from ..base.spec import Entry
+    from .gearing import GearData  # the toothed pairs' record (loaded with them)
 
 __all__ = [
     "Joint",
@@ -418,6 +419,11 @@ class Presentation:
         """Messages about a result at the poses (rows) ``qi``, ``qj`` with the frictionless
         λ block ``lam``, warned by the analysis (a cam follower that would separate)."""
         return ()
+
+    def gear_data(self) -> GearData | None:
+        """The tooth data of a toothed pair (teeth, pitch radii, pressure angle, addendum,
+        clearance and shift coefficients) for the gear chapter; None for any other pair."""
+        return None
 
 
 class Friction:

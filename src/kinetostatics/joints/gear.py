@@ -118,10 +118,13 @@ from ._mesh import (
     read_length,
     read_loss,
     read_pressure_angle,
+    read_shift,
     read_teeth,
+    read_tooth_form,
     wrap,
 )
 from .base import Anchor, Circle, Compiled, Glyph, Joint, Pole, Presentation
+from .gearing import GearData
 
 __all__ = ["Gear"]
 
@@ -235,6 +238,7 @@ class Gear(MeshFriction, Joint, Presentation, Compiled, kind="gear"):
             "radii": {"type": "array", "items": NUMBER, "minItems": 2, "maxItems": 2},
             "module": NUMBER,
             "mesh": enum(MESHES),
+            "shift": {"type": "array", "items": NUMBER, "minItems": 2, "maxItems": 2},
             **MESH_KEYS,
         },
         required=("type", "links", "centres", "teeth"),
@@ -251,6 +255,11 @@ class Gear(MeshFriction, Joint, Presentation, Compiled, kind="gear"):
     flank: int = 1  # +1: ccw, −1: cw
     phase: float = 0.0  # rad
     loss: float = 0.0  # 1 − mesh efficiency
+    # the tooth form (the gear chapter's; the motion does not read them): the addendum and
+    # clearance coefficients h_a*, c* and the profile shift coefficients (x_i, x_j)
+    addendum: float = 1.0
+    clearance: float = 0.25
+    shift: tuple[float, float] = (0.0, 0.0)
 
     # -- YAML ---------------------------------------------------------------
     @classmethod
@@ -284,7 +293,10 @@ class Gear(MeshFriction, Joint, Presentation, Compiled, kind="gear"):
             inv = 1.0 / teeth[0] + (-1.0 if mesh == "internal" else 1.0) / teeth[1]
             per_mu = 0.5 * math.pi * abs(inv)
         loss = read_loss(entry, per_mu)
-        if any(v is None for v in (c_i, c_j, teeth, mesh, radii, alpha, flank, phase, loss)):
+        form = read_tooth_form(entry)
+        shift = cls._shift(entry, mesh, teeth, alpha)
+        values = (c_i, c_j, teeth, mesh, radii, alpha, flank, phase, loss, form, shift)
+        if any(v is None for v in values):
             return None
         return cls(
             name,
@@ -301,7 +313,34 @@ class Gear(MeshFriction, Joint, Presentation, Compiled, kind="gear"):
             flank,
             float(phase),
             float(loss),
+            addendum=form[0],
+            clearance=form[1],
+            shift=shift,
         )
+
+    @staticmethod
+    def _shift(entry, mesh, teeth, alpha):
+        """``shift`` (x_i, x_j): none for an internal mesh; an external pair's sum must leave
+        inv α' = inv α + 2 tan α (x_i + x_j)/(z_i + z_j) positive (a working angle)."""
+        shift = read_shift(entry, 2)
+        if shift is None or not any(shift) or mesh is None:
+            return shift
+        if mesh == "internal":
+            entry["shift"].error(
+                "a profile shift is supported for an external pair and a rack, "
+                "not for an internal mesh"
+            )
+            return None
+        if teeth is not None and alpha is not None:
+            total = sum(shift) / (teeth[0] + teeth[1])
+            if not math.tan(alpha) - alpha + 2.0 * math.tan(alpha) * total > 0.0:
+                entry["shift"].error(
+                    f"the shifts sum to {sum(shift):g}, too little for {teeth[0]} + "
+                    f"{teeth[1]} teeth: the pair has no working pressure angle "
+                    "(inv α' = inv α + 2 tan α (x_i + x_j)/(z_i + z_j) ≤ 0)"
+                )
+                return None
+        return shift
 
     @staticmethod
     def _radii(entry, teeth):
@@ -348,6 +387,10 @@ class Gear(MeshFriction, Joint, Presentation, Compiled, kind="gear"):
         }
         if self.loss:
             spec["friction"] = {"efficiency": 1.0 - self.loss}
+        if (self.addendum, self.clearance) != (1.0, 0.25):
+            spec |= {"addendum": self.addendum, "clearance": self.clearance}
+        if any(self.shift):
+            spec["shift"] = list(self.shift)
         return spec
 
     # -- constants of the row -------------------------------------------------
@@ -498,6 +541,19 @@ class Gear(MeshFriction, Joint, Presentation, Compiled, kind="gear"):
         return (
             Anchor(i, self.centre_names[0], self.c_i),
             Anchor(j, self.centre_names[1], self.c_j),
+        )
+
+    def gear_data(self) -> GearData:
+        return GearData(
+            self.name,
+            "internal" if self.internal else "external",
+            self.links,
+            self.teeth,
+            (self.r_i, self.r_j),
+            self.alpha,
+            self.addendum,
+            self.clearance,
+            self.shift,
         )
 
     def glyph(self, qi, qj):

@@ -79,10 +79,13 @@ from ._mesh import (
     read_length,
     read_loss,
     read_pressure_angle,
+    read_shift,
     read_teeth,
+    read_tooth_form,
     wrap,
 )
 from .base import AXIS_KEYS, Anchor, Circle, Compiled, Glyph, Joint, Line, Pole, Presentation
+from .gearing import GearData
 
 __all__ = ["Rack"]
 
@@ -185,6 +188,7 @@ class Rack(MeshFriction, Joint, Presentation, Compiled, kind="rack"):
             "radius": NUMBER,
             "module": NUMBER,
             "teeth": NUMBER,
+            "shift": NUMBER,
             **MESH_KEYS,
         },
         required=("type", "links", "axis", "centre"),
@@ -201,6 +205,11 @@ class Rack(MeshFriction, Joint, Presentation, Compiled, kind="rack"):
     flank: int = 1  # +1: ccw, −1: cw
     phase: float = 0.0  # s₀, m
     loss: float = 0.0  # 1 − mesh efficiency
+    # the tooth form (the gear chapter's; the motion does not read them): the addendum and
+    # clearance coefficients h_a*, c* and the pinion's profile shift coefficient x
+    addendum: float = 1.0
+    clearance: float = 0.25
+    shift: float = 0.0
 
     # -- YAML ---------------------------------------------------------------
     @classmethod
@@ -238,7 +247,8 @@ class Rack(MeshFriction, Joint, Presentation, Compiled, kind="rack"):
             entry["phase"].error("must be a finite length")
             phase = None
         loss = read_loss(entry, None if z is None else 0.5 * math.pi / z)
-        if any(v is None for v in (a, u, c, r, alpha, flank, phase, loss)):
+        form, shift = read_tooth_form(entry), read_shift(entry, 1)
+        if any(v is None for v in (a, u, c, r, alpha, flank, phase, loss, form, shift)):
             return None
         return cls(
             name,
@@ -255,6 +265,9 @@ class Rack(MeshFriction, Joint, Presentation, Compiled, kind="rack"):
             flank,
             float(phase),
             float(loss),
+            addendum=form[0],
+            clearance=form[1],
+            shift=shift[0],
         )
 
     @staticmethod
@@ -296,6 +309,10 @@ class Rack(MeshFriction, Joint, Presentation, Compiled, kind="rack"):
             spec["teeth"] = self.teeth
         if self.loss:
             spec["friction"] = {"efficiency": 1.0 - self.loss}
+        if (self.addendum, self.clearance) != (1.0, 0.25):
+            spec |= {"addendum": self.addendum, "clearance": self.clearance}
+        if self.shift:
+            spec["shift"] = self.shift
         return spec
 
     # -- geometry -----------------------------------------------------------
@@ -412,6 +429,19 @@ class Rack(MeshFriction, Joint, Presentation, Compiled, kind="rack"):
         named = self.axis_names and self.axis_names[0]
         axis = (Anchor(i, self.axis_names[0], self.a),) if named else ()
         return axis + (Anchor(j, self.centre_name, self.c),)
+
+    def gear_data(self) -> GearData:
+        return GearData(
+            self.name,
+            "rack",
+            self.links,
+            (None, self.teeth),
+            (None, self.r),
+            self.alpha,
+            self.addendum,
+            self.clearance,
+            (0.0, self.shift),
+        )
 
     def glyph(self, qi, qj):
         """The pinion's pitch circle, the rack's pitch line; the pitch point is the
