@@ -342,6 +342,7 @@ def _animate(args) -> int:
 
 def _report(args) -> int:
     from ..dynamics.stages import report_stage
+    from ..methods.stage import methods_stage
     from ..outputs.report import write_report
 
     formats = list(args.format or ["md", "html"])
@@ -357,7 +358,9 @@ def _report(args) -> int:
         lang=args.lang,
         what=f"--out {args.out}",
         cycle=report_stage,
+        methods=methods_stage,
     )
     docs = [str(paths[k]) for k in ("markdown", "html", "pdf") if k in paths]
-    print(f"report: {', '.join(docs)} (data: {paths['csv']}, {paths['summary']})")
+    data = ", ".join(str(paths[k]) for k in ("csv", "summary", "methods"))
+    print(f"report: {', '.join(docs)} (data: {data})")
     return 0

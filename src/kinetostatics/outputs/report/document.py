@@ -21,6 +21,7 @@ from .data import _data_blocks, _structure_blocks
 from .drive import drive_blocks
 from .elements import element_blocks
 from .flywheel import flywheel_blocks
+from .gears import gear_blocks
 from .pdf import pdf_module, write_pdf
 from .results import _summary_blocks, balancing, length_unit, report_tables
 
@@ -87,6 +88,7 @@ def write_report(  # noqa: PLR0913  the report's public keywords (docs/pictures.
     lang: str = "en",
     what: str | None = None,
     cycle=None,
+    methods=None,
 ) -> dict[str, Path]:
     """Analyse ``source`` (a YAML path or a Model) and write the report to ``out``.
 
@@ -112,6 +114,10 @@ def write_report(  # noqa: PLR0913  the report's public keywords (docs/pictures.
     :func:`~kinetostatics.dynamics.stages.report_stage`): the cycle means, the output
     strokes, the cycle efficiency, the flywheel and the drive chapters come from its
     record; without it the report holds what the rows hold (this layer solves nothing).
+    ``methods``: the graded methods' stage, called as ``methods(result, rows)`` with the
+    ``(label, row)`` positions of the detailed chapters (``kinetostatics report`` passes
+    :func:`~kinetostatics.methods.stage.methods_stage`): its dict is written to
+    ``methods.json`` (returned as ``methods``), and the gears' chapter comes from it.
     """
     formats = list(dict.fromkeys(formats))
     for f in formats:
@@ -149,6 +155,10 @@ def write_report(  # noqa: PLR0913  the report's public keywords (docs/pictures.
     summary = summarize(result, records)
     text = json_text(summary, default=float, ensure_ascii=False)
     write_file(summary_path, what, lambda p: p.write_text(text, encoding="utf-8"))
+    graded = methods(result, rows) if methods is not None else None
+    if graded is not None:
+        methods_text = json_text(graded, ensure_ascii=False)
+        write_file(out / "methods.json", what, lambda p: p.write_text(methods_text, "utf-8"))
     T = lambda s, **k: tr(s, lang, **k)  # noqa: E731
 
     def image(fig, name: str, caption: str, true_scale: bool = False) -> _Image:
@@ -354,6 +364,9 @@ def write_report(  # noqa: PLR0913  the report's public keywords (docs/pictures.
         section += 1
     if "drive" in summary:
         blocks += drive_blocks(summary["drive"], result, image, lang, section)
+        section += 1
+    if graded is not None and "gears" in graded:
+        blocks += gear_blocks(graded["gears"], lang, section)
     written: dict[str, Path] = {}
     if "md" in formats:
         written["markdown"] = out / "report.md"
@@ -366,4 +379,5 @@ def write_report(  # noqa: PLR0913  the report's public keywords (docs/pictures.
     if "pdf" in formats:
         written["pdf"] = out / "report.pdf"
         write_file(written["pdf"], what, lambda p: write_pdf(blocks, p, title, lang))
-    return written | {"csv": csv_path, "summary": summary_path}
+    files = {"csv": csv_path, "summary": summary_path}
+    return written | files | ({"methods": out / "methods.json"} if graded is not None else {})

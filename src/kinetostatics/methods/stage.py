@@ -1,0 +1,69 @@
+"""methods.json: every graded method that applies to a result, at the positions asked for.
+
+:func:`methods_stage` is what ``kinetostatics report`` passes to the report (as it passes
+the cycle's stage): the report calls it on its own analysis with the course positions of
+its detailed chapters, writes the dict to ``methods.json`` and formats the parts it has
+chapters for.  A part is present only where its method applies: the balancing moment
+(Joukowski's lever and the power method beside the solution's) for a result with efforts;
+the instant centres at each position; the gears' geometry for a file with toothed pairs;
+the cam's design for a file with a cam (at the textbook's allowable pressure angle, 30°,
+unless the caller gives another).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+from ..analysis.results import Result
+from .cam_design import cam_design
+from .centres import centres_at
+from .gears import gear_geometry
+from .lever import lever_stage
+
+__all__ = ["methods_stage", "METHODS_VERSION"]
+
+METHODS_VERSION = 1
+"""The layout of methods.json (docs/methods.md); raised when a key changes meaning."""
+
+
+def methods_stage(
+    result: Result, rows: Sequence[tuple[str, int]], *, pressure_angle_max: float = 30.0
+) -> dict[str, Any]:
+    """The JSON-safe contents of methods.json.
+
+    Parameters
+    ----------
+    result : Result
+        The analysis (the report's: course positions and events included).
+    rows : sequence of (str, int)
+        The positions of the detailed chapters: ``(label, row)`` pairs, as
+        ``outputs.plotting.course_positions(result)`` gives them.
+    pressure_angle_max : float
+        The allowable pressure angle of the cam's design, in degrees.
+
+    Returns
+    -------
+    dict
+        ``{"version", "positions", "balancing_moment"?, "instant_centres",
+        "gears"?, "cam_design"?}`` (docs/methods.md).
+    """
+    rows = [(str(label), int(k)) for label, k in rows]
+    out: dict[str, Any] = {
+        "version": METHODS_VERSION,
+        "positions": [label for label, _ in rows],
+    }
+    system = result.system
+    if system.motion_drivers and result.lam.shape[-1] > system.n_joint_rows:
+        out["balancing_moment"] = lever_stage(result, rows).to_dict()
+    out["instant_centres"] = {
+        label: record.to_dict()
+        for (label, _), record in zip(rows, centres_at(result, [k for _, k in rows]))
+    }
+    gears = gear_geometry(result)
+    if gears.pairs or gears.incomplete:
+        out["gears"] = gears.to_dict()
+    cams = cam_design(result, pressure_angle_max=pressure_angle_max)
+    if cams:
+        out["cam_design"] = [c.to_dict() for c in cams]
+    return out
