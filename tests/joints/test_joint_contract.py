@@ -439,5 +439,5 @@ def test_a_type_is_imported_when_a_file_names_it():
     out = subprocess.run(
         [sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=root
     ).stdout.splitlines()
-    assert out == ["['base', 'prismatic', 'revolute']", "True"]
+    assert out == ["['base', 'prismatic', 'relative', 'revolute']", "True"]
     assert list(JOINT_TYPES) == ["cam", "gear", "prismatic", "rack", "revolute"]

@@ -44,6 +44,7 @@ from ..errors import Location, did_you_mean
 if TYPE_CHECKING:
     from ..base.spec import Entry
     from .gearing import GearData  # the toothed pairs' record (loaded with them)
+    from .relative import RelativeMotion
 
 __all__ = [
     "Joint",
@@ -242,8 +243,7 @@ AXIS_KEYS = Keys(
 
 
 def _per_joint(joint, fields, k: int) -> np.ndarray | None:
-    """The fields ``(name, size)`` as one row per joint of ``k``, or None where they
-    are not one value per joint (or there are none)."""
+    """The fields ``(name, size)`` as one row per joint of ``k``, or None (not one per joint)."""
     parts = []
     for f, size in fields:
         v = np.asarray(getattr(joint, f), dtype=float)
@@ -356,6 +356,11 @@ class JointCore(ABC):
         normal to it, a toothed pair's pitch point, or only a line it lies on (a cam's
         common normal at the contact).  None by default: the pair fixes nothing of it.
         Read by the instant centres' method (``methods/centres.py``)."""
+        return None
+
+    def relative_motion(self, qi, qj, vi, vj, ai, aj, labels) -> RelativeMotion | None:
+        """j's motion relative to i at the pair's point at one pose (``joints/relative.py``),
+        texts naming the links ``labels`` (i, j); None: not written for this pair type."""
         return None
 
     def effort_force(

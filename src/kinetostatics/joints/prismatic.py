@@ -23,6 +23,7 @@ from .base import (
     Pole,
     Presentation,
 )
+from .relative import RelativeMotion, RelativeTerm
 
 FRICTION_KEYS = Keys({"coefficient": NUMBER}, required=("coefficient",))
 
@@ -253,6 +254,34 @@ class Prismatic(Joint, Presentation, Friction, Compiled, kind="prismatic"):
     def instant_centre(self, qi, qj):
         """At infinity normal to the slide: j translates along it relative to i."""
         return Pole(perp(turn(qi, self.u)), at_infinity=True)
+
+    def relative_motion(self, qi, qj, vi, vj, ai, aj, labels):
+        """j's sliding point P relative to i's point there: v_r = ṡ u along the slide;
+        a_r = s̈ u and the Coriolis term a_k = 2 ω_i × v_r (zero where the guide is still)."""
+        (li, lj), n = labels, self.point_name
+        point = qj[:2] + turn(qj, self.p)
+        u = turn(qi, self.u)
+        speed = float(self.relative_speed(qi, qj, vi, vj))
+        gi, gj = self.motion_direction(qi, qj)
+        accel = float(gi @ ai + gj @ aj + self.coordinate_bias(qi, qj, vi, vj))
+        axis = "".join(self.axis_names) if len(self.axis_names) == 2 else f"the axis of {self.name}"
+        rel = f"{n}{lj}{n}{li}"
+        return RelativeMotion(
+            point,
+            n,
+            turns=False,
+            velocity=(RelativeTerm(f"v_{rel}", speed * u, f"∥{axis}"),),
+            acceleration=(
+                RelativeTerm(f"a^r_{rel}", accel * u, f"∥{axis}"),
+                RelativeTerm(
+                    f"a^k_{rel}",
+                    2.0 * float(vi[2]) * speed * perp(u),
+                    f"⊥{axis}",
+                    f"2·ω{li}·v_{rel}",
+                    rate=False,
+                ),
+            ),
+        )
 
     # -- compiled backend (base/kernels.py): the formulas above, position by position --
     jacobian_kernel = staticmethod(_jacobian_kernel)

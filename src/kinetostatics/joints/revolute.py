@@ -11,6 +11,7 @@ from ..base.arrays import entry_major_zeros
 from ..base.geometry import perp, turn
 from ..base.keys import NAME, NUMBER, Keys, names
 from .base import Anchor, Compiled, Friction, Glyph, Joint, Pole, Presentation
+from .relative import RelativeMotion
 
 FRICTION_KEYS = Keys(
     {"radius": NUMBER, "journal_radius": NUMBER, "coefficient": NUMBER},
@@ -168,6 +169,10 @@ class Revolute(Joint, Presentation, Friction, Compiled, kind="revolute"):
     def instant_centre(self, qi, qj):
         """The pin: both links' points there have one velocity."""
         return Pole(qj[..., :2] + turn(qj, self.p_j))
+
+    def relative_motion(self, qi, qj, vi, vj, ai, aj, labels):
+        """The pins coincide: no relative term; the links turn relative to each other."""
+        return RelativeMotion(qj[:2] + turn(qj, self.p_j), self.point_names[1], turns=True)
 
     # -- compiled backend (base/kernels.py): the formulas above, position by position --
     jacobian_kernel = staticmethod(_jacobian_kernel)

@@ -5,7 +5,8 @@ the cycle's stage): the report calls it on its own analysis with the course posi
 its detailed chapters, writes the dict to ``methods.json`` and formats the parts it has
 chapters for.  A part is present only where its method applies: the balancing moment
 (Joukowski's lever and the power method beside the solution's) for a result with efforts;
-the instant centres at each position; the gears' geometry for a file with toothed pairs;
+the instant centres and the vector equations at each position; the gears' geometry for a
+file with toothed pairs;
 the cam's design for a file with a cam (at the textbook's allowable pressure angle, 30°,
 unless the caller gives another).
 """
@@ -20,6 +21,7 @@ from .cam_design import cam_design
 from .centres import centres_at
 from .gears import gear_geometry
 from .lever import lever_stage
+from .vectors import vector_equations
 
 __all__ = ["methods_stage", "METHODS_VERSION"]
 
@@ -46,7 +48,7 @@ def methods_stage(
     -------
     dict
         ``{"version", "positions", "balancing_moment"?, "instant_centres",
-        "gears"?, "cam_design"?}`` (docs/methods.md).
+        "vector_equations", "gears"?, "cam_design"?}`` (docs/methods.md).
     """
     rows = [(str(label), int(k)) for label, k in rows]
     out: dict[str, Any] = {
@@ -60,6 +62,7 @@ def methods_stage(
         label: record.to_dict()
         for (label, _), record in zip(rows, centres_at(result, [k for _, k in rows]))
     }
+    out["vector_equations"] = {p.label: p.to_dict() for p in vector_equations(result, rows)}
     gears = gear_geometry(result)
     if gears.pairs or gears.incomplete:
         out["gears"] = gears.to_dict()

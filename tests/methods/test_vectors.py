@@ -1,0 +1,158 @@
+"""The vector equations in textbook form (methods/vectors.py) against independent truths.
+
+- every equation of every motion-driven shipped file closes, at three positions, to 1e-12
+  of its largest term (the terms are each link's own velocities, the pairs' own relative
+  terms: the closure is the kinematics' consistency, not an identity);
+- each dyad's velocity and acceleration equations have two unknown magnitudes, the two a
+  textbook polygon solves for, and each term marked ⊥XY is normal to the line XY;
+- the slotting machine at position 2, by hand: v_A = ω·l_O2A with l_O2A = 150·sin 30° mm,
+  v_A3 = ω3·l_O3A, the sliding velocity v_A2A3 along the bar, the Coriolis magnitude
+  2·|ω3|·|v_A2A3| from the result's columns;
+- a pair type without terms (a gear mesh, a cam) is named, not written; methods.json holds
+  the equations, JSON-safe.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+import kinetostatics as ks
+from kinetostatics.analysis.pipeline import analyze
+from kinetostatics.methods.stage import methods_stage
+from kinetostatics.methods.vectors import vector_equations
+from kinetostatics.outputs.plotting import course_positions
+from tests.helpers import ROOT, motion_driven
+
+FILES = motion_driven()
+TOL = 1e-12
+
+
+def _result(name: str):
+    return analyze(ks.load(ROOT / "mechanisms" / f"{name}.yaml"), kinematics_only=True)
+
+
+@pytest.fixture(scope="module")
+def results():
+    return {name: _result(name) for name in FILES}
+
+
+def _rows(result) -> list[int]:
+    n = len(result.t)
+    return [n // 7, 3 * n // 7, 5 * n // 7 + 3]
+
+
+def _terms(equation):
+    return (*equation.lhs, *equation.rhs)
+
+
+@pytest.mark.parametrize("name", FILES)
+def test_every_equation_closes_to_its_largest_term(results, name):
+    result = results[name]
+    positions = vector_equations(result, _rows(result))
+    assert len(positions) == 3
+    for position in positions:
+        assert [g.links for g in position.groups] == [p.group.links for p in result.system.plans]
+        for group in position.groups:
+            for eq in group.equations:
+                total = sum(np.array(t.vector) for t in eq.lhs) - sum(
+                    np.array(t.vector) for t in eq.rhs
+                )
+                largest = max(t.value for t in _terms(eq))
+                assert largest > 0.0, eq.text
+                assert np.hypot(*total) <= TOL * largest, (group.label, eq.text)
+                assert eq.residual <= TOL
+        json.dumps(position.to_dict(), allow_nan=False)
+
+
+@pytest.mark.parametrize("name", FILES)
+def test_a_dyad_has_two_unknown_magnitudes_and_its_normals_are_normal(results, name):
+    result = results[name]
+    row = _rows(result)[1]
+    (position,) = vector_equations(result, [row])
+    points, normals = _points(result, row), 0
+    for group in position.groups:
+        for eq in group.equations:
+            unknown = [t for t in _terms(eq) if not t.known]
+            if group.label.split()[1:2] == ["dyad"]:
+                assert len(unknown) == 2, (group.label, eq.text)
+            for t in _terms(eq):
+                if t.direction.startswith("⊥") and t.direction[1:] in points:
+                    line = points[t.direction[1:]]
+                    assert abs(np.dot(t.vector, line)) <= TOL * t.value * np.hypot(*line)
+                    normals += 1
+    assert normals or not any(g.equations for g in position.groups)
+
+
+def _points(result, row) -> dict[str, np.ndarray]:
+    """XY -> the vector from X to Y, for the links' named points in the result's columns."""
+    where = {}
+    for name in result.names:
+        parts = name.split(".")
+        if len(parts) == 3 and parts[2] == "x":
+            where[parts[1]] = np.array([result[name][row], result[".".join(parts[:2]) + ".y"][row]])
+    return {a + b: where[b] - where[a] for a in where for b in where if a != b}
+
+
+def test_the_slotting_machine_at_position_2_by_hand(results):
+    result = results["slotting_machine"]
+    row = dict(course_positions(result))["2"]
+    (position,) = vector_equations(result, [("2", row)])
+    assert position.label == "2" and position.row == row
+    crank, dyad, _ = position.groups
+    assert dyad.links == ("block", "bar")
+    velocity = next(e for e in dyad.equations if e.kind == "velocity")
+    acceleration = next(e for e in dyad.equations if e.kind == "acceleration")
+    terms = {t.symbol: t for t in _terms(velocity)}
+    assert set(terms) == {"v_A1", "v_A3", "v_A2A3"}
+
+    omega = 60 * 2 * math.pi / 60  # 60 rpm
+    l_o2a = 0.150 * math.sin(math.radians(30))  # L_O2O3·sin(θ/2), θ = 60°: 75 mm
+    v_a = terms["v_A1"]
+    assert v_a.known and v_a.direction == "⊥O2A" and v_a.magnitude == "ω1·l_O2A"
+    assert v_a.value == pytest.approx(omega * l_o2a, rel=1e-12)
+
+    c = {k: result[k][row] for k in result.names if k.startswith(("bar.", "crank.A."))}
+    a = np.array([c["crank.A.x"], c["crank.A.y"]])
+    w3 = c["bar.omega"]
+    v_a3 = np.array([c["bar.vx"], c["bar.vy"]]) + w3 * np.array(
+        [-(a[1] - c["bar.y"]), a[0] - c["bar.x"]]
+    )
+    v_r = np.array([c["crank.A.vx"], c["crank.A.vy"]]) - v_a3
+    l_o3a = math.hypot(a[0] - c["bar.O3.x"], a[1] - c["bar.O3.y"])
+    assert not terms["v_A3"].known and terms["v_A3"].direction == "⊥O3A"
+    assert terms["v_A3"].value == pytest.approx(abs(w3) * l_o3a, rel=1e-12)
+    slide = terms["v_A2A3"]
+    assert not slide.known and slide.direction.startswith("∥")
+    np.testing.assert_allclose(slide.vector, v_r, rtol=0, atol=1e-12 * v_a.value)
+    bar = np.array([c["bar.B.x"] - c["bar.O3.x"], c["bar.B.y"] - c["bar.O3.y"]])
+    cross = slide.vector[0] * bar[1] - slide.vector[1] * bar[0]
+    assert abs(cross) <= 1e-12 * slide.value * np.hypot(*bar)
+
+    coriolis = next(t for t in _terms(acceleration) if t.symbol == "a^k_A2A3")
+    assert coriolis.known and coriolis.magnitude == "2·ω3·v_A2A3"
+    assert coriolis.value == pytest.approx(2 * abs(w3) * np.hypot(*v_r), rel=1e-12)
+    assert abs(np.dot(coriolis.vector, bar)) <= 1e-12 * coriolis.value * np.hypot(*bar)
+    solved = {s: v for s, v, _ in dyad.solved}
+    assert solved["ω3"] == pytest.approx(w3, rel=1e-12)
+    assert solved["v_A2A3"] == pytest.approx(np.hypot(*v_r), rel=1e-12)
+    assert crank.equations[0].text == "v_A1 = v_AO2"
+
+
+def test_pairs_without_terms_are_named_and_methods_json_holds_the_equations(results):
+    result = results["geared_fivebar"]
+    rows = [("1", 0), ("4", len(result.t) // 4)]
+    notes = [n for g in vector_equations(result, rows)[0].groups for n in g.notes]
+    assert notes and all("not written for this pair type" in n for n in notes)
+    data = methods_stage(result, rows)
+    assert list(data["vector_equations"]) == ["1", "4"]
+    text = json.dumps(data["vector_equations"], allow_nan=False)
+    position = json.loads(text)["4"]
+    eq = position["groups"][-1]["equations"][0]
+    assert {"symbol", "vector", "direction", "magnitude", "known", "value"} <= set(eq["lhs"][0])
+    assert position["max_residual"] <= TOL
+    unknown = [t for g in position["groups"] for e in g["equations"] for t in e["lhs"] + e["rhs"]]
+    assert any(t["magnitude"] == "?" and not t["known"] for t in unknown)
