@@ -8,8 +8,9 @@
 - the slotting machine at position 2, by hand: v_A = ω·l_O2A with l_O2A = 150·sin 30° mm,
   v_A3 = ω3·l_O3A, the sliding velocity v_A2A3 along the bar, the Coriolis magnitude
   2·|ω3|·|v_A2A3| from the result's columns;
-- a pair type without terms (a gear mesh, a cam) is named, not written; methods.json holds
-  the equations, JSON-safe.
+- a gear pair closes a one-link group at its pitch point (v_P = ω·r by hand), its
+  accelerations named as not written; a cam is named, not written; methods.json holds the
+  equations, JSON-safe.
 """
 
 from __future__ import annotations
@@ -140,6 +141,28 @@ def test_the_slotting_machine_at_position_2_by_hand(results):
     assert solved["ω3"] == pytest.approx(w3, rel=1e-12)
     assert solved["v_A2A3"] == pytest.approx(np.hypot(*v_r), rel=1e-12)
     assert crank.equations[0].text == "v_A1 = v_AO2"
+
+
+def test_a_gear_pair_rolls_at_its_pitch_point_and_a_cam_is_named(results):
+    """The geared five-bar's second crank is closed by the mesh: v_P(2) = v_P(1) at the
+    pitch point P, one unknown (ω of crank2), |v_P| = |ω1|·l_O1P by hand; its
+    accelerations are named as not written.  The cam's contact is named, not written."""
+    result = results["geared_fivebar"]
+    row = len(result.t) // 4
+    (position,) = vector_equations(result, [row])
+    group = next(g for g in position.groups if g.links == ("crank2",))
+    assert group.notes == ("mesh (gear): accelerations not written for this pair type",)
+    (eq,) = group.equations
+    assert eq.kind == "velocity" and eq.text == "v_mesh(crank2) = v_mesh(crank1)"
+    assert [t.known for t in _terms(eq)] == [False, True]
+    r1 = 5e-3 * 30 / 2  # m·z/2: module 5 mm, 30 teeth (the file's comment): 75 mm
+    w1 = result["crank1.omega"][row]
+    assert eq.rhs[0].value == pytest.approx(abs(w1) * r1, rel=1e-12)
+    assert eq.lhs[0].value == pytest.approx(abs(result["crank2.omega"][row]) * r1, rel=1e-12)
+    cam = results["cam_roller"]
+    (position,) = vector_equations(cam, [len(cam.t) // 3])
+    notes = [n for g in position.groups for n in g.notes]
+    assert notes == ["contact (cam): not written for this pair type"]
 
 
 def test_pairs_without_terms_are_named_and_methods_json_holds_the_equations(results):

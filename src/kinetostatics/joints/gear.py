@@ -125,6 +125,7 @@ from ._mesh import (
 )
 from .base import Anchor, Circle, Compiled, Glyph, Joint, Pole, Presentation
 from .gearing import GearData
+from .relative import RelativeMotion
 
 __all__ = ["Gear"]
 
@@ -534,6 +535,13 @@ class Gear(MeshFriction, Joint, Presentation, Compiled, kind="gear"):
         Ri, Rj, D, d, e, t = self._frame(qi, qj)
         scale = (self.signed_radii[0] * d / self.d0)[..., None]
         return Pole(qi[..., :2] + Ri + scale * e)
+
+    def relative_motion(self, qi, qj, vi, vj, ai, aj, labels):
+        """At the pitch point the gears roll: the two links' points there have one
+        velocity (no term, while the centre distance is held, as for ``instant_centre``);
+        their relative acceleration is not written."""
+        point = self.instant_centre(qi, qj).xy
+        return RelativeMotion(point, self.name, turns=True, acceleration=None)
 
     # -- description ----------------------------------------------------------
     def anchors(self):

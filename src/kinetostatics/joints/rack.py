@@ -86,6 +86,7 @@ from ._mesh import (
 )
 from .base import AXIS_KEYS, Anchor, Circle, Compiled, Glyph, Joint, Line, Pole, Presentation
 from .gearing import GearData
+from .relative import RelativeMotion
 
 __all__ = ["Rack"]
 
@@ -422,6 +423,13 @@ class Rack(MeshFriction, Joint, Presentation, Compiled, kind="rack"):
         centre keeps its distance from the rack (as on the frame)."""
         A, U, N, C, D, nu = self._frame(qi, qj)
         return Pole(qj[..., :2] + C - (nu * self.r)[..., None] * N)
+
+    def relative_motion(self, qi, qj, vi, vj, ai, aj, labels):
+        """At the pitch point the pinion and rack roll: the two links' points there have one
+        velocity (no term, while the centre distance is held, as for ``instant_centre``);
+        their relative acceleration is not written."""
+        point = self.instant_centre(qi, qj).xy
+        return RelativeMotion(point, self.name, turns=True, acceleration=None)
 
     # -- description ----------------------------------------------------------
     def anchors(self):

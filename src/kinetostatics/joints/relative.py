@@ -2,8 +2,9 @@
 
 What a pair adds to a vector equation of velocities or accelerations (方向/大小: direction
 and magnitude) between the point of link j at the pair and the point of link i that
-coincides with it: nothing for a pin (the points coincide), the sliding velocity and
-acceleration along a slide and, where the slide's guide turns, the Coriolis term 2ω_i×v_r.
+coincides with it: nothing for a pin (the points coincide) or for a toothed pair rolling
+at its pitch point (its velocities only), the sliding velocity and acceleration along a
+slide and, where the slide's guide turns, the Coriolis term 2ω_i×v_r.
 ``Joint.relative_motion`` returns a :class:`RelativeMotion` (``methods/vectors.py`` reads it).
 """
 
@@ -37,10 +38,11 @@ class RelativeMotion:
     """The pair's ``point`` (global, m, ``(2,)``) named ``name``, on link j; ``turns``:
     whether the pair lets its links turn relative to each other (a pin: ω_j is not ω_i);
     the ``velocity`` and ``acceleration`` terms of j's point relative to i's coincident
-    point (a pin: none)."""
+    point (a pin: none); ``acceleration`` None: not written for the pair's type (a
+    toothed pair's rolling at its pitch point)."""
 
     point: np.ndarray
     name: str
     turns: bool
     velocity: tuple[RelativeTerm, ...] = ()
-    acceleration: tuple[RelativeTerm, ...] = ()
+    acceleration: tuple[RelativeTerm, ...] | None = ()

@@ -169,14 +169,11 @@ class _State:
 
 
 def _labels(system) -> tuple[str, ...]:
-    """Each link's label in the symbols, ground last: its ``number:`` where the file numbers
-    its links, else its name."""
+    """Each link's label in the symbols, ground last: its ``number:`` where it has one,
+    else its name in parentheses (v_A(crank))."""
     by_name = {lk.name: lk for lk in system.model.links}
-    numbered = any(lk.number is not None for lk in system.model.links)
     names = [*system.links, system.model.ground.name]
-    return tuple(
-        str(by_name[n].number) if numbered and by_name[n].number is not None else n for n in names
-    )
+    return tuple(f"({n})" if by_name[n].number is None else str(by_name[n].number) for n in names)
 
 
 def _state(result: Result, row: int) -> _State:
@@ -229,21 +226,27 @@ class _Base:
 
 
 def _bases(system, st: _State, plan, known: set[int], driven: bool) -> dict[int, _Base]:
-    """Each member link's base among the plan's pairs with a known body (a pin first)."""
+    """Each member link's base among the plan's pairs with a known body: of those whose
+    terms are written, one with its accelerations first, then a pin, then one with the
+    frame (the textbook's pivot)."""
     members = {system.link_index(n) for n in plan.group.links}
     out: dict[int, _Base] = {}
-    for k in plan.constraints:
-        if k >= len(system.joints):
-            continue
+    score: dict[int, tuple] = {}
+    ground = len(system.links)
+    for k in _pairs(system, plan):
         i, j = (int(e) for e in system.ends[k])
         for L, K, sign in ((j, i, 1.0), (i, j, -1.0)):
-            if L not in members or K not in known:
+            if L not in members or K not in known or (m := _motion(system, st, k)) is None:
                 continue
-            motion = _motion(system, st, k)
-            if motion is None or (L in out and (out[L].motion.turns or not motion.turns)):
-                continue
-            out[L] = _Base(k, K, motion, sign, driven or not motion.turns)
+            rank = (m.acceleration is not None, m.turns, K == ground)
+            if L not in out or rank > score[L]:
+                out[L], score[L] = _Base(k, K, m, sign, driven or not m.turns), rank
     return out
+
+
+def _pairs(system, plan) -> list[int]:
+    """The plan's constraints that are pairs (not motion drivers)."""
+    return [k for k in plan.constraints if k < len(system.joints)]
 
 
 def _about(st: _State, bases: dict, K: int, X: np.ndarray, xn: str, acc: bool) -> tuple[str, str]:
@@ -313,10 +316,14 @@ class _Ctx:
 
 
 def _inside(st: _State, ctx: _Ctx, joint, motion) -> list[Equation]:
-    """A pair inside the group: v_P(j) = v_P(i) + v_r, a_P(j) = a_P(i) + a_r + a_k."""
+    """A pair of the group that is no member's base (inside the group, or closing it on a
+    known body): v_P(j) = v_P(i) + v_r, a_P(j) = a_P(i) + a_r + a_k; the accelerations
+    only where every pair they need writes its own."""
     i, j = ctx.pair
+    bases = [ctx.bases[L].motion for L in (i, j) if L in ctx.bases]
+    accel = all(m.acceleration is not None for m in (motion, *bases))
     out = []
-    for acc, kind in ((False, "velocity"), (True, "acceleration")):
+    for acc, kind in ((False, "velocity"), (True, "acceleration"))[: 1 + accel]:
         lhs = _expand(st, ctx, j, motion.point, motion.name, acc)
         rhs = _expand(st, ctx, i, motion.point, motion.name, acc)
         rhs += _pair_terms(motion, 1.0, acc, ctx.driven)
@@ -327,8 +334,10 @@ def _inside(st: _State, ctx: _Ctx, joint, motion) -> list[Equation]:
 def _outlet(st: _State, ctx: _Ctx, L: int, joint, motion) -> list[Equation]:
     """A point of driven link L by which a later body is tied to it: its velocity and
     acceleration (the pipeline's) from its base."""
+    base = ctx.bases.get(L)
+    accel = base is None or base.motion.acceleration is not None
     out = []
-    for acc, kind in ((False, "velocity"), (True, "acceleration")):
+    for acc, kind in ((False, "velocity"), (True, "acceleration"))[: 1 + accel]:
         rhs = _expand(st, ctx, L, motion.point, motion.name, acc)
         one = rhs[0] if len(rhs) == 1 else None
         lhs = _term(
@@ -346,10 +355,11 @@ def _solved(system, st: _State, plan, members: set) -> tuple[tuple[str, float, s
     """The group's unknowns after the solve: each pair's sliding speed and acceleration
     (their magnitudes), each member's ω and α (signed, counter-clockwise positive)."""
     out = []
-    for k in plan.constraints:
-        if k < len(system.joints) and (motion := _motion(system, st, k)) is not None:
+    for k in _pairs(system, plan):
+        if (motion := _motion(system, st, k)) is not None:
             out += [(t.symbol, _norm(t.vector), "m/s") for t in motion.velocity if t.rate]
-            out += [(t.symbol, _norm(t.vector), "m/s²") for t in motion.acceleration if t.rate]
+            accel = motion.acceleration or ()
+            out += [(t.symbol, _norm(t.vector), "m/s²") for t in accel if t.rate]
     for L in sorted(members):
         out += [
             (f"ω{st.labels[L]}", float(st.v[L, 2]), "rad/s"),
@@ -371,24 +381,23 @@ def _group(system, st: _State, plan, known: set[int], bases: dict) -> GroupEquat
     bases.update(_bases(system, st, plan, known, driven))
     velocity, acceleration = [], []
     done: set[tuple[int, str]] = set()
+    own = {b.k for L, b in bases.items() if L in members}
     for k, joint in enumerate(system.joints):
         i, j = (int(e) for e in system.ends[k])
         ctx = _Ctx(bases, members, driven, (i, j))
         later = [L for L, o in ((i, j), (j, i)) if L in members and o not in known | members]
-        if not ((i in members and j in members) or (driven and later)):
+        closing = {i, j} & members and {i, j} <= known | members and k not in own
+        if not (closing or (driven and later)) or (motion := _motion(system, st, k)) is None:
             continue
-        motion = _motion(system, st, k)
-        if motion is None:
-            continue
-        if i in members and j in members:
-            v, a = _inside(st, ctx, joint, motion)
+        if closing:
+            equations = _inside(st, ctx, joint, motion)
         elif (later[0], motion.name) not in done:
             done.add((later[0], motion.name))
-            v, a = _outlet(st, ctx, later[0], joint, motion)
+            equations = _outlet(st, ctx, later[0], joint, motion)
         else:
             continue
-        velocity.append(v)
-        acceleration.append(a)
+        velocity.append(equations[0])
+        acceleration += equations[1:]
     return GroupEquations(
         group.label,
         group.links,
@@ -404,9 +413,13 @@ def _notes(system, st: _State, plan, members: set, known: set[int]) -> tuple[str
     out = []
     for k, joint in enumerate(system.joints):
         ends = {int(e) for e in system.ends[k]}
-        if (k in plan.constraints or ends & members) and _motion(system, st, k) is None:
-            if ends <= known | members:
-                out.append(f"{joint.name} ({joint.kind}): not written for this pair type")
+        if not ((k in plan.constraints or ends & members) and ends <= known | members):
+            continue
+        motion = _motion(system, st, k)
+        if motion is None:
+            out.append(f"{joint.name} ({joint.kind}): not written for this pair type")
+        elif motion.acceleration is None:
+            out.append(f"{joint.name} ({joint.kind}): accelerations not written for this pair type")
     return tuple(out)
 
 
