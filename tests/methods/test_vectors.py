@@ -179,3 +179,19 @@ def test_pairs_without_terms_are_named_and_methods_json_holds_the_equations(resu
     assert position["max_residual"] <= TOL
     unknown = [t for g in position["groups"] for e in g["equations"] for t in e["lhs"] + e["rhs"]]
     assert any(t["magnitude"] == "?" and not t["known"] for t in unknown)
+
+
+def test_a_class_three_group_closes_with_its_unreached_points_unknown():
+    """A triad's plate has no pair with a known body: its points' velocities are written
+    as unknowns ("?", no direction), and the equations still close."""
+    from tests.methods.test_centres import TRIAD
+
+    result = analyze(ks.loads(TRIAD, file="triad.yaml"), kinematics_only=True)
+    (position,) = vector_equations(result, [2])
+    triad = position.groups[-1]
+    assert triad.links == ("plate", "b1", "b2", "b3")
+    assert len(triad.equations) == 6  # three pairs of the plate, velocities and accelerations
+    for eq in triad.equations:
+        assert eq.residual <= TOL
+        plate = eq.lhs[0]
+        assert plate.symbol.endswith("(plate)") and not plate.known and plate.direction == "?"
