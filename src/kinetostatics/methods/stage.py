@@ -4,7 +4,8 @@
 the cycle's stage): the report calls it on its own analysis with the course positions of
 its detailed chapters, writes the dict to ``methods.json`` and formats the parts it has
 chapters for.  A part is present only where its method applies: the balancing moment
-(Joukowski's lever and the power method beside the solution's) for a result with efforts;
+(Joukowski's lever and the power method beside the solution's) and the free body and
+force polygon of each Assur group for a result with efforts;
 the instant centres at each position; the gears' geometry for a file with toothed pairs;
 the cam's design for a file with a cam (at the textbook's allowable pressure angle, 30°,
 unless the caller gives another).
@@ -20,6 +21,7 @@ from .cam_design import cam_design
 from .centres import centres_at
 from .gears import gear_geometry
 from .lever import lever_stage
+from .polygons import force_polygons
 
 __all__ = ["methods_stage", "METHODS_VERSION"]
 
@@ -45,7 +47,7 @@ def methods_stage(
     Returns
     -------
     dict
-        ``{"version", "positions", "balancing_moment"?, "instant_centres",
+        ``{"version", "positions", "balancing_moment"?, "force_polygons"?, "instant_centres",
         "gears"?, "cam_design"?}`` (docs/methods.md).
     """
     rows = [(str(label), int(k)) for label, k in rows]
@@ -56,6 +58,7 @@ def methods_stage(
     system = result.system
     if system.motion_drivers and result.lam.shape[-1] > system.n_joint_rows:
         out["balancing_moment"] = lever_stage(result, rows).to_dict()
+        out["force_polygons"] = force_polygons(result, rows).to_dict()
     out["instant_centres"] = {
         label: record.to_dict()
         for (label, _), record in zip(rows, centres_at(result, [k for _, k in rows]))
