@@ -337,7 +337,7 @@ def _group(system: System, p: int, loads: dict, pairs: list, l_ref: float) -> Gr
     group = plan.group
     inside = {system.link_index(n) for n in group.links}
     owner = {system.link_index(n): i for i, pl in enumerate(system.plans) for n in pl.group.links}
-    names = [*system.links, "ground"]
+    names = [*system.links, system.model.ground.name]
     forces = [f for n in sorted(inside) for f in loads[n]]
     for _c, on, by, point, vector, couple, kind, name in pairs:
         if on not in inside or by in inside:
