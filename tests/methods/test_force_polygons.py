@@ -6,6 +6,7 @@ driving link carries the solution's M_b; and the slotting machine's last group b
 
 from __future__ import annotations
 
+import io
 import json
 import math
 import warnings
@@ -65,7 +66,7 @@ def _check_reactions(result, record: ForcePolygons) -> None:
     joints = {j.name: j for j in result.system.model.joints}
     for p in record.positions:
         for g in p.groups:
-            for f in g.forces:
+            for f in (*g.forces, *g.inner):
                 if f.kind != "reaction" or f"{f.joint}.Fx" not in result.columns:
                     continue
                 i, j = joints[f.joint].links
@@ -160,3 +161,23 @@ def test_course_positions_in_methods_json():
     assert "friction" in out["friction"]  # the file has friction: the note says so
     last = out["positions"][0]["groups"][-1]
     assert last["driving"] and last["links"] == ["crank"]
+
+
+def test_group_figure_draws_the_polygon_at_its_scale():
+    from kinetostatics.outputs.labels import link_numbers
+    from kinetostatics.outputs.plotting.forces import group_figure
+
+    result = _analyze(ks.load(SLOTTING))
+    record = force_polygons(result, [30]).to_dict()
+    group = record["positions"][0]["groups"][0]  # the RRP dyad {rod, ram}
+    fig = group_figure(group, numbers=link_numbers(result.system), title="position 2")
+    free, poly = fig.axes
+    arrows = [a for a in poly.patches + poly.artists if a.get_gid() == "force-polygon"]
+    drawn = [f for f in group["forces"] if any(f["vector"])]
+    assert len(arrows) == len(drawn)
+    labels = {t.get_text() for t in poly.texts if t.get_gid() == "force-polygon-label"}
+    assert {"$F_{R34}$", "$F_{R65}$", "$G_{5}$", "$F_{I5}$", "cutting"} <= labels
+    assert "20 N/mm" in poly.get_title()  # μ_F: the polygon's ≈1.02 kN over 100 mm rounds up
+    closure = [t.get_text() for t in poly.texts if t.get_gid() == "closure"]
+    assert closure and "closure error" in closure[0]
+    fig.savefig(io.BytesIO(), format="png")

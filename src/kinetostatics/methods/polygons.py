@@ -107,7 +107,9 @@ class GroupForce:
 @dataclass(frozen=True)
 class GroupPolygon:
     """The free body of one group (``name``, its ``links``, ``driving`` for the driving
-    link) and its force polygon: the ``forces`` of non-zero vector chained tip to tail
+    link), the reactions at its ``inner`` pairs (of link i on link j, not on the free
+    body: they cancel there) and its force polygon: the ``forces`` of non-zero vector
+    chained tip to tail
     from the origin (``vertices``, N; the known forces first), its ``closure`` error
     |Σ F| (N) beside its ``largest`` force (N), the moment about ``pivot`` of every force
     and couple, ``moment`` (N·m, zero in equilibrium), and the round scale ``mu_F``
@@ -118,6 +120,7 @@ class GroupPolygon:
     links: tuple[str, ...]
     driving: bool
     forces: tuple[GroupForce, ...]
+    inner: tuple[GroupForce, ...]
     vertices: tuple[tuple[float, float], ...]
     closure: float
     largest: float
@@ -143,6 +146,7 @@ class GroupPolygon:
             "links": list(self.links),
             "driving": self.driving,
             "forces": [f.to_dict() for f in self.forces],
+            "inner": [f.to_dict() for f in self.inner],
             "vertices": [_pair(v) for v in self.vertices],
             "closure": _num(self.closure),
             "largest": _num(self.largest),
@@ -331,23 +335,34 @@ _ORDER = {"load": 0, "weight": 0, "element": 0, "effort": 0, "inertia_force": 1,
           "inertia_couple": 1, "reaction": 2, "balancing": 3}  # fmt: skip
 
 
-def _group(system: System, p: int, loads: dict, pairs: list, l_ref: float) -> GroupPolygon:
-    """The free body and polygon of plan ``p`` from the links' loads and the pairs' forces."""
-    plan = system.plans[p]
-    group = plan.group
-    inside = {system.link_index(n) for n in group.links}
+def _body(system: System, p: int, loads: dict, pairs: list) -> tuple[list, list]:
+    """The forces on plan ``p``'s free body, and the reactions at its inner pairs (of i
+    on j, on link j: they cancel in the group's balance and are drawn apart)."""
+    inside = {system.link_index(n) for n in system.plans[p].group.links}
     owner = {system.link_index(n): i for i, pl in enumerate(system.plans) for n in pl.group.links}
     names = [*system.links, system.model.ground.name]
-    forces = [f for n in sorted(inside) for f in loads[n]]
-    for _c, on, by, point, vector, couple, kind, name in pairs:
-        if on not in inside or by in inside:
-            continue  # not on the group, or inside it (the pair's forces cancel)
+    forces, inner = [f for n in sorted(inside) for f in loads[n]], []
+    for c, on, by, point, vector, couple, kind, name in pairs:
+        if on not in inside:
+            continue
+        if by in inside:  # an inner pair: its two forces cancel in the group
+            if kind == "reaction" and on == system.ends[c][1]:
+                inner.append(GroupForce(name, kind, names[on], "solved", point, vector, couple,
+                                        by=names[by], joint=name))  # fmt: skip
+            continue
         known = kind == "reaction" and by in owner and owner[by] > p
         forces.append(
             GroupForce(name, kind, names[on], "known" if known else "solved", point, vector,
                        couple, by=names[by], joint=name.split(":")[0] if kind == "reaction"
                        else "")
         )  # fmt: skip
+    return forces, inner
+
+
+def _group(system: System, p: int, loads: dict, pairs: list, l_ref: float) -> GroupPolygon:
+    """The free body and polygon of plan ``p`` from the links' loads and the pairs' forces."""
+    group = system.plans[p].group
+    forces, inner = _body(system, p, loads, pairs)
     forces.sort(key=lambda f: (f.status == "solved", _ORDER[f.kind]))
     drawn = [np.array(f.vector) for f in forces if any(f.vector)]
     vertices = np.cumsum([np.zeros(2), *drawn], axis=0)
@@ -363,7 +378,7 @@ def _group(system: System, p: int, loads: dict, pairs: list, l_ref: float) -> Gr
     lo, hi = vertices.min(axis=0), vertices.max(axis=0)
     span = float(max(hi - lo)) if len(drawn) else 0.0
     return GroupPolygon(
-        group.name, group.label, group.links, group.kind == "driven", tuple(forces),
+        group.name, group.label, group.links, group.kind == "driven", tuple(forces), tuple(inner),
         tuple((float(v[0]), float(v[1])) for v in vertices),
         float(np.hypot(*vertices[-1])), largest, (float(pivot[0]), float(pivot[1])),
         float(moment), float(moment_scale), nice_scale(span / POLYGON_SIZE_MM),
