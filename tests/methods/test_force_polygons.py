@@ -181,3 +181,52 @@ def test_group_figure_draws_the_polygon_at_its_scale():
     closure = [t.get_text() for t in poly.texts if t.get_gid() == "closure"]
     assert closure and "closure error" in closure[0]
     fig.savefig(io.BytesIO(), format="png")
+
+
+FRICTION_CIRCLES = {"slotting_machine": 1e-3, "shaper": 2e-3}  # the files' `radius:` (mm)
+
+
+@pytest.mark.parametrize("stem", sorted(FRICTION_CIRCLES))
+def test_with_friction_the_lines_touch_the_friction_circles(stem):
+    """The consistent solution with friction: the polygons close and the moments balance;
+    a turning pair's reaction is the Fx_friction/Fy_friction column and its line is
+    tangent to the friction circle of the file's radius where the pair turns."""
+    result = _analyze(ks.load(ROOT / "mechanisms" / f"{stem}.yaml"))
+    n = len(result)
+    rows = [n // 5, 3 * n // 5]
+    assert np.all(result["friction.status"][rows] == 0)  # converged, every pair turning
+    record = force_polygons(result, rows, friction=True)
+    assert record.to_dict()["frictionless"] is False
+    _check_balance(record)
+    radius = FRICTION_CIRCLES[stem]
+    seen = 0
+    joints = {j.name: j for j in result.system.model.joints}
+    for p in record.positions:
+        for g in p.groups:
+            for f in (*g.forces, *g.inner):
+                if f.kind != "reaction" or not joints[f.joint].angular:
+                    continue
+                i, j = joints[f.joint].links
+                sign = 1.0 if f.link == j else -1.0
+                fx, fy = (result[f"{f.joint}.F{a}_friction"][p.row] for a in "xy")
+                col = np.array([fx, fy])
+                assert np.allclose(f.vector, sign * col, rtol=0, atol=1e-9 * np.hypot(*col))
+                if f.friction_radius is None:
+                    continue  # a pair without friction
+                seen += 1
+                assert f.friction_radius == pytest.approx(radius, rel=1e-9)
+                assert f.offset == pytest.approx(radius, rel=1e-9), (f.joint, p.row)
+                # the line's distance from the pin, from the drawn point and vector
+                d = np.array(f.point) - np.array(f.pin)
+                u = np.array(f.vector) / np.hypot(*f.vector)
+                assert abs(d[0] * u[1] - d[1] * u[0]) == pytest.approx(radius, rel=1e-9)
+        # the driving link's effort is the consistent solution's torque_friction
+        effort = next(f for f in p.groups[-1].forces if f.kind == "balancing")
+        assert abs(effort.couple) == pytest.approx(abs(result["motor.torque_friction"][p.row]))
+    assert seen >= 4
+
+
+def test_friction_asked_of_a_file_without_it_is_refused():
+    result = _analyze(ks.load(ROOT / "mechanisms" / "fourbar_balancing.yaml"))
+    with pytest.raises(ValueError, match="no friction"):
+        force_polygons(result, [0], friction=True)

@@ -20,7 +20,10 @@ loads' generalized forces are itemized the same way
 (:mod:`~kinetostatics.kinetics.forces`), so the polygon's closure and the group's moment
 balance about a point check the solution, each independently of the other.
 
-The forces are the frictionless solution's; with friction in the file the record says so.
+The forces are the frictionless solution's, or with ``friction=True`` the consistent
+solution's with friction: each pair's reaction with its friction effort (the generalized
+force g_k e_k of :mod:`~kinetostatics.kinetics.friction`), whose line is tangent to the
+friction circle of a turning pair.
 :func:`force_polygons` is the stage; :class:`ForcePolygons` its record.
 """
 
@@ -37,6 +40,7 @@ from ..analysis.results import Result
 from ..base.units import nice_scale
 from ..kinematics.schedule import schedule
 from ..kinematics.state import point_state
+from ..kinetics import friction as fr
 from ..kinetics.elements import element_states
 from ..kinetics.forces import applied_loads, effort_forces
 from ..kinetics.reactions import effort_joints, equilibrium_matrix
@@ -74,7 +78,10 @@ class GroupForce:
     force ``vector`` (N) acts along the line through ``point`` (m, global); ``couple``
     (N·m, CCW) is what is left of the generalized force as a couple (a pure couple's
     vector is zero).  ``offset_point``: an inertia force moved off the centre of mass so
-    that it carries the inertia couple too (the offset inertia force), else None."""
+    that it carries the inertia couple too (the offset inertia force), else None.  A
+    reaction with friction: ``offset``, the distance of its line from the pair's point
+    ``pin`` (m), and where the pair turns ``friction_radius``, its friction circle's radius (m):
+    the line is tangent to the circle (offset = radius) where the pair slides."""
 
     name: str
     kind: str
@@ -86,6 +93,9 @@ class GroupForce:
     by: str = ""
     joint: str = ""
     offset_point: tuple[float, float] | None = None
+    offset: float | None = None
+    friction_radius: float | None = None
+    pin: tuple[float, float] | None = None
 
     def to_dict(self) -> dict[str, Any]:
         out: dict[str, Any] = {
@@ -101,6 +111,10 @@ class GroupForce:
             out.update(by=self.by, joint=self.joint)
         if self.offset_point is not None:
             out["offset_point"] = _pair(self.offset_point)
+        if self.offset is not None:
+            out.update(offset=_num(self.offset), pin=_pair(self.pin))
+        if self.friction_radius is not None:
+            out["friction_radius"] = _num(self.friction_radius)
         return out
 
 
@@ -178,10 +192,12 @@ class PolygonPosition:
 @dataclass(frozen=True)
 class ForcePolygons:
     """The record of :func:`force_polygons`: the ``positions`` asked for; ``friction``:
-    the note that the file has friction and the frictionless forces are drawn."""
+    the note that the file has friction and the frictionless forces are drawn;
+    ``with_friction``: the forces are the consistent solution's with friction."""
 
     positions: tuple[PolygonPosition, ...]
     friction: str = ""
+    with_friction: bool = False
 
     @property
     def max_closure_error(self) -> float:
@@ -189,7 +205,7 @@ class ForcePolygons:
 
     def to_dict(self) -> dict[str, Any]:
         return {
-            "frictionless": True,
+            "frictionless": not self.with_friction,
             "friction": self.friction,
             "max_closure_error": _num(self.max_closure_error),
             "positions": [p.to_dict() for p in self.positions],
@@ -304,9 +320,10 @@ def _generalized(system: System, q, qd, out) -> None:
             )  # fmt: skip
 
 
-def _pair_forces(system: System, q, lam, a, far: float) -> list[tuple]:
+def _pair_forces(system: System, q, lam, a, far: float, fric: dict) -> list[tuple]:  # noqa: PLR0913  the row's arrays
     """``(joint index, on, by, point, vector, couple, kind, name)`` of every joint's and
-    effort's force on each of its moving links at one row."""
+    effort's force on each of its moving links at one row; ``fric``: each joint's friction
+    effort as a generalized force ``(n_q,)`` (empty without friction)."""
     out = []
     ground, n_j = len(system.links), len(system.model.joints)
     for c in range(n_j):
@@ -315,9 +332,13 @@ def _pair_forces(system: System, q, lam, a, far: float) -> list[tuple]:
             if on == ground:
                 continue
             gen = a[3 * on : 3 * on + 3, rows] @ lam[rows]
+            extra = {}
+            if c in fric:
+                gen = gen + fric[c][3 * on : 3 * on + 3]
+                extra = _circle(system, c, q, lam, gen, on)
             anchor = _anchor(system, joint, on, q)
             line = _on_line(gen, q[3 * on : 3 * on + 2], anchor, far)
-            out.append((c, on, by, *line, "reaction", joint.name))
+            out.append((c, on, by, *line, "reaction", joint.name, extra))
     for d, c in enumerate(effort_joints(system)):
         joint = system.model.joints[c]
         symbol = "M_b" if joint.angular else "F_b"
@@ -326,7 +347,29 @@ def _pair_forces(system: System, q, lam, a, far: float) -> list[tuple]:
                 continue
             gen = a[3 * on : 3 * on + 3, system.n_joint_rows + d] * lam[system.n_joint_rows + d]
             line = _on_line(gen, q[3 * on : 3 * on + 2], _anchor(system, joint, on, q), far)
-            out.append((c, on, by, *line, "balancing", f"{symbol}:{system.motion_drivers[d].name}"))
+            name = f"{symbol}:{system.motion_drivers[d].name}"
+            out.append((c, on, by, *line, "balancing", name, {}))
+    return out
+
+
+def _circle(system: System, c: int, q, lam, gen, on: int) -> dict:
+    """A reaction with friction: the distance of its line from the pair's point on link
+    ``on`` (``offset``, m), and for a pair that turns, the radius of its friction circle
+    (``friction_radius``, m): the joint's friction magnitude (ρ|F|) over |F|."""
+    joint = system.model.joints[c]
+    f = float(np.hypot(gen[0], gen[1]))
+    if not f:
+        return {}
+    centre, pin = q[3 * on : 3 * on + 2], _anchor(system, joint, on, q)
+    arm = pin - centre
+    offset = abs(float(gen[2] - (arm[0] * gen[1] - arm[1] * gen[0]))) / f
+    out: dict[str, Any] = {"offset": offset, "pin": (float(pin[0]), float(pin[1]))}
+    if joint.angular:
+        qe = np.concatenate((q, np.zeros(3)))
+        i, j = system.ends[c]
+        mag = joint.friction_magnitude(lam[system.rows_of(c)], qe[3 * i : 3 * i + 3],
+                                       qe[3 * j : 3 * j + 3])  # fmt: skip
+        out["friction_radius"] = float(mag) / f
     return out
 
 
@@ -342,19 +385,19 @@ def _body(system: System, p: int, loads: dict, pairs: list) -> tuple[list, list]
     owner = {system.link_index(n): i for i, pl in enumerate(system.plans) for n in pl.group.links}
     names = [*system.links, system.model.ground.name]
     forces, inner = [f for n in sorted(inside) for f in loads[n]], []
-    for c, on, by, point, vector, couple, kind, name in pairs:
+    for c, on, by, point, vector, couple, kind, name, extra in pairs:
         if on not in inside:
             continue
         if by in inside:  # an inner pair: its two forces cancel in the group
             if kind == "reaction" and on == system.ends[c][1]:
                 inner.append(GroupForce(name, kind, names[on], "solved", point, vector, couple,
-                                        by=names[by], joint=name))  # fmt: skip
+                                        by=names[by], joint=name, **extra))  # fmt: skip
             continue
         known = kind == "reaction" and by in owner and owner[by] > p
         forces.append(
             GroupForce(name, kind, names[on], "known" if known else "solved", point, vector,
                        couple, by=names[by], joint=name.split(":")[0] if kind == "reaction"
-                       else "")
+                       else "", **extra)
         )  # fmt: skip
     return forces, inner
 
@@ -385,33 +428,50 @@ def _group(system: System, p: int, loads: dict, pairs: list, l_ref: float) -> Gr
     )  # fmt: skip
 
 
-def force_polygons(result: Result, rows: Sequence[int | tuple[str, int]]) -> ForcePolygons:
+def force_polygons(
+    result: Result, rows: Sequence[int | tuple[str, int]], *, friction: bool = False
+) -> ForcePolygons:
     """The free body and force polygon of each Assur group at ``rows`` (row indices, or
     ``(label, row)`` pairs as ``course_positions(result)`` gives them), the groups in the
     order of the kinetostatic solution: ``system.plans`` reversed, the driving link last
-    with the balancing effort M_b.
+    with the balancing effort M_b.  ``friction``: the consistent solution with friction
+    (``<joint>.Fx_friction``, ``<driver>.torque_friction``): each reaction with its
+    friction effort, a turning pair's line tangent to its friction circle (NaN where the
+    position self-locks).
 
     Returns a :class:`ForcePolygons`.  Raises ``ValueError`` for a result without
-    efforts (kinematics only)."""
+    efforts (kinematics only), or without friction solution when ``friction`` is asked."""
     system = result.system
     if not system.motion_drivers or result.lam.shape[-1] <= system.n_joint_rows:
         raise ValueError("the force polygons need a result with efforts (not kinematics only)")
+    if friction and result.lam_friction is None:
+        raise ValueError("the result has no friction solution (the file has no friction)")
     ref_speed = schedule(system).reference
     l_ref = float(np.max(system.l_ref))
     positions = []
     for label, k in _rows(result, rows):
-        q, lam = result.q[k], result.lam[k]
+        q = result.q[k]
+        lam = result.lam_friction[k] if friction else result.lam[k]
         a = equilibrium_matrix(system, q)
+        fric = _friction(system, q, result.qd[k], lam, ref_speed) if friction else {}
         loads = _link_loads(system, result, k, ref_speed, FAR * l_ref)
-        pairs = _pair_forces(system, q, lam, a, FAR * l_ref)
+        pairs = _pair_forces(system, q, lam, a, FAR * l_ref, fric)
         groups = tuple(
             _group(system, p, loads, pairs, l_ref) for p in reversed(range(len(system.plans)))
         )
         positions.append(PolygonPosition(k, label, groups))
-    friction = ""
-    if system.model.has_friction:
-        friction = (
+    note = ""
+    if system.model.has_friction and not friction:
+        note = (
             "the model has friction; the polygons are drawn with the frictionless "
             "reactions <joint>.Fx/.Fy, not <joint>.Fx_friction"
         )
-    return ForcePolygons(tuple(positions), friction)
+    return ForcePolygons(tuple(positions), note, friction)
+
+
+def _friction(system: System, q, qd, lam, ref_speed: float) -> dict:
+    """Each joint's friction effort at one row as a generalized force, ``{joint: (n_q,)}``:
+    g_k e_k with e_k = −sign(ċ_k)·μ_k(λ) (kinetics/friction.py)."""
+    fs = fr.setup(system, q, qd, ref_speed)
+    e = fr.efforts(system, fs, lam)
+    return {c: fs.grad[n] * e[n] for n, c in enumerate(fs.joints)}

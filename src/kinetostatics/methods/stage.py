@@ -5,7 +5,8 @@ the cycle's stage): the report calls it on its own analysis with the course posi
 its detailed chapters, writes the dict to ``methods.json`` and formats the parts it has
 chapters for.  A part is present only where its method applies: the balancing moment
 (Joukowski's lever and the power method beside the solution's) and the free body and
-force polygon of each Assur group for a result with efforts;
+force polygon of each Assur group for a result with efforts (and with friction, those of
+the consistent solution with friction);
 the instant centres at each position; the gears' geometry for a file with toothed pairs;
 the cam's design for a file with a cam (at the textbook's allowable pressure angle, 30°,
 unless the caller gives another).
@@ -47,7 +48,8 @@ def methods_stage(
     Returns
     -------
     dict
-        ``{"version", "positions", "balancing_moment"?, "force_polygons"?, "instant_centres",
+        ``{"version", "positions", "balancing_moment"?, "force_polygons"?,
+        "force_polygons_friction"?, "instant_centres",
         "gears"?, "cam_design"?}`` (docs/methods.md).
     """
     rows = [(str(label), int(k)) for label, k in rows]
@@ -59,6 +61,8 @@ def methods_stage(
     if system.motion_drivers and result.lam.shape[-1] > system.n_joint_rows:
         out["balancing_moment"] = lever_stage(result, rows).to_dict()
         out["force_polygons"] = force_polygons(result, rows).to_dict()
+        if result.lam_friction is not None:
+            out["force_polygons_friction"] = force_polygons(result, rows, friction=True).to_dict()
     out["instant_centres"] = {
         label: record.to_dict()
         for (label, _), record in zip(rows, centres_at(result, [k for _, k in rows]))

@@ -69,7 +69,10 @@ def _plain(record) -> dict:
 
 
 def _free_body(ax, data: dict, numbers) -> None:
-    """The group's links (lines through their forces' points, mm) and the forces on them."""
+    """The group's links (lines through their forces' points, mm) and the forces on them,
+    a reaction with friction beside its friction circle (dotted)."""
+    from matplotlib.patches import Circle
+
     forces, inner = data["forces"], data.get("inner", [])
     pts = np.array([f["point"] for f in [*forces, *inner]], dtype=float) * 1e3
     lo, hi = pts.min(axis=0), pts.max(axis=0)
@@ -97,6 +100,9 @@ def _free_body(ax, data: dict, numbers) -> None:
             _arrow(ax, p - vec if f["status"] == "solved" else p, vec, color, lw=1.1)
             ax.annotate(label, p + 0.5 * vec, xytext=(3, 3), textcoords="offset points",
                         fontsize=7, color=color, zorder=7)  # fmt: skip
+        if f.get("friction_radius"):  # the friction circle its line is tangent to
+            ax.add_patch(Circle(np.array(f["pin"]) * 1e3, f["friction_radius"] * 1e3,
+                                fill=False, ec=color, lw=0.6, ls=":"))  # fmt: skip
         if f["couple"]:
             _moment_arc(ax, p, 0.06 * size, f["couple"], color)
             ax.annotate(label if not np.any(v) else "", p, xytext=(-12, -12),
