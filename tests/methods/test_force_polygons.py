@@ -230,3 +230,20 @@ def test_friction_asked_of_a_file_without_it_is_refused():
     result = _analyze(ks.load(ROOT / "mechanisms" / "fourbar_balancing.yaml"))
     with pytest.raises(ValueError, match="no friction"):
         force_polygons(result, [0], friction=True)
+
+
+def test_the_docs_example_runs(monkeypatch, tmp_path):
+    """docs/methods.md's example of this section runs and saves a picture per group."""
+    text = (ROOT / "docs" / "methods.md").read_text(encoding="utf-8")
+    section = text.split("## Force polygons of the Assur groups", 1)[1].split("\n## ", 1)[0]
+    code = section.split("```python\n", 1)[1].split("```", 1)[0]
+    code = code.replace('"mechanisms/', f'"{ROOT.as_posix()}/mechanisms/')
+    monkeypatch.chdir(tmp_path)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        exec(compile(code, "docs/methods.md (force polygons)", "exec"), {})
+    assert sorted(p.name for p in tmp_path.glob("*.png")) == [
+        "group1.png",
+        "group2.png",
+        "group3.png",
+    ]
