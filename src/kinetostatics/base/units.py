@@ -24,6 +24,7 @@ from types import MappingProxyType
 from ..errors import did_you_mean
 
 __all__ = [
+    "nice_scale",
     "QUANTITY_KINDS",
     "SI_UNITS",
     "UNITS",
@@ -261,3 +262,19 @@ def unit_pattern(kind: str) -> str:
         )
         alternatives.append(written)
     return r"^\s*(?:" + "|".join(alternatives) + r")\s*$"
+
+
+def nice_scale(x: float) -> float:
+    """The smallest of 1, 2, 2.5, 4, 5 × 10^k that is ≥ ``x`` (a drawing scale).
+
+    >>> nice_scale(0.0017), nice_scale(0.031), nice_scale(7.0)
+    (0.002, 0.04, 10.0)
+    """
+    if not math.isfinite(x) or x <= 0:
+        return 1.0
+    k = math.floor(math.log10(x))
+    for m in (1.0, 2.0, 2.5, 4.0, 5.0, 10.0):
+        v = round(m * 10.0**k, 12 - k if k < 0 else 12)
+        if v >= x * (1 - 1e-12):
+            return v
+    return 10.0 ** (k + 1)

@@ -4,7 +4,9 @@
 the cycle's stage): the report calls it on its own analysis with the course positions of
 its detailed chapters, writes the dict to ``methods.json`` and formats the parts it has
 chapters for.  A part is present only where its method applies: the balancing moment
-(Joukowski's lever and the power method beside the solution's) for a result with efforts;
+(Joukowski's lever and the power method beside the solution's) and the free body and
+force polygon of each Assur group for a result with efforts (and with friction, those of
+the consistent solution with friction);
 the instant centres and the vector equations at each position; the gears' geometry for a
 file with toothed pairs;
 the cam's design for a file with a cam (at the textbook's allowable pressure angle, 30°,
@@ -21,6 +23,7 @@ from .cam_design import cam_design
 from .centres import centres_at
 from .gears import gear_geometry
 from .lever import lever_stage
+from .polygons import force_polygons
 from .vectors import vector_equations
 
 __all__ = ["methods_stage", "METHODS_VERSION"]
@@ -47,8 +50,9 @@ def methods_stage(
     Returns
     -------
     dict
-        ``{"version", "positions", "balancing_moment"?, "instant_centres",
-        "vector_equations", "gears"?, "cam_design"?}`` (docs/methods.md).
+        ``{"version", "positions", "balancing_moment"?, "force_polygons"?,
+        "force_polygons_friction"?, "instant_centres", "vector_equations",
+        "gears"?, "cam_design"?}`` (docs/methods.md).
     """
     rows = [(str(label), int(k)) for label, k in rows]
     out: dict[str, Any] = {
@@ -58,6 +62,9 @@ def methods_stage(
     system = result.system
     if system.motion_drivers and result.lam.shape[-1] > system.n_joint_rows:
         out["balancing_moment"] = lever_stage(result, rows).to_dict()
+        out["force_polygons"] = force_polygons(result, rows).to_dict()
+        if result.lam_friction is not None:
+            out["force_polygons_friction"] = force_polygons(result, rows, friction=True).to_dict()
     out["instant_centres"] = {
         label: record.to_dict()
         for (label, _), record in zip(rows, centres_at(result, [k for _, k in rows]))

@@ -492,6 +492,15 @@ ZH.update(
     }
 )
 
+# issue 38, the free body and force polygon of an Assur group (outputs/plotting/forces.py)
+ZH.update(
+    {
+        "free body of {group}": "{group} 的示力体图",
+        "force polygon, {mu} = {v} N/mm": "力多边形，{mu} = {v} N/mm",
+        "closure error |ΣF| = {c} N ({r} of the largest force, {f} N)": "闭合误差 |ΣF| = {c} N（为最大力 {f} N 的 {r}）",
+    }
+)
+
 # issue 38, the gear chapter (outputs/report/gears.py; the notes are methods/gears.py's)
 ZH.update(
     {

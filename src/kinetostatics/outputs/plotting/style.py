@@ -4,11 +4,11 @@ labels)."""
 
 from __future__ import annotations
 
-import math
 import re
 
 import numpy as np
 
+from ...base.units import nice_scale  # noqa: F401  (re-exported: plotting's helper)
 from ...errors import KinetostaticsError
 from ..fonts import math_fallback, rc_fonts
 
@@ -136,22 +136,6 @@ def _rc(lang: str = "en"):
 
     matplotlib, _ = _mpl()
     return matplotlib.rc_context({**STYLE, **rc_fonts(lang)})
-
-
-def nice_scale(x: float) -> float:
-    """The smallest of 1, 2, 2.5, 4, 5 × 10^k that is ≥ ``x`` (a drawing scale).
-
-    >>> nice_scale(0.0017), nice_scale(0.031), nice_scale(7.0)
-    (0.002, 0.04, 10.0)
-    """
-    if not np.isfinite(x) or x <= 0:
-        return 1.0
-    k = math.floor(math.log10(x))
-    for m in (1.0, 2.0, 2.5, 4.0, 5.0, 10.0):
-        v = round(m * 10.0**k, 12 - k if k < 0 else 12)
-        if v >= x * (1 - 1e-12):
-            return v
-    return 10.0 ** (k + 1)
 
 
 def _fmt_scale(x: float) -> str:
