@@ -46,6 +46,9 @@ ZH.update(
         "Motion diagram of the output ({name}): position, velocity, acceleration; the shaded "
         "zone is where the process load acts.": "输出构件（{name}）的运动线图：位移、速度、加速度；阴影区为工作阻力作用区间。",
         "Parameters": "参数",
+        "Dimension synthesis: the parameters computed from others (file's units)": (
+            "尺寸综合：由其他参数算出的参数（文件的单位）"
+        ),
         "Position angle: every position is named by the angle φ of the first driver "
         "({driver}), measured counter-clockwise from +x in [0, 360)°; link angles θ likewise. "
         "travel is the rotation from position 1 in the sense of motion. Course-design "
