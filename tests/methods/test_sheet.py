@@ -130,3 +130,38 @@ def test_a_mistake_is_one_line_and_exit_2(tmp_path, capsys, args, says):
     assert main(["plot", str(SHAPER), "--out", str(tmp_path), *args]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and says in err[0]
+
+
+LONG = """\
+name: long slider-crank
+units: {length: mm, angle: deg, speed: rpm}
+links:
+  ground: {points: {O: [0, 0], guide: [0, 0]}}
+  crank: {points: {O: [0, 0], A: [30, 0]}, mass: 1}
+  rod: {points: {A: [0, 0], B: [600, 0]}, mass: 1}
+  slider: {points: {B: [0, 0]}, mass: 1}
+joints:
+  O: {type: revolute, links: [ground, crank]}
+  A: {type: revolute, links: [crank, rod]}
+  B: {type: revolute, links: [rod, slider]}
+  slide: {type: prismatic, links: [ground, slider], axis: {point: guide, direction: [1, 0]},
+          point: B}
+drivers:
+  motor: {joint: O, motion: {speed: 300}}
+sketch: {A: [30, 0], B: [630, 0]}
+analysis: {start: 0, sweep: 360, positions: 24}
+"""
+
+
+def test_a1_when_the_shortest_link_would_be_too_short_on_a2():
+    """About 700 mm of travel: 1:2 on A2 draws the 30 mm crank 15 mm long (under 20 mm);
+    A1 holds it at 1:1, the crank 30 mm.  Asked for, A2 is kept."""
+    from kinetostatics.outputs import plotting as pl
+    from kinetostatics.outputs.plotting.sheet import MIN_LINK_MM, sheet_layout
+
+    result = pl.analyze_for_pictures(ks.loads(LONG), course=True, events=False)
+    auto, a2 = sheet_layout(result), sheet_layout(result, size="A2")
+    assert (a2.size, a2.width, a2.height, a2.n) == ("A2", 594.0, 420.0, 2.0)
+    assert 30.0 / a2.n < MIN_LINK_MM
+    assert (auto.size, auto.width, auto.height, auto.n) == ("A1", 841.0, 594.0, 1.0)
+    assert auto.scale_text() == "1:1" and a2.scale_text() == "1:2"

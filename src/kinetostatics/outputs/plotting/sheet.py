@@ -5,11 +5,11 @@
 frame of an A2 sheet (594 × 420 mm, landscape; a 25 mm binding margin on the left, 10 mm on
 the other sides) above its title block, at the round scale 1:n of :func:`~.style.nice_scale`
 (1, 2, 2.5, 4, 5 × 10^k); when the shortest link would be drawn shorter than
-``MIN_LINK_MM`` there, on A1 (841 × 594 mm) at its own round scale.  The working position
-(position 1 unless asked) is drawn heavy (0.7 mm), the other course positions thin
-(0.25 mm) and numbered at the point that moves most, the limit positions (the caller gives
-them as rows: where the output stops) in the phantom line (双点画线) of a moving part's
-extreme position, the paths thin and coloured.  The title block holds the mechanism's
+``MIN_LINK_MM`` there and A1 (841 × 594 mm) draws it larger, on A1 at its round scale.
+The working position (position 1 unless asked) is drawn heavy (0.7 mm), the other course
+positions thin (0.25 mm) and numbered at the point that moves most, the limit positions
+(the caller gives them as rows: where the output stops) in the phantom line (双点画线) of a
+moving part's extreme position, the paths thin and coloured.  The title block holds the mechanism's
 name, the scale, the date and "drawn by kinetostatics".
 
 :func:`sheet_figure` draws it with matplotlib on a figure of the sheet's size (1 mm of the
@@ -127,7 +127,7 @@ def sheet_layout(result, *, working: str | None = None, limits=(), paths=(), siz
         Points ``"link.point"`` whose paths are drawn.
     size : {"A2", "A1"}, optional
         The sheet; default A2, or A1 when the shortest link would be drawn shorter than
-        ``MIN_LINK_MM`` on A2.
+        ``MIN_LINK_MM`` on A2 and A1's round scale is finer.
 
     Raises
     ------
@@ -148,12 +148,16 @@ def sheet_layout(result, *, working: str | None = None, limits=(), paths=(), siz
     # mm of the mechanism: its extent over the cycle without the screen drawing's padding
     lo, hi = (scene.lo + scene.pad) * 1e3, (scene.hi - scene.pad) * 1e3
     shortest = _shortest_link(scene, positions[0][1]) * 1e3
+    chosen = {}
     for name in (size,) if size else ("A2", "A1"):
         x0, y0, x1, y1 = _area(name)
         room = (x1 - x0 - 2 * MARGIN, y1 - y0 - 2 * MARGIN)  # the numbers around it
         n = nice_scale(max((hi[0] - lo[0]) / room[0], (hi[1] - lo[1]) / room[1]))
-        if size or shortest / n >= MIN_LINK_MM:
-            break
+        chosen[name] = (n, (x0, y0, x1, y1))
+    name = size or "A2"
+    if not size and shortest / chosen["A2"][0] < MIN_LINK_MM and chosen["A1"][0] < chosen["A2"][0]:
+        name = "A1"  # the shortest link too short on A2, and A1 draws it larger
+    n, (x0, y0, x1, y1) = chosen[name]
     centre = 0.5 * (lo + hi)
     origin = (0.5 * (x0 + x1) - centre[0] / n, 0.5 * (y0 + y1) - centre[1] / n)
     return SheetLayout(
