@@ -7,7 +7,7 @@ the other sides) above its title block, at the round scale 1:n of :func:`~.style
 (1, 2, 2.5, 4, 5 × 10^k); when the shortest link would be drawn shorter than
 ``MIN_LINK_MM`` there and A1 (841 × 594 mm) draws it larger, on A1 at its round scale.
 The working position (position 1 unless asked) is drawn heavy (0.7 mm), the other course
-positions thin (0.25 mm) and numbered at the point that moves most, the limit positions
+positions thin (0.25 mm) and numbered at the crank pin, the limit positions
 (the caller gives them as rows: where the output stops) in the phantom line (双点画线) of a
 moving part's extreme position, the paths thin and coloured.  The title block holds the mechanism's
 name, the scale, the date and "drawn by kinetostatics".
@@ -201,15 +201,20 @@ def output_paths(result, links) -> list[str]:
 
 
 def _moving_point(result, scene: _Scene):
-    """The (link, local point) of an outline that moves most over the rows: where the
-    position numbers are written."""
+    """The (link, local point) where the position numbers are written: the point of the
+    driven link's outline that moves most (the crank pin, numbered round its circle as
+    a drawing does), or of any link's when the driven link's points do not move."""
+    system = result.system
+    driven = [n for n in system.motion_drivers[0].joint.links if n != system.model.ground.name]
     best, spread = None, -1.0
-    for link, pts in scene.outline_local.items():
-        for p in pts:
-            g = _to_global(result, link, p)
-            s = float(np.ptp(g, axis=0).max())
-            if s > spread:
-                best, spread = (link, p), s
+    for only in (driven, list(scene.outline_local)):
+        for link in only:
+            for p in scene.outline_local.get(link, ()):
+                s = float(np.ptp(_to_global(result, link, p), axis=0).max())
+                if s > spread:
+                    best, spread = (link, p), s
+        if spread > 1e-9:
+            break
     return best
 
 
@@ -355,7 +360,7 @@ def _label_spots(result, scene, layout):
         q = track[row]
         d = q - centre
         d = d / max(float(np.hypot(*d)), 1e-9)
-        out.append((label, q + 5.0 * d))
+        out.append((label, q + 9.0 * d))
     return out
 
 
