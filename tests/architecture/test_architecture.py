@@ -203,7 +203,6 @@ LONG_FUNCTIONS = {
     "outputs/plotting/animate.py:_write": "the frames drawn and written, as GIF or MP4",
     "outputs/plotting/drive.py:torque_speed": _FIGURE,
     "outputs/plotting/energy.py:equivalent_moments": _FIGURE,
-    "outputs/plotting/export.py:export_dxf": "the DXF drawing written entity by entity",
     "outputs/plotting/polar.py:polar_diagrams": _FIGURE,
     "outputs/plotting/polygons.py:polygon_figure": _FIGURE,
     "outputs/plotting/polygons.py:_polygon_sheet": _FIGURE,

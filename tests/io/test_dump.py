@@ -23,8 +23,17 @@ MECHANISMS = sorted((ROOT / "mechanisms").glob("*.yaml"))
 
 
 # written as values, not kept: the file is SI with its expressions evaluated (parameters,
-# units); where each key was read and the source file name
-NOT_WRITTEN = {"parameters", "units", "where", "source", "sketch_where", "_compiled", "ideal"}
+# units, the parameters' texts); where each key was read and the source file name
+NOT_WRITTEN = {
+    "parameters",
+    "parameter_texts",
+    "units",
+    "where",
+    "source",
+    "sketch_where",
+    "_compiled",
+    "ideal",
+}
 
 
 def _differences(a, b, path: str) -> list:

@@ -133,6 +133,19 @@ def register(sub) -> None:
         metavar="NAME",
         help="motion driver whose torque and efficiency are drawn (default: the first)",
     )
+    p.add_argument(
+        "--sheet",
+        default=None,
+        metavar="OUT.pdf|OUT.dxf",
+        help="write only the 12-position drawing: every course position at a round scale "
+        "on an A2 (or A1) sheet with a title block, true size, as PDF or DXF",
+    )
+    p.add_argument(
+        "--working",
+        default=None,
+        metavar="LABEL",
+        help="the course position drawn heavy on the --sheet (default: 1)",
+    )
     _lang_option(p)
     p.set_defaults(func=_plot)
 
@@ -233,6 +246,42 @@ def _default_paths(model) -> list[str]:
     return list(dict.fromkeys(pins))
 
 
+def _sheet(args, model) -> int:
+    """``plot --sheet OUT``: the 12-position drawing, its limit positions from the output
+    members' strokes (a stage: computed here, passed to the picture)."""
+    from ..base.files import write_file
+    from ..kinematics.events import output_strokes
+    from ..outputs import plotting as pl
+    from ..outputs.plotting import sheet
+
+    out = Path(args.sheet)
+    kind = out.suffix.lower().lstrip(".")
+    if kind not in ("pdf", "dxf"):
+        raise pl.PictureError(f"--sheet {args.sheet}: the sheet is written as .pdf or .dxf")
+    result = pl.analyze_for_pictures(model, course=True, events=False)
+    strokes = output_strokes(result)
+    angles = [lp["angle"] for o in strokes.values() for lp in o["limit_positions"].values()]
+    if angles:  # the limit positions as rows of their own
+        result = pl.analyze_for_pictures(model, course=True, events=False, positions=angles)
+    paths = sheet.output_paths(result, [o["link"] for o in strokes.values()])
+    if args.paths is not None:
+        paths = args.paths
+    layout = sheet.sheet_layout(
+        result, working=args.working, limits=sheet.limit_rows(result, angles), paths=paths
+    )
+    if kind == "dxf":
+        write_file(
+            out,
+            f"--sheet {args.sheet}",
+            lambda tmp: sheet.export_sheet_dxf(result, layout, tmp, lang=args.lang),
+        )
+    else:
+        fig = sheet.sheet_figure(result, layout, lang=args.lang)
+        write_file(out, f"--sheet {args.sheet}", lambda tmp: fig.savefig(tmp, format="pdf"))
+    print(f"{model.name}: {out} ({layout.size}, scale {layout.scale_text()})")
+    return 0
+
+
 def _plot(args) -> int:
     from ..outputs import plotting as pl
     from ..outputs.loading import load
@@ -242,6 +291,10 @@ def _plot(args) -> int:
         from ..outputs.fonts import cjk_font
 
         cjk_font()  # a clear message before any work when there is no CJK font
+    if args.sheet is not None:
+        return _sheet(args, model)
+    if args.working is not None:
+        raise pl.PictureError("--working: the heavy position of the --sheet; give --sheet OUT")
     what = list(WHAT) if "all" in args.what else list(dict.fromkeys(args.what))
     positions = [args.position] if args.position is not None else []
     result = pl.analyze_for_pictures(model, positions=positions, course=True, events=True)

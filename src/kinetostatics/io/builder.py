@@ -165,6 +165,7 @@ class Builder(
             output=output,
             elements=tuple(elements),
             drive=drive,
+            parameter_texts=dict(self.parameter_texts),
         )
 
     def _output(self, links, joints, drivers) -> str | None:

@@ -47,6 +47,7 @@ class ParameterSections:
         parameter; a parameter that uses a broken one is skipped silently."""
         p = self.top.get("parameters")
         overrides = self.ctx.overrides
+        self.parameter_texts: dict[str, str] = {}
         if p is None or not p.mapping():
             if overrides:
                 self._unknown_overrides([])
@@ -75,6 +76,7 @@ class ParameterSections:
                         pending[key] = (e, float(overrides[key]), [])
                         continue
                     pending[key] = (e, e.node.value, [n for n in used if n in declared])
+                    self.parameter_texts[key] = e.node.value
                     undefined = [
                         n for n in used if n not in declared and n not in expressions.CONSTANTS
                     ]

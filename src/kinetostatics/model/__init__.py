@@ -397,6 +397,9 @@ class Model:
         Springs and dampers.
     drive : DriveSpec, optional
         The motor and its reduction (``drive:``).
+    parameter_texts : mapping of str to str, optional
+        The text of each parameter as the file writes it (the report shows the
+        expressions as formulas); none for a parameter given as an override.
     _compiled : tuple, optional
         Internal: the compiled system, kept with the model (never pass it).
 
@@ -431,6 +434,9 @@ class Model:
     sketch_where: Mapping[str, Location] = field(default_factory=dict, compare=False, repr=False)
     elements: tuple[Element, ...] = ()  # springs and dampers (kinetics/elements.py)
     drive: DriveSpec | None = None  # the motor and its reduction (``drive:``)
+    # the text of each parameter as written (``theta: 180*(K - 1)/(K + 1)``), for the report's
+    # dimension synthesis; a parameter replaced by an override has none
+    parameter_texts: Mapping[str, str] = field(default_factory=dict, compare=False, repr=False)
     # the system compiled from this model, cached by structure.system_of with the model's
     # pickle as its key (so a copy made with ``replace`` or ``Model(**vars(m))`` that carries
     # it along reuses it only if it describes the same mechanism); not pickled

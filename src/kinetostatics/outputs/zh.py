@@ -46,6 +46,19 @@ ZH.update(
         "Motion diagram of the output ({name}): position, velocity, acceleration; the shaded "
         "zone is where the process load acts.": "输出构件（{name}）的运动线图：位移、速度、加速度；阴影区为工作阻力作用区间。",
         "Parameters": "参数",
+        "Dimension synthesis: the parameters computed from others (file's units)": (
+            "尺寸综合：由其他参数算出的参数（文件的单位）"
+        ),
+        # the 12-position drawing's title block and caption (outputs/plotting/sheet.py)
+        "name": "名称",
+        "scale": "比例",
+        "date": "日期",
+        "drawn by": "制图",
+        "heavy: working position {w}; thin: the course positions; phantom line: the limit "
+        "positions {lim}; red: the paths of {paths}; μ_l = {mu:g} m/mm": (
+            "粗实线：工作位置 {w}；细实线：各设计位置；双点画线：极限位置 {lim}；"
+            "红线：{paths} 的轨迹；μ_l = {mu:g} m/mm"
+        ),
         "Position angle: every position is named by the angle φ of the first driver "
         "({driver}), measured counter-clockwise from +x in [0, 360)°; link angles θ likewise. "
         "travel is the rotation from position 1 in the sense of motion. Course-design "

@@ -28,7 +28,7 @@ from .draw import _force_scale, _loads_at, draw_mechanism
 from .rows import _position_title
 from .scene import _Scene
 
-__all__ = ["export_dxf", "export_svg", "APP"]
+__all__ = ["export_dxf", "export_svg", "write_geometry", "APP"]
 
 APP = "KINETOSTATICS"  # the extended-data application name
 # $INSUNITS by the unit's factor to m: m, mm, cm, km, µm, in, ft (0: unitless)
@@ -71,50 +71,7 @@ def export_dxf(result, row: int, path: str | Path, *, forces: bool = False, fric
         return float(p[0]) * s, float(p[1]) * s
 
     text_h = 0.03 * l_ref
-    for name, pts in geo.outlines.items():
-        if len(pts) < 2:
-            continue
-        closed = name in geo.plates
-        e = msp.add_lwpolyline([xy(p) for p in pts], close=closed, dxfattribs={"layer": "LINKS"})
-        _tag(e, "link", name)
-    for b in geo.blocks:
-        u, n = np.asarray(b.direction, float), np.array([-b.direction[1], b.direction[0]])
-        c = np.asarray(b.centre, float)
-        corners = [c + a * 0.5 * b.length * u + w * 0.5 * b.height * n for a, w in _CORNERS]
-        e = msp.add_lwpolyline(
-            [xy(p) for p in corners], close=True, dxfattribs={"layer": "SLIDERS"}
-        )
-        _tag(e, "block", b.joint)
-    for g in geo.guides:
-        u = (g.end - g.start) / max(float(np.hypot(*(g.end - g.start))), 1e-300)
-        n = np.array([-u[1], u[0]])
-        msp.add_line(xy(g.start), xy(g.end), dxfattribs={"layer": "FRAME", "linetype": "CENTER"})
-        for w in (-1.0, 1.0):
-            off = w * g.half_width * n
-            msp.add_line(xy(g.start + off), xy(g.end + off), dxfattribs={"layer": "FRAME"})
-    for name, p in geo.pivots.items():
-        x, y = xy(p)
-        tri = [(x, y), (x - 0.04 * l_ref, y - 0.06 * l_ref), (x + 0.04 * l_ref, y - 0.06 * l_ref)]
-        _tag(msp.add_lwpolyline(tri, close=True, dxfattribs={"layer": "FRAME"}), "pivot", name)
-    for kind, name, _link, p, q in geo.wheels:
-        if kind == "circle":
-            e = msp.add_circle(xy(p), float(q) * s, dxfattribs={"layer": "WHEELS"})
-        elif kind == "curve":  # a cam's profile or pitch curve: points, closed
-            e = msp.add_lwpolyline(
-                [xy(r) for r in np.asarray(p, float)], close=bool(q), dxfattribs={"layer": "WHEELS"}
-            )
-        else:
-            e = msp.add_line(xy(p), xy(q), dxfattribs={"layer": "WHEELS"})
-        _tag(e, "pitch", name)
-    for name, p in geo.joints.items():
-        p = np.asarray(p, float)
-        _tag(msp.add_circle(xy(p), 0.015 * l_ref, dxfattribs={"layer": "JOINTS"}), "joint", name)
-        label = msp.add_text(name, height=text_h, dxfattribs={"layer": "LABELS"})
-        label.set_placement((xy(p)[0] + 0.02 * l_ref, xy(p)[1] + 0.02 * l_ref))
-    for name, p in geo.points.items():
-        _tag(msp.add_point(xy(p), dxfattribs={"layer": "POINTS"}), "point", name)
-    for name, p in geo.com.items():
-        _tag(msp.add_point(xy(p), dxfattribs={"layer": "COM"}), "com", name)
+    write_geometry(msp, geo, xy, l_ref)
     title = f"{model.name}: {_position_title(result, row)}; lengths in {unit}"
     if forces:
         title += _dxf_forces(msp, result, row, s, l_ref, text_h, friction)
@@ -124,6 +81,79 @@ def export_dxf(result, row: int, path: str | Path, *, forces: bool = False, fric
 
 
 _CORNERS = ((-1, -1), (1, -1), (1, 1), (-1, 1))
+
+
+def write_geometry(
+    msp, geo, xy, size: float, *, layer: str | None = None, tag=_tag, frame: bool = True
+) -> None:
+    """Write the mechanism's geometry ``geo`` (:class:`~.scene.MechanismGeometry`) into
+    the DXF modelspace ``msp``: ``xy`` maps a point in m to drawing units, ``size`` is
+    the drawing's reference length in those units (the joint circles, pivots and labels
+    are drawn to it).  ``layer``: every entity on that layer (default: one layer per
+    kind, ``_LAYERS``, and the joints' labels, the named points and the centres of mass
+    too); ``tag(entity, what, name)`` names each entity; ``frame``: the guides and frame
+    pivots too."""
+    extras = layer is None
+    lay = (lambda kind: layer) if layer else (lambda kind: kind)
+    text_h = 0.03 * size
+    k = float(np.hypot(*np.subtract(xy((1.0, 0.0)), xy((0.0, 0.0)))))  # units per m
+    for name, pts in geo.outlines.items():
+        if len(pts) < 2:
+            continue
+        closed = name in geo.plates
+        e = msp.add_lwpolyline(
+            [xy(p) for p in pts], close=closed, dxfattribs={"layer": lay("LINKS")}
+        )
+        tag(e, "link", name)
+    for b in geo.blocks:
+        u, n = np.asarray(b.direction, float), np.array([-b.direction[1], b.direction[0]])
+        c = np.asarray(b.centre, float)
+        corners = [c + a * 0.5 * b.length * u + w * 0.5 * b.height * n for a, w in _CORNERS]
+        e = msp.add_lwpolyline(
+            [xy(p) for p in corners], close=True, dxfattribs={"layer": lay("SLIDERS")}
+        )
+        tag(e, "block", b.joint)
+    if frame:
+        _write_frame(msp, geo, xy, size, lay("FRAME"), tag)
+    for kind, name, _link, p, q in geo.wheels:
+        if kind == "circle":
+            e = msp.add_circle(xy(p), float(q) * k, dxfattribs={"layer": lay("WHEELS")})
+        elif kind == "curve":  # a cam's profile or pitch curve: points, closed
+            e = msp.add_lwpolyline(
+                [xy(r) for r in np.asarray(p, float)],
+                close=bool(q),
+                dxfattribs={"layer": lay("WHEELS")},
+            )
+        else:
+            e = msp.add_line(xy(p), xy(q), dxfattribs={"layer": lay("WHEELS")})
+        tag(e, "pitch", name)
+    for name, p in geo.joints.items():
+        p = np.asarray(p, float)
+        tag(msp.add_circle(xy(p), 0.015 * size, dxfattribs={"layer": lay("JOINTS")}), "joint", name)
+        if extras:
+            label = msp.add_text(name, height=text_h, dxfattribs={"layer": lay("LABELS")})
+            label.set_placement((xy(p)[0] + 0.02 * size, xy(p)[1] + 0.02 * size))
+    if not extras:
+        return
+    for name, p in geo.points.items():
+        tag(msp.add_point(xy(p), dxfattribs={"layer": lay("POINTS")}), "point", name)
+    for name, p in geo.com.items():
+        tag(msp.add_point(xy(p), dxfattribs={"layer": lay("COM")}), "com", name)
+
+
+def _write_frame(msp, geo, xy, size, layer, tag) -> None:
+    """The frame's guides (axis and rails) and pivots (a triangle under each pin)."""
+    for g in geo.guides:
+        u = (g.end - g.start) / max(float(np.hypot(*(g.end - g.start))), 1e-300)
+        n = np.array([-u[1], u[0]])
+        msp.add_line(xy(g.start), xy(g.end), dxfattribs={"layer": layer, "linetype": "CENTER"})
+        for w in (-1.0, 1.0):
+            off = w * g.half_width * n
+            msp.add_line(xy(g.start + off), xy(g.end + off), dxfattribs={"layer": layer})
+    for name, p in geo.pivots.items():
+        x, y = xy(p)
+        tri = [(x, y), (x - 0.04 * size, y - 0.06 * size), (x + 0.04 * size, y - 0.06 * size)]
+        tag(msp.add_lwpolyline(tri, close=True, dxfattribs={"layer": layer}), "pivot", name)
 
 
 def _dxf_forces(msp, result, row, s, l_ref, text_h, friction) -> str:

@@ -10,6 +10,7 @@ import numpy as np
 from ..labels import link_numbers, numbered, reaction_symbol
 from ..lang import tr
 from .blocks import _Heading, _List, _Para, _Table
+from .formulas import synthesis_rows
 from .results import group_label, length_unit, roman
 
 
@@ -44,6 +45,15 @@ def _data_blocks(model, system, lang: str = "en") -> list:
                 T("Parameters"),
             )
         )
+        synthesis = synthesis_rows(model.parameter_texts, model.parameters)
+        if synthesis:
+            blocks.append(
+                _Table(
+                    [T("parameter"), T("formula and value")],
+                    synthesis,
+                    T("Dimension synthesis: the parameters computed from others (file's units)"),
+                )
+            )
     rows = []
     links = list(model.links)
     if numbered(model):  # the textbook's order: 1 the frame, 2 the crank, …
