@@ -582,6 +582,7 @@ ZH.update(
         "largest pressure angle": "最大压力角",
         "… at the cam angle": "……所在凸轮转角",
         "least radius of curvature of the pitch curve": "理论廓线的最小曲率半径",
+        "least radius of curvature of the profile": "凸轮廓线的最小曲率半径",
         "roller limit (no undercut: r_r < ρ_min)": "滚子半径上限（不失真：r_r < ρ_min）",
         "the file's roller is below the limit": "文件的滚子半径小于上限",
         "least base radius for [α]": "[α] 下的最小基圆半径",

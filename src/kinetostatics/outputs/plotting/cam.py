@@ -26,8 +26,9 @@ from .style import (
 
 __all__ = ["cam_diagrams", "cam_drawing"]
 
-# the largest drawing of the cam on an A4 page (mm of paper)
-CAM_SHEET_MM = (150.0, 150.0)
+# the largest drawing of the cam on an A4 page (mm of paper; the legend inside it): a cam
+# of up to 74 mm radius is drawn at 1 : 1
+CAM_SHEET_MM = (160.0, 160.0)
 
 
 def _plain(design) -> dict:
@@ -151,7 +152,7 @@ def cam_drawing(design, *, dpi: float = DPI, lang: str = "en"):
         ax.plot([0.0], [0.0], "+", color="black", ms=8)
         ax.set_xlabel("x, mm")
         ax.set_ylabel("y, mm")
-        ax.legend(loc="upper left", fontsize=6.5, bbox_to_anchor=(1.01, 1.0))
+        ax.legend(loc="best", fontsize=6.5)
         ax.set_title(
             tr("Cam {joint}", lang, joint=d["joint"])
             + f"\n{MU['l']} = {_fmt_scale(paper.mu_l)} m/mm",

@@ -196,12 +196,13 @@ def _method(method: str, lang: str) -> str:
 def _cam_rows(d: dict, lang: str) -> list[list[str]]:
     T = lambda s, **k: tr(s, lang, **k)  # noqa: E731
     mm = lambda v: _g(None if v is None else 1e3 * v, 5)  # noqa: E731
+    curve = "profile" if d["follower"] == "flat" else "pitch curve"  # a flat face's own
     rows = [
         [T("base radius (file)"), "r_b", mm(d["base_radius"]), "mm"],
         [T("allowable pressure angle"), "[α]", _g(d["allowed"], 4), "°"],
         [T("largest pressure angle"), "|α|max", _g(d["peak"], 5), "°"],
         [T("… at the cam angle"), "φ", _g(d["peak_at"], 5), "°"],
-        [T("least radius of curvature of the pitch curve"), "ρ_min", mm(d["curvature_min"]),
+        [T(f"least radius of curvature of the {curve}"), "ρ_min", mm(d["curvature_min"]),
          "mm"],
         [T("… at the cam angle"), "φ", _g(d["curvature_at"], 5), "°"],
         [T("least base radius for [α]"), "r_b,min", mm(d["base_radius_min"]), "mm"],
