@@ -13,7 +13,7 @@ from ..plotting.cam import cam_diagrams, cam_drawing
 from ..plotting.centres import centre_label, centres_figure
 from .blocks import _Heading, _Para, _Table
 
-ROUND_OFF = 1e-9  # m: a centre's coordinate below this is printed as 0
+ROUND_OFF = 1e-9  # a centre's coordinate below this (m), a moment below this × the largest: 0
 
 
 def _g(v, digits: int = 6) -> str:
@@ -25,7 +25,12 @@ def _xy(v, scale: float = 1.0, digits: int = 4) -> str:
     return "" if v is None else f"{_g(scale * v[0], digits)}, {_g(scale * v[1], digits)}"
 
 
-def _term_row(t: dict) -> list[str]:
+def _small(v, scale: float):
+    """``v``, or 0 where it is round-off (≤ ROUND_OFF × ``scale``, the chapter's largest)."""
+    return 0.0 if v is not None and abs(v) <= ROUND_OFF * scale else v
+
+
+def _term_row(t: dict, scale: float) -> list[str]:
     """A lever term: load, link, force, point, turned force, image point, moment."""
     if t["kind"] == "force":
         cells = [_xy(t["force"]), _xy(t["point"], 1e3), _xy(t["turned"]), _xy(t["image"])]
@@ -33,7 +38,7 @@ def _term_row(t: dict) -> list[str]:
         cells = [f"M = {_g(t['couple'], 4)} N·m", "", "", f"ω = {_g(t['omega'], 4)} rad/s"]
     else:  # a spring's, damper's or effort driver's power: its moment only
         cells = ["", "", "", ""]
-    return [t["name"], t["link"], *cells, _g(t["moment"])]
+    return [t["name"], t["link"], *cells, _g(_small(t["moment"], scale))]
 
 
 def lever_blocks(bm: dict, lang: str = "en", number: int = 9) -> list:
@@ -71,10 +76,14 @@ def lever_blocks(bm: dict, lang: str = "en", number: int = 9) -> list:
             )
         )
     header = [T("load"), T("link"), "F, N", "P, mm", "F′, N", "p, m/s", "M_p, W"]
+    # the scales of round-off: the largest moment on the lever, the largest M_b
+    moments = max((abs(t["moment"] or 0.0) for p in bm["positions"] for t in p["terms"]),
+                  default=0.0)  # fmt: skip
+    top = max((abs(v or 0.0) for p in bm["positions"] for v in p["M_b"].values()), default=0.0)
     for k, p in enumerate(bm["positions"], start=1):
         mb, rel = p["M_b"], p["relative_difference"]
-        rows = [_term_row(t) for t in p["terms"]]
-        rows.append([T("sum"), "", "", "", "", "", _g(p["lever_sum"])])
+        rows = [_term_row(t, moments) for t in p["terms"]]
+        rows.append([T("sum"), "", "", "", "", "", _g(_small(p["lever_sum"], moments))])
         blocks += [
             _Heading(3, T("{n}.{k} Position {pos} (φ = {phi}°)", n=number, k=k,
                           pos=p["label"], phi=_g(p["coordinate"], 5))),
@@ -84,8 +93,9 @@ def lever_blocks(bm: dict, lang: str = "en", number: int = 9) -> list:
                     "M_b by the lever = {lever} {unit}, by the power method = {power} {unit}, "
                     "from the solution = {solution} {unit} (ω₁ = {speed}); relative "
                     "differences: lever–solution {e1}, power–solution {e2}, lever–power {e3}.",
-                    lever=_g(mb["lever"]), power=_g(mb["power"]),
-                    solution=_g(mb["solution"]), unit=unit, speed=_g(p["speed"], 5),
+                    lever=_g(_small(mb["lever"], top)), power=_g(_small(mb["power"], top)),
+                    solution=_g(_small(mb["solution"], top)), unit=unit,
+                    speed=_g(p["speed"], 5),
                     e1=_g(rel["lever_solution"], 2), e2=_g(rel["power_solution"], 2),
                     e3=_g(rel["lever_power"], 2),
                 )
