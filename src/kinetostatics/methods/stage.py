@@ -75,5 +75,5 @@ def methods_stage(
         out["gears"] = gears.to_dict()
     cams = cam_design(result, pressure_angle_max=pressure_angle_max)
     if cams:
-        out["cam_design"] = [c.to_dict() for c in cams]
+        out["cam_design"] = {c.joint: c.to_dict() for c in cams}
     return out

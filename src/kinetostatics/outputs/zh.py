@@ -4,6 +4,8 @@
 
 from __future__ import annotations
 
+from .zh_methods import ZH as _METHODS
+
 # -- the Chinese texts ---------------------------------------------------------------------
 ZH: dict[str, str] = {}
 ZH.update(
@@ -496,73 +498,5 @@ ZH.update(
     }
 )
 
-# issue 38, the instant centres' picture (outputs/plotting/centres.py)
-ZH.update(
-    {
-        "outside the drawing: {items}": "图幅以外：{items}",
-        "at infinity (direction): {items}": "位于无穷远处（方向）：{items}",
-        "not found by Kennedy's theorem: {items}": "三心定理无法求得：{items}",
-    }
-)
-
-# issue 38, the free body and force polygon of an Assur group (outputs/plotting/forces.py)
-ZH.update(
-    {
-        "free body of {group}": "{group} 的示力体图",
-        "force polygon, {mu} = {v} N/mm": "力多边形，{mu} = {v} N/mm",
-        "closure error |ΣF| = {c} N ({r} of the largest force, {f} N)": "闭合误差 |ΣF| = {c} N（为最大力 {f} N 的 {r}）",
-    }
-)
-
-# issue 38, the gear chapter (outputs/report/gears.py; the notes are methods/gears.py's)
-ZH.update(
-    {
-        "{n}. Gears": "{n}. 齿轮传动",
-        "Standard involute teeth: each value with its formula, lengths in {unit}. "
-        "h_a*: addendum coefficient, c*: clearance coefficient, x: profile shift "
-        "coefficient (positive away from the gear's axis), α': working pressure angle.": "渐开线标准齿廓：各量均列出计算公式与数值，长度单位为 {unit}。h_a*：齿顶高系数，c*：顶隙系数，x：变位系数（远离齿轮轴线为正），α'：啮合角。",
-        "{n}.{k} Gear pair {joint} ({mesh})": "{n}.{k} 齿轮副 {joint}（{mesh}）",
-        "Gear pair {joint}: geometry": "齿轮副 {joint} 的几何尺寸",
-        "formula and value": "公式与数值",
-        "external mesh": "外啮合",
-        "internal mesh": "内啮合",
-        "rack and pinion": "齿轮齿条",
-        "annulus": "内齿轮",
-        "module": "模数",
-        "pressure angle": "压力角",
-        "addendum coefficient": "齿顶高系数",
-        "clearance coefficient": "顶隙系数",
-        "number of teeth of gear {n} ({link})": "齿轮 {n}（{link}）的齿数",
-        "profile shift coefficient of gear {n}": "齿轮 {n} 的变位系数",
-        "pitch radius of gear {n}": "齿轮 {n} 的分度圆半径",
-        "base radius of gear {n}": "齿轮 {n} 的基圆半径",
-        "tip radius of gear {n}": "齿轮 {n} 的齿顶圆半径",
-        "root radius of gear {n}": "齿轮 {n} 的齿根圆半径",
-        "tooth thickness on the pitch circle of gear {n}": "齿轮 {n} 的分度圆齿厚",
-        "pressure angle at the tip circle of gear {n}": "齿轮 {n} 的齿顶圆压力角",
-        "least profile shift without undercut of gear {n}": "齿轮 {n} 不根切的最小变位系数",
-        "pitch": "齿距",
-        "base pitch": "基圆齿距（法向齿距）",
-        "standard centre distance": "标准中心距",
-        "centre distance of the file's pitch circles": "按文件分度圆半径的中心距",
-        "height of the pinion's centre above the rack's reference line": "齿轮中心至齿条分度线的距离",
-        "pitch radius of the pinion in the file": "文件中齿轮的分度圆半径",
-        "working pressure angle": "啮合角",
-        "working centre distance": "实际中心距",
-        "centre distance modification coefficient": "中心距变动系数",
-        "tip reduction coefficient": "齿顶高降低系数",
-        "contact ratio": "重合度",
-        "least number of teeth without undercut": "不根切的最少齿数",
-        "gear {n} ({link}) is undercut: x_{n} = {x} < x_min{n} = {x_min} (z_{n} = {z}, "
-        "z_min = {z_min}); a shift x_{n} ≥ {x_min} avoids it": "齿轮 {n}（{link}）发生根切：x_{n} = {x} < x_min{n} = {x_min}（z_{n} = {z}，z_min = {z_min}）；取变位系数 x_{n} ≥ {x_min} 可避免根切",
-        "ε_α = {eps} < 1: one pair of teeth leaves before the next engages (the mesh is not "
-        "continuous)": "ε_α = {eps} < 1：前一对轮齿脱离啮合时后一对尚未进入啮合（传动不连续）",
-        "the shifted pair works at α' = {alpha_w} and a' = {a_w} without backlash; the file's "
-        "pitch circles are the reference circles, and the motion, which reads only the ratio, is "
-        "the same": "变位齿轮副无侧隙啮合时啮合角 α' = {alpha_w}，中心距 a' = {a_w}；文件中的齿轮半径为分度圆半径，运动只取决于传动比，不受影响",
-        "the annulus has no undercut limit; the interference of internal teeth is not checked": "内齿轮无根切极限；未校核内啮合的齿廓干涉",
-        "the pinion's number of teeth is not given (key teeth): its module and tooth geometry "
-        "are unknown": "未给出齿轮的齿数（键 teeth）：其模数与齿廓尺寸未知",
-        "{joint}: {why}": "{joint}：{why}",
-    }
-)
+# the graded methods' texts (issue 38) are kept in their own module
+ZH.update(_METHODS)

@@ -22,6 +22,7 @@ from .drive import drive_blocks
 from .elements import element_blocks
 from .flywheel import flywheel_blocks
 from .gears import gear_blocks
+from .methods import cam_blocks, centres_blocks, lever_blocks
 from .pdf import pdf_module, write_pdf
 from .results import _summary_blocks, balancing, length_unit, report_tables
 
@@ -117,7 +118,8 @@ def write_report(  # noqa: PLR0913  the report's public keywords (docs/pictures.
     ``methods``: the graded methods' stage, called as ``methods(result, rows)`` with the
     ``(label, row)`` positions of the detailed chapters (``kinetostatics report`` passes
     :func:`~kinetostatics.methods.stage.methods_stage`): its dict is written to
-    ``methods.json`` (returned as ``methods``), and the gears' chapter comes from it.
+    ``methods.json`` (returned as ``methods``), and the chapters of the balancing moment
+    three ways, the instant centres, the gears and the cam's design come from it.
     """
     formats = list(dict.fromkeys(formats))
     for f in formats:
@@ -365,8 +367,20 @@ def write_report(  # noqa: PLR0913  the report's public keywords (docs/pictures.
     if "drive" in summary:
         blocks += drive_blocks(summary["drive"], result, image, lang, section)
         section += 1
-    if graded is not None and "gears" in graded:
-        blocks += gear_blocks(graded["gears"], lang, section)
+    g = graded or {}
+    if "balancing_moment" in g:
+        blocks += lever_blocks(g["balancing_moment"], lang, section)
+        section += 1
+    if g.get("instant_centres"):
+        # drawn where the polygons are (the positions asked, or 2 and 7), tabled at each
+        blocks += centres_blocks(
+            g["instant_centres"], result, image, lang, section, dpi, drawn=polygons
+        )
+        section += 1
+    gears = gear_blocks(g["gears"], lang, section) if "gears" in g else []
+    blocks += gears
+    section += bool(gears)
+    blocks += cam_blocks(g.get("cam_design") or [], image, lang, section, dpi)
     written: dict[str, Path] = {}
     if "md" in formats:
         written["markdown"] = out / "report.md"
