@@ -23,24 +23,15 @@ import kinetostatics as ks
 from kinetostatics.analysis.pipeline import analyze
 from kinetostatics.methods.centres import centres_at, instant_centres
 from kinetostatics.outputs.labels import link_numbers
-from tests.helpers import ROOT, motion_driven
+from tests.helpers import motion_driven, spread_rows
 
 FILES = motion_driven()
 TOL = 1e-12
 
 
-def _result(name: str):
-    return analyze(ks.load(ROOT / "mechanisms" / f"{name}.yaml"), kinematics_only=True)
-
-
 @pytest.fixture(scope="module")
-def results():
-    return {name: _result(name) for name in FILES}
-
-
-def _rows(result) -> list[int]:
-    n = len(result.t)
-    return [n // 7, 3 * n // 7, 5 * n // 7 + 3]
+def results(kinematics):
+    return kinematics
 
 
 def _field(result, row: int, body: str):
@@ -69,7 +60,7 @@ def _scale(result, row: int) -> float:
 def test_every_centre_found_where_kennedy_can_and_the_pipeline_agrees(results, name):
     result = results[name]
     n_bodies = len(result.system.links) + 1
-    for row in _rows(result):
+    for row in spread_rows(result):
         rec = instant_centres(result, row)
         assert len(rec.centres) == n_bodies * (n_bodies - 1) // 2
         assert not rec.not_found, [c.bodies for c in rec.not_found]
@@ -92,7 +83,7 @@ def test_every_centre_found_where_kennedy_can_and_the_pipeline_agrees(results, n
 @pytest.mark.parametrize("name", FILES)
 def test_the_velocities_from_the_centres_are_the_pipelines(results, name):
     result = results[name]
-    for rec in centres_at(result, _rows(result)):
+    for rec in centres_at(result, spread_rows(result)):
         assert rec.max_error <= TOL, rec.max_error
         w_scale = np.max(np.abs(result.qd[rec.row][2::3]))
         for check in rec.checks:

@@ -26,24 +26,15 @@ from kinetostatics.analysis.pipeline import analyze
 from kinetostatics.methods.stage import methods_stage
 from kinetostatics.methods.vectors import vector_equations
 from kinetostatics.outputs.plotting import course_positions
-from tests.helpers import ROOT, motion_driven
+from tests.helpers import motion_driven, spread_rows
 
 FILES = motion_driven()
 TOL = 1e-12
 
 
-def _result(name: str):
-    return analyze(ks.load(ROOT / "mechanisms" / f"{name}.yaml"), kinematics_only=True)
-
-
 @pytest.fixture(scope="module")
-def results():
-    return {name: _result(name) for name in FILES}
-
-
-def _rows(result) -> list[int]:
-    n = len(result.t)
-    return [n // 7, 3 * n // 7, 5 * n // 7 + 3]
+def results(kinematics):
+    return kinematics
 
 
 def _terms(equation):
@@ -53,7 +44,7 @@ def _terms(equation):
 @pytest.mark.parametrize("name", FILES)
 def test_every_equation_closes_to_its_largest_term(results, name):
     result = results[name]
-    positions = vector_equations(result, _rows(result))
+    positions = vector_equations(result, spread_rows(result))
     assert len(positions) == 3
     for position in positions:
         assert [g.links for g in position.groups] == [p.group.links for p in result.system.plans]
@@ -72,7 +63,7 @@ def test_every_equation_closes_to_its_largest_term(results, name):
 @pytest.mark.parametrize("name", FILES)
 def test_a_dyad_has_two_unknown_magnitudes_and_its_normals_are_normal(results, name):
     result = results[name]
-    row = _rows(result)[1]
+    row = spread_rows(result)[1]
     (position,) = vector_equations(result, [row])
     points, normals = _points(result, row), 0
     for group in position.groups:
