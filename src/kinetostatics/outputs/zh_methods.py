@@ -130,3 +130,22 @@ ZH.update(
         "base circle r_b = {r} mm": "基圆 r_b = {r} mm",
     }
 )
+
+# issue 38, the chapter of the force polygons (outputs/report/polygons_chapter.py)
+ZH.update(
+    {
+        "{n}. Force polygons of the Assur groups": "{n}. 各杆组的力多边形",
+        "The graphical force analysis (图解法), group by group in the order of the solution: the last Assur group first, the driving link last. Per group its free body (the loads, weights, inertia forces and couples of its links, the reactions of the groups already solved: known; the reactions at its outer pairs: solved) and its force polygon, the vectors chained tip to tail at the round scale μ_F, which closes because the group is in equilibrium. F_Rij is the force of link i on link j. Points P in mm in the frame's axes; vectors (F_x, F_y) in N.": "图解法力分析，按求解顺序逐组进行：先最后一个杆组，最后为原动件。每组给出其受力图（各构件的外载荷、重力、惯性力与惯性力偶，已求杆组传来的约束反力为已知；其外运动副处的约束反力为待求）及其力多边形：各力矢量按整数比例尺 μ_F 首尾相接，因杆组处于平衡而封闭。F_Rij 为构件 i 对构件 j 的作用力。作用点 P 以 mm 计（机架坐标系），矢量 (F_x, F_y) 以 N 计。",
+        "The forces are the frictionless solution's first.": "先给出不计摩擦时的各力。",
+        " (with friction)": "（计摩擦）",
+        "vector, N": "矢量，N",
+        "known/solved": "已知/待求",
+        "known": "已知",
+        "solved": "待求",
+        "driving link {links}": "原动件 {links}",
+        "group {name}": "杆组 {name}",
+        "Position {pos}: {name}": "位置 {pos}：{name}",
+        "{title}: its forces": "{title}：各力",
+        "μ_F = {mu} N/mm; closure error |ΣF| = {c} N ({e} of the largest force, {big} N); moment error {m}.": "μ_F = {mu} N/mm；封闭误差 |ΣF| = {c} N（为最大力 {big} N 的 {e}）；力矩误差 {m}。",
+    }
+)

@@ -24,6 +24,7 @@ from .flywheel import flywheel_blocks
 from .gears import gear_blocks
 from .methods import cam_blocks, centres_blocks, lever_blocks
 from .pdf import pdf_module, write_pdf
+from .polygons_chapter import polygon_blocks
 from .results import _summary_blocks, balancing, length_unit, report_tables
 
 FORMATS = ("md", "html", "pdf")
@@ -380,7 +381,11 @@ def write_report(  # noqa: PLR0913  the report's public keywords (docs/pictures.
     gears = gear_blocks(g["gears"], lang, section) if "gears" in g else []
     blocks += gears
     section += bool(gears)
-    blocks += cam_blocks(g.get("cam_design") or [], image, lang, section, dpi)
+    cams = cam_blocks(g.get("cam_design") or [], image, lang, section, dpi)
+    blocks += cams
+    section += bool(cams)
+    # last, so that the chapters before keep their numbers; drawn where the polygons are
+    blocks += polygon_blocks(g, result, image, lang, section, drawn=polygons)
     written: dict[str, Path] = {}
     if "md" in formats:
         written["markdown"] = out / "report.md"
