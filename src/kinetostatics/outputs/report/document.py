@@ -25,6 +25,7 @@ from .gears import gear_blocks
 from .methods import cam_blocks, centres_blocks, lever_blocks
 from .pdf import pdf_module, write_pdf
 from .results import _summary_blocks, balancing, length_unit, report_tables
+from .vectors import vector_blocks
 
 FORMATS = ("md", "html", "pdf")
 
@@ -377,6 +378,9 @@ def write_report(  # noqa: PLR0913  the report's public keywords (docs/pictures.
             g["instant_centres"], result, image, lang, section, dpi, drawn=polygons
         )
         section += 1
+    vectors = vector_blocks(g.get("vector_equations") or {}, lang, section)
+    blocks += vectors
+    section += bool(vectors)
     gears = gear_blocks(g["gears"], lang, section) if "gears" in g else []
     blocks += gears
     section += bool(gears)
