@@ -76,3 +76,18 @@ def test_a_position_not_asked_has_no_equations(tmp_path):
     assert headings == ["2", "7"]
     for section, p in zip(re.split(r"^### ", chapter, flags=re.M)[1:], entry.values()):
         _check_position(section, p, "en")
+
+
+def test_a_pair_whose_terms_are_not_written_is_named_under_its_group(tmp_path):
+    args = ["report", str(ROOT / "mechanisms" / "cam_roller.yaml"), "--out"]
+    args += [str(tmp_path), "--format", "md", "--dpi", "20", "--positions", "2", "--lang", "zh"]
+    assert main(args) == 0
+    md, entry = _read(tmp_path)
+    notes = [n for g in entry["2"]["groups"] for n in g["notes"]]
+    assert notes, "the cam's contact writes no terms"
+    chapter = _chapter(md, TITLES["zh"])
+    joint = notes[0].split(" ")[0]
+    assert f"未列出：{joint} (凸轮副)" in chapter
+    # no equation is written without the contact's terms: the groups' ω, α still are
+    assert not [e for g in entry["2"]["groups"] for e in g["equations"]]
+    assert chapter.count("解得：") == len(entry["2"]["groups"])

@@ -16,6 +16,9 @@ from .blocks import _Heading, _Para, _Table
 
 _DYAD = re.compile(r"^([A-Z]{3}) dyad (\{.*\})$")
 _DRIVEN = re.compile(r"^driven links? (\{.*\})$")
+_GROUP = re.compile(r"^(\d+)-link group (\{.*\})$")
+_NOTE = re.compile(r"^(.+) \((.+)\): (.+ for this pair type)$")
+_AXIS = re.compile(r"the axis of (\S+)")
 _UNITS = {"velocity": "m/s", "acceleration": "m/s²"}
 
 
@@ -30,14 +33,23 @@ def _group_title(label: str, lang: str) -> str:
         return tr("{letters} dyad {links}", lang, letters=m[1], links=m[2])
     if m := _DRIVEN.match(label):
         return tr("driven link {links}", lang, links=m[1])
+    if m := _GROUP.match(label):
+        return tr("{n}-link group {links}", lang, n=m[1], links=m[2])
     return label
+
+
+def _note(note: str, lang: str) -> str:
+    """A group's note (``slot (slide): accelerations not written for this pair type``)."""
+    if m := _NOTE.match(note):
+        return f"{m[1]} ({tr(m[2], lang)}): {tr(m[3], lang)}"
+    return note
 
 
 def _text(s: str, lang: str) -> str:
     """A direction or magnitude text of the record (formulas stay; its words translated)."""
     if s in ("known", "?", ""):
         return tr(s, lang) if s == "known" else s
-    return s.replace("the axis of ", tr("the axis of ", lang))
+    return _AXIS.sub(lambda m: tr("the axis of {joint}", lang, joint=m[1]), s)
 
 
 def _table(eq: dict, lang: str) -> _Table:
@@ -55,17 +67,19 @@ def _table(eq: dict, lang: str) -> _Table:
 
 def _group_blocks(g: dict, lang: str) -> list:
     T = lambda s, **k: tr(s, lang, **k)  # noqa: E731
-    blocks: list = [_Para(_group_title(g["group"], lang) + ":")]
+    blocks: list = [_Para(T("{group}:", group=_group_title(g["group"], lang)))]
     for eq in g["equations"]:
-        what = T("velocity") if eq["kind"] == "velocity" else T("acceleration")
-        blocks += [_Para(f"{what} ({eq['joint']}): {eq['text']}"), _table(eq, lang)]
+        what = T("Velocity") if eq["kind"] == "velocity" else T("Acceleration")
+        line = T("{kind} at the pair {joint}: {equation}", kind=what, joint=eq["joint"],
+                 equation=eq["text"])  # fmt: skip
+        blocks += [_Para(line), _table(eq, lang)]
     solved = ", ".join(f"{s['symbol']} = {_g(s['value'])} {s['unit']}" for s in g["solved"])
     residual = max((e["residual"] or 0.0 for e in g["equations"]), default=0.0)
     blocks.append(
         _Para(T("Solved: {solved}; closure residual {res} (relative).", solved=solved,
                 res=_g(residual, 2)))
     )  # fmt: skip
-    blocks += [_Para(T("Not written: {note}", note=n)) for n in g["notes"]]
+    blocks += [_Para(T("Not written: {note}", note=_note(n, lang))) for n in g["notes"]]
     return blocks
 
 
