@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import kinetostatics as ks
-from kinetostatics.methods.polygons import ForcePolygons, force_polygons
+from kinetostatics.methods.polygons import POLYGON_SIZE_MM, ForcePolygons, force_polygons
 from kinetostatics.methods.stage import methods_stage
 from kinetostatics.outputs.plotting.rows import analyze_for_pictures, course_positions
 from tests.helpers import MECHANISMS, ROOT, motion_driven
@@ -115,7 +115,7 @@ def test_every_polygon_closes_and_every_group_balances_on_every_shipped_file(pat
             mantissa = g.mu_F / 10 ** math.floor(math.log10(g.mu_F) + 1e-12)
             assert any(abs(mantissa - r) < 1e-9 for r in (1, 2, 2.5, 4, 5)), g.mu_F
             span = np.ptp(np.array(g.vertices), axis=0).max()
-            assert span / g.mu_F <= 100.0 + 1e-9  # drawn at most 100 mm across
+            assert span / g.mu_F <= POLYGON_SIZE_MM + 1e-9  # drawn at most 60 mm across
     json.dumps(record.to_dict(), allow_nan=False)
 
 
@@ -177,7 +177,7 @@ def test_group_figure_draws_the_polygon_at_its_scale():
     assert len(arrows) == len(drawn)
     labels = {t.get_text() for t in poly.texts if t.get_gid() == "force-polygon-label"}
     assert {"$F_{R34}$", "$F_{R65}$", "$G_{5}$", "$F_{I5}$", "cutting"} <= labels
-    assert "20 N/mm" in poly.get_title()  # μ_F: the polygon's ≈1.02 kN over 100 mm rounds up
+    assert "20 N/mm" in poly.get_title()  # μ_F: the polygon's ≈1.02 kN over 60 mm rounds up
     closure = [t.get_text() for t in poly.texts if t.get_gid() == "closure"]
     assert closure and "closure error" in closure[0]
     fig.savefig(io.BytesIO(), format="png")

@@ -55,8 +55,9 @@ def test_the_gears_are_the_textbook_s(geared):
         assert abs(r - pair["module"] * wheel["teeth"] / 2) <= 1e-12 * r
         assert abs(wheel["base_radius"] - r * math.cos(alpha)) <= 1e-12 * r
     text = (out / "report.md").read_text(encoding="utf-8")
-    # after the balancing moment (9) and the instant centres (10): the methods' chapters
-    assert "## 11. Gears" in text and "r_b1 = r_1 cos α" in text
+    # after the balancing moment (9), the instant centres (10) and the vector equations (11)
+    assert "## 12. Gears" in text and "r_b1 = r_1 cos α" in text
+    assert text.index("## 10. Instant centres") < text.index("## 11. Vector equations")
     assert text.index("## 9. The balancing moment") < text.index("## 10. Instant centres")
 
 

@@ -53,7 +53,7 @@ FAR = 2.0
 """A force whose line passes farther than FAR·L_ref from its anchor is drawn at the anchor
 with the moment it leaves as a couple (L_ref: the mechanism's size, docs/conventions.md)."""
 
-POLYGON_SIZE_MM = 100.0
+POLYGON_SIZE_MM = 60.0
 """The drawn polygon's size the scale μ_F aims at: the largest extent ≤ this, in mm."""
 
 

@@ -41,7 +41,7 @@ _COLOR = {
     "inertia_couple": FORCE_COLORS["inertia"],
     "weight": FORCE_COLORS["gravity"],
 }
-PANEL_MM = (100.0, 100.0)  # each panel's drawing area: the polygon fits it at μ_F
+PANEL_MM = (65.0, 65.0)  # each panel's drawing area: the polygon fits it at μ_F
 
 
 def force_label(force: dict, numbers: dict[str, int] | None = None) -> str:
@@ -166,7 +166,7 @@ def group_figure(record, *, numbers=None, title: str = "", dpi: float = DPI, lan
     Returns
     -------
     matplotlib.figure.Figure
-        Two panels of 100 × 100 mm: the free body (mm of the mechanism) and the polygon at
+        Two panels of 65 × 65 mm: the free body (mm of the mechanism) and the polygon at
         the scale μ_F printed over it (mm of paper), the closure error printed under it.
     """
     data = _plain(record)

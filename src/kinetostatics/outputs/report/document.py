@@ -21,11 +21,12 @@ from .data import _data_blocks, _structure_blocks
 from .drive import drive_blocks
 from .elements import element_blocks
 from .flywheel import flywheel_blocks
+from .forces import polygon_blocks
 from .gears import gear_blocks
 from .methods import cam_blocks, centres_blocks, lever_blocks
 from .pdf import pdf_module, write_pdf
-from .polygons_chapter import polygon_blocks
 from .results import _summary_blocks, balancing, length_unit, report_tables
+from .vectors import vector_blocks
 
 FORMATS = ("md", "html", "pdf")
 
@@ -378,6 +379,9 @@ def write_report(  # noqa: PLR0913  the report's public keywords (docs/pictures.
             g["instant_centres"], result, image, lang, section, dpi, drawn=polygons
         )
         section += 1
+    vectors = vector_blocks(g.get("vector_equations") or {}, lang, section)
+    blocks += vectors
+    section += bool(vectors)
     gears = gear_blocks(g["gears"], lang, section) if "gears" in g else []
     blocks += gears
     section += bool(gears)
