@@ -44,18 +44,13 @@ from ..kinetics.forces import applied_loads, effort_forces
 from ..kinetics.inverse import load_powers, loads
 from ..kinetics.reactions import effort_joints
 from ..structure.system import System, coordinate_gradient
+from .records import asked_rows, json_float
 
 __all__ = ["LeverTerm", "LeverPosition", "BalancingMoment", "lever_stage"]
 
 
-def _num(x) -> float | None:
-    """A JSON-safe float: None for NaN or ±inf."""
-    x = float(x)
-    return x if math.isfinite(x) else None
-
-
 def _pair(v) -> list[float | None] | None:
-    return None if v is None else [_num(v[0]), _num(v[1])]
+    return None if v is None else [json_float(v[0]), json_float(v[1])]
 
 
 @dataclass(frozen=True)
@@ -90,8 +85,8 @@ class LeverTerm:
                 image=_pair(self.image),
             )
         elif self.kind == "couple":
-            out.update(couple=_num(self.couple), omega=_num(self.omega))
-        out["moment"] = _num(self.moment)
+            out.update(couple=json_float(self.couple), omega=json_float(self.omega))
+        out["moment"] = json_float(self.moment)
         return out
 
 
@@ -132,20 +127,20 @@ class LeverPosition:
         return {
             "row": self.row,
             "label": self.label,
-            "coordinate": _num(self.coordinate),
-            "speed": _num(self.speed),
-            "others": _num(self.others),
+            "coordinate": json_float(self.coordinate),
+            "speed": json_float(self.speed),
+            "others": json_float(self.others),
             "terms": [t.to_dict() for t in self.terms],
-            "lever_sum": _num(sum(t.moment for t in self.terms)),
+            "lever_sum": json_float(sum(t.moment for t in self.terms)),
             "M_b": {
-                "lever": _num(self.lever),
-                "power": _num(self.power),
-                "solution": _num(self.solution),
+                "lever": json_float(self.lever),
+                "power": json_float(self.power),
+                "solution": json_float(self.solution),
             },
             "relative_difference": {
-                "lever_solution": _num(self.lever_error),
-                "power_solution": _num(self.power_error),
-                "lever_power": _num(self.lever_power_error),
+                "lever_solution": json_float(self.lever_error),
+                "power_solution": json_float(self.power_error),
+                "lever_power": json_float(self.lever_power_error),
             },
         }
 
@@ -183,7 +178,7 @@ class BalancingMoment:
             "joint": self.joint,
             "frictionless": True,
             "friction": self.friction,
-            "max_relative_difference": _num(self.max_difference),
+            "max_relative_difference": json_float(self.max_difference),
             "positions": [p.to_dict() for p in self.positions],
         }
 
@@ -252,15 +247,6 @@ def _load_terms(system: System, q, qd, psi: float, extremes, ref_speed) -> list[
 
 
 # -- the stage ---------------------------------------------------------------------------
-def _rows(result: Result, rows) -> list[tuple[str, int]]:
-    """``[(label, row)]`` of row indices or ``(label, row)`` pairs (the course positions)."""
-    out = []
-    for r in rows:
-        label, k = (str(r[0]), int(r[1])) if isinstance(r, tuple) else ("", int(r))
-        if not -len(result) <= k < len(result):
-            raise IndexError(f"row {k} is not among the result's {len(result)} rows")
-        out.append((label, k % len(result)))
-    return out
 
 
 def _effort_column(result: Result, i: int) -> tuple[str, str, str]:
@@ -305,7 +291,7 @@ def lever_stage(result: Result, rows: Sequence[int | tuple[str, int]], driver: i
     if not system.motion_drivers or result.lam.shape[-1] <= system.n_joint_rows:
         raise ValueError("the balancing effort needs a result with efforts (not kinematics only)")
     col, unit, joint = _effort_column(result, driver)
-    asked = _rows(result, rows)
+    asked = asked_rows(result, rows)
     ks = np.array([k for _, k in asked], dtype=int)
     ref_speed = schedule(system).reference
     speeds = _speeds(system, result.q[ks], result.qd[ks])

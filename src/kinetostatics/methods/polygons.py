@@ -45,7 +45,7 @@ from ..kinetics.elements import element_states
 from ..kinetics.forces import applied_loads, effort_forces
 from ..kinetics.reactions import effort_joints, equilibrium_matrix
 from ..structure.system import System
-from .lever import _rows
+from .records import asked_rows, json_float
 
 __all__ = ["GroupForce", "GroupPolygon", "PolygonPosition", "ForcePolygons", "force_polygons"]
 
@@ -57,13 +57,8 @@ POLYGON_SIZE_MM = 60.0
 """The drawn polygon's size the scale μ_F aims at: the largest extent ≤ this, in mm."""
 
 
-def _num(x) -> float | None:
-    x = float(x)
-    return x if math.isfinite(x) else None
-
-
 def _pair(v) -> list[float | None]:
-    return [_num(v[0]), _num(v[1])]
+    return [json_float(v[0]), json_float(v[1])]
 
 
 @dataclass(frozen=True)
@@ -105,16 +100,16 @@ class GroupForce:
             "status": self.status,
             "point": _pair(self.point),
             "vector": _pair(self.vector),
-            "couple": _num(self.couple),
+            "couple": json_float(self.couple),
         }
         if self.by:
             out.update(by=self.by, joint=self.joint)
         if self.offset_point is not None:
             out["offset_point"] = _pair(self.offset_point)
         if self.offset is not None:
-            out.update(offset=_num(self.offset), pin=_pair(self.pin))
+            out.update(offset=json_float(self.offset), pin=_pair(self.pin))
         if self.friction_radius is not None:
-            out["friction_radius"] = _num(self.friction_radius)
+            out["friction_radius"] = json_float(self.friction_radius)
         return out
 
 
@@ -162,13 +157,13 @@ class GroupPolygon:
             "forces": [f.to_dict() for f in self.forces],
             "inner": [f.to_dict() for f in self.inner],
             "vertices": [_pair(v) for v in self.vertices],
-            "closure": _num(self.closure),
-            "largest": _num(self.largest),
-            "closure_error": _num(self.closure_error),
+            "closure": json_float(self.closure),
+            "largest": json_float(self.largest),
+            "closure_error": json_float(self.closure_error),
             "pivot": _pair(self.pivot),
-            "moment": _num(self.moment),
-            "moment_error": _num(self.moment_error),
-            "mu_F": _num(self.mu_F),
+            "moment": json_float(self.moment),
+            "moment_error": json_float(self.moment_error),
+            "mu_F": json_float(self.mu_F),
         }
 
 
@@ -207,7 +202,7 @@ class ForcePolygons:
         return {
             "frictionless": not self.with_friction,
             "friction": self.friction,
-            "max_closure_error": _num(self.max_closure_error),
+            "max_closure_error": json_float(self.max_closure_error),
             "positions": [p.to_dict() for p in self.positions],
         }
 
@@ -449,7 +444,7 @@ def force_polygons(
     ref_speed = schedule(system).reference
     l_ref = float(np.max(system.l_ref))
     positions = []
-    for label, k in _rows(result, rows):
+    for label, k in asked_rows(result, rows):
         q = result.q[k]
         lam = result.lam_friction[k] if friction else result.lam[k]
         a = equilibrium_matrix(system, q)

@@ -22,7 +22,6 @@ value after; each equation its closure |Σ lhs − Σ rhs| over its largest term
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -31,16 +30,11 @@ import numpy as np
 
 from ..analysis.results import Result
 from ..base.geometry import perp
+from .records import asked_rows, json_float
 
 __all__ = ["Term", "Equation", "GroupEquations", "VectorPosition", "vector_equations"]
 
 COINCIDENT = 1e-12  # two points closer than this times the mechanism's size are one
-
-
-def _num(x) -> float | None:
-    """A JSON-safe float: None for NaN or ±inf (a singular position's rows)."""
-    x = float(x)
-    return x if math.isfinite(x) else None
 
 
 @dataclass(frozen=True)
@@ -62,12 +56,12 @@ class Term:
     def to_dict(self) -> dict[str, Any]:
         return {
             "symbol": self.symbol,
-            "vector": [_num(c) for c in self.vector],
+            "vector": [json_float(c) for c in self.vector],
             "direction": self.direction,
             "magnitude": self.magnitude if self.known else "?",
             "formula": self.magnitude,
             "known": self.known,
-            "value": _num(self.value),
+            "value": json_float(self.value),
         }
 
 
@@ -98,7 +92,7 @@ class Equation:
             "text": self.text,
             "lhs": [t.to_dict() for t in self.lhs],
             "rhs": [t.to_dict() for t in self.rhs],
-            "residual": _num(self.residual),
+            "residual": json_float(self.residual),
         }
 
 
@@ -119,7 +113,7 @@ class GroupEquations:
             "group": self.label,
             "links": list(self.links),
             "equations": [e.to_dict() for e in self.equations],
-            "solved": [{"symbol": s, "value": _num(v), "unit": u} for s, v, u in self.solved],
+            "solved": [{"symbol": s, "value": json_float(v), "unit": u} for s, v, u in self.solved],
             "notes": list(self.notes),
         }
 
@@ -142,9 +136,9 @@ class VectorPosition:
         return {
             "label": self.label,
             "row": self.row,
-            "t": _num(self.t),
+            "t": json_float(self.t),
             "groups": [g.to_dict() for g in self.groups],
-            "max_residual": _num(self.max_residual),
+            "max_residual": json_float(self.max_residual),
         }
 
 
@@ -423,20 +417,12 @@ def _notes(system, st: _State, plan, members: set, known: set[int]) -> tuple[str
     return tuple(out)
 
 
-def _rows(result: Result, rows) -> list[tuple[str, int]]:
-    out = []
-    for r in rows:
-        label, k = (str(r[0]), int(r[1])) if isinstance(r, tuple) else (str(int(r)), int(r))
-        out.append((label, k % len(result)))
-    return out
-
-
 def vector_equations(result: Result, rows: Sequence) -> tuple[VectorPosition, ...]:
     """The vector equations of ``result`` at ``rows`` (row indices, or ``(label, row)``
     pairs as the course positions give them), group by group in the solution's order."""
     system = result.system
     out = []
-    for label, row in _rows(result, rows):
+    for label, row in asked_rows(result, rows):
         st = _state(result, row)
         known, bases = {len(system.links)}, {}
         groups = []
