@@ -342,6 +342,21 @@ def _reaction_columns(system: System, put, q: np.ndarray, kin: Kinetics) -> None
         )
 
 
+def _idle_effort(system: System, x0: np.ndarray, x: np.ndarray, n_j: int, angular: bool):
+    """Per row, the size below which a driving effort is a round-off zero: 1e-12 of the
+    row's largest joint reaction (without or with friction), times the mechanism's size
+    (the largest distance of a link's point from its centre of mass) for a torque."""
+    reaction = np.maximum(
+        np.max(np.abs(x0[..., :n_j]), axis=-1, initial=0.0),
+        np.max(np.abs(x[..., :n_j]), axis=-1, initial=0.0),
+    )
+    size = max(
+        (float(np.linalg.norm(p)) for link in system.model.links for p in link.points.values()),
+        default=1.0,
+    )
+    return 1e-12 * reaction * (size if angular else 1.0)
+
+
 def _effort_columns(system: System, put, motion: Motion, kin: Kinetics) -> None:
     """Each motion driver's torque or force; with friction, the same with friction
     (approximate and consistent) and the drive's efficiency."""
@@ -359,7 +374,7 @@ def _effort_columns(system: System, put, motion: Motion, kin: Kinetics) -> None:
             continue
         k_effort = names.index(effort_joint.name)
 
-        def efficiency(col=col, k=k_effort):
+        def efficiency(col=col, k=k_effort, angular=effort_joint.angular):
             # η = P_0/P_f, the driver's input power without over with friction, defined
             # only where the drive delivers power with friction (P_f > 0) and the power
             # it passes on is not negative (P_0 = P_f − friction loss ≥ 0): there
@@ -368,8 +383,15 @@ def _effort_columns(system: System, put, motion: Motion, kin: Kinetics) -> None:
             # (docs/friction.md)
             rel = np.einsum("...n,...n->...", coordinate_gradient(system, q, k), qd)
             p0, pf = x0[..., col] * rel, sol.x[..., col] * rel
-            # a P_0 within round-off of 0 (a limit position of a massless drive) is 0
-            ok = (pf > 0.0) & (p0 >= -1e-9 * pf)
+            # a P_0 within round-off of 0 (a limit position of a massless drive) is 0; a
+            # driving effort within round-off of 0 (the drive idles) leaves η undefined:
+            # |effort| ≤ 1e-12 of the row's largest reaction (times the mechanism's size
+            # for a torque), a scale no subset, frame or unit of the run changes
+            ok = (
+                (pf > 0.0)
+                & (p0 >= -1e-9 * pf)
+                & (np.abs(sol.x[..., col]) > _idle_effort(system, x0, sol.x, n_j, angular))
+            )
             with np.errstate(divide="ignore", invalid="ignore"):
                 return (np.where(ok, np.maximum(p0 / pf, 0.0), np.nan),)
 

@@ -192,14 +192,47 @@ def state_at(
     """(q, q̇, q̈) at times ``t`` close to solved states at ``t_near`` (same branch).
 
     Taylor prediction from the near state, then Newton per group.  Used to
-    refine event positions; raises AssemblyError if a group does not converge.
+    refine event positions.  Where Newton does not converge from the prediction (a
+    coarse grid puts a root far from its row), the state is walked there from the
+    near state in 2, 4, … 64 equal steps, each predicted from the last; raises
+    AssemblyError if a group does not converge even so.
     """
+    try:
+        return _state_step(system, drive, t, t_near, q_near, qd_near, qdd_near)
+    except AssemblyError as exc:
+        error = exc
+    states = [np.empty_like(q_near), np.empty_like(qd_near), np.empty_like(qdd_near)]
+    for i in np.ndindex(np.shape(t)):
+        state = _state_by_steps(system, drive, t[i], t_near[i], q_near[i], qd_near[i], qdd_near[i])
+        if state is None:
+            raise error
+        for store, new in zip(states, state):
+            store[i] = new[0]
+    return tuple(states)
+
+
+def _state_step(system, drive, t, t_near, q_near, qd_near, qdd_near):  # noqa: PLR0913  state_at's arrays
+    """One Taylor prediction from the near state, then Newton (state_at's first try)."""
     h = (t - t_near)[..., None]
     guess = q_near + h * qd_near + 0.5 * h * h * qdd_near
     psi, psi_d, psi_dd = drive(t)
     q = positions_near(system, psi, guess, drive)
     qd, qdd, _ = derivatives(system, q, psi_d, psi_dd)
     return q, qd, qdd
+
+
+def _state_by_steps(system, drive, t, t_near, q, qd, qdd):  # noqa: PLR0913  state_at's arrays
+    """The state at the one time ``t`` walked from ``t_near`` in ever more steps, or None."""
+    for m in (2, 4, 8, 16, 32, 64):
+        state = (q[None], qd[None], qdd[None])
+        ts = np.linspace(t_near, t, m + 1)
+        try:
+            for a, b in zip(ts[:-1], ts[1:]):
+                state = _state_step(system, drive, np.array([b]), np.array([a]), *state)
+        except AssemblyError:
+            continue
+        return state
+    return None
 
 
 def positions_near(
