@@ -185,13 +185,18 @@ def compare(a, b, rows_a=None, rows_b=None, columns=None, floor=1e-9, scales=Non
     return worst
 
 
-def match_rows(a, b, tol=1e-7):
-    """Pairs of rows (i in a, j in b) with the same driver angle."""
+def match_rows(a, b, tol=1e-7, same_time=False):
+    """Pairs of rows (i in a, j in b) with the same driver angle (and, with
+    ``same_time``, the same time: a row one turn later is another state where the
+    cycle does not close, e.g. the end row of an ``events: true`` run)."""
     ia, ib = [], []
     ang_b = np.asarray(b["angle"], float)
+    t_a, t_b = np.asarray(a.t, float), np.asarray(b.t, float)
     for i, x in enumerate(np.asarray(a["angle"], float)):
         d = np.abs(_wrap(ang_b - x))
         j = int(np.argmin(d))
+        if same_time and abs(t_a[i] - t_b[j]) > 1e-9 * max(1.0, abs(t_b[j])):
+            continue
         if d[j] < tol:
             ia.append(i)
             ib.append(j)
@@ -222,7 +227,10 @@ def relation_subset(doc, seed, n=24):
     d2["analysis"]["positions"] = n
     d2["analysis"]["events"] = True
     withat = analyze(d2)
-    ia, ib = match_rows(withat, full)
+    # by time too (both start at the same angle): where the cycle does not close (the
+    # closure self-check warns: seed 1000172, a group that changes branch over the turn)
+    # the end row of the events run is not its first
+    ia, ib = match_rows(withat, full, same_time=True)
     if len(ia) < n:
         return math.inf
     worst = max(worst, compare(withat, full, ia, ib))
