@@ -203,3 +203,19 @@ def test_a_row_one_turn_later_is_another_state_where_the_cycle_does_not_close():
     res = _analyze(doc)
     assert res.checks.closure is not None and not res.checks.closure.ok
     assert R.relation_subset(doc, 1000172) <= R.TOLERANCE["subset"]
+
+
+def test_a_rest_then_motion_the_other_way_is_no_switch():
+    """L1 acts while f1.c2 moves along its axis. The point comes to rest (±1e-17 m/s) and
+    then moves the other way: no switch there. The sign of the round-off at rest made one,
+    'on' in SI and 'off' in mm/deg/rpm, 1e-4 s apart (seed 1000006). The events are now the
+    same in both unit systems, and none lies in the rest."""
+    doc = yaml.safe_load((CASES / "rest_then_other_way.yaml").read_text(encoding="utf-8"))
+    doc["analysis"]["positions"] = 12
+    runs = [_analyze(doc), _analyze(R.G.in_units(doc, "mm", "deg", "rpm"))]
+    events = [[(e.load, e.switch, e.t) for e in r.events] for r in runs]
+    assert [e[:2] for e in events[0]] == [e[:2] for e in events[1]]
+    scale = float(np.ptp(runs[0].t))  # the rows' time span
+    for (_, _, ta), (_, _, tb) in zip(*events, strict=True):
+        assert abs(ta - tb) <= 1e-9 * scale
+    assert R.relation_units(doc, 1000006) <= R.TOLERANCE["units"]

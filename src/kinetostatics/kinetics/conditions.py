@@ -390,6 +390,7 @@ def _switches(system, drive, sched, t, q, qd, qdd, full, period_t, extremes):
     changes of the other conditions between the samples ``t``, refined, sorted by time."""
     psi = drive(t)[0][..., 0]
     span = float(np.max(t) - np.min(t)) if len(t) > 1 else 1.0
+    rows = (t, q, qd, qdd, psi)
     events: list = []
     for load in system.model.loads:
         for c in load.active:
@@ -397,21 +398,10 @@ def _switches(system, drive, sched, t, q, qd, qdd, full, period_t, extremes):
             if kind.scheduled:  # an angle band: switches at the schedule's times
                 events += _band_switches(system, load, c, drive, sched)
                 continue
-            for offset, label in switch_levels(c):
-
-                def f(a, b, cc, c=c, offset=offset):
-                    g, dg = condition_state(system, c, a, b, cc, None, extremes)
-                    return g - offset, dg
-
-                vals = condition_state(system, c, q, qd, qdd, psi, extremes)[0] - offset
-                noise = 1e-12 * float(np.max(system.l_ref)) * kind.noise(sched.reference)
-                vals = np.where(np.abs(vals) <= noise, 0.0, vals)  # round-off is no switch
-                roots, (qs, qds, qdds) = find_roots(
-                    system, drive, t, q, qd, qdd, vals, f, full, period_t
-                )
-                for r, qr, qdr, qddr in zip(roots, qs[:, None], qds[:, None], qdds[:, None]):
-                    g, dg = f(qr[0], qdr[0], qddr[0])
-                    inside_up = kind.rising(c, offset, dg)
+            noise = 1e-12 * float(np.max(system.l_ref)) * kind.noise(sched.reference)
+            for level, label in switch_levels(c):
+                found = _crossings(system, drive, c, level, noise, rows, full, period_t, extremes)
+                for r, (qr, qdr, qddr), inside_up in found:
                     # the others on the side the load switches to: just after an "on",
                     # just before an "off" (at the root itself another condition that
                     # changes at the same instant, a member at rest moving two points
@@ -430,10 +420,44 @@ def _switches(system, drive, sched, t, q, qd, qdd, full, period_t, extremes):
                                 label,
                                 "on" if inside_up else "off",
                             ),
-                            (qr[0], qdr[0], qddr[0]),
+                            (qr, qdr, qddr),
                         )
                     )
     return _merged(events, span)
+
+
+def _crossings(system, drive, c, level, noise, rows, full, period_t, extremes):  # noqa: PLR0913  the rows' arrays of one search
+    """[(t, (q, q̇, q̈), on)]: where the value of condition ``c`` crosses ``level`` between
+    the ``rows`` ``(t, q, q̇, q̈, ψ)``, refined; ``on``: the condition holds after it.
+
+    Round-off (|value − level| ≤ ``noise``) is no sign.  A condition that holds only off a
+    rest (``moving``) has rests: a crossing straight from one sign to the other is at the
+    value's zero; a rest begun from the side where it holds switches it off where the
+    value falls to the noise (the rest's start), a rest left to that side switches it on
+    where the value rises past it; a rest and the other side are one state (no switch).
+    (At rest the value is ±1e-17: its sign decided the switch, its time and its sense.)"""
+    t, q, qd, qdd, psi = rows
+    kind = CONDITION_KINDS[c.kind]
+    raw = condition_state(system, c, q, qd, qdd, psi, extremes)[0] - level
+    rest = np.abs(raw) <= noise
+    searches = [(level, np.where(rest, 0.0, raw))]
+    if kind.at_rest_band:
+        searches = [
+            (level, np.where(rest, np.nan, raw)),  # straight through the zero
+            (level + noise, np.where(rest, -1.0, np.where(raw > 0, raw - noise, np.nan))),
+        ]
+    out = []
+    for offset, vals in searches:
+
+        def f(a, b, cc, offset=offset):
+            g, dg = condition_state(system, c, a, b, cc, None, extremes)
+            return g - offset, dg
+
+        roots, (qs, qds, qdds) = find_roots(system, drive, t, q, qd, qdd, vals, f, full, period_t)
+        for r, qr, qdr, qddr in zip(roots, qs, qds, qdds):
+            _, dg = f(qr[None], qdr[None], qddr[None])
+            out.append((r, (qr, qdr, qddr), bool(kind.rising(c, level, dg[0]))))
+    return out
 
 
 def _band_switches(system, load, c, drive, sched) -> list:
