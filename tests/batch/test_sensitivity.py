@@ -125,7 +125,7 @@ def test_the_monte_carlo_spread_is_the_linearised_one(dist, sd_of):
 
     a, b, e = 100.0, 350.0, -20.0
     tol = np.array([0.2, 0.5, 0.3])
-    n = 400
+    n = 300
     mc = monte_carlo(
         SLIDER,
         [f"a=±{tol[0]}", f"b=±{tol[1]}", f"e=±{tol[2]}"],

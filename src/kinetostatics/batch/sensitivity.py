@@ -40,7 +40,7 @@ import numpy as np
 from ..base.document import read_text
 from ..errors import KinetostaticsError, did_you_mean
 from .objectives import Expression, OptimizeError
-from .runner import BatchOptions, run_batch
+from .runner import BatchOptions, _check_memory, run_batch
 from .sources import Source, Task, template_of
 from .table import SUMMARY, column_unit, read_summary
 from .variants import analyze_variants
@@ -219,6 +219,8 @@ def study(
     if opts.flywheel is None:  # sized (variant by variant, slower) only when asked for
         flywheel = None if any(n.startswith("flywheel.") for n in named) else False
         opts = replace(opts, flywheel=flywheel)
+    if opts.positions:  # one design's analysis within the memory available, as a batch's
+        _check_memory(0, opts.positions, 1)
     row = analyze_variants(
         template, [{}], positions=opts.positions, friction=opts.friction, flywheel=opts.flywheel
     )[0]
