@@ -16,6 +16,7 @@ silently.  The share of designs outside the limits *or* failed is reported besid
 from __future__ import annotations
 
 import math
+import re
 from collections import Counter
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
@@ -82,10 +83,11 @@ class MonteCarlo:
     """A Monte Carlo tolerance analysis: ``samples`` designs drawn as ``dist`` with
     ``seed``; ``parameters`` ``(samples, n)`` (file units, the tolerances' order) and
     ``values`` ``(samples, m)`` (the quantities', NaN where a design failed or has no
-    value); ``status`` of each design; ``spreads`` of each quantity; ``limits``;
-    ``failed`` (designs not analysed) with their ``reasons`` (reason, count), most
-    frequent first; ``outside_any`` (analysed designs outside some limit); ``seconds``,
-    ``alone`` (analysed one by one), ``reused`` (rows from an earlier run)."""
+    value); ``status`` and reason of each design; ``spreads`` of each quantity; ``limits``;
+    ``failed`` (designs not analysed) with their ``reasons``: (a reason, how many) of the
+    reasons alike but for their numbers, most frequent first; ``outside_any`` (analysed
+    designs outside some limit); ``seconds``, ``alone`` (analysed one by one), ``reused``
+    (rows from an earlier run)."""
 
     file: str
     dist: str
@@ -263,7 +265,7 @@ def run_samples(  # noqa: PLR0913  the study and its Monte Carlo options
     values = np.array([st.values(r) for r in rows]).reshape(samples, len(st.quantities))
     status = tuple(r.get("status", "error") for r in rows)
     ok = np.array([s == "ok" for s in status])
-    reasons = Counter(r.get("reason", "") for r, good in zip(rows, ok) if not good)
+    reasons = _reasons([r.get("reason", "") for r, good in zip(rows, ok) if not good])
     shares = []
     outside_any = np.zeros(samples, dtype=bool)
     for c in constraints:
@@ -292,12 +294,28 @@ def run_samples(  # noqa: PLR0913  the study and its Monte Carlo options
         spreads,
         tuple(shares),
         int((~ok).sum()),
-        tuple(reasons.most_common()),
+        reasons,
         int(outside_any.sum()),
         summary.seconds,
         summary.alone,
         summary.reused,
     )
+
+
+_NUMBER = re.compile(r"[-+]?\d+(?:\.\d*)?(?:e[-+]?\d+)?")
+
+
+def _reasons(texts: Sequence[str]) -> tuple[tuple[str, int], ...]:
+    """The failed designs' reasons grouped by their words (the numbers in them — the angle
+    where a design stops assembling, its gap — differ from design to design): ``(the first
+    design's reason, how many)``, the most frequent first."""
+    groups: Counter = Counter()
+    first: dict[str, str] = {}
+    for text in texts:
+        key = _NUMBER.sub("#", text)
+        groups[key] += 1
+        first.setdefault(key, text)
+    return tuple((first[k], c) for k, c in groups.most_common())
 
 
 def _spread(q: str, unit: str, nominal: float, v: np.ndarray, linear) -> Spread:
