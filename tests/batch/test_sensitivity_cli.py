@@ -81,6 +81,8 @@ def test_the_command_writes_its_files_with_the_closed_forms_numbers(tmp_path, ca
             "no quantity or parameter 'x.y'",
         ),
         (["--vary", "a=±1", "--chunk", "0"], "--chunk 0: must be from 1 to"),
+        (["--vary", "a=±1", "--limit", "slide.stroke <= 1"], "--limit needs --samples"),
+        (["--vary", "a=±1", "--of", "a", "--of", "a"], "--of 'a': named twice"),
         (["--vary", "a=±1", "--dist", "cauchy"], "argument --dist: invalid choice: 'cauchy'"),
     ],
 )

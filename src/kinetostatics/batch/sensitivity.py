@@ -214,6 +214,10 @@ def study(
         quantities = tuple(Expression(q) for q in of or ())
     except OptimizeError as exc:
         raise SensitivityError(f"--of {exc}") from None
+    texts = [q.text for q in quantities]
+    for q in texts:
+        if texts.count(q) > 1:
+            raise SensitivityError(f"--of {q!r}: named twice; give each quantity once")
     opts = options or BatchOptions()
     named = [n for q in quantities for n in q.names.values()]
     if opts.flywheel is None:  # sized (variant by variant, slower) only when asked for

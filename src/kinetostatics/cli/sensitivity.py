@@ -114,9 +114,11 @@ def _options(args):
 
 
 def _sensitivity(args) -> int:
-    from ..batch.sensitivity import derivatives, study
+    from ..batch.sensitivity import SensitivityError, derivatives, study
     from ..batch.tolerance import check_options, parse_limits, run_samples
 
+    if args.limit and args.samples is None:
+        raise SensitivityError("--limit needs --samples (the share of designs outside it)")
     opts = _options(args)
     check_options(2 if args.samples is None else args.samples, args.dist, args.seed)
     st = study(args.file, args.vary, args.of, opts)
