@@ -44,7 +44,7 @@ def tornado_figure(sens, quantity: str, *, dpi: float = DPI):
     with _rc("en"):
         fig = _figure(160, 22 + 9 * len(ders), dpi)
         ax = fig.add_subplot()
-        ends = [q0]
+        ends, lins = [q0], []
         for y, i in enumerate(order):
             d = ders[i]
             for value, color in ((d.low, LOW_COLOR), (d.high, HIGH_COLOR)):
@@ -54,7 +54,10 @@ def tornado_figure(sens, quantity: str, *, dpi: float = DPI):
             for lin in (q0 - d.linear, q0 + d.linear):
                 if math.isfinite(lin):
                     ax.plot([lin, lin], [y - 0.36, y + 0.36], color="black", lw=1.0)
+                    lins.append(lin)
         span = (max(ends) - min(ends)) or abs(q0) or 1.0
+        ends += [v for v in lins if abs(v - q0) <= 2 * span]  # ticks near the bars shown
+        span = max(ends) - min(ends) or span
         _end_labels(ax, [ders[i] for i in order], q0, span)
         ax.axvline(q0, color="black", lw=0.8)
         ax.set_yticks(range(len(order)), [_tolerance_text(tols[ders[i].parameter]) for i in order])
