@@ -108,6 +108,7 @@ OPTIMIZE = [
     *("optimize", "{mech}", "--vary", "a=90:110", "--minimize", "motor.torque_peak"),
     *("--maxiter", "1", "--popsize", "2", "--no-polish", "--quiet", "--out", "{out}"),
 ]
+SENSITIVITY = ["sensitivity", "{mech}", "--vary", "a=±1", "--serial", "--out", "{out}"]
 # issue 36 item 7: the optimize verb's own checks of its numbers (another change)
 BEST = ["best", "{summary}", "--best", "min motor.torque_peak"]
 
@@ -244,6 +245,27 @@ CASES = [
     ],
     *_option_cases("optimize", OPTIMIZE, "--subject-to", ("a", "a <= nan")),
     *_out_cases("optimize", OPTIMIZE, FOLDERS),
+    # -- sensitivity (issue 41 item 4) --
+    *_option_cases("sensitivity", SENSITIVITY, "--samples", (*COUNT_BAD, "1")),
+    *_option_cases("sensitivity", SENSITIVITY, "--seed", ("-1", "99999999999999999999")),
+    *_option_cases("sensitivity", SENSITIVITY, "--positions", COUNT_BAD),
+    *_option_cases("sensitivity", SENSITIVITY, "--chunk", COUNT_BAD[:3]),
+    *_option_cases("sensitivity", SENSITIVITY, "--dist", ("cauchy",)),
+    *[
+        pytest.param([*SENSITIVITY, "--vary", v], "--vary", id=f"sensitivity --vary {v}")
+        for v in ("a=±nan", "a=±inf", "a=±0", "a=±-1", "nobody=±1", "a=1:2", "a=±1e400")
+    ],
+    *[  # the line quotes the expression
+        pytest.param([*SENSITIVITY, "--of", e], e, id=f"sensitivity --of {e}")
+        for e in ("nobody", "sqrt(")
+    ],
+    *[
+        pytest.param(
+            [*SENSITIVITY, "--samples", "4", "--limit", v], "--limit", id=f"sensitivity --limit {v}"
+        )
+        for v in ("a", "a <= nobody", "a = 1")
+    ],
+    *_out_cases("sensitivity", SENSITIVITY, FOLDERS),
 ]
 
 # the verbs that write, each writing one or more files once its work is done
@@ -261,6 +283,7 @@ WRITERS = {
     "init": INIT,
     "batch": BATCH,
     "optimize": OPTIMIZE,
+    "sensitivity": [*SENSITIVITY, "--samples", "4"],
 }
 # every verb that reads a mechanism file
 READERS = {

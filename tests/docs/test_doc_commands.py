@@ -29,7 +29,7 @@ FENCE = re.compile(
 )
 INLINE = re.compile(r"`(kinetostatics \w+ mechanisms/[^`]+)`")
 SYNOPSIS = re.compile(r"\b[A-Z]{3,}\b|[\[…]|\.\.\.")
-SLOW = {"batch", "optimize", "simulate", "report", "animate", "best"}
+SLOW = {"batch", "optimize", "simulate", "report", "animate", "best", "sensitivity"}
 
 
 def commands(page: Path) -> list[list[str]]:

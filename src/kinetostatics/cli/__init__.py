@@ -254,6 +254,7 @@ EXTENSIONS: tuple[str, ...] = (
     "kinetostatics.cli.batch",
     "kinetostatics.cli.formats",
     "kinetostatics.cli.optimize",
+    "kinetostatics.cli.sensitivity",
     "kinetostatics.cli.init",
 )
 
