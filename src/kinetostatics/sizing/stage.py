@@ -167,8 +167,11 @@ def _link(result, at, name, section, material, warnings) -> LinkSizing | None:
     if note:
         warnings.append(note)
     L = loads.length
-    inner = [x for x, _, _, far in loads.points if 0.0 < x < L and not far]
-    stations = np.unique(np.concatenate([np.linspace(0.0, L, STATIONS), inner]))
+    inner = np.array([x for x, _, _, far in loads.points if 0.0 < x < L and not far])
+    # at a point load the values just past it, and a station just before it: both sides
+    # of a jump of N or V (and the kink of M) are among the stations
+    before = inner - 1e-6 * L
+    stations = np.unique(np.concatenate([np.linspace(0.0, L, STATIONS), before, inner]))
     N, V, M = beam_forces(loads, stations)
     Nn, _, Mn = beam_forces(loads_n, stations)
     A, Z = section_properties(section)
