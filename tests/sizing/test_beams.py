@@ -171,3 +171,33 @@ def test_the_largest_stress_is_found_where_it_is(sized):
         s = np.abs(rec.N) / rec.area + np.abs(rec.M) / rec.modulus
         assert rec.peak_stress >= s.max() * (1 - 1e-12)
         assert rec.peak_stress <= s.max() * 1.05  # the nodes lie between rows 1° apart
+
+
+def test_a_uniform_link_with_more_inertia_carries_the_rest_at_mid_span():
+    """A uniform rod whose J is 1.5·mL²/12: the distributed load gives mL²/12 of its inertia
+    couple, the rest −(J − mL²/12)·α acts at mid-span — the far-end closed form plus that
+    couple on the stations before mid-span."""
+    L = B / 1000
+    text = UNIFORM.replace(f"inertia: {M2 * L**2 / 12}", f"inertia: {1.5 * M2 * L**2 / 12}")
+    result = ks.analyze(ks.loads(text, file="heavy.yaml"))
+    loads, note = beam_loads(result, "rod")
+    assert note is None
+    s = np.linspace(0.0, loads.length, 9)
+    N, V, M = beam_forces(loads, s)
+    f_far = -_force(result, "B")
+    Nx, Vx, Mx = _far_end(result, M2, "rod", "A", "B", f_far, s, False)
+    couple = -(0.5 * M2 * L**2 / 12) * result["rod.alpha"]
+    Mx = Mx + np.where(s[None, :] < L / 2, couple[:, None], 0.0)
+    scale = np.max(np.abs(f_far))
+    assert np.max(np.abs(M[:, :-1] - Mx[:, :-1])) < 1e-6 * scale * L
+    assert np.max(np.abs(N[:, :-1] - Nx[:, :-1])) < 1e-6 * scale
+
+
+def test_a_link_that_is_not_between_two_pins_is_reported(sized):
+    """The slider has a pin and a slide: a section on it is reported, not checked."""
+    text = (ROOT / "mechanisms" / "slider_crank_sized.yaml").read_text()
+    slider = "    points: {B: [0, 0]}\n    mass: 4"
+    text = text.replace(slider, slider + "\n    section: {shape: circle, diameter: 30}")
+    sizing = sizing_stage(ks.analyze(ks.loads(text, file="slider.yaml")))
+    assert [x.link for x in sizing.links] == ["crank", "rod"]
+    assert any("link 'slider'" in w and "not checked" in w for w in sizing.warnings)
