@@ -39,6 +39,8 @@ def beam_axis(result: Result, name: str):
             + ": only a link between two pins is read as a beam",
             None,
         )
+    if any(f"{j.name}.Fx" not in result.columns for j in joints):
+        return f"link '{name}': a joint of it has no reaction in the result", None
     places = []
     for j in joints:
         a = next(a for a in j.anchors() if a.link == name and a.at_joint)

@@ -56,8 +56,15 @@ def sizing_stage(result: Result, nodes: Quadrature | None = None) -> Sizing | No
             "the positions do not span a cycle: the means and the bearing life are those "
             "of the run analysed"
         )
-    bearings = tuple(_bearing(result, at, w, j, b, warnings) for j, b in spec.bearings.items())
-    pins = tuple(_pin(result, at, j, p) for j, p in spec.pins.items())
+    solved = [j for j in {**spec.bearings, **spec.pins} if f"{j}.Fx" not in result.columns]
+    for j in solved:  # a joint the analysis replaced (a clearance's expansion)
+        warnings.append(
+            f"joint '{j}' has no reaction in the result: its bearing and pin are not checked"
+        )
+    bearings = tuple(
+        _bearing(result, at, w, j, b, warnings) for j, b in spec.bearings.items() if j not in solved
+    )
+    pins = tuple(_pin(result, at, j, p) for j, p in spec.pins.items() if j not in solved)
     links = []
     for name, section in spec.sections.items():
         record = _link(result, at, name, section, spec.materials.get(name), warnings)
