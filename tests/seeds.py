@@ -393,6 +393,12 @@ def _seeds() -> dict[str, dict]:
         joints__mesh__clearance=0.3,
         joints__mesh__shift=[0.2, -0.1],
     )
+    sized = "slider_crank_sized.yaml"  # the shapes the shipped file has not (docs/sizing.md)
+    out["tube and circle sections"] = _variant(
+        sized,
+        links__crank__section={"shape": "circle", "diameter": 20},
+        links__rod__section={"shape": "tube", "diameter": 25, "thickness": 3},
+    )
     return out
 
 

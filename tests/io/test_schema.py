@@ -38,7 +38,8 @@ SHAPE = {
     "top_level_list.yaml": "is not of type 'object'",
     "empty_file.yaml": "None is not of type 'object'",
     # a key another key requires, a count that is not whole or below 1, a unit that is none
-    "journal_without_radius.yaml": "'journal_radius' is a dependency of 'coefficient'",
+    # a coefficient alone takes the diameter of the joint's bearing, which it has not
+    "journal_without_radius.yaml": "'bearing' is a required property",
     "prismatic_axis_no_point.yaml": "'point' is a required property",
     "positions_fraction.yaml": "1.5 is not of type 'integer', 'string'",
     "positions_zero.yaml": "0 is less than the minimum of 1",
@@ -191,7 +192,7 @@ def test_issue_36_shapes_rejected(validator):
     cases = [
         ({**base, "units": {**base["units"], "length": "furlong"}}, "does not match"),
         ({**base, "analysis": {**base.get("analysis", {}), "positions": 1.5}}, "'integer'"),
-        ({**base, "joints": joints}, "'journal_radius' is a dependency"),
+        ({**base, "joints": joints}, "'bearing' is a required property"),
     ]
     for doc, message in cases:
         errors = [e.message for e in validator.iter_errors(doc)]

@@ -83,22 +83,25 @@ def _run(args) -> int:
     # the cycle's stages, then the summary: before anything is written (a failed run
     # writes nothing)
     s = result.summary(cycle_stage(result))
-    out = Path(args.out)
-    from ..base.files import write_outputs
+    from ..sizing import sizing_stage
 
-    write_outputs(
-        out,
-        f"--out {args.out}",
-        [
-            (out / "results.csv", result.to_csv),
-            (out / "summary.json", lambda path: result.to_json(path, s)),
-        ],
-    )
+    sized = sizing_stage(result)  # None without bearing, pin or section data
+    out = Path(args.out)
+    from ..base.files import json_text, write_outputs
+
+    writers = [
+        (out / "results.csv", result.to_csv),
+        (out / "summary.json", lambda path: result.to_json(path, s)),
+    ]
+    if sized is not None:
+        text = json_text(sized.to_json())
+        writers.append((out / "sizing.json", lambda path: path.write_text(text, "utf-8")))
+    write_outputs(out, f"--out {args.out}", writers)
     from ..errors import printable
 
     print(
         f"{printable(model.name)}: {len(result)} positions -> {out / 'results.csv'}, "
-        f"{out / 'summary.json'}"
+        f"{out / 'summary.json'}" + (f", {out / 'sizing.json'}" if sized is not None else "")
     )
     _print_motion(s)
     _print_flywheel(s.get("flywheel"))
@@ -106,6 +109,8 @@ def _run(args) -> int:
         _print_drive(dr)
     _print_efforts(model, s)
     _print_reactions(result, s)
+    if sized is not None:
+        _print_sizing(sized)
     _print_checks(result.checks)
     if dr:
         from ..dynamics.drive import drive_warning
@@ -114,6 +119,22 @@ def _run(args) -> int:
             print(f"kinetostatics: warning: {line}", file=sys.stderr)
         _drive_picture(result, out)
     return 0
+
+
+def _print_sizing(sized) -> None:
+    """The sizing's line (the least safety factor, the shortest bearing life) and its
+    warnings (stderr)."""
+    least, parts = sized.least(), []
+    if "safety_factor" in least:
+        n, link = least["safety_factor"]
+        parts.append(f"least safety factor {n:.3g} (Goodman, link {link})")
+    if "L10_hours" in least:
+        h, joint = least["L10_hours"]
+        parts.append(f"shortest bearing life L10 {h:.4g} h (joint {joint})")
+    counts = f"{len(sized.bearings)} bearings, {len(sized.pins)} pins, {len(sized.links)} links"
+    print(f"sizing: {counts}" + (f"; {'; '.join(parts)}" if parts else ""))
+    for line in sized.warnings:
+        print(f"kinetostatics: warning: {line}", file=sys.stderr)
 
 
 def _print_motion(s: dict) -> None:

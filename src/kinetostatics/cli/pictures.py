@@ -397,6 +397,7 @@ def _report(args) -> int:
     from ..dynamics.stages import report_stage
     from ..methods.stage import methods_stage
     from ..outputs.report import write_report
+    from ..sizing.stage import sizing_stage
 
     formats = list(args.format or ["md", "html"])
     if args.pdf and "pdf" not in formats:
@@ -412,8 +413,9 @@ def _report(args) -> int:
         what=f"--out {args.out}",
         cycle=report_stage,
         methods=methods_stage,
+        sizing=sizing_stage,
     )
     docs = [str(paths[k]) for k in ("markdown", "html", "pdf") if k in paths]
-    data = ", ".join(str(paths[k]) for k in ("csv", "summary", "methods"))
+    data = ", ".join(str(paths[k]) for k in ("csv", "summary", "methods", "sizing") if k in paths)
     print(f"report: {', '.join(docs)} (data: {data})")
     return 0

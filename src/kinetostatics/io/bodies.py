@@ -15,6 +15,7 @@ from ..base.spec import Entry, name_problem
 from ..errors import KinetostaticsError, Location, did_you_mean
 from ..joints import Joint, Revolute, joint_type
 from ..model import Link
+from .sizing import MATERIAL_KEYS, SECTION_KEYS
 
 COUNTERWEIGHT_KEYS = Keys({"at": VECTOR, "mass": NUMBER, "inertia": NUMBER}, ("at", "mass"))
 LINK_KEYS = Keys(
@@ -26,6 +27,8 @@ LINK_KEYS = Keys(
         "inertia": NUMBER,
         "counterweights": {"type": "object", "additionalProperties": COUNTERWEIGHT_KEYS},
         "number": whole(1, 99),
+        "section": SECTION_KEYS,  # the sizing keys (io/sizing.py, docs/sizing.md)
+        "material": MATERIAL_KEYS,
     }
 )
 MAX_NUMBER = 99  # a link's textbook number: F_R12 … F_R10,11 stay readable
@@ -116,6 +119,8 @@ class BodySections:
             if self._claim(section, name, "link") and e.check(LINK_KEYS):
                 link = self._link(name, e, gravity, section.key_where(name))
                 n = _number(e, name, numbered)
+                if not self._link_sizing(name, e):
+                    link = None
             if link is None or n is False:
                 self.broken["link"].add(name)
             else:
@@ -229,6 +234,8 @@ class BodySections:
                         self.broken["joint"].add(name)
                     continue
                 joint = self._joint(name, e, links, link_names, points)
+                if joint is not None and joint.pin and not self._joint_sizing([name], e):
+                    joint = None
             if joint is None:
                 self.broken["joint"].add(name)
             else:
@@ -326,6 +333,8 @@ class BodySections:
                     )
                 )
         self.pins[name] = gens
+        if not self._joint_sizing(gens, e):
+            bad = True
         if bad or len(out) != len(names) - 1:
             self.broken["joint"].update(gens)
             return None

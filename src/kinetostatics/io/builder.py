@@ -27,6 +27,7 @@ from .laws import LawSections
 from .loads import LoadSections
 from .parameters import ParameterSections
 from .settings import SettingSections
+from .sizing import SizingSections
 
 __all__ = ["Builder", "TOP_KEYS", "build", "read", "read_string"]
 
@@ -97,6 +98,7 @@ class Builder(
     SettingSections,
     ClearanceSection,
     DriveSection,
+    SizingSections,
 ):
     """Reads the top-level sections in dependency order.
 
@@ -132,6 +134,7 @@ class Builder(
             gravity = g.vector(None, bound="acceleration")
             if gravity is None:
                 gravity = np.array([0.0, -9.81])
+        self._sizing_start()
         links = self._links(gravity)
         points = {link.name: dict(link.points) for link in links}
         joints = self._joints(links, points)
@@ -166,6 +169,7 @@ class Builder(
             elements=tuple(elements),
             drive=drive,
             parameter_texts=dict(self.parameter_texts),
+            sizing=self._sizing_spec(),
         )
 
     def _output(self, links, joints, drivers) -> str | None:

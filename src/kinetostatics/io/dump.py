@@ -131,6 +131,8 @@ def dump(model: Model) -> str:
         doc["links"][link.name] = spec
     for j in model.joints:
         doc["joints"][j.name] = {"type": j.kind, "links": list(j.links), **j.to_spec()}
+    if model.sizing is not None:
+        _sizing_specs(model.sizing, doc)
     if model.drivers:
         doc["drivers"] = {}
         for d in model.drivers:
@@ -178,6 +180,26 @@ def dump(model: Model) -> str:
     if getattr(model, "output", None) is not None:
         doc["output"] = model.output
     return yaml.safe_dump(doc, sort_keys=False)
+
+
+def _sizing_specs(sizing, doc: dict) -> None:
+    """The sizing keys of the links and joints (docs/sizing.md), in SI, into ``doc``."""
+
+    def given(**values):
+        return {k: v for k, v in values.items() if v is not None}
+
+    for name, b in sizing.bearings.items():
+        doc["joints"][name]["bearing"] = given(
+            type=b.kind, C=b.C, width=b.width, diameter=b.diameter,
+            p_max=b.p_max, v_max=b.v_max, pv_max=b.pv_max,
+        )  # fmt: skip
+    for name, p in sizing.pins.items():
+        pin = given(diameter=p.diameter, shear=p.shear, eye_width=p.eye_width)
+        doc["joints"][name]["pin"] = pin
+    for name, sec in sizing.sections.items():
+        doc["links"][name]["section"] = {"shape": sec.shape, **dict(sec.dimensions)}
+    for name, m in sizing.materials.items():
+        doc["links"][name]["material"] = given(S_ut=m.S_ut, S_y=m.S_y, S_e=m.S_e)
 
 
 def _drive_spec(d) -> dict:

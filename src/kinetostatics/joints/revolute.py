@@ -9,16 +9,32 @@ import numpy as np
 
 from ..base.arrays import entry_major_zeros
 from ..base.geometry import perp, turn
-from ..base.keys import NAME, NUMBER, Keys, names
+from ..base.keys import NAME, NUMBER, Keys, enum, names
 from .base import Anchor, Compiled, Friction, Glyph, Joint, Pole, Presentation
 from .relative import RelativeMotion
 
 FRICTION_KEYS = Keys(
     {"radius": NUMBER, "journal_radius": NUMBER, "coefficient": NUMBER},
-    # a journal radius with its coefficient (friction_radius)
-    extra={
-        "dependentRequired": {"journal_radius": ["coefficient"], "coefficient": ["journal_radius"]}
+    # a journal radius with its coefficient (friction_radius); a coefficient alone takes
+    # the diameter of the joint's bearing (the loader says so where there is none)
+    extra={"dependentRequired": {"journal_radius": ["coefficient"]}},
+)
+# the sizing data of a pin joint (io/sizing.py reads them, docs/sizing.md)
+BEARING_KEYS = Keys(
+    {
+        "type": enum(("ball", "roller", "plain")),
+        "C": NUMBER,
+        "width": NUMBER,
+        "diameter": NUMBER,
+        "p_max": NUMBER,
+        "v_max": NUMBER,
+        "pv_max": NUMBER,
     },
+    required=("type",),
+)
+PIN_KEYS = Keys(
+    {"diameter": NUMBER, "shear": enum(("single", "double")), "eye_width": NUMBER},
+    required=("diameter",),
 )
 
 __all__ = ["Revolute"]
@@ -73,6 +89,22 @@ def _friction_kernel(par, x, rows, out):
             out[m, p] = rho * np.hypot(x[p, a], x[p, b])
 
 
+def _bearing_radius(entry, f) -> float | None:
+    """ρ = μ·d/2 of ``friction: {coefficient: μ}`` with the bore d of the joint's
+    ``bearing:`` (a plain bearing's journal, a rolling bearing's bore: docs/sizing.md)."""
+    b = entry.get("bearing")
+    d = b.get("diameter") if b is not None and b.mapping() else None
+    if d is None:
+        f["coefficient"].error(
+            "a friction coefficient alone needs the diameter of the joint's bearing "
+            "(bearing: {diameter: ...}); else give journal_radius with it, or radius"
+        )
+        return None
+    mu = f["coefficient"].number(None, minimum=0.0)
+    dv = d.number("length", minimum=0.0, strict=True)
+    return None if mu is None or dv is None else mu * dv / 2.0
+
+
 @dataclass(frozen=True)
 class Revolute(Joint, Presentation, Friction, Compiled, kind="revolute"):
     """Pin joint.  ``p_i``, ``p_j``: the pin in each link's frame, relative to its CoM.
@@ -94,8 +126,26 @@ class Revolute(Joint, Presentation, Friction, Compiled, kind="revolute"):
             "links": names(minimum=2),
             "points": names(minimum=2),
             "friction": FRICTION_KEYS,
+            "bearing": BEARING_KEYS,
+            "pin": PIN_KEYS,
         },
         required=("type", "links"),
+        # a friction coefficient without a journal radius takes the bearing's diameter
+        extra={
+            "if": {
+                "properties": {
+                    "friction": {
+                        "required": ["coefficient"],
+                        "not": {"required": ["journal_radius"]},
+                    }
+                },
+                "required": ["friction"],
+            },
+            "then": {
+                "required": ["bearing"],
+                "properties": {"bearing": {"required": ["diameter"]}},
+            },
+        },
     )
     pin: ClassVar[bool] = True
 
@@ -131,6 +181,8 @@ class Revolute(Joint, Presentation, Friction, Compiled, kind="revolute"):
                 if f.get("journal_radius") is not None or f.get("coefficient") is not None:
                     f.error("give either radius, or journal_radius with coefficient")
                 rho = f["radius"].number("length", minimum=0.0)
+            elif f.get("journal_radius") is None and f.get("coefficient") is not None:
+                rho = _bearing_radius(entry, f)
             elif f.get("journal_radius") is not None or f.get("coefficient") is not None:
                 r = f.require("journal_radius").number("length", minimum=0.0)
                 fv = f.require("coefficient").number(None, minimum=0.0)

@@ -16,6 +16,7 @@ import numpy as np
 
 from ..errors import Location
 from ..joints import Joint
+from .sizing import SizingSpec
 
 __all__ = [
     "Link",
@@ -400,6 +401,8 @@ class Model:
     parameter_texts : mapping of str to str, optional
         The text of each parameter as the file writes it (the report shows the
         expressions as formulas); none for a parameter given as an override.
+    sizing : SizingSpec, optional
+        The bearings, pins, sections and materials to size (docs/sizing.md).
     _compiled : tuple, optional
         Internal: the compiled system, kept with the model (never pass it).
 
@@ -437,6 +440,7 @@ class Model:
     # the text of each parameter as written (``theta: 180*(K - 1)/(K + 1)``), for the report's
     # dimension synthesis; a parameter replaced by an override has none
     parameter_texts: Mapping[str, str] = field(default_factory=dict, compare=False, repr=False)
+    sizing: SizingSpec | None = None  # bearings, pins, sections, materials (docs/sizing.md)
     # the system compiled from this model, cached by structure.system_of with the model's
     # pickle as its key (so a copy made with ``replace`` or ``Model(**vars(m))`` that carries
     # it along reuses it only if it describes the same mechanism); not pickled

@@ -5,6 +5,7 @@
 from __future__ import annotations
 
 from .zh_methods import ZH as _METHODS
+from .zh_sizing import ZH as _SIZING
 
 # -- the Chinese texts ---------------------------------------------------------------------
 ZH: dict[str, str] = {}
@@ -500,3 +501,4 @@ ZH.update(
 
 # the graded methods' texts (issue 38) are kept in their own module
 ZH.update(_METHODS)
+ZH.update(_SIZING)

@@ -26,6 +26,7 @@ from .gears import gear_blocks
 from .methods import cam_blocks, centres_blocks, lever_blocks
 from .pdf import pdf_module, write_pdf
 from .results import _summary_blocks, balancing, length_unit, report_tables
+from .sizing import sizing_blocks
 from .vectors import vector_blocks
 
 FORMATS = ("md", "html", "pdf")
@@ -92,6 +93,7 @@ def write_report(  # noqa: PLR0913  the report's public keywords (docs/pictures.
     what: str | None = None,
     cycle=None,
     methods=None,
+    sizing=None,
 ) -> dict[str, Path]:
     """Analyse ``source`` (a YAML path or a Model) and write the report to ``out``.
 
@@ -122,6 +124,10 @@ def write_report(  # noqa: PLR0913  the report's public keywords (docs/pictures.
     :func:`~kinetostatics.methods.stage.methods_stage`): its dict is written to
     ``methods.json`` (returned as ``methods``), and the chapters of the balancing moment
     three ways, the instant centres, the gears and the cam's design come from it.
+    ``sizing``: the sizing stage, called as ``sizing(result)`` (``kinetostatics report``
+    passes :func:`~kinetostatics.sizing.stage.sizing_stage`; None for a file without
+    sizing data): its record is written to ``sizing.json`` (returned as ``sizing``) and
+    is the last chapter's (docs/sizing.md).
     """
     formats = list(dict.fromkeys(formats))
     for f in formats:
@@ -163,6 +169,10 @@ def write_report(  # noqa: PLR0913  the report's public keywords (docs/pictures.
     if graded is not None:
         methods_text = json_text(graded, ensure_ascii=False)
         write_file(out / "methods.json", what, lambda p: p.write_text(methods_text, "utf-8"))
+    sized = sizing(result) if sizing is not None else None
+    if sized is not None:
+        sizing_text = json_text(sized.to_json(), ensure_ascii=False)
+        write_file(out / "sizing.json", what, lambda p: p.write_text(sizing_text, "utf-8"))
     T = lambda s, **k: tr(s, lang, **k)  # noqa: E731
 
     def image(fig, name: str, caption: str, true_scale: bool = False) -> _Image:
@@ -389,7 +399,11 @@ def write_report(  # noqa: PLR0913  the report's public keywords (docs/pictures.
     blocks += cams
     section += bool(cams)
     # last, so that the chapters before keep their numbers; drawn where the polygons are
-    blocks += polygon_blocks(g, result, image, lang, section, drawn=polygons)
+    polys = polygon_blocks(g, result, image, lang, section, drawn=polygons)
+    blocks += polys
+    section += bool(polys)
+    if sized is not None:  # after every other chapter: theirs keep their numbers
+        blocks += sizing_blocks(sized, image, lang, section, dpi)
     written: dict[str, Path] = {}
     if "md" in formats:
         written["markdown"] = out / "report.md"
@@ -403,4 +417,5 @@ def write_report(  # noqa: PLR0913  the report's public keywords (docs/pictures.
         written["pdf"] = out / "report.pdf"
         write_file(written["pdf"], what, lambda p: write_pdf(blocks, p, title, lang))
     files = {"csv": csv_path, "summary": summary_path}
-    return written | files | ({"methods": out / "methods.json"} if graded is not None else {})
+    files |= {"methods": out / "methods.json"} if graded is not None else {}
+    return written | files | ({"sizing": out / "sizing.json"} if sized is not None else {})
