@@ -255,6 +255,7 @@ EXTENSIONS: tuple[str, ...] = (
     "kinetostatics.cli.formats",
     "kinetostatics.cli.optimize",
     "kinetostatics.cli.init",
+    "kinetostatics.cli.edit",
 )
 
 
