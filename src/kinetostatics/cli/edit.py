@@ -17,10 +17,12 @@ __all__ = ["register"]
 def _edit(args) -> int:
     from ..editor.server import make_server
     from ..errors import OutputError
+    from ..io import read_text
 
+    if not 0 <= args.port <= 65535:
+        raise OutputError(f"--port {args.port}: a port is 0 (a free one) to 65535")
     path = Path(args.file)
-    if path.is_dir():
-        raise OutputError(f"{args.file}: is a folder, not a mechanism file")
+    read_text(path)  # a missing, unreadable or oversized file: its one line, as check's
     try:
         server = make_server(path, args.port)
     except OSError as exc:
@@ -48,7 +50,7 @@ def register(sub) -> None:
         "mechanism, its loads and curves from the same analysis as `run`, saves the file "
         "whole and downloads results.csv, summary.json and the PDF report.",
     )
-    p.add_argument("file", help="mechanism YAML file (created when saved if it does not exist)")
+    p.add_argument("file", help="mechanism YAML file")
     p.add_argument(
         "--port", type=int, default=0, help="the port on 127.0.0.1 (default 0: a free one)"
     )
