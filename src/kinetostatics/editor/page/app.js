@@ -28,6 +28,8 @@ function translate() {
   document.documentElement.lang = state.lang;
   for (const el of document.querySelectorAll("[data-t]")) el.textContent = T(el.dataset.t);
   $("play").textContent = state.playing ? T("pause") : T("play");
+  markDirty(editor.text);
+  status();
 }
 
 const editor = new CodeEditor($("editor"), {
@@ -36,6 +38,7 @@ const editor = new CodeEditor($("editor"), {
 });
 
 function markDirty(text) {
+  if (!state.texts.en.saved) return;
   const dirty = text !== state.savedText;
   $("saved").textContent = dirty ? T("unsaved") : T("saved");
   $("saved").classList.toggle("dirty", dirty);

@@ -159,6 +159,8 @@ function drawMechanism(svg, doc, k, opt, texts) {
   const lstep = niceStep(0.25 * span), fx0 = view[0] + 0.04 * view[2], fy0 = view[1] + view[3] - 0.05 * view[3];
   out.push(`<g class="scale" data-length-mm="${lstep}"><line x1="${fx0}" y1="${fy0}" x2="${fx0 + lstep}" y2="${fy0}" stroke="#222" stroke-width="2" vector-effect="non-scaling-stroke"/>` +
     `<text x="${fx0}" y="${fy0 - 0.4 * font}" font-size="${0.75 * font}">${lstep} mm</text></g>`);
+  out.push(`<text class="legend" x="${view[0] + 0.02 * view[2]}" y="${view[1] + 0.04 * view[3]}" font-size="${0.7 * font}" fill="#444">` +
+    `${escapeHtml(doc.name)}: ${(+doc.angle[k]).toFixed(2)}°${opt.forces ? "  ·  " + escapeHtml(texts.legend || "") + (opt.friction ? "  (" + escapeHtml(texts.friction || "") + ")" : "") : ""}</text>`);
   if (opt.forces) {
     const fstep = niceStep(0.2 * span) , fy1 = fy0 - 1.8 * font;
     out.push(`<g class="force-scale" data-mu="${doc.loads.mu}"><line x1="${fx0}" y1="${fy1}" x2="${fx0 + fstep}" y2="${fy1}" stroke="#1f5fa8" stroke-width="2" vector-effect="non-scaling-stroke"/>` +
