@@ -264,6 +264,29 @@ def test_an_error_shows_at_its_line_and_clears_when_fixed(editor, tmp_path):
     assert "stale" not in (page.get_attribute("svg#drawing", "class") or "")
 
 
+def test_the_schema_names_the_keys_at_the_caret_and_a_click_inserts_one(editor):
+    page, _, path = editor
+    text = path.read_text(encoding="utf-8")
+    at = text.index("  crank:\n") + len("  crank:\n")  # the start of the crank's first key
+    page.eval_on_selector(
+        ".editor textarea",
+        "(el, at) => { el.focus(); el.setSelectionRange(at, at); "
+        "el.dispatchEvent(new Event('click')); }",
+        at,
+    )
+    help_ = page.locator("#help")
+    assert "links.crank" in help_.inner_text()
+    keys = help_.locator("code.key").all_inner_texts()
+    assert {"points", "mass", "inertia", "com", "number"} <= set(keys), keys
+    before = _generation(page)
+    help_.locator("code.key", has_text="inertia").first.dispatch_event("mousedown")
+    value = page.eval_on_selector(".editor textarea", "el => el.value")
+    assert value == text[:at] + "inertia: " + text[at:]
+    _settled(page, before)  # a key without a value: a problem at its line, then restored
+    _settled(page, _type_text(page, text))
+    assert page.locator(".editor .msg").count() == 0
+
+
 def test_downloads_are_run_s_files(editor, tmp_path):
     page, _, path = editor
     got = {}

@@ -55,6 +55,9 @@ function showHelp(path) {
   const list = inside.length ? inside : beside;
   if (list.length) parts.push(`${T("keys_here")}: ` + list.map((k) => `<code class="key">${escapeHtml(k)}</code>`).join(" "));
   $("help").innerHTML = parts.join(" — ");
+  for (const el of $("help").querySelectorAll("code.key")) {  // completion: a click inserts the key
+    el.addEventListener("mousedown", (e) => { e.preventDefault(); editor.insert(`${el.textContent}: `); });
+  }
 }
 
 function schedule() {

@@ -121,6 +121,15 @@ class CodeEditor {
     this.msgs = root.querySelector(".msgs");
     this.area.addEventListener("input", () => { this.render(); this.onChange(this.area.value); });
     for (const ev of ["keyup", "click", "focus"]) this.area.addEventListener(ev, () => this.caret());
+    this.area.addEventListener("mousemove", (e) => {  // hover: the key path of the line under the pointer
+      const box = this.area.getBoundingClientRect();
+      const row = Math.floor((e.clientY - box.top - PAD_PX) / LINE_PX);
+      const lines = this.area.value.split("\n");
+      if (row >= 0 && row < lines.length && row !== this.hovered) {
+        this.hovered = row;
+        this.onCaret(keyPath(lines, row), row);
+      }
+    });
     this.area.addEventListener("keydown", (e) => {
       if (e.key === "Tab") {  // two spaces, never a tab (YAML)
         e.preventDefault();
@@ -129,6 +138,10 @@ class CodeEditor {
     });
   }
   get text() { return this.area.value; }
+  insert(text) {  // at the caret, as typing would (undo keeps it)
+    this.area.focus();
+    document.execCommand("insertText", false, text);
+  }
   setText(text) { this.area.value = text; this.render(); }
   setProblems(problems) { this.problems = problems || []; this.render(); }
   caret() {
