@@ -202,10 +202,9 @@ def _friction_circles(result, order) -> list:
         if not j.pin or m not in result.columns or result.units.get(m) != "N*m":
             continue
         big = np.hypot(result[fx], result[fy])
+        peak = float(np.max(big, where=np.isfinite(big), initial=0.0))
         with np.errstate(divide="ignore", invalid="ignore"):
-            r = np.where(
-                big > 1e-9 * max(float(np.nanmax(big)), 1e-300), np.abs(result[m]) / big, np.nan
-            )
+            r = np.where(big > 1e-9 * max(peak, 1e-300), np.abs(result[m]) / big, np.nan)
         at = _joint_point(result, j)
         out.append({"joint": j.name, "xy": _xy(np.asarray(at)[order]), "radius": r[order]})
     return out

@@ -154,7 +154,7 @@ function redraw() {
     sketch: $("show-sketch").checked, chosen: state.chosen,
   };
   drawMechanism($("drawing"), doc, k, opt, state.texts[state.lang]);
-  $("angle-out").textContent = `${(+doc.angle[k]).toFixed(2)}°  (${doc.driver.name})`;
+  $("angle-out").textContent = `${(+doc.angle[k]).toFixed(2)}${doc.driver.angular ? "°" : " mm"}  (${doc.driver.name})`;
   $("angle-out").dataset.angle = doc.angle[k];
   const c = doc.curves;
   plotCurves($("curve-effort"), doc.x, c.effort.series, { title: `${T("torque")} ${c.effort.name}, ${c.effort.unit}`, xlabel: doc.xlabel, k });
