@@ -263,3 +263,39 @@ def test_edit_help_is_honest(capsys):
     out = capsys.readouterr().out
     for words in ("127.0.0.1", "--port", "--no-browser", "Ctrl-C", "token"):
         assert words in out, words
+
+
+def test_save_keeps_a_file_s_crlf_line_ends(tmp_path):
+    path = tmp_path / "m.yaml"
+    path.write_bytes(SLOTTING.read_bytes().replace(b"\n", b"\r\n"))
+    text = SLOTTING.read_text(encoding="utf-8").replace("H: 100 ", "H: 90  ")  # LF, as a page
+    Session(path).save(text)
+    assert path.read_bytes() == text.replace("\n", "\r\n").encode("utf-8")
+
+
+def test_a_sketched_point_far_from_its_assembly_is_marked(tmp_path):
+    """The sketch's C moved 20 mm up (8 % of the reference length, the same branch): its
+    target is 20 mm from where C assembled, and marked far; A and B are not."""
+    text = SLOTTING.read_text(encoding="utf-8")
+    moved = text.replace(
+        "  C: [X, L_O3B*sind(phi3) + sqrt(", "  C: [X, 20 + L_O3B*sind(phi3) + sqrt("
+    )
+    assert moved != text
+    doc = Session(SLOTTING).analyse(moved, 1)["analysis"]
+    sketch = {s["key"]: s for s in doc["sketch"]}
+    assert sketch["C"]["far"] and abs(sketch["C"]["distance"] - 0.020) < 1e-9
+    assert not sketch["A"]["far"] and not sketch["B"]["far"]
+    assert sketch["A"]["distance"] < 1e-12
+
+
+def test_without_a_browser_the_browser_tests_skip_but_fail_under_ci(monkeypatch):
+    from _pytest.outcomes import Failed, Skipped
+
+    from tests.editor import test_browser
+
+    monkeypatch.delenv("CI", raising=False)
+    with pytest.raises(Skipped, match="no Chromium"):
+        test_browser._missing("no Chromium")
+    monkeypatch.setenv("CI", "true")
+    with pytest.raises(Failed, match="CI must run the browser tests: no Chromium"):
+        test_browser._missing("no Chromium")

@@ -70,8 +70,14 @@ class Session:
         return {"text": text, "mtime": self.mtime(), "file": str(self.path)}
 
     def save(self, text: str) -> dict:
-        """Write ``text`` whole (a temporary file and ``os.replace``); the new mtime."""
-        write_file(self.path, str(self.path), lambda tmp: tmp.write_bytes(text.encode("utf-8")))
+        """Write ``text`` whole (a temporary file and ``os.replace``); the new mtime.  A
+        file written with CRLF line ends keeps them (the page's text has LF alone)."""
+        try:
+            crlf = b"\r\n" in self.path.read_bytes()
+        except OSError:
+            crlf = False
+        data = text.replace("\r\n", "\n").replace("\n", "\r\n") if crlf else text
+        write_file(self.path, str(self.path), lambda tmp: tmp.write_bytes(data.encode("utf-8")))
         return {"mtime": self.mtime()}
 
     # -- analyses ------------------------------------------------------------------

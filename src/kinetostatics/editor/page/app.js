@@ -241,9 +241,9 @@ document.addEventListener("keydown", (e) => {
 
 async function load(notice) {
   const f = await api("api/file");
-  state.savedText = f.text;
   state.mtime = f.mtime;
   editor.setText(f.text);
+  state.savedText = editor.text;  // as the text area holds it (CRLF read as LF)
   $("file").textContent = f.file;
   markDirty(f.text);
   if (notice) $("saved").textContent = T("reloaded");
