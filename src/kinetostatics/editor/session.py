@@ -55,7 +55,9 @@ class Session:
         self.latest = 0  # the newest generation asked for
         self.good: Good | None = None
         self._gen = threading.Lock()  # guards latest
-        self._work = threading.Lock()  # one analysis (or download) at a time
+        self._work = threading.Lock()  # one analysis at a time
+        self._files = threading.Lock()  # one download at a time (a report takes seconds:
+        # the analyses of new edits go on meanwhile, on the last good record, which is frozen)
 
     # -- the file ------------------------------------------------------------------
     def mtime(self) -> float | None:
@@ -143,7 +145,7 @@ class Session:
         good = self.good
         if good is None:
             raise KinetostaticsError("nothing analysed yet: fix the problems first")
-        with self._work, tempfile.TemporaryDirectory(prefix="kinetostatics-edit-") as tmp:
+        with self._files, tempfile.TemporaryDirectory(prefix="kinetostatics-edit-") as tmp:
             out = Path(tmp)
             if name == "results.csv":
                 good.result.to_csv(out / name)

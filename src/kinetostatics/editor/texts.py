@@ -48,7 +48,6 @@ UI: dict[str, tuple[str, str]] = {
     "stale": ("the drawing is of the last good text", "图为上一次无误文本的结果"),
     "sketch_far": ("sketched point far from where it assembled", "草图点与装配位置相距较远"),
     "seconds": ("analysed in {s} s", "分析用时 {s} 秒"),
-    "preparing": ("preparing {name}…", "正在生成 {name}…"),
     "legend": ("F_Rij: link i on link j at the joint; F_I, M_I: inertia; G: weight", ""),
 }
 
