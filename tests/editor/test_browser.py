@@ -375,3 +375,29 @@ def test_a_request_without_the_token_is_refused(editor):
         assert other.goto(url + "api/stat").status == 200
     finally:
         other.close()
+
+
+@pytest.mark.slow
+def test_every_shipped_file_draws_or_lists_its_problems(editor):
+    """Each shipped file typed into the editor: a motion-driven one is drawn (its joints,
+    with and without friction, at two rows) with no error in the page; an effort-driven one
+    (simulated, not run) lists run's refusal and keeps the last drawing."""
+    from tests.helpers import MECHANISMS, motion_driven
+
+    page, _, path = editor
+    errors: list[str] = []
+    page.on("pageerror", lambda e: errors.append(str(e)))
+    runnable = set(motion_driven())
+    for f in MECHANISMS:
+        _settled(page, _type_text(page, f.read_text(encoding="utf-8")))
+        for index in (0, 10):
+            _set_slider(page, index)
+        page.click("#show-friction")
+        problems = page.locator("#problems .bad").count()
+        assert (problems == 0) == (f.stem in runnable), f.name
+        joints = len(ks.load(f).joints) if f.stem in runnable else None
+        if joints is not None:
+            drawn = page.locator("svg#drawing circle.joint, svg#drawing circle.slide").count()
+            assert 0 < drawn <= joints, f.name
+        assert not errors, (f.name, errors)
+    _settled(page, _type_text(page, path.read_text(encoding="utf-8")))
