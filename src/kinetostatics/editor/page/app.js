@@ -144,7 +144,16 @@ function show() {
   redraw();
 }
 
-function redraw() {
+function redraw() {  // a drawing that fails says so in the status line; the page goes on
+  try {
+    draw();
+  } catch (e) {
+    $("status").textContent = `drawing failed: ${e}`;
+    $("status").className = "bad";
+  }
+}
+
+function draw() {
   const doc = state.doc;
   if (!doc) return;
   const k = Math.min(state.k, doc.rows - 1);
