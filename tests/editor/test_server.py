@@ -299,3 +299,20 @@ def test_without_a_browser_the_browser_tests_skip_but_fail_under_ci(monkeypatch)
     monkeypatch.setenv("CI", "true")
     with pytest.raises(Failed, match="CI must run the browser tests: no Chromium"):
         test_browser._missing("no Chromium")
+
+
+def test_the_warnings_are_run_s(tmp_path, capsys):
+    """A cutting force of 1e9 N: the implausible driving torque that run warns of is in the
+    page's warnings, in run's words."""
+    text = SLOTTING.read_text(encoding="utf-8").replace("  Q: 1000 ", "  Q: 1e9  ")
+    path = tmp_path / "big.yaml"
+    path.write_text(text, encoding="utf-8")
+    assert main(["run", str(path), "--out", str(tmp_path / "out")]) == 0
+    said = [
+        line.removeprefix("kinetostatics: ")
+        for line in capsys.readouterr().err.splitlines()
+        if line.startswith("kinetostatics: warning:")
+    ]
+    assert any("motor" in line for line in said), said
+    answer = Session(path).analyse(text, 1)
+    assert answer["ok"] and set(said) <= set(answer["warnings"]), (said, answer["warnings"])

@@ -22,6 +22,7 @@ from ..base.files import write_file
 from ..dynamics.stages import cycle_stage, report_stage
 from ..errors import KinetostaticsError, printable
 from ..io import read_text
+from ..io.plausible import torque_warning
 from ..methods.stage import methods_stage
 from ..outputs.report import write_report
 from .problems import check_text, problems_of
@@ -45,6 +46,26 @@ class Good:
     text: str
     model: object
     result: object
+
+
+def run_warnings(model, result) -> list[str]:
+    """The warnings ``run`` prints after an analysis, from the rows alone: redundant
+    constraints, a failed self-check, an implausible driving torque (without singular
+    positions)."""
+    s = result.summary()
+    out = []
+    if s["indeterminate_reactions"]:
+        out.append(
+            "warning: redundant constraints: the reactions are the minimum-norm solution "
+            "(statically indeterminate)"
+        )
+    if not result.checks.ok:
+        out.append(f"warning: {result.checks.warning()}")
+    if not s["singular_positions"]:
+        for name, d in s["drivers"].items():
+            if line := torque_warning(model, name, d.get("peak", float("nan")), d["unit"]):
+                out.append(f"warning: {line}")
+    return out
 
 
 class Session:
@@ -121,6 +142,7 @@ class Session:
                         "warnings": said,
                     }
             said += [f"warning: {printable(str(w.message))}" for w in caught]
+            said += run_warnings(checked.model, result)
             if self._overtaken(generation):
                 return {**head, "superseded": True}
             doc = snapshot(result, lang=lang)
