@@ -109,6 +109,8 @@ OPTIMIZE = [
     *("--maxiter", "1", "--popsize", "2", "--no-polish", "--quiet", "--out", "{out}"),
 ]
 SENSITIVITY = ["sensitivity", "{mech}", "--vary", "a=±1", "--serial", "--out", "{out}"]
+# issue 42: edit serves until Ctrl-C; its hostile cases stop before the server starts
+EDIT = ["edit", "{mech}", "--no-browser"]
 # issue 36 item 7: the optimize verb's own checks of its numbers (another change)
 BEST = ["best", "{summary}", "--best", "min motor.torque_peak"]
 
@@ -192,6 +194,12 @@ CASES = [
         for f in ("{missing}", "{out}", "{under}/m.yaml")
     ],
     *_out_cases("run", ["run", "{mech}", "--out", "{out}"], FOLDERS),
+    # -- edit (issue 42) --
+    *_option_cases("edit", EDIT, "--port", ("-1", "65536", "99999999999999999999", "nan", "x")),
+    *[
+        pytest.param(["edit", f, "--no-browser"], None, id=f"edit {f}")
+        for f in ("{missing}", "{out}", "{under}/m.yaml")
+    ],
     pytest.param(["frobnicate"], "frobnicate", id="unknown verb"),
     pytest.param([], "command", id="no verb"),
     # -- batch --
@@ -288,6 +296,7 @@ WRITERS = {
 # every verb that reads a mechanism file
 READERS = {
     "check": ["check", "{mech}"],
+    "edit": EDIT,
     **{k: v for k, v in WRITERS.items() if "{mech}" in v or "{effort}" in v},
 }
 

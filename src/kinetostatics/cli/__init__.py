@@ -277,6 +277,7 @@ EXTENSIONS: tuple[str, ...] = (
     "kinetostatics.cli.optimize",
     "kinetostatics.cli.sensitivity",
     "kinetostatics.cli.init",
+    "kinetostatics.cli.edit",
 )
 
 
