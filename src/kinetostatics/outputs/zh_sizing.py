@@ -12,7 +12,7 @@ ZH: dict[str, str] = {
     "life are integrals over the nodes. Stresses in MPa.": "依据一个运动循环中不计摩擦时的运动副反力：峰值取自各计算位置及循环求积节点，平均值与轴承寿命为对求积节点的积分。应力单位为 MPa。",
     "rolling bearings (ISO 281): P = (∫|F|^p·|ω_rel|dt / ∫|ω_rel|dt)^(1/p), p = 3 (ball), "
     "10/3 (roller); L10 = (C/P)^p·10⁶ rev; L10h = L10/(3600·n), n = ∫|ω_rel|dt/(2π·T); an "
-    "oscillating joint turns 2φ per cycle for a swing φ (the equivalent-speed rule)": "滚动轴承（ISO 281）：P = (∫|F|^p·|ω_rel|dt / ∫|ω_rel|dt)^(1/p)，球轴承 p = 3，滚子轴承 p = 10/3；L10 = (C/P)^p·10⁶ 转；L10h = L10/(3600·n)，n = ∫|ω_rel|dt/(2π·T)；摆动副每循环转过 2φ（φ 为摆角，即当量转速法）",
+    "oscillating joint turns 2φ per cycle for a swing φ (the equivalent-speed rule)": "滚动轴承（ISO 281）：P = (∫|F|^p·|ω_rel|dt / ∫|ω_rel|dt)^(1/p)，球轴承 p = 3，滚子轴承 p = 10/3；L10 = (C/P)^p·10⁶ 转；L10h = L10/(3600·n)，n = ∫|ω_rel|dt/(2π·T)；往复摆动的转动副每循环转过 2φ（φ 为摆角，即当量转速法）",
     "plain bearings: p = |F|/(d·b), v = |ω_rel|·d/2, pv": "滑动轴承：p = |F|/(d·b)，v = |ω_rel|·d/2，pv 值",
     "pins: τ = |F|/(k·πd²/4) for k shear planes; the eyes' pressure |F|/(d·w)": "销轴：k 个剪切面时 τ = |F|/(k·πd²/4)；销孔挤压应力 |F|/(d·w)",
     "links: N, V, M along the axis from the first pin, the inertia distributed along a "
