@@ -11,6 +11,7 @@ import pytest
 
 import kinetostatics as ks
 from kinetostatics.dynamics.flywheel import design, verify
+from kinetostatics.dynamics.stages import full_summary
 from tests.helpers import ROOT
 
 SLOTTING = ROOT / "mechanisms" / "slotting_machine.yaml"
@@ -191,3 +192,29 @@ def test_a_flywheel_with_friction_on_a_self_locking_machine_is_said_undefined(mo
     assert np.isnan(fw.energy_swing) and np.isnan(fw.inertia)
     d = fw.to_dict()
     assert d["undefined"] == F.SELF_LOCKED and np.isnan(d["max_energy_at"])
+
+
+def test_two_equal_extremes_of_the_energy_report_the_first():
+    """A load torque of period 180° (a triangle +1000, −1000 N·m per half turn) on a crank
+    whose centre of mass is its pivot: M_b = −T, M_d = 0 and ΔW(φ) = ∫T dφ has two equal
+    maxima (90°, 270°) and minima (0°, 180°) by symmetry. Round-off chose between them
+    (37 rows: the least at 180°); a tie within 1e-9 of ΔW_max reports the first of the
+    cycle, whatever the rows and the units."""
+    text = (
+        "units: {length: UNIT, angle: deg, speed: rpm, mass: kg, force: N, torque: N*m}\n"
+        "links: {ground: {points: {O: [0, 0]}}, crank: {points: {O: [0, 0], A: [L, 0]},"
+        " inertia: 10}}\n"
+        "joints: {O: {type: revolute, links: [ground, crank]}}\n"
+        "drivers: {motor: {joint: O, motion: {speed: 60}, points: [x, A]}}\n"
+        "loads: {T: {type: torque, link: crank, table: {at: [0, 45, 90, 135, 180, 225, 270,"
+        " 315, 360], value: [0, 1000, 0, -1000, 0, 1000, 0, -1000, 0]}}}\n"
+        "flywheel: {delta: 0.05}\n"
+        "sketch: {crank.A: [L, 0]}\n"
+        "analysis: {positions: N}\n"
+    )
+    for unit, length in (("m", "1"), ("mm", "1000")):
+        for n in (36, 37, 360):
+            doc = text.replace("UNIT", unit).replace("L", length).replace("N}", f"{n}}}")
+            fw = full_summary(ks.analyze(ks.loads(doc)))["flywheel"]
+            assert abs(fw["max_energy_at"] - 90.0) < 1e-9, (unit, n, fw["max_energy_at"])
+            assert abs(fw["min_energy_at"] - 0.0) < 1e-9, (unit, n, fw["min_energy_at"])

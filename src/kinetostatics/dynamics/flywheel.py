@@ -251,8 +251,23 @@ def _swing(phi: np.ndarray, f: np.ndarray) -> tuple[np.ndarray, float, float, fl
     cand_x += list(x[cross] + s * h[cross])
     cand_f += list(big_f[cross] + 0.5 * y[cross] * s * h[cross])
     cand_x, cand_f = np.array(cand_x), np.array(cand_f)
-    kmax, kmin = int(np.argmax(cand_f)), int(np.argmin(cand_f))
+    kmax, kmin = _extremes(cand_x, cand_f)
     return big_f, cand_f[kmax], cand_x[kmax], cand_f[kmin], cand_x[kmin]
+
+
+TIE = 1e-9
+"""Extremes of ΔW within ``TIE`` of ΔW_max of each other are a tie: the first in the cycle is
+reported (docs/dynamics.md), so that round-off does not choose between two equal maxima."""
+
+
+def _extremes(at: np.ndarray, w: np.ndarray) -> tuple[int, int]:
+    """The indices of the largest and least ``w`` (candidates at the times ``at``), a tie
+    (within ``TIE`` of the swing) going to the earliest."""
+    tol = TIE * (np.max(w) - np.min(w))
+    order = np.argsort(at, kind="stable")
+    kmax = order[np.argmax(w[order] >= np.max(w) - tol)]
+    kmin = order[np.argmax(w[order] <= np.min(w) + tol)]
+    return int(kmax), int(kmin)
 
 
 def _legendre_pieces(pieces: np.ndarray, values: np.ndarray):
@@ -317,7 +332,7 @@ def _energy_extremes(pieces: np.ndarray, t: np.ndarray, rate: np.ndarray, partia
         cand_in.append(None)
     cand_w = np.asarray(cand_w)
     out = []
-    for k in (int(np.argmax(cand_w)), int(np.argmin(cand_w))):
+    for k in _extremes(np.asarray(cand_t, dtype=float), cand_w):
         w = float(cand_w[k])
         if partial is not None and cand_in[k] is not None:
             p, w0 = cand_in[k]
