@@ -9,8 +9,8 @@ force polygon of each Assur group for a result with efforts (and with friction, 
 the consistent solution with friction);
 the instant centres and the vector equations at each position; the gears' geometry for a
 file with toothed pairs;
-the cam's design for a file with a cam (at the textbook's allowable pressure angle, 30°,
-unless the caller gives another).
+the cam's design for a file with a cam (at the allowable pressure angle of the cam joint's
+``design: {pressure_angle_max}``, else the textbook's 30°, unless the caller gives one).
 """
 
 from __future__ import annotations
@@ -46,7 +46,7 @@ def methods_stage(
     result: Result,
     rows: Sequence[tuple[str, int]],
     *,
-    pressure_angle_max: float = 30.0,
+    pressure_angle_max: float | None = None,
     parts: Collection[str] | None = None,
 ) -> dict[str, Any]:
     """The JSON-safe contents of methods.json.
@@ -58,8 +58,9 @@ def methods_stage(
     rows : sequence of (str, int)
         The positions of the detailed chapters: ``(label, row)`` pairs, as
         ``outputs.plotting.course_positions(result)`` gives them.
-    pressure_angle_max : float
-        The allowable pressure angle of the cam's design, in degrees.
+    pressure_angle_max : float, optional
+        The allowable pressure angle of the cam's design, in degrees, for every cam;
+        default: each cam's ``design: {pressure_angle_max}`` in the file, else 30°.
     parts : collection of str, optional
         The methods to compute, of :data:`PARTS` (``plot`` asks for those it draws);
         default: all that apply.
