@@ -62,6 +62,7 @@ from . import _camphase
 from ._camdesign import ProfileDesign
 from ._camlaw import LAW_SHAPE, read_law
 from ._camprofile import Synthesis
+from ._camrelative import cam_motion
 from ._camspec import _DESIGN, _OSCILLATING, _SENSE, _TRANSLATING, SENSES, allowed_angle, placement
 from .base import (
     Anchor,
@@ -476,6 +477,12 @@ class Cam(Joint, Presentation, Friction, Shaped, kind="cam"):
         theorem puts it (the relative velocity at the contact is along the tangent)."""
         theta, X, n, z = self._contact(qi, qj)
         return Pole(qi[..., :2] + turn(qi, self.o) + turn(qi, X), along=turn(qi, n))
+
+    def relative_motion(self, qi, qj, vi, vj, ai, aj, labels):
+        """The equivalent lower pairs' terms at the contact (``_camrelative.py``): a knife's
+        or roller's point along the pitch curve, a flat face's centre of curvature along
+        the face."""
+        return cam_motion(self, qi, qj, vi, vj, ai, aj, labels)
 
     def anchors(self):
         i, j = self.links

@@ -12,8 +12,10 @@ solved before it (the frame, a driven link, an earlier group):
     a_P(L) = a_X(K) + [a_r + a_k of X] + a^n_PX (= −ω_L² XP) + a^t_PX (= α_L × XP)
 
 The pair's own terms (nothing for a pin; the sliding velocity, its acceleration and the
-Coriolis term 2ω_i × v_r for a slide) come from the joint contract's ``relative_motion``; a
-pair type that does not write them is named in the group's ``notes``.  A driven group
+Coriolis term 2ω_i × v_r for a slide; the normal term of rolling for a gear or a rack; the
+equivalent lower pairs' terms for a cam) come from the joint contract's
+``relative_motion``; a pair type that does not write them is named in the group's
+``notes``.  A driven group
 writes, for each point by which a later body is tied to it, its velocity and acceleration
 from its base.  Each term carries its vector (the pipeline's values, global axes), a
 direction and a magnitude text (方向/大小), known or "?" before the group is solved, and its
@@ -221,8 +223,8 @@ class _Base:
 
 def _bases(system, st: _State, plan, known: set[int], driven: bool) -> dict[int, _Base]:
     """Each member link's base among the plan's pairs with a known body: of those whose
-    terms are written, one with its accelerations first, then a pin, then one with the
-    frame (the textbook's pivot)."""
+    terms are written, one with its accelerations first, then a lower pair, then a pin,
+    then one with the frame (the textbook's pivot)."""
     members = {system.link_index(n) for n in plan.group.links}
     out: dict[int, _Base] = {}
     score: dict[int, tuple] = {}
@@ -232,7 +234,8 @@ def _bases(system, st: _State, plan, known: set[int], driven: bool) -> dict[int,
         for L, K, sign in ((j, i, 1.0), (i, j, -1.0)):
             if L not in members or K not in known or (m := _motion(system, st, k)) is None:
                 continue
-            rank = (m.acceleration is not None, m.turns, K == ground)
+            # a lower pair (two rows) before a higher one: the follower's guide, not its cam
+            rank = (m.acceleration is not None, system.joints[k].n_eq == 2, m.turns, K == ground)
             if L not in out or rank > score[L]:
                 out[L], score[L] = _Base(k, K, m, sign, driven or not m.turns), rank
     return out
@@ -333,6 +336,8 @@ def _outlet(st: _State, ctx: _Ctx, L: int, joint, motion) -> list[Equation]:
     out = []
     for acc, kind in ((False, "velocity"), (True, "acceleration"))[: 1 + accel]:
         rhs = _expand(st, ctx, L, motion.point, motion.name, acc)
+        if not rhs:  # the point is L's pivot on the frame (a flat cam's K on a dwell): at rest
+            return []
         one = rhs[0] if len(rhs) == 1 else None
         lhs = _term(
             f"{'a' if acc else 'v'}_{motion.name}{st.labels[L]}",
@@ -390,7 +395,7 @@ def _group(system, st: _State, plan, known: set[int], bases: dict) -> GroupEquat
             equations = _outlet(st, ctx, later[0], joint, motion)
         else:
             continue
-        velocity.append(equations[0])
+        velocity += equations[:1]
         acceleration += equations[1:]
     return GroupEquations(
         group.label,
