@@ -160,6 +160,7 @@ ZH.update(
         "{n}. Vector equations": "{n}. 矢量方程图解法",
         "The velocity and acceleration equations of the vector-polygon method, group by group in the order of the solution: each pair of a group equates its two links' views of its point. Per term: its direction, its magnitude (the formula where it is known before the group is solved, \"?\" for the group's two unknowns) and its value from the solution. a^n normal, a^t tangential, a^r relative, a^k Coriolis (2ω × v_r) acceleration; ω, α counter-clockwise positive. The closure residual is |Σ left − Σ right| over the largest term.": "矢量方程图解法的速度与加速度方程，按求解顺序逐个杆组列出：杆组中每个运动副令其两构件上该点的运动相等。每一项给出方向、大小（杆组求解前已知者写出其公式，杆组的两个未知量记为“?”）以及求解所得的数值。a^n 为法向加速度，a^t 为切向加速度，a^r 为相对加速度，a^k 为哥氏加速度（2ω × v_r）；ω、α 以逆时针为正。闭合残差为 |Σ左 − Σ右| 与最大项之比。",
         "{letters} dyad {links}": "{letters} 型Ⅱ级杆组 {links}",
+        "triad {links}": "Ⅲ级杆组 {links}",
         "known": "已知",
         "the axis of {joint}": "{joint} 导路",
         "the tangent of the pitch curve": "理论廓线的切线",
