@@ -37,6 +37,7 @@ from .records import asked_rows, json_float
 __all__ = ["Term", "Equation", "GroupEquations", "VectorPosition", "vector_equations"]
 
 COINCIDENT = 1e-12  # two points closer than this times the mechanism's size are one
+AT_REST = 1e-3  # an equation's terms all below this times the position's scale: at rest
 
 
 @dataclass(frozen=True)
@@ -154,6 +155,16 @@ class _State:
     a: np.ndarray
     labels: tuple[str, ...]
     size: float
+
+    def scale(self, acc: bool) -> float:
+        """The position's largest speed (or acceleration) of a link's centre of mass or of
+        its turning at the mechanism's size: the scale of an equation at rest."""
+        if acc:
+            w2 = self.v[:, 2] ** 2
+            each = np.hypot(self.a[:, 0], self.a[:, 1]) + (np.abs(self.a[:, 2]) + w2) * self.size
+        else:
+            each = np.hypot(self.v[:, 0], self.v[:, 1]) + np.abs(self.v[:, 2]) * self.size
+        return float(np.max(each))
 
     def point(self, link: int, p: np.ndarray, acc: bool) -> np.ndarray:
         """The velocity (or acceleration) of the point at ``p`` (global) moving with ``link``."""
@@ -293,10 +304,14 @@ def _expand(st: _State, ctx: _Ctx, L: int, P: np.ndarray, pn: str, acc: bool) ->
     return [*terms, normal, tangent]
 
 
-def _equation(kind: str, joint: str, point: str, lhs, rhs) -> Equation:
+def _equation(st: _State, kind: str, joint: str, point: str, lhs, rhs) -> Equation:
+    """The equation and its closure |Σ lhs − Σ rhs| over its largest term, or over
+    :data:`AT_REST` of the position's scale where every term is smaller (a link at rest:
+    its terms are round-off)."""
     total = sum((np.asarray(t.vector) for t in lhs), np.zeros(2))
     total = total - sum((np.asarray(t.vector) for t in rhs), np.zeros(2))
     largest = max((t.value for t in (*lhs, *rhs)), default=0.0)
+    largest = max(largest, AT_REST * st.scale(kind == "acceleration"))
     residual = float(np.hypot(*total)) / largest if largest > 0.0 else 0.0
     return Equation(kind, joint, point, tuple(lhs), tuple(rhs), residual)
 
@@ -324,7 +339,7 @@ def _inside(st: _State, ctx: _Ctx, joint, motion) -> list[Equation]:
         lhs = _expand(st, ctx, j, motion.point, motion.name, acc)
         rhs = _expand(st, ctx, i, motion.point, motion.name, acc)
         rhs += _pair_terms(motion, 1.0, acc, ctx.driven)
-        out.append(_equation(kind, joint.name, motion.name, lhs, rhs))
+        out.append(_equation(st, kind, joint.name, motion.name, lhs, rhs))
     return out
 
 
@@ -346,7 +361,7 @@ def _outlet(st: _State, ctx: _Ctx, L: int, joint, motion) -> list[Equation]:
             one.magnitude if one else "known",
             True,
         )
-        out.append(_equation(kind, joint.name, motion.name, [lhs], rhs))
+        out.append(_equation(st, kind, joint.name, motion.name, [lhs], rhs))
     return out
 
 
