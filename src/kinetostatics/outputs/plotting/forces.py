@@ -172,8 +172,11 @@ def _polygon(ax, data: dict, numbers, lang: str) -> None:
         r=f"{data['closure_error'] or 0.0:.2g}",
         f=f"{data['largest'] or 0.0:.4g}",
     )
-    ax.annotate(text, (0, 0), xycoords="axes fraction", xytext=(0, -32),
-                textcoords="offset points", fontsize=7, va="top", gid="closure")  # fmt: skip
+    # right-aligned under the polygon: a long line runs left under the free body, not off
+    # the figure's edge
+    ax.annotate(text, (1, 0), xycoords="axes fraction", xytext=(0, -32),
+                textcoords="offset points", fontsize=7, va="top", ha="right",
+                gid="closure")  # fmt: skip
 
 
 def group_figure(record, *, numbers=None, title: str = "", dpi: float = DPI, lang: str = "en"):
