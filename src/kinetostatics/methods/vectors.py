@@ -19,7 +19,8 @@ equivalent lower pairs' terms for a cam) come from the joint contract's
 writes, for each point by which a later body is tied to it, its velocity and acceleration
 from its base.  Each term carries its vector (the pipeline's values, global axes), a
 direction and a magnitude text (方向/大小), known or "?" before the group is solved, and its
-value after; each equation its closure |Σ lhs − Σ rhs| over its largest term.
+value after; each equation its closure |Σ lhs − Σ rhs| over its largest term (over
+:data:`AT_REST` of the position's scale where every term is smaller: a link at rest).
 """
 
 from __future__ import annotations
