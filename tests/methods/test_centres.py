@@ -223,7 +223,13 @@ def test_the_picture_marks_the_centres_inside_and_lists_the_others(triad, result
         rec = instant_centres(result, row)
         fig = centres_figure(result, rec.to_dict())
         ax = fig.axes[0]
-        drawn = {t.get_text(): t.xy for t in ax.texts if t.get_gid() == "instant-centre"}
+        # centres at one point share one label ("P14, P16"): crowding.place_labels
+        drawn = {
+            name: t.xy
+            for t in ax.texts
+            if t.get_gid() == "instant-centre"
+            for name in t.get_text().split(", ")
+        }
         (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
         notes = [t.get_text() for t in ax.texts if t.get_gid() == "instant-centres-note"]
         note = " ".join(notes).replace("\n", " ")
@@ -236,7 +242,7 @@ def test_the_picture_marks_the_centres_inside_and_lists_the_others(triad, result
                 assert listed, label
             else:
                 x, y = (1e3 * v for v in c.xy)
-                if x0 <= x <= x1 and y0 <= y <= y1:
-                    assert np.allclose(drawn[label], (x, y)), label
+                if x0 <= x <= x1 and y0 <= y <= y1:  # at the point (or one 1.5 pt from it)
+                    assert np.hypot(*np.subtract(drawn[label], (x, y))) <= 0.01 * (x1 - x0)
                 else:
                     assert listed, label

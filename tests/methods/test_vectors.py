@@ -8,8 +8,9 @@
 - the slotting machine at position 2, by hand: v_A = ω·l_O2A with l_O2A = 150·sin 30° mm,
   v_A3 = ω3·l_O3A, the sliding velocity v_A2A3 along the bar, the Coriolis magnitude
   2·|ω3|·|v_A2A3| from the result's columns;
-- a gear pair closes a one-link group at its pitch point (v_P = ω·r by hand), its
-  accelerations named as not written; a cam is named, not written; methods.json holds the
+- a gear pair closes a one-link group at its pitch point (v_P = ω·r by hand, the normal
+  term of rolling ω1²r + ω2²r by hand); a cam's follower through its guide and the contact;
+  every group of every shipped file writes its accelerations; methods.json holds the
   equations, JSON-safe.
 """
 
@@ -54,7 +55,9 @@ def test_every_equation_closes_to_its_largest_term(results, name):
                     np.array(t.vector) for t in eq.rhs
                 )
                 largest = max(t.value for t in _terms(eq))
-                assert largest > 0.0, eq.text
+                if largest == 0.0:  # a follower on a dwell: its group at rest, every term 0
+                    assert all(abs(v) <= 1e-9 for _, v, _ in group.solved), eq.text
+                    continue
                 assert np.hypot(*total) <= TOL * largest, (group.label, eq.text)
                 assert eq.residual <= TOL
         json.dumps(position.to_dict(), allow_nan=False)
@@ -134,34 +137,66 @@ def test_the_slotting_machine_at_position_2_by_hand(results):
     assert crank.equations[0].text == "v_A1 = v_AO2"
 
 
-def test_a_gear_pair_rolls_at_its_pitch_point_and_a_cam_is_named(results):
+def test_a_gear_pair_rolls_at_its_pitch_point_with_the_normal_term_of_rolling(results):
     """The geared five-bar's second crank is closed by the mesh: v_P(2) = v_P(1) at the
-    pitch point P, one unknown (ω of crank2), |v_P| = |ω1|·l_O1P by hand; its
-    accelerations are named as not written.  The cam's contact is named, not written."""
+    pitch point P, one unknown (ω of crank2), |v_P| = |ω1|·l_O1P by hand; its acceleration
+    equation adds the normal term of rolling, ω1²·r + ω2²·r by hand (gears on the frame),
+    with one unknown, the tangential term of crank2."""
     result = results["geared_fivebar"]
     row = len(result.t) // 4
     (position,) = vector_equations(result, [row])
     group = next(g for g in position.groups if g.links == ("crank2",))
-    assert group.notes == ("mesh (gear): accelerations not written for this pair type",)
-    (eq,) = group.equations
-    assert eq.kind == "velocity" and eq.text == "v_mesh(crank2) = v_mesh(crank1)"
-    assert [t.known for t in _terms(eq)] == [False, True]
+    assert group.notes == ()
+    velocity, acceleration = group.equations
+    assert velocity.kind == "velocity" and velocity.text == "v_mesh(crank2) = v_mesh(crank1)"
+    assert [t.known for t in _terms(velocity)] == [False, True]
     r1 = 5e-3 * 30 / 2  # m·z/2: module 5 mm, 30 teeth (the file's comment): 75 mm
-    w1 = result["crank1.omega"][row]
-    assert eq.rhs[0].value == pytest.approx(abs(w1) * r1, rel=1e-12)
-    assert eq.lhs[0].value == pytest.approx(abs(result["crank2.omega"][row]) * r1, rel=1e-12)
+    w1, w2 = result["crank1.omega"][row], result["crank2.omega"][row]
+    assert velocity.rhs[0].value == pytest.approx(abs(w1) * r1, rel=1e-12)
+    assert velocity.lhs[0].value == pytest.approx(abs(w2) * r1, rel=1e-12)
+    assert acceleration.kind == "acceleration" and acceleration.residual <= TOL
+    rolling = acceleration.rhs[-1]
+    assert rolling.symbol == "a^n_mesh(crank2)mesh(crank1)" and rolling.known
+    assert rolling.value == pytest.approx(w1**2 * r1 + w2**2 * r1, rel=1e-9)
+    assert [t.symbol for t in _terms(acceleration) if not t.known] == ["a^t_mesh(crank2)"]
+
+
+def test_a_cams_follower_is_written_through_its_guide_and_the_contact(results):
+    """The roller cam: the follower's base is its guide on the frame (a lower pair before
+    the cam), and the contact closes the group: v_C(follower) = v_C(cam) + v_r (two
+    unknowns: the follower's slide and the roller centre's speed along the pitch curve),
+    the acceleration with the relative path's normal and Coriolis terms known."""
     cam = results["cam_roller"]
     (position,) = vector_equations(cam, [len(cam.t) // 3])
-    notes = [n for g in position.groups for n in g.notes]
-    assert notes == ["contact (cam): not written for this pair type"]
+    assert [n for g in position.groups for n in g.notes] == []
+    group = next(g for g in position.groups if g.links == ("follower",))
+    velocity, acceleration = group.equations
+    assert velocity.joint == acceleration.joint == "contact"
+    assert sum(not t.known for t in _terms(velocity)) == 2
+    assert sum(not t.known for t in _terms(acceleration)) == 2
+    assert {t.symbol for t in _terms(acceleration) if t.known} >= {
+        "a^n_C(follower)C(cam)",
+        "a^k_C(follower)C(cam)",
+    }
 
 
-def test_pairs_without_terms_are_named_and_methods_json_holds_the_equations(results):
+@pytest.mark.parametrize("name", FILES)
+def test_every_group_writes_its_accelerations(results, name):
+    """Every pair type writes its terms (revolute, prismatic, gear, rack, cam): no group of
+    a shipped file has a note, and each has as many acceleration equations as velocity
+    equations."""
+    result = results[name]
+    for position in vector_equations(result, spread_rows(result)):
+        for group in position.groups:
+            kinds = [e.kind for e in group.equations]
+            assert group.notes == (), (name, group.label)
+            assert kinds.count("velocity") == kinds.count("acceleration"), (name, group.label)
+
+
+def test_methods_json_holds_the_equations(results):
     result = results["geared_fivebar"]
     rows = [("1", 0), ("4", len(result.t) // 4)]
-    notes = [n for g in vector_equations(result, rows)[0].groups for n in g.notes]
-    assert notes and all("not written for this pair type" in n for n in notes)
-    data = methods_stage(result, rows)
+    data = methods_stage(result, rows, parts=["vector_equations"])
     assert list(data["vector_equations"]) == ["1", "4"]
     text = json.dumps(data["vector_equations"], allow_nan=False)
     position = json.loads(text)["4"]

@@ -261,7 +261,12 @@ def test_cli_plot_at_a_position_between_rows(tmp_path, capsys):
         )
         == 0
     )
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["drawing.png", "velocity.png"]
+    # the velocity polygon's vector equations at the drawn position go to methods.json
+    assert sorted(p.name for p in tmp_path.iterdir()) == [
+        "drawing.png",
+        "methods.json",
+        "velocity.png",
+    ]
     assert (
         main(
             [

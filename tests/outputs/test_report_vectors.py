@@ -78,16 +78,21 @@ def test_a_position_not_asked_has_no_equations(tmp_path):
         _check_position(section, p, "en")
 
 
-def test_a_pair_whose_terms_are_not_written_is_named_under_its_group(tmp_path):
+def test_a_cams_terms_are_written_in_chinese(tmp_path):
+    """The roller cam's contact writes its terms (the roller centre along the pitch curve,
+    the normal term of its path, the Coriolis term of the turning cam): the follower's group
+    has a velocity and an acceleration equation at the contact, and the Chinese chapter
+    names their directions in Chinese, no English word of them left."""
     args = ["report", str(ROOT / "mechanisms" / "cam_roller.yaml"), "--out"]
     args += [str(tmp_path), "--format", "md", "--dpi", "20", "--positions", "2", "--lang", "zh"]
     assert main(args) == 0
     md, entry = _read(tmp_path)
-    notes = [n for g in entry["2"]["groups"] for n in g["notes"]]
-    assert notes, "the cam's contact writes no terms"
+    assert not [n for g in entry["2"]["groups"] for n in g["notes"]]
+    follower = next(g for g in entry["2"]["groups"] if g["links"] == ["follower"])
+    kinds = [(e["kind"], e["joint"]) for e in follower["equations"]]
+    assert kinds == [("velocity", "contact"), ("acceleration", "contact")]
     chapter = _chapter(md, TITLES["zh"])
-    joint = notes[0].split(" ")[0]
-    assert f"未列出：{joint} (凸轮副)" in chapter
-    # no equation is written without the contact's terms: the groups' ω, α still are
-    assert not [e for g in entry["2"]["groups"] for e in g["equations"]]
-    assert chapter.count("解得：") == len(entry["2"]["groups"])
+    assert "理论廓线的切线" in chapter and "其曲率中心" in chapter
+    for words in ("the tangent", "centre of curvature", "the pitch curve"):
+        assert words not in chapter
+    _check_position(re.split(r"^### ", chapter, flags=re.M)[1], entry["2"], "zh")

@@ -20,7 +20,16 @@ WHAT = (
     "polar",
     "velocity",
     "acceleration",
+    "centres",
 )
+
+# The methods of methods.json behind each picture that has one (docs/methods.md): ``plot``
+# writes methods.json with those of the pictures it draws, at the drawn position.
+METHODS = {
+    "centres": "instant_centres",
+    "velocity": "vector_equations",
+    "acceleration": "vector_equations",
+}
 
 
 # The largest resolution, frame rate and number of frames: a picture at 1,200 dpi
@@ -79,9 +88,11 @@ def _labels(text: str) -> list[str]:
 def register(sub) -> None:
     p = sub.add_parser(
         "plot",
-        help="pictures: drawing, motion diagram, torque, reactions, polar diagrams, polygons",
+        help="pictures: drawing, motion diagram, torque, reactions, polar diagrams, polygons, "
+        "instant centres",
         description="Draw the mechanism and its curves as image files in --out. Curves run over "
-        "the whole cycle; the drawing and the polygons are at --position.",
+        "the whole cycle; the drawing, the polygons and the instant centres are at --position, "
+        "whose vector equations and instant centres go to methods.json.",
     )
     p.add_argument("file", help="mechanism YAML file")
     p.add_argument("--out", default="plots", help="output folder (default: plots)")
@@ -97,8 +108,8 @@ def register(sub) -> None:
         "--position",
         type=finite_number,
         default=None,
-        help="driver coordinate of the drawing and the polygons, deg (mm for a "
-        "prismatic driver); default: the first position of the analysis",
+        help="driver coordinate of the drawing, the polygons and the instant centres, deg "
+        "(mm for a prismatic driver); default: the first position of the analysis",
     )
     p.add_argument(
         "--forces",
@@ -327,8 +338,21 @@ def _plot(args) -> int:
             efficiency="efficiency" in what,
         )
     written = []
+    label = _label_of(result, row, args.position)
+    methods = _plot_methods(result, row, label, what)
+    if methods is not None:
+        from ..base.files import json_text
+
+        text = json_text(methods, ensure_ascii=False)
+        path = out / "methods.json"
+        write_file(path, f"--out {args.out}", lambda tmp: tmp.write_text(text, "utf-8"))
     for name in what:
-        if name == "drawing":
+        if name == "centres":
+            from ..outputs.plotting.centres import centres_figure
+
+            entry = methods["instant_centres"][label]
+            fig = centres_figure(result, entry, dpi=args.dpi, lang=lang)
+        elif name == "drawing":
             fig = pl.draw_mechanism(
                 result,
                 row=row,
@@ -360,8 +384,32 @@ def _plot(args) -> int:
             lambda tmp, fig=fig: fig.savefig(tmp, dpi=args.dpi, format=args.format),
         )
         written.append(path)
+    if methods is not None:
+        written.append(out / "methods.json")
     print(f"{model.name}: {', '.join(str(p) for p in written)}")
     return 0
+
+
+def _label_of(result, row: int, position: float | None) -> str:
+    """The drawn position's label in methods.json: its course position (``7``, ``8′``),
+    else the driver coordinate as given (``--position 47.5`` → ``47.5``), or ``start``."""
+    from ..outputs import plotting as pl
+
+    for label, k in pl.course_positions(result):
+        if k == row:
+            return label
+    return "start" if position is None else f"{position:g}"
+
+
+def _plot_methods(result, row: int, label: str, what: list[str]) -> dict | None:
+    """methods.json of the pictures drawn (the stage ``report`` runs, asked only for their
+    methods, at the drawn row); None when no picture drawn has a method."""
+    parts = sorted({METHODS[name] for name in what if name in METHODS})
+    if not parts:
+        return None
+    from ..methods.stage import methods_stage
+
+    return methods_stage(result, [(label, row)], parts=parts)
 
 
 def _animate(args) -> int:

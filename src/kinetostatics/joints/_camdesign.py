@@ -50,9 +50,11 @@ class _Placed(Synthesis):
 
 @dataclass(frozen=True)
 class ProfileDesign:
-    """The design chart of one cam pair, from its synthesis (SI, angles in rad)."""
+    """The design chart of one cam pair, from its synthesis (SI, angles in rad);
+    ``allowed`` the file's allowable pressure angle [α] (rad; None: not given)."""
 
     synthesis: Synthesis
+    allowed: float | None = None
 
     @property
     def follower(self) -> str:

@@ -62,6 +62,8 @@ from . import _camphase
 from ._camdesign import ProfileDesign
 from ._camlaw import LAW_SHAPE, read_law
 from ._camprofile import Synthesis
+from ._camrelative import cam_motion
+from ._camspec import _DESIGN, _OSCILLATING, _SENSE, _TRANSLATING, SENSES, allowed_angle, placement
 from .base import (
     Anchor,
     Circle,
@@ -78,12 +80,6 @@ from .base import (
 __all__ = ["Cam"]
 
 FOLLOWERS = ("knife", "roller", "flat")
-SENSES = {"ccw": 1, "cw": -1}
-_SENSE = enum(SENSES)
-_TRANSLATING = Keys({"direction": VECTOR, "offset": NUMBER}, required=("direction",))
-_OSCILLATING = Keys(
-    {"pivot": VECTOR, "arm": NUMBER, "offset": NUMBER, "rise": _SENSE}, required=("pivot",)
-)
 
 
 def _outer(a, b):
@@ -118,7 +114,9 @@ def _kept(name):
 class Cam(Joint, Presentation, Friction, Shaped, kind="cam"):
     """Disc cam (link i, centre ``o``) and follower (link j, point ``p``); ``synthesis``
     the law and the follower's placement; ``face`` (flat) the face normal in j's
-    frame towards the cam; ``f`` the friction coefficient."""
+    frame towards the cam; ``f`` the friction coefficient; ``allowed`` the allowable
+    pressure angle [α] of its design (rad; ``design: {pressure_angle_max}``), None: not
+    given (the design takes the textbook's 30°)."""
 
     n_eq: ClassVar[int] = 1
     reaction_labels: ClassVar[tuple[str, ...]] = ("F", "Fx", "Fy")
@@ -139,6 +137,7 @@ class Cam(Joint, Presentation, Friction, Shaped, kind="cam"):
             "translating": _TRANSLATING,
             "oscillating": _OSCILLATING,
             "friction": Keys({"coefficient": NUMBER}, required=("coefficient",)),
+            "design": _DESIGN,
         },
         required=("type", "links", "centre", "point", "follower", "base_radius", "motion"),
     )
@@ -149,6 +148,7 @@ class Cam(Joint, Presentation, Friction, Shaped, kind="cam"):
     synthesis: Synthesis = None
     face: np.ndarray | None = None
     f: float = 0.0
+    allowed: float | None = None
     _memo: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     # -- YAML -----------------------------------------------------------------
@@ -178,7 +178,7 @@ class Cam(Joint, Presentation, Friction, Shaped, kind="cam"):
             sigma = SENSES.get(r.text() or "", 0)
             if not sigma:
                 r.error("rotation must be ccw or cw (the cam's sense for increasing cam angle)")
-        place = cls._placement(entry, kind)
+        place = placement(entry, kind)
         law = read_law(entry.require("motion"), "angle" if place and place[2] else "length")
         friction = 0.0
         if (fr := entry.get("friction")) is not None:
@@ -186,50 +186,21 @@ class Cam(Joint, Presentation, Friction, Shaped, kind="cam"):
             friction = (
                 fr["coefficient"].number(None, minimum=0.0) if fr.get("coefficient") else None
             )
+        allowed = allowed_angle(entry.get("design"))
         if any(v is None for v in (o, p, kind, radius, base, place, law, friction)) or not sigma:
             return None
-        if kind == "flat" and face is None:
+        if kind == "flat" and face is None or allowed is False:
             return None
         direction, offset, pivot, arm, kappa = place
         syn = Synthesis(law, kind, radius, base, sigma, direction, offset, pivot, arm, kappa)
-        joint = cls(name, links, entry.where, o, p, (cname, pname), syn, face, float(friction))
+        joint = cls(
+            name, links, entry.where, o, p, (cname, pname), syn, face, float(friction), allowed
+        )
         problem = joint._problem()
         if problem:
             entry["motion"].error(f"cam joint '{name}': {problem}")
             return None
         return joint
-
-    @staticmethod
-    def _placement(entry, kind):
-        """(u, e or f, A, L, κ) from ``translating:`` or ``oscillating:``."""
-        tr, osc = entry.get("translating"), entry.get("oscillating")
-        if (tr is None) == (osc is None):
-            entry.error("give the follower's placement: translating or oscillating")
-            return None
-        if tr is not None:
-            if not tr.check(_TRANSLATING):
-                return None
-            d = tr["direction"].vector(None)
-            u = None if d is None else tr["direction"].unit(d)
-            e = tr["offset"].number("length") if tr.get("offset") is not None else 0.0
-            if u is None or e is None or (kind == "flat" and e):
-                if kind == "flat" and e:
-                    tr["offset"].error("a translating flat face has no offset (it changes nothing)")
-                return None
-            return (float(u[0]), float(u[1])), float(e), None, 0.0, 1
-        need = ("pivot",) if kind == "flat" else ("pivot", "arm")
-        extra = ("offset", "rise") if kind == "flat" else ("rise",)
-        if not osc.check_keys(required=need, optional=extra):
-            return None
-        a = osc["pivot"].vector("length")
-        arm = osc["arm"].number("length", minimum=0.0, strict=True) if kind != "flat" else 0.0
-        off = osc["offset"].number("length") if osc.get("offset") is not None else 0.0
-        kappa = SENSES.get(osc["rise"].text() or "", 0) if osc.get("rise") is not None else 1
-        if not kappa:
-            osc["rise"].error("rise must be ccw or cw (the arm's sense as the follower rises)")
-        if a is None or arm is None or off is None or not kappa:
-            return None
-        return None, float(off), (float(a[0]), float(a[1])), float(arm), kappa
 
     def to_spec(self) -> dict[str, Any]:
         s = self.synthesis
@@ -253,6 +224,8 @@ class Cam(Joint, Presentation, Friction, Shaped, kind="cam"):
             spec["oscillating"] = osc
         if self.f:
             spec["friction"] = {"coefficient": self.f}
+        if self.allowed is not None:
+            spec["design"] = {"pressure_angle_max": self.allowed}
         return spec
 
     # -- the phase at the start ------------------------------------------------------
@@ -260,7 +233,7 @@ class Cam(Joint, Presentation, Friction, Shaped, kind="cam"):
         return _camphase.start_problem(self, qi, qj)
 
     def profile_design(self) -> ProfileDesign:
-        return ProfileDesign(self.synthesis)
+        return ProfileDesign(self.synthesis, self.allowed)
 
     # -- the profile ------------------------------------------------------------
     def _problem(self) -> str:
@@ -504,6 +477,12 @@ class Cam(Joint, Presentation, Friction, Shaped, kind="cam"):
         theorem puts it (the relative velocity at the contact is along the tangent)."""
         theta, X, n, z = self._contact(qi, qj)
         return Pole(qi[..., :2] + turn(qi, self.o) + turn(qi, X), along=turn(qi, n))
+
+    def relative_motion(self, qi, qj, vi, vj, ai, aj, labels):
+        """The equivalent lower pairs' terms at the contact (``_camrelative.py``): a knife's
+        or roller's point along the pitch curve, a flat face's centre of curvature along
+        the face."""
+        return cam_motion(self, qi, qj, vi, vj, ai, aj, labels)
 
     def anchors(self):
         i, j = self.links

@@ -123,9 +123,9 @@ from ._mesh import (
     read_tooth_form,
     wrap,
 )
+from ._meshrelative import gear_motion
 from .base import Anchor, Circle, Compiled, Glyph, Joint, Pole, Presentation
 from .gearing import GearData
-from .relative import RelativeMotion
 
 __all__ = ["Gear"]
 
@@ -537,11 +537,9 @@ class Gear(MeshFriction, Joint, Presentation, Compiled, kind="gear"):
         return Pole(qi[..., :2] + Ri + scale * e)
 
     def relative_motion(self, qi, qj, vi, vj, ai, aj, labels):
-        """At the pitch point the gears roll: the two links' points there have one
-        velocity (no term, while the centre distance is held, as for ``instant_centre``);
-        their relative acceleration is not written."""
-        point = self.instant_centre(qi, qj).xy
-        return RelativeMotion(point, self.name, turns=True, acceleration=None)
+        """At the pitch point the gears roll: no relative velocity and the normal
+        acceleration of rolling while the centre distance is held (``_meshrelative.py``)."""
+        return gear_motion(self, qi, qj, vi, vj, ai, aj, labels)
 
     # -- description ----------------------------------------------------------
     def anchors(self):

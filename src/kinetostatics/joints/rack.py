@@ -84,9 +84,9 @@ from ._mesh import (
     read_tooth_form,
     wrap,
 )
+from ._meshrelative import rack_motion
 from .base import AXIS_KEYS, Anchor, Circle, Compiled, Glyph, Joint, Line, Pole, Presentation
 from .gearing import GearData
-from .relative import RelativeMotion
 
 __all__ = ["Rack"]
 
@@ -425,11 +425,9 @@ class Rack(MeshFriction, Joint, Presentation, Compiled, kind="rack"):
         return Pole(qj[..., :2] + C - (nu * self.r)[..., None] * N)
 
     def relative_motion(self, qi, qj, vi, vj, ai, aj, labels):
-        """At the pitch point the pinion and rack roll: the two links' points there have one
-        velocity (no term, while the centre distance is held, as for ``instant_centre``);
-        their relative acceleration is not written."""
-        point = self.instant_centre(qi, qj).xy
-        return RelativeMotion(point, self.name, turns=True, acceleration=None)
+        """At the pitch point the pinion rolls on the rack: no relative velocity and the
+        normal acceleration of rolling while its height is held (``_meshrelative.py``)."""
+        return rack_motion(self, qi, qj, vi, vj, ai, aj, labels)
 
     # -- description ----------------------------------------------------------
     def anchors(self):

@@ -2,9 +2,10 @@
 
 What a pair adds to a vector equation of velocities or accelerations (方向/大小: direction
 and magnitude) between the point of link j at the pair and the point of link i that
-coincides with it: nothing for a pin (the points coincide) or for a toothed pair rolling
-at its pitch point (its velocities only), the sliding velocity and acceleration along a
-slide and, where the slide's guide turns, the Coriolis term 2ω_i×v_r.
+coincides with it: nothing for a pin (the points coincide); the sliding velocity and
+acceleration along a slide and, where the slide's guide turns, the Coriolis term
+2ω_i×v_r; the normal acceleration of rolling for a toothed pair at its pitch point
+(``_meshrelative.py``); a cam's equivalent lower pairs' terms (``_camrelative.py``).
 ``Joint.relative_motion`` returns a :class:`RelativeMotion` (``methods/vectors.py`` reads it).
 """
 

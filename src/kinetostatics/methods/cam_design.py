@@ -11,7 +11,8 @@ forms are ``joints/_camdesign.py``'s), :func:`cam_design` samples over the cam a
 * the least radius of curvature ρ_min of the pitch curve's convex part (the roller centre's
   path), and so the roller radius limit r_r < ρ_min that avoids undercut (the profile
   itself for a flat face, whose ρ_min must stay positive);
-* the least base radius r_b,min for the allowable pressure angle [α]: in closed form for a
+* the least base radius r_b,min for the allowable pressure angle [α] (the caller's, else
+  the cam joint's ``design: {pressure_angle_max}``, else the textbook's 30°): in closed form for a
   translating knife or roller follower (the largest over φ of the per-angle bound, refined
   as above), by bisection on r_b with the closed form α(φ; r_b) for an oscillating
   follower (knife, roller or flat face); none for a translating flat face (α ≡ 0);
@@ -32,7 +33,7 @@ from ..analysis.results import Result
 from ..base.arguments import real_number
 from ..model import Model
 
-__all__ = ["CamDesign", "cam_design"]
+__all__ = ["CamDesign", "cam_design", "DEFAULT_ALLOWED"]
 
 GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0
 STEPS = 80  # golden-section steps: the bracket shrinks by 0.618⁸⁰ ≈ 2e-17
@@ -51,7 +52,9 @@ class CamDesign:
     curve (the profile for a flat face) and ``curvature_at``; ``roller_limit`` the roller
     radius that would undercut (None for a flat face); ``base_radius_min`` the least base
     radius for ``allowed`` [α] (None where [α] does not bound it) and ``method`` how it was
-    found; ``satisfied`` whether the file's base radius keeps |α| ≤ [α]; ``pitch_curve``
+    found; ``allowed_from`` where [α] came from (``file``: the joint's ``design:``;
+    ``default``: the textbook's 30°; ``caller``: the argument); ``satisfied`` whether the
+    file's base radius keeps |α| ≤ [α]; ``pitch_curve``
     (None for a flat face) and ``profile``, ``(360, 2)`` points (m) in the cam's frame at
     the cam angles 0°, 1°, … (what a drawing of the cam draws)."""
 
@@ -62,6 +65,7 @@ class CamDesign:
     base_radius: float
     roller_radius: float
     allowed: float
+    allowed_from: str
     angle: np.ndarray
     lift: np.ndarray
     lift_d1: np.ndarray
@@ -186,7 +190,7 @@ def _least_base(chart, grid: np.ndarray, allowed: float) -> tuple[float | None, 
     return _bisect(chart, grid, allowed)
 
 
-def _design(name: str, chart, allowed_deg: float, samples: int) -> CamDesign:
+def _design(name: str, chart, allowed_deg: float, source: str, samples: int) -> CamDesign:
     allowed = math.radians(allowed_deg)
     grid = chart.grid
     phi = np.linspace(0.0, 2.0 * math.pi, samples + 1)
@@ -203,6 +207,7 @@ def _design(name: str, chart, allowed_deg: float, samples: int) -> CamDesign:
         base_radius=chart.base,
         roller_radius=chart.roller,
         allowed=allowed_deg,
+        allowed_from=source,
         angle=np.degrees(phi),
         lift=s,
         lift_d1=s1,
@@ -221,8 +226,13 @@ def _design(name: str, chart, allowed_deg: float, samples: int) -> CamDesign:
     )
 
 
+DEFAULT_ALLOWED = 30.0
+"""The textbook's allowable pressure angle (deg) of a translating follower's rise, taken
+where neither the caller nor the file gives one."""
+
+
 def cam_design(
-    model: Model | Result, *, pressure_angle_max: float = 30.0, samples: int = 360
+    model: Model | Result, *, pressure_angle_max: float | None = None, samples: int = 360
 ) -> tuple[CamDesign, ...]:
     """The design of each cam pair of a model (or of a result's model).
 
@@ -230,9 +240,10 @@ def cam_design(
     ----------
     model : Model or Result
         The mechanism; a result stands for the model it analysed.
-    pressure_angle_max : float
+    pressure_angle_max : float, optional
         The allowable pressure angle [α] in degrees (0 < [α] < 90; the textbook's 30° for a
-        translating follower's rise, 35°–45° for an oscillating one).
+        translating follower's rise, 35°–45° for an oscillating one), for every cam;
+        default: each cam joint's ``design: {pressure_angle_max}``, else 30°.
     samples : int
         The curves are sampled at ``samples + 1`` cam angles from 0° to 360°; the extremes
         are found on every segment of the law whatever this is.
@@ -244,16 +255,25 @@ def cam_design(
     """
     if isinstance(model, Result):
         model = model.system.model
-    allowed = real_number(
-        "pressure_angle_max", pressure_angle_max, low=0.0, high=90.0, strict_low=True,
-        strict_high=True, why="the allowable pressure angle in degrees",
-    )  # fmt: skip
+    allowed = None
+    if pressure_angle_max is not None:
+        allowed = real_number(
+            "pressure_angle_max", pressure_angle_max, low=0.0, high=90.0, strict_low=True,
+            strict_high=True, why="the allowable pressure angle in degrees",
+        )  # fmt: skip
     count = real_number("samples", samples, low=1.0, why="cam angles sampled per turn")
     if count != int(count):
         raise ValueError(f"samples = {samples!r}: expected a whole number")
     out = []
     for joint in model.joints:
         chart = joint.profile_design()
-        if chart is not None:
-            out.append(_design(joint.name, chart, allowed, int(count)))
+        if chart is None:
+            continue
+        if allowed is not None:
+            value, source = allowed, "caller"
+        elif chart.allowed is not None:
+            value, source = math.degrees(chart.allowed), "file"
+        else:
+            value, source = DEFAULT_ALLOWED, "default"
+        out.append(_design(joint.name, chart, value, source, int(count)))
     return tuple(out)

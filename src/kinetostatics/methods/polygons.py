@@ -122,7 +122,9 @@ class GroupPolygon:
     from the origin (``vertices``, N; the known forces first), its ``closure`` error
     |Σ F| (N) beside its ``largest`` force (N), the moment about ``pivot`` of every force
     and couple, ``moment`` (N·m, zero in equilibrium), and the round scale ``mu_F``
-    (N/mm) that draws the polygon at most :data:`POLYGON_SIZE_MM` across."""
+    (N/mm) that draws the polygon at most :data:`POLYGON_SIZE_MM` across; the group's
+    ``kind`` (``driven``, ``dyad``, ``triad``, ``group``) and a dyad's pair ``letters``
+    (``RPR``) for the outputs to name it in their language (``label`` is the English)."""
 
     name: str
     label: str
@@ -137,6 +139,8 @@ class GroupPolygon:
     moment: float
     moment_scale: float
     mu_F: float
+    kind: str = ""
+    letters: str = ""
 
     @property
     def closure_error(self) -> float:
@@ -152,6 +156,8 @@ class GroupPolygon:
         return {
             "group": self.name,
             "label": self.label,
+            "kind": self.kind,
+            "letters": self.letters,
             "links": list(self.links),
             "driving": self.driving,
             "forces": [f.to_dict() for f in self.forces],
@@ -419,7 +425,8 @@ def _group(system: System, p: int, loads: dict, pairs: list, l_ref: float) -> Gr
         group.name, group.label, group.links, group.kind == "driven", tuple(forces), tuple(inner),
         tuple((float(v[0]), float(v[1])) for v in vertices),
         float(np.hypot(*vertices[-1])), largest, (float(pivot[0]), float(pivot[1])),
-        float(moment), float(moment_scale), nice_scale(span / POLYGON_SIZE_MM),
+        float(moment), float(moment_scale), nice_scale(span / POLYGON_SIZE_MM), group.kind,
+        group.letters,
     )  # fmt: skip
 
 

@@ -12,12 +12,15 @@ solved before it (the frame, a driven link, an earlier group):
     a_P(L) = a_X(K) + [a_r + a_k of X] + a^n_PX (= −ω_L² XP) + a^t_PX (= α_L × XP)
 
 The pair's own terms (nothing for a pin; the sliding velocity, its acceleration and the
-Coriolis term 2ω_i × v_r for a slide) come from the joint contract's ``relative_motion``; a
-pair type that does not write them is named in the group's ``notes``.  A driven group
+Coriolis term 2ω_i × v_r for a slide; the normal term of rolling for a gear or a rack; the
+equivalent lower pairs' terms for a cam) come from the joint contract's
+``relative_motion``; a pair type that does not write them is named in the group's
+``notes``.  A driven group
 writes, for each point by which a later body is tied to it, its velocity and acceleration
 from its base.  Each term carries its vector (the pipeline's values, global axes), a
 direction and a magnitude text (方向/大小), known or "?" before the group is solved, and its
-value after; each equation its closure |Σ lhs − Σ rhs| over its largest term.
+value after; each equation its closure |Σ lhs − Σ rhs| over its largest term (over
+:data:`AT_REST` of the position's scale where every term is smaller: a link at rest).
 """
 
 from __future__ import annotations
@@ -35,6 +38,7 @@ from .records import asked_rows, json_float
 __all__ = ["Term", "Equation", "GroupEquations", "VectorPosition", "vector_equations"]
 
 COINCIDENT = 1e-12  # two points closer than this times the mechanism's size are one
+AT_REST = 1e-3  # an equation's terms all below this times the position's scale: at rest
 
 
 @dataclass(frozen=True)
@@ -153,6 +157,16 @@ class _State:
     labels: tuple[str, ...]
     size: float
 
+    def scale(self, acc: bool) -> float:
+        """The position's largest speed (or acceleration) of a link's centre of mass or of
+        its turning at the mechanism's size: the scale of an equation at rest."""
+        if acc:
+            w2 = self.v[:, 2] ** 2
+            each = np.hypot(self.a[:, 0], self.a[:, 1]) + (np.abs(self.a[:, 2]) + w2) * self.size
+        else:
+            each = np.hypot(self.v[:, 0], self.v[:, 1]) + np.abs(self.v[:, 2]) * self.size
+        return float(np.max(each))
+
     def point(self, link: int, p: np.ndarray, acc: bool) -> np.ndarray:
         """The velocity (or acceleration) of the point at ``p`` (global) moving with ``link``."""
         r = p - self.q[link, :2]
@@ -221,8 +235,8 @@ class _Base:
 
 def _bases(system, st: _State, plan, known: set[int], driven: bool) -> dict[int, _Base]:
     """Each member link's base among the plan's pairs with a known body: of those whose
-    terms are written, one with its accelerations first, then a pin, then one with the
-    frame (the textbook's pivot)."""
+    terms are written, one with its accelerations first, then a lower pair, then a pin,
+    then one with the frame (the textbook's pivot)."""
     members = {system.link_index(n) for n in plan.group.links}
     out: dict[int, _Base] = {}
     score: dict[int, tuple] = {}
@@ -232,7 +246,8 @@ def _bases(system, st: _State, plan, known: set[int], driven: bool) -> dict[int,
         for L, K, sign in ((j, i, 1.0), (i, j, -1.0)):
             if L not in members or K not in known or (m := _motion(system, st, k)) is None:
                 continue
-            rank = (m.acceleration is not None, m.turns, K == ground)
+            # a lower pair (two rows) before a higher one: the follower's guide, not its cam
+            rank = (m.acceleration is not None, system.joints[k].n_eq == 2, m.turns, K == ground)
             if L not in out or rank > score[L]:
                 out[L], score[L] = _Base(k, K, m, sign, driven or not m.turns), rank
     return out
@@ -290,10 +305,14 @@ def _expand(st: _State, ctx: _Ctx, L: int, P: np.ndarray, pn: str, acc: bool) ->
     return [*terms, normal, tangent]
 
 
-def _equation(kind: str, joint: str, point: str, lhs, rhs) -> Equation:
+def _equation(st: _State, kind: str, joint: str, point: str, lhs, rhs) -> Equation:
+    """The equation and its closure |Σ lhs − Σ rhs| over its largest term, or over
+    :data:`AT_REST` of the position's scale where every term is smaller (a link at rest:
+    its terms are round-off)."""
     total = sum((np.asarray(t.vector) for t in lhs), np.zeros(2))
     total = total - sum((np.asarray(t.vector) for t in rhs), np.zeros(2))
     largest = max((t.value for t in (*lhs, *rhs)), default=0.0)
+    largest = max(largest, AT_REST * st.scale(kind == "acceleration"))
     residual = float(np.hypot(*total)) / largest if largest > 0.0 else 0.0
     return Equation(kind, joint, point, tuple(lhs), tuple(rhs), residual)
 
@@ -321,7 +340,7 @@ def _inside(st: _State, ctx: _Ctx, joint, motion) -> list[Equation]:
         lhs = _expand(st, ctx, j, motion.point, motion.name, acc)
         rhs = _expand(st, ctx, i, motion.point, motion.name, acc)
         rhs += _pair_terms(motion, 1.0, acc, ctx.driven)
-        out.append(_equation(kind, joint.name, motion.name, lhs, rhs))
+        out.append(_equation(st, kind, joint.name, motion.name, lhs, rhs))
     return out
 
 
@@ -333,6 +352,8 @@ def _outlet(st: _State, ctx: _Ctx, L: int, joint, motion) -> list[Equation]:
     out = []
     for acc, kind in ((False, "velocity"), (True, "acceleration"))[: 1 + accel]:
         rhs = _expand(st, ctx, L, motion.point, motion.name, acc)
+        if not rhs:  # the point is L's pivot on the frame (a flat cam's K on a dwell): at rest
+            return []
         one = rhs[0] if len(rhs) == 1 else None
         lhs = _term(
             f"{'a' if acc else 'v'}_{motion.name}{st.labels[L]}",
@@ -341,7 +362,7 @@ def _outlet(st: _State, ctx: _Ctx, L: int, joint, motion) -> list[Equation]:
             one.magnitude if one else "known",
             True,
         )
-        out.append(_equation(kind, joint.name, motion.name, [lhs], rhs))
+        out.append(_equation(st, kind, joint.name, motion.name, [lhs], rhs))
     return out
 
 
@@ -390,7 +411,7 @@ def _group(system, st: _State, plan, known: set[int], bases: dict) -> GroupEquat
             equations = _outlet(st, ctx, later[0], joint, motion)
         else:
             continue
-        velocity.append(equations[0])
+        velocity += equations[:1]
         acceleration += equations[1:]
     return GroupEquations(
         group.label,

@@ -4,7 +4,9 @@ The picture reads the plain data of an instant-centres record (``InstantCentres.
 of ``kinetostatics.methods.centres``, or the record itself): the mechanism is drawn at the
 record's row by :func:`~.draw.draw_mechanism`, each centre inside the sheet as a point
 labelled ``P_ij`` with the picture's link numbers, and those outside it, at infinity or not
-found listed under it.
+found listed under it.  The labels are set apart by ``crowding.place_labels``: centres at
+one point share one label (``P14, P16``), a pair's own centre (at its pin) is secondary,
+smaller and lighter, the ones Kennedy's theorem found are placed first.
 """
 
 from __future__ import annotations
@@ -13,12 +15,14 @@ import numpy as np
 
 from ..labels import link_numbers
 from ..lang import tr
+from .crowding import Label, place_labels
 from .draw import draw_mechanism
 from .style import DPI, MM, _fit_sheet, _rc, _wrap
 
 __all__ = ["centres_figure", "centre_label"]
 
 CENTRE_COLOR = "#b2182b"
+PIN_COLOR = "#d6604d"  # a centre at a pair's own pin: lighter, smaller (crowding.py)
 
 
 def centre_label(bodies, numbers: dict[str, int]) -> str:
@@ -53,7 +57,7 @@ def centres_figure(result, record, *, dpi: float = DPI, lang: str = "en"):
     ax = fig.axes[0]
     numbers = link_numbers(result.system)
     (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
-    far, infinite, missing = [], [], []
+    far, infinite, missing, labels = [], [], [], []
     with _rc(lang):
         for c in data["centres"]:
             label = centre_label(c["bodies"], numbers)
@@ -66,18 +70,12 @@ def centres_figure(result, record, *, dpi: float = DPI, lang: str = "en"):
                 infinite.append(f"{label} ∞ ({angle:.1f}°)")
             elif x0 <= x <= x1 and y0 <= y <= y1:
                 ax.plot([x], [y], "o", ms=4.0, mfc="white", mec=CENTRE_COLOR, zorder=6)
-                ax.annotate(
-                    label,
-                    (x, y),
-                    xytext=(4, -9),
-                    textcoords="offset points",
-                    fontsize=7,
-                    color=CENTRE_COLOR,
-                    zorder=7,
-                    gid="instant-centre",
-                )
+                primary = c["how"] != "joint"  # a pair's own centre is its pin: secondary
+                color = CENTRE_COLOR if primary else PIN_COLOR
+                labels.append(Label(label, (x, y), color, primary=primary, gid="instant-centre"))
             else:
                 far.append(f"{label} ({x:.0f}, {y:.0f}) mm")
+        place_labels(ax, labels)
         _note(ax, far, infinite, missing, lang)
     return fig
 

@@ -10,15 +10,19 @@ scale μ_F (N/mm, drawn at true scale), the known forces first (solid), the solv
 closing it (dashed); the closure error |Σ F| is printed under it.  A reaction is
 labelled ``F_Rij`` (the force of link i on link j) with the link numbers passed in, the
 weight ``G_j``, the inertia force and couple ``F_Ij``, ``M_Ij``, the balancing effort
-``M_b`` (``F_b``).
+``M_b`` (``F_b``).  The labels are set apart by ``crowding.place_labels``: along each
+arrow's normal, the solved forces' first, the known ones smaller; the group is named in
+the picture's language from the record's ``kind`` and ``letters`` (:func:`group_title`).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from ...base.geometry import perp
 from ..labels import pair
 from ..lang import tr
+from .crowding import Label, place_labels
 from .style import (
     DPI,
     FORCE_COLORS,
@@ -32,7 +36,7 @@ from .style import (
     _rc,
 )
 
-__all__ = ["group_figure", "force_label"]
+__all__ = ["group_figure", "force_label", "group_title"]
 
 _COLOR = {
     "reaction": FORCE_COLORS["reaction"],
@@ -63,6 +67,23 @@ def force_label(force: dict, numbers: dict[str, int] | None = None) -> str:
     return force["name"].replace("_", " ")
 
 
+def group_title(data: dict, lang: str = "en") -> str:
+    """The group of a polygon record in ``lang`` from its ``kind``, ``letters`` and
+    ``links`` ("RPR dyad {block, bar}", "RPR 型Ⅱ级杆组 {block, bar}"); its English
+    ``label`` for a record without them."""
+    kind, links = data.get("kind", ""), "{" + ", ".join(data["links"]) + "}"
+    if kind == "dyad":
+        return tr("{letters} dyad {links}", lang, letters=data["letters"], links=links)
+    if kind == "driven":
+        many = "driven links {links}" if len(data["links"]) > 1 else "driven link {links}"
+        return tr(many, lang, links=links)
+    if kind == "triad":
+        return tr("triad {links}", lang, links=links)
+    if kind:
+        return tr("{n}-link group {links}", lang, n=len(data["links"]), links=links)
+    return data.get("label") or data.get("group", "")
+
+
 def _plain(record) -> dict:
     to_dict = getattr(record, "to_dict", None)
     return to_dict() if callable(to_dict) else dict(record)
@@ -91,26 +112,29 @@ def _free_body(ax, data: dict, numbers) -> None:
                     lw=2.0, alpha=0.6, zorder=2)  # fmt: skip
         ax.plot(*own.T, "o", ms=3.0, mfc="white", mec="black", zorder=3)
     largest = max((np.hypot(*f["vector"]) for f in forces), default=0.0) or 1.0
+    labels = []
     for f in forces:
         color = _COLOR.get(f["kind"], FORCE_COLORS["external"])
         p, v = np.array(f["point"]) * 1e3, np.array(f["vector"])
-        label = force_label(f, numbers)
+        label, primary = force_label(f, numbers), f["status"] == "solved"
         if np.any(v):
             vec = v / largest * 0.35 * size
-            _arrow(ax, p - vec if f["status"] == "solved" else p, vec, color, lw=1.1)
-            ax.annotate(label, p + 0.5 * vec, xytext=(3, 3), textcoords="offset points",
-                        fontsize=7, color=color, zorder=7)  # fmt: skip
+            start = p - vec if f["status"] == "solved" else p
+            _arrow(ax, start, vec, color, lw=1.1)
+            labels.append(Label(label, tuple(start + 0.5 * vec), color, tuple(perp(vec)), primary))
         if f.get("friction_radius"):  # the friction circle its line is tangent to
             ax.add_patch(Circle(np.array(f["pin"]) * 1e3, f["friction_radius"] * 1e3,
                                 fill=False, ec=color, lw=0.6, ls=":"))  # fmt: skip
         if f["couple"]:
             _moment_arc(ax, p, 0.06 * size, f["couple"], color)
-            ax.annotate(label if not np.any(v) else "", p, xytext=(-12, -12),
-                        textcoords="offset points", fontsize=7, color=color)  # fmt: skip
+            if not np.any(v):
+                labels.append(Label(label, tuple(p), color, None, primary))
     pad = 0.45 * size
     ax.set_xlim(lo[0] - pad, hi[0] + pad)
     ax.set_ylim(lo[1] - pad, hi[1] + pad)
     ax.set_aspect("equal")
+    ax.apply_aspect()  # the limits final before the labels are placed in points
+    place_labels(ax, labels)
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("y (mm)")
 
@@ -120,19 +144,22 @@ def _polygon(ax, data: dict, numbers, lang: str) -> None:
     mu = float(data["mu_F"])
     verts = np.array(data["vertices"], dtype=float) / mu
     drawn = [f for f in data["forces"] if any(f["vector"])]
+    labels = []
     for f, tail, tip in zip(drawn, verts[:-1], verts[1:], strict=True):
         color = _COLOR.get(f["kind"], FORCE_COLORS["external"])
         a = _arrow(ax, tail, tip - tail, color, lw=1.3, ls="-" if f["status"] == "known" else "--")
         a.set_gid("force-polygon")
-        ax.annotate(force_label(f, numbers), (tail + tip) / 2, xytext=(3, 3),
-                    textcoords="offset points", fontsize=7, color=color,
-                    gid="force-polygon-label")  # fmt: skip
+        labels.append(Label(force_label(f, numbers), tuple((tail + tip) / 2), color,
+                            tuple(perp(tip - tail)), f["status"] == "solved",
+                            "force-polygon-label"))  # fmt: skip
     ax.plot([0], [0], "o", ms=3.0, color="black")
     w, h = PANEL_MM
     c = (verts.min(axis=0) + verts.max(axis=0)) / 2
     ax.set_xlim(c[0] - w / 2, c[0] + w / 2)
     ax.set_ylim(c[1] - h / 2, c[1] + h / 2)
     ax.set_aspect("equal")
+    ax.apply_aspect()
+    place_labels(ax, labels, obstacles=False)
     ax.set_xlabel("mm")
     closure = data["closure"] or 0.0
     ax.set_title(
@@ -145,8 +172,11 @@ def _polygon(ax, data: dict, numbers, lang: str) -> None:
         r=f"{data['closure_error'] or 0.0:.2g}",
         f=f"{data['largest'] or 0.0:.4g}",
     )
-    ax.annotate(text, (0, 0), xycoords="axes fraction", xytext=(0, -32),
-                textcoords="offset points", fontsize=7, va="top", gid="closure")  # fmt: skip
+    # right-aligned under the polygon: a long line runs left under the free body, not off
+    # the figure's edge
+    ax.annotate(text, (1, 0), xycoords="axes fraction", xytext=(0, -32),
+                textcoords="offset points", fontsize=7, va="top", ha="right",
+                gid="closure")  # fmt: skip
 
 
 def group_figure(record, *, numbers=None, title: str = "", dpi: float = DPI, lang: str = "en"):
@@ -175,7 +205,8 @@ def group_figure(record, *, numbers=None, title: str = "", dpi: float = DPI, lan
         left = fig.add_axes([18 * MM / fig.get_figwidth(), 0.2, 0.4, 0.68])
         right = fig.add_axes([0.56, 0.2, 0.4, 0.68])
         _free_body(left, data, numbers)
-        left.set_title(tr("free body of {group}", lang, group=data["label"]), fontsize=8.5)
+        left.set_title(tr("free body of {group}", lang, group=group_title(data, lang)),
+                       fontsize=8.5)  # fmt: skip
         _polygon(right, data, numbers, lang)
         if title:
             fig.suptitle(title, fontsize=9.5)

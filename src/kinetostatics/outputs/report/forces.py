@@ -11,7 +11,7 @@ import math
 
 from ..labels import link_numbers
 from ..lang import tr
-from ..plotting.forces import force_label, group_figure
+from ..plotting.forces import force_label, group_figure, group_title
 from .blocks import _Heading, _Para, _Table
 
 ROUND_OFF = 1e-9  # a force below this × the group's largest: 0 (round-off)
@@ -71,7 +71,7 @@ def _version(fp: dict, result, image, lang: str, where: tuple, drawn) -> list:  
         k += 1
         for i, g in enumerate(p["groups"], start=1):
             name = T("driving link {links}", links=", ".join(g["links"])) if g["driving"] else (
-                T("group {name}", name=g["label"] or g["group"]))  # fmt: skip
+                group_title(g, lang))  # fmt: skip
             title = T("Position {pos}: {name}", pos=label, name=name) + friction
             scale = g["largest"] or 0.0
             blocks += [

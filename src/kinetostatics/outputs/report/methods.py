@@ -203,6 +203,14 @@ def _method(method: str, lang: str) -> str:
     return tr(head, lang) + (f": {why}" if why and lang == "en" else "")
 
 
+ALLOWED_FROM = {
+    "file": "the file (the cam joint's design: pressure_angle_max)",
+    "default": "the default: the textbook's 30° (give the cam joint "
+    "design: pressure_angle_max for another)",
+    "caller": "the caller",
+}
+
+
 def _cam_rows(d: dict, lang: str) -> list[list[str]]:
     T = lambda s, **k: tr(s, lang, **k)  # noqa: E731
     mm = lambda v: _g(None if v is None else 1e3 * v, 5)  # noqa: E731
@@ -210,6 +218,7 @@ def _cam_rows(d: dict, lang: str) -> list[list[str]]:
     rows = [
         [T("base radius (file)"), "r_b", mm(d["base_radius"]), "mm"],
         [T("allowable pressure angle"), "[α]", _g(d["allowed"], 4), "°"],
+        [T("[α] from"), "", T(ALLOWED_FROM.get(d.get("allowed_from", ""), "")), ""],
         [T("largest pressure angle"), "|α|max", _g(d["peak"], 5), "°"],
         [T("… at the cam angle"), "φ", _g(d["peak_at"], 5), "°"],
         [T(f"least radius of curvature of the {curve}"), "ρ_min", mm(d["curvature_min"]),
@@ -223,7 +232,7 @@ def _cam_rows(d: dict, lang: str) -> list[list[str]]:
     if d["roller_limit"] is not None:
         ok = "yes" if d["roller_radius"] < d["roller_limit"] else "no"
         rows[1:1] = [[T("roller radius (file)"), "r_r", mm(d["roller_radius"]), "mm"]]
-        rows[7:7] = [
+        rows[8:8] = [
             [T("roller limit (no undercut: r_r < ρ_min)"), "ρ_min", mm(d["roller_limit"]), "mm"],
             [T("the file's roller is below the limit"), "", T(ok), ""],
         ]

@@ -19,6 +19,16 @@ _DRIVEN = re.compile(r"^driven links? (\{.*\})$")
 _GROUP = re.compile(r"^(\d+)-link group (\{.*\})$")
 _NOTE = re.compile(r"^(.+) \((.+)\): (.+ for this pair type)$")
 _AXIS = re.compile(r"the axis of (\S+)")
+# the words of the higher pairs' directions (joints/_meshrelative.py, joints/_camrelative.py)
+_WORDS = (
+    "the tangent of the pitch curve",
+    "the tangent of the profile",
+    "the tangent of the face",
+    "its centre of curvature",
+    "the line of action",
+    "the face",
+)
+_PHRASE = re.compile("|".join(re.escape(w) for w in _WORDS))
 _UNITS = {"velocity": "m/s", "acceleration": "m/s²"}
 
 
@@ -49,7 +59,8 @@ def _text(s: str, lang: str) -> str:
     """A direction or magnitude text of the record (formulas stay; its words translated)."""
     if s in ("known", "?", ""):
         return tr(s, lang) if s == "known" else s
-    return _AXIS.sub(lambda m: tr("the axis of {joint}", lang, joint=m[1]), s)
+    s = _AXIS.sub(lambda m: tr("the axis of {joint}", lang, joint=m[1]), s)
+    return _PHRASE.sub(lambda m: tr(m[0], lang), s)
 
 
 def _table(eq: dict, lang: str) -> _Table:
