@@ -293,6 +293,7 @@ def _seeds() -> dict[str, dict]:
                     {"dwell": 60},
                 ],
                 "friction": {"coefficient": 0.01},
+                "design": {"pressure_angle_max": 40},
             },  # fmt: skip
         },
         "drivers": {"motor": {"joint": "O", "points": ["x", "K"], "motion": {"speed": "n"}}},

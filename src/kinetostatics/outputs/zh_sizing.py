@@ -8,8 +8,9 @@ from __future__ import annotations
 ZH: dict[str, str] = {
     "{n}. Sizing: bearings, pins and links": "{n}. 零件尺寸校核：轴承、销轴与构件",
     "From the reactions of the frictionless solution over the cycle: the peaks are "
-    "over the positions and the cycle's quadrature nodes, the means and the bearing "
-    "life are integrals over the nodes. Stresses in MPa.": "依据一个运动循环中不计摩擦时的运动副反力：峰值取自各计算位置及循环求积节点，平均值与轴承寿命为对求积节点的积分。应力单位为 MPa。",
+    "the largest over the analysed positions and the points between them where the "
+    "cycle's integral samples the motion; the means and the bearing life are exact "
+    "integrals over the cycle. Stresses in MPa.": "依据一个运动循环中不计摩擦时的运动副反力：峰值取自各计算位置及其间循环积分的采样点，平均值与轴承寿命为全循环的精确积分。应力单位为 MPa。",
     "rolling bearings (ISO 281): P = (∫|F|^p·|ω_rel|dt / ∫|ω_rel|dt)^(1/p), p = 3 (ball), "
     "10/3 (roller); L10 = (C/P)^p·10⁶ rev; L10h = L10/(3600·n), n = ∫|ω_rel|dt/(2π·T); an "
     "oscillating joint turns 2φ per cycle for a swing φ (the equivalent-speed rule)": "滚动轴承（ISO 281）：P = (∫|F|^p·|ω_rel|dt / ∫|ω_rel|dt)^(1/p)，球轴承 p = 3，滚子轴承 p = 10/3；L10 = (C/P)^p·10⁶ 转；L10h = L10/(3600·n)，n = ∫|ω_rel|dt/(2π·T)；往复摆动的转动副每循环转过 2φ（φ 为摆角，即当量转速法）",

@@ -133,8 +133,9 @@ def sizing_blocks(sizing, image, lang: str = "en", number: int = 20, dpi: float 
         _Para(
             T(
                 "From the reactions of the frictionless solution over the cycle: the peaks are "
-                "over the positions and the cycle's quadrature nodes, the means and the bearing "
-                "life are integrals over the nodes. Stresses in MPa."
+                "the largest over the analysed positions and the points between them where the "
+                "cycle's integral samples the motion; the means and the bearing life are exact "
+                "integrals over the cycle. Stresses in MPa."
             )
         ),
         _List([T(f) for f in FORMULAS]),
