@@ -146,7 +146,6 @@ ZH.update(
         "known/solved": "已知/待求",
         "known": "已知",
         "solved": "待求",
-        "driving link {links}": "原动件 {links}",
         "group {name}": "杆组 {name}",
         "Position {pos}: {name}": "位置 {pos}：{name}",
         "{title}: its forces": "{title}：各力",

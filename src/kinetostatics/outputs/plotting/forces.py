@@ -75,7 +75,7 @@ def group_title(data: dict, lang: str = "en") -> str:
     if kind == "dyad":
         return tr("{letters} dyad {links}", lang, letters=data["letters"], links=links)
     if kind == "driven":
-        many = "driven links {links}" if len(data["links"]) > 1 else "driven link {links}"
+        many = "driving links {links}" if len(data["links"]) > 1 else "driving link {links}"
         return tr(many, lang, links=links)
     if kind == "triad":
         return tr("triad {links}", lang, links=links)

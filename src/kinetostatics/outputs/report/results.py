@@ -316,7 +316,7 @@ def group_label(group, lang: str = "en") -> str:
     links = "{" + ", ".join(group.links) + "}"
     if group.kind == "driven":
         many = len(group.links) > 1
-        return tr("driven links {links}" if many else "driven link {links}", lang, links=links)
+        return tr("driving links {links}" if many else "driving link {links}", lang, links=links)
     if group.order is None:
         return tr("{n}-link group {links}", lang, n=len(group.links), links=links)
     c = roman(group.order, lang)

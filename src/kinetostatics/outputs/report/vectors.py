@@ -42,7 +42,7 @@ def _group_title(label: str, lang: str) -> str:
     if m := _DYAD.match(label):
         return tr("{letters} dyad {links}", lang, letters=m[1], links=m[2])
     if m := _DRIVEN.match(label):
-        return tr("driven link {links}", lang, links=m[1])
+        return tr("driving link {links}", lang, links=m[1])
     if m := _GROUP.match(label):
         return tr("{n}-link group {links}", lang, n=m[1], links=m[2])
     return label
