@@ -248,7 +248,7 @@ def _table(pdf, font: str, t: _Table, lang: str) -> None:
     scale = min(sum(widths), pdf.epw) / sum(widths)  # fpdf2's table: widths in proportion
     widths = [w * scale for w in widths]
     pdf.set_font(font, "", size)
-    if all(pdf.get_string_width(c) <= w - 2 * PAD for r in rows for c, w in zip(r, widths)):
+    if all(_one_line(pdf, c, w) for r in rows for c, w in zip(r, widths)):
         _grid(pdf, font, size, [[str(h) for h in t.header], *rows], (widths, align), here)
         pdf.ln(3)
         return
@@ -288,7 +288,7 @@ def _grid(pdf, font: str, size: float, cells, columns, here: int) -> None:
     def heading() -> None:
         pdf.set_font(font, "B", size)
         heights = [
-            len(pdf.multi_cell(w, line, h, padding=PAD, dry_run=True, output="LINES")) * line
+            line if _one_line(pdf, h, w) else _lines_mm(pdf, h, w, line)
             for h, w in zip(header, widths)
         ]
         tall = max(heights, default=line) + 2 * PAD
@@ -296,8 +296,7 @@ def _grid(pdf, font: str, size: float, cells, columns, here: int) -> None:
         pdf.set_fill_color(*HEAD_FILL)
         for x, w, h, text, a in zip(xs, widths, heights, header, align):
             pdf.rect(x, y, w, tall, style="DF")
-            pdf.set_xy(x, y + (tall - 2 * PAD - h) / 2)
-            pdf.multi_cell(w, line, text, align=a[0], padding=PAD, new_x="RIGHT", new_y="TOP")
+            _cell_text(pdf, (x, y + (tall - 2 * PAD - h) / 2, w, line), text, a, h > line)
         pdf.set_xy(MARGIN, y + tall)
         pdf.set_fill_color(255)
         pdf.set_font(font, "", size)
@@ -305,8 +304,6 @@ def _grid(pdf, font: str, size: float, cells, columns, here: int) -> None:
     heading()
     page = pdf.page
     tall = line + 2 * PAD
-    below = PAD + 0.5 * line + 0.3 * pdf.font_size  # the baseline, as fpdf2 sets it
-    cmap = getattr(pdf.current_font, "cmap", None)
     for k, row in enumerate(rows):
         y = pdf.get_y()
         if (k == here > 0 and pdf.page == page) or y + tall > pdf.page_break_trigger:
@@ -315,15 +312,34 @@ def _grid(pdf, font: str, size: float, cells, columns, here: int) -> None:
             y = pdf.get_y()
         for x, w, text, a in zip(xs, widths, row, align):
             pdf.rect(x, y, w, tall)
-            if not text:
-                continue
-            if cmap is None or any(ord(ch) not in cmap for ch in text):  # a fallback glyph
-                pdf.set_xy(x, y)
-                pdf.multi_cell(w, line, text, align=a[0], padding=PAD, new_x="RIGHT", new_y="TOP")
-                continue
-            dx = PAD if a == "LEFT" else w - PAD - pdf.get_string_width(text)
-            pdf.text(x + dx, y + below, text)
+            if text:
+                _cell_text(pdf, (x, y, w, line), text, a, False)
         pdf.set_xy(MARGIN, y + tall)
+
+
+def _one_line(pdf, text: str, w: float) -> bool:
+    """Whether ``text`` fits a cell ``w`` mm wide on one line in the current font (with
+    0.01 mm to spare, so that fpdf2 would not break it either)."""
+    return "\n" not in text and pdf.get_string_width(text) <= w - 2 * PAD - 0.01
+
+
+def _lines_mm(pdf, text: str, w: float, line: float) -> float:
+    """The height (mm) of ``text``'s lines in a cell ``w`` mm wide, as fpdf2 breaks them."""
+    return len(pdf.multi_cell(w, line, text, padding=PAD, dry_run=True, output="LINES")) * line
+
+
+def _cell_text(pdf, box, text: str, align: str, wrapped: bool) -> None:
+    """``text`` in a table cell whose top-left corner, width and line height (mm) are
+    ``box``, where fpdf2's ``multi_cell`` puts it: one line in the main font as one PDF
+    text; lines to break or a glyph from the fallback font through ``multi_cell``."""
+    x, y, w, line = box
+    cmap = getattr(pdf.current_font, "cmap", None)
+    if wrapped or cmap is None or any(ord(ch) not in cmap for ch in text):
+        pdf.set_xy(x, y)
+        pdf.multi_cell(w, line, text, align=align[0], padding=PAD, new_x="RIGHT", new_y="TOP")
+        return
+    dx = PAD if align == "LEFT" else w - PAD - pdf.get_string_width(text)
+    pdf.text(x + dx, y + PAD + 0.5 * line + 0.3 * pdf.font_size, text)  # fpdf2's baseline
 
 
 def _placed(pdf, im: _Image) -> tuple[float, float, float]:
