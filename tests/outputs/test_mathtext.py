@@ -24,6 +24,8 @@ def test_a_formula_is_parsed_again_under_other_settings():
     from kinetostatics.outputs.plotting.mathtext import shared_parser
 
     parser = shared_parser("path")
+    if parser is None:
+        pytest.skip("a matplotlib whose parser this module does not know keeps its own")
     prop = FontProperties(size=8.5)
     with matplotlib.rc_context({"mathtext.default": "regular"}):
         regular = parser.parse(r"$p'_{2}$", 110, prop)
@@ -42,6 +44,8 @@ def test_every_renderer_of_a_picture_gets_the_one_parser():
     from kinetostatics.outputs.plotting.mathtext import shared_parser
     from kinetostatics.outputs.plotting.style import _figure, _renderer
 
+    if shared_parser("path") is None:
+        pytest.skip("a matplotlib whose parser this module does not know keeps its own")
     fig = _figure(40, 30)
     first = _renderer(fig)
     fig.set_size_inches(3, 2)  # another size: another renderer

@@ -41,8 +41,21 @@ def shared_parser(output: str):
         from matplotlib.mathtext import MathTextParser
 
         parse = getattr(MathTextParser._parse_cached, "__wrapped__", None)
-        _PARSERS[output] = None if parse is None else _parser_class(MathTextParser, parse)(output)
+        _PARSERS[output] = _parser_class(MathTextParser, parse)(output) if _known(parse) else None
     return _PARSERS[output]
+
+
+def _known(parse) -> bool:
+    """Whether ``parse`` is matplotlib's uncached parse as this module calls it (3.10 and
+    later); another matplotlib keeps its own parsers."""
+    import inspect
+
+    try:
+        from matplotlib.ft2font import LoadFlags  # noqa: F401
+    except ImportError:
+        return False
+    names = ["self", "s", "dpi", "prop", "antialiased", "load_glyph_flags"]
+    return callable(parse) and list(inspect.signature(parse).parameters) == names
 
 
 def _parser_class(base, parse):
