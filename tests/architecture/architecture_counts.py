@@ -227,6 +227,7 @@ BY_DESIGN = {
     "kinetostatics.base.spec": "the YAML nodes being read keep their locations and checks",
     "kinetostatics.batch.designs": "an optimisation's designs evaluated so far (_Problem.cache)",
     "kinetostatics.dynamics.engine": "an integrator's last solved states (Dynamics._cache)",
+    "kinetostatics.outputs.report.pdf": "the PDF being written: the widths it measured",
 }
 
 

@@ -241,3 +241,25 @@ def test_a_table_never_leaves_a_row_or_two_alone(tmp_path):
         assert on[0] >= 3 and on[-1] >= 2, (n, counts)
         seen.add(len(on))
     assert seen == {1, 2}  # split, and moved or fitted whole, both met
+
+
+def test_a_table_over_pages_keeps_every_cell_and_its_heading_row(tmp_path):
+    """A table whose cells each fit one line (drawn a text per cell, not by fpdf2's
+    table()) and runs over three pages: every cell on paper once, in order, and the
+    heading row at the top of each page it is on; a table with a cell to wrap (drawn by
+    fpdf2's table()) keeps its text too."""
+    from kinetostatics.outputs.report.blocks import _Table
+    from kinetostatics.outputs.report.pdf import write_pdf
+
+    rows = [[f"r{k:03d}", f"{k * 0.125:.4g}", f"{-k * 7:.4g}"] for k in range(1, 151)]
+    table = _Table(["row name", "value (mm)", "force (N)"], rows, "A long table")
+    long_text = "a cell long enough to wrap " * 12
+    wrapped = _Table(["item", "note"], [["x1", long_text], ["x2", "short"]], "A wrapped table")
+    pages = _pages(write_pdf([table, wrapped], tmp_path / "t.pdf", "t"))
+    on = [[k for k in range(1, 151) if f"r{k:03d}" in p] for p in pages]
+    assert [k for page in on for k in page] == list(range(1, 151))  # each once, in order
+    spans = [p for p, ks in zip(pages, on) if ks]
+    assert len(spans) == 3, [len(ks) for ks in on]
+    assert all("rowname" in p and "value(mm)" in p for p in spans)  # the heading row again
+    assert "0.125" in pages[0] and "-1050" in spans[-1]
+    assert _squash(long_text) in "".join(pages) and "short" in pages[-1]

@@ -14,7 +14,6 @@ pandas and xarray are optional (``pip install 'kinetostatics[pandas]'``,
 
 from __future__ import annotations
 
-import html
 from typing import Any
 
 import numpy as np
@@ -115,6 +114,8 @@ def short_repr(result) -> str:
 def html_repr(result, rows: int = 5, columns: int = 12) -> str:
     """The notebook view: the short text, the members, and the first ``rows`` rows of
     the first ``columns`` columns as a small HTML table."""
+    import html  # here, not at the top: html.entities costs every command's start ~2 ms
+
     names = list(result.columns)[:columns]
     head = "".join(
         f"<th>{html.escape(n)}<br><small>{html.escape(result.units[n])}</small></th>" for n in names

@@ -11,6 +11,7 @@ import numpy as np
 from ...base.units import nice_scale  # noqa: F401  (re-exported: plotting's helper)
 from ...errors import KinetostaticsError
 from ..fonts import math_fallback, rc_fonts
+from .mathtext import share
 
 
 class PictureError(KinetostaticsError, ValueError):
@@ -121,6 +122,7 @@ def _sheet_class():
         class Sheet(Figure):
             def draw(self, renderer):
                 _mend_math(self)
+                share(renderer)  # each formula parsed once per process
                 super().draw(renderer)
 
         _SHEET.append(Sheet)
@@ -296,7 +298,9 @@ def _renderer(fig):
 
     _mend_math(fig)  # before any text is measured
     canvas = fig.canvas if isinstance(fig.canvas, FigureCanvasAgg) else FigureCanvasAgg(fig)
-    return canvas.get_renderer()
+    renderer = canvas.get_renderer()
+    share(renderer)
+    return renderer
 
 
 def _axes_mm(fig, ax) -> list[float]:

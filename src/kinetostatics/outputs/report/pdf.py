@@ -32,6 +32,8 @@ LINE = 4.4  # mm between the lines of the body text (9 pt)
 TOP = MARGIN + 1.0  # below this, the top of a page: nothing is moved to the next one
 CAPTION = 10.0  # mm kept below an image for its caption
 SHRINK = 0.75  # a curve may be reduced this far to fit the rest of a page
+PAD = 0.6  # mm inside a table's cells
+HEAD_FILL = (232, 239, 248)  # a table's heading row
 _HEADING = {1: 15.0, 2: 12.5, 3: 11.0, 4: 11.0, 5: 11.0, 6: 11.0}  # pt
 
 
@@ -114,7 +116,18 @@ def write_pdf(blocks, path: Path, title: str, lang: str = "en") -> Path:
             self.cell(0, 4, f"{title} — {page}", align="C")
             self.set_text_color(0)
 
+        def get_string_width(self, s, normalized=False, markdown=False):
+            # a report measures the same strings many times (its tables' columns, their
+            # heights before and after a page break): each measured once per style
+            if normalized or markdown:
+                return super().get_string_width(s, normalized, markdown)
+            key = (self.font_family, self.font_style, self.font_size_pt, s)
+            if (w := self._width_cache.get(key)) is None:
+                w = self._width_cache[key] = super().get_string_width(s)
+            return w
+
     pdf = _Doc(orientation="P", unit="mm", format="A4")
+    pdf._width_cache = {}
     font = _fonts(pdf, lang, han=lang != "zh" and _han(blocks, title))
     pdf.set_title(title)
     pdf.set_creator("kinetostatics")
@@ -231,25 +244,102 @@ def _table(pdf, font: str, t: _Table, lang: str) -> None:
     if any(len(str(r[c])) > 30 for r in t.rows for c in range(1, len(r))):
         align = ["LEFT"] * len(t.header)
     parts = [t.rows[:here], t.rows[here:]] if 0 < here < len(t.rows) else [t.rows]
+    rows = [[_plain(str(c)) for c in r] for r in t.rows]
+    scale = min(sum(widths), pdf.epw) / sum(widths)  # fpdf2's table: widths in proportion
+    widths = [w * scale for w in widths]
+    pdf.set_font(font, "", size)
+    if all(_one_line(pdf, c, w) for r in rows for c, w in zip(r, widths)):
+        _grid(pdf, font, size, [[str(h) for h in t.header], *rows], (widths, align), here)
+        pdf.ln(3)
+        return
     page = pdf.page
     for k, part in enumerate(parts):
         if k and pdf.page == page:
             pdf.add_page()  # the rest on the next page, under the heading row again
         with pdf.table(
-            width=min(sum(widths), pdf.epw),  # a sum of widths scaled to the page: round-off
+            width=sum(widths),
             col_widths=widths,
             align="LEFT",
             text_align=align,
             line_height=size * 0.5,
-            headings_style=FontFace(emphasis="BOLD", fill_color=(232, 239, 248)),
+            headings_style=FontFace(emphasis="BOLD", fill_color=HEAD_FILL),
             repeat_headings=1,
-            padding=0.6,
+            padding=PAD,
             borders_layout="ALL",
         ) as table:
             table.row([str(h) for h in t.header])
             for r in part:
                 table.row([_plain(str(c)) for c in r])
     pdf.ln(3)
+
+
+def _grid(pdf, font: str, size: float, cells, columns, here: int) -> None:
+    """A table whose body cells each fit on one line, drawn as fpdf2's ``table()`` draws
+    it (the same boxes, fill, padding and text positions; its heading row again at the
+    top of each page it runs on to) but each body cell as one rectangle and one text:
+    fpdf2 lays out every cell of a ``table()`` twice through ``multi_cell`` (its height,
+    then its text), ~70 % of writing a report's PDF.  ``here``: the rows on this page
+    before the rest goes on the next one (all of them: as they fit).  ``cells``: the
+    heading row, then the rows; ``columns``: their widths (mm) and alignments."""
+    (header, *rows), (widths, align) = cells, columns
+    line = size * 0.5
+    xs = [MARGIN + sum(widths[:j]) for j in range(len(widths))]
+
+    def heading() -> None:
+        pdf.set_font(font, "B", size)
+        heights = [
+            line if _one_line(pdf, h, w) else _lines_mm(pdf, h, w, line)
+            for h, w in zip(header, widths)
+        ]
+        tall = max(heights, default=line) + 2 * PAD
+        y = pdf.get_y()
+        pdf.set_fill_color(*HEAD_FILL)
+        for x, w, h, text, a in zip(xs, widths, heights, header, align):
+            pdf.rect(x, y, w, tall, style="DF")
+            _cell_text(pdf, (x, y + (tall - 2 * PAD - h) / 2, w, line), text, a, h > line)
+        pdf.set_xy(MARGIN, y + tall)
+        pdf.set_fill_color(255)
+        pdf.set_font(font, "", size)
+
+    heading()
+    page = pdf.page
+    tall = line + 2 * PAD
+    for k, row in enumerate(rows):
+        y = pdf.get_y()
+        if (k == here > 0 and pdf.page == page) or y + tall > pdf.page_break_trigger:
+            pdf.add_page()
+            heading()
+            y = pdf.get_y()
+        for x, w, text, a in zip(xs, widths, row, align):
+            pdf.rect(x, y, w, tall)
+            if text:
+                _cell_text(pdf, (x, y, w, line), text, a, False)
+        pdf.set_xy(MARGIN, y + tall)
+
+
+def _one_line(pdf, text: str, w: float) -> bool:
+    """Whether ``text`` fits a cell ``w`` mm wide on one line in the current font (with
+    0.01 mm to spare, so that fpdf2 would not break it either)."""
+    return "\n" not in text and pdf.get_string_width(text) <= w - 2 * PAD - 0.01
+
+
+def _lines_mm(pdf, text: str, w: float, line: float) -> float:
+    """The height (mm) of ``text``'s lines in a cell ``w`` mm wide, as fpdf2 breaks them."""
+    return len(pdf.multi_cell(w, line, text, padding=PAD, dry_run=True, output="LINES")) * line
+
+
+def _cell_text(pdf, box, text: str, align: str, wrapped: bool) -> None:
+    """``text`` in a table cell whose top-left corner, width and line height (mm) are
+    ``box``, where fpdf2's ``multi_cell`` puts it: one line in the main font as one PDF
+    text; lines to break or a glyph from the fallback font through ``multi_cell``."""
+    x, y, w, line = box
+    cmap = getattr(pdf.current_font, "cmap", None)
+    if wrapped or cmap is None or any(ord(ch) not in cmap for ch in text):
+        pdf.set_xy(x, y)
+        pdf.multi_cell(w, line, text, align=align[0], padding=PAD, new_x="RIGHT", new_y="TOP")
+        return
+    dx = PAD if align == "LEFT" else w - PAD - pdf.get_string_width(text)
+    pdf.text(x + dx, y + PAD + 0.5 * line + 0.3 * pdf.font_size, text)  # fpdf2's baseline
 
 
 def _placed(pdf, im: _Image) -> tuple[float, float, float]:

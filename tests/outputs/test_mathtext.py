@@ -1,0 +1,55 @@
+"""The pictures' one mathtext parser (outputs/plotting/mathtext.py): a formula is parsed
+once, and a parse is handed out again only under the settings it was made with."""
+
+import pytest
+
+pytest.importorskip("matplotlib")
+
+
+def _glyphs(parse):
+    return [
+        (font.fname, size, index, dx, float(dy)) for font, size, _c, index, dx, dy in parse.glyphs
+    ]
+
+
+def test_a_formula_is_parsed_again_under_other_settings():
+    """The sheets are laid out inside the pictures' style (``mathtext.default:
+    regular``) and saved outside it: a parse made under one must not be drawn under the
+    other (its primes came out small).  Under the same settings the kept parse is given
+    again, and it is what a fresh parser makes."""
+    import matplotlib
+    from matplotlib.font_manager import FontProperties
+    from matplotlib.mathtext import MathTextParser
+
+    from kinetostatics.outputs.plotting.mathtext import shared_parser
+
+    parser = shared_parser("path")
+    if parser is None:
+        pytest.skip("a matplotlib whose parser this module does not know keeps its own")
+    prop = FontProperties(size=8.5)
+    with matplotlib.rc_context({"mathtext.default": "regular"}):
+        regular = parser.parse(r"$p'_{2}$", 110, prop)
+        assert parser.parse(r"$p'_{2}$", 110, prop.copy()) is regular
+    with matplotlib.rc_context({"mathtext.default": "it"}):
+        italic = parser.parse(r"$p'_{2}$", 110, prop)
+        fresh = MathTextParser("path").parse(r"$p'_{2}$", 110, prop)
+    assert italic is not regular
+    assert _glyphs(italic) != _glyphs(regular)
+    assert _glyphs(italic) == _glyphs(fresh)
+
+
+def test_every_renderer_of_a_picture_gets_the_one_parser():
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from kinetostatics.outputs.plotting.mathtext import shared_parser
+    from kinetostatics.outputs.plotting.style import _figure, _renderer
+
+    if shared_parser("path") is None:
+        pytest.skip("a matplotlib whose parser this module does not know keeps its own")
+    fig = _figure(40, 30)
+    first = _renderer(fig)
+    fig.set_size_inches(3, 2)  # another size: another renderer
+    second = _renderer(fig)
+    assert second is not first
+    assert first.mathtext_parser is second.mathtext_parser is shared_parser("path")
+    assert isinstance(fig.canvas, FigureCanvasAgg)
