@@ -77,31 +77,43 @@ def write_outputs(out: Path, what: str, writers) -> None:
         write_file(path, what, write)
 
 
-def json_text(data: Any, indent: int | None = 2, **options: Any) -> str:
+def json_text(data: Any, indent: int | None = 2, *, whole: bool = False, **options: Any) -> str:
     """``data`` as strict JSON (RFC 8259: no ``Infinity`` or ``NaN``, which most JSON
     readers refuse): every JSON file the package writes is made here.  A value that is
     not a finite number is written as ``null``, and a mapping at the top gains the key
     :data:`NON_FINITE` naming each such value's path and what it was
     (``{"singular[2].condition": "Infinity"}``), so that a null is never mistaken for a
     missing value.  NumPy scalars and arrays are written as Python numbers and lists.
+    ``whole``: a NumPy float array is named once for all its non-finite entries
+    (``{"y": "NaN at 99 of 360"}``) and written through one ``tolist()`` (the editor's
+    documents, large and made many times a second).
     ``options``: more keywords of :func:`json.dumps` (``ensure_ascii``, ``sort_keys``).
 
     >>> json_text({"a": [1.0, float("inf")]}, indent=None)
     '{"a": [1.0, null], "non_finite": {"a[1]": "Infinity"}}'
     """
     found: dict[str, str] = {}
-    clean = _finite(data, "", found)
+    clean = _finite(data, "", found, whole)
     if found and isinstance(clean, dict):
         clean[NON_FINITE] = found
     return json.dumps(clean, indent=indent, allow_nan=False, **options)
 
 
-def _finite(value: Any, path: str, found: dict[str, str]) -> Any:
-    """``value`` with its non-finite numbers replaced by None (their paths in ``found``)."""
+def _finite(value: Any, path: str, found: dict[str, str], whole: bool = False) -> Any:
+    """``value`` with its non-finite numbers replaced by None (their paths in ``found``;
+    with ``whole``, a float array's once: :func:`json_text`)."""
     if isinstance(value, Mapping):
-        return {k: _finite(v, f"{path}.{k}" if path else str(k), found) for k, v in value.items()}
+        return {
+            k: _finite(v, f"{path}.{k}" if path else str(k), found, whole) for k, v in value.items()
+        }
+    if whole and isinstance(value, np.ndarray) and value.dtype.kind in "fc":
+        a = np.asarray(value, float)
+        if not np.all(np.isfinite(a)):
+            found[path] = _non_finite(a)
+            return np.where(np.isfinite(a), a, None).tolist()
+        return a.tolist()
     if isinstance(value, (list, tuple, np.ndarray)):
-        return [_finite(v, f"{path}[{i}]", found) for i, v in enumerate(value)]
+        return [_finite(v, f"{path}[{i}]", found, whole) for i, v in enumerate(value)]
     if isinstance(value, (bool, np.bool_)):
         return bool(value)
     if isinstance(value, (int, np.integer)):
@@ -113,3 +125,13 @@ def _finite(value: Any, path: str, found: dict[str, str]) -> Any:
         found[path] = "NaN" if math.isnan(x) else ("Infinity" if x > 0 else "-Infinity")
         return None
     return value
+
+
+def _non_finite(a: np.ndarray) -> str:
+    """What a float array holds that is not a finite number: ``"NaN at 99 of 360"``."""
+    kinds = [
+        w
+        for w, m in (("NaN", np.isnan(a)), ("Infinity", a == np.inf), ("-Infinity", a == -np.inf))
+        if m.any()
+    ]
+    return f"{'/'.join(kinds)} at {int((~np.isfinite(a)).sum())} of {a.size}"

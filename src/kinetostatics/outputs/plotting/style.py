@@ -117,13 +117,17 @@ def _sheet_class():
     """matplotlib's Figure, mending its mathtext labels (:func:`_mend_math`) whenever it
     is drawn, whatever saves or shows it (``plot``, ``report``, the SVG export)."""
     if not _SHEET:
-        _, Figure = _mpl()
+        matplotlib, Figure = _mpl()
 
         class Sheet(Figure):
             def draw(self, renderer):
                 _mend_math(self)
                 share(renderer)  # each formula parsed once per process
-                super().draw(renderer)
+                # the formulas' face as they were measured when the figure was laid out
+                # (inside the style): a figure saved after the style's context was drawn
+                # in matplotlib's italic default, wider or narrower than its layout
+                with matplotlib.rc_context({"mathtext.default": STYLE["mathtext.default"]}):
+                    super().draw(renderer)
 
         _SHEET.append(Sheet)
     return _SHEET[0]
