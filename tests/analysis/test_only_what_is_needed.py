@@ -89,3 +89,20 @@ def test_a_run_imports_only_what_its_file_uses():
         [sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=root, env=env
     )
     assert out.stdout.strip() == "[]"
+
+
+def test_a_small_analysis_reads_no_memory_figures_and_a_large_one_does(monkeypatch):
+    """Rows needing less than pipeline.ALWAYS_FITS (8 MiB, 1,024 positions) skip reading
+    /proc/meminfo (~50 µs a call); above it, too little memory is still refused first."""
+    import pytest
+
+    import kinetostatics.base.memory as memory
+
+    calls = []
+    monkeypatch.setattr(memory, "available_memory", lambda: calls.append(1) or 2**20)
+    model = ks.load("mechanisms/slider_crank.yaml")
+    ks.analyze(model, positions=np.radians(np.arange(0.0, 360.0, 1.0)), kinematics_only=True)
+    assert calls == []
+    with pytest.raises(ValueError, match="positions: the analysis at 2000 positions needs"):
+        ks.analyze(model, positions=np.linspace(0.0, 6.0, 2000), kinematics_only=True)
+    assert calls == [1]
