@@ -68,7 +68,8 @@ def build_columns(
 ) -> tuple[Columns, dict[str, str]]:
     """Ordered lazy columns and units (docs/conventions.md) of the rows of ``motion``;
     ``kin`` None: kinematics only.  ``cond``: each Assur group's condition numbers (a
-    ``<group>.cond`` column each); ``shaking``: the frame's reaction, ``(..., 3)``."""
+    ``<group>.cond`` column each); ``shaking``: the frame's reaction, ``(..., 3)``, or a
+    function that computes it when a ``shaking.*`` column is first read."""
     cols = Columns()
     units: dict[str, str] = {}
 
@@ -92,9 +93,13 @@ def build_columns(
     if shaking is not None:
         put(
             [("shaking.Fx", "N"), ("shaking.Fy", "N"), ("shaking.M", "N*m")],
-            lambda: (shaking[..., 0], shaking[..., 1], shaking[..., 2]),
+            lambda: _components(shaking() if callable(shaking) else shaking),
         )
     return cols, units
+
+
+def _components(v: np.ndarray) -> tuple[np.ndarray, ...]:
+    return v[..., 0], v[..., 1], v[..., 2]
 
 
 _LINK_UNITS = (

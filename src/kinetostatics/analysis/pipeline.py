@@ -298,7 +298,8 @@ def _result(system: System, sol, motion: Motion, full, kin=None, found=()) -> Re
     if q.ndim == 2:
         for message in element_warnings(system, q, psi[..., 0]):
             warnings.warn(message, ElementWarning, stacklevel=3)
-    shaking = None if kin is None else ground_reaction(system, q, kin.x0)
+    # the shaking force is computed when its columns are first read (lazy, as every column)
+    shaking = None if kin is None else (lambda: ground_reaction(system, q, kin.x0))
     _check_finite(system, motion, kin, cond, sol.singular)
     columns, units = build_columns(system, motion, kin, cond=cond, shaking=shaking)
     return Result(
