@@ -89,3 +89,32 @@ def test_a_run_imports_only_what_its_file_uses():
         [sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=root, env=env
     )
     assert out.stdout.strip() == "[]"
+
+
+def test_a_small_analysis_reads_no_memory_figures_and_a_large_one_does(monkeypatch):
+    """Rows needing less than pipeline.ALWAYS_FITS (8 MiB, 1,024 positions) skip reading
+    /proc/meminfo (~50 µs a call); above it, too little memory is still refused first."""
+    import pytest
+
+    import kinetostatics.base.memory as memory
+
+    calls = []
+    monkeypatch.setattr(memory, "available_memory", lambda: calls.append(1) or 2**20)
+    model = ks.load("mechanisms/slider_crank.yaml")
+    ks.analyze(model, positions=np.radians(np.arange(0.0, 360.0, 1.0)), kinematics_only=True)
+    assert calls == []
+    with pytest.raises(ValueError, match="positions: the analysis at 2000 positions needs"):
+        ks.analyze(model, positions=np.linspace(0.0, 6.0, 2000), kinematics_only=True)
+    assert calls == [1]
+
+
+def test_the_shaking_force_is_computed_when_its_columns_are_read(monkeypatch):
+    """Lazy as every column: an analysis whose shaking columns are not read never
+    assembles the frame's reaction; reading one does, once, for all three."""
+    calls = []
+    real = analysis.ground_reaction
+    monkeypatch.setattr(analysis, "ground_reaction", lambda *a: calls.append(1) or real(*a))
+    r = ks.analyze(ks.load("mechanisms/slider_crank.yaml"), friction=False)
+    assert "shaking.Fx" in r.columns and calls == []
+    fx, fy = r["shaking.Fx"], r["shaking.Fy"]
+    assert calls == [1] and np.all(np.isfinite(fx)) and fy.shape == fx.shape

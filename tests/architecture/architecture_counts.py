@@ -216,7 +216,7 @@ DOCUMENTED = {
         "the self-checks, the one lazy value of a Result: ~10 % of a first analysis"
     ),
     ("kinetostatics.structure.system", "object.__setattr__"): (
-        "system_of: the compiled System kept on its model, keyed on the model's pickle"
+        "system_of: the compiled System kept on its model, keyed on the model's fingerprint"
     ),
     ("kinetostatics.structure.evaluation", "self.__dict__[...] ="): (
         "a constraint set's compiled kernels (numba backend only) and last read-only poses"

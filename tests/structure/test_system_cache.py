@@ -196,3 +196,51 @@ def test_the_closed_forms_turn_each_link_once_with_the_numbers_of_a_fresh_pass(m
         assert res <= 1e-9 * system.l_ref, (path.name, res)
         checked += 1
     assert checked >= 5  # the slider-crank and the slotting machine among them
+
+
+def test_every_change_in_place_is_noticed_without_a_pickle(monkeypatch):
+    """The fingerprint (structure/fingerprint.py) sees an array written, a mapping's item
+    replaced or added, and a field replaced by ``dataclasses.replace`` — and no analysis
+    pickles the model to know it."""
+    import dataclasses
+    import pickle
+
+    def forbidden(*a, **k):
+        raise AssertionError("the model was pickled")
+
+    m = ks.load(ROOT / "mechanisms" / "slider_crank.yaml")
+    monkeypatch.setattr(pickle, "dumps", forbidden)
+    first = S.system_of(m)
+    assert S.system_of(m) is first
+    crank = next(link for link in m.links if "A" in link.points and "O" in link.points)
+    changes = [
+        lambda: m.gravity.__setitem__(1, -9.80),  # an array written
+        lambda: crank.points.__setitem__("A", crank.points["A"].copy()),  # same values, new
+        lambda: crank.points.__setitem__("Z", np.zeros(2)),  # an item added
+        lambda: crank.points.pop("Z"),  # and taken away
+    ]
+    for change in changes:
+        before = S.system_of(m)
+        change()
+        after = S.system_of(m)
+        assert after is not before
+        assert S.system_of(m) is after  # and kept again
+    moved = dataclasses.replace(m, name="other")
+    assert S.system_of(moved) is not S.system_of(m)
+
+
+def test_every_shipped_model_keeps_its_system():
+    """Every file of mechanisms/ is followed by a fingerprint (none falls back to no cache),
+    and an analysis leaves it unchanged."""
+    import warnings
+
+    for path in sorted((ROOT / "mechanisms").glob("*.yaml")):
+        m = ks.load(path)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            try:
+                ks.analyze(m, friction=False)
+            except ks.StructureError:  # effort-driven: simulate's, not analyze's
+                S.system_of(m)
+        assert m._compiled is not None, path.name
+        assert S.system_of(m) is m._compiled[1], path.name

@@ -10,6 +10,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
+from ..joints import Joint
 from ..kinematics.motion import Motion
 from ..kinematics.state import point_state
 from ..kinetics.elements import coordinate as element_coordinate
@@ -67,7 +68,8 @@ def build_columns(
 ) -> tuple[Columns, dict[str, str]]:
     """Ordered lazy columns and units (docs/conventions.md) of the rows of ``motion``;
     ``kin`` None: kinematics only.  ``cond``: each Assur group's condition numbers (a
-    ``<group>.cond`` column each); ``shaking``: the frame's reaction, ``(..., 3)``."""
+    ``<group>.cond`` column each); ``shaking``: the frame's reaction, ``(..., 3)``, or a
+    function that computes it when a ``shaking.*`` column is first read."""
     cols = Columns()
     units: dict[str, str] = {}
 
@@ -91,9 +93,13 @@ def build_columns(
     if shaking is not None:
         put(
             [("shaking.Fx", "N"), ("shaking.Fy", "N"), ("shaking.M", "N*m")],
-            lambda: (shaking[..., 0], shaking[..., 1], shaking[..., 2]),
+            lambda: _components(shaking() if callable(shaking) else shaking),
         )
     return cols, units
+
+
+def _components(v: np.ndarray) -> tuple[np.ndarray, ...]:
+    return v[..., 0], v[..., 1], v[..., 2]
 
 
 _LINK_UNITS = (
@@ -163,9 +169,13 @@ def _group_and_joint_columns(system: System, put, q, x0, cond: dict) -> None:
 
     for prefix, label in _dyad_angle_names(system):
         put([(f"{prefix}.{label}", "deg")], lambda prefix=prefix: (dyad_angles()[prefix][1],))
+    own_columns = _overriding(system, "columns")
+    if not own_columns:
+        return
     qe = _padded(q)
     seen = None if x0 is None else _seen(x0)
-    for k, j in enumerate(system.model.joints):
+    for k in own_columns:
+        j = system.model.joints[k]
         i_, j_ = system.ends[k]
         qi, qj = qe[..., 3 * i_ : 3 * i_ + 3], qe[..., 3 * j_ : 3 * j_ + 3]
         own = j.columns(qi, qj, None if seen is None else seen[..., system.rows_of(k)])
@@ -174,6 +184,19 @@ def _group_and_joint_columns(system: System, put, q, x0, cond: dict) -> None:
                 [(f"{j.name}.{label}", unit) for label, (unit, _) in own.items()],
                 lambda own=own: tuple(v for _, v in own.values()),
             )
+
+
+def _overriding(system: System, hook: str) -> tuple[int, ...]:
+    """The joints whose type has its own ``hook`` (``columns``, ``warnings``): the others
+    have nothing to give (the contract's default), so the arrays they would be handed are
+    not made.  Decided once per system (kept in its memo)."""
+    key = ("joints with their own", hook)
+    if key not in system.memo:
+        default = getattr(Joint, hook)
+        system.memo[key] = tuple(
+            k for k, j in enumerate(system.model.joints) if getattr(type(j), hook) is not default
+        )
+    return system.memo[key]
 
 
 def _padded(q: np.ndarray) -> np.ndarray:
@@ -195,9 +218,13 @@ def _seen(x0: np.ndarray) -> np.ndarray:
 
 def joint_warnings(system: System, q: np.ndarray, x0: np.ndarray) -> list[str]:
     """What each joint type has to say about the rows (``Joint.warnings``)."""
+    speaking = _overriding(system, "warnings")
+    if not speaking:
+        return []
     qe, seen = _padded(q), _seen(x0)
     out: list[str] = []
-    for k, j in enumerate(system.model.joints):
+    for k in speaking:
+        j = system.model.joints[k]
         i_, j_ = system.ends[k]
         lam = seen[..., system.rows_of(k)]
         out += j.warnings(lam, qe[..., 3 * i_ : 3 * i_ + 3], qe[..., 3 * j_ : 3 * j_ + 3])

@@ -8,7 +8,6 @@ each moving link's centre of mass; ground enters as zeros.
 
 from __future__ import annotations
 
-import pickle
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import cast
@@ -30,6 +29,7 @@ from .evaluation import (
     jacobian_blocks_all,
     phi_all,
 )
+from .fingerprint import fingerprint
 from .graph import Group, Structure, structure
 
 __all__ = [
@@ -170,17 +170,17 @@ def build_system(model: Model) -> System:
 def system_of(model: Model) -> System:
     """``build_system(model)``, built once per model and kept on it (not pickled with it).
 
-    The model's pickle is its fingerprint: a model changed in place since (its arrays are
-    writable) is built again, so a cached system never describes another model."""
-    try:
-        key = pickle.dumps(model, protocol=pickle.HIGHEST_PROTOCOL)
-    except Exception:  # a model holding something unpicklable: no cache
-        return build_system(model)
+    The model's fingerprint (:mod:`~kinetostatics.structure.fingerprint`: its arrays'
+    bytes, its containers' items and its fields, taken apart once) says whether it changed:
+    a model changed in place since (its arrays are writable) is built again, so a cached
+    system never describes another model."""
     hit = model._compiled
-    if hit is not None and hit[0] == key:
+    if hit is not None and hit[0].same(model):
         return hit[1]
     system = build_system(model)
-    object.__setattr__(model, "_compiled", (key, system))
+    key = fingerprint(model)
+    if key is not None:  # a model holding what a fingerprint cannot follow: no cache
+        object.__setattr__(model, "_compiled", (key, system))
     return system
 
 
