@@ -80,6 +80,47 @@ def test_a_row_of_what_is_named_agrees_with_the_whole_row(template):
     assert len(whole) == len(named) == len(POPULATION)
 
 
+def test_every_quantity_left_out_is_brought_back_by_its_name(template):
+    """A row of nothing named lacks (or leaves empty) some quantities of the whole row;
+    each is one whose name ``row_needs`` flags, and naming them all gives them back."""
+    whole = analyze_variants(template, POPULATION, positions=POSITIONS)
+    bare = analyze_variants(template, POPULATION, positions=POSITIONS, needs=[])
+    left = sorted(
+        {
+            k
+            for w, b in zip(whole, bare)
+            for k, v in w.items()
+            if k not in b or (isinstance(v, float) and math.isnan(b[k]) and not math.isnan(v))
+        }
+    )
+    assert {"motor.torque_friction_rms", "guide.stroke", "friction.self_locking"} <= set(left)
+    for key in left:
+        assert row_needs([key]) != RowNeeds(False, False, False), key
+    again = analyze_variants(template, POPULATION, positions=POSITIONS, needs=left)
+    for w, a in zip(whole, again):
+        for key in left:
+            if isinstance(w[key], str):
+                assert a[key] == w[key], key
+            else:
+                assert a[key] == pytest.approx(w[key], rel=1e-12, abs=0, nan_ok=True), key
+
+
+def test_a_misspelt_name_is_matched_against_the_whole_row(tmp_path):
+    """'motor.torque_frictoin_rms' needs no friction by its words, yet the nearest name
+    offered is the friction quantity of the whole row."""
+    with pytest.raises(ks.KinetostaticsError, match="did you mean 'motor.torque_friction_rms'"):
+        ks.optimize(
+            SLOTTER,
+            {"BC_ratio": (0.8, 1.2)},
+            "motor.torque_frictoin_rms",
+            popsize=2,
+            maxiter=0,
+            positions=12,
+            polish=False,
+            progress=False,
+        )
+
+
 def test_what_a_name_needs():
     assert row_needs(None) == RowNeeds(True, True, True)
     assert row_needs(["shaking.force_rms", "x1"]) == RowNeeds(False, False, False)

@@ -121,10 +121,7 @@ class _Problem:
         rec.update(zip(self.names, key))
         rec.update(status=row.get("status", "failed"), reason=row.get("reason", ""))
         if rec["status"] == "ok" and not self.checked:  # names checked on the first row
-            known = [k for k in env if k not in ("status", "reason")]
-            self.objective.check_names(known, "--minimize")
-            for c in self.constraints:
-                c.check_names(known)
+            self._check_names([k for k in env if k not in ("status", "reason")], key)
             self.checked = True
         f = self.objective.value(env) if rec["status"] == "ok" else math.nan
         margins = [c.margin(env) for c in self.constraints] if rec["status"] == "ok" else []
@@ -146,6 +143,26 @@ class _Problem:
         rec["score"], rec["margins"], rec["row"] = score, margins, row
         self.designs.append(rec)
         return rec
+
+    def _check_names(self, known: list[str], key: tuple[float, ...]) -> None:
+        """OptimizeError for a name that is neither a quantity of the row nor a parameter;
+        a row of what is named has fewer quantities, so the nearest name is looked for
+        among the whole row's (the design analysed again, on this error only)."""
+
+        def check(names: list[str]) -> None:
+            self.objective.check_names(names, "--minimize")
+            for c in self.constraints:
+                c.check_names(names)
+
+        try:
+            check(known)
+        except OptimizeError:
+            if self.options.get("needs") is None:
+                raise
+            design = [dict(zip(self.names, key))]
+            whole = self._rows(design, {**self.options, "needs": None})[0]
+            check([*known, *(k for k in whole if k not in known)])
+            raise
 
     def best(self) -> dict[str, Any] | None:
         return min(self.visited.values(), key=lambda r: r["score"], default=None)
