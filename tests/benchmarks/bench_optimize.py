@@ -32,6 +32,10 @@ Before timing, the closed form is checked against ``ks.analyze`` of the file's d
 and against ``speed_closed_forms.slotting_machine`` (the frictionless torque over the rows,
 to 1e-9 of its largest value).
 
+Where numba is installed, each of ours is also timed with the optional compiled backend
+(``kinetostatics.set_backend("numba")``, docs/python.md) in the same rounds: the columns
+"numba backend", read against the issue's compiled targets.
+
 Each round times every candidate once, in turns, by ``time.process_time`` (CPU time, so
 that another process's load delays but does not count); a ratio is the median over the
 rounds of (closed form's rate / ours) in the same round.  One untimed round warms both.
@@ -61,6 +65,7 @@ import speed_closed_forms as cf
 from _common import ROOT
 
 import kinetostatics as ks
+from kinetostatics.base import kernels
 from kinetostatics.batch import sweeps
 from kinetostatics.batch.variants import Template, analyze_variants
 
@@ -83,6 +88,14 @@ random:
     G5: {{uniform: [280, 360]}}
     Q: {{uniform: [800, 1200]}}
 """
+try:
+    import numba  # noqa: F401  (the optional compiled backend: its column, where installed)
+
+    HAVE_NUMBA = True
+except ImportError:
+    HAVE_NUMBA = False
+# the compiled backend's targets (the closed form's rate over ours at most this)
+COMPILED_TARGETS = {"optimize, friction": 6.0, "batch, friction": 10.0}
 # name: (target: the closed form's rate over ours at most this, the row's words)
 TARGETS = {
     "optimize, friction": (15.0, "`optimize`, 360 positions, friction"),
@@ -265,10 +278,15 @@ class Row:
     name: str
     ours: list[float]  # per round: designs (variants) per CPU-second
     closed: list[float]
+    compiled: list[float]  # ours with the numba backend (empty without numba)
 
     @property
     def ratios(self) -> list[float]:
         return [c / o for c, o in zip(self.closed, self.ours)]
+
+    @property
+    def compiled_ratios(self) -> list[float]:
+        return [c / o for c, o in zip(self.closed, self.compiled)]
 
     @property
     def ratio(self) -> float:
@@ -279,6 +297,25 @@ class Row:
         if target is None:
             return "—"
         return "yes" if self.ratio <= target else "no"
+
+    def compiled_met(self) -> str:
+        target = COMPILED_TARGETS.get(self.name)
+        if target is None or not self.compiled:
+            return "—"
+        return "yes" if statistics.median(self.compiled_ratios) <= target else "no"
+
+
+def with_backend(name: str, fn):
+    """``fn`` run with the backend ``name`` (base/kernels.py), NumPy's restored after."""
+
+    def run():
+        kernels.set_backend(name)
+        try:
+            return fn()
+        finally:
+            kernels.set_backend("numpy")
+
+    return run
 
 
 def cpu_rate(fn) -> float:
@@ -304,12 +341,16 @@ def measure(rounds: int, generations: int, n_variants: int, log=print) -> list[R
         ),
         "batch, friction": (batch_ks(variants), batch_closed(variants)),
     }
-    for ours, closed in pairs.values():  # warm: imports, the template, scipy
+    for ours, closed in pairs.values():  # warm: imports, the template, scipy, the kernels
         ours(), closed()
-    rows = {name: Row(name, [], []) for name in pairs}
+        if HAVE_NUMBA:
+            with_backend("numba", ours)()
+    rows = {name: Row(name, [], [], []) for name in pairs}
     for k in range(rounds):
         for name, (ours, closed) in pairs.items():
             rows[name].ours.append(cpu_rate(ours))
+            if HAVE_NUMBA:
+                rows[name].compiled.append(cpu_rate(with_backend("numba", ours)))
             # the closed form is fast: repeat it for a measurable CPU time
             reps, t0, count = 0, time.process_time(), 0
             while reps < 3 or time.process_time() - t0 < 0.05:
@@ -351,22 +392,40 @@ def machine() -> str:
 def table(runs: list[tuple[str, list[Row]]], args) -> str:
     head = "| measure | target: closed form / ours ≤ |"
     rule = "|---|---|"
+    compiled = bool(runs and runs[0][1][0].compiled)
+    if compiled:
+        head += " target, numba backend |"
+        rule += "---|"
     for k in range(len(runs)):
         head += f" run {k + 1}: ours [/CPU-s] | run {k + 1}: closed form [/CPU-s] |"
         head += f" run {k + 1}: ratio (rounds' range) |"
         rule += "---|---|---|"
-    head += " met |"
-    rule += "---|"
+        if compiled:
+            head += f" run {k + 1}: numba backend [/CPU-s], ratio |"
+            rule += "---|"
+    head += " met |" + (" met, numba |" if compiled else "")
+    rule += "---|" + ("---|" if compiled else "")
     lines = [head, rule]
     for i, name in enumerate(TARGETS):
         target, words = TARGETS[name]
         line = f"| {words} | {'—' if target is None else f'{target:g}'} |"
+        if compiled:
+            ct = COMPILED_TARGETS.get(name)
+            line += f" {'—' if ct is None else f'{ct:g}'} |"
         for _, rs in runs:
             r = rs[i]
             lo, hi = min(r.ratios), max(r.ratios)
             line += f" {statistics.median(r.ours):.0f} | {statistics.median(r.closed):.0f} |"
             line += f" {r.ratio:.0f}× ({lo:.0f}–{hi:.0f}) |"
-        lines.append(line + f" {', '.join(rs[i].met() for _, rs in runs)} |")
+            if compiled:
+                line += (
+                    f" {statistics.median(r.compiled):.0f}, "
+                    f"{statistics.median(r.compiled_ratios):.0f}× |"
+                )
+        line += f" {', '.join(rs[i].met() for _, rs in runs)} |"
+        if compiled:
+            line += f" {', '.join(rs[i].compiled_met() for _, rs in runs)} |"
+        lines.append(line)
     cond = (
         f"**Conditions:** {machine()}; CPU time of this process (`time.process_time`); "
         f"{args.rounds} rounds per run, {args.generations} generations of "
