@@ -102,7 +102,10 @@ def block(best: ks.Optimum) -> str:
     )
     counts = {s: sum(d["status"] == s for d in best.designs) for s in ("ok", "infeasible")}
     failed = len(best.designs) - counts["ok"] - counts["infeasible"]
-    analysed = [d["row"] for d in best.designs if d["row"].get("status") == "ok"]
+    # the designs' rows hold what the search's expressions read: their whole rows again,
+    # as one batch
+    ok = [{n: d[n] for n in best.parameters} for d in best.designs if d["status"] != "failed"]
+    analysed = [r for r in analyze_variants(template, ok, flywheel=False) if r["status"] == "ok"]
     dk = max(abs(float(r["guide.time_ratio"]) - p0["K"]) for r in analysed)
     dh = max(abs(float(r["guide.stroke"]) * 1000.0 - p0["H"]) for r in analysed)
     gain = 1.0 - best.objective / float(row0[MINIMIZE])

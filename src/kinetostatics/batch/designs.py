@@ -3,7 +3,10 @@
 :class:`_Problem` evaluates a population of designs by the batch's own path (one chunk in
 this process, or chunks on an executor), keeps each design's record (its batch row, the
 objective, the constraints' margins, the violation and the score of Deb's rules) and
-knows the best design visited.
+knows the best design visited.  A design's row holds what the expressions need
+(``options["needs"]``, :func:`~.variants.row_needs`: no friction solution when none
+names a quantity with friction, no strokes, no located zones); the best design's whole
+row is analysed again at the end (:meth:`_Problem.row_of`).
 """
 
 from __future__ import annotations
@@ -40,19 +43,29 @@ class _Problem:
         self.pool = None
         self.checked = False
         self.error: OptimizeError | None = None
+        self.alone = 0  # designs analysed one by one (outside the vectorised analysis)
 
     def rows(self, overrides: list[dict[str, float]]) -> list[dict[str, Any]]:
-        """The batch rows of the designs: one chunk (serial), or chunks on the executor."""
+        """The batch rows of the designs, with what the expressions need."""
+        return self._rows(overrides, self.options)
+
+    def _rows(self, overrides: list[dict[str, float]], options) -> list[dict[str, Any]]:
+        """The batch rows of the designs analysed with ``options``: one chunk (serial), or
+        chunks on the executor."""
 
         def chunk(ovs):
             ids = tuple(str(k) for k in range(len(ovs)))
-            return Chunk(self.source, ids, tuple(ovs), **self.options)
+            return Chunk(self.source, ids, tuple(ovs), **options)
+
+        def counted(rows):
+            self.alone += getattr(rows, "alone", 0) if len(rows) > 1 else 0
+            return rows
 
         if self.executor == "serial" or len(overrides) < 2:
             # a large population in parts, each within a batch chunk's memory bound
             size = auto_chunk(4 * len(overrides), self.positions, 1)
             parts = [overrides[k : k + size] for k in range(0, len(overrides), size)]
-            return [r for p in parts for r in analyze_chunk(chunk(p))]
+            return [r for p in parts for r in counted(analyze_chunk(chunk(p)))]
         if self.pool is None:
             self.pool = _open_executor(self.executor, self.workers)
         ex, slots, _ = self.pool
@@ -60,7 +73,7 @@ class _Problem:
         parts = [overrides[k : k + size] for k in range(0, len(overrides), size)]
         try:
             futures = [ex.submit(analyze_chunk, chunk(p)) for p in parts]
-            return [r for f in futures for r in f.result()]
+            return [r for f in futures for r in counted(f.result())]
         except Exception as exc:  # noqa: BLE001 - a lost scheduler, a killed worker
             raise OptimizeError(_executor_failed(self.executor, exc)) from None
 
@@ -108,10 +121,7 @@ class _Problem:
         rec.update(zip(self.names, key))
         rec.update(status=row.get("status", "failed"), reason=row.get("reason", ""))
         if rec["status"] == "ok" and not self.checked:  # names checked on the first row
-            known = [k for k in env if k not in ("status", "reason")]
-            self.objective.check_names(known, "--minimize")
-            for c in self.constraints:
-                c.check_names(known)
+            self._check_names([k for k in env if k not in ("status", "reason")], key)
             self.checked = True
         f = self.objective.value(env) if rec["status"] == "ok" else math.nan
         margins = [c.margin(env) for c in self.constraints] if rec["status"] == "ok" else []
@@ -134,13 +144,36 @@ class _Problem:
         self.designs.append(rec)
         return rec
 
+    def _check_names(self, known: list[str], key: tuple[float, ...]) -> None:
+        """OptimizeError for a name that is neither a quantity of the row nor a parameter;
+        a row of what is named has fewer quantities, so the nearest name is looked for
+        among the whole row's (the design analysed again, on this error only)."""
+
+        def check(names: list[str]) -> None:
+            self.objective.check_names(names, "--minimize")
+            for c in self.constraints:
+                c.check_names(names)
+
+        try:
+            check(known)
+        except OptimizeError:
+            if self.options.get("needs") is None:
+                raise
+            design = [dict(zip(self.names, key))]
+            whole = self._rows(design, {**self.options, "needs": None})[0]
+            check([*known, *(k for k in whole if k not in known)])
+            raise
+
     def best(self) -> dict[str, Any] | None:
         return min(self.visited.values(), key=lambda r: r["score"], default=None)
 
     def row_of(self, rec: dict[str, Any]) -> dict[str, Any]:
-        """The batch row of a design (analysed again for one read back from disk)."""
-        if rec.get("row") is None:
-            rec["row"] = self.rows([{n: float(rec[n]) for n in self.names}])[0]
+        """The whole batch row of a design, every quantity: analysed again (alone) when
+        the search's rows held only what the expressions need, or it was read back from
+        disk."""
+        if rec.get("row") is None or self.options.get("needs") is not None:
+            design = [{n: float(rec[n]) for n in self.names}]
+            rec["row"] = self._rows(design, {**self.options, "needs": None})[0]
         return rec["row"]
 
 

@@ -47,6 +47,7 @@ def analyze_chunk(chunk: Chunk) -> ChunkRows:
         positions=chunk.positions,
         friction=chunk.friction,
         flywheel=chunk.flywheel,
+        needs=chunk.needs,
     )
     rows = ChunkRows(found)
     rows.parameters, rows.alone = parameters, alone

@@ -81,7 +81,11 @@ class Optimum:
     "violation", "score"}``); ``history``: the best score after each generation and then
     after each local step; ``on_bound``: ``{name: "lower" | "upper"}`` for each
     parameter of the best design on a bound of its ``vary`` (within 1e-6 of HI − LO:
-    the optimum may lie beyond it); ``files``: what was written."""
+    the optimum may lie beyond it); ``files``: what was written; ``alone``: how many
+    designs of the populations were analysed one by one, outside their population's
+    vectorised analysis (another branch or topology, a singular position, a flywheel to
+    size: the same rows, more slowly).  ``row`` holds every quantity of the batch row;
+    a row in ``designs`` only those the expressions need."""
 
     parameters: dict[str, float]
     objective: float
@@ -92,6 +96,7 @@ class Optimum:
     message: str
     on_bound: dict[str, str] = field(default_factory=dict)
     files: dict[str, Path] = field(default_factory=dict)
+    alone: int = 0
 
     def __repr__(self) -> str:
         what = ", ".join(f"{k}={v:.10g}" for k, v in self.parameters.items())
@@ -275,7 +280,12 @@ def _optimize(model_or_path, vary, minimize: str, subject_to, opts: SearchOption
     named = [*objective.names.values(), *(n for c in constraints for n in c.names)]
     # the file's flywheel: is sized (variant by variant, slower) only when asked for
     flywheel = None if any(n.startswith("flywheel.") for n in named) else False
-    options = {"positions": opts.positions, "friction": opts.friction, "flywheel": flywheel}
+    options = {
+        "positions": opts.positions,
+        "friction": opts.friction,
+        "flywheel": flywheel,
+        "needs": tuple(dict.fromkeys(named)),  # a design's row: only what these read
+    }
     names = space.names
     problem = _Problem(source, names, objective, constraints, options, opts.executor, opts.workers)
     problem.positions = opts.positions or template.base.analysis.positions
@@ -306,8 +316,9 @@ def _optimize(model_or_path, vary, minimize: str, subject_to, opts: SearchOption
             row=dict(problem.row_of(best)),
             designs=problem.designs,
             history=history,
-            message=message,
+            message=message + _alone(problem.alone),
             on_bound=_on_bound(best, names, space.lo, space.hi),
+            alone=problem.alone,
         )
         if out is not None:
             result.files = write_outputs(result, source, template, names, constraints, Path(out))
@@ -432,6 +443,14 @@ def _search(differential_evolution, population, space: _Space, opts: SearchOptio
         vectorized=True,
         x0=x0 if np.all((x0 >= lo) & (x0 <= hi)) else None,
     )
+
+
+def _alone(count: int) -> str:
+    """The message's note of the designs analysed one by one (none: nothing)."""
+    if not count:
+        return ""
+    what = "design" if count == 1 else "designs"
+    return f"; {count} {what} analysed one by one (outside the population's vectorised analysis)"
 
 
 def _did_you_mean(name: str, known) -> str:

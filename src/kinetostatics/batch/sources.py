@@ -72,6 +72,9 @@ class Chunk:
     friction: bool | None = None
     flywheel: bool | None = None
     results_dir: str | None = None
+    # the row quantities someone reads (an optimisation's names): the rows then hold
+    # what those need (:func:`~.variants.row_needs`); None: the whole row
+    needs: tuple[str, ...] | None = None
 
 
 @lru_cache(maxsize=16)

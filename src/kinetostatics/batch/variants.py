@@ -28,7 +28,15 @@ from ..model.stacking import TopologyMismatch, signature, stack
 from ..outputs.loading import build
 from ..structure.system import coordinate_gradient
 
-__all__ = ["Template", "analyze_variants", "summary_row", "shaking_row", "ROW_UNITS"]
+__all__ = [
+    "Template",
+    "analyze_variants",
+    "summary_row",
+    "shaking_row",
+    "ROW_UNITS",
+    "RowNeeds",
+    "row_needs",
+]
 
 
 @dataclass(frozen=True, eq=False)
@@ -174,6 +182,40 @@ QUANTITIES: dict[str, Quantity] = {
 ROW_UNITS = {name.rpartition(".")[2]: q.unit for name, q in QUANTITIES.items()}
 
 
+@dataclass(frozen=True)
+class RowNeeds:
+    """The costly parts of a row that its reader needs: the friction solutions (every
+    quantity with friction, the efficiencies, the self-locking), the outputs' strokes and
+    time ratios (a Newton on time per slide) and the self-locked zones' located edges
+    (the friction solution at each edge).  A part not needed is not computed: its
+    quantities are absent from the row (friction, zones) or empty (strokes)."""
+
+    friction: bool = True
+    strokes: bool = True
+    zones: bool = True
+
+
+def row_needs(names: Iterable[str] | None) -> RowNeeds:
+    """What the quantities ``names`` read (None: the whole row).  By the names' words, on
+    the safe side: a name with ``friction`` or ``efficiency`` in it needs the friction
+    solutions, one ending ``.stroke`` or ``.time_ratio`` the strokes, and
+    ``friction.self_locking`` the zones (a parameter's name that reads so only costs time).
+
+    >>> row_needs(["motor.torque_rms", "a"])
+    RowNeeds(friction=False, strokes=False, zones=False)
+    >>> row_needs(["motor.torque_friction_rms", "slide.stroke"])
+    RowNeeds(friction=True, strokes=True, zones=False)
+    """
+    if names is None:
+        return RowNeeds()
+    names = list(names)
+    return RowNeeds(
+        friction=any("friction" in n or "efficiency" in n for n in names),
+        strokes=any(n.endswith((".stroke", ".time_ratio")) for n in names),
+        zones="friction.self_locking" in names,
+    )
+
+
 def _finite(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(x, its finite rows' mask) over the last axis."""
     x = np.asarray(x, dtype=float)
@@ -229,7 +271,7 @@ def _zones(result) -> str:
 
 
 def summary_row(
-    result, flywheel: bool | None = None, strokes: dict | None = None
+    result, flywheel: bool | None = None, strokes: dict | None = None, zones: bool = True
 ) -> dict[str, Any]:
     """The batch row of one analysed variant (names ``<member>.<quantity>``,
     units :data:`ROW_UNITS`): strokes and time ratios of the outputs, peak
@@ -240,14 +282,15 @@ def summary_row(
     Every quantity reduces over the last (positions) axis, so a stacked
     result ``(V, N)`` gives arrays ``(V,)`` (:func:`split_rows` makes rows);
     ``strokes`` are :func:`~kinetostatics.kinematics.events.output_strokes` (computed
-    when not given)."""
+    when not given); ``zones`` False leaves out ``friction.self_locking`` (of one
+    result: its zones' located edges, a friction solution at each)."""
     system = result.system
     cols = result.columns
     row: dict[str, Any] = {"status": "ok", "reason": "", "full_cycle": bool(result.full_cycle)}
     row.update(_output_row(result, output_strokes(result) if strokes is None else strokes))
     row.update(_effort_row(result))
     if "friction.status" in cols:
-        row.update(_locking_row(result))
+        row.update(_locking_row(result, zones))
     row.update(_reaction_row(cols, system.model.joints))
     if "shaking.Fx" in cols:
         row.update(shaking_row(cols))
@@ -310,19 +353,20 @@ def _effort_row(result) -> dict[str, Any]:
     return row
 
 
-def _locking_row(result) -> dict[str, Any]:
-    """The self-locked rows' count and their ranges of the driver's angle (or stroke)."""
+def _locking_row(result, zones: bool = True) -> dict[str, Any]:
+    """The self-locked rows' count and (``zones``) their ranges of the driver's angle (or
+    stroke)."""
     cols = result.columns
     angle = cols["angle"] if "angle" in cols else cols["stroke"]
     locked = cols["friction.status"] == 2
-    return {
-        "friction.self_locking_positions": np.count_nonzero(locked, axis=-1),
-        "friction.self_locking": (
+    row: dict[str, Any] = {"friction.self_locking_positions": np.count_nonzero(locked, axis=-1)}
+    if zones:
+        row["friction.self_locking"] = (
             _zones(result)
             if locked.ndim == 1
             else np.array([_ranges(a, m) for a, m in zip(angle, locked)], dtype=object)
-        ),
-    }
+        )
+    return row
 
 
 def _reaction_row(cols, joints) -> dict[str, Any]:
@@ -391,6 +435,7 @@ def analyze_variants(
     friction: bool | None = None,
     flywheel: bool | None = None,
     vectorise: bool = True,
+    needs: Iterable[str] | None = None,
 ) -> list[dict[str, Any]]:
     """One :func:`summary_row` per variant, in order; failures are rows with their reason.
 
@@ -399,18 +444,31 @@ def analyze_variants(
     (default: when the file asks) adds the flywheel inertia.  Variants are
     analysed all at once where :mod:`~kinetostatics.analysis.vectorised` can, one by
     one otherwise (``vectorise=False``: always one by one) — with the same rows.
+    ``needs``: the row quantities that will be read (:func:`row_needs`; default all):
+    the parts of the row none of them needs are not computed.
     """
-    return _analyze_variants(template, overrides, positions, friction, flywheel, vectorise)[0]
+    return _analyze_variants(
+        template, overrides, positions, friction, flywheel, vectorise, needs=needs
+    )[0]
 
 
-def _analyze_variants(
-    template: Template, overrides, positions=None, friction=None, flywheel=None, vectorise=True
+def _analyze_variants(  # noqa: PLR0913  analyze_variants' keywords, positional inside the batch
+    template: Template,
+    overrides,
+    positions=None,
+    friction=None,
+    flywheel=None,
+    vectorise=True,
+    needs=None,
 ) -> tuple[list[dict[str, Any]], list[dict[str, float] | None], int]:
     """(rows, parameters, alone): :func:`analyze_variants` (the same arguments), with each
     variant's parameters as its model has them (None where the model could not be built:
     the row says why) and the number of variants analysed one by one (outside the
     vectorised analysis, or left by it)."""
     overrides = list(overrides)
+    need = row_needs(needs)
+    if not need.friction:
+        friction = False
     rows: list[dict[str, Any] | None] = [None] * len(overrides)
     models: dict[int, Model] = {}
     for v, ov in enumerate(overrides):
@@ -421,7 +479,7 @@ def _analyze_variants(
     parameters = [models[v].parameters if v in models else None for v in range(len(rows))]
     wants_flywheel = flywheel or (flywheel is None and template.base.flywheel is not None)
     if vectorise and not wants_flywheel and len(models) > 1:
-        _vectorised_rows(models, rows, friction)
+        _vectorised_rows(models, rows, friction, need)
     from ..analysis.pipeline import analyze
 
     alone = 0
@@ -430,13 +488,17 @@ def _analyze_variants(
             continue
         alone += 1
         try:
-            rows[v] = summary_row(analyze(model, friction=friction), flywheel=flywheel)
+            result = analyze(model, friction=friction)
+            strokes = None if need.strokes else {}
+            rows[v] = summary_row(result, flywheel=flywheel, strokes=strokes, zones=need.zones)
         except (KinetostaticsError, ValueError, ArithmeticError, np.linalg.LinAlgError) as exc:
             rows[v] = failure_row(exc)
     return rows, parameters, alone
 
 
-def _vectorised_rows(models: dict[int, Model], rows: list, friction: bool | None) -> None:
+def _vectorised_rows(
+    models: dict[int, Model], rows: list, friction: bool | None, need: RowNeeds
+) -> None:
     """Fill ``rows`` of the variants the vectorised analysis takes, group by topology."""
     import warnings
 
@@ -458,8 +520,10 @@ def _vectorised_rows(models: dict[int, Model], rows: list, friction: bool | None
                     st = vectorised.analyze_stacked(
                         [models[v] for v in members], friction=friction, stacked=stacked
                     )
-                    strokes = vectorised.output_strokes(st)
-                    row = summary_row(vectorised.as_result(st), flywheel=False, strokes=strokes)
+                    strokes = vectorised.output_strokes(st) if need.strokes else {}
+                    row = summary_row(
+                        vectorised.as_result(st), flywheel=False, strokes=strokes, zones=need.zones
+                    )
         except (
             vectorised.Unsupported,  # LeftOver included
             TopologyMismatch,
@@ -473,5 +537,5 @@ def _vectorised_rows(models: dict[int, Model], rows: list, friction: bool | None
             rows[members[i]] = failure_row(exc)
         analysed = [members[i] for i in st.members]  # the others: one by one
         for v, ok, r in zip(analysed, st.ok, split_rows(row, len(analysed)), strict=True):
-            if ok and not r.get("friction.self_locking_positions"):  # a locked zone's
-                rows[v] = r  # edges: one by one
+            if ok and not (need.zones and r.get("friction.self_locking_positions")):
+                rows[v] = r  # a locked zone's edges: one by one
