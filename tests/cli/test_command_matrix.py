@@ -483,7 +483,9 @@ def test_a_real_sigint_stops_a_simulation_with_one_line(tmp_path):
         _, err = proc.communicate(timeout=60)
     finally:  # never left running (a simulation to t = 1e6 s) when the test fails
         proc.kill()
-    assert proc.returncode == 130, err
+    # 130, or ended by the SIGINT itself after the one line (CI, under load, once): a shell
+    # reports both as exit status 130 (128 + SIGINT)
+    assert proc.returncode in (130, -signal.SIGINT), err
     assert err.strip().splitlines() == ["kinetostatics: simulate: interrupted"], err
     assert [p for p in out.rglob("*") if p.is_file()] == []
 
