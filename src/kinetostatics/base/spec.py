@@ -1,9 +1,10 @@
 """YAML with file locations: the reader that every section reader is built on.
 
-A text is composed (:mod:`.document`: PyYAML's safe composer, no tags, no object
-construction; size, depth, node count and keys checked); every node keeps its line
-and column, so that every problem is reported as
-``FILE:LINE:COL: key.path: message``.  An :class:`Entry` is a node with its
+A text is composed (:mod:`.document`: PyYAML's safe composer, libyaml's where it can,
+no tags, no object construction; size, depth, node count and keys checked); every node
+keeps its line and column, so that every problem is reported as
+``FILE:LINE:COL: key.path: message`` (an entry makes its location when it is first asked
+for).  An :class:`Entry` is a node with its
 location; its typed readers (numbers with units and parameter expressions,
 vectors, names) report problems to the collector of its :class:`_Context` and
 return ``None``.  Problems are raised together as one
@@ -94,11 +95,44 @@ _LITERALS_MAX = 4096
 READING = threading.RLock()
 
 
+def _where_of(
+    pnode: yaml.Node, pwhere: Location, key: str | int, node: yaml.Node | None, kind: str
+) -> Location:
+    """The location of ``node`` (a key's value, or with ``kind="_ks_key"`` the key itself;
+    None: absent) at ``key`` below the node ``pnode`` written at ``pwhere``, kept on
+    ``pnode`` for the next variant.  Kept by the parent location's identity: a tree is
+    re-read with the same locations, and a node reached through an alias has other ones."""
+    cache = pnode.__dict__.get(kind)
+    if cache is None:
+        cache = pnode.__dict__[kind] = {}
+    hit = cache.get((id(pwhere), key))
+    if hit is not None and hit[0] is pwhere:
+        return hit[1]
+    if node is None:
+        where = pwhere.child(key)
+    else:
+        m = node.start_mark
+        where = pwhere.child(key, m.line + 1, m.column + 1)
+    cache[(id(pwhere), key)] = (pwhere, where)  # holds the parent: its id stays
+    return where
+
+
 class Entry:
     """A YAML node with its location; typed readers report problems and return ``None``."""
 
-    def __init__(self, node: yaml.Node, where: Location, ctx: _Context):
-        self.node, self.where, self.ctx = node, where, ctx
+    def __init__(
+        self,
+        node: yaml.Node,
+        where: Location | None,
+        ctx: _Context,
+        parent: Entry | None = None,
+        key: str | int | None = None,
+    ):
+        # ``where`` None: the location below ``parent`` at ``key``, made when it is first
+        # asked for (most entries of a file that reads well are never asked); the entry
+        # keeps the parent's node and location, not the parent (no reference cycle)
+        self.node, self._where, self.ctx = node, where, ctx
+        self._up = None if parent is None else (parent.node, parent.where, key)
         self._kids: dict = {}  # key -> child entry (or _ABSENT), kept for the next build
         self._keys_at: dict[str, Location] = {}  # key -> where the key is written
         self._vectors: dict[tuple, np.ndarray] = {}  # a vector of numbers without names
@@ -112,6 +146,16 @@ class Entry:
             root = self._root = Entry(self.node, self.where, ctx)
         root.ctx = ctx
         return root
+
+    @property
+    def where(self) -> Location:
+        """Where the entry is written: ``file:line:col: key.path``."""
+        where = self._where
+        if where is None:
+            pnode, pwhere, key = self._up
+            where = self._where = _where_of(pnode, pwhere, key, self.node, "_ks_where")
+            self._up = None
+        return where
 
     # -- structure ----------------------------------------------------------
     def error(self, message: str) -> None:
@@ -144,29 +188,15 @@ class Entry:
     def _child(self, key: str | int, node: yaml.Node) -> Entry:
         kid = self._kids.get(key)
         if kid is None or kid is _ABSENT or kid.node is not node:
-            kid = self._kids[key] = Entry(node, self._where_of(key, node, "_ks_where"), self.ctx)
+            kid = self._kids[key] = Entry(node, None, self.ctx, self, key)
         else:
             kid.ctx = self.ctx
         return kid
 
     def _where_of(self, key: str | int, node: yaml.Node | None, kind: str) -> Location:
         """The location of ``node`` (a key's value, or with ``kind="_ks_key"`` the key
-        itself; None: absent) below this entry, kept on the node for the next variant.
-        Kept by the parent location's identity: a tree is re-read with the same
-        locations, and a node reached through an alias has other ones."""
-        cache = self.node.__dict__.get(kind)
-        if cache is None:
-            cache = self.node.__dict__[kind] = {}
-        hit = cache.get((id(self.where), key))
-        if hit is not None and hit[0] is self.where:
-            return hit[1]
-        if node is None:
-            where = self.where.child(key)
-        else:
-            m = node.start_mark
-            where = self.where.child(key, m.line + 1, m.column + 1)
-        cache[(id(self.where), key)] = (self.where, where)  # holds the parent: its id stays
-        return where
+        itself; None: absent) below this entry (:func:`_where_of`)."""
+        return _where_of(self.node, self.where, key, node, kind)
 
     def _index(self) -> dict[str, tuple[yaml.Node, yaml.Node]]:
         """Key -> (key node, value node) of a mapping (its first, as ``_pairs`` runs)."""
