@@ -229,7 +229,7 @@ def _check_memory(system: System, n: int, given: str | None) -> None:
     estimate of a batch's): a ModelError naming ``analysis.positions``, or a
     ValueError naming the ``positions``/``times`` argument."""
 
-    if (why := memory_shortfall(n, "the analysis")) is None:
+    if (why := memory_shortfall(n, "the analysis", len(system.links))) is None:
         return
     if given is None:
         where = Location(system.model.source, path="analysis.positions")
