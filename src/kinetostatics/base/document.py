@@ -60,7 +60,28 @@ class _Loader(yaml.SafeLoader):
             self._depth -= 1
 
 
-_CLoader = getattr(yaml, "CSafeLoader", None)
+_TAGS: dict[str, str] = {}  # a plain scalar's text -> its tag (the same in every text)
+_TAGS_MAX = 4096
+
+if hasattr(yaml, "CSafeLoader"):
+
+    class _CLoader(yaml.CSafeLoader):
+        """libyaml's composer with the tag of each plain scalar resolved once per process:
+        the tag of a plain scalar depends on its text alone (PyYAML's implicit resolvers),
+        unless path resolvers were added, when every tag is resolved as PyYAML does."""
+
+        def resolve(self, kind, value, implicit):
+            if kind is not yaml.ScalarNode or not implicit[0] or self.yaml_path_resolvers:
+                return super().resolve(kind, value, implicit)
+            tag = _TAGS.get(value)
+            if tag is None:
+                if len(_TAGS) >= _TAGS_MAX:
+                    _TAGS.clear()
+                tag = _TAGS[value] = super().resolve(kind, value, implicit)
+            return tag
+
+else:  # PyYAML without libyaml
+    _CLoader = None
 _PLAIN_TEXT = re.compile("[\n\x20-\x3e\x40-\x7e\u00a0-\ud7ff\uf900-\ufefe\uff00-\ufffd]*")
 """The characters libyaml is given: where the two composers differ (tabs, carriage
 returns, the other line breaks, a byte-order mark, control and private characters,
@@ -128,48 +149,65 @@ _PLAIN_TAGS = frozenset(
 )
 
 
+def _path(chain) -> str:
+    """The key path of a chain ``(parent chain, key)`` (``None`` for the top): ``a.b[2].c``."""
+    keys = []
+    while chain is not None:
+        chain, key = chain
+        keys.append(key)
+    text = ""
+    for key in reversed(keys):
+        if isinstance(key, int):
+            text += f"[{key}]"
+        else:
+            text = f"{text}.{key}" if text else key
+    return text
+
+
 def _check_keys_and_duplicates(root: yaml.Node, file: str, problems: Collector) -> None:
     """Every mapping key must be a plain scalar and appear once; no application tags
-    (``!!python/...``).  Iterative: no recursion."""
-    stack: list[tuple[yaml.Node, str]] = [(root, "")]
+    (``!!python/...``).  Iterative: no recursion; a node's key path is written out only
+    for a problem."""
+    stack: list[tuple[yaml.Node, object]] = [(root, None)]
     visited: set[int] = set()
+    plain, mapping, sequence = _PLAIN_TAGS, yaml.MappingNode, yaml.SequenceNode
     while stack:
-        node, path = stack.pop()
+        node, chain = stack.pop()
         if id(node) in visited:  # an alias: its node was checked already
             continue
         visited.add(id(node))
-        if node.tag not in _PLAIN_TAGS:
+        if node.tag not in plain:
             m = node.start_mark
             tag = str(node.tag).replace("tag:yaml.org,2002:", "!!", 1)
             problems.add(
-                Location(file, m.line + 1, m.column + 1, path),
+                Location(file, m.line + 1, m.column + 1, _path(chain)),
                 f"YAML tags such as '{tag}' are not allowed",
             )
             continue
-        if isinstance(node, yaml.MappingNode):
+        if isinstance(node, mapping):
             seen: dict[str, int] = {}
             children = []
             for k, v in node.value:
-                m = k.start_mark
                 if not isinstance(k, yaml.ScalarNode):
+                    m = k.start_mark
                     problems.add(
-                        Location(file, m.line + 1, m.column + 1, path),
+                        Location(file, m.line + 1, m.column + 1, _path(chain)),
                         f"a key must be a plain name, got {describe_node(k)}",
                     )
                     continue
                 key = str(k.value)
-                sub = f"{path}.{key}" if path else key
                 if key in seen:
+                    m = k.start_mark
                     problems.add(
-                        Location(file, m.line + 1, m.column + 1, sub),
+                        Location(file, m.line + 1, m.column + 1, _path((chain, key))),
                         f"duplicate key '{key}' (first given at line {seen[key]})",
                     )
                 else:
-                    seen[key] = m.line + 1
-                children.append((v, sub))
+                    seen[key] = k.start_mark.line + 1
+                children.append((v, (chain, key)))
             stack.extend(reversed(children))
-        elif isinstance(node, yaml.SequenceNode):
-            stack.extend(reversed([(v, f"{path}[{k}]") for k, v in enumerate(node.value)]))
+        elif isinstance(node, sequence):
+            stack.extend(reversed([(v, (chain, k)) for k, v in enumerate(node.value)]))
 
 
 def read_text(path: str | Path) -> str:

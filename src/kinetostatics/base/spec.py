@@ -87,6 +87,7 @@ def expression_message(exc: Exception) -> str:
 
 
 _ABSENT = object()  # a key looked up and not there
+_NONE: dict = {}  # an entry's tables before their first entry (never written)
 _LITERALS: dict[str, float] = {}  # text -> value of a number written without names
 _LITERALS_MAX = 4096
 
@@ -133,9 +134,10 @@ class Entry:
         # keeps the parent's node and location, not the parent (no reference cycle)
         self.node, self._where, self.ctx = node, where, ctx
         self._up = None if parent is None else (parent.node, parent.where, key)
-        self._kids: dict = {}  # key -> child entry (or _ABSENT), kept for the next build
-        self._keys_at: dict[str, Location] = {}  # key -> where the key is written
-        self._vectors: dict[tuple, np.ndarray] = {}  # a vector of numbers without names
+        # made when first written (most entries are scalars that keep none of them):
+        self._kids: dict = _NONE  # key -> child entry (or _ABSENT), kept for the next build
+        self._keys_at: dict[str, Location] = _NONE  # key -> where the key is written
+        self._vectors: dict[tuple, np.ndarray] = _NONE  # a vector of numbers without names
 
     def rebuilt(self, ctx: _Context) -> Entry:
         """This entry for another reading of the tree (a batch's next variant): an entry
@@ -188,6 +190,8 @@ class Entry:
     def _child(self, key: str | int, node: yaml.Node) -> Entry:
         kid = self._kids.get(key)
         if kid is None or kid is _ABSENT or kid.node is not node:
+            if self._kids is _NONE:
+                self._kids = {}
             kid = self._kids[key] = Entry(node, None, self.ctx, self, key)
         else:
             kid.ctx = self.ctx
@@ -214,6 +218,8 @@ class Entry:
         if where is None:
             found = self._index().get(key) if self.is_mapping else None
             where = self._where_of(key, None if found is None else found[0], "_ks_key")
+            if self._keys_at is _NONE:
+                self._keys_at = {}
             self._keys_at[key] = where
         return where
 
@@ -226,6 +232,8 @@ class Entry:
             return kid
         found = self._index().get(key) if self.is_mapping else None
         if found is None:
+            if self._kids is _NONE:
+                self._kids = {}
             self._kids[key] = _ABSENT
             return None
         return self._child(key, found[1])
@@ -423,6 +431,8 @@ class Entry:
             return None
         out = np.array(values, dtype=float)
         if all(e.node.value in _LITERALS for e in items):  # the same in every build
+            if self._vectors is _NONE:
+                self._vectors = {}
             self._vectors[key] = out.copy()
         return out
 
