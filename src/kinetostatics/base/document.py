@@ -82,11 +82,21 @@ if hasattr(yaml, "CSafeLoader"):
 
 else:  # PyYAML without libyaml
     _CLoader = None
-_PLAIN_TEXT = re.compile("[\n\x20-\x3e\x40-\x7e\u00a0-\ud7ff\uf900-\ufefe\uff00-\ufffd]*")
+_PLAIN_TEXT = "[\n\x20-\x3e\x40-\x7e\u00a0-\ud7ff\uf900-\ufefe\uff00-\ufffd]*"
 """The characters libyaml is given: where the two composers differ (tabs, carriage
 returns, the other line breaks, a byte-order mark, control and private characters,
 characters beyond the BMP, and ``?``, which libyaml accepts inside a flow mapping's
-plain key where PyYAML refuses it) PyYAML's composer reads the text."""
+plain key where PyYAML refuses it) PyYAML's composer reads the text.  Compiled by
+``re`` (and kept in its cache) when a text that is not ASCII is first read: compiling
+its wide ranges costs 1.5 ms, which every command would pay at import."""
+_ASCII_NOT_PLAIN = re.compile("[\x00-\x09\x0b-\x1f\x3f\x7f]")  # the same, for ASCII
+
+
+def _plain_text(text: str) -> bool:
+    """Whether ``text`` has only characters of :data:`_PLAIN_TEXT`."""
+    if text.isascii():
+        return _ASCII_NOT_PLAIN.search(text) is None
+    return re.fullmatch(_PLAIN_TEXT, text) is not None
 
 
 def _within_limits(root: yaml.Node) -> bool:
@@ -118,7 +128,7 @@ def _within_limits(root: yaml.Node) -> bool:
 def _compose_fast(text: str) -> tuple[bool, yaml.Node | None]:
     """``(True, root)`` composed by libyaml when it is there, accepts the text and the
     tree is within the limits; ``(False, None)`` when PyYAML's composer must do it."""
-    if _CLoader is None or not _PLAIN_TEXT.fullmatch(text):
+    if _CLoader is None or not _plain_text(text):
         return False, None
     try:
         root = yaml.compose(text, Loader=_CLoader)
