@@ -118,6 +118,19 @@ def _where_of(
     return where
 
 
+def _located(node: yaml.Node, up: tuple) -> Location:
+    """The location of ``node`` from ``up``: (its parent's node, the parent's location or
+    its own ``up``, its key); iterative."""
+    chain = [(node, up)]
+    while not isinstance(chain[-1][1][1], Location):
+        pnode, pup, _ = chain[-1][1]
+        chain.append((pnode, pup))
+    where = None
+    for n, (pnode, pwhere, key) in reversed(chain):
+        where = _where_of(pnode, where if where is not None else pwhere, key, n, "_ks_where")
+    return where
+
+
 class Entry:
     """A YAML node with its location; typed readers report problems and return ``None``."""
 
@@ -131,9 +144,10 @@ class Entry:
     ):
         # ``where`` None: the location below ``parent`` at ``key``, made when it is first
         # asked for (most entries of a file that reads well are never asked); the entry
-        # keeps the parent's node and location, not the parent (no reference cycle)
+        # keeps the parent's node and its location, or what makes it (no reference to
+        # the parent: no cycle)
         self.node, self._where, self.ctx = node, where, ctx
-        self._up = None if parent is None else (parent.node, parent.where, key)
+        self._up = None if parent is None else (parent.node, parent._where or parent._up, key)
         # made when first written (most entries are scalars that keep none of them):
         self._kids: dict = _NONE  # key -> child entry (or _ABSENT), kept for the next build
         self._keys_at: dict[str, Location] = _NONE  # key -> where the key is written
@@ -154,8 +168,7 @@ class Entry:
         """Where the entry is written: ``file:line:col: key.path``."""
         where = self._where
         if where is None:
-            pnode, pwhere, key = self._up
-            where = self._where = _where_of(pnode, pwhere, key, self.node, "_ks_where")
+            where = self._where = _located(self.node, self._up)
             self._up = None
         return where
 
