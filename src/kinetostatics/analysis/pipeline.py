@@ -15,7 +15,7 @@ import numpy as np
 
 from ..base.arguments import real_array
 from ..base.limits import MAGNITUDE, MAX_TRAVEL, MAX_TURNS
-from ..base.memory import BYTES_PER_POSITION, memory_shortfall
+from ..base.memory import BYTES_PER_LINK_POSITION, BYTES_PER_POSITION, memory_shortfall
 from ..errors import (
     ElementWarning,
     JointWarning,
@@ -234,9 +234,10 @@ def _check_memory(system: System, n: int, given: str | None) -> None:
     :data:`ALWAYS_FITS` are not checked: reading the memory available (``/proc/meminfo``
     and the cgroup's files) costs ~50 µs, ~2 % of an analysis at 360 positions, and a
     process with less than that free could not have imported NumPy."""
-    if n * BYTES_PER_POSITION <= ALWAYS_FITS:
+    links = len(system.links)
+    if n * max(BYTES_PER_POSITION, links * BYTES_PER_LINK_POSITION) <= ALWAYS_FITS:
         return
-    if (why := memory_shortfall(n, "the analysis")) is None:
+    if (why := memory_shortfall(n, "the analysis", links)) is None:
         return
     if given is None:
         where = Location(system.model.source, path="analysis.positions")

@@ -1,9 +1,18 @@
 """A YAML text → the root :class:`~.spec.Entry` of a file: read with a size limit,
 composed with PyYAML's safe composer (no tags, no object construction), and its depth,
-node count and keys checked before any section is read."""
+node count and keys checked before any section is read.
+
+The tree is composed by libyaml's composer (``yaml.CSafeLoader``) where PyYAML has it,
+about ten times faster than PyYAML's own (its nodes have the same tags, values and
+start marks); a text it refuses, or whose tree is deeper than :data:`MAX_DEPTH` or
+larger than :data:`MAX_NODES`, is composed again by PyYAML's composer, whose messages
+(and line and column) are the ones a user reads, so every refusal is the same with or
+without libyaml.  libyaml's own nesting limit (1,000) keeps its recursive composer off
+the C stack's end."""
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import yaml
@@ -51,6 +60,85 @@ class _Loader(yaml.SafeLoader):
             self._depth -= 1
 
 
+_TAGS: dict[str, str] = {}  # a plain scalar's text -> its tag (the same in every text)
+_TAGS_MAX = 4096
+
+if hasattr(yaml, "CSafeLoader"):
+
+    class _CLoader(yaml.CSafeLoader):
+        """libyaml's composer with the tag of each plain scalar resolved once per process:
+        the tag of a plain scalar depends on its text alone (PyYAML's implicit resolvers),
+        unless path resolvers were added, when every tag is resolved as PyYAML does."""
+
+        def resolve(self, kind, value, implicit):
+            if kind is not yaml.ScalarNode or not implicit[0] or self.yaml_path_resolvers:
+                return super().resolve(kind, value, implicit)
+            tag = _TAGS.get(value)
+            if tag is None:
+                if len(_TAGS) >= _TAGS_MAX:
+                    _TAGS.clear()
+                tag = _TAGS[value] = super().resolve(kind, value, implicit)
+            return tag
+
+else:  # PyYAML without libyaml
+    _CLoader = None
+_PLAIN_TEXT = "[\n\x20-\x3e\x40-\x7e\u00a0-\ud7ff\uf900-\ufefe\uff00-\ufffd]*"
+"""The characters libyaml is given: where the two composers differ (tabs, carriage
+returns, the other line breaks, a byte-order mark, control and private characters,
+characters beyond the BMP, and ``?``, which libyaml accepts inside a flow mapping's
+plain key where PyYAML refuses it) PyYAML's composer reads the text.  Compiled by
+``re`` (and kept in its cache) when a text that is not ASCII is first read: compiling
+its wide ranges costs 1.5 ms, which every command would pay at import."""
+_ASCII_NOT_PLAIN = re.compile("[\x00-\x09\x0b-\x1f\x3f\x7f]")  # the same, for ASCII
+
+
+def _plain_text(text: str) -> bool:
+    """Whether ``text`` has only characters of :data:`_PLAIN_TEXT`."""
+    if text.isascii():
+        return _ASCII_NOT_PLAIN.search(text) is None
+    return re.fullmatch(_PLAIN_TEXT, text) is not None
+
+
+def _within_limits(root: yaml.Node) -> bool:
+    """Whether a composed tree is within :data:`MAX_NODES` (aliases counted each time)
+    and no list or mapping is nested deeper than :data:`MAX_DEPTH` (counted as
+    :class:`_Loader` counts it, an alias's levels included: a stricter count, so that a
+    tree this passes is one that :class:`_Loader` accepts), and it has no empty scalar
+    (libyaml marks an empty value in a flow mapping one column later).  Iterative."""
+    count, stack = 0, [(root, 1)]
+    while stack:
+        n, depth = stack.pop()
+        count += 1
+        if count > MAX_NODES:
+            return False
+        if isinstance(n, yaml.MappingNode):
+            if depth > MAX_DEPTH:
+                return False
+            for k, v in n.value:
+                stack.extend(((k, depth + 1), (v, depth + 1)))
+        elif isinstance(n, yaml.SequenceNode):
+            if depth > MAX_DEPTH:
+                return False
+            stack.extend((v, depth + 1) for v in n.value)
+        elif not n.value:
+            return False
+    return True
+
+
+def _compose_fast(text: str) -> tuple[bool, yaml.Node | None]:
+    """``(True, root)`` composed by libyaml when it is there, accepts the text and the
+    tree is within the limits; ``(False, None)`` when PyYAML's composer must do it."""
+    if _CLoader is None or not _plain_text(text):
+        return False, None
+    try:
+        root = yaml.compose(text, Loader=_CLoader)
+    except Exception:  # noqa: BLE001 (any refusal: PyYAML's composer says why)
+        return False, None
+    if root is not None and not _within_limits(root):
+        return False, None
+    return True, root
+
+
 def _count_nodes(node: yaml.Node, limit: int) -> int:
     """Number of nodes reached (aliases counted each time), stopping past ``limit``."""
     count, stack = 0, [node]
@@ -71,48 +159,65 @@ _PLAIN_TAGS = frozenset(
 )
 
 
+def _path(chain) -> str:
+    """The key path of a chain ``(parent chain, key)`` (``None`` for the top): ``a.b[2].c``."""
+    keys = []
+    while chain is not None:
+        chain, key = chain
+        keys.append(key)
+    text = ""
+    for key in reversed(keys):
+        if isinstance(key, int):
+            text += f"[{key}]"
+        else:
+            text = f"{text}.{key}" if text else key
+    return text
+
+
 def _check_keys_and_duplicates(root: yaml.Node, file: str, problems: Collector) -> None:
     """Every mapping key must be a plain scalar and appear once; no application tags
-    (``!!python/...``).  Iterative: no recursion."""
-    stack: list[tuple[yaml.Node, str]] = [(root, "")]
+    (``!!python/...``).  Iterative: no recursion; a node's key path is written out only
+    for a problem."""
+    stack: list[tuple[yaml.Node, object]] = [(root, None)]
     visited: set[int] = set()
+    plain, mapping, sequence = _PLAIN_TAGS, yaml.MappingNode, yaml.SequenceNode
     while stack:
-        node, path = stack.pop()
+        node, chain = stack.pop()
         if id(node) in visited:  # an alias: its node was checked already
             continue
         visited.add(id(node))
-        if node.tag not in _PLAIN_TAGS:
+        if node.tag not in plain:
             m = node.start_mark
             tag = str(node.tag).replace("tag:yaml.org,2002:", "!!", 1)
             problems.add(
-                Location(file, m.line + 1, m.column + 1, path),
+                Location(file, m.line + 1, m.column + 1, _path(chain)),
                 f"YAML tags such as '{tag}' are not allowed",
             )
             continue
-        if isinstance(node, yaml.MappingNode):
+        if isinstance(node, mapping):
             seen: dict[str, int] = {}
             children = []
             for k, v in node.value:
-                m = k.start_mark
                 if not isinstance(k, yaml.ScalarNode):
+                    m = k.start_mark
                     problems.add(
-                        Location(file, m.line + 1, m.column + 1, path),
+                        Location(file, m.line + 1, m.column + 1, _path(chain)),
                         f"a key must be a plain name, got {describe_node(k)}",
                     )
                     continue
                 key = str(k.value)
-                sub = f"{path}.{key}" if path else key
                 if key in seen:
+                    m = k.start_mark
                     problems.add(
-                        Location(file, m.line + 1, m.column + 1, sub),
+                        Location(file, m.line + 1, m.column + 1, _path((chain, key))),
                         f"duplicate key '{key}' (first given at line {seen[key]})",
                     )
                 else:
-                    seen[key] = m.line + 1
-                children.append((v, sub))
+                    seen[key] = k.start_mark.line + 1
+                children.append((v, (chain, key)))
             stack.extend(reversed(children))
-        elif isinstance(node, yaml.SequenceNode):
-            stack.extend(reversed([(v, f"{path}[{k}]") for k, v in enumerate(node.value)]))
+        elif isinstance(node, sequence):
+            stack.extend(reversed([(v, (chain, k)) for k, v in enumerate(node.value)]))
 
 
 def read_text(path: str | Path) -> str:
@@ -174,8 +279,10 @@ def compose(text: str, file: str = "<string>") -> Entry:
                 )
             ]
         )
+    fast, root = _compose_fast(text)
     try:
-        root = yaml.compose(text, Loader=_Loader)
+        if not fast:
+            root = yaml.compose(text, Loader=_Loader)
     except yaml.YAMLError as exc:
         raise ModelError([_syntax_problem(exc, file)]) from None
     except _TooMany as exc:
@@ -212,7 +319,7 @@ def compose(text: str, file: str = "<string>") -> Entry:
             ]
         )
     start = Location(file, root.start_mark.line + 1, root.start_mark.column + 1, "")
-    if _count_nodes(root, MAX_NODES) > MAX_NODES:
+    if not fast and _count_nodes(root, MAX_NODES) > MAX_NODES:
         raise ModelError(
             [
                 (

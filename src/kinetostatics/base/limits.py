@@ -20,7 +20,13 @@ __all__ = [
 MAX_FILE_BYTES = 1_000_000
 MAX_NODES = 100_000
 MAX_DEPTH = 100
-MAX_LINKS = 200
+MAX_LINKS = 1000
+"""Links of a file, the ground included.  What bounds it is the analysis: memory grows
+with links × positions (about 1 KiB per moving link and position, measured on chains of
+dyads, :data:`~kinetostatics.base.memory.BYTES_PER_LINK_POSITION`), checked against the
+memory available when a run starts; a 1,001-link chain of dyads at 360 positions used
+0.4 GB and 2.4 s of CPU (tests/benchmarks/bench_loading.py ``--sizes``), and parts of the
+analysis grow faster than the number of links beyond that (docs/accuracy.md)."""
 MAX_POSITIONS = 10_000_000
 MAX_TURNS = 100  # analysis.sweep of a revolute driver, in turns
 MAX_TRAVEL = 1000  # a prismatic driver's sweep (and at - start): x the largest link

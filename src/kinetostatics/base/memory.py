@@ -5,13 +5,23 @@ from __future__ import annotations
 
 import os
 
-__all__ = ["BYTES_PER_POSITION", "available_memory", "gigabytes", "memory_shortfall"]
+__all__ = [
+    "BYTES_PER_LINK_POSITION",
+    "BYTES_PER_POSITION",
+    "available_memory",
+    "gigabytes",
+    "memory_shortfall",
+]
 
 # What one position costs while it is analysed (result columns, q, q', q'',
 # reactions): measured with tracemalloc on the slotting machine with friction at
 # 20,000 positions, 8.0 KiB (the slider-crank: 4.6 KiB).  A batch's chunks and a
 # single run are bounded by it.
 BYTES_PER_POSITION = 8 * 2**10
+# A large linkage costs in proportion to its moving links: a chain of dyads at 360
+# positions peaked at 0.99 KiB per moving link and position (tracemalloc, 401 links; the
+# slotting machine's 8 KiB over its 6 moving links is 1.3 KiB).
+BYTES_PER_LINK_POSITION = 3 * 2**9
 
 
 def available_memory() -> int:
@@ -49,11 +59,13 @@ def gigabytes(n: float) -> str:
     return f"{n / 2**30:.1f} GB"
 
 
-def memory_shortfall(positions: int, what: str) -> str | None:
-    """None when ``positions`` rows at :data:`BYTES_PER_POSITION` fit in the memory
-    available, else the sentence saying so (``what`` names the rows, e.g. ``"the
-    run"``), for the caller's error."""
-    need, free = positions * BYTES_PER_POSITION, available_memory()
+def memory_shortfall(positions: int, what: str, links: int = 0) -> str | None:
+    """None when ``positions`` rows fit in the memory available, else the sentence saying
+    so (``what`` names the rows, e.g. ``"the run"``), for the caller's error.  A row costs
+    :data:`BYTES_PER_POSITION`, or :data:`BYTES_PER_LINK_POSITION` per moving link when
+    that is more (``links``: the moving links; 0 when not known)."""
+    per = max(BYTES_PER_POSITION, links * BYTES_PER_LINK_POSITION)
+    need, free = positions * per, available_memory()
     if need <= free:
         return None
     return (

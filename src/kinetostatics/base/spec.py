@@ -1,9 +1,10 @@
 """YAML with file locations: the reader that every section reader is built on.
 
-A text is composed (:mod:`.document`: PyYAML's safe composer, no tags, no object
-construction; size, depth, node count and keys checked); every node keeps its line
-and column, so that every problem is reported as
-``FILE:LINE:COL: key.path: message``.  An :class:`Entry` is a node with its
+A text is composed (:mod:`.document`: PyYAML's safe composer, libyaml's where it can,
+no tags, no object construction; size, depth, node count and keys checked); every node
+keeps its line and column, so that every problem is reported as
+``FILE:LINE:COL: key.path: message`` (an entry makes its location when it is first asked
+for).  An :class:`Entry` is a node with its
 location; its typed readers (numbers with units and parameter expressions,
 vectors, names) report problems to the collector of its :class:`_Context` and
 return ``None``.  Problems are raised together as one
@@ -86,6 +87,7 @@ def expression_message(exc: Exception) -> str:
 
 
 _ABSENT = object()  # a key looked up and not there
+_NONE: dict = {}  # an entry's tables before their first entry (never written)
 _LITERALS: dict[str, float] = {}  # text -> value of a number written without names
 _LITERALS_MAX = 4096
 
@@ -94,14 +96,62 @@ _LITERALS_MAX = 4096
 READING = threading.RLock()
 
 
+def _where_of(
+    pnode: yaml.Node, pwhere: Location, key: str | int, node: yaml.Node | None, kind: str
+) -> Location:
+    """The location of ``node`` (a key's value, or with ``kind="_ks_key"`` the key itself;
+    None: absent) at ``key`` below the node ``pnode`` written at ``pwhere``, kept on
+    ``pnode`` for the next variant.  Kept by the parent location's identity: a tree is
+    re-read with the same locations, and a node reached through an alias has other ones."""
+    cache = pnode.__dict__.get(kind)
+    if cache is None:
+        cache = pnode.__dict__[kind] = {}
+    hit = cache.get((id(pwhere), key))
+    if hit is not None and hit[0] is pwhere:
+        return hit[1]
+    if node is None:
+        where = pwhere.child(key)
+    else:
+        m = node.start_mark
+        where = pwhere.child(key, m.line + 1, m.column + 1)
+    cache[(id(pwhere), key)] = (pwhere, where)  # holds the parent: its id stays
+    return where
+
+
+def _located(node: yaml.Node, up: tuple) -> Location:
+    """The location of ``node`` from ``up``: (its parent's node, the parent's location or
+    its own ``up``, its key); iterative."""
+    chain = [(node, up)]
+    while not isinstance(chain[-1][1][1], Location):
+        pnode, pup, _ = chain[-1][1]
+        chain.append((pnode, pup))
+    where = None
+    for n, (pnode, pwhere, key) in reversed(chain):
+        where = _where_of(pnode, where if where is not None else pwhere, key, n, "_ks_where")
+    return where
+
+
 class Entry:
     """A YAML node with its location; typed readers report problems and return ``None``."""
 
-    def __init__(self, node: yaml.Node, where: Location, ctx: _Context):
-        self.node, self.where, self.ctx = node, where, ctx
-        self._kids: dict = {}  # key -> child entry (or _ABSENT), kept for the next build
-        self._keys_at: dict[str, Location] = {}  # key -> where the key is written
-        self._vectors: dict[tuple, np.ndarray] = {}  # a vector of numbers without names
+    def __init__(
+        self,
+        node: yaml.Node,
+        where: Location | None,
+        ctx: _Context,
+        parent: Entry | None = None,
+        key: str | int | None = None,
+    ):
+        # ``where`` None: the location below ``parent`` at ``key``, made when it is first
+        # asked for (most entries of a file that reads well are never asked); the entry
+        # keeps the parent's node and its location, or what makes it (no reference to
+        # the parent: no cycle)
+        self.node, self._where, self.ctx = node, where, ctx
+        self._up = None if parent is None else (parent.node, parent._where or parent._up, key)
+        # made when first written (most entries are scalars that keep none of them):
+        self._kids: dict = _NONE  # key -> child entry (or _ABSENT), kept for the next build
+        self._keys_at: dict[str, Location] = _NONE  # key -> where the key is written
+        self._vectors: dict[tuple, np.ndarray] = _NONE  # a vector of numbers without names
 
     def rebuilt(self, ctx: _Context) -> Entry:
         """This entry for another reading of the tree (a batch's next variant): an entry
@@ -112,6 +162,15 @@ class Entry:
             root = self._root = Entry(self.node, self.where, ctx)
         root.ctx = ctx
         return root
+
+    @property
+    def where(self) -> Location:
+        """Where the entry is written: ``file:line:col: key.path``."""
+        where = self._where
+        if where is None:
+            where = self._where = _located(self.node, self._up)
+            self._up = None
+        return where
 
     # -- structure ----------------------------------------------------------
     def error(self, message: str) -> None:
@@ -144,29 +203,17 @@ class Entry:
     def _child(self, key: str | int, node: yaml.Node) -> Entry:
         kid = self._kids.get(key)
         if kid is None or kid is _ABSENT or kid.node is not node:
-            kid = self._kids[key] = Entry(node, self._where_of(key, node, "_ks_where"), self.ctx)
+            if self._kids is _NONE:
+                self._kids = {}
+            kid = self._kids[key] = Entry(node, None, self.ctx, self, key)
         else:
             kid.ctx = self.ctx
         return kid
 
     def _where_of(self, key: str | int, node: yaml.Node | None, kind: str) -> Location:
         """The location of ``node`` (a key's value, or with ``kind="_ks_key"`` the key
-        itself; None: absent) below this entry, kept on the node for the next variant.
-        Kept by the parent location's identity: a tree is re-read with the same
-        locations, and a node reached through an alias has other ones."""
-        cache = self.node.__dict__.get(kind)
-        if cache is None:
-            cache = self.node.__dict__[kind] = {}
-        hit = cache.get((id(self.where), key))
-        if hit is not None and hit[0] is self.where:
-            return hit[1]
-        if node is None:
-            where = self.where.child(key)
-        else:
-            m = node.start_mark
-            where = self.where.child(key, m.line + 1, m.column + 1)
-        cache[(id(self.where), key)] = (self.where, where)  # holds the parent: its id stays
-        return where
+        itself; None: absent) below this entry (:func:`_where_of`)."""
+        return _where_of(self.node, self.where, key, node, kind)
 
     def _index(self) -> dict[str, tuple[yaml.Node, yaml.Node]]:
         """Key -> (key node, value node) of a mapping (its first, as ``_pairs`` runs)."""
@@ -184,6 +231,8 @@ class Entry:
         if where is None:
             found = self._index().get(key) if self.is_mapping else None
             where = self._where_of(key, None if found is None else found[0], "_ks_key")
+            if self._keys_at is _NONE:
+                self._keys_at = {}
             self._keys_at[key] = where
         return where
 
@@ -196,6 +245,8 @@ class Entry:
             return kid
         found = self._index().get(key) if self.is_mapping else None
         if found is None:
+            if self._kids is _NONE:
+                self._kids = {}
             self._kids[key] = _ABSENT
             return None
         return self._child(key, found[1])
@@ -393,6 +444,8 @@ class Entry:
             return None
         out = np.array(values, dtype=float)
         if all(e.node.value in _LITERALS for e in items):  # the same in every build
+            if self._vectors is _NONE:
+                self._vectors = {}
             self._vectors[key] = out.copy()
         return out
 

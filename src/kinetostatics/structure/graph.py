@@ -19,6 +19,7 @@ import numpy as np
 
 from ..errors import Location, StructureError
 from ..model import Model
+from .cycles import cycle_basis, subdivided
 
 __all__ = [
     "JointGraph",
@@ -161,55 +162,6 @@ def cyclomatic_number(g: JointGraph) -> int:
     return g.number_of_edges() - g.number_of_nodes() + components
 
 
-def _subdivided(g: JointGraph) -> dict:
-    """A simple graph (adjacency dicts) with one extra node per joint, so parallel
-    joints form cycles."""
-    h: dict = {}
-    for u, v, key, _ in g.edges():
-        for a, b in ((u, ("joint", key)), (("joint", key), v)):
-            h.setdefault(a, {})
-            h.setdefault(b, {})
-            h[a][b] = h[b][a] = None
-    return h
-
-
-def _cycle_basis(h: dict, root=None) -> list[list]:
-    """Paton's fundamental cycles of a simple graph given as adjacency dicts (CACM 491):
-    a spanning tree grown depth first from ``root``, one cycle per edge off the tree,
-    component after component (networkx's ``cycle_basis``, node for node)."""
-    left = dict.fromkeys(h)  # the nodes not yet reached, in order
-    cycles = []
-    if root is not None and root not in h:
-        root = None
-    while left:
-        if root is None:
-            root = left.popitem()[0]
-        stack, pred, used = [root], {root: root}, {root: set()}
-        while stack:
-            z = stack.pop()
-            zused = used[z]
-            for nbr in h[z]:
-                if nbr not in used:  # a new node
-                    pred[nbr] = z
-                    stack.append(nbr)
-                    used[nbr] = {z}
-                elif nbr == z:  # a self loop
-                    cycles.append([z])
-                elif nbr not in zused:  # a cycle closes
-                    pn = used[nbr]
-                    cycle, p = [nbr, z], pred[z]
-                    while p not in pn:
-                        cycle.append(p)
-                        p = pred[p]
-                    cycle.append(p)
-                    cycles.append(cycle)
-                    used[nbr].add(z)
-        for node in pred:
-            left.pop(node, None)
-        root = None
-    return cycles
-
-
 def independent_loops(g: JointGraph) -> tuple[tuple[str, ...], ...]:
     """A cycle basis as lists of joint names, in traversal order.
 
@@ -227,7 +179,7 @@ def independent_loops(g: JointGraph) -> tuple[tuple[str, ...], ...]:
     ['A', 'B', 'C', 'O']
     """
     root = next((n for n, d in g.nodes.items() if d.get("ground")), None)
-    basis = _cycle_basis(_subdivided(g), root)
+    basis = cycle_basis(subdivided(g.edges()), root)
     return tuple(tuple(n[1] for n in cycle if isinstance(n, tuple)) for cycle in basis)
 
 
@@ -334,13 +286,82 @@ def assur_class(links, joints) -> int | None:
 
 class _GroupSearch:
     """The search of :func:`assur_groups` for the next group, with its count of the work
-    done (at most ``MAX_SEARCH`` steps for the whole decomposition)."""
+    done (at most ``MAX_SEARCH`` steps for the whole decomposition).
 
-    def __init__(self, model: Model, g: JointGraph, constraints: list) -> None:
+    It keeps, from one group to the next, each unknown link's unknown neighbours and what
+    its constraints give it (``gains``), and the single links that their constraints fix;
+    a group placed changes them only around its own links, so decomposing a long chain
+    costs in proportion to its length, not to its square.  Links are numbered in the
+    order of ``unknown`` (the links' order), which removing placed links keeps.
+    """
+
+    def __init__(
+        self, model: Model, g: JointGraph, constraints: list, unknown: list[str], known: set[str]
+    ) -> None:
         self.model, self.g, self.constraints = model, g, constraints
         self.steps = 0
+        self.names = list(unknown)
+        self.known = known
+        self.pos = {name: i for i, name in enumerate(unknown)}
+        self.alive = dict.fromkeys(range(len(unknown)))  # the unknown links, in order
+        pos = self.pos
+        self.nbrs = [{pos[v] for v in g.adj.get(u, ()) if v in pos and v != u} for u in unknown]
+        self.incident: list[list[int]] = [[] for _ in unknown]  # constraints per link
+        self.touching: dict[str, list[int]] = {}  # link (known or not) -> its constraints
+        for k, (_, links, _, _) in enumerate(constraints):
+            for u in links:
+                self.touching.setdefault(u, []).append(k)
+                if u in pos:
+                    self.incident[pos[u]].append(k)
+        self.gains: list[list[tuple[int, int]]] = [[] for _ in unknown]
+        self.singles: set[int] = set()
+        for v in range(len(unknown)):
+            self._gain_of(v)
+        self._count(len(unknown) + sum(map(len, self.gains)))
 
-    def smallest(self, unknown: list[str], known: set[str]) -> tuple[str, ...] | None:
+    @property
+    def unknown(self) -> list[str]:
+        return [self.names[i] for i in self.alive]
+
+    def _gain_of(self, v: int) -> None:
+        """Link ``v``'s constraints as (the other link's number, or -1 if known; n_eq),
+        and whether they fix it alone."""
+        u, pos, known = self.names[v], self.pos, self.known
+        gains = []
+        for k in self.incident[v]:
+            _, links, n_eq, _ = self.constraints[k]
+            others = links - {u} or {u}
+            o = next(iter(others))
+            gains.append((-1 if o in known else pos[o], n_eq))
+        self.gains[v] = gains
+        if sum(n for o, n in gains if o < 0 or o == v) == 3:
+            self.singles.add(v)
+        else:
+            self.singles.discard(v)
+
+    def place(self, combo: tuple[str, ...]) -> None:
+        """``combo``'s links are known from now on."""
+        self.known |= set(combo)
+        touched: set[int] = set()
+        for u in combo:
+            v = self.pos[u]
+            self.alive.pop(v, None)
+            self.singles.discard(v)
+            for w in self.nbrs[v]:
+                self.nbrs[w].discard(v)
+                touched.add(w)
+        touched = {w for w in touched if w in self.alive}
+        for w in touched:
+            self._gain_of(w)
+        self._count(len(combo) + sum(len(self.gains[w]) for w in touched))
+
+    def closing(self, subset: set[str]) -> list[tuple[str, set[str], int, bool]]:
+        """The constraints on ``subset`` whose links are all in it or known, in order."""
+        ks = sorted({k for u in subset for k in self.touching.get(u, ())})
+        cs = [self.constraints[k] for k in ks]
+        return [c for c in cs if c[1] <= subset | self.known]
+
+    def smallest(self) -> tuple[str, ...] | None:
         """The first connected set of unknown links that its constraints fix exactly, by
         size, then in the order of ``itertools.combinations(unknown, size)``; None if
         none has up to ``MAX_GROUP_SEARCH`` links.
@@ -348,28 +369,19 @@ class _GroupSearch:
         Only connected sets are examined (:meth:`_sets`), so the cost grows with the
         joints per link, not as the binomial coefficients of the number of links.
         """
-        pos = {name: i for i, name in enumerate(unknown)}
-        nbrs = [{pos[v] for v in self.g.adj.get(u, ()) if v in pos and v != u} for u in unknown]
-        # per link, its constraints as (the other link's position, or -1 if known; n_eq)
-        gains: list[list[tuple[int, int]]] = [[] for _ in unknown]
-        for _, links, n_eq, _ in self.constraints:
-            for u in links & pos.keys():
-                others = links - {u} or {u}
-                o = next(iter(others))
-                gains[pos[u]].append((-1 if o in known else pos[o], n_eq))
-        self._count(len(unknown) + sum(map(len, gains)), unknown)
-        for v, cs in enumerate(gains):  # single links first, quickly
-            if sum(n for o, n in cs if o < 0 or o == v) == 3:
-                return (unknown[v],)
-        for size in range(2, min(len(unknown), MAX_GROUP_SEARCH) + 1):
-            for v in range(len(unknown)):
-                best = None  # the first in combinations order: the least sorted positions
-                for members, total in self._sets(v, size, nbrs, gains, unknown):
+        names, nbrs, gains = self.names, self.nbrs, self.gains
+        self._count(1)
+        if self.singles:  # single links first
+            return (names[min(self.singles)],)
+        for size in range(2, min(len(self.alive), MAX_GROUP_SEARCH) + 1):
+            for v in self.alive:
+                best = None  # the first in combinations order: the least sorted numbers
+                for members, total in self._sets(v, size, nbrs, gains):
                     if total == 3 * size:
                         key = tuple(sorted(members))
                         best = key if best is None else min(best, key)
                 if best is not None:
-                    return tuple(unknown[i] for i in best)
+                    return tuple(names[i] for i in best)
         return None
 
     def _sets(
@@ -378,7 +390,6 @@ class _GroupSearch:
         size: int,
         nbrs: list[set[int]],
         gains: list[list[tuple[int, int]]],
-        unknown: list[str],
     ) -> Iterator[tuple[tuple[int, ...], int]]:
         """Every connected set of ``size`` positions whose least is ``v``, once each, with
         the equations of the constraints that close it on the known links.
@@ -389,7 +400,7 @@ class _GroupSearch:
         """
 
         def gain(members: tuple[int, ...], w: int) -> int:
-            self._count(1 + len(gains[w]) + len(nbrs[w]), unknown)
+            self._count(1 + len(gains[w]) + len(nbrs[w]))
             return sum(n for o, n in gains[w] if o < 0 or o in members)
 
         def extend(members: tuple[int, ...], total: int, ext: list[int], closed: set[int]):
@@ -405,10 +416,11 @@ class _GroupSearch:
         first = [u for u in nbrs[v] if u > v]
         yield from extend((v,), gain((v,), v), first, nbrs[v] | {v})
 
-    def _count(self, steps: int, unknown: list[str]) -> None:
+    def _count(self, steps: int) -> None:
         self.steps += steps
         if self.steps <= MAX_SEARCH:
             return
+        unknown = self.unknown
         names = ", ".join(unknown[:6]) + (f", … ({len(unknown)} links)" if len(unknown) > 6 else "")
         first = self.model.link(unknown[0]).where
         where = (
@@ -449,21 +461,18 @@ def assur_groups(model: Model, g: JointGraph | None = None) -> tuple[Group, ...]
     constraints = [(j.name, set(j.links), j.n_eq, False) for j in model.joints]
     constraints += [(d.name, set(joints[d.joint].links), 1, True) for d in motion]
     groups: list[Group] = []
-    search = _GroupSearch(model, g, constraints)
+    search = _GroupSearch(model, g, constraints, unknown, known)
 
-    def closing(subset: set[str]) -> list[tuple[str, set[str], int, bool]]:
-        return [c for c in constraints if c[1] & subset and c[1] <= subset | known]
-
-    while unknown:
-        combo = search.smallest(unknown, known)
+    while search.alive:
+        combo = search.smallest()
         if combo is None:
-            combo = tuple(unknown)
+            combo = tuple(search.unknown)
             warnings.warn(
                 f"links {', '.join(combo)} do not decompose into Assur groups; "
                 "they are solved as one group",
                 stacklevel=2,
             )
-        cs = closing(set(combo))
+        cs = search.closing(set(combo))
         jnames = [c[0] for c in cs if not c[3]]
         dnames = [c[0] for c in cs if c[3]]
         if dnames:
@@ -487,8 +496,7 @@ def assur_groups(model: Model, g: JointGraph | None = None) -> tuple[Group, ...]
                 order,
             )
         )
-        known |= set(combo)
-        unknown = [u for u in unknown if u not in combo]
+        search.place(combo)
     return tuple(groups)
 
 
