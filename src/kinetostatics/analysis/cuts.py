@@ -120,6 +120,55 @@ def _friction_kinks(result: Result) -> list:
     return out
 
 
+def _reaction_scale(result: Result) -> float:
+    """The run's largest finite |joint reaction| (λ's joint rows, without and with
+    friction): the scale of a reaction's round-off, which no unit or frame of the run
+    changes (the system is in SI)."""
+    n_j = result.system.n_joint_rows
+    top = 0.0
+    for lam in (result.lam, result.lam_friction):
+        if lam is not None and n_j:
+            v = np.abs(np.asarray(lam, dtype=float)[..., :n_j])
+            top = max(top, float(np.max(v[np.isfinite(v)], initial=0.0)))
+    return top
+
+
+def _size(system) -> float:
+    """The mechanism's size: the largest distance of a link's point from its frame."""
+    return max(
+        (float(np.linalg.norm(p)) for link in system.model.links for p in link.points.values()),
+        default=1.0,
+    )
+
+
+def _above_roundoff(fns: list, floor: float) -> list:
+    """The kink functions with every value within ``floor`` of zero set to 0: a round-off
+    zero is no sign.  (A column that is zero in exact arithmetic — the tooth force of a
+    gear whose second crank turns steadily with nothing on it, ±1e-15 N — otherwise
+    changes sign at random, and its "zeros" were cut in one run and not in the same run
+    in other units, moving the nodes and the sampled peaks: issue 36, seed 1002093.)"""
+    if not floor > 0:
+        return fns
+
+    def zeroed(fn):
+        def f(r):
+            v = np.asarray(fn(r), dtype=float)
+            return np.where(np.abs(v) <= floor, 0.0, v)
+
+        return f
+
+    return [zeroed(fn) for fn in fns]
+
+
+def _roundoff_floor(result: Result) -> float:
+    """Below this a reaction (a normal force, a tooth force) or a driving effort is a
+    round-off zero: 1e-12 of the run's largest reaction, times the mechanism's size where
+    that exceeds 1 m (a torque's lever, as for the efficiency's idle effort; for a force
+    the floor is then larger than it need be, and still far below any real zero's
+    neighbourhood)."""
+    return 1e-12 * _reaction_scale(result) * max(1.0, _size(result.system))
+
+
 JUMP_GAP = 1e-8  # of the span: a jump's sides are sampled this far from it (at most)
 
 
@@ -287,7 +336,7 @@ def missed_cuts(rows: Result, nodes: Result, edges: np.ndarray, friction: bool) 
     new = [r for r in exact_roots(nodes, seen) if np.min(np.abs(edges - r)) > 1e-12 * span]
     if new:
         return new
-    fns = _motion_breaks(nodes) + effort_zeros(nodes)
+    fns = _motion_breaks(nodes) + _above_roundoff(effort_zeros(nodes), _roundoff_floor(nodes))
     if not fns:
         return []
     vals = _columns(nodes, fns)[order]
@@ -400,9 +449,10 @@ def breaks(result: Result, ta: float, tb: float, friction: bool) -> np.ndarray:
         jumps += exact_roots(rows, friction_rates(rows))
     jumps = [ta + np.mod(te - ta, tb - ta) if full else te for te in jumps]
     kinks = exact_roots(result, table_rates(result)) + list(sched.breaks(ta, tb))
-    fns = _motion_breaks(rows) + effort_zeros(rows)
+    floor = _roundoff_floor(rows)  # a round-off zero of an effort or reaction: no sign
+    fns = _motion_breaks(rows) + _above_roundoff(effort_zeros(rows), floor)
     if friction and result.system.model.has_friction:
-        fns += _friction_kinks(rows)
+        fns += _above_roundoff(_friction_kinks(rows), floor)
     kinks += _solved_kinks(rows, fns, jumps, ta, tb)
     times = [ta + np.mod(te - ta, tb - ta) if full else te for te in jumps + kinks]
     return merged_cuts(ta, tb, times)
