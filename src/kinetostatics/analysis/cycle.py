@@ -185,6 +185,15 @@ def cycle_quadrature(
             order = np.argsort(times, kind="stable")
     if again:
         nodes = quiet_analyze(result.system, times=times, friction=friction, events=False)
+    if friction and grouped is not None and len(grouped):
+        # the efforts with friction: a pin force passing close to zero gives ρ|F| a sharp
+        # though smooth minimum, which the frictionless efforts do not show
+        finer = _resolved(result, nodes, grouped, x, w, True)
+        if finer is not None:
+            grouped = finer
+            times, weights = _nodes_of(grouped, x, w)
+            order = np.argsort(times, kind="stable")
+            nodes = quiet_analyze(result.system, times=times, friction=friction, events=False)
     return Quadrature(weights[order], nodes, grouped, friction, rule)
 
 
