@@ -27,7 +27,7 @@ integral over the cycle; nothing is cached on the result.
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -190,11 +190,43 @@ def cycle_quadrature(
         # though smooth minimum, which the frictionless efforts do not show
         finer = _resolved(result, nodes, grouped, x, w, True)
         if finer is not None:
+            nodes = _with_halves(result, nodes, grouped, finer, x, w)
             grouped = finer
             times, weights = _nodes_of(grouped, x, w)
             order = np.argsort(times, kind="stable")
-            nodes = quiet_analyze(result.system, times=times, friction=friction, events=False)
     return Quadrature(weights[order], nodes, grouped, friction, rule)
+
+
+def _with_halves(result: Result, nodes: Result, pieces, finer, x, w) -> Result:
+    """The node result (with friction, in time order) of the pieces ``finer``: the rows of
+    ``nodes`` (of ``pieces``) for the pieces kept, the new pieces' nodes analysed (only
+    they: the friction solution is row by row)."""
+    old, now = {tuple(p) for p in pieces.tolist()}, {tuple(p) for p in finer.tolist()}
+    new = np.array([p for p in finer.tolist() if tuple(p) not in old]).reshape(-1, 2)
+    gone = np.array([tuple(p) not in now for p in pieces.tolist()])
+    order = np.argsort(_nodes_of(pieces, x, w)[0], kind="stable")  # row r: node order[r]
+    rank = np.empty_like(order)
+    rank[order] = np.arange(len(order))  # node j (piece by piece): row rank[j]
+    keep = np.ones(len(nodes), dtype=bool)
+    keep[rank[np.repeat(gone, len(x))]] = False
+    times = np.sort(_nodes_of(new, x, w)[0])
+    part = quiet_analyze(result.system, times=times, friction=True, events=False)
+    want = np.sort(_nodes_of(finer, x, w)[0])
+    both = np.argsort(np.concatenate((nodes.t[keep], part.t)), kind="stable")
+    if len(part) != len(times) or len(both) != len(want):  # not row by row: all again
+        return quiet_analyze(result.system, times=want, friction=True, events=False)
+
+    def join(a, b):
+        return None if a is None else np.concatenate((a[keep], b))[both]
+
+    return replace(
+        nodes,
+        **{k: join(getattr(nodes, k), getattr(part, k)) for k in _ROW_FIELDS},
+        columns={c: join(np.asarray(v), np.asarray(part[c])) for c, v in nodes.columns.items()},
+    )
+
+
+_ROW_FIELDS = ("t", "coordinate", "q", "qd", "qdd", "lam", "lam_friction")
 
 
 def _placed(result: Result, edges: np.ndarray, n_pieces: int, x: np.ndarray, w: np.ndarray):
@@ -242,6 +274,12 @@ def _unresolved(nodes: Result, x: np.ndarray, scales: list[float]) -> np.ndarray
         with np.errstate(divide="ignore", invalid="ignore"):
             rho = (tail / head) ** (1.0 / (n - 2))
             out |= np.isfinite(rho) & (tail * rho ** (n + 1) > RESOLVED * scale)
+    if "friction.status" in nodes.columns:
+        # with friction, only pieces solved by the fixed point (or at zero speed) at every
+        # node: near a self-locking zone the efforts run to a pole that no halving
+        # resolves, and each halving there costs a homotopy per node
+        status = np.asarray(nodes["friction.status"], dtype=float).reshape(-1, n)
+        out &= np.all((status == 0) | (status == 3), axis=1)
     return out
 
 
