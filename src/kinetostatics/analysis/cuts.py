@@ -7,8 +7,8 @@ loads and, with friction, of the joints with friction — and the corners of the
 each located exactly on the motion (Newton on the time from the nearest row); and the
 kinks of quantities only the whole pipeline gives (a driving effort through zero, a
 friction law's normal force through zero, a cam law's segment end), each bracketed by the
-rows, the brackets split at the jumps, and located by secant steps on the pipeline at
-single times continued from the nearest row
+rows, the brackets split at the jumps and at the tables' corners, and located by secant
+steps on the pipeline at single times continued from the nearest row
 (:func:`~kinetostatics.analysis.pipeline.analyze_near`): never by interpolating across a
 jump.
 """
@@ -196,13 +196,18 @@ def _guess(ts, vs, seg, i) -> tuple[float, float]:
     return float(ts[i] + u * h), float(np.polyval(np.polyder(p), u) / h)
 
 
-def _solved_kinks(rows: Result, fns: list, jumps: list[float], ta: float, tb: float) -> list:
+def _solved_kinks(
+    rows: Result, fns: list, jumps: list[float], ta: float, tb: float, corners=()
+) -> list:
     """Times where a kink function (``fn(result) -> (N, m)``) changes sign, each located
     on the solved state, as the events are: bracketed by the rows, the brackets split at
     the ``jumps`` (the load events and reversals, where the function may jump: each side
-    sampled :data:`JUMP_GAP` of the span from it), and the zero found by safeguarded
-    secant steps on the function of :func:`analyze` at single times — never by
-    interpolating across a jump."""
+    sampled :data:`JUMP_GAP` of the span from it) and at the ``corners`` (the cuts where
+    it may kink: a table's corners, a motion table's knots; sampled there), and the zero
+    found by safeguarded secant steps on the function of :func:`analyze` at single times —
+    never by interpolating across a jump.  (A corner can turn an effort back through
+    zero: a pair of zeros between two rows, one each side of it, seen by neither the rows
+    nor the nodes; issue 36, seed 1002123.)"""
     if not fns or len(rows) < 2:
         return []
     t, order, period = _in_time(rows)
@@ -211,14 +216,7 @@ def _solved_kinks(rows: Result, fns: list, jumps: list[float], ta: float, tb: fl
     at = _evaluator(rows, fns, ta, period, rows.lam_friction is not None)
     vals = _columns(rows, fns)[order]
     jumps = sorted_distinct([j for j in jumps if ta < j < tb])
-    near = np.zeros(len(t), dtype=bool)  # rows on a jump (event rows): their side unknown
-    for j in jumps:
-        near |= np.abs(t - j) <= 1e-12 * span
-    # each side of a jump sampled ``gap`` from it, or halfway to the next jump if that is
-    # nearer (a moving condition's event and its zero-speed band's edge lie 1e-10 apart)
-    room = np.diff(np.concatenate(([ta], jumps, [tb]))) / 2
-    left, right = np.minimum(gap, room[:-1]), np.minimum(gap, room[1:])
-    sides = np.ravel(np.column_stack((jumps - left, jumps + right)))
+    near, sides = _samples(t, jumps, corners, ta, tb, gap)
     ts = np.concatenate((t[~near], sides))
     vs = np.concatenate((vals[~near], at(sides) if sides.size else np.zeros((0, vals.shape[1]))))
     o = np.argsort(ts, kind="stable")
@@ -257,6 +255,28 @@ def _solved_kinks(rows: Result, fns: list, jumps: list[float], ta: float, tb: fl
             col.append(m)
             scales.append(scale)
     return _located(at, (lo, hi, flo, fhi, x0, slope, col, scales), span)
+
+
+def _samples(t, jumps, corners, ta: float, tb: float, gap: float):
+    """(near, times): which rows ``t`` lie on a jump (event rows: their side unknown), and
+    the times the kink functions are sampled at besides the rows — each side of a jump
+    ``gap`` from it, or halfway to the next jump if that is nearer (a moving condition's
+    event and its zero-speed band's edge lie 1e-10 apart), and each corner not on a row
+    or beside a jump."""
+    tol = 1e-12 * (tb - ta)
+    near = np.zeros(len(t), dtype=bool)
+    for j in jumps:
+        near |= np.abs(t - j) <= tol
+    room = np.diff(np.concatenate(([ta], jumps, [tb]))) / 2
+    left, right = np.minimum(gap, room[:-1]), np.minimum(gap, room[1:])
+    sides = np.ravel(np.column_stack((jumps - left, jumps + right)))
+    corners = [
+        c
+        for c in sorted_distinct([c for c in corners if ta < c < tb])
+        if np.min(np.abs(t - c), initial=np.inf) > tol
+        and np.min(np.abs(jumps - c), initial=np.inf) > gap
+    ]
+    return near, np.concatenate((sides, corners))
 
 
 def _evaluator(rows: Result, fns: list, ta: float, period: float | None, friction: bool):
@@ -453,7 +473,7 @@ def breaks(result: Result, ta: float, tb: float, friction: bool) -> np.ndarray:
     fns = _motion_breaks(rows) + _above_roundoff(effort_zeros(rows), floor)
     if friction and result.system.model.has_friction:
         fns += _above_roundoff(_friction_kinks(rows), floor)
-    kinks += _solved_kinks(rows, fns, jumps, ta, tb)
+    kinks += _solved_kinks(rows, fns, jumps, ta, tb, corners=kinks)
     times = [ta + np.mod(te - ta, tb - ta) if full else te for te in jumps + kinks]
     return merged_cuts(ta, tb, times)
 

@@ -246,7 +246,7 @@ def _placed(result: Result, edges: np.ndarray, n_pieces: int, x: np.ndarray, w: 
 
 
 RESOLVED = 1e-13  # of an effort's largest |value|: a piece's predicted quadrature error
-SPLITS = 5  # a piece is halved at most this many times (to 1/32 of it)
+SPLITS = 8  # a piece is halved at most this many times (to 1/256 of it)
 
 
 def _nodes_of(pieces: np.ndarray, x: np.ndarray, w: np.ndarray):
