@@ -247,6 +247,8 @@ def _placed(result: Result, edges: np.ndarray, n_pieces: int, x: np.ndarray, w: 
 
 RESOLVED = 1e-13  # of an effort's largest |value|: a piece's predicted quadrature error
 SPLITS = 8  # a piece is halved at most this many times (to 1/256 of it)
+SURE = 5  # … beyond this many times only while its predicted error falls
+CONVERGING = 0.5  # by this factor at least per halving
 
 
 def _nodes_of(pieces: np.ndarray, x: np.ndarray, w: np.ndarray):
@@ -264,22 +266,30 @@ def _unresolved(nodes: Result, x: np.ndarray, scales: list[float]) -> np.ndarray
     to the tail (c_{n−2}, c_{n−1}), the rule's error is about that of c_{2n} ≈
     tail·ρ^{n+1}.  A smooth effort's pieces are resolved (ρ ~ 0.1); a sharp peak beside a
     singular position is not (ρ ~ 0.4, the two orders then differ by 1e-9)."""
+    return _predicted(nodes, x, scales) > RESOLVED
+
+
+def _predicted(nodes: Result, x: np.ndarray, scales: list[float]) -> np.ndarray:
+    """Per piece, the largest predicted quadrature error of an effort over its scale
+    (:func:`_unresolved`; 0 where not finite, and for a piece not solved by the friction
+    fixed point at every node)."""
     n = len(x)
     inv = np.linalg.inv(np.polynomial.legendre.legvander(x, n - 1))
-    out = np.zeros(len(nodes) // n, dtype=bool)
+    out = np.zeros(len(nodes) // n)
     for fn, scale in zip(effort_zeros(nodes), scales):
         v = np.asarray(fn(nodes), dtype=float).reshape(-1, n)
         c = np.abs(v @ inv.T)
         tail, head = np.max(c[:, -2:], axis=1), np.max(c[:, :3], axis=1)
         with np.errstate(divide="ignore", invalid="ignore"):
             rho = (tail / head) ** (1.0 / (n - 2))
-            out |= np.isfinite(rho) & (tail * rho ** (n + 1) > RESOLVED * scale)
+            err = tail * rho ** (n + 1) / scale
+        out = np.maximum(out, np.where(np.isfinite(err), err, 0.0))
     if "friction.status" in nodes.columns:
         # with friction, only pieces solved by the fixed point (or at zero speed) at every
         # node: near a self-locking zone the efforts run to a pole that no halving
         # resolves, and each halving there costs a homotopy per node
         status = np.asarray(nodes["friction.status"], dtype=float).reshape(-1, n)
-        out &= np.all((status == 0) | (status == 3), axis=1)
+        out = np.where(np.all((status == 0) | (status == 3), axis=1), out, 0.0)
     return out
 
 
@@ -291,10 +301,11 @@ def _resolved(result: Result, nodes: Result, pieces, x, w, friction: bool):
     for fn in effort_zeros(nodes):
         v = np.abs(np.asarray(fn(nodes), dtype=float))
         scales.append(float(np.max(v[np.isfinite(v)], initial=0.0)))
-    bad = _unresolved(nodes, x, scales)
+    err = _predicted(nodes, x, scales)
+    bad = err > RESOLVED
     if not SPLITS or not bad.any():
         return None
-    done, pending = [pieces[~bad]], pieces[bad]
+    done, pending, before = [pieces[~bad]], pieces[bad], err[bad]
     for level in range(SPLITS):
         mid = 0.5 * (pending[:, 0] + pending[:, 1])
         halves = np.column_stack(
@@ -314,9 +325,13 @@ def _resolved(result: Result, nodes: Result, pieces, x, w, friction: bool):
         if len(part) != len(times) or not np.array_equal(part.t, times):
             done.append(halves)
             break
-        bad = _unresolved(part, x, scales)
+        err = _predicted(part, x, scales)
+        bad = err > RESOLVED
+        if level >= SURE - 1:  # beyond SURE halvings only while the error falls: a pole
+            # (an effort through infinity at a dead point) is not resolved by halving
+            bad &= err < CONVERGING * np.repeat(before, 2)
         done.append(halves[~bad])
-        pending = halves[bad]
+        pending, before = halves[bad], err[bad]
         if not len(pending):
             break
     out = np.concatenate(done)
