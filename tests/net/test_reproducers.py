@@ -219,3 +219,62 @@ def test_a_rest_then_motion_the_other_way_is_no_switch():
     for (_, _, ta), (_, _, tb) in zip(*events, strict=True):
         assert abs(ta - tb) <= 1e-9 * scale
     assert R.relation_units(doc, 1000006) <= R.TOLERANCE["units"]
+
+
+def test_an_idle_tooth_force_makes_no_cuts():
+    """The gear's frictionless tooth force is a round-off zero (±1e-15 N against reactions
+    of 90 N): its random signs were cut as kinks of the mesh's friction law, at other times
+    in mm/deg/rpm than in SI, and the drive's motor power peak, sampled at the nodes, moved
+    by 9.5e-5 of itself (seed 1002093). A reaction within 1e-12 of the run's largest is now
+    no sign: the two runs have the same cuts."""
+    from kinetostatics.analysis.cuts import breaks, span
+
+    doc = yaml.safe_load((CASES / "idle_tooth_force.yaml").read_text(encoding="utf-8"))
+    cuts = []
+    for d in (doc, R.G.in_units(doc, "mm", "deg", "rpm")):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            res = ks.analyze(ks.loads(yaml.safe_dump(d)))
+            cuts.append(breaks(res, *span(res), friction=True))
+    assert len(cuts[0]) == len(cuts[1])
+    assert np.max(np.abs(cuts[0] - cuts[1])) <= 1e-9 * (cuts[0][-1] - cuts[0][0])
+    assert R.relation_units(doc, 1002093) <= R.TOLERANCE["units"]
+
+
+def test_a_pin_force_near_zero_is_resolved_in_the_friction_means():
+    """Pin J7's force passes within 0.34 N of zero (88 N at most): ρ|F| has a sharp but
+    smooth minimum, and the pieces were halved only where the frictionless efforts were
+    unresolved; the friction means of the two orders differed by 1.4e-6 of the RMS (seed
+    1002276). The efforts with friction are now checked too."""
+    doc = yaml.safe_load((CASES / "pin_force_near_zero.yaml").read_text(encoding="utf-8"))
+    assert R.relation_quadrature(doc, 1002276) <= R.TOLERANCE["quadrature"]
+
+
+def test_a_table_corner_that_turns_the_effort_back_through_zero():
+    """A table's corner turns the falling driving torque back up 0.4 ms after it passed
+    through zero: two zeros between two rows, one each side of the corner, which neither
+    the rows nor the nodes (the corner, a cut, between the two that change sign) saw. The
+    motor-side torque's kink lay inside a piece: the drive's mean motor power of the two
+    orders differed by 9.2e-8 (seed 1002123). The kink functions are now sampled at the
+    corners too."""
+    doc = yaml.safe_load((CASES / "table_corner_turns_effort.yaml").read_text(encoding="utf-8"))
+    assert R.relation_cycle_means(doc, 1002123) <= R.TOLERANCE["cycle_means"]
+
+
+def test_a_sharp_peak_beside_a_singular_position_is_halved_far_enough():
+    """The driving torque peaks at 4.9e5 N·m and passes through zero between its peaks
+    within 4e-4 s; five halvings (1/32 of a piece) left it unresolved, and the RMS of the
+    two orders differed by 3.4e-9 (seed 1002199). Pieces are now halved up to eight
+    times."""
+    from kinetostatics.analysis.cycle import cycle_stats
+
+    doc = yaml.safe_load((CASES / "sharp_peak_needs_halving.yaml").read_text(encoding="utf-8"))
+    res = _analyze(doc)
+    torque = np.asarray(res["motor.torque"])
+    scale = float(np.max(np.abs(torque)))  # at the rows, as the cycle_means relation
+    a, b = (
+        cycle_stats(res, ["motor.torque"], friction=False, quadrature=q)["motor.torque"]
+        for q in R.CONVERGED
+    )
+    for key in ("mean", "rms"):
+        assert abs(a[key] - b[key]) <= R.TOLERANCE["cycle_means"] * scale

@@ -7,8 +7,8 @@ loads and, with friction, of the joints with friction — and the corners of the
 each located exactly on the motion (Newton on the time from the nearest row); and the
 kinks of quantities only the whole pipeline gives (a driving effort through zero, a
 friction law's normal force through zero, a cam law's segment end), each bracketed by the
-rows, the brackets split at the jumps, and located by secant steps on the pipeline at
-single times continued from the nearest row
+rows, the brackets split at the jumps and at the tables' corners, and located by secant
+steps on the pipeline at single times continued from the nearest row
 (:func:`~kinetostatics.analysis.pipeline.analyze_near`): never by interpolating across a
 jump.
 """
@@ -120,6 +120,55 @@ def _friction_kinks(result: Result) -> list:
     return out
 
 
+def _reaction_scale(result: Result) -> float:
+    """The run's largest finite |joint reaction| (λ's joint rows, without and with
+    friction): the scale of a reaction's round-off, which no unit or frame of the run
+    changes (the system is in SI)."""
+    n_j = result.system.n_joint_rows
+    top = 0.0
+    for lam in (result.lam, result.lam_friction):
+        if lam is not None and n_j:
+            v = np.abs(np.asarray(lam, dtype=float)[..., :n_j])
+            top = max(top, float(np.max(v[np.isfinite(v)], initial=0.0)))
+    return top
+
+
+def _size(system) -> float:
+    """The mechanism's size: the largest distance of a link's point from its frame."""
+    return max(
+        (float(np.linalg.norm(p)) for link in system.model.links for p in link.points.values()),
+        default=1.0,
+    )
+
+
+def _above_roundoff(fns: list, floor: float) -> list:
+    """The kink functions with every value within ``floor`` of zero set to 0: a round-off
+    zero is no sign.  (A column that is zero in exact arithmetic — the tooth force of a
+    gear whose second crank turns steadily with nothing on it, ±1e-15 N — otherwise
+    changes sign at random, and its "zeros" were cut in one run and not in the same run
+    in other units, moving the nodes and the sampled peaks: issue 36, seed 1002093.)"""
+    if not floor > 0:
+        return fns
+
+    def zeroed(fn):
+        def f(r):
+            v = np.asarray(fn(r), dtype=float)
+            return np.where(np.abs(v) <= floor, 0.0, v)
+
+        return f
+
+    return [zeroed(fn) for fn in fns]
+
+
+def _roundoff_floor(result: Result) -> float:
+    """Below this a reaction (a normal force, a tooth force) or a driving effort is a
+    round-off zero: 1e-12 of the run's largest reaction, times the mechanism's size where
+    that exceeds 1 m (a torque's lever, as for the efficiency's idle effort; for a force
+    the floor is then larger than it need be, and still far below any real zero's
+    neighbourhood)."""
+    return 1e-12 * _reaction_scale(result) * max(1.0, _size(result.system))
+
+
 JUMP_GAP = 1e-8  # of the span: a jump's sides are sampled this far from it (at most)
 
 
@@ -147,13 +196,18 @@ def _guess(ts, vs, seg, i) -> tuple[float, float]:
     return float(ts[i] + u * h), float(np.polyval(np.polyder(p), u) / h)
 
 
-def _solved_kinks(rows: Result, fns: list, jumps: list[float], ta: float, tb: float) -> list:
+def _solved_kinks(
+    rows: Result, fns: list, jumps: list[float], ta: float, tb: float, corners=()
+) -> list:
     """Times where a kink function (``fn(result) -> (N, m)``) changes sign, each located
     on the solved state, as the events are: bracketed by the rows, the brackets split at
     the ``jumps`` (the load events and reversals, where the function may jump: each side
-    sampled :data:`JUMP_GAP` of the span from it), and the zero found by safeguarded
-    secant steps on the function of :func:`analyze` at single times — never by
-    interpolating across a jump."""
+    sampled :data:`JUMP_GAP` of the span from it) and at the ``corners`` (the cuts where
+    it may kink: a table's corners, a motion table's knots; sampled there), and the zero
+    found by safeguarded secant steps on the function of :func:`analyze` at single times —
+    never by interpolating across a jump.  (A corner can turn an effort back through
+    zero: a pair of zeros between two rows, one each side of it, seen by neither the rows
+    nor the nodes; issue 36, seed 1002123.)"""
     if not fns or len(rows) < 2:
         return []
     t, order, period = _in_time(rows)
@@ -162,14 +216,7 @@ def _solved_kinks(rows: Result, fns: list, jumps: list[float], ta: float, tb: fl
     at = _evaluator(rows, fns, ta, period, rows.lam_friction is not None)
     vals = _columns(rows, fns)[order]
     jumps = sorted_distinct([j for j in jumps if ta < j < tb])
-    near = np.zeros(len(t), dtype=bool)  # rows on a jump (event rows): their side unknown
-    for j in jumps:
-        near |= np.abs(t - j) <= 1e-12 * span
-    # each side of a jump sampled ``gap`` from it, or halfway to the next jump if that is
-    # nearer (a moving condition's event and its zero-speed band's edge lie 1e-10 apart)
-    room = np.diff(np.concatenate(([ta], jumps, [tb]))) / 2
-    left, right = np.minimum(gap, room[:-1]), np.minimum(gap, room[1:])
-    sides = np.ravel(np.column_stack((jumps - left, jumps + right)))
+    near, sides = _samples(t, jumps, corners, ta, tb, gap)
     ts = np.concatenate((t[~near], sides))
     vs = np.concatenate((vals[~near], at(sides) if sides.size else np.zeros((0, vals.shape[1]))))
     o = np.argsort(ts, kind="stable")
@@ -208,6 +255,28 @@ def _solved_kinks(rows: Result, fns: list, jumps: list[float], ta: float, tb: fl
             col.append(m)
             scales.append(scale)
     return _located(at, (lo, hi, flo, fhi, x0, slope, col, scales), span)
+
+
+def _samples(t, jumps, corners, ta: float, tb: float, gap: float):
+    """(near, times): which rows ``t`` lie on a jump (event rows: their side unknown), and
+    the times the kink functions are sampled at besides the rows — each side of a jump
+    ``gap`` from it, or halfway to the next jump if that is nearer (a moving condition's
+    event and its zero-speed band's edge lie 1e-10 apart), and each corner not on a row
+    or beside a jump."""
+    tol = 1e-12 * (tb - ta)
+    near = np.zeros(len(t), dtype=bool)
+    for j in jumps:
+        near |= np.abs(t - j) <= tol
+    room = np.diff(np.concatenate(([ta], jumps, [tb]))) / 2
+    left, right = np.minimum(gap, room[:-1]), np.minimum(gap, room[1:])
+    sides = np.ravel(np.column_stack((jumps - left, jumps + right)))
+    corners = [
+        c
+        for c in sorted_distinct([c for c in corners if ta < c < tb])
+        if np.min(np.abs(t - c), initial=np.inf) > tol
+        and np.min(np.abs(jumps - c), initial=np.inf) > gap
+    ]
+    return near, np.concatenate((sides, corners))
 
 
 def _evaluator(rows: Result, fns: list, ta: float, period: float | None, friction: bool):
@@ -287,7 +356,7 @@ def missed_cuts(rows: Result, nodes: Result, edges: np.ndarray, friction: bool) 
     new = [r for r in exact_roots(nodes, seen) if np.min(np.abs(edges - r)) > 1e-12 * span]
     if new:
         return new
-    fns = _motion_breaks(nodes) + effort_zeros(nodes)
+    fns = _motion_breaks(nodes) + _above_roundoff(effort_zeros(nodes), _roundoff_floor(nodes))
     if not fns:
         return []
     vals = _columns(nodes, fns)[order]
@@ -400,10 +469,11 @@ def breaks(result: Result, ta: float, tb: float, friction: bool) -> np.ndarray:
         jumps += exact_roots(rows, friction_rates(rows))
     jumps = [ta + np.mod(te - ta, tb - ta) if full else te for te in jumps]
     kinks = exact_roots(result, table_rates(result)) + list(sched.breaks(ta, tb))
-    fns = _motion_breaks(rows) + effort_zeros(rows)
+    floor = _roundoff_floor(rows)  # a round-off zero of an effort or reaction: no sign
+    fns = _motion_breaks(rows) + _above_roundoff(effort_zeros(rows), floor)
     if friction and result.system.model.has_friction:
-        fns += _friction_kinks(rows)
-    kinks += _solved_kinks(rows, fns, jumps, ta, tb)
+        fns += _above_roundoff(_friction_kinks(rows), floor)
+    kinks += _solved_kinks(rows, fns, jumps, ta, tb, corners=kinks)
     times = [ta + np.mod(te - ta, tb - ta) if full else te for te in jumps + kinks]
     return merged_cuts(ta, tb, times)
 

@@ -27,7 +27,7 @@ integral over the cycle; nothing is cached on the result.
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -185,7 +185,48 @@ def cycle_quadrature(
             order = np.argsort(times, kind="stable")
     if again:
         nodes = quiet_analyze(result.system, times=times, friction=friction, events=False)
+    if friction and grouped is not None and len(grouped):
+        # the efforts with friction: a pin force passing close to zero gives ρ|F| a sharp
+        # though smooth minimum, which the frictionless efforts do not show
+        finer = _resolved(result, nodes, grouped, x, w, True)
+        if finer is not None:
+            nodes = _with_halves(result, nodes, grouped, finer, x, w)
+            grouped = finer
+            times, weights = _nodes_of(grouped, x, w)
+            order = np.argsort(times, kind="stable")
     return Quadrature(weights[order], nodes, grouped, friction, rule)
+
+
+def _with_halves(result: Result, nodes: Result, pieces, finer, x, w) -> Result:
+    """The node result (with friction, in time order) of the pieces ``finer``: the rows of
+    ``nodes`` (of ``pieces``) for the pieces kept, the new pieces' nodes analysed (only
+    they: the friction solution is row by row)."""
+    old, now = {tuple(p) for p in pieces.tolist()}, {tuple(p) for p in finer.tolist()}
+    new = np.array([p for p in finer.tolist() if tuple(p) not in old]).reshape(-1, 2)
+    gone = np.array([tuple(p) not in now for p in pieces.tolist()])
+    order = np.argsort(_nodes_of(pieces, x, w)[0], kind="stable")  # row r: node order[r]
+    rank = np.empty_like(order)
+    rank[order] = np.arange(len(order))  # node j (piece by piece): row rank[j]
+    keep = np.ones(len(nodes), dtype=bool)
+    keep[rank[np.repeat(gone, len(x))]] = False
+    times = np.sort(_nodes_of(new, x, w)[0])
+    part = quiet_analyze(result.system, times=times, friction=True, events=False)
+    want = np.sort(_nodes_of(finer, x, w)[0])
+    both = np.argsort(np.concatenate((nodes.t[keep], part.t)), kind="stable")
+    if len(part) != len(times) or len(both) != len(want):  # not row by row: all again
+        return quiet_analyze(result.system, times=want, friction=True, events=False)
+
+    def join(a, b):
+        return None if a is None else np.concatenate((a[keep], b))[both]
+
+    return replace(
+        nodes,
+        **{k: join(getattr(nodes, k), getattr(part, k)) for k in _ROW_FIELDS},
+        columns={c: join(np.asarray(v), np.asarray(part[c])) for c, v in nodes.columns.items()},
+    )
+
+
+_ROW_FIELDS = ("t", "coordinate", "q", "qd", "qdd", "lam", "lam_friction")
 
 
 def _placed(result: Result, edges: np.ndarray, n_pieces: int, x: np.ndarray, w: np.ndarray):
@@ -205,7 +246,9 @@ def _placed(result: Result, edges: np.ndarray, n_pieces: int, x: np.ndarray, w: 
 
 
 RESOLVED = 1e-13  # of an effort's largest |value|: a piece's predicted quadrature error
-SPLITS = 5  # a piece is halved at most this many times (to 1/32 of it)
+SPLITS = 8  # a piece is halved at most this many times (to 1/256 of it)
+SURE = 5  # … beyond this many times only while its predicted error falls
+CONVERGING = 0.5  # by this factor at least per halving
 
 
 def _nodes_of(pieces: np.ndarray, x: np.ndarray, w: np.ndarray):
@@ -223,16 +266,30 @@ def _unresolved(nodes: Result, x: np.ndarray, scales: list[float]) -> np.ndarray
     to the tail (c_{n−2}, c_{n−1}), the rule's error is about that of c_{2n} ≈
     tail·ρ^{n+1}.  A smooth effort's pieces are resolved (ρ ~ 0.1); a sharp peak beside a
     singular position is not (ρ ~ 0.4, the two orders then differ by 1e-9)."""
+    return _predicted(nodes, x, scales) > RESOLVED
+
+
+def _predicted(nodes: Result, x: np.ndarray, scales: list[float]) -> np.ndarray:
+    """Per piece, the largest predicted quadrature error of an effort over its scale
+    (:func:`_unresolved`; 0 where not finite, and for a piece not solved by the friction
+    fixed point at every node)."""
     n = len(x)
     inv = np.linalg.inv(np.polynomial.legendre.legvander(x, n - 1))
-    out = np.zeros(len(nodes) // n, dtype=bool)
+    out = np.zeros(len(nodes) // n)
     for fn, scale in zip(effort_zeros(nodes), scales):
         v = np.asarray(fn(nodes), dtype=float).reshape(-1, n)
         c = np.abs(v @ inv.T)
         tail, head = np.max(c[:, -2:], axis=1), np.max(c[:, :3], axis=1)
         with np.errstate(divide="ignore", invalid="ignore"):
             rho = (tail / head) ** (1.0 / (n - 2))
-            out |= np.isfinite(rho) & (tail * rho ** (n + 1) > RESOLVED * scale)
+            err = tail * rho ** (n + 1) / scale
+        out = np.maximum(out, np.where(np.isfinite(err), err, 0.0))
+    if "friction.status" in nodes.columns:
+        # with friction, only pieces solved by the fixed point (or at zero speed) at every
+        # node: near a self-locking zone the efforts run to a pole that no halving
+        # resolves, and each halving there costs a homotopy per node
+        status = np.asarray(nodes["friction.status"], dtype=float).reshape(-1, n)
+        out = np.where(np.all((status == 0) | (status == 3), axis=1), out, 0.0)
     return out
 
 
@@ -244,10 +301,11 @@ def _resolved(result: Result, nodes: Result, pieces, x, w, friction: bool):
     for fn in effort_zeros(nodes):
         v = np.abs(np.asarray(fn(nodes), dtype=float))
         scales.append(float(np.max(v[np.isfinite(v)], initial=0.0)))
-    bad = _unresolved(nodes, x, scales)
+    err = _predicted(nodes, x, scales)
+    bad = err > RESOLVED
     if not SPLITS or not bad.any():
         return None
-    done, pending = [pieces[~bad]], pieces[bad]
+    done, pending, before = [pieces[~bad]], pieces[bad], err[bad]
     for level in range(SPLITS):
         mid = 0.5 * (pending[:, 0] + pending[:, 1])
         halves = np.column_stack(
@@ -267,9 +325,13 @@ def _resolved(result: Result, nodes: Result, pieces, x, w, friction: bool):
         if len(part) != len(times) or not np.array_equal(part.t, times):
             done.append(halves)
             break
-        bad = _unresolved(part, x, scales)
+        err = _predicted(part, x, scales)
+        bad = err > RESOLVED
+        if level >= SURE - 1:  # beyond SURE halvings only while the error falls: a pole
+            # (an effort through infinity at a dead point) is not resolved by halving
+            bad &= err < CONVERGING * np.repeat(before, 2)
         done.append(halves[~bad])
-        pending = halves[bad]
+        pending, before = halves[bad], err[bad]
         if not len(pending):
             break
     out = np.concatenate(done)
