@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import os
+import platform
+import re
 import sys
 import time
 from pathlib import Path
@@ -24,3 +27,34 @@ def best_of(f, repeat: int = 7, number: int | None = None) -> float:
             f()
         best = min(best, (time.perf_counter() - t0) / number)
     return best
+
+
+ACCURACY = ROOT / "docs" / "accuracy.md"
+
+
+def write_block(begin: str, end: str, body: str, doc: Path = ACCURACY) -> None:
+    """Replace what lies between the markers ``begin`` and ``end`` of ``doc`` by ``body``
+    (the tables the benchmarks' ``--write`` keep in docs/accuracy.md)."""
+    text = doc.read_text(encoding="utf-8")
+    pat = re.compile(re.escape(begin) + ".*?" + re.escape(end), re.S)
+    if not pat.search(text):
+        raise SystemExit(f"{doc.name} has no {begin} … {end} block")
+    doc.write_text(pat.sub(lambda _m: f"{begin}\n{body.strip()}\n{end}", text), encoding="utf-8")
+
+
+def machine() -> str:
+    """The CPU, its logical CPUs, Python's and NumPy's versions (a table's conditions)."""
+    import numpy
+
+    cpu = platform.processor() or platform.machine()
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                cpu = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    return (
+        f"{cpu}, {os.cpu_count()} logical CPUs, Python {platform.python_version()}, "
+        f"NumPy {numpy.__version__}"
+    )

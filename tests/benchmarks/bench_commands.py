@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import re
 import resource
 import statistics
 import subprocess
@@ -33,6 +32,8 @@ import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
+
+from _common import machine, write_block
 
 ROOT = Path(__file__).resolve().parents[2]
 DOC = ROOT / "docs" / "accuracy.md"
@@ -110,25 +111,6 @@ def load() -> str:
         return "unknown"
 
 
-def machine() -> str:
-    import platform
-
-    import numpy
-
-    cpu = platform.machine()
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    return (
-        f"{cpu}, {os.cpu_count()} logical CPUs, Python {sys.version.split()[0]}, "
-        f"NumPy {numpy.__version__}"
-    )
-
-
 @dataclass(frozen=True)
 class Run:
     conditions: str
@@ -170,14 +152,6 @@ def table(runs: list[Run]) -> str:
     return "\n".join(lines)
 
 
-def write(body: str) -> None:
-    text = DOC.read_text()
-    pat = re.compile(re.escape(BEGIN) + ".*?" + re.escape(END), re.S)
-    if not pat.search(text):
-        raise SystemExit(f"docs/accuracy.md has no {BEGIN} … {END} block")
-    DOC.write_text(pat.sub(lambda _m: f"{BEGIN}\n{body.strip()}\n{END}", text))
-
-
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--rounds", type=int, default=7, help="timed rounds per run (default 7)")
@@ -213,7 +187,7 @@ def main(argv=None) -> None:
     )
     print(body)
     if args.write:
-        write(body)
+        write_block(BEGIN, END, body)
         print(f"updated {DOC.relative_to(ROOT)}")
 
 

@@ -27,15 +27,14 @@ and ``<!-- loading:end -->``.  Nothing here is a test: the targets are the proje
 from __future__ import annotations
 
 import argparse
-import re
 import statistics
 import sys
 import tempfile
 import time
 from pathlib import Path
 
-import _common  # noqa: F401  (puts the repository on sys.path, for tests.chains)
 import bench_commands as commands
+from _common import write_block  # and the repository on sys.path, for tests.chains
 
 import kinetostatics as ks
 from tests.chains import dyad_chain
@@ -141,14 +140,6 @@ def table(runs: list[list[tuple[str, str, str]]]) -> str:
     return "\n".join(lines)
 
 
-def write(body: str) -> None:
-    text = DOC.read_text()
-    pat = re.compile(re.escape(BEGIN) + ".*?" + re.escape(END), re.S)
-    if not pat.search(text):
-        raise SystemExit(f"docs/accuracy.md has no {BEGIN} … {END} block")
-    DOC.write_text(pat.sub(lambda _m: f"{BEGIN}\n{body.strip()}\n{END}", text))
-
-
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--rounds", type=int, default=7, help="timed rounds per run (default 7)")
@@ -185,7 +176,7 @@ def main(argv=None) -> None:
     )
     print(body)
     if args.write:
-        write(body)
+        write_block(BEGIN, END, body)
         print(f"updated {DOC.relative_to(ROOT)}")
 
 

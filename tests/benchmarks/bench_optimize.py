@@ -52,9 +52,7 @@ from __future__ import annotations
 
 import argparse
 import os
-import re
 import statistics
-import sys
 import time
 import warnings
 from dataclasses import dataclass
@@ -62,14 +60,13 @@ from datetime import datetime, timezone
 
 import numpy as np
 import speed_closed_forms as cf
-from _common import ROOT
+from _common import ROOT, machine, write_block
 
 import kinetostatics as ks
 from kinetostatics.base import kernels
 from kinetostatics.batch import sweeps
 from kinetostatics.batch.variants import Template, analyze_variants
 
-DOC = ROOT / "docs" / "accuracy.md"
 BEGIN, END = "<!-- throughput:begin -->", "<!-- throughput:end -->"
 PATH = ROOT / "mechanisms" / "slotting_machine.yaml"
 VARY = {"BC_ratio": (0.8, 1.2), "L_O2O3": (130.0, 170.0)}
@@ -372,23 +369,6 @@ def load() -> str:
         return "unknown"
 
 
-def machine() -> str:
-    import platform
-
-    cpu = platform.machine()
-    try:
-        for line in open("/proc/cpuinfo", encoding="utf-8"):
-            if line.startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    return (
-        f"{cpu}, {os.cpu_count()} logical CPUs, Python {sys.version.split()[0]}, "
-        f"NumPy {np.__version__}"
-    )
-
-
 def table(runs: list[tuple[str, list[Row]]], args) -> str:
     head = "| measure | target: closed form / ours ≤ |"
     rule = "|---|---|"
@@ -437,14 +417,6 @@ def table(runs: list[tuple[str, list[Row]]], args) -> str:
     return cond + "\n\n" + "\n".join(lines)
 
 
-def write(body: str) -> None:
-    text = DOC.read_text(encoding="utf-8")
-    pat = re.compile(re.escape(BEGIN) + ".*?" + re.escape(END), re.S)
-    if not pat.search(text):
-        raise SystemExit(f"docs/accuracy.md has no {BEGIN} … {END} block")
-    DOC.write_text(pat.sub(lambda _m: f"{BEGIN}\n{body.strip()}\n{END}", text), encoding="utf-8")
-
-
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--rounds", type=int, default=5)
@@ -470,7 +442,7 @@ def main(argv=None) -> None:
     body = table(runs, args)
     print(body)
     if args.write:
-        write(body)
+        write_block(BEGIN, END, body)
 
 
 if __name__ == "__main__":

@@ -35,7 +35,6 @@ from __future__ import annotations
 import argparse
 import gc
 import os
-import platform
 import re
 import shutil
 import subprocess
@@ -47,7 +46,7 @@ from pathlib import Path
 
 import numpy as np
 import speed_closed_forms as cf
-from _common import ROOT
+from _common import ROOT, machine, write_block
 
 import kinetostatics as ks
 from kinetostatics.base import kernels
@@ -457,34 +456,11 @@ def table(runs: list[list[Row]]) -> str:
     return "\n".join(lines)
 
 
-def machine() -> str:
-    cpu = platform.processor() or platform.machine()
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    return (
-        f"{cpu}, {os.cpu_count()} logical CPUs, Python {platform.python_version()}, "
-        f"NumPy {np.__version__}"
-    )
-
-
 def load() -> str:
     try:
         return "load average " + " / ".join(f"{x:.2f}" for x in os.getloadavg())
     except OSError:
         return "load average unknown"
-
-
-def write(body: str) -> None:
-    text = DOC.read_text()
-    pat = re.compile(re.escape(BEGIN) + ".*?" + re.escape(END), re.S)
-    if not pat.search(text):
-        raise SystemExit(f"docs/accuracy.md has no {BEGIN} … {END} block")
-    DOC.write_text(pat.sub(lambda _m: f"{BEGIN}\n{body.strip()}\n{END}", text))
 
 
 def main(argv=None) -> None:
@@ -531,7 +507,7 @@ def main(argv=None) -> None:
         body = "\n".join([body, *kept])
     print(body)
     if args.write:
-        write(body)
+        write_block(BEGIN, END, body)
         print(f"updated {DOC.relative_to(ROOT)}")
 
 
