@@ -34,7 +34,7 @@ import time
 from pathlib import Path
 
 import bench_commands as commands
-from _common import write_block  # and the repository on sys.path, for tests.chains
+from _common import machine, write_block  # and the repository on sys.path, for tests.chains
 
 import kinetostatics as ks
 from tests.chains import dyad_chain
@@ -168,7 +168,7 @@ def main(argv=None) -> None:
         for what, target, value in runs[-1]:
             print(f"{what}: {value} (target {target})")
     body = (
-        f"**Conditions:** {commands.machine()}; CPU time; "
+        f"**Conditions:** {machine()}; CPU time; "
         + "; ".join(conditions)
         + (f"; {args.note}" if args.note else "")
         + ".\n\n"

@@ -72,19 +72,8 @@ PATH = ROOT / "mechanisms" / "slotting_machine.yaml"
 VARY = {"BC_ratio": (0.8, 1.2), "L_O2O3": (130.0, 170.0)}
 POPSIZE, SEED, TOL = 12, 0, 1e-6  # optimize's defaults
 START = np.radians(300.0)  # analysis.start; the crank turns clockwise
-SWEEP = """
-random:
-  n: {n}
-  seed: 2026
-  params:
-    K: {{uniform: [1.6, 2.4]}}
-    H: {{uniform: [80, 120]}}
-    L_O2O3: {{uniform: [130, 170]}}
-    BC_ratio: {{uniform: [0.8, 1.2]}}
-    G3: {{uniform: [140, 180]}}
-    G5: {{uniform: [280, 360]}}
-    Q: {{uniform: [800, 1200]}}
-"""
+from bench_batch import SWEEP  # noqa: E402  the batch benchmark's 7-parameter sweep
+
 try:
     import numba  # noqa: F401  (the optional compiled backend: its column, where installed)
 
