@@ -135,7 +135,23 @@ def test_a_pair_of_cuts_between_two_rows_is_found_by_the_nodes(case, without, mo
     doc = _net_case(case)
     assert R.relation_cycle_means(doc, 0) <= 1e-12
     monkeypatch.setattr(cycle, "missed_cuts", lambda *args: [])
+    monkeypatch.setattr(cycle, "SPLITS", 0)  # halving comes closer (5e-12) but cuts nothing
     assert R.relation_cycle_means(doc, 0) > without
+
+
+def test_a_small_near_kink_on_a_large_effort_is_resolved_by_halving(monkeypatch):
+    """A pin's friction torque through a sharp minimum (its force passes near zero), ~10⁴
+    times smaller than the driving torque it rides on: the Legendre coefficients of a piece
+    fall fast from the head and then stay on a plateau, so their decay from the head
+    predicted 4e-14 and the piece was not halved, while 8- and 16-point Gauss differed by
+    1.2e-7 of the RMS (seed 1003614, relation quadrature).  The tail's own decay now counts
+    too."""
+    from tests.net import relations as R
+
+    doc = _net_case("near_kink_on_a_large_effort.yaml")
+    assert R.relation_quadrature(doc, 0) <= 1e-12
+    monkeypatch.setattr(cycle, "SPLITS", 0)
+    assert R.relation_quadrature(doc, 0) > 1e-8
 
 
 def test_a_moving_load_is_cut_where_its_speed_leaves_the_zero_speed_band(monkeypatch):

@@ -146,9 +146,20 @@ def compare(a, b, rows_a=None, rows_b=None, columns=None, floor=1e-9, scales=Non
     # round-off is that of the forces times the mechanism's size (seed 1004917: a slide's
     # M_friction of 0.08 N·m beside normal forces of 3.7e14 N near a dead point)
     size = max(family.get("x", 0.0), family.get("y", 0.0))
-    for t in _MOMENTS:
+    # a driving torque too, from the same reactions (seed 1003542: ±1e-16 N·m in a cam's
+    # dwell where the run's largest torque was 5e-5 N·m beside reactions of 43 N)
+    for t in [*_MOMENTS, *(t for t in family if t.startswith("torque"))]:
         if t in family:
             family[t] = max(family[t], family.get("force", 0.0) * size)
+    # a power is a force times a speed and a moment times an angular speed: its round-off
+    # is theirs, though the run's powers may all be small (seed 1003542: a load active at
+    # one row only, in a cam's dwell, gave power.external ±1e-15 W where the run's largest
+    # power was 5e-3 W, and 2.4e-7 of that between a grid row and the pose alone)
+    if "power" in family:
+        speed = max(family.get("vx", 0.0), family.get("vy", 0.0))
+        effort = max(family.get(t, 0.0) for t in ("M", "torque"))
+        turn = family.get("omega", 0.0)
+        family["power"] = max(family["power"], family.get("force", 0.0) * speed, effort * turn)
     worst = 0.0
     for c in names:
         x, y = np.asarray(a[c], float)[rows_a], np.asarray(b[c], float)[rows_b]

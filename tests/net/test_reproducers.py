@@ -278,3 +278,14 @@ def test_a_sharp_peak_beside_a_singular_position_is_halved_far_enough():
     )
     for key in ("mean", "rms"):
         assert abs(a[key] - b[key]) <= R.TOLERANCE["cycle_means"] * scale
+
+
+def test_power_and_torque_roundoff_in_a_dwell_is_on_the_scale_of_their_factors():
+    """The one row of a random run where a load acts lies in a cam's dwell: the powers are a
+    torque times a zero speed (±1e-15 W) and the driving torque ±1e-16 N·m, while the run's
+    largest power is 5e-3 W and torque 5e-5 N·m, beside reactions of 43 N; a row of the run
+    and the pose alone differed by 2.4e-7 of those (seed 1003542, relation grid). A power's
+    round-off is a force's times a speed's, a torque's a force's times the size: the
+    relation's scales now say so."""
+    doc = yaml.safe_load((CASES / "power_roundoff_in_a_dwell.yaml").read_text(encoding="utf-8"))
+    assert R.relation_grid(doc, 1003542) <= R.TOLERANCE["grid"]
