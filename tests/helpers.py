@@ -43,6 +43,29 @@ def rel_err(x, ref) -> float:
     return float(np.max(np.abs(np.asarray(x) - ref)) / np.max(np.abs(ref)))
 
 
+def assert_close_on_unit_scales(a, b, rel: float = 1e-12) -> None:
+    """Two results with the same columns, each within ``rel`` of its unit's scale (the
+    largest finite |value| of ``b``'s columns of that unit), NaN where NaN: the contract of
+    the compiled backend and of any reordering of the same formulas (NumPy's SIMD loops and
+    the order of a sum move the last bits from one CPU to another)."""
+    assert list(a.columns) == list(b.columns)
+    scale: dict[str, float] = {}
+    for c in b.columns:
+        v = np.asarray(b[c], dtype=float)
+        v = v[np.isfinite(v)]
+        if v.size:
+            u = b.units.get(c, "")
+            scale[u] = max(scale.get(u, 0.0), float(np.max(np.abs(v))))
+    for c in a.columns:
+        x, y = np.asarray(a[c], dtype=float), np.asarray(b[c], dtype=float)
+        assert x.shape == y.shape, c
+        np.testing.assert_array_equal(np.isnan(x), np.isnan(y), err_msg=c)
+        np.testing.assert_array_equal(np.isinf(x), np.isinf(y), err_msg=c)
+        ok = np.isfinite(y)
+        tol = rel * scale.get(b.units.get(c, ""), 0.0)
+        np.testing.assert_allclose(x[ok], y[ok], rtol=0, atol=tol, err_msg=c)
+
+
 def motion_driven() -> list[str]:
     """The shipped mechanisms (file stems) whose drivers all prescribe a motion — the ones
     `run`, `report` and `plot` analyse; an effort-driven file (a driver with ``effort:``)
