@@ -149,11 +149,33 @@ class Power(Mapping):
             raise KeyError(name)
         return value
 
+    @property
+    def _present(self) -> dict[str, np.ndarray]:
+        """The terms present, in order (made once: the record is frozen; every reader of
+        an analysis — the finiteness check, the columns — asks for them)."""
+        got = self.__dict__.get("_terms")
+        if got is None:
+            got = {n: v for n in self._ORDER if (v := getattr(self, n)) is not None}
+            object.__setattr__(self, "_terms", got)
+        return got
+
     def __iter__(self):
-        return (n for n in self._ORDER if getattr(self, n) is not None)
+        return iter(self._present)
 
     def __len__(self) -> int:
-        return sum(1 for _ in self)
+        return len(self._present)
+
+    def __contains__(self, name: object) -> bool:
+        return name in self._present
+
+    def keys(self):
+        return self._present.keys()
+
+    def values(self):
+        return self._present.values()
+
+    def items(self):
+        return self._present.items()
 
 
 @dataclass(frozen=True, eq=False)
