@@ -145,3 +145,16 @@ def test_plan_is_readable_source_kept_with_the_system():
     assert p.source.startswith("def run(pe, psi_d, psi_dd):")
     assert ".jacobian(" in p.source and ".acceleration_rhs(" in p.source
     assert len(p.source.splitlines()) < 20 * (len(system.sets) + len(system.plans)) + 20
+
+
+@pytest.mark.parametrize("name", ["slider_crank", "slotting_machine", "shaper"])
+def test_plan_below_and_above_kernels_from_equals_general_path(name):
+    """Below KERNELS_FROM positions the sets go through the contract's methods, from it on
+    through their types' kernels over whole arrays: both equal the general path."""
+    model = ks.load(f"mechanisms/{name}.yaml")
+    start = model.analysis.start
+    for n in (plan.KERNELS_FROM - 1, plan.KERNELS_FROM, 200):
+        positions = start + np.linspace(0.0, 2 * np.pi, n, endpoint=False)
+        assert _compare(model, positions=positions, friction=False) <= 1e-12
+    source = kinematic_plan(build_system(model)).source
+    assert f"if n >= {plan.KERNELS_FROM}:" in source and "KJ" in source and "KG" in source

@@ -149,15 +149,11 @@ class Power(Mapping):
             raise KeyError(name)
         return value
 
-    @property
-    def _present(self) -> dict[str, np.ndarray]:
-        """The terms present, in order (made once: the record is frozen; every reader of
-        an analysis — the finiteness check, the columns — asks for them)."""
-        got = self.__dict__.get("_terms")
-        if got is None:
-            got = {n: v for n in self._ORDER if (v := getattr(self, n)) is not None}
-            object.__setattr__(self, "_terms", got)
-        return got
+    def __post_init__(self):
+        # the terms present, in order, listed when the record is made (it is frozen, and
+        # every reader of an analysis asks: the finiteness check, the columns)
+        present = {n: v for n in self._ORDER if (v := getattr(self, n)) is not None}
+        object.__setattr__(self, "_present", present)
 
     def __iter__(self):
         return iter(self._present)
