@@ -38,7 +38,6 @@ import numpy as np
 from bench_speed import LEVEL_KW, case, median
 
 import kinetostatics as ks
-from kinetostatics.base.linalg import BlockFactor
 from kinetostatics.kinematics import plan
 from kinetostatics.kinematics.plan import KERNELS_FROM
 from kinetostatics.structure.system import link_poses
@@ -115,11 +114,7 @@ def plan_lines(name: str, n: int = 360, repeat: int = 400) -> dict[str, float]:
     grouped: the joints' formulas, the factorisation, the rest."""
     r = ks.analyze(case(name, n).model, kinematics_only=True)
     system = r.system
-    env: dict = {"np": np, "BlockFactor": BlockFactor}
-    lines = ["def run(pe, psi_d, psi_dd):", "    n = pe.shape[0]"]
-    gather = plan._blocks(system, env, lines)
-    plan._rates_of(system, env, lines)
-    plan._accelerations(system, env, lines, gather)
+    lines, env = plan.written(system)
     body: list[str] = []  # the top-level statements (an if with its else is one)
     for line in lines[1:]:
         if body and (line.startswith("        ") or line.startswith("    else:")):

@@ -147,6 +147,17 @@ def _whole_array(s) -> np.ndarray | None:
 # -- the generator ------------------------------------------------------------------------
 def _generate(system: System) -> KinematicPlan:
     """Write the stage's source for ``system`` and compile it."""
+    lines, env = written(system)
+    source = "\n".join(lines) + "\n"
+    name = f"<kinematic plan of {system.model.name!r}>"
+    exec(compile(source, name, "exec"), env)  # noqa: S102  our own generated text
+    return KinematicPlan(source, env["run"])
+
+
+def written(system: System) -> tuple[list[str], dict]:
+    """The plan's source lines for ``system`` and the names they read (the index arrays,
+    the constraints, the kernels), uncompiled (a benchmark times them statement by
+    statement: tests/benchmarks/bench_speed_calls.py)."""
     env: dict = {"np": np, "BlockFactor": BlockFactor, "objects": _objects}
     env |= {"scatter": _scatter, "to_rows": _rows}
     lines = ["def run(pe, psi_d, psi_dd):", "    n = pe.shape[0]"]
@@ -154,10 +165,7 @@ def _generate(system: System) -> KinematicPlan:
     _rates_of(system, env, lines)
     _accelerations(system, env, lines, gather)
     lines.append("    return qd, qdd, lu, ground")
-    source = "\n".join(lines) + "\n"
-    name = f"<kinematic plan of {system.model.name!r}>"
-    exec(compile(source, name, "exec"), env)  # noqa: S102  our own generated text
-    return KinematicPlan(source, env["run"])
+    return lines, env
 
 
 def _blocks(system: System, env: dict, lines: list[str]) -> list[tuple[str, str, bool]]:
