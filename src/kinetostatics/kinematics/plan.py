@@ -10,16 +10,20 @@ is first analysed, and writes the stage as Python source — one straight line o
 whole-array operations per set and per group, the index arrays and block offsets as
 constants — compiled with :func:`compile` and kept in ``System.memo``:
 
-- Φ_q's group blocks: each set's two links' poses gathered once (a stack by
-  :func:`numpy.take`, a single constraint as a view), its Jacobian from the joint
-  contract (``constraint.jacobian``: the joints' formulas stay in ``joints/``) and
-  scattered to the slots of :class:`~kinetostatics.structure.evaluation.BlockLayout`;
-  the ground's block kept for the shaking force as ``jacobian_blocks`` keeps it;
+- Φ_q's group blocks: from :data:`KERNELS_FROM` positions on, a set whose joint type's
+  compiled-backend kernels hold over whole arrays (``Compiled.whole_array_kernels``:
+  plain arithmetic, the NumPy formulas' operations in their order) by its
+  ``jacobian_kernel`` run once with every position at each index (:func:`_objects`),
+  its entries scattered to the slots of
+  :class:`~kinetostatics.structure.evaluation.BlockLayout`; every other set (and every
+  set on fewer positions) by the contract's ``jacobian`` on its two links' poses
+  gathered once — the joints' formulas stay in ``joints/`` either way; the ground's
+  block kept for the shaking force as ``jacobian_blocks`` keeps it;
 - the factorisation (:class:`~kinetostatics.base.linalg.BlockFactor`, its inverses by
-  ``small_inverse`` as before) and q̇ by forward substitution, where a group without
-  a motion driver has a zero right-hand side (ν = −Φ_t is zero on joint rows);
-- γ from the same gathered poses and the links' rates (``constraint.acceleration_rhs``),
-  and q̈ by the same substitution.
+  ``small_inverse`` as before) and q̇ by forward substitution over ν = −Φ_t gathered
+  as ``BlockFactor.solve`` gathers it;
+- γ by the ``gamma_kernel`` or ``acceleration_rhs`` of each set in the same way, from
+  the links' rates, and q̈ by the same substitution.
 
 The numbers are those of the general path: the same operations on the same operands
 in the same order (tests/kinematics/test_plan.py compares every column to 1e-12 of its
@@ -42,7 +46,7 @@ from ..base.linalg import BlockFactor
 from ..structure.evaluation import STACK_UP_TO
 from ..structure.system import System, link_poses
 
-__all__ = ["KinematicPlan", "kinematic_plan", "planned_derivatives", "ENABLED"]
+__all__ = ["KinematicPlan", "kinematic_plan", "planned_derivatives", "written", "ENABLED"]
 
 ENABLED = True
 """The plan is used where it covers the rows (False: the general path everywhere, as the
@@ -60,7 +64,7 @@ tests/benchmarks/bench_speed_calls.py ``--crossover``."""
 @dataclass(frozen=True, eq=False)
 class KinematicPlan:
     """The generated derivative stage of one system: ``source`` (its Python text) and
-    ``run(pe, qd_rates, psi_d, psi_dd) -> (qd, qdd, lu, ground)`` compiled from it."""
+    ``run(pe, psi_d, psi_dd) -> (qd, qdd, lu, ground)`` compiled from it."""
 
     source: str
     run: Callable
