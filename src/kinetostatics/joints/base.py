@@ -517,13 +517,13 @@ class Compiled:
         fields |= {f: stack_scalars([getattr(j, f) for j in joints]) for f in cls.stacked_scalars}
         return replace(joints[0], name="+".join(j.name for j in joints), **fields)
 
-    # the compiled backend's kernels (base/kernels.py): plain functions over the positions,
-    # the same operations in the same order as ``jacobian``, ``acceleration_rhs``,
-    # ``motion_direction`` and ``coordinate_bias``; None: those are evaluated by NumPy
+    # the compiled backend's kernels (base/kernels.py): the same operations in the same order
+    # as jacobian, acceleration_rhs, motion_direction, coordinate_bias; None: by NumPy
     jacobian_kernel: ClassVar[Callable | None] = None  # (par, P, ends, ji, jj)
     gamma_kernel: ClassVar[Callable | None] = None  # (par, P, V, ends, out)
     direction_kernel: ClassVar[Callable | None] = None  # (par, P, ends, gi, gj)
     bias_kernel: ClassVar[Callable | None] = None  # (par, P, V, ends, out)
+    whole_array_kernels: ClassVar[bool] = False  # True: they run over whole arrays too (plan)
 
     def kernel_params(self, k: int) -> np.ndarray | None:
         """What the kernels read of this joint, or of a stack of ``k``: its

@@ -289,6 +289,7 @@ class Prismatic(Joint, Presentation, Friction, Compiled, kind="prismatic"):
     direction_kernel = staticmethod(_direction_kernel)
     bias_kernel = staticmethod(_bias_kernel)
     friction_kernel = staticmethod(_friction_kernel)
+    whole_array_kernels = True  # plain arithmetic only: they also run over whole arrays
 
     def friction_kernel_params(self, k: int) -> np.ndarray | None:
         """(f, L) of the joint, L NaN without a contact length; None for variants."""

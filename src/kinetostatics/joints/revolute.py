@@ -232,6 +232,7 @@ class Revolute(Joint, Presentation, Friction, Compiled, kind="revolute"):
     direction_kernel = staticmethod(_direction_kernel)
     bias_kernel = staticmethod(_bias_kernel)
     friction_kernel = staticmethod(_friction_kernel)
+    whole_array_kernels = True  # plain arithmetic only: they also run over whole arrays
 
     # -- relative coordinate --------------------------------------------------
     def coordinate(self, qi, qj):

@@ -55,16 +55,16 @@ def _turned(frames: dict, link: str, theta: np.ndarray, p: np.ndarray) -> np.nda
 
 
 def _world(system: System, q: np.ndarray, link: str, p: np.ndarray, frames: dict) -> np.ndarray:
-    if link == system.model.ground.name:
+    if link not in system.links:  # the ground (the moving links are the others)
         return np.broadcast_to(p, q.shape[:-1] + (2,))
-    k = system.link_index(link)
+    k = system.links.index(link)
     return q[..., 3 * k : 3 * k + 2] + _turned(frames, link, q[..., 3 * k + 2], p)
 
 
 def _angle(system: System, q: np.ndarray, link: str):
-    if link == system.model.ground.name:
+    if link not in system.links:  # the ground
         return np.zeros(q.shape[:-1])
-    return q[..., 3 * system.link_index(link) + 2]
+    return q[..., 3 * system.links.index(link) + 2]
 
 
 def _place(
@@ -77,7 +77,7 @@ def _place(
     frames: dict,
 ) -> None:
     """Set link's pose so that local point ``local`` lies at ``world``."""
-    k = system.link_index(link)
+    k = system.links.index(link)
     q[..., 3 * k + 2] = theta
     q[..., 3 * k : 3 * k + 2] = world - _turned(frames, link, theta, local)
 

@@ -14,6 +14,7 @@ import numpy as np
 from ..base.linalg import BlockFactor
 from ..structure.system import System
 from .derivatives import derivatives
+from .plan import planned_derivatives
 from .schedule import Schedule
 
 __all__ = ["Motion", "motion_at"]
@@ -57,7 +58,9 @@ class Motion:
 def motion_at(system: System, sched: Schedule, t: np.ndarray, q: np.ndarray) -> Motion:
     """The :class:`Motion` at times ``t`` and solved positions ``q``: the drivers' schedule
     there, and q̇, q̈ from the constraint Jacobian (Φ_q q̇ = ν, Φ_q q̈ = γ; ``lu`` its
-    factors)."""
+    factors): by the system's generated plan where it covers the rows (:mod:`.plan`), else
+    by the general stage."""
     psi, psi_d, psi_dd = sched(t)
-    qd, qdd, lu = derivatives(system, q, psi_d, psi_dd)
+    planned = planned_derivatives(system, q, psi_d, psi_dd)
+    qd, qdd, lu = derivatives(system, q, psi_d, psi_dd) if planned is None else planned
     return Motion(t, psi, q, qd, qdd, psi_d, psi_dd, lu)

@@ -149,11 +149,29 @@ class Power(Mapping):
             raise KeyError(name)
         return value
 
+    def __post_init__(self):
+        # the terms present, in order, listed when the record is made (it is frozen, and
+        # every reader of an analysis asks: the finiteness check, the columns)
+        present = {n: v for n in self._ORDER if (v := getattr(self, n)) is not None}
+        object.__setattr__(self, "_present", present)
+
     def __iter__(self):
-        return (n for n in self._ORDER if getattr(self, n) is not None)
+        return iter(self._present)
 
     def __len__(self) -> int:
-        return sum(1 for _ in self)
+        return len(self._present)
+
+    def __contains__(self, name: object) -> bool:
+        return name in self._present
+
+    def keys(self):
+        return self._present.keys()
+
+    def values(self):
+        return self._present.values()
+
+    def items(self):
+        return self._present.items()
 
 
 @dataclass(frozen=True, eq=False)

@@ -1,0 +1,206 @@
+"""The fixed cost of an analysis counted: Python-level calls per stage, and the
+kinematic plan's effect (kinematics/plan.py) against the general derivative stage.
+
+For the rows of ``bench_speed.py`` (``ks.analyze`` of the slider-crank and the
+slotting machine, kinematics only and frictionless, reading the columns the closed
+form computes) at 10 and 360 positions, prints:
+
+- the calls one analysis makes (cProfile's count: Python functions and the C
+  functions called by name; NumPy's array operators are not calls), with the plan and
+  without it (``kinematics.plan.ENABLED``), and their split over the stages that
+  ``analyze`` calls in turn (the positions, the velocities and accelerations, the
+  loads and reactions, the result, reading the columns);
+- the time with the plan over the time without, the median of per-round ratios
+  (CPU time of the process, the two timed in turns, as bench_speed.py times).
+
+With ``--crossover``, the kinematics row's time with the joints' kernels run over
+whole arrays against the contract's NumPy methods, at 10 to 360 positions (where
+``KERNELS_FROM`` comes from).  With ``--lines``, also the time of each line of the
+slider-crank's and the slotting machine's generated plan at 360 positions (the
+source instrumented with a clock between its statements), grouped as the joints'
+formulas (``.jacobian``, ``.acceleration_rhs`` or the kernels), the factorisation
+(``BlockFactor``: the blocks' inverses) and the rest (gathers, scatters, substitutions).
+
+Nothing here is a test.  docs/accuracy.md (section 8) quotes it.
+
+    PYTHONPATH=src python tests/benchmarks/bench_speed_calls.py [--quick] [--lines] [--crossover]
+"""
+
+from __future__ import annotations
+
+import argparse
+import cProfile
+import pstats
+import sys
+import time
+
+import numpy as np
+from bench_speed import LEVEL_KW, case, median
+
+import kinetostatics as ks
+from kinetostatics.kinematics import plan
+from kinetostatics.kinematics.plan import KERNELS_FROM
+from kinetostatics.structure.system import link_poses
+
+STAGES = {
+    "solve_run": "positions",
+    "_motion": "velocities and accelerations",
+    "load_events": "load events",
+    "inverse_dynamics": "loads, reactions, power",
+    "_result": "result (conditions, checks, columns)",
+}
+
+
+def calls(fn) -> tuple[int, dict[str, int]]:
+    """cProfile's count of one call of ``fn``, and the calls under each stage."""
+    fn()
+    prof = cProfile.Profile()
+    prof.enable()
+    fn()
+    prof.disable()
+    total = pstats.Stats(prof).total_calls
+    per = dict.fromkeys((*STAGES.values(), "reading the columns"), 0)
+
+    def count(frame, event, arg):
+        if event not in ("call", "c_call"):
+            return
+        f = frame
+        while f is not None and f.f_back is not None:
+            if f.f_back.f_code.co_name == "analyze" and f.f_code.co_name in STAGES:
+                per[STAGES[f.f_code.co_name]] += 1
+                return
+            if f.f_back.f_code.co_name == "run" and f.f_code.co_name == "<listcomp>":
+                per["reading the columns"] += 1  # bench_speed's reading of the result
+                return
+            f = f.f_back
+
+    sys.setprofile(count)
+    fn()
+    sys.setprofile(None)
+    return total, per
+
+
+def timed(fns, rounds: int, sample: float) -> list[list[float]]:
+    """CPU time of one call of each of ``fns`` per round, in turns."""
+    counts = []
+    for f in fns:
+        f()
+        t0 = time.perf_counter()
+        f()
+        counts.append(max(1, int(sample / max(time.perf_counter() - t0, 1e-6))))
+    out = [[] for _ in fns]
+    for _ in range(rounds):
+        for k, f in enumerate(fns):
+            t0 = time.process_time()
+            for _ in range(counts[k]):
+                f()
+            out[k].append((time.process_time() - t0) / counts[k])
+    return out
+
+
+def with_plan(on: bool, fn):
+    def run():
+        plan.ENABLED = on
+        try:
+            return fn()
+        finally:
+            plan.ENABLED = True
+
+    return run
+
+
+def plan_lines(name: str, n: int = 360, repeat: int = 400) -> dict[str, float]:
+    """Time (s per run) of the generated plan's lines of ``name`` at ``n`` positions,
+    grouped: the joints' formulas, the factorisation, the rest."""
+    r = ks.analyze(case(name, n).model, kinematics_only=True)
+    system = r.system
+    lines, env = plan.written(system)
+    body: list[str] = []  # the top-level statements (an if with its else is one)
+    for line in lines[1:]:
+        if body and (line.startswith("        ") or line.startswith("    else:")):
+            body[-1] += "\n" + line
+        else:
+            body.append(line)
+    timed_src = [lines[0], "    _T = _clock()"]
+    for k, line in enumerate(body):
+        timed_src += [line, f"    _t = _clock(); ACC[{k}] += _t - _T; _T = _t"]
+    env["ACC"], env["_clock"] = [0.0] * len(body), time.perf_counter
+    exec(compile("\n".join(timed_src) + "\n", "<timed plan>", "exec"), env)
+    pe = link_poses(system, r.q)
+    psi_d, psi_dd = np.ones((n, 1)), np.zeros((n, 1))
+    for _ in range(20):
+        env["run"](pe, psi_d, psi_dd)
+    env["ACC"][:] = [0.0] * len(body)
+    for _ in range(repeat):
+        env["run"](pe, psi_d, psi_dd)
+    out = {"joints' formulas": 0.0, "factorisation": 0.0, "rest": 0.0}
+    for line, t in zip(body, env["ACC"]):
+        kind = (
+            "joints' formulas"
+            if ".jacobian(" in line or ".acceleration_rhs(" in line or "KJ" in line or "KG" in line
+            else "factorisation"
+            if "BlockFactor(" in line
+            else "rest"
+        )
+        out[kind] += t / repeat
+    return out
+
+
+def crossover(rounds: int, sample: float) -> None:
+    """Time of the kinematics row with the kernels over whole arrays (``KERNELS_FROM`` 0)
+    over the time through the contract (no kernels), at growing numbers of positions: the
+    two plans generated for two models of the same file, timed in turns."""
+    for name in ("slider_crank", "slotting_machine"):
+        out = []
+        for n in (10, 20, 40, 80, 160, 360):
+            fns = []
+            for cut in (10**9, 0):
+                c = case(name, n)
+                names = list(c.closed(c.grid()[:3], "kinematics"))
+                fn = c.generic(names, **LEVEL_KW["kinematics"])
+                plan.KERNELS_FROM = cut
+                fn()  # the plan generated with this cut, kept with this model's system
+                fns.append(fn)
+            plan.KERNELS_FROM = KERNELS_FROM
+            contract, kernels = timed(fns, rounds, sample)
+            out.append(f"{n}: {median([b / a for a, b in zip(contract, kernels)]):.3f}")
+        print(f"{name}, kinematics, kernels over whole arrays / contract: " + ", ".join(out))
+
+
+def main(argv=None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="fewer rounds")
+    ap.add_argument("--lines", action="store_true", help="the plan's time by kind of line")
+    ap.add_argument("--crossover", action="store_true", help="kernels against the contract")
+    args = ap.parse_args(argv)
+    rounds, sample = (5, 0.01) if args.quick else (15, 0.03)
+    if args.crossover:
+        crossover(rounds, sample)
+    if args.lines:
+        for name in ("slider_crank", "slotting_machine"):
+            parts = plan_lines(name)
+            total = sum(parts.values())
+            shares = ", ".join(f"{k} {v * 1e3:.3f} ms ({v / total:.0%})" for k, v in parts.items())
+            print(f"{name}, the plan at 360 positions: {total * 1e3:.3f} ms: {shares}")
+    print(
+        "| mechanism | row | positions | calls without the plan | calls with it "
+        "| time with / without (median of rounds) | calls per stage, with the plan |"
+    )
+    print("|---|---|---|---|---|---|---|")
+    for name in ("slider_crank", "slotting_machine"):
+        for level in ("kinematics", "frictionless"):
+            for n in (10, 360):
+                c = case(name, n)
+                names = list(c.closed(c.grid()[:3], level))
+                fn = c.generic(names, **LEVEL_KW[level])
+                off, _ = calls(with_plan(False, fn))
+                on, per = calls(with_plan(True, fn))
+                both = [with_plan(False, fn), with_plan(True, fn)]
+                general, planned = timed(both, rounds, sample)
+                ratio = median([b / a for a, b in zip(general, planned)])
+                stages = ", ".join(f"{k} {v}" for k, v in per.items() if v)
+                print(f"| {name} | {level} | {n} | {off} | {on} | {ratio:.3f} | {stages} |")
+
+
+if __name__ == "__main__":
+    main()

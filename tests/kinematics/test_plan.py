@@ -1,0 +1,164 @@
+"""The kinematic plan (kinematics/plan.py) against the general derivative stage.
+
+The plan is the same stage written once per system as straight-line code: every column
+of an analysis made with it equals the general path's to 1e-12 of the column's scale
+(the largest |value| among the columns of its unit), on every shipped file that a
+motion drives, the hard cases and generated mechanisms of the net; rows it does not
+cover (stacked variants, more than STACK_UP_TO positions) take the general path."""
+
+import glob
+import warnings
+from collections import defaultdict
+
+import numpy as np
+import pytest
+
+import kinetostatics as ks
+from kinetostatics.kinematics import plan
+from kinetostatics.kinematics.derivatives import derivatives
+from kinetostatics.kinematics.plan import covers, kinematic_plan, planned_derivatives
+from kinetostatics.structure.evaluation import STACK_UP_TO
+from kinetostatics.structure.system import build_system
+from tests.net import generate as gen
+
+FILES = sorted(glob.glob("mechanisms/*.yaml") + glob.glob("tests/hard/*.yaml"))
+NET_CASES = sorted(glob.glob("tests/net/cases/*.yaml"))  # the net's kept cases (slow)
+
+
+def _analyse(model, enabled: bool, **kw):
+    old = plan.ENABLED
+    plan.ENABLED = enabled
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return ks.analyze(model, **kw)
+    finally:
+        plan.ENABLED = old
+
+
+def _worst(a, b) -> float:
+    """Largest |Δ| of the columns over the largest |value| of their unit's columns."""
+    assert list(a.columns) == list(b.columns)
+    scale = defaultdict(float)
+    for name in a.columns:
+        x = np.asarray(a[name], dtype=float)
+        if x.size and np.isfinite(x).any():
+            scale[a.units[name]] = max(scale[a.units[name]], float(np.nanmax(np.abs(x))))
+    worst = 0.0
+    for name in a.columns:
+        x, y = np.asarray(a[name], dtype=float), np.asarray(b[name], dtype=float)
+        assert x.shape == y.shape, name
+        assert np.array_equal(np.isfinite(x), np.isfinite(y)), name
+        ok = np.isfinite(x)
+        if ok.any():
+            d = float(np.max(np.abs(x[ok] - y[ok])))
+            worst = max(worst, d / max(scale[a.units[name]], 1e-300))
+    return worst
+
+
+def _compare(model, **kw) -> float:
+    try:
+        general = _analyse(model, False, **kw)
+    except ks.KinetostaticsError:  # a hard case that refuses before any rate is made
+        return 0.0
+    general.system.memo.pop("kinematic plan", None)
+    planned = _analyse(model, True, **kw)
+    assert "kinematic plan" in planned.system.memo  # the plan made the rows' rates
+    return _worst(general, planned)
+
+
+def _motion_driven(model) -> bool:
+    return all(d.effort is None for d in model.drivers)
+
+
+@pytest.mark.parametrize("path", FILES)
+def test_plan_equals_general_path_on_files(path):
+    model = ks.load(path)
+    if not _motion_driven(model):
+        pytest.skip("effort-driven: analyze does not take it")
+    assert _compare(model, friction=False) <= 1e-12
+
+
+@pytest.mark.slow
+def test_plan_equals_general_path_on_the_nets_cases():
+    """The net's 25 kept cases (tests/net/cases; ~8 s)."""
+    for path in NET_CASES:
+        model = ks.load(path)
+        if _motion_driven(model):
+            assert _compare(model, friction=False) <= 1e-12, path
+
+
+def _generated(seeds) -> int:
+    worst, used = 0.0, 0
+    for seed in seeds:
+        model = gen.load(gen.generate(seed))
+        if not _motion_driven(model):
+            continue
+        worst = max(worst, _compare(model, friction=False))
+        used += 1
+    assert worst <= 1e-12
+    return used
+
+
+def test_plan_equals_general_path_on_a_few_generated_mechanisms():
+    assert _generated(range(1000, 1002)) >= 1
+
+
+@pytest.mark.slow
+def test_plan_equals_general_path_on_generated_mechanisms():
+    """≥ 50 of the net's generated mechanisms (tests/net/generate.py; ~30 s: generating
+    them is the cost)."""
+    assert _generated(range(1000, 1060)) >= 50
+
+
+def test_rates_equal_general_stage_at_random_states():
+    """q̇, q̈ and the factors against ``derivatives`` at poses off the path (random ψ̇, ψ̈)."""
+    model = ks.load("mechanisms/slotting_machine.yaml")
+    r = _analyse(model, False, kinematics_only=True)
+    system, rng = r.system, np.random.default_rng(7)
+    q = r.q[::7] + 1e-3 * rng.standard_normal(r.q[::7].shape)
+    psi_d, psi_dd = rng.standard_normal((2, len(q), 1))
+    qd, qdd, lu = derivatives(system, q, psi_d, psi_dd)
+    pqd, pqdd, plu = planned_derivatives(system, q, psi_d, psi_dd)
+    for a, b in ((qd, pqd), (qdd, pqdd)):
+        assert np.max(np.abs(a - b)) <= 1e-12 * np.max(np.abs(a))
+    for a, b in zip(lu.inv, plu.inv):
+        assert np.allclose(a, b, rtol=0, atol=1e-12 * np.max(np.abs(a)))
+
+
+def test_rows_it_does_not_cover_take_the_general_path():
+    model = ks.load("mechanisms/slider_crank.yaml")
+    system = build_system(model)
+    q = ks.analyze(system, kinematics_only=True).q
+    assert covers(system, q)
+    long = np.repeat(q, STACK_UP_TO // len(q) + 1, axis=0)
+    assert len(long) > STACK_UP_TO and not covers(system, long)
+    stacked = q[None]  # variants along a leading axis
+    ones = np.ones(long.shape[:-1] + (1,))
+    assert planned_derivatives(system, long, ones, ones) is None
+    assert planned_derivatives(system, stacked, ones[None, : len(q)], ones[None, : len(q)]) is None
+    # a long run is analysed (by the general path) as it was
+    r = ks.analyze(system, positions=np.linspace(0, 2 * np.pi, STACK_UP_TO + 10), friction=False)
+    assert np.isfinite(r["motor.torque"]).all()
+
+
+def test_plan_is_readable_source_kept_with_the_system():
+    system = build_system(ks.load("mechanisms/slider_crank.yaml"))
+    p = kinematic_plan(system)
+    assert p is kinematic_plan(system)  # generated once
+    assert p.source.startswith("def run(pe, psi_d, psi_dd):")
+    assert ".jacobian(" in p.source and ".acceleration_rhs(" in p.source
+    assert len(p.source.splitlines()) < 20 * (len(system.sets) + len(system.plans)) + 20
+
+
+@pytest.mark.parametrize("name", ["slider_crank", "slotting_machine", "shaper"])
+def test_plan_below_and_above_kernels_from_equals_general_path(name):
+    """Below KERNELS_FROM positions the sets go through the contract's methods, from it on
+    through their types' kernels over whole arrays: both equal the general path."""
+    model = ks.load(f"mechanisms/{name}.yaml")
+    start = model.analysis.start
+    for n in (plan.KERNELS_FROM - 1, plan.KERNELS_FROM, 200):
+        positions = start + np.linspace(0.0, 2 * np.pi, n, endpoint=False)
+        assert _compare(model, positions=positions, friction=False) <= 1e-12
+    source = kinematic_plan(build_system(model)).source
+    assert f"if n >= {plan.KERNELS_FROM}:" in source and "KJ" in source and "KG" in source
