@@ -47,6 +47,8 @@ class FrictionSetup:
     zero: np.ndarray  # (...) any frictional joint at zero relative speed
     q: np.ndarray
     pairs: dict = field(default_factory=dict, repr=False)  # joint -> (q_i, q_j), filled on use
+    # the solves the two solutions share (:func:`_per_effort`, :func:`approximate`)
+    shared: dict = field(default_factory=dict, repr=False)
 
 
 def setup(system: System, q: np.ndarray, qd: np.ndarray, ref_speed: float) -> FrictionSetup:
@@ -161,12 +163,36 @@ def _jacobian(
 
 
 def approximate(
-    system: System, fs: FrictionSetup, solve_a, q_load: np.ndarray, x0: np.ndarray
+    system: System,
+    fs: FrictionSetup,
+    solve_a,
+    q_load: np.ndarray,
+    x0: np.ndarray,
+    a: np.ndarray | BlockFactor | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """(x, friction efforts) of the approximate solution."""
+    """(x, friction efforts) of the approximate solution: A x = −Q − Σ g_k e_k(x₀).  Given
+    ``a`` (as :func:`consistent` takes it), by the linearity :func:`consistent` uses, x =
+    x₀ + Σ e_k(x₀) A⁻¹(−g_k) with the n_f solves it needs anyway (:func:`_per_effort`):
+    no solve of its own, and the consistent solution's first iteration, which is this x,
+    is not computed again; without, by one solve ``solve_a``."""
     e = efforts(system, fs, x0)
-    x = solve_a(-q_load - _generalized(fs, e))
+    if a is None:
+        return solve_a(-q_load - _generalized(fs, e)), e
+    x = x0 + np.einsum("...kn,...k->...n", _per_effort(fs, a, solve_a), e)
+    fs.shared["first"] = (x0, x)
     return x, e
+
+
+def _per_effort(fs: FrictionSetup, a, solve_a) -> np.ndarray:
+    """The n_f vectors A⁻¹(−g_k) as rows ``(..., n_f, n_λ)``, solved once per setup."""
+    if "per_effort" not in fs.shared:
+        with np.errstate(all="ignore"):
+            if isinstance(a, BlockFactor):
+                per_effort = a.solve_transposed_rows(-fs.grad)
+            else:
+                per_effort = np.moveaxis(solve_a(np.moveaxis(-fs.grad, -2, 0)), 0, -2)
+        fs.shared["per_effort"] = per_effort
+    return fs.shared["per_effort"]
 
 
 @dataclass
@@ -194,11 +220,7 @@ def consistent(
     # A x = −Q − Σ g_k e_k is linear in the efforts: x = x₀ + Σ e_k A⁻¹(−g_k), with the
     # n_f vectors A⁻¹(−g_k) solved once (as rows, (..., n_f, n_λ)); an iteration then
     # evaluates the efforts only
-    with np.errstate(all="ignore"):
-        if isinstance(a, BlockFactor):
-            per_effort = a.solve_transposed_rows(-fs.grad)
-        else:
-            per_effort = np.moveaxis(solve_a(np.moveaxis(-fs.grad, -2, 0)), 0, -2)
+    per_effort = _per_effort(fs, a, solve_a)
     it = np.zeros(x.shape[:-1], dtype=int)
     converged = np.zeros(x.shape[:-1], dtype=bool)
     live = np.ones(x.shape[:-1], dtype=bool)
@@ -206,10 +228,17 @@ def consistent(
     with np.errstate(all="ignore"):
         if compiled is not None:
             _compiled_fixed_point(compiled, fs, x0, per_effort, scale, x, it, converged, live)
-        for _ in range(0 if compiled is not None else FIXED_POINT_ITER):
+        # the first iteration from x₀ is the approximate solution where it was computed
+        # so (the same operations on the same numbers)
+        first = fs.shared.get("first")
+        first = first[1] if first is not None and first[0] is x0 else None
+        for n in range(0 if compiled is not None else FIXED_POINT_ITER):
             if not live.any():
                 break
-            xn = x0 + np.einsum("...kn,...k->...n", per_effort, efforts(system, fs, x))
+            if n == 0 and first is not None:
+                xn = first
+            else:
+                xn = x0 + np.einsum("...kn,...k->...n", per_effort, efforts(system, fs, x))
             step = max_abs_last(xn - x) / scale
             x = np.where(live[..., None], xn, x)
             it += live
