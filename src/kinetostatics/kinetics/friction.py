@@ -248,8 +248,7 @@ def consistent(
     failed = ~converged
     with np.errstate(all="ignore"):
         failed |= ~(
-            _residual(system, fs, a, q_load, x)
-            <= 1e-10 * np.maximum(1.0, np.max(np.abs(q_load), axis=-1))
+            _residual(system, fs, a, q_load, x) <= 1e-10 * np.maximum(1.0, max_abs_last(q_load))
         )
     # no frictionless solution (A singular: a dead centre of the effort's joint): the branch
     # has nowhere to start, its reactions are unbounded already at σ = 0 — self-locking
@@ -257,7 +256,9 @@ def consistent(
     x[dead], status[dead] = np.nan, 2
     failed &= ~dead
     with np.errstate(all="ignore"):  # |x₀|/|x| (see _homotopy)
-        reach = np.linalg.norm(x0, axis=-1) / np.linalg.norm(x, axis=-1)
+        reach = np.sqrt(  # |x₀|/|x| (np.linalg.norm reduces a short last axis slowly)
+            np.einsum("...i,...i->...", x0, x0) / np.einsum("...i,...i->...", x, x)
+        )
     reach[dead] = np.nan
     flat = np.argwhere(failed)
     for index in map(tuple, flat):
@@ -363,7 +364,7 @@ def _product(a, x: np.ndarray) -> np.ndarray:
 
 def _residual(system, fs, a, q_load, x):
     r = _product(a, x) + q_load + _generalized(fs, efforts(system, fs, x))
-    return np.max(np.abs(r), axis=-1)
+    return max_abs_last(r)
 
 
 def _homotopy(
