@@ -110,7 +110,7 @@ def test_the_shared_solves_give_each_solution_as_its_own_solve(monkeypatch, path
     e_k(x₀) A⁻¹(−g_k)) equals the one solve of its definition, A x = −Q − Σ g_k e_k(x₀),
     to 1e-12 of its scale; the consistent solution that starts from it equals the one
     computed alone (no approximate solution before it: a fresh setup), with the same
-    status and iterations."""
+    status and iterations; the solves are not kept in the result."""
     from kinetostatics.kinetics import friction as fr
     from kinetostatics.kinetics import inverse
 
@@ -125,6 +125,7 @@ def test_the_shared_solves_give_each_solution_as_its_own_solve(monkeypatch, path
     monkeypatch.setattr(inverse, "friction_solutions", spy)
     ks.analyze(ks.load(path))
     system, motion, q_loads, eq, ref_speed, got = calls[0]
+    assert not got.setup.shared  # the result keeps the setup, not the solves
     fs = fr.setup(system, motion.q, motion.qd, ref_speed)
     xa, ea = fr.approximate(system, fs, eq.solve, q_loads.total, eq.x0)  # its own solve
     scale = np.nanmax(np.abs(xa))

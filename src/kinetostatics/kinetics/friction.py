@@ -267,6 +267,7 @@ def consistent(
         status[index] = st if not fs.zero[index] or st == 2 else 3
         it[index] += n
     e = efforts(system, fs, x)
+    fs.shared.clear()  # the setup stays in the result: not its (..., n_f, n_λ) solves
     return FrictionSolution(x, e, status, it, reach)
 
 
