@@ -87,12 +87,13 @@ def efforts(system: System, fs: FrictionSetup, x: np.ndarray, scale: float = 1.0
         mu = np.empty((len(fs.joints), flat.shape[0]))
         _magnitudes(sets, flat, mu, _parts(sets, flat.shape[0]))
         return -fs.sign * scale * entries_last(mu, 1).reshape(fs.sign.shape)
-    out = np.zeros(x.shape[:-1] + (len(fs.joints),))
-    for cols, joint, rows, ks in _effort_sets(system, tuple(fs.joints)):
+    out = np.empty(x.shape[:-1] + (len(fs.joints),))  # every column is written
+    for n, (cols, joint, rows, ks) in enumerate(_effort_sets(system, tuple(fs.joints))):
         qi, qj = _link_q(system, fs, ks)
-        out[..., cols] = (
-            -fs.sign[..., cols] * scale * joint.friction_magnitude(x[..., rows], qi, qj)
-        )
+        key = ("signs", n, scale)  # −s·scale of the set's joints, the same each iteration
+        if key not in fs.shared:
+            fs.shared[key] = -fs.sign[..., cols] * scale
+        out[..., cols] = fs.shared[key] * joint.friction_magnitude(x[..., rows], qi, qj)
     return out
 
 
@@ -240,7 +241,9 @@ def consistent(
             else:
                 xn = x0 + np.einsum("...kn,...k->...n", per_effort, efforts(system, fs, x))
             step = max_abs_last(xn - x) / scale
-            x = np.where(live[..., None], xn, x)
+            # all live (the first iterations): xn itself, unless it is the approximate
+            # solution's array (x is written below)
+            x = xn if xn is not first and live.all() else np.where(live[..., None], xn, x)
             it += live
             converged |= live & (step <= TOL)
             live &= ~converged & np.isfinite(step) & (step < 1e6)
