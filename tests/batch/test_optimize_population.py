@@ -60,6 +60,34 @@ def test_a_population_row_is_its_single_run(template, singles, name, column):
 NAMED = ["motor.torque_friction_peak", "O2.reaction_peak", "guide.v_peak"]
 
 
+def _peak(x: np.ndarray) -> float:
+    return float(np.max(np.abs(x[np.isfinite(x)])))
+
+
+@pytest.mark.parametrize(
+    "name, truth",
+    [
+        ("motor.torque_friction_approx_peak", lambda r: _peak(r["motor.torque_friction_approx"])),
+        ("motor.efficiency_min", lambda r: float(np.nanmin(r["motor.efficiency"]))),
+        (
+            "O3.reaction_peak_friction",
+            lambda r: _peak(np.hypot(r["O3.Fx_friction"], r["O3.Fy_friction"])),
+        ),
+        ("guide.reaction_peak", lambda r: _peak(np.hypot(r["guide.Fx"], r["guide.Fy"]))),
+    ],
+)
+def test_a_population_row_of_another_group_is_its_single_run(template, singles, name, truth):
+    """Quantities of the other groups a row reduces (the approximate friction solution, the
+    efficiency, the reactions with and without friction), each alone in ``needs``: each
+    design's value is that of its single analysis, reduced here from its columns, to
+    1e-10 of their scale."""
+    rows = analyze_variants(template, POPULATION, positions=POSITIONS, needs=[name])
+    expected = np.array([truth(r) for r in singles])
+    got = np.array([r[name] for r in rows])
+    assert all(r["status"] == "ok" for r in rows)
+    assert np.max(np.abs(got - expected)) <= 1e-10 * np.max(np.abs(expected))
+
+
 def test_a_row_of_what_is_named_agrees_with_the_whole_row(template):
     """Leaving parts out changes none of the quantities left (1e-12 of each column's
     largest value); the strokes left out are empty, the located zones absent, and the
