@@ -229,24 +229,8 @@ def consistent(
     with np.errstate(all="ignore"):
         if compiled is not None:
             _compiled_fixed_point(compiled, fs, x0, per_effort, scale, x, it, converged, live)
-        # the first iteration from x₀ is the approximate solution where it was computed
-        # so (the same operations on the same numbers)
-        first = fs.shared.get("first")
-        first = first[1] if first is not None and first[0] is x0 else None
-        for n in range(0 if compiled is not None else FIXED_POINT_ITER):
-            if not live.any():
-                break
-            if n == 0 and first is not None:
-                xn = first
-            else:
-                xn = x0 + np.einsum("...kn,...k->...n", per_effort, efforts(system, fs, x))
-            step = max_abs_last(xn - x) / scale
-            # all live (the first iterations): xn itself, unless it is the approximate
-            # solution's array (x is written below)
-            x = xn if xn is not first and live.all() else np.where(live[..., None], xn, x)
-            it += live
-            converged |= live & (step <= TOL)
-            live &= ~converged & np.isfinite(step) & (step < 1e6)
+        else:
+            x = _fixed_point(system, fs, x0, per_effort, scale, x, (it, converged, live))
     status = np.where(fs.zero, 3, 0)
     failed = ~converged
     with np.errstate(all="ignore"):
@@ -258,10 +242,9 @@ def consistent(
     dead = ~np.all(np.isfinite(x0), axis=-1)
     x[dead], status[dead] = np.nan, 2
     failed &= ~dead
-    with np.errstate(all="ignore"):  # |x₀|/|x| (see _homotopy)
-        reach = np.sqrt(  # |x₀|/|x| (np.linalg.norm reduces a short last axis slowly)
-            np.einsum("...i,...i->...", x0, x0) / np.einsum("...i,...i->...", x, x)
-        )
+    with np.errstate(all="ignore"):  # |x₀|/|x| (see _homotopy; not np.linalg.norm, slow
+        # over a short last axis)
+        reach = np.sqrt(np.einsum("...i,...i->...", x0, x0) / np.einsum("...i,...i->...", x, x))
     reach[dead] = np.nan
     flat = np.argwhere(failed)
     for index in map(tuple, flat):
@@ -272,6 +255,32 @@ def consistent(
     e = efforts(system, fs, x)
     fs.shared.clear()  # the setup stays in the result: not its (..., n_f, n_λ) solves
     return FrictionSolution(x, e, status, it, reach)
+
+
+def _fixed_point(system, fs, x0, per_effort, scale, x, state) -> np.ndarray:
+    """The fixed point's loop of :func:`consistent` with NumPy: x ← x₀ + Σ e_k A⁻¹(−g_k)
+    where live, its step max|Δx|/scale, converged where ≤ TOL, out where converged, not
+    finite or diverging; returns x, updates ``state`` = (it, converged, live).  The first
+    iteration from x₀ is the approximate solution where :func:`approximate` computed it
+    so (the same operations on the same numbers)."""
+    it, converged, live = state
+    first = fs.shared.get("first")
+    first = first[1] if first is not None and first[0] is x0 else None
+    for n in range(FIXED_POINT_ITER):
+        if not live.any():
+            break
+        if n == 0 and first is not None:
+            xn = first
+        else:
+            xn = x0 + np.einsum("...kn,...k->...n", per_effort, efforts(system, fs, x))
+        step = max_abs_last(xn - x) / scale
+        # all live (the first iterations): xn itself, unless it is the approximate
+        # solution's array (x is written by the caller)
+        x = xn if xn is not first and live.all() else np.where(live[..., None], xn, x)
+        it += live
+        converged |= live & (step <= TOL)
+        live &= ~converged & np.isfinite(step) & (step < 1e6)
+    return x
 
 
 # -- the compiled backend (base/kernels.py) ------------------------------------------------
