@@ -164,6 +164,8 @@ def test_what_a_name_needs():
     assert row_needs([]).parts == frozenset()
     assert row_needs(["O2.reaction_peak", "link.alpha_peak"]).parts == {"reactions", "outputs"}
     assert row_needs(["rod_ram.pressure_angle_max"]).parts == {"angles"}
+    for name in variants.QUANTITIES:  # a group for every quantity a group computes
+        assert name.startswith("flywheel.") or row_needs([name]).parts, name
     for name in (
         "motor.torque_friction_rms",
         "motor.torque_friction_approx_peak",
