@@ -57,19 +57,54 @@ def test_a_population_row_is_its_single_run(template, singles, name, column):
         assert all("motor.torque_friction_rms" not in r for r in rows)
 
 
+NAMED = ["motor.torque_friction_peak", "O2.reaction_peak", "guide.v_peak"]
+
+
+def _peak(x: np.ndarray) -> float:
+    return float(np.max(np.abs(x[np.isfinite(x)])))
+
+
+@pytest.mark.parametrize(
+    "name, truth",
+    [
+        ("motor.torque_friction_approx_peak", lambda r: _peak(r["motor.torque_friction_approx"])),
+        ("motor.efficiency_min", lambda r: float(np.nanmin(r["motor.efficiency"]))),
+        (
+            "O3.reaction_peak_friction",
+            lambda r: _peak(np.hypot(r["O3.Fx_friction"], r["O3.Fy_friction"])),
+        ),
+        ("guide.reaction_peak", lambda r: _peak(np.hypot(r["guide.Fx"], r["guide.Fy"]))),
+    ],
+)
+def test_a_population_row_of_another_group_is_its_single_run(template, singles, name, truth):
+    """Quantities of the other groups a row reduces (the approximate friction solution, the
+    efficiency, the reactions with and without friction), each alone in ``needs``: each
+    design's value is that of its single analysis, reduced here from its columns, to
+    1e-10 of their scale."""
+    rows = analyze_variants(template, POPULATION, positions=POSITIONS, needs=[name])
+    expected = np.array([truth(r) for r in singles])
+    got = np.array([r[name] for r in rows])
+    assert all(r["status"] == "ok" for r in rows)
+    assert np.max(np.abs(got - expected)) <= 1e-10 * np.max(np.abs(expected))
+
+
 def test_a_row_of_what_is_named_agrees_with_the_whole_row(template):
     """Leaving parts out changes none of the quantities left (1e-12 of each column's
-    largest value); the strokes left out are empty, the located zones absent."""
+    largest value); the strokes left out are empty, the located zones absent, and the
+    groups of quantities no name has a word of (the shaking, the pressure angles) too."""
     whole = analyze_variants(template, POPULATION, positions=POSITIONS)
-    named = analyze_variants(
-        template, POPULATION, positions=POSITIONS, needs=["motor.torque_friction_peak"]
-    )
+    named = analyze_variants(template, POPULATION, positions=POSITIONS, needs=NAMED)
     assert all("friction.self_locking" in r for r in whole)
     assert all("friction.self_locking" not in r for r in named)
     assert all(math.isnan(r["guide.stroke"]) for r in named)
+    for gone in ("shaking.force_peak", "rod_ram.pressure_angle_max"):
+        assert gone in whole[0] and all(gone not in r for r in named), gone
     compared = 0
     for key, value in whole[0].items():
         if not isinstance(value, float) or key.endswith((".stroke", ".time_ratio")):
+            continue
+        if key not in named[0]:
+            assert key.startswith("shaking.") or key.endswith("angle_max"), key
             continue
         a = np.array([r[key] for r in whole])
         b = np.array([r[key] for r in named])
@@ -123,7 +158,14 @@ def test_a_misspelt_name_is_matched_against_the_whole_row(tmp_path):
 
 def test_what_a_name_needs():
     assert row_needs(None) == RowNeeds(True, True, True)
-    assert row_needs(["shaking.force_rms", "x1"]) == RowNeeds(False, False, False)
+    bare = row_needs(["shaking.force_rms", "x1"])
+    assert (bare.friction, bare.strokes, bare.zones) == (False, False, False)
+    assert bare.parts == {"shaking", "efforts"}  # 'force': on the safe side
+    assert row_needs([]).parts == frozenset()
+    assert row_needs(["O2.reaction_peak", "link.alpha_peak"]).parts == {"reactions", "outputs"}
+    assert row_needs(["rod_ram.pressure_angle_max"]).parts == {"angles"}
+    for name in variants.QUANTITIES:  # a group for every quantity a group computes
+        assert name.startswith("flywheel.") or row_needs([name]).parts, name
     for name in (
         "motor.torque_friction_rms",
         "motor.torque_friction_approx_peak",

@@ -100,3 +100,42 @@ def test_zero_relative_speed_gives_status_3_and_no_friction_there():
     np.testing.assert_array_equal(r["slide.friction"], 0.0)
     np.testing.assert_array_equal(r["slide.friction_approx"], 0.0)
     assert np.all(r["O.friction"] != 0)
+
+
+@pytest.mark.parametrize(
+    "path", ["mechanisms/slotting_machine.yaml", "tests/hard/slider_crank_self_locking.yaml"]
+)
+def test_the_shared_solves_give_each_solution_as_its_own_solve(monkeypatch, path):
+    """The approximate solution by the consistent one's n_f solves A⁻¹(−g_k) (x₀ + Σ
+    e_k(x₀) A⁻¹(−g_k)) equals the one solve of its definition, A x = −Q − Σ g_k e_k(x₀),
+    to 1e-12 of its scale; the consistent solution that starts from it equals the one
+    computed alone (no approximate solution before it: a fresh setup), with the same
+    status and iterations; the solves are not kept in the result."""
+    from kinetostatics.kinetics import friction as fr
+    from kinetostatics.kinetics import inverse
+
+    calls = []
+    real = inverse.friction_solutions
+
+    def spy(system, motion, q_loads, eq, ref_speed):
+        out = real(system, motion, q_loads, eq, ref_speed)
+        calls.append((system, motion, q_loads, eq, ref_speed, out))
+        return out
+
+    monkeypatch.setattr(inverse, "friction_solutions", spy)
+    ks.analyze(ks.load(path))
+    system, motion, q_loads, eq, ref_speed, got = calls[0]
+    assert not got.setup.shared  # the result keeps the setup, not the solves
+    fs = fr.setup(system, motion.q, motion.qd, ref_speed)
+    xa, ea = fr.approximate(system, fs, eq.solve, q_loads.total, eq.x0)  # its own solve
+    scale = np.nanmax(np.abs(xa))
+    assert np.nanmax(np.abs(got.x_approx - xa)) <= 1e-12 * scale
+    assert np.array_equal(np.isnan(got.x_approx), np.isnan(xa))
+    assert np.array_equal(got.e_approx, ea, equal_nan=True)
+    a = eq.lu if eq.a_given is None else eq.a_given  # as friction_solutions hands it
+    alone = fr.consistent(system, fs, a, eq.solve, q_loads.total, eq.x0)
+    assert "first" not in fs.shared  # computed from x₀, not from an approximate solution
+    sol = got.solution
+    assert np.array_equal(sol.status, alone.status)
+    assert np.array_equal(sol.iterations, alone.iterations)
+    assert np.nanmax(np.abs(sol.x - alone.x)) <= 1e-12 * np.nanmax(np.abs(alone.x))

@@ -367,10 +367,15 @@ def _names_of(text: str) -> tuple[str, ...]:
     return tuple(_variable_names(_parse(text)))
 
 
-def _finite(value: float, what: str) -> float:
+def _finite(value: float, what) -> float:
     if isinstance(value, complex) or not math.isfinite(value):
         raise ExpressionError(f"result is not finite in {what}")
     return float(value)
+
+
+class _Operation(tuple):  # '2 / 0', formatted for an error only (a build evaluates thousands)
+    def __str__(self) -> str:
+        return f"{_fmt(self[0])} {self[1]} {_fmt(self[2])}"
 
 
 def _eval_node(node: ast.AST, env: Mapping[str, float]) -> float:
@@ -409,10 +414,9 @@ def _eval_node(node: ast.AST, env: Mapping[str, float]) -> float:
 
 def _eval_binop(node: ast.BinOp, env: Mapping[str, float]) -> float:
     """Evaluate a binary operation with overflow and domain checks."""
-    left = _eval_node(node.left, env)
-    right = _eval_node(node.right, env)
+    left, right = _eval_node(node.left, env), _eval_node(node.right, env)
     symbol = _BINARY_OPS[type(node.op)]
-    what = f"{_fmt(left)} {symbol} {_fmt(right)}"
+    what = _Operation((left, symbol, right))
     try:
         if symbol == "+":
             result = left + right

@@ -188,23 +188,39 @@ class RowNeeds:
     quantity with friction, the efficiencies, the self-locking), the outputs' strokes and
     time ratios (a Newton on time per slide) and the self-locked zones' located edges
     (the friction solution at each edge).  A part not needed is not computed: its
-    quantities are absent from the row (friction, zones) or empty (strokes)."""
+    quantities are absent from the row (friction, zones) or empty (strokes).  ``parts``:
+    the groups of the row's quantities (:data:`ROW_PARTS`) to reduce from the columns,
+    None for all; a group left out is absent from the row."""
 
     friction: bool = True
     strokes: bool = True
     zones: bool = True
+    parts: frozenset[str] | None = None
+
+
+# the groups of a row's quantities, each with the words of its names (a name with one of
+# them belongs to it: on the safe side, a name may belong to several)
+ROW_PARTS: dict[str, tuple[str, ...]] = {
+    "outputs": (".stroke", ".time_ratio", ".v_peak", ".a_peak", ".omega_peak", ".alpha_peak"),
+    "efforts": ("torque", "force", "efficiency"),
+    "locking": ("self_locking",),
+    "reactions": ("reaction",),
+    "shaking": ("shaking",),
+    "angles": ("angle",),
+}
 
 
 def row_needs(names: Iterable[str] | None) -> RowNeeds:
     """What the quantities ``names`` read (None: the whole row).  By the names' words, on
     the safe side: a name with ``friction`` or ``efficiency`` in it needs the friction
-    solutions, one ending ``.stroke`` or ``.time_ratio`` the strokes, and
-    ``friction.self_locking`` the zones (a parameter's name that reads so only costs time).
+    solutions, one ending ``.stroke`` or ``.time_ratio`` the strokes,
+    ``friction.self_locking`` the zones, and a name with a word of a group of
+    :data:`ROW_PARTS` that group (a parameter's name that reads so only costs time).
 
     >>> row_needs(["motor.torque_rms", "a"])
-    RowNeeds(friction=False, strokes=False, zones=False)
-    >>> row_needs(["motor.torque_friction_rms", "slide.stroke"])
-    RowNeeds(friction=True, strokes=True, zones=False)
+    RowNeeds(friction=False, strokes=False, zones=False, parts=frozenset({'efforts'}))
+    >>> row_needs(["motor.torque_friction_rms", "slide.stroke"]).parts == {"efforts", "outputs"}
+    True
     """
     if names is None:
         return RowNeeds()
@@ -213,6 +229,9 @@ def row_needs(names: Iterable[str] | None) -> RowNeeds:
         friction=any("friction" in n or "efficiency" in n for n in names),
         strokes=any(n.endswith((".stroke", ".time_ratio")) for n in names),
         zones="friction.self_locking" in names,
+        parts=frozenset(
+            part for part, words in ROW_PARTS.items() for n in names if any(w in n for w in words)
+        ),
     )
 
 
@@ -271,7 +290,11 @@ def _zones(result) -> str:
 
 
 def summary_row(
-    result, flywheel: bool | None = None, strokes: dict | None = None, zones: bool = True
+    result,
+    flywheel: bool | None = None,
+    strokes: dict | None = None,
+    zones: bool = True,
+    parts: frozenset[str] | None = None,
 ) -> dict[str, Any]:
     """The batch row of one analysed variant (names ``<member>.<quantity>``,
     units :data:`ROW_UNITS`): strokes and time ratios of the outputs, peak
@@ -283,18 +306,22 @@ def summary_row(
     result ``(V, N)`` gives arrays ``(V,)`` (:func:`split_rows` makes rows);
     ``strokes`` are :func:`~kinetostatics.kinematics.events.output_strokes` (computed
     when not given); ``zones`` False leaves out ``friction.self_locking`` (of one
-    result: its zones' located edges, a friction solution at each)."""
+    result: its zones' located edges, a friction solution at each); ``parts``: the groups
+    of :data:`ROW_PARTS` to compute (None: all; :func:`row_needs`)."""
     system = result.system
     cols = result.columns
     row: dict[str, Any] = {"status": "ok", "reason": "", "full_cycle": bool(result.full_cycle)}
-    row.update(_output_row(result, output_strokes(result) if strokes is None else strokes))
-    row.update(_effort_row(result))
-    if "friction.status" in cols:
+    if parts is None or "outputs" in parts:
+        row.update(_output_row(result, output_strokes(result) if strokes is None else strokes))
+    if parts is None or "efforts" in parts:
+        row.update(_effort_row(result))
+    if "friction.status" in cols and (parts is None or "locking" in parts):
         row.update(_locking_row(result, zones))
-    row.update(_reaction_row(cols, system.model.joints))
-    if "shaking.Fx" in cols:
+    if parts is None or "reactions" in parts:
+        row.update(_reaction_row(cols, system.model.joints))
+    if "shaking.Fx" in cols and (parts is None or "shaking" in parts):
         row.update(shaking_row(cols))
-    for name in cols:
+    for name in cols if parts is None or "angles" in parts else ():
         if name.endswith(".pressure_angle"):  # a cam's is signed: its largest magnitude
             row[name + "_max"] = peak(cols[name])
         elif name.endswith(".transmission_angle"):
@@ -490,7 +517,9 @@ def _analyze_variants(  # noqa: PLR0913  analyze_variants' keywords, positional 
         try:
             result = analyze(model, friction=friction)
             strokes = None if need.strokes else {}
-            rows[v] = summary_row(result, flywheel=flywheel, strokes=strokes, zones=need.zones)
+            rows[v] = summary_row(
+                result, flywheel=flywheel, strokes=strokes, zones=need.zones, parts=need.parts
+            )
         except (KinetostaticsError, ValueError, ArithmeticError, np.linalg.LinAlgError) as exc:
             rows[v] = failure_row(exc)
     return rows, parameters, alone
@@ -522,7 +551,11 @@ def _vectorised_rows(
                     )
                     strokes = vectorised.output_strokes(st) if need.strokes else {}
                     row = summary_row(
-                        vectorised.as_result(st), flywheel=False, strokes=strokes, zones=need.zones
+                        vectorised.as_result(st),
+                        flywheel=False,
+                        strokes=strokes,
+                        zones=need.zones,
+                        parts=need.parts,
                     )
         except (
             vectorised.Unsupported,  # LeftOver included

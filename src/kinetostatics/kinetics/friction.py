@@ -47,6 +47,8 @@ class FrictionSetup:
     zero: np.ndarray  # (...) any frictional joint at zero relative speed
     q: np.ndarray
     pairs: dict = field(default_factory=dict, repr=False)  # joint -> (q_i, q_j), filled on use
+    # the solves the two solutions share (:func:`_per_effort`, :func:`approximate`)
+    shared: dict = field(default_factory=dict, repr=False)
 
 
 def setup(system: System, q: np.ndarray, qd: np.ndarray, ref_speed: float) -> FrictionSetup:
@@ -85,12 +87,13 @@ def efforts(system: System, fs: FrictionSetup, x: np.ndarray, scale: float = 1.0
         mu = np.empty((len(fs.joints), flat.shape[0]))
         _magnitudes(sets, flat, mu, _parts(sets, flat.shape[0]))
         return -fs.sign * scale * entries_last(mu, 1).reshape(fs.sign.shape)
-    out = np.zeros(x.shape[:-1] + (len(fs.joints),))
-    for cols, joint, rows, ks in _effort_sets(system, tuple(fs.joints)):
+    out = np.empty(x.shape[:-1] + (len(fs.joints),))  # every column is written
+    for n, (cols, joint, rows, ks) in enumerate(_effort_sets(system, tuple(fs.joints))):
         qi, qj = _link_q(system, fs, ks)
-        out[..., cols] = (
-            -fs.sign[..., cols] * scale * joint.friction_magnitude(x[..., rows], qi, qj)
-        )
+        key = ("signs", n, scale)  # −s·scale of the set's joints, the same each iteration
+        if key not in fs.shared:
+            fs.shared[key] = -fs.sign[..., cols] * scale
+        out[..., cols] = fs.shared[key] * joint.friction_magnitude(x[..., rows], qi, qj)
     return out
 
 
@@ -161,12 +164,36 @@ def _jacobian(
 
 
 def approximate(
-    system: System, fs: FrictionSetup, solve_a, q_load: np.ndarray, x0: np.ndarray
+    system: System,
+    fs: FrictionSetup,
+    solve_a,
+    q_load: np.ndarray,
+    x0: np.ndarray,
+    a: np.ndarray | BlockFactor | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """(x, friction efforts) of the approximate solution."""
+    """(x, friction efforts) of the approximate solution: A x = −Q − Σ g_k e_k(x₀).  Given
+    ``a`` (as :func:`consistent` takes it), by the linearity :func:`consistent` uses, x =
+    x₀ + Σ e_k(x₀) A⁻¹(−g_k) with the n_f solves it needs anyway (:func:`_per_effort`):
+    no solve of its own, and the consistent solution's first iteration, which is this x,
+    is not computed again; without, by one solve ``solve_a``."""
     e = efforts(system, fs, x0)
-    x = solve_a(-q_load - _generalized(fs, e))
+    if a is None:
+        return solve_a(-q_load - _generalized(fs, e)), e
+    x = x0 + np.einsum("...kn,...k->...n", _per_effort(fs, a, solve_a), e)
+    fs.shared["first"] = (x0, x)
     return x, e
+
+
+def _per_effort(fs: FrictionSetup, a, solve_a) -> np.ndarray:
+    """The n_f vectors A⁻¹(−g_k) as rows ``(..., n_f, n_λ)``, solved once per setup."""
+    if "per_effort" not in fs.shared:
+        with np.errstate(all="ignore"):
+            if isinstance(a, BlockFactor):
+                per_effort = a.solve_transposed_rows(-fs.grad)
+            else:
+                per_effort = np.moveaxis(solve_a(np.moveaxis(-fs.grad, -2, 0)), 0, -2)
+        fs.shared["per_effort"] = per_effort
+    return fs.shared["per_effort"]
 
 
 @dataclass
@@ -194,11 +221,7 @@ def consistent(
     # A x = −Q − Σ g_k e_k is linear in the efforts: x = x₀ + Σ e_k A⁻¹(−g_k), with the
     # n_f vectors A⁻¹(−g_k) solved once (as rows, (..., n_f, n_λ)); an iteration then
     # evaluates the efforts only
-    with np.errstate(all="ignore"):
-        if isinstance(a, BlockFactor):
-            per_effort = a.solve_transposed_rows(-fs.grad)
-        else:
-            per_effort = np.moveaxis(solve_a(np.moveaxis(-fs.grad, -2, 0)), 0, -2)
+    per_effort = _per_effort(fs, a, solve_a)
     it = np.zeros(x.shape[:-1], dtype=int)
     converged = np.zeros(x.shape[:-1], dtype=bool)
     live = np.ones(x.shape[:-1], dtype=bool)
@@ -206,29 +229,22 @@ def consistent(
     with np.errstate(all="ignore"):
         if compiled is not None:
             _compiled_fixed_point(compiled, fs, x0, per_effort, scale, x, it, converged, live)
-        for _ in range(0 if compiled is not None else FIXED_POINT_ITER):
-            if not live.any():
-                break
-            xn = x0 + np.einsum("...kn,...k->...n", per_effort, efforts(system, fs, x))
-            step = max_abs_last(xn - x) / scale
-            x = np.where(live[..., None], xn, x)
-            it += live
-            converged |= live & (step <= TOL)
-            live &= ~converged & np.isfinite(step) & (step < 1e6)
+        else:
+            x = _fixed_point(system, fs, x0, per_effort, scale, x, (it, converged, live))
     status = np.where(fs.zero, 3, 0)
     failed = ~converged
     with np.errstate(all="ignore"):
         failed |= ~(
-            _residual(system, fs, a, q_load, x)
-            <= 1e-10 * np.maximum(1.0, np.max(np.abs(q_load), axis=-1))
+            _residual(system, fs, a, q_load, x) <= 1e-10 * np.maximum(1.0, max_abs_last(q_load))
         )
     # no frictionless solution (A singular: a dead centre of the effort's joint): the branch
     # has nowhere to start, its reactions are unbounded already at σ = 0 — self-locking
     dead = ~np.all(np.isfinite(x0), axis=-1)
     x[dead], status[dead] = np.nan, 2
     failed &= ~dead
-    with np.errstate(all="ignore"):  # |x₀|/|x| (see _homotopy)
-        reach = np.linalg.norm(x0, axis=-1) / np.linalg.norm(x, axis=-1)
+    with np.errstate(all="ignore"):  # |x₀|/|x| (see _homotopy; not np.linalg.norm, slow
+        # over a short last axis)
+        reach = np.sqrt(np.einsum("...i,...i->...", x0, x0) / np.einsum("...i,...i->...", x, x))
     reach[dead] = np.nan
     flat = np.argwhere(failed)
     for index in map(tuple, flat):
@@ -237,7 +253,34 @@ def consistent(
         status[index] = st if not fs.zero[index] or st == 2 else 3
         it[index] += n
     e = efforts(system, fs, x)
+    fs.shared.clear()  # the setup stays in the result: not its (..., n_f, n_λ) solves
     return FrictionSolution(x, e, status, it, reach)
+
+
+def _fixed_point(system, fs, x0, per_effort, scale, x, state) -> np.ndarray:
+    """The fixed point's loop of :func:`consistent` with NumPy: x ← x₀ + Σ e_k A⁻¹(−g_k)
+    where live, its step max|Δx|/scale, converged where ≤ TOL, out where converged, not
+    finite or diverging; returns x, updates ``state`` = (it, converged, live).  The first
+    iteration from x₀ is the approximate solution where :func:`approximate` computed it
+    so (the same operations on the same numbers)."""
+    it, converged, live = state
+    first = fs.shared.get("first")
+    first = first[1] if first is not None and first[0] is x0 else None
+    for n in range(FIXED_POINT_ITER):
+        if not live.any():
+            break
+        if n == 0 and first is not None:
+            xn = first
+        else:
+            xn = x0 + np.einsum("...kn,...k->...n", per_effort, efforts(system, fs, x))
+        step = max_abs_last(xn - x) / scale
+        # all live (the first iterations): xn itself, unless it is the approximate
+        # solution's array (x is written by the caller)
+        x = xn if xn is not first and live.all() else np.where(live[..., None], xn, x)
+        it += live
+        converged |= live & (step <= TOL)
+        live &= ~converged & np.isfinite(step) & (step < 1e6)
+    return x
 
 
 # -- the compiled backend (base/kernels.py) ------------------------------------------------
@@ -334,7 +377,7 @@ def _product(a, x: np.ndarray) -> np.ndarray:
 
 def _residual(system, fs, a, q_load, x):
     r = _product(a, x) + q_load + _generalized(fs, efforts(system, fs, x))
-    return np.max(np.abs(r), axis=-1)
+    return max_abs_last(r)
 
 
 def _homotopy(

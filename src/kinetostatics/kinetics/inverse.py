@@ -366,8 +366,8 @@ def friction_solutions(
     q_load = q_loads.total
     fs = fr.setup(system, motion.q, motion.qd, ref_speed)
     solve_a = eq.solve
-    xa, ea = fr.approximate(system, fs, solve_a, q_load, eq.x0)
     a_full = eq.lu if a is None else a  # Φ_qᵀ by its blocks: no dense matrix assembled
+    xa, ea = fr.approximate(system, fs, solve_a, q_load, eq.x0, a_full)  # A⁻¹(−g_k) shared
     cons = fr.consistent(system, fs, a_full, solve_a, q_load, eq.x0)
     return FrictionSolutions(fs, xa, ea, cons)
 
