@@ -426,6 +426,12 @@ class Entry:
         kept = self._vectors.get(key)
         if kept is not None:
             return kept.copy()
+        out = _literal_vector(self.node, n, key[3], bound or kind)
+        if out is not None:  # numbers read before, within their limits: no entry per number
+            if self._vectors is _NONE:
+                self._vectors = {}
+            self._vectors[key] = out.copy()
+            return out
         shape = "[x, y]" if n == 2 else f"a list of {n} numbers"
         if not isinstance(self.node, yaml.SequenceNode):
             self.error(f"expected {shape}, got {describe_node(self.node)}")
@@ -504,6 +510,28 @@ class Entry:
             )
             return None
         return points[link][name]
+
+
+def _literal_vector(node: yaml.Node, n: int, scale: float, bound: str | None) -> np.ndarray | None:
+    """The ``n`` numbers of a list ``node`` whose items are all numbers written without
+    names and read before (:data:`_LITERALS`), times ``scale``, when each is within
+    :data:`MAGNITUDE` of ``bound``: what :meth:`Entry.vector` reads item by item, without
+    an entry per item.  None otherwise (the items are read one by one, and any problem
+    reported as usual)."""
+    if not isinstance(node, yaml.SequenceNode) or len(node.value) != n:
+        return None
+    lower, upper = MAGNITUDE[bound]
+    values = []
+    for item in node.value:
+        value = _LITERALS.get(item.value) if isinstance(item, yaml.ScalarNode) else None
+        if value is None:
+            return None
+        value *= scale
+        size = abs(value)
+        if not (size <= upper and (size == 0.0 or size >= lower)):
+            return None
+        values.append(value)
+    return np.array(values, dtype=float)
 
 
 class _Missing(Entry):
