@@ -391,6 +391,12 @@ class Entry:
         value = _LITERALS.get(text)
         if value is not None:
             return value
+        value = expressions.plain_number(text)  # most numbers of a file: no parse
+        if value is not None:
+            if len(_LITERALS) >= _LITERALS_MAX:
+                _LITERALS.clear()
+            _LITERALS[text] = value
+            return value
         try:
             used = expressions.names_in(text)
         except expressions.ExpressionError as exc:
