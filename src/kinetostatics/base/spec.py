@@ -152,6 +152,7 @@ class Entry:
         self._kids: dict = _NONE  # key -> child entry (or _ABSENT), kept for the next build
         self._keys_at: dict[str, Location] = _NONE  # key -> where the key is written
         self._vectors: dict[tuple, np.ndarray] = _NONE  # a vector of numbers without names
+        self._keyed: dict | None = None  # the node's _index(), once asked for
 
     def rebuilt(self, ctx: _Context) -> Entry:
         """This entry for another reading of the tree (a batch's next variant): an entry
@@ -238,12 +239,15 @@ class Entry:
 
     def get(self, key: str) -> Entry | None:
         kid = self._kids.get(key)
-        if kid is _ABSENT:
-            return None
         if kid is not None:
+            if kid is _ABSENT:
+                return None
             kid.ctx = self.ctx
             return kid
-        found = self._index().get(key) if self.is_mapping else None
+        index = self._keyed
+        if index is None:  # the node's index, kept on the entry: the readers ask often
+            index = self._keyed = self._index() if self.is_mapping else _NONE
+        found = index.get(key)
         if found is None:
             if self._kids is _NONE:
                 self._kids = {}
