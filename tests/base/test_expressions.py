@@ -12,8 +12,8 @@ from kinetostatics.base.expressions import (
     evaluate,
     evaluate_parameters,
     names_in,
-    plain_number,
 )
+from kinetostatics.base.literals import plain_number
 
 
 def test_slotting_machine_course_design():

@@ -21,7 +21,6 @@ import ast
 import functools
 import math
 import numbers
-import re
 import unicodedata
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from types import MappingProxyType
@@ -36,7 +35,6 @@ __all__ = [
     "evaluate",
     "evaluate_parameters",
     "names_in",
-    "plain_number",
 ]
 
 MAX_EXPRESSION_LENGTH = 1000
@@ -477,23 +475,6 @@ def evaluate(text: str | int | float, env: Mapping[str, float]) -> float:
 
 
 _NUMBER, _NAME, _OTHER = "number", "name", "other"
-
-_PLAIN_NUMBER = re.compile(
-    r"-?(?:(?:0|[1-9][0-9]*)(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?", re.ASCII
-)
-
-
-def plain_number(text: str) -> float | None:
-    """The value of ``text`` when it is a number written plainly (``12``, ``-0.5``,
-    ``1.5e3``: ASCII digits, no leading zero, no ``_``, at most a minus sign) that is
-    finite and not zero: the value :func:`evaluate` gives it (Python's literal and
-    ``float`` round alike, and the sign of a nonzero number is the literal's), without
-    parsing it.  None for anything else, which :func:`evaluate` reads (a zero too:
-    ``-0`` evaluates to +0.0)."""
-    if len(text) > MAX_EXPRESSION_LENGTH or _PLAIN_NUMBER.fullmatch(text) is None:
-        return None
-    value = float(text)
-    return value if value != 0.0 and math.isfinite(value) else None
 
 
 @functools.lru_cache(maxsize=4096)

@@ -23,6 +23,7 @@ from ..errors import Collector, Location, did_you_mean
 from . import expressions, units
 from .keys import Keys
 from .limits import MAGNITUDE
+from .literals import plain_number
 from .names import is_name, suggestion
 
 __all__ = [
@@ -395,7 +396,7 @@ class Entry:
         value = _LITERALS.get(text)
         if value is not None:
             return value
-        value = expressions.plain_number(text)  # most numbers of a file: no parse
+        value = plain_number(text)  # most numbers of a file: no parse
         if value is not None:
             if len(_LITERALS) >= _LITERALS_MAX:
                 _LITERALS.clear()

@@ -301,18 +301,8 @@ def _escape_unencodable() -> None:
             stream.reconfigure(errors="backslashreplace")
 
 
-def main(argv: list[str] | None = None) -> int:
-    import importlib
-
-    _escape_unencodable()
-    parser = _Parser(
-        prog="kinetostatics",
-        description="Kinetostatic analysis of planar linkages described in YAML.",
-    )
-    from ..base.version import VERSION
-
-    parser.add_argument("--version", action="version", version=f"kinetostatics {VERSION}")
-    sub = parser.add_subparsers(dest="command", required=True)
+def _register(sub) -> None:
+    """The parsers of this module's commands, ``check`` and ``run``."""
     p = sub.add_parser("check", help="structure: mobility, loops, Assur groups")
     p.add_argument("file", help="mechanism YAML file")
     p.set_defaults(func=_check)
@@ -326,10 +316,25 @@ def main(argv: list[str] | None = None) -> int:
         "its limit positions instead of stopping there",
     )
     p.set_defaults(func=_run)
+
+
+def main(argv: list[str] | None = None) -> int:
+    import importlib
+
+    _escape_unencodable()
+    parser = _Parser(
+        prog="kinetostatics",
+        description="Kinetostatic analysis of planar linkages described in YAML.",
+    )
+    from ..base.version import VERSION
+
+    parser.add_argument("--version", action="version", version=f"kinetostatics {VERSION}")
+    sub = parser.add_subparsers(dest="command", required=True)
+    _register(sub)
     argv = sys.argv[1:] if argv is None else list(argv)
-    if argv[:1] not in (["check"], ["run"]):  # their parsers alone: ~6 ms less for each
-        for name in EXTENSIONS:
-            importlib.import_module(name).register(sub)
+    alone = argv[:1] in (["check"], ["run"])  # their parsers alone: ~6 ms less for each
+    for name in () if alone else EXTENSIONS:
+        importlib.import_module(name).register(sub)
     args = parser.parse_args(argv)
 
     def one_line(message, category, filename, lineno, file=None, line=None):
