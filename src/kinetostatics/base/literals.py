@@ -1,15 +1,52 @@
-"""Numbers written plainly in a file (``12``, ``-0.5``, ``1.5e3``): read by ``float``
-instead of a parse of their expression (:mod:`.expressions`), most numbers of a file
-being written so."""
+"""The numbers of a file written without names: read by ``float`` where they are written
+plainly (``12``, ``-0.5``, ``1.5e3``: most numbers of a file) instead of a parse of their
+expression (:mod:`.expressions`), and kept by their text (the same in every reading)."""
 
 from __future__ import annotations
 
 import math
 import re
 
-from .expressions import MAX_EXPRESSION_LENGTH
+import numpy as np
+import yaml
 
-__all__ = ["plain_number"]
+from .expressions import MAX_EXPRESSION_LENGTH
+from .limits import MAGNITUDE
+
+__all__ = ["KNOWN", "known_vector", "plain_number", "remember"]
+
+KNOWN: dict[str, float] = {}
+"""Text -> value of each number written without names read so far (at most 4,096)."""
+
+
+def remember(text: str, value: float) -> float:
+    """Keep ``value`` as the value of the number written ``text``; return it."""
+    if len(KNOWN) >= 4096:
+        KNOWN.clear()
+    KNOWN[text] = value
+    return value
+
+
+def known_vector(node: yaml.Node, n: int, scale: float, bound: str | None) -> np.ndarray | None:
+    """The ``n`` numbers of a list ``node`` whose items are all numbers in :data:`KNOWN`,
+    times ``scale``, when each is within :data:`~.limits.MAGNITUDE` of ``bound``: what
+    :meth:`~.spec.Entry.vector` reads item by item, without an entry per item.  None
+    otherwise (the items are read one by one, and any problem reported as usual)."""
+    if not isinstance(node, yaml.SequenceNode) or len(node.value) != n:
+        return None
+    lower, upper = MAGNITUDE[bound]
+    values = []
+    for item in node.value:
+        value = KNOWN.get(item.value) if isinstance(item, yaml.ScalarNode) else None
+        if value is None:
+            return None
+        value *= scale
+        size = abs(value)
+        if not (size <= upper and (size == 0.0 or size >= lower)):
+            return None
+        values.append(value)
+    return np.array(values, dtype=float)
+
 
 _PLAIN_NUMBER = re.compile(
     r"-?(?:(?:0|[1-9][0-9]*)(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?", re.ASCII

@@ -23,7 +23,7 @@ from ..errors import Collector, Location, did_you_mean
 from . import expressions, units
 from .keys import Keys
 from .limits import MAGNITUDE
-from .literals import plain_number
+from .literals import KNOWN, known_vector, plain_number, remember
 from .names import is_name, suggestion
 
 __all__ = [
@@ -89,8 +89,6 @@ def expression_message(exc: Exception) -> str:
 
 _ABSENT = object()  # a key looked up and not there
 _NONE: dict = {}  # an entry's tables before their first entry (never written)
-_LITERALS: dict[str, float] = {}  # text -> value of a number written without names
-_LITERALS_MAX = 4096
 
 # A tree is read by one builder at a time: its entries are kept from one reading to the
 # next and carry the reading's context (Entry.rebuilt).
@@ -396,15 +394,12 @@ class Entry:
             self.error(f"expected a number or an expression, got {describe_node(self.node)}")
             return None
         text = self.node.value
-        value = _LITERALS.get(text)
+        value = KNOWN.get(text)
         if value is not None:
             return value
         value = plain_number(text)  # most numbers of a file: no parse
         if value is not None:
-            if len(_LITERALS) >= _LITERALS_MAX:
-                _LITERALS.clear()
-            _LITERALS[text] = value
-            return value
+            return remember(text, value)
         try:
             used = expressions.names_in(text)
         except expressions.ExpressionError as exc:
@@ -416,10 +411,7 @@ class Entry:
             except expressions.ExpressionError as exc:
                 self.error(expression_message(exc))
                 return None
-            if len(_LITERALS) >= _LITERALS_MAX:
-                _LITERALS.clear()
-            _LITERALS[text] = value
-            return value
+            return remember(text, value)
         env = self.ctx.env
         if used & self.ctx.broken_parameters:
             return None  # that parameter's problem is already reported
@@ -440,7 +432,7 @@ class Entry:
         kept = self._vectors.get(key)
         if kept is not None:
             return kept.copy()
-        out = _literal_vector(self.node, n, key[3], bound or kind)
+        out = known_vector(self.node, n, key[3], bound or kind)
         if out is not None:  # numbers read before, within their limits: no entry per number
             if self._vectors is _NONE:
                 self._vectors = {}
@@ -463,7 +455,7 @@ class Entry:
         if any(v is None for v in values):
             return None
         out = np.array(values, dtype=float)
-        if all(e.node.value in _LITERALS for e in items):  # the same in every build
+        if all(e.node.value in KNOWN for e in items):  # the same in every build
             if self._vectors is _NONE:
                 self._vectors = {}
             self._vectors[key] = out.copy()
@@ -492,6 +484,9 @@ class Entry:
         if not isinstance(self.node, yaml.SequenceNode):
             self.error(f"expected a list of {n} names, got {describe_node(self.node)}")
             return [None] * n
+        nodes = self.node.value
+        if len(nodes) == n and all(isinstance(x, yaml.ScalarNode) and x.value for x in nodes):
+            return [str(x.value) for x in nodes]  # what text() reads, without an entry each
         items = self.seq() or []
         if len(items) != n:
             self.error(f"expected a list of {n} names, got {len(items)}")
@@ -524,28 +519,6 @@ class Entry:
             )
             return None
         return points[link][name]
-
-
-def _literal_vector(node: yaml.Node, n: int, scale: float, bound: str | None) -> np.ndarray | None:
-    """The ``n`` numbers of a list ``node`` whose items are all numbers written without
-    names and read before (:data:`_LITERALS`), times ``scale``, when each is within
-    :data:`MAGNITUDE` of ``bound``: what :meth:`Entry.vector` reads item by item, without
-    an entry per item.  None otherwise (the items are read one by one, and any problem
-    reported as usual)."""
-    if not isinstance(node, yaml.SequenceNode) or len(node.value) != n:
-        return None
-    lower, upper = MAGNITUDE[bound]
-    values = []
-    for item in node.value:
-        value = _LITERALS.get(item.value) if isinstance(item, yaml.ScalarNode) else None
-        if value is None:
-            return None
-        value *= scale
-        size = abs(value)
-        if not (size <= upper and (size == 0.0 or size >= lower)):
-            return None
-        values.append(value)
-    return np.array(values, dtype=float)
 
 
 class _Missing(Entry):
