@@ -209,10 +209,10 @@ def _check_keys_and_duplicates(root: yaml.Node, file: str, problems: Collector) 
             )
             continue
         if isinstance(node, mapping):
-            seen: dict[str, int] = {}
+            seen: dict[str, yaml.Node] = {}  # key -> its node (its line made for a message)
             children = []  # (a scalar of a plain tag has nothing to check)
             for k, v in node.value:
-                if not isinstance(k, yaml.ScalarNode):
+                if not isinstance(k, scalar):
                     m = k.start_mark
                     problems.add(
                         Location(file, m.line + 1, m.column + 1, _path(chain)),
@@ -224,10 +224,11 @@ def _check_keys_and_duplicates(root: yaml.Node, file: str, problems: Collector) 
                     m = k.start_mark
                     problems.add(
                         Location(file, m.line + 1, m.column + 1, _path((chain, key))),
-                        f"duplicate key '{key}' (first given at line {seen[key]})",
+                        f"duplicate key '{key}' (first given at line "
+                        f"{seen[key].start_mark.line + 1})",
                     )
                 else:
-                    seen[key] = k.start_mark.line + 1
+                    seen[key] = k
                 if v.tag not in plain or not isinstance(v, scalar):
                     children.append((v, (chain, key)))
             stack.extend(reversed(children))
