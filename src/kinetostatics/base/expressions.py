@@ -328,10 +328,12 @@ def _parse_cached(text: str) -> ast.Expression:
 
 def _variable_names(tree: ast.AST) -> list[str]:
     """Variable names in order of first appearance (function names in call position excluded)."""
-    called = {id(n.func) for n in ast.walk(tree) if isinstance(n, ast.Call)}
+    called: set[int] = set()  # a call's function: ast.walk meets the call first
     names: list[str] = []
     for node in ast.walk(tree):
-        if isinstance(node, ast.Name) and id(node) not in called:
+        if isinstance(node, ast.Call):
+            called.add(id(node.func))
+        elif isinstance(node, ast.Name) and id(node) not in called:
             if node.id in FUNCTIONS:
                 raise ExpressionError(f"function '{node.id}' cannot be used as a variable")
             if node.id not in names:
