@@ -13,6 +13,7 @@ from kinetostatics.base.expressions import (
     evaluate_parameters,
     names_in,
 )
+from kinetostatics.base.literals import plain_number
 
 
 def test_slotting_machine_course_design():
@@ -340,3 +341,36 @@ def test_short_cuts_give_what_the_whole_evaluation_gives(text):
     assert got == want
     if got[0] == "value":
         assert math.copysign(1.0, got[1]) == math.copysign(1.0, want[1])  # -0 stays -0
+
+
+def test_a_plain_number_is_read_without_parsing_to_what_evaluate_gives():
+    """``plain_number`` (the loader's short cut for numbers written plainly) gives the
+    value and sign ``evaluate`` gives, or None; never a value for a text ``evaluate``
+    refuses or reads otherwise (``-0`` is +0.0, ``007`` a syntax error, ``1e400`` not
+    finite)."""
+    import random
+
+    rng = random.Random(3)
+    digits = "0123456789"
+    cases = ["0", "-0", "0.0", "-0.0", "007", "00.5", "1_000", "1e400", "-1e400", "1e-400"]
+    cases += [".5", "-.5", "5.", "1E+05", "0x10", "+5", " 5", "\u0663", "1e", "e5", "-", "."]
+    cases += ["9" * 400, "9" * 1001, "4.9e-324", "1.7976931348623157e308", "1.8e308"]
+    for _ in range(4000):
+        whole = rng.choice(["0", "00", "7", "", "".join(rng.choices(digits, k=rng.randint(1, 25)))])
+        part = rng.choice(["", ".", "." + "".join(rng.choices(digits, k=rng.randint(1, 20)))])
+        power = rng.choice(["", "e" + str(rng.randint(-330, 330)), "E+0" + str(rng.randint(0, 9))])
+        cases.append(rng.choice(["", "-", "+"]) + whole + part + power)
+    read = 0
+    for text in cases:
+        fast = plain_number(text)
+        if fast is None:
+            continue
+        read += 1
+        value = evaluate(text, {})  # raises if the short cut read a text evaluate refuses
+        assert fast == value and math.copysign(1.0, fast) == math.copysign(1.0, value), text
+    assert read > 1000  # the short cut is taken for most of them
+    for text in ("-0", "007", "1_000", "1e400", "+5", " 5", "\u0663", "9" * 1001):
+        assert plain_number(text) is None, text
+    for text in ("007", "1e400"):
+        with pytest.raises(ExpressionError):
+            evaluate(text, {})

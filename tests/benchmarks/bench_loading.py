@@ -20,6 +20,8 @@ of the ratios of its rounds:
     PYTHONPATH=src python tests/benchmarks/bench_loading.py [--rounds N] [--runs K]
         [--sizes N ...] [--write] [--note TEXT]
 
+``--phases`` prints only where ``ks.loads`` of the 61-link chain goes (libyaml's
+composition, the walks that check the tree, the reading of the sections).
 ``--write`` rewrites the table of docs/accuracy.md between ``<!-- loading:begin -->``
 and ``<!-- loading:end -->``.  Nothing here is a test: the targets are the project's aims.
 """
@@ -140,6 +142,42 @@ def table(runs: list[list[tuple[str, str, str]]]) -> str:
     return "\n".join(lines)
 
 
+def phases(rounds: int) -> None:
+    """Where ``ks.loads`` of the 61-link chain goes: libyaml's composition, the walks that
+    check the tree, and the reading of the sections (medians of ``rounds``, CPU time,
+    the collector held off as the loader holds it)."""
+    import gc
+
+    import yaml
+
+    from kinetostatics.base import document
+    from kinetostatics.errors import Collector
+    from kinetostatics.io import builder
+
+    text = dyad_chain(LOADS_DYADS, positions=360)
+    root = document._compose_fast(text)[1]
+    steps = {
+        "ks.loads": lambda: ks.loads(text),
+        "libyaml's composition": lambda: yaml.compose(text, Loader=document._CLoader),
+        "the walks that check it": lambda: (
+            document._within_limits(root),
+            document._check_keys_and_duplicates(root, "<s>", Collector()),
+        ),
+        "composed and checked (compose)": lambda: document.compose(text),
+        "read into the model (build)": lambda: builder.build(document.compose(text)),
+    }
+    times: dict[str, list[float]] = {name: [] for name in steps}
+    for _ in range(rounds + 1):
+        for name, step in steps.items():
+            gc.disable()
+            times[name].append(_cpu(step))
+            gc.enable()
+    build = [b - c for b, c in zip(times.pop("read into the model (build)"),
+                                   times["composed and checked (compose)"])]  # fmt: skip
+    for name, v in [*times.items(), ("read into the model (build)", build)]:
+        print(f"{name}: {_med(v[1:]) * 1e3:.2f} ms")
+
+
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--rounds", type=int, default=7, help="timed rounds per run (default 7)")
@@ -147,7 +185,11 @@ def main(argv=None) -> None:
     ap.add_argument("--sizes", type=int, nargs="+", default=list(SIZES), help="dyads per chain")
     ap.add_argument("--write", action="store_true", help="rewrite the table in docs/accuracy.md")
     ap.add_argument("--note", default="", help="text added to the conditions")
+    ap.add_argument("--phases", action="store_true", help="where ks.loads goes, only")
     args = ap.parse_args(argv)
+    if args.phases:
+        phases(args.rounds)
+        return
     sizes = tuple(args.sizes)
     if args.write and sizes != SIZES:
         raise SystemExit("--write records the default sizes: no --sizes")

@@ -82,21 +82,32 @@ if hasattr(yaml, "CSafeLoader"):
 
 else:  # PyYAML without libyaml
     _CLoader = None
-_PLAIN_TEXT = "[\n\x20-\x3e\x40-\x7e\u00a0-\ud7ff\uf900-\ufefe\uff00-\ufffd]*"
+_PLAIN_RANGES = (
+    (0x0A, 0x0A),
+    (0x20, 0x3E),
+    (0x40, 0x7E),
+    (0xA0, 0xD7FF),
+    (0xF900, 0xFEFE),
+    (0xFF00, 0xFFFD),
+)
 """The characters libyaml is given: where the two composers differ (tabs, carriage
 returns, the other line breaks, a byte-order mark, control and private characters,
 characters beyond the BMP, and ``?``, which libyaml accepts inside a flow mapping's
-plain key where PyYAML refuses it) PyYAML's composer reads the text.  Compiled by
-``re`` (and kept in its cache) when a text that is not ASCII is first read: compiling
-its wide ranges costs 1.5 ms, which every command would pay at import."""
+plain key where PyYAML refuses it) PyYAML's composer reads the text.  A text that is
+not ASCII is checked character by distinct character: a pattern of these wide ranges
+costs ``re`` 1.5–3 ms to compile, which every command reading such a file paid."""
 _ASCII_NOT_PLAIN = re.compile("[\x00-\x09\x0b-\x1f\x3f\x7f]")  # the same, for ASCII
 
 
 def _plain_text(text: str) -> bool:
-    """Whether ``text`` has only characters of :data:`_PLAIN_TEXT`."""
+    """Whether ``text`` has only characters of :data:`_PLAIN_RANGES`."""
     if text.isascii():
         return _ASCII_NOT_PLAIN.search(text) is None
-    return re.fullmatch(_PLAIN_TEXT, text) is not None
+    for ch in set(text):
+        code = ord(ch)
+        if not any(lo <= code <= hi for lo, hi in _PLAIN_RANGES):
+            return False
+    return True
 
 
 def _within_limits(root: yaml.Node) -> bool:
@@ -104,24 +115,26 @@ def _within_limits(root: yaml.Node) -> bool:
     and no list or mapping is nested deeper than :data:`MAX_DEPTH` (counted as
     :class:`_Loader` counts it, an alias's levels included: a stricter count, so that a
     tree this passes is one that :class:`_Loader` accepts), and it has no empty scalar
-    (libyaml marks an empty value in a flow mapping one column later).  Iterative."""
-    count, stack = 0, [(root, 1)]
+    (libyaml marks an empty value in a flow mapping one column later).  Iterative; the
+    scalars of a list or mapping are looked at in place, never stacked."""
+    if isinstance(root, yaml.ScalarNode):
+        return bool(root.value)
+    count, stack = 1, [(root, 1)]
+    scalar, mapping = yaml.ScalarNode, yaml.MappingNode
     while stack:
         n, depth = stack.pop()
-        count += 1
+        if depth > MAX_DEPTH:
+            return False
+        children = [c for pair in n.value for c in pair] if isinstance(n, mapping) else n.value
+        count += len(children)
         if count > MAX_NODES:
             return False
-        if isinstance(n, yaml.MappingNode):
-            if depth > MAX_DEPTH:
-                return False
-            for k, v in n.value:
-                stack.extend(((k, depth + 1), (v, depth + 1)))
-        elif isinstance(n, yaml.SequenceNode):
-            if depth > MAX_DEPTH:
-                return False
-            stack.extend((v, depth + 1) for v in n.value)
-        elif not n.value:
-            return False
+        for c in children:
+            if isinstance(c, scalar):
+                if not c.value:
+                    return False
+            else:
+                stack.append((c, depth + 1))
     return True
 
 
@@ -181,6 +194,7 @@ def _check_keys_and_duplicates(root: yaml.Node, file: str, problems: Collector) 
     stack: list[tuple[yaml.Node, object]] = [(root, None)]
     visited: set[int] = set()
     plain, mapping, sequence = _PLAIN_TAGS, yaml.MappingNode, yaml.SequenceNode
+    scalar = yaml.ScalarNode
     while stack:
         node, chain = stack.pop()
         if id(node) in visited:  # an alias: its node was checked already
@@ -195,10 +209,10 @@ def _check_keys_and_duplicates(root: yaml.Node, file: str, problems: Collector) 
             )
             continue
         if isinstance(node, mapping):
-            seen: dict[str, int] = {}
-            children = []
+            seen: dict[str, yaml.Node] = {}  # key -> its node (its line made for a message)
+            children = []  # (a scalar of a plain tag has nothing to check)
             for k, v in node.value:
-                if not isinstance(k, yaml.ScalarNode):
+                if not isinstance(k, scalar):
                     m = k.start_mark
                     problems.add(
                         Location(file, m.line + 1, m.column + 1, _path(chain)),
@@ -210,14 +224,24 @@ def _check_keys_and_duplicates(root: yaml.Node, file: str, problems: Collector) 
                     m = k.start_mark
                     problems.add(
                         Location(file, m.line + 1, m.column + 1, _path((chain, key))),
-                        f"duplicate key '{key}' (first given at line {seen[key]})",
+                        f"duplicate key '{key}' (first given at line "
+                        f"{seen[key].start_mark.line + 1})",
                     )
                 else:
-                    seen[key] = k.start_mark.line + 1
-                children.append((v, (chain, key)))
+                    seen[key] = k
+                if v.tag not in plain or not isinstance(v, scalar):
+                    children.append((v, (chain, key)))
             stack.extend(reversed(children))
         elif isinstance(node, sequence):
-            stack.extend(reversed([(v, (chain, k)) for k, v in enumerate(node.value)]))
+            stack.extend(
+                reversed(
+                    [
+                        (v, (chain, k))
+                        for k, v in enumerate(node.value)
+                        if v.tag not in plain or not isinstance(v, scalar)
+                    ]
+                )
+            )
 
 
 def read_text(path: str | Path) -> str:

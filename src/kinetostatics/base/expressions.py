@@ -226,9 +226,8 @@ def _check_depth(tree: ast.AST) -> None:
 
 def _check_node(node: ast.AST) -> None:
     """Refuse any construct outside the whitelist."""
-    for forbidden, message in _FORBIDDEN.items():
-        if isinstance(node, forbidden):
-            raise ExpressionError(message)
+    if (message := _FORBIDDEN.get(type(node))) is not None:  # the parser's own classes
+        raise ExpressionError(message)
     if isinstance(node, ast.Constant):
         value = node.value
         if isinstance(value, bool):
@@ -329,10 +328,12 @@ def _parse_cached(text: str) -> ast.Expression:
 
 def _variable_names(tree: ast.AST) -> list[str]:
     """Variable names in order of first appearance (function names in call position excluded)."""
-    called = {id(n.func) for n in ast.walk(tree) if isinstance(n, ast.Call)}
+    called: set[int] = set()  # a call's function: ast.walk meets the call first
     names: list[str] = []
     for node in ast.walk(tree):
-        if isinstance(node, ast.Name) and id(node) not in called:
+        if isinstance(node, ast.Call):
+            called.add(id(node.func))
+        elif isinstance(node, ast.Name) and id(node) not in called:
             if node.id in FUNCTIONS:
                 raise ExpressionError(f"function '{node.id}' cannot be used as a variable")
             if node.id not in names:

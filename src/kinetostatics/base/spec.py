@@ -23,6 +23,7 @@ from ..errors import Collector, Location, did_you_mean
 from . import expressions, units
 from .keys import Keys
 from .limits import MAGNITUDE
+from .literals import KNOWN, known_vector, plain_number, remember
 from .names import is_name, suggestion
 
 __all__ = [
@@ -88,8 +89,6 @@ def expression_message(exc: Exception) -> str:
 
 _ABSENT = object()  # a key looked up and not there
 _NONE: dict = {}  # an entry's tables before their first entry (never written)
-_LITERALS: dict[str, float] = {}  # text -> value of a number written without names
-_LITERALS_MAX = 4096
 
 # A tree is read by one builder at a time: its entries are kept from one reading to the
 # next and carry the reading's context (Entry.rebuilt).
@@ -134,6 +133,9 @@ def _located(node: yaml.Node, up: tuple) -> Location:
 class Entry:
     """A YAML node with its location; typed readers report problems and return ``None``."""
 
+    # slots: a file makes an entry for most of its nodes (about 1,200 for a 61-link chain)
+    __slots__ = ("node", "_where", "ctx", "_up", "_kids", "_keys_at", "_vectors", "_keyed", "_root")
+
     def __init__(
         self,
         node: yaml.Node,
@@ -152,12 +154,13 @@ class Entry:
         self._kids: dict = _NONE  # key -> child entry (or _ABSENT), kept for the next build
         self._keys_at: dict[str, Location] = _NONE  # key -> where the key is written
         self._vectors: dict[tuple, np.ndarray] = _NONE  # a vector of numbers without names
+        self._keyed: dict | None = None  # the node's _index(), once asked for
 
     def rebuilt(self, ctx: _Context) -> Entry:
         """This entry for another reading of the tree (a batch's next variant): an entry
         kept for that, whose children are kept as they are met and take ``ctx`` as they are
         reached through it — one reading at a time (:data:`READING`)."""
-        root = self.__dict__.get("_root")
+        root = getattr(self, "_root", None)  # the slot is empty until the first rebuild
         if root is None:
             root = self._root = Entry(self.node, self.where, ctx)
         root.ctx = ctx
@@ -238,12 +241,15 @@ class Entry:
 
     def get(self, key: str) -> Entry | None:
         kid = self._kids.get(key)
-        if kid is _ABSENT:
-            return None
         if kid is not None:
+            if kid is _ABSENT:
+                return None
             kid.ctx = self.ctx
             return kid
-        found = self._index().get(key) if self.is_mapping else None
+        index = self._keyed
+        if index is None:  # the node's index, kept on the entry: the readers ask often
+            index = self._keyed = self._index() if self.is_mapping else _NONE
+        found = index.get(key)
         if found is None:
             if self._kids is _NONE:
                 self._kids = {}
@@ -388,9 +394,12 @@ class Entry:
             self.error(f"expected a number or an expression, got {describe_node(self.node)}")
             return None
         text = self.node.value
-        value = _LITERALS.get(text)
+        value = KNOWN.get(text)
         if value is not None:
             return value
+        value = plain_number(text)  # most numbers of a file: no parse
+        if value is not None:
+            return remember(text, value)
         try:
             used = expressions.names_in(text)
         except expressions.ExpressionError as exc:
@@ -402,10 +411,7 @@ class Entry:
             except expressions.ExpressionError as exc:
                 self.error(expression_message(exc))
                 return None
-            if len(_LITERALS) >= _LITERALS_MAX:
-                _LITERALS.clear()
-            _LITERALS[text] = value
-            return value
+            return remember(text, value)
         env = self.ctx.env
         if used & self.ctx.broken_parameters:
             return None  # that parameter's problem is already reported
@@ -426,6 +432,12 @@ class Entry:
         kept = self._vectors.get(key)
         if kept is not None:
             return kept.copy()
+        out = known_vector(self.node, n, key[3], bound or kind)
+        if out is not None:  # numbers read before, within their limits: no entry per number
+            if self._vectors is _NONE:
+                self._vectors = {}
+            self._vectors[key] = out.copy()
+            return out
         shape = "[x, y]" if n == 2 else f"a list of {n} numbers"
         if not isinstance(self.node, yaml.SequenceNode):
             self.error(f"expected {shape}, got {describe_node(self.node)}")
@@ -443,7 +455,7 @@ class Entry:
         if any(v is None for v in values):
             return None
         out = np.array(values, dtype=float)
-        if all(e.node.value in _LITERALS for e in items):  # the same in every build
+        if all(e.node.value in KNOWN for e in items):  # the same in every build
             if self._vectors is _NONE:
                 self._vectors = {}
             self._vectors[key] = out.copy()
@@ -472,6 +484,9 @@ class Entry:
         if not isinstance(self.node, yaml.SequenceNode):
             self.error(f"expected a list of {n} names, got {describe_node(self.node)}")
             return [None] * n
+        nodes = self.node.value
+        if len(nodes) == n and all(isinstance(x, yaml.ScalarNode) and x.value for x in nodes):
+            return [str(x.value) for x in nodes]  # what text() reads, without an entry each
         items = self.seq() or []
         if len(items) != n:
             self.error(f"expected a list of {n} names, got {len(items)}")

@@ -315,7 +315,7 @@ class BodySections:
             gen = f"{name}_{names[k]}"
             p_k = e.point(names[k], pts[k], points, key="points", index=k)
             if gen in self.names:
-                other, first = self.names[gen]
+                other, first = self.names[gen][0], self._first_named(gen)
                 self.problems.add(
                     self.top["joints"].key_where(name),
                     f"the pin's revolute {hub}-{names[k]} is named '{gen}', but the "
@@ -323,7 +323,7 @@ class BodySections:
                 )
                 bad = True
                 continue
-            self.names[gen] = ("joint", e.where)
+            self.names[gen] = ("joint", e.where, None)
             self.generated[gen] = (name, hub, names[k])
             gens.append(gen)
             if p_hub is not None and p_k is not None:

@@ -130,7 +130,8 @@ class Builder(
 
     def __init__(self, top: Entry, ctx: _Context):
         self.top, self.ctx, self.problems = top, ctx, ctx.problems
-        self.names: dict[str, tuple[str, Location]] = {}  # name -> (what, where first named)
+        # name -> (what, the section whose key it is, the key) or (what, location, None)
+        self.names: dict[str, tuple[str, Entry | Location, str | None]] = {}
         self.broken: dict[str, set[str]] = {
             "link": set(),
             "joint": set(),
@@ -245,9 +246,14 @@ class Builder(
 
     # -- names ----------------------------------------------------------------
     def _claim(self, section: Entry, name: str, what: str) -> bool:
-        """Register ``name`` (a key of ``section``) as a ``what``; report a bad name."""
+        """Register ``name`` (a key of ``section``) as a ``what``; report a bad name.  Where
+        it is written is looked up only for a message (:meth:`_first_named`)."""
+        problem = name_problem(what, name)
+        if problem is None and name not in RESERVED and name not in self.names:
+            self.names[name] = (what, section, name)
+            return True
         where = section.key_where(name)
-        if problem := name_problem(what, name):
+        if problem:
             self.problems.add(where, problem)
         elif name in RESERVED:
             self.problems.add(
@@ -255,8 +261,8 @@ class Builder(
                 f"'{name}' is a reserved name (a results column); "
                 f"reserved: {', '.join(sorted(RESERVED))}",
             )
-        elif name in self.names:
-            other, first = self.names[name]
+        else:
+            other, first = self.names[name][0], self._first_named(name)
             if name in self.generated:
                 pin, hub, link = self.generated[name]
                 self.problems.add(
@@ -272,11 +278,13 @@ class Builder(
                     f"{first.line} has it already; names must be unique "
                     "across links, joints, drivers and loads",
                 )
-        else:
-            self.names[name] = (what, where)
-            return True
         self.broken[what].add(name)
         return False
+
+    def _first_named(self, name: str) -> Location:
+        """Where the name ``name`` was first given: a key of a section, or a location."""
+        _, at, key = self.names[name]
+        return at if key is None else at.key_where(key)
 
     def _broken(self, what: str, name: str) -> bool:
         """Whether ``name`` was declared as a ``what`` but is in error (already reported)."""

@@ -1,0 +1,92 @@
+"""``import kinetostatics`` and ``kinetostatics run`` load only what they use (issue 40):
+every module loaded is paid at the start of every command, so the modules each leaves
+off its path are listed here, checked in a fresh process (``sys.modules`` at its end)."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+
+# what `run` of a file without sizing data never needs
+RUN_LAZY = (
+    # the other commands: their parsers are built only for them (cli.main)
+    "kinetostatics.cli.pictures",
+    "kinetostatics.cli.dynamics",
+    "kinetostatics.cli.batch",
+    "kinetostatics.cli.formats",
+    "kinetostatics.cli.optimize",
+    "kinetostatics.cli.sensitivity",
+    "kinetostatics.cli.init",
+    "kinetostatics.cli.edit",
+    # the sizing stage, for a file with bearing, pin or section data
+    "kinetostatics.sizing",
+    "kinetostatics.methods",
+    # the layers of the other commands
+    "kinetostatics.batch",
+    "kinetostatics.editor",
+    "kinetostatics.outputs.plotting",
+    "kinetostatics.outputs.report",
+    # heavy packages: pictures, integrators, PDF, fonts, the editor's server
+    "matplotlib",
+    "scipy",
+    "networkx",
+    "fontTools",
+    "fpdf",
+    "email",
+    "http",
+    "decimal",
+    "difflib",
+    "tempfile",
+    "importlib.resources",
+)
+# and what `import kinetostatics` leaves to the first analysis
+IMPORT_LAZY = RUN_LAZY + (
+    "kinetostatics.analysis",
+    "kinetostatics.structure",
+    "kinetostatics.kinematics",
+    "kinetostatics.kinetics",
+    "kinetostatics.dynamics",
+)
+
+
+def _loaded(code: str, names: tuple[str, ...]) -> list[str]:
+    """Which of ``names`` are in ``sys.modules`` after ``code`` runs in a fresh process."""
+    script = f"import json, sys\n{code}\nprint(json.dumps(sorted(sys.modules)))"
+    out = subprocess.run(
+        [sys.executable, "-c", script],
+        capture_output=True,
+        text=True,
+        check=True,
+        cwd=ROOT,
+    )
+    modules = set(json.loads(out.stdout.splitlines()[-1]))
+    return [n for n in names if n in modules]
+
+
+def test_import_kinetostatics_loads_no_stage_and_no_heavy_package():
+    assert _loaded("import kinetostatics", IMPORT_LAZY) == []
+
+
+def test_run_of_a_file_without_sizing_data_loads_only_what_it_uses(tmp_path):
+    code = (
+        "from kinetostatics.cli import main\n"
+        f"code = main(['run', 'mechanisms/slotting_machine.yaml', '--out', {str(tmp_path)!r}])\n"
+        "assert code == 0, code"
+    )
+    assert _loaded(code, RUN_LAZY) == []
+    assert (tmp_path / "results.csv").is_file() and (tmp_path / "summary.json").is_file()
+    assert not (tmp_path / "sizing.json").exists()
+
+
+def test_run_of_a_file_with_sizing_data_loads_the_sizing_stage(tmp_path):
+    """The other side of the sizing stage's laziness: a file with sizing data sizes."""
+    code = (
+        "from kinetostatics.cli import main\n"
+        "code = main(['run', 'mechanisms/slider_crank_sized.yaml', '--out', "
+        f"{str(tmp_path)!r}])\n"
+        "assert code == 0, code"
+    )
+    assert _loaded(code, ("kinetostatics.sizing",)) == ["kinetostatics.sizing"]
+    assert (tmp_path / "sizing.json").is_file()
