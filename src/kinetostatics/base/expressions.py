@@ -138,8 +138,7 @@ _SIGNATURES: dict[str, tuple[Callable[..., float], int, int | None]] = {
 FUNCTIONS: Mapping[str, Callable[..., float]] = MappingProxyType(
     {name: sig[0] for name, sig in _SIGNATURES.items()}
 )
-"""Whitelisted functions callable from expressions (trigonometry in radians; ``*d``
-variants in degrees)."""
+"""Whitelisted functions callable from expressions (radians; the ``*d`` ones degrees)."""
 
 CONSTANTS: Mapping[str, float] = MappingProxyType({"pi": math.pi, "e": math.e, "tau": math.tau})
 """Named constants; a variable of the same name (e.g. an eccentricity ``e``) shadows them."""
