@@ -4,6 +4,7 @@ labels)."""
 
 from __future__ import annotations
 
+import contextlib
 import re
 
 import numpy as np
@@ -120,13 +121,20 @@ def _sheet_class():
         matplotlib, Figure = _mpl()
 
         class Sheet(Figure):
+            def __init__(self, *args, **kwargs):
+                super().__init__(*args, **kwargs)
+                # the style the figure is made and laid out in (:func:`_rc`)
+                self._style = dict(_STYLES[-1]) if _STYLES else {}
+
             def draw(self, renderer):
                 _mend_math(self)
                 share(renderer)  # each formula parsed once per process
-                # the formulas' face as they were measured when the figure was laid out
-                # (inside the style): a figure saved after the style's context was drawn
-                # in matplotlib's italic default, wider or narrower than its layout
-                with matplotlib.rc_context({"mathtext.default": STYLE["mathtext.default"]}):
+                # drawn in the style it was laid out in: a figure saved after the
+                # style's context was drawn in matplotlib's defaults, its formulas in
+                # the italic face (wider or narrower than their layout, and each parsed
+                # again: the shared parser's key holds the settings), its axes' ticks
+                # spaced for 10 pt labels where the layout had measured 7.5 pt ones
+                with matplotlib.rc_context(self._style):
                     super().draw(renderer)
 
         _SHEET.append(Sheet)
@@ -137,11 +145,22 @@ def _figure(width_mm: float, height_mm: float, dpi: float = DPI):
     return _sheet_class()(figsize=(width_mm * MM, height_mm * MM), dpi=dpi)
 
 
+_STYLES: list[dict] = []  # the styles of the :func:`_rc` contexts entered, innermost last
+
+
+@contextlib.contextmanager
 def _rc(lang: str = "en"):
-    """The style (and for ``lang="zh"`` a font with Chinese glyphs) while a figure is drawn."""
+    """The style (and for ``lang="zh"`` a font with Chinese glyphs) while a figure is
+    made and laid out; a figure made inside it is drawn in it too, wherever it is saved."""
 
     matplotlib, _ = _mpl()
-    return matplotlib.rc_context({**STYLE, **rc_fonts(lang)})
+    style = {**STYLE, **rc_fonts(lang)}
+    with matplotlib.rc_context(style):
+        _STYLES.append(style)
+        try:
+            yield
+        finally:
+            _STYLES.pop()
 
 
 def _fmt_scale(x: float) -> str:
