@@ -77,3 +77,38 @@ def test_a_picture_is_drawn_in_the_settings_it_was_laid_out_in():
     fig.savefig(io.BytesIO(), format="png")
     assert parser._parsed.cache_info().misses == parsed
     assert matplotlib.rcParams["mathtext.default"] != "regular"  # the style given back
+
+
+def test_a_text_is_measured_once_for_the_layout_and_the_drawing(monkeypatch):
+    """A picture's texts are measured by its layout's pass; the renderer of its final
+    size that draws it uses those sizes instead of measuring every text again, and
+    under other settings a text is measured again."""
+    import io
+
+    import matplotlib
+    from matplotlib.backends.backend_agg import RendererAgg
+
+    from kinetostatics.outputs.plotting.style import _figure, _rc, _renderer
+
+    measured = []
+    own = RendererAgg.get_text_width_height_descent
+
+    def counted(self, s, prop, ismath):
+        measured.append(s)
+        return own(self, s, prop, ismath)
+
+    monkeypatch.setattr(RendererAgg, "get_text_width_height_descent", counted)
+    text = "measured once: 12.345 N·m"
+    with _rc("en"):
+        fig = _figure(60, 30)
+        fig.text(0.1, 0.5, text)
+        layout = fig.get_tightbbox(_renderer(fig)).width
+        fig.set_size_inches(3.0, 1.5)  # another size: another renderer
+    fig.savefig(io.BytesIO(), format="png")
+    assert measured.count(text) == 1
+    with _rc("en"), matplotlib.rc_context({"text.hinting": "none"}):
+        fig = _figure(60, 30)
+        fig.text(0.1, 0.5, text)
+        fig.get_tightbbox(_renderer(fig))
+    assert measured.count(text) == 2
+    assert layout > 0

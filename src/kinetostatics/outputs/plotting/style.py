@@ -128,13 +128,13 @@ def _sheet_class():
 
             def draw(self, renderer):
                 _mend_math(self)
-                share(renderer)  # each formula parsed once per process
                 # drawn in the style it was laid out in: a figure saved after the
                 # style's context was drawn in matplotlib's defaults, its formulas in
                 # the italic face (wider or narrower than their layout, and each parsed
                 # again: the shared parser's key holds the settings), its axes' ticks
                 # spaced for 10 pt labels where the layout had measured 7.5 pt ones
                 with matplotlib.rc_context(self._style):
+                    share(renderer)  # each formula parsed, each text measured, once
                     super().draw(renderer)
 
         _SHEET.append(Sheet)
