@@ -322,8 +322,16 @@ def _sheet(args, model) -> int:
 
 
 def _plot(args) -> int:
+    from ..outputs.plotting.crop import drawn_once
+
+    with drawn_once():  # a PNG's layout done when it is saved, from its one drawing
+        return _pictures(args)
+
+
+def _pictures(args) -> int:
     from ..outputs import plotting as pl
     from ..outputs.loading import load
+    from ..outputs.plotting.crop import save_png
 
     model = load(args.file)
     if args.lang == "zh":
@@ -406,11 +414,11 @@ def _plot(args) -> int:
         else:
             fig = pl.polygon_figure(result, name, row=row, dpi=args.dpi, lang=lang)
         path = out / f"{name}.{args.format}"
-        write_file(
-            path,
-            f"--out {args.out}",
-            lambda tmp, fig=fig: fig.savefig(tmp, dpi=args.dpi, format=args.format),
-        )
+        if args.format == "png":  # drawn once, laid out by cropping the drawing
+            save = lambda tmp, fig=fig: save_png(fig, tmp, args.dpi)  # noqa: E731
+        else:
+            save = lambda tmp, fig=fig: fig.savefig(tmp, dpi=args.dpi, format=args.format)  # noqa: E731
+        write_file(path, f"--out {args.out}", save)
         written.append(path)
     if methods is not None:
         written.append(out / "methods.json")
