@@ -45,6 +45,9 @@ def test_one_drawing_cropped_is_the_picture_of_the_two_pass_layout(tmp_path, kin
         before = one.get_size_inches().copy()
         save_png(one, tmp_path / "one.png", dpi)
     assert one._layout_todo is None
+    from PIL import Image
+
+    assert Image.open(tmp_path / "one.png").mode == "RGB"  # opaque: no alpha to embed
     a, b = _pixels(tmp_path / "two.png"), _pixels(tmp_path / "one.png")
     px = 25.4 / dpi  # mm per pixel
     # the same size to a few pixels (the ink's box vs the texts' boxes), larger than the

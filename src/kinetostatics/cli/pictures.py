@@ -186,7 +186,7 @@ def register(sub) -> None:
         help="the course position drawn heavy on the --sheet (default: 1)",
     )
     _lang_option(p)
-    p.set_defaults(func=_fewer_collections(_plot))
+    p.set_defaults(func=_fewer_collections(_drawn_once(_plot)))
 
     p = sub.add_parser(
         "animate",
@@ -321,14 +321,21 @@ def _sheet(args, model) -> int:
     return 0
 
 
+def _drawn_once(command):
+    """``command`` run inside :func:`..outputs.plotting.crop.drawn_once`: each PNG laid out
+    when it is saved, from its one drawing."""
+
+    @functools.wraps(command)
+    def run(args) -> int:
+        from ..outputs.plotting.crop import drawn_once
+
+        with drawn_once():
+            return command(args)
+
+    return run
+
+
 def _plot(args) -> int:
-    from ..outputs.plotting.crop import drawn_once
-
-    with drawn_once():  # a PNG's layout done when it is saved, from its one drawing
-        return _pictures(args)
-
-
-def _pictures(args) -> int:
     from ..outputs import plotting as pl
     from ..outputs.loading import load
     from ..outputs.plotting.crop import save_png

@@ -80,6 +80,25 @@ def _drawn(pixels, fig, dpi: float, Hb: float) -> tuple[float, float, float, flo
     return x0 / dpi, y0 / dpi, x1 / dpi, y1 / dpi
 
 
+PNG_LEVEL = 3  # zlib's level: 2/3 of the time of matplotlib's 6, files ~1 % larger
+
+
+def _write_png(path, rgba, dpi: float) -> None:
+    """The pixels as a PNG: RGB when every pixel is opaque (a picture on its white
+    sheet; ~10 % smaller, and the PDF report embeds it without an alpha mask), with the
+    metadata matplotlib writes."""
+    import matplotlib
+    from PIL import Image, PngImagePlugin
+
+    info = PngImagePlugin.PngInfo()
+    info.add_text(
+        "Software", f"Matplotlib version{matplotlib.__version__}, https://matplotlib.org/"
+    )
+    opaque = bool((rgba[..., 3] == 255).all())
+    image = Image.fromarray(np.ascontiguousarray(rgba[..., :3] if opaque else rgba))
+    image.save(path, format="png", dpi=(dpi, dpi), pnginfo=info, compress_level=PNG_LEVEL)
+
+
 def save_png(fig, path, dpi: float) -> None:
     """Write ``fig`` as a PNG at ``dpi``, laid out (if its layout was noted) from one
     drawing cropped to the picture."""
@@ -87,7 +106,6 @@ def save_png(fig, path, dpi: float) -> None:
     if todo is None or not _movable(fig):
         fig.savefig(path, dpi=dpi, format="png")  # laid out first if noted
         return
-    import matplotlib
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     kind, _ax, pad = todo
@@ -115,7 +133,6 @@ def save_png(fig, path, dpi: float) -> None:
     # whole pixels as matplotlib sizes a canvas (the size truncated), rows from the top
     left, bottom = round(box[0] * dpi), round((Hb - box[1]) * dpi)
     right, top = left + int((box[2] - box[0]) * dpi), bottom - int((box[3] - box[1]) * dpi)
-    picture = pixels[top:bottom, left:right]
-    matplotlib.image.imsave(path, picture, format="png", origin="upper", dpi=dpi)
+    _write_png(path, pixels[top:bottom, left:right], dpi)
     W, H = (right - left) / dpi, (bottom - top) / dpi
     _move(fig, -left / dpi, -(Hb * dpi - bottom) / dpi, W, H)  # as the layout leaves it
