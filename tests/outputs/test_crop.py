@@ -75,3 +75,15 @@ def test_a_picture_saved_otherwise_is_laid_out_as_before(tmp_path):
     fig.savefig(tmp_path / "p.svg", format="svg")
     assert fig._layout_todo is None
     assert np.allclose(fig.get_size_inches(), ref.get_size_inches(), atol=1e-6)
+
+
+def test_a_picture_of_a_fixed_size_is_written_as_savefig_draws_it(tmp_path):
+    from kinetostatics.outputs.plotting.crop import drawn_once, save_png
+    from kinetostatics.outputs.plotting.style import _figure, _rc
+
+    with drawn_once(), _rc("en"):
+        fig = _figure(60, 40)
+        fig.add_axes([0.2, 0.2, 0.7, 0.7]).plot([0, 1], [1, 0])
+    fig.savefig(tmp_path / "mpl.png", dpi=110, format="png")
+    save_png(fig, tmp_path / "one.png", 110)
+    assert np.array_equal(_pixels(tmp_path / "mpl.png"), _pixels(tmp_path / "one.png"))

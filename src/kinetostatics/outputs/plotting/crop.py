@@ -102,11 +102,18 @@ def _write_png(path, rgba, dpi: float) -> None:
 def save_png(fig, path, dpi: float) -> None:
     """Write ``fig`` as a PNG at ``dpi``, laid out (if its layout was noted) from one
     drawing cropped to the picture."""
-    todo = getattr(fig, "_layout_todo", None)
-    if todo is None or not _movable(fig):
-        fig.savefig(path, dpi=dpi, format="png")  # laid out first if noted
-        return
     from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    todo = getattr(fig, "_layout_todo", None)
+    if todo is not None and not _movable(fig):
+        fig.savefig(path, dpi=dpi, format="png")  # laid out first, in two passes
+        return
+    if todo is None:  # a picture of a fixed size: drawn and written as it is
+        fig.set_dpi(dpi)
+        canvas = FigureCanvasAgg(fig)
+        canvas.draw()
+        _write_png(path, np.asarray(canvas.buffer_rgba()), dpi)
+        return
 
     kind, _ax, pad = todo
     fig._layout_todo = None
