@@ -87,3 +87,20 @@ def test_a_picture_of_a_fixed_size_is_written_as_savefig_draws_it(tmp_path):
     fig.savefig(tmp_path / "mpl.png", dpi=110, format="png")
     save_png(fig, tmp_path / "one.png", 110)
     assert np.array_equal(_pixels(tmp_path / "mpl.png"), _pixels(tmp_path / "one.png"))
+
+
+def test_a_polygon_is_laid_out_before_its_scale_is_chosen():
+    """A polygon's scale is the next coarser one while its sheet is larger than the text
+    area of an A4 page: inside drawn_once its sheet is still laid out when its size is
+    asked, so it gets the scale and size it gets outside."""
+    from kinetostatics.outputs import plotting as pl
+    from kinetostatics.outputs.loading import load
+    from kinetostatics.outputs.plotting.crop import drawn_once
+    from tests.helpers import ROOT
+
+    result = pl.analyze_for_pictures(load(ROOT / "mechanisms" / "slotting_machine.yaml"))
+    ref = pl.polygon_figure(result, "acceleration", row=1)
+    with drawn_once():
+        fig = pl.polygon_figure(result, "acceleration", row=1)
+    assert fig._layout_todo is None
+    assert np.allclose(fig.get_size_inches(), ref.get_size_inches(), atol=1e-6)
