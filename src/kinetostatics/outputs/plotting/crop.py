@@ -14,8 +14,10 @@ canvas to it with the layout's margin.  The box of the ink is up to a few pixels
 the box matplotlib's layout measures (a text's box holds its line's whole height), so a
 picture's margins may be that much narrower; the drawing itself is the same.  The
 figure is left at that size and place, as the layout would have left it (the report
-reads its size in mm).  A picture whose drawing reaches beyond the room, or one saved
-any other way (SVG, PDF: ``Sheet.savefig``), is laid out as before, in two passes.
+reads its size in mm).  A picture whose drawing reaches beyond the room, one saved any
+other way (SVG, PDF: ``Sheet.savefig``), and one whose size is asked before it is saved
+(a polygon choosing its scale: :func:`.style._lay_out`) is laid out as before, in two
+passes.
 """
 
 from __future__ import annotations
