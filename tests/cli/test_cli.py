@@ -123,3 +123,23 @@ def test_python_dash_m_kinetostatics_is_the_command(tmp_path):
         timeout=120,
     )
     assert out.returncode == 0 and out.stdout.startswith("kinetostatics "), out
+
+
+def test_a_picture_command_gives_the_collector_its_thresholds_back():
+    """plot, animate and report run with fewer collections of the cyclic collector and
+    give its thresholds back after them, also when they fail (a command may run inside
+    a caller's process)."""
+    import gc
+
+    from kinetostatics.cli.pictures import COLLECTOR, _fewer_collections
+
+    before = gc.get_threshold()
+    assert _fewer_collections(lambda args: gc.get_threshold())(None) == COLLECTOR
+    assert gc.get_threshold() == before
+
+    def fails(args):
+        raise ValueError("a user's mistake")
+
+    with pytest.raises(ValueError):
+        _fewer_collections(fails)(None)
+    assert gc.get_threshold() == before

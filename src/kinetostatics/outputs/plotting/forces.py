@@ -200,8 +200,8 @@ def group_figure(record, *, numbers=None, title: str = "", dpi: float = DPI, lan
         the scale μ_F printed over it (mm of paper), the closure error printed under it.
     """
     data = _plain(record)
-    fig = _figure(2 * PANEL_MM[0] + 50, PANEL_MM[1] + 38, dpi=dpi)
     with _rc(lang):
+        fig = _figure(2 * PANEL_MM[0] + 50, PANEL_MM[1] + 38, dpi=dpi)
         left = fig.add_axes([18 * MM / fig.get_figwidth(), 0.2, 0.4, 0.68])
         right = fig.add_axes([0.56, 0.2, 0.4, 0.68])
         _free_body(left, data, numbers)

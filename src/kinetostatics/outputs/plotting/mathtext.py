@@ -1,4 +1,5 @@
-"""Each formula parsed once per process: one mathtext parser for the pictures' renderers.
+"""Each formula parsed, and each text measured, once per process: one mathtext parser
+and one table of text sizes for the pictures' renderers.
 
 matplotlib's Agg renderer makes a mathtext parser of its own, whose cache of parsed
 formulas (50) is keyed on the parser: a formula measured while a sheet is laid out
@@ -7,22 +8,29 @@ parsed again by the renderer of each new size of the sheet, by the one that draw
 again in the next picture.  Parsing is pyparsing's work, milliseconds a formula: the
 polygons' lists of vectors, the polar diagrams' labels and the curves' axis labels.
 :func:`share` gives an Agg renderer the process's one parser, which keeps 1,024 parsed
-formulas (their laid-out glyphs: a few kB each).
+formulas (their laid-out glyphs: a few kB each).  Likewise matplotlib keeps the sizes of
+the texts it measured per renderer: a picture's texts were measured by its layout's
+pass and again by the renderer of its final size that draws it, and the tick labels
+met again in every picture.  :func:`share` has the renderer measure through the
+process's table of sizes (8,192 kept: width, height and descent of a text).
 
-What a parse gives depends on its input (the text, the dpi, the font properties,
-antialiasing, hinting) and on matplotlib's settings of the moment (``mathtext.default``,
-the math fonts, …), which matplotlib's own cache does not look at: a sheet is laid out
-inside the pictures' style (:func:`.style._rc`) and saved after it.  This cache is keyed
-on both (every ``mathtext.*``, ``font.*`` and ``text.*`` setting), so it gives what a
-fresh parse gives, pixel for pixel.  It is the one cache the pictures keep for the
-process (docs/architecture.md, "What is computed once").
+What a parse or a measure gives depends on its input (the text, the dpi, the font
+properties, antialiasing, hinting) and on matplotlib's settings of the moment
+(``mathtext.default``, the math fonts, the families behind ``sans-serif`` …), which
+matplotlib's own caches do not look at.  These are keyed on both (every ``mathtext.*``,
+``font.*`` and ``text.*`` setting), so they give what a fresh parse or measure gives,
+pixel for pixel.  They are the caches the pictures keep for the process
+(docs/architecture.md, "What is computed once").
 """
 
 from __future__ import annotations
 
 import functools
+import weakref
 
 SIZE = 1024  # formulas kept
+SIZES = 8192  # texts' sizes kept
+_SIZES: dict = {}  # (text, font properties, ismath, dpi, settings) -> (width, height, descent)
 _PARSERS: dict = {}  # the process's parser by output ("path", "agg"), made on first use
 _SETTINGS = ("mathtext.", "font.", "text.")  # the settings a parse reads
 
@@ -93,3 +101,22 @@ def share(renderer) -> None:
         parser = shared_parser("path" if kind == "vector" else "agg")
         if parser is not None:
             renderer.mathtext_parser = parser
+        settings = _settings()  # the same while the renderer lays out or draws a picture
+        # a weak reference: the renderer (its pixels) freed as soon as it is dropped
+        measure = functools.partial(_measure, weakref.ref(renderer), settings)
+        renderer.get_text_width_height_descent = measure
+
+
+def _measure(ref, settings, s, prop, ismath):
+    """What the renderer's ``get_text_width_height_descent(s, prop, ismath)`` gives,
+    measured once per process under ``settings``."""
+    renderer = ref()
+    own = type(renderer).get_text_width_height_descent
+    if ismath == "TeX":
+        return own(renderer, s, prop, ismath)
+    key = (s, prop.copy(), ismath, renderer.dpi, settings)
+    if (size := _SIZES.get(key)) is None:
+        if len(_SIZES) >= SIZES:
+            _SIZES.clear()
+        size = _SIZES[key] = own(renderer, s, prop, ismath)
+    return size

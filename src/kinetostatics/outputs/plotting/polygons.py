@@ -28,6 +28,7 @@ from .style import (
     _arrow,
     _fit_sheet,
     _fmt_scale,
+    _lay_out,
     _layout,
     _rc,
     _tex,
@@ -432,6 +433,8 @@ def polygon_figure(
     mu = nice_scale(span / max_size_mm)
     for _ in range(12):
         fig = _polygon_sheet(result, poly, chains, lines, allp, span, mu, colors, nums, dpi, lang)
+        if fit_mm is not None:
+            _lay_out(fig)  # its size is the question: laid out now, not when saved (crop.py)
         W, H = fig.get_size_inches() / MM
         if fit_mm is None or (W <= fit_mm[0] and H <= fit_mm[1]):
             break

@@ -4,6 +4,7 @@ labels)."""
 
 from __future__ import annotations
 
+import contextlib
 import re
 
 import numpy as np
@@ -120,13 +121,25 @@ def _sheet_class():
         matplotlib, Figure = _mpl()
 
         class Sheet(Figure):
+            def __init__(self, *args, **kwargs):
+                super().__init__(*args, **kwargs)
+                # the style the figure is made and laid out in (:func:`_rc`)
+                self._style = dict(_STYLES[-1]) if _STYLES else {}
+                self._layout_todo = None  # a layout noted to be done when saved (crop.py)
+
+            def savefig(self, *args, **kwargs):
+                _lay_out(self)  # saved other than by crop.save_png: laid out as it was
+                return super().savefig(*args, **kwargs)
+
             def draw(self, renderer):
                 _mend_math(self)
-                share(renderer)  # each formula parsed once per process
-                # the formulas' face as they were measured when the figure was laid out
-                # (inside the style): a figure saved after the style's context was drawn
-                # in matplotlib's italic default, wider or narrower than its layout
-                with matplotlib.rc_context({"mathtext.default": STYLE["mathtext.default"]}):
+                # drawn in the style it was laid out in: a figure saved after the
+                # style's context was drawn in matplotlib's defaults, its formulas in
+                # the italic face (wider or narrower than their layout, and each parsed
+                # again: the shared parser's key holds the settings), its axes' ticks
+                # spaced for 10 pt labels where the layout had measured 7.5 pt ones
+                with matplotlib.rc_context(self._style):
+                    share(renderer)  # each formula parsed, each text measured, once
                     super().draw(renderer)
 
         _SHEET.append(Sheet)
@@ -137,11 +150,22 @@ def _figure(width_mm: float, height_mm: float, dpi: float = DPI):
     return _sheet_class()(figsize=(width_mm * MM, height_mm * MM), dpi=dpi)
 
 
+_STYLES: list[dict] = []  # the styles of the :func:`_rc` contexts entered, innermost last
+
+
+@contextlib.contextmanager
 def _rc(lang: str = "en"):
-    """The style (and for ``lang="zh"`` a font with Chinese glyphs) while a figure is drawn."""
+    """The style (and for ``lang="zh"`` a font with Chinese glyphs) while a figure is
+    made and laid out; a figure made inside it is drawn in it too, wherever it is saved."""
 
     matplotlib, _ = _mpl()
-    return matplotlib.rc_context({**STYLE, **rc_fonts(lang)})
+    style = {**STYLE, **rc_fonts(lang)}
+    with matplotlib.rc_context(style):
+        _STYLES.append(style)
+        try:
+            yield
+        finally:
+            _STYLES.pop()
 
 
 def _fmt_scale(x: float) -> str:
@@ -350,9 +374,37 @@ def _inside_axes(fig, ax, artists, pad_mm: float = 1.5, rounds: int = 4) -> None
         _place(fig, ax, left, bottom, w2, h2, W + w2 - w, H + h2 - h)
 
 
-def _fit_sheet(fig, ax, pad_mm: float = 2.0) -> None:
+_DEFER: list[bool] = []  # inside crop.drawn_once(): the layouts below noted, done when saved
+
+
+def _noted(fig, kind: str, ax, pad_mm: float) -> bool:
+    """Inside :func:`.crop.drawn_once`, note the layout on ``fig`` (a Sheet) for
+    :func:`.crop.save_png` instead of doing it now."""
+    if not _DEFER or not hasattr(fig, "_layout_todo"):
+        return False
+    fig._layout_todo = (kind, ax, pad_mm)
+    return True
+
+
+def _lay_out(fig) -> None:
+    """Do the layout noted on ``fig`` now (two passes: measured, then drawn)."""
+    todo = getattr(fig, "_layout_todo", None)
+    if todo is None:
+        return
+    fig._layout_todo = None
+    kind, ax, pad = todo
+    if kind == "sheet":
+        _fit_sheet(fig, ax, pad, now=True)
+    else:
+        _grow_to_fit(fig, pad, now=True)
+
+
+def _fit_sheet(fig, ax, pad_mm: float = 2.0, *, now: bool = False) -> None:
     """Size the sheet around everything drawn (title, tick and axis labels, texts),
-    keeping the axes' size in mm: nothing is cut and the true scale holds."""
+    keeping the axes' size in mm: nothing is cut and the true scale holds.  Inside
+    :func:`.crop.drawn_once` (unless ``now``) noted, and done when the PNG is saved."""
+    if not now and _noted(fig, "sheet", ax, pad_mm):
+        return
     r = _renderer(fig)
     tight = fig.get_tightbbox(r)  # inches
     W, H = fig.get_size_inches() / MM
@@ -404,9 +456,12 @@ def _dodge(fig, ax, labels, fixed=(), step_mm: float = 2.0) -> None:
         placed.append(t.get_window_extent(r).expanded(1.02, 1.08))
 
 
-def _grow_to_fit(fig, pad_mm: float = 1.5) -> None:
+def _grow_to_fit(fig, pad_mm: float = 1.5, *, now: bool = False) -> None:
     """Grow a figure of curves by whatever of its labels would fall off an edge, moving
-    every axes by the same amount and keeping its size."""
+    every axes by the same amount and keeping its size.  Inside :func:`.crop.drawn_once`
+    (unless ``now``) noted, and done when the PNG is saved."""
+    if not now and _noted(fig, "grow", None, pad_mm):
+        return
     r = _renderer(fig)
     tight = fig.get_tightbbox(r)  # inches
     Wi, Hi = fig.get_size_inches()

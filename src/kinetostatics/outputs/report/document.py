@@ -15,6 +15,7 @@ from ..fonts import cjk_font
 from ..labels import link_numbers, member, numbered
 from ..lang import check_lang, tr
 from ..loading import load
+from ..plotting.crop import drawn_once, save_png
 from ..summary import summarize
 from .blocks import ReportError, _Heading, _Image, _Para, _to_html, _to_markdown
 from .data import _data_blocks, _structure_blocks
@@ -81,6 +82,7 @@ def _polygon_labels(polygons, labels: list[str], turns: int, chosen=None) -> lis
     return polygons
 
 
+@drawn_once()  # each picture drawn once, laid out by cropping the drawing (plotting/crop.py)
 def write_report(  # noqa: PLR0913  the report's public keywords (docs/pictures.md, the CLI)
     source,
     out: str | Path,
@@ -177,7 +179,7 @@ def write_report(  # noqa: PLR0913  the report's public keywords (docs/pictures.
 
     def image(fig, name: str, caption: str, true_scale: bool = False) -> _Image:
         path = img / f"{name}.png"
-        write_file(path, what, lambda p: fig.savefig(p, dpi=dpi, format="png"))
+        write_file(path, what, lambda p: save_png(fig, p, dpi))
         w, h = fig.get_size_inches() * 25.4
         return _Image(path, caption, float(w), float(h), true_scale)
 
