@@ -53,12 +53,12 @@ def exact_roots_of(result: Result, groups: list[list]) -> list[list[float]]:
     for g, rates in enumerate(groups):
         for entry in rates:
             f, keep = entry if isinstance(entry, tuple) else (entry, None)
-            vals = f(result.q, result.qd, result.qdd)[0]
+            vals, rates = f(result.q, result.qd, result.qdd)
             scale = np.max(np.abs(vals), initial=0.0)
             if not scale > 0:  # never moves: no reversal
                 continue
             vals = np.where(np.abs(vals) <= 1e-12 * scale, 0.0, vals)  # round-off is no sign
-            pairs.append((vals, f))
+            pairs.append((vals, f, np.broadcast_to(rates, np.shape(vals))))
             keeps.append(keep)
             owner.append(g)
     if not pairs:
