@@ -24,7 +24,7 @@ from ..base.arrays import sorted_distinct
 from ..errors import AssemblyError, ElementWarning, JointWarning, NearSingularWarning
 from ..kinematics.schedule import schedule
 from ..structure.system import link_pair
-from .pipeline import analyze, analyze_near
+from .pipeline import analyze, analyze_near, with_friction
 from .results import Result
 from .switches import (
     condition_rates,
@@ -41,6 +41,7 @@ __all__ = [
     "merged_cuts",
     "missed_cuts",
     "quiet_analyze",
+    "quiet_friction",
     "quiet_near",
     "span",
 ]
@@ -499,3 +500,12 @@ def quiet_near(result: Result, times, **kw) -> Result:
         for kind in QUIET:
             warnings.simplefilter("ignore", kind)
         return analyze_near(result, times, **kw)
+
+
+def quiet_friction(result: Result) -> Result:
+    """:func:`~.pipeline.with_friction` (the rows again with the friction solutions, on
+    the same motion) without the warnings (as :func:`quiet_analyze`)."""
+    with warnings.catch_warnings():
+        for kind in QUIET:
+            warnings.simplefilter("ignore", kind)
+        return with_friction(result)
