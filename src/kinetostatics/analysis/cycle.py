@@ -214,7 +214,11 @@ def _with_halves(result: Result, nodes: Result, pieces, finer, x, w) -> Result:
     keep = np.ones(len(nodes), dtype=bool)
     keep[rank[np.repeat(gone, len(x))]] = False
     times = np.sort(_nodes_of(new, x, w)[0])
-    part = quiet_analyze(result.system, times=times, friction=True, events=False)
+    try:  # each continued from its nearest row (as the halves were when chosen), not the
+        # whole run's continuation from the start pose
+        part = quiet_near(result, times, friction=True)
+    except AssemblyError:
+        part = quiet_analyze(result.system, times=times, friction=True, events=False)
     want = np.sort(_nodes_of(finer, x, w)[0])
     both = np.argsort(np.concatenate((nodes.t[keep], part.t)), kind="stable")
     if len(part) != len(times) or len(both) != len(want):  # not row by row: all again
