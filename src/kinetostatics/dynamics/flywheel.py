@@ -311,8 +311,7 @@ def _energy_extremes(pieces: np.ndarray, t: np.ndarray, rate: np.ndarray, partia
     is the quadrature's sum (exact to round-off); inside one, the interpolant's integral
     up to the root is only as exact as the interpolation, so there ``partial(t₀, t)``, the
     integral of the rate from the piece's start t₀ by the quadrature on [t₀, t], replaces
-    it (the root misplaced by δ costs O(δ²) there); ``partial(t₀s, ts)`` takes arrays, both
-    extremes' integrals in one call."""
+    it (the root misplaced by δ costs O(δ²) there; both extremes' in one call)."""
     coef = _legendre_pieces(pieces, rate)
     half = 0.5 * (pieces[:, 1] - pieces[:, 0])
     mid = 0.5 * (pieces[:, 1] + pieces[:, 0])
@@ -515,18 +514,12 @@ def _exact_extremes(base: Result, quad: Quadrature, curves, m_d: float, friction
     def partial(a: np.ndarray, b: np.ndarray) -> np.ndarray:  # ∫ w·(M_d − M) from a to b
         times = (a[:, None] + 0.5 * (b - a)[:, None] * (x + 1.0)).ravel()  # pieces' parts
         try:  # each position continued from the nearest row (all parts in one call)
-            part = analyze_near(base, times, friction=friction)
-            m = _moment(system, part, friction)[0].reshape(len(a), -1)
-        except AssemblyError:  # each part on its own, the whole run's way
-            m = np.array(
-                [
-                    _moment(
-                        system, analyze(system, times=ts, friction=friction, events=False), friction
-                    )[0]
-                    for ts in times.reshape(len(a), -1)
-                ]
-            )
-        return 0.5 * (b - a) * np.sum(wx * w * (m_d - m), axis=1)
+            m = _moment(system, analyze_near(base, times, friction=friction), friction)[0]
+        except AssemblyError:  # the whole run's way (its rows in time order)
+            o, m = np.argsort(times, kind="stable"), np.empty(len(times))
+            run = analyze(system, times=times[o], friction=friction, events=False)
+            m[o] = _moment(system, run, friction)[0]
+        return 0.5 * (b - a) * np.sum(wx * w * (m_d - m.reshape(len(a), -1)), axis=1)
 
     energy = _energy_extremes(pieces, np.asarray(nodes.t), w * (m_d - moment), partial)
     je_mean = float(np.sum(weights * je) / np.sum(weights))
