@@ -24,11 +24,12 @@ from ..base.arrays import sorted_distinct
 from ..errors import AssemblyError, ElementWarning, JointWarning, NearSingularWarning
 from ..kinematics.schedule import schedule
 from ..structure.system import link_pair
-from .pipeline import analyze, analyze_near
+from .pipeline import analyze, analyze_near, with_friction
 from .results import Result
 from .switches import (
     condition_rates,
     exact_roots,
+    exact_roots_of,
     friction_rates,
     reversal_rates,
     table_rates,
@@ -40,6 +41,7 @@ __all__ = [
     "merged_cuts",
     "missed_cuts",
     "quiet_analyze",
+    "quiet_friction",
     "quiet_near",
     "span",
 ]
@@ -458,7 +460,7 @@ def breaks(result: Result, ta: float, tb: float, friction: bool) -> np.ndarray:
     # there with the effort ≠ 0, a jump of the motor's torque (dynamics/drive.py)
     turns = list(sched.turning_times(ta, tb))
     jumps = [float(e.t) for e in result.events] + turns
-    jumps += exact_roots(result, reversal_rates(result) + condition_rates(result))
+    switching = reversal_rates(result) + condition_rates(result)
     if friction and result.system.model.has_friction:
         if rows.lam_friction is None:  # rows without the friction solutions: solve them
             # there, for the kinks of the consistent solution and its effort's zeros
@@ -466,9 +468,11 @@ def breaks(result: Result, ta: float, tb: float, friction: bool) -> np.ndarray:
                 quiet_analyze(result.system, times=result.t, friction=True, events=False),
                 full_cycle=result.full_cycle,
             )
-        jumps += exact_roots(rows, friction_rates(rows))
-    jumps = [ta + np.mod(te - ta, tb - ta) if full else te for te in jumps]
-    kinks = exact_roots(result, table_rates(result)) + list(sched.breaks(ta, tb))
+        switching += friction_rates(rows)  # of the motion alone: the rows' is the result's
+    # every switch on the motion located in one refine (their roots' steps are each their own)
+    switches, corners = exact_roots_of(result, [switching, table_rates(result)])
+    jumps = [ta + np.mod(te - ta, tb - ta) if full else te for te in jumps + switches]
+    kinks = corners + list(sched.breaks(ta, tb))
     floor = _roundoff_floor(rows)  # a round-off zero of an effort or reaction: no sign
     fns = _motion_breaks(rows) + _above_roundoff(effort_zeros(rows), floor)
     if friction and result.system.model.has_friction:
@@ -496,3 +500,12 @@ def quiet_near(result: Result, times, **kw) -> Result:
         for kind in QUIET:
             warnings.simplefilter("ignore", kind)
         return analyze_near(result, times, **kw)
+
+
+def quiet_friction(result: Result) -> Result:
+    """:func:`~.pipeline.with_friction` (the rows again with the friction solutions, on
+    the same motion) without the warnings (as :func:`quiet_analyze`)."""
+    with warnings.catch_warnings():
+        for kind in QUIET:
+            warnings.simplefilter("ignore", kind)
+        return with_friction(result)

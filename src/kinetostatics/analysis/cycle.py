@@ -39,6 +39,7 @@ from .cuts import (
     merged_cuts,
     missed_cuts,
     quiet_analyze,
+    quiet_friction,
     quiet_near,
     span,
 )
@@ -174,17 +175,20 @@ def cycle_quadrature(
         edges = merged_cuts(ta, tb, [*edges, *missed])
         grouped, times, weights, nodes = _placed(result, edges, n_pieces, x, w)
     order = np.argsort(times, kind="stable")  # the pipeline returns rows in time order
-    again = friction
+    again, same = friction, False
     if not np.allclose(nodes.t, times[order], rtol=0, atol=1e-9 * (tb - ta)):
         order, grouped = np.arange(len(times)), None
     elif len(grouped):
         finer = _resolved(result, nodes, grouped, x, w, False)
+        same = finer is None  # the nodes stay: with friction, only the kinetics is solved
         if finer is not None:  # pieces halved where the efforts were not resolved
             grouped, again = finer, True
             times, weights = _nodes_of(grouped, x, w)
             order = np.argsort(times, kind="stable")
-    if again:
+    if again and not same:
         nodes = quiet_analyze(result.system, times=times, friction=friction, events=False)
+    elif again:  # the same nodes with the friction solutions: their motion kept, to the bit
+        nodes = quiet_friction(nodes)
     if friction and grouped is not None and len(grouped):
         # the efforts with friction: a pin force passing close to zero gives ρ|F| a sharp
         # though smooth minimum, which the frictionless efforts do not show
@@ -210,7 +214,11 @@ def _with_halves(result: Result, nodes: Result, pieces, finer, x, w) -> Result:
     keep = np.ones(len(nodes), dtype=bool)
     keep[rank[np.repeat(gone, len(x))]] = False
     times = np.sort(_nodes_of(new, x, w)[0])
-    part = quiet_analyze(result.system, times=times, friction=True, events=False)
+    try:  # each continued from its nearest row (as the halves were when chosen), not the
+        # whole run's continuation from the start pose
+        part = quiet_near(result, times, friction=True)
+    except AssemblyError:
+        part = quiet_analyze(result.system, times=times, friction=True, events=False)
     want = np.sort(_nodes_of(finer, x, w)[0])
     both = np.argsort(np.concatenate((nodes.t[keep], part.t)), kind="stable")
     if len(part) != len(times) or len(both) != len(want):  # not row by row: all again

@@ -177,6 +177,27 @@ def analyze_near(result: Result, times: np.ndarray, *, friction: bool) -> Result
         return _result(system, sol, motion, False, kin)
 
 
+def with_friction(result: Result) -> Result:
+    """:func:`analyze` of the rows of ``result`` (an ``analyze`` at ``times`` without event
+    rows and without the friction solutions) again with them, on the same motion: the
+    positions are not solved again (the cycle's quadrature nodes, analysed frictionless
+    to place the pieces, then with friction at the same times: analysis/cycle.py)."""
+    system = result.system
+    sched = schedule(system)
+    motion = motion_at(system, sched, result.t, result.q)
+    kin = inverse_dynamics(
+        system,
+        motion,
+        extremes=result.extremes or None,  # analyze's: the whole motion's travel extremes
+        ref_speed=sched.reference,
+        friction=True,
+    )
+    n = len(result.t)
+    singular = [s for s in result.singular if s.group != "equilibrium"]  # _result adds them
+    sol = PositionSolution(result.q, np.zeros((n, 0)), np.zeros(n, dtype=int), singular)
+    return _result(system, sol, motion, result.full_cycle, kin, result.events)
+
+
 # -- the stages -------------------------------------------------------------------------
 def _require_motion_drivers(system: System) -> None:
     """StructureError unless the motion drivers are as many as the mobility (at least one)."""

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..base.arrays import sorted_distinct
-from ..kinematics.events import coordinate_rates, find_roots
+from ..kinematics.events import coordinate_rates, find_roots_of
 from ..kinematics.schedule import schedule
 from ..kinematics.state import joint_coordinate
 from ..kinetics.conditions import ZERO_SPEED, condition_state
@@ -24,6 +24,7 @@ __all__ = [
     "condition_rates",
     "dead_band",
     "exact_roots",
+    "exact_roots_of",
     "friction_rates",
     "level_rates",
     "reversal_rates",
@@ -35,27 +36,41 @@ def exact_roots(result: Result, rates: list) -> list[float]:
     """Times where the value of each ``rate(q, q̇, q̈) -> (value, its time derivative)``
     changes sign over the rows, located exactly (refined on the motion itself).  An entry
     may be a pair ``(rate, keep)``: ``keep(q, q̇, q̈)`` says which of its roots count."""
+    return exact_roots_of(result, [rates])[0]
 
-    if not rates or len(result) < 2:
-        return []
+
+def exact_roots_of(result: Result, groups: list[list]) -> list[list[float]]:
+    """:func:`exact_roots` of each list of rates in ``groups``, all the rates' roots
+    refined together (:func:`~kinetostatics.kinematics.events.find_roots_of`: one state
+    per Newton step for every root, each root's steps its own); one list per group."""
+    out: list[list[float]] = [[] for _ in groups]
+    if len(result) < 2 or not any(groups):
+        return out
     system = result.system
     sched = schedule(system)
     period = float(sched.period) if result.full_cycle else np.inf
-    out: list[float] = []
-    for entry in rates:
-        f, keep = entry if isinstance(entry, tuple) else (entry, None)
-        vals = f(result.q, result.qd, result.qdd)[0]
-        scale = np.max(np.abs(vals), initial=0.0)
-        if not scale > 0:  # never moves: no reversal
-            continue
-        vals = np.where(np.abs(vals) <= 1e-12 * scale, 0.0, vals)  # round-off is no sign
-        roots, states = find_roots(
-            system, sched, result.t, result.q, result.qd, result.qdd, vals, f,
-            result.full_cycle, period,
-        )  # fmt: skip
+    pairs, keeps, owner = [], [], []
+    for g, rates in enumerate(groups):
+        for entry in rates:
+            f, keep = entry if isinstance(entry, tuple) else (entry, None)
+            vals, rates = f(result.q, result.qd, result.qdd)
+            scale = np.max(np.abs(vals), initial=0.0)
+            if not scale > 0:  # never moves: no reversal
+                continue
+            vals = np.where(np.abs(vals) <= 1e-12 * scale, 0.0, vals)  # round-off is no sign
+            pairs.append((vals, f, np.broadcast_to(rates, np.shape(vals))))
+            keeps.append(keep)
+            owner.append(g)
+    if not pairs:
+        return out
+    found = find_roots_of(
+        system, sched, result.t, result.q, result.qd, result.qdd, pairs,
+        result.full_cycle, period,
+    )  # fmt: skip
+    for (roots, states), keep, g in zip(found, keeps, owner):
         if keep is not None and len(roots):
             roots = np.asarray(roots)[np.asarray(keep(*states), dtype=bool)]
-        out += [float(r) for r in roots]
+        out[g] += [float(r) for r in roots]
     return out
 
 

@@ -311,7 +311,7 @@ def _energy_extremes(pieces: np.ndarray, t: np.ndarray, rate: np.ndarray, partia
     is the quadrature's sum (exact to round-off); inside one, the interpolant's integral
     up to the root is only as exact as the interpolation, so there ``partial(t₀, t)``, the
     integral of the rate from the piece's start t₀ by the quadrature on [t₀, t], replaces
-    it (the root misplaced by δ costs O(δ²) there)."""
+    it (the root misplaced by δ costs O(δ²) there; both extremes' in one call)."""
     coef = _legendre_pieces(pieces, rate)
     half = 0.5 * (pieces[:, 1] - pieces[:, 0])
     mid = 0.5 * (pieces[:, 1] + pieces[:, 0])
@@ -331,13 +331,14 @@ def _energy_extremes(pieces: np.ndarray, t: np.ndarray, rate: np.ndarray, partia
         cand_w.append(start)
         cand_in.append(None)
     cand_w = np.asarray(cand_w)
-    out = []
-    for k in _extremes(np.asarray(cand_t, dtype=float), cand_w):
-        w = float(cand_w[k])
-        if partial is not None and cand_in[k] is not None:
-            p, w0 = cand_in[k]
-            w = w0 + float(partial(pieces[p, 0], cand_t[k]))
-        out.append((cand_t[k], w))
+    ks = list(_extremes(np.asarray(cand_t, dtype=float), cand_w))
+    out = [(cand_t[k], float(cand_w[k])) for k in ks]
+    inside = [i for i, k in enumerate(ks) if partial is not None and cand_in[k] is not None]
+    if inside:  # both extremes' integrals from their pieces' starts at once
+        starts = np.array([pieces[cand_in[ks[i]][0], 0] for i in inside])
+        parts = partial(starts, np.array([cand_t[ks[i]] for i in inside]))
+        for i, part in zip(inside, parts):
+            out[i] = (out[i][0], cand_in[ks[i]][1] + float(part))
     return out[0], out[1]
 
 
@@ -510,14 +511,15 @@ def _exact_extremes(base: Result, quad: Quadrature, curves, m_d: float, friction
     weights, nodes, pieces = quad.weights, quad.nodes, quad.pieces
     x, wx = leg.leggauss(len(weights) // len(pieces))
 
-    def partial(a: float, b: float) -> float:  # ∫ w·(M_d − M) from a to b, a piece's part
-        times = a + 0.5 * (b - a) * (x + 1.0)
-        try:  # each position continued from the nearest row
-            part = analyze_near(base, times, friction=friction)
-        except AssemblyError:
-            part = analyze(system, times=times, friction=friction, events=False)
-        m = _moment(system, part, friction)[0]
-        return 0.5 * (b - a) * float(np.sum(wx * w * (m_d - m)))
+    def partial(a: np.ndarray, b: np.ndarray) -> np.ndarray:  # ∫ w·(M_d − M) from a to b
+        times = (a[:, None] + 0.5 * (b - a)[:, None] * (x + 1.0)).ravel()  # pieces' parts
+        try:  # each position continued from the nearest row (all parts in one call)
+            m = _moment(system, analyze_near(base, times, friction=friction), friction)[0]
+        except AssemblyError:  # the whole run's way (its rows in time order)
+            o, m = np.argsort(times, kind="stable"), np.empty(len(times))
+            run = analyze(system, times=times[o], friction=friction, events=False)
+            m[o] = _moment(system, run, friction)[0]
+        return 0.5 * (b - a) * np.sum(wx * w * (m_d - m.reshape(len(a), -1)), axis=1)
 
     energy = _energy_extremes(pieces, np.asarray(nodes.t), w * (m_d - moment), partial)
     je_mean = float(np.sum(weights * je) / np.sum(weights))

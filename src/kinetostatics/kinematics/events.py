@@ -23,6 +23,7 @@ from .state import joint_coordinate, joint_coordinate_bias
 __all__ = [
     "refine",
     "find_roots",
+    "find_roots_of",
     "state_near",
     "refine_stacked",
     "state_stacked",
@@ -35,7 +36,7 @@ __all__ = [
 
 
 # -- roots over the rows of one run ------------------------------------------------------
-def refine(system, drive, f, t0, tn, qn, qdn, qddn, max_iter=12, bracket=None):  # noqa: PLR0913  loose sample arrays: several callers' grids
+def refine(system, drive, f, t0, tn, qn, qdn, qddn, max_iter=12, bracket=None, owner=None):  # noqa: PLR0913  loose sample arrays: several callers' grids
     """Newton on t for f(state) = 0, all roots at once.
 
     ``t0 (k,)`` first guesses, ``tn`` and ``qn``/``qdn``/``qddn`` the solved
@@ -43,8 +44,10 @@ def refine(system, drive, f, t0, tn, qn, qdn, qddn, max_iter=12, bracket=None): 
     ``(lo, hi, sign_lo)``: each root lies in [lo, hi], where f has the sign
     ``sign_lo`` at lo and the other at hi; a Newton step that would leave the
     bracket (which shrinks with every evaluation) is replaced by bisection, so
-    the iteration never wanders to another part of the motion.  Returns the
-    roots ``(k,)`` and their states.
+    the iteration never wanders to another part of the motion.  ``owner``, optional,
+    ``(k,)`` ints: ``f`` is then a list of functions and root i is a root of
+    ``f[owner[i]]`` (several functions' roots refined together, each root as it would be
+    alone: every step is per root).  Returns the roots ``(k,)`` and their states.
     """
     t = np.array(t0, dtype=float)
     live = np.ones(t.shape, dtype=bool)
@@ -59,7 +62,7 @@ def refine(system, drive, f, t0, tn, qn, qdn, qddn, max_iter=12, bracket=None): 
         q, qd, qdd = state_at(system, drive, t[idx], tn[idx], qn[idx], qdn[idx], qddn[idx])
         for store, new in zip(states, (q, qd, qdd)):
             store[idx] = new
-        g, dg = f(q, qd, qdd)
+        g, dg = f(q, qd, qdd) if owner is None else _each(f, owner[idx], q, qd, qdd)
         dt = np.divide(-g, dg, out=np.zeros_like(g), where=dg != 0)
         tol = 1e-14 * np.maximum(np.abs(t[idx]), 1.0)
         # a zero slope (a follower at rest in a cam's dwell) gives no step, not a root
@@ -79,8 +82,55 @@ def refine(system, drive, f, t0, tn, qn, qdn, qddn, max_iter=12, bracket=None): 
     return t, states
 
 
+def _each(fs, owner, q, qd, qdd):
+    """(g, ġ) of the functions ``fs``, each at the states whose ``owner`` it is."""
+    g, dg = np.empty(len(owner)), np.empty(len(owner))
+    for i in np.unique(owner):
+        sel = owner == i
+        g[sel], dg[sel] = fs[i](q[sel], qd[sel], qdd[sel])
+    return g, dg
+
+
 def find_roots(system, drive, t, q, qd, qdd, fvals, f, full, period_t):  # noqa: PLR0913  loose sample arrays: several callers' grids
     """Times where fvals changes sign between samples (cyclically if full), refined."""
+    return find_roots_of(system, drive, t, q, qd, qdd, [(fvals, f)], full, period_t)[0]
+
+
+def find_roots_of(system, drive, t, q, qd, qdd, pairs, full, period_t):  # noqa: PLR0913  loose sample arrays: several callers' grids
+    """:func:`find_roots` of several functions at once, ``pairs`` ``[(fvals, f)]``: the
+    brackets of all concatenated and refined in one :func:`refine` (one state per
+    iteration for all of them, not one refine per function); ``[(roots, states)]``, one
+    per pair, each as :func:`find_roots` gives it.  A pair may be ``(fvals, f, dvals)``,
+    with the time derivatives at the samples: each root's first guess is then the root of
+    the cubic Hermite interpolant of the bracket's ends (:func:`_hermite_guess`), not the
+    chord's (a follower leaving a dwell, f ~ (t − t₀)³, took 20 Newton steps from the
+    chord); the root is located to the same tolerance either way."""
+    found = [_crossings(t, p[0], full, period_t, *p[2:]) for p in pairs]
+    empty = np.zeros(0), [np.zeros((0,) + q.shape[1:])] * 3
+    sizes = [0 if c is None else len(c[0]) for c in found]
+    if not sum(sizes):
+        return [empty] * len(pairs)
+    guess, tn, n, lo, hi, sign = (
+        np.concatenate([c[i] for c in found if c is not None]) for i in range(6)
+    )
+    owner = np.repeat(np.arange(len(pairs)), sizes)
+    fs = [p[1] for p in pairs]
+    roots, states = refine(
+        system, drive, fs, guess, tn, q[n], qd[n], qdd[n], bracket=(lo, hi, sign), owner=owner
+    )
+    if full:
+        roots = np.mod(roots, period_t)
+    out = []
+    for i in range(len(pairs)):
+        sel = owner == i
+        out.append((roots[sel], [s[sel] for s in states]) if sizes[i] else empty)
+    return out
+
+
+def _crossings(t, fvals, full, period_t, dvals=None):
+    """(guess, t_near, near row, lo, hi, sign at lo) of each bracket where ``fvals``
+    changes sign between samples (cyclically if full), or None.  ``dvals``: the time
+    derivatives at the samples (the guess then :func:`_hermite_guess`'s)."""
     order = np.argsort(t)
     ts, fs_ = t[order], fvals[order]
     a = np.arange(len(ts) - 1)
@@ -92,7 +142,7 @@ def find_roots(system, drive, t, q, qd, qdd, fvals, f, full, period_t):  # noqa:
     prev = np.sign(fs_[np.r_[a[:1] - 1, a[:-1]] % len(fs_)]) if full else np.r_[0.0, sa[:-1]]
     cross = np.nonzero((sa * sb < 0) | ((sa == 0) & (sb != 0) & (prev != sb)))[0]
     if not cross.size:
-        return np.zeros(0), [np.zeros((0,) + q.shape[1:])] * 3
+        return None
     a, b = a[cross], b[cross]
     wrap = (b == 0) * (period_t if full else 0.0)
     tb = ts[b] + wrap
@@ -103,10 +153,37 @@ def find_roots(system, drive, t, q, qd, qdd, fvals, f, full, period_t):  # noqa:
     with np.errstate(invalid="ignore", divide="ignore"):
         guess = np.where(fa == 0.0, ts[a], ts[a] + (tb - ts[a]) * fa / (fa - fb))
     sign_a = np.where(fa == 0.0, -np.sign(fb), np.sign(fa))
-    roots, states = refine(
-        system, drive, f, guess, tn, q[n], qd[n], qdd[n], bracket=(ts[a], tb, sign_a)
-    )
-    return (np.mod(roots, period_t) if full else roots), states
+    if dvals is not None:
+        ds = dvals[order]
+        hermite = _hermite_guess(ts[a], tb, fa, fb, ds[a], ds[b], sign_a)
+        guess = np.where((fa == 0.0) | ~np.isfinite(hermite), guess, hermite)
+    return guess, tn, n, ts[a], tb, sign_a
+
+
+HERMITE_STEPS = 10, 4  # bisection steps (to 1e-3 of the bracket), then Newton steps
+
+
+def _hermite_guess(ta, tb, fa, fb, da, db, sign_a):
+    """A root inside each bracket [ta, tb] of the cubic Hermite interpolant of the values
+    ``fa``, ``fb`` (of opposite signs, ``sign_a`` at ta) and the slopes ``da``, ``db``:
+    bisection on the cubic (which changes sign in the bracket), then Newton steps kept
+    inside the bisection's bracket, all brackets at once."""
+    h = tb - ta
+    ma, mb = h * da, h * db  # p(u) = c0 + c1 u + c2 u² + c3 u³ on u ∈ [0, 1]
+    c0, c1 = fa, ma
+    c2 = 3 * (fb - fa) - 2 * ma - mb
+    c3 = 2 * (fa - fb) + ma + mb
+    lo, hi = np.zeros(len(ta)), np.ones(len(ta))
+    with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
+        for _ in range(HERMITE_STEPS[0]):
+            u = 0.5 * (lo + hi)
+            same = np.sign(c0 + u * (c1 + u * (c2 + u * c3))) == sign_a
+            lo, hi = np.where(same, u, lo), np.where(same, hi, u)
+        u = 0.5 * (lo + hi)
+        for _ in range(HERMITE_STEPS[1]):
+            step = u - (c0 + u * (c1 + u * (c2 + u * c3))) / (c1 + u * (2 * c2 + 3 * u * c3))
+            u = np.where((step >= lo) & (step <= hi), step, u)
+        return ta + h * u
 
 
 def state_near(system, drive, r, t, q, qd, qdd):
