@@ -85,3 +85,29 @@ def test_inverse_dynamics_of_a_motion_record_is_frozen_and_balances_power():
         friction=True,
     )
     np.testing.assert_allclose(old.friction.solution.x, kin.friction.solution.x, rtol=1e-12)
+
+
+def test_a_singular_equilibrium_names_each_position_once():
+    """Nodes of the cycle integral on both sides of one dead centre print the same angle:
+    the warning listed "175.411°, 175.411°, 357.453°, 357.453°"; each text once, and "and
+    N more" counts distinct positions."""
+    import warnings
+
+    import pytest
+
+    from kinetostatics.errors import SingularEquilibriumWarning
+    from kinetostatics.kinetics.inverse import _warn_singular_equilibrium
+    from kinetostatics.structure.system import build_system
+    from tests.helpers import ROOT
+
+    system = build_system(ks.load(ROOT / "mechanisms" / "slider_crank.yaml"))
+    coord = np.radians([175.4110001, 175.4110002, 357.453, 357.4530001, 10.0])
+    with pytest.warns(SingularEquilibriumWarning) as got:
+        _warn_singular_equilibrium(system, np.array([True, True, True, True, False]), coord)
+    text = str(got[0].message)
+    assert "= 175.411°, 357.453°: " in text
+    coord = np.radians(np.repeat(np.arange(10.0, 110.0, 10.0), 2))
+    with warnings.catch_warnings(record=True) as got:
+        warnings.simplefilter("always")
+        _warn_singular_equilibrium(system, np.ones(20, dtype=bool), coord)
+    assert "= 10°, 20°, 30°, 40°, 50°, 60°, 70°, 80° and 2 more: " in str(got[0].message)

@@ -472,9 +472,12 @@ def _warn_singular_equilibrium(system: System, singular: np.ndarray, coord: np.n
     """Warn of the positions where no finite effort balances the loads, naming them."""
     d = system.motion_drivers[0]
     at = np.broadcast_to(coord, singular.shape)[singular]
-    where = ", ".join(
-        f"{np.degrees(c) % 360:.6g}°" if d.joint.angular else f"{c * 1e3:.6g} mm" for c in at[:8]
-    ) + (f" and {at.size - 8} more" if at.size > 8 else "")
+    texts = list(  # each once: nodes of the cycle integral on both sides of one dead centre
+        dict.fromkeys(
+            f"{np.degrees(c) % 360:.6g}°" if d.joint.angular else f"{c * 1e3:.6g} mm" for c in at
+        )
+    )
+    where = ", ".join(texts[:8]) + (f" and {len(texts) - 8} more" if len(texts) > 8 else "")
     joints = sorted({(m.driver.balance_at or m.joint.name) for m in system.motion_drivers})
     warnings.warn(
         f"the equilibrium is singular at {d.name} = {where}: the effort at "
