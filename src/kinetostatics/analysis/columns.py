@@ -245,14 +245,14 @@ def element_warnings(system: System, q: np.ndarray, coord: np.ndarray) -> list[s
         if not rows.size:
             continue
         if driver is None:
-            where = "rows " + ", ".join(str(int(k)) for k in rows[:8])
+            texts = [str(int(k)) for k in rows]
         elif driver.joint.angular:
-            where = f"{driver.name} = " + ", ".join(
-                f"{np.degrees(coord[k]) % 360:.4g}°" for k in rows[:8]
-            )
+            texts = [f"{np.degrees(coord[k]) % 360:.6g}°" for k in rows]
         else:
-            where = f"{driver.name} = " + ", ".join(f"{coord[k] * 1e3:.6g} mm" for k in rows[:8])
-        more = " …" if rows.size > 8 else ""
+            texts = [f"{coord[k] * 1e3:.6g} mm" for k in rows]
+        texts = list(dict.fromkeys(texts))  # each once: close rows may print alike
+        where = ("rows " if driver is None else f"{driver.name} = ") + ", ".join(texts[:8])
+        more = " …" if len(texts) > 8 else ""
         ends = " and ".join(f"{link}.{point}" for link, point in zip(e.links, e.points))
         out.append(
             f"element '{e.name}': {ends} meet (length 0) at {rows.size} position(s), "
