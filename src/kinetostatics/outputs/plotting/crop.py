@@ -26,7 +26,7 @@ import contextlib
 
 import numpy as np
 
-from .style import _DEFER, MM
+from .style import _DEFER, MM, _move
 
 __all__ = ["ROOM", "drawn_once", "save_png"]
 
@@ -41,19 +41,6 @@ def drawn_once():
         yield
     finally:
         _DEFER.pop()
-
-
-def _move(fig, dx: float, dy: float, W: float, H: float) -> None:
-    """Resize ``fig`` to ``W × H`` inches, moving its axes and texts by ``dx, dy`` inches
-    and keeping their sizes."""
-    Wi, Hi = fig.get_size_inches()
-    boxes = [(a, a.get_position().bounds) for a in fig.axes]
-    texts = [(t, t.get_position()) for t in fig.texts]
-    fig.set_size_inches(W, H)
-    for a, (x0, y0, w, h) in boxes:
-        a.set_position([(x0 * Wi + dx) / W, (y0 * Hi + dy) / H, w * Wi / W, h * Hi / H])
-    for t, (x, y) in texts:
-        t.set_position(((x * Wi + dx) / W, (y * Hi + dy) / H))
 
 
 def _movable(fig) -> bool:

@@ -472,11 +472,17 @@ def _grow_to_fit(fig, pad_mm: float = 1.5, *, now: bool = False) -> None:
     top = max(0.0, tight.y1 - Hi + pad)
     if max(left, bottom, right, top) <= 0.01 * MM:
         return
-    W2, H2 = Wi + left + right, Hi + bottom + top
+    _move(fig, left, bottom, Wi + left + right, Hi + bottom + top)
+
+
+def _move(fig, dx: float, dy: float, W: float, H: float) -> None:
+    """Resize ``fig`` to ``W × H`` inches, moving its axes and texts by ``dx, dy`` inches
+    and keeping their sizes."""
+    Wi, Hi = fig.get_size_inches()
     boxes = [(a, a.get_position().bounds) for a in fig.axes]
     texts = [(t, t.get_position()) for t in fig.texts]
-    fig.set_size_inches(W2, H2)
+    fig.set_size_inches(W, H)
     for a, (x0, y0, w, h) in boxes:
-        a.set_position([(x0 * Wi + left) / W2, (y0 * Hi + bottom) / H2, w * Wi / W2, h * Hi / H2])
+        a.set_position([(x0 * Wi + dx) / W, (y0 * Hi + dy) / H, w * Wi / W, h * Hi / H])
     for t, (x, y) in texts:
-        t.set_position(((x * Wi + left) / W2, (y * Hi + bottom) / H2))
+        t.set_position(((x * Wi + dx) / W, (y * Hi + dy) / H))
