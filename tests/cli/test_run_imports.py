@@ -7,19 +7,14 @@ import subprocess
 import sys
 from pathlib import Path
 
+from kinetostatics.cli import EXTENSIONS
+
 ROOT = Path(__file__).resolve().parents[2]
 
 # what `run` of a file without sizing data never needs
 RUN_LAZY = (
     # the other commands: their parsers are built only for them (cli.main)
-    "kinetostatics.cli.pictures",
-    "kinetostatics.cli.dynamics",
-    "kinetostatics.cli.batch",
-    "kinetostatics.cli.formats",
-    "kinetostatics.cli.optimize",
-    "kinetostatics.cli.sensitivity",
-    "kinetostatics.cli.init",
-    "kinetostatics.cli.edit",
+    *EXTENSIONS,
     # the sizing stage, for a file with bearing, pin or section data
     "kinetostatics.sizing",
     "kinetostatics.methods",
