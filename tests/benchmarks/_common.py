@@ -42,6 +42,15 @@ def write_block(begin: str, end: str, body: str, doc: Path = ACCURACY) -> None:
     doc.write_text(pat.sub(lambda _m: f"{begin}\n{body.strip()}\n{end}", text), encoding="utf-8")
 
 
+def publish(begin: str, end: str, body: str, write: bool, doc: Path = ACCURACY) -> None:
+    """Print a benchmark's table ``body`` and, with ``--write``, put it between the markers
+    of ``doc`` (:func:`write_block`), saying so."""
+    print(body)
+    if write:
+        write_block(begin, end, body, doc)
+        print(f"updated {doc.relative_to(doc.parents[1])}")
+
+
 def machine() -> str:
     """The CPU, its logical CPUs, Python's and NumPy's versions (a table's conditions)."""
     import numpy

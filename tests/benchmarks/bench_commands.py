@@ -33,10 +33,9 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from _common import machine, write_block
+from _common import machine, publish
 
 ROOT = Path(__file__).resolve().parents[2]
-DOC = ROOT / "docs" / "accuracy.md"
 BEGIN, END = "<!-- commands:begin -->", "<!-- commands:end -->"
 MECHANISM = "mechanisms/slotting_machine.yaml"
 
@@ -185,10 +184,7 @@ def main(argv=None) -> None:
         + ".\n\n"
         + table(runs)
     )
-    print(body)
-    if args.write:
-        write_block(BEGIN, END, body)
-        print(f"updated {DOC.relative_to(ROOT)}")
+    publish(BEGIN, END, body, args.write)
 
 
 if __name__ == "__main__":

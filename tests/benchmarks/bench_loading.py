@@ -36,13 +36,12 @@ import time
 from pathlib import Path
 
 import bench_commands as commands
-from _common import machine, write_block  # and the repository on sys.path, for tests.chains
+from _common import machine, publish  # and the repository on sys.path, for tests.chains
 
 import kinetostatics as ks
 from tests.chains import dyad_chain
 
 ROOT = Path(__file__).resolve().parents[2]
-DOC = ROOT / "docs" / "accuracy.md"
 BEGIN, END = "<!-- loading:begin -->", "<!-- loading:end -->"
 LOADS_DYADS = 30  # 61 moving links
 SIZES = (10, 30, 60)  # dyads: 21, 61, 121 moving links
@@ -216,10 +215,7 @@ def main(argv=None) -> None:
         + ".\n\n"
         + table(runs)
     )
-    print(body)
-    if args.write:
-        write_block(BEGIN, END, body)
-        print(f"updated {DOC.relative_to(ROOT)}")
+    publish(BEGIN, END, body, args.write)
 
 
 if __name__ == "__main__":

@@ -60,7 +60,7 @@ from datetime import datetime, timezone
 
 import numpy as np
 import speed_closed_forms as cf
-from _common import ROOT, machine, write_block
+from _common import ROOT, machine, publish
 
 import kinetostatics as ks
 from kinetostatics.base import kernels
@@ -429,9 +429,7 @@ def main(argv=None) -> None:
         runs.append((what, rs))
         print(f"run {k + 1}: {what}")
     body = table(runs, args)
-    print(body)
-    if args.write:
-        write_block(BEGIN, END, body)
+    publish(BEGIN, END, body, args.write)
 
 
 if __name__ == "__main__":

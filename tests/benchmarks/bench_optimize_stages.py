@@ -26,7 +26,7 @@ import warnings
 from datetime import datetime, timezone
 
 import bench_optimize as bo
-from _common import machine, write_block
+from _common import machine, publish
 
 BEGIN, END = "<!-- throughput-stages:begin -->", "<!-- throughput-stages:end -->"
 # (module, function, what it is), in the order of a design's analysis; the stages are
@@ -167,9 +167,7 @@ def main(argv=None) -> None:
         + ", 360 positions, CPU time):\n\n"
         + "\n".join(per_position())
     )
-    print(body)
-    if args.write:
-        write_block(BEGIN, END, body)
+    publish(BEGIN, END, body, args.write)
 
 
 if __name__ == "__main__":

@@ -46,7 +46,7 @@ from pathlib import Path
 
 import numpy as np
 import speed_closed_forms as cf
-from _common import ROOT, machine, write_block
+from _common import ROOT, machine, publish
 
 import kinetostatics as ks
 from kinetostatics.base import kernels
@@ -505,10 +505,7 @@ def main(argv=None) -> None:
             if line.startswith("| slotting_machine | `kinetostatics run`")
         ]
         body = "\n".join([body, *kept])
-    print(body)
-    if args.write:
-        write_block(BEGIN, END, body)
-        print(f"updated {DOC.relative_to(ROOT)}")
+    publish(BEGIN, END, body, args.write)
 
 
 if __name__ == "__main__":
