@@ -11,6 +11,7 @@ reduction has a kink there).
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 import kinetostatics as ks
@@ -115,6 +116,68 @@ def test_the_flywheel_swing_at_an_extreme_inside_a_piece_is_exact(monkeypatch):
 
     monkeypatch.setattr(cycle, "SPLITS", 0)
     assert R.relation_cycle_means(_net_case("extreme_inside_a_piece.yaml"), 0) <= 1e-12
+
+
+def test_the_flywheel_swing_near_a_dead_point_stays_on_the_branch():
+    """Seed 1006188: the driving torque peaks at ~10⁴ times its mean near a dead point, where
+    the two branches of a dyad come close.  ΔW at the extreme inside a piece was integrated
+    at positions continued from the run's nearest row, 0.13 rad away: some took the other
+    branch and the swing was 2 % off (9 % with the 16-point rule).  Checked against the
+    work between the design's two extremes by Simpson's rule on 40,001 positions of the
+    run's own continuation (the branch tracked from the start), and the two orders."""
+    from scipy.integrate import simpson
+
+    from kinetostatics.dynamics.flywheel import design
+    from tests.net import relations as R
+
+    doc = _net_case("branch_near_a_dead_point.yaml")
+    res = R.analyze(doc)
+    fw = design(res, delta=0.05, friction=False)
+    w, start = fw.omega_m, doc["analysis"]["start"]
+    t = np.linspace(fw.at_max - start, fw.at_min - start, 40_001) / w
+    run = ks.analyze(res.system, times=t, friction=False, events=False)
+    work = simpson(w * (np.asarray(run["motor.torque"]) - fw.mean_torque), x=t)
+    assert fw.energy_swing == pytest.approx(work, rel=1e-7)
+    assert R.relation_cycle_means(doc, 0) <= 1e-12
+
+
+def test_an_effort_zero_just_after_a_cam_segment_end_is_cut():
+    """Seed 1005308: at a cam law's segment end the follower's acceleration jumps, and the
+    driving torque with it, from +0.030 to −0.0092 N·m; it crosses zero 3.5e-5 s later, a
+    kink of the motor's torque behind the reduction.  The rows on either side have the same
+    sign, so the zero was bracketed only by the nodes of the finer rule (the orders
+    disagreed by 2.6e-8 of the motor's peak).  The segment ends are now found first and the
+    efforts' zeros sought on each side of them, as at a load's switch."""
+    from tests.net import relations as R
+
+    assert R.relation_cycle_means(_net_case("effort_zero_after_a_cam_segment_end.yaml"), 0) <= 1e-12
+
+
+def test_an_effort_dipping_through_zero_between_two_nodes_is_cut(monkeypatch):
+    """Seed 1005331: the driving torque dips 5e-5 of its scale below zero and back within
+    7e-4 s, between two nodes: no node changes sign, but the piece's interpolant has the
+    two roots; sampled between them, the pair is bracketed and cut (without: 6.4e-9 of the
+    motor's peak power between the orders)."""
+    from tests.net import relations as R
+
+    doc = _net_case("effort_dip_between_nodes.yaml")
+    assert R.relation_cycle_means(doc, 0) <= 1e-12
+    monkeypatch.setattr(cuts, "_dips", lambda *args: np.zeros(0))
+    assert R.relation_cycle_means(doc, 0) > 1e-10
+
+
+def test_the_means_near_a_dead_point_agree_on_the_scale_of_the_values_summed():
+    """Seed 1004622: near a dead point the driving torque reaches 2.3e6 N·m at the nodes and
+    689 N·m at the rows; its RMS (5.6e4) differs by 1.4e-9 between the orders, round-off of
+    the values summed (6e-16 of the largest), not of the rows' 689 (2e-12).  The net's scale
+    is now the largest |value| at the rows and the nodes."""
+    from tests.net import relations as R
+
+    doc = _net_case("effort_peak_between_rows.yaml")
+    res = R.analyze(doc)
+    nodes = cycle.cycle_quadrature(res, friction=False).nodes
+    assert np.max(np.abs(nodes["motor.torque"])) > 1e3 * np.max(np.abs(res["motor.torque"]))
+    assert R.relation_cycle_means(doc, 0) <= 1e-12
 
 
 @pytest.mark.parametrize(

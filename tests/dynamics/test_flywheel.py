@@ -155,25 +155,6 @@ def test_the_fine_grid_rule_serves_where_the_exact_pieces_cannot(machine, monkey
     assert grid.machine_inertia["mean"] == pytest.approx(fw.machine_inertia["mean"], rel=1e-6)
 
 
-def test_the_pieces_roots_are_numpys_legroots():
-    """The flywheel's extremes take the roots of all pieces' series in one eigenvalue call
-    per degree: each the roots numpy's legroots gives, to the bit (trailing zeros, a
-    constant and a zero series included)."""
-    import numpy.polynomial.legendre as leg
-
-    from kinetostatics.dynamics.flywheel import _legroots
-
-    rng = np.random.default_rng(11)
-    for n in (1, 2, 3, 6, 9):
-        c = rng.standard_normal((40, n)) * np.logspace(-6, 6, 40)[:, None]
-        c[3, -1] = 0.0
-        c[4, 1:] = 0.0
-        c[5] = 0.0
-        for mine, theirs in zip(_legroots(c), [leg.legroots(row) for row in c]):
-            np.testing.assert_array_equal(mine, theirs)
-            assert mine.shape == theirs.shape
-
-
 def test_a_flywheel_with_friction_on_a_self_locking_machine_is_said_undefined(monkeypatch):
     """A slide with a friction coefficient of 120 (a fuzz case) self-locks over part of the
     cycle: the balancing moment with friction does not exist there, so neither does the

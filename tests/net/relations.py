@@ -793,7 +793,12 @@ def relation_derivatives(doc, seed, h=2e-2, k=2, levels=8):
     one is compared; the h² check applies to that last pair of steps.  The
     differences' own round-off (ε|x|/Δt, 4ε|x|/Δt²) grows as the step falls and is
     taken off each error: a crank's exact α = 0 met 10⁻⁵ of noise at h/128 while
-    other columns still needed halving (seed 1005742).  A wrong
+    other columns still needed halving (seed 1005742).  Where a cam law's segment end
+    lies within a step of the centre, the acceleration jumps inside the stencil and its
+    difference is off by O(1) until the step no longer reaches it (seed 1006298: 0.07 of
+    the scale at 3.1·10⁻⁴ rad, 10⁻⁷ at half that); extrapolating across that change is
+    meaningless, so once the difference itself agrees to the resolution it is compared
+    as it is.  A wrong
     exact derivative is a difference that does not fall with h: the extrapolations
     agree at once, on that difference."""
     rng = np.random.default_rng([seed, 29])
@@ -844,6 +849,10 @@ def relation_derivatives(doc, seed, h=2e-2, k=2, levels=8):
             diffs.append(d)
             if level == 0:
                 continue
+            if errs[-1] <= resolved:  # the difference itself agrees: no extrapolation with a
+                # coarser step, which may straddle an acceleration's jump (seed 1006298)
+                rich = {c: float(d[c]) for c in d}
+                break
             # all steps share the centre, hence the exact value
             finer = {c: float((4 * d[c] - diffs[-2][c]) / 3) for c in d}
             change = max((abs(finer[c] - rich[c]) for c in rich), default=math.inf)
@@ -1061,10 +1070,10 @@ def relation_cycle_means(doc, seed):
     drive's means (the file's drive, else a reduction of efficiency 0.85, whose motor-side
     torque has a kink at every zero of the effort) agree between 8-point Gauss–Legendre on
     the integrator's pieces and 16-point on twice as many, both between the same cuts, to
-    1e-12 of each quantity's scale (an effort's largest |value| at the rows, 2π times it
-    for a work, the motor's peak torque and power for the drive's): so every jump and kink
-    of the integrand is a cut, located to round-off (a missed or misplaced one leaves
-    1e-10 to 1e-4).  Friction is left to ``relation_quadrature`` (its 1e-9 dead band at a
+    1e-12 of each quantity's scale (an effort's largest |value| at the rows and the nodes,
+    2π times it for a work, the motor's peak torque and power for the drive's): so every
+    jump and kink of the integrand is a cut, located to round-off (a missed or misplaced
+    one leaves 1e-10 to 1e-4).  Friction is left to ``relation_quadrature`` (its 1e-9 dead band at a
     reversal, docs/conventions.md)."""
     from dataclasses import replace
 
@@ -1078,27 +1087,33 @@ def relation_cycle_means(doc, seed):
     columns = [c for c in res.columns if c in ("motor.torque", "motor.force")]
     if not columns:
         return None
-    scale = float(np.max(np.abs(np.asarray(res[columns[0]])[np.isfinite(res[columns[0]])])))
-    if not scale > 0:
-        return None
     model = res.system.model
     spec = replace(model.drive or DriveSpec(efficiency=0.85), friction=False)
     values: list[dict] = []
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        for q in CONVERGED:
+        quads = [cycle.cycle_quadrature(res, friction=False, quadrature=q) for q in CONVERGED]
+        # the largest |effort| at the rows and at the nodes: near a dead point the effort
+        # peaks between the rows (seed 1004622: 2.3e6 at the nodes, 689 at the rows), and
+        # the sums' round-off is that of the values summed
+        seen = [np.asarray(r[columns[0]]) for r in (res, *(q.nodes for q in quads))]
+        scale = float(max(np.max(np.abs(v[np.isfinite(v)]), initial=0.0) for v in seen))
+        if not scale > 0:
+            return None
+        for q, quad in zip(CONVERGED, quads):
             out = {}
-            st = cycle.cycle_stats(res, columns, friction=False, quadrature=q)[columns[0]]
+            st = cycle.cycle_stats(res, columns, friction=False, quadrature=q, given=quad)
+            st = st[columns[0]]
             out["mean"], out["rms"] = (st["mean"], scale), (st["rms"], scale)
             try:
-                fw = design(res, delta=0.05, friction=False, quadrature=q)
+                fw = design(res, delta=0.05, friction=False, quadrature=q, nodes=quad)
             except (KinetostaticsError, ValueError):  # not a constant-speed crank
                 pass
             else:
                 out["flywheel.M_d"] = (fw.mean_torque, scale)
                 out["flywheel.dW"] = (fw.energy_swing, 2 * np.pi * scale)
             try:
-                d = size(res, spec, quadrature=q)
+                d = size(res, spec, quadrature=q, nodes=quad)
             except (KinetostaticsError, ValueError):  # no revolute motion driver
                 pass
             else:

@@ -21,6 +21,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..base.arrays import sorted_distinct
+from ..base.legendre import inner_roots, piece_series, series_roots
 from ..errors import AssemblyError, ElementWarning, JointWarning, NearSingularWarning
 from ..kinematics.schedule import schedule
 from ..structure.system import link_pair
@@ -328,7 +329,9 @@ def _stretch_changes(ts: np.ndarray, vals: np.ndarray, seg: np.ndarray):
     return out
 
 
-def missed_cuts(rows: Result, nodes: Result, edges: np.ndarray, friction: bool) -> list[float]:
+def missed_cuts(
+    rows: Result, nodes: Result, edges: np.ndarray, friction: bool, per_piece: int = 0
+) -> list[float]:
     """Switches and kinks the rows did not bracket — a pair of them between two rows: a
     rocker reversing and turning back, an effort through zero and back — that the
     quadrature ``nodes`` see: a sign change between two consecutive nodes with no cut
@@ -337,7 +340,10 @@ def missed_cuts(rows: Result, nodes: Result, edges: np.ndarray, friction: bool) 
     of the joints with friction, the loads' conditions, the tables' corners), located
     exactly; where none is new (off the cuts), the kinks the pipeline gives (a cam law's
     segment ends, the drivers' efforts), located as :func:`_solved_kinks` does, continued
-    from the ``rows``.  Empty, and nothing solved, when the nodes see nothing new."""
+    from the ``nodes`` (nearer than the rows); with ``per_piece`` (the nodes of a piece of
+    the quadrature, consecutive in time), a kink function whose piece's interpolant has
+    two roots between two nodes is sampled between them too (:func:`_dips`).  Empty, and
+    nothing solved, when the nodes see nothing new."""
     if len(nodes) < 2:
         return []
     ts, order, _ = _in_time(nodes)
@@ -362,14 +368,43 @@ def missed_cuts(rows: Result, nodes: Result, edges: np.ndarray, friction: bool) 
     if not fns:
         return []
     vals = _columns(nodes, fns)[order]
+    at = _evaluator(nodes, fns, float(edges[0]), None, nodes.lam_friction is not None)
+    dips = _dips(ts, vals, per_piece)
+    if dips.size:
+        ts, o = np.concatenate((ts, dips)), np.argsort(np.concatenate((ts, dips)), kind="stable")
+        ts, vals = ts[o], np.vstack((vals, at(dips)))[o]
+        seg = np.searchsorted(edges, ts)
     brackets: tuple[list, ...] = ([], [], [], [], [], [], [], [])
     for m, a, scale in _stretch_changes(ts, vals, seg):
         v = vals[:, m]
         guess = _guess(ts, v, seg, a)
         for z, value in zip(brackets, (ts[a], ts[a + 1], v[a], v[a + 1], *guess, m, scale)):
             z.append(value)
-    at = _evaluator(rows, fns, float(edges[0]), None, nodes.lam_friction is not None)
     return _located(at, brackets, span)
+
+
+def _dips(ts: np.ndarray, vals: np.ndarray, per_piece: int) -> np.ndarray:
+    """Times between two consecutive nodes where a piece's interpolant (the Legendre series
+    through its ``per_piece`` node values, :mod:`~kinetostatics.base.legendre`) of a kink
+    function has two roots: the function dips through zero and back between the nodes, a
+    pair of kinks no sign of theirs shows (issue 36, seed 1005331: an effort 5e-5 of its
+    scale below zero for 1/700 of the cycle).  The midpoint of each such pair."""
+    n = per_piece
+    if n < 3 or len(ts) % n:
+        return np.zeros(0)
+    x = np.polynomial.legendre.leggauss(n)[0]
+    t = ts.reshape(-1, n)
+    half = (t[:, -1] - t[:, 0]) / (x[-1] - x[0])
+    centre = t[:, 0] - half * x[0]
+    out = []
+    for m in range(vals.shape[1]):
+        v = vals[:, m].reshape(-1, n)
+        v = np.where(np.all(np.isfinite(v), axis=1)[:, None], v, 0.0)  # no series there
+        for p, roots in enumerate(series_roots(piece_series(len(v), v.ravel()))):
+            r = inner_roots(roots)
+            pair = np.flatnonzero(np.diff(np.searchsorted(x, r)) == 0)
+            out += list(centre[p] + half[p] * 0.5 * (r[pair] + r[pair + 1]))
+    return np.asarray(out, dtype=float)
 
 
 def merged_cuts(ta: float, tb: float, times) -> np.ndarray:
@@ -474,10 +509,14 @@ def breaks(result: Result, ta: float, tb: float, friction: bool) -> np.ndarray:
     jumps = [ta + np.mod(te - ta, tb - ta) if full else te for te in jumps + switches]
     kinks = corners + list(sched.breaks(ta, tb))
     floor = _roundoff_floor(rows)  # a round-off zero of an effort or reaction: no sign
-    fns = _motion_breaks(rows) + _above_roundoff(effort_zeros(rows), floor)
+    fns = _above_roundoff(effort_zeros(rows), floor)
     if friction and result.system.model.has_friction:
         fns += _above_roundoff(_friction_kinks(rows), floor)
-    kinks += _solved_kinks(rows, fns, jumps, ta, tb, corners=kinks)
+    # a cam law's segment end first: an acceleration may jump there, and the efforts with
+    # it, so their zeros are sought on each side of it (a zero just after it, the effort
+    # jumping back across zero at it, leaves the rows' signs equal: issue 36, seed 1005308)
+    ends = _solved_kinks(rows, _motion_breaks(rows), jumps, ta, tb, corners=kinks)
+    kinks += ends + _solved_kinks(rows, fns, jumps + ends, ta, tb, corners=kinks + ends)
     times = [ta + np.mod(te - ta, tb - ta) if full else te for te in jumps + kinks]
     return merged_cuts(ta, tb, times)
 

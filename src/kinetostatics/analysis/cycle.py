@@ -169,7 +169,7 @@ def cycle_quadrature(
     # nodes see is cut too, and the nodes placed again (switches first, then kinks)
     grouped, times, weights, nodes = _placed(result, edges, n_pieces, x, w)
     for _ in range(MISSED):
-        missed = missed_cuts(result, nodes, edges, friction)
+        missed = missed_cuts(result, nodes, edges, friction, n_nodes)
         if not missed:
             break
         edges = merged_cuts(ta, tb, [*edges, *missed])
@@ -214,9 +214,9 @@ def _with_halves(result: Result, nodes: Result, pieces, finer, x, w) -> Result:
     keep = np.ones(len(nodes), dtype=bool)
     keep[rank[np.repeat(gone, len(x))]] = False
     times = np.sort(_nodes_of(new, x, w)[0])
-    try:  # each continued from its nearest row (as the halves were when chosen), not the
+    try:  # each continued from its nearest node (as the halves were when chosen), not the
         # whole run's continuation from the start pose
-        part = quiet_near(result, times, friction=True)
+        part = quiet_near(nodes, times, friction=True)
     except AssemblyError:
         part = quiet_analyze(result.system, times=times, friction=True, events=False)
     want = np.sort(_nodes_of(finer, x, w)[0])
@@ -331,8 +331,9 @@ def _resolved(result: Result, nodes: Result, pieces, x, w, friction: bool):
             done.append(halves)
             break
         times = _nodes_of(halves, x, w)[0]
-        try:  # each position continued from the nearest row
-            part = quiet_near(result, times, friction=friction)
+        try:  # each position continued from the nearest node of the piece it halves: the
+            # rows may be too far apart near a dead point, where two branches come close
+            part = quiet_near(nodes, times, friction=friction)
         except AssemblyError:
             part = quiet_analyze(result.system, times=times, friction=friction, events=False)
         if len(part) != len(times) or not np.array_equal(part.t, times):

@@ -36,6 +36,7 @@ from ..analysis.cycle import Quadrature, cycle_quadrature, cycle_stats
 from ..analysis.pipeline import analyze_near
 from ..analysis.results import Result
 from ..base.arguments import real_number
+from ..base.legendre import inner_roots, piece_series, series_roots
 from ..errors import AssemblyError, Location, StructureError
 from ..kinematics.schedule import schedule
 from ..kinetics.reactions import effort_ratio
@@ -270,40 +271,6 @@ def _extremes(at: np.ndarray, w: np.ndarray) -> tuple[int, int]:
     return int(kmax), int(kmin)
 
 
-def _legendre_pieces(pieces: np.ndarray, values: np.ndarray):
-    """Per piece (t₀, t₁) of the cycle nodes, the Legendre series through its n node values
-    (Gauss–Legendre nodes: the interpolant the quadrature integrates exactly): ``(P, n)``
-    coefficients in x = (2t − t₀ − t₁)/(t₁ − t₀)."""
-    n = values.size // len(pieces)
-    x, _ = leg.leggauss(n)
-    vander = leg.legvander(x, n - 1)
-    return np.linalg.solve(vander, values.reshape(len(pieces), n).T).T
-
-
-def _legroots(coefs: np.ndarray) -> list[np.ndarray]:
-    """``[leg.legroots(c) for c in coefs]`` (``coefs (P, n)``) in one eigenvalue call per
-    degree: the companion matrices legcompanion builds, by the same operations, each solved
-    by the same LAPACK routine — the same roots to the bit."""
-    out: list[np.ndarray] = [np.zeros(0)] * len(coefs)
-    full = coefs[:, -1] != 0  # of degree n - 1 (legroots trims trailing zeros)
-    for p in np.flatnonzero(~full):
-        out[p] = leg.legroots(coefs[p])
-    rows = np.flatnonzero(full)
-    n = coefs.shape[1] - 1
-    if n == 1:
-        for p in rows:
-            out[p] = np.array([-coefs[p, 0] / coefs[p, 1]])
-    elif n > 1 and rows.size:
-        c = coefs[rows]
-        scl = 1.0 / np.sqrt(2 * np.arange(n) + 1)
-        mats = np.repeat(leg.legcompanion(np.eye(n + 1)[n])[None], len(rows), axis=0)
-        mats[:, :, -1] -= (c[:, :-1] / c[:, -1:]) * (scl / scl[-1]) * (n / (2 * n - 1))
-        roots = np.sort(np.linalg.eigvals(mats[:, ::-1, ::-1]), axis=-1)
-        for p, r in zip(rows, roots):
-            out[p] = r
-    return out
-
-
 def _energy_extremes(pieces: np.ndarray, t: np.ndarray, rate: np.ndarray, partial=None):
     """((t, ΔW) at the largest and at the smallest ΔW(t) = ∫ rate dt from the span's start):
     ΔW is the integral of each piece's interpolant, so its extremes are at the pieces' ends
@@ -312,17 +279,16 @@ def _energy_extremes(pieces: np.ndarray, t: np.ndarray, rate: np.ndarray, partia
     up to the root is only as exact as the interpolation, so there ``partial(t₀, t)``, the
     integral of the rate from the piece's start t₀ by the quadrature on [t₀, t], replaces
     it (the root misplaced by δ costs O(δ²) there; both extremes' in one call)."""
-    coef = _legendre_pieces(pieces, rate)
+    coef = piece_series(len(pieces), rate)
     half = 0.5 * (pieces[:, 1] - pieces[:, 0])
     mid = 0.5 * (pieces[:, 1] + pieces[:, 0])
     cand_t, cand_w, start = [pieces[0, 0]], [0.0], 0.0
     cand_in: list[tuple[int, float] | None] = [None]  # (piece, ΔW at its start) if inside
-    all_roots = _legroots(coef)
+    all_roots = series_roots(coef)
     for p in range(len(pieces)):
         anti = leg.legint(coef[p], lbnd=-1)
         roots = all_roots[p] if np.any(coef[p][1:]) else np.zeros(0)
-        roots = roots[np.isreal(roots)].real
-        for r in roots[(roots > -1) & (roots < 1)]:
+        for r in inner_roots(roots):
             cand_t.append(mid[p] + half[p] * r)
             cand_w.append(start + half[p] * leg.legval(r, anti))
             cand_in.append((p, start))
@@ -363,15 +329,14 @@ def _on_the_grid(system, events, friction, positions, w):
 def _value_extremes(pieces: np.ndarray, values: np.ndarray) -> tuple[float, float]:
     """(min, max) of the pieces' interpolants of ``values`` (at their ends and where their
     derivatives vanish inside)."""
-    coef = _legendre_pieces(pieces, values)
+    coef = piece_series(len(pieces), values)
     cand = []
     ders = leg.legder(coef, axis=1)
-    all_roots = _legroots(ders)
+    all_roots = series_roots(ders)
     for c, d, roots in zip(coef, ders, all_roots):
         xs = [-1.0, 1.0]
         if np.any(d):
-            r = roots[np.isreal(roots)].real
-            xs += list(r[(r > -1) & (r < 1)])
+            xs += list(inner_roots(roots))
         cand += list(leg.legval(np.asarray(xs), c))
     return float(np.min(cand)), float(np.max(cand))
 
@@ -513,8 +478,9 @@ def _exact_extremes(base: Result, quad: Quadrature, curves, m_d: float, friction
 
     def partial(a: np.ndarray, b: np.ndarray) -> np.ndarray:  # ∫ w·(M_d − M) from a to b
         times = (a[:, None] + 0.5 * (b - a)[:, None] * (x + 1.0)).ravel()  # pieces' parts
-        try:  # each position continued from the nearest row (all parts in one call)
-            m = _moment(system, analyze_near(base, times, friction=friction), friction)[0]
+        try:  # each position continued from the nearest node (all parts in one call): the
+            # nodes resolve the effort, the rows may not (a branch near a dead point)
+            m = _moment(system, analyze_near(nodes, times, friction=friction), friction)[0]
         except AssemblyError:  # the whole run's way (its rows in time order)
             o, m = np.argsort(times, kind="stable"), np.empty(len(times))
             run = analyze(system, times=times[o], friction=friction, events=False)
