@@ -18,6 +18,7 @@ from ..base.arguments import real_array
 from ..base.limits import MAGNITUDE, MAX_TRAVEL, MAX_TURNS
 from ..base.memory import BYTES_PER_LINK_POSITION, BYTES_PER_POSITION, memory_shortfall
 from ..errors import (
+    AssemblyError,
     ElementWarning,
     JointWarning,
     Location,
@@ -157,16 +158,32 @@ def analyze_near(result: Result, times: np.ndarray, *, friction: bool) -> Result
     its nearest row (as :func:`~kinetostatics.kinematics.positions.state_at` does: the
     same branch, without the run's continuation from the start) and the loads with the run's
     travel extremes: the rows on which the cycle's integrator locates a kink
-    (analysis/cycle.py).  No event rows."""
+    (analysis/cycle.py).  No event rows.  Raises AssemblyError where a position would
+    not be on its row's branch (:func:`~kinetostatics.kinematics.positions.positions_near`):
+    the callers then analyse the times along the whole run."""
 
     system = result.system
     sched = schedule(system)
     t = np.asarray(times, dtype=float)
     rows = np.asarray(result.t, dtype=float)
-    n = np.argmin(np.abs(rows[None, :] - t[:, None]), axis=1)
+    gap = np.abs(rows[None, :] - t[:, None])
+    tol = 1e-9 * max(float(np.ptp(rows)), 1e-300)
+    for ts in (s.t for s in result.singular):  # not from a row a singular position
+        # separates from the time, nor from one on it: the branch may change there (a
+        # change point, where a parallelogram's two branches meet)
+        rs, ds = rows[None, :] - ts, t[:, None] - ts
+        gap[(rs * ds < 0) | (np.abs(rs) <= tol)] = np.inf
+    if not np.all(np.isfinite(gap.min(axis=1))):
+        raise AssemblyError(
+            "the run", "a time between singular positions", "no row to continue from"
+        )
+    n = np.argmin(gap, axis=1)
     h = (t - rows[n])[:, None]  # Taylor from the nearest row, then Newton (state_at)
     guess = result.q[n] + h * result.qd[n] + 0.5 * h * h * result.qdd[n]
-    motion = motion_at(system, sched, t, positions_near(system, sched(t)[0], guess, sched))
+    q = positions_near(
+        system, sched(t)[0], guess, sched, reference=result.q[n], changes=bool(result.singular)
+    )
+    motion = motion_at(system, sched, t, q)
     kin = inverse_dynamics(
         system, motion, extremes=result.extremes, ref_speed=sched.reference, friction=friction
     )

@@ -236,29 +236,69 @@ def _state_by_steps(system, drive, t, t_near, q, qd, qdd):  # noqa: PLR0913  sta
 
 
 def positions_near(
-    system: System, psi: np.ndarray, q_guess: np.ndarray, drive: Drive
+    system: System,
+    psi: np.ndarray,
+    q_guess: np.ndarray,
+    drive: Drive,
+    reference: np.ndarray | None = None,
+    *,
+    changes: bool = True,
 ) -> np.ndarray:
     """Positions at driver coordinates ``psi (..., n_d)`` on the branch of a nearby
     guess ``q_guess (..., n_q)`` (closed-form dyads where they apply, else Newton
     per group).  Raises AssemblyError naming the group where Newton fails.
+
+    ``reference (..., n_q)``: the solved states the guesses were continued from; a
+    position must then be on the same branch as its reference, every group's signature
+    (the sign of its Jacobian's determinant) the same.  The closed forms take the sketch's
+    branch, which a path leaves at a change point (a parallelogram's), so where a
+    signature differs Newton from the guesses is tried; where one still differs (a guess
+    too far from its state beside a dead point, where two branches come close, or a
+    singular position between them) AssemblyError is raised: the caller continues
+    along the whole run instead.  ``changes=False``: the path of the references passes
+    no change point, so the closed forms' branch is theirs (not checked).
 
     For stepping methods (forward dynamics): the guess is the previous state,
     ideally advanced by q̇ h + ½ q̈ h².  ``drive``: the run's schedule
     (:func:`~kinetostatics.kinematics.schedule.schedule`), whose start pose the closed forms share.
     """
     q = _closed_form_at(system, drive, q_guess, psi)
-    if q is not None:
+    if q is not None and not changes:
         return q
-    q = q_guess
-    for plan in system.plans:
-        q, ok, _ = group_newton(system, q, psi, plan)
-        if not np.all(ok):
-            raise AssemblyError(
-                plan.group.label,
-                coordinate_text(system, psi.reshape(-1)[:1]),
-                "Newton did not converge from the given guess",
-            )
+    if q is None or (reference is not None and _off_branch(system, q, reference)):
+        q = q_guess
+        for plan in system.plans:
+            q, ok, _ = group_newton(system, q, psi, plan)
+            if not np.all(ok):
+                raise AssemblyError(
+                    plan.group.label,
+                    coordinate_text(system, psi.reshape(-1)[:1]),
+                    "Newton did not converge from the given guess",
+                )
+    off = None if reference is None else _off_branch(system, q, reference)
+    if off:
+        plan, where = off
+        raise AssemblyError(
+            plan.group.label,
+            coordinate_text(system, psi.reshape(-1, psi.shape[-1])[where][0]),
+            "another branch than the state it was continued from",
+        )
     return q
+
+
+def _off_branch(system: System, q: np.ndarray, reference: np.ndarray):
+    """(plan, positions) of the first group whose signature at ``q`` differs from that at
+    ``reference`` (positions: a mask over the leading axes, flattened), or None."""
+    flat = reference.reshape(-1, reference.shape[-1])
+    rows, back = np.unique(flat, axis=0, return_inverse=True)  # the states continued from
+    for plan in system.plans:
+        if plan.group.kind == "driven":  # a link its driver turns or slides: one branch
+            continue
+        ref = group_signature(system, rows, plan)[np.ravel(back)]
+        off = group_signature(system, q, plan).reshape(-1) != ref
+        if np.any(off):
+            return plan, np.ravel(off)
+    return None
 
 
 def _closed_form_at(system: System, drive: Drive, guess: np.ndarray, psi: np.ndarray):
