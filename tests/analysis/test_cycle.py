@@ -141,44 +141,31 @@ def test_the_flywheel_swing_near_a_dead_point_stays_on_the_branch():
     assert R.relation_cycle_means(doc, 0) <= 1e-12
 
 
-PARALLELOGRAM = """\
-name: parallelogram four-bar with gravity
-units: {length: mm, angle: deg, speed: rpm}
-gravity: [0, -9.81]
-links:
-  ground: {points: {O: [0, 0], D: [300, 0]}}
-  crank: {points: {O: [0, 0], A: [100, 0]}, com: [50, 0], mass: 1, inertia: 0.001}
-  coupler: {points: {A: [0, 0], B: [300, 0]}, com: [150, 0], mass: 2, inertia: 0.02}
-  rocker: {points: {D: [0, 0], B: [100, 0]}, com: [80, 10], mass: 1, inertia: 0.001}
-joints:
-  O: {type: revolute, links: [ground, crank]}
-  A: {type: revolute, links: [crank, coupler]}
-  B: {type: revolute, links: [coupler, rocker]}
-  D: {type: revolute, links: [ground, rocker]}
-drivers:
-  motor: {joint: O, motion: {speed: 60}}
-loads:
-  T: {type: torque, link: rocker, value: 5}
-sketch: {A: [0, 100], B: [300, 100]}
-analysis: {start: 90, sweep: 360, positions: 24}
-"""
-
-
 def test_the_flywheel_of_a_parallelogram_stays_on_its_branch_past_the_change_points():
     """A parallelogram four-bar passes two change points (crank at 0° and 180°), where its
     closed form's branch changes; positions between the nodes continued from the nearest
     row with the sketch's branch took the crossed four-bar after them, and ΔW came out
-    5.02 J (5.90 with 16 nodes).  Exact: the coupler translates and crank and rocker turn
+    5.02 J (5.90 with 16 nodes).  With gravity, the rocker's centre of mass off its axis
+    and a torque of 5 N·m on it (tests/base/test_strict_json.py's parallelogram, 24
+    positions).  Exact: the coupler translates and crank and rocker turn
     at the crank's speed, so the kinetic energy is constant and M − M_d = dV/dφ: ΔW is the
     potential energy's range, 2g·|Σ m r| = 2·9.81·√(0.33² + 0.01²) J, and M_d = −5 N·m
     (the rocker's torque)."""
     import warnings
 
-    from kinetostatics.dynamics.flywheel import design
+    import yaml
 
+    from kinetostatics.dynamics.flywheel import design
+    from tests.base.test_strict_json import PARALLELOGRAM
+
+    doc = yaml.safe_load(PARALLELOGRAM)
+    doc["gravity"] = [0, -9.81]
+    doc["links"]["rocker"]["com"] = [80, 10]
+    doc["loads"] = {"T": {"type": "torque", "link": "rocker", "value": 5}}
+    doc["analysis"]["positions"] = 24
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ks.NearSingularWarning)
-        res = ks.analyze(ks.loads(PARALLELOGRAM), friction=False)
+        res = ks.analyze(ks.loads(yaml.safe_dump(doc)), friction=False)
         fw = design(res, delta=0.05, friction=False)
     assert len(res.singular) == 2
     assert fw.energy_swing == pytest.approx(2 * 9.81 * np.hypot(0.33, 0.01), rel=1e-9)

@@ -168,9 +168,10 @@ def analyze_near(result: Result, times: np.ndarray, *, friction: bool) -> Result
     rows = np.asarray(result.t, dtype=float)
     gap = np.abs(rows[None, :] - t[:, None])
     tol = 1e-9 * max(float(np.ptp(rows)), 1e-300)
-    for ts in (s.t for s in result.singular):  # not from a row a singular position
-        # separates from the time, nor from one on it: the branch may change there (a
-        # change point, where a parallelogram's two branches meet)
+    moving = [s.t for s in result.singular if s.group != "equilibrium"]  # kinematic ones
+    for ts in moving:  # not from a row a singular position separates from the time, nor
+        # from one on it: the branch may change there (a change point, where a
+        # parallelogram's two branches meet)
         rs, ds = rows[None, :] - ts, t[:, None] - ts
         gap[(rs * ds < 0) | (np.abs(rs) <= tol)] = np.inf
     if not np.all(np.isfinite(gap.min(axis=1))):
@@ -181,7 +182,7 @@ def analyze_near(result: Result, times: np.ndarray, *, friction: bool) -> Result
     h = (t - rows[n])[:, None]  # Taylor from the nearest row, then Newton (state_at)
     guess = result.q[n] + h * result.qd[n] + 0.5 * h * h * result.qdd[n]
     q = positions_near(
-        system, sched(t)[0], guess, sched, reference=result.q[n], changes=bool(result.singular)
+        system, sched(t)[0], guess, sched, reference=result.q[n], changes=bool(moving)
     )
     motion = motion_at(system, sched, t, q)
     kin = inverse_dynamics(
