@@ -279,7 +279,7 @@ def test_the_summary_and_report_of_an_all_self_locked_result_do_not_crash(locked
     assert np.all(locked["friction.status"] == 2)
     assert np.all(np.isnan(locked["motor.force_friction"]))
     with warnings.catch_warnings():
-        warnings.simplefilter("error")  # no "All-NaN slice encountered"
+        warnings.simplefilter("error", RuntimeWarning)  # no "All-NaN slice encountered"
         summary = full_summary(locked)
     d = summary["drivers"]["motor"]
     assert np.isnan(d["mean_friction"]) and np.isfinite(d["mean"])

@@ -304,3 +304,34 @@ def test_power_and_torque_roundoff_in_a_dwell_is_on_the_scale_of_their_factors()
     relation's scales now say so."""
     doc = yaml.safe_load((CASES / "power_roundoff_in_a_dwell.yaml").read_text(encoding="utf-8"))
     assert R.relation_grid(doc, 1003542) <= R.TOLERANCE["grid"]
+
+
+def test_a_peak_and_a_self_locked_zone_between_the_rows_are_said():
+    """Seed 1007872: between two of the 24 rows the driving torque peaks near a dead point
+    and the friction solution self-locks; the summary's peaks and self-locked zones are the
+    rows', so the run said nothing, while the cycle's nodes saw both.  The cycle stage now
+    warns of each, naming where.  Independently of the nodes: the run's own continuation at
+    201 positions within ±1° of the named place reaches over twice the rows' peak."""
+    import re
+    import warnings as w
+
+    from kinetostatics.dynamics.stages import cycle_stage
+
+    doc = yaml.safe_load((CASES / "peak_and_locking_between_rows.yaml").read_text(encoding="utf-8"))
+    model = ks.loads(yaml.safe_dump(doc))
+    with w.catch_warnings(record=True) as seen:
+        w.simplefilter("always")
+        res = ks.analyze(model)
+        cycle_stage(res)
+    said = [str(x.message) for x in seen if "between the analysed rows" in str(x.message)]
+    assert any(s.startswith("motor.torque_friction: no solution") for s in said)
+    peak = next(s for s in said if s.startswith("motor.torque reaches"))
+    at = float(re.search(r"at motor = ([-\d.]+)°", peak).group(1))
+    rows = float(np.max(np.abs(res["motor.torque"])))
+    w_ = doc["drivers"]["motor"]["motion"]["speed"]  # rad/s, start in rad (the file's units)
+    near = np.radians(at + np.linspace(-1.0, 1.0, 201)) - doc["analysis"]["start"]
+    times = np.sort(np.mod(near / w_, 2 * np.pi / abs(w_)))
+    with w.catch_warnings():
+        w.simplefilter("ignore")
+        run = ks.analyze(res.system, times=times, friction=False)
+    assert np.max(np.abs(run["motor.torque"])) > 2 * rows

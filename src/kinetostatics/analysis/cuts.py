@@ -44,6 +44,7 @@ __all__ = [
     "quiet_analyze",
     "quiet_friction",
     "quiet_near",
+    "roundoff_floor",
     "span",
 ]
 
@@ -163,7 +164,7 @@ def _above_roundoff(fns: list, floor: float) -> list:
     return [zeroed(fn) for fn in fns]
 
 
-def _roundoff_floor(result: Result) -> float:
+def roundoff_floor(result: Result) -> float:
     """Below this a reaction (a normal force, a tooth force) or a driving effort is a
     round-off zero: 1e-12 of the run's largest reaction, times the mechanism's size where
     that exceeds 1 m (a torque's lever, as for the efficiency's idle effort; for a force
@@ -364,7 +365,7 @@ def missed_cuts(
     new = [r for r in exact_roots(nodes, seen) if np.min(np.abs(edges - r)) > 1e-12 * span]
     if new:
         return new
-    fns = _motion_breaks(nodes) + _above_roundoff(effort_zeros(nodes), _roundoff_floor(nodes))
+    fns = _motion_breaks(nodes) + _above_roundoff(effort_zeros(nodes), roundoff_floor(nodes))
     if not fns:
         return []
     vals = _columns(nodes, fns)[order]
@@ -508,7 +509,7 @@ def breaks(result: Result, ta: float, tb: float, friction: bool) -> np.ndarray:
     switches, corners = exact_roots_of(result, [switching, table_rates(result)])
     jumps = [ta + np.mod(te - ta, tb - ta) if full else te for te in jumps + switches]
     kinks = corners + list(sched.breaks(ta, tb))
-    floor = _roundoff_floor(rows)  # a round-off zero of an effort or reaction: no sign
+    floor = roundoff_floor(rows)  # a round-off zero of an effort or reaction: no sign
     fns = _above_roundoff(effort_zeros(rows), floor)
     if friction and result.system.model.has_friction:
         fns += _above_roundoff(_friction_kinks(rows), floor)

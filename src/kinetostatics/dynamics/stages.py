@@ -23,6 +23,7 @@ that want the cycle — ``run`` and ``report`` in ``cli/``, a batch row — sit 
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from types import MappingProxyType
@@ -30,11 +31,15 @@ from typing import Any
 
 import numpy as np
 
+from ..analysis.cuts import roundoff_floor
 from ..analysis.cycle import Quadrature, cycle_quadrature, cycle_stats
 from ..analysis.locking import locking_zones
 from ..analysis.results import Result
 from ..analysis.summary import driver_columns, summarize
+from ..errors import NearSingularWarning, SingularEquilibriumWarning
+from ..kinematics.continuation import coordinate_text
 from ..kinematics.events import output_strokes
+from ..kinematics.schedule import schedule
 from .drive import DriveSizing, size
 from .flywheel import FlywheelDesign, design
 
@@ -107,6 +112,53 @@ def driver_stats(
     wanted = driver_columns(result)
     # over the cycle, integrated exactly between the load events (analysis/cycle.py)
     return _frozen(cycle_stats(result, wanted, given=nodes) if wanted and len(result) else {})
+
+
+PEAK_BETWEEN = 2.0
+"""A driving effort's largest |value| at the cycle's nodes beyond this many times its largest
+at the rows: a peak the rows miss (:func:`between_rows`)."""
+
+
+def between_rows(result: Result, quad: Quadrature) -> None:
+    """Warn where the cycle's quadrature nodes see what the analysed rows do not: a driving
+    effort with no solution at some nodes while it has one at every row (a dead centre, or
+    the friction self-locks, between the rows), or peaking at more than
+    :data:`PEAK_BETWEEN` times its largest at the rows (a sharp peak beside a dead point).
+    The summary's peaks are the rows' and its self-locked zones the rows' (issue 36, seed
+    1007872: 7.1e6 N·m at the nodes, 9,021 at the rows, and a zone between two rows), so
+    the warning names where to look: analyse more positions there."""
+    nodes = quad.nodes
+    sched = schedule(result.system)
+    floor = 1e3 * roundoff_floor(result)  # an idle drive's round-off is no peak
+    for col in driver_columns(result):
+        if col not in nodes.columns:
+            continue
+        rows, v = np.asarray(result[col], dtype=float), np.asarray(nodes[col], dtype=float)
+        unit = "N*m" if ".torque" in col else "N"
+        where = lambda k: coordinate_text(result.system, sched(nodes.t[k : k + 1])[0][0])  # noqa: E731
+        if np.isfinite(rows).all() and not np.isfinite(v).all():
+            k = int(np.flatnonzero(~np.isfinite(v))[0])
+            warnings.warn(
+                f"{col}: no solution between the analysed rows (first at {where(k)}): no "
+                "finite effort balances the loads there (a dead centre"
+                + (", or the friction self-locks" if "_friction" in col else "")
+                + "), which no row shows; its mean and RMS are over the part of the cycle "
+                "where it exists; analyse more positions (analysis.positions) to see it",
+                SingularEquilibriumWarning,
+                stacklevel=2,
+            )
+        top = np.max(np.abs(rows[np.isfinite(rows)]), initial=0.0)
+        finite = np.where(np.isfinite(v), np.abs(v), 0.0)
+        k = int(np.argmax(finite))
+        if finite[k] > PEAK_BETWEEN * top and finite[k] > floor:
+            warnings.warn(
+                f"{col} reaches {finite[k]:.4g} {unit} between the analysed rows (at "
+                f"{where(k)}), {finite[k] / top:.3g} times its largest at the rows "
+                f"({top:.4g} {unit}, the summary's peak): a sharp peak the rows miss, near a "
+                "dead point; analyse more positions (analysis.positions) to see it",
+                NearSingularWarning,
+                stacklevel=2,
+            )
 
 
 def cycle_efficiency(result: Result, nodes: Quadrature | None = None) -> Mapping[str, float]:
@@ -193,6 +245,8 @@ def cycle_stage(
     if driver_columns(result) and len(result) and (drivers or want_fw or want_drive or efficiency):
         nodes = cycle_quadrature(result)
     stats = driver_stats(result, nodes) if drivers else None
+    if nodes is not None and drivers:
+        between_rows(result, nodes)
     strokes = _frozen(output_strokes(result)) if outputs else None
     zones = tuple(_frozen(z) for z in locking_zones(result)) if self_locking else None
     if want_fw:
