@@ -483,10 +483,24 @@ def relation_units(doc, seed, n=12):
     b = analyze(G.in_units(d, "mm", "deg", "rpm"))
     worst = compare(b, a)
     if "drive" in d or "flywheel" in d:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            worst = max(worst, compare_summaries(full_summary(b), full_summary(a)))
+        with warnings.catch_warnings(record=True) as said:
+            warnings.simplefilter("always")
+            sb, sa = full_summary(b), full_summary(a)
+        if not _between_rows(said):  # else the stage says the rows miss a pole: no claim
+            worst = max(worst, compare_summaries(sb, sa))
     return worst
+
+
+def _between_rows(said) -> set[str]:
+    """The effort columns the cycle's stage warned of (``stages.between_rows``: a peak or
+    no solution between the rows, seed 1007872), from recorded warnings; near such a pole
+    the cycle's integrals and the drive's peaks are not claimed to round-off."""
+    out = set()
+    for w in said:
+        text = str(w.message)
+        if "between the analysed rows" in text:
+            out.add(text.split(":")[0].split(" reaches ")[0])
+    return out
 
 
 def _leaves(x, path=""):
@@ -930,7 +944,9 @@ def relation_quadrature(doc, seed):
     a pin force passing close to zero gives ρ|F| a sharp though smooth minimum; the
     integrator halves the pieces there (checked on the efforts with friction), after
     which the two orders agree to 2e-8 on the long run's 104 seeds that failed before (up
-    to 9e-6 then)."""
+    to 9e-6 then).  A column the cycle's stage warns has no solution between the rows (a
+    self-locked zone or a dead centre the rows step over, seed 1007872) is not compared:
+    its integral runs to the pole at the zone's edge."""
     from kinetostatics.analysis import cycle
 
     res = analyze(doc)
@@ -940,18 +956,27 @@ def relation_quadrature(doc, seed):
     columns = [c for c in res.columns if c.startswith("motor.") and c[6:] in efforts]
     if not columns:
         return None
+    from kinetostatics.dynamics.stages import between_rows
+
     saved = cycle.NODES, cycle.PIECES
     stats = []
+    said = set()
     try:
         for nodes, pieces in ((8, 36), (16, 72)):
             cycle.NODES, cycle.PIECES = nodes, pieces
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                stats.append(cycle.cycle_stats(analyze(doc), columns))
+            with warnings.catch_warnings(record=True) as seen:
+                warnings.simplefilter("always")
+                r = analyze(doc)
+                quad = cycle.cycle_quadrature(r)
+                stats.append(cycle.cycle_stats(r, columns, given=quad))
+                between_rows(r, quad)
+            said |= _between_rows(seen)
     finally:
         cycle.NODES, cycle.PIECES = saved
     worst = 0.0
     for c in columns:
+        if c in said and stats[1][c]["covered"] < 1:  # a self-locked zone or a dead centre
+            continue  # between the rows, said: the integral runs to its pole
         a, b = stats[0][c], stats[1][c]
         if not (np.isfinite(b["rms"]) and b["rms"] > 0):
             continue
