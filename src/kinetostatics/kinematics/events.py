@@ -203,22 +203,43 @@ def state_stacked(system: System, solvers, sched: Schedule, t: np.ndarray, guess
     return q, qd, qdd
 
 
-def refine_stacked(system, solvers, sched, f, t0, q0, qd0, qdd0, max_iter: int = 12):  # noqa: PLR0913  loose sample arrays of stacked variants
+def refine_stacked(system, solvers, sched, f, t0, q0, qd0, qdd0, max_iter=12, bracket=None):  # noqa: PLR0913  loose sample arrays of stacked variants
     """Newton on t for ``f(q, q̇, q̈) = (g, ġ) = 0``, all variants and roots at once.
 
     ``t0 (V, M)`` first guesses, ``q0, qd0, qdd0 (V, M, n_q)`` solved states
-    near them (same branch); returns (t, (q, q̇, q̈)) at the roots.
+    near them (same branch); returns (t, (q, q̇, q̈)) at the roots.  ``bracket``,
+    optional, ``(lo, hi, sign_lo)`` each ``(V, M)``, as :func:`refine`'s: a step that
+    would leave the bracket is replaced by bisection, so that a root between two rows is
+    the one found (issue 36, seed 1008937: from a chord 30° wide, Newton went to another
+    part of the cycle and a batch row's time ratio was 1.142 against the single run's
+    1.0036).
     """
     t = np.array(t0, dtype=float)
     h = (t - t0)[..., None]
     guess = q0 + h * qd0 + 0.5 * h * h * qdd0
+    if bracket is not None:
+        lo, hi, sign_lo = (np.array(x, dtype=float) for x in bracket)
+        max_iter = max(max_iter, 64)  # bisection halves the bracket each time
     for _ in range(max_iter):
         q, qd, qdd = state_stacked(system, solvers, sched, t, guess)
         g, dg = f(q, qd, qdd)
         dt = np.divide(-g, dg, out=np.zeros_like(g), where=dg != 0)
-        t = t + dt
+        tol = 1e-14 * np.maximum(np.abs(t), 1.0)
+        if bracket is None:
+            step = t + dt
+            done = np.abs(dt) <= tol
+        else:
+            below = np.sign(g) == sign_lo
+            lo, hi = np.where(below, t, lo), np.where(below, hi, t)
+            step = t + dt
+            out = ~((step > lo) & (step < hi)) | (dg == 0)
+            step = np.where(out, 0.5 * (lo + hi), step)
+            done = ((np.abs(dt) <= tol) & ~out) | (hi - lo <= tol) | (g == 0)
+            step = np.where(done, t, step)
+        dt = step - t
+        t = step
         guess = q + dt[..., None] * qd + 0.5 * (dt * dt)[..., None] * qdd
-        if np.all(np.abs(dt) <= 1e-14 * np.maximum(np.abs(t), 1.0)):
+        if np.all(done):
             break
     return t, state_stacked(system, solvers, sched, t, guess)
 
@@ -405,8 +426,17 @@ def output_strokes_stacked(
         def take(x, nn=nn):
             return np.take_along_axis(x, nn[..., None], axis=1)
 
+        sign_a = np.sign(np.take_along_axis(ds, ia, -1))
         roots, (qr, _, _) = refine_stacked(
-            system, solvers, sched, f, guess, take(q), take(qd), take(qdd)
+            system,
+            solvers,
+            sched,
+            f,
+            guess,
+            take(q),
+            take(qd),
+            take(qdd),
+            bracket=(ta, tb, np.where(sign_a == 0, -np.sign(fb), sign_a)),
         )
         roots = np.mod(roots, period)
         vals = joint_coordinate(system, qr, k)
