@@ -35,7 +35,7 @@ import sys
 import time
 
 import numpy as np
-from bench_speed import LEVEL_KW, case, median
+from bench_speed import LEVEL_KW, case, interleaved, median
 
 import kinetostatics as ks
 from kinetostatics.kinematics import plan
@@ -78,24 +78,6 @@ def calls(fn) -> tuple[int, dict[str, int]]:
     fn()
     sys.setprofile(None)
     return total, per
-
-
-def timed(fns, rounds: int, sample: float) -> list[list[float]]:
-    """CPU time of one call of each of ``fns`` per round, in turns."""
-    counts = []
-    for f in fns:
-        f()
-        t0 = time.perf_counter()
-        f()
-        counts.append(max(1, int(sample / max(time.perf_counter() - t0, 1e-6))))
-    out = [[] for _ in fns]
-    for _ in range(rounds):
-        for k, f in enumerate(fns):
-            t0 = time.process_time()
-            for _ in range(counts[k]):
-                f()
-            out[k].append((time.process_time() - t0) / counts[k])
-    return out
 
 
 def with_plan(on: bool, fn):
@@ -162,7 +144,7 @@ def crossover(rounds: int, sample: float) -> None:
                 fn()  # the plan generated with this cut, kept with this model's system
                 fns.append(fn)
             plan.KERNELS_FROM = KERNELS_FROM
-            contract, kernels = timed(fns, rounds, sample)
+            contract, kernels = interleaved(fns, rounds, sample)
             out.append(f"{n}: {median([b / a for a, b in zip(contract, kernels)]):.3f}")
         print(f"{name}, kinematics, kernels over whole arrays / contract: " + ", ".join(out))
 
@@ -196,7 +178,7 @@ def main(argv=None) -> None:
                 off, _ = calls(with_plan(False, fn))
                 on, per = calls(with_plan(True, fn))
                 both = [with_plan(False, fn), with_plan(True, fn)]
-                general, planned = timed(both, rounds, sample)
+                general, planned = interleaved(both, rounds, sample)
                 ratio = median([b / a for a, b in zip(general, planned)])
                 stages = ", ".join(f"{k} {v}" for k, v in per.items() if v)
                 print(f"| {name} | {level} | {n} | {off} | {on} | {ratio:.3f} | {stages} |")
