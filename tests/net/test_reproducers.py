@@ -313,14 +313,13 @@ def test_a_peak_and_a_self_locked_zone_between_the_rows_are_said():
     warns of each, naming where.  Independently of the nodes: the run's own continuation at
     201 positions within ±1° of the named place reaches over twice the rows' peak."""
     import re
-    import warnings as w
 
     from kinetostatics.dynamics.stages import cycle_stage
 
     doc = yaml.safe_load((CASES / "peak_and_locking_between_rows.yaml").read_text(encoding="utf-8"))
     model = ks.loads(yaml.safe_dump(doc))
-    with w.catch_warnings(record=True) as seen:
-        w.simplefilter("always")
+    with warnings.catch_warnings(record=True) as seen:
+        warnings.simplefilter("always")
         res = ks.analyze(model)
         cycle_stage(res)
     said = [str(x.message) for x in seen if "between the analysed rows" in str(x.message)]
@@ -331,8 +330,8 @@ def test_a_peak_and_a_self_locked_zone_between_the_rows_are_said():
     w_ = doc["drivers"]["motor"]["motion"]["speed"]  # rad/s, start in rad (the file's units)
     near = np.radians(at + np.linspace(-1.0, 1.0, 201)) - doc["analysis"]["start"]
     times = np.sort(np.mod(near / w_, 2 * np.pi / abs(w_)))
-    with w.catch_warnings():
-        w.simplefilter("ignore")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
         run = ks.analyze(res.system, times=times, friction=False)
     assert np.max(np.abs(run["motor.torque"])) > 2 * rows
 

@@ -119,15 +119,17 @@ PEAK_BETWEEN = 2.0
 at the rows: a peak the rows miss (:func:`between_rows`)."""
 
 
-def between_rows(result: Result, quad: Quadrature) -> None:
+def between_rows(result: Result, quad: Quadrature) -> set[str]:
     """Warn where the cycle's quadrature nodes see what the analysed rows do not: a driving
     effort with no solution at some nodes while it has one at every row (a dead centre, or
     the friction self-locks, between the rows), or peaking at more than
     :data:`PEAK_BETWEEN` times its largest at the rows (a sharp peak beside a dead point).
     The summary's peaks are the rows' and its self-locked zones the rows' (issue 36, seed
     1007872: 7.1e6 N·m at the nodes, 9,021 at the rows, and a zone between two rows), so
-    the warning names where to look: analyse more positions there."""
+    the warning names where to look: analyse more positions there.  Returns the columns
+    warned of."""
     nodes = quad.nodes
+    warned = set()
     sched = schedule(result.system)
     floor = 1e3 * roundoff_floor(result)  # an idle drive's round-off is no peak
     for col in driver_columns(result):
@@ -147,6 +149,7 @@ def between_rows(result: Result, quad: Quadrature) -> None:
                 SingularEquilibriumWarning,
                 stacklevel=2,
             )
+            warned.add(col)
         top = np.max(np.abs(rows[np.isfinite(rows)]), initial=0.0)
         finite = np.where(np.isfinite(v), np.abs(v), 0.0)
         k = int(np.argmax(finite))
@@ -159,6 +162,8 @@ def between_rows(result: Result, quad: Quadrature) -> None:
                 NearSingularWarning,
                 stacklevel=2,
             )
+            warned.add(col)
+    return warned
 
 
 def cycle_efficiency(result: Result, nodes: Quadrature | None = None) -> Mapping[str, float]:
