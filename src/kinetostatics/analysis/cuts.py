@@ -21,7 +21,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..base.arrays import sorted_distinct
-from ..base.legendre import inner_roots, piece_series, series_roots
+from ..base.legendre import padded_roots, piece_series
 from ..errors import AssemblyError, ElementWarning, JointWarning, NearSingularWarning
 from ..kinematics.schedule import schedule
 from ..structure.system import link_pair
@@ -397,15 +397,16 @@ def _dips(ts: np.ndarray, vals: np.ndarray, per_piece: int) -> np.ndarray:
     t = ts.reshape(-1, n)
     half = (t[:, -1] - t[:, 0]) / (x[-1] - x[0])
     centre = t[:, 0] - half * x[0]
-    out = []
-    for m in range(vals.shape[1]):
-        v = vals[:, m].reshape(-1, n)
-        v = np.where(np.all(np.isfinite(v), axis=1)[:, None], v, 0.0)  # no series there
-        for p, roots in enumerate(series_roots(piece_series(len(v), v.ravel()))):
-            r = inner_roots(roots)
-            pair = np.flatnonzero(np.diff(np.searchsorted(x, r)) == 0)
-            out += list(centre[p] + half[p] * 0.5 * (r[pair] + r[pair + 1]))
-    return np.asarray(out, dtype=float)
+    v = vals.T.reshape(-1, n)  # every column's pieces, column after column
+    v = np.where(np.all(np.isfinite(v), axis=1)[:, None], v, 0.0)  # no series there
+    r = padded_roots(piece_series(len(v), v.ravel()))
+    inner = np.sort(np.where((r.imag == 0) & (np.abs(r.real) < 1), r.real, np.nan), axis=1)
+    slot = np.searchsorted(x, np.nan_to_num(inner, nan=2.0))  # the nodes each lies between
+    row, k = np.nonzero(
+        np.isfinite(inner[:, :-1]) & np.isfinite(inner[:, 1:]) & (slot[:, :-1] == slot[:, 1:])
+    )
+    p = row % len(t)
+    return centre[p] + half[p] * 0.5 * (inner[row, k] + inner[row, k + 1])
 
 
 def merged_cuts(ta: float, tb: float, times) -> np.ndarray:

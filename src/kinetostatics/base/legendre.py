@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 import numpy.polynomial.legendre as leg
 
-__all__ = ["piece_series", "series_roots", "inner_roots"]
+__all__ = ["piece_series", "series_roots", "padded_roots", "inner_roots"]
 
 
 def piece_series(n_pieces: int, values: np.ndarray) -> np.ndarray:
@@ -26,23 +26,27 @@ def series_roots(coefs: np.ndarray) -> list[np.ndarray]:
     """``[leg.legroots(c) for c in coefs]`` (``coefs (P, n)``) in one eigenvalue call per
     degree: the companion matrices legcompanion builds, by the same operations, each solved
     by the same LAPACK routine — the same roots to the bit."""
-    out: list[np.ndarray] = [np.zeros(0)] * len(coefs)
+    return [r[~np.isnan(r)] for r in padded_roots(coefs)]
+
+
+def padded_roots(coefs: np.ndarray) -> np.ndarray:
+    """:func:`series_roots` as one complex array ``(P, n − 1)``, each series' roots sorted
+    and followed by NaN where it has fewer (trailing zero coefficients)."""
+    n = coefs.shape[1] - 1
+    out = np.full((len(coefs), max(n, 0)), np.nan, dtype=complex)
     full = coefs[:, -1] != 0  # of degree n - 1 (legroots trims trailing zeros)
     for p in np.flatnonzero(~full):
-        out[p] = leg.legroots(coefs[p])
+        r = leg.legroots(coefs[p])
+        out[p, : len(r)] = r
     rows = np.flatnonzero(full)
-    n = coefs.shape[1] - 1
     if n == 1:
-        for p in rows:
-            out[p] = np.array([-coefs[p, 0] / coefs[p, 1]])
+        out[rows, 0] = -coefs[rows, 0] / coefs[rows, 1]
     elif n > 1 and rows.size:
         c = coefs[rows]
         scl = 1.0 / np.sqrt(2 * np.arange(n) + 1)
         mats = np.repeat(leg.legcompanion(np.eye(n + 1)[n])[None], len(rows), axis=0)
         mats[:, :, -1] -= (c[:, :-1] / c[:, -1:]) * (scl / scl[-1]) * (n / (2 * n - 1))
-        roots = np.sort(np.linalg.eigvals(mats[:, ::-1, ::-1]), axis=-1)
-        for p, r in zip(rows, roots):
-            out[p] = r
+        out[rows] = np.sort(np.linalg.eigvals(mats[:, ::-1, ::-1]), axis=-1)
     return out
 
 
