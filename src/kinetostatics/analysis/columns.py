@@ -35,6 +35,14 @@ class Columns(Mapping):
         self._groups: list = []
         self._done: dict[int, tuple] = {}
 
+    @classmethod
+    def laid_out(cls, where: dict[str, tuple[int, int]], groups: list) -> Columns:
+        """Columns whose name → (group, index) map is ``where`` (shared, only read) and
+        whose groups' computations are ``groups``, in order."""
+        cols = cls()
+        cols._where, cols._groups = where, groups
+        return cols
+
     def add(self, names: list[str], compute) -> None:
         """Register columns ``names`` whose arrays ``compute()`` returns, in order."""
         g = len(self._groups)
@@ -70,12 +78,14 @@ def build_columns(
     ``kin`` None: kinematics only.  ``cond``: each Assur group's condition numbers (a
     ``<group>.cond`` column each); ``shaking``: the frame's reaction, ``(..., 3)``, or a
     function that computes it when a ``shaking.*`` column is first read."""
-    cols = Columns()
-    units: dict[str, str] = {}
+    groups: list[_Names] = []
+    computes: list = []
 
     def put(names_units, compute):
-        cols.add([n for n, _ in names_units], compute)
-        units.update(names_units)
+        groups.append(
+            names_units if isinstance(names_units, _Names) else _interned(system, names_units)
+        )
+        computes.append(compute)
 
     t, coord = motion.t, motion.psi[..., 0]
     put([("time", "s")], lambda: (t - t[0] if len(t) else t,))
@@ -95,7 +105,54 @@ def build_columns(
             [("shaking.Fx", "N"), ("shaking.Fy", "N"), ("shaking.M", "N*m")],
             lambda: _components(shaking() if callable(shaking) else shaking),
         )
-    return cols, units
+    where, units = _layout(system, groups)
+    return Columns.laid_out(where, computes), dict(units)
+
+
+class _Names:
+    """Columns' names with their units, made once per system (:func:`_named`)."""
+
+    __slots__ = ("names", "pairs")
+
+    def __init__(self, pairs: list[tuple[str, str]]) -> None:
+        self.pairs = pairs
+        self.names = [n for n, _ in pairs]
+
+
+def _named(system: System, key: tuple, make) -> _Names:
+    """The names and units ``make()`` gives for ``key``, made on the system's first
+    result and kept in its memo: a system's links, points and joints do not change, and
+    formatting their ~10² names took a tenth of a short analysis's columns."""
+    memo = system.memo.setdefault("column names", {})
+    got = memo.get(key)
+    if got is None:
+        got = memo[key] = _Names(make())
+    return got
+
+
+def _interned(system: System, pairs: list[tuple[str, str]]) -> _Names:
+    """The system's one :class:`_Names` of ``pairs`` (names made at each result)."""
+    return _named(system, tuple(pairs), lambda: pairs)
+
+
+def _layout(system: System, groups: list[_Names]) -> tuple[dict, dict[str, str]]:
+    """Where each column is (name → (group, index)) and the units, for the groups in
+    this order: made once per system and order of groups (a result with friction and one
+    without have two), then shared — the map is only read."""
+    layouts = system.memo.setdefault("column layouts", {})
+    key = tuple(map(id, groups))  # each _Names is kept alive by the entry's own list
+    hit = layouts.get(key)
+    if hit is None:
+        if len(layouts) >= 64:  # a few orders at most (with or without friction, events)
+            layouts.clear()
+        where: dict[str, tuple[int, int]] = {}
+        units: dict[str, str] = {}
+        for g, names in enumerate(groups):
+            for k, name in enumerate(names.names):
+                where[name] = (g, k)
+            units.update(names.pairs)
+        hit = layouts[key] = (where, units, list(groups))
+    return hit[0], hit[1]
 
 
 def _components(v: np.ndarray) -> tuple[np.ndarray, ...]:
@@ -129,7 +186,11 @@ def _link_columns(system: System, put, motion: Motion) -> None:
     for k, name in enumerate(system.links):
         s = slice(3 * k, 3 * k + 3)
         put(
-            [(f"{name}.{label}", unit) for label, unit in _LINK_UNITS],
+            _named(
+                system,
+                ("link", name),
+                lambda name=name: [(f"{name}.{label}", unit) for label, unit in _LINK_UNITS],
+            ),
             lambda s=s: (
                 q[..., s][..., 0],
                 q[..., s][..., 1],
@@ -147,12 +208,31 @@ def _link_columns(system: System, put, motion: Motion) -> None:
         pos, vel, acc = point_state(q, qd, qdd, k, p, link_poses(system, q)[..., k, :])
         return pos[..., 0], pos[..., 1], vel[..., 0], vel[..., 1], acc[..., 0], acc[..., 1]
 
-    for k, name in enumerate(system.links):
-        for pname, p in system.model.link(name).points.items():
-            put(
-                [(f"{name}.{pname}.{label}", unit) for label, unit in _POINT_UNITS],
-                lambda k=k, p=p: point(k, p),
-            )
+    for k, name, pname, p in _link_points(system):
+        put(
+            _named(
+                system,
+                ("point", name, pname),
+                lambda name=name, pname=pname: [
+                    (f"{name}.{pname}.{label}", unit) for label, unit in _POINT_UNITS
+                ],
+            ),
+            lambda k=k, p=p: point(k, p),
+        )
+
+
+def _link_points(system: System) -> list[tuple[int, str, str, np.ndarray]]:
+    """(link index, link, point, its local coordinates) of every moving link's named
+    point, in the columns' order; once per system."""
+    key = "link points"
+    if key not in system.memo:
+        links = {link.name: link for link in system.model.links}
+        system.memo[key] = [
+            (k, name, pname, p)
+            for k, name in enumerate(system.links)
+            for pname, p in links[name].points.items()
+        ]
+    return system.memo[key]
 
 
 def _group_and_joint_columns(system: System, put, q, x0, cond: dict) -> None:
@@ -341,7 +421,13 @@ def _reaction_columns(system: System, put, q: np.ndarray, kin: Kinetics) -> None
         block = system.rows_of(k)
         labels = j.reaction_labels
         put(
-            [(f"{j.name}.{label}", force_unit.get(label, "N")) for label in labels],
+            _named(
+                system,
+                ("reaction", j.name),
+                lambda j=j, labels=labels: [
+                    (f"{j.name}.{label}", force_unit.get(label, "N")) for label in labels
+                ],
+            ),
             lambda j=j, k=k, block=block, labels=labels: _in_order(
                 j.reaction(x0[..., block], *pair(k)), labels
             ),
@@ -364,7 +450,13 @@ def _reaction_columns(system: System, put, q: np.ndarray, kin: Kinetics) -> None
             return tuple(reac[label] for label in labels)
 
         put(
-            [(f"{j.name}.{label}_friction", force_unit.get(label, "N")) for label in labels],
+            _named(
+                system,
+                ("reaction with friction", j.name),
+                lambda j=j, labels=labels: [
+                    (f"{j.name}.{label}_friction", force_unit.get(label, "N")) for label in labels
+                ],
+            ),
             with_friction,
         )
 
