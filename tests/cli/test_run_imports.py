@@ -35,6 +35,8 @@ RUN_LAZY = (
     "difflib",
     "tempfile",
     "importlib.resources",
+    # NumPy's masked arrays: np.unique(x) imports them (~7-12 ms) to ask whether x is one
+    "numpy.ma",
 )
 # and what `import kinetostatics` leaves to the first analysis
 IMPORT_LAZY = RUN_LAZY + (

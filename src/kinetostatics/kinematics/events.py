@@ -85,7 +85,7 @@ def refine(system, drive, f, t0, tn, qn, qdn, qddn, max_iter=12, bracket=None, o
 def _each(fs, owner, q, qd, qdd):
     """(g, ġ) of the functions ``fs``, each at the states whose ``owner`` it is."""
     g, dg = np.empty(len(owner)), np.empty(len(owner))
-    for i in np.unique(owner):
+    for i in np.flatnonzero(np.bincount(owner)):  # np.unique would import numpy.ma
         sel = owner == i
         g[sel], dg[sel] = fs[i](q[sel], qd[sel], qdd[sel])
     return g, dg
