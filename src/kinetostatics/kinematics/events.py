@@ -77,9 +77,24 @@ def refine(system, drive, f, t0, tn, qn, qdn, qddn, max_iter=12, bracket=None, o
             step = t[idx] + dt
             out = ~((step > lo[idx]) & (step < hi[idx])) | (dg == 0)
             done |= hi[idx] - lo[idx] <= tol
-            t[idx] = np.where(done, t[idx], np.where(out, 0.5 * (lo[idx] + hi[idx]), step))
+            t[idx] = np.where(
+                done, t[idx], np.where(out, _outside(t[idx], step, lo[idx], hi[idx]), step)
+            )
         live[idx[done]] = False
     return t, states
+
+
+def _outside(t: np.ndarray, step: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """Where a Newton step from ``t`` leaves the bracket [lo, hi]: bisection, or, when it
+    passes an end by less than a quarter of t's distance from that end (the root lies by
+    that end: Newton converging on it from one side and overshooting it by its own error),
+    the point that far inside.  A root on the bracket's end (a limit position at the start
+    of the run) took ~15 bisections so; this way Newton's convergence is kept."""
+    end = np.where(step <= lo, lo, hi)
+    past, room = np.abs(step - end), np.abs(t - end)
+    mirrored = end + np.sign(t - end) * past
+    near = np.isfinite(step) & (past <= 0.25 * room) & (mirrored > lo) & (mirrored < hi)
+    return np.where(near, mirrored, 0.5 * (lo + hi))
 
 
 def _each(fs, owner, q, qd, qdd):
