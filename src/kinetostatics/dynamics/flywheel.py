@@ -36,7 +36,7 @@ from ..analysis.cycle import Quadrature, cycle_quadrature, cycle_stats
 from ..analysis.pipeline import analyze_near
 from ..analysis.results import Result
 from ..base.arguments import real_number
-from ..base.legendre import inner_roots, piece_series, series_roots
+from ..base.legendre import padded_roots, piece_series
 from ..errors import AssemblyError, Location, StructureError
 from ..kinematics.schedule import schedule
 from ..kinetics.reactions import effort_ratio
@@ -282,21 +282,18 @@ def _energy_extremes(pieces: np.ndarray, t: np.ndarray, rate: np.ndarray, partia
     coef = piece_series(len(pieces), rate)
     half = 0.5 * (pieces[:, 1] - pieces[:, 0])
     mid = 0.5 * (pieces[:, 1] + pieces[:, 0])
-    cand_t, cand_w, start = [pieces[0, 0]], [0.0], 0.0
-    cand_in: list[tuple[int, float] | None] = [None]  # (piece, ΔW at its start) if inside
-    all_roots = series_roots(coef)
-    for p in range(len(pieces)):
-        anti = leg.legint(coef[p], lbnd=-1)
-        roots = all_roots[p] if np.any(coef[p][1:]) else np.zeros(0)
-        for r in inner_roots(roots):
-            cand_t.append(mid[p] + half[p] * r)
-            cand_w.append(start + half[p] * leg.legval(r, anti))
-            cand_in.append((p, start))
-        start += half[p] * leg.legval(1.0, anti)
-        cand_t.append(pieces[p, 1])
-        cand_w.append(start)
-        cand_in.append(None)
-    cand_w = np.asarray(cand_w)
+    anti = leg.legint(coef, lbnd=-1, axis=1)  # every piece's antiderivative, 0 at its start
+    ends = np.cumsum(half * leg.legval(1.0, anti.T))  # ΔW at each piece's end, in turn
+    starts = np.concatenate(([0.0], ends[:-1]))
+    p, r = _inner(padded_roots(coef), np.any(coef[:, 1:], axis=1))
+    # the candidates piece after piece, each piece's inner roots before its end
+    at_root = starts[p] + half[p] * leg.legval(r, anti[p].T, tensor=False)
+    order = np.lexsort((np.concatenate((np.arange(len(p)), np.full(len(pieces), len(p)))),
+                        np.concatenate((p, np.arange(len(pieces))))))  # fmt: skip
+    cand_t = [pieces[0, 0], *np.concatenate((mid[p] + half[p] * r, pieces[:, 1]))[order]]
+    cand_w = np.concatenate(([0.0], np.concatenate((at_root, ends))[order]))
+    inner = [(int(k), float(w)) for k, w in zip(p, starts[p])] + [None] * len(pieces)
+    cand_in: list[tuple[int, float] | None] = [None, *(inner[k] for k in order)]
     # where: the tie rule's (the first of extremes within TIE); how much: the extreme itself
     # (a tie's values differ by up to TIE·swing: seed 1008810, ΔW's minimum 2.2e-6 s after
     # a piece's start and 2.6e-9 J below it, the start chosen and its value reported)
@@ -330,18 +327,26 @@ def _on_the_grid(system, events, friction, positions, w):
     )
 
 
+def _inner(roots: np.ndarray, any_: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The real roots inside (−1, 1) of the series whose ``roots`` (``padded_roots``:
+    sorted, NaN after the last) are taken (``any_``), as (series, root) arrays, each
+    series' in ascending order (:func:`~kinetostatics.base.legendre.inner_roots`)."""
+    x = roots.real
+    with np.errstate(invalid="ignore"):  # the NaN padding is no root
+        ok = any_[:, None] & (roots.imag == 0) & (x > -1) & (x < 1)
+    p, k = np.nonzero(ok)
+    return p, x[p, k]
+
+
 def _value_extremes(pieces: np.ndarray, values: np.ndarray) -> tuple[float, float]:
     """(min, max) of the pieces' interpolants of ``values`` (at their ends and where their
     derivatives vanish inside)."""
     coef = piece_series(len(pieces), values)
-    cand = []
     ders = leg.legder(coef, axis=1)
-    all_roots = series_roots(ders)
-    for c, d, roots in zip(coef, ders, all_roots):
-        xs = [-1.0, 1.0]
-        if np.any(d):
-            xs += list(inner_roots(roots))
-        cand += list(leg.legval(np.asarray(xs), c))
+    p, r = _inner(padded_roots(ders), np.any(ders, axis=1))
+    cand = np.concatenate(
+        (leg.legval(-1.0, coef.T), leg.legval(1.0, coef.T), leg.legval(r, coef[p].T, tensor=False))
+    )
     return float(np.min(cand)), float(np.max(cand))
 
 
