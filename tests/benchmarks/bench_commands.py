@@ -42,13 +42,22 @@ MECHANISM = "mechanisms/slotting_machine.yaml"
 # name: (arguments after ``kinetostatics``, target ratio, the row's words)
 COMMANDS = {
     "run": (["run", MECHANISM], 2.2, "`kinetostatics run` (results.csv, summary.json)"),
-    "plot": (["plot", MECHANISM], 10.0, "`kinetostatics plot` (all eight pictures, PNG)"),
+    "plot": (["plot", MECHANISM], 10.0, "`kinetostatics plot` (all nine pictures, PNG)"),
     "report --pdf": (
         ["report", MECHANISM, "--pdf"],
         15.0,
         "`kinetostatics report --pdf` (report.md, report.html, report.pdf, img/)",
     ),
 }
+
+
+# the floor under a picture command: matplotlib alone drawing as many bare figures as it
+# writes pictures (mpl_floor.py), timed in the same rounds
+FLOORS = {"plot": 9, "report --pdf": 28}
+
+
+def floor_name(command: str) -> str:
+    return f"floor of {command}"
 
 
 @dataclass(frozen=True)
@@ -79,6 +88,11 @@ def candidates(out: Path, only: list[str], baseline: Path | None) -> list[Candid
             folder = out / f"{name}{suffix}".replace(" ", "_")
             cmd = [sys.executable, "-m", "kinetostatics", *args, "--out", str(folder)]
             found.append(Candidate(name + suffix, cmd, env))
+    for name, n in FLOORS.items():
+        if not only or name in only:
+            script = str(ROOT / "tests" / "benchmarks" / "mpl_floor.py")
+            cmd = [sys.executable, script, str(n), str(out / f"floor {n}")]
+            found.append(Candidate(floor_name(name), cmd, dict(base)))
     return found
 
 
@@ -148,6 +162,12 @@ def table(runs: list[Run]) -> str:
             row += f" {r.ms(name)} | {r.ratio(name):.3g}× ({r.spread(name)}) |"
         met = all(r.ratio(name) <= target for r in runs)
         lines.append(row + f" {'yes' if met else 'no'} |")
+        floor = floor_name(name)
+        if floor in first.times:
+            row = f"| · its floor: matplotlib alone, {FLOORS[name]} bare figures | — |"
+            for r in runs:
+                row += f" {r.ms(floor)} | {r.ratio(floor):.3g}× ({r.spread(floor)}) |"
+            lines.append(row + " — |")
     return "\n".join(lines)
 
 
