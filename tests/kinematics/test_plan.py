@@ -3,8 +3,9 @@
 The plan is the same stage written once per system as straight-line code: every column
 of an analysis made with it equals the general path's to 1e-12 of the column's scale
 (the largest |value| among the columns of its unit), on every shipped file that a
-motion drives, the hard cases and generated mechanisms of the net; rows it does not
-cover (stacked variants, more than STACK_UP_TO positions) take the general path."""
+motion drives, the hard cases and generated mechanisms of the net, and over more than
+STACK_UP_TO positions; rows it does not cover (stacked variants; more than STACK_UP_TO
+positions of a stack without whole-array kernels) take the general path."""
 
 import glob
 import warnings
@@ -131,13 +132,38 @@ def test_rows_it_does_not_cover_take_the_general_path():
     system = build_system(model)
     q = ks.analyze(system, kinematics_only=True).q
     assert covers(system, q)
-    long = np.repeat(q, STACK_UP_TO // len(q) + 1, axis=0)
-    assert len(long) > STACK_UP_TO and not covers(system, long)
     stacked = q[None]  # variants along a leading axis
-    ones = np.ones(long.shape[:-1] + (1,))
-    assert planned_derivatives(system, long, ones, ones) is None
-    assert planned_derivatives(system, stacked, ones[None, : len(q)], ones[None, : len(q)]) is None
-    # a long run is analysed (by the general path) as it was
+    ones = np.ones(q.shape[:-1] + (1,))
+    assert planned_derivatives(system, stacked, ones[None], ones[None]) is None
+
+
+@pytest.mark.parametrize("name", ["slider_crank", "slotting_machine", "cam_roller"])
+def test_a_long_run_is_planned_and_equals_the_general_path(name):
+    """Over more than STACK_UP_TO positions the plan still covers the rows (its stacks
+    run their kernels joint by joint, as the general path does there): every column of
+    the general path's analysis to 1e-12 of its scale."""
+    model = ks.load(f"mechanisms/{name}.yaml")
+    n = STACK_UP_TO + 10
+    angles = model.analysis.start + np.linspace(0.0, 2 * np.pi, n, endpoint=False)
+    general = _analyse(model, False, positions=angles, friction=False)
+    general.system.memo.pop("kinematic plan", None)
+    planned = _analyse(model, True, positions=angles, friction=False)
+    assert covers(planned.system, planned.q) and "kinematic plan" in planned.system.memo
+    assert _worst(general, planned) <= 1e-12
+
+
+def test_a_stack_without_whole_array_kernels_keeps_long_runs_general(monkeypatch):
+    """A joint type that stacks but whose kernels do not run over whole arrays would be
+    called as one stack by the plan: over STACK_UP_TO positions the general path takes it
+    (one joint at a time)."""
+    from kinetostatics.joints import Revolute
+
+    monkeypatch.setattr(Revolute, "whole_array_kernels", False)
+    system = build_system(ks.load("mechanisms/slider_crank.yaml"))
+    q = ks.analyze(system, kinematics_only=True).q
+    long = np.repeat(q, STACK_UP_TO // len(q) + 1, axis=0)
+    assert covers(system, q) and not covers(system, long)
+    assert not kinematic_plan(system).long_runs
     r = ks.analyze(system, positions=np.linspace(0, 2 * np.pi, STACK_UP_TO + 10), friction=False)
     assert np.isfinite(r["motor.torque"]).all()
 

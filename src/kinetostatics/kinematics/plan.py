@@ -28,10 +28,12 @@ constants — compiled with :func:`compile` and kept in ``System.memo``:
 The numbers are those of the general path: the same operations on the same operands
 in the same order (tests/kinematics/test_plan.py compares every column to 1e-12 of its
 scale on the shipped files and generated mechanisms).  The plan covers one model's rows
-(``q (N, n_q)``) up to :data:`~kinetostatics.structure.evaluation.STACK_UP_TO` positions
-on the NumPy backend; stacked variants, longer runs (where the general path evaluates a
-stack's joints one by one) and the compiled backend take the general path, which stays
-the oracle.  ``kinematic_plan(system).source`` is the generated text.
+(``q (N, n_q)``) on the NumPy backend, at any N where every stack of joints runs its
+type's kernels over whole arrays (revolute and prismatic pairs: joint by joint, as the
+general path evaluates a stack over more than
+:data:`~kinetostatics.structure.evaluation.STACK_UP_TO` positions), else up to that many;
+stacked variants and the compiled backend take the general path, which stays the
+oracle.  ``kinematic_plan(system).source`` is the generated text.
 """
 
 from __future__ import annotations
@@ -68,17 +70,22 @@ class KinematicPlan:
 
     source: str
     run: Callable
+    long_runs: bool = True  # it also takes more than STACK_UP_TO rows (see covers)
 
 
 def covers(system: System, q: np.ndarray) -> bool:
-    """Whether the plan takes the rows ``q``: one model's ``(N, n_q)`` with N ≤
-    :data:`STACK_UP_TO`, on the NumPy backend, a system with an evaluation layout."""
+    """Whether the plan takes the rows ``q``: one model's ``(N, n_q)``, on the NumPy
+    backend, a system with an evaluation layout; more than :data:`STACK_UP_TO` rows only
+    where no stack of joints goes through the contract's methods (``long_runs``: every
+    stacked type's kernels run over whole arrays, joint by joint, as the general path
+    evaluates a stack over that many positions)."""
     return (
         ENABLED
         and q.ndim == 2
-        and 0 < q.shape[0] <= STACK_UP_TO
+        and 0 < q.shape[0]
         and system.layout is not None
         and not kernels.active()
+        and (q.shape[0] <= STACK_UP_TO or kinematic_plan(system).long_runs)
     )
 
 
@@ -155,7 +162,8 @@ def _generate(system: System) -> KinematicPlan:
     source = "\n".join(lines) + "\n"
     name = f"<kinematic plan of {system.model.name!r}>"
     exec(compile(source, name, "exec"), env)  # noqa: S102  our own generated text
-    return KinematicPlan(source, env["run"])
+    long_runs = not any(s.stacked and _whole_array(s) is None for s in system.sets)
+    return KinematicPlan(source, env["run"], long_runs)
 
 
 def written(system: System) -> tuple[list[str], dict]:
