@@ -177,3 +177,25 @@ def test_condition_numbers_in_chunks_are_those_of_one_pass(path, monkeypatch):
         monkeypatch.setattr(newton, "COND_CHUNK", 8)  # four passes of 7 or 8
         np.testing.assert_array_equal(newton.condition_number(system, plan, d, inv), whole)
         monkeypatch.setattr(newton, "COND_CHUNK", 10**9)
+
+
+@pytest.mark.parametrize("path", MECHANISMS, ids=lambda p: p.stem)
+def test_condition_numbers_are_the_scaled_blocks_frobenius_norms(path):
+    """A group's condition number is ‖S‖_F ‖S⁻¹‖_F of its block S = D_r J D_c (lengths over
+    L_ref, each row divided by its largest |entry|), here formed position by position as
+    dense matrices and measured by NumPy's Frobenius norm: the same to 1e-13."""
+    from kinetostatics.base.linalg import small_inverse
+    from kinetostatics.kinematics import newton
+
+    system = S.build_system(ks.load(path))
+    q = _state(system, (29,))[0]
+    for plan, (d, _, _) in zip(system.plans, S.jacobian_blocks(system, q)):
+        if d.shape[-1] != d.shape[-2]:
+            continue
+        got = newton.condition_number(system, plan, d, small_inverse(d))
+        col = np.where(np.arange(len(plan.cols)) % 3 == 2, 1.0, system.l_ref)
+        for k in range(len(q)):
+            scaled = d[k] * col
+            scaled = scaled / np.max(np.abs(scaled), axis=1, keepdims=True)
+            want = np.linalg.norm(scaled, "fro") * np.linalg.norm(np.linalg.inv(scaled), "fro")
+            assert got[k] == pytest.approx(want, rel=1e-13)
