@@ -33,13 +33,16 @@ SIZES = 8192  # texts' sizes kept
 _SIZES: dict = {}  # (text, font properties, ismath, dpi, settings) -> (width, height, descent)
 _PARSERS: dict = {}  # the process's parser by output ("path", "agg"), made on first use
 _SETTINGS = ("mathtext.", "font.", "text.")  # the settings a parse reads
+_KEYS: list = []  # their names, sorted (matplotlib's settings are a fixed set): found once
 
 
 def _settings() -> tuple:
     import matplotlib
 
     rc = matplotlib.rcParams
-    return tuple((k, repr(rc[k])) for k in sorted(rc) if k.startswith(_SETTINGS))
+    if not _KEYS:
+        _KEYS.extend(k for k in sorted(rc) if k.startswith(_SETTINGS))
+    return tuple((k, repr(rc[k])) for k in _KEYS)
 
 
 def shared_parser(output: str):
