@@ -104,3 +104,34 @@ def test_a_polygon_is_laid_out_before_its_scale_is_chosen():
         fig = pl.polygon_figure(result, "acceleration", row=1)
     assert fig._layout_todo is None
     assert np.allclose(fig.get_size_inches(), ref.get_size_inches(), atol=1e-6)
+
+
+def test_a_layout_done_after_its_style_measures_the_texts_drawn(tmp_path):
+    """A picture laid out once its style's context is left (a polygon choosing its scale,
+    a save by ``savefig``) is measured in the style it is drawn in: the Chinese list of a
+    cam's acceleration polygon keeps the layout's margin at the right edge (measured in
+    matplotlib's defaults, whose math and sans-serif fonts are not the pictures', and
+    drawn in the pictures' style, it touched the edge: 0 px of margin)."""
+    import warnings
+
+    import kinetostatics as ks
+    from kinetostatics.outputs import fonts
+    from kinetostatics.outputs.plotting.crop import drawn_once, save_png
+    from kinetostatics.outputs.plotting.polygons import polygon_figure
+    from kinetostatics.outputs.plotting.style import MM
+
+    try:
+        fonts.cjk_font()
+    except Exception as exc:  # no font with Chinese glyphs here
+        pytest.skip(str(exc))
+    dpi = 110
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        result = ks.analyze(ks.load("mechanisms/cam_roller.yaml"))
+    with drawn_once():
+        fig = polygon_figure(result, "acceleration", row=0, dpi=dpi, lang="zh")
+        save_png(fig, tmp_path / "p.png", dpi)
+    b = _pixels(tmp_path / "p.png")
+    ink = np.flatnonzero((b < 0.9).any(axis=0))
+    pad = 2.0 * MM * dpi  # _fit_sheet's margin, px
+    assert b.shape[1] - 1 - ink[-1] >= 0.5 * pad

@@ -387,16 +387,22 @@ def _noted(fig, kind: str, ax, pad_mm: float) -> bool:
 
 
 def _lay_out(fig) -> None:
-    """Do the layout noted on ``fig`` now (two passes: measured, then drawn)."""
+    """Do the layout noted on ``fig`` now (two passes: measured, then drawn), its texts
+    measured in the style it is drawn in (:class:`Sheet`), wherever it is laid out: a
+    polygon choosing its scale, or ``savefig``, after the style's context was left, had
+    its sheet sized around texts in matplotlib's defaults (10 pt, another math face, no
+    CJK font), not around the ones drawn."""
     todo = getattr(fig, "_layout_todo", None)
     if todo is None:
         return
     fig._layout_todo = None
     kind, ax, pad = todo
-    if kind == "sheet":
-        _fit_sheet(fig, ax, pad, now=True)
-    else:
-        _grow_to_fit(fig, pad, now=True)
+    matplotlib, _ = _mpl()
+    with matplotlib.rc_context(getattr(fig, "_style", None) or {}):
+        if kind == "sheet":
+            _fit_sheet(fig, ax, pad, now=True)
+        else:
+            _grow_to_fit(fig, pad, now=True)
 
 
 def _fit_sheet(fig, ax, pad_mm: float = 2.0, *, now: bool = False) -> None:
