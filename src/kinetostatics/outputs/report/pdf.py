@@ -65,9 +65,9 @@ def _fonts(pdf, lang: str, han: bool = False) -> str:
         pdf.set_fallback_fonts(["cjk"], exact_match=False)
     if lang != "zh":
         return "dejavu"
-    _, path = cjk_font()
-    for style in ("", "B", "I"):
-        pdf.add_font("cjk", style, path)
+    # once: its bold and italic would be the same file parsed again (~0.15 s each), and
+    # write_pdf's _Doc sets it for the bold and italic text
+    pdf.add_font("cjk", "", cjk_font()[1])
     pdf.set_fallback_fonts(["dejavu", "cjk"], exact_match=False)  # "cjk": the footer's
     return "cjk"
 
@@ -116,6 +116,21 @@ def write_pdf(blocks, path: Path, title: str, lang: str = "en") -> Path:
             self.cell(0, 4, f"{title} — {page}", align="C")
             self.set_text_color(0)
 
+        def set_font(self, family=None, style="", size=0):
+            # the CJK font has one face (a regular one: _fonts registers it once) that its
+            # bold and italic text is set in; the glyphs it lacks still come from DejaVu
+            # Sans's bold and oblique faces (get_fallback_font)
+            style = getattr(style, "style", style)  # a TextEmphasis too
+            self._asked = style
+            if (family or self.font_family).lower() == "cjk":
+                style = ""
+            super().set_font(family, style, size)
+
+        def get_fallback_font(self, char, style=""):
+            if self.font_family == "cjk":
+                style = "".join(sorted(c for c in self._asked.upper() if c in "BI"))
+            return super().get_fallback_font(char, style)
+
         def get_string_width(self, s, normalized=False, markdown=False):
             # a report measures the same strings many times (its tables' columns, their
             # heights before and after a page break): each measured once per style
@@ -127,7 +142,7 @@ def write_pdf(blocks, path: Path, title: str, lang: str = "en") -> Path:
             return w
 
     pdf = _Doc(orientation="P", unit="mm", format="A4")
-    pdf._width_cache = {}
+    pdf._width_cache, pdf._asked = {}, ""
     font = _fonts(pdf, lang, han=lang != "zh" and _han(blocks, title))
     pdf.set_title(title)
     pdf.set_creator("kinetostatics")
@@ -262,12 +277,14 @@ def _table(pdf, font: str, t: _Table, lang: str) -> None:
             align="LEFT",
             text_align=align,
             line_height=size * 0.5,
-            headings_style=FontFace(emphasis="BOLD", fill_color=HEAD_FILL),
+            # bold in the heading row's style: fpdf2 would refuse a bold headings_style
+            # for the CJK font, which has no bold face registered (_fonts)
+            headings_style=FontFace(fill_color=HEAD_FILL),
             repeat_headings=1,
             padding=PAD,
             borders_layout="ALL",
         ) as table:
-            table.row([str(h) for h in t.header])
+            table.row([str(h) for h in t.header], style=FontFace(emphasis="BOLD"))
             for r in part:
                 table.row([_plain(str(c)) for c in r])
     pdf.ln(3)
