@@ -451,10 +451,22 @@ def _lines(pdf, text: str, width: float) -> list[str]:
 def _text(pdf, text: str, height: float, lang: str) -> None:
     """A paragraph from the current position to the right margin, lines ``height`` mm
     apart: English justified, Chinese broken by :func:`_lines` and set flush left."""
-    text = _plain(text)
+    text = _plain(text).replace("\r", "")  # as multi_cell reads it
+    width = pdf.w - pdf.r_margin - pdf.get_x() - 2 * pdf.c_margin
     if lang != "zh":
-        pdf.multi_cell(0, height, text, new_x="LMARGIN", new_y="NEXT")
-        return
-    width = pdf.w - pdf.r_margin - pdf.get_x() - 2 * pdf.c_margin - 0.5  # round-off room
-    text = "\n".join(_lines(pdf, text, width))
-    pdf.multi_cell(0, height, text, align="L", new_x="LMARGIN", new_y="NEXT")
+        if text and "\n" not in text and pdf.get_string_width(text) <= width - 0.01:
+            lines = [text]  # one line (0.01 mm to spare, so that fpdf2 would not break it)
+        else:
+            pdf.multi_cell(0, height, text, new_x="LMARGIN", new_y="NEXT")
+            return
+    else:
+        lines = _lines(pdf, text, width - 0.5)  # round-off room
+        if not all(lines) or any("\n" in line for line in lines):
+            text = "\n".join(lines)
+            pdf.multi_cell(0, height, text, align="L", new_x="LMARGIN", new_y="NEXT")
+            return
+    # lines that need no breaking, each a cell where multi_cell would set it (flush left:
+    # it justifies no last line), without its line breaking, which measures the line
+    # again for each character added (English one-line texts, Chinese lines)
+    for k, line in enumerate(lines, 1):
+        pdf.cell(0, height, line, new_x="LMARGIN" if k == len(lines) else "LEFT", new_y="NEXT")
