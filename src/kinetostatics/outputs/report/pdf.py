@@ -204,9 +204,10 @@ def _columns(pdf, font: str, t: _Table) -> tuple[float, list[float]]:
     return size, widths
 
 
-def _table_heights(pdf, font: str, t: _Table) -> tuple[float, list[float]]:
-    """About how tall (mm) a table's caption with the space after it and its heading row
-    are, and each of its rows: as many lines as its fullest cell takes."""
+def _table_heights(pdf, font: str, t: _Table) -> tuple[tuple, float, list[float]]:
+    """A table's :func:`_columns`, about how tall (mm) its caption with the space after it
+    and its heading row are, and each of its rows: as many lines as its fullest cell
+    takes."""
     size, widths = _columns(pdf, font, t)
     top = 0.0
     if t.caption:
@@ -222,16 +223,16 @@ def _table_heights(pdf, font: str, t: _Table) -> tuple[float, list[float]]:
             default=1,
         )
         rows.append(size * 0.5 * max(lines, 1) + 1.2)
-    return top + rows[0], rows[1:]
+    return (size, widths), top + rows[0], rows[1:]
 
 
-def _table_start(pdf, font: str, t: _Table, y: float) -> tuple[float, int]:
+def _table_start(pdf, font: str, t: _Table, y: float) -> tuple[float, int, tuple]:
     """How a table starts at the height ``y``: the height (mm) of its part on this page
     and the number of its rows there.  All of it if it fits; else its caption, heading
     row and the rows that fit, at least 3 and leaving at least 2 for the next page (a
     table longer than a page: as many as fit); else ``(inf, 0)``: it starts on the next
-    page."""
-    top, rows = _table_heights(pdf, font, t)
+    page.  Then its :func:`_columns`, measured for this."""
+    columns, top, rows = _table_heights(pdf, font, t)
     room = pdf.h - MARGIN - y
     height, fit = top, 0
     while fit < len(rows) and height + rows[fit] <= room:
@@ -240,13 +241,13 @@ def _table_start(pdf, font: str, t: _Table, y: float) -> tuple[float, int]:
         while fit > 0 and len(rows) - fit < 2:  # no row or two alone on the next page
             fit -= 1
             height -= rows[fit]
-    return (height, fit) if fit >= min(3, len(rows)) else (math.inf, 0)
+    return (height, fit, columns) if fit >= min(3, len(rows)) else (math.inf, 0, columns)
 
 
 def _table(pdf, font: str, t: _Table, lang: str) -> None:
     from fpdf.fonts import FontFace
 
-    height, here = _table_start(pdf, font, t, pdf.get_y())
+    height, here, (size, widths) = _table_start(pdf, font, t, pdf.get_y())
     if pdf.get_y() > TOP and math.isinf(height):
         pdf.add_page()
         here = len(t.rows)  # from the top of a page, fpdf2 breaks it where it must
@@ -254,7 +255,6 @@ def _table(pdf, font: str, t: _Table, lang: str) -> None:
         pdf.set_font(font, "I", 8)
         _text(pdf, t.caption, 3.8, lang)
         pdf.ln(0.8)
-    size, widths = _columns(pdf, font, t)
     align = ["LEFT"] + ["RIGHT"] * (len(t.header) - 1)
     if any(len(str(r[c])) > 30 for r in t.rows for c in range(1, len(r))):
         align = ["LEFT"] * len(t.header)
@@ -302,19 +302,24 @@ def _grid(pdf, font: str, size: float, cells, columns, here: int) -> None:
     line = size * 0.5
     xs = [MARGIN + sum(widths[:j]) for j in range(len(widths))]
 
+    # the heading row's cells in lines, as fpdf2 breaks them (once for every page it is on)
+    pdf.set_font(font, "B", size)
+    broken = [
+        [h] if _one_line(pdf, h, w) else _broken(pdf, h, w, line) for h, w in zip(header, widths)
+    ]
+    head = max((len(b) for b in broken), default=1) * line + 2 * PAD
+
     def heading() -> None:
         pdf.set_font(font, "B", size)
-        heights = [
-            line if _one_line(pdf, h, w) else _lines_mm(pdf, h, w, line)
-            for h, w in zip(header, widths)
-        ]
-        tall = max(heights, default=line) + 2 * PAD
         y = pdf.get_y()
         pdf.set_fill_color(*HEAD_FILL)
-        for x, w, h, text, a in zip(xs, widths, heights, header, align):
-            pdf.rect(x, y, w, tall, style="DF")
-            _cell_text(pdf, (x, y + (tall - 2 * PAD - h) / 2, w, line), text, a, h > line)
-        pdf.set_xy(MARGIN, y + tall)
+        for x, w, lines, a in zip(xs, widths, broken, align):
+            pdf.rect(x, y, w, head, style="DF")
+            top = y + (head - 2 * PAD - len(lines) * line) / 2
+            for k, text in enumerate(lines):  # each where multi_cell would set it
+                if text:
+                    _cell_text(pdf, (x, top + k * line, w, line), text, a)
+        pdf.set_xy(MARGIN, y + head)
         pdf.set_fill_color(255)
         pdf.set_font(font, "", size)
 
@@ -330,7 +335,7 @@ def _grid(pdf, font: str, size: float, cells, columns, here: int) -> None:
         for x, w, text, a in zip(xs, widths, row, align):
             pdf.rect(x, y, w, tall)
             if text:
-                _cell_text(pdf, (x, y, w, line), text, a, False)
+                _cell_text(pdf, (x, y, w, line), text, a)
         pdf.set_xy(MARGIN, y + tall)
 
 
@@ -340,18 +345,18 @@ def _one_line(pdf, text: str, w: float) -> bool:
     return "\n" not in text and pdf.get_string_width(text) <= w - 2 * PAD - 0.01
 
 
-def _lines_mm(pdf, text: str, w: float, line: float) -> float:
-    """The height (mm) of ``text``'s lines in a cell ``w`` mm wide, as fpdf2 breaks them."""
-    return len(pdf.multi_cell(w, line, text, padding=PAD, dry_run=True, output="LINES")) * line
+def _broken(pdf, text: str, w: float, line: float) -> list[str]:
+    """``text``'s lines in a cell ``w`` mm wide, as fpdf2 breaks them."""
+    return pdf.multi_cell(w, line, text, padding=PAD, dry_run=True, output="LINES")
 
 
-def _cell_text(pdf, box, text: str, align: str, wrapped: bool) -> None:
-    """``text`` in a table cell whose top-left corner, width and line height (mm) are
-    ``box``, where fpdf2's ``multi_cell`` puts it: one line in the main font as one PDF
-    text; lines to break or a glyph from the fallback font through ``multi_cell``."""
+def _cell_text(pdf, box, text: str, align: str) -> None:
+    """A line of text (one that fits) in a table cell whose top-left corner, width and
+    line height (mm) are ``box``, where fpdf2's ``multi_cell`` puts it: in the main font
+    as one PDF text; with a glyph from the fallback font through ``multi_cell``."""
     x, y, w, line = box
     cmap = getattr(pdf.current_font, "cmap", None)
-    if wrapped or cmap is None or any(ord(ch) not in cmap for ch in text):
+    if cmap is None or any(ord(ch) not in cmap for ch in text):
         pdf.set_xy(x, y)
         pdf.multi_cell(w, line, text, align=align[0], padding=PAD, new_x="RIGHT", new_y="TOP")
         return
