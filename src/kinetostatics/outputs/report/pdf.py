@@ -121,14 +121,14 @@ def write_pdf(blocks, path: Path, title: str, lang: str = "en") -> Path:
             # bold and italic text is set in; the glyphs it lacks still come from DejaVu
             # Sans's bold and oblique faces (get_fallback_font)
             style = getattr(style, "style", style)  # a TextEmphasis too
-            self._asked = style
+            self._asked = "".join(sorted(c for c in style.upper() if c in "BI"))
             if (family or self.font_family).lower() == "cjk":
                 style = ""
             super().set_font(family, style, size)
 
         def get_fallback_font(self, char, style=""):
             if self.font_family == "cjk":
-                style = "".join(sorted(c for c in self._asked.upper() if c in "BI"))
+                style = self._asked
             return super().get_fallback_font(char, style)
 
         def get_string_width(self, s, normalized=False, markdown=False):
@@ -136,7 +136,7 @@ def write_pdf(blocks, path: Path, title: str, lang: str = "en") -> Path:
             # heights before and after a page break): each measured once per style
             if normalized or markdown:
                 return super().get_string_width(s, normalized, markdown)
-            key = (self.font_family, self.font_style, self.font_size_pt, s)
+            key = (self.font_family, self.font_style, self._asked, self.font_size_pt, s)
             if (w := self._width_cache.get(key)) is None:
                 w = self._width_cache[key] = super().get_string_width(s)
             return w
