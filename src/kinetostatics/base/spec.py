@@ -66,6 +66,7 @@ class _Context:
     def __init__(self, file: str):
         self.file = file
         self.problems = _Problems()
+        self.notes: list[tuple[Location, str]] = []  # what is allowed but implausible
         self.env: dict[str, float] = {}
         self.units: dict[str, float] = units.unit_table(None)
         self.unit_names: dict[str, str] = {}
@@ -178,6 +179,10 @@ class Entry:
     # -- structure ----------------------------------------------------------
     def error(self, message: str) -> None:
         self.ctx.problems.add(self.where, message)
+
+    def note(self, message: str) -> None:
+        """A value allowed but implausible: a warning naming the key and its line."""
+        self.ctx.notes.append((self.where, message))
 
     @property
     def is_mapping(self) -> bool:
@@ -357,6 +362,17 @@ class Entry:
             return None
         return value * scale
 
+    def coefficient(self) -> float | None:
+        """A friction coefficient: dimensionless, zero or positive; one above
+        :data:`PLAUSIBLE_COEFFICIENT` is read, and noted as implausible."""
+        value = self.number(None, minimum=0.0)
+        if value is not None and value > PLAUSIBLE_COEFFICIENT:
+            self.note(
+                f"a friction coefficient of {value:g} is implausible (metal pairs, dry or "
+                f"lubricated: 0.05-0.8); a percentage? {value:g} % is {value / 100:g}"
+            )
+        return value
+
     def within(
         self, value: float, kind: str | None, written: float | None = None, unit: str | None = None
     ) -> bool:
@@ -521,6 +537,10 @@ class Entry:
         return points[link][name]
 
 
+PLAUSIBLE_COEFFICIENT = 1.0
+"""Friction coefficients above this are read, and noted as implausible (a warning)."""
+
+
 class _Missing(Entry):
     """Stands for a required key that is absent (already reported): falsy, and
     every reader returns ``None`` (``names``: a list of ``None``) silently."""
@@ -534,6 +554,9 @@ class _Missing(Entry):
         return False
 
     def error(self, message: str) -> None:
+        pass
+
+    def note(self, message: str) -> None:
         pass
 
     def mapping(self) -> bool:

@@ -192,6 +192,7 @@ class Builder(
             drive=drive,
             parameter_texts=dict(self.parameter_texts),
             sizing=self._sizing_spec(),
+            notes=tuple(dict.fromkeys(f"{where}: {message}" for where, message in self.ctx.notes)),
         )
 
     def _output(self, links, joints, drivers) -> str | None:

@@ -6,7 +6,8 @@ A file without ``units:`` is read in SI: a crank written ``80`` meaning millimet
 one-line note when the file has no ``units:`` (:func:`units_note`), and a warning per
 implausible magnitude naming its key (:func:`magnitude_warnings`): a link longer than
 :data:`MAX_LINK` m, a driver speed above :data:`MAX_RPM` rpm, a torque above
-:data:`MAX_TORQUE` N·m.  Warnings only: a large machine is allowed.
+:data:`MAX_TORQUE` N·m, and what the reading noted (``Model.notes``: a friction
+coefficient above 1, its key and line).  Warnings only: a large machine is allowed.
 """
 
 from __future__ import annotations
@@ -65,8 +66,9 @@ def _where(model: Model, where, path: str) -> str:
 
 
 def magnitude_warnings(model: Model) -> list[str]:
-    """One line per implausible magnitude of the file, naming the key."""
-    out = []
+    """One line per implausible magnitude of the file, naming the key: what the reading
+    noted (a friction coefficient above 1), then the sizes, speeds and torques."""
+    out = list(model.notes)
     hint = " (is units: missing or wrong?)"
     for link in model.links:
         pts = np.array(list(link.points.values()), dtype=float).reshape(-1, 2)

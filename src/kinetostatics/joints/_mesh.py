@@ -166,7 +166,7 @@ def read_loss(entry, loss_per_mu: float | None) -> float | None:
             eff.error(f"a mesh efficiency must be in (0, 1], got {eta:g}")
             return None
         return None if eta is None else 1.0 - eta
-    m = mu.number(None, minimum=0.0)
+    m = mu.coefficient()
     if m is None:
         return None
     if loss_per_mu is None:

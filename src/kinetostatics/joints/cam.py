@@ -183,9 +183,7 @@ class Cam(Joint, Presentation, Friction, Shaped, kind="cam"):
         friction = 0.0
         if (fr := entry.get("friction")) is not None:
             fr.check_keys(required=("coefficient",))
-            friction = (
-                fr["coefficient"].number(None, minimum=0.0) if fr.get("coefficient") else None
-            )
+            friction = fr["coefficient"].coefficient() if fr.get("coefficient") else None
         allowed = allowed_angle(entry.get("design"))
         if any(v is None for v in (o, p, kind, radius, base, place, law, friction)) or not sigma:
             return None

@@ -189,7 +189,7 @@ class Prismatic(Joint, Presentation, Friction, Compiled, kind="prismatic"):
         f = 0.0
         if (fr := entry.get("friction")) is not None:
             fr.check(FRICTION_KEYS)
-            f = fr["coefficient"].number(None, minimum=0.0) if fr.get("coefficient") else 0.0
+            f = fr["coefficient"].coefficient() if fr.get("coefficient") else 0.0
         if a is None or u is None or p is None or angle is None or f is None:
             return None
         return cls(

@@ -100,7 +100,7 @@ def _bearing_radius(entry, f) -> float | None:
             "(bearing: {diameter: ...}); else give journal_radius with it, or radius"
         )
         return None
-    mu = f["coefficient"].number(None, minimum=0.0)
+    mu = f["coefficient"].coefficient()
     dv = d.number("length", minimum=0.0, strict=True)
     return None if mu is None or dv is None else mu * dv / 2.0
 
@@ -185,7 +185,7 @@ class Revolute(Joint, Presentation, Friction, Compiled, kind="revolute"):
                 rho = _bearing_radius(entry, f)
             elif f.get("journal_radius") is not None or f.get("coefficient") is not None:
                 r = f.require("journal_radius").number("length", minimum=0.0)
-                fv = f.require("coefficient").number(None, minimum=0.0)
+                fv = f.require("coefficient").coefficient()
                 rho = None if r is None or fv is None else r * fv
             else:
                 f.error(

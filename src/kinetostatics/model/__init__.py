@@ -441,6 +441,9 @@ class Model:
     # dimension synthesis; a parameter replaced by an override has none
     parameter_texts: Mapping[str, str] = field(default_factory=dict, compare=False, repr=False)
     sizing: SizingSpec | None = None  # bearings, pins, sections, materials (docs/sizing.md)
+    # what the file gives that is allowed but implausible, each naming its key and line
+    # (io/plausible.py warns of them)
+    notes: tuple[str, ...] = field(default=(), compare=False, repr=False)
     # the system compiled from this model, cached by structure.system_of with the model's
     # pickle as its key (so a copy made with ``replace`` or ``Model(**vars(m))`` that carries
     # it along reuses it only if it describes the same mechanism); not pickled
