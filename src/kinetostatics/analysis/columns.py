@@ -34,17 +34,20 @@ class Columns(Mapping):
         self._where: dict[str, tuple[int, int]] = {}
         self._groups: list = []
         self._done: dict[int, tuple] = {}
+        self._shared = False  # _where is a system's layout (laid_out): copied before a change
 
     @classmethod
     def laid_out(cls, where: dict[str, tuple[int, int]], groups: list) -> Columns:
         """Columns whose name → (group, index) map is ``where`` (shared, only read) and
         whose groups' computations are ``groups``, in order."""
         cols = cls()
-        cols._where, cols._groups = where, groups
+        cols._where, cols._groups, cols._shared = where, groups, True
         return cols
 
     def add(self, names: list[str], compute) -> None:
         """Register columns ``names`` whose arrays ``compute()`` returns, in order."""
+        if self._shared:  # another result reads the same layout
+            self._where, self._shared = dict(self._where), False
         g = len(self._groups)
         self._groups.append(compute)
         for k, name in enumerate(names):
