@@ -403,6 +403,9 @@ class Model:
         expressions as formulas); none for a parameter given as an override.
     sizing : SizingSpec, optional
         The bearings, pins, sections and materials to size (docs/sizing.md).
+    notes : tuple of str, optional
+        What the file gives that is allowed but implausible (a friction coefficient
+        above 1), each naming its key and line; ``check`` and ``run`` warn of them.
     _compiled : tuple, optional
         Internal: the compiled system, kept with the model (never pass it).
 
