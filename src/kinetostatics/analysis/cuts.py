@@ -21,7 +21,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..base.arrays import sorted_distinct
-from ..base.legendre import padded_roots, piece_series
+from ..base.legendre import inner_roots, padded_roots, piece_series
 from ..errors import AssemblyError, ElementWarning, JointWarning, NearSingularWarning
 from ..kinematics.schedule import schedule
 from ..structure.system import link_pair
@@ -399,8 +399,7 @@ def _dips(ts: np.ndarray, vals: np.ndarray, per_piece: int) -> np.ndarray:
     centre = t[:, 0] - half * x[0]
     v = vals.T.reshape(-1, n)  # every column's pieces, column after column
     v = np.where(np.all(np.isfinite(v), axis=1)[:, None], v, 0.0)  # no series there
-    r = padded_roots(piece_series(len(v), v.ravel()))
-    inner = np.sort(np.where((r.imag == 0) & (np.abs(r.real) < 1), r.real, np.nan), axis=1)
+    inner = inner_roots(padded_roots(piece_series(len(v), v.ravel())))
     slot = np.searchsorted(x, np.nan_to_num(inner, nan=2.0))  # the nodes each lies between
     row, k = np.nonzero(
         np.isfinite(inner[:, :-1]) & np.isfinite(inner[:, 1:]) & (slot[:, :-1] == slot[:, 1:])

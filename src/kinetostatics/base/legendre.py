@@ -51,6 +51,7 @@ def padded_roots(coefs: np.ndarray) -> np.ndarray:
 
 
 def inner_roots(roots: np.ndarray) -> np.ndarray:
-    """The real roots inside (−1, 1) of one series, sorted."""
-    r = roots[np.isreal(roots)].real
-    return np.sort(r[(r > -1) & (r < 1)])
+    """Of each series' roots (:func:`padded_roots`, ``(P, m)``), its real ones inside
+    (−1, 1), sorted and followed by NaN: ``(P, m)``."""
+    inside = (roots.imag == 0) & (np.abs(roots.real) < 1)  # the NaN padding is not
+    return np.sort(np.where(inside, roots.real, np.nan), axis=1)

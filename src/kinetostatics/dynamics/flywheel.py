@@ -36,7 +36,7 @@ from ..analysis.cycle import Quadrature, cycle_quadrature, cycle_stats
 from ..analysis.pipeline import analyze_near
 from ..analysis.results import Result
 from ..base.arguments import real_number
-from ..base.legendre import padded_roots, piece_series
+from ..base.legendre import inner_roots, padded_roots, piece_series
 from ..errors import AssemblyError, Location, StructureError
 from ..kinematics.schedule import schedule
 from ..kinetics.reactions import effort_ratio
@@ -328,14 +328,11 @@ def _on_the_grid(system, events, friction, positions, w):
 
 
 def _inner(roots: np.ndarray, any_: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The real roots inside (−1, 1) of the series whose ``roots`` (``padded_roots``:
-    sorted, NaN after the last) are taken (``any_``), as (series, root) arrays, each
-    series' in ascending order (:func:`~kinetostatics.base.legendre.inner_roots`)."""
-    x = roots.real
-    with np.errstate(invalid="ignore"):  # the NaN padding is no root
-        ok = any_[:, None] & (roots.imag == 0) & (x > -1) & (x < 1)
-    p, k = np.nonzero(ok)
-    return p, x[p, k]
+    """The real roots inside (−1, 1) of the series whose ``roots`` (``padded_roots``) are
+    taken (``any_``), as (series, root) arrays, each series' in ascending order."""
+    inner = inner_roots(roots)
+    p, k = np.nonzero(any_[:, None] & np.isfinite(inner))
+    return p, inner[p, k]
 
 
 def _value_extremes(pieces: np.ndarray, values: np.ndarray) -> tuple[float, float]:
