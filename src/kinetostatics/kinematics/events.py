@@ -224,10 +224,10 @@ def refine_stacked(system, solvers, sched, f, t0, q0, qd0, qdd0, max_iter=12, br
     ``t0 (V, M)`` first guesses, ``q0, qd0, qdd0 (V, M, n_q)`` solved states
     near them (same branch); returns (t, (q, q̇, q̈)) at the roots.  ``bracket``,
     optional, ``(lo, hi, sign_lo)`` each ``(V, M)``, as :func:`refine`'s: a step that
-    would leave the bracket is replaced by bisection, so that a root between two rows is
-    the one found (issue 36, seed 1008937: from a chord 30° wide, Newton went to another
-    part of the cycle and a batch row's time ratio was 1.142 against the single run's
-    1.0036).
+    would leave the bracket is replaced as there (:func:`_outside`), so that a root
+    between two rows is the one found (issue 36, seed 1008937: from a chord 30° wide,
+    Newton went to another part of the cycle and a batch row's time ratio was 1.142
+    against the single run's 1.0036).
     """
     t = np.array(t0, dtype=float)
     h = (t - t0)[..., None]
@@ -248,7 +248,7 @@ def refine_stacked(system, solvers, sched, f, t0, q0, qd0, qdd0, max_iter=12, br
             lo, hi = np.where(below, t, lo), np.where(below, hi, t)
             step = t + dt
             out = ~((step > lo) & (step < hi)) | (dg == 0)
-            step = np.where(out, 0.5 * (lo + hi), step)
+            step = np.where(out, _outside(t, step, lo, hi), step)
             done = ((np.abs(dt) <= tol) & ~out) | (hi - lo <= tol) | (g == 0)
             step = np.where(done, t, step)
         dt = step - t
