@@ -53,6 +53,9 @@ def test_the_command_writes_its_files_with_the_closed_forms_numbers(tmp_path, ca
     )
     for name in ("sensitivity.md", "tornado-slide.stroke.png", "tornado-slide.stroke.svg"):
         assert (out / name).stat().st_size > 0
+    # the page's table states its units: dQ/dp in m per unit of p as the file gives it
+    page = (out / "sensitivity.md").read_text(encoding="utf-8")
+    assert "| dQ/dp [m per unit of p] |" in page and "| Q(p + t) [m] |" in page
     assert (out / "histogram-slide.stroke.png").stat().st_size > 0
     assert "slide.stroke = 0.2003" in text and "d/da = 0.002" in text
     # the same command again takes every sample from the table on disk

@@ -43,8 +43,9 @@ def sensitivity_markdown(sens, mc=None, pictures=()) -> str:
     for k, q in enumerate(sens.quantities):
         unit = _unit(sens.units[k])
         lines += [f"## `{q}`", "", f"Nominal: {_g(sens.nominal[k], 10)}{unit}.", ""]
-        per = f" [{unit.strip()} per unit of p]" if unit else ""  # p in the file's units
-        q_in = f" [{unit.strip()}]" if unit else ""
+        u = sens.units[k]
+        per = f" [{u} per unit of p]" if unit else ""  # p in the file's units
+        q_in = f" [{u}]" if unit else ""
         lines += [
             f"| parameter | dQ/dp{per} | error estimate{per} | elasticity [1] "
             f"| Q(p − t){q_in} | Q(p + t){q_in} | note |",
