@@ -13,17 +13,15 @@ form computes) at 10 and 360 positions, prints:
 - the time with the plan over the time without, the median of per-round ratios
   (CPU time of the process, the two timed in turns, as bench_speed.py times).
 
-With ``--crossover``, the kinematics row's time with the joints' kernels run over
-whole arrays against the contract's NumPy methods, at 10 to 360 positions (where
-``KERNELS_FROM`` comes from).  With ``--lines``, also the time of each line of the
+With ``--lines``, also the time of each line of the
 slider-crank's and the slotting machine's generated plan at 360 positions (the
 source instrumented with a clock between its statements), grouped as the joints'
-formulas (``.jacobian``, ``.acceleration_rhs`` or the kernels), the factorisation
+formulas (``.jacobian``, ``.acceleration_rhs`` or the traced kernels' lines), the factorisation
 (``BlockFactor``: the blocks' inverses) and the rest (gathers, scatters, substitutions).
 
 Nothing here is a test.  docs/accuracy.md (section 8) quotes it.
 
-    PYTHONPATH=src python tests/benchmarks/bench_speed_calls.py [--quick] [--lines] [--crossover]
+    PYTHONPATH=src python tests/benchmarks/bench_speed_calls.py [--quick] [--lines]
 """
 
 from __future__ import annotations
@@ -39,7 +37,6 @@ from bench_speed import LEVEL_KW, case, interleaved, median
 
 import kinetostatics as ks
 from kinetostatics.kinematics import plan
-from kinetostatics.kinematics.plan import KERNELS_FROM
 from kinetostatics.structure.system import link_poses
 
 STAGES = {
@@ -119,7 +116,10 @@ def plan_lines(name: str, n: int = 360, repeat: int = 400) -> dict[str, float]:
     for line, t in zip(body, env["ACC"]):
         kind = (
             "joints' formulas"
-            if ".jacobian(" in line or ".acceleration_rhs(" in line or "KJ" in line or "KG" in line
+            if ".jacobian(" in line
+            or ".acceleration_rhs(" in line
+            or line.lstrip().startswith("e")
+            or line.lstrip().startswith(("buf[", "rows["))
             else "factorisation"
             if "BlockFactor(" in line
             else "rest"
@@ -128,36 +128,12 @@ def plan_lines(name: str, n: int = 360, repeat: int = 400) -> dict[str, float]:
     return out
 
 
-def crossover(rounds: int, sample: float) -> None:
-    """Time of the kinematics row with the kernels over whole arrays (``KERNELS_FROM`` 0)
-    over the time through the contract (no kernels), at growing numbers of positions: the
-    two plans generated for two models of the same file, timed in turns."""
-    for name in ("slider_crank", "slotting_machine"):
-        out = []
-        for n in (10, 20, 40, 80, 160, 360):
-            fns = []
-            for cut in (10**9, 0):
-                c = case(name, n)
-                names = list(c.closed(c.grid()[:3], "kinematics"))
-                fn = c.generic(names, **LEVEL_KW["kinematics"])
-                plan.KERNELS_FROM = cut
-                fn()  # the plan generated with this cut, kept with this model's system
-                fns.append(fn)
-            plan.KERNELS_FROM = KERNELS_FROM
-            contract, kernels = interleaved(fns, rounds, sample)
-            out.append(f"{n}: {median([b / a for a, b in zip(contract, kernels)]):.3f}")
-        print(f"{name}, kinematics, kernels over whole arrays / contract: " + ", ".join(out))
-
-
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="fewer rounds")
     ap.add_argument("--lines", action="store_true", help="the plan's time by kind of line")
-    ap.add_argument("--crossover", action="store_true", help="kernels against the contract")
     args = ap.parse_args(argv)
     rounds, sample = (5, 0.01) if args.quick else (15, 0.03)
-    if args.crossover:
-        crossover(rounds, sample)
     if args.lines:
         for name in ("slider_crank", "slotting_machine"):
             parts = plan_lines(name)

@@ -178,13 +178,16 @@ def test_plan_is_readable_source_kept_with_the_system():
 
 
 @pytest.mark.parametrize("name", ["slider_crank", "slotting_machine", "shaper"])
-def test_plan_below_and_above_kernels_from_equals_general_path(name):
-    """Below KERNELS_FROM positions the sets go through the contract's methods, from it on
-    through their types' kernels over whole arrays: both equal the general path."""
+def test_plan_traces_the_pairs_formulas_at_any_number_of_positions(name):
+    """The revolute and prismatic pairs' Φ_q and γ are their kernels' operations written
+    into the plan (base/trace.py), no call per joint or per stack: at 1 to 200 positions
+    the analysis equals the general path's."""
     model = ks.load(f"mechanisms/{name}.yaml")
     start = model.analysis.start
-    for n in (plan.KERNELS_FROM - 1, plan.KERNELS_FROM, 200):
+    for n in (1, 2, 10, 63, 64, 200):
         positions = start + np.linspace(0.0, 2 * np.pi, n, endpoint=False)
         assert _compare(model, positions=positions, friction=False) <= 1e-12
     source = kinematic_plan(build_system(model)).source
-    assert f"if n >= {plan.KERNELS_FROM}:" in source and "KJ" in source and "KG" in source
+    assert "PE[" in source and "vr[" in source and "kernel" not in source
+    calls = source.count(".jacobian(")
+    assert calls == sum(s.driver is not None for s in build_system(model).sets)

@@ -10,7 +10,7 @@ import pytest
 
 import kinetostatics as ks
 from kinetostatics.base.arrays import entry_major_zeros
-from kinetostatics.base.geometry import poses, rotate
+from kinetostatics.base.geometry import poses
 from kinetostatics.structure import system as S
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -163,12 +163,11 @@ def test_entry_major_zeros():
     assert z[..., 1, 2].flags.c_contiguous and z[..., 1, 2].shape == (4, 3)
 
 
-def test_the_closed_forms_turn_each_link_once_with_the_numbers_of_a_fresh_pass(monkeypatch):
-    """The closed-form dyads keep each link's (cos θ, sin θ) for their pass over q: every
-    shipped file whose groups all have one gives, along its sweep, the bits of a pass that
-    evaluates cos θ and sin θ at every use, and the sweep satisfies Φ = 0 (the kept frames
-    are those of the angles placed)."""
-    from kinetostatics.kinematics import dyads
+def test_the_closed_forms_turn_each_link_once_and_satisfy_the_constraints():
+    """The closed forms' pass evaluates each link's cos θ and sin θ once (the later groups
+    read them), and on every shipped file whose groups all have one its sweep satisfies
+    Φ = 0 and its discriminants are those of the assembly: D ≥ 0 along it, and a link
+    turned by its own angle's cos and sin (the frames are those of the angles placed)."""
     from kinetostatics.kinematics.closed_path import _closed_forms
     from kinetostatics.kinematics.schedule import schedule
     from kinetostatics.kinematics.start import closed_form_solvers, start_pose
@@ -180,19 +179,17 @@ def test_the_closed_forms_turn_each_link_once_with_the_numbers_of_a_fresh_pass(m
         if len(system.motion_drivers) != system.structure.mobility or not system.motion_drivers:
             continue  # effort-driven: no closed-form sweep
         sched = schedule(system)
-        solvers = closed_form_solvers(system, sched)
-        if solvers is None:
+        forms = closed_form_solvers(system, sched)
+        if forms is None:
             continue
+        assert forms.source.count("np.cos(") <= len(system.links), path.name
+        assert forms.source.count("np.sin(") <= len(system.links), path.name
         t = np.linspace(0.0, 0.9 * sched.period if sched.period else 1.0, 97)
         psi = sched(t)[0]
         q0 = np.broadcast_to(start_pose(system, sched)[0], (len(t), system.n_q))
-        signs = np.ones((len(t), len(solvers)))
-        kept, _ = _closed_forms(solvers, q0, psi, signs)
-        with monkeypatch.context() as mp:  # every use evaluates its own cos θ, sin θ
-            mp.setattr(dyads, "_turned", lambda frames, link, theta, p: rotate(theta, p))
-            fresh, _ = _closed_forms(solvers, q0, psi, signs)
-        assert np.array_equal(kept, fresh), path.name
-        res = np.max(np.abs(S.phi(system, kept, psi)))
+        q, d = _closed_forms(forms, q0, psi, np.ones((len(t), len(forms))))
+        assert d.shape == (len(t), len(system.plans)) and np.all(d >= -1e-12), path.name
+        res = np.max(np.abs(S.phi(system, q, psi)))
         assert res <= 1e-9 * system.l_ref, (path.name, res)
         checked += 1
     assert checked >= 5  # the slider-crank and the slotting machine among them

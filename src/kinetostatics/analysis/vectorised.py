@@ -24,7 +24,7 @@ import numpy as np
 
 from ..kinematics.closed_path import closed_form_path
 from ..kinematics.derivatives import derivatives
-from ..kinematics.dyads import closed_form
+from ..kinematics.dyads import ClosedForms, closed_forms
 from ..kinematics.events import output_strokes_stacked
 from ..kinematics.motion import Motion
 from ..kinematics.newton import group_condition, group_newton, group_signature
@@ -68,7 +68,7 @@ class Stacked:
     extremes: dict
     ok: np.ndarray  # (V,) bool
     sched: Schedule
-    solvers: list
+    solvers: ClosedForms
     failed: dict[int, Exception] = field(default_factory=dict)
 
 
@@ -207,8 +207,8 @@ def analyze_stacked(
     if not full:
         raise Unsupported("not a full cycle")
     q0, ok, failed = _start(system, models, sched)
-    solvers = [closed_form(system, plan, q0) for plan in system.plans]
-    if any(s is None for s in solvers):
+    solvers = closed_forms(system, q0)
+    if solvers is None:
         raise Unsupported("a group without a closed form")
     q, ok_path, _ = closed_form_path(system, solvers, q0, t, sched)
     ok &= ok_path
@@ -223,7 +223,7 @@ def analyze_stacked(
         if not np.array_equal(sample_times(system, sched, None)[0], t):
             raise LeftOver(ok)  # pragma: no cover - the times are the file's, alike in all
         q0, q = q0[members], q[members]
-        solvers = [closed_form(system, plan, q0) for plan in system.plans]
+        solvers = closed_forms(system, q0)
         ok = ok[members]
     psi, psi_d, psi_dd = sched(t)
     psi, psi_d, psi_dd = (np.broadcast_to(x, q.shape[:-1] + (1,)) for x in (psi, psi_d, psi_dd))

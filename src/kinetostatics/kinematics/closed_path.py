@@ -12,7 +12,7 @@ import numpy as np
 from ..base.arrays import entries_first, entries_last, sorted_distinct
 from ..structure.system import System, phi
 from .continuation import COARSE_STEP, Drive, Singularity, time_step
-from .dyads import MARGIN
+from .dyads import MARGIN, ClosedForms
 from .newton import DISC_TOL, MAX_ITER, TOL, group_condition
 from .schedule import Schedule
 
@@ -37,7 +37,7 @@ def path_times(system: System, t: np.ndarray, drive: Drive) -> tuple[np.ndarray,
 
 def closed_form_path(
     system: System,
-    solvers,
+    forms: ClosedForms,
     q0: np.ndarray,
     t: np.ndarray,
     drive: Drive,
@@ -59,11 +59,11 @@ def closed_form_path(
     """
     n_v = len(q0)
     lo, hi = min(0.0, float(t.min())), max(0.0, float(t.max()))
-    flips, ok = _memo_change_points(system, solvers, q0, lo, hi, drive, singular is not None)
+    flips, ok = _memo_change_points(system, forms, q0, lo, hi, drive, singular is not None)
     tt, order = path_times(system, t, drive)
     psi = drive(tt)[0]
     signs = _branch_signs(flips, np.broadcast_to(tt, (n_v, len(tt))))
-    q, disc = _closed_forms(solvers, np.broadcast_to(q0, (n_v, len(tt), q0.shape[-1])), psi, signs)
+    q, disc = _closed_forms(forms, np.broadcast_to(q0, (n_v, len(tt), q0.shape[-1])), psi, signs)
     ok &= np.all(disc >= -DISC_TOL, axis=(-2, -1))
     ang = slice(2, None, 3)  # angles nearest the start pose, as the guess
     q[..., ang] += 2 * np.pi * np.round((q0[..., ang] - q[..., ang]) / (2 * np.pi))
@@ -82,7 +82,7 @@ def closed_form_path(
         found = [(ts, g) for g, f in enumerate(flips) for ts in f[0] if not np.isnan(ts)]
         for ts, g in sorted(found):
             at = np.array([[ts]])
-            qs, _ = _closed_forms(solvers, q0, drive(at)[0], _branch_signs(flips, at))
+            qs, _ = _closed_forms(forms, q0, drive(at)[0], _branch_signs(flips, at))
             coord = float(drive(at)[0][0, 0, 0]) if system.motion_drivers else ts
             singular.append(
                 Singularity(
@@ -95,13 +95,13 @@ def closed_form_path(
     return q, ok, signs[:, :start]
 
 
-def _memo_change_points(system: System, solvers, q0, lo: float, hi: float, drive, one: bool):
+def _memo_change_points(system: System, forms, q0, lo: float, hi: float, drive, one: bool):
     """:func:`_change_points`, kept in ``system.memo`` for one model's path over the same
     span from the same start and schedule (a property of the mechanism, like its start
     pose): a repeated analysis does not search the span again, and gets the same numbers
     as the first (the key is exact, so the result never depends on earlier calls)."""
     if not (one and isinstance(drive, Schedule)):
-        return _change_points(system, solvers, q0, lo, hi, drive)
+        return _change_points(system, forms, q0, lo, hi, drive)
     acc = drive.acceleration
     key = (
         lo,
@@ -117,23 +117,19 @@ def _memo_change_points(system: System, solvers, q0, lo: float, hi: float, drive
     if hit is None or len(hit[0]) != len(laws) or any(a is not b for a, b in zip(hit[0], laws)):
         if len(memo) >= 8:  # a few spans at most (the run, the cycle nodes, the flywheel)
             memo.clear()
-        hit = (laws, _change_points(system, solvers, q0, lo, hi, drive))
+        hit = (laws, _change_points(system, forms, q0, lo, hi, drive))
         memo[key] = hit
     flips, ok = hit[1]
     return [f.copy() for f in flips], ok.copy()
 
 
 def _closed_forms(
-    solvers, q: np.ndarray, psi: np.ndarray, signs: np.ndarray
+    forms: ClosedForms, q: np.ndarray, psi: np.ndarray, signs: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
-    """The closed forms in solve order, group g on its start sign × ``signs[..., g]``:
-    (q, the groups' discriminants D ``(..., n_groups)``)."""
+    """The closed forms' pass on a coordinate-major copy of ``q``, group g on its start
+    sign × ``signs[..., g]``: (q, the groups' discriminants D ``(..., n_groups)``)."""
     q = entries_last(np.array(entries_first(q, 1), dtype=float), 1)  # coordinate-major
-    disc, frames = [], {}  # each link's (cos θ, sin θ), once per pass
-    for g, solve in enumerate(solvers):
-        q, d = solve(q, psi, signs[..., g], frames)
-        disc.append(np.broadcast_to(d, q.shape[:-1]))
-    return q, np.stack(disc, axis=-1)
+    return forms.run(q, psi, signs)
 
 
 def _branch_signs(flips: list, t: np.ndarray) -> np.ndarray:
@@ -152,7 +148,7 @@ def _branch_signs(flips: list, t: np.ndarray) -> np.ndarray:
 
 
 def _change_points(
-    system: System, solvers, q0: np.ndarray, lo: float, hi: float, drive: Drive
+    system: System, forms, q0: np.ndarray, lo: float, hi: float, drive: Drive
 ) -> tuple[list, np.ndarray]:
     """The change points of every group over ``[lo, hi]``: ``(flips, ok)``, flips[g]
     ``(V, K)`` their times (NaN padding), ``ok (V,)`` where no local minimum of a
@@ -181,20 +177,20 @@ def _change_points(
         ts = np.concatenate((ts, drive.turning_times(lo, hi)))
     ts = sorted_distinct(np.append(ts, 0.0))
     ts = np.broadcast_to(ts, (n_v, len(ts)))
-    flips = [np.full((n_v, 0), np.nan) for _ in solvers]
+    flips = [np.full((n_v, 0), np.nan) for _ in range(len(forms))]
     ok = np.ones(n_v, dtype=bool)
 
     def disc(t):  # D, D', D'' of every group at times t (V, M): (V, M, G) each
-        return _discriminants(solvers, q0, drive, flips, eta, t)
+        return _discriminants(forms, q0, drive, flips, eta, t)
 
     g0 = 0
-    while g0 < len(solvers):  # again from a group past which the signs changed
+    while g0 < len(forms):  # again from a group past which the signs changed
         d, m, _ = disc(ts)
         tg = _with_low_minima(ts, d, m, g0, hi)
         if tg is not ts:
             d, m, _ = disc(tg)
         ok &= np.all(d[..., g0:] >= -DISC_TOL, axis=(-2, -1))
-        for g in range(g0, len(solvers)):
+        for g in range(g0, len(forms)):
             brackets = _minimum_brackets(tg, d[..., g], m[..., g])
             if brackets is None:
                 continue
@@ -209,14 +205,14 @@ def _change_points(
     return flips, ok
 
 
-def _discriminants(solvers, q0: np.ndarray, drive: Drive, flips: list, eta: float, t):
+def _discriminants(forms, q0: np.ndarray, drive: Drive, flips: list, eta: float, t):
     """D, D', D'' of every group's closed form at times ``t (V, M)`` on the branches the
     change points ``flips`` so far give, the derivatives by central differences of step
     ``eta``: ``(V, M, G)`` each."""
     at = t[None] + np.array([-eta, 0.0, eta])[:, None, None]
     at = np.moveaxis(at, 0, -1).reshape(len(q0), -1)
     _, d = _closed_forms(
-        solvers,
+        forms,
         np.broadcast_to(q0, at.shape + q0.shape[-1:]),
         drive(at)[0],
         _branch_signs(flips, at),
@@ -291,15 +287,14 @@ def _minimum_in(disc, g: int, a_t: np.ndarray, b_t: np.ndarray, tol: float) -> n
     return tm
 
 
-def closed_form_near(solvers, guess: np.ndarray, psi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(q, ok): the closed-form solvers applied in solve order at driver coordinates
-    ``psi``, angles taken nearest to ``guess``; ``ok (...)`` where every group's
-    margin √D stays above ``dyads.MARGIN``."""
-    q = guess.copy()
-    ok, frames = np.ones(guess.shape[:-1], dtype=bool), {}
-    for solve in solvers:
-        q, disc = solve(q, psi, None, frames)
-        ok &= disc >= MARGIN**2
+def closed_form_near(
+    forms: ClosedForms, guess: np.ndarray, psi: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """(q, ok): the closed forms' pass at driver coordinates ``psi``, angles taken
+    nearest to ``guess``; ``ok (...)`` where every group's margin √D stays above
+    ``dyads.MARGIN``."""
+    q, disc = forms.run(guess.copy(), psi, None)
+    ok = np.all(disc >= MARGIN**2, axis=-1)
     ang = slice(2, None, 3)
     q[..., ang] += 2 * np.pi * np.round((guess[..., ang] - q[..., ang]) / (2 * np.pi))
     return q, ok

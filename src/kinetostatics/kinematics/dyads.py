@@ -1,25 +1,29 @@
-"""Closed-form dyads: a fast path behind the group-solver interface.
+"""Closed-form dyads: a fast path beside the groups' Newton solve.
 
 For RRR, RRP (slide axis on a known link) and RPR (slide axis on the dyad's
 pivoted link) dyads, and for a link driven about a revolute on a known link,
 the positions of every requested time follow in closed form from the known
 links, vectorised over all positions at once.  The assembly branch is the
 sign ``σ`` read off the Newton solution at the sketched pose; an optional
-per-position factor ``sign`` (±1) multiplies it, so a path can change to the
-other closed-form sign where it passes a change point (see
-:func:`kinetostatics.kinematics.closed_path.closed_form_path`).  Each solver also returns
-the dyad's *discriminant* ``D``, normalised to its scale: ``D > 0`` where the
-dyad assembles, ``D = 0`` at its singular positions (the two assemblies
-meet), ``D < 0`` where the links cannot reach.  ``D`` is a smooth function
-of the known links' poses (no square root is taken), so it can be
-interpolated and minimised along a path: ``√D`` is the distance of the
-assembly from the singular pose (the margin).
+per-position factor (±1) multiplies it, so a path can change to the other
+closed-form sign where it passes a change point (see
+:func:`kinetostatics.kinematics.closed_path.closed_form_path`).  Each group also
+gives the dyad's *discriminant* ``D``, normalised to its scale: ``D > 0`` where
+the dyad assembles, ``D = 0`` at its singular positions (the two assemblies
+meet), ``D < 0`` where the links cannot reach.  ``D`` is a smooth function of
+the known links' poses (no square root is taken), so it can be interpolated and
+minimised along a path: ``√D`` is the distance of the assembly from the singular
+pose (the margin).
 
-A solver is ``f(q, psi, sign=None, frames=None) -> (q, D)`` filling the group's
-columns of ``q``.  ``frames`` (a dict, one per pass of the solvers over one ``q``)
-keeps each link's (cos θ, sin θ) once computed: a link placed by one group and read
-by the next is turned with the same numbers, without evaluating cos and sin again
-(at 36,000 positions each pair costs ~0.7–1 ms).
+The groups of a system are solved in one pass, written once per system (and start
+pose) as Python source: :func:`closed_forms` gives a :class:`ClosedForms` whose
+``run(q, psi, signs) -> (q, D)`` fills every column of ``q`` and the groups'
+discriminants ``D (..., n_groups)``.  The source is one straight line of
+component formulas (x and y as separate arrays: no ``(..., 2)`` temporaries), the
+joints' points and the dyads' lengths as constants, each link's angle, cos θ and
+sin θ computed once and read by the later groups (``ClosedForms.source`` is the
+text).  The constants are those of the model, scalars, or arrays along a leading
+variant axis for a stacked batch: the same text serves both.
 
 The closed forms are formulas of revolute and prismatic pairs by nature (like
 pyslvs' PLLP), so this module names the joint classes and reads their
@@ -30,56 +34,125 @@ the clearance macro it is the only place outside ``joints/`` that does.
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import dataclass
 
 import numpy as np
 
-from ..base.geometry import cross, dot, perp, rotate, rotated, wrap_angle
+from ..base.geometry import cross, dot, perp, rotate, wrap_angle
 from ..joints import Prismatic, Revolute
 from ..structure.system import GroupPlan, System
 
-__all__ = ["closed_form", "MARGIN"]
+__all__ = ["closed_form", "closed_forms", "ClosedForms", "MARGIN"]
 
 MARGIN = 1e-3  # below this margin √D a solve near a guess hands over to Newton
 
-Solver = Callable[..., tuple[np.ndarray, np.ndarray]]
+
+@dataclass(frozen=True, eq=False)
+class ClosedForms:
+    """The closed forms of every group of a system, in solve order, as one generated pass:
+    ``run(q, psi, signs) -> (q, D)`` writes every link's (x, y, θ) into ``q (..., n_q)``
+    at the driver coordinates ``psi (..., n_d)`` and returns it with the discriminants
+    ``D (..., n_groups)``; group g takes its start sign times ``signs[..., g]`` (±1), or
+    its start sign where ``signs`` is None.  ``source`` is the generated text."""
+
+    source: str
+    run: Callable[..., tuple[np.ndarray, np.ndarray]]
+    n_groups: int
+
+    def __len__(self) -> int:
+        return self.n_groups
 
 
-def _turned(frames: dict, link: str, theta: np.ndarray, p: np.ndarray) -> np.ndarray:
-    """``rotate(theta, p)`` for ``link`` at angle ``theta``, its (cos θ, sin θ) kept in
-    ``frames`` for the pass: a link's angle is set once per pass, so a later use turns
-    with the same numbers."""
-    cs = frames.get(link)
-    if cs is None:
-        cs = frames[link] = (np.cos(theta), np.sin(theta))
-    return rotated(*cs, p)
+class _Pass:
+    """The source of one pass being written: its lines, its constants (``env``), and the
+    links placed so far (their angle ``t<k>``, position ``x<k>``, ``y<k>`` and, once
+    asked, their frame ``c<k>``, ``s<k>``)."""
+
+    def __init__(self, system: System):
+        self.system = system
+        self.env: dict = {"np": np}
+        self.lines: list[str] = []
+        self.framed: set[int] = set()
+        self.n = 0
+
+    def index(self, link: str) -> int | None:
+        """The link's index among the moving links, None for the ground."""
+        links = self.system.links
+        return links.index(link) if link in links else None
+
+    def const(self, value) -> str:
+        name = f"K{len(self.env)}"
+        self.env[name] = value
+        return name
+
+    def vec(self, p: np.ndarray) -> tuple[str, str]:
+        return self.const(p[..., 0]), self.const(p[..., 1])
+
+    def let(self, expr: str) -> str:
+        """A new local set to ``expr``."""
+        self.n += 1
+        self.lines.append(f"    v{self.n} = {expr}")
+        return f"v{self.n}"
+
+    def angle(self, link: str) -> str:
+        k = self.index(link)
+        return "0.0" if k is None else f"t{k}"
+
+    def set_angle(self, link: str, theta: str) -> None:
+        self.lines.append(f"    t{self.index(link)} = {theta}")
+
+    def turned(self, link: str, p: np.ndarray) -> tuple[str, str]:
+        """Local vector ``p`` of ``link`` in world axes (the ground's: ``p`` itself); the
+        link's cos θ and sin θ evaluated at its first use."""
+        px, py = self.vec(p)
+        k = self.index(link)
+        if k is None:
+            return px, py
+        if k not in self.framed:
+            self.framed.add(k)
+            self.lines.append(f"    c{k} = np.cos(t{k})")
+            self.lines.append(f"    s{k} = np.sin(t{k})")
+        return self.let(f"c{k} * {px} - s{k} * {py}"), self.let(f"s{k} * {px} + c{k} * {py}")
+
+    def world(self, link: str, p: np.ndarray) -> tuple[str, str]:
+        """Point ``p`` of ``link`` (local) in world coordinates."""
+        k = self.index(link)
+        if k is None:
+            return self.vec(p)
+        rx, ry = self.turned(link, p)
+        return self.let(f"x{k} + {rx}"), self.let(f"y{k} + {ry}")
+
+    def place(self, link: str, wx: str, wy: str, local: np.ndarray) -> None:
+        """Set the position of ``link`` (its angle set) so that its local point ``local``
+        lies at (``wx``, ``wy``), and write its pose into ``q``."""
+        k = self.index(link)
+        rx, ry = self.turned(link, local)
+        self.lines += [
+            f"    x{k} = {wx} - {rx}",
+            f"    y{k} = {wy} - {ry}",
+            f"    q[..., {3 * k}] = x{k}",
+            f"    q[..., {3 * k + 1}] = y{k}",
+            f"    q[..., {3 * k + 2}] = t{k}",
+        ]
+
+    def sign(self, g: int, sigma) -> str:
+        """Group g's branch sign: its start sign ``sigma`` times ``signs[..., g]``."""
+        s = self.const(sigma)
+        return self.let(f"{s} if signs is None else {s} * signs[..., {g}]")
 
 
-def _world(system: System, q: np.ndarray, link: str, p: np.ndarray, frames: dict) -> np.ndarray:
+def _world(system: System, q: np.ndarray, link: str, p: np.ndarray) -> np.ndarray:
+    """Point ``p`` of ``link`` in world coordinates at the pose ``q`` (the start pose)."""
     if link not in system.links:  # the ground (the moving links are the others)
         return np.broadcast_to(p, q.shape[:-1] + (2,))
     k = system.links.index(link)
-    return q[..., 3 * k : 3 * k + 2] + _turned(frames, link, q[..., 3 * k + 2], p)
+    return q[..., 3 * k : 3 * k + 2] + rotate(q[..., 3 * k + 2], p)
 
 
 def _angle(system: System, q: np.ndarray, link: str):
     if link not in system.links:  # the ground
         return np.zeros(q.shape[:-1])
     return q[..., 3 * system.links.index(link) + 2]
-
-
-def _place(
-    system: System,
-    q: np.ndarray,
-    link: str,
-    theta: np.ndarray,
-    world: np.ndarray,
-    local: np.ndarray,
-    frames: dict,
-) -> None:
-    """Set link's pose so that local point ``local`` lies at ``world``."""
-    k = system.links.index(link)
-    q[..., 3 * k + 2] = theta
-    q[..., 3 * k : 3 * k + 2] = world - _turned(frames, link, theta, local)
 
 
 def _heading(v: np.ndarray) -> np.ndarray:
@@ -110,50 +183,49 @@ def _split(plan, joints):
     return a, b, inner[0], ext_a[0], ext_b[0]
 
 
-def _rrr(system, plan, joints, q0) -> Solver | None:
+Group = Callable[[_Pass, int], None]  # writes group g's part of the pass
+
+
+def _rrr(system, plan, joints, q0) -> Group | None:
     parts = _split(plan, joints)
     if parts is None or not all(isinstance(j, Revolute) for j in parts[2:]):
         return None
     a, b, m, ja, jb = parts
     la_vec, lb_vec = _pin(m, a) - _pin(ja, a), _pin(m, b) - _pin(jb, b)
     la, lb = _norm(la_vec), _norm(lb_vec)
-    alpha_a, alpha_b = _heading(la_vec), _heading(lb_vec)
     if np.any(la == 0) or np.any(lb == 0):
         return None
-
-    def points(q, frames):
-        return (
-            _world(system, q, _other(ja, a), _pin(ja, _other(ja, a)), frames),
-            _world(system, q, _other(jb, b), _pin(jb, _other(jb, b)), frames),
-        )
-
-    pa0, pb0 = points(q0, {})
-    pm0 = _world(system, q0, a, _pin(m, a), {})
+    oa, ob = _other(ja, a), _other(jb, b)
+    pa0 = _world(system, q0, oa, _pin(ja, oa))
+    pb0 = _world(system, q0, ob, _pin(jb, ob))
+    pm0 = _world(system, q0, a, _pin(m, a))
     sigma = np.sign(cross(pb0 - pa0, pm0 - pa0))
 
-    def solve(q, psi, sign=None, frames=None):
-        sg = sigma if sign is None else sigma * sign
-        frames = {} if frames is None else frames
-        pa, pb = points(q, frames)
-        dv = pb - pa
-        d2 = dot(dv, dv)
-        d = np.sqrt(d2)
-        x = (la * la - lb * lb + d2) / (2 * d)
-        h2 = la * la - x * x
-        h = np.sqrt(np.maximum(h2, 0.0))
-        e = dv / d[..., None]
-        pm = pa + x[..., None] * e + (sg * h)[..., None] * perp(e)
-        ta = _heading(pm - pa) - alpha_a
-        tb = _heading(pm - pb) - alpha_b
-        _place(system, q, a, ta, pa, _pin(ja, a), frames)
-        _place(system, q, b, tb, pb, _pin(jb, b), frames)
-        return q, h2 / np.minimum(la, lb) ** 2
+    def write(w: _Pass, g: int) -> None:
+        sg = w.sign(g, sigma)
+        pax, pay = w.world(oa, _pin(ja, oa))
+        pbx, pby = w.world(ob, _pin(jb, ob))
+        dx, dy = w.let(f"{pbx} - {pax}"), w.let(f"{pby} - {pay}")
+        d2 = w.let(f"{dx} * {dx} + {dy} * {dy}")
+        d = w.let(f"np.sqrt({d2})")
+        x = w.let(f"({w.const(la * la - lb * lb)} + {d2}) / (2 * {d})")
+        h2 = w.let(f"{w.const(la * la)} - {x} * {x}")
+        sh = w.let(f"{sg} * np.sqrt(np.maximum({h2}, 0.0))")
+        ex, ey = w.let(f"{dx} / {d}"), w.let(f"{dy} / {d}")
+        pmx = w.let(f"{pax} + {x} * {ex} + {sh} * -{ey}")
+        pmy = w.let(f"{pay} + {x} * {ey} + {sh} * {ex}")
+        alpha_a, alpha_b = w.const(_heading(la_vec)), w.const(_heading(lb_vec))
+        w.set_angle(a, f"np.arctan2({pmy} - {pay}, {pmx} - {pax}) - {alpha_a}")
+        w.set_angle(b, f"np.arctan2({pmy} - {pby}, {pmx} - {pbx}) - {alpha_b}")
+        w.place(a, pax, pay, _pin(ja, a))
+        w.place(b, pbx, pby, _pin(jb, b))
+        w.lines.append(f"    D[..., {g}] = {h2} / {w.const(np.minimum(la, lb) ** 2)}")
 
-    return solve
+    return write
 
 
-def _rrp(system, plan, joints, q0) -> Solver | None:
-    """R (a, known) – R (a, b) – P (known link i carries the axis, b slides)."""
+def _rrp(system, plan, joints, q0) -> Group | None:
+    """R (a, known) – R (a, b) – P (known link k carries the axis, b slides)."""
     parts = _split(plan, joints)
     if parts is None:
         return None
@@ -168,45 +240,38 @@ def _rrp(system, plan, joints, q0) -> Solver | None:
     k = s.links[0]  # known link carrying the axis
     la_vec = _pin(m, a) - _pin(ja, a)
     la = _norm(la_vec)
-    alpha_a = _heading(la_vec)
     offset = _pin(m, b) - s.p  # from the sliding point to the pin, b's frame
+    oa = _other(ja, a)
+    tb0 = _angle(system, q0, k) + s.angle
+    u0 = rotate(_angle(system, q0, k), s.u)
+    pa0 = _world(system, q0, oa, _pin(ja, oa))
+    w0 = _world(system, q0, k, s.a) + rotate(tb0, offset) - pa0
+    pm0 = _world(system, q0, a, _pin(m, a))
+    sigma = np.sign(dot(pm0 - pa0 - w0, u0) + dot(w0, u0))
 
-    def frame(q, frames):  # b's angle is set to tb in this pass: its frame is kept
-        tk = _angle(system, q, k)
-        tb = tk + s.angle
-        u = _turned(frames, k, tk, s.u)
-        w = (
-            _world(system, q, k, s.a, frames)
-            + _turned(frames, b, tb, offset)
-            - _world(system, q, _other(ja, a), _pin(ja, _other(ja, a)), frames)
-        )
-        return tb, u, w
+    def write(w: _Pass, g: int) -> None:
+        sg = w.sign(g, sigma)
+        w.set_angle(b, f"{w.angle(k)} + {w.const(s.angle)}")
+        ux, uy = w.turned(k, s.u)
+        kax, kay = w.world(k, s.a)
+        ox, oy = w.turned(b, offset)
+        pax, pay = w.world(oa, _pin(ja, oa))
+        wx, wy = w.let(f"{kax} + {ox} - {pax}"), w.let(f"{kay} + {oy} - {pay}")
+        wu = w.let(f"{wx} * {ux} + {wy} * {uy}")
+        la2 = w.const(la * la)
+        disc = w.let(f"{wu} * {wu} - ({wx} * {wx} + {wy} * {wy}) + {la2}")
+        sval = w.let(f"-{wu} + {sg} * np.sqrt(np.maximum({disc}, 0.0))")
+        pmx, pmy = w.let(f"{pax} + {wx} + {sval} * {ux}"), w.let(f"{pay} + {wy} + {sval} * {uy}")
+        alpha_a = w.const(_heading(la_vec))
+        w.set_angle(a, f"np.arctan2({pmy} - {pay}, {pmx} - {pax}) - {alpha_a}")
+        w.place(a, pax, pay, _pin(ja, a))
+        w.place(b, pmx, pmy, _pin(m, b))
+        w.lines.append(f"    D[..., {g}] = {disc} / {la2}")
 
-    tb0, u0, w0 = frame(q0, {})
-    pm0 = _world(system, q0, a, _pin(m, a), {})
-    pa0 = _world(system, q0, _other(ja, a), _pin(ja, _other(ja, a)), {})
-    wu0 = dot(w0, u0)
-    s0 = dot(pm0 - pa0 - w0, u0)
-    sigma = np.sign(s0 + wu0)
-
-    def solve(q, psi, sign=None, frames=None):
-        sg = sigma if sign is None else sigma * sign
-        frames = {} if frames is None else frames
-        tb, u, w = frame(q, frames)
-        wu = dot(w, u)
-        disc = wu * wu - dot(w, w) + la * la
-        sval = -wu + sg * np.sqrt(np.maximum(disc, 0.0))
-        pa = _world(system, q, _other(ja, a), _pin(ja, _other(ja, a)), frames)
-        pm = pa + w + sval[..., None] * u
-        ta = _heading(pm - pa) - alpha_a
-        _place(system, q, a, ta, pa, _pin(ja, a), frames)
-        _place(system, q, b, tb, pm, _pin(m, b), frames)
-        return q, disc / (la * la)
-
-    return solve
+    return write
 
 
-def _rpr(system, plan, joints, q0) -> Solver | None:
+def _rpr(system, plan, joints, q0) -> Group | None:
     """R (a, known) – P (axis on b, a slides) – R (b, known)."""
     parts = _split(plan, joints)
     if parts is None or not isinstance(parts[2], Prismatic):
@@ -221,37 +286,27 @@ def _rpr(system, plan, joints, q0) -> Solver | None:
     n_l = perp(s.u)
     nu_ang = _heading(n_l)
     k_const = dot(n_l, e - rotate(s.angle, delta))
+    oa, ob = _other(ja, a), _other(jb, b)
+    dv0 = _world(system, q0, oa, _pin(ja, oa)) - _world(system, q0, ob, _pin(jb, ob))
+    sigma = -np.sign(wrap_angle(_heading(dv0) - nu_ang - _angle(system, q0, b)))
 
-    def ends(q, frames):
-        return (
-            _world(system, q, _other(ja, a), _pin(ja, _other(ja, a)), frames),
-            _world(system, q, _other(jb, b), _pin(jb, _other(jb, b)), frames),
-        )
+    def write(w: _Pass, g: int) -> None:
+        sg = w.sign(g, sigma)
+        pax, pay = w.world(oa, _pin(ja, oa))
+        pbx, pby = w.world(ob, _pin(jb, ob))
+        dx, dy = w.let(f"{pax} - {pbx}"), w.let(f"{pay} - {pby}")
+        c = w.let(f"{w.const(k_const)} / np.hypot({dx}, {dy})")
+        arc = f"np.arccos(np.clip({c}, -1.0, 1.0))"
+        w.set_angle(b, f"np.arctan2({dy}, {dx}) - {w.const(nu_ang)} + {sg} * {arc}")
+        w.set_angle(a, f"t{w.index(b)} + {w.const(s.angle)}")
+        w.place(b, pbx, pby, _pin(jb, b))
+        w.place(a, pax, pay, _pin(ja, a))
+        w.lines.append(f"    D[..., {g}] = 1.0 - {c} * {c}")
 
-    pa0, pb0 = ends(q0, {})
-    dv0 = pa0 - pb0
-    beta0 = _heading(dv0)
-    tb0 = _angle(system, q0, b)
-    sigma = -np.sign(wrap_angle(beta0 - nu_ang - tb0))
-
-    def solve(q, psi, sign=None, frames=None):
-        sg = sigma if sign is None else sigma * sign
-        frames = {} if frames is None else frames
-        pa, pb = ends(q, frames)
-        dv = pa - pb
-        d = np.hypot(dv[..., 0], dv[..., 1])
-        beta = np.arctan2(dv[..., 1], dv[..., 0])
-        c = k_const / d
-        tb = beta - nu_ang + sg * np.arccos(np.clip(c, -1.0, 1.0))
-        ta = tb + s.angle
-        _place(system, q, b, tb, pb, _pin(jb, b), frames)
-        _place(system, q, a, ta, pa, _pin(ja, a), frames)
-        return q, 1.0 - c * c
-
-    return solve
+    return write
 
 
-def _driven(system, plan, joints, q0) -> Solver | None:
+def _driven(system, plan, joints, q0) -> Group | None:
     """A single link on a revolute to a known link, its angle set by a driver."""
     if len(plan.group.links) != 1 or len(plan.group.drivers) != 1 or len(plan.group.joints) != 1:
         return None
@@ -265,19 +320,19 @@ def _driven(system, plan, joints, q0) -> Solver | None:
     other = _other(j, link)
     turn = 1.0 if j.links[1] == link else -1.0  # coordinate θ_j − θ_i
 
-    def solve(q, psi, sign=None, frames=None):
-        frames = {} if frames is None else frames
-        theta = _angle(system, q, other) + turn * (psi[..., d_index] - d.driver.offset)
-        at = _world(system, q, other, _pin(j, other), frames)
-        _place(system, q, link, theta, at, _pin(j, link), frames)
-        return q, np.ones(q.shape[:-1])
+    def write(w: _Pass, g: int) -> None:
+        psi = f"(psi[..., {d_index}] - {w.const(d.driver.offset)})"
+        w.set_angle(link, f"{w.angle(other)} + {turn!r} * {psi}")
+        atx, aty = w.world(other, _pin(j, other))
+        w.place(link, atx, aty, _pin(j, link))
+        w.lines.append(f"    D[..., {g}] = 1.0")
 
-    return solve
+    return write
 
 
-def closed_form(system: System, plan: GroupPlan, q0: np.ndarray) -> Solver | None:
-    """The closed-form solver of a group, given its Newton solution ``q0`` at
-    the sketched pose (which fixes the branch), or ``None``."""
+def closed_form(system: System, plan: GroupPlan, q0: np.ndarray) -> Group | None:
+    """The closed form of a group, given its Newton solution ``q0`` at the sketched pose
+    (which fixes the branch): the writer of its part of the pass, or ``None``."""
     joints = {j.name: j for j in system.model.joints}
     if plan.group.kind == "driven":
         return _driven(system, plan, joints, q0)
@@ -286,3 +341,19 @@ def closed_form(system: System, plan: GroupPlan, q0: np.ndarray) -> Solver | Non
     return {"RRR": _rrr, "RRP": _rrp, "RPR": _rpr}.get(plan.group.letters, lambda *a: None)(
         system, plan, joints, q0
     )
+
+
+def closed_forms(system: System, q0: np.ndarray) -> ClosedForms | None:
+    """Every group's closed form (:func:`closed_form`) as one generated pass, or None
+    where a group has none.  ``q0``: the start pose, ``(n_q,)`` or ``(V, 1, n_q)``."""
+    groups = [closed_form(system, plan, q0) for plan in system.plans]
+    if any(g is None for g in groups):
+        return None
+    w = _Pass(system)
+    w.lines.append(f"    D = np.empty(q.shape[:-1] + ({len(groups)},))")
+    for g, write in enumerate(groups):
+        write(w, g)
+    source = "\n".join(["def run(q, psi, signs):", *w.lines, "    return q, D"]) + "\n"
+    name = f"<closed forms of {system.model.name!r}>"
+    exec(compile(source, name, "exec"), w.env)  # noqa: S102  our own generated text
+    return ClosedForms(source, w.env["run"], len(groups))

@@ -10,34 +10,37 @@ is first analysed, and writes the stage as Python source — one straight line o
 whole-array operations per set and per group, the index arrays and block offsets as
 constants — compiled with :func:`compile` and kept in ``System.memo``:
 
-- Φ_q's group blocks: from :data:`KERNELS_FROM` positions on, a set whose joint type's
-  compiled-backend kernels hold over whole arrays (``Compiled.whole_array_kernels``:
-  plain arithmetic, the NumPy formulas' operations in their order) by its
-  ``jacobian_kernel`` run once with every position at each index (:func:`_objects`),
-  its entries scattered to the slots of
-  :class:`~kinetostatics.structure.evaluation.BlockLayout`; every other set (and every
-  set on fewer positions) by the contract's ``jacobian`` on its two links' poses
-  gathered once — the joints' formulas stay in ``joints/`` either way; the ground's
-  block kept for the shaking force as ``jacobian_blocks`` keeps it;
+- Φ_q's group blocks: a set whose joint type's compiled-backend kernels hold over whole
+  arrays (``Compiled.whole_array_kernels``: plain arithmetic, the NumPy formulas'
+  operations in their order) by its ``jacobian_kernel`` *traced*
+  (:mod:`~kinetostatics.base.trace`): run once on symbols, the kernel writes its
+  operations into the plan as lines over the links' pose components (``PE[i, c]``, each
+  one contiguous array over the positions), its entries assigned to their slots of
+  :class:`~kinetostatics.structure.evaluation.BlockLayout` — no call per joint or per
+  stack, and the terms the sets share (a link's rotated points, a prismatic pair's frame
+  in its Φ_q and its γ) computed once; every other set (a driver, a cam, a gear pair) by
+  the contract's ``jacobian`` on its two links' poses gathered once — the joints'
+  formulas stay in ``joints/`` either way; the ground's block kept for the shaking force
+  as ``jacobian_blocks`` keeps it;
 - the factorisation (:class:`~kinetostatics.base.linalg.BlockFactor`, its inverses by
   ``small_inverse`` as before) and q̇ by forward substitution over ν = −Φ_t gathered
-  as ``BlockFactor.solve`` gathers it;
-- γ by the ``gamma_kernel`` or ``acceleration_rhs`` of each set in the same way, from
-  the links' rates, and q̈ by the same substitution.
+  as ``BlockFactor.solve`` gathers it, the vectors stored component-major;
+- γ by the traced ``gamma_kernel`` (over the links' rates ``vr[i, c]``) or the contract's
+  ``acceleration_rhs`` of each set in the same way, and q̈ by the same substitution.
 
 The numbers are those of the general path: the same operations on the same operands
-in the same order (tests/kinematics/test_plan.py compares every column to 1e-12 of its
-scale on the shipped files and generated mechanisms).  The plan covers one model's rows
-(``q (N, n_q)``) on the NumPy backend, at any N where every stack of joints runs its
-type's kernels over whole arrays (revolute and prismatic pairs: joint by joint, as the
-general path evaluates a stack over more than
-:data:`~kinetostatics.structure.evaluation.STACK_UP_TO` positions), else up to that many;
+in the same order (a zero's sign aside: base/trace.py; tests/kinematics/test_plan.py
+compares every column to 1e-12 of its scale on the shipped files and generated
+mechanisms).  The plan covers one model's rows (``q (N, n_q)``) on the NumPy backend,
+at any N where every stack of joints is traced (revolute and prismatic pairs), else up
+to :data:`~kinetostatics.structure.evaluation.STACK_UP_TO`;
 stacked variants and the compiled backend take the general path, which stays the
 oracle.  ``kinematic_plan(system).source`` is the generated text.
 """
 
 from __future__ import annotations
 
+import numbers
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -45,6 +48,7 @@ import numpy as np
 
 from ..base import kernels
 from ..base.linalg import BlockFactor
+from ..base.trace import Lines, operand, pruned
 from ..structure.evaluation import STACK_UP_TO
 from ..structure.system import System, link_poses
 
@@ -54,19 +58,12 @@ ENABLED = True
 """The plan is used where it covers the rows (False: the general path everywhere, as the
 tests compare them)."""
 
-KERNELS_FROM = 64
-"""From this many positions on, the sets whose joint type's kernels hold over whole arrays
-(``Compiled.whole_array_kernels``) are evaluated by those kernels, run once with every
-position at each index (each formula one operation per component over contiguous
-arrays, joint by joint); below, through the contract's NumPy methods (a stack's joints
-in one operation per formula, which costs less when the arrays are short).  Measured by
-tests/benchmarks/bench_speed_calls.py ``--crossover``."""
-
 
 @dataclass(frozen=True, eq=False)
 class KinematicPlan:
     """The generated derivative stage of one system: ``source`` (its Python text) and
-    ``run(pe, psi_d, psi_dd) -> (qd, qdd, lu, ground)`` compiled from it."""
+    ``run(pe, psi_d, psi_dd) -> (qd, qdd, lu, ground)`` compiled from it (``qd``, ``qdd``
+    ``(N, n_q)`` views of component-major storage)."""
 
     source: str
     run: Callable
@@ -77,8 +74,7 @@ def covers(system: System, q: np.ndarray) -> bool:
     """Whether the plan takes the rows ``q``: one model's ``(N, n_q)``, on the NumPy
     backend, a system with an evaluation layout; more than :data:`STACK_UP_TO` rows only
     where no stack of joints goes through the contract's methods (``long_runs``: every
-    stacked type's kernels run over whole arrays, joint by joint, as the general path
-    evaluates a stack over that many positions)."""
+    stacked type's formulas traced)."""
     return (
         ENABLED
         and q.ndim == 2
@@ -110,37 +106,32 @@ def kinematic_plan(system: System) -> KinematicPlan:
     return plan
 
 
-# -- the joints' kernels over whole arrays -------------------------------------------------
-def _objects(a: np.ndarray) -> np.ndarray:
-    """The kernels' ``P (n + 1, 5, N)`` or ``V (n + 1, 3, N)`` for one pass over all the
-    positions at once: an object array ``(n + 1, c, 1)`` whose entry ``[i, c, 0]`` is
-    component c of link i over every position (a contiguous view of ``a``, stored
-    component-major as the poses and rates are), so that the kernel's arithmetic on
-    ``P[i, c, p]`` runs over whole arrays (its loop over the positions runs once)."""
-    out = np.empty(a.shape[:2] + (1,), dtype=object)
-    flat, parts = out.reshape(-1), a.reshape(-1, a.shape[-1])
-    for k in range(len(flat)):
-        flat[k] = parts[k]
-    return out
+# -- the joints' kernels, traced ----------------------------------------------------------
+class _Leaves:
+    """The kernels' ``P (n + 1, 5, 1)`` or ``V (n + 1, 3, 1)`` when traced: entry
+    ``[i, c, 0]`` is component c of link i over all the positions, the local
+    ``<array>[i, c]`` (of the component-major poses or rates) written at its first read;
+    the ground's (the last link) are numbers: its pose (0, 0, 0, 1, 0), its rates 0."""
+
+    def __init__(self, lines: Lines, array: str, n_links: int, ground: tuple):
+        self.lines, self.array, self.ground = lines, array, n_links
+        self.shape = (n_links + 1, len(ground), 1)
+        self.at_ground = ground
+
+    def __getitem__(self, key):
+        i, c, _ = key
+        if i == self.ground:
+            return self.at_ground[c]
+        return self.lines.value(f"{self.array}[{i}, {c}]")
 
 
-def _scatter(buf: np.ndarray, slots: np.ndarray, values: np.ndarray, add: bool) -> None:
-    """A kernel's entries ``values`` (objects: arrays over the positions, or constants)
-    to their slots among the group blocks, set (link i's side) or added (link j's), as
-    ``jacobian_blocks_all`` puts a set's two parts; a zero on zeros is left out."""
-    for at, value in zip(slots, values):
-        if type(value) is float and value == 0.0:
-            continue
-        if add:
-            buf[at] += value
-        else:
-            buf[at] = value
-
-
-def _rows(out: np.ndarray, rows: np.ndarray, values: np.ndarray) -> None:
-    """A γ kernel's entries ``values`` to their rows of γ, stored row-major ``(n_rows, N)``."""
-    for at, value in zip(rows, values):
-        out[at] = value
+def _traced(kernel, out_shapes: tuple, *args) -> list[np.ndarray]:
+    """The entries a kernel writes, traced (:mod:`~kinetostatics.base.trace`): object
+    arrays of ``out_shapes`` (the positions' axis of length 1) holding a local or a number
+    each."""
+    outs = [np.empty(shape, dtype=object) for shape in out_shapes]
+    kernel(*args, *outs)
+    return outs
 
 
 def _whole_array(s) -> np.ndarray | None:
@@ -168,54 +159,42 @@ def _generate(system: System) -> KinematicPlan:
 
 def written(system: System) -> tuple[list[str], dict]:
     """The plan's source lines for ``system`` and the names they read (the index arrays,
-    the constraints, the kernels), uncompiled (a benchmark times them statement by
-    statement: tests/benchmarks/bench_speed_calls.py)."""
-    env: dict = {"np": np, "BlockFactor": BlockFactor, "objects": _objects}
-    env |= {"scatter": _scatter, "to_rows": _rows}
-    lines = ["def run(pe, psi_d, psi_dd):", "    n = pe.shape[0]"]
-    gather = _blocks(system, env, lines)
+    the constraints), uncompiled (a benchmark times them statement by statement:
+    tests/benchmarks/bench_speed_calls.py)."""
+    env: dict = {"np": np, "BlockFactor": BlockFactor}
+    lines = ["def run(pe, psi_d, psi_dd):", "    n = pe.shape[0]", "    PE = pe.transpose(1, 2, 0)"]
+    traced = Lines()
+    gather = _blocks(system, env, lines, traced)
     _rates_of(system, env, lines)
-    _accelerations(system, env, lines, gather)
+    _accelerations(system, env, lines, gather, traced)
     lines.append("    return qd, qdd, lu, ground")
-    return lines, env
+    return pruned(lines), env
 
 
-def _blocks(system: System, env: dict, lines: list[str]) -> list[tuple[str, str, bool]]:
+def _blocks(system: System, env: dict, lines: list[str], traced: Lines) -> list[bool]:
     """Φ_q's group blocks ``D<g>``, ``L<g>``, the ground's ``ground`` and the factors ``lu``,
-    ``inv``; returns the names of each set's gathered poses and whether its type's
-    kernels run over whole arrays (from :data:`KERNELS_FROM` positions on)."""
+    ``inv``; returns whether each set's formulas are traced (its type's kernels)."""
     layout = system.layout
     assert layout is not None
     lines.append(f"    buf = np.zeros(({layout.size + 1}, n))")
-    kernels = False
+    poses = _Leaves(traced, "PE", len(system.links), (0.0, 0.0, 0.0, 1.0, 0.0))
     gather = []
     for k, s in enumerate(system.sets):
         env[f"C{k}"] = s.constraint
         env[f"TI{k}"], env[f"TJ{k}"] = layout.dest[k]
-        contract = _contract_jacobian(env, k, s)
         par = _whole_array(s)
-        gather.append((f"qi{k}", f"qj{k}", par is not None))
+        gather.append(par is not None)
         if par is None:
-            lines += contract
+            lines += _contract_jacobian(env, k, s)
             continue
-        if not kernels:  # the poses as the kernels read them, once
-            lines.append(f"    P = objects(pe.transpose(1, 2, 0)) if n >= {KERNELS_FROM} else None")
-            kernels = True
-        cls = type(s.constraint)
-        env[f"KJ{k}"], env[f"KG{k}"], env[f"KP{k}"] = cls.jacobian_kernel, cls.gamma_kernel, par
-        env[f"E{k}"] = s.ends
-        env[f"SHAPE{k}"] = (len(s.members),) + s.rows.shape[-1:] + (3, 1)
-        env[f"KI{k}"], env[f"KJI{k}"] = (d.reshape(-1) for d in layout.dest[k])
-        lines.append(f"    if n >= {KERNELS_FROM}:  # the type's kernel over whole arrays")
-        lines += [
-            f"        ji = np.empty(SHAPE{k}, dtype=object)",
-            f"        jj = np.empty(SHAPE{k}, dtype=object)",
-            f"        KJ{k}(KP{k}, P, E{k}, ji, jj)",
-            f"        scatter(buf, KI{k}, ji.reshape(-1), False)",
-            f"        scatter(buf, KJI{k}, jj.reshape(-1), True)",
-            "    else:",
-        ]
-        lines += ["    " + line for line in contract]
+        shape = (len(s.members),) + s.rows.shape[-1:] + (3, 1)
+        ji, jj = _traced(type(s.constraint).jacobian_kernel, (shape, shape), par, poses, s.ends)
+        for slots, values, op in ((layout.dest[k][0], ji, "="), (layout.dest[k][1], jj, "+=")):
+            for at, value in zip(slots.reshape(-1).tolist(), values.reshape(-1).tolist()):
+                if not (isinstance(value, numbers.Real) and value == 0.0):  # zero on zeros
+                    traced.lines.append(f"    buf[{at}] {op} {operand(value)}")
+        lines += traced.lines
+        traced.lines.clear()
 
     def view(at, copy=""):
         off, r, c = at
@@ -229,6 +208,10 @@ def _blocks(system: System, env: dict, lines: list[str]) -> list[tuple[str, str,
     ):
         lines.append(f"    D{g} = {view(d)}")
         lines.append(f"    L{g} = {'None' if lo is None else view(lo)}")
+        if lo is not None:
+            lines.append(
+                f"    LT{g} = buf[{lo[0]}:{lo[0] + lo[1] * lo[2]}].reshape({lo[1]}, {lo[2]}, n)"
+            )
         env[f"DONE{g}"], env[f"ROWS{g}"], env[f"COLS{g}"] = cols, p.rows, p.cols
         env[f"BLOCK{g}"] = (p.rows, p.cols)
         parts.append(f"(D{g}, L{g}, DONE{g})")
@@ -276,52 +259,77 @@ def _contract_gamma(env: dict, k: int, s) -> list[str]:
     return lines + [f"    gam[:, R{k}] = C{k}.acceleration_rhs(qi{k}, qj{k}, vi, vj{extra})"]
 
 
+def _index(name: str, at: np.ndarray) -> str:
+    """The text indexing the rows ``at`` (kept in the plan's names as ``name``): a slice
+    where they run in order (a view: no gather, and a product can write into it)."""
+    at = np.asarray(at).reshape(-1)
+    if at.size and np.array_equal(at, np.arange(at[0], at[0] + at.size)):
+        return f"{int(at[0])}:{int(at[0]) + at.size}"
+    return name
+
+
 def _substitution(system: System, x: str, rhs_of) -> list[str]:
     """``x`` by forward substitution over the groups, group g's right-hand side
-    ``rhs_of(g)`` (as :meth:`BlockFactor.solve` runs it)."""
+    ``rhs_of(g)`` (as :meth:`BlockFactor.solve` runs it), every vector stored
+    component-major (``(k, n)``: each component one contiguous run over the positions, as
+    the blocks' inverses are; a product over them runs ~2.5–3.5× faster than over
+    position-major vectors at 360 and 36,000 positions); ``x`` is the ``(n, n_q)`` view."""
     layout = system.layout
     assert layout is not None
-    lines = [f"    {x} = np.zeros((n, {system.n_q}))"]
-    for g in range(len(system.plans)):
-        rhs = rhs_of(g)
+    lines = [f"    {x}T = np.empty(({system.n_q}, n))"]
+    for g, p in enumerate(system.plans):
+        rhs = rhs_of(g)  # None: zero
         if layout.lower[g] is not None:
-            rhs = f"{rhs} - np.einsum('...ij,...j->...i', L{g}, {x}[:, DONE{g}])"
-        lines.append(f"    {x}[:, COLS{g}] = np.einsum('...ij,...j->...i', inv[{g}], {rhs})")
-    return lines
+            done = _index(f"DONE{g}", layout.lower_cols[g])
+            rhs = f"{rhs or ''} - np.einsum('ijn,jn->in', LT{g}, {x}T[{done}])".lstrip()
+        elif rhs is None:
+            rhs = f"np.zeros(({len(p.rows)}, n))"
+        cols, inv = _index(f"COLS{g}", p.cols), f"inv[{g}].transpose(1, 2, 0)"
+        if ":" in cols:
+            lines.append(f"    np.einsum('ijn,jn->in', {inv}, {rhs}, out={x}T[{cols}])")
+        else:
+            lines.append(f"    {x}T[{cols}] = np.einsum('ijn,jn->in', {inv}, {rhs})")
+    return lines + [f"    {x} = {x}T.T"]
 
 
 def _rates_of(system: System, env: dict, lines: list[str]) -> None:
     """q̇ from ν = −Φ_t (zero on the joints' rows, ψ̇ on the drivers'), gathered per group
-    as :meth:`BlockFactor.solve` gathers it (the same operands in the same memory order:
-    ``einsum`` sums in another order over another layout)."""
-    lines.append(f"    nu = np.concatenate((np.zeros((n, {system.n_joint_rows})), psi_d), axis=-1)")
-    lines += _substitution(system, "qd", lambda g: f"nu[:, ROWS{g}]")
+    as :meth:`BlockFactor.solve` gathers it (a group with no driver's row: its coupling
+    term alone, negated)."""
+    lines.append(f"    nu = np.zeros(({system.n_rows}, n))")
+    lines.append(f"    nu[{system.n_joint_rows}:] = psi_d.T")
+
+    def rhs(g):  # a group without a driver's row: ν = 0 on its rows
+        at = system.plans[g].rows
+        return f"nu[{_index(f'ROWS{g}', at)}]" if np.any(at >= system.n_joint_rows) else None
+
+    lines += _substitution(system, "qd", rhs)
 
 
-def _accelerations(system: System, env: dict, lines: list[str], gather: list) -> None:
-    """γ from the gathered poses and the links' rates (stored component-major as the poses
-    are, the ground's zeros last), then q̈."""
+def _accelerations(
+    system: System, env: dict, lines: list[str], gather: list[bool], traced: Lines
+) -> None:
+    """γ from the poses and the links' rates (stored component-major as the poses are, the
+    ground's zeros last), then q̈."""
     n_links = len(system.links)
     lines.append(f"    vr = np.zeros(({n_links + 1}, 3, n))")
-    lines.append(f"    vr[:{n_links}] = qd.reshape(n, {n_links}, 3).transpose(1, 2, 0)")
+    lines.append(f"    vr[:{n_links}] = qdT.reshape({n_links}, 3, n)")
     lines.append("    ve = vr.transpose(2, 0, 1)")
     lines.append(f"    rows = np.empty(({system.n_rows}, n))")
     lines.append("    gam = rows.T")
-    if any(k for _, _, k in gather):
-        lines.append(f"    V = objects(vr) if n >= {KERNELS_FROM} else None")
+    poses = _Leaves(traced, "PE", n_links, (0.0, 0.0, 0.0, 1.0, 0.0))
+    rates = _Leaves(traced, "vr", n_links, (0.0, 0.0, 0.0))
     for k, s in enumerate(system.sets):
-        contract = _contract_gamma(env, k, s)
-        if not gather[k][2]:
-            lines += contract
+        if not gather[k]:
+            lines += _contract_gamma(env, k, s)
             continue
-        env[f"KR{k}"] = s.rows.reshape(-1)
-        env[f"OUT{k}"] = s.rows.reshape(len(s.members), -1).shape + (1,)
-        lines += [
-            f"    if n >= {KERNELS_FROM}:",
-            f"        out = np.empty(OUT{k}, dtype=object)",
-            f"        KG{k}(KP{k}, P, V, E{k}, out)",
-            f"        to_rows(rows, KR{k}, out.reshape(-1))",
-            "    else:",
-        ]
-        lines += ["    " + line for line in contract]
-    lines += _substitution(system, "qdd", lambda g: f"gam[:, ROWS{g}]")
+        shape = s.rows.reshape(len(s.members), -1).shape + (1,)
+        kernel, par = type(s.constraint).gamma_kernel, _whole_array(s)
+        (out,) = _traced(kernel, (shape,), par, poses, rates, s.ends)
+        for at, value in zip(s.rows.reshape(-1).tolist(), out.reshape(-1).tolist()):
+            traced.lines.append(f"    rows[{at}] = {operand(value)}")
+        lines += traced.lines
+        traced.lines.clear()
+    lines += _substitution(
+        system, "qdd", lambda g: f"rows[{_index(f'ROWS{g}', system.plans[g].rows)}]"
+    )

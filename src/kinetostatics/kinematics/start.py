@@ -347,14 +347,14 @@ def start_pose(system: System, drive: Drive) -> tuple[np.ndarray, np.ndarray]:
     return cached[1].copy(), cached[2].copy()
 
 
-def closed_form_solvers(system: System, drive: Drive):
-    """The closed-form solvers of every group (cached with the start pose), or None.
+def closed_form_solvers(system: System, drive: Drive) -> dyads.ClosedForms | None:
+    """The closed forms of every group as one generated pass (:class:`~.dyads.ClosedForms`,
+    cached with the start pose), or None where a group has none.
 
     ``dyads.closed_form`` is looked up at the call (a benchmark switches it off)."""
     start_pose(system, drive)
     cached = system.memo["start"]
     if len(cached) == 3:
-        solvers = [dyads.closed_form(system, plan, cached[1]) for plan in system.plans]
-        cached = cached + (None if any(s is None for s in solvers) else solvers,)
+        cached = cached + (dyads.closed_forms(system, cached[1]),)
         system.memo["start"] = cached
     return cached[3]

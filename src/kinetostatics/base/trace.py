@@ -1,0 +1,141 @@
+"""Straight-line source from scalar kernels (internal).
+
+A joint type's compiled-backend kernels (``joints/``: ``jacobian_kernel``,
+``gamma_kernel``…) are plain arithmetic on the entries of their arrays, position by
+position.  Run once on :class:`Sym` entries instead of numbers, they *write* their
+formulas: each operation becomes one line ``e<k> = a op b`` of a :class:`Lines`, the
+operands named as they are in the generated function (a link's cos θ over all the
+positions, a constant written exactly by ``repr``).  The lines, run over whole arrays,
+are the kernel's operations in its order on the same operands — the same numbers to
+the bit — without a Python call per formula or per entry.  An operation already
+written (the same operator on the same operands) is not written again, so the kernels
+of one function share their common terms (a prismatic pair's frame: its Jacobian's and
+its γ's).  Operations on two numbers are done by Python at once (IEEE arithmetic, as
+NumPy's over an array), and the identities x·1 = x, x ± 0 = x, 0 − x = −x, x·(−1) = −x
+and x·0 = 0 are applied instead of written (a point on a link's x axis has a zero
+coordinate, the ground's frame is (1, 0)): the values are the kernel's for every finite
+x, a zero's sign aside (x·0 for an infinite or NaN x is NaN, which the other terms of
+such a row carry anyway).
+"""
+
+from __future__ import annotations
+
+import numbers
+import re
+from collections import Counter
+
+__all__ = ["Sym", "Lines", "operand", "pruned"]
+
+
+class Lines:
+    """The lines written so far (``lines``, each indented by four spaces) and the name of
+    each operation already written (``names``: its text -> its local)."""
+
+    def __init__(self, prefix: str = "e"):
+        self.lines: list[str] = []
+        self.names: dict[str, str] = {}
+        self.prefix = prefix
+
+    def value(self, text: str) -> Sym:
+        """The local set to the expression ``text`` (written once)."""
+        name = self.names.get(text)
+        if name is None:
+            name = self.names[text] = f"{self.prefix}{len(self.names)}"
+            self.lines.append(f"    {name} = {text}")
+        return Sym(name, self)
+
+
+def pruned(lines: list[str], prefix: str = "e") -> list[str]:
+    """``lines`` without the traced locals (``<prefix><k> = …``) that nothing reads: a
+    kernel's entry written as a zero (not scattered), a term only an identity read."""
+    name = re.compile(rf"\b{prefix}\d+\b")
+    defined = re.compile(rf"    ({prefix}\d+) = (.*)$")
+    uses = Counter(name.findall("\n".join(lines)))
+    keep = [True] * len(lines)
+    changed = True
+    while changed:
+        changed = False
+        for k in range(len(lines) - 1, -1, -1):
+            m = defined.match(lines[k]) if keep[k] else None
+            if m and uses[m.group(1)] == 1:  # its definition only
+                keep[k], changed = False, True
+                uses.subtract(name.findall(lines[k]))
+    return [line for line, kept in zip(lines, keep) if kept]
+
+
+def operand(x) -> str:
+    """The text of an operand: a local's name, or a number written exactly."""
+    if isinstance(x, Sym):
+        return x.name
+    if isinstance(x, numbers.Real):
+        text = repr(float(x))
+        return f"({text})" if text.startswith("-") or text in ("inf", "nan") else text
+    raise TypeError(f"a traced kernel read {type(x).__name__}, not a number")
+
+
+def _binary(op: str, a, b):
+    """``a op b``, one of them a :class:`Sym`; an identity with a number (x·1, x ± 0, x·0
+    and the like) is not written but given."""
+    sym, num = (a, b) if isinstance(a, Sym) else (b, a)
+    if isinstance(num, numbers.Real):
+        known = _IDENTITY.get((op, num is b, float(num)))
+        if known is not None:
+            return known(sym)
+    return sym.lines.value(f"{operand(a)} {op} {operand(b)}")
+
+
+# (operator, the number on the right, its value) -> the result, given the other operand x
+_IDENTITY = {
+    ("*", True, 1.0): lambda x: x,
+    ("*", False, 1.0): lambda x: x,
+    ("/", True, 1.0): lambda x: x,
+    ("*", True, -1.0): lambda x: -x,
+    ("*", False, -1.0): lambda x: -x,
+    ("+", True, 0.0): lambda x: x,
+    ("+", False, 0.0): lambda x: x,
+    ("-", True, 0.0): lambda x: x,
+    ("-", False, 0.0): lambda x: -x,
+    ("*", True, 0.0): lambda x: 0.0,
+    ("*", False, 0.0): lambda x: 0.0,
+}
+
+
+class Sym:
+    """A value of a traced kernel: the local ``name`` of :class:`Lines` ``lines``."""
+
+    __slots__ = ("name", "lines")
+    __array_ufunc__ = None  # NumPy's scalars and arrays defer to the operators below
+
+    def __init__(self, name: str, lines: Lines):
+        self.name = name
+        self.lines = lines
+
+    def __add__(self, other):
+        return _binary("+", self, other)
+
+    def __radd__(self, other):
+        return _binary("+", other, self)
+
+    def __sub__(self, other):
+        return _binary("-", self, other)
+
+    def __rsub__(self, other):
+        return _binary("-", other, self)
+
+    def __mul__(self, other):
+        return _binary("*", self, other)
+
+    def __rmul__(self, other):
+        return _binary("*", other, self)
+
+    def __truediv__(self, other):
+        return _binary("/", self, other)
+
+    def __rtruediv__(self, other):
+        return _binary("/", other, self)
+
+    def __neg__(self):
+        return self.lines.value(f"-{self.name}")
+
+    def __bool__(self):
+        raise TypeError("a traced kernel branched on a value (its formulas must be plain)")
