@@ -384,7 +384,7 @@ def rows(quick: bool, log=print, processes_too: bool = True) -> list[Row]:
     run = [str(script)] if script.exists() else [sys.executable, "-m", "kinetostatics.cli"]
     numpy_cmd = [sys.executable, "-c", "import numpy"]
     for what, env, target in (
-        ("bytecode written on the first run, as by default", written, "≤ 3×"),
+        ("bytecode written on the first run, as by default", written, "≤ 2.2×"),
         (
             "every module compiled on every run (PYTHONDONTWRITEBYTECODE=1)",
             dict(os.environ, PYTHONDONTWRITEBYTECODE="1"),

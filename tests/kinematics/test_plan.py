@@ -17,9 +17,14 @@ import pytest
 import kinetostatics as ks
 from kinetostatics.kinematics import plan
 from kinetostatics.kinematics.derivatives import derivatives
-from kinetostatics.kinematics.plan import covers, kinematic_plan, planned_derivatives
+from kinetostatics.kinematics.plan import (
+    covers,
+    kinematic_plan,
+    planned_derivatives,
+    planned_phi,
+)
 from kinetostatics.structure.evaluation import STACK_UP_TO
-from kinetostatics.structure.system import build_system
+from kinetostatics.structure.system import build_system, phi
 from tests.net import generate as gen
 
 FILES = sorted(glob.glob("mechanisms/*.yaml") + glob.glob("tests/hard/*.yaml"))
@@ -191,3 +196,37 @@ def test_plan_traces_the_pairs_formulas_at_any_number_of_positions(name):
     assert "PE[" in source and "vr[" in source and "kernel" not in source
     calls = source.count(".jacobian(")
     assert calls == sum(s.driver is not None for s in build_system(model).sets)
+
+
+def _random_rows(system, rng, n=40):
+    """Coordinates and driver coordinates off the path (Φ ≠ 0: the formulas hold anywhere)."""
+    q = rng.uniform(-2.0, 2.0, (n, system.n_q))
+    return q, rng.uniform(-3.0, 3.0, (n, len(system.motion_drivers)))
+
+
+@pytest.mark.parametrize("path", FILES)
+def test_planned_residuals_equal_phi(path):
+    """Φ by the residual plan (the pairs' residual kernels traced, the other sets by the
+    contract) equals ``phi`` at random rows of every shipped file and hard case, and at
+    more than STACK_UP_TO rows; stacked variants (3-D rows) go to ``phi`` itself."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        system = build_system(ks.load(path))
+    rng = np.random.default_rng(5)
+    for n in (1, 40, STACK_UP_TO + 7):
+        q, psi = _random_rows(system, rng, n)
+        want = phi(system, q, psi)
+        got = planned_phi(system, q, psi)
+        assert got.shape == want.shape
+        assert np.max(np.abs(got - want), initial=0.0) <= 1e-12 * max(1.0, np.max(np.abs(want)))
+    q3, psi3 = q[None, :5], psi[None, :5]
+    assert np.array_equal(planned_phi(system, q3, psi3), phi(system, q3, psi3))
+
+
+def test_planned_residuals_on_generated_mechanisms():
+    rng = np.random.default_rng(11)
+    for seed in range(1000, 1010):
+        system = build_system(gen.load(gen.generate(seed)))
+        q, psi = _random_rows(system, rng)
+        want = phi(system, q, psi)
+        assert np.max(np.abs(planned_phi(system, q, psi) - want)) <= 1e-12 * np.max(np.abs(want))

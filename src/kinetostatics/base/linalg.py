@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import functools
 import math
+from collections.abc import Callable
 
 import numpy as np
 
@@ -175,6 +176,7 @@ class _Plan:
         self.calls = len(self.stores) + sum(  # NumPy calls, for the cost (_sparse_pays)
             (1, 2, 2)[op[0]] if op[0] != _PIVOT else 5 + 2 * len(op[3]) for op in self.ops
         )
+        self.run = _written(self)  # the elimination as straight-line source
 
 
 _PLANS: dict[tuple[bytes, tuple[int, ...]], _Plan] = {}
@@ -190,51 +192,50 @@ def _plan(pattern: np.ndarray, order: list[int]) -> _Plan:
     return plan
 
 
-def _run(plan: _Plan, m: np.ndarray) -> tuple[list, np.ndarray]:
-    """Slots after the plan over entries ``m (n, n, N)``, and the largest pivot check
+def _written(plan: _Plan) -> Callable:
+    """The plan as one generated function ``run(m, entries) -> worst``: the loads from the
+    entries ``m (n, n, N)``, the operations in order (each slot a local), the stores into
+    ``entries (n², N)`` (zeros where the inverse has none), and the largest pivot check
     value per matrix: max |column below and at the pivot| / |pivot| (NaN where a pivot
-    is zero or not finite)."""
-    v: list = [None] * (2 * m.shape[0] ** 2)
-    for s, i, j in plan.loads:
-        v[s] = m[i, j]
-    worst = None
-    for op in plan.ops:
-        code, d, a, b = op
+    is zero or not finite).  Written once per plan: no Python-level dispatch per
+    operation."""
+    lines = ["def run(m, entries):"]
+    lines += [f"    v{s} = m[{i}, {j}]" for s, i, j in plan.loads]
+    first = True
+    for code, d, a, b in plan.ops:
         if code == _SUB:
-            v[d] = v[d] - v[a] * v[b]
+            lines.append(f"    v{d} = v{d} - v{a} * v{b}")
         elif code == _MUL:
-            v[d] = v[a] * v[b]
+            lines.append(f"    v{d} = v{a} * v{b}")
         elif code == _ADD:
-            v[d] = v[d] + v[a] * v[b]
+            lines.append(f"    v{d} = v{d} + v{a} * v{b}")
         else:  # d: the reciprocal's slot, a: the pivot's, b: the column below
-            piv = v[a]
-            rec = v[d] = 1.0 / piv
+            lines.append(f"    v{d} = 1.0 / v{a}")
             if b:
-                t = np.abs(piv)
-                for c in b:
-                    np.maximum(t, np.abs(v[c]), out=t)
-                t *= np.abs(rec)
+                lines.append(f"    t = np.abs(v{a})")
+                lines += [f"    np.maximum(t, np.abs(v{c}), out=t)" for c in b]
+                lines.append(f"    t *= np.abs(v{d})")
             else:  # 1, or NaN where the pivot is 0 or not finite
-                t = piv * rec
-            if worst is None:
-                worst = t
-            else:
-                np.maximum(worst, t, out=worst)
-    return v, worst
+                lines.append(f"    t = v{a} * v{d}")
+            lines.append("    worst = t" if first else "    np.maximum(worst, t, out=worst)")
+            first = False
+    for s, k, negate in plan.stores:
+        lines.append(
+            f"    np.negative(v{s}, out=entries[{k}])" if negate else f"    entries[{k}] = v{s}"
+        )
+    lines.append("    return worst")
+    env: dict = {"np": np}
+    exec(compile("\n".join(lines) + "\n", "<Gauss-Jordan plan>", "exec"), env)  # noqa: S102
+    return env["run"]
 
 
 def _sparse_gauss_jordan(m: np.ndarray, plan: _Plan) -> np.ndarray:
     """Inverses, entry-major ``(n, n, N)``, of the matrices whose entries are ``m (n, n, N)``, by
     :class:`_Plan`; a matrix failing the pivot check is inverted by LAPACK instead."""
     n, count = m.shape[0], m.shape[-1]
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        v, worst = _run(plan, m)
     entries = np.zeros((n * n, count))
-    for s, k, negate in plan.stores:
-        if negate:
-            np.negative(v[s], out=entries[k])
-        else:
-            entries[k] = v[s]
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        worst = plan.run(m, entries)
     out = entries.reshape(n, n, count)
     bad = ~(worst <= 1.0 / PIVOT_RATIO)
     if bad.any():

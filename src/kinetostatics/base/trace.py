@@ -134,6 +134,9 @@ class Sym:
     def __rtruediv__(self, other):
         return _binary("/", other, self)
 
+    def __mod__(self, other):
+        return _binary("%", self, other)
+
     def __neg__(self):
         return self.lines.value(f"-{self.name}")
 

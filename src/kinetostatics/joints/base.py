@@ -518,7 +518,8 @@ class Compiled:
         return replace(joints[0], name="+".join(j.name for j in joints), **fields)
 
     # the compiled backend's kernels (base/kernels.py): the same operations in the same order
-    # as jacobian, acceleration_rhs, motion_direction, coordinate_bias; None: by NumPy
+    # as residual, jacobian, acceleration_rhs, motion_direction, coordinate_bias; None: by NumPy
+    residual_kernel: ClassVar[Callable | None] = None  # (par, P, ends, out), traced only
     jacobian_kernel: ClassVar[Callable | None] = None  # (par, P, ends, ji, jj)
     gamma_kernel: ClassVar[Callable | None] = None  # (par, P, V, ends, out)
     direction_kernel: ClassVar[Callable | None] = None  # (par, P, ends, gi, gj)
@@ -553,8 +554,7 @@ class Shaped:
     """Optional: a pair whose geometry is built once from constants (a cam's profile
     synthesised from its law): the constants a stacked model cannot carry on a variant
     axis, the places where a derivative of its constraint jumps along the motion, and
-    what makes a start pose contradict it, and its design chart.  The defaults: none of
-    these."""
+    what makes a start pose contradict it, and its design chart.  Defaults: none of these."""
 
     def motion_breaks(self, qi: np.ndarray, qj: np.ndarray) -> np.ndarray:
         """Values whose sign changes mark where a derivative of the pair's constraint jumps

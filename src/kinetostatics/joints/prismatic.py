@@ -57,6 +57,16 @@ def _rates_at(ax, ay, px, py, V, i, j, p):
     return wi, ddx, ddy, wj2 * px + wi2 * ax, wj2 * py + wi2 * ay
 
 
+def _residual_kernel(par, P, ends, out):
+    for m in range(ends.shape[1]):
+        i, j = ends[0, m], ends[1, m]
+        for p in range(P.shape[2]):
+            ax, ay, ux, uy, px, py, dx, dy = _frame_at(par, P, m, i, j, p)
+            out[m, 0, p] = -uy * dx + ux * dy
+            turned = P[j, 2, p] - P[i, 2, p] - par[m, 6]
+            out[m, 1, p] = (turned + np.pi) % (2.0 * np.pi) - np.pi
+
+
 def _jacobian_kernel(par, P, ends, ji, jj):
     for m in range(ends.shape[1]):
         i, j = ends[0, m], ends[1, m]
@@ -284,6 +294,7 @@ class Prismatic(Joint, Presentation, Friction, Compiled, kind="prismatic"):
         )
 
     # -- compiled backend (base/kernels.py): the formulas above, position by position --
+    residual_kernel = staticmethod(_residual_kernel)
     jacobian_kernel = staticmethod(_jacobian_kernel)
     gamma_kernel = staticmethod(_gamma_kernel)
     direction_kernel = staticmethod(_direction_kernel)

@@ -45,6 +45,16 @@ __all__ = ["Revolute"]
 # the same numbers to the bit.  ``par[m]`` = (p_i, p_j) of joint m of a stack; P (n + 1, 5, N)
 # the poses (x, y, θ, cos θ, sin θ), V (n + 1, 3, N) the rates, component-major; the
 # friction kernel reads λ from ``x (N, n_λ)`` at its ``rows (k, 2)``, ``par[m]`` = (ρ,).
+def _residual_kernel(par, P, ends, out):
+    for m in range(ends.shape[1]):
+        i, j = ends[0, m], ends[1, m]
+        ax, ay, bx, by = par[m, 0], par[m, 1], par[m, 2], par[m, 3]
+        for p in range(P.shape[2]):
+            ci, si, cj, sj = P[i, 3, p], P[i, 4, p], P[j, 3, p], P[j, 4, p]
+            out[m, 0, p] = P[i, 0, p] + (ci * ax - si * ay) - P[j, 0, p] - (cj * bx - sj * by)
+            out[m, 1, p] = P[i, 1, p] + (si * ax + ci * ay) - P[j, 1, p] - (sj * bx + cj * by)
+
+
 def _jacobian_kernel(par, P, ends, ji, jj):
     for m in range(ends.shape[1]):
         i, j = ends[0, m], ends[1, m]
@@ -227,6 +237,7 @@ class Revolute(Joint, Presentation, Friction, Compiled, kind="revolute"):
         return RelativeMotion(qj[:2] + turn(qj, self.p_j), self.point_names[1], turns=True)
 
     # -- compiled backend (base/kernels.py): the formulas above, position by position --
+    residual_kernel = staticmethod(_residual_kernel)
     jacobian_kernel = staticmethod(_jacobian_kernel)
     gamma_kernel = staticmethod(_gamma_kernel)
     direction_kernel = staticmethod(_direction_kernel)

@@ -14,6 +14,7 @@ from ..structure.system import System, phi
 from .continuation import COARSE_STEP, Drive, Singularity, time_step
 from .dyads import MARGIN, ClosedForms
 from .newton import DISC_TOL, MAX_ITER, TOL, group_condition
+from .plan import planned_phi
 from .schedule import Schedule
 
 __all__ = ["DISC_SCAN", "DISC_NEAR", "path_times", "closed_form_path", "closed_form_near"]
@@ -73,7 +74,11 @@ def closed_form_path(
     q[..., ang] += (2 * np.pi * np.round((q0[:, 0, ang] - q[:, start, ang]) / (2 * np.pi)))[:, None]
     q = np.ascontiguousarray(q[:, :start])
     probe = slice(None, None, max(1, start // 32))
-    res = np.max(np.abs(phi(system, q[:, probe], psi[:start][probe])), axis=(-2, -1))
+    if n_v == 1:  # one model: Φ by its plan (the pairs' residuals written out)
+        at = planned_phi(system, q[0, probe], psi[:start][probe])[None]
+    else:
+        at = phi(system, q[:, probe], psi[:start][probe])
+    res = np.max(np.abs(at), axis=(-2, -1))
     ok &= res <= 1e3 * TOL * np.ravel(np.broadcast_to(system.l_ref, (n_v, 1)))
     if singular is None:
         for f in flips:
@@ -198,7 +203,8 @@ def _change_points(
             tm = _minimum_in(disc, g, a_t, b_t, 1e-9 * fine)
             dm = disc(tm)[0][..., g]
             ok &= np.all(~valid | (dm >= -DISC_TOL), axis=-1)
-            flips[g] = np.where(valid & (np.abs(dm) <= DISC_TOL), tm, np.nan)
+            f = np.where(valid & (np.abs(dm) <= DISC_TOL), tm, np.nan)
+            flips[g] = f[:, ~np.all(np.isnan(f), axis=0)]  # a column of NaN counts nowhere
             if not np.all(np.isnan(flips[g])):
                 break  # the later groups see these change points
         g0 = g + 1

@@ -50,9 +50,16 @@ from ..base import kernels
 from ..base.linalg import BlockFactor
 from ..base.trace import Lines, operand, pruned
 from ..structure.evaluation import STACK_UP_TO
-from ..structure.system import System, link_poses
+from ..structure.system import System, link_poses, phi
 
-__all__ = ["KinematicPlan", "kinematic_plan", "planned_derivatives", "written", "ENABLED"]
+__all__ = [
+    "KinematicPlan",
+    "kinematic_plan",
+    "planned_derivatives",
+    "planned_phi",
+    "written",
+    "ENABLED",
+]
 
 ENABLED = True
 """The plan is used where it covers the rows (False: the general path everywhere, as the
@@ -98,6 +105,20 @@ def planned_derivatives(
     return qd, qdd, lu
 
 
+def planned_phi(system: System, q: np.ndarray, psi: np.ndarray) -> np.ndarray:
+    """Φ of every constraint at one model's rows ``q (N, n_q)``, ψ ``(N, n_d)``, as
+    :func:`~kinetostatics.structure.system.phi` gives it: the revolute and prismatic pairs'
+    ``residual_kernel`` traced into one function per system (the other sets by the
+    contract's ``residual``), or by ``phi`` itself where that does not cover the rows
+    (stacked variants; more than ``STACK_UP_TO`` rows of a stack without kernels)."""
+    plan = system.memo.get("residual plan")
+    if plan is None:
+        plan = system.memo["residual plan"] = _generate_residual(system)
+    if q.ndim != 2 or (q.shape[0] > STACK_UP_TO and not plan.long_runs):
+        return phi(system, q, psi)
+    return plan.run(link_poses(system, q), psi)
+
+
 def kinematic_plan(system: System) -> KinematicPlan:
     """The system's :class:`KinematicPlan`, generated on first use and kept with it."""
     plan = system.memo.get("kinematic plan")
@@ -134,16 +155,52 @@ def _traced(kernel, out_shapes: tuple, *args) -> list[np.ndarray]:
     return outs
 
 
-def _whole_array(s) -> np.ndarray | None:
-    """The kernels' parameters of set ``s`` where its joint type's kernels also hold over
-    whole arrays (``Compiled.whole_array_kernels``: plain arithmetic, no branch on a
+def _whole_array(s, kernels=("jacobian_kernel", "gamma_kernel")) -> np.ndarray | None:
+    """The kernels' parameters of set ``s`` where its joint type's ``kernels`` also hold
+    over whole arrays (``Compiled.whole_array_kernels``: plain arithmetic, no branch on a
     value), else None: the set is evaluated through the contract's NumPy methods."""
     cls = type(s.constraint)
     if s.driver is not None or not cls.whole_array_kernels:
         return None
-    if cls.jacobian_kernel is None or cls.gamma_kernel is None:
+    if any(getattr(cls, k) is None for k in kernels):
         return None
     return s.constraint.kernel_params(len(s.members))
+
+
+def _generate_residual(system: System) -> KinematicPlan:
+    """Φ's function for ``system``: ``run(pe, psi) -> (N, n_rows)``."""
+    lines = ["def run(pe, psi):", "    n = pe.shape[0]", "    PE = pe.transpose(1, 2, 0)"]
+    lines.append(f"    rows = np.empty(({system.n_rows}, n))")
+    lines.append("    out = rows.T")
+    env: dict = {"np": np}
+    traced = Lines()
+    poses = _Leaves(traced, "PE", len(system.links), (0.0, 0.0, 0.0, 1.0, 0.0))
+    long_runs = True
+    for k, s in enumerate(system.sets):
+        par = _whole_array(s, ("residual_kernel",))
+        if par is None:
+            long_runs &= not s.stacked
+            env[f"C{k}"], env[f"R{k}"] = s.constraint, s.rows if s.stacked else s.rows[0]
+            env[f"EI{k}"], env[f"EJ{k}"] = s.ends[0], s.ends[1]
+            extra = "" if s.driver is None else f", psi[:, {s.driver}]"
+            lines.append(
+                f"    out[:, R{k}] = C{k}.residual(np.take(pe, EI{k}, axis=1), "
+                f"np.take(pe, EJ{k}, axis=1){extra})"
+                if s.stacked
+                else f"    out[:, R{k}] = C{k}.residual(pe[:, {int(s.ends[0, 0])}, :], "
+                f"pe[:, {int(s.ends[1, 0])}, :]{extra})"
+            )
+            continue
+        shape = s.rows.reshape(len(s.members), -1).shape + (1,)
+        (res,) = _traced(type(s.constraint).residual_kernel, (shape,), par, poses, s.ends)
+        for at, value in zip(s.rows.reshape(-1).tolist(), res.reshape(-1).tolist()):
+            traced.lines.append(f"    rows[{at}] = {operand(value)}")
+        lines += traced.lines
+        traced.lines.clear()
+    lines.append("    return out")
+    source = "\n".join(pruned(lines)) + "\n"
+    exec(compile(source, f"<residuals of {system.model.name!r}>", "exec"), env)  # noqa: S102
+    return KinematicPlan(source, env["run"], long_runs)
 
 
 # -- the generator ------------------------------------------------------------------------
