@@ -142,13 +142,21 @@ def test_rows_it_does_not_cover_take_the_general_path():
     assert planned_derivatives(system, stacked, ones[None], ones[None]) is None
 
 
-@pytest.mark.parametrize("name", ["slider_crank", "slotting_machine", "cam_roller"])
-def test_a_long_run_is_planned_and_equals_the_general_path(name):
+@pytest.mark.parametrize(
+    ("name", "n"),
+    [
+        ("slider_crank", STACK_UP_TO + 10),
+        ("slotting_machine", STACK_UP_TO + 10),
+        ("cam_roller", STACK_UP_TO + 10),
+        ("slotting_machine", 3 * 8192 + 7),  # in chunks (CHUNK_BYTES), each its own blocks
+    ],
+)
+def test_a_long_run_is_planned_and_equals_the_general_path(name, n):
     """Over more than STACK_UP_TO positions the plan still covers the rows (its stacks
-    run their kernels joint by joint, as the general path does there): every column of
-    the general path's analysis to 1e-12 of its scale."""
+    run their kernels joint by joint, as the general path does there), and over more
+    than a chunk it runs them chunk by chunk: every column of the general path's analysis
+    to 1e-12 of its scale."""
     model = ks.load(f"mechanisms/{name}.yaml")
-    n = STACK_UP_TO + 10
     angles = model.analysis.start + np.linspace(0.0, 2 * np.pi, n, endpoint=False)
     general = _analyse(model, False, positions=angles, friction=False)
     general.system.memo.pop("kinematic plan", None)
@@ -177,7 +185,7 @@ def test_plan_is_readable_source_kept_with_the_system():
     system = build_system(ks.load("mechanisms/slider_crank.yaml"))
     p = kinematic_plan(system)
     assert p is kinematic_plan(system)  # generated once
-    assert p.source.startswith("def run(pe, psi_d, psi_dd):")
+    assert p.source.startswith("def run(pe, psi_d, psi_dd, buf, qdT, qddT, INV):")
     assert ".jacobian(" in p.source and ".acceleration_rhs(" in p.source
     assert len(p.source.splitlines()) < 20 * (len(system.sets) + len(system.plans)) + 20
 

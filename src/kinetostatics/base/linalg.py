@@ -229,11 +229,13 @@ def _written(plan: _Plan) -> Callable:
     return env["run"]
 
 
-def _sparse_gauss_jordan(m: np.ndarray, plan: _Plan) -> np.ndarray:
+def _sparse_gauss_jordan(m: np.ndarray, plan: _Plan, entries=None) -> np.ndarray:
     """Inverses, entry-major ``(n, n, N)``, of the matrices whose entries are ``m (n, n, N)``, by
-    :class:`_Plan`; a matrix failing the pivot check is inverted by LAPACK instead."""
+    :class:`_Plan`, into ``entries (n², N)`` if given (zeros where the plan stores none);
+    a matrix failing the pivot check is inverted by LAPACK instead."""
     n, count = m.shape[0], m.shape[-1]
-    entries = np.zeros((n * n, count))
+    if entries is None:
+        entries = np.zeros((n * n, count))
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         worst = plan.run(m, entries)
     out = entries.reshape(n, n, count)
@@ -256,8 +258,10 @@ SPARSE_FROM = 32  # matrices; below, LAPACK whatever the pattern (~15 µs of pat
 # and pivots saved; the elimination pays from ~40–60 dyad blocks on, _sparse_pays)
 
 
-def small_inverse(a: np.ndarray) -> np.ndarray:
-    """Inverses of a stack of square matrices ``(..., n, n)``.
+def small_inverse(a: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+    """Inverses of a stack of square matrices ``(..., n, n)``; with ``out``, written into
+    it (entry-major storage ``(n, n, ...)``, zeros where the inverse has none) and
+    returned as its view ``(..., n, n)``.
 
     Up to 3×3 the adjugate over the determinant, a few whole-array operations instead
     of one LAPACK call per matrix (~10× faster over 36,000 positions; the same
@@ -283,25 +287,36 @@ def small_inverse(a: np.ndarray) -> np.ndarray:
     if n > 3:
         count = math.prod(a.shape[:-2])
         if count < SPARSE_FROM:
-            return _lapack_inverse(a)
+            return _into(_lapack_inverse(a), out)
         m = entries_first(a).reshape(n, n, count)  # a view for the
         plan = _plan(np.any(m != 0, axis=-1), _first_pivots(m[:, :, 0]))  # blocks as built
         if not plan.feasible or not _sparse_pays(n, count, plan):
-            return _lapack_inverse(a)
-        return entries_last(_sparse_gauss_jordan(m, plan).reshape((n, n) + a.shape[:-2]))
+            return _into(_lapack_inverse(a), out)
+        entries = None if out is None else out.reshape(n * n, count)
+        return entries_last(_sparse_gauss_jordan(m, plan, entries).reshape((n, n) + a.shape[:-2]))
+    if out is None:
+        out = np.empty((n, n) + a.shape[:-2])
     if kernels.active():  # the same operations, position by position (base/kernels.py)
-        inv, det = np.empty((n, n) + a.shape[:-2]), np.empty(a.shape[:-2])
+        det = np.empty(a.shape[:-2])
         m = entries_first(a).reshape(n, n, -1)
-        kernels.compiled(_adjugate_inverse)(m, inv.reshape(n, n, -1), det.reshape(-1))
-        inv = entries_last(inv)
+        kernels.compiled(_adjugate_inverse)(m, out.reshape(n, n, -1), det.reshape(-1))
     else:
         adj, det = _adjugate(a)
         with np.errstate(divide="ignore", invalid="ignore"):
-            inv = entries_last(adj / det)
+            np.divide(adj, det, out=out)
+    inv = entries_last(out)
     singular = (det == 0) & np.all(np.isfinite(a), axis=(-2, -1))
     if singular.any():
         inv[singular] = np.linalg.pinv(a[singular])
     return inv
+
+
+def _into(inv: np.ndarray, out: np.ndarray | None) -> np.ndarray:
+    """LAPACK's inverses ``inv (..., n, n)``, or their copy into ``out`` (entry-major)."""
+    if out is None:
+        return inv
+    out[...] = entries_first(inv)
+    return entries_last(out)
 
 
 @functools.lru_cache(maxsize=1024)
@@ -327,7 +342,7 @@ class BlockFactor:
     the group's rows × the earlier groups' columns its constraints touch (None and an
     empty array for none), as :func:`~kinetostatics.structure.system.jacobian_blocks`
     builds them without the structural zeros.  Given ``jac``, a coupling block spans all
-    the earlier columns.
+    the earlier columns.  ``inv``: the diagonal blocks' inverses, if computed already.
     """
 
     def __init__(
@@ -335,6 +350,7 @@ class BlockFactor:
         jac: np.ndarray | None,
         blocks: list[tuple[np.ndarray, np.ndarray]],
         parts: list[tuple[np.ndarray, np.ndarray | None, np.ndarray]] | None = None,
+        inv: list[np.ndarray] | None = None,
     ):
         self.blocks = blocks
         self._jac = jac
@@ -346,7 +362,7 @@ class BlockFactor:
                 parts.append((jac[..., rows[:, None], cols], lower, done))
                 done = np.concatenate((done, cols))
         self.diag = [d for d, _, _ in parts]
-        self.inv = [small_inverse(d) for d in self.diag]
+        self.inv = [small_inverse(d) for d in self.diag] if inv is None else inv
         self._lower = [(cols, lower) for _, lower, cols in parts]  # coupling: rows × cols
         self._upper = None
 

@@ -47,7 +47,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..base import kernels
-from ..base.linalg import BlockFactor
+from ..base.arrays import entries_last
+from ..base.linalg import BlockFactor, small_inverse
 from ..base.trace import Lines, operand, pruned
 from ..structure.evaluation import STACK_UP_TO
 from ..structure.system import System, link_poses, phi
@@ -66,11 +67,21 @@ ENABLED = True
 tests compare them)."""
 
 
+CHUNK_BYTES = 4 * 2**20
+"""Rows are run in chunks whose Φ_q entries take about this much memory (1,024–8,192
+positions): over tens of thousands of positions the whole-array temporaries of one pass
+leave the caches.  In chunks the slotting machine's kinematics at 36,000 positions takes
+~0.8 of its time in one pass, the slider-crank's about the same (each chunk's blocks are
+inverted on their own, by the same formulas)."""
+
+
 @dataclass(frozen=True, eq=False)
 class KinematicPlan:
-    """The generated derivative stage of one system: ``source`` (its Python text) and
-    ``run(pe, psi_d, psi_dd) -> (qd, qdd, lu, ground)`` compiled from it (``qd``, ``qdd``
-    ``(N, n_q)`` views of component-major storage)."""
+    """A generated stage of one system: ``source`` (its Python text) and ``run`` compiled
+    from it — the derivatives' ``run(pe, psi_d, psi_dd, buf, qdT, qddT, INV)`` writes Φ_q's
+    entries into ``buf`` (zeros), the blocks' inverses into ``INV`` (zeros, entry-major)
+    and q̇, q̈ (component-major) into ``qdT``, ``qddT``, all the caller's; the residuals'
+    ``run(pe, psi)`` returns Φ."""
 
     source: str
     run: Callable
@@ -96,13 +107,42 @@ def planned_derivatives(
     system: System, q: np.ndarray, psi_d: np.ndarray, psi_dd: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, BlockFactor] | None:
     """(q̇, q̈, factorised Φ_q) by the system's plan, as ``derivatives`` gives them, or None
-    where the plan does not cover the rows (:func:`covers`)."""
+    where the plan does not cover the rows (:func:`covers`).  The plan writes into arrays
+    made here, each entry of a block and each component one contiguous array over the
+    rows, and the block factor is made of their views (an entry that no constraint has
+    stays an untouched page of zeros); the rows are run in chunks (:data:`CHUNK_BYTES`)."""
     if not covers(system, q):
         return None
+    layout = system.layout
+    assert layout is not None
+    n, run = len(q), kinematic_plan(system).run
     pe = link_poses(system, q)
-    qd, qdd, lu, ground = kinematic_plan(system).run(pe, psi_d, psi_dd)
+    buf = np.zeros((layout.size + 1, n))
+    qdT, qddT = np.empty((system.n_q, n)), np.empty((system.n_q, n))
+    inv = [np.zeros((len(p.cols), len(p.cols), n)) for p in system.plans]
+    per = min(max(CHUNK_BYTES // (8 * (layout.size + 1)), 1024), 8192)
+    if n <= per:
+        run(pe, psi_d, psi_dd, buf, qdT, qddT, inv)
+    else:
+        cuts = np.linspace(0, n, -(-n // per) + 1).astype(int)  # alike, none tiny
+        for a, b in zip(cuts[:-1].tolist(), cuts[1:].tolist()):
+            chunk = [x[..., a:b] for x in inv]
+            run(pe[a:b], psi_d[a:b], psi_dd[a:b], buf[:, a:b], qdT[:, a:b], qddT[:, a:b], chunk)
+    parts = [
+        (_block(buf, d, n), None if lo is None else _block(buf, lo, n), cols)
+        for d, lo, cols in zip(layout.diag, layout.lower, layout.lower_cols)
+    ]
+    blocks = [(p.rows, p.cols) for p in system.plans]
+    lu = BlockFactor(None, blocks, parts, inv=[entries_last(x) for x in inv])
+    ground = None if layout.ground is None else _block(buf, layout.ground, n).copy()
     system.memo["ground_jacobian"] = (pe, ground)
-    return qd, qdd, lu
+    return qdT.T, qddT.T, lu
+
+
+def _block(buf: np.ndarray, at, n: int) -> np.ndarray:
+    """A block ``(n, rows, cols)`` of the entries ``buf`` at ``at`` (offset, rows, cols)."""
+    off, r, c = at
+    return buf[off : off + r * c].reshape(r, c, n).transpose(2, 0, 1)
 
 
 def planned_phi(system: System, q: np.ndarray, psi: np.ndarray) -> np.ndarray:
@@ -218,22 +258,26 @@ def written(system: System) -> tuple[list[str], dict]:
     """The plan's source lines for ``system`` and the names they read (the index arrays,
     the constraints), uncompiled (a benchmark times them statement by statement:
     tests/benchmarks/bench_speed_calls.py)."""
-    env: dict = {"np": np, "BlockFactor": BlockFactor}
-    lines = ["def run(pe, psi_d, psi_dd):", "    n = pe.shape[0]", "    PE = pe.transpose(1, 2, 0)"]
+    env: dict = {"np": np, "invert": small_inverse}
+    lines = [
+        "def run(pe, psi_d, psi_dd, buf, qdT, qddT, INV):",
+        "    n = pe.shape[0]",
+        "    PE = pe.transpose(1, 2, 0)",
+    ]
     traced = Lines()
     gather = _blocks(system, env, lines, traced)
     _rates_of(system, env, lines)
     _accelerations(system, env, lines, gather, traced)
-    lines.append("    return qd, qdd, lu, ground")
     return pruned(lines), env
 
 
 def _blocks(system: System, env: dict, lines: list[str], traced: Lines) -> list[bool]:
-    """Φ_q's group blocks ``D<g>``, ``L<g>``, the ground's ``ground`` and the factors ``lu``,
-    ``inv``; returns whether each set's formulas are traced (its type's kernels)."""
+    """Φ_q's entries into ``buf`` (the caller's zeros), the diagonal blocks' inverses into
+    ``INV`` (entry-major, each group's ``(k, k, n)``), the coupling blocks ``LT<g>``
+    (component-major); returns whether each set's formulas are traced (its type's
+    kernels)."""
     layout = system.layout
     assert layout is not None
-    lines.append(f"    buf = np.zeros(({layout.size + 1}, n))")
     poses = _Leaves(traced, "PE", len(system.links), (0.0, 0.0, 0.0, 1.0, 0.0))
     gather = []
     for k, s in enumerate(system.sets):
@@ -252,30 +296,20 @@ def _blocks(system: System, env: dict, lines: list[str], traced: Lines) -> list[
                     traced.lines.append(f"    buf[{at}] {op} {operand(value)}")
         lines += traced.lines
         traced.lines.clear()
-
-    def view(at, copy=""):
-        off, r, c = at
-        return f"buf[{off}:{off + r * c}]{copy}.reshape({r}, {c}, n).transpose(2, 0, 1)"
-
-    ground = "None" if layout.ground is None else view(layout.ground, ".copy()")
-    lines.append(f"    ground = {ground}")
-    parts, blocks = [], []
-    for g, (p, d, lo, cols) in enumerate(
-        zip(system.plans, layout.diag, layout.lower, layout.lower_cols)
-    ):
-        lines.append(f"    D{g} = {view(d)}")
-        lines.append(f"    L{g} = {'None' if lo is None else view(lo)}")
+    for g, (d, lo) in enumerate(zip(layout.diag, layout.lower)):
+        lines.append(f"    invert({_view(d)}, INV[{g}])")
         if lo is not None:
-            lines.append(
-                f"    LT{g} = buf[{lo[0]}:{lo[0] + lo[1] * lo[2]}].reshape({lo[1]}, {lo[2]}, n)"
-            )
-        env[f"DONE{g}"], env[f"ROWS{g}"], env[f"COLS{g}"] = cols, p.rows, p.cols
-        env[f"BLOCK{g}"] = (p.rows, p.cols)
-        parts.append(f"(D{g}, L{g}, DONE{g})")
-        blocks.append(f"BLOCK{g}")
-    lines.append(f"    lu = BlockFactor(None, [{', '.join(blocks)}], [{', '.join(parts)}])")
-    lines.append("    inv = lu.inv")
+            off, r, c = lo
+            lines.append(f"    LT{g} = buf[{off}:{off + r * c}].reshape({r}, {c}, n)")
+        env[f"DONE{g}"], env[f"ROWS{g}"] = layout.lower_cols[g], system.plans[g].rows
+        env[f"COLS{g}"] = system.plans[g].cols
     return gather
+
+
+def _view(at, copy: str = "") -> str:
+    """The text of a block's view ``(n, rows, cols)`` of ``buf`` (its offset, rows, cols)."""
+    off, r, c = at
+    return f"buf[{off}:{off + r * c}]{copy}.reshape({r}, {c}, n).transpose(2, 0, 1)"
 
 
 def _contract_jacobian(env: dict, k: int, s) -> list[str]:
@@ -330,10 +364,10 @@ def _substitution(system: System, x: str, rhs_of) -> list[str]:
     ``rhs_of(g)`` (as :meth:`BlockFactor.solve` runs it), every vector stored
     component-major (``(k, n)``: each component one contiguous run over the positions, as
     the blocks' inverses are; a product over them runs ~2.5–3.5× faster than over
-    position-major vectors at 360 and 36,000 positions); ``x`` is the ``(n, n_q)`` view."""
+    position-major vectors at 360 and 36,000 positions), into the caller's ``<x>T``."""
     layout = system.layout
     assert layout is not None
-    lines = [f"    {x}T = np.empty(({system.n_q}, n))"]
+    lines = []
     for g, p in enumerate(system.plans):
         rhs = rhs_of(g)  # None: zero
         if layout.lower[g] is not None:
@@ -341,12 +375,12 @@ def _substitution(system: System, x: str, rhs_of) -> list[str]:
             rhs = f"{rhs or ''} - np.einsum('ijn,jn->in', LT{g}, {x}T[{done}])".lstrip()
         elif rhs is None:
             rhs = f"np.zeros(({len(p.rows)}, n))"
-        cols, inv = _index(f"COLS{g}", p.cols), f"inv[{g}].transpose(1, 2, 0)"
+        cols, inv = _index(f"COLS{g}", p.cols), f"INV[{g}]"
         if ":" in cols:
             lines.append(f"    np.einsum('ijn,jn->in', {inv}, {rhs}, out={x}T[{cols}])")
         else:
             lines.append(f"    {x}T[{cols}] = np.einsum('ijn,jn->in', {inv}, {rhs})")
-    return lines + [f"    {x} = {x}T.T"]
+    return lines
 
 
 def _rates_of(system: System, env: dict, lines: list[str]) -> None:
