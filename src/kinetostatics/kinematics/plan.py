@@ -31,11 +31,10 @@ constants — compiled with :func:`compile` and kept in ``System.memo``:
 The numbers are those of the general path: the same operations on the same operands
 in the same order (a zero's sign aside: base/trace.py; tests/kinematics/test_plan.py
 compares every column to 1e-12 of its scale on the shipped files and generated
-mechanisms).  The plan covers one model's rows (``q (N, n_q)``) on the NumPy backend,
-at any N where every stack of joints is traced (revolute and prismatic pairs), else up
-to :data:`~kinetostatics.structure.evaluation.STACK_UP_TO`;
-stacked variants and the compiled backend take the general path, which stays the
-oracle.  ``kinematic_plan(system).source`` is the generated text.
+mechanisms).  The plan covers one model's rows (``q (N, n_q)``) on either backend, at
+any N where every stack of joints is traced (revolute and prismatic pairs), else up to
+:data:`~kinetostatics.structure.evaluation.STACK_UP_TO`; stacked variants take the
+general path, which stays the oracle.  ``kinematic_plan(system).source`` is the generated text.
 """
 
 from __future__ import annotations
@@ -46,7 +45,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..base import kernels
 from ..base.arrays import entries_last
 from ..base.linalg import BlockFactor, small_inverse
 from ..base.trace import Lines, operand, pruned
@@ -89,8 +87,9 @@ class KinematicPlan:
 
 
 def covers(system: System, q: np.ndarray) -> bool:
-    """Whether the plan takes the rows ``q``: one model's ``(N, n_q)``, on the NumPy
-    backend, a system with an evaluation layout; more than :data:`STACK_UP_TO` rows only
+    """Whether the plan takes the rows ``q``: one model's ``(N, n_q)`` (on either backend:
+    its whole-array lines are faster than the compiled kernels position by position), a
+    system with an evaluation layout; more than :data:`STACK_UP_TO` rows only
     where no stack of joints goes through the contract's methods (``long_runs``: every
     stacked type's formulas traced)."""
     return (
@@ -98,7 +97,6 @@ def covers(system: System, q: np.ndarray) -> bool:
         and q.ndim == 2
         and 0 < q.shape[0]
         and system.layout is not None
-        and not kernels.active()
         and (q.shape[0] <= STACK_UP_TO or kinematic_plan(system).long_runs)
     )
 
