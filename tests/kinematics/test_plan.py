@@ -27,6 +27,13 @@ from kinetostatics.structure.evaluation import STACK_UP_TO
 from kinetostatics.structure.system import build_system, phi
 from tests.net import generate as gen
 
+
+@pytest.fixture(autouse=True)
+def _plans_at_once(monkeypatch):
+    """The plans generated on a system's first analysis (not after PLAN_AFTER rows)."""
+    monkeypatch.setattr(plan, "PLAN_AFTER", (0, 0))
+
+
 FILES = sorted(glob.glob("mechanisms/*.yaml") + glob.glob("tests/hard/*.yaml"))
 NET_CASES = sorted(glob.glob("tests/net/cases/*.yaml"))  # the net's kept cases (slow)
 
@@ -238,3 +245,28 @@ def test_planned_residuals_on_generated_mechanisms():
         q, psi = _random_rows(system, rng)
         want = phi(system, q, psi)
         assert np.max(np.abs(planned_phi(system, q, psi) - want)) <= 1e-12 * np.max(np.abs(want))
+
+
+def test_plans_are_generated_once_worth_it(monkeypatch):
+    """A system analysed once over a few hundred rows keeps the general path (generating
+    costs more than one analysis saves); after PLAN_AFTER analyses or rows the plans are
+    made and used, and the numbers stay the general path's."""
+    monkeypatch.setattr(plan, "PLAN_AFTER", (50, 1000))
+    system = build_system(ks.load("mechanisms/slotting_machine.yaml"))
+    first = ks.analyze(system, friction=False)
+    assert "kinematic plan" not in system.memo and "residual plan" not in system.memo
+    for _ in range(3):
+        again = ks.analyze(system, friction=False)
+    assert "kinematic plan" in system.memo and "residual plan" in system.memo
+    assert _worst(first, again) <= 1e-12
+    long = ks.analyze(build_system(system.model), positions=np.linspace(0, 6.0, 1500))
+    assert "kinematic plan" in long.system.memo  # one long run is worth it at once
+
+
+def test_plans_are_generated_at_a_systems_eighth_short_analysis(monkeypatch):
+    monkeypatch.setattr(plan, "PLAN_AFTER", (8, 5000))
+    system = build_system(ks.load("mechanisms/slider_crank.yaml"))
+    for _ in range(8):
+        assert "kinematic plan" not in system.memo
+        ks.analyze(system, positions=np.radians([10.0, 20.0, 30.0]), friction=False)
+    assert "kinematic plan" in system.memo

@@ -86,6 +86,25 @@ class KinematicPlan:
     long_runs: bool = True  # it also takes more than STACK_UP_TO rows (see covers)
 
 
+PLAN_AFTER = (8, 5000)
+"""A system's plans are generated at its 8th analysis, or once it has been analysed over
+5,000 rows in all (its analyses counted as they pass :func:`planned_derivatives`):
+generating and compiling them costs about ten analyses' saving at 360 positions (~1 ms
+per link; the slotting machine's ~4 ms, where an analysis saves ~0.3–0.5 ms), one
+analysis's at tens of thousands of positions.  Before, the general path runs, as the
+plans' oracle."""
+
+
+def _worth(system: System, n: int) -> bool:
+    """Whether the plan is (or now becomes) worth generating, one more analysis of ``n``
+    rows made."""
+    if "kinematic plan" in system.memo:
+        return True
+    calls, rows = system.memo.get("analysed", (0, 0))
+    calls, rows = system.memo["analysed"] = (calls + 1, rows + n)
+    return calls >= PLAN_AFTER[0] or rows >= PLAN_AFTER[1]
+
+
 def covers(system: System, q: np.ndarray) -> bool:
     """Whether the plan takes the rows ``q``: one model's ``(N, n_q)`` (on either backend:
     its whole-array lines are faster than the compiled kernels position by position), a
@@ -105,11 +124,12 @@ def planned_derivatives(
     system: System, q: np.ndarray, psi_d: np.ndarray, psi_dd: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, BlockFactor] | None:
     """(q̇, q̈, factorised Φ_q) by the system's plan, as ``derivatives`` gives them, or None
-    where the plan does not cover the rows (:func:`covers`).  The plan writes into arrays
+    where the plan does not cover the rows (:func:`covers`) or is not worth generating yet
+    (:data:`PLAN_AFTER`).  The plan writes into arrays
     made here, each entry of a block and each component one contiguous array over the
     rows, and the block factor is made of their views (an entry that no constraint has
     stays an untouched page of zeros); the rows are run in chunks (:data:`CHUNK_BYTES`)."""
-    if not covers(system, q):
+    if not covers(system, q) or not _worth(system, len(q)):
         return None
     layout = system.layout
     assert layout is not None
@@ -148,9 +168,12 @@ def planned_phi(system: System, q: np.ndarray, psi: np.ndarray) -> np.ndarray:
     :func:`~kinetostatics.structure.system.phi` gives it: the revolute and prismatic pairs'
     ``residual_kernel`` traced into one function per system (the other sets by the
     contract's ``residual``), or by ``phi`` itself where that does not cover the rows
-    (stacked variants; more than ``STACK_UP_TO`` rows of a stack without kernels)."""
+    (stacked variants; more than ``STACK_UP_TO`` rows of a stack without kernels) or
+    before the system's kinematic plan is worth making (:data:`PLAN_AFTER`)."""
     plan = system.memo.get("residual plan")
     if plan is None:
+        if "kinematic plan" not in system.memo:  # not worth it yet (PLAN_AFTER)
+            return phi(system, q, psi)
         plan = system.memo["residual plan"] = _generate_residual(system)
     if q.ndim != 2 or (q.shape[0] > STACK_UP_TO and not plan.long_runs):
         return phi(system, q, psi)
