@@ -187,7 +187,7 @@ def test_the_closed_forms_turn_each_link_once_and_satisfy_the_constraints():
         t = np.linspace(0.0, 0.9 * sched.period if sched.period else 1.0, 97)
         psi = sched(t)[0]
         q0 = np.broadcast_to(start_pose(system, sched)[0], (len(t), system.n_q))
-        q, d = _closed_forms(forms, q0, psi, np.ones((len(t), len(forms))))
+        q, d = _closed_forms(forms, q0.shape, psi, np.ones((len(t), len(forms))))
         assert d.shape == (len(t), len(system.plans)) and np.all(d >= -1e-12), path.name
         res = np.max(np.abs(S.phi(system, q, psi)))
         assert res <= 1e-9 * system.l_ref, (path.name, res)

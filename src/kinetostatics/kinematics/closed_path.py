@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..base.arrays import entries_first, entries_last, sorted_distinct
+from ..base.arrays import entries_last, sorted_distinct
 from ..structure.system import System, phi
 from .continuation import COARSE_STEP, Drive, Singularity, time_step
 from .dyads import MARGIN, ClosedForms
@@ -64,7 +64,7 @@ def closed_form_path(
     tt, order = path_times(system, t, drive)
     psi = drive(tt)[0]
     signs = _branch_signs(flips, np.broadcast_to(tt, (n_v, len(tt))))
-    q, disc = _closed_forms(forms, np.broadcast_to(q0, (n_v, len(tt), q0.shape[-1])), psi, signs)
+    q, disc = _closed_forms(forms, (n_v, len(tt), q0.shape[-1]), psi, signs)
     ok &= np.all(disc >= -DISC_TOL, axis=(-2, -1))
     ang = slice(2, None, 3)  # angles nearest the start pose, as the guess
     q[..., ang] += 2 * np.pi * np.round((q0[..., ang] - q[..., ang]) / (2 * np.pi))
@@ -87,7 +87,7 @@ def closed_form_path(
         found = [(ts, g) for g, f in enumerate(flips) for ts in f[0] if not np.isnan(ts)]
         for ts, g in sorted(found):
             at = np.array([[ts]])
-            qs, _ = _closed_forms(forms, q0, drive(at)[0], _branch_signs(flips, at))
+            qs, _ = _closed_forms(forms, q0.shape, drive(at)[0], _branch_signs(flips, at))
             coord = float(drive(at)[0][0, 0, 0]) if system.motion_drivers else ts
             singular.append(
                 Singularity(
@@ -129,11 +129,12 @@ def _memo_change_points(system: System, forms, q0, lo: float, hi: float, drive, 
 
 
 def _closed_forms(
-    forms: ClosedForms, q: np.ndarray, psi: np.ndarray, signs: np.ndarray
+    forms: ClosedForms, shape: tuple, psi: np.ndarray, signs: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
-    """The closed forms' pass on a coordinate-major copy of ``q``, group g on its start
-    sign × ``signs[..., g]``: (q, the groups' discriminants D ``(..., n_groups)``)."""
-    q = entries_last(np.array(entries_first(q, 1), dtype=float), 1)  # coordinate-major
+    """The closed forms' pass into new coordinates ``q (shape)``, stored coordinate-major
+    (the pass writes every column), group g on its start sign × ``signs[..., g]``:
+    (q, the groups' discriminants D ``(..., n_groups)``)."""
+    q = entries_last(np.empty(shape[-1:] + tuple(shape[:-1])), 1)
     return forms.run(q, psi, signs)
 
 
@@ -217,12 +218,7 @@ def _discriminants(forms, q0: np.ndarray, drive: Drive, flips: list, eta: float,
     ``eta``: ``(V, M, G)`` each."""
     at = t[None] + np.array([-eta, 0.0, eta])[:, None, None]
     at = np.moveaxis(at, 0, -1).reshape(len(q0), -1)
-    _, d = _closed_forms(
-        forms,
-        np.broadcast_to(q0, at.shape + q0.shape[-1:]),
-        drive(at)[0],
-        _branch_signs(flips, at),
-    )
+    _, d = _closed_forms(forms, at.shape + q0.shape[-1:], drive(at)[0], _branch_signs(flips, at))
     d = d.reshape(t.shape + (3, -1))
     return (
         d[..., 1, :],

@@ -73,6 +73,7 @@ class _Pass:
         self.env: dict = {"np": np}
         self.lines: list[str] = []
         self.framed: set[int] = set()
+        self.placed: set[int] = set()
         self.n = 0
 
     def index(self, link: str) -> int | None:
@@ -126,6 +127,7 @@ class _Pass:
         """Set the position of ``link`` (its angle set) so that its local point ``local``
         lies at (``wx``, ``wy``), and write its pose into ``q``."""
         k = self.index(link)
+        self.placed.add(k)
         rx, ry = self.turned(link, local)
         self.lines += [
             f"    x{k} = {wx} - {rx}",
@@ -353,6 +355,8 @@ def closed_forms(system: System, q0: np.ndarray) -> ClosedForms | None:
     w.lines.append(f"    D = np.empty(q.shape[:-1] + ({len(groups)},))")
     for g, write in enumerate(groups):
         write(w, g)
+    if w.placed != set(range(len(system.links))):  # the pass must fill every column of q
+        raise AssertionError(f"closed forms place links {sorted(w.placed)} of {system.links}")
     source = "\n".join(["def run(q, psi, signs):", *w.lines, "    return q, D"]) + "\n"
     name = f"<closed forms of {system.model.name!r}>"
     exec(compile(source, name, "exec"), w.env)  # noqa: S102  our own generated text
