@@ -33,6 +33,7 @@ the clearance macro it is the only place outside ``joints/`` that does.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -358,6 +359,14 @@ def closed_forms(system: System, q0: np.ndarray) -> ClosedForms | None:
     if w.placed != set(range(len(system.links))):  # the pass must fill every column of q
         raise AssertionError(f"closed forms place links {sorted(w.placed)} of {system.links}")
     source = "\n".join(["def run(q, psi, signs):", *w.lines, "    return q, D"]) + "\n"
-    name = f"<closed forms of {system.model.name!r}>"
-    exec(compile(source, name, "exec"), w.env)  # noqa: S102  our own generated text
+    exec(_compiled(source), w.env)  # noqa: S102  our own generated text
     return ClosedForms(source, w.env["run"], len(groups))
+
+
+@functools.lru_cache(maxsize=64)
+def _compiled(source: str):
+    """The code of a pass's source, compiled once: the constants are names, so the
+    variants of a batch and the designs of an optimisation (each population a new
+    stacked system) share the text of their topology, and compiling is most of the cost
+    of making a pass."""
+    return compile(source, "<closed forms>", "exec")
