@@ -295,3 +295,23 @@ def test_products_by_the_blocks_equal_the_dense_transpose(name):
     np.testing.assert_allclose(
         lu.solve_transposed_rows(r), want, rtol=0, atol=1e-11 * np.abs(want).max()
     )
+
+
+@pytest.mark.parametrize("n", [3, 6])
+@pytest.mark.parametrize("count", [5, 3000])
+@pytest.mark.parametrize("layout", ["a slice of a longer run", "axes out of order"])
+def test_inverse_written_into_a_given_output(n, count, layout):
+    """With ``out`` (entry-major ``(n, n, count)``), the adjugate, the elimination and
+    LAPACK write the inverses there, whatever the output's strides (a chunk of a longer
+    run, as the kinematic plan gives; axes a reshape cannot merge), and return its view."""
+    a = _dominant(count, n, 0.3) if n > 3 else _well_conditioned(count, n)  # 6x6: sparse
+    # (last in the module: its draws leave the shared generator's sequence of the others)
+    if layout == "a slice of a longer run":
+        out = np.zeros((n, n, count + 7))[..., 3 : 3 + count]
+    else:
+        out = np.zeros((n, count, n)).transpose(0, 2, 1)
+    x = small_inverse(a, out=out)
+    assert np.shares_memory(x, out)
+    want = np.linalg.inv(a)
+    np.testing.assert_allclose(x, want, rtol=0, atol=1e-13 * np.abs(want).max())
+    np.testing.assert_array_equal(out.transpose(2, 0, 1), x)

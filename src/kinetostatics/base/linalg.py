@@ -292,8 +292,11 @@ def small_inverse(a: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
         plan = _plan(np.any(m != 0, axis=-1), _first_pivots(m[:, :, 0]))  # blocks as built
         if not plan.feasible or not _sparse_pays(n, count, plan):
             return _into(_lapack_inverse(a), out)
-        entries = None if out is None else out.reshape(n * n, count)
-        return entries_last(_sparse_gauss_jordan(m, plan, entries).reshape((n, n) + a.shape[:-2]))
+        entries = None if out is None else out.reshape(n * n, count)  # a view where it can
+        inv = _sparse_gauss_jordan(m, plan, entries)
+        if out is not None and not np.may_share_memory(inv, out):  # reshape had to copy
+            out[...] = inv.reshape(out.shape)
+        return entries_last(inv.reshape((n, n) + a.shape[:-2]) if out is None else out)
     if out is None:
         out = np.empty((n, n) + a.shape[:-2])
     if kernels.active():  # the same operations, position by position (base/kernels.py)
