@@ -241,3 +241,18 @@ def test_every_shipped_model_keeps_its_system():
                 S.system_of(m)
         assert m._compiled is not None, path.name
         assert S.system_of(m) is m._compiled[1], path.name
+
+
+def test_the_path_unwraps_its_angles_as_numpy_does():
+    """The closed-form path's unwrapping (whole turns counted as integers) gives
+    ``np.unwrap``'s angles along the rows, to round-off of the angles' size, on random
+    paths with steps up to ±3 rad and with jumps of whole turns."""
+    from kinetostatics.kinematics.closed_path import _unwrapped
+
+    rng = np.random.default_rng(2)
+    true = np.cumsum(rng.uniform(-3.0, 3.0, (2, 4000, 3)), axis=1)
+    wrapped = (true + np.pi) % (2 * np.pi) - np.pi
+    wrapped[:, ::7] += 2 * np.pi * rng.integers(-3, 4, (2, len(wrapped[0, ::7]), 3))
+    got = _unwrapped(wrapped)
+    assert np.max(np.abs(got - np.unwrap(wrapped, axis=1))) <= 1e-13 * np.max(np.abs(got))
+    assert np.max(np.abs(got - got[:, :1] - (true - true[:, :1]))) <= 1e-12 * np.max(np.abs(true))

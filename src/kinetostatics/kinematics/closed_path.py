@@ -70,7 +70,7 @@ def closed_form_path(
     q[..., ang] += 2 * np.pi * np.round((q0[..., ang] - q[..., ang]) / (2 * np.pi))
     start = len(t)
     path = q[:, order, ang]  # every angle unwrapped along the path at once
-    q[:, order, ang] = np.unwrap(path, axis=1)
+    q[:, order, ang] = _unwrapped(path)
     q[..., ang] += (2 * np.pi * np.round((q0[:, 0, ang] - q[:, start, ang]) / (2 * np.pi)))[:, None]
     q = np.ascontiguousarray(q[:, :start])
     probe = slice(None, None, max(1, start // 32))
@@ -98,6 +98,16 @@ def closed_form_path(
                 )
             )
     return q, ok, signs[:, :start]
+
+
+def _unwrapped(path: np.ndarray) -> np.ndarray:
+    """``np.unwrap(path, axis=1)``: each step between neighbours along axis 1 taken to the
+    nearest multiple of 2π away (the whole turns counted as integers, summed exactly);
+    half the passes of NumPy's, whose ~12 cost 1.5 ms over a 36,000-position path."""
+    turns = np.round(np.diff(path, axis=1) / (2 * np.pi))
+    out = path.copy()
+    out[:, 1:] -= 2 * np.pi * np.cumsum(turns, axis=1)
+    return out
 
 
 def _memo_change_points(system: System, forms, q0, lo: float, hi: float, drive, one: bool):
