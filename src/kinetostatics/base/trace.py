@@ -36,6 +36,11 @@ class Lines:
         self.names: dict[str, str] = {}
         self.prefix = prefix
 
+    def take(self) -> list[str]:
+        """The lines written since the last take (the later ones still reuse their names)."""
+        out, self.lines = self.lines, []
+        return out
+
     def value(self, text: str) -> Sym:
         """The local set to the expression ``text`` (written once)."""
         name = self.names.get(text)

@@ -216,6 +216,15 @@ def _traced(kernel, out_shapes: tuple, *args) -> list[np.ndarray]:
     return outs
 
 
+def _traced_rows(traced: Lines, s, kernel, *args) -> list[str]:
+    """The lines of set ``s``'s kernel writing its values ``out (k, n_eq, N)`` (Φ's or
+    γ's), traced, each value to its row of ``rows``."""
+    (out,) = _traced(kernel, (s.rows.reshape(len(s.members), -1).shape + (1,),), *args)
+    for at, value in zip(s.rows.reshape(-1).tolist(), out.reshape(-1).tolist()):
+        traced.lines.append(f"    rows[{at}] = {operand(value)}")
+    return traced.take()
+
+
 def _whole_array(s, kernels=("jacobian_kernel", "gamma_kernel")) -> np.ndarray | None:
     """The kernels' parameters of set ``s`` where its joint type's ``kernels`` also hold
     over whole arrays (``Compiled.whole_array_kernels``: plain arithmetic, no branch on a
@@ -242,22 +251,12 @@ def _generate_residual(system: System) -> KinematicPlan:
         if par is None:
             long_runs &= not s.stacked
             env[f"C{k}"], env[f"R{k}"] = s.constraint, s.rows if s.stacked else s.rows[0]
-            env[f"EI{k}"], env[f"EJ{k}"] = s.ends[0], s.ends[1]
             extra = "" if s.driver is None else f", psi[:, {s.driver}]"
-            lines.append(
-                f"    out[:, R{k}] = C{k}.residual(np.take(pe, EI{k}, axis=1), "
-                f"np.take(pe, EJ{k}, axis=1){extra})"
-                if s.stacked
-                else f"    out[:, R{k}] = C{k}.residual(pe[:, {int(s.ends[0, 0])}, :], "
-                f"pe[:, {int(s.ends[1, 0])}, :]{extra})"
-            )
+            lines += _pair(env, k, s, "pe", ("qi", "qj"))
+            lines.append(f"    out[:, R{k}] = C{k}.residual(qi, qj{extra})")
             continue
-        shape = s.rows.reshape(len(s.members), -1).shape + (1,)
-        (res,) = _traced(type(s.constraint).residual_kernel, (shape,), par, poses, s.ends)
-        for at, value in zip(s.rows.reshape(-1).tolist(), res.reshape(-1).tolist()):
-            traced.lines.append(f"    rows[{at}] = {operand(value)}")
-        lines += traced.lines
-        traced.lines.clear()
+        kernel = type(s.constraint).residual_kernel
+        lines += _traced_rows(traced, s, kernel, par, poses, s.ends)
     lines.append("    return out")
     source = "\n".join(pruned(lines)) + "\n"
     exec(compile(source, f"<residuals of {system.model.name!r}>", "exec"), env)  # noqa: S102
@@ -315,8 +314,7 @@ def _blocks(system: System, env: dict, lines: list[str], traced: Lines) -> list[
             for at, value in zip(slots.reshape(-1).tolist(), values.reshape(-1).tolist()):
                 if not (isinstance(value, numbers.Real) and value == 0.0):  # zero on zeros
                     traced.lines.append(f"    buf[{at}] {op} {operand(value)}")
-        lines += traced.lines
-        traced.lines.clear()
+        lines += traced.take()
     for g, (d, lo) in enumerate(zip(layout.diag, layout.lower)):
         lines.append(f"    invert({_view(d)}, INV[{g}])")
         if lo is not None:
@@ -327,30 +325,34 @@ def _blocks(system: System, env: dict, lines: list[str], traced: Lines) -> list[
     return gather
 
 
-def _view(at, copy: str = "") -> str:
+def _view(at) -> str:
     """The text of a block's view ``(n, rows, cols)`` of ``buf`` (its offset, rows, cols)."""
     off, r, c = at
-    return f"buf[{off}:{off + r * c}]{copy}.reshape({r}, {c}, n).transpose(2, 0, 1)"
+    return f"buf[{off}:{off + r * c}].reshape({r}, {c}, n).transpose(2, 0, 1)"
+
+
+def _pair(env: dict, k: int, s, array: str, names: tuple[str, str]) -> list[str]:
+    """Lines gathering set k's two links' rows of ``array`` (poses or rates, ``(n, links,
+    c)``) as ``names``: a stack's by :func:`numpy.take`, a single constraint's as views."""
+    a, b = names
+    if s.stacked:
+        env[f"EI{k}"], env[f"EJ{k}"] = s.ends[0], s.ends[1]
+        return [
+            f"    {a} = np.take({array}, EI{k}, axis=1)",
+            f"    {b} = np.take({array}, EJ{k}, axis=1)",
+        ]
+    return [
+        f"    {a} = {array}[:, {int(s.ends[0, 0])}, :]",
+        f"    {b} = {array}[:, {int(s.ends[1, 0])}, :]",
+    ]
 
 
 def _contract_jacobian(env: dict, k: int, s) -> list[str]:
     """Set k's Φ_q entries through the contract's ``jacobian``: its two links' poses
-    gathered once (``qi<k>``, ``qj<k>``: a stack's by :func:`numpy.take`, a single
-    constraint's as views) and scattered to their slots."""
-    if s.stacked:
-        env[f"EI{k}"], env[f"EJ{k}"] = s.ends[0], s.ends[1]
-        lines = [
-            f"    qi{k} = np.take(pe, EI{k}, axis=1)",
-            f"    qj{k} = np.take(pe, EJ{k}, axis=1)",
-        ]
-        axes = "(1, 2, 3, 0)"
-    else:
-        lines = [
-            f"    qi{k} = pe[:, {int(s.ends[0, 0])}, :]",
-            f"    qj{k} = pe[:, {int(s.ends[1, 0])}, :]",
-        ]
-        axes = "(1, 2, 0)"
-    return lines + [
+    gathered once (``qi<k>``, ``qj<k>``, read again for its γ) and scattered to their
+    slots."""
+    axes = "(1, 2, 3, 0)" if s.stacked else "(1, 2, 0)"
+    return _pair(env, k, s, "pe", (f"qi{k}", f"qj{k}")) + [
         f"    ji, jj = C{k}.jacobian(qi{k}, qj{k})",
         f"    buf[TI{k}] = ji.transpose{axes} + 0.0",
         f"    buf[TJ{k}] += jj.transpose{axes}",
@@ -360,15 +362,10 @@ def _contract_jacobian(env: dict, k: int, s) -> list[str]:
 def _contract_gamma(env: dict, k: int, s) -> list[str]:
     """Set k's rows of γ through the contract's ``acceleration_rhs``."""
     env[f"R{k}"] = s.rows if s.stacked else s.rows[0]
-    if s.stacked:
-        lines = [f"    vi = np.take(ve, EI{k}, axis=1)", f"    vj = np.take(ve, EJ{k}, axis=1)"]
-    else:
-        lines = [
-            f"    vi = ve[:, {int(s.ends[0, 0])}, :]",
-            f"    vj = ve[:, {int(s.ends[1, 0])}, :]",
-        ]
     extra = "" if s.driver is None else f", psi_dd[:, {s.driver}]"
-    return lines + [f"    gam[:, R{k}] = C{k}.acceleration_rhs(qi{k}, qj{k}, vi, vj{extra})"]
+    return _pair(env, k, s, "ve", ("vi", "vj")) + [
+        f"    gam[:, R{k}] = C{k}.acceleration_rhs(qi{k}, qj{k}, vi, vj{extra})"
+    ]
 
 
 def _index(name: str, at: np.ndarray) -> str:
@@ -435,13 +432,8 @@ def _accelerations(
         if not gather[k]:
             lines += _contract_gamma(env, k, s)
             continue
-        shape = s.rows.reshape(len(s.members), -1).shape + (1,)
-        kernel, par = type(s.constraint).gamma_kernel, _whole_array(s)
-        (out,) = _traced(kernel, (shape,), par, poses, rates, s.ends)
-        for at, value in zip(s.rows.reshape(-1).tolist(), out.reshape(-1).tolist()):
-            traced.lines.append(f"    rows[{at}] = {operand(value)}")
-        lines += traced.lines
-        traced.lines.clear()
+        kernel = type(s.constraint).gamma_kernel
+        lines += _traced_rows(traced, s, kernel, _whole_array(s), poses, rates, s.ends)
     lines += _substitution(
         system, "qdd", lambda g: f"rows[{_index(f'ROWS{g}', system.plans[g].rows)}]"
     )
