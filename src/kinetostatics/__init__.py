@@ -29,14 +29,14 @@ from .errors import (
     SingularConfigurationError,
     StructureError,
 )
-from .model import Model
-from .outputs.loading import load, loads
 
 if TYPE_CHECKING:  # what the lazy names are, for type checkers (nothing imported at run time)
     from .analysis.pipeline import analyze
     from .analysis.results import Result
     from .base.kernels import set_backend
     from .batch.optimize import optimize
+    from .model import Model
+    from .outputs.loading import load, loads
     from .structure.system import build_system
 
 __version__ = VERSION  # the installed distribution's (pyproject.toml)
@@ -66,8 +66,12 @@ __all__ = [
 ]
 
 # The names of __all__ whose modules are imported on first use, so that `import
-# kinetostatics` stays light (no scipy.integrate, no matplotlib): name -> its module.
+# kinetostatics` stays light: no NumPy until a name needs it (the command line sets
+# NumPy's BLAS threads before it loads, cli.main), no scipy, no matplotlib.
 _LAZY = {
+    "load": "outputs.loading",
+    "loads": "outputs.loading",
+    "Model": "model",
     "analyze": "analysis.pipeline",
     "Result": "analysis.results",
     "optimize": "batch.optimize",

@@ -56,6 +56,12 @@ COMMANDS = {
 FLOORS = {"plot": 9, "report --pdf": 28}
 
 
+# ``import numpy`` as the commands load it: one BLAS thread (cli.main sets
+# OPENBLAS_NUM_THREADS where the user has not), without the other threads' spin as NumPy
+# starts them; a row of its own, beside the baseline the targets are read against
+ONE_THREAD = "import numpy, one BLAS thread"
+
+
 def floor_name(command: str) -> str:
     return f"floor of {command}"
 
@@ -78,7 +84,9 @@ def cpu_time(cmd: list[str], env: dict[str, str]) -> float:
 def candidates(out: Path, only: list[str], baseline: Path | None) -> list[Candidate]:
     base = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
     base["MPLBACKEND"] = "Agg"
-    found = [Candidate("import numpy", [sys.executable, "-c", "import numpy"], dict(base))]
+    numpy = [sys.executable, "-c", "import numpy"]
+    one = dict(base, OPENBLAS_NUM_THREADS=base.get("OPENBLAS_NUM_THREADS", "1"))
+    found = [Candidate("import numpy", numpy, dict(base)), Candidate(ONE_THREAD, numpy, one)]
     trees = [("", ROOT)] + ([(" (baseline)", baseline)] if baseline else [])
     for name, (args, _target, _words) in COMMANDS.items():
         if only and name not in only:
@@ -92,7 +100,7 @@ def candidates(out: Path, only: list[str], baseline: Path | None) -> list[Candid
         if not only or name in only:
             script = str(ROOT / "tests" / "benchmarks" / "mpl_floor.py")
             cmd = [sys.executable, script, str(n), str(out / f"floor {n}")]
-            found.append(Candidate(floor_name(name), cmd, dict(base)))
+            found.append(Candidate(floor_name(name), cmd, one))  # as the commands run
     return found
 
 
@@ -154,6 +162,10 @@ def table(runs: list[Run]) -> str:
     for r in runs:
         row += f" {r.ms('import numpy')} | 1× |"
     lines.append(row + " — |")
+    row = '| · `python -c "import numpy"` with one BLAS thread, as the commands set it | — |'
+    for r in runs:
+        row += f" {r.ms(ONE_THREAD)} | {r.ratio(ONE_THREAD):.3g}× ({r.spread(ONE_THREAD)}) |"
+    lines.append(row + " — |")
     for name, (_args, target, words) in COMMANDS.items():
         if name not in first.times:
             continue
@@ -164,7 +176,8 @@ def table(runs: list[Run]) -> str:
         lines.append(row + f" {'yes' if met else 'no'} |")
         floor = floor_name(name)
         if floor in first.times:
-            row = f"| · its floor: matplotlib alone, {FLOORS[name]} bare figures | — |"
+            n = FLOORS[name]
+            row = f"| · its floor: matplotlib alone, {n} bare figures (one BLAS thread) | — |"
             for r in runs:
                 row += f" {r.ms(floor)} | {r.ratio(floor):.3g}× ({r.spread(floor)}) |"
             lines.append(row + " — |")

@@ -3,11 +3,14 @@ every module loaded is paid at the start of every command, so the modules each l
 off its path are listed here, checked in a fresh process (``sys.modules`` at its end)."""
 
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
 
-from kinetostatics.cli import EXTENSIONS
+import pytest
+
+from kinetostatics.cli import BLAS_THREADS, EXTENSIONS
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -38,8 +41,12 @@ RUN_LAZY = (
     # NumPy's masked arrays: np.unique(x) imports them (~7-12 ms) to ask whether x is one
     "numpy.ma",
 )
-# and what `import kinetostatics` leaves to the first analysis
+# and what `import kinetostatics` leaves to the first use of a name (NumPy included: a
+# command sets its BLAS threads before NumPy loads, cli.main)
 IMPORT_LAZY = RUN_LAZY + (
+    "numpy",
+    "kinetostatics.model",
+    "kinetostatics.outputs",
     "kinetostatics.analysis",
     "kinetostatics.structure",
     "kinetostatics.kinematics",
@@ -48,7 +55,7 @@ IMPORT_LAZY = RUN_LAZY + (
 )
 
 
-def _loaded(code: str, names: tuple[str, ...]) -> list[str]:
+def _loaded(code: str, names: tuple[str, ...], env: dict | None = None) -> list[str]:
     """Which of ``names`` are in ``sys.modules`` after ``code`` runs in a fresh process."""
     script = f"import json, sys\n{code}\nprint(json.dumps(sorted(sys.modules)))"
     out = subprocess.run(
@@ -57,6 +64,7 @@ def _loaded(code: str, names: tuple[str, ...]) -> list[str]:
         text=True,
         check=True,
         cwd=ROOT,
+        env=env,
     )
     modules = set(json.loads(out.stdout.splitlines()[-1]))
     return [n for n in names if n in modules]
@@ -87,3 +95,28 @@ def test_run_of_a_file_with_sizing_data_loads_the_sizing_stage(tmp_path):
     )
     assert _loaded(code, ("kinetostatics.sizing",)) == ["kinetostatics.sizing"]
     assert (tmp_path / "sizing.json").is_file()
+
+
+@pytest.mark.parametrize("given", [None, "2"])
+def test_a_command_starts_one_blas_thread_unless_told_otherwise(given):
+    """A command sets OpenBLAS to one thread before NumPy loads (its threads only spin
+    for the commands' small blocks), and keeps a value the user gave; the process then
+    has as many threads as that (Linux: its tasks)."""
+    env = {k: v for k, v in os.environ.items() if k not in BLAS_THREADS}
+    if given is not None:
+        env["OPENBLAS_NUM_THREADS"] = given
+    code = (
+        "import os\n"
+        "from kinetostatics.cli import main\n"
+        "assert main(['check', 'mechanisms/slider_crank.yaml']) == 0\n"
+        "import numpy\n"
+        "tasks = os.listdir('/proc/self/task') if os.path.isdir('/proc/self/task') else None\n"
+        "print(os.environ['OPENBLAS_NUM_THREADS'], None if tasks is None else len(tasks))"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=ROOT, env=env
+    )
+    value, tasks = out.stdout.split()[-2:]
+    assert value == (given or "1")
+    if tasks != "None" and given is None:
+        assert int(tasks) == 1

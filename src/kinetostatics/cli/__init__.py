@@ -318,9 +318,31 @@ def _register(sub) -> None:
     p.set_defaults(func=_run)
 
 
+BLAS_THREADS = ("OPENBLAS_NUM_THREADS",)
+"""The variables that set how many threads NumPy's BLAS starts (OpenBLAS, which NumPy's
+wheels ship), set to 1 by :func:`main` where the user has not set them."""
+
+
+def _one_blas_thread() -> None:
+    """One BLAS thread for a command, unless the environment says otherwise, set before
+    NumPy loads (later it has no effect, and a process that imported NumPy is left as it
+    is).  The commands' arrays are stacks of small blocks, which BLAS never splits over
+    threads; but OpenBLAS starts one thread per core as NumPy loads, and each spins
+    ~0.1 s before it sleeps: ~0.1 s of CPU on every other core for every command (on two
+    cores a third of ``run``'s CPU time), and as much again in each process of
+    ``--workers`` (which inherit the setting)."""
+    if "numpy" in sys.modules:
+        return
+    import os
+
+    for name in BLAS_THREADS:
+        os.environ.setdefault(name, "1")
+
+
 def main(argv: list[str] | None = None) -> int:
     import importlib
 
+    _one_blas_thread()
     _escape_unencodable()
     parser = _Parser(
         prog="kinetostatics",
