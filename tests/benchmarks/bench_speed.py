@@ -270,11 +270,13 @@ LEVEL_KW = {
     "kinematics": {"kinematics_only": True},
     "frictionless": {"friction": False},
     "friction": {},
+    "fixed point": {},
 }
 LEVEL_TEXT = {
     "kinematics": "kinematics",
     "frictionless": "frictionless",
     "friction": "full (both friction solutions)",
+    "fixed point": "full (both friction solutions), against the closed form with the fixed point",
 }
 TARGETS = {  # issue 40's (the full row at 360 positions keeps issue 17's: 40 has none)
     ("slider_crank", 360, "kinematics"): "≤ 8×",
@@ -286,6 +288,7 @@ TARGETS = {  # issue 40's (the full row at 360 positions keeps issue 17's: 40 ha
     ("slider_crank", 36_000, "frictionless"): "≤ 10×",
     ("slotting_machine", 36_000, "kinematics"): "≤ 10×",
     ("slotting_machine", 36_000, "frictionless"): "≤ 10×",
+    ("slider_crank", 36_000, "fixed point"): "≤ 4×",
 }
 
 
@@ -366,9 +369,12 @@ def rows(quick: bool, log=print, processes_too: bool = True) -> list[Row]:
         )
     )
     log(out[-1])
-    for name in ("slider_crank", "slotting_machine"):
+    for name, levels in (
+        ("slider_crank", ("kinematics", "frictionless", "fixed point")),
+        ("slotting_machine", ("kinematics", "frictionless")),
+    ):
         c = case(name, 36_000)
-        for level in ("kinematics", "frictionless"):
+        for level in levels:
             out.append(ratio_row(c, level, max(3, repeat // 2), sample))
             log(out[-1])
     if not processes_too:

@@ -5,8 +5,10 @@ columns of ``ks.analyze`` that it names: the moving links' ``x, y, theta (deg),
 vx, vy, omega, ax, ay, alpha`` (``level="kinematics"``), then every joint's
 reaction columns and ``motor.torque`` (``"frictionless"``), then the source
 text's eq. 9 driving torque with friction, ``motor.torque_friction_approx``
-(``"friction"``, slider-crank only).  No generic linear algebra, no solver: the
-work a hand derivation does, written once.
+(``"friction"``, slider-crank only), then the consistent friction solution by its fixed
+point, every joint's friction columns and ``motor.torque_friction`` (``"fixed point"``,
+slider-crank only).  No generic linear algebra, no solver: the work a hand derivation
+does, written once.
 
 * :func:`slider_crank` — the formulas of ``tests/oracles/slider_crank_closed_form.py``
   (kinematics, ``reactions``, ``friction_approx_torque_eq9``) in a single pass:
@@ -24,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-LEVELS = ("kinematics", "frictionless", "friction")
+LEVELS = ("kinematics", "frictionless", "friction", "fixed point")
 
 
 def _link(cols: dict, name: str, x, y, theta, vx, vy, omega, ax, ay, alpha) -> None:
@@ -116,7 +118,74 @@ def slider_crank(p, phi1: np.ndarray, level: str = "kinematics") -> dict:
     )
     potential = -(m1 * (gx * S1vx + gy * S1vy) + m2 * (gx * S2vx + gy * S2vy) + m3 * gx * vB)
     cols["motor.torque_friction_approx"] = (P_fric + potential + np.abs(F_res * vB) + kinetic) / w1
+    if level == "friction":
+        return cols
+    cols.update(_slider_crank_fixed_point(p, locals()))
     return cols
+
+
+def _slider_crank_fixed_point(p, k: dict) -> dict:
+    """The consistent friction solution of the slider-crank by its fixed point, written out:
+    the friction circles' couples ρ|F| at O, A, B and the slide's Coulomb force f|N|, each
+    against its joint's relative motion (none where that is zero, the rule of
+    docs/conventions.md), put into the frictionless equations body by body (the oracle's
+    ``reactions`` with those loads), and the efforts evaluated again from the reactions
+    they give, from the frictionless ones on, until no reaction or torque moves by more
+    than 1e-13 of the largest (the library's tolerance).  A joint [i, j] turns link j
+    against link i at ω_j − ω_i; its couple on j is −ρ|F| sgn(ω_j − ω_i), on i the
+    opposite.  Columns: every joint's ``Fx_friction``, ``Fy_friction`` and ``friction`` (the
+    effort on link j: that couple, or the slide's force along its axis), the slide's
+    ``N_friction`` and ``M_friction``, and ``motor.torque_friction``."""
+    a, b, r1, m1, m2, m3 = p.a, p.b, p.r1, p.m1, p.m2, p.m3
+    gx, gy, c1, s1, c2, s2 = k["gx"], k["gy"], k["c1"], k["s1"], k["c2"], k["s2"]
+    S1ax, S1ay, S2ax, S2ay = k["S1ax"], k["S1ay"], k["S2ax"], k["S2ay"]
+    w1, w2, vB = k["w1s"], k["w2"], k["vB"]
+
+    def sgn(rel, tol):
+        return np.where(np.abs(rel) > tol, np.sign(rel), 0.0)
+
+    s_O, s_A, s_B = sgn(w1, p.w_zero), sgn(w2 - w1, p.w_zero), sgn(-w2, p.w_zero)
+    s_s = sgn(vB, p.v_zero)
+    Bx0, rhs = k["F_Bx"], k["rhs"]  # the slider's x equation, the rod's moments about A
+    M1_0 = m1 * r1 * (c1 * (S1ay - gy) - s1 * (S1ax - gx))
+    F = {x: k[x] for x in ("F_Ox", "F_Oy", "F_Ax", "F_Ay", "F_Bx", "F_By", "N", "M1")}
+    for _ in range(100):
+        MO, MA = p.rho_O * np.hypot(F["F_Ox"], F["F_Oy"]), p.rho_A * np.hypot(F["F_Ax"], F["F_Ay"])
+        MB, Fs = p.rho_B * np.hypot(F["F_Bx"], F["F_By"]), p.f * np.abs(F["N"])
+        new = {"F_Bx": Bx0 + Fs * s_s}  # the slide's friction on the slider: −Fs sgn(vB) on x
+        new["F_By"] = (b * s2 * new["F_Bx"] - rhs + (MB * s_B - MA * s_A)) / (b * c2)  # couples
+        new["N"] = -new["F_By"] - m3 * gy
+        new["F_Ax"], new["F_Ay"] = new["F_Bx"] + m2 * (S2ax - gx), new["F_By"] + m2 * (S2ay - gy)
+        new["F_Ox"], new["F_Oy"] = new["F_Ax"] + m1 * (S1ax - gx), new["F_Ay"] + m1 * (S1ay - gy)
+        new["M1"] = M1_0 + a * (c1 * new["F_Ay"] - s1 * new["F_Ax"]) + (MO * s_O - MA * s_A)
+        scale = {x: (a if x == "M1" else 1.0) for x in new}  # a torque over the crank: a force
+        step = max(np.max(np.abs(new[x] - F[x])) / scale[x] for x in new)
+        big = max(np.max(np.abs(new[x])) / scale[x] for x in new)
+        F = new
+        if step <= 1e-13 * big:
+            break
+    F_Ox, F_Oy, F_Ax, F_Ay, F_Bx, F_By, N, M1 = (
+        F[x] for x in ("F_Ox", "F_Oy", "F_Ax", "F_Ay", "F_Bx", "F_By", "N", "M1")
+    )
+    MO, MA = p.rho_O * np.hypot(F_Ox, F_Oy), p.rho_A * np.hypot(F_Ax, F_Ay)
+    MB, Fs = p.rho_B * np.hypot(F_Bx, F_By), p.f * np.abs(N)
+    return {
+        "O.Fx_friction": F_Ox,
+        "O.Fy_friction": F_Oy,
+        "O.friction": -MO * s_O,
+        "A.Fx_friction": F_Ax,
+        "A.Fy_friction": F_Ay,
+        "A.friction": -MA * s_A,
+        "B.Fx_friction": F_Bx,
+        "B.Fy_friction": F_By,
+        "B.friction": -MB * s_B,
+        "slide.Fx_friction": -Fs * s_s,  # the guide's friction on the slider, along x
+        "slide.Fy_friction": N,
+        "slide.N_friction": N,
+        "slide.M_friction": MB * s_B,  # the guide holds the couple of B's circle on the slider
+        "slide.friction": -Fs * s_s,
+        "motor.torque_friction": M1,
+    }
 
 
 # ---------------------------------------------------------------------------------------
