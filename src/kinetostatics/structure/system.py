@@ -341,7 +341,7 @@ def coordinate_gradients(
     """The gradients of the constraints ``ks``' joint coordinates over all of q, in one
     array ``(..., len(ks), n_q)`` (``n_q + 3`` columns with the ground's)."""
     pe = link_poses(system, q)
-    out = np.zeros(q.shape[:-1] + (len(ks), q.shape[-1] + 3))
+    out = entries_last(np.zeros((len(ks), q.shape[-1] + 3) + q.shape[:-1]))  # component-major
     flat = None
     for n, k in enumerate(ks):
         i, j = system.ends[k]
