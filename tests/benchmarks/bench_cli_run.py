@@ -8,9 +8,10 @@ N runs of each command (default 5), the median reported; each TREE is a source t
 (its ``src`` goes on PYTHONPATH; default this checkout).  The environment is inherited:
 with ``PYTHONDONTWRITEBYTECODE=1`` every module is compiled from source on every run.
 ``--stages``: what a run spends its CPU time on, each stage timed in a fresh process as
-``run`` calls it (medians of N processes): importing NumPy, then the package (and how
-much of it is making its dataclasses), reading the file, the analysis, the cycle's
-stages, the summary, ``results.csv`` and ``summary.json``.
+``run`` calls it, with one BLAS thread as ``run`` sets it (medians of N processes):
+importing NumPy, then the package (and how much of it is making its dataclasses),
+reading the file, the analysis, the cycle's stages, the summary, ``results.csv`` and
+``summary.json``.
 """
 
 from __future__ import annotations
@@ -72,6 +73,7 @@ def stages(n: int) -> None:
     out.mkdir(parents=True, exist_ok=True)
     code = STAGES.format(mechanism=str(MECHANISM), out=str(out))
     env = dict(os.environ, PYTHONPATH=str(ROOT / "src"))
+    env.setdefault("OPENBLAS_NUM_THREADS", "1")  # as `run` sets it (cli.main) before NumPy
     cmd = [sys.executable, "-c", code]
     subprocess.run(cmd, env=env, check=True, capture_output=True)  # bytecode written
     runs = [
