@@ -2,6 +2,7 @@
 and the zero-speed rule."""
 
 import re
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -139,3 +140,25 @@ def test_the_shared_solves_give_each_solution_as_its_own_solve(monkeypatch, path
     assert np.array_equal(sol.status, alone.status)
     assert np.array_equal(sol.iterations, alone.iterations)
     assert np.nanmax(np.abs(sol.x - alone.x)) <= 1e-12 * np.nanmax(np.abs(alone.x))
+
+
+@pytest.mark.parametrize("positions", [[0.7], [0.7, 1.9]])
+def test_the_two_solutions_own_their_reactions(positions, monkeypatch):
+    """The approximate and the consistent reactions are arrays of their own, also where the
+    fixed point stops at its first iterate, which is the approximate solution (friction
+    too small to move the reactions), at one position (where a component-major view of
+    it is itself contiguous): the consistent solution writes NaN into its rows without a
+    friction solution, which must not reach the approximate one."""
+    from kinetostatics.kinetics import inverse
+
+    text = Path("mechanisms/slider_crank.yaml").read_text(encoding="utf-8")
+    text = re.sub(r"(radius|coefficient): [0-9.]+", r"\1: 1e-20", text)
+    calls = []
+    real = inverse.friction_solutions
+    monkeypatch.setattr(
+        inverse, "friction_solutions", lambda *a: calls.append(real(*a)) or calls[-1]
+    )
+    ks.analyze(ks.loads(text), positions=np.radians(positions))
+    got = calls[0]
+    assert np.all(got.solution.iterations == 1)  # the first iterate: the approximate one
+    assert not np.shares_memory(got.x_approx, got.solution.x)

@@ -180,9 +180,8 @@ def approximate(
     if a is None:
         return solve_a(-q_load - _generalized(fs, e)), e
     x_t = _combined(_components(x0), _per_effort(fs, a, solve_a), e)
-    x = np.ascontiguousarray(entries_last(x_t, 1))
     fs.shared["first"] = (x0, x_t)
-    return x, e
+    return np.array(entries_last(x_t, 1), order="C"), e  # a copy: the caller may write it
 
 
 def _components(a: np.ndarray, d: int = 1) -> np.ndarray:
@@ -295,7 +294,8 @@ def _fixed_point(system, fs, x0, per_effort, scale, x, state) -> np.ndarray:
         it += live
         converged |= live & (step <= TOL)
         live &= ~converged & np.isfinite(step) & (step < 1e6)
-    return np.ascontiguousarray(entries_last(x_t, 1))
+    return np.array(entries_last(x_t, 1), order="C")  # a copy (of the first iterate too):
+    # the caller writes it
 
 
 # -- the compiled backend (base/kernels.py) ------------------------------------------------
