@@ -11,6 +11,7 @@ __all__ = [
     "entries_last",
     "entry_major_zeros",
     "runs",
+    "as_run",
 ]
 
 
@@ -58,3 +59,12 @@ def runs(mask) -> list[tuple[int, int]]:
     edges = np.diff(np.concatenate(([0], np.asarray(mask, dtype=np.int8), [0])))
     first, last = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1
     return list(zip(first.tolist(), last.tolist()))
+
+
+def as_run(index) -> slice | np.ndarray:
+    """The integer ``index`` as a slice where it is a run of consecutive integers in order
+    (a view of what it indexes, not a gather), else as an array."""
+    index = np.asarray(index).reshape(-1)
+    if index.size and index[-1] - index[0] == index.size - 1 and np.all(np.diff(index) == 1):
+        return slice(int(index[0]), int(index[-1]) + 1)
+    return index

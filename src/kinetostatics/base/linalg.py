@@ -24,7 +24,7 @@ from collections.abc import Callable
 import numpy as np
 
 from . import kernels
-from .arrays import entries_first, entries_last
+from .arrays import as_run, entries_first, entries_last
 
 __all__ = ["BlockFactor", "small_inverse"]
 
@@ -322,13 +322,6 @@ def _into(inv: np.ndarray, out: np.ndarray | None) -> np.ndarray:
     return entries_last(out)
 
 
-def _run(index: np.ndarray) -> slice | np.ndarray:
-    """``index`` as a slice where it is a run of consecutive integers, else itself."""
-    if index.size and index[-1] - index[0] == index.size - 1 and np.all(np.diff(index) == 1):
-        return slice(int(index[0]), int(index[-1]) + 1)
-    return index
-
-
 @functools.lru_cache(maxsize=1024)
 def _coupling_index(cols: tuple[int, ...], own: tuple[int, ...]) -> tuple:
     """Which of a coupling block's columns ``cols`` are group g's ``own`` (their indices
@@ -338,9 +331,8 @@ def _coupling_index(cols: tuple[int, ...], own: tuple[int, ...]) -> tuple:
     if not at:
         return None, None
     if len(at) == len(own) and all(cols[a] == c for a, c in zip(at, own)):
-        if at == list(range(at[0], at[-1] + 1)):  # a run: a view, not a gather
-            return slice(at[0], at[-1] + 1), None
-        return at, None
+        run = as_run(at)  # a run: a view, not a gather
+        return (run if isinstance(run, slice) else at), None
     return at, [own.index(cols[a]) for a in at]
 
 
@@ -500,7 +492,7 @@ class BlockFactor:
         if self._at is None:
             later = [rows for rows, _ in reversed(self._upper_parts())]
             self._at = [
-                (_run(rows), _run(cols), _run(after))
+                (as_run(rows), as_run(cols), as_run(after))
                 for (rows, cols), after in zip(self.blocks, later)
             ]
         return self._at

@@ -45,7 +45,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..base.arrays import entries_last
+from ..base.arrays import as_run, entries_last
 from ..base.linalg import BlockFactor, small_inverse
 from ..base.trace import Lines, operand, pruned
 from ..structure.evaluation import STACK_UP_TO
@@ -371,10 +371,8 @@ def _contract_gamma(env: dict, k: int, s) -> list[str]:
 def _index(name: str, at: np.ndarray) -> str:
     """The text indexing the rows ``at`` (kept in the plan's names as ``name``): a slice
     where they run in order (a view: no gather, and a product can write into it)."""
-    at = np.asarray(at).reshape(-1)
-    if at.size and np.array_equal(at, np.arange(at[0], at[0] + at.size)):
-        return f"{int(at[0])}:{int(at[0]) + at.size}"
-    return name
+    run = as_run(at)
+    return f"{run.start}:{run.stop}" if isinstance(run, slice) else name
 
 
 def _substitution(system: System, x: str, rhs_of) -> list[str]:
