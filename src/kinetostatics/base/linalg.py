@@ -452,12 +452,17 @@ class BlockFactor:
 
     def solve_transposed(self, rhs: np.ndarray) -> np.ndarray:
         """y with Φ_qᵀ y = rhs (back substitution over the groups, through the coupling
-        blocks that exist)."""
-        return self._back_substitution(
-            rhs,
-            lambda upper, y: np.einsum("...ij,...j->...i", upper, y),
-            lambda inv, r: np.einsum("...ji,...j->...i", inv, r),
-        )
+        blocks that exist), the groups from the last: y_g = inv_gᵀ (rhs_g − upper_g y_later)."""
+        n_rows = sum(len(rows) for rows, _ in self.blocks)
+        y = np.zeros(rhs.shape[:-1] + (n_rows,))
+        for (rows, cols), inv, (later, upper) in zip(
+            reversed(self.blocks), reversed(self.inv), self._upper_parts()
+        ):
+            r = rhs[..., cols]
+            if upper is not None:
+                r = r - np.einsum("...ij,...j->...i", upper, y[..., later])
+            y[..., rows] = np.einsum("...ji,...j->...i", inv, r)
+        return y
 
     def solve_transposed_rows(self, rhs: np.ndarray) -> np.ndarray:
         """Y with Φ_qᵀ yᵢ = rᵢ for k right-hand sides given as the rows of ``rhs (..., k, n)``,
@@ -496,16 +501,3 @@ class BlockFactor:
                 for (rows, cols), after in zip(self.blocks, later)
             ]
         return self._at
-
-    def _back_substitution(self, rhs: np.ndarray, coupled, solved) -> np.ndarray:
-        """The groups from the last: y_g = solved(inv_g, rhs_g − coupled(upper_g, y_later))."""
-        n_rows = sum(len(rows) for rows, _ in self.blocks)
-        y = np.zeros(rhs.shape[:-1] + (n_rows,))
-        for (rows, cols), inv, (later, upper) in zip(
-            reversed(self.blocks), reversed(self.inv), self._upper_parts()
-        ):
-            r = rhs[..., cols]
-            if upper is not None:
-                r = r - coupled(upper, y[..., later])
-            y[..., rows] = solved(inv, r)
-        return y
