@@ -1,12 +1,15 @@
 """The compiled backend's stages against NumPy's: Φ_q's group blocks, γ, the inverse of the
-driven crank's 3×3 block (the adjugate) and the consistent friction solution (its fixed
-point and checks, ``friction.consistent``).
+driven crank's 3×3 block (the adjugate), the consistent friction solution (its fixed
+point and checks, ``friction.consistent``) and the kinematic plan's derivative stage
+(``plan.planned_derivatives``: its whole-array lines on NumPy, the fused program on numba,
+kinematics/fused.py).
 
 For each reference machine at 360 and 36,000 positions, the state of its own analysis
 (the poses, rates and reactions that ``ks.analyze`` evaluates them at) is kept, and each
 stage is timed on it with each backend in turns (medians of alternated samples); the two
-backends' arrays are checked equal to the bit first.  Needs numba (``pip install
-'kinetostatics[numba]'``).
+backends' arrays are checked first: equal to the bit, the derivative stage's within
+1e-12 of each array's largest value (the compiled backend's contract: its eliminations'
+row order may differ).  Needs numba (``pip install 'kinetostatics[numba]'``).
 
     PYTHONPATH=src python tests/benchmarks/bench_kernels.py
 """
@@ -22,6 +25,7 @@ from _common import ROOT
 import kinetostatics as ks
 from kinetostatics.base import kernels
 from kinetostatics.base.linalg import small_inverse
+from kinetostatics.kinematics import motion, plan
 from kinetostatics.kinetics import friction, inverse
 from kinetostatics.structure import evaluation, system
 
@@ -42,22 +46,29 @@ def state(name: str, n: int):
         kept["gamma"] = (sets, n_rows, pe, ve, psi_dd)
         return gamma(sets, n_rows, pe, ve, psi_dd)
 
-    consistent = friction.consistent
+    consistent, planned = friction.consistent, motion.planned_derivatives
 
     def keep_consistent(*args):
         kept["friction"] = args
         return consistent(*args)
 
+    def keep_planned(*args):
+        kept["planned"] = args
+        return planned(*args)
+
     system.jacobian_blocks_all, system.gamma_all = keep_blocks, keep_gamma
-    inverse.fr.consistent = keep_consistent
+    inverse.fr.consistent, motion.planned_derivatives = keep_consistent, keep_planned
+    after, plan.ENABLED = plan.PLAN_AFTER, False
     try:
-        ks.analyze(model, kinematics_only=True)
+        ks.analyze(model, kinematics_only=True)  # the general stage: its Φ_q and γ
         blocks_state, gamma_state = kept["blocks"], kept["gamma"]
+        plan.PLAN_AFTER, plan.ENABLED = (0, 0), True  # the plan made at the next analysis
         ks.analyze(model)
     finally:
         system.jacobian_blocks_all, system.gamma_all = blocks, gamma
-        inverse.fr.consistent = consistent
-    return blocks_state, gamma_state, kept["friction"]
+        inverse.fr.consistent, motion.planned_derivatives = consistent, planned
+        plan.PLAN_AFTER, plan.ENABLED = after, True
+    return blocks_state, gamma_state, kept["friction"], kept["planned"]
 
 
 def timed(fn, rounds: int = 7) -> dict[str, float]:
@@ -84,9 +95,18 @@ def arrays(out) -> list[np.ndarray]:
         return [out]
     if isinstance(out, friction.FrictionSolution):
         return [out.x, out.e, out.status, out.iterations, out.reach]
+    if len(out) == 3:  # the derivative stage: q̇, q̈ and the blocks' inverses
+        return [out[0], out[1], *out[2].inv]
     blocks, ground = out
     parts = [p for d, lo, _ in blocks for p in (d, lo) if p is not None]
     return parts + ([] if ground is None else [ground])
+
+
+def _same(a: np.ndarray, b: np.ndarray, to_scale: bool) -> bool:
+    """Equal to the bit, or with ``to_scale`` within 1e-12 of ``a``'s largest |value|."""
+    if not to_scale:
+        return np.array_equal(a, b, equal_nan=True)
+    return bool(np.allclose(a, b, rtol=0, atol=1e-12 * np.max(np.abs(a)), equal_nan=True))
 
 
 def main() -> None:
@@ -94,7 +114,7 @@ def main() -> None:
     print("|---|---|---|---|---|---|")
     for name in ("slider_crank", "slotting_machine"):
         for n in (360, 36_000):
-            b, g, f = state(name, n)
+            b, g, f, d = state(name, n)
             blocks = evaluation.jacobian_blocks_all(*b)[0]
             small = next(d for d, _, _ in blocks if d.shape[-1] <= 3)  # the crank's group
             k = small.shape[-1]
@@ -103,6 +123,7 @@ def main() -> None:
                 "γ": lambda g=g: evaluation.gamma_all(*g),
                 f"{k}×{k} block inverse": lambda a=small: small_inverse(a),
                 "consistent friction": lambda f=f: friction.consistent(*f),
+                "derivative stage (planned)": lambda d=d: plan.planned_derivatives(*d),
             }
             for label, fn in stages.items():
                 out = {}
@@ -111,7 +132,7 @@ def main() -> None:
                     out[backend] = fn()
                 kernels.set_backend("numpy")
                 a, c = (arrays(out[k]) for k in ("numpy", "numba"))
-                if not all(np.array_equal(x, y, equal_nan=True) for x, y in zip(a, c)):
+                if not all(_same(x, y, label.startswith("derivative")) for x, y in zip(a, c)):
                     raise SystemExit(f"{name}, {label}: the backends differ")
                 t = timed(fn)
                 print(

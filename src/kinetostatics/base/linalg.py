@@ -26,7 +26,7 @@ import numpy as np
 from . import kernels
 from .arrays import as_run, entries_first, entries_last
 
-__all__ = ["BlockFactor", "small_inverse"]
+__all__ = ["BlockFactor", "small_inverse", "traced_inverse"]
 
 
 def _adjugate(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -190,6 +190,44 @@ def _plan(pattern: np.ndarray, order: list[int]) -> _Plan:
             _PLANS.clear()
         plan = _PLANS[key] = _Plan(pattern, order)
     return plan
+
+
+def traced_inverse(m: list[list], first: np.ndarray, check: Callable) -> list[list] | None:
+    """The inverse of one n×n matrix ``m`` of traced values (base/trace.py: locals or
+    numbers, the number 0 where the entry is zero in every matrix) as
+    :func:`small_inverse` computes it, with ``first (n, n)`` the numbers of a matrix of
+    its kind: up to 3×3 the adjugate over the determinant, ``check(("det", det))``
+    called (its test: not zero); larger by the elimination in the row order partial
+    pivoting picks for ``first``, ``check(("pivot", pivot, column below, reciprocal))``
+    called at each pivot (its test: max |column at and below| · |1 / pivot| ≤ 1 /
+    :data:`PIVOT_RATIO`).  Entries of no slot are the number 0; None where no matrix can
+    take the order (a pivot zero in every one)."""
+    n = len(m)
+    if n <= 3:
+        a, inv, det = np.empty((n, n, 1), dtype=object), np.empty((n, n, 1), dtype=object), [0]
+        a[:, :, 0] = m
+        _adjugate_inverse(a, inv, det)
+        check(("det", det[0]))
+        return inv[:, :, 0].tolist()
+    pattern = np.array([[not (isinstance(x, float | int) and x == 0) for x in row] for row in m])
+    plan = _plan(pattern, _first_pivots(np.asarray(first, dtype=float)))
+    if not plan.feasible:
+        return None
+    v = {s: m[i][j] for s, i, j in plan.loads}
+    for code, d, a, b in plan.ops:
+        if code == _MUL:
+            v[d] = v[a] * v[b]
+        elif code == _SUB:
+            v[d] = v[d] - v[a] * v[b]
+        elif code == _ADD:
+            v[d] = v[d] + v[a] * v[b]
+        else:
+            v[d] = 1.0 / v[a]
+            check(("pivot", v[a], [v[c] for c in b], v[d]))
+    inv: list[list] = [[0.0] * n for _ in range(n)]
+    for s, k, negate in plan.stores:
+        inv[k // n][k % n] = -v[s] if negate else v[s]
+    return inv
 
 
 def _written(plan: _Plan) -> Callable:

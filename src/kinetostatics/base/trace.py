@@ -24,7 +24,9 @@ import numbers
 import re
 from collections import Counter
 
-__all__ = ["Sym", "Lines", "operand", "pruned"]
+import numpy as np
+
+__all__ = ["Sym", "Lines", "Leaves", "operand", "pruned", "traced_kernel"]
 
 
 class Lines:
@@ -147,3 +149,29 @@ class Sym:
 
     def __bool__(self):
         raise TypeError("a traced kernel branched on a value (its formulas must be plain)")
+
+
+class Leaves:
+    """A kernel's ``P (n + 1, 5, 1)`` or ``V (n + 1, 3, 1)`` when traced: entry ``[i, c,
+    0]`` is component c of link i over all the positions, the local ``<array>[i, c]`` (of
+    the component-major poses or rates) written at its first read; the ground's (the
+    last link) are numbers: its pose (0, 0, 0, 1, 0), its rates 0."""
+
+    def __init__(self, lines: Lines, array: str, n_links: int, ground: tuple):
+        self.lines, self.array, self.ground = lines, array, n_links
+        self.shape = (n_links + 1, len(ground), 1)
+        self.at_ground = ground
+
+    def __getitem__(self, key):
+        i, c, _ = key
+        if i == self.ground:
+            return self.at_ground[c]
+        return self.lines.value(f"{self.array}[{i}, {c}]")
+
+
+def traced_kernel(kernel, out_shapes: tuple, *args) -> list[np.ndarray]:
+    """The entries a kernel writes, traced: object arrays of ``out_shapes`` (the
+    positions' axis of length 1) holding a local or a number each."""
+    outs = [np.empty(shape, dtype=object) for shape in out_shapes]
+    kernel(*args, *outs)
+    return outs

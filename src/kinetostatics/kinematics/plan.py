@@ -45,11 +45,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..base import kernels
 from ..base.arrays import as_run, entries_last
 from ..base.linalg import BlockFactor, small_inverse
-from ..base.trace import Lines, operand, pruned
+from ..base.trace import Leaves, Lines, operand, pruned, traced_kernel
 from ..structure.evaluation import STACK_UP_TO
 from ..structure.system import System, link_poses, phi
+from .fused import fused_derivatives
 
 __all__ = [
     "KinematicPlan",
@@ -135,17 +137,14 @@ def planned_derivatives(
     assert layout is not None
     n, run = len(q), kinematic_plan(system).run
     pe = link_poses(system, q)
-    buf = np.zeros((layout.size + 1, n))
-    qdT, qddT = np.empty((system.n_q, n)), np.empty((system.n_q, n))
-    inv = [np.zeros((len(p.cols), len(p.cols), n)) for p in system.plans]
-    per = min(max(CHUNK_BYTES // (8 * (layout.size + 1)), 1024), 8192)
-    if n <= per:
-        run(pe, psi_d, psi_dd, buf, qdT, qddT, inv)
+    done = fused_derivatives(system, pe, psi_d, psi_dd) if kernels.active() else None
+    if done is not None:  # the compiled backend's program, position by position
+        buf, inv, qdT, qddT = done
     else:
-        cuts = np.linspace(0, n, -(-n // per) + 1).astype(int)  # alike, none tiny
-        for a, b in zip(cuts[:-1].tolist(), cuts[1:].tolist()):
-            chunk = [x[..., a:b] for x in inv]
-            run(pe[a:b], psi_d[a:b], psi_dd[a:b], buf[:, a:b], qdT[:, a:b], qddT[:, a:b], chunk)
+        buf = np.zeros((layout.size + 1, n))
+        qdT, qddT = np.empty((system.n_q, n)), np.empty((system.n_q, n))
+        inv = [np.zeros((len(p.cols), len(p.cols), n)) for p in system.plans]
+        _run_in_chunks(run, layout.size + 1, (pe, psi_d, psi_dd), (buf, qdT, qddT), inv)
     parts = [
         (_block(buf, d, n), None if lo is None else _block(buf, lo, n), cols)
         for d, lo, cols in zip(layout.diag, layout.lower, layout.lower_cols)
@@ -155,6 +154,19 @@ def planned_derivatives(
     ground = None if layout.ground is None else _block(buf, layout.ground, n).copy()
     system.memo["ground_jacobian"] = (pe, ground)
     return qdT.T, qddT.T, lu
+
+
+def _run_in_chunks(run, entries: int, rows: tuple, into: tuple, inv: list) -> None:
+    """The plan's ``run`` over the rows ``(pe, psi_d, psi_dd)`` into ``(buf, qdT, qddT)``
+    and the inverses ``inv``, in chunks of :data:`CHUNK_BYTES` of Φ_q's ``entries``."""
+    n = len(rows[0])
+    per = min(max(CHUNK_BYTES // (8 * entries), 1024), 8192)
+    if n <= per:
+        run(*rows, *into, inv)
+        return
+    cuts = np.linspace(0, n, -(-n // per) + 1).astype(int)  # alike, none tiny
+    for a, b in zip(cuts[:-1].tolist(), cuts[1:].tolist()):
+        run(*(x[a:b] for x in rows), *(x[:, a:b] for x in into), [x[..., a:b] for x in inv])
 
 
 def _block(buf: np.ndarray, at, n: int) -> np.ndarray:
@@ -189,37 +201,10 @@ def kinematic_plan(system: System) -> KinematicPlan:
 
 
 # -- the joints' kernels, traced ----------------------------------------------------------
-class _Leaves:
-    """The kernels' ``P (n + 1, 5, 1)`` or ``V (n + 1, 3, 1)`` when traced: entry
-    ``[i, c, 0]`` is component c of link i over all the positions, the local
-    ``<array>[i, c]`` (of the component-major poses or rates) written at its first read;
-    the ground's (the last link) are numbers: its pose (0, 0, 0, 1, 0), its rates 0."""
-
-    def __init__(self, lines: Lines, array: str, n_links: int, ground: tuple):
-        self.lines, self.array, self.ground = lines, array, n_links
-        self.shape = (n_links + 1, len(ground), 1)
-        self.at_ground = ground
-
-    def __getitem__(self, key):
-        i, c, _ = key
-        if i == self.ground:
-            return self.at_ground[c]
-        return self.lines.value(f"{self.array}[{i}, {c}]")
-
-
-def _traced(kernel, out_shapes: tuple, *args) -> list[np.ndarray]:
-    """The entries a kernel writes, traced (:mod:`~kinetostatics.base.trace`): object
-    arrays of ``out_shapes`` (the positions' axis of length 1) holding a local or a number
-    each."""
-    outs = [np.empty(shape, dtype=object) for shape in out_shapes]
-    kernel(*args, *outs)
-    return outs
-
-
 def _traced_rows(traced: Lines, s, kernel, *args) -> list[str]:
     """The lines of set ``s``'s kernel writing its values ``out (k, n_eq, N)`` (Φ's or
     γ's), traced, each value to its row of ``rows``."""
-    (out,) = _traced(kernel, (s.rows.reshape(len(s.members), -1).shape + (1,),), *args)
+    (out,) = traced_kernel(kernel, (s.rows.reshape(len(s.members), -1).shape + (1,),), *args)
     for at, value in zip(s.rows.reshape(-1).tolist(), out.reshape(-1).tolist()):
         traced.lines.append(f"    rows[{at}] = {operand(value)}")
     return traced.take()
@@ -244,7 +229,7 @@ def _generate_residual(system: System) -> KinematicPlan:
     lines.append("    out = rows.T")
     env: dict = {"np": np}
     traced = Lines()
-    poses = _Leaves(traced, "PE", len(system.links), (0.0, 0.0, 0.0, 1.0, 0.0))
+    poses = Leaves(traced, "PE", len(system.links), (0.0, 0.0, 0.0, 1.0, 0.0))
     long_runs = True
     for k, s in enumerate(system.sets):
         par = _whole_array(s, ("residual_kernel",))
@@ -298,7 +283,7 @@ def _blocks(system: System, env: dict, lines: list[str], traced: Lines) -> list[
     kernels)."""
     layout = system.layout
     assert layout is not None
-    poses = _Leaves(traced, "PE", len(system.links), (0.0, 0.0, 0.0, 1.0, 0.0))
+    poses = Leaves(traced, "PE", len(system.links), (0.0, 0.0, 0.0, 1.0, 0.0))
     gather = []
     for k, s in enumerate(system.sets):
         env[f"C{k}"] = s.constraint
@@ -309,7 +294,9 @@ def _blocks(system: System, env: dict, lines: list[str], traced: Lines) -> list[
             lines += _contract_jacobian(env, k, s)
             continue
         shape = (len(s.members),) + s.rows.shape[-1:] + (3, 1)
-        ji, jj = _traced(type(s.constraint).jacobian_kernel, (shape, shape), par, poses, s.ends)
+        ji, jj = traced_kernel(
+            type(s.constraint).jacobian_kernel, (shape, shape), par, poses, s.ends
+        )
         for slots, values, op in ((layout.dest[k][0], ji, "="), (layout.dest[k][1], jj, "+=")):
             for at, value in zip(slots.reshape(-1).tolist(), values.reshape(-1).tolist()):
                 if not (isinstance(value, numbers.Real) and value == 0.0):  # zero on zeros
@@ -424,8 +411,8 @@ def _accelerations(
     lines.append("    ve = vr.transpose(2, 0, 1)")
     lines.append(f"    rows = np.empty(({system.n_rows}, n))")
     lines.append("    gam = rows.T")
-    poses = _Leaves(traced, "PE", n_links, (0.0, 0.0, 0.0, 1.0, 0.0))
-    rates = _Leaves(traced, "vr", n_links, (0.0, 0.0, 0.0))
+    poses = Leaves(traced, "PE", n_links, (0.0, 0.0, 0.0, 1.0, 0.0))
+    rates = Leaves(traced, "vr", n_links, (0.0, 0.0, 0.0))
     for k, s in enumerate(system.sets):
         if not gather[k]:
             lines += _contract_gamma(env, k, s)

@@ -1,0 +1,211 @@
+"""The fused derivative stage (kinematics/fused.py) and the programs it runs
+(base/program.py).
+
+A program is checked against its own lines run over whole arrays (no numba needed: the
+executor is plain Python until compiled); the fused stage against the NumPy plan, every
+column of an analysis within 1e-12 of its unit's scale on the shipped files, the hard
+cases and generated mechanisms (the compiled backend's contract), and its fallback: a
+position whose pivot fails its test sends the call to the NumPy plan."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+
+import kinetostatics as ks
+from kinetostatics.base import kernels, program
+from kinetostatics.base.trace import Lines
+from kinetostatics.kinematics import fused, plan
+from tests.helpers import ROOT, assert_close_on_unit_scales, motion_driven
+from tests.net import generate
+
+SHIPPED = [ROOT / "mechanisms" / f"{name}.yaml" for name in motion_driven()]
+HARD = sorted((ROOT / "tests" / "hard").glob("*.yaml"))
+SEEDS = range(8)
+MANY = range(1_000_000, 1_000_200)  # the slow run's: 200 generated mechanisms
+KEY_PLAN = "kinematic plan"
+
+try:
+    import numba  # noqa: F401
+
+    HAVE_NUMBA = True
+except ImportError:
+    HAVE_NUMBA = False
+compiling = pytest.mark.skipif(not HAVE_NUMBA, reason="numba is not installed")
+
+
+def _over_arrays(lines: list[str], inputs, rows: int) -> np.ndarray:
+    """The lines run as Python over whole arrays (the oracle of a program)."""
+    text = "\n".join(
+        line.replace("abs(", "np.abs(").replace("max(", "np.maximum(")
+        if not line.startswith("    check")
+        else "    pass"
+        for line in lines
+    )
+    env = {"np": np}
+    exec(f"def f(PE, psi_d, psi_dd, out):\n{text}\n", env)  # noqa: S102  the test's own lines
+    out = np.zeros((rows, inputs[0].shape[-1]))
+    with np.errstate(all="ignore"):
+        env["f"](*inputs, out)
+    return out
+
+
+def _inputs(n: int, rng) -> tuple:
+    return rng.normal(size=(3, 5, n)), rng.normal(size=(2, 1, n)), rng.normal(size=(2, 1, n))
+
+
+def test_a_program_gives_its_lines_numbers():
+    """Every operation, constants (negative, repeated), an operand read twice in one
+    operation (its register freed once), NaN through max, and blocks of positions with a
+    short last one."""
+    lines = [
+        "    e0 = PE[0, 3]",
+        "    e1 = e0 * e0",  # e0 read twice, last time: freed once, not twice
+        "    e2 = PE[1, 4]",
+        "    e3 = psi_d[1, 0]",
+        "    e4 = e2 + e3",
+        "    e5 = e4 * (-0.03)",
+        "    e6 = e5 / e1",
+        "    e7 = -e6",
+        "    e8 = abs(e7)",
+        "    e9 = psi_dd[0, 0]",
+        "    e10 = max(e8, e9)",
+        "    e11 = e10 - 2.5",
+        "    e12 = 0.0 / e11",
+        "    out[0] = e1",
+        "    out[2] = e4",
+        "    out[3] = e7",
+        "    out[4] = e10",
+        "    out[5] = (-0.03)",
+        "    out[6] = e12",
+        "    check e8 <= 1.5",
+    ]
+    rng = np.random.default_rng(3)
+    n = 2 * program.block(12) + 5
+    inputs = _inputs(n, rng)
+    inputs[2][0, 0, 7] = np.nan  # max(x, NaN) is NaN, as np.maximum
+    prog = program.assembled(lines, 7)
+    out = np.zeros((7, n))
+    with np.errstate(all="ignore"):
+        failed = program.execute(
+            prog.ops, prog.values, np.empty((prog.registers, program.block(12))), *inputs, out
+        )
+    ref = _over_arrays(lines, inputs, 7)
+    np.testing.assert_array_equal(out, ref)
+    assert np.isnan(out[4, 7])
+    assert failed == int(np.sum(~(np.abs(ref[3]) <= 1.5)))
+    assert prog.registers < 13  # registers are reused
+
+
+def test_a_program_refuses_a_line_it_does_not_know():
+    with pytest.raises(ValueError, match="not an operation"):
+        program.assembled(["    e0 = PE[0, 3]", "    e1 = e0 ** 2", "    out[0] = e1"], 1)
+    with pytest.raises(ValueError, match="never read"):
+        program.assembled(["    e0 = PE[0, 3]"], 1)
+
+
+def test_traced_lines_assemble(monkeypatch):
+    """Lines as the trace writes them (base/trace.py), numbers simplified away."""
+    lines = Lines()
+    x, y = lines.value("PE[0, 3]"), lines.value("PE[2, 4]")
+    z = (x * 1.0 + 0.0) * y - x / 3.0
+    body = [*lines.take(), f"    out[0] = {z.name}"]
+    inputs = _inputs(10, np.random.default_rng(1))
+    out = np.zeros((1, 10))
+    prog = program.assembled(body, 1)
+    program.execute(prog.ops, prog.values, np.empty((prog.registers, 4)), *inputs, out)
+    np.testing.assert_array_equal(out, _over_arrays(body, inputs, 1))
+
+
+# -- the fused stage against the NumPy plan ------------------------------------------------
+@pytest.fixture
+def at_once(monkeypatch):
+    """The plans made on a system's first analysis; the default backend back after."""
+    monkeypatch.setattr(plan, "PLAN_AFTER", (0, 0))
+    yield
+    kernels.set_backend("numpy")
+
+
+def _analysis(model, backend: str, **kw):
+    kernels.set_backend(backend)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        try:
+            return ks.analyze(model, **kw)
+        except ks.KinetostaticsError as e:
+            return type(e)
+
+
+def _both(model, **kw):
+    a, b = _analysis(model, "numpy", **kw), _analysis(model, "numba", **kw)
+    if isinstance(a, type):
+        assert a is b
+        return None
+    assert_close_on_unit_scales(b, a, 1e-12)
+    return b.system.memo.get(fused.KEY)
+
+
+def _model(source):
+    if isinstance(source, int):
+        return ks.loads(generate.to_text(generate.generate(source)), f"seed{source}.yaml")
+    return ks.load(source)
+
+
+@compiling
+@pytest.mark.parametrize(
+    "source", SHIPPED + HARD + list(SEEDS), ids=lambda s: getattr(s, "stem", f"seed{s}")
+)
+def test_fused_stage_gives_every_column(source, at_once):
+    """A whole analysis with the fused stage: every column within 1e-12 of its unit's
+    scale of the NumPy plan's."""
+    _both(_model(source))
+
+
+@compiling
+@pytest.mark.parametrize("name", ["slider_crank", "slotting_machine"])
+def test_the_pairs_mechanisms_take_the_fused_stage(name, at_once):
+    """Over 36,000 positions too (the program's blocks, no chunks)."""
+    model = ks.load(ROOT / "mechanisms" / f"{name}.yaml")
+    assert _both(model) is not None
+    angles = model.analysis.start + np.linspace(0.0, 2 * np.pi, 36_000, endpoint=False)
+    assert _both(model, positions=angles, friction=False) is not None
+
+
+@compiling
+def test_a_cam_keeps_the_numpy_plan(at_once):
+    model = ks.load(ROOT / "mechanisms" / "cam_roller.yaml")
+    assert _both(model) is None
+    memo = _analysis(model, "numba").system.memo
+    assert KEY_PLAN in memo and fused.KEY in memo  # the fused plan tried, not made
+
+
+@compiling
+def test_a_failed_pivot_sends_the_call_to_the_numpy_plan(at_once, monkeypatch, request):
+    """With pivot tests no position passes, the program runs, counts its failures and the
+    call is the NumPy plan's: the same columns."""
+    model = ks.load(ROOT / "mechanisms" / "slotting_machine.yaml")
+    made = _both(model)
+    checks = made.program.ops[:, 0] == program.CHECK_LE
+    assert checks.any()  # the slotting machine's 6×6 blocks are eliminated
+    kept = made.program.values.copy()
+    made.program.values[checks] = -1.0  # |x| <= -1 fails everywhere
+    request.addfinalizer(lambda: made.program.values.__setitem__(slice(None), kept))
+    calls = []
+    real = fused.program.run
+
+    def counted(*args):
+        calls.append(real(*args))
+        return calls[-1]
+
+    monkeypatch.setattr(fused.program, "run", counted)
+    assert _both(model) is made
+    assert calls and all(c > 0 for c in calls)
+
+
+@compiling
+@pytest.mark.slow
+def test_fused_stage_on_200_generated_mechanisms(at_once):
+    for seed in MANY:
+        _both(_model(seed))
