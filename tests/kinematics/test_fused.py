@@ -44,7 +44,12 @@ def _over_arrays(lines: list[str], inputs, rows: int) -> np.ndarray:
         else "    pass"
         for line in lines
     )
-    env = {"np": np}
+    env = {
+        "np": np,
+        "sqrt": np.sqrt,
+        "positive_or_one": lambda x: np.where(x > 0, x, 1.0),
+        "finite_or_inf": lambda x: np.where(np.isfinite(x), x, np.inf),
+    }
     exec(f"def f(PE, psi_d, psi_dd, out):\n{text}\n", env)  # noqa: S102  the test's own lines
     out = np.zeros((rows, inputs[0].shape[-1]))
     with np.errstate(all="ignore"):
@@ -74,7 +79,13 @@ def test_a_program_gives_its_lines_numbers():
         "    e10 = max(e8, e9)",
         "    e11 = e10 - 2.5",
         "    e12 = 0.0 / e11",
+        "    e13 = sqrt(e11)",  # NaN where e11 < 0
+        "    e14 = positive_or_one(e13)",  # 1 where NaN or ≤ 0
+        "    e15 = e4 / e12",  # ±inf or NaN where e12 is 0
+        "    e16 = finite_or_inf(e15)",
         "    out[0] = e1",
+        "    out[7] = e14",
+        "    out[8] = e16",
         "    out[2] = e4",
         "    out[3] = e7",
         "    out[4] = e10",
@@ -86,17 +97,17 @@ def test_a_program_gives_its_lines_numbers():
     n = 2 * program.block(12) + 5
     inputs = _inputs(n, rng)
     inputs[2][0, 0, 7] = np.nan  # max(x, NaN) is NaN, as np.maximum
-    prog = program.assembled(lines, 7)
-    out = np.zeros((7, n))
+    prog = program.assembled(lines, 9)
+    out = np.zeros((9, n))
     with np.errstate(all="ignore"):
         failed = program.execute(
             prog.ops, prog.values, np.empty((prog.registers, program.block(12))), *inputs, out
         )
-    ref = _over_arrays(lines, inputs, 7)
+    ref = _over_arrays(lines, inputs, 9)
     np.testing.assert_array_equal(out, ref)
-    assert np.isnan(out[4, 7])
+    assert np.isnan(out[4, 7]) and (out[7] == 1.0).any() and np.isinf(out[8]).any()
     assert failed == int(np.sum(~(np.abs(ref[3]) <= 1.5)))
-    assert prog.registers < 13  # registers are reused
+    assert prog.registers < 17  # registers are reused
 
 
 def test_a_program_refuses_a_line_it_does_not_know():

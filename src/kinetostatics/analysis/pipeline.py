@@ -554,6 +554,8 @@ def _warn_near_singular(system: System, cond: dict, coord: np.ndarray) -> None:
 
 
 def _conditions(system: System, q: np.ndarray, lu) -> dict:
+    if lu is not None and lu.conditions is not None:  # computed with the factors (fused)
+        return {system.plans[g].group: c for g, c in lu.conditions.items()}
     return {
         p.group: (
             condition_number(system, p, lu.diag[g], lu.inv[g])

@@ -382,7 +382,9 @@ class BlockFactor:
     the group's rows × the earlier groups' columns its constraints touch (None and an
     empty array for none), as :func:`~kinetostatics.structure.system.jacobian_blocks`
     builds them without the structural zeros.  Given ``jac``, a coupling block spans all
-    the earlier columns.  ``inv``: the diagonal blocks' inverses, if computed already.
+    the earlier columns.  ``inv``: the diagonal blocks' inverses, if computed already;
+    ``conditions``: the groups' condition numbers ``{g: (...)}``, if computed with them
+    (the compiled backend's fused stage, kinematics/fused.py), else None.
     """
 
     def __init__(
@@ -391,8 +393,10 @@ class BlockFactor:
         blocks: list[tuple[np.ndarray, np.ndarray]],
         parts: list[tuple[np.ndarray, np.ndarray | None, np.ndarray]] | None = None,
         inv: list[np.ndarray] | None = None,
+        conditions: dict | None = None,
     ):
         self.blocks = blocks
+        self.conditions = conditions
         self._jac = jac
         self.n = sum(len(cols) for _, cols in blocks)
         if parts is None:

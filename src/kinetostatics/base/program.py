@@ -15,9 +15,11 @@ docs/python.md).
 
 The lines a program takes (each written by its stage's generator):
 
-- ``e<k> = a op b`` with ``op`` one of ``+ - * /``, ``e<k> = -a``, ``e<k> = abs(a)``
-  and ``e<k> = max(a, b)`` (NaN when either is, as ``np.maximum``), each operand a
-  local or a number;
+- ``e<k> = a op b`` with ``op`` one of ``+ - * /``, ``e<k> = -a``, ``e<k> = abs(a)``,
+  ``e<k> = sqrt(a)``, ``e<k> = max(a, b)`` (NaN when either is, as ``np.maximum``),
+  ``e<k> = positive_or_one(a)`` (a where a > 0, else 1: ``np.where(a > 0, a, 1.0)``)
+  and ``e<k> = finite_or_inf(a)`` (a where finite, else ∞), each operand a local or a
+  number;
 - ``e<k> = <input>[i, j]``: entry ``[i, j]`` of one of the inputs at the position, the
   inputs being ``(…, N)`` arrays named in :data:`INPUTS`;
 - ``out[r] = a``: row r of the output ``(rows, N)`` at the position;
@@ -36,9 +38,11 @@ from . import kernels
 
 __all__ = ["Program", "assembled", "block", "execute", "run", "INPUTS"]
 
+# the operations of a program (its table's first column)
 (ADD, SUB, MUL, DIV, NEG, ABS, MAX, CONST, LOAD0, LOAD1, LOAD2, STORE, CHECK_LE, CHECK_NZ) = range(
     14
 )
+SQRT, POSITIVE, FINITE = range(14, 17)
 INPUTS = ("PE", "psi_d", "psi_dd")
 """The inputs a program reads, in :func:`execute`'s order: the links' poses ``(n + 1, 5,
 N)``, the motion drivers' ψ̇ and ψ̈ ``(n_d, 1, N)`` (component-major, every array of
@@ -56,6 +60,7 @@ def block(registers: int) -> int:
 
 
 _BINARY = {"+": ADD, "-": SUB, "*": MUL, "/": DIV}
+_UNARY = {"abs": ABS, "sqrt": SQRT, "positive_or_one": POSITIVE, "finite_or_inf": FINITE}
 _LINE = re.compile(
     r"^    (?:(?P<local>e\d+) = (?P<expr>.+)|out\[(?P<row>\d+)\] = (?P<stored>\S+)"
     r"|check (?P<checked>\S+) (?P<test><=|!=) (?P<limit>\S+))$"
@@ -64,7 +69,7 @@ _OPERAND = r"(e\d+|\(?-?[\d.e+-]+\)?|\(?-?inf\)?|nan)"
 _EXPR = [
     (re.compile(rf"^{_OPERAND} ([-+*/]) {_OPERAND}$"), "binary"),
     (re.compile(r"^-(e\d+)$"), "neg"),
-    (re.compile(rf"^abs\({_OPERAND}\)$"), "abs"),
+    (re.compile(rf"^(abs|sqrt|positive_or_one|finite_or_inf)\({_OPERAND}\)$"), "unary"),
     (re.compile(rf"^max\({_OPERAND}, {_OPERAND}\)$"), "max"),
     (re.compile(r"^(\w+)\[(\d+), (\d+)\]$"), "load"),
 ]
@@ -126,7 +131,9 @@ def _expression(local: str, expr: str, operand) -> list:
             return [_BINARY[m[2]], local, operand(m[1]), operand(m[3]), 0.0]
         if kind == "load":
             return [LOAD0 + INPUTS.index(m[1]), local, int(m[2]), int(m[3]), 0.0]
-        code = {"neg": NEG, "abs": ABS, "max": MAX}[kind]
+        if kind == "unary":
+            return [_UNARY[m[1]], local, operand(m[2]), None, 0.0]
+        code = NEG if kind == "neg" else MAX
         return [code, local, operand(m[1]), operand(m[2]) if kind == "max" else None, 0.0]
     raise ValueError(f"not an operation of a program: {expr!r}")
 
@@ -206,14 +213,18 @@ def execute(ops, values, reg, PE, psi_d, psi_dd, out) -> int:  # noqa: C901, N80
             elif code == STORE:
                 for i in range(m):
                     out[b, start + i] = reg[a, i]
-            elif code == CHECK_LE:
+            elif code == SQRT:
                 for i in range(m):
-                    if not reg[a, i] <= values[k]:
-                        failed += 1
-            else:  # CHECK_NZ
+                    reg[d, i] = np.sqrt(reg[a, i])
+            elif code == POSITIVE or code == FINITE:  # the value where it is so, else 1 or ∞
                 for i in range(m):
-                    if reg[a, i] == 0.0:
-                        failed += 1
+                    x = reg[a, i]
+                    kept = x > 0.0 if code == POSITIVE else abs(x) < np.inf
+                    reg[d, i] = x if kept else (1.0 if code == POSITIVE else np.inf)
+            else:  # CHECK_LE, CHECK_NZ: a position failing its test counted
+                for i in range(m):
+                    x = reg[a, i]
+                    failed += (not x <= values[k]) if code == CHECK_LE else (x == 0.0)
     return failed
 
 

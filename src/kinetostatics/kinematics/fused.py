@@ -14,16 +14,19 @@ positions — no NumPy call per operation, and no temporaries over all the posit
   picks for the first position the plan was made at) — a position where a pivot fails
   its test, or a determinant is zero, sends the whole call to the NumPy plan, which
   inverts that matrix by LAPACK;
+- the groups' condition numbers (but the driven groups'), with the operations of
+  :func:`~kinetostatics.kinematics.newton.condition_number` on the blocks and inverses
+  still in registers, handed on with the factors (``BlockFactor.conditions``);
 - q̇ and q̈ by the forward substitutions over the groups, γ by the sets' ``gamma_kernel``
   (a driver's ψ̈ less its joint's ``bias_kernel``) on the links' rates just solved.
 
 Every constraint set must have whole-array kernels (revolute and prismatic pairs and the
 drivers on them); a system with another (a cam, a gear pair) keeps the NumPy plan.  The
 program writes what the NumPy plan writes — Φ_q's entries, the blocks' inverses, q̇, q̈
-— into one output whose rows the stage hands on as the same views, so the stages after
-it cannot tell them apart; the numbers agree to round-off (the row order of an
-elimination may differ from the call's own first position; tests/kinematics/test_fused.py
-holds every column to 1e-12 of its scale).
+— and the condition numbers into one output whose rows the stage hands on as the same
+views, so the stages after it cannot tell them apart; the numbers agree to round-off
+(the row order of an elimination may differ from the call's own first position;
+tests/kinematics/test_fused.py holds every column to 1e-12 of its scale).
 """
 
 from __future__ import annotations
@@ -48,12 +51,14 @@ KEY = "fused kinematic plan"
 class FusedPlan:
     """A system's derivative stage as a program: ``source`` (its lines), ``program`` (as
     assembled), and the output's rows: Φ_q's entries first (the block layout's buffer),
-    then each group's inverse (its k² entries, entry-major) at ``inverses``, q̇ at
-    ``rates`` and q̈ after it."""
+    then each group's inverse (its k² entries, entry-major) at ``inverses``, the groups'
+    condition numbers (:func:`~kinetostatics.kinematics.newton.condition_number`, but
+    the driven groups') at ``conditions``, q̇ at ``rates`` and q̈ after it."""
 
     source: str
     program: program.Program
     inverses: tuple[int, ...]
+    conditions: tuple[tuple[int, int], ...]  # (group, its row) of each condition number
     rates: int
 
 
@@ -75,10 +80,11 @@ def fused_plan(system: System, pe: np.ndarray) -> FusedPlan | None:
 
 def fused_derivatives(
     system: System, pe: np.ndarray, psi_d: np.ndarray, psi_dd: np.ndarray
-) -> tuple[np.ndarray, list[np.ndarray], np.ndarray, np.ndarray] | None:
+) -> tuple[np.ndarray, list[np.ndarray], np.ndarray, np.ndarray, dict] | None:
     """(Φ_q's entries ``(size + 1, N)``, the groups' inverses ``(k, k, N)``, q̇ and q̈
-    ``(n_q, N)``) at the poses ``pe (N, n + 1, 5)``, as the NumPy plan writes them; None
-    where the system has no fused plan or a position failed a pivot's test."""
+    ``(n_q, N)``, the groups' condition numbers ``{g: (N,)}``) at the poses ``pe (N, n +
+    1, 5)``, as the NumPy plan and ``condition_number`` give them; None where the system
+    has no fused plan or a position failed a pivot's test."""
     plan = fused_plan(system, pe)
     if plan is None:
         return None
@@ -96,8 +102,9 @@ def fused_derivatives(
         out[at : at + len(p.cols) ** 2].reshape(len(p.cols), len(p.cols), n)
         for at, p in zip(plan.inverses, system.plans)
     ]
-    n_q = system.n_q
-    return out[: plan.inverses[0]], inv, out[plan.rates : plan.rates + n_q], out[plan.rates + n_q :]
+    n_q, at = system.n_q, plan.rates
+    conditions = {g: out[row] for g, row in plan.conditions}
+    return out[: plan.inverses[0]], inv, out[at : at + n_q], out[at + n_q :], conditions
 
 
 def _zero(x) -> bool:
@@ -155,6 +162,13 @@ def _generate(system: System, pe: np.ndarray) -> FusedPlan:
             {at + i * c + j: v for i, row in enumerate(block) for j, v in enumerate(row)},
         )
         at += r * c
+    conditions = []
+    for g, ((off, r, c), p) in enumerate(zip(layout.diag, system.plans)):
+        if p.group.kind != "driven":  # as the analysis asks for them (analysis/pipeline.py)
+            m = [[slots.get(off + i * c + j, 0.0) for j in range(c)] for i in range(r)]
+            _emit(body, lines, {at: _condition(lines, m, inv[g], float(system.l_ref))})
+            conditions.append((g, at))
+            at += 1
     qd = _substitution(system, slots, inv, lambda g, a, row: _nu(system, lines, row))
     _emit(body, lines, {at + col: v for col, v in qd.items()})
     gamma = _gamma(system, kinds, lines, poses, _Rates(qd, n_links))
@@ -162,7 +176,8 @@ def _generate(system: System, pe: np.ndarray) -> FusedPlan:
     _emit(body, lines, {at + system.n_q + col: v for col, v in qdd.items()})
     body = pruned(body)
     rows = at + 2 * system.n_q
-    return FusedPlan("\n".join(body) + "\n", program.assembled(body, rows), tuple(inverses), at)
+    assembled = program.assembled(body, rows)
+    return FusedPlan("\n".join(body) + "\n", assembled, tuple(inverses), tuple(conditions), at)
 
 
 def _emit(body: list[str], lines: Lines, stores: dict) -> None:
@@ -219,6 +234,42 @@ def _max(lines: Lines, x, y):
     if isinstance(x, Sym) or isinstance(y, Sym):
         return lines.value(f"max({operand(x)}, {operand(y)})")
     return x if (x >= y or x != x) else y
+
+
+def _condition(lines: Lines, m: list, inv: list, l_ref: float):
+    """‖S‖_F ‖S⁻¹‖_F of a group's block ``m`` and its inverse ``inv`` (traced values) with
+    the operations of :func:`~kinetostatics.kinematics.newton.condition_number` in its
+    order: a_ij = |J_ij c_j|, each row's largest m_i (1 for a zero row), ‖S‖² = Σ_i (Σ_j
+    a_ij²) / m_i², ‖S⁻¹‖² = Σ_i (Σ_j (J⁻¹_ij m_j)²) / c_i², ∞ where not finite."""
+    k = len(m)
+    col = [1.0 if j % 3 == 2 else l_ref for j in range(k)]
+    a = [[_abs(lines, m[i][j] * col[j]) for j in range(k)] for i in range(k)]
+    norm = []
+    for row in a:
+        top = row[0]
+        for x in row[1:]:
+            top = _max(lines, top, x)
+        norm.append(_unary(lines, "positive_or_one", top, lambda x: x if x > 0 else 1.0))
+    a_sq = [_sum(x * x for x in row) for row in a]
+    inv_sq = [
+        _sum((inv[i][j] * norm[j]) * (inv[i][j] * norm[j]) for j in range(k)) for i in range(k)
+    ]
+    first = _sum(a_sq[i] / (norm[i] * norm[i]) for i in range(k))
+    second = _sum(inv_sq[i] / (col[i] * col[i]) for i in range(k))
+    c = _unary(lines, "sqrt", first, np.sqrt) * _unary(lines, "sqrt", second, np.sqrt)
+    return _unary(lines, "finite_or_inf", c, lambda x: x if abs(x) < np.inf else np.inf)
+
+
+def _sum(terms):
+    """Σ of traced terms in order, from the first (as ``einsum`` and ``np.sum`` add)."""
+    acc = 0.0
+    for t in terms:
+        acc = acc + t
+    return acc
+
+
+def _unary(lines: Lines, name: str, x, of_number):
+    return lines.value(f"{name}({x.name})") if isinstance(x, Sym) else float(of_number(x))
 
 
 def _nu(system: System, lines: Lines, row: int):

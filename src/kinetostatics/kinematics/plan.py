@@ -138,8 +138,9 @@ def planned_derivatives(
     n, run = len(q), kinematic_plan(system).run
     pe = link_poses(system, q)
     done = fused_derivatives(system, pe, psi_d, psi_dd) if kernels.active() else None
+    conditions = None
     if done is not None:  # the compiled backend's program, position by position
-        buf, inv, qdT, qddT = done
+        buf, inv, qdT, qddT, conditions = done
     else:
         buf = np.zeros((layout.size + 1, n))
         qdT, qddT = np.empty((system.n_q, n)), np.empty((system.n_q, n))
@@ -150,7 +151,7 @@ def planned_derivatives(
         for d, lo, cols in zip(layout.diag, layout.lower, layout.lower_cols)
     ]
     blocks = [(p.rows, p.cols) for p in system.plans]
-    lu = BlockFactor(None, blocks, parts, inv=[entries_last(x) for x in inv])
+    lu = BlockFactor(None, blocks, parts, [entries_last(x) for x in inv], conditions)
     ground = None if layout.ground is None else _block(buf, layout.ground, n).copy()
     system.memo["ground_jacobian"] = (pe, ground)
     return qdT.T, qddT.T, lu
