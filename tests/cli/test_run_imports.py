@@ -56,7 +56,11 @@ IMPORT_LAZY = RUN_LAZY + (
 
 
 def _loaded(code: str, names: tuple[str, ...], env: dict | None = None) -> list[str]:
-    """Which of ``names`` are in ``sys.modules`` after ``code`` runs in a fresh process."""
+    """Which of ``names`` are in ``sys.modules`` after ``code`` runs in a fresh process, on
+    the default backend (the compiled backend's numba loads scipy, email and others itself:
+    the suite run with ``KINETOSTATICS_BACKEND=numba`` leaves it out here)."""
+    if env is None:
+        env = {k: v for k, v in os.environ.items() if k != "KINETOSTATICS_BACKEND"}
     script = f"import json, sys\n{code}\nprint(json.dumps(sorted(sys.modules)))"
     out = subprocess.run(
         [sys.executable, "-c", script],
