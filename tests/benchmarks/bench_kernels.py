@@ -1,8 +1,9 @@
 """The compiled backend's stages against NumPy's: Φ_q's group blocks, γ, the inverse of the
 driven crank's 3×3 block (the adjugate), the consistent friction solution (its fixed
-point and checks, ``friction.consistent``) and the kinematic plan's derivative stage
-(``plan.planned_derivatives``: its whole-array lines on NumPy, the fused program on numba,
-kinematics/fused.py).
+point and checks, ``friction.consistent``) and the kinematic plan's derivative stage with
+the groups' condition numbers after it (``plan.planned_derivatives``: its whole-array
+lines and ``condition_number`` on NumPy, the fused program, which computes both, on
+numba: kinematics/fused.py).
 
 For each reference machine at 360 and 36,000 positions, the state of its own analysis
 (the poses, rates and reactions that ``ks.analyze`` evaluates them at) is kept, and each
@@ -23,6 +24,7 @@ import numpy as np
 from _common import ROOT
 
 import kinetostatics as ks
+from kinetostatics.analysis import pipeline
 from kinetostatics.base import kernels
 from kinetostatics.base.linalg import small_inverse
 from kinetostatics.kinematics import motion, plan
@@ -95,11 +97,18 @@ def arrays(out) -> list[np.ndarray]:
         return [out]
     if isinstance(out, friction.FrictionSolution):
         return [out.x, out.e, out.status, out.iterations, out.reach]
-    if len(out) == 3:  # the derivative stage: q̇, q̈ and the blocks' inverses
-        return [out[0], out[1], *out[2].inv]
+    if len(out) == 4:  # the derivative stage: q̇, q̈, the blocks' inverses, the conditions
+        return [out[0], out[1], *out[2].inv, *out[3].values()]
     blocks, ground = out
     parts = [p for d, lo, _ in blocks for p in (d, lo) if p is not None]
     return parts + ([] if ground is None else [ground])
+
+
+def _derivatives(system_, q, psi_d, psi_dd):
+    """The plan's derivative stage and the groups' condition numbers after it, as an
+    analysis asks for them (on numba the fused program computes both)."""
+    qd, qdd, lu = plan.planned_derivatives(system_, q, psi_d, psi_dd)
+    return qd, qdd, lu, pipeline._conditions(system_, q, lu)
 
 
 def _same(a: np.ndarray, b: np.ndarray, to_scale: bool) -> bool:
@@ -123,7 +132,7 @@ def main() -> None:
                 "γ": lambda g=g: evaluation.gamma_all(*g),
                 f"{k}×{k} block inverse": lambda a=small: small_inverse(a),
                 "consistent friction": lambda f=f: friction.consistent(*f),
-                "derivative stage (planned)": lambda d=d: plan.planned_derivatives(*d),
+                "derivatives and conditions (planned)": lambda d=d: _derivatives(*d),
             }
             for label, fn in stages.items():
                 out = {}
@@ -132,7 +141,7 @@ def main() -> None:
                     out[backend] = fn()
                 kernels.set_backend("numpy")
                 a, c = (arrays(out[k]) for k in ("numpy", "numba"))
-                if not all(_same(x, y, label.startswith("derivative")) for x, y in zip(a, c)):
+                if not all(_same(x, y, label.startswith("derivatives")) for x, y in zip(a, c)):
                     raise SystemExit(f"{name}, {label}: the backends differ")
                 t = timed(fn)
                 print(
