@@ -18,6 +18,7 @@ import kinetostatics as ks
 from kinetostatics.base import kernels, program
 from kinetostatics.base.trace import Lines
 from kinetostatics.kinematics import fused, plan
+from kinetostatics.structure.system import link_poses
 from tests.helpers import ROOT, assert_close_on_unit_scales, motion_driven
 from tests.net import generate
 
@@ -220,3 +221,20 @@ def test_a_failed_pivot_sends_the_call_to_the_numpy_plan(at_once, monkeypatch, r
 def test_fused_stage_on_200_generated_mechanisms(at_once):
     for seed in MANY:
         _both(_model(seed))
+
+
+@compiling
+def test_a_first_position_off_the_path_does_not_pick_the_row_orders(at_once):
+    """The row orders come from the first finite position of the call that makes the plan:
+    a first row of NaN (a position the links do not reach) would pick an order whose
+    pivot tests fail everywhere, and every later call would take the NumPy plan."""
+    model = ks.load(ROOT / "mechanisms" / "slotting_machine.yaml")
+    result = _analysis(model, "numpy", kinematics_only=True)
+    system, q = result.system, np.array(result.q)
+    system.memo.pop(fused.KEY, None)
+    off = q.copy()
+    off[0] = np.nan
+    kernels.set_backend("numba")
+    assert fused.fused_plan(system, link_poses(system, off)) is not None
+    ones = np.ones((len(q), 1))
+    assert fused.fused_derivatives(system, link_poses(system, q), ones, ones) is not None

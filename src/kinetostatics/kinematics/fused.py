@@ -68,8 +68,8 @@ class _NotFused(Exception):
 
 def fused_plan(system: System, pe: np.ndarray) -> FusedPlan | None:
     """The system's :class:`FusedPlan`, made on first use (``pe``: the poses of the call
-    that makes it, whose first position picks the eliminations' row orders) and kept
-    with it; None where the stage cannot be fused."""
+    that makes it, whose first finite position picks the eliminations' row orders) and
+    kept with it; None where the stage cannot be fused."""
     if KEY not in system.memo:
         try:
             system.memo[KEY] = _generate(system, pe)
@@ -147,7 +147,9 @@ def _generate(system: System, pe: np.ndarray) -> FusedPlan:
     slots.pop(layout.size, None)  # the spare slot: entries of no block
     body: list[str] = []
     _emit(body, lines, slots)  # each value stored once computed: fewer registers held
-    first = jacobian_blocks_all(system.sets, layout, pe[:1])[0]
+    finite = np.all(np.isfinite(pe), axis=(-2, -1))  # the first assembled position's
+    k = int(np.argmax(finite))  # blocks pick the row orders (a NaN row would pick badly)
+    first = jacobian_blocks_all(system.sets, layout, pe[k : k + 1])[0]
     inverses, inv, at = [], [], layout.size + 1
     for (off, r, c), (d, _, _) in zip(layout.diag, first):
         m = [[slots.get(off + i * c + j, 0.0) for j in range(c)] for i in range(r)]
