@@ -270,3 +270,15 @@ def test_plans_are_generated_at_a_systems_eighth_short_analysis(monkeypatch):
         assert "kinematic plan" not in system.memo
         ks.analyze(system, positions=np.radians([10.0, 20.0, 30.0]), friction=False)
     assert "kinematic plan" in system.memo
+
+
+def test_a_first_run_longer_than_a_stack_waits_for_its_rows(monkeypatch):
+    """Over more than STACK_UP_TO rows the plan is asked whether it takes them; that
+    question no longer makes it: a first run of 2,000 rows keeps the general path (fewer
+    than PLAN_AFTER's 5,000), a run of 6,000 takes the plan at once."""
+    monkeypatch.setattr(plan, "PLAN_AFTER", (8, 5000))
+    model = ks.load("mechanisms/slider_crank.yaml")
+    short = ks.analyze(build_system(model), positions=np.linspace(0, 6.0, 2000), friction=False)
+    assert "kinematic plan" not in short.system.memo
+    long = ks.analyze(build_system(model), positions=np.linspace(0, 6.0, 6000), friction=False)
+    assert "kinematic plan" in long.system.memo

@@ -109,17 +109,23 @@ def _worth(system: System, n: int) -> bool:
 
 def covers(system: System, q: np.ndarray) -> bool:
     """Whether the plan takes the rows ``q``: one model's ``(N, n_q)`` (on either backend:
-    its whole-array lines are faster than the compiled kernels position by position), a
-    system with an evaluation layout; more than :data:`STACK_UP_TO` rows only
-    where no stack of joints goes through the contract's methods (``long_runs``: every
-    stacked type's formulas traced)."""
+    on the compiled one fused, kinematics/fused.py), a system with an evaluation layout;
+    more than :data:`STACK_UP_TO` rows only where no stack of joints goes through the
+    contract's methods (``long_runs``: every stacked type's formulas traced)."""
     return (
         ENABLED
         and q.ndim == 2
         and 0 < q.shape[0]
         and system.layout is not None
-        and (q.shape[0] <= STACK_UP_TO or kinematic_plan(system).long_runs)
+        and (q.shape[0] <= STACK_UP_TO or _long_runs(system))
     )
+
+
+def _long_runs(system: System) -> bool:
+    """Whether the plan takes more than :data:`STACK_UP_TO` rows (every stacked type's
+    formulas traced), known without making it (a long first run waits for
+    :data:`PLAN_AFTER`'s rows as a short one waits for its analyses)."""
+    return not any(s.stacked and _whole_array(s) is None for s in system.sets)
 
 
 def planned_derivatives(
@@ -256,8 +262,7 @@ def _generate(system: System) -> KinematicPlan:
     source = "\n".join(lines) + "\n"
     name = f"<kinematic plan of {system.model.name!r}>"
     exec(compile(source, name, "exec"), env)  # noqa: S102  our own generated text
-    long_runs = not any(s.stacked and _whole_array(s) is None for s in system.sets)
-    return KinematicPlan(source, env["run"], long_runs)
+    return KinematicPlan(source, env["run"], _long_runs(system))
 
 
 def written(system: System) -> tuple[list[str], dict]:
