@@ -84,6 +84,11 @@ def test_a_program_gives_its_lines_numbers():
         "    e14 = positive_or_one(e13)",  # 1 where NaN or ≤ 0
         "    e15 = e4 / e12",  # ±inf or NaN where e12 is 0
         "    e16 = finite_or_inf(e15)",
+        "    e17 = e0 * 0.0",
+        "    e18 = e0 * (-0.0)",  # a constant −0 is not the constant 0
+        "    e19 = e17 - e18",
+        "    e20 = 1.0 / e19",  # +inf where e0 ≥ 0: 0 − (−0) = +0; −inf where e0 < 0
+        "    out[9] = e20",
         "    out[0] = e1",
         "    out[7] = e14",
         "    out[8] = e16",
@@ -98,17 +103,18 @@ def test_a_program_gives_its_lines_numbers():
     n = 2 * program.block(12) + 5
     inputs = _inputs(n, rng)
     inputs[2][0, 0, 7] = np.nan  # max(x, NaN) is NaN, as np.maximum
-    prog = program.assembled(lines, 9)
-    out = np.zeros((9, n))
+    prog = program.assembled(lines, 10)
+    out = np.zeros((10, n))
     with np.errstate(all="ignore"):
         failed = program.execute(
             prog.ops, prog.values, np.empty((prog.registers, program.block(12))), *inputs, out
         )
-    ref = _over_arrays(lines, inputs, 9)
+    ref = _over_arrays(lines, inputs, 10)
     np.testing.assert_array_equal(out, ref)
     assert np.isnan(out[4, 7]) and (out[7] == 1.0).any() and np.isinf(out[8]).any()
+    assert (out[9] == np.inf).any() and (out[9] == -np.inf).any()
     assert failed == int(np.sum(~(np.abs(ref[3]) <= 1.5)))
-    assert prog.registers < 17  # registers are reused
+    assert prog.registers < 21  # registers are reused
 
 
 def test_a_program_refuses_a_line_it_does_not_know():

@@ -95,13 +95,13 @@ def assembled(lines: list[str], rows: int) -> Program:
     """The program of ``lines`` (see the module's docs) writing ``rows`` output rows; a
     register is reused once the value it held is read for the last time."""
     ops: list[list] = []  # [operation, destination name, operand, operand, value]
-    consts: dict[float, str] = {}
+    consts: dict[str, str] = {}  # a number's text (−0 and 0 apart) -> its register's name
 
     def operand(text: str) -> str:
         if text.startswith("e"):
             return text
         x = _number(text)
-        key = x if x == x else "nan"
+        key = repr(x)
         name = consts.get(key)
         if name is None:
             name = consts[key] = f"c{len(consts)}"
