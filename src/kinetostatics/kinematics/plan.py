@@ -35,6 +35,8 @@ mechanisms).  The plan covers one model's rows (``q (N, n_q)``) on either backen
 any N where every stack of joints is traced (revolute and prismatic pairs), else up to
 :data:`~kinetostatics.structure.evaluation.STACK_UP_TO`; stacked variants take the
 general path, which stays the oracle.  ``kinematic_plan(system).source`` is the generated text.
+On the compiled backend the stage runs fused, position by position (kinematics/fused.py),
+this plan its fallback where a position fails a pivot test or a set has no kernels.
 """
 
 from __future__ import annotations
