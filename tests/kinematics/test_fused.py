@@ -9,6 +9,7 @@ position whose pivot fails its test sends the call to the NumPy plan."""
 
 from __future__ import annotations
 
+import re
 import warnings
 
 import numpy as np
@@ -115,6 +116,61 @@ def test_a_program_gives_its_lines_numbers():
     assert (out[9] == np.inf).any() and (out[9] == -np.inf).any()
     assert failed == int(np.sum(~(np.abs(ref[3]) <= 1.5)))
     assert prog.registers < 21  # registers are reused
+
+
+def _random_program(rng, n_ops: int, rows: int) -> list[str]:
+    """A straight-line program of ``n_ops`` random operations on recent values, numbers
+    (negative, zero, −0 among them) and inputs (some reading one value twice), every
+    value read or stored, the stores at random rows."""
+    lines, values = [], []
+    numbers = ["0.0", "(-0.0)", "1.0", "(-2.5)", "0.125", "3e-07"]
+
+    def pick() -> str:
+        if values and rng.random() < 0.8:
+            return values[int(rng.integers(max(0, len(values) - 12), len(values)))]
+        return str(rng.choice(numbers))
+
+    for k in range(n_ops):
+        kind = rng.integers(6)
+        if kind == 0 or not values:
+            array = rng.choice(["PE", "psi_d", "psi_dd"])
+            i, c = (int(rng.integers(3)), int(rng.integers(5))) if array == "PE" else (1, 0)
+            expr = f"{array}[{i}, {c}]"
+        elif kind == 1:
+            a = pick()
+            expr = f"{a} {rng.choice(['+', '-', '*', '/'])} {a}"  # one value read twice
+        elif kind == 2:
+            expr = f"{rng.choice(['abs', 'sqrt', 'positive_or_one', 'finite_or_inf'])}({pick()})"
+        elif kind == 3:
+            expr = f"max({pick()}, {pick()})"
+        elif kind == 4 and values:
+            expr = f"-{values[-1]}"
+        else:
+            expr = f"{pick()} {rng.choice(['+', '-', '*', '/'])} {pick()}"
+        if not re.search(r"\be\d+\b|\[", expr):  # numbers alone (the trace folds those)
+            expr = f"PE[0, {k % 5}]"
+        lines.append(f"    e{k} = {expr}")
+        values.append(f"e{k}")
+    read = set(re.findall(r"\be\d+\b", " ".join(line.split(" = ", 1)[1] for line in lines)))
+    stores = [v for v in values if v not in read or rng.random() < 0.2]
+    lines += [f"    out[{int(rng.integers(rows))}] = {v}" for v in stores]
+    return lines
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_random_programs_give_their_lines_numbers(seed):
+    """Register reuse against the lines run over whole arrays, on random programs (every
+    value stored or read; the same value stored twice keeps its last store, as the lines
+    do)."""
+    rng = np.random.default_rng(seed)
+    lines = _random_program(rng, 120, 16)
+    inputs = _inputs(70, rng)
+    prog = program.assembled(lines, 16)
+    out = np.zeros((16, 70))
+    with np.errstate(all="ignore"):
+        program.execute(prog.ops, prog.values, np.empty((prog.registers, 32)), *inputs, out)
+    np.testing.assert_array_equal(out, _over_arrays(lines, inputs, 16))
+    assert prog.registers < 120
 
 
 def test_a_program_refuses_a_line_it_does_not_know():
