@@ -12,12 +12,21 @@ backends' arrays are checked first: equal to the bit, the derivative stage's wit
 1e-12 of each array's largest value (the compiled backend's contract: its eliminations'
 row order may differ).  Needs numba (``pip install 'kinetostatics[numba]'``).
 
-    PYTHONPATH=src python tests/benchmarks/bench_kernels.py
+    PYTHONPATH=src python tests/benchmarks/bench_kernels.py [--first-use]
+
+``--first-use`` prints instead what the backend's first use costs in a new process
+(wall time of the slotting machine's first analysis on numba, then of its next eight,
+the eighth making the fused stage): with numba's cache in an empty folder (everything
+compiled), then again with it filled.
 """
 
 from __future__ import annotations
 
+import os
 import re
+import subprocess
+import sys
+import tempfile
 import time
 
 import numpy as np
@@ -118,7 +127,39 @@ def _same(a: np.ndarray, b: np.ndarray, to_scale: bool) -> bool:
     return bool(np.allclose(a, b, rtol=0, atol=1e-12 * np.max(np.abs(a)), equal_nan=True))
 
 
+FIRST_USE = """
+import time
+import kinetostatics as ks
+ks.set_backend("numba")
+model = ks.load("mechanisms/slotting_machine.yaml")
+t = time.perf_counter(); ks.analyze(model); first = time.perf_counter() - t
+t = time.perf_counter()
+for _ in range(8):
+    ks.analyze(model)
+print(f"{first:.2f} s, then {time.perf_counter() - t:.2f} s")
+"""
+
+
+def first_use() -> None:
+    """The first analyses' wall time in new processes, numba's cache empty then filled."""
+    with tempfile.TemporaryDirectory() as cache:
+        env = {**os.environ, "NUMBA_CACHE_DIR": cache}
+        for when in ("empty cache (all compiled)", "cache filled"):
+            out = subprocess.run(
+                [sys.executable, "-c", FIRST_USE],
+                env=env,
+                cwd=ROOT,
+                text=True,
+                capture_output=True,
+                check=True,
+            )
+            print(f"{when}: first analysis, then the next eight: {out.stdout.strip()}")
+
+
 def main() -> None:
+    if "--first-use" in sys.argv[1:]:
+        first_use()
+        return
     print("| mechanism | positions | stage | NumPy [ms] | numba [ms] | ratio |")
     print("|---|---|---|---|---|---|")
     for name in ("slider_crank", "slotting_machine"):
