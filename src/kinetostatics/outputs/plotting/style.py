@@ -91,9 +91,8 @@ def _mend_math(fig) -> None:
     ``--lang zh`` the CJK font, which may lack ², ≤ …; in English DejaVu Sans, which
     lacks the Chinese of a name).  Done before the figure's texts are measured or drawn."""
     from matplotlib.font_manager import findfont
-    from matplotlib.text import Text
 
-    for t in fig.findobj(Text):
+    for t in _texts(fig, []):
         text = t.get_text()
         if "$" not in text or t.get_usetex():
             continue
@@ -109,6 +108,29 @@ def _mend_math(fig) -> None:
             t.set_fontfamily([families[best], *families[:best], *families[best + 1 :]])
         if mended != text:
             t.set_text(mended)
+
+
+def _texts(artist, out: list) -> list:
+    """The texts of ``artist`` and of the artists below it, as ``findobj(Text)`` finds them
+    but without making an axis's ticks: ``Axis.get_children`` makes every tick its locator
+    asks for, each with its (still empty) labels, and a figure's draw then asks the
+    locator again; here an axis gives its label, its offset text and the ticks it has
+    made so far (a label is given its text when the ticks are drawn)."""
+    from matplotlib.axis import Axis
+    from matplotlib.text import Text
+
+    if isinstance(artist, Text):
+        out.append(artist)
+    if isinstance(artist, Axis):
+        kids = [artist.label, artist.offsetText]
+        for made in ("majorTicks", "minorTicks"):  # a lazy list: absent until first asked
+            for tick in artist.__dict__.get(made, ()):
+                kids += tick.get_children()
+    else:
+        kids = artist.get_children()
+    for kid in kids:
+        _texts(kid, out)
+    return out
 
 
 _SHEET = []  # the Figure class below, made on first use
