@@ -252,6 +252,25 @@ def test_friction_dissipates_and_gradient_matches(joint):
         np.testing.assert_allclose(grad[..., k], fd, rtol=1e-6, atol=1e-12 * np.max(mag) / h)
 
 
+@pytest.mark.parametrize(
+    "joint",
+    [j for j in JOINTS if j.has_friction],
+    ids=[i for i, j in zip(IDS, JOINTS) if j.has_friction],
+)
+def test_a_friction_law_that_reads_no_poses_is_the_same_without_them(joint):
+    """A type that says its ``friction_magnitude`` reads no poses (``friction_reads_poses``
+    False: the friction solutions then hand it None) gives the same numbers, to the bit,
+    without them as at poses of every kind; a type that reads them is handed them."""
+    qi, qj, _, _ = _states()
+    lam = RNG.normal(size=(2, 3, joint.n_eq)) * 100
+    mag = joint.friction_magnitude(lam, qi, qj)
+    if type(joint).friction_reads_poses:
+        return
+    np.testing.assert_array_equal(joint.friction_magnitude(lam, None, None), mag)
+    moved = joint.friction_magnitude(lam, qi + 0.25, -qj)
+    np.testing.assert_array_equal(moved, mag)
+
+
 @pytest.mark.parametrize("path", MECHANISMS, ids=[p.stem for p in MECHANISMS])
 def test_yaml_round_trip(path):
     model = ks.load(path)

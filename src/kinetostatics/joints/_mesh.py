@@ -200,6 +200,7 @@ class MeshFriction(Friction):
     ``Joint`` in the bases."""
 
     friction_kernel = staticmethod(_friction_kernel)
+    friction_reads_poses = False  # ζ cos α |F|
 
     loss: float
     alpha: float

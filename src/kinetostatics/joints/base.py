@@ -432,17 +432,19 @@ class Presentation:
 
 
 class Friction:
-    """Optional: a friction law μ(λ) ≥ 0 of the pair, the effort −sign(ċ)·μ along its
-    relative coordinate (``kinetics/friction.py``), its kinks for the cycle's quadrature
-    (``analysis/switches.py``), its constants for the vectorised batch, its stack and its
-    compiled kernel for the friction solutions.  The defaults: no friction."""
+    """Optional: a friction law μ(λ) ≥ 0 of the pair, the effort −sign(ċ)·μ along its relative
+    coordinate (``kinetics/friction.py``), its kinks for the cycle's quadrature, its constants
+    for the batch, its stack and compiled kernel for the friction solutions; default: none."""
 
     @property
     def has_friction(self) -> bool:
         return False
 
+    friction_reads_poses: ClassVar[bool] = True  # False: a law in λ alone, handed no poses
+
     def friction_magnitude(self, lam: np.ndarray, qi: np.ndarray, qj: np.ndarray) -> np.ndarray:
-        """|friction effort| from the reaction λ: ρ|F| or f|N|; zeros without friction."""
+        """|friction effort| from the reaction λ: ρ|F| or f|N|; zeros without friction.
+        The poses ``qi``, ``qj`` are None where the type's ``friction_reads_poses`` is False."""
         return np.zeros(lam.shape[:-1])
 
     def friction_gradient(self, lam: np.ndarray, qi: np.ndarray, qj: np.ndarray) -> np.ndarray:
@@ -451,9 +453,8 @@ class Friction:
 
     def friction_kinks(self, lam: np.ndarray, qi: np.ndarray, qj: np.ndarray) -> np.ndarray:
         """The arguments of the absolute values in ``friction_magnitude``, ``(..., m)``: where
-        one changes sign the friction law has a kink, and the cycle's quadrature is cut
-        there (a normal force through zero).  None by default (``m = 0``); a smooth law
-        such as ρ|F| of a pin, whose |F| only vanishes with both components, has none."""
+        one changes sign the law has a kink, where the cycle's quadrature is cut (a normal
+        force through zero).  None by default (``m = 0``), nor for a smooth law (ρ|F|)."""
         return np.zeros(lam.shape[:-1] + (0,))
 
     def friction_constants(self) -> tuple[Any, ...]:
@@ -461,8 +462,7 @@ class Friction:
         must know whether they differ between stacked variants; () without friction."""
         return ()
 
-    # the fields ``friction_magnitude`` reads, stacked by ``stack_friction``; none: one by one
-    friction_scalars: ClassVar[tuple[str, ...]] = ()
+    friction_scalars: ClassVar[tuple[str, ...]] = ()  # what friction_magnitude reads, stacked
 
     @classmethod
     def stack_friction(cls, joints: Sequence[Joint]) -> Joint | None:

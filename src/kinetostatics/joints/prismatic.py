@@ -326,6 +326,8 @@ class Prismatic(Joint, Presentation, Friction, Compiled, kind="prismatic"):
         return -(wi**2) * dot(U, d) + 2.0 * wi * dot(N, dd) + dot(U, dd2)
 
     # -- friction -----------------------------------------------------------
+    friction_reads_poses: ClassVar[bool] = False  # f|N|, or f(|N₁| + |N₂|) at the edges
+
     @property
     def has_friction(self) -> bool:
         return bool(np.any(self.f > 0.0))

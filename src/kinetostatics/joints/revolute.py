@@ -13,6 +13,9 @@ from ..base.keys import NAME, NUMBER, Keys, enum, names
 from .base import Anchor, Compiled, Friction, Glyph, Joint, Pole, Presentation
 from .relative import RelativeMotion
 
+_TURN_I, _TURN_J = np.array([0.0, 0.0, -1.0]), np.array([0.0, 0.0, 1.0])
+_TURN_I.flags.writeable = _TURN_J.flags.writeable = False
+
 FRICTION_KEYS = Keys(
     {"radius": NUMBER, "journal_radius": NUMBER, "coefficient": NUMBER},
     # a journal radius with its coefficient (friction_radius); a coefficient alone takes
@@ -161,6 +164,7 @@ class Revolute(Joint, Presentation, Friction, Compiled, kind="revolute"):
 
     stacked_vectors: ClassVar[tuple[str, ...]] = ("p_i", "p_j")
     friction_scalars: ClassVar[tuple[str, ...]] = ("rho",)
+    friction_reads_poses: ClassVar[bool] = False  # ρ|F|
 
     p_i: np.ndarray = None
     p_j: np.ndarray = None
@@ -250,10 +254,10 @@ class Revolute(Joint, Presentation, Friction, Compiled, kind="revolute"):
         return qj[..., 2] - qi[..., 2]
 
     def motion_direction(self, qi, qj):
+        # θ_j − θ_i: the same at every position, so read-only views of one row (nothing
+        # allocated or written per position)
         shape = np.broadcast_shapes(qi.shape[:-1], qj.shape[:-1]) + (3,)
-        gi, gj = np.zeros(shape), np.zeros(shape)
-        gi[..., 2], gj[..., 2] = -1.0, 1.0
-        return gi, gj
+        return np.broadcast_to(_TURN_I, shape), np.broadcast_to(_TURN_J, shape)
 
     # -- friction -----------------------------------------------------------
     @property
