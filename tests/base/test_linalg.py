@@ -288,6 +288,11 @@ def test_products_by_the_blocks_equal_the_dense_transpose(name):
     np.testing.assert_allclose(
         lu.product_transposed(y), want, rtol=0, atol=1e-13 * np.abs(want).max()
     )
+    # the same stored component-major (the friction residual's): y and the product (n, ...)
+    got = lu.product_transposed_components(np.ascontiguousarray(np.moveaxis(y, -1, 0)))
+    np.testing.assert_allclose(
+        np.moveaxis(got, 0, -1), want, rtol=0, atol=1e-13 * np.abs(want).max()
+    )
     np.testing.assert_array_equal(lu.transposed_at(7), dense[7].T)
     # Φ_qᵀ yᵢ = rᵢ for several right-hand sides as rows (the friction efforts'), by the blocks
     r = RNG.normal(size=q.shape[:-1] + (3, dense.shape[-1]))
@@ -295,6 +300,12 @@ def test_products_by_the_blocks_equal_the_dense_transpose(name):
     np.testing.assert_allclose(
         lu.solve_transposed_rows(r), want, rtol=0, atol=1e-11 * np.abs(want).max()
     )
+    # right-hand sides stored as the friction setup stores its gradients (a view of
+    # component-major storage with more columns) give the same numbers, to the bit
+    stored = np.zeros((3, dense.shape[-1] + 3) + q.shape[:-1])
+    stored[:, : dense.shape[-1]] = np.moveaxis(r, (-2, -1), (0, 1))
+    view = np.moveaxis(stored[:, : dense.shape[-1]], (0, 1), (-2, -1))
+    np.testing.assert_array_equal(lu.solve_transposed_rows(view), lu.solve_transposed_rows(r))
 
 
 @pytest.mark.parametrize("n", [3, 6])

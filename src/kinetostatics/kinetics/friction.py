@@ -89,7 +89,7 @@ def efforts(system: System, fs: FrictionSetup, x: np.ndarray, scale: float = 1.0
         return -fs.sign * scale * entries_last(mu, 1).reshape(fs.sign.shape)
     out = np.empty(x.shape[:-1] + (len(fs.joints),))  # every column is written
     for n, (cols, joint, rows, ks) in enumerate(_effort_sets(system, tuple(fs.joints))):
-        qi, qj = _link_q(system, fs, ks)
+        qi, qj = _link_q(system, fs, ks) if joint.friction_reads_poses else (None, None)
         key = ("signs", n, scale)  # −s·scale of the set's joints, the same each iteration
         if key not in fs.shared:
             fs.shared[key] = -fs.sign[..., cols] * scale
@@ -191,21 +191,27 @@ def _components(a: np.ndarray, d: int = 1) -> np.ndarray:
 
 
 def _combined(x0_t: np.ndarray, per_effort: np.ndarray, e: np.ndarray) -> np.ndarray:
-    """x₀ + Σ e_k A⁻¹(−g_k), component-major ``(n_λ, ...)``, from x₀ so stored, the n_f
-    solves ``(..., n_f, n_λ)`` (:func:`_per_effort`: a view of component-major storage)
-    and the efforts ``(..., n_f)``: one ``einsum`` pass over contiguous runs, ~2.4× faster
-    over 36,000 positions than the same sum over position-major arrays."""
-    return x0_t + np.einsum("kn...,k...->n...", _components(per_effort, 2), _components(e))
+    """x₀ + Σ e_k A⁻¹(−g_k) = x₀ + Σ (−e_k) A⁻¹g_k, component-major ``(n_λ, ...)``, from
+    x₀ so stored, the n_f solves A⁻¹g_k ``(..., n_f, n_λ)`` (:func:`_per_effort`: a view
+    of component-major storage) and the efforts ``(..., n_f)``: one ``einsum`` pass over
+    contiguous runs, ~2.4× faster over 36,000 positions than the same sum over
+    position-major arrays.  Each product (−e_k)·A⁻¹g_k is e_k·A⁻¹(−g_k) to the bit."""
+    minus_e = np.negative(entries_first(e, 1), order="C")  # component-major, as a copy would be
+    return x0_t + np.einsum("kn...,k...->n...", _components(per_effort, 2), minus_e)
 
 
 def _per_effort(fs: FrictionSetup, a, solve_a) -> np.ndarray:
-    """The n_f vectors A⁻¹(−g_k) as rows ``(..., n_f, n_λ)``, solved once per setup."""
+    """The n_f vectors A⁻¹g_k as rows ``(..., n_f, n_λ)``, solved once per setup: the
+    reactions of a unit effort at each joint are −A⁻¹g_k, the sign carried by the efforts
+    where they are combined (:func:`_combined`, :func:`_fixed_point_step`), so that the
+    gradients are solved as stored, without a negated copy (A⁻¹g_k is −A⁻¹(−g_k) to the
+    bit: every operation of the solves is odd in its right-hand side)."""
     if "per_effort" not in fs.shared:
         with np.errstate(all="ignore"):
             if isinstance(a, BlockFactor):
-                per_effort = a.solve_transposed_rows(-fs.grad)
+                per_effort = a.solve_transposed_rows(fs.grad)
             else:
-                per_effort = np.moveaxis(solve_a(np.moveaxis(-fs.grad, -2, 0)), 0, -2)
+                per_effort = np.moveaxis(solve_a(np.moveaxis(fs.grad, -2, 0)), 0, -2)
         fs.shared["per_effort"] = per_effort
     return fs.shared["per_effort"]
 
@@ -232,8 +238,8 @@ def consistent(
     dense, or the kinematic factors where A = Φ_qᵀ (its products by the blocks)."""
     x = x0.copy()
     scale = np.maximum(max_abs_last(x0), 1e-300)
-    # A x = −Q − Σ g_k e_k is linear in the efforts: x = x₀ + Σ e_k A⁻¹(−g_k), with the
-    # n_f vectors A⁻¹(−g_k) solved once (as rows, (..., n_f, n_λ)); an iteration then
+    # A x = −Q − Σ g_k e_k is linear in the efforts: x = x₀ − Σ e_k A⁻¹g_k, with the
+    # n_f vectors A⁻¹g_k solved once (as rows, (..., n_f, n_λ)); an iteration then
     # evaluates the efforts only
     per_effort = _per_effort(fs, a, solve_a)
     it = np.zeros(x.shape[:-1], dtype=int)
@@ -276,26 +282,55 @@ def _fixed_point(system, fs, x0, per_effort, scale, x, state) -> np.ndarray:
     where live, its step max|Δx|/scale, converged where ≤ TOL, out where converged, not
     finite or diverging; returns x, updates ``state`` = (it, converged, live).  The first
     iteration from x₀ is the approximate solution where :func:`approximate` computed it
-    so (the same operations on the same numbers).  The iterates are held component-major
-    (:func:`_combined`); the efforts read them through a view."""
+    so (the same operations on the same numbers).  The iterates, the efforts and the
+    steps are held component-major in buffers of the loop (:func:`_minus_efforts`), each
+    pass over contiguous runs of positions."""
     it, converged, live = state
     first = fs.shared.get("first")
     first = first[1] if first is not None and first[0] is x0 else None
-    x0_t, x_t = _components(x0), _components(x)
+    x0_t, x_t, y_t = _components(x0), _components(x), _components(per_effort, 2)
+    own = [x_t, np.empty_like(x_t)]  # the iterates' buffers (not the approximate's)
+    minus_e, work = np.empty(y_t.shape[:1] + x_t.shape[1:]), np.empty_like(x_t)
     for n in range(FIXED_POINT_ITER):
         if not live.any():
             break
         if n == 0 and first is not None:
-            xn_t = first
+            xn_t = first  # read, never written
         else:
-            xn_t = _combined(x0_t, per_effort, efforts(system, fs, entries_last(x_t, 1)))
-        step = np.max(np.abs(xn_t - x_t), axis=0) / scale
-        x_t = xn_t if live.all() else np.where(live, xn_t, x_t)  # neither is written to
+            xn_t = own[1] if own[0] is x_t else own[0]
+            np.einsum("kn...,k...->n...", y_t, _minus_efforts(system, fs, x_t, minus_e), out=xn_t)
+            xn_t += x0_t  # x₀ + Σ (−e_k) A⁻¹g_k, as _combined adds them
+        step = np.max(np.abs(np.subtract(xn_t, x_t, out=work), out=work), axis=0)
+        step /= scale
+        if not live.all():  # the positions out keep their iterate
+            if xn_t is first:
+                xn_t = np.where(live, xn_t, x_t)
+            else:
+                np.copyto(xn_t, x_t, where=~live)
+        x_t = xn_t
         it += live
         converged |= live & (step <= TOL)
         live &= ~converged & np.isfinite(step) & (step < 1e6)
     return np.array(entries_last(x_t, 1), order="C")  # a copy (of the first iterate too):
     # the caller writes it
+
+
+def _minus_efforts(system: System, fs: FrictionSetup, x_t: np.ndarray, out: np.ndarray):
+    """−e_k = s_k μ_k at the reactions ``x_t`` stored component-major ``(n_λ, ...)``, into
+    ``out (n_f, ...)`` (component-major): the numbers of :func:`efforts` (negated, to the
+    bit), each set's reactions gathered as whole rows and its signs kept with the setup."""
+    for n, (cols, joint, rows, ks) in enumerate(_effort_sets(system, tuple(fs.joints))):
+        qi, qj = _link_q(system, fs, ks) if joint.friction_reads_poses else (None, None)
+        d = 1 if isinstance(rows, slice) else 2  # a joint alone, or a stack's (k, n_eq)
+        key = ("signs_t", n)
+        if key not in fs.shared:
+            fs.shared[key] = np.ascontiguousarray(entries_first(fs.sign[..., cols], d - 1))
+        mag = joint.friction_magnitude(entries_last(x_t[rows], d), qi, qj)
+        if d == 1:
+            np.multiply(fs.shared[key], mag, out=out[cols])
+        else:
+            out[cols] = fs.shared[key] * entries_first(mag, 1)
+    return out
 
 
 # -- the compiled backend (base/kernels.py) ------------------------------------------------
@@ -352,9 +387,10 @@ def _magnitudes(sets, flat: np.ndarray, mu: np.ndarray, parts) -> None:
 
 
 def _fixed_point_step(x0, per_effort, mu, sign, scale, x, it, converged, live, tol):  # noqa: PLR0913  a numba kernel: plain arrays only
-    """One iteration at the live positions: x ← x₀ + Σ e_k A⁻¹(−g_k), e_k = −s_k μ_k (the
-    sum in ``einsum``'s order), its step max|Δx|/scale, and the tests of ``consistent``;
-    returns how many positions stay live."""
+    """One iteration at the live positions: x ← x₀ + Σ e_k A⁻¹(−g_k), e_k = −s_k μ_k, as
+    x₀ + Σ s_k μ_k A⁻¹g_k (``per_effort``: the A⁻¹g_k; each product the same to the bit;
+    the sum in ``einsum``'s order), its step max|Δx|/scale, and the tests of
+    ``consistent``; returns how many positions stay live."""
     n, n_f, n_x = per_effort.shape
     xn = np.empty(n_x)
     count = 0
@@ -365,7 +401,7 @@ def _fixed_point_step(x0, per_effort, mu, sign, scale, x, it, converged, live, t
         for c in range(n_x):
             acc = 0.0
             for k in range(n_f):
-                acc += per_effort[p, k, c] * (-sign[p, k] * mu[k, p])
+                acc += per_effort[p, k, c] * (sign[p, k] * mu[k, p])
             xn[c] = x0[p, c] + acc
             d = abs(xn[c] - x[p, c])
             if d != d or d > worst:  # a NaN stays: nothing is greater
@@ -391,8 +427,15 @@ def _product(a, x: np.ndarray) -> np.ndarray:
 
 
 def _residual(system, fs, a, q_load, x):
-    r = _product(a, x) + q_load + _generalized(fs, efforts(system, fs, x))
-    return max_abs_last(r)
+    """max|A x + Q + Σ g_k e_k(x)| per row: with the kinematic factors component-major
+    (each product and Σ g_k e_k whole-array passes over runs of positions)."""
+    e = efforts(system, fs, x)
+    if not isinstance(a, BlockFactor):
+        return max_abs_last(_product(a, x) + q_load + _generalized(fs, e))
+    r = a.product_transposed_components(_components(x))
+    r += entries_first(q_load, 1)
+    r += np.einsum("kn...,k...->n...", entries_first(fs.grad), _components(e))
+    return np.max(np.abs(r, out=r), axis=0)
 
 
 def _homotopy(
