@@ -224,8 +224,13 @@ def test_layouts_give_the_same_inverses_and_leave_the_input():
     _assert_inverse(small, b)
 
 
-def test_block_solves_match_a_dense_solve():
-    """Forward and back substitution over the groups = the dense solves of the whole Φ_q."""
+@pytest.mark.parametrize("rows_from", [None, 0])
+def test_block_solves_match_a_dense_solve(rows_from, monkeypatch):
+    """Forward and back substitution over the groups = the dense solves of the whole Φ_q
+    (the back substitution also as it runs over many positions: component-major, as
+    ``solve_transposed_rows`` with one right-hand side, ``rows_from`` 0)."""
+    if rows_from is not None:
+        monkeypatch.setattr(linalg, "TRANSPOSED_ROWS_FROM", rows_from)
     blocks = [(np.arange(3), np.arange(3)), (np.arange(3, 9), np.arange(3, 9))]
     jac = np.zeros((50, 9, 9))
     jac[:, :3, :3] = _well_conditioned(50, 3)
