@@ -42,7 +42,7 @@ STAGES = [
     ("kinetics.inverse", "equilibrium", "the frictionless equilibrium"),
     ("kinetics.inverse", "friction_solutions", "both friction solutions, of it:"),
     ("kinetics.friction", "setup", "· their setup (the coordinate gradients, the signs)"),
-    ("kinetics.friction", "_per_effort", "· the n_f solves A⁻¹(−g_k) both share"),
+    ("kinetics.friction", "_per_effort", "· the n_f solves A⁻¹g_k both share"),
     ("kinetics.friction", "consistent", "· the consistent solution (its fixed point)"),
     ("analysis.vectorised", "analyze_stacked", "the stacked analysis (start poses to friction)"),
     ("batch.variants", "summary_row", "the rows (the quantities named)"),
