@@ -87,3 +87,58 @@ def test_the_energy_diagram_names_the_swing_once(slotting, lang):
     assert ext["max"] > 0 > ext["min"]
     assert ext["max"] - ext["min"] == pytest.approx(swing, rel=1e-3)  # 4 digits each
     assert np.isfinite(swing)
+
+
+def _scale_and_size(fig):
+    title = next(t.get_text() for t in fig.findobj(matplotlib.text.Text) if "/mm" in t.get_text())
+    return re.search(r"= (\S+) \(", title).group(1), tuple(np.round(fig.get_size_inches() * MM, 6))
+
+
+def _polygons_by_both_ways(monkeypatch, path, rows, fits, langs=("en",)):
+    """Each polygon's scale and sheet size with the scales that cannot fit skipped, and
+    with every scale drawn and laid out (the skip turned off)."""
+    from kinetostatics.outputs.plotting import polygons
+
+    result = ks.analyze(ks.load(path))
+    n = len(result.t)
+    cases = [(kind, int(f * n), fit, lang) for kind in ("velocity", "acceleration")
+             for f in rows for fit in fits for lang in langs]  # fmt: skip
+    got = [_scale_and_size(pl.polygon_figure(result, k, row=r, fit_mm=fit, lang=lang, dpi=40))
+           for k, r, fit, lang in cases]  # fmt: skip
+    skipped = []
+    real = polygons._too_large
+    monkeypatch.setattr(polygons, "_too_large", lambda *a: skipped.append(real(*a)) and False)
+    want = [_scale_and_size(pl.polygon_figure(result, k, row=r, fit_mm=fit, lang=lang, dpi=40))
+            for k, r, fit, lang in cases]  # fmt: skip
+    return got, want, skipped
+
+
+@pytest.mark.parametrize("name", ["slotting_machine", "slider_crank"])
+def test_a_scale_whose_sheet_cannot_fit_is_skipped_only_where_it_cannot(monkeypatch, name):
+    """A polygon's scale is the first round one whose laid-out sheet fits ``fit_mm``;
+    the scales whose sheet is larger whatever its texts (its axes and its list of vectors
+    alone) are not drawn: every polygon gets the scale and the sheet it gets with every
+    scale drawn and laid out, and some scales were skipped."""
+    got, want, skipped = _polygons_by_both_ways(
+        monkeypatch,
+        ROOT / "mechanisms" / f"{name}.yaml",
+        (0.0, 0.5),
+        (None, (170.0, 200.0), (120.0, 100.0)),
+    )
+    assert got == want
+    assert any(skipped)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("path", sorted((ROOT / "mechanisms").glob("*.yaml")), ids=lambda p: p.stem)
+def test_every_polygon_skips_only_the_scales_that_cannot_fit(monkeypatch, path):
+    """The same for every shipped mechanism whose polygons the method draws, at four
+    positions, three page sizes and both languages."""
+    try:
+        got, want, _ = _polygons_by_both_ways(
+            monkeypatch, path, (0.0, 0.25, 0.5, 0.75), (None, (170.0, 257.0), (120.0, 100.0)),
+            ("en", "zh"),
+        )  # fmt: skip
+    except (pl.PictureError, ks.StructureError) as exc:  # no polygon, or effort-driven
+        pytest.skip(str(exc))
+    assert got == want

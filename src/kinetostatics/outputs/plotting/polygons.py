@@ -26,11 +26,13 @@ from .style import (
     ROUND_OFF,
     PictureError,
     _arrow,
+    _figure,
     _fit_sheet,
     _fmt_scale,
     _lay_out,
     _layout,
     _rc,
+    _renderer,
     _tex,
     nice_scale,
 )
@@ -430,8 +432,13 @@ def polygon_figure(
     # the scale: the round value that draws the polygon about max_size_mm across, or the
     # next coarser ones of the series until the sheet fits fit_mm (printed at 100 %, the
     # scale holds on paper: a report never reduces it to an odd one)
-    mu = nice_scale(span / max_size_mm)
-    for _ in range(12):
+    mu, list_mm = nice_scale(span / max_size_mm), None
+    for k in range(12):
+        if fit_mm is not None and k < 11:  # a scale whose sheet cannot fit is not drawn
+            list_mm = _text_width_mm(lines, dpi, lang) if list_mm is None else list_mm
+            if _too_large(allp, span, mu, len(lines), list_mm, fit_mm):
+                mu = nice_scale(mu * 1.01)
+                continue
         fig = _polygon_sheet(result, poly, chains, lines, allp, span, mu, colors, nums, dpi, lang)
         if fit_mm is not None:
             _lay_out(fig)  # its size is the question: laid out now, not when saved (crop.py)
@@ -440,6 +447,38 @@ def polygon_figure(
             break
         mu = nice_scale(mu * 1.01)  # the next value of the series
     return fig
+
+
+LIST_MM = 66.0  # the sheet's margin right of the axes' (6 mm) for the list of vectors
+LIST_AT_MM = 64.0  # the list's left edge, from the sheet's right edge: 8 mm right of the axes
+
+
+def _extent(allp: np.ndarray, span: float, mu: float, n_lines: int):
+    """The axes' data limits (lo, hi) at the scale ``mu`` and their least size in mm."""
+    pad = 0.1 * span + 7 * mu
+    return (
+        allp.min(axis=0) - pad,
+        allp.max(axis=0) + pad,
+        (60.0, max(60.0, 3.35 * n_lines + 8 - 24.0)),
+    )
+
+
+def _text_width_mm(lines: list[str], dpi: float, lang: str) -> float:
+    """The width of the list of vectors as the sheet sets and measures it, mm."""
+    with _rc(lang):
+        fig = _figure(100.0, 100.0, dpi)
+        text = fig.text(0, 0, "\n".join(lines), fontsize=6.2, linespacing=1.5, va="top")
+        return text.get_window_extent(_renderer(fig)).width / fig.dpi / MM
+
+
+def _too_large(allp, span: float, mu: float, n_lines: int, list_mm: float, fit_mm) -> bool:
+    """Whether the polygon's sheet at ``mu`` is larger than ``fit_mm`` whatever its texts:
+    laid out around everything drawn (2 mm margins), it holds at least the axes' box and,
+    ``LIST_MM - LIST_AT_MM + 6`` mm right of it, the list of vectors (0.5 mm to spare)."""
+    lo, hi, least = _extent(allp, span, mu, n_lines)
+    w, h = np.maximum((hi - lo) / mu, least)
+    width = w + (6.0 + LIST_MM - LIST_AT_MM) + list_mm + 2 * 2.0 - 0.5
+    return width > fit_mm[0] or h + 2 * 2.0 - 0.5 > fit_mm[1]
 
 
 def _polygon_sheet(result, poly, chains, lines, allp, span, mu, colors, nums, dpi, lang):  # noqa: PLR0913  the polygon's drawing data
@@ -452,18 +491,10 @@ def _polygon_sheet(result, poly, chains, lines, allp, span, mu, colors, nums, dp
     model = result.system.model
     scale_ref = max([float(np.hypot(*nd.vector)) for nd in poly.nodes.values()] + [1e-300])
     T = lambda s, **k: tr(s, lang, **k)  # noqa: E731
-    pad = 0.1 * span + 7 * mu
-    lo, hi = allp.min(axis=0) - pad, allp.max(axis=0) + pad
-    list_mm = 3.35 * len(lines) + 8
+    lo, hi, least = _extent(allp, span, mu, len(lines))
     with _rc(lang):
         fig, ax = _layout(
-            (lo[0], hi[0]),
-            (lo[1], hi[1]),
-            mu,
-            extra_right=66.0,
-            dpi=dpi,
-            min_mm=(60.0, max(60.0, list_mm - 24.0)),
-            top=14.0,
+            (lo[0], hi[0]), (lo[1], hi[1]), mu, extra_right=LIST_MM, dpi=dpi, min_mm=least, top=14.0
         )
         ax.set_xlabel(f"{sym}_x, {poly.unit}")
         ax.set_ylabel(f"{sym}_y, {poly.unit}")
@@ -555,7 +586,7 @@ def _polygon_sheet(result, poly, chains, lines, allp, span, mu, colors, nums, dp
         W, H = fig.get_figwidth() / MM, fig.get_figheight() / MM
         x0, y0, w, h = ax.get_position().bounds
         ax.text(  # the legend in the right margin, tied to the axes so the sheet fits it
-            (1 - 64.0 / W - x0) / w,
+            (1 - LIST_AT_MM / W - x0) / w,
             (1 - 15.0 / H - y0) / h,
             "\n".join(lines),
             va="top",
