@@ -171,13 +171,16 @@ def test_the_two_solutions_own_their_reactions(positions, monkeypatch):
         for m in ("slider_crank", "slotting_machine", "rack_rocker", "cam_roller")
     ],
 )
-def test_the_loop_s_efforts_are_the_efforts_negated_to_the_bit(path, monkeypatch):
-    """The NumPy fixed point evaluates −e_k = s_k μ_k over the reactions stored
-    component-major (each joint's rows gathered whole, the signs kept with the setup):
-    the numbers of ``efforts`` negated, to the bit, for joints alone and for a type's
-    stack, over one model's rows and over stacked variants' ``(V, N)``."""
+def test_the_efforts_are_each_joint_s_own_law(path, monkeypatch):
+    """The efforts, e_k = −s_k·σ·μ_k(λ_k), as ``efforts`` gives them (on NumPy from the fixed
+    point's −e_k over the reactions stored component-major, each joint's rows gathered
+    whole, a type's joints in one stack) and as the fixed point reads them
+    (``_minus_efforts``), against each joint's own friction law called alone on its rows
+    and its links' poses: over one model's rows, at σ = 1 and σ = 0.3 (the homotopy's),
+    at one position (the homotopy's), and over stacked variants' ``(V, N)`` rows."""
     from kinetostatics.kinetics import friction as fr
     from kinetostatics.kinetics import inverse
+    from kinetostatics.structure.system import link_pair
 
     calls = []
     real = inverse.friction_solutions
@@ -186,18 +189,35 @@ def test_the_loop_s_efforts_are_the_efforts_negated_to_the_bit(path, monkeypatch
     )
     ks.analyze(ks.load(path))
     (system, motion, _, eq, ref_speed), got = calls[0]
-    for fs, x in ((got.setup, got.solution.x), (got.setup, eq.x0)):
-        fs.shared.clear()
-        x_t = np.ascontiguousarray(np.moveaxis(x, -1, 0))
-        out = np.full((len(fs.joints),) + x.shape[:-1], np.nan)
-        minus = fr._minus_efforts(system, fs, x_t, out)
-        np.testing.assert_array_equal(np.moveaxis(minus, 0, -1), -fr.efforts(system, fs, x))
+
+    def own(fs, x, sigma):  # each joint alone, by its contract
+        cols = []
+        for n, k in enumerate(fs.joints):
+            joint = system.model.joints[k]
+            mu = joint.friction_magnitude(x[..., system.rows_of(k)], *link_pair(system, fs.q, k))
+            cols.append(-fs.sign[..., n] * sigma * mu)
+        return np.stack(cols, axis=-1)
+
+    def check(fs, x, sigma=1.0):
+        want = own(fs, x, sigma)
+        tol = 1e-14 * max(np.nanmax(np.abs(want)), 1e-300)
+        np.testing.assert_allclose(fr.efforts(system, fs, x, sigma), want, rtol=0, atol=tol)
+        if sigma == 1.0:
+            out = np.full((len(fs.joints),) + x.shape[:-1], np.nan)
+            minus = fr._minus_efforts(system, fs, np.ascontiguousarray(np.moveaxis(x, -1, 0)), out)
+            np.testing.assert_allclose(-np.moveaxis(minus, 0, -1), want, rtol=0, atol=tol)
+
+    for x in (got.solution.x, eq.x0):
+        got.setup.shared.clear()
+        check(got.setup, x)
+        check(got.setup, x, 0.3)
+    at = len(motion.q) // 3  # one position, as the homotopy follows it
+    fs = got.setup
+    one = fr.FrictionSetup(
+        fs.joints, fs.blocks, fs.grad[at], fs.sign[at], fs.speed[at], fs.zero[at], fs.q[at]
+    )
+    check(one, eq.x0[at], 0.3)
     # two rows of positions as two variants would lay them out, (V, N, ...)
     half = len(motion.q) // 2
     q, qd = (a[: 2 * half].reshape(2, half, -1) for a in (motion.q, motion.qd))
-    fs = fr.setup(system, q, qd, ref_speed)
-    x = eq.x0[: 2 * half].reshape(2, half, -1)
-    minus = fr._minus_efforts(
-        system, fs, np.ascontiguousarray(np.moveaxis(x, -1, 0)), np.empty((len(fs.joints), 2, half))
-    )
-    np.testing.assert_array_equal(np.moveaxis(minus, 0, -1), -fr.efforts(system, fs, x))
+    check(fr.setup(system, q, qd, ref_speed), eq.x0[: 2 * half].reshape(2, half, -1))

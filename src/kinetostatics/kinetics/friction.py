@@ -79,22 +79,17 @@ def setup(system: System, q: np.ndarray, qd: np.ndarray, ref_speed: float) -> Fr
 
 
 def efforts(system: System, fs: FrictionSetup, x: np.ndarray, scale: float = 1.0) -> np.ndarray:
-    """Signed friction efforts of i on j, ``(..., n_f)``: a type's joints in one call where
-    it stacks them (:meth:`~kinetostatics.joints.Joint.stack_friction`), the same numbers."""
+    """Signed friction efforts of i on j, ``(..., n_f)``: with NumPy :func:`_minus_efforts`
+    negated, with the compiled backend the joints' kernels (the same numbers)."""
     sets = _effort_kernels(system, fs) if kernels.active() and fs.joints else None
     if sets is not None:  # the same numbers (base/kernels.py), each set in one compiled loop
         flat = np.ascontiguousarray(x).reshape(-1, x.shape[-1])
         mu = np.empty((len(fs.joints), flat.shape[0]))
         _magnitudes(sets, flat, mu, _parts(sets, flat.shape[0]))
         return -fs.sign * scale * entries_last(mu, 1).reshape(fs.sign.shape)
-    out = np.empty(x.shape[:-1] + (len(fs.joints),))  # every column is written
-    for n, (cols, joint, rows, ks) in enumerate(_effort_sets(system, tuple(fs.joints))):
-        qi, qj = _link_q(system, fs, ks) if joint.friction_reads_poses else (None, None)
-        key = ("signs", n, scale)  # −s·scale of the set's joints, the same each iteration
-        if key not in fs.shared:
-            fs.shared[key] = -fs.sign[..., cols] * scale
-        out[..., cols] = fs.shared[key] * joint.friction_magnitude(x[..., rows], qi, qj)
-    return out
+    minus = np.empty((len(fs.joints),) + x.shape[:-1])  # every row is written
+    minus = _minus_efforts(system, fs, _components(x), minus, scale)
+    return np.negative(entries_last(minus, 1), order="C")  # (−s·scale)·μ, to the bit
 
 
 def _effort_sets(system: System, joints: tuple[int, ...]) -> list[tuple]:
@@ -315,19 +310,21 @@ def _fixed_point(system, fs, x0, per_effort, scale, x, state) -> np.ndarray:
     # the caller writes it
 
 
-def _minus_efforts(system: System, fs: FrictionSetup, x_t: np.ndarray, out: np.ndarray):
-    """−e_k = s_k μ_k at the reactions ``x_t`` stored component-major ``(n_λ, ...)``, into
-    ``out (n_f, ...)`` (component-major): the numbers of :func:`efforts` (negated, to the
-    bit), each set's reactions gathered as whole rows and its signs kept with the setup."""
+def _minus_efforts(system, fs: FrictionSetup, x_t: np.ndarray, out: np.ndarray, scale=1.0):
+    """−e_k = s_k·scale·μ_k at the reactions ``x_t`` stored component-major ``(n_λ, ...)``,
+    into ``out (n_f, ...)`` (component-major): a type's joints in one call where it stacks
+    them (:meth:`~kinetostatics.joints.Joint.stack_friction`), each set's reactions
+    gathered as whole rows and its signs kept with the setup (the same each iteration).
+    Negated, the efforts (:func:`efforts`): −(s·scale·μ) is (−s·scale)·μ to the bit."""
     for n, (cols, joint, rows, ks) in enumerate(_effort_sets(system, tuple(fs.joints))):
         qi, qj = _link_q(system, fs, ks) if joint.friction_reads_poses else (None, None)
         d = 1 if isinstance(rows, slice) else 2  # a joint alone, or a stack's (k, n_eq)
-        key = ("signs_t", n)
+        key = ("signs", n, scale)
         if key not in fs.shared:
-            fs.shared[key] = np.ascontiguousarray(entries_first(fs.sign[..., cols], d - 1))
+            fs.shared[key] = np.array(entries_first(fs.sign[..., cols] * scale, d - 1), order="C")
         mag = joint.friction_magnitude(entries_last(x_t[rows], d), qi, qj)
         if d == 1:
-            np.multiply(fs.shared[key], mag, out=out[cols])
+            np.multiply(fs.shared[key], mag, out=out[cols, ...])  # a view at one position too
         else:
             out[cols] = fs.shared[key] * entries_first(mag, 1)
     return out
