@@ -18,6 +18,7 @@ from __future__ import annotations
 import csv
 import io
 import json
+import re
 import sys
 from pathlib import Path
 
@@ -136,3 +137,21 @@ def test_where_a_real_extreme_lies_is_compared(slider_crank):
     summary["extremes"]["motor.torque"]["at_max"] += 1.0
     bad = _found(slider_crank, **{"summary.json": json.dumps(summary)})
     assert len(bad) == 1 and "extremes.motor.torque.at_max" in bad[0]
+
+
+def test_a_text_on_the_scale_of_its_line(slider_crank):
+    """check.txt: the self-checks' round-off may move (1e-16 printed for 2e-16 where the
+    CPU fuses a multiply and an add); a real number or a word that changes is caught."""
+    text = slider_crank["check.txt"]
+    line = next(x for x in text.splitlines() if x.startswith("checks (start pose)"))
+    residual = re.search(r"constraints (\S+)", line).group(1)
+    moved = line.replace(f"constraints {residual}", "constraints 3e-16")
+    assert _found(slider_crank, **{"check.txt": text.replace(line, moved)}) == []
+    cond = re.search(r"cond ≤ (\S+)", line).group(1)
+    worse = line.replace(f"cond ≤ {cond}", f"cond ≤ {float(cond) * (1 + 1e-9)!r}")
+    bad = _found(slider_crank, **{"check.txt": text.replace(line, worse)})
+    assert len(bad) == 1 and bad[0].startswith("check.txt: line")
+    renamed = text.replace("driven link", "driving link")
+    bad = _found(slider_crank, **{"check.txt": renamed})
+    assert bad and "differs" in bad[0]
+    assert _found(slider_crank, **{"check.txt": text + "one more line\n"})

@@ -289,9 +289,10 @@ def _same_table(a: str, b: str) -> None:
     import io
 
     ra, rb = list(csv.reader(io.StringIO(a))), list(csv.reader(io.StringIO(b)))
-    assert ra[0] == rb[0] and len(ra) == len(rb)
-    for j, name in enumerate(rb[0]):
-        xa, xb = [r[j] for r in ra[1:]], [r[j] for r in rb[1:]]
+    head = 2 if rb[0][0].startswith("# units") else 1  # the units' line, then the names
+    assert ra[:head] == rb[:head] and len(ra) == len(rb)
+    for j, name in enumerate(rb[head - 1]):
+        xa, xb = [r[j] for r in ra[head:]], [r[j] for r in rb[head:]]
         try:
             fa, fb = [float(v or "nan") for v in xa], [float(v or "nan") for v in xb]
         except ValueError:

@@ -21,8 +21,13 @@ bits of a result, and a comparison has to be blind to exactly that and nothing m
   must stay so; its value and where it peaks are not compared.
 - **geometry.json** (the drawing data): every coordinate against the largest
   |number| of the drawing.
+- **check.txt** (a text): its words must be equal, line by line; each number in a line
+  is compared with the largest |number| of that golden line, as a number without a unit
+  in summary.json is.  The self-checks' line prints round-off (``constraints 2e-16 ·
+  sketch 5.7e-14 mm · cond ≤ 15``): on a CPU that fuses a multiply and an add (FMA) the
+  constraints' residual printed 1e-16 where the golden file has 2e-16.
 
-Everything else (names, counts, flags, texts) must be equal.
+Everything else (names, counts, flags) must be equal.
 """
 
 from __future__ import annotations
@@ -31,6 +36,7 @@ import csv
 import io
 import json
 import math
+import re
 
 CHECK_ROUND_OFF = 1e-3  # a self-check's value below this share of its tolerance is round-off
 
@@ -227,6 +233,29 @@ def compare_drawing(new: str, old: str, rel: float) -> list[tuple[float, str]]:
     return w.out
 
 
+_NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
+
+
+def compare_text(new: str, old: str, rel: float) -> list[tuple[float, str]]:
+    """``(ratio, message)`` for a text: its words line by line, each number against the
+    largest |number| of its golden line."""
+    a, b = new.splitlines(), old.splitlines()
+    if len(a) != len(b):
+        return [(math.inf, f"{len(a)} lines, the golden file has {len(b)}")]
+    out = []
+    for k, (x, y) in enumerate(zip(a, b), 1):
+        if _NUMBER.split(x) != _NUMBER.split(y):
+            out.append((math.inf, f"line {k} differs: {x!r}, golden {y!r}"))
+            continue
+        nx, ny = [float(v) for v in _NUMBER.findall(x)], [float(v) for v in _NUMBER.findall(y)]
+        scale = max(map(abs, ny), default=0.0)
+        for u, v in zip(nx, ny):
+            if _differs(u, v, rel * scale):
+                ratio = abs(u - v) / scale if scale else math.inf
+                out.append((ratio, f"line {k}: {u!r}, golden {v!r}"))
+    return out
+
+
 def compare(produced: dict[str, str], golden: dict[str, str], rel: dict[str, float]):
     """Every difference between the files produced and the golden ones, as
     ``(ratio, "file: message")``; ``rel[name]`` is each file's tolerance (a share of
@@ -242,6 +271,6 @@ def compare(produced: dict[str, str], golden: dict[str, str], rel: dict[str, flo
         elif name.endswith(".json"):
             found = compare_drawing(text, old, r)
         else:
-            found = [] if text == old else [(math.inf, "text differs")]
+            found = compare_text(text, old, r)
         out += [(ratio, f"{name}: {m}") for ratio, m in found]
     return out

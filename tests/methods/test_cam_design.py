@@ -163,10 +163,13 @@ def _pitch_radius(theta, rb, e, sigma=1):
     Q = np.exp(-1j * sigma * theta)
     P1 = Q * (F1 - 1j * sigma * F)
     P2 = Q * (F2 - 2j * sigma * F1 - F)
-    cross = (np.conj(P1) * P2).imag
-    # the profile is convex where the curve turns the way the pitch point goes round O
-    turn = np.sign((np.conj(P1[0]) * 1j * (Q[0] * F)).imag)
-    return -turn * np.abs(P1) ** 3 / cross
+    cross = (np.conj(P1) * P2).imag  # P′ × P″
+    # the profile is convex where the curve turns the way the pitch point goes round O:
+    # the sign of P × P′ at θ = 0, one number (at a dwell P′ ⊥ P: its dot product, which
+    # this once read, is round-off whose sign the CPU decides)
+    turn = np.sign((np.conj(Q[0] * F[0]) * P1[0]).imag)
+    assert turn != 0
+    return turn * np.abs(P1) ** 3 / cross
 
 
 def test_least_radius_of_curvature_and_roller_limit(translating):
