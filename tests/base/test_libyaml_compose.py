@@ -115,3 +115,19 @@ def test_reading_leaves_the_garbage_collector_as_it_was():
         assert not gc.isenabled()
     finally:
         gc.enable()
+
+
+def test_path_resolvers_still_resolve_as_pyyaml_does():
+    """Without path resolvers the composer's resolver calls are C callables (a tag by
+    kind and text); a loader with one added resolves every tag as PyYAML does."""
+
+    class WithPath(document._CLoader):
+        pass
+
+    yaml.add_path_resolver("!here", ["a"], yaml.ScalarNode, Loader=WithPath)
+    text = "a: x\nb: y\n"
+    for loader in (WithPath, document._CLoader):
+        root = yaml.compose(text, Loader=loader)
+        tags = {k.value: v.tag for k, v in root.value}
+        here = "!here" if loader is WithPath else "tag:yaml.org,2002:str"
+        assert tags == {"a": here, "b": "tag:yaml.org,2002:str"}
