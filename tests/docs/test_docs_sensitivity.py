@@ -12,7 +12,7 @@ import re
 
 import pytest
 
-from tests.helpers import ROOT, load_script
+from tests.helpers import ROOT, load_script, same_lines
 
 PAGE = ROOT / "docs" / "sensitivity.md"
 SCRIPT = ROOT / "docs" / "scripts" / "sensitivity_example.py"
@@ -77,32 +77,16 @@ def test_the_monte_carlo_spreads_are_the_tolerances_of_k_and_h():
     assert max(counts) <= lost <= sum(counts)
 
 
-NUMBER = re.compile(r"-?\d+(?:\.\d+)?(?:e[-+]?\d+)?")
-
-
-def _same_block(got: str, want: str, rel: float = 1e-6) -> None:
-    """Line by line, the same text between the numbers, and the numbers alike on the scale
-    of their line (the largest of its numbers): a derivative that is round-off (K's on the
-    stroke) and the difference quotients' error estimates (round-off over the step) are
-    the machine's, the rest its 8 digits."""
-    assert len(got.splitlines()) == len(want.splitlines())
-    for a, b in zip(got.splitlines(), want.splitlines()):
-        assert NUMBER.split(a) == NUMBER.split(b), (a, b)
-        x, y = ([float(v) for v in NUMBER.findall(line)] for line in (a, b))
-        scale = max([abs(v) for v in x + y] + [0.0])
-        assert all(abs(u - v) <= rel * scale for u, v in zip(x, y)), (a, b)
-
-
 def test_the_block_comparison_holds_the_numbers_to_their_line():
     """The comparison of the slow check below: round-off moves pass, a digit does not."""
     line = "| `guide.time_ratio` | 2 | `K` | 1 | 4.4e-11 | 1.98 | 2.02 |"
-    _same_block(line.replace("4.4e-11", "1.8e-09"), line)
+    same_lines(line.replace("4.4e-11", "1.8e-09"), line)
     with pytest.raises(AssertionError):
-        _same_block(line.replace("2.02", "2.03"), line)
+        same_lines(line.replace("2.02", "2.03"), line)
     with pytest.raises(AssertionError):
-        _same_block(line.replace("`K`", "`H`"), line)
+        same_lines(line.replace("`K`", "`H`"), line)
 
 
 @pytest.mark.slow
 def test_the_block_is_the_scripts():
-    _same_block(load_script(SCRIPT).doc_block(), _block())
+    same_lines(load_script(SCRIPT).doc_block(), _block())

@@ -280,10 +280,10 @@ def test_a_sharp_peak_beside_a_singular_position_is_halved_far_enough():
     """The driving torque peaks at 4.9e5 N·m and passes through zero between its peaks
     within 4e-4 s; five halvings (1/32 of a piece) left it unresolved (seed 1002199): the
     two orders' RMS differ by 9.8e-6 N·m with five.  Pieces are now halved up to eight
-    times.  The two orders' RMS agree to 1e-12 of the
-    largest |torque| at the rows and the nodes, as the relation reads it since seed
-    1004622: read against the rows' 2.9e3 N·m instead, an SSE-only CPU's round-off
-    (3.4e-9, 7e-15 of the peak; 6.7e-10 with AVX-512) failed it."""
+    times, and the two agree to 1e-12 of the largest |torque| at the rows and the nodes,
+    as the relation reads it since seed 1004622: read against the rows' 2.9e3 N·m
+    instead, an SSE-only CPU's round-off (3.4e-9, 7e-15 of the peak; 6.7e-10 with
+    AVX-512) failed it."""
     from kinetostatics.analysis.cycle import cycle_quadrature, cycle_stats
 
     doc = yaml.safe_load((CASES / "sharp_peak_needs_halving.yaml").read_text(encoding="utf-8"))
