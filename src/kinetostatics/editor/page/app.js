@@ -249,7 +249,12 @@ document.addEventListener("keydown", (e) => {
 });
 
 async function load(notice) {
+  const typed = editor.text;
   const f = await api("api/file");
+  if (notice && editor.text !== typed) {  // typed while the file came: the typing stays
+    $("disk").hidden = false;
+    return;
+  }
   state.mtime = f.mtime;
   editor.setText(f.text);
   state.savedText = editor.text;  // as the text area holds it (CRLF read as LF)
@@ -262,7 +267,9 @@ async function load(notice) {
 
 async function poll() {
   try {
+    const known = state.mtime;
     const s = await api("api/stat");
+    if (state.mtime !== known) return;  // a save or a load answered meanwhile: s is older
     if (s.mtime !== null && s.mtime !== state.mtime) {
       if (editor.text === state.savedText) await load(true);
       else $("disk").hidden = false;
