@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import dataclasses
+from collections.abc import Mapping
+
 import numpy as np
 
 __all__ = [
@@ -12,6 +15,7 @@ __all__ = [
     "entry_major_zeros",
     "runs",
     "as_run",
+    "same_fields",
 ]
 
 
@@ -68,3 +72,37 @@ def as_run(index) -> slice | np.ndarray:
     if index.size and index[-1] - index[0] == index.size - 1 and np.all(np.diff(index) == 1):
         return slice(int(index[0]), int(index[-1]) + 1)
     return index
+
+
+def same_fields(self, other) -> bool:
+    """``==`` of a dataclass record that holds arrays (its ``__eq__``): the same type and
+    every compared field equal — an array by its shape and values, a tuple, list or
+    mapping item by item.  The generated ``__eq__`` compared two arrays element-wise
+    inside a tuple, and NumPy refused the truth of the result (``ks.load(p) ==
+    ks.load(p)`` raised ValueError)."""
+    if self is other:
+        return True
+    if type(self) is not type(other):
+        return NotImplemented
+    return all(
+        _same(getattr(self, f.name), getattr(other, f.name))
+        for f in dataclasses.fields(self)
+        if f.compare
+    )
+
+
+def _same(a, b) -> bool:
+    if a is b:  # as a tuple's comparison: the same object is equal, NaN included
+        return True
+    if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
+        return (
+            isinstance(a, np.ndarray)
+            and isinstance(b, np.ndarray)
+            and a.shape == b.shape
+            and bool(np.array_equal(a, b))
+        )
+    if isinstance(a, (tuple, list)) and isinstance(b, (tuple, list)):
+        return type(a) is type(b) and len(a) == len(b) and all(map(_same, a, b))
+    if isinstance(a, Mapping) and isinstance(b, Mapping):
+        return a.keys() == b.keys() and all(_same(a[k], b[k]) for k in a)
+    return bool(a == b)

@@ -56,6 +56,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from ..base.arrays import same_fields
 from ..base.geometry import dot, perp, rotate, turn, turn_back
 from ..base.keys import NAME, NUMBER, VECTOR, Keys, enum, names
 from . import _camphase
@@ -117,6 +118,8 @@ class Cam(Joint, Presentation, Friction, Shaped, kind="cam"):
     frame towards the cam; ``f`` the friction coefficient; ``allowed`` the allowable
     pressure angle [α] of its design (rad; ``design: {pressure_angle_max}``), None: not
     given (the design takes the textbook's 30°)."""
+
+    __eq__ = same_fields  # arrays compared by value (base/arrays.py)
 
     n_eq: ClassVar[int] = 1
     reaction_labels: ClassVar[tuple[str, ...]] = ("F", "Fx", "Fy")

@@ -108,6 +108,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from ..base.arrays import same_fields
 from ..base.geometry import dot, perp, turn
 from ..base.kernels import helper
 from ..base.keys import NAME, NUMBER, Keys, enum, names
@@ -225,6 +226,8 @@ class Gear(MeshFriction, Joint, Presentation, Compiled, kind="gear"):
     to the tooth period); λ = F, the tooth force of i on j along the line of
     action.  See the module docstring for the derivation and the signs.
     """
+
+    __eq__ = same_fields  # arrays compared by value (base/arrays.py)
 
     n_eq: ClassVar[int] = 1
     reaction_labels: ClassVar[tuple[str, ...]] = ("F", "Fx", "Fy")

@@ -7,7 +7,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from ..base.arrays import entry_major_zeros
+from ..base.arrays import entry_major_zeros, same_fields
 from ..base.geometry import dot, perp, turn, wrap_angle
 from ..base.kernels import helper
 from ..base.keys import NAME, NUMBER, Keys, names
@@ -139,6 +139,8 @@ class Prismatic(Joint, Presentation, Friction, Compiled, kind="prismatic"):
     with ``length`` L the block bears on two edges, N₁,₂ = N/2 ± M/L, and the
     friction is f(|N₁| + |N₂|).
     """
+
+    __eq__ = same_fields  # arrays compared by value (base/arrays.py)
 
     n_eq: ClassVar[int] = 2
     reaction_labels: ClassVar[tuple[str, ...]] = ("Fx", "Fy", "N", "M")

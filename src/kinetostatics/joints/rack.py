@@ -69,6 +69,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from ..base.arrays import same_fields
 from ..base.geometry import dot, perp, turn
 from ..base.kernels import helper
 from ..base.keys import NAME, NUMBER, Keys, names
@@ -175,6 +176,8 @@ class Rack(MeshFriction, Joint, Presentation, Compiled, kind="rack"):
     2π r cos α); λ = F, the tooth force of the rack on the pinion along the line
     of action.  See the module docstring for the derivation and the signs.
     """
+
+    __eq__ = same_fields  # arrays compared by value (base/arrays.py)
 
     n_eq: ClassVar[int] = 1
     reaction_labels: ClassVar[tuple[str, ...]] = ("F", "Fx", "Fy")

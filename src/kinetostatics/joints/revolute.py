@@ -7,7 +7,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from ..base.arrays import entry_major_zeros
+from ..base.arrays import entry_major_zeros, same_fields
 from ..base.geometry import perp, turn
 from ..base.keys import NAME, NUMBER, Keys, enum, names
 from .base import Anchor, Compiled, Friction, Glyph, Joint, Pole, Presentation
@@ -126,6 +126,8 @@ class Revolute(Joint, Presentation, Friction, Compiled, kind="revolute"):
     link i, so the reaction of i on j is ``F = −λ``.  Friction: the friction
     circle, a couple of magnitude ρ|F| opposing ω_j − ω_i.
     """
+
+    __eq__ = same_fields  # arrays compared by value (base/arrays.py)
 
     n_eq: ClassVar[int] = 2
     reaction_labels: ClassVar[tuple[str, ...]] = ("Fx", "Fy")

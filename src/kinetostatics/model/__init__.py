@@ -14,6 +14,7 @@ from typing import ClassVar
 
 import numpy as np
 
+from ..base.arrays import same_fields
 from ..errors import Location
 from ..joints import Joint
 from .sizing import SizingSpec
@@ -39,6 +40,8 @@ __all__ = [
 @dataclass(frozen=True)
 class Link:
     """A rigid link.  ``points``: local points relative to the CoM (m)."""
+
+    __eq__ = same_fields  # arrays compared by value (base/arrays.py)
 
     name: str
     points: Mapping[str, np.ndarray]
@@ -190,6 +193,8 @@ class Condition:
     sense of motion, modulo 2π).
     """
 
+    __eq__ = same_fields  # arrays compared by value (base/arrays.py)
+
     kind: str
     link: str = ""
     point: str | None = None
@@ -210,6 +215,8 @@ class Load:
     reaction −M acts); ``table`` replaces the constant by values over the driver
     coordinate.  Active only while all ``active`` conditions hold.
     """
+
+    __eq__ = same_fields  # arrays compared by value (base/arrays.py)
 
     name: str
     kind: str
@@ -259,6 +266,8 @@ class Element:
     ``preload`` + ``stiffness``·(s − ``free``), or the ``table`` (s values, f values)
     interpolated linearly and held constant outside; a damper's is ``damping``·ṡ.
     """
+
+    __eq__ = same_fields  # arrays compared by value (base/arrays.py)
 
     name: str
     kind: str
@@ -420,6 +429,8 @@ class Model:
     >>> [link.name for link in model.moving_links]  # doctest: +SKIP
     ['crank', 'rod', 'slider']
     """
+
+    __eq__ = same_fields  # arrays compared by value (base/arrays.py)
 
     name: str
     links: tuple[Link, ...]
