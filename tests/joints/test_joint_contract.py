@@ -287,6 +287,14 @@ def test_yaml_round_trip(path):
             np.testing.assert_allclose(a.points[k], b.points[k], atol=1e-15)
 
 
+@pytest.mark.parametrize("path", MECHANISMS, ids=[p.stem for p in MECHANISMS])
+def test_a_joint_equals_itself_loaded_again(path):
+    """``==`` by value: a type with array fields sets ``__eq__ = same_fields`` (the
+    generated one raised NumPy's ValueError on them)."""
+    for a, b in zip(ks.load(path).joints, ks.load(path).joints):
+        assert a == b and not a != b, type(a).__name__
+
+
 # -- the core every type implements and the optional parts it declares (joints/base.py) --
 # the members a type that declares a part must give itself (the rest keep their defaults)
 REQUIRED = {
