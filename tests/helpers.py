@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 import kinetostatics as ks
+from tests.golden.compare import compare_text
 
 ROOT = Path(__file__).resolve().parent.parent
 MECHANISMS = sorted((ROOT / "mechanisms").glob("*.yaml"))
@@ -43,20 +44,14 @@ def rel_err(x, ref) -> float:
     return float(np.max(np.abs(np.asarray(x) - ref)) / np.max(np.abs(ref)))
 
 
-NUMBER = re.compile(r"-?\d+(?:\.\d+)?(?:e[-+]?\d+)?")
-
-
 def same_lines(got: str, want: str, rel: float = 1e-6) -> None:
-    """A page's block as its script writes it again: line by line, the same text between
-    the numbers, and the numbers alike on the scale of their line (the largest of its
-    numbers) — round-off (a derivative that is zero, an error estimate, a value printed to
-    full precision) is the machine's, the rest its printed digits."""
-    assert len(got.splitlines()) == len(want.splitlines())
-    for a, b in zip(got.splitlines(), want.splitlines()):
-        assert NUMBER.split(a) == NUMBER.split(b), (a, b)
-        x, y = ([float(v) for v in NUMBER.findall(line)] for line in (a, b))
-        scale = max([abs(v) for v in x + y] + [0.0])
-        assert all(abs(u - v) <= rel * scale for u, v in zip(x, y)), (a, b)
+    """A page's block as its script writes it again, by the golden files' rule for a text
+    (tests/golden/compare.py): line by line, the same words between the numbers, each
+    number within ``rel`` of the largest of its line in ``want`` — round-off (a derivative
+    that is zero, an error estimate, a value printed to full precision) is the machine's,
+    the rest its printed digits."""
+    bad = compare_text(got, want, rel)
+    assert not bad, [m for _, m in bad]
 
 
 def assert_close_on_unit_scales(a, b, rel: float = 1e-12) -> None:

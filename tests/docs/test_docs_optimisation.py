@@ -20,7 +20,8 @@ import kinetostatics as ks
 from kinetostatics.batch.optimize_files import with_parameters
 from kinetostatics.batch.variants import Template, analyze_variants
 from kinetostatics.dynamics.stages import full_summary
-from tests.helpers import NUMBER, ROOT, load_script, same_lines
+from tests.golden.compare import NUMBER
+from tests.helpers import ROOT, load_script, same_lines
 
 SCRIPT = ROOT / "docs" / "scripts" / "optimisation_example.py"
 FILE = ROOT / "mechanisms" / "slotting_machine.yaml"

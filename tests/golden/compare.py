@@ -233,7 +233,7 @@ def compare_drawing(new: str, old: str, rel: float) -> list[tuple[float, str]]:
     return w.out
 
 
-_NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
+NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")  # a number in a text
 
 
 def compare_text(new: str, old: str, rel: float) -> list[tuple[float, str]]:
@@ -244,10 +244,10 @@ def compare_text(new: str, old: str, rel: float) -> list[tuple[float, str]]:
         return [(math.inf, f"{len(a)} lines, the golden file has {len(b)}")]
     out = []
     for k, (x, y) in enumerate(zip(a, b), 1):
-        if _NUMBER.split(x) != _NUMBER.split(y):
+        if NUMBER.split(x) != NUMBER.split(y):
             out.append((math.inf, f"line {k} differs: {x!r}, golden {y!r}"))
             continue
-        nx, ny = [float(v) for v in _NUMBER.findall(x)], [float(v) for v in _NUMBER.findall(y)]
+        nx, ny = [float(v) for v in NUMBER.findall(x)], [float(v) for v in NUMBER.findall(y)]
         scale = max(map(abs, ny), default=0.0)
         for u, v in zip(nx, ny):
             if _differs(u, v, rel * scale):
