@@ -143,3 +143,30 @@ def test_a_picture_command_gives_the_collector_its_thresholds_back():
     with pytest.raises(ValueError):
         _fewer_collections(fails)(None)
     assert gc.get_threshold() == before
+
+
+def test_the_program_ends_without_walking_its_heap_and_a_caller_keeps_its_collector(tmp_path):
+    """As the process's own command (``main()``, argv from the command line) a picture
+    command keeps the fewer collections to its end and the heap is frozen before the
+    process exits (the collections that would walk it then free nothing a process
+    about to end needs); called with an argv, as by a caller's process, the collector is
+    given back untouched and nothing is frozen."""
+    import gc
+
+    from kinetostatics.cli.pictures import COLLECTOR
+
+    mech = "mechanisms/slider_crank.yaml"
+    before, frozen = gc.get_threshold(), gc.get_freeze_count()
+    assert main(["plot", mech, "--sheet", str(tmp_path / "a.dxf")]) == 0
+    assert (gc.get_threshold(), gc.get_freeze_count()) == (before, frozen)
+    code = (
+        "import gc, sys\n"
+        "from kinetostatics.cli import main\n"
+        f"sys.argv = ['kinetostatics', 'plot', {mech!r}, '--sheet', {str(tmp_path / 'b.dxf')!r}]\n"
+        "assert main() == 0\n"
+        "print(gc.get_threshold(), gc.get_freeze_count() > 0)\n"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=True
+    )
+    assert out.stdout.split("\n")[-2] == f"{COLLECTOR} True", out

@@ -8,6 +8,7 @@ matplotlib nor scipy.
 from __future__ import annotations
 
 import argparse
+import gc
 import sys
 import warnings
 from pathlib import Path
@@ -340,8 +341,15 @@ def _one_blas_thread() -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """The ``kinetostatics`` command: its exit code.  Without ``argv`` it is the process's
+    own command (the arguments from ``sys.argv``): a picture command then keeps its
+    fewer collections to the end (``cli/pictures.py``) and the heap is frozen once the
+    command is done, so that neither giving the collector its thresholds back nor
+    Python's collection at exit walks the objects of a process about to end (~0.2 s of
+    ``plot``).  Called with ``argv`` (tests, a caller's process), neither happens."""
     import importlib
 
+    program = argv is None
     _one_blas_thread()
     _escape_unencodable()
     parser = _Parser(
@@ -358,6 +366,7 @@ def main(argv: list[str] | None = None) -> int:
     for name in () if alone else EXTENSIONS:
         importlib.import_module(name).register(sub)
     args = parser.parse_args(argv)
+    args.program = program
 
     def one_line(message, category, filename, lineno, file=None, line=None):
         from ..errors import printable
@@ -370,6 +379,8 @@ def main(argv: list[str] | None = None) -> int:
             warnings.showwarning = one_line
             code = args.func(args)
             sys.stdout.flush()  # a closed pipe shows here, not at exit
+            if program:  # the process ends: no collection need walk what it made
+                gc.freeze()
             return code
     except KinetostaticsError as exc:
         from ..errors import printable

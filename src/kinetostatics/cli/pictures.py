@@ -55,7 +55,8 @@ COLLECTOR = (20_000, 20, 20)
 
 def _fewer_collections(command):
     """``command`` run with the collector at :data:`COLLECTOR`, its thresholds given back
-    after it (a command may run inside a caller's process: tests, notebooks)."""
+    after it (a command may run inside a caller's process: tests, notebooks) — except
+    for the process's own command (``args.program``, cli.main), which ends with it."""
 
     @functools.wraps(command)
     def run(args) -> int:
@@ -64,7 +65,8 @@ def _fewer_collections(command):
         try:
             return command(args)
         finally:
-            gc.set_threshold(*before)
+            if not getattr(args, "program", False):
+                gc.set_threshold(*before)
 
     return run
 
