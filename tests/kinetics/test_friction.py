@@ -221,3 +221,37 @@ def test_the_efforts_are_each_joint_s_own_law(path, monkeypatch):
     half = len(motion.q) // 2
     q, qd = (a[: 2 * half].reshape(2, half, -1) for a in (motion.q, motion.qd))
     check(fr.setup(system, q, qd, ref_speed), eq.x0[: 2 * half].reshape(2, half, -1))
+
+
+@pytest.mark.parametrize("stacked", [False, True], ids=["one model", "stacked variants"])
+def test_the_fixed_point_in_runs_of_positions_is_the_fixed_point_over_all(stacked, monkeypatch):
+    """A position's iterates do not depend on the other positions', so the fixed point run
+    over runs of a few positions (``FIXED_POINT_RUN``, here 7 of 360: the last run
+    shorter, the approximate solution's first iterate sliced with them) gives the
+    reactions, efforts, statuses and iterations of one run over all of them, on one model
+    and on variants stacked along a leading axis."""
+    from kinetostatics.analysis import vectorised
+    from kinetostatics.kinetics import friction as fr
+
+    path = "mechanisms/slotting_machine.yaml"
+    if stacked:
+        models = [ks.load(path, parameters={"H": 90.0 + 5.0 * k}) for k in range(3)]
+
+        def run():
+            return vectorised.as_result(vectorised.analyze_stacked(models))
+    else:
+        model = ks.load(path)
+
+        def run():
+            return ks.analyze(model)
+
+    whole = run()
+    monkeypatch.setattr(fr, "FIXED_POINT_RUN", 7)
+    runs = run()
+    for name in whole.columns:
+        a, b = np.asarray(whole[name], dtype=float), np.asarray(runs[name], dtype=float)
+        scale = max(np.nanmax(np.abs(a), initial=0.0), 1e-300)
+        assert np.array_equal(np.isnan(a), np.isnan(b)), name
+        assert np.nanmax(np.abs(a - b), initial=0.0) <= 1e-14 * scale, name
+    for name in ("friction.status", "friction.iterations"):
+        assert np.array_equal(whole[name], runs[name]), name
