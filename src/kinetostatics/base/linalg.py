@@ -459,12 +459,15 @@ class BlockFactor:
         ``(n, ...)``: each product a whole-array ``einsum`` over runs of positions (the
         blocks as the plan stores them; ~5× faster over 36,000 positions than
         :meth:`product_transposed` over position-major vectors)."""
-        out = np.zeros((self.n,) + y_t.shape[1:])
-        for (rows, cols), d, (done, lower) in zip(self.blocks, self.diag, self._lower):
+        out = np.empty((self.n,) + y_t.shape[1:])  # each column is a group's: written first
+        for (rows, cols, _), d, (done, lower) in zip(self._runs(), self.diag, self._lower):
             r = y_t[rows]
-            out[cols] += np.einsum("ji...,j...->i...", entries_first(d), r)
-            if lower is not None:
-                out[done] += np.einsum("ji...,j...->i...", entries_first(lower), r)
+            if isinstance(cols, slice):
+                np.einsum("ji...,j...->i...", entries_first(d), r, out=out[cols])
+            else:
+                out[cols] = np.einsum("ji...,j...->i...", entries_first(d), r)
+            if lower is not None:  # the earlier groups' columns, written already
+                out[as_run(done)] += np.einsum("ji...,j...->i...", entries_first(lower), r)
         return out
 
     def transposed_at(self, index) -> np.ndarray:
