@@ -223,17 +223,27 @@ def test_the_efforts_are_each_joint_s_own_law(path, monkeypatch):
     check(fr.setup(system, q, qd, ref_speed), eq.x0[: 2 * half].reshape(2, half, -1))
 
 
-@pytest.mark.parametrize("stacked", [False, True], ids=["one model", "stacked variants"])
-def test_the_fixed_point_in_runs_of_positions_is_the_fixed_point_over_all(stacked, monkeypatch):
+@pytest.mark.parametrize(
+    "path, stacked",
+    [
+        ("mechanisms/slotting_machine.yaml", False),
+        ("mechanisms/slotting_machine.yaml", True),
+        ("tests/hard/slider_crank_self_locking.yaml", False),
+    ],
+    ids=["one model", "stacked variants", "self-locking zones"],
+)
+def test_the_fixed_point_in_runs_of_positions_is_the_fixed_point_over_all(
+    path, stacked, monkeypatch
+):
     """A position's iterates do not depend on the other positions', so the fixed point run
-    over runs of a few positions (``FIXED_POINT_RUN``, here 7 of 360: the last run
-    shorter, the approximate solution's first iterate sliced with them) gives the
-    reactions, efforts, statuses and iterations of one run over all of them, on one model
-    and on variants stacked along a leading axis."""
+    over runs of a few positions (``FIXED_POINT_RUN``, here 7: the last run shorter, the
+    approximate solution's first iterate sliced with them) gives the reactions, efforts,
+    statuses and iterations of one run over all of them, on one model, on variants
+    stacked along a leading axis, and where positions leave the fixed point for the
+    homotopy (self-locked, zero relative speed)."""
     from kinetostatics.analysis import vectorised
     from kinetostatics.kinetics import friction as fr
 
-    path = "mechanisms/slotting_machine.yaml"
     if stacked:
         models = [ks.load(path, parameters={"H": 90.0 + 5.0 * k}) for k in range(3)]
 
