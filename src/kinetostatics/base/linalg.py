@@ -26,7 +26,7 @@ import numpy as np
 from . import kernels
 from .arrays import as_run, entries_first, entries_last
 
-__all__ = ["BlockFactor", "small_inverse", "traced_inverse"]
+__all__ = ["BlockFactor", "small_inverse", "traced_inverse"]  # and the plans' helpers below
 
 
 def _adjugate(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -277,10 +277,40 @@ def _sparse_gauss_jordan(m: np.ndarray, plan: _Plan, entries=None) -> np.ndarray
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         worst = plan.run(m, entries)
     out = entries.reshape(n, n, count)
+    lapack_where_pivots_fail(m, out, worst)
+    return out
+
+
+def lapack_where_pivots_fail(m: np.ndarray, out: np.ndarray, worst: np.ndarray) -> None:
+    """The matrices ``m (n, n, N)`` (entry-major) whose elimination's pivot check ``worst``
+    is above 1 / :data:`PIVOT_RATIO` (or NaN) inverted again by LAPACK, into ``out``."""
     bad = ~(worst <= 1.0 / PIVOT_RATIO)
     if bad.any():
         out[:, :, bad] = entries_first(_lapack_inverse(entries_last(m[:, :, bad])))
-    return out
+
+
+def pinv_where_singular(a: np.ndarray, inv: np.ndarray, det: np.ndarray) -> None:
+    """The pseudo-inverse of each exactly singular matrix of ``a (..., n, n)`` (finite
+    entries, determinant ``det`` zero) into ``inv (..., n, n)``."""
+    singular = (det == 0) & np.all(np.isfinite(a), axis=(-2, -1))
+    if singular.any():
+        inv[singular] = np.linalg.pinv(a[singular])
+
+
+def eliminates(a: np.ndarray, pattern: np.ndarray, order: tuple[int, ...]) -> bool:
+    """Whether :func:`small_inverse` inverts the stack ``a (count, n, n)`` (n > 3) by the
+    elimination of ``pattern`` in the row ``order`` (enough matrices, the order the first
+    picks, an elimination that pays), not by LAPACK: then one written out may run."""
+    count, n = len(a), a.shape[-1]
+    if count < SPARSE_FROM or tuple(_first_pivots(a[0])) != order:
+        return False
+    plan = _plan(pattern, list(order))
+    return plan.feasible and _sparse_pays(n, count, plan)
+
+
+def pivot_order(a0: np.ndarray) -> tuple[int, ...]:
+    """The row order partial pivoting picks for one matrix ``a0 (n, n)``."""
+    return tuple(_first_pivots(a0))
 
 
 def _sparse_pays(n: int, count: int, plan: _Plan) -> bool:
@@ -346,9 +376,7 @@ def small_inverse(a: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
         with np.errstate(divide="ignore", invalid="ignore"):
             np.divide(adj, det, out=out)
     inv = entries_last(out)
-    singular = (det == 0) & np.all(np.isfinite(a), axis=(-2, -1))
-    if singular.any():
-        inv[singular] = np.linalg.pinv(a[singular])
+    pinv_where_singular(a, inv, det)
     return inv
 
 

@@ -49,11 +49,13 @@ import numpy as np
 
 from ..base import kernels
 from ..base.arrays import as_run, entries_last
+from ..base.geometry import poses
 from ..base.linalg import BlockFactor, small_inverse
 from ..base.trace import Leaves, Lines, operand, pruned, traced_kernel
-from ..structure.evaluation import STACK_UP_TO
+from ..structure.evaluation import STACK_UP_TO, jacobian_blocks_all
 from ..structure.system import System, link_poses, phi
 from .fused import fused_derivatives
+from .plan_inverse import RUNTIME, entry, inverse_line
 
 __all__ = [
     "KinematicPlan",
@@ -277,14 +279,16 @@ def written(system: System) -> tuple[list[str], dict]:
         "    n = pe.shape[0]",
         "    PE = pe.transpose(1, 2, 0)",
     ]
-    traced = Lines()
-    gather = _blocks(system, env, lines, traced)
+    traced, inverses = Lines(), []
+    gather = _blocks(system, env, lines, traced, inverses)
     _rates_of(system, env, lines)
     _accelerations(system, env, lines, gather, traced)
-    return pruned(lines), env
+    return inverses + pruned(lines), env
 
 
-def _blocks(system: System, env: dict, lines: list[str], traced: Lines) -> list[bool]:
+def _blocks(
+    system: System, env: dict, lines: list[str], traced: Lines, inverses: list[str]
+) -> list[bool]:
     """Φ_q's entries into ``buf`` (the caller's zeros), the diagonal blocks' inverses into
     ``INV`` (entry-major, each group's ``(k, k, n)``), the coupling blocks ``LT<g>``
     (component-major); returns whether each set's formulas are traced (its type's
@@ -293,6 +297,7 @@ def _blocks(system: System, env: dict, lines: list[str], traced: Lines) -> list[
     assert layout is not None
     poses = Leaves(traced, "PE", len(system.links), (0.0, 0.0, 0.0, 1.0, 0.0))
     gather = []
+    writes: dict[int, object] = {}  # each slot's writes: [(op, value)] or RUNTIME
     for k, s in enumerate(system.sets):
         env[f"C{k}"] = s.constraint
         env[f"TI{k}"], env[f"TJ{k}"] = layout.dest[k]
@@ -300,6 +305,7 @@ def _blocks(system: System, env: dict, lines: list[str], traced: Lines) -> list[
         gather.append(par is not None)
         if par is None:
             lines += _contract_jacobian(env, k, s)
+            writes.update(dict.fromkeys(np.ravel(layout.dest[k]).tolist(), RUNTIME))
             continue
         shape = (len(s.members),) + s.rows.shape[-1:] + (3, 1)
         ji, jj = traced_kernel(
@@ -309,15 +315,36 @@ def _blocks(system: System, env: dict, lines: list[str], traced: Lines) -> list[
             for at, value in zip(slots.reshape(-1).tolist(), values.reshape(-1).tolist()):
                 if not (isinstance(value, numbers.Real) and value == 0.0):  # zero on zeros
                     traced.lines.append(f"    buf[{at}] {op} {operand(value)}")
+                    w = writes.setdefault(at, [])
+                    if w != RUNTIME:
+                        w.append((op, value))
         lines += traced.take()
+    first = _start_blocks(system)
     for g, (d, lo) in enumerate(zip(layout.diag, layout.lower)):
-        lines.append(f"    invert({_view(d)}, INV[{g}])")
+        off, r, c = d
+        m = [[entry(writes.get(off + i * c + j)) for j in range(c)] for i in range(r)]
+        written = inverse_line(env, g, d, _view(d), m, None if first is None else first[g])
+        if written is None:
+            lines.append(f"    invert({_view(d)}, INV[{g}])")
+        else:
+            lines.append(written[0])
+            inverses += written[1]
         if lo is not None:
             off, r, c = lo
             lines.append(f"    LT{g} = buf[{off}:{off + r * c}].reshape({r}, {c}, n)")
         env[f"DONE{g}"], env[f"ROWS{g}"] = layout.lower_cols[g], system.plans[g].rows
         env[f"COLS{g}"] = system.plans[g].cols
     return gather
+
+
+def _start_blocks(system: System) -> list[np.ndarray] | None:
+    """Each group's diagonal block at the start pose ``(r, c)`` (the row orders of the
+    written inverses: :mod:`.plan_inverse`), or None before the start pose is known."""
+    start = system.memo.get("start")
+    if start is None:
+        return None
+    pe = poses(np.asarray(start[1], dtype=float).reshape(1, -1), len(system.links))
+    return [np.asarray(d)[0] for d, _, _ in jacobian_blocks_all(system.sets, system.layout, pe)[0]]
 
 
 def _view(at) -> str:
