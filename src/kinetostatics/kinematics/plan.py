@@ -290,7 +290,8 @@ def _blocks(
     system: System, env: dict, lines: list[str], traced: Lines, inverses: list[str]
 ) -> list[bool]:
     """Φ_q's entries into ``buf`` (the caller's zeros), the diagonal blocks' inverses into
-    ``INV`` (entry-major, each group's ``(k, k, n)``), the coupling blocks ``LT<g>``
+    ``INV`` (entry-major, each group's ``(k, k, n)``; written out by :mod:`.plan_inverse`,
+    their functions' text into ``inverses``, where it can), the coupling blocks ``LT<g>``
     (component-major); returns whether each set's formulas are traced (its type's
     kernels)."""
     layout = system.layout
@@ -323,12 +324,12 @@ def _blocks(
     for g, (d, lo) in enumerate(zip(layout.diag, layout.lower)):
         off, r, c = d
         m = [[entry(writes.get(off + i * c + j)) for j in range(c)] for i in range(r)]
-        written = inverse_line(env, g, d, _view(d), m, None if first is None else first[g])
-        if written is None:
+        inverse = inverse_line(env, g, d, _view(d), m, None if first is None else first[g])
+        if inverse is None:
             lines.append(f"    invert({_view(d)}, INV[{g}])")
         else:
-            lines.append(written[0])
-            inverses += written[1]
+            lines.append(inverse[0])
+            inverses += inverse[1]
         if lo is not None:
             off, r, c = lo
             lines.append(f"    LT{g} = buf[{off}:{off + r * c}].reshape({r}, {c}, n)")
