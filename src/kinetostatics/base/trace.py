@@ -26,7 +26,16 @@ from collections import Counter
 
 import numpy as np
 
-__all__ = ["Sym", "Lines", "Leaves", "operand", "pruned", "traced_kernel"]
+__all__ = [
+    "Sym",
+    "Lines",
+    "Leaves",
+    "operand",
+    "pruned",
+    "traced_kernel",
+    "magnitude",
+    "larger",
+]
 
 
 class Lines:
@@ -78,6 +87,20 @@ def operand(x) -> str:
         text = repr(float(x))
         return f"({text})" if text.startswith("-") or text in ("inf", "nan") else text
     raise TypeError(f"a traced kernel read {type(x).__name__}, not a number")
+
+
+def magnitude(lines: Lines, x, fn: str = "abs"):
+    """|x|: a number's at once, a local's by the call ``fn`` (``abs`` in a program of
+    scalars, ``np.abs`` over whole arrays)."""
+    return lines.value(f"{fn}({x.name})") if isinstance(x, Sym) else abs(x)
+
+
+def larger(lines: Lines, a, b, fn: str = "max"):
+    """The larger of ``a`` and ``b``, NaN where either is (as ``np.maximum``): two numbers'
+    at once, else by the call ``fn`` (``max`` in a program, ``np.maximum`` over arrays)."""
+    if isinstance(a, Sym) or isinstance(b, Sym):
+        return lines.value(f"{fn}({operand(a)}, {operand(b)})")
+    return a if (a >= b or a != a) else b
 
 
 def _binary(op: str, a, b):

@@ -38,7 +38,7 @@ import numpy as np
 
 from ..base import program
 from ..base.linalg import PIVOT_RATIO, traced_inverse
-from ..base.trace import Leaves, Lines, Sym, operand, pruned, traced_kernel
+from ..base.trace import Leaves, Lines, Sym, larger, magnitude, operand, pruned, traced_kernel
 from ..structure.evaluation import jacobian_blocks_all
 from ..structure.system import System
 
@@ -214,10 +214,10 @@ def _check(lines: Lines, test: tuple) -> None:
     else:
         _, pivot, below, recip = test
         if below:
-            value = _abs(lines, pivot)
+            value = magnitude(lines, pivot)
             for x in below:
-                value = _max(lines, value, _abs(lines, x))
-            value = value * _abs(lines, recip)
+                value = larger(lines, value, magnitude(lines, x))
+            value = value * magnitude(lines, recip)
         else:  # 1, or NaN where the pivot is 0 or not finite
             value = pivot * recip
         limit = 1.0 / PIVOT_RATIO
@@ -228,16 +228,6 @@ def _check(lines: Lines, test: tuple) -> None:
         raise _NotFused
 
 
-def _abs(lines: Lines, x):
-    return lines.value(f"abs({x.name})") if isinstance(x, Sym) else abs(x)
-
-
-def _max(lines: Lines, x, y):
-    if isinstance(x, Sym) or isinstance(y, Sym):
-        return lines.value(f"max({operand(x)}, {operand(y)})")
-    return x if (x >= y or x != x) else y
-
-
 def _condition(lines: Lines, m: list, inv: list, l_ref: float):
     """‖S‖_F ‖S⁻¹‖_F of a group's block ``m`` and its inverse ``inv`` (traced values) with
     the operations of :func:`~kinetostatics.kinematics.newton.condition_number` in its
@@ -245,12 +235,12 @@ def _condition(lines: Lines, m: list, inv: list, l_ref: float):
     a_ij²) / m_i², ‖S⁻¹‖² = Σ_i (Σ_j (J⁻¹_ij m_j)²) / c_i², ∞ where not finite."""
     k = len(m)
     col = [1.0 if j % 3 == 2 else l_ref for j in range(k)]
-    a = [[_abs(lines, m[i][j] * col[j]) for j in range(k)] for i in range(k)]
+    a = [[magnitude(lines, m[i][j] * col[j]) for j in range(k)] for i in range(k)]
     norm = []
     for row in a:
         top = row[0]
         for x in row[1:]:
-            top = _max(lines, top, x)
+            top = larger(lines, top, x)
         norm.append(_unary(lines, "positive_or_one", top, lambda x: x if x > 0 else 1.0))
     a_sq = [_sum(x * x for x in row) for row in a]
     inv_sq = [

@@ -25,7 +25,7 @@ import numpy as np
 
 from ..base import linalg
 from ..base.arrays import entries_first
-from ..base.trace import Lines, Sym, operand
+from ..base.trace import Lines, Sym, larger, magnitude, operand
 
 __all__ = ["RUNTIME", "entry", "inverse_line"]
 
@@ -159,25 +159,15 @@ def _fallback(inner: Lines, checks: list[tuple]) -> list[str] | None:
         if not below:  # 1, or NaN where the pivot is 0 or not finite
             t = pivot * recip
         else:
-            t = _abs(inner, pivot)
+            t = magnitude(inner, pivot, "np.abs")
             for x in below:
-                t = _maximum(inner, t, _abs(inner, x))
-            t = t * _abs(inner, recip)
+                t = larger(inner, t, magnitude(inner, x, "np.abs"), "np.maximum")
+            t = t * magnitude(inner, recip, "np.abs")
         if not isinstance(t, Sym):
             if not t <= 1.0 / linalg.PIVOT_RATIO:
                 return None
             continue
-        worst = t if worst is None else _maximum(inner, worst, t)
+        worst = t if worst is None else larger(inner, worst, t, "np.maximum")
     if worst is None:
         return []
     return [f"    lapack_where_pivots_fail(view.transpose(1, 2, 0), out, {worst.name})"]
-
-
-def _abs(inner: Lines, x):
-    return inner.value(f"np.abs({x.name})") if isinstance(x, Sym) else abs(x)
-
-
-def _maximum(inner: Lines, a, b):
-    if isinstance(a, Sym) or isinstance(b, Sym):
-        return inner.value(f"np.maximum({operand(a)}, {operand(b)})")
-    return a if (a >= b or a != a) else b
