@@ -514,15 +514,7 @@ def _homotopy(
     unknown).  A fold (det of the Jacobian changing sign with t > 0) is
     self-locking too.
     """
-    sub = FrictionSetup(
-        fs.joints,
-        fs.blocks,
-        fs.grad[index],
-        fs.sign[index],
-        fs.speed[index],
-        fs.zero[index],
-        fs.q[index],
-    )
+    sub = _rows_of(fs, index)
     a = a.transposed_at(index) if isinstance(a, BlockFactor) else a[index]
     ql, x0 = q_load[index], x0[index]
     n = len(x0)
