@@ -36,7 +36,7 @@ import kinetostatics as ks
 from kinetostatics.analysis import pipeline
 from kinetostatics.base import kernels
 from kinetostatics.base.linalg import small_inverse
-from kinetostatics.kinematics import motion, plan
+from kinetostatics.kinematics import plan
 from kinetostatics.kinetics import friction, inverse
 from kinetostatics.structure import evaluation, system
 
@@ -57,7 +57,7 @@ def state(name: str, n: int):
         kept["gamma"] = (sets, n_rows, pe, ve, psi_dd)
         return gamma(sets, n_rows, pe, ve, psi_dd)
 
-    consistent, planned = friction.consistent, motion.planned_derivatives
+    consistent, planned = friction.consistent, plan.planned_derivatives
 
     def keep_consistent(*args):
         kept["friction"] = args
@@ -68,7 +68,7 @@ def state(name: str, n: int):
         return planned(*args)
 
     system.jacobian_blocks_all, system.gamma_all = keep_blocks, keep_gamma
-    inverse.fr.consistent, motion.planned_derivatives = keep_consistent, keep_planned
+    inverse.fr.consistent, plan.planned_derivatives = keep_consistent, keep_planned
     after, plan.ENABLED = plan.PLAN_AFTER, False
     try:
         ks.analyze(model, kinematics_only=True)  # the general stage: its Φ_q and γ
@@ -77,7 +77,7 @@ def state(name: str, n: int):
         ks.analyze(model)
     finally:
         system.jacobian_blocks_all, system.gamma_all = blocks, gamma
-        inverse.fr.consistent, motion.planned_derivatives = consistent, planned
+        inverse.fr.consistent, plan.planned_derivatives = consistent, planned
         plan.PLAN_AFTER, plan.ENABLED = after, True
     return blocks_state, gamma_state, kept["friction"], kept["planned"]
 

@@ -36,7 +36,7 @@ STAGES = [
     ("batch.variants", "stack", "stacking the models along the variant axis"),
     ("analysis.vectorised", "_start", "the start poses"),
     ("analysis.vectorised", "closed_form_path", "the paths (the dyads' closed forms)"),
-    ("analysis.vectorised", "derivatives", "the velocities and accelerations"),
+    ("analysis.vectorised", "derivatives_at", "the velocities and accelerations"),
     ("analysis.vectorised", "travel_extremes_stacked", "the outputs' travel extremes"),
     ("kinetics.inverse", "loads", "the loads"),
     ("kinetics.inverse", "equilibrium", "the frictionless equilibrium"),

@@ -4,8 +4,9 @@ The plan is the same stage written once per system as straight-line code: every 
 of an analysis made with it equals the general path's to 1e-12 of the column's scale
 (the largest |value| among the columns of its unit), on every shipped file that a
 motion drives, the hard cases and generated mechanisms of the net, and over more than
-STACK_UP_TO positions; rows it does not cover (stacked variants; more than STACK_UP_TO
-positions of a stack without whole-array kernels) take the general path."""
+STACK_UP_TO positions; rows it does not cover (a leading axis on one model's rows;
+more than STACK_UP_TO positions of a stack without whole-array kernels) take the general
+path.  Stacked variants' plans: tests/kinematics/test_plan_stacked.py."""
 
 import glob
 import warnings

@@ -23,11 +23,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..kinematics.closed_path import closed_form_path
-from ..kinematics.derivatives import derivatives
 from ..kinematics.dyads import ClosedForms, closed_forms
 from ..kinematics.events import output_strokes_stacked
 from ..kinematics.motion import Motion
 from ..kinematics.newton import group_condition, group_newton, group_signature
+from ..kinematics.plan import derivatives_at
 from ..kinematics.schedule import Schedule, sample_times, schedule
 from ..kinematics.start import (
     SKETCH_TOL,
@@ -227,7 +227,7 @@ def analyze_stacked(
         ok = ok[members]
     psi, psi_d, psi_dd = sched(t)
     psi, psi_d, psi_dd = (np.broadcast_to(x, q.shape[:-1] + (1,)) for x in (psi, psi_d, psi_dd))
-    qd, qdd, lu = derivatives(system, q, psi_d, psi_dd)
+    qd, qdd, lu = derivatives_at(system, q, psi_d, psi_dd)
     extremes = travel_extremes_stacked(system, solvers, sched, t, q, qd, qdd)
     kin = inverse_dynamics(
         system,

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..structure.system import System, coordinate_gradient
 from .closed_path import closed_form_near
-from .derivatives import derivatives
+from .plan import derivatives_at
 from .positions import state_at
 from .schedule import Schedule, schedule
 from .state import joint_coordinate, joint_coordinate_bias
@@ -214,7 +214,7 @@ def state_stacked(system: System, solvers, sched: Schedule, t: np.ndarray, guess
     """(q, q̇, q̈) at times ``t (V, M)`` by the closed forms, angles nearest ``guess``."""
     psi, psi_d, psi_dd = sched(t)
     q, _ = closed_form_near(solvers, guess, psi)
-    qd, qdd, _ = derivatives(system, q, psi_d, psi_dd)
+    qd, qdd, _ = derivatives_at(system, q, psi_d, psi_dd)
     return q, qd, qdd
 
 

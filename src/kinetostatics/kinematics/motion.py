@@ -13,8 +13,7 @@ import numpy as np
 
 from ..base.linalg import BlockFactor
 from ..structure.system import System
-from .derivatives import derivatives
-from .plan import planned_derivatives
+from .plan import derivatives_at
 from .schedule import Schedule
 
 __all__ = ["Motion", "motion_at"]
@@ -61,6 +60,5 @@ def motion_at(system: System, sched: Schedule, t: np.ndarray, q: np.ndarray) -> 
     factors): by the system's generated plan where it covers the rows (:mod:`.plan`), else
     by the general stage."""
     psi, psi_d, psi_dd = sched(t)
-    planned = planned_derivatives(system, q, psi_d, psi_dd)
-    qd, qdd, lu = derivatives(system, q, psi_d, psi_dd) if planned is None else planned
+    qd, qdd, lu = derivatives_at(system, q, psi_d, psi_dd)
     return Motion(t, psi, q, qd, qdd, psi_d, psi_dd, lu)

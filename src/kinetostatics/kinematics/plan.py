@@ -31,10 +31,12 @@ constants — compiled with :func:`compile` and kept in ``System.memo``:
 The numbers are those of the general path: the same operations on the same operands
 in the same order (a zero's sign aside: base/trace.py; tests/kinematics/test_plan.py
 compares every column to 1e-12 of its scale on the shipped files and generated
-mechanisms).  The plan covers one model's rows (``q (N, n_q)``) on either backend, at
-any N where every stack of joints is traced (revolute and prismatic pairs), else up to
-:data:`~kinetostatics.structure.evaluation.STACK_UP_TO`; stacked variants take the
-general path, which stays the oracle.  ``kinematic_plan(system).source`` is the generated text.
+mechanisms).  The plan covers one model's rows (``q (N, n_q)``) on either backend and
+stacked variants' (``q (V, N, n_q)``, on NumPy: their parameters that differ read from
+a table, kinematics/plan_params.py), at any number of rows where every stack of joints
+is traced (revolute and prismatic pairs), else up to
+:data:`~kinetostatics.structure.evaluation.STACK_UP_TO`; other rows take the general
+path, which stays the oracle.  ``kinematic_plan(system).source`` is the generated text.
 On the compiled backend the stage runs fused, position by position (kinematics/fused.py),
 this plan its fallback where a position fails a pivot test or a set has no kernels.
 """
@@ -52,15 +54,19 @@ from ..base.arrays import as_run, entries_last
 from ..base.geometry import poses
 from ..base.linalg import BlockFactor, small_inverse
 from ..base.trace import Leaves, Lines, operand, pruned, traced_kernel
+from ..model.stacking import is_stacked
 from ..structure.evaluation import STACK_UP_TO, jacobian_blocks_all
 from ..structure.system import System, link_poses, phi
+from .derivatives import derivatives
 from .fused import fused_derivatives
 from .plan_inverse import RUNTIME, entry, inverse_line
+from .plan_params import flat, parameter_pattern, topology, unflat, whole_array
 
 __all__ = [
     "KinematicPlan",
     "kinematic_plan",
     "planned_derivatives",
+    "derivatives_at",
     "planned_phi",
     "written",
     "ENABLED",
@@ -90,6 +96,7 @@ class KinematicPlan:
     source: str
     run: Callable
     long_runs: bool = True  # it also takes more than STACK_UP_TO rows (see covers)
+    table: np.ndarray | None = None  # a stacked system's: the parameters that differ (k, V)
 
 
 PLAN_AFTER = (8, 5000)
@@ -113,23 +120,28 @@ def _worth(system: System, n: int) -> bool:
 
 def covers(system: System, q: np.ndarray) -> bool:
     """Whether the plan takes the rows ``q``: one model's ``(N, n_q)`` (on either backend:
-    on the compiled one fused, kinematics/fused.py), a system with an evaluation layout;
-    more than :data:`STACK_UP_TO` rows only where no stack of joints goes through the
+    on the compiled one fused, kinematics/fused.py) or a stacked model's ``(V, N, n_q)``
+    (its variants' rows one after the other), a system with an evaluation layout; more
+    than :data:`STACK_UP_TO` rows only where no stack of joints goes through the
     contract's methods (``long_runs``: every stacked type's formulas traced)."""
-    return (
-        ENABLED
-        and q.ndim == 2
-        and 0 < q.shape[0]
-        and system.layout is not None
-        and (q.shape[0] <= STACK_UP_TO or _long_runs(system))
-    )
+    if not ENABLED or system.layout is None or q.ndim != 2 + (_variants(system) is not None):
+        return False
+    n = q[..., 0].size
+    return 0 < n and (n <= STACK_UP_TO or _long_runs(system, _variants(system) and len(q)))
 
 
-def _long_runs(system: System) -> bool:
+def _variants(system: System) -> bool | None:
+    """True where the system's model is stacked variants (model/stacking.py), else None."""
+    if "stacked" not in system.memo:
+        system.memo["stacked"] = True if is_stacked(system.model) else None
+    return system.memo["stacked"]
+
+
+def _long_runs(system: System, variants: int | None = None) -> bool:
     """Whether the plan takes more than :data:`STACK_UP_TO` rows (every stacked type's
     formulas traced), known without making it (a long first run waits for
     :data:`PLAN_AFTER`'s rows as a short one waits for its analyses)."""
-    return not any(s.stacked and _whole_array(s) is None for s in system.sets)
+    return not any(s.stacked and whole_array(s, variants=variants) is None for s in system.sets)
 
 
 def planned_derivatives(
@@ -141,13 +153,16 @@ def planned_derivatives(
     made here, each entry of a block and each component one contiguous array over the
     rows, and the block factor is made of their views (an entry that no constraint has
     stays an untouched page of zeros); the rows are run in chunks (:data:`CHUNK_BYTES`)."""
-    if not covers(system, q) or not _worth(system, len(q)):
+    if not covers(system, q) or not _worth(system, q[..., 0].size):
         return None
     layout = system.layout
     assert layout is not None
-    n, run = len(q), kinematic_plan(system).run
+    shape = q.shape[:-1]
+    n, plan = q[..., 0].size, kinematic_plan(system, len(q) if len(shape) > 1 else None)
     pe = link_poses(system, q)
-    done = fused_derivatives(system, pe, psi_d, psi_dd) if kernels.active() else None
+    done = None
+    if kernels.active() and len(shape) == 1:
+        done = fused_derivatives(system, pe, psi_d, psi_dd)
     conditions = None
     if done is not None:  # the compiled backend's program, position by position
         buf, inv, qdT, qddT, conditions = done
@@ -155,16 +170,36 @@ def planned_derivatives(
         buf = np.zeros((layout.size + 1, n))
         qdT, qddT = np.empty((system.n_q, n)), np.empty((system.n_q, n))
         inv = [np.zeros((len(p.cols), len(p.cols), n)) for p in system.plans]
-        _run_in_chunks(run, layout.size + 1, (pe, psi_d, psi_dd), (buf, qdT, qddT), inv)
+        into = (buf, qdT, qddT)
+        if plan.table is None:
+            _run_in_chunks(plan.run, layout.size + 1, (pe, psi_d, psi_dd), into, inv)
+        else:  # a stacked model's variants, their rows one after the other
+            rows = (np.reshape(x, (n,) + x.shape[len(shape) :]) for x in (pe, psi_d, psi_dd))
+            plan.run(*rows, *into, inv, np.repeat(plan.table, shape[1], axis=1), shape)
     parts = [
-        (_block(buf, d, n), None if lo is None else _block(buf, lo, n), cols)
+        (_block(buf, d, shape), None if lo is None else _block(buf, lo, shape), cols)
         for d, lo, cols in zip(layout.diag, layout.lower, layout.lower_cols)
     ]
     blocks = [(p.rows, p.cols) for p in system.plans]
-    lu = BlockFactor(None, blocks, parts, [entries_last(x) for x in inv], conditions)
-    ground = None if layout.ground is None else _block(buf, layout.ground, n).copy()
+    inv = [entries_last(x.reshape(x.shape[:2] + shape)) for x in inv]
+    lu = BlockFactor(None, blocks, parts, inv, conditions)
+    ground = None if layout.ground is None else _block(buf, layout.ground, shape).copy()
     system.memo["ground_jacobian"] = (pe, ground)
-    return qdT.T, qddT.T, lu
+    return _rows(qdT, shape), _rows(qddT, shape), lu
+
+
+def _rows(x_t: np.ndarray, shape: tuple) -> np.ndarray:
+    """A component-major vector ``(k, n)`` as rows ``shape + (k,)`` (a view)."""
+    return x_t.T.reshape(shape + x_t.shape[:1])
+
+
+def derivatives_at(
+    system: System, q: np.ndarray, psi_d: np.ndarray, psi_dd: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, BlockFactor]:
+    """(q̇, q̈, factorised Φ_q) by the plan where it covers the rows (one model's or stacked
+    variants'), else by the general stage (:func:`~.derivatives.derivatives`)."""
+    planned = planned_derivatives(system, q, psi_d, psi_dd)
+    return derivatives(system, q, psi_d, psi_dd) if planned is None else planned
 
 
 def _run_in_chunks(run, entries: int, rows: tuple, into: tuple, inv: list) -> None:
@@ -180,10 +215,12 @@ def _run_in_chunks(run, entries: int, rows: tuple, into: tuple, inv: list) -> No
         run(*(x[a:b] for x in rows), *(x[:, a:b] for x in into), [x[..., a:b] for x in inv])
 
 
-def _block(buf: np.ndarray, at, n: int) -> np.ndarray:
-    """A block ``(n, rows, cols)`` of the entries ``buf`` at ``at`` (offset, rows, cols)."""
+def _block(buf: np.ndarray, at, shape: tuple) -> np.ndarray:
+    """A block ``shape + (rows, cols)`` of the entries ``buf`` at ``at`` (offset, rows,
+    cols), a view."""
     off, r, c = at
-    return buf[off : off + r * c].reshape(r, c, n).transpose(2, 0, 1)
+    block = buf[off : off + r * c].reshape((r, c) + shape)
+    return block.transpose(tuple(range(2, 2 + len(shape))) + (0, 1))
 
 
 def planned_phi(system: System, q: np.ndarray, psi: np.ndarray) -> np.ndarray:
@@ -193,22 +230,53 @@ def planned_phi(system: System, q: np.ndarray, psi: np.ndarray) -> np.ndarray:
     contract's ``residual``), or by ``phi`` itself where that does not cover the rows
     (stacked variants; more than ``STACK_UP_TO`` rows of a stack without kernels) or
     before the system's kinematic plan is worth making (:data:`PLAN_AFTER`)."""
+    if q.ndim != 2:
+        return phi(system, q, psi)
     plan = system.memo.get("residual plan")
     if plan is None:
         if "kinematic plan" not in system.memo:  # not worth it yet (PLAN_AFTER)
             return phi(system, q, psi)
         plan = system.memo["residual plan"] = _generate_residual(system)
-    if q.ndim != 2 or (q.shape[0] > STACK_UP_TO and not plan.long_runs):
+    if q.shape[0] > STACK_UP_TO and not plan.long_runs:
         return phi(system, q, psi)
     return plan.run(link_poses(system, q), psi)
 
 
-def kinematic_plan(system: System) -> KinematicPlan:
-    """The system's :class:`KinematicPlan`, generated on first use and kept with it."""
+def kinematic_plan(system: System, variants: int | None = None) -> KinematicPlan:
+    """The system's :class:`KinematicPlan` (of its ``variants`` where the model is stacked),
+    generated on first use and kept with it."""
     plan = system.memo.get("kinematic plan")
-    if plan is None:
-        plan = system.memo["kinematic plan"] = _generate(system)
+    if plan is None or (plan.table is not None and plan.table.shape[1] != variants):
+        make = _generate if variants is None else _stacked_plan
+        plan = system.memo["kinematic plan"] = make(system, variants)
     return plan
+
+
+_STACKED: dict[tuple, tuple] = {}
+"""The stacked systems' plans compiled so far, by their topology and parameter pattern
+(``parameter_pattern``): a search stacks a new population at each generation, whose
+plan is the last one's with other numbers in its table (at most :data:`STACKED_KEPT`)."""
+STACKED_KEPT = 32
+
+
+def _stacked_plan(system: System, variants: int) -> KinematicPlan:
+    """The plan of a stacked system: its source generated and compiled once per topology
+    and pattern of parameters, bound to this system's constraints and table."""
+    pattern, columns = parameter_pattern(system, variants)
+    key = (topology(system), pattern)
+    hit = _STACKED.get(key)
+    if hit is None:
+        lines, env = written(system, pattern)
+        source = "\n".join(lines) + "\n"
+        code = compile(source, f"<kinematic plan of {system.model.name!r}>", "exec")
+        if len(_STACKED) >= STACKED_KEPT:
+            _STACKED.clear()
+        hit = _STACKED[key] = (source, code, env, _long_runs(system, variants))
+    source, code, env, long_runs = hit
+    env = dict(env) | {f"C{k}": s.constraint for k, s in enumerate(system.sets)}
+    exec(code, env)  # noqa: S102  our own generated text
+    table = np.array(columns).reshape(len(columns), variants)
+    return KinematicPlan(source, env["run"], long_runs, table)
 
 
 # -- the joints' kernels, traced ----------------------------------------------------------
@@ -221,18 +289,6 @@ def _traced_rows(traced: Lines, s, kernel, *args) -> list[str]:
     return traced.take()
 
 
-def _whole_array(s, kernels=("jacobian_kernel", "gamma_kernel")) -> np.ndarray | None:
-    """The kernels' parameters of set ``s`` where its joint type's ``kernels`` also hold
-    over whole arrays (``Compiled.whole_array_kernels``: plain arithmetic, no branch on a
-    value), else None: the set is evaluated through the contract's NumPy methods."""
-    cls = type(s.constraint)
-    if s.driver is not None or not cls.whole_array_kernels:
-        return None
-    if any(getattr(cls, k) is None for k in kernels):
-        return None
-    return s.constraint.kernel_params(len(s.members))
-
-
 def _generate_residual(system: System) -> KinematicPlan:
     """Φ's function for ``system``: ``run(pe, psi) -> (N, n_rows)``."""
     lines = ["def run(pe, psi):", "    n = pe.shape[0]", "    PE = pe.transpose(1, 2, 0)"]
@@ -243,7 +299,7 @@ def _generate_residual(system: System) -> KinematicPlan:
     poses = Leaves(traced, "PE", len(system.links), (0.0, 0.0, 0.0, 1.0, 0.0))
     long_runs = True
     for k, s in enumerate(system.sets):
-        par = _whole_array(s, ("residual_kernel",))
+        par = whole_array(s, ("residual_kernel",))
         if par is None:
             long_runs &= not s.stacked
             env[f"C{k}"], env[f"R{k}"] = s.constraint, s.rows if s.stacked else s.rows[0]
@@ -260,7 +316,7 @@ def _generate_residual(system: System) -> KinematicPlan:
 
 
 # -- the generator ------------------------------------------------------------------------
-def _generate(system: System) -> KinematicPlan:
+def _generate(system: System, _=None) -> KinematicPlan:
     """Write the stage's source for ``system`` and compile it."""
     lines, env = written(system)
     source = "\n".join(lines) + "\n"
@@ -269,41 +325,62 @@ def _generate(system: System) -> KinematicPlan:
     return KinematicPlan(source, env["run"], _long_runs(system))
 
 
-def written(system: System) -> tuple[list[str], dict]:
+def written(system: System, pattern: tuple | None = None) -> tuple[list[str], dict]:
     """The plan's source lines for ``system`` and the names they read (the index arrays,
     the constraints), uncompiled (a benchmark times them statement by statement:
-    tests/benchmarks/bench_speed_calls.py)."""
-    env: dict = {"np": np, "invert": small_inverse}
+    tests/benchmarks/bench_speed_calls.py); ``pattern``: of a stacked system
+    (``parameter_pattern``), whose rows are its variants' positions one after the
+    other (``run`` then also takes the table of the parameters that differ, ``PA``, and
+    ``shape`` = (V, N))."""
+    env: dict = {"np": np, "invert": small_inverse, "unflat": unflat, "flat": flat}
+    extra = "" if pattern is None else ", PA, shape"
     lines = [
-        "def run(pe, psi_d, psi_dd, buf, qdT, qddT, INV):",
+        f"def run(pe, psi_d, psi_dd, buf, qdT, qddT, INV{extra}):",
         "    n = pe.shape[0]",
         "    PE = pe.transpose(1, 2, 0)",
     ]
     traced, inverses = Lines(), []
-    gather = _blocks(system, env, lines, traced, inverses)
+    params = _params(system, pattern, traced, env)
+    _blocks(system, env, lines, traced, inverses, params)
     _rates_of(system, env, lines)
-    _accelerations(system, env, lines, gather, traced)
+    _accelerations(system, env, lines, params, traced)
     return inverses + pruned(lines), env
 
 
-def _blocks(
-    system: System, env: dict, lines: list[str], traced: Lines, inverses: list[str]
-) -> list[bool]:
+def _params(system: System, pattern: tuple | None, traced: Lines, env: dict) -> list:
+    """Each set's kernel parameters as its traced kernels read them (None: the contract's
+    methods evaluate it); of a stacked system, its ``parameter_pattern``'s: a number, or
+    the local read from the row of the table ``PA`` that it names."""
+    if pattern is None:
+        return [whole_array(s) for s in system.sets]
+    env["STACKED"] = True
+    out = []
+    for spec in pattern:
+        if spec is None:
+            out.append(None)
+            continue
+        shape, entries = spec
+        leaves = [x if isinstance(x, float) else traced.value(x) for x in entries]
+        out.append(np.array(leaves + [None], dtype=object)[:-1].reshape(shape))
+    return out
+
+
+def _blocks(  # noqa: PLR0913  the generator's state, passed down
+    system: System, env: dict, lines: list[str], traced: Lines, inverses: list[str], params: list
+) -> None:
     """Φ_q's entries into ``buf`` (the caller's zeros), the diagonal blocks' inverses into
     ``INV`` (entry-major, each group's ``(k, k, n)``; written out by :mod:`.plan_inverse`,
     their functions' text into ``inverses``, where it can), the coupling blocks ``LT<g>``
-    (component-major); returns whether each set's formulas are traced (its type's
-    kernels)."""
+    (component-major); ``params``: each set's traced kernels' parameters (None: its
+    contract's methods)."""
     layout = system.layout
     assert layout is not None
     poses = Leaves(traced, "PE", len(system.links), (0.0, 0.0, 0.0, 1.0, 0.0))
-    gather = []
     writes: dict[int, object] = {}  # each slot's writes: [(op, value)] or RUNTIME
     for k, s in enumerate(system.sets):
         env[f"C{k}"] = s.constraint
         env[f"TI{k}"], env[f"TJ{k}"] = layout.dest[k]
-        par = _whole_array(s)
-        gather.append(par is not None)
+        par = params[k]
         if par is None:
             lines += _contract_jacobian(env, k, s)
             writes.update(dict.fromkeys(np.ravel(layout.dest[k]).tolist(), RUNTIME))
@@ -335,14 +412,13 @@ def _blocks(
             lines.append(f"    LT{g} = buf[{off}:{off + r * c}].reshape({r}, {c}, n)")
         env[f"DONE{g}"], env[f"ROWS{g}"] = layout.lower_cols[g], system.plans[g].rows
         env[f"COLS{g}"] = system.plans[g].cols
-    return gather
 
 
 def _start_blocks(system: System) -> list[np.ndarray] | None:
     """Each group's diagonal block at the start pose ``(r, c)`` (the row orders of the
     written inverses: :mod:`.plan_inverse`), or None before the start pose is known."""
     start = system.memo.get("start")
-    if start is None:
+    if start is None or _variants(system):  # a stacked plan is shared: no one's pose
         return None
     pe = poses(np.asarray(start[1], dtype=float).reshape(1, -1), len(system.links))
     return [np.asarray(d)[0] for d, _, _ in jacobian_blocks_all(system.sets, system.layout, pe)[0]]
@@ -360,14 +436,12 @@ def _pair(env: dict, k: int, s, array: str, names: tuple[str, str]) -> list[str]
     a, b = names
     if s.stacked:
         env[f"EI{k}"], env[f"EJ{k}"] = s.ends[0], s.ends[1]
-        return [
-            f"    {a} = np.take({array}, EI{k}, axis=1)",
-            f"    {b} = np.take({array}, EJ{k}, axis=1)",
-        ]
-    return [
-        f"    {a} = {array}[:, {int(s.ends[0, 0])}, :]",
-        f"    {b} = {array}[:, {int(s.ends[1, 0])}, :]",
-    ]
+        ends = [f"np.take({array}, EI{k}, axis=1)", f"np.take({array}, EJ{k}, axis=1)"]
+    else:
+        ends = [f"{array}[:, {int(s.ends[0, 0])}, :]", f"{array}[:, {int(s.ends[1, 0])}, :]"]
+    if "STACKED" in env:  # a stacked model's constraint reads (V, N, ...)
+        ends = [f"unflat({x}, shape)" for x in ends]
+    return [f"    {a} = {ends[0]}", f"    {b} = {ends[1]}"]
 
 
 def _contract_jacobian(env: dict, k: int, s) -> list[str]:
@@ -375,8 +449,11 @@ def _contract_jacobian(env: dict, k: int, s) -> list[str]:
     gathered once (``qi<k>``, ``qj<k>``, read again for its γ) and scattered to their
     slots."""
     axes = "(1, 2, 3, 0)" if s.stacked else "(1, 2, 0)"
-    return _pair(env, k, s, "pe", (f"qi{k}", f"qj{k}")) + [
-        f"    ji, jj = C{k}.jacobian(qi{k}, qj{k})",
+    lines = _pair(env, k, s, "pe", (f"qi{k}", f"qj{k}"))
+    lines.append(f"    ji, jj = C{k}.jacobian(qi{k}, qj{k})")
+    if "STACKED" in env:
+        lines.append("    ji, jj = flat(ji, shape), flat(jj, shape)")
+    return lines + [
         f"    buf[TI{k}] = ji.transpose{axes} + 0.0",
         f"    buf[TJ{k}] += jj.transpose{axes}",
     ]
@@ -386,9 +463,11 @@ def _contract_gamma(env: dict, k: int, s) -> list[str]:
     """Set k's rows of γ through the contract's ``acceleration_rhs``."""
     env[f"R{k}"] = s.rows if s.stacked else s.rows[0]
     extra = "" if s.driver is None else f", psi_dd[:, {s.driver}]"
-    return _pair(env, k, s, "ve", ("vi", "vj")) + [
-        f"    gam[:, R{k}] = C{k}.acceleration_rhs(qi{k}, qj{k}, vi, vj{extra})"
-    ]
+    value = f"C{k}.acceleration_rhs(qi{k}, qj{k}, vi, vj{extra})"
+    if "STACKED" in env:
+        extra = "" if s.driver is None else f", unflat(psi_dd[:, {s.driver}], shape)"
+        value = f"flat(C{k}.acceleration_rhs(qi{k}, qj{k}, vi, vj{extra}), shape)"
+    return _pair(env, k, s, "ve", ("vi", "vj")) + [f"    gam[:, R{k}] = {value}"]
 
 
 def _index(name: str, at: np.ndarray) -> str:
@@ -437,7 +516,7 @@ def _rates_of(system: System, env: dict, lines: list[str]) -> None:
 
 
 def _accelerations(
-    system: System, env: dict, lines: list[str], gather: list[bool], traced: Lines
+    system: System, env: dict, lines: list[str], params: list, traced: Lines
 ) -> None:
     """γ from the poses and the links' rates (stored component-major as the poses are, the
     ground's zeros last), then q̈."""
@@ -450,11 +529,11 @@ def _accelerations(
     poses = Leaves(traced, "PE", n_links, (0.0, 0.0, 0.0, 1.0, 0.0))
     rates = Leaves(traced, "vr", n_links, (0.0, 0.0, 0.0))
     for k, s in enumerate(system.sets):
-        if not gather[k]:
+        if params[k] is None:
             lines += _contract_gamma(env, k, s)
             continue
         kernel = type(s.constraint).gamma_kernel
-        lines += _traced_rows(traced, s, kernel, _whole_array(s), poses, rates, s.ends)
+        lines += _traced_rows(traced, s, kernel, params[k], poses, rates, s.ends)
     lines += _substitution(
         system, "qdd", lambda g: f"rows[{_index(f'ROWS{g}', system.plans[g].rows)}]"
     )
