@@ -16,6 +16,7 @@ import numpy as np
 from ..base.geometry import rotate, wrap_angle
 from ..base.units import factor
 from ..errors import AssemblyError, KinetostaticsError, Location, ModelError
+from ..joints.base import Shaped
 from ..structure.system import System, link_pair
 from . import dyads
 from .continuation import COARSE_STEP, Drive, closing_miss, continue_path, coordinate_text
@@ -328,6 +329,8 @@ def start_joint_error(
         q = q[variant]
     problems = []
     for k, joint in enumerate(system.joints):
+        if type(joint).start_problem is Shaped.start_problem:  # none: nothing to ask
+            continue
         qi, qj = (np.reshape(x, (-1, 3)) for x in link_pair(system, q, k))
         for a, b in zip(qi, qj):
             if text := joint.start_problem(a, b):
