@@ -250,10 +250,9 @@ def consistent(
             x = _fixed_point_in_runs(system, fs, x0, per_effort, scale, x, (it, converged, live))
     status = np.where(fs.zero, 3, 0)
     failed = ~converged
+    e = efforts(system, fs, x)  # of the iterates: kept where no homotopy changes them
     with np.errstate(all="ignore"):
-        failed |= ~(
-            _residual(system, fs, a, q_load, x) <= 1e-10 * np.maximum(1.0, max_abs_last(q_load))
-        )
+        failed |= ~(_residual(fs, a, q_load, x, e) <= 1e-10 * np.maximum(1.0, max_abs_last(q_load)))
     # no frictionless solution (A singular: a dead centre of the effort's joint): the branch
     # has nowhere to start, its reactions are unbounded already at σ = 0 — self-locking
     dead = ~np.all(np.isfinite(x0), axis=-1)
@@ -269,7 +268,8 @@ def consistent(
         x[index] = xi
         status[index] = st if not fs.zero[index] or st == 2 else 3
         it[index] += n
-    e = efforts(system, fs, x)
+    if flat.size or dead.any():  # x changed there: the efforts at every row again
+        e = efforts(system, fs, x)
     fs.shared.clear()  # the setup stays in the result: not its (..., n_f, n_λ) solves
     return FrictionSolution(x, e, status, it, reach)
 
@@ -477,10 +477,10 @@ def _product(a, x: np.ndarray) -> np.ndarray:
     return np.einsum("...ij,...j->...i", a, x)
 
 
-def _residual(system, fs, a, q_load, x):
-    """max|A x + Q + Σ g_k e_k(x)| per row: with the kinematic factors component-major
-    (each product and Σ g_k e_k whole-array passes over runs of positions)."""
-    e = efforts(system, fs, x)
+def _residual(fs, a, q_load, x, e):
+    """max|A x + Q + Σ g_k e_k| per row, ``e`` the efforts at x: with the kinematic
+    factors component-major (each product and Σ g_k e_k whole-array passes over runs of
+    positions)."""
     if not isinstance(a, BlockFactor):
         return max_abs_last(_product(a, x) + q_load + _generalized(fs, e))
     r = a.product_transposed_components(_components(x))
