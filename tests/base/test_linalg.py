@@ -10,8 +10,10 @@ import numpy as np
 import pytest
 
 import kinetostatics as ks
+from kinetostatics.base import blocks as blocks_module
 from kinetostatics.base import linalg
-from kinetostatics.base.linalg import BlockFactor, small_inverse
+from kinetostatics.base.blocks import BlockFactor
+from kinetostatics.base.linalg import small_inverse
 from tests.helpers import MECHANISMS
 
 RNG = np.random.default_rng(11)
@@ -230,7 +232,7 @@ def test_block_solves_match_a_dense_solve(rows_from, monkeypatch):
     (the back substitution also as it runs over many positions: component-major, as
     ``solve_transposed_rows`` with one right-hand side, ``rows_from`` 0)."""
     if rows_from is not None:
-        monkeypatch.setattr(linalg, "TRANSPOSED_ROWS_FROM", rows_from)
+        monkeypatch.setattr(blocks_module, "TRANSPOSED_ROWS_FROM", rows_from)
     blocks = [(np.arange(3), np.arange(3)), (np.arange(3, 9), np.arange(3, 9))]
     jac = np.zeros((50, 9, 9))
     jac[:, :3, :3] = _well_conditioned(50, 3)

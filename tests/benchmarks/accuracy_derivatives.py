@@ -22,7 +22,7 @@ import numpy as np
 from accuracy_common import Table, e, ms
 
 import kinetostatics as ks
-from kinetostatics.base.linalg import BlockFactor
+from kinetostatics.base.blocks import BlockFactor
 from kinetostatics.kinematics.differences import difference_derivatives
 from kinetostatics.kinematics.positions import derivatives, solve_positions
 from kinetostatics.kinematics.schedule import sample_times, schedule

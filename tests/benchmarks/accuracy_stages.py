@@ -23,7 +23,7 @@ from accuracy_common import Table
 import kinetostatics as ks
 from kinetostatics.analysis.columns import build_columns
 from kinetostatics.analysis.results import Result
-from kinetostatics.base.linalg import BlockFactor
+from kinetostatics.base.blocks import BlockFactor
 from kinetostatics.kinematics.derivatives import derivatives
 from kinetostatics.kinematics.motion import Motion
 from kinetostatics.kinematics.newton import condition_number

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..base.linalg import BlockFactor
+from ..base.blocks import BlockFactor
 from ..structure.system import System, gamma, jacobian, jacobian_blocks, nu
 
 __all__ = ["derivatives", "velocities", "accelerations"]

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..base.linalg import BlockFactor
+from ..base.blocks import BlockFactor
 from ..structure.system import System
 from .plan import derivatives_at
 from .schedule import Schedule

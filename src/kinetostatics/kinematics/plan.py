@@ -22,7 +22,7 @@ constants — compiled with :func:`compile` and kept in ``System.memo``:
   the contract's ``jacobian`` on its two links' poses gathered once — the joints'
   formulas stay in ``joints/`` either way; the ground's block kept for the shaking force
   as ``jacobian_blocks`` keeps it;
-- the factorisation (:class:`~kinetostatics.base.linalg.BlockFactor`, its inverses by
+- the factorisation (:class:`~kinetostatics.base.blocks.BlockFactor`, its inverses by
   ``small_inverse`` as before) and q̇ by forward substitution over ν = −Φ_t gathered
   as ``BlockFactor.solve`` gathers it, the vectors stored component-major;
 - γ by the traced ``gamma_kernel`` (over the links' rates ``vr[i, c]``) or the contract's
@@ -51,8 +51,9 @@ import numpy as np
 
 from ..base import kernels
 from ..base.arrays import as_run, entries_last
+from ..base.blocks import BlockFactor
 from ..base.geometry import poses
-from ..base.linalg import BlockFactor, small_inverse
+from ..base.linalg import small_inverse
 from ..base.trace import Leaves, Lines, operand, pruned, traced_kernel
 from ..model.stacking import is_stacked
 from ..structure.evaluation import STACK_UP_TO, jacobian_blocks_all

@@ -26,7 +26,7 @@ import numpy as np
 
 from ..base import kernels
 from ..base.arrays import entries_first, entries_last, max_abs_last
-from ..base.linalg import BlockFactor
+from ..base.blocks import BlockFactor
 from ..structure.system import System, coordinate_gradients
 
 __all__ = ["FrictionSetup", "setup", "efforts", "approximate", "consistent", "FrictionSolution"]

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..base.linalg import BlockFactor
+from ..base.blocks import BlockFactor
 from ..errors import Location, SingularEquilibriumWarning, StructureError
 from ..kinematics.motion import Motion
 from ..structure.system import System, coordinate_gradient

@@ -296,7 +296,7 @@ def jacobian(
 def jacobian_blocks(
     system: System, q: np.ndarray
 ) -> list[tuple[np.ndarray, np.ndarray | None, np.ndarray]]:
-    """Φ_q by Assur group, as :class:`~kinetostatics.base.linalg.BlockFactor` takes it:
+    """Φ_q by Assur group, as :class:`~kinetostatics.base.blocks.BlockFactor` takes it:
     for each plan, (its diagonal block, rows × its own columns; its coupling block, rows
     × the earlier groups' columns its constraints touch, or None; those columns).  Each
     constraint is evaluated once, by the system's evaluation plan; the blocks are views
