@@ -170,3 +170,47 @@ def test_the_program_ends_without_walking_its_heap_and_a_caller_keeps_its_collec
         [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=True
     )
     assert out.stdout.split("\n")[-2] == f"{COLLECTOR} True", out
+
+
+def test_the_design_commands_keep_their_memory_as_the_program_only(monkeypatch):
+    """``optimize``, ``batch`` and ``sensitivity`` ask for glibc's heap kept (MALLOC_KEPT);
+    it is set for the process's own command alone, not where the user set a ``MALLOC_``
+    variable, and never for a caller's ``main(argv)`` or another command."""
+    import argparse
+    import ctypes
+
+    from kinetostatics import cli
+
+    seen = []
+    monkeypatch.setattr(cli, "_memory_kept", lambda args: seen.append(args))
+    for command in (
+        ["optimize", "--vary", "a=0:1", "--minimize", "a"],
+        ["batch", "--out", "o"],
+        ["sensitivity", "--vary", "a=±1", "--out", "o"],
+    ):
+        main([command[0], "no-such-file.yaml", *command[1:]])
+    main(["run", "no-such-file.yaml"])
+    assert [getattr(a, "keeps_memory", False) for a in seen] == [True, True, True, False]
+    assert not any(a.program for a in seen)
+    monkeypatch.undo()
+
+    calls = []
+
+    class _Libc:
+        def mallopt(self, param, value):
+            calls.append((param, value))
+
+    monkeypatch.setattr(ctypes, "CDLL", lambda name: _Libc())
+    for name in [k for k in __import__("os").environ if k.startswith("MALLOC_")]:
+        monkeypatch.delenv(name)
+    design = argparse.Namespace(program=True, keeps_memory=True)
+    for args in (argparse.Namespace(program=False, keeps_memory=True),
+                 argparse.Namespace(program=True)):  # fmt: skip
+        cli._memory_kept(args)
+    assert calls == []
+    cli._memory_kept(design)
+    assert calls == list(cli.MALLOC_KEPT)
+    calls.clear()
+    monkeypatch.setenv("MALLOC_ARENA_MAX", "2")  # the user's own settings
+    cli._memory_kept(design)
+    assert calls == []

@@ -93,7 +93,7 @@ def register(sub) -> None:
         "--overwrite", action="store_true", help="start afresh in an output folder of another batch"
     )
     _best_options(p, required=False)
-    p.set_defaults(func=_batch)
+    p.set_defaults(func=_batch, keeps_memory=True)
 
     q = sub.add_parser(
         "best",

@@ -66,7 +66,7 @@ def register(sub) -> None:
         "(pip install 'kinetostatics[dask]')",
     )
     p.add_argument("--quiet", action="store_true", help="no progress bar")
-    p.set_defaults(func=_optimize)
+    p.set_defaults(func=_optimize, keeps_memory=True)
 
 
 def _optimize(args) -> int:

@@ -62,7 +62,7 @@ def register(sub) -> None:
     p.add_argument("--seed", type=int, default=0, help="random seed of the samples (default 0)")
     p.add_argument("--out", required=True, help="output folder")
     _run_options(p)
-    p.set_defaults(func=_sensitivity)
+    p.set_defaults(func=_sensitivity, keeps_memory=True)
 
 
 def _run_options(p) -> None:
