@@ -122,3 +122,18 @@ def test_rates_of_stacked_variants_at_random_states():
         for x, y in ((qd, pqd), (qdd, pqdd), *zip(lu.inv, plu.inv)):
             assert x.shape == y.shape
             assert np.max(np.abs(x - y)) <= 1e-12 * np.max(np.abs(x))
+
+
+def test_a_model_with_tables_is_one_model():
+    """A model's own tables have more than one axis, as stacked values do: its rows
+    ``(N, n_q)`` still take the one-model plan, and rows with a leading axis do not."""
+    import kinetostatics as ks
+    from kinetostatics.model.stacking import is_stacked
+
+    model = ks.load("tests/net/cases/table_corner_turns_effort.yaml")
+    assert is_stacked(model)
+    system = build_system(model)
+    q = np.zeros((4, system.n_q))
+    one = build_system(_models("slider_crank", 6)[0])
+    assert plan.covers(system, q)
+    assert not plan.covers(one, np.zeros((2, 4, one.n_q)))

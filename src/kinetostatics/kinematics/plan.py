@@ -125,14 +125,22 @@ def covers(system: System, q: np.ndarray) -> bool:
     (its variants' rows one after the other), a system with an evaluation layout; more
     than :data:`STACK_UP_TO` rows only where no stack of joints goes through the
     contract's methods (``long_runs``: every stacked type's formulas traced)."""
-    if not ENABLED or system.layout is None or q.ndim != 2 + (_variants(system) is not None):
+    if not ENABLED or system.layout is None:
+        return False
+    if q.ndim == 2:
+        variants = None
+    elif q.ndim == 3 and _variants(system):
+        variants = len(q)
+    else:
         return False
     n = q[..., 0].size
-    return 0 < n and (n <= STACK_UP_TO or _long_runs(system, _variants(system) and len(q)))
+    return 0 < n and (n <= STACK_UP_TO or _long_runs(system, variants))
 
 
 def _variants(system: System) -> bool | None:
-    """True where the system's model is stacked variants (model/stacking.py), else None."""
+    """True where the system's model may be stacked variants (model/stacking.py: values
+    with a leading variant axis; a model's own tables have more than one axis too, but
+    its rows are ``(N, n_q)``), else None."""
     if "stacked" not in system.memo:
         system.memo["stacked"] = True if is_stacked(system.model) else None
     return system.memo["stacked"]
@@ -398,7 +406,7 @@ def _blocks(  # noqa: PLR0913  the generator's state, passed down
                     if w != RUNTIME:
                         w.append((op, value))
         lines += traced.take()
-    first = _start_blocks(system)
+    first = None if "STACKED" in env else _start_blocks(system)  # shared: no one's pose
     for g, (d, lo) in enumerate(zip(layout.diag, layout.lower)):
         off, r, c = d
         m = [[entry(writes.get(off + i * c + j)) for j in range(c)] for i in range(r)]
@@ -419,7 +427,7 @@ def _start_blocks(system: System) -> list[np.ndarray] | None:
     """Each group's diagonal block at the start pose ``(r, c)`` (the row orders of the
     written inverses: :mod:`.plan_inverse`), or None before the start pose is known."""
     start = system.memo.get("start")
-    if start is None or _variants(system):  # a stacked plan is shared: no one's pose
+    if start is None:
         return None
     pe = poses(np.asarray(start[1], dtype=float).reshape(1, -1), len(system.links))
     return [np.asarray(d)[0] for d, _, _ in jacobian_blocks_all(system.sets, system.layout, pe)[0]]
