@@ -256,8 +256,8 @@ def kinematic_plan(system: System, variants: int | None = None) -> KinematicPlan
     generated on first use and kept with it."""
     plan = system.memo.get("kinematic plan")
     if plan is None or (plan.table is not None and plan.table.shape[1] != variants):
-        make = _generate if variants is None else _stacked_plan
-        plan = system.memo["kinematic plan"] = make(system, variants)
+        plan = _generate(system) if variants is None else _stacked_plan(system, variants)
+        system.memo["kinematic plan"] = plan
     return plan
 
 
@@ -325,7 +325,7 @@ def _generate_residual(system: System) -> KinematicPlan:
 
 
 # -- the generator ------------------------------------------------------------------------
-def _generate(system: System, _=None) -> KinematicPlan:
+def _generate(system: System) -> KinematicPlan:
     """Write the stage's source for ``system`` and compile it."""
     lines, env = written(system)
     source = "\n".join(lines) + "\n"
@@ -369,8 +369,9 @@ def _params(system: System, pattern: tuple | None, traced: Lines, env: dict) -> 
             out.append(None)
             continue
         shape, entries = spec
-        leaves = [x if isinstance(x, float) else traced.value(x) for x in entries]
-        out.append(np.array(leaves + [None], dtype=object)[:-1].reshape(shape))
+        par = np.empty(len(entries), dtype=object)  # numbers and the table's locals
+        par[:] = [x if isinstance(x, float) else traced.value(x) for x in entries]
+        out.append(par.reshape(shape))
     return out
 
 
