@@ -137,12 +137,12 @@ def covers(system: System, q: np.ndarray) -> bool:
     return 0 < n and (n <= STACK_UP_TO or _long_runs(system, variants))
 
 
-def _variants(system: System) -> bool | None:
-    """True where the system's model may be stacked variants (model/stacking.py: values
-    with a leading variant axis; a model's own tables have more than one axis too, but
-    its rows are ``(N, n_q)``), else None."""
+def _variants(system: System) -> bool:
+    """Whether the system's model may be stacked variants (model/stacking.py: values with
+    a leading variant axis; a model's own tables have more than one axis too, but its
+    rows are ``(N, n_q)``)."""
     if "stacked" not in system.memo:
-        system.memo["stacked"] = True if is_stacked(system.model) else None
+        system.memo["stacked"] = is_stacked(system.model)
     return system.memo["stacked"]
 
 
