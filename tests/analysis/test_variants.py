@@ -172,6 +172,86 @@ def test_vectorised_rows_equal_single_runs(name):
         assert not _same(a, b), (v, _same(a, b))
 
 
+def _counting_single_runs(monkeypatch) -> list:
+    """A list that gets an item for each variant analysed on its own (``pipeline.analyze``
+    called by the batch: the vectorised path left it)."""
+    from kinetostatics.analysis import pipeline
+
+    calls: list = []
+    real = pipeline.analyze  # where analyze_variants takes it from, at its call
+    monkeypatch.setattr(pipeline, "analyze", lambda *a, **k: calls.append(1) or real(*a, **k))
+    return calls
+
+
+@pytest.mark.parametrize(
+    ("name", "keys"),
+    [
+        ("stephenson_sixbar", None),  # a triad
+        ("geared_fivebar", ("a1", "a2", "b1", "b2")),  # a link closed by a gear pair
+        ("rack_rocker", ("a", "b", "l")),  # a link closed by a rack
+        ("cam_flat_oscillating", ("l",)),  # a follower closed by its cam
+    ],
+)
+def test_variants_without_closed_forms_are_stacked_and_equal_single_runs(monkeypatch, name, keys):
+    """A mechanism with a group that has no closed form: its variants in one stacked
+    analysis (the rows by Newton along the path), none on its own, each row that of its
+    single run to 1e-12."""
+    tpl = Template.load(MECH / f"{name}.yaml")
+    rng = np.random.default_rng(11)
+    base = tpl.parameters
+    ovs = [{k: base[k] * (1 + 0.03 * rng.uniform(-1, 1)) for k in keys or base} for _ in range(5)]
+    alone = _counting_single_runs(monkeypatch)
+    fast = analyze_variants(tpl, ovs, positions=36, flywheel=False)
+    assert not alone and all(r["status"] == "ok" for r in fast)
+    slow = analyze_variants(tpl, ovs, positions=36, flywheel=False, vectorise=False)
+    for v, (a, b) in enumerate(zip(fast, slow)):
+        assert not _same(a, b), (v, _same(a, b))
+
+
+@pytest.mark.parametrize(
+    "name", ["slider_crank", "slotting_machine", "watt_sixbar", "inverted_slider_crank"]
+)
+def test_the_newton_path_gives_the_closed_forms_rows(monkeypatch, name):
+    """The stacked rows by Newton along the path (the closed forms withheld) equal those by
+    the closed forms to 1e-12, every variant stacked."""
+    from kinetostatics.analysis import vectorised
+
+    tpl = Template.load(MECH / f"{name}.yaml")
+    ovs = _perturbed(tpl, np.random.default_rng(5), 4)
+    closed = analyze_variants(tpl, ovs, positions=36, flywheel=False)
+    alone = _counting_single_runs(monkeypatch)
+    monkeypatch.setattr(vectorised, "closed_forms", lambda *a: None)
+    newton = analyze_variants(tpl, ovs, positions=36, flywheel=False)
+    assert not alone
+    for v, (a, b) in enumerate(zip(newton, closed)):
+        assert not _same(a, b), (v, _same(a, b))
+
+
+def test_a_variant_whose_newton_path_passes_a_singular_position_is_analysed_alone(
+    monkeypatch,
+):
+    """Four-bars by Newton along the path (the closed forms withheld): the one at the
+    Grashof change point (1 + 3 = 2.5 + 1.5, its group singular at 180°) leaves the stacked
+    analysis and is analysed alone, reporting the singular position as its single run
+    does; the crank-rockers beside it stay stacked; one that cannot turn fully fails as
+    alone.  Every row is its single run's."""
+    from kinetostatics.analysis import vectorised
+
+    text = (Path(__file__).resolve().parents[1] / "hard" / "fourbar_change_point.yaml").read_text()
+    text = text.replace("links:\n", "parameters: {d: 3}\nlinks:\n", 1)
+    text = text.replace("D: [3, 0]", "D: [d, 0]")
+    tpl = Template.loads(text, "fourbars.yaml")
+    ovs = [{"d": 2.9}, {"d": 3.0}, {"d": 2.95}, {"d": 3.1}, {"d": 2.92}]
+    monkeypatch.setattr(vectorised, "closed_forms", lambda *a: None)
+    alone = _counting_single_runs(monkeypatch)
+    rows = analyze_variants(tpl, ovs, positions=36, flywheel=False)
+    assert [r["status"] for r in rows] == ["ok", "ok", "ok", "failed", "ok"]
+    assert len(alone) == 2  # the change point and the one that cannot turn fully
+    slow = analyze_variants(tpl, ovs, positions=36, flywheel=False, vectorise=False)
+    for v, (a, b) in enumerate(zip(rows, slow)):
+        assert not _same(a, b), (v, _same(a, b))
+
+
 def test_a_subset_of_stacked_variants_analyses_as_those_variants_stacked_afresh():
     """``subset`` takes variants out of a stacked model (a variant that leaves the path)
     without stacking again; a number that differs in all the variants but not in the

@@ -1367,7 +1367,7 @@ def relation_batch_row(doc, seed, n=3, positions=12):
     chunks of one, against ``kinetostatics.analyze`` of each variant's file.  The row
     names exactly the quantities computed; a variant fails in the batch exactly when its
     single run fails, with the same reason.  Relative to each quantity's largest value
-    over the variants (text and counts: equal)."""
+    over the variants, a dimensionless one's 1 at least (text and counts: equal)."""
     import tempfile
     from pathlib import Path
 
@@ -1396,12 +1396,17 @@ def relation_batch_row(doc, seed, n=3, positions=12):
     worst = 0.0
     with tempfile.TemporaryDirectory() as tmp:
         batches = {c: batch_rows(base, overrides, c, Path(tmp)) for c in (n, 1)}
+    from kinetostatics.batch.variants import ROW_UNITS
+
     scale = {}
     for exp in expected:
         if isinstance(exp, dict):
             for k, v in exp.items():
                 if isinstance(v, float) and math.isfinite(v):
-                    scale[k] = max(scale.get(k, 0.0), abs(v))
+                    # a dimensionless quantity on its unit's scale, 1 at least: a cycle
+                    # efficiency of a cycle without net work is a quotient of round-off
+                    unit = 1.0 if ROW_UNITS.get(k.rpartition(".")[2]) == "1" else 0.0
+                    scale[k] = max(scale.get(k, unit), abs(v))
     for chunk, rows in batches.items():
         for v, (row, exp) in enumerate(zip(rows, expected, strict=True)):
             where = f"chunk {chunk}, variant {v}"

@@ -349,3 +349,22 @@ def test_a_batch_rows_time_ratio_is_the_single_runs():
     refinement is now bracketed by the rows, as the single run's is."""
     doc = yaml.safe_load((CASES / "stacked_time_ratio.yaml").read_text(encoding="utf-8"))
     assert R.relation_batch_row(doc, 1008937) <= R.TOLERANCE["batch_row"]
+
+
+def test_a_slide_at_rest_leaves_the_stacked_strokes():
+    """Slide S11 comes to rest where the rocker before it dwells: its speed is 0 within
+    round-off on rows 30° apart. Once the stacked analysis took mechanisms without closed
+    forms (the rocker is a 1-link group), its strokes counted the round-off signs as the two
+    crossings and refined a limit position inside the rest: the batch row's time ratio was
+    1.1646, the single run's 1.0000 (seed 1300017). A slide at rest on a row now leaves the
+    stacked strokes to its own analysis."""
+    doc = yaml.safe_load((CASES / "stacked_slide_at_rest.yaml").read_text(encoding="utf-8"))
+    assert R.relation_batch_row(doc, 1300017) <= R.TOLERANCE["batch_row"]
+
+
+def test_a_cycle_efficiency_of_round_off_is_compared_on_its_unit():
+    """The idle gear pair's cycle efficiency is a quotient of round-off (−7.08e-8, the tooth
+    force 0 in exact arithmetic); stacked and alone it differs by 1.2e-15, 1.7e-8 of itself.
+    A batch row's dimensionless quantity is compared on its unit's scale, 1."""
+    doc = yaml.safe_load((CASES / "idle_tooth_force.yaml").read_text(encoding="utf-8"))
+    assert R.relation_batch_row(doc, 1002093) <= R.TOLERANCE["batch_row"]

@@ -3,16 +3,19 @@
 :func:`analyze_stacked` runs the analysis of :func:`kinetostatics.analyze`
 for many variants at once on a model stacked by
 :func:`kinetostatics.model.stacking.stack`, for the common case it can vectorise:
-one constant-speed motion driver over a full cycle, every Assur group with
-a closed form (RRR, RRP, RPR dyads and driven links) that passes no
-singular position, no event rows.  Variants it cannot take — they do not
-assemble at the start or pass a singular position — are left out of
-``Stacked.members``; when the model is outside that case, :class:`Unsupported` is
-raised.  Either way the per-variant analysis takes them, and reports or handles
-them exactly as a single run would.
+one constant-speed motion driver over a full cycle whose groups pass no singular
+position, no event rows.  The rows come from the groups' closed forms where every
+group has one (RRR, RRP, RPR dyads and driven links), else by Newton along the path,
+every variant continued at the same steps (a triad, a link closed by a gear, rack or
+cam pair: :func:`~kinetostatics.kinematics.stacked_path.newton_path`).  Variants it
+cannot take — they do not assemble at the start or pass a singular position — are
+left out of ``Stacked.members``; when the model is outside that case,
+:class:`Unsupported` is raised.  Either way the per-variant analysis takes them, and
+reports or handles them exactly as a single run would.
 
 Per variant the results are those of a single run to rounding: the same
-functions evaluate the same formulas, only over one more leading axis.
+functions evaluate the same formulas, only over one more leading axis (the rows by
+Newton: the same roots, from other guesses, to Newton's tolerance).
 """
 
 from __future__ import annotations
@@ -29,6 +32,7 @@ from ..kinematics.motion import Motion
 from ..kinematics.newton import group_condition, group_newton, group_signature
 from ..kinematics.plan import derivatives_at
 from ..kinematics.schedule import Schedule, sample_times, schedule
+from ..kinematics.stacked_path import newton_path
 from ..kinematics.start import (
     SKETCH_TOL,
     initial_guess,
@@ -68,7 +72,7 @@ class Stacked:
     extremes: dict
     ok: np.ndarray  # (V,) bool
     sched: Schedule
-    solvers: ClosedForms
+    solvers: ClosedForms | None  # None: a group without one (the rows by Newton)
     failed: dict[int, Exception] = field(default_factory=dict)
 
 
@@ -208,9 +212,10 @@ def analyze_stacked(
         raise Unsupported("not a full cycle")
     q0, ok, failed = _start(system, models, sched)
     solvers = closed_forms(system, q0)
-    if solvers is None:
-        raise Unsupported("a group without a closed form")
-    q, ok_path, _ = closed_form_path(system, solvers, q0, t, sched)
+    if solvers is None:  # a group without a closed form: Newton along the path
+        q, ok_path = newton_path(system, q0, t, sched)
+    else:
+        q, ok_path, _ = closed_form_path(system, solvers, q0, t, sched)
     ok &= ok_path
     members = np.arange(len(models))
     if not ok.all():
@@ -229,6 +234,8 @@ def analyze_stacked(
     psi, psi_d, psi_dd = (np.broadcast_to(x, q.shape[:-1] + (1,)) for x in (psi, psi_d, psi_dd))
     qd, qdd, lu = derivatives_at(system, q, psi_d, psi_dd)
     extremes = travel_extremes_stacked(system, solvers, sched, t, q, qd, qdd)
+    for m in extremes.values():  # a state Newton did not reach: that variant alone
+        ok &= np.all(np.isfinite(m), axis=-1)
     kin = inverse_dynamics(
         system,
         Motion(t, psi, q, qd, qdd, psi_d, psi_dd, lu),

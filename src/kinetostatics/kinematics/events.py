@@ -15,6 +15,7 @@ import numpy as np
 
 from ..structure.system import System, coordinate_gradient
 from .closed_path import closed_form_near
+from .newton import group_newton
 from .plan import derivatives_at
 from .positions import state_at
 from .schedule import Schedule, schedule
@@ -211,10 +212,20 @@ def state_near(system, drive, r, t, q, qd, qdd):
 
 # -- roots over stacked variants ---------------------------------------------------------
 def state_stacked(system: System, solvers, sched: Schedule, t: np.ndarray, guess: np.ndarray):
-    """(q, q̇, q̈) at times ``t (V, M)`` by the closed forms, angles nearest ``guess``."""
+    """(q, q̇, q̈) at times ``t (V, M)`` by the closed forms, angles nearest ``guess``; with
+    ``solvers`` None (a group without one) by Newton from ``guess``, group by group, NaN
+    where a group does not converge (the variant then leaves the stacked analysis)."""
     psi, psi_d, psi_dd = sched(t)
-    q, _ = closed_form_near(solvers, guess, psi)
-    qd, qdd, _ = derivatives_at(system, q, psi_d, psi_dd)
+    if solvers is not None:
+        q, _ = closed_form_near(solvers, guess, psi)
+        qd, qdd, _ = derivatives_at(system, q, psi_d, psi_dd)
+        return q, qd, qdd
+    q = guess
+    with np.errstate(all="ignore"):
+        for plan in system.plans:
+            q, conv, _ = group_newton(system, q, psi, plan)
+            q = np.where(conv[..., None], q, np.nan)
+        qd, qdd, _ = derivatives_at(system, q, psi_d, psi_dd)
     return q, qd, qdd
 
 
@@ -407,12 +418,29 @@ def output_strokes(result) -> dict[str, dict[str, Any]]:
     return out
 
 
+REST = 1e-9
+"""A row where an output slide's speed and its rate are both within this fraction of
+their largest values over the cycle is at rest (a dwell, or a double zero on the row):
+where its speed's sign changes is round-off, so the stacked strokes leave that variant to
+its own analysis (:func:`output_strokes`)."""
+REST_AT_ROOT = 1e-6
+"""A limit position found where the slide's acceleration is within this fraction of its
+largest value (the slide comes to rest, not back): its own analysis, too."""
+
+
+def _at_rest(ds: np.ndarray, dds: np.ndarray) -> np.ndarray:
+    """(V,): some row of the speeds ``ds (V, N)`` and their rates ``dds`` at rest (:data:`REST`)."""
+    still = np.abs(ds) <= REST * np.max(np.abs(ds), axis=-1, keepdims=True)
+    return np.any(still & (np.abs(dds) <= REST * np.max(np.abs(dds), axis=-1, keepdims=True)), -1)
+
+
 def output_strokes_stacked(
     system: System, solvers, sched: Schedule, t, q, qd, qdd
 ) -> tuple[dict[str, dict[str, np.ndarray]], np.ndarray]:
     """Stroke and time ratio of every output slide, ``(V,)`` each, over a full cycle of
     stacked variants ``q (V, N, n_q)`` (as :func:`output_strokes`), and ``ok (V,)``: false
-    for a variant whose slide does not stop exactly twice per cycle."""
+    for a variant whose slide does not stop exactly twice per cycle, or comes to rest
+    (:data:`REST`, :data:`REST_AT_ROOT`)."""
     out = {}
     ok = np.ones(q.shape[0], dtype=bool)
     period = 2 * np.pi / sched.reference
@@ -422,13 +450,13 @@ def output_strokes_stacked(
         def f(q, qd, qdd, k=k):
             return coordinate_rates(system, q, qd, qdd, k)
 
-        ds = f(q, qd, qdd)[0]
+        ds, dds = f(q, qd, qdd)
         a = np.arange(n)
         b = (a + 1) % n  # a full cycle: the last pairs with the first
         fa, fb = ds[:, a], ds[:, b]
         cross = (np.sign(fa) * np.sign(fb) < 0) | (fa == 0.0)
         two = np.count_nonzero(cross, axis=-1) == 2
-        ok &= two
+        ok &= two & ~_at_rest(ds, dds)
         idx = np.argsort(~cross, axis=-1, kind="stable")[:, :2]  # the first two crossings
         ia, ib = idx, (idx + 1) % n
         ta, tb = t[ia], t[ib] + np.where(ib == 0, period, 0.0)
@@ -442,7 +470,7 @@ def output_strokes_stacked(
             return np.take_along_axis(x, nn[..., None], axis=1)
 
         sign_a = np.sign(np.take_along_axis(ds, ia, -1))
-        roots, (qr, _, _) = refine_stacked(
+        roots, (qr, qdr, qddr) = refine_stacked(
             system,
             solvers,
             sched,
@@ -453,8 +481,11 @@ def output_strokes_stacked(
             take(qdd),
             bracket=(ta, tb, np.where(sign_a == 0, -np.sign(fb), sign_a)),
         )
+        scale = np.max(np.abs(dds), axis=-1, keepdims=True)  # a limit position: ċ = 0, c̈ ≠ 0
+        ok &= np.all(np.abs(f(qr, qdr, qddr)[1]) > REST_AT_ROOT * scale, axis=-1)
         roots = np.mod(roots, period)
         vals = joint_coordinate(system, qr, k)
+        ok &= np.all(np.isfinite(vals), axis=-1)  # a state Newton did not reach (no closed form)
         lo = np.argmin(vals, axis=-1)[:, None]
         hi = 1 - lo
         r_lo = np.take_along_axis(roots, lo, -1)[:, 0]

@@ -1,0 +1,119 @@
+"""Positions of stacked variants by Newton, where a group has no closed form (a triad, a
+link closed by a gear, rack or cam pair): every variant continued from its start pose
+at the same steps of the driver, then each row solved from the path's interpolation —
+:func:`~.positions.solve_positions`'s Newton path, with the variants along a leading
+axis and each step taken for all of them at once.
+
+A variant whose path one analysis would treat with care — a step that does not
+converge or jumps even at the fine step, a group whose determinant changes sign (a
+singular position on the way), a row off its branch — is not ok: it leaves the
+stacked analysis and is analysed on its own, where the single run's continuation
+handles (and reports) it.  The rows of the others are Newton's roots from other
+guesses than the single run's: the same roots to Newton's tolerance.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..structure.system import System
+from .continuation import COARSE_STEP, FINE_STEP, JUMP_RATIO, Drive, hermite, time_step
+from .newton import group_newton, group_signature
+from .plan import derivatives_at
+
+__all__ = ["newton_path"]
+
+
+def newton_path(
+    system: System, q0: np.ndarray, t: np.ndarray, drive: Drive
+) -> tuple[np.ndarray, np.ndarray]:
+    """``(q (V, N, n_q), ok (V,))``: the rows at times ``t (N,)`` (from 0 on) of the
+    variants of a stacked ``system`` from their start poses ``q0 (V, 1, n_q)``."""
+    sig0 = [group_signature(system, q0, plan) for plan in system.plans]  # (V, 1) each
+    ts, qs, qds, ok = _nodes(system, q0, sig0, float(np.max(t)), drive)
+    v, n_q = qs.shape[0], qs.shape[-1]
+    flat = lambda x: x.transpose(1, 0, 2).reshape(len(ts), v * n_q)  # noqa: E731  (K, V·n_q)
+    guess, _ = hermite(ts, flat(qs), flat(qds), t)
+    q = guess.reshape(len(t), v, n_q).transpose(1, 0, 2)
+    psi = drive(t)[0][None]
+    with np.errstate(all="ignore"):
+        for plan, s0 in zip(system.plans, sig0):
+            q, conv, _ = group_newton(system, q, psi, plan)
+            ok &= np.all(conv & (group_signature(system, q, plan) == s0), axis=-1)
+    return np.ascontiguousarray(q), ok
+
+
+def _nodes(system: System, q: np.ndarray, sig0: list, t_hi: float, drive: Drive):
+    """The path's nodes ``(ts (K,), qs (V, K, n_q), q̇s (V, K, n_q), ok (V,))``: steps of
+    at most 30° of the driver, halved for every variant while one of them fails a step
+    and the step is above 5° (so down to 3.75°; a variant that fails there is not ok and
+    is carried along unsolved)."""
+    coarse = time_step(system, 0.0, drive, COARSE_STEP)
+    fine = coarse * FINE_STEP / COARSE_STEP
+    ok = np.ones(len(q), dtype=bool)
+    qd, qdd = _rates(system, q, 0.0, drive)
+    t, h = 0.0, coarse
+    ts, qs, qds = [0.0], [q], [qd]
+    with np.errstate(all="ignore"):
+        while t_hi - t > 1e-12 * max(t_hi, 1e-300):
+            h = min(h, t_hi - t)
+            qp = q + h * qd + 0.5 * h * h * qdd
+            qn, good = _step(system, qp, t + h, drive, sig0)
+            qdn, qddn = _rates(system, qn, t + h, drive)
+            good &= _jump(system, q, qp, qn) <= JUMP_RATIO
+            good &= _kink(system, qd + h * qdd, qdn, qd) <= JUMP_RATIO
+            if np.any(ok & ~good) and h > fine * (1 + 1e-9):
+                h *= 0.5
+                continue
+            ok &= good
+            keep = ok[:, None, None]  # the others: their last node, never NaN
+            q, qd, qdd = (np.where(keep, a, b) for a, b in ((qn, q), (qdn, qd), (qddn, qdd)))
+            t += h
+            ts.append(t), qs.append(q), qds.append(qd)
+            h = min(coarse, 2.0 * h)
+    if len(ts) == 1:  # a single row at the start: a second node beside it
+        ts, qs, qds = [0.0, 1.0], qs * 2, qds * 2
+    return np.array(ts), np.concatenate(qs, axis=1), np.concatenate(qds, axis=1), ok
+
+
+def _step(system: System, q: np.ndarray, t: float, drive: Drive, sig0: list):
+    """(q, ok (V,)): Newton group by group from the prediction ``q (V, 1, n_q)`` at ``t``,
+    each group converged on its start's branch."""
+    psi = drive(np.array([t]))[0][None]
+    ok = np.ones(len(q), dtype=bool)
+    for plan, s0 in zip(system.plans, sig0):
+        q, conv, _ = group_newton(system, q, psi, plan)
+        ok &= conv[:, 0] & (group_signature(system, q, plan) == s0)[:, 0]
+    return q, ok
+
+
+def _rates(system: System, q: np.ndarray, t: float, drive: Drive):
+    """(q̇, q̈) at ``q (V, 1, n_q)`` at the time ``t``."""
+    _, psi_d, psi_dd = drive(np.array([t]))
+    psi_d, psi_dd = (np.broadcast_to(x, q.shape[:-1] + x.shape[-1:]) for x in (psi_d, psi_dd))
+    qd, qdd, _ = derivatives_at(system, q, psi_d, psi_dd)
+    return qd, qdd
+
+
+def _scale(system: System, n_q: int) -> np.ndarray:
+    """Each coordinate's weight: 1/L_ref for x and y, 1 for θ ``(V or 1, n_q)``."""
+    inv = 1.0 / np.reshape(system.l_ref, (-1, 1))
+    return np.where(np.arange(n_q) % 3 == 2, 1.0, inv)
+
+
+def _jump(system: System, q0, qp, qn) -> np.ndarray:
+    """|corrector| over |step| per variant, as the single path's ``_jump``."""
+    s = _scale(system, q0.shape[-1])[:, None]
+    corr = np.max(np.abs((qn - qp) * s), axis=(-2, -1))
+    move = np.max(np.abs((qn - q0) * s), axis=(-2, -1))
+    return corr / np.maximum(move, 1e-12)
+
+
+def _kink(system: System, qd_pred, qd_new, qd_old) -> np.ndarray:
+    """The velocities' mismatch over their size per variant, as the single path's ``_kink``."""
+    s = _scale(system, qd_old.shape[-1])[:, None]
+    size = np.maximum(
+        np.max(np.abs(qd_old * s), axis=(-2, -1)), np.max(np.abs(qd_new * s), axis=(-2, -1))
+    )
+    mismatch = np.max(np.abs((qd_new - qd_pred) * s), axis=(-2, -1)) / np.maximum(size, 1e-300)
+    return np.where(np.isfinite(mismatch), mismatch, np.inf)
