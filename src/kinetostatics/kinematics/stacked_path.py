@@ -16,9 +16,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..structure.system import System
-from .continuation import COARSE_STEP, FINE_STEP, JUMP_RATIO, Drive, hermite, time_step
-from .newton import group_newton, group_signature
+from ..structure.system import System, jacobian
+from .continuation import COARSE_STEP, FINE_STEP, JUMP_RATIO, Drive, time_step
+from .newton import group_newton
 from .plan import derivatives_at
 
 __all__ = ["newton_path"]
@@ -29,17 +29,14 @@ def newton_path(
 ) -> tuple[np.ndarray, np.ndarray]:
     """``(q (V, N, n_q), ok (V,))``: the rows at times ``t (N,)`` (from 0 on) of the
     variants of a stacked ``system`` from their start poses ``q0 (V, 1, n_q)``."""
-    sig0 = [group_signature(system, q0, plan) for plan in system.plans]  # (V, 1) each
-    ts, qs, qds, ok = _nodes(system, q0, sig0, float(np.max(t)), drive)
-    v, n_q = qs.shape[0], qs.shape[-1]
-    flat = lambda x: x.transpose(1, 0, 2).reshape(len(ts), v * n_q)  # noqa: E731  (K, V·n_q)
-    guess, _ = hermite(ts, flat(qs), flat(qds), t)
-    q = guess.reshape(len(t), v, n_q).transpose(1, 0, 2)
+    sig0 = [_sign(system, q0, plan) for plan in system.plans]  # (V, 1) each
+    ts, qs, qds, qdds, ok = _nodes(system, q0, sig0, float(np.max(t)), drive)
+    q = _quintic(ts, qs, qds, qdds, t)
     psi = drive(t)[0][None]
     with np.errstate(all="ignore"):
         for plan, s0 in zip(system.plans, sig0):
             q, conv, _ = group_newton(system, q, psi, plan)
-            ok &= np.all(conv & (group_signature(system, q, plan) == s0), axis=-1)
+            ok &= np.all(conv & (_sign(system, q, plan) == s0), axis=-1)
     return np.ascontiguousarray(q), ok
 
 
@@ -53,7 +50,7 @@ def _nodes(system: System, q: np.ndarray, sig0: list, t_hi: float, drive: Drive)
     ok = np.ones(len(q), dtype=bool)
     qd, qdd = _rates(system, q, 0.0, drive)
     t, h = 0.0, coarse
-    ts, qs, qds = [0.0], [q], [qd]
+    ts, qs, qds, qdds = [0.0], [q], [qd], [qdd]
     with np.errstate(all="ignore"):
         while t_hi - t > 1e-12 * max(t_hi, 1e-300):
             h = min(h, t_hi - t)
@@ -69,11 +66,33 @@ def _nodes(system: System, q: np.ndarray, sig0: list, t_hi: float, drive: Drive)
             keep = ok[:, None, None]  # the others: their last node, never NaN
             q, qd, qdd = (np.where(keep, a, b) for a, b in ((qn, q), (qdn, qd), (qddn, qdd)))
             t += h
-            ts.append(t), qs.append(q), qds.append(qd)
+            ts.append(t), qs.append(q), qds.append(qd), qdds.append(qdd)
             h = min(coarse, 2.0 * h)
     if len(ts) == 1:  # a single row at the start: a second node beside it
-        ts, qs, qds = [0.0, 1.0], qs * 2, qds * 2
-    return np.array(ts), np.concatenate(qs, axis=1), np.concatenate(qds, axis=1), ok
+        ts, qs, qds, qdds = [0.0, 1.0], qs * 2, qds * 2, qdds * 2
+    return (np.array(ts), *(np.concatenate(x, axis=1) for x in (qs, qds, qdds)), ok)
+
+
+def _quintic(ts, qs, qds, qdds, t) -> np.ndarray:
+    """The quintic Hermite interpolation of the nodes' q, q̇, q̈ ``(V, K, n_q)`` at the
+    times ``t (N,)``: ``(V, N, n_q)``."""
+    k = np.clip(np.searchsorted(ts, t, side="right") - 1, 0, len(ts) - 2)
+    h = (ts[k + 1] - ts[k])[:, None]
+    s = ((t - ts[k]) / (ts[k + 1] - ts[k]))[:, None]
+    s2, s3 = s * s, s * s * s
+    s4, s5 = s3 * s, s3 * s2
+    basis = (
+        (1 - 10 * s3 + 15 * s4 - 6 * s5, qs),
+        ((s - 6 * s3 + 8 * s4 - 3 * s5) * h, qds),
+        ((0.5 * s2 - 1.5 * s3 + 1.5 * s4 - 0.5 * s5) * h * h, qdds),
+    )
+    out = sum(w * x[:, k] for w, x in basis)
+    ends = (
+        (10 * s3 - 15 * s4 + 6 * s5, qs),
+        ((-4 * s3 + 7 * s4 - 3 * s5) * h, qds),
+        ((0.5 * s3 - s4 + 0.5 * s5) * h * h, qdds),
+    )
+    return out + sum(w * x[:, k + 1] for w, x in ends)
 
 
 def _step(system: System, q: np.ndarray, t: float, drive: Drive, sig0: list):
@@ -83,8 +102,15 @@ def _step(system: System, q: np.ndarray, t: float, drive: Drive, sig0: list):
     ok = np.ones(len(q), dtype=bool)
     for plan, s0 in zip(system.plans, sig0):
         q, conv, _ = group_newton(system, q, psi, plan)
-        ok &= conv[:, 0] & (group_signature(system, q, plan) == s0)[:, 0]
+        ok &= conv[:, 0] & (_sign(system, q, plan) == s0)[:, 0]
     return q, ok
+
+
+def _sign(system: System, q: np.ndarray, plan) -> np.ndarray:
+    """The sign of the group's Jacobian determinant at ``q (..., n_q)``: its branch.  That
+    of :func:`~.newton.group_signature`'s scaled block (positive row and column scales
+    leave it), without the scaling's passes."""
+    return np.sign(np.linalg.det(jacobian(system, q, plan.constraints, plan.cols)))
 
 
 def _rates(system: System, q: np.ndarray, t: float, drive: Drive):
