@@ -9,6 +9,7 @@ forms (:func:`~kinetostatics.kinematics.closed_path.closed_form_near`).
 
 from __future__ import annotations
 
+import functools
 from typing import Any
 
 import numpy as np
@@ -37,6 +38,29 @@ __all__ = [
 
 
 # -- roots over the rows of one run ------------------------------------------------------
+TIME_TOL = 1e-14
+"""A root in time is refined until Newton's step is this fraction of its time, or of the
+time the motion drivers take to move 1 rad (1 L_ref for a slider) where that is larger
+(:func:`time_unit`): the same fraction of the motion at any speed and scale.  (It was of
+1 s: at 20,000 rpm 3e-12 of a turn, and a batch row's time ratio differed from the single
+run's by 1.1e-11.)"""
+
+
+def time_unit(system: System, drive) -> float | np.ndarray:
+    """The time the motion drivers take to move 1 rad, or 1 L_ref for a slider, at their
+    reference speeds (:func:`~.continuation.time_step`'s unit; 1 s where they stand):
+    ``(V, 1)`` for a stacked system's sliders, whose L_ref are the variants'."""
+    speeds = getattr(drive, "speed", None)
+    if speeds is None:
+        return 1.0
+    rates = [
+        abs(float(v)) if d.joint.angular else abs(float(v)) / np.asarray(system.l_ref)
+        for d, v in zip(system.motion_drivers, np.atleast_1d(speeds))
+    ]
+    rate = functools.reduce(np.maximum, rates, 0.0)
+    return np.where(rate > 0, 1.0 / np.where(rate > 0, rate, 1.0), 1.0)
+
+
 def refine(system, drive, f, t0, tn, qn, qdn, qddn, max_iter=12, bracket=None, owner=None):  # noqa: PLR0913  loose sample arrays: several callers' grids
     """Newton on t for f(state) = 0, all roots at once.
 
@@ -53,6 +77,7 @@ def refine(system, drive, f, t0, tn, qn, qdn, qddn, max_iter=12, bracket=None, o
     t = np.array(t0, dtype=float)
     live = np.ones(t.shape, dtype=bool)
     states = [qn.copy(), qdn.copy(), qddn.copy()]
+    unit = time_unit(system, drive)
     if bracket is not None:
         lo, hi, sign_lo = (np.array(x, dtype=float) for x in bracket)
         max_iter = max(max_iter, 64)  # bisection halves the bracket each time
@@ -65,7 +90,7 @@ def refine(system, drive, f, t0, tn, qn, qdn, qddn, max_iter=12, bracket=None, o
             store[idx] = new
         g, dg = f(q, qd, qdd) if owner is None else _each(f, owner[idx], q, qd, qdd)
         dt = np.divide(-g, dg, out=np.zeros_like(g), where=dg != 0)
-        tol = 1e-14 * np.maximum(np.abs(t[idx]), 1.0)
+        tol = TIME_TOL * np.maximum(np.abs(t[idx]), unit)
         # a zero slope (a follower at rest in a cam's dwell) gives no step, not a root
         done = ((np.abs(dt) <= tol) & (dg != 0)) | (g == 0)
         if bracket is None:
@@ -243,6 +268,7 @@ def refine_stacked(system, solvers, sched, f, t0, q0, qd0, qdd0, max_iter=12, br
     t = np.array(t0, dtype=float)
     h = (t - t0)[..., None]
     guess = q0 + h * qd0 + 0.5 * h * h * qdd0
+    unit = time_unit(system, sched)  # (V, 1) where the variants' L_ref scale a slider's
     if bracket is not None:
         lo, hi, sign_lo = (np.array(x, dtype=float) for x in bracket)
         max_iter = max(max_iter, 64)  # bisection halves the bracket each time
@@ -250,7 +276,7 @@ def refine_stacked(system, solvers, sched, f, t0, q0, qd0, qdd0, max_iter=12, br
         q, qd, qdd = state_stacked(system, solvers, sched, t, guess)
         g, dg = f(q, qd, qdd)
         dt = np.divide(-g, dg, out=np.zeros_like(g), where=dg != 0)
-        tol = 1e-14 * np.maximum(np.abs(t), 1.0)
+        tol = TIME_TOL * np.maximum(np.abs(t), unit)
         if bracket is None:
             step = t + dt
             done = np.abs(dt) <= tol
@@ -483,20 +509,21 @@ def output_strokes_stacked(
         )
         scale = np.max(np.abs(dds), axis=-1, keepdims=True)  # a limit position: ċ = 0, c̈ ≠ 0
         ok &= np.all(np.abs(f(qr, qdr, qddr)[1]) > REST_AT_ROOT * scale, axis=-1)
-        roots = np.mod(roots, period)
         vals = joint_coordinate(system, qr, k)
         ok &= np.all(np.isfinite(vals), axis=-1)  # a state Newton did not reach (no closed form)
-        lo = np.argmin(vals, axis=-1)[:, None]
-        hi = 1 - lo
-        r_lo = np.take_along_axis(roots, lo, -1)[:, 0]
-        r_hi = np.take_along_axis(roots, hi, -1)[:, 0]
-        t_up = np.mod(r_hi - r_lo, period)
-        t_down = period - t_up
-        stroke = np.abs(vals[:, 1] - vals[:, 0])
-        out[j.name] = {
-            "stroke": np.where(two, stroke, np.nan),
-            "time_ratio": np.where(
-                two, np.maximum(t_up, t_down) / np.minimum(t_up, t_down), np.nan
-            ),
-        }
+        out[j.name] = _stroke_and_ratio(np.mod(roots, period), vals, two, period)
     return out, ok
+
+
+def _stroke_and_ratio(roots, vals, two, period: float) -> dict[str, np.ndarray]:
+    """A slide's stroke and time ratio ``(V,)`` from the times ``roots (V, 2)`` of its
+    limit positions in the period and its coordinates ``vals (V, 2)`` there (NaN where
+    it does not stop exactly twice, ``two`` false)."""
+    lo = np.argmin(vals, axis=-1)[:, None]
+    r_lo = np.take_along_axis(roots, lo, -1)[:, 0]
+    r_hi = np.take_along_axis(roots, 1 - lo, -1)[:, 0]
+    t_up = np.mod(r_hi - r_lo, period)
+    t_down = period - t_up
+    ratio = np.maximum(t_up, t_down) / np.minimum(t_up, t_down)
+    stroke = np.abs(vals[:, 1] - vals[:, 0])
+    return {"stroke": np.where(two, stroke, np.nan), "time_ratio": np.where(two, ratio, np.nan)}
