@@ -265,6 +265,29 @@ def test_a_variant_whose_newton_path_passes_a_singular_position_is_analysed_alon
         assert not _same(a, b), (v, _same(a, b))
 
 
+def test_formulas_that_do_not_broadcast_stacked_numbers_leave_the_chunk_to_single_runs(
+    monkeypatch,
+):
+    """A joint type whose formulas meet a stacked number with a Python ``if`` or ``math``
+    call raises ``TypeError`` or ``ValueError`` in the stacked analysis: the chunk's
+    variants are analysed one by one, with their own rows (docs/extending.md)."""
+    from kinetostatics.analysis import vectorised
+
+    tpl = Template.load(MECH / "slider_crank.yaml")
+    ovs = _perturbed(tpl, np.random.default_rng(2), 3)
+    want = analyze_variants(tpl, ovs, positions=24, vectorise=False)
+    for error in (TypeError, ValueError):
+
+        def refuse(*a, error=error, **k):
+            raise error("only length-1 arrays can be converted to Python scalars")
+
+        monkeypatch.setattr(vectorised, "analyze_stacked", refuse)
+        alone = _counting_single_runs(monkeypatch)
+        rows = analyze_variants(tpl, ovs, positions=24)
+        assert len(alone) == 3 and rows == want
+        monkeypatch.undo()
+
+
 def test_a_subset_of_stacked_variants_analyses_as_those_variants_stacked_afresh():
     """``subset`` takes variants out of a stacked model (a variant that leaves the path)
     without stacking again; a number that differs in all the variants but not in the

@@ -560,7 +560,8 @@ def _vectorised_rows(
         except (
             vectorised.Unsupported,  # LeftOver included
             TopologyMismatch,
-            ValueError,
+            ValueError,  # a joint's formulas that do not broadcast its stacked numbers
+            TypeError,  # (docs/extending.md): the per-variant analysis takes them
             IndexError,
             ArithmeticError,
             np.linalg.LinAlgError,
