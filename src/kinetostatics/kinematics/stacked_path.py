@@ -41,7 +41,7 @@ def newton_path(
 
 
 def _nodes(system: System, q: np.ndarray, sig0: list, t_hi: float, drive: Drive):
-    """The path's nodes ``(ts (K,), qs (V, K, n_q), q̇s (V, K, n_q), ok (V,))``: steps of
+    """The path's nodes ``(ts (K,), qs, q̇s, q̈s (V, K, n_q) each, ok (V,))``: steps of
     at most 30° of the driver, halved for every variant while one of them fails a step
     and the step is above 5° (so down to 3.75°; a variant that fails there is not ok and
     is carried along unsolved)."""
