@@ -456,6 +456,30 @@ def test_interrupted_while_reading(verb, place, capsys, monkeypatch):
     _one_line_and_nothing_left(root, before, code, capsys.readouterr().err, expected=130)
 
 
+def test_interrupted_inside_an_import_is_one_line(place, capsys, monkeypatch):
+    """Ctrl-C while Python reads a module's bytecode (a fresh install compiles scipy on
+    its first import, inside a command) leaves the file it was reading unclosed; the
+    interpreter's ResourceWarning was printed as a warning line before "interrupted"
+    (CI, once). A user's command shows its own warnings, not the interpreter's."""
+    import gc
+
+    from kinetostatics.outputs import loading
+
+    root, names = place
+
+    def interrupted_import(*args, **kwargs):
+        reader = open(root / "mech.yaml", "rb")  # noqa: SIM115  left unclosed, as there
+        del reader
+        gc.collect()  # the ResourceWarning, now rather than at some later collection
+        raise KeyboardInterrupt
+
+    before = _files(root)
+    monkeypatch.setattr(loading, "load", interrupted_import)
+    code = _call(READERS["check"], names)
+    monkeypatch.undo()
+    _one_line_and_nothing_left(root, before, code, capsys.readouterr().err, expected=130)
+
+
 def test_a_real_sigint_stops_a_simulation_with_one_line(tmp_path):
     """Ctrl-C (SIGINT) half-way through a long simulation: exit 130, one line, no file."""
     (tmp_path / "effort.yaml").write_text(EFFORT)

@@ -407,6 +407,8 @@ def main(argv: list[str] | None = None) -> int:
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("default")
+            # the interpreter's, not the command's: a file an interrupted import was reading
+            warnings.simplefilter("ignore", ResourceWarning)
             warnings.showwarning = one_line
             code = args.func(args)
             sys.stdout.flush()  # a closed pipe shows here, not at exit
