@@ -428,3 +428,61 @@ def test_row_matches_the_independent_slider_crank_closed_form():
         slide = next(k for k in row if k.endswith(".stroke"))
         assert row[slide] == pytest.approx(stroke, rel=1e-12)
     assert oracle is not None
+
+
+def _scalable(doc: dict) -> str:
+    """A generated mechanism with a parameter ``s`` (1) scaling every link's points and
+    centre of mass and every sketched position (similar linkages: every length differs
+    between variants, the branch is the same), 24 positions, no event rows."""
+    import copy
+
+    import yaml
+
+    d = copy.deepcopy(doc)
+    d["parameters"] = {**d.get("parameters", {}), "s": 1.0}
+    scaled = lambda p: [f"{float(c)!r} * s" for c in p]  # noqa: E731
+    for link in d["links"].values():
+        link["points"] = {k: scaled(p) for k, p in link["points"].items()}
+        if isinstance(link.get("com"), list):
+            link["com"] = scaled(link["com"])
+    d["sketch"] = {k: scaled(p) for k, p in d.get("sketch", {}).items()}
+    d["analysis"] = {**d.get("analysis", {}), "positions": 24, "events": False}
+    d["analysis"].pop("at", None)
+    return yaml.safe_dump(d)
+
+
+def _scaled_generated_rows(monkeypatch, seeds) -> int:
+    """Batch rows of the net's generated mechanisms, each as five similar variants, against
+    their single runs (1e-12); the number of mechanisms whose stacked rows came by Newton
+    along the path (a group without a closed form)."""
+    from kinetostatics.analysis import vectorised
+    from tests.net import generate as gen
+
+    calls: list = []
+    real = vectorised.newton_path
+    monkeypatch.setattr(vectorised, "newton_path", lambda *a: calls.append(1) or real(*a))
+    used = 0
+    for seed in seeds:
+        try:
+            tpl = Template.loads(_scalable(gen.generate(seed)), f"generated {seed}.yaml")
+        except ModelError:
+            continue
+        ovs = [{"s": f} for f in (1.0, 0.97, 1.03, 0.99, 1.02)]
+        calls.clear()
+        fast = analyze_variants(tpl, ovs, flywheel=False)
+        slow = analyze_variants(tpl, ovs, flywheel=False, vectorise=False)
+        for v, (a, b) in enumerate(zip(fast, slow)):
+            assert not _same(a, b), (seed, v, _same(a, b))
+        used += bool(calls)
+    return used
+
+
+def test_scaled_generated_mechanisms_by_newton_stacked_are_their_single_runs(monkeypatch):
+    """Two of the net's generated mechanisms with a group that has no closed form."""
+    assert _scaled_generated_rows(monkeypatch, (1016, 1041)) == 2
+
+
+@pytest.mark.slow
+def test_scaled_generated_mechanisms_stacked_are_their_single_runs(monkeypatch):
+    """130 of the net's generated mechanisms (~3 min), ≥ 5 of them by Newton along the path."""
+    assert _scaled_generated_rows(monkeypatch, range(1000, 1130)) >= 5
