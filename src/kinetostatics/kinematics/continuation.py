@@ -33,6 +33,8 @@ __all__ = [
     "coordinate_text",
     "closing_miss",
     "hermite",
+    "jump_ratio",
+    "kink_ratio",
     "time_step",
 ]
 
@@ -126,20 +128,36 @@ def _step(
     return qn, True, new_sig
 
 
-def _jump(system: System, q0: np.ndarray, qp: np.ndarray, qn: np.ndarray) -> float:
-    scale = np.tile([1.0 / system.l_ref, 1.0 / system.l_ref, 1.0], len(system.links))
-    corr = np.max(np.abs((qn - qp) * scale))
-    move = np.max(np.abs((qn - q0) * scale))
-    return corr / max(move, 1e-12)
+def _weights(system: System, n_q: int) -> np.ndarray:
+    """Each coordinate's weight in the step checks: 1/L_ref for x and y, 1 for θ, ``(n_q,)``
+    (``(V, n_q)`` for a stacked system, whose L_ref are the variants')."""
+    inv = 1.0 / np.asarray(system.l_ref)
+    return np.where(np.arange(n_q) % 3 == 2, 1.0, inv if inv.ndim < 2 else inv[..., :1])
 
 
-def _kink(system: System, qd_pred: np.ndarray, qd_new: np.ndarray, qd_old: np.ndarray) -> float:
-    """Velocity mismatch relative to the velocities' size (a kink in the path)."""
-    scale = np.tile([1.0 / system.l_ref, 1.0 / system.l_ref, 1.0], len(system.links))
-    size = max(np.max(np.abs(qd_old * scale)), np.max(np.abs(qd_new * scale)), 1e-300)
+def _reduced(x: np.ndarray) -> np.ndarray:
+    """The largest |x| over the coordinates and, for stacked rows ``(V, 1, n_q)``, the
+    row: one number per path (per variant)."""
+    return np.max(np.abs(x), axis=tuple(range(1, x.ndim)) if x.ndim > 2 else None)
+
+
+def jump_ratio(system: System, q0: np.ndarray, qp: np.ndarray, qn: np.ndarray):
+    """|corrector| over |step| of a continuation step from ``q0``, predicted ``qp``,
+    solved ``qn`` (``(n_q,)``: a number; stacked ``(V, 1, n_q)``: one per variant)."""
+    w = _weights(system, q0.shape[-1])
+    w = w[:, None] if w.ndim > 1 else w  # (V, 1, n_q) against stacked rows
+    return _reduced((qn - qp) * w) / np.maximum(_reduced((qn - q0) * w), 1e-12)
+
+
+def kink_ratio(system: System, qd_pred: np.ndarray, qd_new: np.ndarray, qd_old: np.ndarray):
+    """Velocity mismatch relative to the velocities' size (a kink in the path), shaped as
+    :func:`jump_ratio`'s; infinite where it is not finite."""
+    w = _weights(system, qd_old.shape[-1])
+    w = w[:, None] if w.ndim > 1 else w
+    size = np.maximum(np.maximum(_reduced(qd_old * w), _reduced(qd_new * w)), 1e-300)
     with np.errstate(invalid="ignore"):
-        mismatch = np.max(np.abs((qd_new - qd_pred) * scale)) / size
-    return float(mismatch) if np.isfinite(mismatch) else np.inf
+        mismatch = _reduced((qd_new - qd_pred) * w) / size
+    return np.where(np.isfinite(mismatch), mismatch, np.inf)
 
 
 def _derivs(system: System, q: np.ndarray, t: float, drive: Drive):
@@ -173,10 +191,10 @@ def continue_path(
         h = direction * min(abs(h), abs(t1 - t))
         qp = q + h * qd + 0.5 * h * h * qdd
         qn, ok, new_sig = _step(system, q, qd, qdd, t, h, drive, sig)
-        jump = _jump(system, q, qp, qn) if ok else np.inf
+        jump = float(jump_ratio(system, q, qp, qn)) if ok else np.inf
         if ok and jump <= JUMP_RATIO:  # C¹: the velocity must continue too
             qdn, qddn = _derivs(system, qn, t + h, drive)
-            jump = max(jump, _kink(system, qd + h * qdd, qdn, qd))
+            jump = max(jump, float(kink_ratio(system, qd + h * qdd, qdn, qd)))
         flipped = ok and np.any(new_sig != sig)
         smooth = ok and jump <= JUMP_RATIO and (not flipped or abs(h) <= fine_h)
         found = [

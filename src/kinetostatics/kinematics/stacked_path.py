@@ -17,7 +17,15 @@ from __future__ import annotations
 import numpy as np
 
 from ..structure.system import System, jacobian
-from .continuation import COARSE_STEP, FINE_STEP, JUMP_RATIO, Drive, time_step
+from .continuation import (
+    COARSE_STEP,
+    FINE_STEP,
+    JUMP_RATIO,
+    Drive,
+    jump_ratio,
+    kink_ratio,
+    time_step,
+)
 from .newton import group_newton
 from .plan import derivatives_at
 
@@ -57,8 +65,8 @@ def _nodes(system: System, q: np.ndarray, sig0: list, t_hi: float, drive: Drive)
             qp = q + h * qd + 0.5 * h * h * qdd
             qn, good = _step(system, qp, t + h, drive, sig0)
             qdn, qddn = _rates(system, qn, t + h, drive)
-            good &= _jump(system, q, qp, qn) <= JUMP_RATIO
-            good &= _kink(system, qd + h * qdd, qdn, qd) <= JUMP_RATIO
+            good &= jump_ratio(system, q, qp, qn) <= JUMP_RATIO
+            good &= kink_ratio(system, qd + h * qdd, qdn, qd) <= JUMP_RATIO
             if np.any(ok & ~good) and h > fine * (1 + 1e-9):
                 h *= 0.5
                 continue
@@ -119,27 +127,3 @@ def _rates(system: System, q: np.ndarray, t: float, drive: Drive):
     psi_d, psi_dd = (np.broadcast_to(x, q.shape[:-1] + x.shape[-1:]) for x in (psi_d, psi_dd))
     qd, qdd, _ = derivatives_at(system, q, psi_d, psi_dd)
     return qd, qdd
-
-
-def _scale(system: System, n_q: int) -> np.ndarray:
-    """Each coordinate's weight: 1/L_ref for x and y, 1 for θ ``(V or 1, n_q)``."""
-    inv = 1.0 / np.reshape(system.l_ref, (-1, 1))
-    return np.where(np.arange(n_q) % 3 == 2, 1.0, inv)
-
-
-def _jump(system: System, q0, qp, qn) -> np.ndarray:
-    """|corrector| over |step| per variant, as the single path's ``_jump``."""
-    s = _scale(system, q0.shape[-1])[:, None]
-    corr = np.max(np.abs((qn - qp) * s), axis=(-2, -1))
-    move = np.max(np.abs((qn - q0) * s), axis=(-2, -1))
-    return corr / np.maximum(move, 1e-12)
-
-
-def _kink(system: System, qd_pred, qd_new, qd_old) -> np.ndarray:
-    """The velocities' mismatch over their size per variant, as the single path's ``_kink``."""
-    s = _scale(system, qd_old.shape[-1])[:, None]
-    size = np.maximum(
-        np.max(np.abs(qd_old * s), axis=(-2, -1)), np.max(np.abs(qd_new * s), axis=(-2, -1))
-    )
-    mismatch = np.max(np.abs((qd_new - qd_pred) * s), axis=(-2, -1)) / np.maximum(size, 1e-300)
-    return np.where(np.isfinite(mismatch), mismatch, np.inf)
