@@ -308,11 +308,12 @@ def hermite(ts, qs, qds, t):
 
 def time_step(system: System, t0: float, drive: Drive, step: float) -> float:
     """The time step in which no driver moves by more than ``step`` (rad, or × L_ref):
-    from the drivers' reference speeds (a motion law's largest |ψ̇|), else from ψ̇(t0)."""
+    from the drivers' reference speeds (a motion law's largest |ψ̇|), else from ψ̇(t0).
+    Over stacked variants whose L_ref differ, the least of theirs (one step for all)."""
     speeds = getattr(drive, "speed", None)
     psi_d = np.atleast_1d(speeds) if speeds is not None else drive(np.array([t0]))[1][0]
     rates = [
-        abs(v) if d.joint.angular else abs(v) / system.l_ref
+        abs(v) if d.joint.angular else float(np.max(abs(v) / np.asarray(system.l_ref)))
         for d, v in zip(system.motion_drivers, psi_d)
     ]
     rate = max(rates, default=0.0)

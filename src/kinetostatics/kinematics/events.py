@@ -9,13 +9,13 @@ forms (:func:`~kinetostatics.kinematics.closed_path.closed_form_near`).
 
 from __future__ import annotations
 
-import functools
 from typing import Any
 
 import numpy as np
 
 from ..structure.system import System, coordinate_gradient
 from .closed_path import closed_form_near
+from .continuation import time_step
 from .newton import group_newton
 from .plan import derivatives_at
 from .positions import state_at
@@ -46,19 +46,11 @@ time the motion drivers take to move 1 rad (1 L_ref for a slider) where that is 
 run's by 1.1e-11.)"""
 
 
-def time_unit(system: System, drive) -> float | np.ndarray:
+def time_unit(system: System, drive) -> float:
     """The time the motion drivers take to move 1 rad, or 1 L_ref for a slider, at their
-    reference speeds (:func:`~.continuation.time_step`'s unit; 1 s where they stand):
-    ``(V, 1)`` for a stacked system's sliders, whose L_ref are the variants'."""
-    speeds = getattr(drive, "speed", None)
-    if speeds is None:
-        return 1.0
-    rates = [
-        abs(float(v)) if d.joint.angular else abs(float(v)) / np.asarray(system.l_ref)
-        for d, v in zip(system.motion_drivers, np.atleast_1d(speeds))
-    ]
-    rate = functools.reduce(np.maximum, rates, 0.0)
-    return np.where(rate > 0, 1.0 / np.where(rate > 0, rate, 1.0), 1.0)
+    reference speeds (:func:`~.continuation.time_step` of 1; the least of stacked
+    variants'), or 1 s for a drive without them."""
+    return time_step(system, 0.0, drive, 1.0) if hasattr(drive, "speed") else 1.0
 
 
 def refine(system, drive, f, t0, tn, qn, qdn, qddn, max_iter=12, bracket=None, owner=None):  # noqa: PLR0913  loose sample arrays: several callers' grids
@@ -268,7 +260,7 @@ def refine_stacked(system, solvers, sched, f, t0, q0, qd0, qdd0, max_iter=12, br
     t = np.array(t0, dtype=float)
     h = (t - t0)[..., None]
     guess = q0 + h * qd0 + 0.5 * h * h * qdd0
-    unit = time_unit(system, sched)  # (V, 1) where the variants' L_ref scale a slider's
+    unit = time_unit(system, sched)
     if bracket is not None:
         lo, hi, sign_lo = (np.array(x, dtype=float) for x in bracket)
         max_iter = max(max_iter, 64)  # bisection halves the bracket each time
