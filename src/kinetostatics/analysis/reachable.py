@@ -64,6 +64,7 @@ def solve_run(
         sol = replace(
             sol, q=sol.q[:-1], signatures=sol.signatures[:-1], iterations=sol.iterations[:-1]
         )
+    sol.q.flags.writeable = False  # the rows every later stage reads (link_poses' key)
     return t, sol, full
 
 

@@ -75,6 +75,7 @@ class _Pass:
         self.lines: list[str] = []
         self.framed: set[int] = set()
         self.placed: set[int] = set()
+        self.frames: dict[int, tuple[str, str]] = {}  # cos θ, sin θ without cos and sin
         self.n = 0
 
     def index(self, link: str) -> int | None:
@@ -100,8 +101,42 @@ class _Pass:
         k = self.index(link)
         return "0.0" if k is None else f"t{k}"
 
-    def set_angle(self, link: str, theta: str) -> None:
-        self.lines.append(f"    t{self.index(link)} = {theta}")
+    def set_angle(self, link: str, theta: str, frame: tuple[str, str] | None = None) -> None:
+        """The link's angle ``theta``; ``frame``: its cos θ and sin θ as arithmetic on
+        the pass's locals (:meth:`heading`, :meth:`turned_by`), else evaluated by
+        ``np.cos`` and ``np.sin`` at the frame's first use."""
+        k = self.index(link)
+        self.lines.append(f"    t{k} = {theta}")
+        if frame is not None:
+            self.frames[k] = frame
+
+    def heading(self, vx: str, vy: str, alpha) -> tuple[str, str]:
+        """cos and sin of ``atan2(vy, vx) − alpha`` (``alpha`` a constant) from the vector
+        itself: its direction (v / |v|) turned back by ``alpha`` — the same angle to
+        round-off, without a cosine or a sine (each ~10 ns a number, most of a pass)."""
+        r = self.let(f"np.sqrt({vx} * {vx} + {vy} * {vy})")
+        ex, ey = self.let(f"{vx} / {r}"), self.let(f"{vy} / {r}")
+        ca, sa = self.const(np.cos(alpha)), self.const(np.sin(alpha))
+        return self.let(f"{ex} * {ca} + {ey} * {sa}"), self.let(f"{ey} * {ca} - {ex} * {sa}")
+
+    def turned_by(self, link: str, angle) -> tuple[str, str]:
+        """cos and sin of ``link``'s angle + ``angle`` (a constant) by the sum's formulas
+        from the link's frame (the ground's: the constant's cos and sin)."""
+        ca, sa = self.const(np.cos(angle)), self.const(np.sin(angle))
+        k = self.index(link)
+        if k is None:
+            return ca, sa
+        c, s_ = self.frame(k)
+        return self.let(f"{c} * {ca} - {s_} * {sa}"), self.let(f"{s_} * {ca} + {c} * {sa}")
+
+    def frame(self, k: int) -> tuple[str, str]:
+        """The names of link k's cos θ and sin θ, written at their first use."""
+        if k not in self.framed:
+            self.framed.add(k)
+            c, s_ = self.frames.get(k, (f"np.cos(t{k})", f"np.sin(t{k})"))
+            self.lines.append(f"    c{k} = {c}")
+            self.lines.append(f"    s{k} = {s_}")
+        return f"c{k}", f"s{k}"
 
     def turned(self, link: str, p: np.ndarray) -> tuple[str, str]:
         """Local vector ``p`` of ``link`` in world axes (the ground's: ``p`` itself); the
@@ -110,11 +145,8 @@ class _Pass:
         k = self.index(link)
         if k is None:
             return px, py
-        if k not in self.framed:
-            self.framed.add(k)
-            self.lines.append(f"    c{k} = np.cos(t{k})")
-            self.lines.append(f"    s{k} = np.sin(t{k})")
-        return self.let(f"c{k} * {px} - s{k} * {py}"), self.let(f"s{k} * {px} + c{k} * {py}")
+        c, s_ = self.frame(k)
+        return self.let(f"{c} * {px} - {s_} * {py}"), self.let(f"{s_} * {px} + {c} * {py}")
 
     def world(self, link: str, p: np.ndarray) -> tuple[str, str]:
         """Point ``p`` of ``link`` (local) in world coordinates."""
@@ -217,9 +249,10 @@ def _rrr(system, plan, joints, q0) -> Group | None:
         ex, ey = w.let(f"{dx} / {d}"), w.let(f"{dy} / {d}")
         pmx = w.let(f"{pax} + {x} * {ex} + {sh} * -{ey}")
         pmy = w.let(f"{pay} + {x} * {ey} + {sh} * {ex}")
-        alpha_a, alpha_b = w.const(_heading(la_vec)), w.const(_heading(lb_vec))
-        w.set_angle(a, f"np.arctan2({pmy} - {pay}, {pmx} - {pax}) - {alpha_a}")
-        w.set_angle(b, f"np.arctan2({pmy} - {pby}, {pmx} - {pbx}) - {alpha_b}")
+        for link, (px, py), vec in ((a, (pax, pay), la_vec), (b, (pbx, pby), lb_vec)):
+            vx, vy = w.let(f"{pmx} - {px}"), w.let(f"{pmy} - {py}")
+            frame = w.heading(vx, vy, _heading(vec))
+            w.set_angle(link, f"np.arctan2({vy}, {vx}) - {w.const(_heading(vec))}", frame)
         w.place(a, pax, pay, _pin(ja, a))
         w.place(b, pbx, pby, _pin(jb, b))
         w.lines.append(f"    D[..., {g}] = {h2} / {w.const(np.minimum(la, lb) ** 2)}")
@@ -254,7 +287,7 @@ def _rrp(system, plan, joints, q0) -> Group | None:
 
     def write(w: _Pass, g: int) -> None:
         sg = w.sign(g, sigma)
-        w.set_angle(b, f"{w.angle(k)} + {w.const(s.angle)}")
+        w.set_angle(b, f"{w.angle(k)} + {w.const(s.angle)}", w.turned_by(k, s.angle))
         ux, uy = w.turned(k, s.u)
         kax, kay = w.world(k, s.a)
         ox, oy = w.turned(b, offset)
@@ -265,8 +298,9 @@ def _rrp(system, plan, joints, q0) -> Group | None:
         disc = w.let(f"{wu} * {wu} - ({wx} * {wx} + {wy} * {wy}) + {la2}")
         sval = w.let(f"-{wu} + {sg} * np.sqrt(np.maximum({disc}, 0.0))")
         pmx, pmy = w.let(f"{pax} + {wx} + {sval} * {ux}"), w.let(f"{pay} + {wy} + {sval} * {uy}")
-        alpha_a = w.const(_heading(la_vec))
-        w.set_angle(a, f"np.arctan2({pmy} - {pay}, {pmx} - {pax}) - {alpha_a}")
+        vx, vy = w.let(f"{pmx} - {pax}"), w.let(f"{pmy} - {pay}")
+        frame = w.heading(vx, vy, _heading(la_vec))
+        w.set_angle(a, f"np.arctan2({vy}, {vx}) - {w.const(_heading(la_vec))}", frame)
         w.place(a, pax, pay, _pin(ja, a))
         w.place(b, pmx, pmy, _pin(m, b))
         w.lines.append(f"    D[..., {g}] = {disc} / {la2}")
@@ -299,9 +333,14 @@ def _rpr(system, plan, joints, q0) -> Group | None:
         pbx, pby = w.world(ob, _pin(jb, ob))
         dx, dy = w.let(f"{pax} - {pbx}"), w.let(f"{pay} - {pby}")
         c = w.let(f"{w.const(k_const)} / np.hypot({dx}, {dy})")
-        arc = f"np.arccos(np.clip({c}, -1.0, 1.0))"
-        w.set_angle(b, f"np.arctan2({dy}, {dx}) - {w.const(nu_ang)} + {sg} * {arc}")
-        w.set_angle(a, f"t{w.index(b)} + {w.const(s.angle)}")
+        cc = w.let(f"np.clip({c}, -1.0, 1.0)")
+        ss = w.let(f"{sg} * np.sqrt((1.0 - {cc}) * (1.0 + {cc}))")  # sin(σ arccos c)
+        vx, vy = w.let(f"{dx} * {cc} - {dy} * {ss}"), w.let(f"{dy} * {cc} + {dx} * {ss}")
+        arc = f"{sg} * np.arccos({cc})"
+        w.set_angle(
+            b, f"np.arctan2({dy}, {dx}) - {w.const(nu_ang)} + {arc}", w.heading(vx, vy, nu_ang)
+        )
+        w.set_angle(a, f"t{w.index(b)} + {w.const(s.angle)}", w.turned_by(b, s.angle))
         w.place(b, pbx, pby, _pin(jb, b))
         w.place(a, pax, pay, _pin(ja, a))
         w.lines.append(f"    D[..., {g}] = 1.0 - {c} * {c}")

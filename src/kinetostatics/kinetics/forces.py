@@ -13,10 +13,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..base.geometry import rotate
+from ..base.geometry import rotate, turn
 from ..kinematics.state import local_point, point_state  # noqa: F401  (point_state: re-exported)
 from ..model import EffortLaw
-from ..structure.system import System, coordinate_gradient
+from ..structure.system import System, coordinate_gradient, kept_pose
 from .conditions import activity
 from .kinds import LOAD_KINDS, resisting_torque, resisting_torque_other, zero_speed
 
@@ -137,7 +137,8 @@ def external_forces(system: System, q, qd, psi, extremes, ref_speed: float) -> n
                 out[..., 3 * load.other + 2] -= load.couple
             continue
         force = load.force
-        arm = rotate(q[..., 3 * k + 2], load.point)
+        pose = kept_pose(system, q, k)
+        arm = rotate(q[..., 3 * k + 2], load.point) if pose is None else turn(pose, load.point)
         out[..., 3 * k : 3 * k + 2] += force
         out[..., 3 * k + 2] += arm[..., 0] * force[..., 1] - arm[..., 1] * force[..., 0]
     return out

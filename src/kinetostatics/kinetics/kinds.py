@@ -27,7 +27,7 @@ import numpy as np
 
 from ..kinematics.state import local_point, point_state
 from ..model import Condition, Load
-from ..structure.system import System
+from ..structure.system import System, kept_pose
 
 __all__ = [
     "ZERO_SPEED",
@@ -130,7 +130,8 @@ class _Resistance(LoadKind):
 
     def rate(self, system, load, q, qd, qdd=None):
         k = system.link_index(load.link)
-        _, vel, acc = point_state(q, qd, qdd, k, local_point(system, load.link, load.point))
+        p = local_point(system, load.link, load.point)
+        _, vel, acc = point_state(q, qd, qdd, k, p, kept_pose(system, q, k))
         return vel @ load.axis, None if acc is None else acc @ load.axis
 
     def zero(self, system, ref_speed):
@@ -262,7 +263,8 @@ class ConditionKind:
 
 def _point(system, cond, q, qd, qdd):
     k = system.link_index(cond.link)
-    return point_state(q, qd, qdd, k, local_point(system, cond.link, cond.point))
+    p = local_point(system, cond.link, cond.point)
+    return point_state(q, qd, qdd, k, p, kept_pose(system, q, k))
 
 
 class _Moving(ConditionKind):

@@ -211,15 +211,36 @@ def link_poses(system: System, q: np.ndarray) -> np.ndarray:
 
     The last state's are kept with the system: the stages of one analysis ask for the
     poses of the same q several times (Φ_q, γ, each effort's gradient).  The key is the
-    state's content (an exact comparison, far cheaper than the cosines), and the poses
-    kept are read-only, so a hit is the same numbers as a new computation."""
-    hit = system.memo.get("poses")
-    if hit is not None and hit[0].shape == q.shape and np.array_equal(hit[0], q):
-        return hit[1]
+    state's content (an exact comparison, far cheaper than the cosines; none where the
+    state is the very array kept and read-only, as an analysis's rows are), and the
+    poses kept are read-only, so a hit is the same numbers as a new computation."""
+    pe = _kept_poses(system, q)
+    if pe is not None:
+        return pe
     pe = poses(q, len(system.links))
     pe.flags.writeable = False
-    system.memo["poses"] = (np.array(q, dtype=float), pe)
+    system.memo["poses"] = (np.array(q, dtype=float), pe, q)
     return pe
+
+
+def _kept_poses(system: System, q: np.ndarray) -> np.ndarray | None:
+    """The poses kept with the system where they are ``q``'s (:func:`link_poses`)."""
+    hit = system.memo.get("poses")
+    if hit is None:
+        return None
+    if hit[2] is q and not q.flags.writeable:  # the same frozen rows: the same numbers
+        return hit[1]
+    if hit[0].shape == q.shape and np.array_equal(hit[0], q):
+        return hit[1]
+    return None
+
+
+def kept_pose(system: System, q: np.ndarray, k: int) -> np.ndarray | None:
+    """Link ``k``'s pose with its frame ``(..., 5)`` at ``q`` where the system keeps the
+    poses of that state (:func:`link_poses`), else None: a caller that needs one link's
+    frame at a state of its own evaluates it rather than the poses of every link."""
+    pe = _kept_poses(system, q)
+    return None if pe is None else pe[..., k, :]
 
 
 def _pose_pair(pe: np.ndarray, ends: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
