@@ -98,13 +98,15 @@ def plan_lines(name: str, n: int = 360, repeat: int = 400) -> dict[str, float]:
     r = ks.analyze(case(name, n).model, kinematics_only=True)
     system = r.system
     lines, env = plan.written(system)
+    at = next(k for k, line in enumerate(lines) if line.startswith("def run("))
+    inverses, lines = lines[:at], lines[at:]  # the blocks' inverses' functions, untimed
     body: list[str] = []  # the top-level statements (an if with its else is one)
     for line in lines[1:]:
         if body and (line.startswith("        ") or line.startswith("    else:")):
             body[-1] += "\n" + line
         else:
             body.append(line)
-    timed_src = [lines[0], "    _T = _clock()"]
+    timed_src = [*inverses, lines[0], "    _T = _clock()"]
     for k, line in enumerate(body):
         timed_src += [line, f"    _t = _clock(); ACC[{k}] += _t - _T; _T = _t"]
     env["ACC"], env["_clock"] = [0.0] * len(body), time.perf_counter
@@ -115,7 +117,8 @@ def plan_lines(name: str, n: int = 360, repeat: int = 400) -> dict[str, float]:
 
     def args():  # the arrays planned_derivatives makes for the plan to write into
         out = np.zeros((size, n)), np.empty((system.n_q, n)), np.empty((system.n_q, n))
-        return (pe, psi_d, psi_dd, *out, [np.zeros((m, m, n)) for m in k])
+        cnd = [np.empty(n) if g in plan.conditioned(system) else None for g in range(len(k))]
+        return (pe, psi_d, psi_dd, *out, [np.zeros((m, m, n)) for m in k], cnd)
 
     for _ in range(20):
         env["run"](*args())
@@ -131,7 +134,7 @@ def plan_lines(name: str, n: int = 360, repeat: int = 400) -> dict[str, float]:
             or line.lstrip().startswith("e")
             or line.lstrip().startswith(("buf[", "rows["))
             else "factorisation"
-            if "invert(" in line
+            if "invert(" in line or "INVERSE" in line
             else "rest"
         )
         out[kind] += t / repeat

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import kinetostatics as ks
-from kinetostatics.kinematics import plan
+from kinetostatics.kinematics import plan, plan_inverse
 from kinetostatics.kinematics.derivatives import derivatives
 from kinetostatics.kinematics.plan import (
     covers,
@@ -24,6 +24,7 @@ from kinetostatics.kinematics.plan import (
     planned_derivatives,
     planned_phi,
 )
+from kinetostatics.kinematics.plan_solve import TRACED_FROM
 from kinetostatics.structure.evaluation import STACK_UP_TO
 from kinetostatics.structure.system import build_system, phi
 from tests.net import generate as gen
@@ -173,6 +174,49 @@ def test_a_long_run_is_planned_and_equals_the_general_path(name, n):
     assert _worst(general, planned) <= 1e-12
 
 
+class _CountingNumpy:
+    """NumPy for a plan's text, counting its ``einsum`` calls (the products over blocks)."""
+
+    def __init__(self):
+        self.products = 0
+
+    def __getattr__(self, name):
+        return getattr(np, name)
+
+    def einsum(self, *a, **k):
+        self.products += 1
+        return np.einsum(*a, **k)
+
+
+@pytest.mark.parametrize("name", ["slider_crank", "slotting_machine", "stephenson_sixbar"])
+def test_long_chunks_solve_by_lines_over_the_blocks_nonzero_entries(name, monkeypatch):
+    """A chunk of TRACED_FROM rows or more solves q̇ and q̈ by lines written over the
+    inverses' and coupling blocks' entries that are not zero (no product over whole
+    blocks), unless a block of the chunk was inverted again (a fallback's inverse has
+    no known zeros: then the products); every way gives the general path's columns."""
+    model = ks.load(f"mechanisms/{name}.yaml")
+    for n in (TRACED_FROM - 1, TRACED_FROM, 3 * TRACED_FROM):
+        angles = model.analysis.start + np.linspace(0.0, 2 * np.pi, n, endpoint=False)
+        general = _analyse(model, False, positions=angles, kinematics_only=True)
+        general.system.memo.pop("kinematic plan", None)
+        planned = _analyse(model, True, positions=angles, kinematics_only=True)
+        assert _worst(general, planned) <= 1e-12
+    counting = _CountingNumpy()
+    monkeypatch.setattr(plan, "np", counting)  # the plans written from here on count
+    monkeypatch.setitem(plan_inverse._SCOPE, "np", counting)
+    real = plan_inverse.again_where_not_finite
+    for forced in (False, True):
+        if forced:  # every block "inverted again" (the same numbers)
+            stub = lambda *a: real(*a) if real(*a) is not None else np.ones(len(a[0]), bool)  # noqa: E731
+            monkeypatch.setitem(plan_inverse._SCOPE, "again_where_not_finite", stub)
+        model = ks.load(f"mechanisms/{name}.yaml")  # a new system: a new plan
+        for _ in range(2):  # made once 5,000 rows were analysed (PLAN_AFTER)
+            counting.products = 0
+            got = _analyse(model, True, positions=angles, kinematics_only=True)
+        assert "kinematic plan" in got.system.memo and _worst(general, got) <= 1e-12
+        assert (counting.products > 0) == forced, counting.products
+
+
 def test_a_stack_without_whole_array_kernels_keeps_long_runs_general(monkeypatch):
     """A joint type that stacks but whose kernels do not run over whole arrays would be
     called as one stack by the plan: over STACK_UP_TO positions the general path takes it
@@ -193,7 +237,7 @@ def test_plan_is_readable_source_kept_with_the_system():
     system = build_system(ks.load("mechanisms/slider_crank.yaml"))
     p = kinematic_plan(system)
     assert p is kinematic_plan(system)  # generated once
-    inverses, run = p.source.split("def run(pe, psi_d, psi_dd, buf, qdT, qddT, INV):\n")
+    inverses, run = p.source.split("def run(pe, psi_d, psi_dd, buf, qdT, qddT, INV, CND):\n")
     assert inverses.startswith("def INVERSE0(view, out, buf")  # the blocks' written inverses
     assert ".jacobian(" in run and ".acceleration_rhs(" in run
     assert len(run.splitlines()) < 20 * (len(system.sets) + len(system.plans)) + 20

@@ -11,9 +11,11 @@ import numpy as np
 import pytest
 
 import kinetostatics as ks
+from kinetostatics.base.arrays import entries_first
 from kinetostatics.base.linalg import small_inverse
 from kinetostatics.base.trace import Lines
 from kinetostatics.kinematics import plan
+from kinetostatics.kinematics.newton import block_condition
 from kinetostatics.kinematics.plan_inverse import RUNTIME, inverse_line
 from kinetostatics.structure.system import system_of
 
@@ -32,7 +34,7 @@ def _same(a: np.ndarray, b: np.ndarray) -> bool:
     return bool(np.all(err <= 1e-13 * scale))
 
 
-def _written(m: list[list], first: np.ndarray):
+def _written(m: list[list], first: np.ndarray, l_ref: float | None = None):
     """The function inverse_line writes for the block ``m`` (its leaves the locals
     ``e<k>`` of the entries marked "x", RUNTIME read from the buffer), and a caller:
     ``call(stack (N, n, n)) -> inverses (N, n, n)``."""
@@ -40,7 +42,8 @@ def _written(m: list[list], first: np.ndarray):
     names = iter(range(99))
     block = [[outer.value(f"X{next(names)}") if x == "x" else x for x in row] for row in m]
     n = len(m)
-    call, source = inverse_line(env, 0, (0, n, n), "VIEW", block, first)
+    written = inverse_line(env, 0, (0, n, n), "VIEW", block, first, l_ref)
+    call, source = written.call, written.source
     exec("\n".join(source), env)  # noqa: S102  the test's own generated text
     args = re.findall(r"\be\d+\b", call)
     where = {
@@ -54,7 +57,10 @@ def _written(m: list[list], first: np.ndarray):
         view = np.ascontiguousarray(stack.transpose(1, 2, 0)).transpose(2, 0, 1)
         buf = np.ascontiguousarray(stack.reshape(len(stack), -1).T)  # entry (i, j) at i·n + j
         out = np.zeros((n, n, len(stack)))
-        env["INVERSE0"](view, out, buf, *[view[:, i, j] for i, j in map(where.get, args)])
+        leaves = [view[:, i, j] for i, j in map(where.get, args)]
+        run.cnd = np.full(len(stack), -1.0)  # written with the inverse, given l_ref
+        cnd = [] if l_ref is None else [run.cnd]
+        run.redone = env["INVERSE0"](view, out, buf, *cnd, *leaves)  # inverted again anywhere
         return out.transpose(2, 0, 1)
 
     return run
@@ -86,15 +92,38 @@ def test_a_dyad_s_block_is_inverted_as_small_inverse_inverts_it():
     than the elimination pays for (both then small_inverse's own call)."""
     stack = _dyads(400, 1)
     run = _written(DYAD, stack[0])
+    alike = np.repeat(stack[:1], 400, axis=0)  # the matrix that chose the row order
+    assert _same(run(alike), small_inverse(alike)) and run.redone is False
     stack[7, 4, 3], stack[7, 4, 4] = 1e-9, 1e-9  # a pivot ~0 beside larger entries
     stack[11, 2, 5] = np.nan
     stack[13, 3, 2], stack[13, 1, 2] = 0.0, 0.0  # singular: column 2 with row 5's alone
     stack[13, 5, 2] = 0.0
     assert _same(run(stack), small_inverse(stack))
+    assert run.redone is True  # the plan's substitutions then take the whole blocks
     other = _dyads(400, 2)
     other[0] = other[0][[1, 0, 2, 3, 4, 5]][:, [0, 1, 2, 3, 4, 5]]  # another first order
     assert _same(run(other), small_inverse(other))
     assert _same(run(stack[:12]), small_inverse(stack[:12]))  # LAPACK below 32 matrices
+
+
+@pytest.mark.parametrize("n", [400, 12])
+def test_the_condition_numbers_written_with_an_inverse_are_condition_number_s(n):
+    """With L_ref the written inverse also gives each block's condition number, traced
+    from the same entries — condition_number's numbers (1e-12 of each), ∞ where it gives
+    ∞ — at the matrices inverted again too (a pivot ~0, a NaN entry, an exactly singular
+    block) and where the whole call is small_inverse's (fewer matrices than pay)."""
+    stack = _dyads(400, 4)[:n]
+    stack[7, 4, 3], stack[7, 4, 4] = 1e-9, 1e-9
+    stack[11, 2, 5] = np.nan
+    stack[10, 3, 2], stack[10, 1, 2], stack[10, 5, 2] = 0.0, 0.0, 0.0
+    run = _written(DYAD, _dyads(400, 4)[0], l_ref=0.35)
+    inv = run(stack)
+    want = block_condition(entries_first(stack), entries_first(inv), 0.35)
+    assert _same(inv, small_inverse(stack)) and run.redone is True
+    assert np.array_equal(np.isfinite(run.cnd), np.isfinite(want))
+    ok = np.isfinite(want)
+    assert np.all(np.abs(run.cnd[ok] - want[ok]) <= 1e-12 * want[ok])
+    assert (run.cnd >= 1.0).all()  # none left unwritten
 
 
 def test_a_three_by_three_block_is_the_adjugate_with_singular_matrices_pseudo_inverted():
@@ -108,8 +137,8 @@ def test_a_three_by_three_block_is_the_adjugate_with_singular_matrices_pseudo_in
     stack[5, 2, 2] = 0.0
     stack[7, 1, 2] = np.nan  # NaN through every entry the adjugate divides by its det
     run = _written(m, None)
-    assert _same(run(stack), small_inverse(stack))
-    assert _same(run(stack[:3]), small_inverse(stack[:3]))
+    assert _same(run(stack), small_inverse(stack)) and run.redone is True
+    assert _same(run(stack[:3]), small_inverse(stack[:3])) and run.redone is False
 
 
 @pytest.mark.parametrize(

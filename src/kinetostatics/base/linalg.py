@@ -276,20 +276,28 @@ def _sparse_gauss_jordan(m: np.ndarray, plan: _Plan, entries=None) -> np.ndarray
     return out
 
 
-def lapack_where_pivots_fail(m: np.ndarray, out: np.ndarray, worst: np.ndarray) -> None:
+def lapack_where_pivots_fail(
+    m: np.ndarray, out: np.ndarray, worst: np.ndarray
+) -> np.ndarray | None:
     """The matrices ``m (n, n, N)`` (entry-major) whose elimination's pivot check ``worst``
-    is above 1 / :data:`PIVOT_RATIO` (or NaN) inverted again by LAPACK, into ``out``."""
+    is above 1 / :data:`PIVOT_RATIO` (or NaN) inverted again by LAPACK, into ``out``;
+    returns where (None: nowhere)."""
     bad = ~(worst <= 1.0 / PIVOT_RATIO)
     if bad.any():
         out[:, :, bad] = entries_first(_lapack_inverse(entries_last(m[:, :, bad])))
+        return bad
+    return None
 
 
-def pinv_where_singular(a: np.ndarray, inv: np.ndarray, det: np.ndarray) -> None:
+def pinv_where_singular(a: np.ndarray, inv: np.ndarray, det: np.ndarray) -> np.ndarray | None:
     """The pseudo-inverse of each exactly singular matrix of ``a (..., n, n)`` (finite
-    entries, determinant ``det`` zero) into ``inv (..., n, n)``."""
+    entries, determinant ``det`` zero) into ``inv (..., n, n)``; returns where (None:
+    nowhere)."""
     singular = (det == 0) & np.all(np.isfinite(a), axis=(-2, -1))
     if singular.any():
         inv[singular] = np.linalg.pinv(a[singular])
+        return singular
+    return None
 
 
 def eliminates(a: np.ndarray, pattern: np.ndarray, order: tuple[int, ...]) -> bool:

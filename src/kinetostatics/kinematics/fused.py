@@ -41,6 +41,7 @@ from ..base.linalg import PIVOT_RATIO, traced_inverse
 from ..base.trace import Leaves, Lines, Sym, larger, magnitude, operand, pruned, traced_kernel
 from ..structure.evaluation import jacobian_blocks_all
 from ..structure.system import System
+from .newton import traced_condition
 
 __all__ = ["FusedPlan", "fused_plan", "fused_derivatives"]
 
@@ -168,7 +169,7 @@ def _generate(system: System, pe: np.ndarray) -> FusedPlan:
     for g, ((off, r, c), p) in enumerate(zip(layout.diag, system.plans)):
         if p.group.kind != "driven":  # as the analysis asks for them (analysis/pipeline.py)
             m = [[slots.get(off + i * c + j, 0.0) for j in range(c)] for i in range(r)]
-            _emit(body, lines, {at: _condition(lines, m, inv[g], float(system.l_ref))})
+            _emit(body, lines, {at: traced_condition(lines, m, inv[g], float(system.l_ref))})
             conditions.append((g, at))
             at += 1
     qd = _substitution(system, slots, inv, lambda g, a, row: _nu(system, lines, row))
@@ -226,42 +227,6 @@ def _check(lines: Lines, test: tuple) -> None:
         lines.lines.append(f"    check {value.name} {line}")
     elif not ok(value):
         raise _NotFused
-
-
-def _condition(lines: Lines, m: list, inv: list, l_ref: float):
-    """‖S‖_F ‖S⁻¹‖_F of a group's block ``m`` and its inverse ``inv`` (traced values) with
-    the operations of :func:`~kinetostatics.kinematics.newton.condition_number` in its
-    order: a_ij = |J_ij c_j|, each row's largest m_i (1 for a zero row), ‖S‖² = Σ_i (Σ_j
-    a_ij²) / m_i², ‖S⁻¹‖² = Σ_i (Σ_j (J⁻¹_ij m_j)²) / c_i², ∞ where not finite."""
-    k = len(m)
-    col = [1.0 if j % 3 == 2 else l_ref for j in range(k)]
-    a = [[magnitude(lines, m[i][j] * col[j]) for j in range(k)] for i in range(k)]
-    norm = []
-    for row in a:
-        top = row[0]
-        for x in row[1:]:
-            top = larger(lines, top, x)
-        norm.append(_unary(lines, "positive_or_one", top, lambda x: x if x > 0 else 1.0))
-    a_sq = [_sum(x * x for x in row) for row in a]
-    inv_sq = [
-        _sum((inv[i][j] * norm[j]) * (inv[i][j] * norm[j]) for j in range(k)) for i in range(k)
-    ]
-    first = _sum(a_sq[i] / (norm[i] * norm[i]) for i in range(k))
-    second = _sum(inv_sq[i] / (col[i] * col[i]) for i in range(k))
-    c = _unary(lines, "sqrt", first, np.sqrt) * _unary(lines, "sqrt", second, np.sqrt)
-    return _unary(lines, "finite_or_inf", c, lambda x: x if abs(x) < np.inf else np.inf)
-
-
-def _sum(terms):
-    """Σ of traced terms in order, from the first (as ``einsum`` and ``np.sum`` add)."""
-    acc = 0.0
-    for t in terms:
-        acc = acc + t
-    return acc
-
-
-def _unary(lines: Lines, name: str, x, of_number):
-    return lines.value(f"{name}({x.name})") if isinstance(x, Sym) else float(of_number(x))
 
 
 def _nu(system: System, lines: Lines, row: int):

@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..base.arrays import entries_first
+from ..base.trace import Lines, Sym, larger, magnitude
 from ..structure.system import GroupPlan, System, jacobian, phi
 
 __all__ = [
@@ -21,6 +22,8 @@ __all__ = [
     "DISC_TOL",
     "SINGULAR_COND",
     "condition_number",
+    "block_condition",
+    "traced_condition",
     "group_condition",
     "group_signature",
     "group_newton",
@@ -98,6 +101,62 @@ def _condition(j_t: np.ndarray, inv_t: np.ndarray, col: np.ndarray) -> np.ndarra
             np.sum(inv_sq / (col * col), axis=0)
         )  # each norm on its own: their product overflows only past the largest float
     return np.where(np.isfinite(c), c, np.inf)
+
+
+def block_condition(j_t: np.ndarray, inv_t: np.ndarray, l_ref: float) -> np.ndarray:
+    """:func:`condition_number` of one model's blocks ``j_t`` and their inverses ``inv_t``
+    ``(k, k, n)`` (entry-major), the group's columns taken in order (x, y, θ per link)."""
+    col = np.where(np.arange(len(j_t)) % 3 == 2, 1.0, l_ref).reshape(-1, 1)
+    return _condition(j_t, inv_t, col)
+
+
+def traced_condition(lines: Lines, m: list, inv: list, l_ref: float, arrays: bool = False):
+    """:func:`condition_number` of a group's block ``m`` and its inverse ``inv`` (traced
+    values: :mod:`~kinetostatics.base.trace`) with the operations of :func:`_condition` in
+    its order: a_ij = |J_ij c_j|, each row's largest m_i (1 for a zero row), ‖S‖² = Σ_i
+    (Σ_j a_ij²) / m_i², ‖S⁻¹‖² = Σ_i (Σ_j (J⁻¹_ij m_j)²) / c_i², ∞ where not finite — a
+    number folded where the entries are.  Written for a program of scalars
+    (base/program.py), or over whole arrays (``arrays``: ``np.abs`` and ``np.maximum``;
+    ``sqrt``, ``positive_or_one`` and ``finite_or_inf`` are then the caller's names for
+    :data:`WHOLE_ARRAY_NAMES`)."""
+    fabs, fmax = ("np.abs", "np.maximum") if arrays else ("abs", "max")
+    k = len(m)
+    col = [1.0 if j % 3 == 2 else l_ref for j in range(k)]
+    a = [[magnitude(lines, m[i][j] * col[j], fabs) for j in range(k)] for i in range(k)]
+    norm = []
+    for row in a:  # a zero beside magnitudes changes no maximum (nor a NaN)
+        top, *rest = [x for x in row if isinstance(x, Sym) or x != 0.0] or [0.0]
+        for x in rest:
+            top = larger(lines, top, x, fmax)
+        norm.append(_unary(lines, "positive_or_one", top, lambda x: x if x > 0 else 1.0))
+    a_sq = [_sum(x * x for x in row) for row in a]
+    inv_sq = [
+        _sum((inv[i][j] * norm[j]) * (inv[i][j] * norm[j]) for j in range(k)) for i in range(k)
+    ]
+    first = _sum(a_sq[i] / (norm[i] * norm[i]) for i in range(k))
+    second = _sum(inv_sq[i] / (col[i] * col[i]) for i in range(k))
+    c = _unary(lines, "sqrt", first, np.sqrt) * _unary(lines, "sqrt", second, np.sqrt)
+    return _unary(lines, "finite_or_inf", c, lambda x: x if abs(x) < np.inf else np.inf)
+
+
+WHOLE_ARRAY_NAMES = {
+    "sqrt": np.sqrt,
+    "positive_or_one": lambda x: np.where(x > 0, x, 1.0),
+    "finite_or_inf": lambda x: np.where(np.isfinite(x), x, np.inf),
+}
+"""The functions :func:`traced_condition`'s lines call over whole arrays, by name."""
+
+
+def _sum(terms):
+    """Σ of traced terms in order, from the first (as ``einsum`` and ``np.sum`` add)."""
+    acc = 0.0
+    for t in terms:
+        acc = acc + t
+    return acc
+
+
+def _unary(lines: Lines, name: str, x, of_number):
+    return lines.value(f"{name}({x.name})") if isinstance(x, Sym) else float(of_number(x))
 
 
 def group_condition(system: System, q: np.ndarray, plan: GroupPlan) -> np.ndarray:

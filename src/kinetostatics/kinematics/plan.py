@@ -50,7 +50,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..base import kernels
-from ..base.arrays import as_run, entries_last
+from ..base.arrays import entries_last
 from ..base.blocks import BlockFactor
 from ..base.geometry import poses
 from ..base.linalg import small_inverse
@@ -60,8 +60,9 @@ from ..structure.evaluation import STACK_UP_TO, jacobian_blocks_all
 from ..structure.system import System, link_poses, phi
 from .derivatives import derivatives
 from .fused import fused_derivatives
-from .plan_inverse import RUNTIME, entry, inverse_line
+from .plan_inverse import RUNTIME, condition_into, entry, inverse_line
 from .plan_params import flat, parameter_pattern, topology, unflat, whole_array
+from .plan_solve import TRACED_FROM, Written, either, index, substitution, traced_substitution
 
 __all__ = [
     "KinematicPlan",
@@ -180,8 +181,11 @@ def planned_derivatives(
         qdT, qddT = np.empty((system.n_q, n)), np.empty((system.n_q, n))
         inv = [np.zeros((len(p.cols), len(p.cols), n)) for p in system.plans]
         into = (buf, qdT, qddT)
-        if plan.table is None:
-            _run_in_chunks(plan.run, layout.size + 1, (pe, psi_d, psi_dd), into, inv)
+        if plan.table is None:  # with the groups' condition numbers
+            asked = conditioned(system)
+            cnd = [np.empty(n) if g in asked else None for g in range(len(inv))]
+            _run_in_chunks(plan.run, layout.size + 1, (pe, psi_d, psi_dd), into, inv, cnd)
+            conditions = {g: c for g, c in enumerate(cnd) if c is not None}
         else:  # a stacked model's variants, their rows one after the other
             rows = (np.reshape(x, (n,) + x.shape[len(shape) :]) for x in (pe, psi_d, psi_dd))
             plan.run(*rows, *into, inv, np.repeat(plan.table, shape[1], axis=1), shape)
@@ -211,17 +215,25 @@ def derivatives_at(
     return derivatives(system, q, psi_d, psi_dd) if planned is None else planned
 
 
-def _run_in_chunks(run, entries: int, rows: tuple, into: tuple, inv: list) -> None:
-    """The plan's ``run`` over the rows ``(pe, psi_d, psi_dd)`` into ``(buf, qdT, qddT)``
-    and the inverses ``inv``, in chunks of :data:`CHUNK_BYTES` of Φ_q's ``entries``."""
+def _run_in_chunks(  # noqa: PLR0913  the plan's arguments
+    run, entries: int, rows: tuple, into: tuple, inv: list, cnd: list
+) -> None:
+    """The plan's ``run`` over the rows ``(pe, psi_d, psi_dd)`` into ``(buf, qdT, qddT)``,
+    the inverses ``inv`` and the condition numbers ``cnd`` (None: a group without), in
+    chunks of :data:`CHUNK_BYTES` of Φ_q's ``entries``."""
     n = len(rows[0])
     per = min(max(CHUNK_BYTES // (8 * entries), 1024), 8192)
     if n <= per:
-        run(*rows, *into, inv)
+        run(*rows, *into, inv, cnd)
         return
     cuts = np.linspace(0, n, -(-n // per) + 1).astype(int)  # alike, none tiny
     for a, b in zip(cuts[:-1].tolist(), cuts[1:].tolist()):
-        run(*(x[a:b] for x in rows), *(x[:, a:b] for x in into), [x[..., a:b] for x in inv])
+        run(
+            *(x[a:b] for x in rows),
+            *(x[:, a:b] for x in into),
+            [x[..., a:b] for x in inv],
+            [None if x is None else x[a:b] for x in cnd],
+        )
 
 
 def _block(buf: np.ndarray, at, shape: tuple) -> np.ndarray:
@@ -342,7 +354,7 @@ def written(system: System, pattern: tuple | None = None) -> tuple[list[str], di
     other (``run`` then also takes the table of the parameters that differ, ``PA``, and
     ``shape`` = (V, N))."""
     env: dict = {"np": np, "invert": small_inverse, "unflat": unflat, "flat": flat}
-    extra = "" if pattern is None else ", PA, shape"
+    extra = ", CND" if pattern is None else ", PA, shape"
     lines = [
         f"def run(pe, psi_d, psi_dd, buf, qdT, qddT, INV{extra}):",
         "    n = pe.shape[0]",
@@ -350,9 +362,11 @@ def written(system: System, pattern: tuple | None = None) -> tuple[list[str], di
     ]
     traced, inverses = Lines(), []
     params = _params(system, pattern, traced, env)
-    _blocks(system, env, lines, traced, inverses, params)
-    _rates_of(system, env, lines)
-    _accelerations(system, env, lines, params, traced)
+    written = _blocks(system, env, lines, traced, inverses, params)
+    if pattern is not None:  # a stacked model's: the whole-array substitutions alone
+        written = None
+    _rates_of(system, env, lines, written)
+    _accelerations(system, env, lines, params, traced, written)
     return inverses + pruned(lines), env
 
 
@@ -377,7 +391,7 @@ def _params(system: System, pattern: tuple | None, traced: Lines, env: dict) -> 
 
 def _blocks(  # noqa: PLR0913  the generator's state, passed down
     system: System, env: dict, lines: list[str], traced: Lines, inverses: list[str], params: list
-) -> None:
+) -> Written | None:
     """Φ_q's entries into ``buf`` (the caller's zeros), the diagonal blocks' inverses into
     ``INV`` (entry-major, each group's ``(k, k, n)``; written out by :mod:`.plan_inverse`,
     their functions' text into ``inverses``, where it can), the coupling blocks ``LT<g>``
@@ -408,20 +422,43 @@ def _blocks(  # noqa: PLR0913  the generator's state, passed down
                         w.append((op, value))
         lines += traced.take()
     first = None if "STACKED" in env else _start_blocks(system)  # shared: no one's pose
+    lines.append("    redone = False")
+    patterns = []
     for g, (d, lo) in enumerate(zip(layout.diag, layout.lower)):
         off, r, c = d
         m = [[entry(writes.get(off + i * c + j)) for j in range(c)] for i in range(r)]
-        inverse = inverse_line(env, g, d, _view(d), m, None if first is None else first[g])
+        l_ref = _condition_scale(system, g, env)
+        inverse = inverse_line(env, g, d, _view(d), m, None if first is None else first[g], l_ref)
         if inverse is None:
-            lines.append(f"    invert({_view(d)}, INV[{g}])")
+            lines += [f"    invert({_view(d)}, INV[{g}])", "    redone = True"]
+            if l_ref is not None:
+                lines.append(f"    condition_into(CND[{g}], {_view(d)}, INV[{g}], {l_ref!r})")
         else:
-            lines.append(inverse[0])
-            inverses += inverse[1]
+            lines.append(f"    redone = {inverse.call} or redone")
+            inverses += inverse.source
+        patterns.append(None if inverse is None else inverse.pattern)
         if lo is not None:
             off, r, c = lo
             lines.append(f"    LT{g} = buf[{off}:{off + r * c}].reshape({r}, {c}, n)")
         env[f"DONE{g}"], env[f"ROWS{g}"] = layout.lower_cols[g], system.plans[g].rows
         env[f"COLS{g}"] = system.plans[g].cols
+    env["TRACED_FROM"] = TRACED_FROM
+    return None if any(p is None for p in patterns) else Written(patterns, writes)
+
+
+def conditioned(system: System) -> list[int]:
+    """The groups whose condition numbers the analysis reads (analysis/pipeline.py): all
+    but the driven ones."""
+    return [g for g, p in enumerate(system.plans) if p.group.kind != "driven"]
+
+
+def _condition_scale(system: System, g: int, env: dict) -> float | None:
+    """L_ref where the plan writes group ``g``'s condition number with its inverse (one
+    model's plan, a group of :func:`conditioned`), else None."""
+    if "STACKED" in env or g not in conditioned(system):
+        return None
+    env["condition_into"] = condition_into
+    return float(system.l_ref)
 
 
 def _start_blocks(system: System) -> list[np.ndarray] | None:
@@ -480,53 +517,30 @@ def _contract_gamma(env: dict, k: int, s) -> list[str]:
     return _pair(env, k, s, "ve", ("vi", "vj")) + [f"    gam[:, R{k}] = {value}"]
 
 
-def _index(name: str, at: np.ndarray) -> str:
-    """The text indexing the rows ``at`` (kept in the plan's names as ``name``): a slice
-    where they run in order (a view: no gather, and a product can write into it)."""
-    run = as_run(at)
-    return f"{run.start}:{run.stop}" if isinstance(run, slice) else name
-
-
-def _substitution(system: System, x: str, rhs_of) -> list[str]:
-    """``x`` by forward substitution over the groups, group g's right-hand side
-    ``rhs_of(g)`` (as :meth:`BlockFactor.solve` runs it), every vector stored
-    component-major (``(k, n)``: each component one contiguous run over the positions, as
-    the blocks' inverses are; a product over them runs ~2.5–3.5× faster than over
-    position-major vectors at 360 and 36,000 positions), into the caller's ``<x>T``."""
-    layout = system.layout
-    assert layout is not None
-    lines = []
-    for g, p in enumerate(system.plans):
-        rhs = rhs_of(g)  # None: zero
-        if layout.lower[g] is not None:
-            done = _index(f"DONE{g}", layout.lower_cols[g])
-            rhs = f"{rhs or ''} - np.einsum('ijn,jn->in', LT{g}, {x}T[{done}])".lstrip()
-        elif rhs is None:
-            rhs = f"np.zeros(({len(p.rows)}, n))"
-        cols, inv = _index(f"COLS{g}", p.cols), f"INV[{g}]"
-        if ":" in cols:
-            lines.append(f"    np.einsum('ijn,jn->in', {inv}, {rhs}, out={x}T[{cols}])")
-        else:
-            lines.append(f"    {x}T[{cols}] = np.einsum('ijn,jn->in', {inv}, {rhs})")
-    return lines
-
-
-def _rates_of(system: System, env: dict, lines: list[str]) -> None:
+def _rates_of(system: System, env: dict, lines: list[str], written: Written | None) -> None:
     """q̇ from ν = −Φ_t (zero on the joints' rows, ψ̇ on the drivers'), gathered per group
     as :meth:`BlockFactor.solve` gathers it (a group with no driver's row: its coupling
     term alone, negated)."""
-    lines.append(f"    nu = np.zeros(({system.n_rows}, n))")
-    lines.append(f"    nu[{system.n_joint_rows}:] = psi_d.T")
+    dense = [
+        f"    nu = np.zeros(({system.n_rows}, n))",
+        f"    nu[{system.n_joint_rows}:] = psi_d.T",
+    ]
 
     def rhs(g):  # a group without a driver's row: ν = 0 on its rows
         at = system.plans[g].rows
-        return f"nu[{_index(f'ROWS{g}', at)}]" if np.any(at >= system.n_joint_rows) else None
+        return f"nu[{index(f'ROWS{g}', at)}]" if np.any(at >= system.n_joint_rows) else None
 
-    lines += _substitution(system, "qd", rhs)
+    def row(sub: Lines, r: int):
+        d = r - system.n_joint_rows
+        return sub.value(f"psi_d[:, {d}]") if d >= 0 else 0.0
+
+    dense += substitution(system, "qd", rhs)
+    traced = None if written is None else traced_substitution(system, "qd", row, written)
+    lines += either(dense, traced)
 
 
-def _accelerations(
-    system: System, env: dict, lines: list[str], params: list, traced: Lines
+def _accelerations(  # noqa: PLR0913  the generator's state, passed down
+    system: System, env: dict, lines: list[str], params: list, traced: Lines, written
 ) -> None:
     """γ from the poses and the links' rates (stored component-major as the poses are, the
     ground's zeros last), then q̈."""
@@ -544,6 +558,11 @@ def _accelerations(
             continue
         kernel = type(s.constraint).gamma_kernel
         lines += _traced_rows(traced, s, kernel, params[k], poses, rates, s.ends)
-    lines += _substitution(
-        system, "qdd", lambda g: f"rows[{_index(f'ROWS{g}', system.plans[g].rows)}]"
+    dense = substitution(
+        system, "qdd", lambda g: f"rows[{index(f'ROWS{g}', system.plans[g].rows)}]"
     )
+    traced_rows = None
+    if written is not None:
+        row = lambda sub, r: sub.value(f"rows[{r}]")  # noqa: E731
+        traced_rows = traced_substitution(system, "qdd", row, written)
+    lines += either(dense, traced_rows)

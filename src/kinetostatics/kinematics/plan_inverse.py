@@ -20,14 +20,16 @@ folded zero would not carry; tests/kinematics/test_plan_inverse.py compares them
 from __future__ import annotations
 
 import numbers
+from dataclasses import dataclass
 
 import numpy as np
 
 from ..base import linalg
 from ..base.arrays import entries_first
 from ..base.trace import Lines, Sym, larger, magnitude, operand
+from .newton import WHOLE_ARRAY_NAMES, block_condition, traced_condition
 
-__all__ = ["RUNTIME", "entry", "inverse_line"]
+__all__ = ["RUNTIME", "WrittenInverse", "entry", "inverse_line"]
 
 RUNTIME = "runtime"
 """An entry of Φ_q's buffer the plan knows only when it runs (a set evaluated through the
@@ -53,34 +55,49 @@ def entry(writes: list[tuple[str, object]] | str | None) -> object:
     return value
 
 
-def inverse_line(
-    env: dict, g: int, at: tuple[int, int, int], view: str, m: list[list], first
-) -> tuple[str, list[str]] | None:
-    """The plan's line inverting group ``g``'s diagonal block (at ``at`` = (offset, rows,
-    columns) of ``buf``, ``view`` the text of its ``(n, r, c)`` view) into ``INV[g]``, and
-    the source of the function ``INVERSE<g>`` it calls (the names it reads put into
-    ``env``), its entries ``m`` (numbers, the plan's locals, :data:`RUNTIME`), ``first``
-    the numbers of a block of its kind (the start pose's: the row order of an
-    elimination); None where it cannot be written (a block larger than 3×3 without
-    ``first``, or a test on numbers alone fails: then ``small_inverse`` at every call)."""
+@dataclass(frozen=True)
+class WrittenInverse:
+    """A group block's written inverse: the plan's ``call`` (it returns True where a
+    matrix of the call was inverted again, by ``small_inverse``, LAPACK or the
+    pseudo-inverse: then ``INV[g]`` may differ from ``pattern`` anywhere), the ``source``
+    of ``INVERSE<g>``, and the inverse's entries as written (``pattern[i][j]``: a number,
+    or None for an array read from ``INV[g]``)."""
+
+    call: str
+    source: list[str]
+    pattern: list[list[float | None]]
+
+
+def inverse_line(  # noqa: PLR0913  the block, where it is, and what is written of it
+    env: dict,
+    g: int,
+    at: tuple[int, int, int],
+    view: str,
+    m: list[list],
+    first,
+    l_ref: float | None = None,
+) -> WrittenInverse | None:
+    """Group ``g``'s diagonal block (at ``at`` = (offset, rows, columns) of ``buf``,
+    ``view`` the text of its ``(n, r, c)`` view) inverted into ``INV[g]`` by a function
+    ``INVERSE<g>`` (the names it reads put into ``env``), its entries ``m`` (numbers, the
+    plan's locals, :data:`RUNTIME`), ``first`` the numbers of a block of its kind (the
+    start pose's: the row order of an elimination); None where it cannot be written (a
+    block larger than 3×3 without ``first``, or a test on numbers alone fails: then
+    ``small_inverse`` at every call).  With ``l_ref`` (one model's L_ref) the function
+    also writes the block's condition number into ``CND[g]``
+    (:func:`~.newton.condition_number`): traced from the same entries, the zeros and
+    numbers folded, and as ``condition_number`` computes it from the inverse written at
+    the matrices inverted again (:func:`recondition`)."""
     n = len(m)
     if first is None:
         if n > 3:
             return None
         first = np.zeros((n, n))  # the adjugate has no row order
-    off, _, c = at
     inner = Lines("v")
     reads: dict[str, None] = {}  # the plan's locals the function takes, in order
-
-    def leaf(i: int, j: int, x):
-        if isinstance(x, Sym):
-            reads[x.name] = None
-            return inner.value(x.name)
-        if x == RUNTIME:
-            return inner.value(f"buf[{off + i * c + j}]")
-        return float(x)
-
-    block = [[leaf(i, j, x) for j, x in enumerate(row)] for i, row in enumerate(m)]
+    block = [
+        [_leaf(inner, reads, at, i, j, x) for j, x in enumerate(row)] for i, row in enumerate(m)
+    ]
     checks: list[tuple] = []
     inv = linalg.traced_inverse(block, first, checks.append)
     if inv is None:
@@ -89,33 +106,89 @@ def inverse_line(
     fallback = _fallback(inner, checks)
     if fallback is None:
         return None
-    body += inner.take()
-    body += [
+    body += inner.take() + [
         f"    out[{i}, {j}] = {operand(v)}"
         for i, row in enumerate(inv)
         for j, v in enumerate(row)
         if isinstance(v, Sym) or v != 0.0
     ]
-    body += fallback
+    if l_ref is not None:
+        cond = traced_condition(inner, block, inv, l_ref, arrays=True)
+        body += inner.take() + [f"    cnd[...] = {operand(cond)}"]
+    body += fallback + _again(block, l_ref)
+    env.update(_SCOPE)
+    head = _head(env, g, block, first, l_ref, list(reads))
+    cnd = [f"CND[{g}]"] if l_ref is not None else []
+    call = f"INVERSE{g}({', '.join([view, f'INV[{g}]', 'buf', *cnd, *reads])})"
+    source = [*head, "    with np.errstate(all='ignore'):", *_indented(body)]
+    pattern = [[None if isinstance(v, Sym) else float(v) for v in row] for row in inv]
+    return WrittenInverse(
+        call, [*source, "    return any(x is not None for x in redo)", ""], pattern
+    )
+
+
+def _leaf(inner: Lines, reads: dict, at: tuple, i: int, j: int, x):
+    """Entry (i, j) of the block at ``at`` in the function: a plan's local it takes, read
+    from the buffer (:data:`RUNTIME`), or a number."""
+    if isinstance(x, Sym):
+        reads[x.name] = None
+        return inner.value(x.name)
+    if x == RUNTIME:
+        off, _, c = at
+        return inner.value(f"buf[{off + i * c + j}]")
+    return float(x)
+
+
+def _again(block: list[list], l_ref: float | None) -> list[str]:
+    """The lines inverting again the matrices with an entry not finite, and writing the
+    condition numbers again where a matrix was (with ``l_ref``)."""
+    out = []
     leaves = [x for row in block for x in row if isinstance(x, Sym)]
     if leaves:  # their sum is not finite where one is not (or where it overflows)
         total = " + ".join(x.name for x in leaves)
-        body.append(f"    again_where_not_finite(view, out, {total})")
-    env.update(_SCOPE)
-    head = [f"def INVERSE{g}({', '.join(['view', 'out', 'buf', *reads])}):"]
-    if n > 3:  # small_inverse's own choice: this elimination, or another, or LAPACK
+        out.append(f"    redo.append(again_where_not_finite(view, out, {total}))")
+    if l_ref is not None:
+        out.append(f"    recondition(cnd, view, out, {l_ref!r}, redo)")
+    return out
+
+
+def _head(  # noqa: PLR0913  what the function's first lines depend on
+    env: dict, g: int, block: list[list], first, l_ref: float | None, reads: list[str]
+) -> list[str]:
+    """``INVERSE<g>``'s signature and, for a block larger than 3×3, ``small_inverse``'s own
+    choice at the call: this elimination, or another, or LAPACK (then True)."""
+    args = ["view", "out", "buf", *(["cnd"] if l_ref is not None else []), *reads]
+    head = [f"def INVERSE{g}({', '.join(args)}):"]
+    if len(block) > 3:
         env[f"PATTERN{g}"] = np.array([[not _zero(x) for x in row] for row in block])
         env[f"ORDER{g}"] = linalg.pivot_order(first)
+        again = [] if l_ref is None else [f"        condition_into(cnd, view, out, {l_ref!r})"]
         head += [
             f"    if not eliminates(view, PATTERN{g}, ORDER{g}):",
             "        invert(view, out)",
-            "        return",
+            *again,
+            "        return True",
         ]
-    call = f"    INVERSE{g}({', '.join([view, f'INV[{g}]', 'buf', *reads])})"
-    return call, [*head, "    with np.errstate(all='ignore'):", *_indented(body), ""]
+    return head + ["    redo = []"]
 
 
-def again_where_not_finite(a: np.ndarray, out: np.ndarray, total: np.ndarray) -> None:
+def condition_into(cnd: np.ndarray, a: np.ndarray, inv: np.ndarray, l_ref: float) -> None:
+    """The condition numbers of the matrices ``a (N, n, n)`` and their inverses ``inv (n,
+    n, N)`` into ``cnd (N,)``, as :func:`~.newton.condition_number` gives them."""
+    cnd[...] = block_condition(entries_first(a), inv, l_ref)
+
+
+def recondition(cnd: np.ndarray, a: np.ndarray, inv: np.ndarray, l_ref: float, redo: list):
+    """The condition numbers ``cnd`` again, as :func:`~.newton.condition_number` gives
+    them from the inverses ``inv`` written, at the matrices of ``a (N, n, n)`` inverted
+    again (``redo``: the masks of the fallbacks, None where none was)."""
+    masks = [m for m in redo if m is not None]
+    if masks:
+        bad = np.logical_or.reduce(masks)
+        cnd[bad] = block_condition(entries_first(a[bad]), inv[:, :, bad], l_ref)
+
+
+def again_where_not_finite(a: np.ndarray, out: np.ndarray, total: np.ndarray) -> np.ndarray | None:
     """The matrices of ``a (N, n, n)`` whose entries' ``total`` is not finite (an entry
     not finite, or a sum that overflows) inverted again by ``small_inverse`` into ``out
     (n, n, N)``: an entry the written inverse multiplies by a folded zero would not carry
@@ -123,6 +196,8 @@ def again_where_not_finite(a: np.ndarray, out: np.ndarray, total: np.ndarray) ->
     bad = ~np.isfinite(total)
     if bad.any():
         out[:, :, bad] = entries_first(linalg.small_inverse(a[bad]))
+        return bad
+    return None
 
 
 _SCOPE = {
@@ -132,6 +207,9 @@ _SCOPE = {
     "lapack_where_pivots_fail": linalg.lapack_where_pivots_fail,
     "pinv_where_singular": linalg.pinv_where_singular,
     "again_where_not_finite": again_where_not_finite,
+    "recondition": recondition,
+    "condition_into": condition_into,
+    **WHOLE_ARRAY_NAMES,
 }
 
 
@@ -154,7 +232,8 @@ def _fallback(inner: Lines, checks: list[tuple]) -> list[str] | None:
             det = test[1]
             if not isinstance(det, Sym):
                 return None if det == 0 else []
-            return ["    pinv_where_singular(view, out.transpose(2, 0, 1), " + det.name + ")"]
+            at = f"view, out.transpose(2, 0, 1), {det.name}"
+            return [f"    redo.append(pinv_where_singular({at}))"]
         _, pivot, below, recip = test
         if not below:  # 1, or NaN where the pivot is 0 or not finite
             t = pivot * recip
@@ -170,4 +249,5 @@ def _fallback(inner: Lines, checks: list[tuple]) -> list[str] | None:
         worst = t if worst is None else larger(inner, worst, t, "np.maximum")
     if worst is None:
         return []
-    return [f"    lapack_where_pivots_fail(view.transpose(1, 2, 0), out, {worst.name})"]
+    at = f"view.transpose(1, 2, 0), out, {worst.name}"
+    return [f"    redo.append(lapack_where_pivots_fail({at}))"]

@@ -1,0 +1,127 @@
+"""The kinematic plan's substitutions: q̇ and q̈ by forward substitution over the groups
+
+Written into the plan (:mod:`.plan`) two ways: as products over whole blocks
+(:func:`substitution`, ``einsum`` over each group's inverse and coupling block, every
+vector component-major), and, for long chunks of rows, as lines over the blocks' entries
+that are not zero (:func:`traced_substitution`) — a dyad's 6×6 inverse has 16 such
+entries, 5 of them ±1, and its coupling block a few, so that over thousands of rows the
+lines cost about half the products (the slotting machine's kinematics at 36,000
+positions ~0.8 of its time).  The lines run where no block of the chunk was inverted
+again (:func:`either`): a fallback's inverse (LAPACK, the pseudo-inverse) has no zeros
+known in advance.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..base.arrays import as_run
+from ..base.trace import Lines, Sym, operand, pruned
+from ..structure.system import System
+from .plan_inverse import RUNTIME, entry
+
+__all__ = ["Written", "TRACED_FROM", "index", "substitution", "either", "traced_substitution"]
+
+
+def index(name: str, at: np.ndarray) -> str:
+    """The text indexing the rows ``at`` (kept in the plan's names as ``name``): a slice
+    where they run in order (a view: no gather, and a product can write into it)."""
+    run = as_run(at)
+    return f"{run.start}:{run.stop}" if isinstance(run, slice) else name
+
+
+def substitution(system: System, x: str, rhs_of) -> list[str]:
+    """``x`` by forward substitution over the groups, group g's right-hand side
+    ``rhs_of(g)`` (as :meth:`BlockFactor.solve` runs it), every vector stored
+    component-major (``(k, n)``: each component one contiguous run over the positions, as
+    the blocks' inverses are; a product over them runs ~2.5–3.5× faster than over
+    position-major vectors at 360 and 36,000 positions), into the caller's ``<x>T``."""
+    layout = system.layout
+    assert layout is not None
+    lines = []
+    for g, p in enumerate(system.plans):
+        rhs = rhs_of(g)  # None: zero
+        if layout.lower[g] is not None:
+            done = index(f"DONE{g}", layout.lower_cols[g])
+            rhs = f"{rhs or ''} - np.einsum('ijn,jn->in', LT{g}, {x}T[{done}])".lstrip()
+        elif rhs is None:
+            rhs = f"np.zeros(({len(p.rows)}, n))"
+        cols, inv = index(f"COLS{g}", p.cols), f"INV[{g}]"
+        if ":" in cols:
+            lines.append(f"    np.einsum('ijn,jn->in', {inv}, {rhs}, out={x}T[{cols}])")
+        else:
+            lines.append(f"    {x}T[{cols}] = np.einsum('ijn,jn->in', {inv}, {rhs})")
+    return lines
+
+
+@dataclass(frozen=True)
+class Written:
+    """What the plan knows of the blocks it writes: each group's inverse as written
+    (``WrittenInverse.pattern``) and each slot's writes of Φ_q's buffer (:func:`entry`)."""
+
+    patterns: list
+    writes: dict
+
+
+TRACED_FROM = 1024
+"""Rows of a chunk from which the substitutions run as written lines over the blocks'
+nonzero entries (:func:`traced_substitution`) rather than as products over whole blocks
+(``einsum``): a dyad's 6×6 inverse has 16 entries that are not zero, 5 of them ±1, and
+its coupling block a few; below, the lines' calls cost more than the products save."""
+
+
+def either(dense: list[str], traced: list[str] | None) -> list[str]:
+    """``dense`` lines, or, where the plan writes the substitutions out, ``traced`` ones
+    for chunks of :data:`TRACED_FROM` rows and more in which no block was inverted again
+    (a fallback's inverse has no known zeros)."""
+    if traced is None:
+        return dense
+    return [
+        "    if redone or n < TRACED_FROM:",
+        *("    " + line for line in dense),
+        "    else:",
+        *("    " + line for line in traced),
+    ]
+
+
+def traced_substitution(system: System, x: str, row, written: Written) -> list[str]:
+    """The substitution of :func:`substitution` written out over the blocks' entries that
+    are not zero (the inverses' as written, read from ``INV[g]`` or folded where a
+    number; the coupling blocks' as the plan's locals, numbers or ``buf``'s slots): the
+    same products and sums in the same order, the zero terms left out.  ``row(sub, r)``:
+    row r of the right-hand side (a local or a number)."""
+    layout = system.layout
+    assert layout is not None
+    sub = Lines(f"{x}_")
+    done: dict[int, object] = {}  # each column of x solved so far: a local or a number
+    for g, p in enumerate(system.plans):
+        rhs = [row(sub, int(r)) for r in p.rows]
+        if layout.lower[g] is not None:
+            off, r, c = layout.lower[g]
+            for i in range(r):
+                acc: object = 0.0
+                for j, col in enumerate(layout.lower_cols[g].tolist()):
+                    a = _known(sub, written.writes, off + i * c + j)
+                    if not (isinstance(a, float) and a == 0.0):
+                        acc = acc + a * done[col]
+                rhs[i] = rhs[i] - acc
+        for i, col in enumerate(p.cols.tolist()):
+            acc = 0.0
+            for j, a in enumerate(written.patterns[g][i]):
+                if a is None:
+                    a = sub.value(f"INV[{g}][{i}, {j}]")
+                if not (isinstance(a, float) and a == 0.0):
+                    acc = acc + a * rhs[j]
+            done[col] = acc
+            sub.lines.append(f"    {x}T[{col}] = {operand(acc)}")
+    return pruned(sub.take(), sub.prefix)
+
+
+def _known(sub: Lines, writes: dict, slot: int):
+    """A slot of Φ_q's buffer as the plan knows it: a number, its local, or read."""
+    e = entry(writes.get(slot))
+    if e == RUNTIME:
+        return sub.value(f"buf[{slot}]")
+    return sub.value(e.name) if isinstance(e, Sym) else float(e)
