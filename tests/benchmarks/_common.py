@@ -67,3 +67,27 @@ def machine() -> str:
         f"{cpu}, {os.cpu_count()} logical CPUs, Python {platform.python_version()}, "
         f"NumPy {numpy.__version__}"
     )
+
+
+def hold_allocator() -> str:
+    """glibc's allocator held warm for this process (``cli.MALLOC_KEPT``: arrays up to
+    64 MB from the heap, the heap kept after a free), as issue 40 measures its rows at
+    tens of thousands of positions; what was done, for a table's conditions.  Nothing
+    where the user set a ``MALLOC_`` variable (theirs stand) or the C library is not
+    glibc."""
+    if any(name.startswith("MALLOC_") for name in os.environ):
+        return "glibc's allocator as the environment's MALLOC_ variables set it"
+    import ctypes
+
+    from kinetostatics.cli import MALLOC_KEPT
+
+    try:
+        mallopt = ctypes.CDLL("libc.so.6").mallopt
+    except (OSError, AttributeError):
+        return "the C library's allocator (not glibc) as it is"
+    for param, value in MALLOC_KEPT:
+        mallopt(param, value)
+    return (
+        "glibc's allocator held warm for both sides (mallopt: mmap threshold 64 MB, trim "
+        "threshold 256 MB, top pad 64 MB; issue 40's rule)"
+    )

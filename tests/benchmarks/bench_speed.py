@@ -23,12 +23,16 @@ docs/accuracy.md between ``<!-- speed:begin -->`` and ``<!-- speed:end -->``
 with a header naming the machine and its load; ``--note TEXT`` adds TEXT there;
 ``--no-processes`` leaves out the whole-process rows (for a quick look at the
 analyses' rows; ``--write`` then keeps the table's process rows as they were).
+The process's allocator is held warm (glibc's ``mallopt``, as the design commands set
+it: issue 40's rule, "the allocator held warm for both sides" at 36,000 positions;
+at 360 it changes nothing); ``--default-allocator`` keeps glibc's defaults, under which
+every array of megabytes costs fresh pages from the kernel on both sides.
 Where numba is installed, each ratio row also times the same call with the optional
 compiled backend (``KINETOSTATICS_BACKEND=numba``, docs/python.md) in the same turns:
 the column "ks, numba backend"; the targets are read on the default (NumPy) column.
 
     PYTHONPATH=src python tests/benchmarks/bench_speed.py [--quick] [--write] [--note TEXT]
-        [--no-processes]
+        [--no-processes] [--default-allocator]
 """
 
 from __future__ import annotations
@@ -48,7 +52,7 @@ from pathlib import Path
 
 import numpy as np
 import speed_closed_forms as cf
-from _common import ROOT, machine, publish
+from _common import ROOT, hold_allocator, machine, publish
 
 import kinetostatics as ks
 from kinetostatics.base import kernels
@@ -487,7 +491,13 @@ def main(argv=None) -> None:
         "--no-processes", action="store_true", help="leave out the whole-process rows of `run`"
     )
     ap.add_argument("--runs", type=int, default=1, help="runs one after the other (ratio a / b)")
+    ap.add_argument(
+        "--default-allocator",
+        action="store_true",
+        help="glibc's defaults (fresh pages for every large array) instead of held warm",
+    )
     args = ap.parse_args(argv)
+    allocator = "glibc's default allocator" if args.default_allocator else hold_allocator()
     runs, said = [], []
     for k in range(args.runs):
         before, start = load(), time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
@@ -509,7 +519,7 @@ def main(argv=None) -> None:
         )
     conditions = (
         f"**Conditions:** {machine()}; CPU time of the process, the median of the rounds' "
-        f"ratios; {'; '.join(said)}{'; ' + args.note if args.note else ''}."
+        f"ratios; {allocator}; {'; '.join(said)}{'; ' + args.note if args.note else ''}."
     )
     body = f"{conditions}\n\n{table(runs)}"
     if args.no_processes:  # keep the whole-process rows the table has

@@ -16,7 +16,7 @@ from kinetostatics.base.linalg import small_inverse
 from kinetostatics.base.trace import Lines
 from kinetostatics.kinematics import plan
 from kinetostatics.kinematics.newton import block_condition
-from kinetostatics.kinematics.plan_inverse import RUNTIME, inverse_line
+from kinetostatics.kinematics.plan_inverse import RUNTIME, TRACED_FROM, inverse_line
 from kinetostatics.structure.system import system_of
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -106,17 +106,18 @@ def test_a_dyad_s_block_is_inverted_as_small_inverse_inverts_it():
     assert _same(run(stack[:12]), small_inverse(stack[:12]))  # LAPACK below 32 matrices
 
 
-@pytest.mark.parametrize("n", [400, 12])
+@pytest.mark.parametrize("n", [TRACED_FROM + 100, 400, 12])
 def test_the_condition_numbers_written_with_an_inverse_are_condition_number_s(n):
-    """With L_ref the written inverse also gives each block's condition number, traced
-    from the same entries — condition_number's numbers (1e-12 of each), ∞ where it gives
-    ∞ — at the matrices inverted again too (a pivot ~0, a NaN entry, an exactly singular
-    block) and where the whole call is small_inverse's (fewer matrices than pay)."""
-    stack = _dyads(400, 4)[:n]
+    """With L_ref the written inverse also gives each block's condition number — traced
+    from the same entries over TRACED_FROM matrices or more, condition_number itself
+    below — condition_number's numbers (1e-12 of each), ∞ where it gives ∞, at the
+    matrices inverted again too (a pivot ~0, a NaN entry, an exactly singular block) and
+    where the whole call is small_inverse's (fewer matrices than pay)."""
+    stack = _dyads(TRACED_FROM + 100, 4)[:n]
     stack[7, 4, 3], stack[7, 4, 4] = 1e-9, 1e-9
     stack[11, 2, 5] = np.nan
     stack[10, 3, 2], stack[10, 1, 2], stack[10, 5, 2] = 0.0, 0.0, 0.0
-    run = _written(DYAD, _dyads(400, 4)[0], l_ref=0.35)
+    run = _written(DYAD, stack[0], l_ref=0.35)
     inv = run(stack)
     want = block_condition(entries_first(stack), entries_first(inv), 0.35)
     assert _same(inv, small_inverse(stack)) and run.redone is True

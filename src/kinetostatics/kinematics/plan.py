@@ -62,7 +62,7 @@ from .derivatives import derivatives
 from .fused import fused_derivatives
 from .plan_inverse import RUNTIME, condition_into, entry, inverse_line
 from .plan_params import flat, parameter_pattern, topology, unflat, whole_array
-from .plan_solve import TRACED_FROM, Written, either, index, substitution, traced_substitution
+from .plan_solve import Written, either, index, substitution, traced_substitution
 
 __all__ = [
     "KinematicPlan",
@@ -442,7 +442,6 @@ def _blocks(  # noqa: PLR0913  the generator's state, passed down
             lines.append(f"    LT{g} = buf[{off}:{off + r * c}].reshape({r}, {c}, n)")
         env[f"DONE{g}"], env[f"ROWS{g}"] = layout.lower_cols[g], system.plans[g].rows
         env[f"COLS{g}"] = system.plans[g].cols
-    env["TRACED_FROM"] = TRACED_FROM
     return None if any(p is None for p in patterns) else Written(patterns, writes)
 
 

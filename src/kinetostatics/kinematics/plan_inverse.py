@@ -29,7 +29,14 @@ from ..base.arrays import entries_first
 from ..base.trace import Lines, Sym, larger, magnitude, operand
 from .newton import WHOLE_ARRAY_NAMES, block_condition, traced_condition
 
-__all__ = ["RUNTIME", "WrittenInverse", "entry", "inverse_line"]
+__all__ = ["RUNTIME", "TRACED_FROM", "WrittenInverse", "entry", "inverse_line"]
+
+TRACED_FROM = 1024
+"""Rows of a call from which a plan's condition numbers and substitutions run as lines
+written over the blocks' entries that are not zero (a dyad's 6×6 inverse has 16 such
+entries, 5 of them ±1; :mod:`.plan_solve`) rather than as passes over whole blocks
+(``condition_number``, ``einsum``): below, the lines' calls cost more than the passes
+save."""
 
 RUNTIME = "runtime"
 """An entry of Φ_q's buffer the plan knows only when it runs (a set evaluated through the
@@ -112,9 +119,10 @@ def inverse_line(  # noqa: PLR0913  the block, where it is, and what is written 
         for j, v in enumerate(row)
         if isinstance(v, Sym) or v != 0.0
     ]
-    if l_ref is not None:
+    if l_ref is not None:  # over long runs, traced; over short ones, condition_number's
         cond = traced_condition(inner, block, inv, l_ref, arrays=True)
-        body += inner.take() + [f"    cnd[...] = {operand(cond)}"]
+        lines = inner.take() + [f"    cnd[...] = {operand(cond)}"]
+        body += ["    if len(cnd) >= TRACED_FROM:", *_indented(lines)]
     body += fallback + _again(block, l_ref)
     env.update(_SCOPE)
     head = _head(env, g, block, first, l_ref, list(reads))
@@ -148,7 +156,12 @@ def _again(block: list[list], l_ref: float | None) -> list[str]:
         total = " + ".join(x.name for x in leaves)
         out.append(f"    redo.append(again_where_not_finite(view, out, {total}))")
     if l_ref is not None:
-        out.append(f"    recondition(cnd, view, out, {l_ref!r}, redo)")
+        out += [
+            "    if len(cnd) >= TRACED_FROM:",
+            f"        recondition(cnd, view, out, {l_ref!r}, redo)",
+            "    else:",
+            f"        condition_into(cnd, view, out, {l_ref!r})",
+        ]
     return out
 
 
@@ -209,6 +222,7 @@ _SCOPE = {
     "again_where_not_finite": again_where_not_finite,
     "recondition": recondition,
     "condition_into": condition_into,
+    "TRACED_FROM": TRACED_FROM,
     **WHOLE_ARRAY_NAMES,
 }
 

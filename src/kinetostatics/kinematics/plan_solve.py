@@ -20,7 +20,7 @@ import numpy as np
 from ..base.arrays import as_run
 from ..base.trace import Lines, Sym, operand, pruned
 from ..structure.system import System
-from .plan_inverse import RUNTIME, entry
+from .plan_inverse import RUNTIME, TRACED_FROM, entry
 
 __all__ = ["Written", "TRACED_FROM", "index", "substitution", "either", "traced_substitution"]
 
@@ -63,13 +63,6 @@ class Written:
 
     patterns: list
     writes: dict
-
-
-TRACED_FROM = 1024
-"""Rows of a chunk from which the substitutions run as written lines over the blocks'
-nonzero entries (:func:`traced_substitution`) rather than as products over whole blocks
-(``einsum``): a dyad's 6×6 inverse has 16 entries that are not zero, 5 of them ±1, and
-its coupling block a few; below, the lines' calls cost more than the products save."""
 
 
 def either(dense: list[str], traced: list[str] | None) -> list[str]:
