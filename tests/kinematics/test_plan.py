@@ -192,18 +192,21 @@ class _CountingNumpy:
 def test_long_chunks_solve_by_lines_over_the_blocks_nonzero_entries(name, monkeypatch):
     """A chunk of TRACED_FROM rows or more solves q̇ and q̈ by lines written over the
     inverses' and coupling blocks' entries that are not zero (no product over whole
-    blocks), unless a block of the chunk was inverted again (a fallback's inverse has
-    no known zeros: then the products); every way gives the general path's columns."""
+    blocks), and a run of that many rows the reactions' Φ_qᵀ y = r so, unless a block
+    was inverted again (a fallback's inverse has no known zeros: then the products);
+    every way gives the general path's columns, reactions and torque included."""
     model = ks.load(f"mechanisms/{name}.yaml")
     for n in (TRACED_FROM - 1, TRACED_FROM, 3 * TRACED_FROM):
         angles = model.analysis.start + np.linspace(0.0, 2 * np.pi, n, endpoint=False)
-        general = _analyse(model, False, positions=angles, kinematics_only=True)
+        general = _analyse(model, False, positions=angles, friction=False)
         general.system.memo.pop("kinematic plan", None)
-        planned = _analyse(model, True, positions=angles, kinematics_only=True)
+        planned = _analyse(model, True, positions=angles, friction=False)
         assert _worst(general, planned) <= 1e-12
-    counting = _CountingNumpy()
+    counting, factors = _CountingNumpy(), []
     monkeypatch.setattr(plan, "np", counting)  # the plans written from here on count
     monkeypatch.setitem(plan_inverse._SCOPE, "np", counting)
+    made = plan.BlockFactor
+    monkeypatch.setattr(plan, "BlockFactor", lambda *a: factors.append(made(*a)) or factors[-1])
     real = plan_inverse.again_where_not_finite
     for forced in (False, True):
         if forced:  # every block "inverted again" (the same numbers)
@@ -212,9 +215,10 @@ def test_long_chunks_solve_by_lines_over_the_blocks_nonzero_entries(name, monkey
         model = ks.load(f"mechanisms/{name}.yaml")  # a new system: a new plan
         for _ in range(2):  # made once 5,000 rows were analysed (PLAN_AFTER)
             counting.products = 0
-            got = _analyse(model, True, positions=angles, kinematics_only=True)
+            got = _analyse(model, True, positions=angles, friction=False)
         assert "kinematic plan" in got.system.memo and _worst(general, got) <= 1e-12
         assert (counting.products > 0) == forced, counting.products
+        assert (factors[-1].transposed is None) == forced
 
 
 def test_a_stack_without_whole_array_kernels_keeps_long_runs_general(monkeypatch):

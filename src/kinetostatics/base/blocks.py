@@ -51,7 +51,10 @@ class BlockFactor:
     builds them without the structural zeros.  Given ``jac``, a coupling block spans all
     the earlier columns.  ``inv``: the diagonal blocks' inverses, if computed already;
     ``conditions``: the groups' condition numbers ``{g: (...)}``, if computed with them
-    (the compiled backend's fused stage, kinematics/fused.py), else None.
+    (the compiled backend's fused stage, kinematics/fused.py), else None;
+    ``transposed``: Y = solve of Φ_qᵀ Y = R for ``R (k, n, ...)`` component-major, written
+    out over these blocks' nonzero entries (the kinematic plan's, kinematics/plan_solve.py),
+    which :meth:`solve_transposed_rows` then calls, else None.
     """
 
     def __init__(
@@ -61,9 +64,11 @@ class BlockFactor:
         parts: list[tuple[np.ndarray, np.ndarray | None, np.ndarray]] | None = None,
         inv: list[np.ndarray] | None = None,
         conditions: dict | None = None,
+        transposed=None,
     ):
         self.blocks = blocks
         self.conditions = conditions
+        self.transposed = transposed
         self._jac = jac
         self.n = sum(len(cols) for _, cols in blocks)
         if parts is None:
@@ -178,7 +183,7 @@ class BlockFactor:
     def solve_transposed(self, rhs: np.ndarray) -> np.ndarray:
         """y with Φ_qᵀ y = rhs (back substitution over the groups, through the coupling
         blocks that exist), the groups from the last: y_g = inv_gᵀ (rhs_g − upper_g y_later)."""
-        if rhs[..., 0].size > TRANSPOSED_ROWS_FROM:  # component-major passes: see the constant
+        if self.transposed is not None or rhs[..., 0].size > TRANSPOSED_ROWS_FROM:  # see it
             return self.solve_transposed_rows(rhs[..., None, :])[..., 0, :]
         n_rows = sum(len(rows) for rows, _ in self.blocks)
         y = np.zeros(rhs.shape[:-1] + (n_rows,))
@@ -202,8 +207,10 @@ class BlockFactor:
         ``entries_first`` gives back without a copy: the products are whole-array
         ``einsum`` passes instead of ``matmul`` over matrices whose entries lie a whole
         array apart (~3× faster over 36,000 positions)."""
-        runs = self._runs()
         r_all = entries_first(rhs)  # (k, n, ...): a view (each component a run, if so stored)
+        if self.transposed is not None:
+            return entries_last(self.transposed(r_all))
+        runs = self._runs()
         n_rows = sum(len(rows) for rows, _ in self.blocks)
         y = np.empty(r_all.shape[:1] + (n_rows,) + r_all.shape[2:])  # each row is a group's
         for (rows, cols, later), inv, (_, upper) in zip(

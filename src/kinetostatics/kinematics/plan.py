@@ -43,6 +43,7 @@ this plan its fallback where a position fails a pivot test or a set has no kerne
 
 from __future__ import annotations
 
+import functools
 import numbers
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -62,7 +63,15 @@ from .derivatives import derivatives
 from .fused import fused_derivatives
 from .plan_inverse import RUNTIME, condition_into, entry, inverse_line
 from .plan_params import flat, parameter_pattern, topology, unflat, whole_array
-from .plan_solve import Written, either, index, substitution, traced_substitution
+from .plan_solve import (
+    TRACED_FROM,
+    Written,
+    either,
+    index,
+    substitution,
+    traced_substitution,
+    traced_transposed,
+)
 
 __all__ = [
     "KinematicPlan",
@@ -99,6 +108,7 @@ class KinematicPlan:
     run: Callable
     long_runs: bool = True  # it also takes more than STACK_UP_TO rows (see covers)
     table: np.ndarray | None = None  # a stacked system's: the parameters that differ (k, V)
+    transposed: Callable | None = None  # one model's: Φ_qᵀ Y = R written out (plan_solve)
 
 
 PLAN_AFTER = (8, 5000)
@@ -173,7 +183,7 @@ def planned_derivatives(
     done = None
     if kernels.active() and len(shape) == 1:
         done = fused_derivatives(system, pe, psi_d, psi_dd)
-    conditions = None
+    conditions = transposed = None
     if done is not None:  # the compiled backend's program, position by position
         buf, inv, qdT, qddT, conditions = done
     else:
@@ -184,8 +194,11 @@ def planned_derivatives(
         if plan.table is None:  # with the groups' condition numbers
             asked = conditioned(system)
             cnd = [np.empty(n) if g in asked else None for g in range(len(inv))]
-            _run_in_chunks(plan.run, layout.size + 1, (pe, psi_d, psi_dd), into, inv, cnd)
+            rows = (pe, psi_d, psi_dd)
+            redone = _run_in_chunks(plan.run, layout.size + 1, rows, into, inv, cnd)
             conditions = {g: c for g, c in enumerate(cnd) if c is not None}
+            if plan.transposed is not None and not redone and n >= TRACED_FROM:
+                transposed = functools.partial(plan.transposed, buf=buf, INV=inv)
         else:  # a stacked model's variants, their rows one after the other
             rows = (np.reshape(x, (n,) + x.shape[len(shape) :]) for x in (pe, psi_d, psi_dd))
             plan.run(*rows, *into, inv, np.repeat(plan.table, shape[1], axis=1), shape)
@@ -195,7 +208,7 @@ def planned_derivatives(
     ]
     blocks = [(p.rows, p.cols) for p in system.plans]
     inv = [entries_last(x.reshape(x.shape[:2] + shape)) for x in inv]
-    lu = BlockFactor(None, blocks, parts, inv, conditions)
+    lu = BlockFactor(None, blocks, parts, inv, conditions, transposed)
     ground = None if layout.ground is None else _block(buf, layout.ground, shape).copy()
     system.memo["ground_jacobian"] = (pe, ground)
     return _rows(qdT, shape), _rows(qddT, shape), lu
@@ -217,23 +230,25 @@ def derivatives_at(
 
 def _run_in_chunks(  # noqa: PLR0913  the plan's arguments
     run, entries: int, rows: tuple, into: tuple, inv: list, cnd: list
-) -> None:
+) -> bool:
     """The plan's ``run`` over the rows ``(pe, psi_d, psi_dd)`` into ``(buf, qdT, qddT)``,
     the inverses ``inv`` and the condition numbers ``cnd`` (None: a group without), in
-    chunks of :data:`CHUNK_BYTES` of Φ_q's ``entries``."""
+    chunks of :data:`CHUNK_BYTES` of Φ_q's ``entries``: whether a block was inverted
+    again (by ``small_inverse``, LAPACK or the pseudo-inverse) in any chunk."""
     n = len(rows[0])
     per = min(max(CHUNK_BYTES // (8 * entries), 1024), 8192)
     if n <= per:
-        run(*rows, *into, inv, cnd)
-        return
+        return bool(run(*rows, *into, inv, cnd))
     cuts = np.linspace(0, n, -(-n // per) + 1).astype(int)  # alike, none tiny
+    redone = False
     for a, b in zip(cuts[:-1].tolist(), cuts[1:].tolist()):
-        run(
+        redone |= run(
             *(x[a:b] for x in rows),
             *(x[:, a:b] for x in into),
             [x[..., a:b] for x in inv],
             [None if x is None else x[a:b] for x in cnd],
         )
+    return redone
 
 
 def _block(buf: np.ndarray, at, shape: tuple) -> np.ndarray:
@@ -343,7 +358,7 @@ def _generate(system: System) -> KinematicPlan:
     source = "\n".join(lines) + "\n"
     name = f"<kinematic plan of {system.model.name!r}>"
     exec(compile(source, name, "exec"), env)  # noqa: S102  our own generated text
-    return KinematicPlan(source, env["run"], _long_runs(system))
+    return KinematicPlan(source, env["run"], _long_runs(system), None, env.get("transposed"))
 
 
 def written(system: System, pattern: tuple | None = None) -> tuple[list[str], dict]:
@@ -367,7 +382,9 @@ def written(system: System, pattern: tuple | None = None) -> tuple[list[str], di
         written = None
     _rates_of(system, env, lines, written)
     _accelerations(system, env, lines, params, traced, written)
-    return inverses + pruned(lines), env
+    lines.append("    return redone")
+    solves = [] if written is None else ["", *traced_transposed(system, written)]
+    return inverses + pruned(lines) + solves, env
 
 
 def _params(system: System, pattern: tuple | None, traced: Lines, env: dict) -> list:

@@ -22,7 +22,15 @@ from ..base.trace import Lines, Sym, operand, pruned
 from ..structure.system import System
 from .plan_inverse import RUNTIME, TRACED_FROM, entry
 
-__all__ = ["Written", "TRACED_FROM", "index", "substitution", "either", "traced_substitution"]
+__all__ = [
+    "Written",
+    "TRACED_FROM",
+    "index",
+    "substitution",
+    "either",
+    "traced_substitution",
+    "traced_transposed",
+]
 
 
 def index(name: str, at: np.ndarray) -> str:
@@ -112,9 +120,55 @@ def traced_substitution(system: System, x: str, row, written: Written) -> list[s
     return pruned(sub.take(), sub.prefix)
 
 
-def _known(sub: Lines, writes: dict, slot: int):
-    """A slot of Φ_q's buffer as the plan knows it: a number, its local, or read."""
+def _known(sub: Lines, writes: dict, slot: int, reads: bool = True):
+    """A slot of Φ_q's buffer as the plan knows it: a number, or its value over the rows —
+    the plan's local (``reads``) or read from the buffer."""
     e = entry(writes.get(slot))
-    if e == RUNTIME:
+    if e == RUNTIME or (isinstance(e, Sym) and not reads):
         return sub.value(f"buf[{slot}]")
     return sub.value(e.name) if isinstance(e, Sym) else float(e)
+
+
+def traced_transposed(system: System, written: Written) -> list[str]:
+    """``transposed(R, buf, INV)``: Y with Φ_qᵀ yᵢ = rᵢ for the right-hand sides ``R (k,
+    n_q, N)`` (component-major), ``Y (k, n_rows, N)``, as
+    :meth:`~kinetostatics.base.blocks.BlockFactor.solve_transposed_rows` solves it — the
+    groups from the last, y_g = inv_gᵀ (r_g − the later rows' coupling terms) — written
+    over the entries of the inverses and coupling blocks that are not zero (the
+    inverses' read from ``INV[g]`` or folded where a number, the coupling blocks' from
+    ``buf`` or folded), each operation over all k right-hand sides at once.  Valid where
+    no block was inverted again (a fallback's inverse has no known zeros)."""
+    layout = system.layout
+    assert layout is not None
+    sub = Lines("t")
+    lines = [
+        "def transposed(R, buf, INV):",
+        f"    Y = np.empty(R.shape[:1] + ({system.n_rows},) + R.shape[2:])",
+    ]
+    y: dict[int, object] = {}  # each row of y solved so far: a local or a number
+    plans = system.plans
+    for g in reversed(range(len(plans))):
+        r = []
+        for col in plans[g].cols.tolist():
+            acc: object = 0.0
+            for h in reversed(range(g + 1, len(plans))):
+                if layout.lower[h] is None:
+                    continue
+                off, _, c = layout.lower[h]
+                for j in np.flatnonzero(layout.lower_cols[h] == col).tolist():
+                    for i, row in enumerate(plans[h].rows.tolist()):
+                        a = _known(sub, written.writes, off + i * c + j, reads=False)
+                        if not (isinstance(a, float) and a == 0.0):
+                            acc = acc + a * y[row]
+            r.append(sub.value(f"R[:, {col}]") - acc)
+        for i, row in enumerate(plans[g].rows.tolist()):
+            acc = 0.0
+            for j, rj in enumerate(r):
+                a = written.patterns[g][j][i]  # inv_gᵀ
+                if a is None:
+                    a = sub.value(f"INV[{g}][{j}, {i}]")
+                if not (isinstance(a, float) and a == 0.0):
+                    acc = acc + a * rj
+            y[row] = acc
+            sub.lines.append(f"    Y[:, {row}] = {operand(acc)}")
+    return [*lines, *pruned(sub.take(), sub.prefix), "    return Y"]
