@@ -192,9 +192,10 @@ class _CountingNumpy:
 def test_long_chunks_solve_by_lines_over_the_blocks_nonzero_entries(name, monkeypatch):
     """A chunk of TRACED_FROM rows or more solves q̇ and q̈ by lines written over the
     inverses' and coupling blocks' entries that are not zero (no product over whole
-    blocks), and a run of that many rows the reactions' Φ_qᵀ y = r so, unless a block
-    was inverted again (a fallback's inverse has no known zeros: then the products);
-    every way gives the general path's columns, reactions and torque included."""
+    blocks), and a run of that many rows the reactions' Φ_qᵀ y = r so (the friction's
+    right-hand sides together, in runs of positions), unless a block was inverted again
+    (a fallback's inverse has no known zeros: then the products); every way gives the
+    general path's columns, reactions, torque and friction included."""
     model = ks.load(f"mechanisms/{name}.yaml")
     for n in (TRACED_FROM - 1, TRACED_FROM, 3 * TRACED_FROM):
         angles = model.analysis.start + np.linspace(0.0, 2 * np.pi, n, endpoint=False)
@@ -202,6 +203,9 @@ def test_long_chunks_solve_by_lines_over_the_blocks_nonzero_entries(name, monkey
         general.system.memo.pop("kinematic plan", None)
         planned = _analyse(model, True, positions=angles, friction=False)
         assert _worst(general, planned) <= 1e-12
+    full = _analyse(model, False, positions=angles)  # the friction's n_f solves, in runs
+    full.system.memo.pop("kinematic plan", None)
+    assert _worst(full, _analyse(model, True, positions=angles)) <= 1e-12
     counting, factors = _CountingNumpy(), []
     monkeypatch.setattr(plan, "np", counting)  # the plans written from here on count
     monkeypatch.setitem(plan_inverse._SCOPE, "np", counting)

@@ -71,6 +71,7 @@ from .plan_solve import (
     substitution,
     traced_substitution,
     traced_transposed,
+    transposed_in_runs,
 )
 
 __all__ = [
@@ -198,7 +199,7 @@ def planned_derivatives(
             redone = _run_in_chunks(plan.run, layout.size + 1, rows, into, inv, cnd)
             conditions = {g: c for g, c in enumerate(cnd) if c is not None}
             if plan.transposed is not None and not redone and n >= TRACED_FROM:
-                transposed = functools.partial(plan.transposed, buf=buf, INV=inv)
+                transposed = functools.partial(transposed_in_runs, plan.transposed, buf, inv)
         else:  # a stacked model's variants, their rows one after the other
             rows = (np.reshape(x, (n,) + x.shape[len(shape) :]) for x in (pe, psi_d, psi_dd))
             plan.run(*rows, *into, inv, np.repeat(plan.table, shape[1], axis=1), shape)
