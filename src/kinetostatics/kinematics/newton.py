@@ -116,19 +116,17 @@ def traced_condition(lines: Lines, m: list, inv: list, l_ref: float, arrays: boo
     its order: a_ij = |J_ij c_j|, each row's largest m_i (1 for a zero row), ‖S‖² = Σ_i
     (Σ_j a_ij²) / m_i², ‖S⁻¹‖² = Σ_i (Σ_j (J⁻¹_ij m_j)²) / c_i², ∞ where not finite — a
     number folded where the entries are.  Written for a program of scalars
-    (base/program.py), or over whole arrays (``arrays``: ``np.abs`` and ``np.maximum``;
-    ``sqrt``, ``positive_or_one`` and ``finite_or_inf`` are then the caller's names for
-    :data:`WHOLE_ARRAY_NAMES`)."""
-    fabs, fmax = ("np.abs", "np.maximum") if arrays else ("abs", "max")
+    (base/program.py), or over whole arrays (``arrays``: :func:`_array_condition`, its
+    ``sqrt`` and ``positive_or_one`` the caller's names for :data:`WHOLE_ARRAY_NAMES`)."""
+    if arrays:
+        return _array_condition(lines, m, inv, l_ref)
     k = len(m)
     col = [1.0 if j % 3 == 2 else l_ref for j in range(k)]
-    a = [[magnitude(lines, m[i][j] * col[j], fabs) for j in range(k)] for i in range(k)]
-    norm = []
-    for row in a:  # a zero beside magnitudes changes no maximum (nor a NaN)
-        top, *rest = [x for x in row if isinstance(x, Sym) or x != 0.0] or [0.0]
-        for x in rest:
-            top = larger(lines, top, x, fmax)
-        norm.append(_unary(lines, "positive_or_one", top, lambda x: x if x > 0 else 1.0))
+    a = [[magnitude(lines, m[i][j] * col[j]) for j in range(k)] for i in range(k)]
+    norm = [
+        _unary(lines, "positive_or_one", _largest(lines, row), lambda x: x if x > 0 else 1.0)
+        for row in a
+    ]
     a_sq = [_sum(x * x for x in row) for row in a]
     inv_sq = [
         _sum((inv[i][j] * norm[j]) * (inv[i][j] * norm[j]) for j in range(k)) for i in range(k)
@@ -137,6 +135,40 @@ def traced_condition(lines: Lines, m: list, inv: list, l_ref: float, arrays: boo
     second = _sum(inv_sq[i] / (col[i] * col[i]) for i in range(k))
     c = _unary(lines, "sqrt", first, np.sqrt) * _unary(lines, "sqrt", second, np.sqrt)
     return _unary(lines, "finite_or_inf", c, lambda x: x if abs(x) < np.inf else np.inf)
+
+
+def _array_condition(lines: Lines, m: list, inv: list, l_ref: float):
+    """:func:`traced_condition` over whole arrays, where the positions whose entries are
+    not all finite, or whose block is inverted again, get :func:`condition_number`'s own
+    number after it (kinematics/plan_inverse.py): the same norms with fewer lines — a
+    row's largest is not tested for zero where the row holds a positive number (it is
+    positive wherever it is not NaN), ‖S⁻¹‖² is summed by columns, Σ_j m_j² Σ_i
+    (J⁻¹_ij / c_i)², so that the inverse's entries that are numbers (a revolute pair's
+    ±1) fold into one number per column, and the product is not tested for ∞ (it is
+    finite or ∞ wherever it is not NaN)."""
+    k = len(m)
+    col = [1.0 if j % 3 == 2 else l_ref for j in range(k)]
+    a = [[magnitude(lines, m[i][j] * col[j], "np.abs") for j in range(k)] for i in range(k)]
+    norm = []
+    for row in a:
+        top = _largest(lines, row, "np.maximum")
+        if not any(not isinstance(x, Sym) and x > 0 for x in row):
+            top = _unary(lines, "positive_or_one", top, lambda x: x if x > 0 else 1.0)
+        norm.append(top)
+    square = [x * x for x in norm]
+    first = _sum(_sum(x * x for x in row) / square[i] for i, row in enumerate(a))
+    by_col = [_sum(inv[i][j] * inv[i][j] / (col[i] * col[i]) for i in range(k)) for j in range(k)]
+    second = _sum(square[j] * by_col[j] for j in range(k))
+    return _unary(lines, "sqrt", first, np.sqrt) * _unary(lines, "sqrt", second, np.sqrt)
+
+
+def _largest(lines: Lines, row: list, fn: str = "max"):
+    """The largest of magnitudes (traced), NaN where one is: a zero beside them changes
+    no maximum (nor a NaN)."""
+    top, *rest = [x for x in row if isinstance(x, Sym) or x != 0.0] or [0.0]
+    for x in rest:
+        top = larger(lines, top, x, fn)
+    return top
 
 
 WHOLE_ARRAY_NAMES = {
@@ -148,7 +180,9 @@ WHOLE_ARRAY_NAMES = {
 
 
 def _sum(terms):
-    """Σ of traced terms in order, from the first (as ``einsum`` and ``np.sum`` add)."""
+    """Σ of traced terms in order, from the first (as ``einsum`` and ``np.sum`` add), the
+    numbers among them first (added at once: one number, not a line each)."""
+    terms = sorted(terms, key=lambda t: isinstance(t, Sym))  # stable: each kind in order
     acc = 0.0
     for t in terms:
         acc = acc + t
