@@ -167,7 +167,8 @@ def test_the_closed_forms_turn_each_link_once_and_satisfy_the_constraints():
     """The closed forms' pass evaluates each link's cos θ and sin θ once (the later groups
     read them), by ``np.cos`` and ``np.sin`` only for a driven link's angle — a dyad's
     links turn by the directions of the vectors their angles are the headings of — and
-    on every shipped file whose groups all have one its sweep satisfies
+    on every shipped file whose groups all have one (the angles of the links not listed
+    as headings, ``ClosedForms.wrapping``, without a jump of 2π) its sweep satisfies
     Φ = 0 and its discriminants are those of the assembly: D ≥ 0 along it, and a link
     turned by its own angle's cos and sin (the frames are those of the angles placed)."""
     from kinetostatics.kinematics.closed_path import _closed_forms
@@ -194,6 +195,9 @@ def test_the_closed_forms_turn_each_link_once_and_satisfy_the_constraints():
         assert d.shape == (len(t), len(system.plans)) and np.all(d >= -1e-12), path.name
         res = np.max(np.abs(S.phi(system, q, psi)))
         assert res <= 1e-9 * system.l_ref, (path.name, res)
+        steady = [k for k in range(len(system.links)) if k not in forms.wrapping]
+        turns = np.abs(np.diff(q[:, 3 * np.array(steady, dtype=int) + 2], axis=0))
+        assert np.all(turns < np.pi), path.name  # no 2π jump: the path need not unwrap them
         checked += 1
     assert checked >= 5  # the slider-crank and the slotting machine among them
 

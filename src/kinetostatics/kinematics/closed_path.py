@@ -83,11 +83,11 @@ def closed_form_path(
     signs = _branch_signs(flips, np.broadcast_to(tt, (n_v, len(tt))))
     q, disc = _closed_forms(forms, (n_v, len(tt), q0.shape[-1]), psi, signs)
     ok &= np.all(disc >= -DISC_TOL, axis=(-2, -1))
-    ang = slice(2, None, 3)  # angles nearest the start pose, as the guess
-    q[..., ang] += 2 * np.pi * np.round((q0[..., ang] - q[..., ang]) / (2 * np.pi))
-    start = len(t)
-    path = q[:, order, ang]  # every angle unwrapped along the path at once
-    q[:, order, ang] = _unwrapped(path)
+    start, ang = len(t), slice(2, None, 3)
+    heading = 3 * np.asarray(forms.wrapping, dtype=int) + 2  # the angles that may jump by 2π
+    if heading.size:  # nearest the start pose, as the guess; then unwrapped along the path
+        q[..., heading] += 2 * np.pi * np.round((q0[..., heading] - q[..., heading]) / (2 * np.pi))
+        q[:, order[:, None], heading] = _unwrapped(q[:, order[:, None], heading])
     q[..., ang] += (2 * np.pi * np.round((q0[:, 0, ang] - q[:, start, ang]) / (2 * np.pi)))[:, None]
     q = np.ascontiguousarray(q[:, :start])
     probe = slice(None, None, max(1, start // 32))

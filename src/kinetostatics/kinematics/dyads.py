@@ -59,6 +59,7 @@ class ClosedForms:
     source: str
     run: Callable[..., tuple[np.ndarray, np.ndarray]]
     n_groups: int
+    wrapping: tuple[int, ...] = ()  # the links whose angle may jump by 2π (a heading's)
 
     def __len__(self) -> int:
         return self.n_groups
@@ -76,6 +77,7 @@ class _Pass:
         self.framed: set[int] = set()
         self.placed: set[int] = set()
         self.frames: dict[int, tuple[str, str]] = {}  # cos θ, sin θ without cos and sin
+        self.wrapping: set[int] = set()  # links whose angle may jump by 2π along a path
         self.n = 0
 
     def index(self, link: str) -> int | None:
@@ -101,14 +103,20 @@ class _Pass:
         k = self.index(link)
         return "0.0" if k is None else f"t{k}"
 
-    def set_angle(self, link: str, theta: str, frame: tuple[str, str] | None = None) -> None:
+    def set_angle(
+        self, link: str, theta: str, frame: tuple[str, str] | None = None, like: str | None = None
+    ) -> None:
         """The link's angle ``theta``; ``frame``: its cos θ and sin θ as arithmetic on
         the pass's locals (:meth:`heading`, :meth:`turned_by`), else evaluated by
-        ``np.cos`` and ``np.sin`` at the frame's first use."""
+        ``np.cos`` and ``np.sin`` at the frame's first use; ``like``: the link whose angle
+        plus a continuous term it is (it jumps by 2π where that one does; the ground's
+        never), else a heading (``arctan2``: it may jump by 2π along a path)."""
         k = self.index(link)
         self.lines.append(f"    t{k} = {theta}")
         if frame is not None:
             self.frames[k] = frame
+        if like is None or self.index(like) in self.wrapping:
+            self.wrapping.add(k)
 
     def heading(self, vx: str, vy: str, alpha) -> tuple[str, str]:
         """cos and sin of ``atan2(vy, vx) − alpha`` (``alpha`` a constant) from the vector
@@ -287,7 +295,7 @@ def _rrp(system, plan, joints, q0) -> Group | None:
 
     def write(w: _Pass, g: int) -> None:
         sg = w.sign(g, sigma)
-        w.set_angle(b, f"{w.angle(k)} + {w.const(s.angle)}", w.turned_by(k, s.angle))
+        w.set_angle(b, f"{w.angle(k)} + {w.const(s.angle)}", w.turned_by(k, s.angle), k)
         ux, uy = w.turned(k, s.u)
         kax, kay = w.world(k, s.a)
         ox, oy = w.turned(b, offset)
@@ -340,7 +348,7 @@ def _rpr(system, plan, joints, q0) -> Group | None:
         w.set_angle(
             b, f"np.arctan2({dy}, {dx}) - {w.const(nu_ang)} + {arc}", w.heading(vx, vy, nu_ang)
         )
-        w.set_angle(a, f"t{w.index(b)} + {w.const(s.angle)}", w.turned_by(b, s.angle))
+        w.set_angle(a, f"t{w.index(b)} + {w.const(s.angle)}", w.turned_by(b, s.angle), b)
         w.place(b, pbx, pby, _pin(jb, b))
         w.place(a, pax, pay, _pin(ja, a))
         w.lines.append(f"    D[..., {g}] = 1.0 - {c} * {c}")
@@ -364,7 +372,7 @@ def _driven(system, plan, joints, q0) -> Group | None:
 
     def write(w: _Pass, g: int) -> None:
         psi = f"(psi[..., {d_index}] - {w.const(d.driver.offset)})"
-        w.set_angle(link, f"{w.angle(other)} + {turn!r} * {psi}")
+        w.set_angle(link, f"{w.angle(other)} + {turn!r} * {psi}", like=other)
         atx, aty = w.world(other, _pin(j, other))
         w.place(link, atx, aty, _pin(j, link))
         w.lines.append(f"    D[..., {g}] = 1.0")
@@ -399,7 +407,7 @@ def closed_forms(system: System, q0: np.ndarray) -> ClosedForms | None:
         raise AssertionError(f"closed forms place links {sorted(w.placed)} of {system.links}")
     source = "\n".join(["def run(q, psi, signs):", *w.lines, "    return q, D"]) + "\n"
     exec(_compiled(source), w.env)  # noqa: S102  our own generated text
-    return ClosedForms(source, w.env["run"], len(groups))
+    return ClosedForms(source, w.env["run"], len(groups), tuple(sorted(w.wrapping)))
 
 
 @functools.lru_cache(maxsize=64)
