@@ -47,6 +47,11 @@ __all__ = ["closed_form", "closed_forms", "ClosedForms", "MARGIN"]
 
 MARGIN = 1e-3  # below this margin √D a solve near a guess hands over to Newton
 
+FRAMES_FROM = 512
+"""Points of a pass from which a dyad's links take their cos θ and sin θ from their own
+vectors (:meth:`_Pass.heading`: ~12 whole-array operations) rather than by ``np.cos``
+and ``np.sin`` (two calls of ~10 ns a number): below, the calls cost less."""
+
 
 @dataclass(frozen=True, eq=False)
 class ClosedForms:
@@ -76,7 +81,7 @@ class _Pass:
         self.lines: list[str] = []
         self.framed: set[int] = set()
         self.placed: set[int] = set()
-        self.frames: dict[int, tuple[str, str]] = {}  # cos θ, sin θ without cos and sin
+        self.frames: dict[int, tuple] = {}  # cos θ, sin θ without cos and sin (a recipe)
         self.wrapping: set[int] = set()  # links whose angle may jump by 2π along a path
         self.n = 0
 
@@ -95,8 +100,13 @@ class _Pass:
 
     def let(self, expr: str) -> str:
         """A new local set to ``expr``."""
+        name = self.local()
+        self.lines.append(f"    {name} = {expr}")
+        return name
+
+    def local(self) -> str:
+        """A new local's name."""
         self.n += 1
-        self.lines.append(f"    v{self.n} = {expr}")
         return f"v{self.n}"
 
     def angle(self, link: str) -> str:
@@ -107,8 +117,10 @@ class _Pass:
         self, link: str, theta: str, frame: tuple[str, str] | None = None, like: str | None = None
     ) -> None:
         """The link's angle ``theta``; ``frame``: its cos θ and sin θ as arithmetic on
-        the pass's locals (:meth:`heading`, :meth:`turned_by`), else evaluated by
-        ``np.cos`` and ``np.sin`` at the frame's first use; ``like``: the link whose angle
+        the pass's locals (:meth:`heading`, :meth:`turned_by`) over :data:`FRAMES_FROM`
+        points and more, else evaluated by ``np.cos`` and ``np.sin`` at the frame's first
+        use (so over fewer points, where a call costs more than ~10 ns a number);
+        ``like``: the link whose angle
         plus a continuous term it is (it jumps by 2π where that one does; the ground's
         never), else a heading (``arctan2``: it may jump by 2π along a path)."""
         k = self.index(link)
@@ -118,32 +130,45 @@ class _Pass:
         if like is None or self.index(like) in self.wrapping:
             self.wrapping.add(k)
 
-    def heading(self, vx: str, vy: str, alpha) -> tuple[str, str]:
-        """cos and sin of ``atan2(vy, vx) − alpha`` (``alpha`` a constant) from the vector
-        itself: its direction (v / |v|) turned back by ``alpha`` — the same angle to
-        round-off, without a cosine or a sine (each ~10 ns a number, most of a pass)."""
-        r = self.let(f"np.sqrt({vx} * {vx} + {vy} * {vy})")
-        ex, ey = self.let(f"{vx} / {r}"), self.let(f"{vy} / {r}")
+    def heading(self, vx: str, vy: str, alpha) -> tuple:
+        """The recipe of cos and sin of ``atan2(vy, vx) − alpha`` (``alpha`` a constant)
+        from the vector itself: its direction (v / |v|) turned back by ``alpha`` — the
+        same angle to round-off, without a cosine or a sine (each ~10 ns a number, most of
+        a pass over thousands of points): (lines, cos, sin, the links it reads)."""
+        r, ex, ey = self.local(), self.local(), self.local()
+        lines = [f"{r} = np.sqrt({vx} * {vx} + {vy} * {vy})", f"{ex} = {vx} / {r}"]
+        lines.append(f"{ey} = {vy} / {r}")
         ca, sa = self.const(np.cos(alpha)), self.const(np.sin(alpha))
-        return self.let(f"{ex} * {ca} + {ey} * {sa}"), self.let(f"{ey} * {ca} - {ex} * {sa}")
+        return lines, f"{ex} * {ca} + {ey} * {sa}", f"{ey} * {ca} - {ex} * {sa}", ()
 
-    def turned_by(self, link: str, angle) -> tuple[str, str]:
-        """cos and sin of ``link``'s angle + ``angle`` (a constant) by the sum's formulas
-        from the link's frame (the ground's: the constant's cos and sin)."""
+    def turned_by(self, link: str, angle) -> tuple:
+        """The recipe of cos and sin of ``link``'s angle + ``angle`` (a constant) by the
+        sum's formulas from the link's frame (the ground's: the constant's cos and sin)."""
         ca, sa = self.const(np.cos(angle)), self.const(np.sin(angle))
         k = self.index(link)
         if k is None:
-            return ca, sa
-        c, s_ = self.frame(k)
-        return self.let(f"{c} * {ca} - {s_} * {sa}"), self.let(f"{s_} * {ca} + {c} * {sa}")
+            return [], ca, sa, ()
+        return [], f"c{k} * {ca} - s{k} * {sa}", f"s{k} * {ca} + c{k} * {sa}", (k,)
 
     def frame(self, k: int) -> tuple[str, str]:
-        """The names of link k's cos θ and sin θ, written at their first use."""
+        """The names of link k's cos θ and sin θ, written at their first use: by its
+        recipe over :data:`FRAMES_FROM` points or more, else by ``np.cos``, ``np.sin``."""
         if k not in self.framed:
             self.framed.add(k)
-            c, s_ = self.frames.get(k, (f"np.cos(t{k})", f"np.sin(t{k})"))
-            self.lines.append(f"    c{k} = {c}")
-            self.lines.append(f"    s{k} = {s_}")
+            by_call = [f"c{k} = np.cos(t{k})", f"s{k} = np.sin(t{k})"]
+            if k not in self.frames:
+                self.lines += ["    " + line for line in by_call]
+                return f"c{k}", f"s{k}"
+            lines, c, s_, reads = self.frames[k]
+            for other in reads:
+                self.frame(other)
+            self.env["FRAMES_FROM"] = FRAMES_FROM
+            self.lines += [
+                "    if psi[..., 0].size >= FRAMES_FROM:",
+                *("        " + line for line in [*lines, f"c{k} = {c}", f"s{k} = {s_}"]),
+                "    else:",
+                *("        " + line for line in by_call),
+            ]
         return f"c{k}", f"s{k}"
 
     def turned(self, link: str, p: np.ndarray) -> tuple[str, str]:
