@@ -22,11 +22,14 @@ constants — compiled with :func:`compile` and kept in ``System.memo``:
   the contract's ``jacobian`` on its two links' poses gathered once — the joints'
   formulas stay in ``joints/`` either way; the ground's block kept for the shaking force
   as ``jacobian_blocks`` keeps it;
-- the factorisation (:class:`~kinetostatics.base.blocks.BlockFactor`, its inverses by
-  ``small_inverse`` as before) and q̇ by forward substitution over ν = −Φ_t gathered
-  as ``BlockFactor.solve`` gathers it, the vectors stored component-major;
+- the factorisation (:class:`~kinetostatics.base.blocks.BlockFactor`, its inverses
+  written out by :mod:`.plan_inverse` where they can be, with one model's groups'
+  condition numbers) and q̇ by forward substitution over ν = −Φ_t gathered as
+  ``BlockFactor.solve`` gathers it, the vectors stored component-major;
 - γ by the traced ``gamma_kernel`` (over the links' rates ``vr[i, c]``) or the contract's
-  ``acceleration_rhs`` of each set in the same way, and q̈ by the same substitution.
+  ``acceleration_rhs`` of each set in the same way, and q̈ by the same substitution;
+  over long chunks both substitutions, and the reactions' back substitution, written
+  over the blocks' entries that are not zero (:mod:`.plan_solve`).
 
 The numbers are those of the general path: the same operations on the same operands
 in the same order (a zero's sign aside: base/trace.py; tests/kinematics/test_plan.py
