@@ -99,7 +99,8 @@ def plan_lines(name: str, n: int = 360, repeat: int = 400) -> dict[str, float]:
     system = r.system
     lines, env = plan.written(system)
     at = next(k for k, line in enumerate(lines) if line.startswith("def run("))
-    inverses, lines = lines[:at], lines[at:]  # the blocks' inverses' functions, untimed
+    end = next((k for k, line in enumerate(lines) if k > at and line.startswith("def ")), None)
+    inverses, lines = lines[:at], lines[at:end]  # the blocks' inverses' functions, untimed
     body: list[str] = []  # the top-level statements (an if with its else is one)
     for line in lines[1:]:
         if body and (line.startswith("        ") or line.startswith("    else:")):
