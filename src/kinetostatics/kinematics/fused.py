@@ -14,9 +14,10 @@ positions — no NumPy call per operation, and no temporaries over all the posit
   picks for the first position the plan was made at) — a position where a pivot fails
   its test, or a determinant is zero, sends the whole call to the NumPy plan, which
   inverts that matrix by LAPACK;
-- the groups' condition numbers (but the driven groups'), with the operations of
-  :func:`~kinetostatics.kinematics.newton.condition_number` on the blocks and inverses
-  still in registers, handed on with the factors (``BlockFactor.conditions``);
+- the groups' condition numbers (but the driven groups'), the norms of
+  :func:`~kinetostatics.kinematics.newton.condition_number` as
+  :func:`~kinetostatics.kinematics.newton.traced_condition` writes them, on the blocks
+  and inverses still in registers, handed on with the factors (``BlockFactor.conditions``);
 - q̇ and q̈ by the forward substitutions over the groups, γ by the sets' ``gamma_kernel``
   (a driver's ψ̈ less its joint's ``bias_kernel``) on the links' rates just solved.
 

@@ -112,57 +112,39 @@ def block_condition(j_t: np.ndarray, inv_t: np.ndarray, l_ref: float) -> np.ndar
 
 def traced_condition(lines: Lines, m: list, inv: list, l_ref: float, arrays: bool = False):
     """:func:`condition_number` of a group's block ``m`` and its inverse ``inv`` (traced
-    values: :mod:`~kinetostatics.base.trace`) with the operations of :func:`_condition` in
-    its order: a_ij = |J_ij c_j|, each row's largest m_i (1 for a zero row), ‖S‖² = Σ_i
-    (Σ_j a_ij²) / m_i², ‖S⁻¹‖² = Σ_i (Σ_j (J⁻¹_ij m_j)²) / c_i², ∞ where not finite — a
-    number folded where the entries are.  Written for a program of scalars
-    (base/program.py), or over whole arrays (``arrays``: :func:`_array_condition`, its
-    ``sqrt`` and ``positive_or_one`` the caller's names for :data:`WHOLE_ARRAY_NAMES`)."""
-    if arrays:
-        return _array_condition(lines, m, inv, l_ref)
-    k = len(m)
-    col = [1.0 if j % 3 == 2 else l_ref for j in range(k)]
-    a = [[magnitude(lines, m[i][j] * col[j]) for j in range(k)] for i in range(k)]
-    norm = [
-        _unary(lines, "positive_or_one", _largest(lines, row), lambda x: x if x > 0 else 1.0)
-        for row in a
-    ]
-    a_sq = [_sum(x * x for x in row) for row in a]
-    inv_sq = [
-        _sum((inv[i][j] * norm[j]) * (inv[i][j] * norm[j]) for j in range(k)) for i in range(k)
-    ]
-    first = _sum(a_sq[i] / (norm[i] * norm[i]) for i in range(k))
-    second = _sum(inv_sq[i] / (col[i] * col[i]) for i in range(k))
-    c = _unary(lines, "sqrt", first, np.sqrt) * _unary(lines, "sqrt", second, np.sqrt)
-    return _unary(lines, "finite_or_inf", c, lambda x: x if abs(x) < np.inf else np.inf)
-
-
-def _array_condition(lines: Lines, m: list, inv: list, l_ref: float):
-    """:func:`traced_condition` over whole arrays, where the positions whose entries are
-    not all finite, or whose block is inverted again, get :func:`condition_number`'s own
-    number after it (kinematics/plan_inverse.py): the same norms with fewer lines — a
+    values: :mod:`~kinetostatics.base.trace`), a number folded where the entries are:
+    a_ij = |J_ij c_j|, each row's largest m_i (1 for a zero row), ‖S‖² = Σ_i (Σ_j a_ij²)
+    / m_i², ‖S⁻¹‖² summed by columns, Σ_j m_j² Σ_i (J⁻¹_ij / c_i)², so that the inverse's
+    entries that are numbers (a revolute pair's ±1) fold into one number per column, ∞
+    where not finite.  Written for a program of scalars (base/program.py), or over whole
+    arrays (``arrays``: ``np.abs`` and ``np.maximum``; ``sqrt`` and ``positive_or_one``
+    the caller's names for :data:`WHOLE_ARRAY_NAMES`), where the positions whose
+    entries are not all finite, or whose block is inverted again, get
+    :func:`condition_number`'s own number after it (kinematics/plan_inverse.py): there a
     row's largest is not tested for zero where the row holds a positive number (it is
-    positive wherever it is not NaN), ‖S⁻¹‖² is summed by columns, Σ_j m_j² Σ_i
-    (J⁻¹_ij / c_i)², so that the inverse's entries that are numbers (a revolute pair's
-    ±1) fold into one number per column, and the product is not tested for ∞ (it is
-    finite or ∞ wherever it is not NaN)."""
+    positive wherever it is not NaN), nor the product for ∞ (it is finite or ∞ wherever
+    it is not NaN)."""
+    fabs, fmax = ("np.abs", "np.maximum") if arrays else ("abs", "max")
     k = len(m)
     col = [1.0 if j % 3 == 2 else l_ref for j in range(k)]
-    a = [[magnitude(lines, m[i][j] * col[j], "np.abs") for j in range(k)] for i in range(k)]
+    a = [[magnitude(lines, m[i][j] * col[j], fabs) for j in range(k)] for i in range(k)]
     norm = []
     for row in a:
-        top = _largest(lines, row, "np.maximum")
-        if not any(not isinstance(x, Sym) and x > 0 for x in row):
+        top = _largest(lines, row, fmax)
+        if not (arrays and any(not isinstance(x, Sym) and x > 0 for x in row)):
             top = _unary(lines, "positive_or_one", top, lambda x: x if x > 0 else 1.0)
         norm.append(top)
     square = [x * x for x in norm]
     first = _sum(_sum(x * x for x in row) / square[i] for i, row in enumerate(a))
     by_col = [_sum(inv[i][j] * inv[i][j] / (col[i] * col[i]) for i in range(k)) for j in range(k)]
     second = _sum(square[j] * by_col[j] for j in range(k))
-    return _unary(lines, "sqrt", first, np.sqrt) * _unary(lines, "sqrt", second, np.sqrt)
+    c = _unary(lines, "sqrt", first, np.sqrt) * _unary(lines, "sqrt", second, np.sqrt)
+    if arrays:
+        return c
+    return _unary(lines, "finite_or_inf", c, lambda x: x if abs(x) < np.inf else np.inf)
 
 
-def _largest(lines: Lines, row: list, fn: str = "max"):
+def _largest(lines: Lines, row: list, fn: str):
     """The largest of magnitudes (traced), NaN where one is: a zero beside them changes
     no maximum (nor a NaN)."""
     top, *rest = [x for x in row if isinstance(x, Sym) or x != 0.0] or [0.0]
@@ -171,11 +153,7 @@ def _largest(lines: Lines, row: list, fn: str = "max"):
     return top
 
 
-WHOLE_ARRAY_NAMES = {
-    "sqrt": np.sqrt,
-    "positive_or_one": lambda x: np.where(x > 0, x, 1.0),
-    "finite_or_inf": lambda x: np.where(np.isfinite(x), x, np.inf),
-}
+WHOLE_ARRAY_NAMES = {"sqrt": np.sqrt, "positive_or_one": lambda x: np.where(x > 0, x, 1.0)}
 """The functions :func:`traced_condition`'s lines call over whole arrays, by name."""
 
 
