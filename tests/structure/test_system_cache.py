@@ -122,6 +122,30 @@ def test_the_poses_kept_follow_a_state_changed_in_place():
     np.testing.assert_array_equal(S.phi(system, q, psi), fresh)
 
 
+@pytest.mark.parametrize("n", [360, 2000])  # frames by np.cos below FRAMES_FROM, by vectors above
+def test_an_analysis_reads_the_frames_its_closed_form_pass_placed_the_links_with(n):
+    """The rows of a closed-form path carry the frames of their pass (no cosine again): they
+    are cos θ and sin θ of the rows' angles to round-off, every stage and every run of the
+    rows reads the same ones, and whatever runs in between — another analysis, other rows
+    of the same numbers — changes no bit of a column read later."""
+    m = ks.load(ROOT / "mechanisms" / "slotting_machine.yaml")
+    system, psi = S.system_of(m), np.radians(np.linspace(0.0, 360.0, n, endpoint=False))
+    first = ks.analyze(m, positions=psi)
+    every = {c: first[c] for c in first.columns}  # read now
+    pe = S.link_poses(system, first.q)
+    theta = first.q[:, 2::3]
+    tol = 4 * np.finfo(float).eps * np.maximum(np.abs(theta), 1.0)  # θ itself to round-off
+    assert np.all(np.abs(pe[:, :-1, 3] - np.cos(theta)) <= tol)
+    assert np.all(np.abs(pe[:, :-1, 4] - np.sin(theta)) <= tol)
+    np.testing.assert_array_equal(pe[:, :-1, :3], first.q.reshape(n, -1, 3))
+    assert S.link_poses(system, first.q[5:17]).base is pe.base  # a run of the rows: theirs
+    again = ks.analyze(m, positions=psi)
+    ks.analyze(m, positions=psi[::7])  # other rows in between
+    S.link_poses(system, first.q.copy())  # the same numbers, another array: its own frames
+    for c in again.columns:  # read after
+        np.testing.assert_array_equal(again[c], every[c], err_msg=c)
+
+
 def test_poses_run_contiguously_over_the_positions():
     """Each link's x, y, θ, cos θ, sin θ is one contiguous run over the positions (the
     joints' formulas read them so), with the values of the pose-major layout."""

@@ -19,7 +19,7 @@ from ..kinematics.continuation import Singularity
 from ..kinematics.newton import group_condition
 from ..kinematics.positions import PositionSolution, reachable_range, solve_positions
 from ..kinematics.schedule import Schedule
-from ..structure.system import System
+from ..structure.system import System, keep_poses
 
 __all__ = ["Rows", "solve_run", "reachable_rows"]
 
@@ -61,10 +61,17 @@ def solve_run(
         t, sol, full = reachable_rows(system, sched, rows, exc)
     if closing:
         full = _same_pose(system, sol.q[-1], sol.q[0])
+        pe = None if sol.poses is None else sol.poses[:-1]
         sol = replace(
-            sol, q=sol.q[:-1], signatures=sol.signatures[:-1], iterations=sol.iterations[:-1]
+            sol,
+            q=sol.q[:-1],
+            signatures=sol.signatures[:-1],
+            iterations=sol.iterations[:-1],
+            poses=pe,
         )
     sol.q.flags.writeable = False  # the rows every later stage reads (link_poses' key)
+    if sol.poses is not None:  # their frames from the pass that placed them
+        keep_poses(system, sol.q, sol.poses)
     return t, sol, full
 
 

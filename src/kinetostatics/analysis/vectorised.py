@@ -215,7 +215,7 @@ def analyze_stacked(
     if solvers is None:  # a group without a closed form: Newton along the path
         q, ok_path = newton_path(system, q0, t, sched)
     else:
-        q, ok_path, _ = closed_form_path(system, solvers, q0, t, sched)
+        q, ok_path, _, _ = closed_form_path(system, solvers, q0, t, sched)
     ok &= ok_path
     members = np.arange(len(models))
     if not ok.all():

@@ -12,6 +12,7 @@ __all__ = [
     "turn",
     "turn_back",
     "poses",
+    "framed_poses",
     "perp",
     "dot",
     "cross",
@@ -88,6 +89,19 @@ def poses(q: np.ndarray, n_links: int) -> np.ndarray:
     out[..., :n_links, 4] = np.sin(theta)
     out[..., n_links, :] = (0.0, 0.0, 0.0, 1.0, 0.0)
     return out
+
+
+def framed_poses(q_t: np.ndarray, frames: np.ndarray) -> np.ndarray:
+    """:func:`poses` from coordinates and frames already at hand: ``q_t (3 n, ...)`` the
+    links' (x, y, θ) and ``frames (n, 2, ...)`` their cos θ and sin θ, each component one
+    array over the positions (component-major), in :func:`poses`' layout ``(..., n + 1,
+    5)``: copies, no cosine or sine evaluated."""
+    n, lead = len(frames), q_t.shape[1:]
+    out = np.empty((n + 1, 5) + lead)
+    out[:n, :3] = q_t.reshape((n, 3) + lead)
+    out[:n, 3:] = frames
+    out[n] = np.reshape((0.0, 0.0, 0.0, 1.0, 0.0), (5,) + (1,) * len(lead))
+    return entries_last(out)
 
 
 def perp(v: np.ndarray) -> np.ndarray:

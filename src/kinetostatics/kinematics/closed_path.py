@@ -12,6 +12,7 @@ import math
 import numpy as np
 
 from ..base.arrays import entries_last, sorted_distinct
+from ..base.geometry import framed_poses
 from ..structure.system import System, phi
 from .continuation import COARSE_STEP, Drive, Singularity, time_step
 from .dyads import MARGIN, ClosedForms
@@ -60,9 +61,12 @@ def closed_form_path(
     t: np.ndarray,
     drive: Drive,
     singular: list | None = None,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]:
     """Closed-form positions at times ``t (N,)`` from start poses ``q0 (V, 1, n_q)``
-    (V variants, stacked or not): ``(q (V, N, n_q), ok (V,), signs (V, N, n_groups))``.
+    (V variants, stacked or not): ``(q (V, N, n_q), ok (V,), signs (V, N, n_groups),
+    poses)``, ``poses`` one model's rows as :func:`~.system.link_poses` lays them out,
+    their frames those the pass placed the links with (no cosine evaluated again; None
+    for stacked variants).
 
     Each group is solved with the closed-form sign of its start pose times
     ``signs``: the sign changes at every *change point* of the group, where its
@@ -81,7 +85,8 @@ def closed_form_path(
     tt, order = path_times(system, t, drive)
     psi = drive(tt)[0]
     signs = _branch_signs(flips, np.broadcast_to(tt, (n_v, len(tt))))
-    q, disc = _closed_forms(forms, (n_v, len(tt), q0.shape[-1]), psi, signs)
+    frames = np.empty((len(system.links), 2, n_v, len(tt))) if singular is not None else None
+    q, disc = _closed_forms(forms, (n_v, len(tt), q0.shape[-1]), psi, signs, frames)
     ok &= np.all(disc >= -DISC_TOL, axis=(-2, -1))
     start, ang = len(t), slice(2, None, 3)
     heading = 3 * np.asarray(forms.wrapping, dtype=int) + 2  # the angles that may jump by 2π
@@ -89,6 +94,10 @@ def closed_form_path(
         q[..., heading] += 2 * np.pi * np.round((q0[..., heading] - q[..., heading]) / (2 * np.pi))
         q[:, order[:, None], heading] = _unwrapped(q[:, order[:, None], heading])
     q[..., ang] += (2 * np.pi * np.round((q0[:, 0, ang] - q[:, start, ang]) / (2 * np.pi)))[:, None]
+    pe = None
+    if frames is not None:  # one model: the rows' poses, their frames the pass's
+        pe = framed_poses(np.moveaxis(q[0, :start], -1, 0), frames[:, :, 0, :start])
+        pe.flags.writeable = False
     q = np.ascontiguousarray(q[:, :start])
     probe = slice(None, None, max(1, start // 32))
     if n_v == 1:  # one model: Φ by its plan (the pairs' residuals written out)
@@ -114,7 +123,7 @@ def closed_form_path(
                     float(group_condition(system, qs[0, 0], system.plans[g])),
                 )
             )
-    return q, ok, signs[:, :start]
+    return q, ok, signs[:, :start], pe
 
 
 def _unwrapped(path: np.ndarray) -> np.ndarray:
@@ -156,13 +165,14 @@ def _memo_change_points(system: System, forms, q0, lo: float, hi: float, drive, 
 
 
 def _closed_forms(
-    forms: ClosedForms, shape: tuple, psi: np.ndarray, signs: np.ndarray
+    forms: ClosedForms, shape: tuple, psi: np.ndarray, signs: np.ndarray, frames=None
 ) -> tuple[np.ndarray, np.ndarray]:
     """The closed forms' pass into new coordinates ``q (shape)``, stored coordinate-major
     (the pass writes every column), group g on its start sign × ``signs[..., g]``:
-    (q, the groups' discriminants D ``(..., n_groups)``)."""
+    (q, the groups' discriminants D ``(..., n_groups)``); the links' frames into
+    ``frames`` (``(n_links, 2) + shape[:-1]``) where given."""
     q = entries_last(np.empty(shape[-1:] + tuple(shape[:-1])), 1)
-    return forms.run(q, psi, signs)
+    return forms.run(q, psi, signs, frames)
 
 
 def _branch_signs(flips: list, t: np.ndarray) -> np.ndarray:

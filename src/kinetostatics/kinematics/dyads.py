@@ -18,12 +18,12 @@ pose (the margin).
 The groups of a system are solved in one pass, written once per system (and start
 pose) as Python source: :func:`closed_forms` gives a :class:`ClosedForms` whose
 ``run(q, psi, signs) -> (q, D)`` fills every column of ``q`` and the groups'
-discriminants ``D (..., n_groups)``.  The source is one straight line of
-component formulas (x and y as separate arrays: no ``(..., 2)`` temporaries), the
-joints' points and the dyads' lengths as constants, each link's angle, cos θ and
-sin θ computed once and read by the later groups (``ClosedForms.source`` is the
-text).  The constants are those of the model, scalars, or arrays along a leading
-variant axis for a stacked batch: the same text serves both.
+discriminants ``D (..., n_groups)`` (and, asked, the frames it placed the links with).
+The source is one straight line of component formulas (x and y as separate arrays:
+no ``(..., 2)`` temporaries), the joints' points and the dyads' lengths as constants,
+each link's angle, cos θ and sin θ computed once and read by the later groups
+(``ClosedForms.source`` is the text).  The constants are those of the model, scalars,
+or arrays along a leading variant axis for a stacked batch: the same text serves both.
 
 The closed forms are formulas of revolute and prismatic pairs by nature (like
 pyslvs' PLLP), so this module names the joint classes and reads their
@@ -56,10 +56,12 @@ and ``np.sin`` (two calls of ~10 ns a number): below, the calls cost less."""
 @dataclass(frozen=True, eq=False)
 class ClosedForms:
     """The closed forms of every group of a system, in solve order, as one generated pass:
-    ``run(q, psi, signs) -> (q, D)`` writes every link's (x, y, θ) into ``q (..., n_q)``
-    at the driver coordinates ``psi (..., n_d)`` and returns it with the discriminants
-    ``D (..., n_groups)``; group g takes its start sign times ``signs[..., g]`` (±1), or
-    its start sign where ``signs`` is None.  ``source`` is the generated text."""
+    ``run(q, psi, signs, F=None) -> (q, D)`` writes every link's (x, y, θ) into ``q (...,
+    n_q)`` at the driver coordinates ``psi (..., n_d)`` and returns it with the
+    discriminants ``D (..., n_groups)``; group g takes its start sign times ``signs[...,
+    g]`` (±1), or its start sign where ``signs`` is None.  With ``F (n_links, 2, ...)``
+    the pass also writes each link's cos θ and sin θ there, the frame it placed the link
+    with.  ``source`` is the generated text."""
 
     source: str
     run: Callable[..., tuple[np.ndarray, np.ndarray]]
@@ -201,6 +203,8 @@ class _Pass:
             f"    q[..., {3 * k}] = x{k}",
             f"    q[..., {3 * k + 1}] = y{k}",
             f"    q[..., {3 * k + 2}] = t{k}",
+            "    if F is not None:",
+            f"        F[{k}, 0], F[{k}, 1] = {self.frame(k)[0]}, {self.frame(k)[1]}",
         ]
 
     def sign(self, g: int, sigma) -> str:
@@ -430,7 +434,7 @@ def closed_forms(system: System, q0: np.ndarray) -> ClosedForms | None:
         write(w, g)
     if w.placed != set(range(len(system.links))):  # the pass must fill every column of q
         raise AssertionError(f"closed forms place links {sorted(w.placed)} of {system.links}")
-    source = "\n".join(["def run(q, psi, signs):", *w.lines, "    return q, D"]) + "\n"
+    source = "\n".join(["def run(q, psi, signs, F=None):", *w.lines, "    return q, D"]) + "\n"
     exec(_compiled(source), w.env)  # noqa: S102  our own generated text
     return ClosedForms(source, w.env["run"], len(groups), tuple(sorted(w.wrapping)))
 

@@ -88,6 +88,7 @@ class PositionSolution:
     iterations: np.ndarray  # (n,) Newton iterations of the batch
     singular: list[Singularity] = field(default_factory=list)
     fallback: int = 0  # positions solved by the sequential fallback
+    poses: np.ndarray | None = None  # the rows' poses and frames where a pass gave them
 
 
 def reachable_range(system: System, drive: Drive, t_span: float) -> tuple[float, float]:
@@ -174,10 +175,11 @@ def _closed_form_path(
     if solvers is None:
         return None
     singular: list[Singularity] = []
-    q, ok, signs = closed_form_path(system, solvers, q0[None, None], t, drive, singular)
+    q, ok, signs, pe = closed_form_path(system, solvers, q0[None, None], t, drive, singular)
     if not ok[0]:
         return None
-    return PositionSolution(q[0], sig0 * signs[0], np.zeros(len(t), dtype=int), singular)
+    iterations = np.zeros(len(t), dtype=int)
+    return PositionSolution(q[0], sig0 * signs[0], iterations, singular, poses=pe)
 
 
 def state_at(

@@ -8,6 +8,7 @@ each moving link's centre of mass; ground enters as zeros.
 
 from __future__ import annotations
 
+import weakref
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import cast
@@ -223,16 +224,60 @@ def link_poses(system: System, q: np.ndarray) -> np.ndarray:
     return pe
 
 
+FRAMED_KEPT = 64  # the live rows of one system whose pass's frames are kept
+
+
+def keep_poses(system: System, q: np.ndarray, pe: np.ndarray) -> None:
+    """Keep ``pe``, the poses of the frozen rows ``q`` with the frames computed with them
+    (a closed-form pass's: equal to ``cos θ``, ``sin θ`` to round-off), for as long as
+    ``q`` lives: :func:`link_poses` gives them for these very rows and runs of them, in
+    every stage and whatever ran between (a column read later, another analysis), and
+    its own frames for any other array, of the same numbers or not."""
+    if q.flags.writeable or pe.shape[:-2] != q.shape[:-1]:
+        raise ValueError("keep_poses: the rows must be frozen and the poses theirs")
+    kept = system.memo.setdefault("framed", {})
+    if len(kept) >= FRAMED_KEPT:  # the oldest rows' later stages evaluate their own frames
+        del kept[next(iter(kept))]
+    key = id(q)  # the entry goes with the rows (a weak reference: they are not kept alive)
+
+    def forget(_ref: weakref.ref, key: int = key) -> None:
+        kept.pop(key, None)
+
+    kept[key] = (weakref.ref(q, forget), pe)
+
+
 def _kept_poses(system: System, q: np.ndarray) -> np.ndarray | None:
-    """The poses kept with the system where they are ``q``'s (:func:`link_poses`)."""
+    """The poses kept with the system where they are ``q``'s (:func:`link_poses`,
+    :func:`keep_poses`)."""
+    if not q.flags.writeable:  # rows a pass framed, or a run of them
+        for ref, pe in system.memo.get("framed", {}).values():
+            if (rows := ref()) is q:
+                return pe
+            if rows is not None and (k := _rows_within(rows, q)) is not None:
+                return pe[k : k + len(q)]
     hit = system.memo.get("poses")
     if hit is None:
         return None
     if hit[2] is q and not q.flags.writeable:  # the same frozen rows: the same numbers
         return hit[1]
+    if (k := _rows_within(hit[2], q)) is not None:  # a run of them (a stage's chunk)
+        return hit[1][k : k + len(q)]
     if hit[0].shape == q.shape and np.array_equal(hit[0], q):
         return hit[1]
     return None
+
+
+def _rows_within(kept: np.ndarray, q: np.ndarray) -> int | None:
+    """The first row of ``q`` among the rows ``kept`` where ``q`` is a run of them (the
+    same memory, row for row: a basic slice along the first axis) and both are frozen;
+    else None."""
+    if q.flags.writeable or kept.flags.writeable or q.ndim != kept.ndim or q.ndim < 2:
+        return None
+    if q.shape[1:] != kept.shape[1:] or q.strides != kept.strides or kept.strides[0] <= 0:
+        return None
+    offset = q.__array_interface__["data"][0] - kept.__array_interface__["data"][0]
+    k, rest = divmod(offset, kept.strides[0])
+    return k if rest == 0 and 0 <= k <= len(kept) - len(q) else None
 
 
 def kept_pose(system: System, q: np.ndarray, k: int) -> np.ndarray | None:
