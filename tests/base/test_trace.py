@@ -76,6 +76,16 @@ def test_identities_are_applied_and_numbers_written_exactly():
     assert env["f"]()[0] == 3.0 * 0.1 + 1 / 3
 
 
+def test_a_double_negation_is_the_value_itself():
+    """−(−x) is x bit for bit (a negation is exact): not written, whichever way the
+    second negation comes (−y, y·(−1), 0 − y)."""
+    lines = Lines()
+    x = lines.value("X")
+    y = -x
+    assert -y is x and y * -1.0 is x and 0.0 - y is x
+    assert lines.lines == ["    e0 = X", f"    {y.name} = -e0"]
+
+
 def test_a_branch_on_a_value_is_refused():
     x = Lines().value("X")
     with pytest.raises(TypeError, match="branched"):

@@ -9,6 +9,7 @@ more than STACK_UP_TO positions of a stack without whole-array kernels) take the
 path.  Stacked variants' plans: tests/kinematics/test_plan_stacked.py."""
 
 import glob
+import re
 import warnings
 from collections import defaultdict
 
@@ -247,15 +248,34 @@ def test_plan_is_readable_source_kept_with_the_system():
     assert p is kinematic_plan(system)  # generated once
     inverses, run = p.source.split("def run(pe, psi_d, psi_dd, buf, qdT, qddT, INV, CND):\n")
     assert inverses.startswith("def INVERSE0(view, out, buf")  # the blocks' written inverses
-    assert ".jacobian(" in run and ".acceleration_rhs(" in run
+    # every set traced, the motor's row too (its joint's direction and bias kernels)
+    assert ".jacobian(" not in run and ".acceleration_rhs(" not in run
+    assert "psi_dd[:, 0]" in run
     assert len(run.splitlines()) < 20 * (len(system.sets) + len(system.plans)) + 20
+    cam = build_system(ks.load("mechanisms/cam_roller.yaml"))  # a cam: through its contract
+    assert ".jacobian(" in kinematic_plan(cam).source
+
+
+@pytest.mark.parametrize(
+    "name, numbers_alone", [("slider_crank", False), ("slotting_machine", True)]
+)
+def test_a_driven_crank_block_is_inverted_without_arithmetic(name, numbers_alone):
+    """The crank's block holds its hinge's ±1, the motor's row (0, 0, 1) — numbers when the
+    plan is written — and its pin's lever arms: the written inverse copies the arms (−(−x)
+    is x) and computes nothing; a crank pinned at its origin (the slotting machine's) has
+    an inverse of numbers alone, without a check at each call."""
+    body = kinematic_plan(build_system(ks.load(f"mechanisms/{name}.yaml"))).source
+    body = body.split("def INVERSE0(")[1].split("\ndef ")[0]
+    assert not [line for line in body.splitlines() if re.match(r"\s+v\d+ = .*[-+*/]", line)]
+    assert ("redo.append" not in body) == numbers_alone
 
 
 @pytest.mark.parametrize("name", ["slider_crank", "slotting_machine", "shaper"])
 def test_plan_traces_the_pairs_formulas_at_any_number_of_positions(name):
-    """The revolute and prismatic pairs' Φ_q and γ are their kernels' operations written
-    into the plan (base/trace.py), no call per joint or per stack: at 1 to 200 positions
-    the analysis equals the general path's."""
+    """The revolute and prismatic pairs' Φ_q and γ, and a motion driver's row on either,
+    are their kernels' operations written into the plan (base/trace.py), no call per joint
+    or per stack: at 1 to 200 positions the analysis equals the general path's (a slide's
+    driver: ``test_plan_equals_general_path_on_files``, the slider-driven hard case)."""
     model = ks.load(f"mechanisms/{name}.yaml")
     start = model.analysis.start
     for n in (1, 2, 10, 63, 64, 200):
@@ -263,8 +283,7 @@ def test_plan_traces_the_pairs_formulas_at_any_number_of_positions(name):
         assert _compare(model, positions=positions, friction=False) <= 1e-12
     source = kinematic_plan(build_system(model)).source
     assert "PE[" in source and "vr[" in source and "kernel" not in source
-    calls = source.count(".jacobian(")
-    assert calls == sum(s.driver is not None for s in build_system(model).sets)
+    assert ".jacobian(" not in source and ".acceleration_rhs(" not in source  # drivers too
 
 
 def _random_rows(system, rng, n=40):

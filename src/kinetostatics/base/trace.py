@@ -45,6 +45,7 @@ class Lines:
     def __init__(self, prefix: str = "e"):
         self.lines: list[str] = []
         self.names: dict[str, str] = {}
+        self.negated: dict[str, Sym] = {}  # a local written as −x -> x: −(−x) is x itself
         self.prefix = prefix
 
     def take(self) -> list[str]:
@@ -168,7 +169,12 @@ class Sym:
         return _binary("%", self, other)
 
     def __neg__(self):
-        return self.lines.value(f"-{self.name}")
+        inner = self.lines.negated.get(self.name)
+        if inner is not None:  # −(−x): x, the same bits (a negation is exact)
+            return inner
+        out = self.lines.value(f"-{self.name}")
+        self.lines.negated[out.name] = self
+        return out
 
     def __bool__(self):
         raise TypeError("a traced kernel branched on a value (its formulas must be plain)")

@@ -18,15 +18,18 @@ constants — compiled with :func:`compile` and kept in ``System.memo``:
   one contiguous array over the positions), its entries assigned to their slots of
   :class:`~kinetostatics.structure.evaluation.BlockLayout` — no call per joint or per
   stack, and the terms the sets share (a link's rotated points, a prismatic pair's frame
-  in its Φ_q and its γ) computed once; every other set (a driver, a cam, a gear pair) by
-  the contract's ``jacobian`` on its two links' poses gathered once — the joints'
-  formulas stay in ``joints/`` either way; the ground's block kept for the shaking force
-  as ``jacobian_blocks`` keeps it;
+  in its Φ_q and its γ) computed once; a motion driver on such a joint (one model's
+  plan) by its joint's ``direction_kernel`` traced the same way
+  (:func:`~.plan_params.jacobian_kernel`); every other set (a cam, a gear pair) by the
+  contract's ``jacobian`` on its two links' poses gathered once — the joints' formulas
+  stay in ``joints/`` either way; the ground's block kept for the shaking force as
+  ``jacobian_blocks`` keeps it;
 - the factorisation (:class:`~kinetostatics.base.blocks.BlockFactor`, its inverses
   written out by :mod:`.plan_inverse` where they can be, with one model's groups'
   condition numbers) and q̇ by forward substitution over ν = −Φ_t gathered as
   ``BlockFactor.solve`` gathers it, the vectors stored component-major;
-- γ by the traced ``gamma_kernel`` (over the links' rates ``vr[i, c]``) or the contract's
+- γ by the traced ``gamma_kernel`` (over the links' rates ``vr[i, c]``; a driver's ψ̈ less
+  its joint's traced ``bias_kernel``) or the contract's
   ``acceleration_rhs`` of each set in the same way, and q̈ by the same substitution;
   over long chunks both substitutions, and the reactions' back substitution, written
   over the blocks' entries that are not zero (:mod:`.plan_solve`).
@@ -65,7 +68,16 @@ from ..structure.system import System, link_poses, phi
 from .derivatives import derivatives
 from .fused import fused_derivatives
 from .plan_inverse import RUNTIME, condition_into, entry, inverse_line
-from .plan_params import flat, parameter_pattern, topology, unflat, whole_array
+from .plan_params import (
+    driver_params,
+    flat,
+    gamma_kernel,
+    jacobian_kernel,
+    parameter_pattern,
+    topology,
+    unflat,
+    whole_array,
+)
 from .plan_solve import (
     TRACED_FROM,
     Written,
@@ -396,7 +408,7 @@ def _params(system: System, pattern: tuple | None, traced: Lines, env: dict) -> 
     methods evaluate it); of a stacked system, its ``parameter_pattern``'s: a number, or
     the local read from the row of the table ``PA`` that it names."""
     if pattern is None:
-        return [whole_array(s) for s in system.sets]
+        return [whole_array(s) if s.driver is None else driver_params(s) for s in system.sets]
     env["STACKED"] = True
     out = []
     for spec in pattern:
@@ -431,9 +443,7 @@ def _blocks(  # noqa: PLR0913  the generator's state, passed down
             writes.update(dict.fromkeys(np.ravel(layout.dest[k]).tolist(), RUNTIME))
             continue
         shape = (len(s.members),) + s.rows.shape[-1:] + (3, 1)
-        ji, jj = traced_kernel(
-            type(s.constraint).jacobian_kernel, (shape, shape), par, poses, s.ends
-        )
+        ji, jj = traced_kernel(jacobian_kernel(s), (shape, shape), par, poses, s.ends)
         for slots, values, op in ((layout.dest[k][0], ji, "="), (layout.dest[k][1], jj, "+=")):
             for at, value in zip(slots.reshape(-1).tolist(), values.reshape(-1).tolist()):
                 if not (isinstance(value, numbers.Real) and value == 0.0):  # zero on zeros
@@ -576,7 +586,8 @@ def _accelerations(  # noqa: PLR0913  the generator's state, passed down
         if params[k] is None:
             lines += _contract_gamma(env, k, s)
             continue
-        kernel = type(s.constraint).gamma_kernel
+        psi_dd = None if s.driver is None else traced.value(f"psi_dd[:, {s.driver}]")
+        kernel = gamma_kernel(s, psi_dd)
         lines += _traced_rows(traced, s, kernel, params[k], poses, rates, s.ends)
     dense = substitution(
         system, "qdd", lambda g: f"rows[{index(f'ROWS{g}', system.plans[g].rows)}]"

@@ -26,7 +26,7 @@ import numpy as np
 
 from ..base import linalg
 from ..base.arrays import entries_first
-from ..base.trace import Lines, Sym, larger, magnitude, operand
+from ..base.trace import Lines, Sym, larger, magnitude, operand, pruned
 from .newton import WHOLE_ARRAY_NAMES, block_condition, traced_condition
 
 __all__ = ["RUNTIME", "TRACED_FROM", "WrittenInverse", "entry", "inverse_line"]
@@ -128,7 +128,7 @@ def inverse_line(  # noqa: PLR0913  the block, where it is, and what is written 
     head = _head(env, g, block, first, l_ref, list(reads))
     cnd = [f"CND[{g}]"] if l_ref is not None else []
     call = f"INVERSE{g}({', '.join([view, f'INV[{g}]', 'buf', *cnd, *reads])})"
-    source = [*head, "    with np.errstate(all='ignore'):", *_indented(body)]
+    source = [*head, "    with np.errstate(all='ignore'):", *_indented(pruned(body, "v"))]
     pattern = [[None if isinstance(v, Sym) else float(v) for v in row] for row in inv]
     return WrittenInverse(
         call, [*source, "    return any(x is not None for x in redo)", ""], pattern

@@ -10,7 +10,17 @@ import numpy as np
 
 from ..structure.system import System
 
-__all__ = ["whole_array", "variant_params", "parameter_pattern", "topology", "unflat", "flat"]
+__all__ = [
+    "whole_array",
+    "driver_params",
+    "jacobian_kernel",
+    "gamma_kernel",
+    "variant_params",
+    "parameter_pattern",
+    "topology",
+    "unflat",
+    "flat",
+]
 
 
 def whole_array(
@@ -28,6 +38,51 @@ def whole_array(
     if variants is None:
         return s.constraint.kernel_params(len(s.members))
     return variant_params(s.constraint, len(s.members), variants)
+
+
+def driver_params(s) -> np.ndarray | None:
+    """A motion driver's set (one driver): its joint's kernel parameters where the joint
+    type's ``direction_kernel`` and ``bias_kernel`` hold over whole arrays, so that one
+    model's plan traces the driver's row (:func:`jacobian_kernel`, :func:`gamma_kernel`);
+    else None (the contract's methods)."""
+    if s.driver is None or len(s.members) != 1:
+        return None
+    joint = s.constraint.joint
+    cls = type(joint)
+    if not cls.whole_array_kernels or cls.direction_kernel is None or cls.bias_kernel is None:
+        return None
+    return joint.kernel_params(1)
+
+
+def jacobian_kernel(s):
+    """Set ``s``'s Φ_q kernel ``(par, P, ends, ji, jj)`` as a plan traces it: its joint
+    type's, or a motion driver's row, the gradient of its joint's coordinate (the joint
+    type's ``direction_kernel``, as ``DriverConstraint.jacobian`` gives it)."""
+    if s.driver is None:
+        return type(s.constraint).jacobian_kernel
+    direction = type(s.constraint.joint).direction_kernel
+
+    def kernel(par, P, ends, ji, jj):
+        direction(par, P, ends, ji[:, 0], jj[:, 0])
+
+    return kernel
+
+
+def gamma_kernel(s, psi_dd):
+    """Set ``s``'s γ kernel ``(par, P, V, ends, out)`` as a plan traces it: its joint
+    type's, or a motion driver's row, ψ̈ (``psi_dd``, its traced value) less its joint's
+    coordinate bias (the joint type's ``bias_kernel``: ``DriverConstraint.acceleration_rhs``)."""
+    if s.driver is None:
+        return type(s.constraint).gamma_kernel
+    bias = type(s.constraint.joint).bias_kernel
+
+    def kernel(par, P, V, ends, out):
+        b = np.empty(out.shape[:1] + out.shape[2:], dtype=object)
+        bias(par, P, V, ends, b)
+        for m, p in np.ndindex(b.shape):
+            out[m, 0, p] = psi_dd - b[m, p]
+
+    return kernel
 
 
 def variant_params(joint, k: int, v: int) -> np.ndarray | None:
