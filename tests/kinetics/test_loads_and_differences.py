@@ -136,3 +136,38 @@ def test_every_load_and_condition_kind_the_loader_accepts_has_its_entry():
     np.testing.assert_array_equal(rt.applied(system, load, q, qd, 5.0, 1.0)[1], [-5.0, 5.0])
     (held,) = rt.held(system, load, 1.0)
     assert (held.kind, held.value, held.active) == ("torque", -5.0, ())
+
+
+def test_a_point_that_conditions_and_a_load_share_is_evaluated_once(monkeypatch):
+    """The slotting machine's cutting force is a resistance at the ram's tool point, on
+    while the ram moves and within its travel band: the loads' evaluation computes that
+    point's state once (not once per condition and once for the resistance), and the
+    forces are those of three evaluations."""
+    from kinetostatics.kinematics.schedule import schedule
+    from kinetostatics.kinetics import forces, kinds
+
+    model = ks.load("mechanisms/slotting_machine.yaml")
+    r = ks.analyze(model, friction=False)
+    ref = schedule(r.system).reference
+    args = (r.system, r.q, r.qd, r.coordinate, r.extremes, ref)
+    calls = []
+    counted = kinds.point_state
+
+    def counting(*a, **kw):
+        calls.append(1)
+        return counted(*a, **kw)
+
+    monkeypatch.setattr(kinds, "point_state", counting)
+    once = forces.external_forces(*args)
+    assert len(calls) == 1
+    monkeypatch.setattr(kinds, "points_once", _nothing_kept)
+    monkeypatch.setattr(forces, "points_once", _nothing_kept)
+    calls.clear()
+    np.testing.assert_array_equal(forces.external_forces(*args), once)
+    assert len(calls) == 3
+
+
+def _nothing_kept(system):
+    import contextlib
+
+    return contextlib.nullcontext()

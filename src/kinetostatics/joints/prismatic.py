@@ -255,7 +255,7 @@ class Prismatic(Joint, Presentation, Friction, Compiled, kind="prismatic"):
         return np.stack((g1, np.zeros_like(g1)), axis=-1)
 
     def reaction(self, lam, qi, qj):
-        A, U, N, P, d = self._frame(qi, qj)
+        N = perp(turn(qi, self.u))  # the slide's normal: the frame's other parts unread
         n_force, couple = lam[..., 0], lam[..., 1]
         return {"Fx": n_force * N[..., 0], "Fy": n_force * N[..., 1], "N": n_force, "M": couple}
 

@@ -18,7 +18,7 @@ from ..kinematics.state import local_point, point_state  # noqa: F401  (point_st
 from ..model import EffortLaw
 from ..structure.system import System, coordinate_gradient, kept_pose
 from .conditions import activity
-from .kinds import LOAD_KINDS, resisting_torque, resisting_torque_other, zero_speed
+from .kinds import LOAD_KINDS, points_once, resisting_torque, resisting_torque_other, zero_speed
 
 __all__ = [
     "mass_vector",
@@ -108,9 +108,15 @@ class AppliedLoad:
     other: int | None = None
 
 
-def applied_loads(system: System, q, qd, psi, extremes, ref_speed: float):
+def applied_loads(system: System, q, qd, psi, extremes, ref_speed: float) -> list[AppliedLoad]:
     """Each external load of the model as it acts at the rows (:class:`AppliedLoad`), in
-    the model's order: what :func:`external_forces` sums, and the lever method's terms."""
+    the model's order: what :func:`external_forces` sums, and the lever method's terms.
+    A point that conditions and loads share has its state computed once (``points_once``)."""
+    with points_once(system):
+        return list(_applied_loads(system, q, qd, psi, extremes, ref_speed))
+
+
+def _applied_loads(system: System, q, qd, psi, extremes, ref_speed: float):
     period = 2 * np.pi if system.motion_drivers and system.motion_drivers[0].joint.angular else None
     for load in system.model.loads:
         value = load.value_at(psi, period)

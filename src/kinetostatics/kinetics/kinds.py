@@ -19,6 +19,7 @@ every kind the loader accepts has one).
 
 from __future__ import annotations
 
+import contextlib
 from collections.abc import Callable
 from dataclasses import replace
 from typing import ClassVar
@@ -129,9 +130,7 @@ class _Resistance(LoadKind):
     opposes = True
 
     def rate(self, system, load, q, qd, qdd=None):
-        k = system.link_index(load.link)
-        p = local_point(system, load.link, load.point)
-        _, vel, acc = point_state(q, qd, qdd, k, p, kept_pose(system, q, k))
+        _, vel, acc = _point(system, load, q, qd, qdd)
         return vel @ load.axis, None if acc is None else acc @ load.axis
 
     def zero(self, system, ref_speed):
@@ -261,10 +260,34 @@ class ConditionKind:
         raise NotImplementedError
 
 
-def _point(system, cond, q, qd, qdd):
-    k = system.link_index(cond.link)
-    p = local_point(system, cond.link, cond.point)
-    return point_state(q, qd, qdd, k, p, kept_pose(system, q, k))
+def _point(system, where, q, qd, qdd):
+    """The state of the point a condition or a load names (``where.link``, ``where.point``)
+    at (q, q̇, q̈): once per arrays inside :func:`points_once` (a load's conditions and its
+    resistance read the same point)."""
+    k = system.link_index(where.link)
+    p = local_point(system, where.link, where.point)
+    once = system.memo.get("point states")
+    if once is None:
+        return point_state(q, qd, qdd, k, p, kept_pose(system, q, k))
+    key = (k, p.tobytes(), qdd is None)
+    hit = once.get(key)
+    if hit is None or hit[0] is not q or hit[1] is not qd or hit[2] is not qdd:
+        hit = once[key] = (q, qd, qdd, point_state(q, qd, qdd, k, p, kept_pose(system, q, k)))
+    return hit[3]
+
+
+@contextlib.contextmanager
+def points_once(system: System):
+    """Within: a point's state at the same arrays (the very objects, held while inside)
+    computed once by :func:`_point`; the scope of one evaluation of the loads."""
+    if "point states" in system.memo:  # an outer scope holds it
+        yield
+        return
+    system.memo["point states"] = {}
+    try:
+        yield
+    finally:
+        system.memo.pop("point states", None)
 
 
 class _Moving(ConditionKind):
