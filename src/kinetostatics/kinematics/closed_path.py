@@ -89,10 +89,11 @@ def closed_form_path(
     q, disc = _closed_forms(forms, (n_v, len(tt), q0.shape[-1]), psi, signs, frames)
     ok &= np.all(disc >= -DISC_TOL, axis=(-2, -1))
     start, ang = len(t), slice(2, None, 3)
-    heading = 3 * np.asarray(forms.wrapping, dtype=int) + 2  # the angles that may jump by 2π
-    if heading.size:  # nearest the start pose, as the guess; then unwrapped along the path
-        q[..., heading] += 2 * np.pi * np.round((q0[..., heading] - q[..., heading]) / (2 * np.pi))
-        q[:, order[:, None], heading] = _unwrapped(q[:, order[:, None], heading])
+    columns = np.moveaxis(q, -1, 0)  # (n_q, V, points): each coordinate one run (a view)
+    for h in (3 * k + 2 for k in forms.wrapping):  # the angles that may jump by 2π: nearest
+        angle = columns[h]  # the start pose, as the guess; then unwrapped along the path
+        angle += 2 * np.pi * np.round((q0[:, :, h] - angle) / (2 * np.pi))
+        angle[:, order] = _unwrapped(angle[:, order])
     q[..., ang] += (2 * np.pi * np.round((q0[:, 0, ang] - q[:, start, ang]) / (2 * np.pi)))[:, None]
     pe = None
     if frames is not None:  # one model: the rows' poses, their frames the pass's

@@ -225,7 +225,7 @@ def planned_derivatives(
     blocks = [(p.rows, p.cols) for p in system.plans]
     inv = [entries_last(x.reshape(x.shape[:2] + shape)) for x in inv]
     lu = BlockFactor(None, blocks, parts, inv, conditions, transposed)
-    ground = None if layout.ground is None else _block(buf, layout.ground, shape).copy()
+    ground = None if layout.ground is None else _block(buf, layout.ground, shape)  # a view
     system.memo["ground_jacobian"] = (pe, ground)
     return _rows(qdT, shape), _rows(qddT, shape), lu
 

@@ -384,8 +384,8 @@ def ground_jacobian(system: System, q: np.ndarray) -> tuple[np.ndarray, np.ndarr
         return layout.ground_rows, np.zeros(q.shape[:-1] + (0, 3))
     pe = link_poses(system, q)
     hit = system.memo.get("ground_jacobian")
-    if hit is not None and hit[0] is pe:
-        return layout.ground_rows, hit[1]
+    if hit is not None and hit[0] is pe:  # rows in order (a plan keeps a view of its buffer)
+        return layout.ground_rows, np.ascontiguousarray(hit[1])
     jac = jacobian(system, q, layout.ground_joints, np.arange(-3, 0), ground=True, pe=pe)
     return layout.ground_rows, jac
 
