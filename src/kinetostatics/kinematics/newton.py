@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..base.arrays import entries_first
-from ..base.trace import Lines, Sym, larger, magnitude
+from ..base.trace import Lines, Sym, larger
 from ..structure.system import GroupPlan, System, jacobian, phi
 
 __all__ = [
@@ -124,18 +124,18 @@ def traced_condition(lines: Lines, m: list, inv: list, l_ref: float, arrays: boo
     row's largest is not tested for zero where the row holds a positive number (it is
     positive wherever it is not NaN), nor the product for ∞ (it is finite or ∞ wherever
     it is not NaN)."""
-    fabs, fmax = ("np.abs", "np.maximum") if arrays else ("abs", "max")
+    fmax = "np.maximum" if arrays else "max"
     k = len(m)
     col = [1.0 if j % 3 == 2 else l_ref for j in range(k)]
-    a = [[magnitude(lines, m[i][j] * col[j], fabs) for j in range(k)] for i in range(k)]
-    norm = []
-    for row in a:
+    scaled = [[m[i][j] * col[j] for j in range(k)] for i in range(k)]
+    a2 = [[x * x for x in row] for row in scaled]  # a_ij², no |·| taken: (|x|)² is x²
+    square = []  # m_i², the largest a_ij² (a square's order is its magnitude's)
+    for row in a2:
         top = _largest(lines, row, fmax)
         if not (arrays and any(not isinstance(x, Sym) and x > 0 for x in row)):
             top = _unary(lines, "positive_or_one", top, lambda x: x if x > 0 else 1.0)
-        norm.append(top)
-    square = [x * x for x in norm]
-    first = _sum(_sum(x * x for x in row) / square[i] for i, row in enumerate(a))
+        square.append(top)
+    first = _sum(_sum(row) / square[i] for i, row in enumerate(a2))
     by_col = [_sum(inv[i][j] * inv[i][j] / (col[i] * col[i]) for i in range(k)) for j in range(k)]
     second = _sum(square[j] * by_col[j] for j in range(k))
     c = _unary(lines, "sqrt", first, np.sqrt) * _unary(lines, "sqrt", second, np.sqrt)
