@@ -116,8 +116,9 @@ def traced_condition(lines: Lines, m: list, inv: list, l_ref: float, arrays: boo
     a_ij = |J_ij c_j|, each row's largest m_i (1 for a zero row), ‖S‖² = Σ_i (Σ_j a_ij²)
     / m_i², ‖S⁻¹‖² summed by columns, Σ_j m_j² Σ_i (J⁻¹_ij / c_i)², so that the inverse's
     entries that are numbers (a revolute pair's ±1) fold into one number per column, ∞
-    where not finite.  Written for a program of scalars (base/program.py), or over whole
-    arrays (``arrays``: ``np.abs`` and ``np.maximum``; ``sqrt`` and ``positive_or_one``
+    where not finite; a_ij² is written (J_ij c_j)² and m_i² the largest of a row's, no
+    |·| taken (the same numbers).  Written for a program of scalars (base/program.py), or
+    over whole arrays (``arrays``: ``np.maximum``; ``sqrt`` and ``positive_or_one``
     the caller's names for :data:`WHOLE_ARRAY_NAMES`), where the positions whose
     entries are not all finite, or whose block is inverted again, get
     :func:`condition_number`'s own number after it (kinematics/plan_inverse.py): there a

@@ -250,7 +250,7 @@ def _kept_poses(system: System, q: np.ndarray) -> np.ndarray | None:
     """The poses kept with the system where they are ``q``'s (:func:`link_poses`,
     :func:`keep_poses`)."""
     if not q.flags.writeable:  # rows a pass framed, or a run of them
-        for ref, pe in system.memo.get("framed", {}).values():
+        for ref, pe in list(system.memo.get("framed", {}).values()):  # (rows may die meanwhile)
             if (rows := ref()) is q:
                 return pe
             if rows is not None and (k := _rows_within(rows, q)) is not None:
