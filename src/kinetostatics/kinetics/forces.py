@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..base.arrays import entries_last
 from ..base.geometry import rotate, turn
 from ..kinematics.state import local_point, point_state  # noqa: F401  (point_state: re-exported)
 from ..model import EffortLaw
@@ -66,9 +67,11 @@ def inertia_forces(system: System, qdd: np.ndarray) -> np.ndarray:
 
 def effort_forces(system: System, q: np.ndarray, qd: np.ndarray | None = None) -> np.ndarray:
     """Generalized forces of the ``effort:`` drivers (applied by i on j): constants, or
-    laws (:class:`~kinetostatics.model.EffortLaw`) of the driver coordinate and speed."""
+    laws (:class:`~kinetostatics.model.EffortLaw`) of the driver coordinate and speed.
+    Stored component-major, as d'Alembert's −M q̈ is (each coordinate's force one run over
+    the positions: the loads' sum and the reactions' back substitution read them so)."""
 
-    out = np.zeros(q.shape)
+    out = entries_last(np.zeros(q.shape[-1:] + q.shape[:-1]), 1)
     names = [j.name for j in system.model.joints]
     for d in system.model.drivers:
         if d.effort is None:
