@@ -43,6 +43,7 @@ from ..base.trace import Leaves, Lines, Sym, larger, magnitude, operand, pruned,
 from ..structure.evaluation import jacobian_blocks_all
 from ..structure.system import System
 from .newton import traced_condition
+from .plan_params import driver_params
 
 __all__ = ["FusedPlan", "fused_plan", "fused_derivatives"]
 
@@ -195,14 +196,17 @@ def _kernels(s):
     """(Φ_q's kernel, γ's kernel, their parameters) of set ``s``: a joint type's
     ``jacobian_kernel`` and ``gamma_kernel`` where they hold over whole arrays, a motion
     driver's joint's ``direction_kernel`` and ``bias_kernel``."""
-    joint = s.constraint.joint if s.driver is not None else s.constraint
-    cls = type(joint)
-    names = ("direction_kernel", "bias_kernel") if s.driver is not None else None
-    names = names or ("jacobian_kernel", "gamma_kernel")
+    if s.driver is not None:  # as the NumPy plan traces a driver's row
+        par = driver_params(s)
+        if par is None:
+            raise _NotFused
+        cls = type(s.constraint.joint)
+        return cls.direction_kernel, cls.bias_kernel, par
+    cls = type(s.constraint)
     if not getattr(cls, "whole_array_kernels", False):
         raise _NotFused
-    jac, gam = (getattr(cls, name, None) for name in names)
-    par = joint.kernel_params(1 if s.driver is not None else len(s.members))
+    jac, gam = cls.jacobian_kernel, cls.gamma_kernel
+    par = s.constraint.kernel_params(len(s.members))
     if jac is None or gam is None or par is None:
         raise _NotFused
     return jac, gam, par
