@@ -211,7 +211,9 @@ def test_long_chunks_solve_by_lines_over_the_blocks_nonzero_entries(name, monkey
     monkeypatch.setattr(plan, "np", counting)  # the plans written from here on count
     monkeypatch.setitem(plan_inverse._SCOPE, "np", counting)
     made = plan.BlockFactor
-    monkeypatch.setattr(plan, "BlockFactor", lambda *a: factors.append(made(*a)) or factors[-1])
+    monkeypatch.setattr(
+        plan, "BlockFactor", lambda *a, **k: factors.append(made(*a, **k)) or factors[-1]
+    )
     real = plan_inverse.again_where_not_finite
     for forced in (False, True):
         if forced:  # every block "inverted again" (the same numbers)
@@ -224,6 +226,50 @@ def test_long_chunks_solve_by_lines_over_the_blocks_nonzero_entries(name, monkey
         assert "kinematic plan" in got.system.memo and _worst(general, got) <= 1e-12
         assert (counting.products > 0) == forced, counting.products
         assert (factors[-1].transposed is None) == forced
+
+
+class _UnzeroedNumpy:
+    """NumPy for the plan's module whose ``empty`` arrays are NaN (or zeros: ``fill``)."""
+
+    def __init__(self, fill: float):
+        self.fill, self.made = fill, 0
+
+    def __getattr__(self, name):
+        return getattr(np, name)
+
+    def empty(self, shape, *a, **k):
+        self.made += 1
+        return np.full(shape, self.fill)
+
+
+@pytest.mark.parametrize("path", FILES)
+def test_unwritten_entries_are_zeroed_before_they_are_read(path, monkeypatch):
+    """Where the plan writes every entry its lines read, Φ_q's buffer and the inverses are
+    not zeroed (kinematics/plan_buffers.py): filled with NaN instead of left as memory
+    was, an analysis in chunks long and short — the written lines, the products over
+    whole blocks, the fallbacks of a hard case, the shaking force, the friction solutions
+    reading the blocks — gives every column of the buffers made of zeros."""
+    monkeypatch.setattr(plan, "CHUNK_BYTES", 1)  # chunks of 1,024 rows at most
+    text = open(path).read()
+    for n in (3 * TRACED_FROM, 2 * TRACED_FROM + 3):  # chunks of TRACED_FROM, and shorter
+        changed, count = re.subn(r"positions: *\d+", f"positions: {n}", text)
+        model = ks.loads(changed, path)
+        if not _motion_driven(model) or not count:
+            pytest.skip("effort-driven, or no analysis.positions to set")
+        # (the self-locked rows of a hard case are solved one by one: ~5 s at 3,072 rows)
+        kw = {"friction": False} if "self_locking" in path else {}
+        got = []
+        for fill in (0.0, np.nan):
+            numpy = _UnzeroedNumpy(fill)
+            monkeypatch.setattr(plan, "np", numpy)
+            try:
+                got.append(_analyse(model, True, **kw))
+            except ks.KinetostaticsError:  # a hard case that refuses before any rate is made
+                return
+        unwritten = got[-1].system.memo["kinematic plan"].unwritten
+        for name in ("slider_crank", "slotting_machine", "stephenson_sixbar"):
+            assert unwritten is not None or name not in path  # the pairs' plans: not zeroed
+        assert _worst(got[0], got[1]) <= 1e-12 and numpy.made
 
 
 def test_a_stack_without_whole_array_kernels_keeps_long_runs_general(monkeypatch):
@@ -246,7 +292,8 @@ def test_plan_is_readable_source_kept_with_the_system():
     system = build_system(ks.load("mechanisms/slider_crank.yaml"))
     p = kinematic_plan(system)
     assert p is kinematic_plan(system)  # generated once
-    inverses, run = p.source.split("def run(pe, psi_d, psi_dd, buf, qdT, qddT, INV, CND):\n")
+    head = "def run(pe, psi_d, psi_dd, buf, qdT, qddT, INV, CND, Z=NOZERO):\n"
+    inverses, run = p.source.split(head)
     assert inverses.startswith("def INVERSE0(view, out, buf")  # the blocks' written inverses
     # every set traced, the motor's row too (its joint's direction and bias kernels)
     assert ".jacobian(" not in run and ".acceleration_rhs(" not in run

@@ -16,6 +16,7 @@ from kinetostatics.base.linalg import small_inverse
 from kinetostatics.base.trace import Lines
 from kinetostatics.kinematics import plan
 from kinetostatics.kinematics.newton import block_condition
+from kinetostatics.kinematics.plan_buffers import NOZERO
 from kinetostatics.kinematics.plan_inverse import RUNTIME, TRACED_FROM, inverse_line
 from kinetostatics.structure.system import system_of
 
@@ -60,7 +61,7 @@ def _written(m: list[list], first: np.ndarray, l_ref: float | None = None):
         leaves = [view[:, i, j] for i, j in map(where.get, args)]
         run.cnd = np.full(len(stack), -1.0)  # written with the inverse, given l_ref
         cnd = [] if l_ref is None else [run.cnd]
-        run.redone = env["INVERSE0"](view, out, buf, *cnd, *leaves)  # inverted again anywhere
+        run.redone = env["INVERSE0"](view, out, buf, NOZERO, *cnd, *leaves)  # inverted again
         return out.transpose(2, 0, 1)
 
     return run

@@ -54,7 +54,9 @@ class BlockFactor:
     (the compiled backend's fused stage, kinematics/fused.py), else None;
     ``transposed``: Y = solve of Φ_qᵀ Y = R for ``R (k, n, ...)`` component-major, written
     out over these blocks' nonzero entries (the kinematic plan's, kinematics/plan_solve.py),
-    which :meth:`solve_transposed_rows` then calls, else None.
+    which :meth:`solve_transposed_rows` then calls, else None; ``ready``: called once
+    before the blocks or the inverses are first read whole (a plan's buffers, their
+    structural zeros written where first needed: kinematics/plan_buffers.py), else None.
     """
 
     def __init__(
@@ -65,6 +67,7 @@ class BlockFactor:
         inv: list[np.ndarray] | None = None,
         conditions: dict | None = None,
         transposed=None,
+        ready=None,
     ):
         self.blocks = blocks
         self.conditions = conditions
@@ -77,11 +80,34 @@ class BlockFactor:
                 lower = jac[..., rows[:, None], done] if done.size else None
                 parts.append((jac[..., rows[:, None], cols], lower, done))
                 done = np.concatenate((done, cols))
-        self.diag = [d for d, _, _ in parts]
-        self.inv = [small_inverse(d) for d in self.diag] if inv is None else inv
-        self._lower = [(cols, lower) for _, lower, cols in parts]  # coupling: rows × cols
+        self._ready = ready
+        self._diag = [d for d, _, _ in parts]
+        self._inv = [small_inverse(d) for d in self._diag] if inv is None else inv
+        self._lower_parts = [(cols, lower) for _, lower, cols in parts]  # coupling: rows × cols
         self._upper = None
         self._at = None
+
+    def _read(self, x):
+        """``x``, one of the stored parts, once ``ready`` has run."""
+        if self._ready is not None:
+            ready, self._ready = self._ready, None
+            ready()
+        return x
+
+    @property
+    def diag(self) -> list[np.ndarray]:
+        """Each group's diagonal block ``(..., rows, cols)``."""
+        return self._read(self._diag)
+
+    @property
+    def inv(self) -> list[np.ndarray]:
+        """Each diagonal block's inverse ``(..., cols, rows)``."""
+        return self._read(self._inv)
+
+    @property
+    def _lower(self) -> list[tuple[np.ndarray, np.ndarray | None]]:
+        """Each group's coupling block (its columns, the block or None)."""
+        return self._read(self._lower_parts)
 
     @property
     def jac(self) -> np.ndarray:

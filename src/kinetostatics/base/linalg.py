@@ -277,23 +277,34 @@ def _sparse_gauss_jordan(m: np.ndarray, plan: _Plan, entries=None) -> np.ndarray
 
 
 def lapack_where_pivots_fail(
-    m: np.ndarray, out: np.ndarray, worst: np.ndarray
+    m: np.ndarray, out: np.ndarray, worst: np.ndarray, ready: Callable | None = None
 ) -> np.ndarray | None:
     """The matrices ``m (n, n, N)`` (entry-major) whose elimination's pivot check ``worst``
     is above 1 / :data:`PIVOT_RATIO` (or NaN) inverted again by LAPACK, into ``out``;
-    returns where (None: nowhere)."""
+    returns where (None: nowhere).  ``ready``: called before ``m`` is read, where it is
+    (a kinematic plan's buffer zeroed where its structural zeros were left unwritten)."""
     bad = ~(worst <= 1.0 / PIVOT_RATIO)
     if bad.any():
+        if ready is not None:
+            ready()
         out[:, :, bad] = entries_first(_lapack_inverse(entries_last(m[:, :, bad])))
         return bad
     return None
 
 
-def pinv_where_singular(a: np.ndarray, inv: np.ndarray, det: np.ndarray) -> np.ndarray | None:
+def pinv_where_singular(
+    a: np.ndarray, inv: np.ndarray, det: np.ndarray, ready: Callable | None = None
+) -> np.ndarray | None:
     """The pseudo-inverse of each exactly singular matrix of ``a (..., n, n)`` (finite
     entries, determinant ``det`` zero) into ``inv (..., n, n)``; returns where (None:
-    nowhere)."""
-    singular = (det == 0) & np.all(np.isfinite(a), axis=(-2, -1))
+    nowhere).  The entries are read where the determinant is zero only (``ready``, as
+    :func:`lapack_where_pivots_fail` has it, called first)."""
+    singular = det == 0
+    if not singular.any():
+        return None
+    if ready is not None:
+        ready()
+    singular[singular] = np.all(np.isfinite(a[singular]), axis=(-2, -1))
     if singular.any():
         inv[singular] = np.linalg.pinv(a[singular])
         return singular

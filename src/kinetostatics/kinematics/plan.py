@@ -67,6 +67,7 @@ from ..structure.evaluation import STACK_UP_TO, jacobian_blocks_all
 from ..structure.system import System, link_poses, phi
 from .derivatives import derivatives
 from .fused import fused_derivatives
+from .plan_buffers import NOZERO, Unwritten, block, filled, run_in_chunks
 from .plan_inverse import RUNTIME, condition_into, entry, inverse_line
 from .plan_params import (
     driver_params,
@@ -115,16 +116,18 @@ inverted on their own, by the same formulas)."""
 @dataclass(frozen=True, eq=False)
 class KinematicPlan:
     """A generated stage of one system: ``source`` (its Python text) and ``run`` compiled
-    from it — the derivatives' ``run(pe, psi_d, psi_dd, buf, qdT, qddT, INV)`` writes Φ_q's
-    entries into ``buf`` (zeros), the blocks' inverses into ``INV`` (zeros, entry-major)
-    and q̇, q̈ (component-major) into ``qdT``, ``qddT``, all the caller's; the residuals'
-    ``run(pe, psi)`` returns Φ."""
+    from it — the derivatives' ``run(pe, psi_d, psi_dd, buf, qdT, qddT, INV, …, Z)`` writes
+    Φ_q's entries into ``buf``, the blocks' inverses into ``INV`` (entry-major) and q̇, q̈
+    (component-major) into ``qdT``, ``qddT``, all the caller's: ``buf`` and ``INV`` zeros,
+    or, with ``unwritten``, not zeroed, their unwritten entries zeroed by ``Z`` where read
+    (:mod:`.plan_buffers`); the residuals' ``run(pe, psi)`` returns Φ."""
 
     source: str
     run: Callable
     long_runs: bool = True  # it also takes more than STACK_UP_TO rows (see covers)
     table: np.ndarray | None = None  # a stacked system's: the parameters that differ (k, V)
     transposed: Callable | None = None  # one model's: Φ_qᵀ Y = R written out (plan_solve)
+    unwritten: Unwritten | None = None  # one model's, where its buffers need no zeros
 
 
 PLAN_AFTER = (8, 5000)
@@ -187,8 +190,9 @@ def planned_derivatives(
     where the plan does not cover the rows (:func:`covers`) or is not worth generating yet
     (:data:`PLAN_AFTER`).  The plan writes into arrays
     made here, each entry of a block and each component one contiguous array over the
-    rows, and the block factor is made of their views (an entry that no constraint has
-    stays an untouched page of zeros); the rows are run in chunks (:data:`CHUNK_BYTES`)."""
+    rows, and the block factor is made of their views (the entries no line writes zeroed
+    where first read: :mod:`.plan_buffers`); the rows are run in chunks
+    (:data:`CHUNK_BYTES`)."""
     if not covers(system, q) or not _worth(system, q[..., 0].size):
         return None
     layout = system.layout
@@ -199,19 +203,22 @@ def planned_derivatives(
     done = None
     if kernels.active() and len(shape) == 1:
         done = fused_derivatives(system, pe, psi_d, psi_dd)
-    conditions = transposed = None
+    conditions = transposed = zeros = None
     if done is not None:  # the compiled backend's program, position by position
         buf, inv, qdT, qddT, conditions = done
     else:
-        buf = np.zeros((layout.size + 1, n))
+        unwritten = plan.unwritten if n >= TRACED_FROM else None
+        alloc = np.zeros if unwritten is None else np.empty
+        buf = alloc((layout.size + 1, n))
         qdT, qddT = np.empty((system.n_q, n)), np.empty((system.n_q, n))
-        inv = [np.zeros((len(p.cols), len(p.cols), n)) for p in system.plans]
+        inv = [alloc((len(p.cols), len(p.cols), n)) for p in system.plans]
         into = (buf, qdT, qddT)
         if plan.table is None:  # with the groups' condition numbers
             asked = conditioned(system)
             cnd = [np.empty(n) if g in asked else None for g in range(len(inv))]
             rows = (pe, psi_d, psi_dd)
-            redone = _run_in_chunks(plan.run, layout.size + 1, rows, into, inv, cnd)
+            per = min(max(CHUNK_BYTES // (8 * (layout.size + 1)), 1024), 8192)
+            redone, zeros = run_in_chunks(plan.run, per, rows, into, inv, cnd, unwritten)
             conditions = {g: c for g, c in enumerate(cnd) if c is not None}
             if plan.transposed is not None and not redone and n >= TRACED_FROM:
                 transposed = functools.partial(transposed_in_runs, plan.transposed, buf, inv)
@@ -219,14 +226,14 @@ def planned_derivatives(
             rows = (np.reshape(x, (n,) + x.shape[len(shape) :]) for x in (pe, psi_d, psi_dd))
             plan.run(*rows, *into, inv, np.repeat(plan.table, shape[1], axis=1), shape)
     parts = [
-        (_block(buf, d, shape), None if lo is None else _block(buf, lo, shape), cols)
+        (block(buf, d, shape), None if lo is None else block(buf, lo, shape), cols)
         for d, lo, cols in zip(layout.diag, layout.lower, layout.lower_cols)
     ]
     blocks = [(p.rows, p.cols) for p in system.plans]
     inv = [entries_last(x.reshape(x.shape[:2] + shape)) for x in inv]
-    lu = BlockFactor(None, blocks, parts, inv, conditions, transposed)
-    ground = None if layout.ground is None else _block(buf, layout.ground, shape)  # a view
-    system.memo["ground_jacobian"] = (pe, ground)
+    lu = BlockFactor(None, blocks, parts, inv, conditions, transposed, ready=filled(zeros))
+    ground = None if layout.ground is None else block(buf, layout.ground, shape)  # a view
+    system.memo["ground_jacobian"] = (pe, ground, filled(zeros, layout.ground))
     return _rows(qdT, shape), _rows(qddT, shape), lu
 
 
@@ -242,37 +249,6 @@ def derivatives_at(
     variants'), else by the general stage (:func:`~.derivatives.derivatives`)."""
     planned = planned_derivatives(system, q, psi_d, psi_dd)
     return derivatives(system, q, psi_d, psi_dd) if planned is None else planned
-
-
-def _run_in_chunks(  # noqa: PLR0913  the plan's arguments
-    run, entries: int, rows: tuple, into: tuple, inv: list, cnd: list
-) -> bool:
-    """The plan's ``run`` over the rows ``(pe, psi_d, psi_dd)`` into ``(buf, qdT, qddT)``,
-    the inverses ``inv`` and the condition numbers ``cnd`` (None: a group without), in
-    chunks of :data:`CHUNK_BYTES` of Φ_q's ``entries``: whether a block was inverted
-    again (by ``small_inverse``, LAPACK or the pseudo-inverse) in any chunk."""
-    n = len(rows[0])
-    per = min(max(CHUNK_BYTES // (8 * entries), 1024), 8192)
-    if n <= per:
-        return bool(run(*rows, *into, inv, cnd))
-    cuts = np.linspace(0, n, -(-n // per) + 1).astype(int)  # alike, none tiny
-    redone = False
-    for a, b in zip(cuts[:-1].tolist(), cuts[1:].tolist()):
-        redone |= run(
-            *(x[a:b] for x in rows),
-            *(x[:, a:b] for x in into),
-            [x[..., a:b] for x in inv],
-            [None if x is None else x[a:b] for x in cnd],
-        )
-    return redone
-
-
-def _block(buf: np.ndarray, at, shape: tuple) -> np.ndarray:
-    """A block ``shape + (rows, cols)`` of the entries ``buf`` at ``at`` (offset, rows,
-    cols), a view."""
-    off, r, c = at
-    block = buf[off : off + r * c].reshape((r, c) + shape)
-    return block.transpose(tuple(range(2, 2 + len(shape))) + (0, 1))
 
 
 def planned_phi(system: System, q: np.ndarray, psi: np.ndarray) -> np.ndarray:
@@ -374,7 +350,9 @@ def _generate(system: System) -> KinematicPlan:
     source = "\n".join(lines) + "\n"
     name = f"<kinematic plan of {system.model.name!r}>"
     exec(compile(source, name, "exec"), env)  # noqa: S102  our own generated text
-    return KinematicPlan(source, env["run"], _long_runs(system), None, env.get("transposed"))
+    return KinematicPlan(
+        source, env["run"], _long_runs(system), None, env.get("transposed"), env.get("UNWRITTEN")
+    )
 
 
 def written(system: System, pattern: tuple | None = None) -> tuple[list[str], dict]:
@@ -385,9 +363,10 @@ def written(system: System, pattern: tuple | None = None) -> tuple[list[str], di
     other (``run`` then also takes the table of the parameters that differ, ``PA``, and
     ``shape`` = (V, N))."""
     env: dict = {"np": np, "invert": small_inverse, "unflat": unflat, "flat": flat}
+    env["NOZERO"] = NOZERO
     extra = ", CND" if pattern is None else ", PA, shape"
     lines = [
-        f"def run(pe, psi_d, psi_dd, buf, qdT, qddT, INV{extra}):",
+        f"def run(pe, psi_d, psi_dd, buf, qdT, qddT, INV{extra}, Z=NOZERO):",
         "    n = pe.shape[0]",
         "    PE = pe.transpose(1, 2, 0)",
     ]
@@ -400,7 +379,17 @@ def written(system: System, pattern: tuple | None = None) -> tuple[list[str], di
     _accelerations(system, env, lines, params, traced, written)
     lines.append("    return redone")
     solves = [] if written is None else ["", *traced_transposed(system, written)]
+    if written is not None and all(w != RUNTIME for w in written.writes.values()):
+        env["UNWRITTEN"] = _unwritten(system, written)
     return inverses + pruned(lines) + solves, env
+
+
+def _unwritten(system: System, written: Written) -> Unwritten:
+    """The slots and inverse entries a plan whose lines write every entry they read leaves
+    unwritten (:mod:`.plan_buffers`): its inverses' zeros are the entries written as 0."""
+    slots = set(range(system.layout.size + 1)) - set(written.writes)
+    zeros = [[[isinstance(x, float) and x == 0.0 for x in r] for r in p] for p in written.patterns]
+    return Unwritten(np.array(sorted(slots), dtype=np.intp), tuple(np.nonzero(z) for z in zeros))
 
 
 def _params(system: System, pattern: tuple | None, traced: Lines, env: dict) -> list:
@@ -447,10 +436,11 @@ def _blocks(  # noqa: PLR0913  the generator's state, passed down
         for slots, values, op in ((layout.dest[k][0], ji, "="), (layout.dest[k][1], jj, "+=")):
             for at, value in zip(slots.reshape(-1).tolist(), values.reshape(-1).tolist()):
                 if not (isinstance(value, numbers.Real) and value == 0.0):  # zero on zeros
-                    traced.lines.append(f"    buf[{at}] {op} {operand(value)}")
+                    first = "=" if at not in writes else op  # the buffer may not be zeros
+                    traced.lines.append(f"    buf[{at}] {first} {operand(value)}")
                     w = writes.setdefault(at, [])
                     if w != RUNTIME:
-                        w.append((op, value))
+                        w.append((first, value))
         lines += traced.take()
     first = None if "STACKED" in env else _start_blocks(system)  # shared: no one's pose
     lines.append("    redone = False")

@@ -127,7 +127,7 @@ def inverse_line(  # noqa: PLR0913  the block, where it is, and what is written 
     env.update(_SCOPE)
     head = _head(env, g, block, first, l_ref, list(reads))
     cnd = [f"CND[{g}]"] if l_ref is not None else []
-    call = f"INVERSE{g}({', '.join([view, f'INV[{g}]', 'buf', *cnd, *reads])})"
+    call = f"INVERSE{g}({', '.join([view, f'INV[{g}]', 'buf', 'Z', *cnd, *reads])})"
     source = [*head, "    with np.errstate(all='ignore'):", *_indented(pruned(body, "v"))]
     pattern = [[None if isinstance(v, Sym) else float(v) for v in row] for row in inv]
     return WrittenInverse(
@@ -154,12 +154,13 @@ def _again(block: list[list], l_ref: float | None) -> list[str]:
     leaves = [x for row in block for x in row if isinstance(x, Sym)]
     if leaves:  # their sum is not finite where one is not (or where it overflows)
         total = " + ".join(x.name for x in leaves)
-        out.append(f"    redo.append(again_where_not_finite(view, out, {total}))")
+        out.append(f"    redo.append(again_where_not_finite(view, out, {total}, Z))")
     if l_ref is not None:
         out += [
             "    if len(cnd) >= TRACED_FROM:",
-            f"        recondition(cnd, view, out, {l_ref!r}, redo)",
+            f"        recondition(cnd, view, out, {l_ref!r}, redo, Z)",
             "    else:",
+            "        Z()",
             f"        condition_into(cnd, view, out, {l_ref!r})",
         ]
     return out
@@ -170,7 +171,7 @@ def _head(  # noqa: PLR0913  what the function's first lines depend on
 ) -> list[str]:
     """``INVERSE<g>``'s signature and, for a block larger than 3×3, ``small_inverse``'s own
     choice at the call: this elimination, or another, or LAPACK (then True)."""
-    args = ["view", "out", "buf", *(["cnd"] if l_ref is not None else []), *reads]
+    args = ["view", "out", "buf", "Z", *(["cnd"] if l_ref is not None else []), *reads]
     head = [f"def INVERSE{g}({', '.join(args)}):"]
     if len(block) > 3:
         env[f"PATTERN{g}"] = np.array([[not _zero(x) for x in row] for row in block])
@@ -178,6 +179,8 @@ def _head(  # noqa: PLR0913  what the function's first lines depend on
         again = [] if l_ref is None else [f"        condition_into(cnd, view, out, {l_ref!r})"]
         head += [
             f"    if not eliminates(view, PATTERN{g}, ORDER{g}):",
+            "        Z()",  # the whole block read, into an inverse of zeros
+            "        out[...] = 0.0",
             "        invert(view, out)",
             *again,
             "        return True",
@@ -191,23 +194,33 @@ def condition_into(cnd: np.ndarray, a: np.ndarray, inv: np.ndarray, l_ref: float
     cnd[...] = block_condition(entries_first(a), inv, l_ref)
 
 
-def recondition(cnd: np.ndarray, a: np.ndarray, inv: np.ndarray, l_ref: float, redo: list):
+def recondition(  # noqa: PLR0913  the block, its inverse and what was redone
+    cnd: np.ndarray, a: np.ndarray, inv: np.ndarray, l_ref: float, redo: list, ready=None
+):
     """The condition numbers ``cnd`` again, as :func:`~.newton.condition_number` gives
     them from the inverses ``inv`` written, at the matrices of ``a (N, n, n)`` inverted
-    again (``redo``: the masks of the fallbacks, None where none was)."""
+    again (``redo``: the masks of the fallbacks, None where none was; ``ready`` as
+    :func:`again_where_not_finite` has it)."""
     masks = [m for m in redo if m is not None]
     if masks:
+        if ready is not None:
+            ready()
         bad = np.logical_or.reduce(masks)
         cnd[bad] = block_condition(entries_first(a[bad]), inv[:, :, bad], l_ref)
 
 
-def again_where_not_finite(a: np.ndarray, out: np.ndarray, total: np.ndarray) -> np.ndarray | None:
+def again_where_not_finite(
+    a: np.ndarray, out: np.ndarray, total: np.ndarray, ready=None
+) -> np.ndarray | None:
     """The matrices of ``a (N, n, n)`` whose entries' ``total`` is not finite (an entry
     not finite, or a sum that overflows) inverted again by ``small_inverse`` into ``out
     (n, n, N)``: an entry the written inverse multiplies by a folded zero would not carry
-    its NaN (x·0 is written 0) as ``small_inverse`` does."""
+    its NaN (x·0 is written 0) as ``small_inverse`` does.  ``ready``: called before ``a``
+    is read, where it is (the plan's buffers: :mod:`.plan_buffers`)."""
     bad = ~np.isfinite(total)
     if bad.any():
+        if ready is not None:
+            ready()
         out[:, :, bad] = entries_first(linalg.small_inverse(a[bad]))
         return bad
     return None
@@ -246,7 +259,7 @@ def _fallback(inner: Lines, checks: list[tuple]) -> list[str] | None:
             det = test[1]
             if not isinstance(det, Sym):
                 return None if det == 0 else []
-            at = f"view, out.transpose(2, 0, 1), {det.name}"
+            at = f"view, out.transpose(2, 0, 1), {det.name}, Z"
             return [f"    redo.append(pinv_where_singular({at}))"]
         _, pivot, below, recip = test
         if not below:  # 1, or NaN where the pivot is 0 or not finite
@@ -263,5 +276,5 @@ def _fallback(inner: Lines, checks: list[tuple]) -> list[str] | None:
         worst = t if worst is None else larger(inner, worst, t, "np.maximum")
     if worst is None:
         return []
-    at = f"view.transpose(1, 2, 0), out, {worst.name}"
+    at = f"view.transpose(1, 2, 0), out, {worst.name}, Z"
     return [f"    redo.append(lapack_where_pivots_fail({at}))"]

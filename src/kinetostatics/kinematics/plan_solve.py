@@ -77,11 +77,13 @@ class Written:
 def either(dense: list[str], traced: list[str] | None) -> list[str]:
     """``dense`` lines, or, where the plan writes the substitutions out, ``traced`` ones
     for chunks of :data:`TRACED_FROM` rows and more in which no block was inverted again
-    (a fallback's inverse has no known zeros)."""
+    (a fallback's inverse has no known zeros); the dense ones read the blocks whole, their
+    unwritten entries zeroed first (``Z``: :mod:`.plan_buffers`)."""
     if traced is None:
         return dense
     return [
         "    if redone or n < TRACED_FROM:",
+        "        Z()",
         *("    " + line for line in dense),
         "    else:",
         *("    " + line for line in traced),

@@ -370,7 +370,7 @@ def jacobian_blocks(
     pe = link_poses(system, q)
     assert system.layout is not None  # set by build_system
     blocks, ground = jacobian_blocks_all(system.sets, system.layout, pe)
-    system.memo["ground_jacobian"] = (pe, ground)
+    system.memo["ground_jacobian"] = (pe, ground, None)
     return blocks
 
 
@@ -385,7 +385,10 @@ def ground_jacobian(system: System, q: np.ndarray) -> tuple[np.ndarray, np.ndarr
     pe = link_poses(system, q)
     hit = system.memo.get("ground_jacobian")
     if hit is not None and hit[0] is pe:  # rows in order (a plan keeps a view of its buffer)
-        return layout.ground_rows, np.ascontiguousarray(hit[1])
+        _, ground, ready = hit
+        if ready is not None:  # its structural zeros written first (kinematics/plan_buffers.py)
+            ready()
+        return layout.ground_rows, np.ascontiguousarray(ground)
     jac = jacobian(system, q, layout.ground_joints, np.arange(-3, 0), ground=True, pe=pe)
     return layout.ground_rows, jac
 
