@@ -16,7 +16,7 @@ from ..kinematics.state import point_state
 from ..kinetics.elements import coordinate as element_coordinate
 from ..kinetics.elements import element_states
 from ..kinetics.inverse import Kinetics
-from ..structure.system import System, coordinate_gradient, link_poses
+from ..structure.system import System, coordinate_rate, link_poses
 from .angles import dyad_angle_names as _dyad_angle_names
 from .angles import dyad_angles as _dyad_angles
 
@@ -503,7 +503,7 @@ def _effort_columns(system: System, put, motion: Motion, kin: Kinetics) -> None:
             # 0 ≤ η ≤ 1.  NaN (empty) elsewhere: the machine drives the motor back, the
             # drive idles (0/0), or the friction consumes more than the drive delivers
             # (docs/friction.md)
-            rel = np.einsum("...n,...n->...", coordinate_gradient(system, q, k), qd)
+            rel = coordinate_rate(system, q, qd, k)
             p0, pf = x0[..., col] * rel, sol.x[..., col] * rel
             # a P_0 within round-off of 0 (a limit position of a massless drive) is 0; a
             # driving effort within round-off of 0 (the drive idles) leaves η undefined:

@@ -26,7 +26,7 @@ from ..kinetics.reactions import effort_joints
 from ..model import Model
 from ..model.stacking import TopologyMismatch, signature, stack
 from ..outputs.loading import build
-from ..structure.system import coordinate_gradient
+from ..structure.system import coordinate_rate
 
 __all__ = [
     "Template",
@@ -368,9 +368,7 @@ def _effort_row(result) -> dict[str, Any]:
         if key + "_friction" in cols:
             tau, tau_f = cols[key], cols[key + "_friction"]
             # the effort's joint's relative speed (the driver's own, or balance_at's)
-            rel = np.einsum(
-                "...n,...n->...", coordinate_gradient(system, result.q, k_eff), result.qd
-            )
+            rel = coordinate_rate(system, result.q, result.qd, k_eff)
             row[f"{d.name}.efficiency_min"] = least(cols[f"{d.name}.efficiency"])
             with np.errstate(divide="ignore", invalid="ignore"):
                 both = np.isfinite(tau) & np.isfinite(tau_f)  # input work ∝ Σ effort·speed

@@ -15,15 +15,15 @@ import numpy as np
 from ..base.blocks import BlockFactor
 from ..errors import Location, SingularEquilibriumWarning, StructureError
 from ..kinematics.motion import Motion
-from ..structure.system import System, coordinate_gradient
+from ..structure.system import System
 from . import friction as fr
 from .conditions import travel_extremes
 from .elements import ElementStates, element_states
-from .forces import external_forces, gravity_forces, inertia_forces, mass_vector
+from .forces import external_forces, gravity_forces, inertia_forces
 from .reactions import (
     EFFORT_SPEED_TOL,
-    effort_joints,
     effort_speed_ratio,
+    effort_speeds,
     equilibrium_matrix,
     invert_equilibrium,
     solve_equilibrium,
@@ -379,8 +379,8 @@ def load_powers(system: System, motion: Motion, q_loads: Loads) -> dict:
     what the drivers put in, frictionless (the power method of the balancing effort)."""
     qd = motion.qd
     elements = q_loads.elements
-    return dict(
-        kinetic=np.einsum("...n,...n->...", qd, mass_vector(system) * motion.qdd),
+    return dict(  # the kinetic energy's rate q̇·M q̈ from d'Alembert's −M q̈ (negated exactly)
+        kinetic=-np.einsum("...n,...n->...", qd, q_loads.inertia),
         potential=-np.einsum("...n,...n->...", qd, q_loads.gravity),
         external=-np.einsum("...n,...n->...", qd, q_loads.external),
         # the rate of the springs' energy; the dampers' dissipation
@@ -400,13 +400,7 @@ def power_terms(
     the rates of kinetic, potential and elastic energy, the external loads', the dampers'
     and the friction loss, and the residuals (zero to round-off: ``analysis/checks.py``)."""
     q, qd = motion.q, motion.qd
-    rel = np.stack(
-        [
-            np.einsum("...n,...n->...", coordinate_gradient(system, q, k), qd)
-            for k in effort_joints(system)
-        ],
-        axis=-1,
-    )
+    rel = effort_speeds(system, q, qd)
     n_j = system.n_joint_rows
     p_input = np.sum(eq.x0[..., n_j:] * rel, axis=-1)
     terms = load_powers(system, motion, q_loads)

@@ -14,10 +14,17 @@ import warnings
 import numpy as np
 
 from ..kinematics.derivatives import velocities
-from ..structure.system import System, coordinate_gradient, ground_jacobian, jacobian
+from ..structure.system import (
+    System,
+    coordinate_gradient,
+    coordinate_rate,
+    ground_jacobian,
+    jacobian,
+)
 
 __all__ = [
     "effort_joints",
+    "effort_speeds",
     "effort_ratio",
     "equilibrium_matrix",
     "solve_equilibrium",
@@ -52,6 +59,12 @@ def effort_joints(system: System) -> list[int]:
     return [names.index(d.driver.balance_at or d.joint.name) for d in system.motion_drivers]
 
 
+def effort_speeds(system: System, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
+    """The relative speeds of the joints that carry the motion drivers' efforts at states
+    (q, q̇), ``(..., n_d)`` (:func:`effort_joints`)."""
+    return np.stack([coordinate_rate(system, q, qd, k) for k in effort_joints(system)], axis=-1)
+
+
 def effort_ratio(system: System, q: np.ndarray, tangent: np.ndarray) -> np.ndarray:
     """For the first motion driver, the relative speed of the joint that carries its
     effort per unit driver speed, ``(...,)``: c_k,q · ∂q/∂ψ with ``tangent`` = ∂q/∂ψ
@@ -64,7 +77,7 @@ def effort_ratio(system: System, q: np.ndarray, tangent: np.ndarray) -> np.ndarr
     if d.driver.balance_at is None or d.driver.balance_at == d.joint.name:
         return np.ones(np.shape(q)[:-1])
     k = effort_joints(system)[0]
-    return np.einsum("...n,...n->...", coordinate_gradient(system, q, k), tangent)
+    return coordinate_rate(system, q, tangent, k)
 
 
 def effort_speed_ratio(system: System, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
@@ -77,8 +90,7 @@ def effort_speed_ratio(system: System, q: np.ndarray, qd: np.ndarray) -> np.ndar
         return np.ones(np.shape(q)[:-1])
     names = [j.name for j in system.model.joints]
     k_e, k_d = effort_joints(system)[0], names.index(d.joint.name)
-    r_e = np.einsum("...n,...n->...", coordinate_gradient(system, q, k_e), qd)
-    r_d = np.einsum("...n,...n->...", coordinate_gradient(system, q, k_d), qd)
+    r_e, r_d = coordinate_rate(system, q, qd, k_e), coordinate_rate(system, q, qd, k_d)
     scale = (1.0 if system.model.joints[k_d].angular else np.asarray(system.l_ref)) / (
         1.0 if system.model.joints[k_e].angular else np.asarray(system.l_ref)
     )

@@ -42,8 +42,8 @@ from ..kinematics.state import point_state
 from ..kinetics.elements import element_states
 from ..kinetics.forces import applied_loads, effort_forces
 from ..kinetics.inverse import load_powers, loads
-from ..kinetics.reactions import effort_joints
-from ..structure.system import System, coordinate_gradient
+from ..kinetics.reactions import effort_joints, effort_speeds
+from ..structure.system import System
 from .records import asked_rows, json_float
 
 __all__ = ["LeverTerm", "LeverPosition", "BalancingMoment", "lever_stage"]
@@ -260,13 +260,7 @@ def _effort_column(result: Result, i: int) -> tuple[str, str, str]:
 
 def _speeds(system: System, q, qd) -> np.ndarray:
     """The relative speeds of the joints that carry the drivers' efforts, ``(..., n_d)``."""
-    return np.stack(
-        [
-            np.einsum("...n,...n->...", coordinate_gradient(system, q, k), qd)
-            for k in effort_joints(system)
-        ],
-        axis=-1,
-    )
+    return effort_speeds(system, q, qd)
 
 
 def _power_method(result: Result, ks: np.ndarray, ref_speed: float) -> np.ndarray:

@@ -46,6 +46,7 @@ __all__ = [
     "nu",
     "coordinate_gradient",
     "coordinate_gradients",
+    "coordinate_rate",
     "link_pair",
     "link_poses",
 ]
@@ -411,25 +412,52 @@ def coordinate_gradients(
     array ``(..., len(ks), n_q)`` (``n_q + 3`` columns with the ground's)."""
     pe = link_poses(system, q)
     out = entries_last(np.zeros((len(ks), q.shape[-1] + 3) + q.shape[:-1]))  # component-major
-    flat = None
+    kept: dict = {}  # the poses laid out for the compiled kernels, once
     for n, k in enumerate(ks):
         i, j = system.ends[k]
-        kernel = _direction_kernel(system, k) if kernels.active() else None
-        if kernel is None:
-            c = cast(Joint, system.constraints[k])  # a joint's coordinate: ks are joints
-            gi, gj = c.motion_direction(*_pose_pair(pe, system.ends[k]))
-        else:  # the same numbers (base/kernels.py), in one compiled loop
-            if flat is None:
-                flat = np.ascontiguousarray(entries_first(pe).reshape(pe.shape[-2:] + (-1,)))
-            gi, gj = np.empty((2, 1, 3, flat.shape[-1]))
-            kernel[0](kernel[1], flat, system.ends[k][:, None], gi, gj)
-            gi, gj = (entries_last(g[0], 1).reshape(q.shape[:-1] + (3,)) for g in (gi, gj))
+        gi, gj = _directions(system, pe, k, kept)
         if i == j:  # pragma: no cover - a joint joins two links
             out[..., n, 3 * i : 3 * i + 3] += gi + gj
         else:  # written, not added: ~10× faster into the strided view, the same numbers
             out[..., n, 3 * i : 3 * i + 3] = gi
             out[..., n, 3 * j : 3 * j + 3] = gj
     return out if ground else out[..., :-3]
+
+
+def coordinate_rate(system: System, q: np.ndarray, x: np.ndarray, k: int) -> np.ndarray:
+    """The rate of constraint ``k``'s joint coordinate, c_k,q · x, at rates ``x (..., n_q)``
+    (q̇, or a tangent ∂q/∂ψ), ``(...)``: its two links' directions (the entries of
+    :func:`coordinate_gradient` that are not zero) times their rates, the ground's none —
+    without the gradient's row over all of q (the joint's relative speed at ``x`` = q̇)."""
+    pe, n_links = link_poses(system, q), len(system.links)
+    rate = None
+    for g, link in zip(_directions(system, pe, k), system.ends[k].tolist()):
+        if link < n_links:  # the ground has no rate
+            xl = x[..., 3 * link : 3 * link + 3]
+            term = g[..., 0] * xl[..., 0] + g[..., 1] * xl[..., 1] + g[..., 2] * xl[..., 2]
+            rate = term if rate is None else rate + term
+    assert rate is not None  # a joint joins a moving link
+    return rate
+
+
+def _directions(
+    system: System, pe: np.ndarray, k: int, kept: dict | None = None
+) -> tuple[np.ndarray, np.ndarray]:
+    """Constraint ``k``'s joint's ``motion_direction`` at the poses ``pe``: (g_i, g_j),
+    ``(..., 3)`` each; by its compiled kernel on that backend (the same numbers; the
+    poses laid out for it kept in ``kept`` for the next joint)."""
+    kernel = _direction_kernel(system, k) if kernels.active() else None
+    if kernel is None:
+        c = cast(Joint, system.constraints[k])  # a joint's coordinate: k is a joint
+        return c.motion_direction(*_pose_pair(pe, system.ends[k]))
+    kept = {} if kept is None else kept
+    if "flat" not in kept:
+        kept["flat"] = np.ascontiguousarray(entries_first(pe).reshape(pe.shape[-2:] + (-1,)))
+    flat = kept["flat"]
+    gi, gj = np.empty((2, 1, 3, flat.shape[-1]))
+    kernel[0](kernel[1], flat, system.ends[k][:, None], gi, gj)
+    lead = pe.shape[:-2]
+    return entries_last(gi[0], 1).reshape(lead + (3,)), entries_last(gj[0], 1).reshape(lead + (3,))
 
 
 def _direction_kernel(system: System, k: int) -> tuple | None:
