@@ -93,7 +93,10 @@ def closed_form_path(
     for h in (3 * k + 2 for k in forms.wrapping):  # the angles that may jump by 2π: nearest
         angle = columns[h]  # the start pose, as the guess; then unwrapped along the path
         angle += 2 * np.pi * np.round((q0[:, :, h] - angle) / (2 * np.pi))
-        angle[:, order] = _unwrapped(angle[:, order])
+        path = angle[:, order]
+        turned = _unwrapped(path)
+        if turned is not path:  # it crossed the branch cut somewhere
+            angle[:, order] = turned
     q[..., ang] += (2 * np.pi * np.round((q0[:, 0, ang] - q[:, start, ang]) / (2 * np.pi)))[:, None]
     pe = None
     if frames is not None:  # one model: the rows' poses, their frames the pass's
@@ -130,8 +133,12 @@ def closed_form_path(
 def _unwrapped(path: np.ndarray) -> np.ndarray:
     """``np.unwrap(path, axis=1)``: each step between neighbours along axis 1 taken to the
     nearest multiple of 2π away (the whole turns counted as integers, summed exactly);
-    half the passes of NumPy's, whose ~12 cost 1.5 ms over a 36,000-position path."""
+    half the passes of NumPy's, whose ~12 cost 1.5 ms over a 36,000-position path; the
+    path itself where no step turns (most paths: the angles were taken nearest the start
+    pose's)."""
     turns = np.round(np.diff(path, axis=1) / (2 * np.pi))
+    if not turns.any():
+        return path
     out = path.copy()
     out[:, 1:] -= 2 * np.pi * np.cumsum(turns, axis=1)
     return out
