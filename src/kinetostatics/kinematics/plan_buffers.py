@@ -48,8 +48,7 @@ class Unwritten:
 class Zeros:
     """The unwritten entries of one chunk's buffers ``buf (slots, n)`` and inverses ``inv``
     (``(c, c, n)`` each), zeroed where first needed: the first position at once, all of
-    them at the first call (and never again: a fallback's inverse, written after, stays);
-    :meth:`slots` zeroes those of a range of slots alone (the ground's block)."""
+    them at the first call (and never again: a fallback's inverse, written after, stays)."""
 
     __slots__ = ("buf", "inv", "unwritten", "done")
 
@@ -65,29 +64,31 @@ class Zeros:
         for x, (i, j) in zip(self.inv, self.unwritten.inverse):
             x[i, j] = 0.0
 
-    def slots(self, lo: int, hi: int) -> None:
-        """Zero the unwritten slots in ``[lo, hi)`` (none of the inverses)."""
-        rows = self.unwritten.rows
-        if not self.done:
-            self.buf[rows[(rows >= lo) & (rows < hi)]] = 0.0
-
 
 def filled(zeros: list[Zeros] | None, at: tuple[int, int, int] | None = None):
     """The function that zeroes the chunks' unwritten entries (``zeros``, as
-    :func:`run_in_chunks` returns them): all of them, or those of the block at ``at``
-    (offset, rows, cols) alone; None where the buffers were zeros."""
+    :func:`run_in_chunks` returns them), or, with ``at`` (offset, rows, cols), those of
+    that block of Φ_q's buffer alone (the plan never writes them: zeroing them again is
+    harmless, and it keeps no inverse alive); None where the buffers were zeros."""
     if not zeros:
         return None
-    lo, hi = (None, None) if at is None else (at[0], at[0] + at[1] * at[2])
+    if at is None:
 
-    def fill() -> None:
-        for z in zeros:
-            if lo is None:
+        def fill() -> None:
+            for z in zeros:
                 z()
-            else:
-                z.slots(lo, hi)
 
-    return fill
+        return fill
+    lo, hi = at[0], at[0] + at[1] * at[2]
+    rows = zeros[0].unwritten.rows
+    rows = rows[(rows >= lo) & (rows < hi)]
+    bufs = [z.buf for z in zeros]
+
+    def fill_block() -> None:
+        for buf in bufs:
+            buf[rows] = 0.0
+
+    return fill_block
 
 
 def run_in_chunks(  # noqa: PLR0913  the plan's arguments

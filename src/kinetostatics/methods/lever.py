@@ -258,11 +258,6 @@ def _effort_column(result: Result, i: int) -> tuple[str, str, str]:
     return col, result.units[col], joint.name
 
 
-def _speeds(system: System, q, qd) -> np.ndarray:
-    """The relative speeds of the joints that carry the drivers' efforts, ``(..., n_d)``."""
-    return effort_speeds(system, q, qd)
-
-
 def _power_method(result: Result, ks: np.ndarray, ref_speed: float) -> np.ndarray:
     """Σ(F·v + M·ω) of every load at rows ``ks``, from the loads' generalized forces."""
     system, t = result.system, np.asarray(result.t)[ks]
@@ -288,7 +283,7 @@ def lever_stage(result: Result, rows: Sequence[int | tuple[str, int]], driver: i
     asked = asked_rows(result, rows)
     ks = np.array([k for _, k in asked], dtype=int)
     ref_speed = schedule(system).reference
-    speeds = _speeds(system, result.q[ks], result.qd[ks])
+    speeds = effort_speeds(system, result.q[ks], result.qd[ks])  # the efforts' joints'
     efforts = result.lam[ks, system.n_joint_rows :]
     others = np.sum(np.delete(efforts * speeds, driver, axis=-1), axis=-1)
     loads_power = _power_method(result, ks, ref_speed)
