@@ -78,6 +78,27 @@ def test_self_locking_ranges_and_homotopy(locking):
     assert np.max(np.abs(locking["power.residual_friction"][ok])) < 1e-9 * scale
 
 
+def test_a_cycling_newton_gives_up_early_with_the_same_solutions(locking, monkeypatch):
+    """A homotopy step's Newton that is still cycling at its 12th iteration gives up there
+    (kinetics/friction.py, HOMOTOPY_CYCLING) instead of at its 30th: the self-locking case
+    gets every column and status it gets when each Newton runs its 30 (the Newtons that
+    converge do so long before), in fewer iterations."""
+    from kinetostatics.kinetics import friction as fr
+
+    monkeypatch.setattr(fr, "HOMOTOPY_CYCLING", (fr.HOMOTOPY_NEWTON + 1, np.inf))
+    patient = ks.analyze(_locking(1.0))
+    status = locking["friction.status"]
+    fixed_point = (status == 0) | (status == 3)  # the rows the homotopy did not take
+    assert (status == 1).sum() >= 1 and (status == 2).sum() >= 1
+    for name in locking.columns:
+        a, b = np.asarray(locking[name], dtype=float), np.asarray(patient[name], dtype=float)
+        if name == "friction.iterations":
+            assert (a <= b).all() and (a < b).any()
+            assert np.array_equal(a[fixed_point], b[fixed_point])
+        else:
+            assert np.array_equal(a, b, equal_nan=True), name
+
+
 def test_self_locking_range_shrinks_with_friction(locking):
     counts = [int((ks.analyze(_locking(s))["friction.status"] == 2).sum()) for s in (0.5, 0.1)]
     assert (locking["friction.status"] == 2).sum() > counts[0] > counts[1]
