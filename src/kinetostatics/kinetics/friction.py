@@ -157,16 +157,22 @@ def _generalized(fs: FrictionSetup, e: np.ndarray) -> np.ndarray:
     return np.einsum("...kn,...k->...n", fs.grad, e)
 
 
-def _jacobian(
-    system: System, fs: FrictionSetup, a: np.ndarray, x: np.ndarray, scale: float
-) -> np.ndarray:
-    """∂/∂x of A x + Σ g_k e_k(x)."""
+def _jacobian_terms(system: System, fs: FrictionSetup) -> list[tuple]:
+    """What :func:`_jacobian` reads of each joint with friction, looked up once: (the
+    joint, its rows of x, its two links' poses, its sign, its coordinate gradient)."""
+    return [
+        (system.model.joints[k], b, *_link_q(system, fs, (k,)), fs.sign[..., n, None],
+         fs.grad[..., n, :, None])
+        for n, (k, b) in enumerate(zip(fs.joints, fs.blocks))
+    ]  # fmt: skip
+
+
+def _jacobian(terms: list[tuple], a: np.ndarray, x: np.ndarray, scale: float) -> np.ndarray:
+    """∂/∂x of A x + Σ g_k e_k(x), the joints' ``terms`` as :func:`_jacobian_terms` gives them."""
     jac = a.copy()
-    for n, (k, b) in enumerate(zip(fs.joints, fs.blocks)):
-        j = system.model.joints[k]
-        qi, qj = _link_q(system, fs, (k,))
-        de = -fs.sign[..., n, None] * scale * j.friction_gradient(x[..., b], qi, qj)
-        jac[..., :, b] += fs.grad[..., n, :, None] * de[..., None, :]
+    for joint, b, qi, qj, sign, grad in terms:
+        de = -sign * scale * joint.friction_gradient(x[..., b], qi, qj)
+        jac[..., :, b] += grad * de[..., None, :]
     return jac
 
 
@@ -538,6 +544,7 @@ def _homotopy(
     sigma, h, iters, crossed = 0.0, 0.05, 0, False
     aug = np.zeros((n + 1, n + 1))
     aug[:n, n] = qh
+    terms, r = _jacobian_terms(system, sub), np.empty(n + 1)
     while sigma < 1.0:
         h = min(h, 1.0 - sigma)
         s = sigma + h
@@ -545,10 +552,9 @@ def _homotopy(
         yn, tn, ok = y.copy(), tau, False
         for it in range(HOMOTOPY_NEWTON):
             iters += 1
-            r = np.append(
-                a @ yn + _generalized(sub, efforts(system, sub, yn, s)) + qh * tn, y @ yn - 1.0
-            )
-            aug[:n, :n] = _jacobian(system, sub, a, yn, s)
+            r[:n] = a @ yn + _generalized(sub, efforts(system, sub, yn, s)) + qh * tn
+            r[n] = y @ yn - 1.0
+            aug[:n, :n] = _jacobian(terms, a, yn, s)
             try:
                 dz = np.linalg.solve(aug, -r)
             except np.linalg.LinAlgError:
@@ -571,7 +577,7 @@ def _homotopy(
             folded = (
                 tn > 0.0
                 and not crossed
-                and np.sign(np.linalg.det(_jacobian(system, sub, a, yn, s))) != det0
+                and np.sign(np.linalg.det(_jacobian(terms, a, yn, s))) != det0
             )
         if ok and chart and not folded:
             crossed |= tn <= 0.0  # the reactions went through infinity
