@@ -54,8 +54,10 @@ class BlockFactor:
     (the compiled backend's fused stage, kinematics/fused.py), else None;
     ``transposed``: Y = solve of Φ_qᵀ Y = R for ``R (k, n, ...)`` component-major, written
     out over these blocks' nonzero entries (the kinematic plan's, kinematics/plan_solve.py),
-    which :meth:`solve_transposed_rows` then calls, else None; ``ready``: called once
-    before the blocks or the inverses are first read whole (a plan's buffers, their
+    which :meth:`solve_transposed_rows` then calls, else None — or the pair (that,
+    ``product``): Φ_qᵀ y for ``y (n_rows, N)`` component-major, written out likewise, which
+    :meth:`product_transposed_components` then calls; ``ready``: called
+    once before the blocks or the inverses are first read whole (a plan's buffers, their
     structural zeros written where first needed: kinematics/plan_buffers.py), else None.
     """
 
@@ -71,7 +73,9 @@ class BlockFactor:
     ):
         self.blocks = blocks
         self.conditions = conditions
-        self.transposed = transposed
+        self.transposed, self.product = (
+            transposed if isinstance(transposed, tuple) else (transposed, None)
+        )
         self._jac = jac
         self.n = sum(len(cols) for _, cols in blocks)
         if parts is None:
@@ -147,7 +151,10 @@ class BlockFactor:
         """Φ_qᵀ y with y and the product stored component-major, ``(n_rows, ...)`` →
         ``(n, ...)``: each product a whole-array ``einsum`` over runs of positions (the
         blocks as the plan stores them; ~5× faster over 36,000 positions than
-        :meth:`product_transposed` over position-major vectors)."""
+        :meth:`product_transposed` over position-major vectors); by the plan's lines over
+        the entries that are not zero where it has them (``product``, one model's rows)."""
+        if self.product is not None and y_t.ndim == 2:
+            return self.product(y_t)
         out = np.empty((self.n,) + y_t.shape[1:])  # each column is a group's: written first
         for (rows, cols, _), d, (done, lower) in zip(self._runs(), self.diag, self._lower):
             r = y_t[rows]

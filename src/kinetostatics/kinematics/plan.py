@@ -67,7 +67,7 @@ from ..structure.evaluation import STACK_UP_TO, jacobian_blocks_all
 from ..structure.system import System, link_poses, phi
 from .derivatives import derivatives
 from .fused import fused_derivatives
-from .plan_buffers import NOZERO, Unwritten, block, filled, run_in_chunks
+from .plan_buffers import NOZERO, Unwritten, block, filled, run_in_chunks, unwritten_of
 from .plan_inverse import RUNTIME, condition_into, entry, inverse_line
 from .plan_params import (
     driver_params,
@@ -84,7 +84,9 @@ from .plan_solve import (
     Written,
     either,
     index,
+    product_in_runs,
     substitution,
+    traced_product,
     traced_substitution,
     traced_transposed,
     transposed_in_runs,
@@ -128,6 +130,7 @@ class KinematicPlan:
     table: np.ndarray | None = None  # a stacked system's: the parameters that differ (k, V)
     transposed: Callable | None = None  # one model's: Φ_qᵀ Y = R written out (plan_solve)
     unwritten: Unwritten | None = None  # one model's, where its buffers need no zeros
+    product: Callable | None = None  # one model's: Φ_qᵀ y written out (plan_solve)
 
 
 PLAN_AFTER = (8, 5000)
@@ -221,7 +224,10 @@ def planned_derivatives(
             redone, zeros = run_in_chunks(plan.run, per, rows, into, inv, cnd, unwritten)
             conditions = {g: c for g, c in enumerate(cnd) if c is not None}
             if plan.transposed is not None and not redone and n >= TRACED_FROM:
-                transposed = functools.partial(transposed_in_runs, plan.transposed, buf, inv)
+                transposed = (
+                    functools.partial(transposed_in_runs, plan.transposed, buf, inv),
+                    functools.partial(product_in_runs, plan.product, buf, system.n_q),
+                )
         else:  # a stacked model's variants, their rows one after the other
             rows = (np.reshape(x, (n,) + x.shape[len(shape) :]) for x in (pe, psi_d, psi_dd))
             plan.run(*rows, *into, inv, np.repeat(plan.table, shape[1], axis=1), shape)
@@ -351,7 +357,13 @@ def _generate(system: System) -> KinematicPlan:
     name = f"<kinematic plan of {system.model.name!r}>"
     exec(compile(source, name, "exec"), env)  # noqa: S102  our own generated text
     return KinematicPlan(
-        source, env["run"], _long_runs(system), None, env.get("transposed"), env.get("UNWRITTEN")
+        source,
+        env["run"],
+        _long_runs(system),
+        None,
+        env.get("transposed"),
+        env.get("UNWRITTEN"),
+        env.get("product"),
     )
 
 
@@ -378,18 +390,11 @@ def written(system: System, pattern: tuple | None = None) -> tuple[list[str], di
     _rates_of(system, env, lines, written)
     _accelerations(system, env, lines, params, traced, written)
     lines.append("    return redone")
-    solves = [] if written is None else ["", *traced_transposed(system, written)]
+    solves = [] if written is None else ["", *traced_transposed(system, written), ""]
+    solves += [] if written is None else traced_product(system, written)
     if written is not None and all(w != RUNTIME for w in written.writes.values()):
-        env["UNWRITTEN"] = _unwritten(system, written)
+        env["UNWRITTEN"] = unwritten_of(system, written)
     return inverses + pruned(lines) + solves, env
-
-
-def _unwritten(system: System, written: Written) -> Unwritten:
-    """The slots and inverse entries a plan whose lines write every entry they read leaves
-    unwritten (:mod:`.plan_buffers`): its inverses' zeros are the entries written as 0."""
-    slots = set(range(system.layout.size + 1)) - set(written.writes)
-    zeros = [[[isinstance(x, float) and x == 0.0 for x in r] for r in p] for p in written.patterns]
-    return Unwritten(np.array(sorted(slots), dtype=np.intp), tuple(np.nonzero(z) for z in zeros))
 
 
 def _params(system: System, pattern: tuple | None, traced: Lines, env: dict) -> list:

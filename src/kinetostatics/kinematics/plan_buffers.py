@@ -15,8 +15,9 @@ entries left unwritten are zeroed by a :class:`Zeros` of each chunk the plan run
 once, where something first reads a block whole: a fallback of a block's inverse
 (LAPACK, the pseudo-inverse, an entry not finite: called by the plan), the products over
 whole blocks of a short chunk or of a chunk whose block was inverted again, and, after
-the run, the :class:`~kinetostatics.base.blocks.BlockFactor`'s blocks and the ground's
-(the shaking force, the friction solutions, a condition number asked later).  Each
+the run, the :class:`~kinetostatics.base.blocks.BlockFactor`'s blocks (Φ_q or a product
+asked of them whole, a condition number asked later) and the ground's alone (the shaking
+force); the friction solutions read Φ_qᵀ y by the plan's lines too.  Each
 chunk's first position is zeroed at once (the row order of an elimination is read from
 its first matrix, ``small_inverse``'s choice).  The numbers are those of zeroed buffers:
 tests/kinematics/test_plan.py fills the unwritten entries with NaN and compares.
@@ -28,7 +29,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["NOZERO", "Unwritten", "Zeros", "filled", "run_in_chunks", "block"]
+from ..structure.system import System
+from .plan_solve import Written
+
+__all__ = ["NOZERO", "Unwritten", "Zeros", "filled", "run_in_chunks", "block", "unwritten_of"]
 
 
 def NOZERO() -> None:  # noqa: N802  the name the plan's text reads
@@ -89,6 +93,15 @@ def filled(zeros: list[Zeros] | None, at: tuple[int, int, int] | None = None):
             buf[rows] = 0.0
 
     return fill_block
+
+
+def unwritten_of(system: System, written: Written) -> Unwritten:
+    """What the plan of ``system`` leaves unwritten, where its lines write every entry they
+    read (``written``: :class:`~.plan_solve.Written`): the slots no line writes, and each
+    inverse's entries written as 0."""
+    slots = set(range(system.layout.size + 1)) - set(written.writes)
+    zeros = [[[isinstance(x, float) and x == 0.0 for x in r] for r in p] for p in written.patterns]
+    return Unwritten(np.array(sorted(slots), dtype=np.intp), tuple(np.nonzero(z) for z in zeros))
 
 
 def run_in_chunks(  # noqa: PLR0913  the plan's arguments

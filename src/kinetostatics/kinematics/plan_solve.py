@@ -31,6 +31,8 @@ __all__ = [
     "traced_substitution",
     "traced_transposed",
     "transposed_in_runs",
+    "traced_product",
+    "product_in_runs",
 ]
 
 
@@ -195,3 +197,43 @@ def transposed_in_runs(transposed, buf: np.ndarray, inv: list, r: np.ndarray) ->
         b = min(a + per, n)
         transposed(r[..., a:b], buf[:, a:b], [x[..., a:b] for x in inv], y[..., a:b])
     return y
+
+
+def traced_product(system: System, written: Written) -> list[str]:
+    """``product(Y, buf, OUT)``: Φ_qᵀ y for ``Y (n_rows, N)`` (component-major) into ``OUT
+    (n_q, N)``, as :meth:`~kinetostatics.base.blocks.BlockFactor.product_transposed_components`
+    computes it — a column's terms in its group's rows, then the later groups' — written
+    over Φ_q's entries that are not zero (numbers folded, the others read from ``buf``):
+    the friction solutions' residual reads no structural zero (nor zeroes any)."""
+    layout = system.layout
+    assert layout is not None
+    terms: dict[int, list[tuple[int, int]]] = {}  # column of q -> [(slot, row of Φ)]
+    for g, p in enumerate(system.plans):
+        blocks = [(layout.diag[g], p.cols)]
+        if layout.lower[g] is not None:
+            blocks.append((layout.lower[g], layout.lower_cols[g]))
+        for (off, _, c), cols in blocks:
+            for i, row in enumerate(p.rows.tolist()):
+                for j, col in enumerate(cols.tolist()):
+                    terms.setdefault(col, []).append((off + i * c + j, row))
+    sub = Lines("u")
+    for col in range(system.n_q):
+        acc: object = 0.0
+        for slot, row in terms.get(col, []):
+            a = _known(sub, written.writes, slot, reads=False)
+            if not (isinstance(a, float) and a == 0.0):
+                acc = acc + a * sub.value(f"Y[{row}]")
+        sub.lines.append(f"    OUT[{col}] = {operand(acc)}")
+    return ["def product(Y, buf, OUT):", *pruned(sub.take(), sub.prefix)]
+
+
+def product_in_runs(product, buf: np.ndarray, n_q: int, y: np.ndarray) -> np.ndarray:
+    """``product`` (:func:`traced_product`, of the plan whose blocks are ``buf``) over ``y
+    (n_rows, N)``, in runs of :data:`RUN_BYTES` of positions: ``(n_q, N)``."""
+    n = y.shape[-1]
+    out = np.empty((n_q, n))
+    per = max(RUN_BYTES // 8, 256)
+    for a in range(0, n, per):
+        b = min(a + per, n)
+        product(y[:, a:b], buf[:, a:b], out[:, a:b])
+    return out
