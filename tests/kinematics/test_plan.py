@@ -228,24 +228,6 @@ def test_long_chunks_solve_by_lines_over_the_blocks_nonzero_entries(name, monkey
         assert (factors[-1].transposed is None) == forced
 
 
-@pytest.mark.parametrize("name", ["slider_crank", "slotting_machine", "stephenson_sixbar"])
-def test_the_written_product_is_the_blocks_product(name):
-    """Φ_qᵀ y by the plan's lines over Φ_q's entries that are not zero (what the friction
-    solutions' residual reads, kinematics/plan_solve.py) equals the products over the
-    whole blocks, to 1e-12 of its scale, on a run of TRACED_FROM rows and more."""
-    model = ks.load(f"mechanisms/{name}.yaml")
-    n = 3 * TRACED_FROM
-    angles = model.analysis.start + np.linspace(0.0, 2 * np.pi, n, endpoint=False)
-    r = _analyse(model, True, positions=angles, kinematics_only=True)
-    _, _, lu = planned_derivatives(r.system, r.q, np.ones((n, 1)), np.zeros((n, 1)))
-    assert lu.product is not None
-    y = np.random.default_rng(5).standard_normal((r.system.n_rows, n))
-    written = lu.product(y)
-    lu.product = None  # the products over the whole blocks
-    dense = lu.product_transposed_components(y)
-    assert np.max(np.abs(written - dense)) <= 1e-12 * np.max(np.abs(dense))
-
-
 class _UnzeroedNumpy:
     """NumPy for the plan's module whose ``empty`` arrays are NaN (or zeros: ``fill``)."""
 
@@ -260,13 +242,35 @@ class _UnzeroedNumpy:
         return np.full(shape, self.fill)
 
 
+@pytest.mark.parametrize("name", ["slider_crank", "slotting_machine", "stephenson_sixbar"])
+def test_the_written_product_is_the_blocks_product(name, monkeypatch):
+    """Φ_qᵀ y by the plan's lines over Φ_q's entries that are not zero (what the friction
+    solutions' residual reads, kinematics/plan_solve.py) equals the products over the
+    whole blocks, to 1e-12 of its scale, on a run of TRACED_FROM rows and more — the
+    blocks read whole after the run, their unwritten entries (made NaN here) zeroed
+    first (kinematics/plan_buffers.py, ``BlockFactor``'s ``ready``)."""
+    model = ks.load(f"mechanisms/{name}.yaml")
+    n = 3 * TRACED_FROM
+    angles = model.analysis.start + np.linspace(0.0, 2 * np.pi, n, endpoint=False)
+    r = _analyse(model, True, positions=angles, kinematics_only=True)
+    monkeypatch.setattr(plan, "np", _UnzeroedNumpy(np.nan))
+    _, _, lu = planned_derivatives(r.system, r.q, np.ones((n, 1)), np.zeros((n, 1)))
+    assert lu.product is not None
+    y = np.random.default_rng(5).standard_normal((r.system.n_rows, n))
+    written = lu.product(y)
+    lu.product = None  # the products over the whole blocks
+    dense = lu.product_transposed_components(y)
+    assert np.max(np.abs(written - dense)) <= 1e-12 * np.max(np.abs(dense))
+
+
 @pytest.mark.parametrize("path", FILES)
 def test_unwritten_entries_are_zeroed_before_they_are_read(path, monkeypatch):
     """Where the plan writes every entry its lines read, Φ_q's buffer and the inverses are
     not zeroed (kinematics/plan_buffers.py): filled with NaN instead of left as memory
     was, an analysis in chunks long and short — the written lines, the products over
-    whole blocks, the fallbacks of a hard case, the shaking force, the friction solutions
-    reading the blocks — gives every column of the buffers made of zeros."""
+    whole blocks, the fallbacks of a hard case, the shaking force's ground block, the
+    friction solutions — gives every column of the buffers made of zeros (the blocks read
+    whole after the run: ``test_the_written_product_is_the_blocks_product``)."""
     monkeypatch.setattr(plan, "CHUNK_BYTES", 1)  # chunks of 1,024 rows at most
     text = open(path).read()
     for n in (3 * TRACED_FROM, 2 * TRACED_FROM + 3):  # chunks of TRACED_FROM, and shorter
