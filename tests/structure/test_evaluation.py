@@ -199,3 +199,27 @@ def test_condition_numbers_are_the_scaled_blocks_frobenius_norms(path):
             scaled = scaled / np.max(np.abs(scaled), axis=1, keepdims=True)
             want = np.linalg.norm(scaled, "fro") * np.linalg.norm(np.linalg.inv(scaled), "fro")
             assert got[k] == pytest.approx(want, rel=1e-13)
+
+
+@pytest.mark.parametrize("path", MECHANISMS)
+def test_a_joint_coordinate_s_rate_is_its_derivative_along_the_rates(path):
+    """``coordinate_rate`` (the power balance's, the efficiency's and the lever method's
+    relative speeds) at random states off the path is the central difference of the
+    joint's coordinate along the rates, (c(q + h x) − c(q − h x)) / 2h, and its gradient's
+    product with them, for every joint of every shipped file (revolute, prismatic, gear
+    and cam pairs)."""
+    from kinetostatics.kinematics.state import joint_coordinate
+
+    system = S.system_of(ks.load(path))
+    q, x, _ = _state(system, (7,))
+    h = 1e-6
+    for k, joint in enumerate(system.model.joints):
+        rate = S.coordinate_rate(system, q, x, k)
+        ahead, back = (joint_coordinate(system, q + s * h * x, k) for s in (1.0, -1.0))
+        step = ahead - back
+        if joint.angular:  # an angle's difference taken to (−π, π]
+            step = (step + np.pi) % (2 * np.pi) - np.pi
+        scale = max(float(np.max(np.abs(rate))), 1.0)
+        assert np.max(np.abs(step / (2 * h) - rate)) <= 1e-6 * scale, joint.name
+        product = np.einsum("...n,...n->...", S.coordinate_gradient(system, q, k), x)
+        assert np.max(np.abs(product - rate)) <= 1e-12 * scale, joint.name
