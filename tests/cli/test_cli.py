@@ -145,24 +145,29 @@ def test_a_picture_command_gives_the_collector_its_thresholds_back():
     assert gc.get_threshold() == before
 
 
-def test_the_program_ends_without_walking_its_heap_and_a_caller_keeps_its_collector(tmp_path):
-    """As the process's own command (``main()``, argv from the command line) a picture
-    command keeps the fewer collections to its end and the heap is frozen before the
-    process exits (the collections that would walk it then free nothing a process
+@pytest.mark.parametrize("command", ["plot", "run"])
+def test_the_program_ends_without_walking_its_heap_and_a_caller_keeps_its_collector(
+    tmp_path, command
+):
+    """As the process's own command (``main()``, argv from the command line) ``run`` or a
+    picture command runs with fewer collections to its end and the heap is frozen before
+    the process exits (the collections that would walk it then free nothing a process
     about to end needs); called with an argv, as by a caller's process, the collector is
     given back untouched and nothing is frozen."""
     import gc
 
-    from kinetostatics.cli.pictures import COLLECTOR
+    from kinetostatics.cli import COLLECTOR
 
     mech = "mechanisms/slider_crank.yaml"
+    tail = {"plot": ["--sheet", "{}.dxf"], "run": ["--out", "{}"]}[command]
+    argv = lambda name: [command, mech, *(a.format(tmp_path / name) for a in tail)]  # noqa: E731
     before, frozen = gc.get_threshold(), gc.get_freeze_count()
-    assert main(["plot", mech, "--sheet", str(tmp_path / "a.dxf")]) == 0
+    assert main(argv("a")) == 0
     assert (gc.get_threshold(), gc.get_freeze_count()) == (before, frozen)
     code = (
         "import gc, sys\n"
         "from kinetostatics.cli import main\n"
-        f"sys.argv = ['kinetostatics', 'plot', {mech!r}, '--sheet', {str(tmp_path / 'b.dxf')!r}]\n"
+        f"sys.argv = ['kinetostatics', *{argv('b')!r}]\n"
         "assert main() == 0\n"
         "print(gc.get_threshold(), gc.get_freeze_count() > 0)\n"
     )

@@ -11,6 +11,8 @@ import functools
 import gc
 from pathlib import Path
 
+from . import COLLECTOR
+
 __all__ = ["WHAT", "MAX_DPI", "MAX_FPS", "MAX_FRAMES", "finite_number", "register"]
 
 WHAT = (
@@ -42,21 +44,12 @@ MAX_DPI = 1200.0
 MAX_FPS = 100.0
 MAX_FRAMES = 10_000
 
-# The cyclic garbage collector's thresholds while a picture command runs (Python's are
-# 700, 10, 10).  Drawing makes and drops millions of small matplotlib objects (artists,
-# paths, transforms, font properties), nearly all freed by reference counting as they
-# go; at Python's thresholds the collector walked the young ones every 700 allocations
-# and the whole heap (matplotlib and the analysis included) every 70,000: 10-15 % of
-# the CPU time of ``plot`` and ``report``.  The figures' own reference cycles are still
-# collected, later: ``report --pdf`` of the slotting machine peaks at ~230 MB instead
-# of ~180 MB.
-COLLECTOR = (20_000, 20, 20)
-
 
 def _fewer_collections(command):
-    """``command`` run with the collector at :data:`COLLECTOR`, its thresholds given back
-    after it (a command may run inside a caller's process: tests, notebooks) — except
-    for the process's own command (``args.program``, cli.main), which ends with it."""
+    """``command`` run with the collector at :data:`~kinetostatics.cli.COLLECTOR`, its
+    thresholds given back after it (a command may run inside a caller's process: tests,
+    notebooks) — except for the process's own command (``args.program``, cli.main),
+    which set them at its start and ends with them."""
 
     @functools.wraps(command)
     def run(args) -> int:
