@@ -414,6 +414,21 @@ def test_plans_are_generated_at_a_systems_eighth_short_analysis(monkeypatch):
     assert "kinematic plan" in system.memo
 
 
+def test_short_analyses_and_rows_add_up_to_a_plan(monkeypatch):
+    """What earlier analyses would have saved counts with a long one's rows: after five
+    short analyses a run of 1,000 rows keeps the general path (6/8 + 1,015/5,000 = 0.95),
+    one of 2,000 more makes the plan (7/8 + 3,015/5,000 = 1.48), though neither the calls
+    nor the rows reach theirs alone."""
+    monkeypatch.setattr(plan, "PLAN_AFTER", (8, 5000))
+    system = build_system(ks.load("mechanisms/slider_crank.yaml"))
+    for _ in range(5):
+        ks.analyze(system, positions=np.radians([10.0, 20.0, 30.0]), friction=False)
+    ks.analyze(system, positions=np.linspace(0, 6.0, 1000), friction=False)
+    assert "kinematic plan" not in system.memo
+    ks.analyze(system, positions=np.linspace(0, 6.0, 2000), friction=False)
+    assert "kinematic plan" in system.memo
+
+
 def test_a_first_run_longer_than_a_stack_waits_for_its_rows(monkeypatch):
     """Over more than STACK_UP_TO rows the plan is asked whether it takes them; that
     question no longer makes it: a first run of 2,000 rows keeps the general path (fewer

@@ -133,23 +133,27 @@ class KinematicPlan:
     product: Callable | None = None  # one model's: Φ_qᵀ y written out (plan_solve)
 
 
-PLAN_AFTER = (8, 5000)
-"""A system's plans are generated at its 8th analysis, or once it has been analysed over
-5,000 rows in all (its analyses counted as they pass :func:`planned_derivatives`):
-generating and compiling them costs about ten analyses' saving at 360 positions (~1 ms
-per link; the slotting machine's ~4 ms, where an analysis saves ~0.3–0.5 ms), one
-analysis's at tens of thousands of positions.  Before, the general path runs, as the
-plans' oracle."""
+PLAN_AFTER = (20, 8000)
+"""When a system's plans are generated: once its analyses (counted as they pass
+:func:`planned_derivatives`) would have saved what generating and compiling them costs,
+``calls / 20 + rows / 8000 >= 1`` — 20 analyses of a few rows, or 8,000 rows in one or
+a few, or a mix.  Generating costs ~5–9 ms for the reference machines (~1 ms per link)
+and an analysis through the plan saves ~0.3–0.5 ms plus ~0.6–1.3 µs per row
+(``tests/benchmarks/bench_plan_after.py``), so that a system pays at most about twice
+what the best choice would have (generate when what it would have saved so far equals
+the cost).  Before, the general path runs, as the plans' oracle: a ``run`` (its cycle's
+few short analyses included) keeps it."""
 
 
 def _worth(system: System, n: int) -> bool:
     """Whether the plan is (or now becomes) worth generating, one more analysis of ``n``
-    rows made."""
+    rows made (:data:`PLAN_AFTER`)."""
     if "kinematic plan" in system.memo:
         return True
     calls, rows = system.memo.get("analysed", (0, 0))
     calls, rows = system.memo["analysed"] = (calls + 1, rows + n)
-    return calls >= PLAN_AFTER[0] or rows >= PLAN_AFTER[1]
+    short, long = PLAN_AFTER
+    return calls * long + rows * short >= short * long
 
 
 def covers(system: System, q: np.ndarray) -> bool:
