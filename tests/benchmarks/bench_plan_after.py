@@ -3,10 +3,13 @@ compiling it costs, and what an analysis saves with it, per reference machine.
 
 For each machine a fresh system is analysed (friction as the file) until its plan is
 made; the cost is that analysis's CPU time less the one before it.  Then each analysis
-of 3, 360 and 3,000 positions is timed with the plan and on the general path
+of 3, 360, 3,000 and 36,000 positions is timed with the plan and on the general path
 (``plan.ENABLED`` off), alternated, medians of ``--rounds`` rounds of five calls each;
-the saving of a call is fitted as ``a + b·rows`` and the break-even printed as the number
-of short calls (``cost / a``) and of rows (``cost / b``) it takes.
+the saving of a call is read as ``a + b·rows`` (``a`` at 3 rows, ``b`` the slope from 360
+to 36,000) and the break-even printed as the number of short calls (``cost / a``) and of
+rows (``cost / b``) it takes.  A system whose groups are larger than
+``plan.PLANNED_BLOCKS`` (a triad) is measured with that limit lifted: the row says it is
+not planned, and why (its savings).
 
     PYTHONPATH=src python tests/benchmarks/bench_plan_after.py [--rounds 7] [FILE ...]
 """
@@ -25,7 +28,7 @@ from kinetostatics.kinematics import plan
 from kinetostatics.structure.system import build_system
 
 MACHINES = ("slider_crank", "slotting_machine", "stephenson_sixbar", "shaper")
-ROWS = (3, 360, 3000)
+ROWS = (3, 360, 3000, 36_000)
 
 
 def _cpu(fn) -> float:
@@ -67,6 +70,16 @@ def savings(model, rounds: int) -> dict[int, float]:
     return out
 
 
+def _lifted(fn):
+    """``fn()`` with every system planned, whatever its groups' size."""
+    kept = plan.PLANNED_BLOCKS
+    plan.PLANNED_BLOCKS = 10**9
+    try:
+        return fn()
+    finally:
+        plan.PLANNED_BLOCKS = kept
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--rounds", type=int, default=7)
@@ -74,16 +87,18 @@ def main() -> None:
     args = ap.parse_args()
     files = args.files or [ROOT / "mechanisms" / f"{m}.yaml" for m in MACHINES]
     print(f"PLAN_AFTER = {plan.PLAN_AFTER} (short calls, rows)")
-    print("| mechanism | cost [ms] | saving at 3 / 360 / 3,000 rows [ms] | a [ms] | b [µs/row] "
-          "| break-even: short calls | rows |")  # fmt: skip
-    print("|---|---|---|---|---|---|---|")
+    print("| mechanism | planned | cost [ms] | saving at 3 / 360 / 3,000 / 36,000 rows [ms] "
+          "| a [ms] | b [µs/row] | break-even: short calls | rows |")  # fmt: skip
+    print("|---|---|---|---|---|---|---|---|")
     for f in files:
         model = ks.load(f)
-        cost = statistics.median(generation_cost(model) for _ in range(3))
-        s = savings(model, args.rounds)
-        b, a = np.polyfit(np.array(ROWS, float), [s[n] for n in ROWS], 1)
+        system = build_system(model)
+        planned = plan.covers(system, np.zeros((1, system.n_q)))
+        cost = statistics.median(_lifted(lambda m=model: generation_cost(m)) for _ in range(3))
+        s = _lifted(lambda m=model: savings(m, args.rounds))
+        a, b = s[ROWS[0]], (s[ROWS[-1]] - s[ROWS[1]]) / (ROWS[-1] - ROWS[1])
         print(
-            f"| {model.name} | {cost * 1e3:.1f} | "
+            f"| {model.name} | {'yes' if planned else 'no'} | {cost * 1e3:.1f} | "
             + " / ".join(f"{s[n] * 1e3:.2f}" for n in ROWS)
             + f" | {a * 1e3:.2f} | {b * 1e6:.2f} | {cost / a:.0f} | {cost / b:,.0f} |"
         )

@@ -207,8 +207,10 @@ def test_traced_lines_assemble(monkeypatch):
 # -- the fused stage against the NumPy plan ------------------------------------------------
 @pytest.fixture
 def at_once(monkeypatch):
-    """The plans made on a system's first analysis; the default backend back after."""
+    """The plans made on a system's first analysis, for every system (a triad's too:
+    PLANNED_BLOCKS lifted); the default backend back after."""
     monkeypatch.setattr(plan, "PLAN_AFTER", (0, 0))
+    monkeypatch.setattr(plan, "PLANNED_BLOCKS", 10**9)
     yield
     kernels.set_backend("numpy")
 

@@ -30,11 +30,28 @@ from kinetostatics.structure.evaluation import STACK_UP_TO
 from kinetostatics.structure.system import build_system, phi
 from tests.net import generate as gen
 
+SHIPPED_BLOCKS = plan.PLANNED_BLOCKS
+
 
 @pytest.fixture(autouse=True)
 def _plans_at_once(monkeypatch):
-    """The plans generated on a system's first analysis (not after PLAN_AFTER rows)."""
+    """The plans generated on a system's first analysis (not after PLAN_AFTER rows), and
+    for every system, a triad's too (PLANNED_BLOCKS lifted): the plan's lines must equal
+    the general path wherever they would run."""
     monkeypatch.setattr(plan, "PLAN_AFTER", (0, 0))
+    monkeypatch.setattr(plan, "PLANNED_BLOCKS", 10**9)
+
+
+def test_a_system_with_a_triad_keeps_the_general_stage(monkeypatch):
+    """A group of more than two links (the Stephenson six-bar's triad, 12 columns) has a
+    dense inverse: the plan is not made for it (PLANNED_BLOCKS), its rates are the general
+    stage's; a system of dyads is planned."""
+    monkeypatch.setattr(plan, "PLANNED_BLOCKS", SHIPPED_BLOCKS)
+    triad = ks.analyze(ks.load("mechanisms/stephenson_sixbar.yaml"), friction=False)
+    assert max(len(p.cols) for p in triad.system.plans) == 12
+    assert not covers(triad.system, triad.q) and "kinematic plan" not in triad.system.memo
+    dyads = ks.analyze(ks.load("mechanisms/watt_sixbar.yaml"), friction=False)
+    assert covers(dyads.system, dyads.q) and "kinematic plan" in dyads.system.memo
 
 
 FILES = sorted(glob.glob("mechanisms/*.yaml") + glob.glob("tests/hard/*.yaml"))

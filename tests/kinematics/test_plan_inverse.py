@@ -149,10 +149,11 @@ def test_a_three_by_three_block_is_the_adjugate_with_singular_matrices_pseudo_in
 )
 def test_the_plan_s_inverses_are_small_inverse_s(name, monkeypatch):
     """On shipped files, once the plan is made (by its eighth analysis, PLAN_AFTER as
-    (8, 5000) here), every group block's inverse it gives equals small_inverse of the same
-    block, a zero's sign aside, at 10, 360 and 1,000 positions (one chunk); the written
-    inverses are in the plan's text."""
+    (8, 5000) here; a triad's too, PLANNED_BLOCKS lifted), every group block's inverse it
+    gives equals small_inverse of the same block, a zero's sign aside, at 10, 360 and
+    1,000 positions (one chunk); the written inverses are in the plan's text."""
     monkeypatch.setattr(plan, "PLAN_AFTER", (8, 5000))
+    monkeypatch.setattr(plan, "PLANNED_BLOCKS", 10**9)  # the triad's too
     got = []
     made = plan.BlockFactor
     monkeypatch.setattr(plan, "BlockFactor", lambda *a, **k: got.append(made(*a, **k)) or got[-1])

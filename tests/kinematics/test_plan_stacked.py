@@ -73,7 +73,9 @@ def _worst(a, b) -> float:
 
 @pytest.fixture(autouse=True)
 def _plans_at_once(monkeypatch):
+    """The plans made at once, and for every system, a triad's too (PLANNED_BLOCKS)."""
     monkeypatch.setattr(plan, "PLAN_AFTER", (0, 0))
+    monkeypatch.setattr(plan, "PLANNED_BLOCKS", 10**9)
 
 
 @pytest.mark.parametrize("name", sorted(VARIED))

@@ -37,10 +37,11 @@ constants — compiled with :func:`compile` and kept in ``System.memo``:
 The numbers are those of the general path: the same operations on the same operands
 in the same order (a zero's sign aside: base/trace.py; tests/kinematics/test_plan.py
 compares every column to 1e-12 of its scale on the shipped files and generated
-mechanisms).  The plan covers one model's rows (``q (N, n_q)``) on either backend and
-stacked variants' (``q (V, N, n_q)``, on NumPy: their parameters that differ read from
-a table, kinematics/plan_params.py), at any number of rows where every stack of joints
-is traced (revolute and prismatic pairs), else up to
+mechanisms).  The plan covers a system whose groups have at most two links
+(:data:`PLANNED_BLOCKS`), one model's rows (``q (N, n_q)``) on either backend and stacked
+variants' (``q (V, N, n_q)``, on NumPy: their parameters that differ read from a table,
+kinematics/plan_params.py), at any number of rows where every stack of joints is traced
+(revolute and prismatic pairs), else up to
 :data:`~kinetostatics.structure.evaluation.STACK_UP_TO`; other rows take the general
 path, which stays the oracle.  ``kinematic_plan(system).source`` is the generated text.
 On the compiled backend the stage runs fused, position by position (kinematics/fused.py),
@@ -103,16 +104,13 @@ __all__ = [
 ]
 
 ENABLED = True
-"""The plan is used where it covers the rows (False: the general path everywhere, as the
-tests compare them)."""
+"""Whether the plan is used where it covers the rows (off: the general path everywhere)."""
 
 
 CHUNK_BYTES = 4 * 2**20
 """Rows are run in chunks whose Φ_q entries take about this much memory (1,024–8,192
-positions): over tens of thousands of positions the whole-array temporaries of one pass
-leave the caches.  In chunks the slotting machine's kinematics at 36,000 positions takes
-~0.8 of its time in one pass, the slider-crank's about the same (each chunk's blocks are
-inverted on their own, by the same formulas)."""
+positions; one pass's temporaries stay in the caches), each chunk's blocks inverted on
+their own: the reference machines' kinematics at 36,000 positions take ~0.8 of one pass."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -134,15 +132,11 @@ class KinematicPlan:
 
 
 PLAN_AFTER = (20, 8000)
-"""When a system's plans are generated: once its analyses (counted as they pass
-:func:`planned_derivatives`) would have saved what generating and compiling them costs,
-``calls / 20 + rows / 8000 >= 1`` — 20 analyses of a few rows, or 8,000 rows in one or
-a few, or a mix.  Generating costs ~5–9 ms for the reference machines (~1 ms per link)
-and an analysis through the plan saves ~0.3–0.5 ms plus ~0.6–1.3 µs per row
-(``tests/benchmarks/bench_plan_after.py``), so that a system pays at most about twice
-what the best choice would have (generate when what it would have saved so far equals
-the cost).  Before, the general path runs, as the plans' oracle: a ``run`` (its cycle's
-few short analyses included) keeps it."""
+"""A system's plans are made once its analyses (as they pass :func:`planned_derivatives`)
+would have saved their cost, ``calls / 20 + rows / 8000 >= 1``: making them costs ~6–10
+ms for the reference machines, an analysis through them saves ~0.3 ms and ~1–2 µs per
+row (bench_plan_after.py), so that a system pays at most about twice the best choice.
+Before, the general path runs, as the plans' oracle (a ``run`` and its cycle keep it)."""
 
 
 def _worth(system: System, n: int) -> bool:
@@ -156,13 +150,21 @@ def _worth(system: System, n: int) -> bool:
     return calls * long + rows * short >= short * long
 
 
+PLANNED_BLOCKS = 6
+"""The largest group block (columns; a dyad's 6) of a system the plan is made for: a
+triad's 12×12 inverse is dense, and lines over its entries cost more than the general
+stage's passes over whole blocks (bench_plan_after.py: the Stephenson six-bar)."""
+
+
 def covers(system: System, q: np.ndarray) -> bool:
     """Whether the plan takes the rows ``q``: one model's ``(N, n_q)`` (on either backend:
     on the compiled one fused, kinematics/fused.py) or a stacked model's ``(V, N, n_q)``
-    (its variants' rows one after the other), a system with an evaluation layout; more
-    than :data:`STACK_UP_TO` rows only where no stack of joints goes through the
-    contract's methods (``long_runs``: every stacked type's formulas traced)."""
-    if not ENABLED or system.layout is None:
+    (its variants' rows one after the other), a system with an evaluation layout and
+    groups of at most :data:`PLANNED_BLOCKS` columns; more than :data:`STACK_UP_TO` rows
+    only where no stack of joints goes through the contract's methods (``long_runs``:
+    every stacked type's formulas traced)."""
+    large = any(len(p.cols) > PLANNED_BLOCKS for p in system.plans)
+    if not ENABLED or system.layout is None or large:
         return False
     if q.ndim == 2:
         variants = None
