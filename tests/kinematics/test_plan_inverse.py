@@ -110,8 +110,8 @@ def test_a_dyad_s_block_is_inverted_as_small_inverse_inverts_it():
 @pytest.mark.parametrize("n", [TRACED_FROM + 100, 400, 12])
 def test_the_condition_numbers_written_with_an_inverse_are_condition_number_s(n):
     """With L_ref the written inverse also gives each block's condition number — traced
-    from the same entries over TRACED_FROM matrices or more, condition_number itself
-    below — condition_number's numbers (1e-12 of each), ∞ where it gives ∞, at the
+    from the same entries at any number of matrices, over TRACED_FROM as below it —
+    condition_number's numbers (1e-12 of each), ∞ where it gives ∞, at the
     matrices inverted again too (a pivot ~0, a NaN entry, an exactly singular block) and
     where the whole call is small_inverse's (fewer matrices than pay)."""
     stack = _dyads(TRACED_FROM + 100, 4)[:n]

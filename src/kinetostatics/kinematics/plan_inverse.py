@@ -32,11 +32,12 @@ from .newton import WHOLE_ARRAY_NAMES, block_condition, traced_condition
 __all__ = ["RUNTIME", "TRACED_FROM", "WrittenInverse", "entry", "inverse_line"]
 
 TRACED_FROM = 1024
-"""Rows of a call from which a plan's condition numbers and substitutions run as lines
-written over the blocks' entries that are not zero (a dyad's 6×6 inverse has 16 such
-entries, 5 of them ±1; :mod:`.plan_solve`) rather than as passes over whole blocks
-(``condition_number``, ``einsum``): below, the lines' calls cost more than the passes
-save."""
+"""Rows of a call from which a plan's substitutions run as lines written over the blocks'
+entries that are not zero (a dyad's 6×6 inverse has 16 such entries, 5 of them ±1;
+:mod:`.plan_solve`) rather than as products over whole blocks (``einsum``): below, the
+lines' calls cost more than the products save.  The condition numbers are written as
+lines at any number of rows: cheaper than ``condition_number``'s passes even over a few
+rows (measured with the plan's commit)."""
 
 RUNTIME = "runtime"
 """An entry of Φ_q's buffer the plan knows only when it runs (a set evaluated through the
@@ -93,8 +94,9 @@ def inverse_line(  # noqa: PLR0913  the block, where it is, and what is written 
     ``small_inverse`` at every call).  With ``l_ref`` (one model's L_ref) the function
     also writes the block's condition number into ``CND[g]``
     (:func:`~.newton.condition_number`): traced from the same entries, the zeros and
-    numbers folded, and as ``condition_number`` computes it from the inverse written at
-    the matrices inverted again (:func:`recondition`)."""
+    numbers folded (the same number to rounding: the inverse's squares summed by
+    columns), and as ``condition_number`` computes it from the inverse written at the
+    matrices inverted again (:func:`recondition`)."""
     n = len(m)
     if first is None:
         if n > 3:
@@ -119,10 +121,9 @@ def inverse_line(  # noqa: PLR0913  the block, where it is, and what is written 
         for j, v in enumerate(row)
         if isinstance(v, Sym) or v != 0.0
     ]
-    if l_ref is not None:  # over long runs, traced; over short ones, condition_number's
+    if l_ref is not None:  # traced, at any number of rows (fewer passes than its own)
         cond = traced_condition(inner, block, inv, l_ref, arrays=True)
-        lines = inner.take() + [f"    cnd[...] = {operand(cond)}"]
-        body += ["    if len(cnd) >= TRACED_FROM:", *_indented(lines)]
+        body += inner.take() + [f"    cnd[...] = {operand(cond)}"]
     body += fallback + _again(block, l_ref)
     env.update(_SCOPE)
     head = _head(env, g, block, first, l_ref, list(reads))
@@ -156,13 +157,7 @@ def _again(block: list[list], l_ref: float | None) -> list[str]:
         total = " + ".join(x.name for x in leaves)
         out.append(f"    redo.append(again_where_not_finite(view, out, {total}, Z))")
     if l_ref is not None:
-        out += [
-            "    if len(cnd) >= TRACED_FROM:",
-            f"        recondition(cnd, view, out, {l_ref!r}, redo, Z)",
-            "    else:",
-            "        Z()",
-            f"        condition_into(cnd, view, out, {l_ref!r})",
-        ]
+        out.append(f"    recondition(cnd, view, out, {l_ref!r}, redo, Z)")
     return out
 
 
