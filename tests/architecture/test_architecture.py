@@ -199,7 +199,6 @@ LONG_FUNCTIONS = {
     "io/loads.py:LoadSections._conditions": _IO_SECTION,
     "io/parameters.py:ParameterSections._parameters": _IO_SECTION,
     "io/settings.py:SettingSections._analysis": _IO_SECTION,
-    "kinetics/friction.py:_homotopy": "one continuation in μ (predictor, corrector); 17 of doc",
     "outputs/plotting/animate.py:_write": "the frames drawn and written, as GIF or MP4",
     "outputs/plotting/drive.py:torque_speed": _FIGURE,
     "outputs/plotting/energy.py:equivalent_moments": _FIGURE,

@@ -1,6 +1,6 @@
 """The consistent friction solution's homotopy: the self-locking hard case with a homotopy
 step's cycling Newton given up at its 12th iteration (``kinetics/friction.py``,
-``HOMOTOPY_CYCLING``) against each Newton run to its 30th, timed in turns in one process
+``homotopy.CYCLING``) against each Newton run to its 30th, timed in turns in one process
 (CPU time, the median of the rounds), at a few numbers of positions.  Prints the times,
 their ratio, the Newton iterations of the rows the homotopy took, and whether every
 column is the same.  Nothing here is a test; docs/accuracy.md (section 2) quotes it.
@@ -19,14 +19,14 @@ import numpy as np
 from _common import ROOT
 
 import kinetostatics as ks
-from kinetostatics.kinetics import friction as fr
+from kinetostatics.kinetics import homotopy
 
 PATH = ROOT / "tests" / "hard" / "slider_crank_self_locking.yaml"
 
 
 def _analysed(model, cycling):
-    old = fr.HOMOTOPY_CYCLING
-    fr.HOMOTOPY_CYCLING = cycling
+    old = homotopy.CYCLING
+    homotopy.CYCLING = cycling
     try:
         t = time.process_time()
         with warnings.catch_warnings():
@@ -34,7 +34,7 @@ def _analysed(model, cycling):
             r = ks.analyze(model)
         return r, time.process_time() - t
     finally:
-        fr.HOMOTOPY_CYCLING = old
+        homotopy.CYCLING = old
 
 
 def main(argv=None) -> None:
@@ -42,7 +42,7 @@ def main(argv=None) -> None:
     ap.add_argument("--positions", type=int, nargs="+", default=[360, 3000])
     ap.add_argument("--rounds", type=int, default=3)
     args = ap.parse_args(argv)
-    patient = (fr.HOMOTOPY_NEWTON + 1, np.inf)
+    patient = (homotopy.NEWTON + 1, np.inf)
     text = PATH.read_text("utf-8")
     print(
         "| positions | self-locked rows | rows by homotopy | given up at 12 [ms] | run to 30 [ms] "
@@ -51,10 +51,10 @@ def main(argv=None) -> None:
     print("|---|---|---|---|---|---|---|---|")
     for n in args.positions:
         model = ks.loads(re.sub(r"positions: *\d+", f"positions: {n}", text), str(PATH))
-        _analysed(model, fr.HOMOTOPY_CYCLING)  # the system built, the plans made
+        _analysed(model, homotopy.CYCLING)  # the system built, the plans made
         times: dict[str, list[float]] = {"early": [], "patient": []}
         for _ in range(args.rounds):
-            early, t_early = _analysed(model, fr.HOMOTOPY_CYCLING)
+            early, t_early = _analysed(model, homotopy.CYCLING)
             late, t_late = _analysed(model, patient)
             times["early"].append(t_early)
             times["patient"].append(t_late)

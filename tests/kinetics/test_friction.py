@@ -80,12 +80,12 @@ def test_self_locking_ranges_and_homotopy(locking):
 
 def test_a_cycling_newton_gives_up_early_with_the_same_solutions(locking, monkeypatch):
     """A homotopy step's Newton that is still cycling at its 12th iteration gives up there
-    (kinetics/friction.py, HOMOTOPY_CYCLING) instead of at its 30th: the self-locking case
+    (kinetics/homotopy.py, CYCLING) instead of at its 30th: the self-locking case
     gets every column and status it gets when each Newton runs its 30 (the Newtons that
     converge do so long before), in fewer iterations."""
-    from kinetostatics.kinetics import friction as fr
+    from kinetostatics.kinetics import homotopy
 
-    monkeypatch.setattr(fr, "HOMOTOPY_CYCLING", (fr.HOMOTOPY_NEWTON + 1, np.inf))
+    monkeypatch.setattr(homotopy, "CYCLING", (homotopy.NEWTON + 1, np.inf))
     patient = ks.analyze(_locking(1.0))
     status = locking["friction.status"]
     fixed_point = (status == 0) | (status == 3)  # the rows the homotopy did not take
@@ -95,6 +95,29 @@ def test_a_cycling_newton_gives_up_early_with_the_same_solutions(locking, monkey
     fast, slow = locking["friction.iterations"], patient["friction.iterations"]
     assert (fast <= slow).all() and (fast < slow).any()
     np.testing.assert_array_equal(fast[fixed_point], slow[fixed_point])
+
+
+def test_the_homotopy_follows_each_position_as_it_would_alone(locking, monkeypatch):
+    """The positions the fixed point leaves are followed all at once (kinetics/homotopy.py),
+    each with its own σ, steps and chart: every column, status and iteration count is the
+    one each position gets followed alone, to the bit."""
+    from kinetostatics.kinetics import friction as fr
+    from kinetostatics.kinetics import homotopy
+
+    def alone(a, q_load, x0, friction, jacobian):
+        def one(p):
+            at = np.array([p])
+            f = lambda rows, y, s: friction(rows + p, y, s)  # noqa: E731
+            j = lambda rows, y, s: jacobian(rows + p, y, s)  # noqa: E731
+            return homotopy.follow(a[at], q_load[at], x0[at], f, j)
+
+        return tuple(np.concatenate(z) for z in zip(*(one(p) for p in range(len(x0)))))
+
+    monkeypatch.setattr(fr, "follow", alone)
+    one_by_one = ks.analyze(_locking(1.0))
+    assert (locking["friction.status"] == 1).sum() >= 1
+    for name in locking.columns:
+        np.testing.assert_array_equal(locking[name], one_by_one[name], err_msg=name)
 
 
 def test_self_locking_range_shrinks_with_friction(locking):

@@ -14,8 +14,9 @@ connected to x₀ by the homotopy μ → σμ, σ: 0 → 1.  A fixed-point itera
 from x₀, x ← x₀ + Σ e_k(x) A⁻¹(−g_k) (the n_f columns solved once per position, by
 the kinematic block factors when A = Φ_qᵀ; an iteration evaluates the efforts only),
 is accepted where it converges (status 0); elsewhere the homotopy is run with Newton
-at each σ (status 1).  A fold of the branch (sign change of det J) or divergence before
-σ = 1 is self-locking (status 2, NaN values).
+at each σ (status 1; kinetics/homotopy.py, all those positions at once).  A fold of the
+branch (sign change of det J) or divergence before σ = 1 is self-locking (status 2, NaN
+values).
 """
 
 from __future__ import annotations
@@ -28,23 +29,12 @@ from ..base import kernels
 from ..base.arrays import entries_first, entries_last, max_abs_last
 from ..base.blocks import BlockFactor
 from ..structure.system import System, coordinate_gradients
+from .homotopy import follow
 
 __all__ = ["FrictionSetup", "setup", "efforts", "approximate", "consistent", "FrictionSolution"]
 
 FIXED_POINT_ITER = 60
 TOL = 1e-13
-
-HOMOTOPY_NEWTON = 30
-HOMOTOPY_CYCLING = (12, 1e-6)
-"""A homotopy step's Newton gives up after :data:`HOMOTOPY_NEWTON` iterations, or after
-the first of ``HOMOTOPY_CYCLING`` while its step is still above the second (relative to
-y): it is then cycling between the pieces of the friction laws' |·|, which it does not
-leave (the step halves and tries again).  On the self-locking hard case at 360 and at
-1,000 positions every Newton that converged had its step below 1e-7 of y by its 8th
-iteration and below 1e-11 from its 12th on, and all but one of those that did not were
-still above 1e-6 at their 12th (5.6e-6 to 32 at their 25th to 30th): each cost 30
-iterations, three quarters of the consistent solution's time there
-(tests/kinetics/test_friction.py holds the first)."""
 
 
 @dataclass
@@ -198,6 +188,30 @@ def approximate(
     return np.array(entries_last(x_t, 1), order="C"), e  # a copy: the caller may write it
 
 
+def _homotopies(system: System, fs: FrictionSetup, a, q_load, x0, failed: np.ndarray):
+    """The homotopy (:func:`~kinetostatics.kinetics.homotopy.follow`) at the positions
+    where ``failed``, all at once: (their index, then x, status, iterations and reach,
+    one row or value each); A the kinematic factors' Φ_qᵀ there, or ``a`` dense.  What the
+    Newton iterations read of the joints is taken at all those positions once, and at
+    the rows still iterating when fewer are (the same numbers)."""
+    index = np.nonzero(failed)
+    sub = _rows_of(fs, index)
+    a = a.transposed_at(index) if isinstance(a, BlockFactor) else a[index]
+    terms, m = _jacobian_terms(system, sub), len(a)
+
+    def friction(rows, y, s):  # Σ g e(y)·σ: (−s_k μ_k)·σ is (−s_k σ) μ_k to the bit
+        part = sub if len(rows) == m else _rows_of(sub, (rows,))
+        return _generalized(part, efforts(system, part, y) * s)
+
+    def jacobian(rows, y, s):
+        if len(rows) == m:
+            return _jacobian(terms, a, y, s)
+        some = [(j, b, *(v[rows] for v in arrays)) for j, b, *arrays in terms]
+        return _jacobian(some, a[rows], y, s)
+
+    return index, follow(a, q_load[index], x0[index], friction, jacobian)
+
+
 def _components(a: np.ndarray, d: int = 1) -> np.ndarray:
     """``a (..., e1 … ed)`` stored component-major, ``(e1 … ed, ...)``, contiguous: a view
     where it is so stored already, else a copy."""
@@ -276,17 +290,15 @@ def consistent(
     dead = ~np.all(np.isfinite(x0), axis=-1)
     x[dead], status[dead] = np.nan, 2
     failed &= ~dead
-    with np.errstate(all="ignore"):  # |x₀|/|x| (see _homotopy; not np.linalg.norm, slow
+    with np.errstate(all="ignore"):  # |x₀|/|x| (kinetics/homotopy.py; not np.linalg.norm, slow
         # over a short last axis)
         reach = np.sqrt(np.einsum("...i,...i->...", x0, x0) / np.einsum("...i,...i->...", x, x))
     reach[dead] = np.nan
-    flat = np.argwhere(failed)
-    for index in map(tuple, flat):
-        xi, st, n, reach[index] = _homotopy(system, fs, a, q_load, x0, index)
-        x[index] = xi
-        status[index] = st if not fs.zero[index] or st == 2 else 3
-        it[index] += n
-    if flat.size or dead.any():  # x changed there: the efforts at every row again
+    if failed.any():
+        index, (xs, st, n, reach[index]) = _homotopies(system, fs, a, q_load, x0, failed)
+        x[index], it[index] = xs, it[index] + n
+        status[index] = np.where(fs.zero[index] & (st != 2), 3, st)
+    if failed.any() or dead.any():  # x changed there: the efforts at every row again
         e = efforts(system, fs, x)
     fs.shared.clear()  # the setup stays in the result: not its (..., n_f, n_λ) solves
     return FrictionSolution(x, e, status, it, reach)
@@ -505,89 +517,3 @@ def _residual(fs, a, q_load, x, e):
     r += entries_first(q_load, 1)
     r += np.einsum("kn...,k...->n...", entries_first(fs.grad), _components(e))
     return np.max(np.abs(r, out=r), axis=0)
-
-
-def _homotopy(
-    system: System,
-    fs: FrictionSetup,
-    a: np.ndarray,
-    q_load: np.ndarray,
-    x0: np.ndarray,
-    index: tuple,
-) -> tuple[np.ndarray, int, int, float]:
-    """Follow σ: 0 → 1 at one position; returns (x, status 1 or 2, Newton iterations, reach).
-
-    The branch is followed in projective coordinates x = y/t (ĉ·y = 1, ĉ the
-    direction of the last point, so the chart follows the path), where it stays
-    smooth as the reactions grow without bound: μ is positively homogeneous of
-    degree 1 in λ, so A x + Σ g e(x) + Q = 0 reads
-
-        A y + σ Σ g e(y) + Q t = 0,   ĉ·y = 1,
-
-    and the reactions diverge exactly where t crosses 0 — self-locking, decided
-    by the sign of t, however close to the edge of a locked zone the position
-    is.  The path is continued past such a crossing to σ = 1 where it can be, so
-    ``reach`` = sign(t)·|x₀|/|x| at σ = 1 is a signed margin that changes sign
-    at the edge (1 without friction, → 0 at the edge, < 0 past it; NaN where
-    unknown).  A fold (det of the Jacobian changing sign with t > 0) is
-    self-locking too.
-    """
-    sub = _rows_of(fs, index)
-    a = a.transposed_at(index) if isinstance(a, BlockFactor) else a[index]
-    ql, x0 = q_load[index], x0[index]
-    n = len(x0)
-    qs = max(np.max(np.abs(ql)), 1e-300)
-    qh = ql / qs  # t scaled by |Q|: τ = t·|Q|, x = y·|Q|/τ
-    n0 = np.linalg.norm(x0)
-    y, tau = x0 / n0, qs / n0  # A y + Q̂ τ = 0 at σ = 0, |y| = 1
-    det0 = np.sign(np.linalg.det(a))
-    sigma, h, iters, crossed = 0.0, 0.05, 0, False
-    aug = np.zeros((n + 1, n + 1))
-    aug[:n, n] = qh
-    terms, r = _jacobian_terms(system, sub), np.empty(n + 1)
-    while sigma < 1.0:
-        h = min(h, 1.0 - sigma)
-        s = sigma + h
-        aug[n, :n] = y  # chart ĉ = y (|y| = 1): ĉ·y = 1 at the start
-        yn, tn, ok = y.copy(), tau, False
-        for it in range(HOMOTOPY_NEWTON):
-            iters += 1
-            r[:n] = a @ yn + _generalized(sub, efforts(system, sub, yn, s)) + qh * tn
-            r[n] = y @ yn - 1.0
-            aug[:n, :n] = _jacobian(terms, a, yn, s)
-            try:
-                dz = np.linalg.solve(aug, -r)
-            except np.linalg.LinAlgError:
-                break
-            if not np.all(np.isfinite(dz)):
-                break
-            yn += dz[:n]
-            tn += dz[n]
-            step, size = np.max(np.abs(dz[:n])), np.max(np.abs(yn))
-            if step <= TOL * size and abs(dz[n]) <= TOL * max(abs(tn), abs(tau)):
-                ok = True
-                break
-            if it + 1 >= HOMOTOPY_CYCLING[0] and step > HOMOTOPY_CYCLING[1] * size:
-                break  # cycling between the pieces of |·|: a shorter step tries again
-        if ok:
-            norm = np.linalg.norm(yn)
-            yn, tn = yn / norm, tn / norm
-            # t changing sign with a large turn of y is a jump of the chart, not a crossing
-            chart = (tn > 0.0) == (tau > 0.0) or np.max(np.abs(yn - y)) <= 0.1
-            folded = (
-                tn > 0.0
-                and not crossed
-                and np.sign(np.linalg.det(_jacobian(terms, a, yn, s))) != det0
-            )
-        if ok and chart and not folded:
-            crossed |= tn <= 0.0  # the reactions went through infinity
-            sigma, y, tau = s, yn, tn
-            h = min(2.0 * h, 0.25)
-        elif h > 1e-7:
-            h *= 0.5
-        else:
-            return np.full(n, np.nan), 2, iters, np.nan
-    reach = tau * n0 / qs  # sign(t)·|x₀|/|x|, |y| = 1
-    if crossed:
-        return np.full(n, np.nan), 2, iters, reach
-    return y * (qs / tau), 1, iters, reach
