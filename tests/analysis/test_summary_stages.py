@@ -25,7 +25,7 @@ SOLVERS = {
     "kinetostatics.analysis.cycle": ["cycle_pieces", "cycle_nodes", "cycle_stats"],
     "kinetostatics.analysis.cuts": ["quiet_analyze", "quiet_near", "breaks"],
     "kinetostatics.analysis.pipeline": ["analyze", "analyze_near"],
-    "kinetostatics.analysis.locking": ["locking_zones", "kinetics", "state_near"],
+    "kinetostatics.analysis.locking": ["locking_zones", "kinetics", "state_at"],
     "kinetostatics.kinematics.events": ["output_strokes", "state_near"],
     "kinetostatics.kinetics.inverse": ["kinetics"],
     "kinetostatics.dynamics.flywheel": ["design", "energy_curve"],

@@ -120,6 +120,25 @@ def test_the_homotopy_follows_each_position_as_it_would_alone(locking, monkeypat
         np.testing.assert_array_equal(locking[name], one_by_one[name], err_msg=name)
 
 
+def test_the_zones_edges_searched_side_by_side_are_those_found_alone(locking, monkeypatch):
+    """The edges of the locked zones are searched side by side (analysis/locking.py: one
+    analysis a round for all of them); each is where its search alone puts it (1e-9°:
+    a state continued from a row with others beside it may take another Newton step)."""
+    from kinetostatics.analysis import locking as lk
+
+    together = lk.locking_zones(locking)
+    assert len(together) >= 2 and all(z["from"] is not None for z in together)
+    search = lk._locking_edges
+    monkeypatch.setattr(
+        lk, "_locking_edges", lambda r, s, b, span: [search(r, s, [x], span)[0] for x in b]
+    )
+    alone = lk.locking_zones(locking)
+    for a, b in zip(together, alone):
+        assert a["rows"] == b["rows"]
+        assert a["from"] == pytest.approx(b["from"], abs=1e-9)
+        assert a["to"] == pytest.approx(b["to"], abs=1e-9)
+
+
 def test_self_locking_range_shrinks_with_friction(locking):
     counts = [int((ks.analyze(_locking(s))["friction.status"] == 2).sum()) for s in (0.5, 0.1)]
     assert (locking["friction.status"] == 2).sum() > counts[0] > counts[1]

@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import AssemblyError
-from ..kinematics.events import state_near
+from ..kinematics.positions import state_at
 from ..kinematics.schedule import schedule
 from ..kinetics.inverse import kinetics
 
@@ -34,9 +34,11 @@ def locking_zones(result) -> list[dict[str, Any]]:
     Where the branch folds instead (the margin stays finite: no sign change to
     go by), the edge is bisected on the status to 1e-9 of the period, about
     the resolution of the homotopy's smallest σ step there.
-    Each state is continued from the nearest row (the events' refinement).
-    A zone's edge at the start or end of a run that is not a full cycle is
-    None (the zone continues beyond the run).  Returns ``[{"from", "to",
+    Each state is continued from the nearest row (the events' refinement);
+    all the edges are searched side by side, each round one analysis of every
+    edge's next time (:func:`_locking_edges`).  A zone's edge at the start or
+    end of a run that is not a full cycle is None (the zone continues beyond
+    the run).  Returns ``[{"from", "to",
     "rows", "unit"}]``: driver coordinates in deg (m for a prismatic driver),
     "from" the edge where the run enters the zone.
     """
@@ -63,83 +65,121 @@ def locking_zones(result) -> list[dict[str, Any]]:
     span = period if full else float(np.ptp(result.t)) or 1.0
     t = result.t[order]
     starts = [k for k in range(n) if locked[k] and not (locked[k - 1] if full or k > 0 else False)]
-    zones = []
+    zones, brackets = [], []  # brackets: (solved row's time, locked row's time) per edge
     for k0 in starts:
         k1 = k0
         while (full or k1 + 1 < n) and locked[(k1 + 1) % n]:
             k1 += 1
         entry = leave = None
         if full or k0 > 0:  # between rows k0 − 1 (solved) and k0
-            tb = t[k0 - 1] - (period if k0 == 0 else 0.0)
-            entry = _locking_edge(result, sched, tb, t[k0], span)
+            entry = len(brackets)
+            brackets.append((t[k0 - 1] - (period if k0 == 0 else 0.0), t[k0]))
         if full or k1 + 1 < n:  # between rows k1 and k1 + 1 (solved)
-            ta = t[(k1 + 1) % n] + (period if k1 + 1 == n else 0.0)
-            leave = _locking_edge(result, sched, ta, t[k1 % n], span)
-        zones.append(
-            {
-                "from": None if entry is None else coord(entry),
-                "to": None if leave is None else coord(leave),
-                "rows": int(k1 - k0 + 1),
-                "unit": unit,
-            }
-        )
-    return zones
+            leave = len(brackets)
+            brackets.append((t[(k1 + 1) % n] + (period if k1 + 1 == n else 0.0), t[k1 % n]))
+        zones.append((entry, leave, int(k1 - k0 + 1)))
+    edges = _locking_edges(result, sched, brackets, span)
+    return [
+        {
+            "from": None if a is None else coord(edges[a]),
+            "to": None if b is None else coord(edges[b]),
+            "rows": rows,
+            "unit": unit,
+        }
+        for a, b, rows in zones
+    ]
 
 
-def _locking_edge(result, sched, t_ok, t_lock, span) -> float:
-    """Time of the edge of a locked zone between a solved row and a locked one."""
-    system = result.system
-    period = sched.period if result.full_cycle else np.inf
-
-    def probe(tc):
-        tm = tc % period if np.isfinite(period) else tc
-        try:
-            q, qd, qdd = state_near(system, sched, tm, result.t, result.q, result.qd, result.qdd)
-        except AssemblyError:  # no state there: no margin either
-            return -1, np.nan
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            kin = kinetics(
-                system,
-                q,
-                qd,
-                qdd,
-                sched(np.array([tm]))[0],
-                ref_speed=sched.reference,
-                extremes=result.extremes,
-                friction=True,
-            )
-        sol = kin.friction["solution"]
-        return int(sol.status[0]), float(sol.reach[0])
-
+def _locking_edges(result, sched, brackets: list, span: float) -> list[float]:
+    """The times of the edges of locked zones, each between a solved row's time and a
+    locked one's (``brackets``), searched side by side: every round probes each edge's
+    next time, all in one analysis, and each edge takes the steps it would take alone
+    (:class:`_Edge`); at most 80 rounds."""
     tol = 1e-12 * span
-    lo, hi = float(t_ok), float(t_lock)
-    r_lo, r_hi = probe(lo)[1], np.nan
-    solved = [(lo, r_lo)]
-    last = None
+    edges = [_Edge(float(ok), float(lock)) for ok, lock in brackets]
+    if not edges:
+        return []
+    for edge, (_, reach) in zip(edges, _probe(result, sched, [e.lo for e in edges])):
+        edge.r_lo, edge.solved = reach, [(edge.lo, reach)]
     for _ in range(80):
-        w = hi - lo
+        asked = [(e, c) for e in edges if e.found is None and (c := e.next(tol)) is not None]
+        if not asked:
+            break
+        for (edge, c), (status, reach) in zip(asked, _probe(result, sched, [c for _, c in asked])):
+            edge.took(c, status, reach)
+    return [0.5 * (e.lo + e.hi) if e.found is None else e.found for e in edges]
+
+
+def _probe(result, sched, times: list) -> list[tuple[int, float]]:
+    """(friction status, signed margin ``reach``) of the consistent friction solution at
+    ``times``, each state continued from its nearest row (the events' refinement); (−1,
+    NaN) where no state is found."""
+    system, period = result.system, sched.period if result.full_cycle else np.inf
+    tm = np.mod(times, period) if np.isfinite(period) else np.asarray(times, dtype=float)
+    near = np.argmin(np.abs(result.t[None, :] - tm[:, None]), axis=1)
+    try:
+        q, qd, qdd = state_at(
+            system, sched, tm, result.t[near], result.q[near], result.qd[near], result.qdd[near]
+        )
+    except AssemblyError:  # no state at one of them: each alone, (−1, NaN) where none
+        if len(times) == 1:
+            return [(-1, np.nan)]
+        return [_probe(result, sched, [t])[0] for t in times]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        kin = kinetics(
+            system,
+            q,
+            qd,
+            qdd,
+            sched(tm)[0],
+            ref_speed=sched.reference,
+            extremes=result.extremes,
+            friction=True,
+        )
+    sol = kin.friction["solution"]
+    return list(zip(np.asarray(sol.status).tolist(), np.asarray(sol.reach).tolist()))
+
+
+class _Edge:
+    """One edge's search between ``lo`` (solved) and ``hi`` (locked): regula falsi in the
+    bracket where the margin changes sign, else secant steps from the solved side, else
+    bisection on the status (a fold of the branch: the homotopy's own resolution, ~1e-9),
+    to ``tol`` (1e3 ``tol`` bisecting)."""
+
+    def __init__(self, lo: float, hi: float):
+        self.lo, self.hi, self.r_lo, self.r_hi = lo, hi, np.nan, np.nan
+        self.solved: list[tuple[float, float]] = []
+        self.last: float | None = None
+        self.found: float | None = None
+
+    def next(self, tol: float) -> float | None:
+        """The next time to probe, or None with ``found`` set (the edge is located)."""
+        lo, w, r_lo, r_hi = self.lo, self.hi - self.lo, self.r_lo, self.r_hi
         cand = None
         if np.isfinite(r_lo) and np.isfinite(r_hi) and r_hi < 0.0 < r_lo:
             cand = lo + w * r_lo / (r_lo - r_hi)  # regula falsi in the bracket
-        elif len(solved) >= 2:  # secant from the solved side
-            (t0, r0), (t1, r1) = solved[-2], solved[-1]
+        elif len(self.solved) >= 2:  # secant from the solved side
+            (t0, r0), (t1, r1) = self.solved[-2], self.solved[-1]
             if np.isfinite(r0) and np.isfinite(r1) and r1 != r0:
                 cand = t1 - r1 * (t1 - t0) / (r1 - r0)
         halving = cand is None or not 0.0 < (cand - lo) / w < 1.0
-        if halving:  # no margin to go by (a fold of the branch:
-            cand = lo + 0.5 * w  # the homotopy's own resolution, ~1e-9)
+        if halving:  # no margin to go by
+            cand = lo + 0.5 * w
         if abs(w) <= (1e3 * tol if halving else tol) or (
-            last is not None and abs(cand - last) <= tol
+            self.last is not None and abs(cand - self.last) <= tol
         ):
-            return cand
-        status, reach = probe(cand)
-        if status < 0:
-            return 0.5 * (lo + hi)
-        if status == 2:
-            hi, r_hi = cand, (reach if reach < 0.0 else np.nan)
+            self.found = cand
+            return None
+        return cand
+
+    def took(self, cand: float, status: int, reach: float) -> None:
+        """The probe at ``cand`` gave ``status`` and ``reach``."""
+        if status < 0:  # no state there: the bracket's middle
+            self.found = 0.5 * (self.lo + self.hi)
+        elif status == 2:
+            self.hi, self.r_hi = cand, (reach if reach < 0.0 else np.nan)
         else:
-            lo, r_lo = cand, reach
-            solved.append((cand, reach))
-        last = cand
-    return 0.5 * (lo + hi)
+            self.lo, self.r_lo = cand, reach
+            self.solved.append((cand, reach))
+        self.last = cand
