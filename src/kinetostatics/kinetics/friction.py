@@ -198,16 +198,23 @@ def _homotopies(system: System, fs: FrictionSetup, a, q_load, x0, failed: np.nda
     sub = _rows_of(fs, index)
     a = a.transposed_at(index) if isinstance(a, BlockFactor) else a[index]
     terms, m = _jacobian_terms(system, sub), len(a)
+    kept: list = [None, None]  # the last rows asked for, and what they read
+
+    def at(rows):  # (setup, Jacobian terms, A) at the rows; all of them, or the last ones
+        if len(rows) == m:
+            return sub, terms, a
+        if kept[0] is None or not np.array_equal(kept[0], rows):
+            some = [(j, b, *(v[rows] for v in arrays)) for j, b, *arrays in terms]
+            kept[:] = rows.copy(), (_rows_of(sub, (rows,)), some, a[rows])
+        return kept[1]
 
     def friction(rows, y, s):  # Σ g e(y)·σ: (−s_k μ_k)·σ is (−s_k σ) μ_k to the bit
-        part = sub if len(rows) == m else _rows_of(sub, (rows,))
+        part = at(rows)[0]
         return _generalized(part, efforts(system, part, y) * s)
 
     def jacobian(rows, y, s):
-        if len(rows) == m:
-            return _jacobian(terms, a, y, s)
-        some = [(j, b, *(v[rows] for v in arrays)) for j, b, *arrays in terms]
-        return _jacobian(some, a[rows], y, s)
+        _, some, a_rows = at(rows)
+        return _jacobian(some, a_rows, y, s)
 
     return index, follow(a, q_load[index], x0[index], friction, jacobian)
 
