@@ -79,8 +79,9 @@ def follow(
         h[on] = np.minimum(h[on], 1.0 - sigma[on])
         s = sigma[on] + h[on]
         yn, tn, ok = _newton(a, qh, y[on], tau[on], s, on, iters, friction, jacobian)
-        norm = np.linalg.norm(yn, axis=-1)
-        yn, tn = yn / norm[:, None], tn / norm
+        with np.errstate(all="ignore"):  # the rows whose Newton failed: not read below
+            norm = np.linalg.norm(yn, axis=-1)
+            yn, tn = yn / norm[:, None], tn / norm
         # t changing sign with a large turn of y is a jump of the chart, not a crossing
         chart = ((tn > 0.0) == (tau[on] > 0.0)) | (np.max(np.abs(yn - y[on]), axis=-1) <= 0.1)
         ask = np.flatnonzero(ok & chart & (tn > 0.0) & ~crossed[on])
