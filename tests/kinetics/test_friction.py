@@ -97,10 +97,9 @@ def test_a_cycling_newton_gives_up_early_with_the_same_solutions(locking, monkey
     np.testing.assert_array_equal(fast[fixed_point], slow[fixed_point])
 
 
-def test_the_homotopy_follows_each_position_as_it_would_alone(locking, monkeypatch):
-    """The positions the fixed point leaves are followed all at once (kinetics/homotopy.py),
-    each with its own σ, steps and chart: every column, status and iteration count is the
-    one each position gets followed alone, to the bit."""
+def _followed_alone(monkeypatch) -> None:
+    """The homotopy's positions followed one at a time (kinetics/homotopy.py's ``follow``
+    called once per position), as a reference for its positions followed at once."""
     from kinetostatics.kinetics import friction as fr
     from kinetostatics.kinetics import homotopy
 
@@ -114,10 +113,49 @@ def test_the_homotopy_follows_each_position_as_it_would_alone(locking, monkeypat
         return tuple(np.concatenate(z) for z in zip(*(one(p) for p in range(len(x0)))))
 
     monkeypatch.setattr(fr, "follow", alone)
+
+
+def test_the_homotopy_follows_each_position_as_it_would_alone(locking, monkeypatch):
+    """The positions the fixed point leaves are followed all at once (kinetics/homotopy.py),
+    each with its own σ, steps and chart: every column, status and iteration count is the
+    one each position gets followed alone, to the bit."""
+    _followed_alone(monkeypatch)
     one_by_one = ks.analyze(_locking(1.0))
     assert (locking["friction.status"] == 1).sum() >= 1
     for name in locking.columns:
         np.testing.assert_array_equal(locking[name], one_by_one[name], err_msg=name)
+
+
+@pytest.mark.slow
+def test_the_homotopy_at_once_is_the_homotopy_alone_on_generated_mechanisms(monkeypatch):
+    """The same on the net's generated mechanisms with 30 times their friction (~20 s):
+    every column of each, to the bit, with enough rows taken by the homotopy."""
+    from tests.net import generate as gen
+
+    def texts():
+        for seed in range(1000, 1040):
+            text = gen.to_text(gen.generate(seed))
+            more = lambda m: f"coefficient: {30 * float(m.group(1)):g}"  # noqa: E731
+            text, n = re.subn(r"coefficient: *([0-9.eE+-]+)", more, text)
+            if n:
+                yield seed, text
+
+    at_once = {}
+    for seed, text in texts():
+        try:
+            at_once[seed] = ks.analyze(ks.loads(text, f"seed{seed}.yaml"))
+        except ks.KinetostaticsError:  # refused as generated (a hard case of the net's)
+            continue
+    _followed_alone(monkeypatch)
+    taken = 0
+    for seed, text in texts():
+        if seed not in at_once:
+            continue
+        a, b = at_once[seed], ks.analyze(ks.loads(text, f"seed{seed}.yaml"))
+        taken += int((a["friction.status"] == 1).sum())
+        for name in a.columns:
+            np.testing.assert_array_equal(a[name], b[name], err_msg=f"{seed}: {name}")
+    assert len(at_once) >= 8 and taken >= 30
 
 
 def test_the_zones_edges_searched_side_by_side_are_those_found_alone(locking, monkeypatch):
