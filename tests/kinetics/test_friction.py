@@ -115,21 +115,33 @@ def _followed_alone(monkeypatch) -> None:
     monkeypatch.setattr(fr, "follow", alone)
 
 
+def _as_alone(at_once, alone, what: str = "") -> None:
+    """The same statuses, every column within 1e-12 of its unit's scale, and the same
+    Newton iterations at ≥ 95 % of the rows the homotopy took: the positions' paths are
+    their own (one step shared by all of them gives the same solutions to ~1e-13 but
+    other iterations at every such row)."""
+    st = at_once["friction.status"]
+    np.testing.assert_array_equal(st, alone["friction.status"], err_msg=what)
+    assert_close_on_unit_scales(at_once, alone, skip=("friction.iterations",))
+    took = (st == 1) | (st == 2)
+    same = at_once["friction.iterations"][took] == alone["friction.iterations"][took]
+    assert same.sum() >= 0.95 * same.size, (what, int((~same).sum()), int(took.sum()))
+
+
 def test_the_homotopy_follows_each_position_as_it_would_alone(locking, monkeypatch):
     """The positions the fixed point leaves are followed all at once (kinetics/homotopy.py),
-    each with its own σ, steps and chart: every column, status and iteration count is the
-    one each position gets followed alone, to the bit."""
+    each with its own σ, steps and chart: each gets what it gets followed alone
+    (:func:`_as_alone`; on this machine every column to the bit)."""
     _followed_alone(monkeypatch)
     one_by_one = ks.analyze(_locking(1.0))
     assert (locking["friction.status"] == 1).sum() >= 1
-    for name in locking.columns:
-        np.testing.assert_array_equal(locking[name], one_by_one[name], err_msg=name)
+    _as_alone(locking, one_by_one)
 
 
 @pytest.mark.slow
 def test_the_homotopy_at_once_is_the_homotopy_alone_on_generated_mechanisms(monkeypatch):
-    """The same on the net's generated mechanisms with 30 times their friction (~20 s):
-    every column of each, to the bit, with enough rows taken by the homotopy."""
+    """The same on the net's generated mechanisms with 30 times their friction (~20 s),
+    with enough rows taken by the homotopy."""
     from tests.net import generate as gen
 
     def texts():
@@ -153,8 +165,7 @@ def test_the_homotopy_at_once_is_the_homotopy_alone_on_generated_mechanisms(monk
             continue
         a, b = at_once[seed], ks.analyze(ks.loads(text, f"seed{seed}.yaml"))
         taken += int((a["friction.status"] == 1).sum())
-        for name in a.columns:
-            np.testing.assert_array_equal(a[name], b[name], err_msg=f"{seed}: {name}")
+        _as_alone(a, b, f"seed {seed}")
     assert len(at_once) >= 8 and taken >= 30
 
 
