@@ -194,6 +194,56 @@ def test_polar_diagrams_in_the_link_frame(slotting):
     assert len([ax for ax in fig.axes if ax.lines]) == 5  # the revolute joints
 
 
+def test_polar_diagrams_mark_each_course_position_at_its_load(slotting):
+    """Each course position of a polar diagram: a ray from the origin to the joint's load
+    at that row, a point there and its label there (events in their colour)."""
+    from matplotlib.collections import LineCollection
+
+    fig = pl.polar_diagrams(slotting, ["C"], dpi=40)
+    ax = fig.axes[0]
+    _, _, F = pl.link_frame_loads(slotting, "C")
+    course = pl.course_positions(slotting)
+    tips = np.array([F[k] for _, k in course])
+    (rays,) = [c for c in ax.collections if isinstance(c, LineCollection)]
+    segments = np.array(rays.get_segments())
+    np.testing.assert_allclose(segments[:, 0], 0.0)
+    np.testing.assert_allclose(segments[:, 1], tips)
+    labels = {t.get_text(): (t.get_position(), t.get_color()) for t in ax.texts}
+    assert list(labels) == [lab for lab, _ in course]
+    for (lab, _), tip in zip(course, tips):
+        np.testing.assert_allclose(labels[lab][0], tip)
+        assert (labels[lab][1] == pl.style.EVENT_COLOR) == ("′" in lab)
+    dots = [np.column_stack(ln.get_data()) for ln in ax.lines if ln.get_marker() == "o"]
+    points = np.concatenate(dots)
+    np.testing.assert_allclose(points, tips)  # in the course's order
+
+
+def test_course_positions_are_numbered_along_the_top_edge(slotting):
+    """The curves number the course positions 1 … 12 above their top edge, each over a
+    tick mark at its travel (every 30° from the first position), with the axis label
+    above the numbers."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    fig = pl.torque_curves(slotting, dpi=80)
+    ax = fig.axes[0]
+    renderer = FigureCanvasAgg(fig).get_renderer()
+    fig.draw(renderer)
+    numbers = {t.get_text(): t for t in ax.texts if t.get_text().isdigit()}
+    assert sorted(numbers, key=int) == [str(k) for k in range(1, 13)]
+    for text, t in numbers.items():
+        assert t.get_position()[0] == pytest.approx(30.0 * (int(text) - 1), abs=1e-9)
+        box = t.get_window_extent(renderer)
+        assert box.y0 > ax.bbox.y1  # above the top edge
+        x_px = ax.transData.transform((t.get_position()[0], 0.0))[0]
+        assert (box.x0 + box.x1) / 2 == pytest.approx(x_px, abs=0.5)  # centred on it
+    (marks,) = [ln for ln in ax.lines if len(ln.get_xdata()) == 12 and ln.get_linestyle() == "None"]
+    np.testing.assert_allclose(marks.get_xdata(), 30.0 * np.arange(12))
+    assert ax.spines["top"].get_visible()
+    (label,) = [t for t in ax.texts if t.get_text() == "course positions"]
+    top = max(t.get_window_extent(renderer).y1 for t in numbers.values())
+    assert label.get_window_extent(renderer).y0 > top - 1.0  # above them (its descent aside)
+
+
 def test_polygon_figure_states_its_scale(slotting):
     row = pl.row_at(slotting, label="7")
     for kind, mu in (("velocity", r"$\mu_v$"), ("acceleration", r"$\mu_a$")):

@@ -25,6 +25,7 @@ from .style import (
     EVENT_COLOR,
     ROUND_OFF,
     PictureError,
+    _course_axis,
     _figure,
     _grow_to_fit,
     _rc,
@@ -234,18 +235,13 @@ def _mark(ax, result, *, top: bool = True, spans=None, lang: str = "en"):
                 _event_travel(result, e), color=EVENT_COLOR, lw=0.8, ls=(0, (4, 2)), zorder=1
             )
     if top and ticks:
-        sec = ax.secondary_xaxis("top")
-        numbered = [(t, lab) for t, lab in ticks if "′" not in lab]
-        sec.set_xticks([t for t, _ in numbered])
-        sec.set_xticklabels([lab.split("/")[0] for _, lab in numbered], fontsize=6.5)
-        sec.tick_params(length=2, pad=1)
-        sec.set_xlabel(
+        numbered = [(t, lab.split("/")[0]) for t, lab in ticks if "′" not in lab]
+        label = (
             tr("course positions (turns 1 to {n})", lang, n=turns(result))
             if turns(result) > 1
-            else tr("course positions", lang),
-            fontsize=6.5,
-            labelpad=2,
+            else tr("course positions", lang)
         )
+        _course_axis(ax, numbered, label)
     n_turns = turns(result)
     if n_turns:
         ax.set_xlim(0, 360 * n_turns)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Sequence
 
@@ -43,6 +44,33 @@ def link_frame_loads(result, joint: str, *, friction: bool = False) -> tuple[str
     return link, desc, rotate(-th, F)
 
 
+def _course_marks(ax, marks) -> None:
+    """The course positions on a polar diagram: a grey ray from the origin to each
+    point, the point, and its label 2 pt up and right of it (events in their colour).
+    One collection of rays, one line per run of points of a colour and plain texts: a Line2D and
+    an annotation per position cost a tenth of the picture's drawing."""
+    from matplotlib.collections import LineCollection
+    from matplotlib.transforms import offset_copy
+
+    if not marks:
+        return
+    tips = np.array([p for _, p in marks], dtype=float)
+    rays = np.zeros((len(marks), 2, 2))
+    rays[:, 1] = tips
+    ax.add_collection(
+        LineCollection(rays, colors="#aaaaaa", linewidths=0.5, zorder=0, capstyle="projecting")
+    )
+    colors = [EVENT_COLOR if "′" in lab else "black" for lab, _ in marks]
+    start = 0
+    for color, run in itertools.groupby(colors):  # drawn in the course's order
+        stop = start + len(list(run))
+        ax.plot(tips[start:stop, 0], tips[start:stop, 1], "o", ms=2.5, color=color)
+        start = stop
+    shifted = offset_copy(ax.transData, fig=ax.figure, x=2, y=2, units="points")
+    for (lab, p), color in zip(marks, colors):
+        ax.text(p[0], p[1], lab, transform=shifted, fontsize=6, color=color)
+
+
 def polar_diagrams(
     result,
     joints: Sequence[str] | None = None,
@@ -77,18 +105,7 @@ def polar_diagrams(
             ax.plot([0], [0], "+", color="black", ms=7, mew=1.0)
             inv = np.empty_like(order)
             inv[order] = np.arange(len(order))
-            for lab, k in course:
-                p = F[inv[k]]
-                ax.plot([0, p[0]], [0, p[1]], color="#aaaaaa", lw=0.5, zorder=0)
-                ax.plot(*p, "o", ms=2.5, color=EVENT_COLOR if "′" in lab else "black")
-                ax.annotate(
-                    lab,
-                    p,
-                    xytext=(2, 2),
-                    textcoords="offset points",
-                    fontsize=6,
-                    color=EVENT_COLOR if "′" in lab else "black",
-                )
+            _course_marks(ax, [(lab, F[inv[k]]) for lab, k in course])
             mag = np.hypot(F[:, 0], F[:, 1])
             if not np.isfinite(mag).any():  # friction solution self-locked throughout
                 ax.text(
