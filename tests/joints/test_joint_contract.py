@@ -271,6 +271,18 @@ def test_a_friction_law_that_reads_no_poses_is_the_same_without_them(joint):
     np.testing.assert_array_equal(moved, mag)
 
 
+@pytest.mark.parametrize("joint", JOINTS, ids=IDS)
+def test_a_fixed_direction_is_the_motion_direction_at_every_pose(joint):
+    """A type that declares its ``fixed_direction`` (the coordinate's rate then read from
+    the links' rates alone) has that ``motion_direction`` at poses of every kind."""
+    fixed = type(joint).fixed_direction
+    if fixed is None:
+        return
+    qi, qj, _, _ = _states()
+    for g, want in zip(joint.motion_direction(qi, qj), fixed):
+        np.testing.assert_array_equal(g, np.broadcast_to(want, g.shape))
+
+
 @pytest.mark.parametrize("path", MECHANISMS, ids=[p.stem for p in MECHANISMS])
 def test_yaml_round_trip(path):
     model = ks.load(path)

@@ -269,6 +269,9 @@ class JointCore(ABC):
     n_eq: ClassVar[int]
     reaction_labels: ClassVar[tuple[str, ...]]
     angular: ClassVar[bool]  # relative coordinate is an angle (rad) or a length (m)
+    # motion_direction where it is the same at every pose, ((g_i), (g_j)): the coordinate's
+    # rate then reads the two links' rates alone (structure.system.coordinate_rate)
+    fixed_direction: ClassVar[tuple[tuple[float, ...], tuple[float, ...]] | None] = None
     # the keys of ``joints.<name>`` that from_spec checks, with their shapes (base/keys.py):
     # the JSON Schema of a mechanism file is made from them; None: any keys
     spec_keys: ClassVar[Keys | None] = None

@@ -428,9 +428,24 @@ def coordinate_rate(system: System, q: np.ndarray, x: np.ndarray, k: int) -> np.
     """The rate of constraint ``k``'s joint coordinate, c_k,q · x, at rates ``x (..., n_q)``
     (q̇, or a tangent ∂q/∂ψ), ``(...)``: its two links' directions (the entries of
     :func:`coordinate_gradient` that are not zero) times their rates, the ground's none —
-    without the gradient's row over all of q (the joint's relative speed at ``x`` = q̇)."""
-    pe, n_links = link_poses(system, q), len(system.links)
+    without the gradient's row over all of q (the joint's relative speed at ``x`` = q̇).
+    A joint whose direction is the same at every pose (``Joint.fixed_direction``: a
+    revolute's θ_j − θ_i) reads the rates of its components that are not zero alone, no
+    pose: the same numbers (0·x adds nothing, ±1·x is ±x)."""
+    n_links = len(system.links)
+    fixed = getattr(system.constraints[k], "fixed_direction", None)
     rate = None
+    if fixed is not None:
+        for g, link in zip(fixed, system.ends[k].tolist()):
+            if link < n_links:  # the ground has no rate
+                for c, gc in enumerate(g):
+                    if gc:  # a new array: −x, or x·g (x·1 is x)
+                        xc = x[..., 3 * link + c]
+                        term = -xc if gc == -1.0 else xc * gc
+                        rate = term if rate is None else rate + term
+        assert rate is not None  # a joint joins a moving link
+        return rate
+    pe = link_poses(system, q)
     for g, link in zip(_directions(system, pe, k), system.ends[k].tolist()):
         if link < n_links:  # the ground has no rate
             xl = x[..., 3 * link : 3 * link + 3]
