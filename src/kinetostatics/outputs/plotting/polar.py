@@ -46,9 +46,9 @@ def link_frame_loads(result, joint: str, *, friction: bool = False) -> tuple[str
 
 def _course_marks(ax, marks) -> None:
     """The course positions on a polar diagram: a grey ray from the origin to each
-    point, the point, and its label 2 pt up and right of it (events in their colour).
-    One collection of rays, one line per run of points of a colour and plain texts: a Line2D and
-    an annotation per position cost a tenth of the picture's drawing."""
+    point, the point, and its label 2 pt up and right of it (events in their colour):
+    one collection of rays, one line per run of points of a colour, plain texts (a line,
+    a line and an annotation per position cost a tenth of making and saving the picture)."""
     from matplotlib.collections import LineCollection
     from matplotlib.transforms import offset_copy
 

@@ -523,11 +523,13 @@ def _course_axis(ax, numbered, label: str) -> None:
     """The course positions numbered along the top edge of ``ax`` as a secondary x axis
     there draws them — the top spine, ticks 2 pt out, labels 1 pt above the ticks, the
     axis label 2 pt above the labels — from one line of tick marks and plain texts: a
-    secondary axis is an axes of its own, with a tick object per position, ~5 % of
-    drawing the curves' pictures."""
+    secondary axis is an axes of its own, with a tick object per position (a tenth of
+    making and saving the torque curves)."""
     import matplotlib
     from matplotlib import lines as mlines
 
+    if not numbered:
+        return
     length, pad, size, labelpad = COURSE_TICKS
     rc = matplotlib.rcParams
     out = rc["xtick.direction"] != "in"
