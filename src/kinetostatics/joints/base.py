@@ -69,13 +69,7 @@ __all__ = [
 
 # The built-in types and their modules in this package: a module is imported when its type
 # is first named (a file without gears does not pay for importing them).
-BUILT_IN = {
-    "cam": "cam",
-    "gear": "gear",
-    "prismatic": "prismatic",
-    "rack": "rack",
-    "revolute": "revolute",
-}
+BUILT_IN = {t: t for t in ("cam", "gear", "prismatic", "rack", "revolute")}
 
 
 class _Registry(MutableMapping):
@@ -269,9 +263,7 @@ class JointCore(ABC):
     n_eq: ClassVar[int]
     reaction_labels: ClassVar[tuple[str, ...]]
     angular: ClassVar[bool]  # relative coordinate is an angle (rad) or a length (m)
-    # motion_direction where it is the same at every pose, ((g_i), (g_j)): the coordinate's
-    # rate then reads the two links' rates alone (structure.system.coordinate_rate)
-    fixed_direction: ClassVar[tuple[tuple[float, ...], tuple[float, ...]] | None] = None
+    fixed_direction: ClassVar[tuple | None] = None  # (g_i, g_j) where the same at every pose
     # the keys of ``joints.<name>`` that from_spec checks, with their shapes (base/keys.py):
     # the JSON Schema of a mechanism file is made from them; None: any keys
     spec_keys: ClassVar[Keys | None] = None
