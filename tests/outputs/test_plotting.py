@@ -218,6 +218,22 @@ def test_polar_diagrams_mark_each_course_position_at_its_load(slotting):
     np.testing.assert_allclose(points, tips)  # in the course's order
 
 
+def test_a_polar_diagram_labels_no_position_without_a_load():
+    """Where the consistent friction solution has no value (self-locked, a dead centre),
+    a polar diagram with friction has no point label: the labels are those of the
+    positions with a load."""
+    result = pl.analyze_for_pictures(
+        ks.load(ROOT / "tests" / "hard" / "slider_crank_self_locking.yaml"), course=True
+    )
+    fig = pl.polar_diagrams(result, friction=True, dpi=40)
+    for ax, joint in zip(fig.axes, [j.name for j in result.system.model.joints if j.pin]):
+        _, _, F = pl.link_frame_loads(result, joint, friction=True)
+        course = pl.course_positions(result)
+        with_load = [lab for lab, k in course if np.isfinite(F[k]).all()]
+        assert 0 < len(with_load) < len(course)  # the case has positions without a load
+        assert [t.get_text() for t in ax.texts] == with_load
+
+
 def test_course_positions_are_numbered_along_the_top_edge(slotting):
     """The curves number the course positions 1 … 12 above their top edge, each over a
     tick mark at its travel (every 30° from the first position), with the axis label

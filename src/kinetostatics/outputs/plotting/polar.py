@@ -68,7 +68,8 @@ def _course_marks(ax, marks) -> None:
         start = stop
     shifted = offset_copy(ax.transData, fig=ax.figure, x=2, y=2, units="points")
     for (lab, p), color in zip(marks, colors):
-        ax.text(p[0], p[1], lab, transform=shifted, fontsize=6, color=color)
+        if np.isfinite(p).all():  # no load there (self-locked, singular): no label
+            ax.text(p[0], p[1], lab, transform=shifted, fontsize=6, color=color)
 
 
 def polar_diagrams(
