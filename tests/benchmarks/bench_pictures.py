@@ -23,13 +23,14 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import resource
 import statistics
 import subprocess
 import sys
 import tempfile
 import time
 from pathlib import Path
+
+from bench_commands import cpu_time  # one process's CPU time (user + system)
 
 ROOT = Path(__file__).resolve().parents[2]
 FILE = ROOT / "mechanisms" / "slotting_machine.yaml"
@@ -73,13 +74,6 @@ def pictures(names, repeat: int) -> dict[str, float]:
     return out
 
 
-def _child_cpu(cmd, env) -> float:
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    subprocess.run(cmd, env=env, check=True, stdout=subprocess.DEVNULL)
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-
-
 def _env(tree: Path) -> dict:
     env = dict(os.environ, PYTHONPATH=str(tree / "src"), OPENBLAS_NUM_THREADS="1")
     env.pop("PYTHONDONTWRITEBYTECODE", None)  # bytecode written once, loaded after
@@ -91,10 +85,10 @@ def commands(command: str, baseline: Path, rounds: int) -> None:
         cmd = [sys.executable, "-m", "kinetostatics", *command.split(), str(FILE), "--out", tmp]
         trees = {"this tree": ROOT, "baseline": baseline}
         for tree in trees.values():  # the bytecode written, the files cached
-            _child_cpu(cmd, _env(tree))
+            cpu_time(cmd, _env(tree))
         ratios = []
         for _ in range(rounds):
-            ours, theirs = (_child_cpu(cmd, _env(t)) for t in trees.values())
+            ours, theirs = (cpu_time(cmd, _env(t)) for t in trees.values())
             ratios.append(ours / theirs)
     print(
         f"{command}: this tree / baseline {statistics.median(ratios):.3f} "
