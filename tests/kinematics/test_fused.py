@@ -226,12 +226,14 @@ def _analysis(model, backend: str, **kw):
 
 
 def _both(model, **kw):
+    """The analysis on both backends, every column within 1e-12 of its unit's scale;
+    the fused plan the compiled one kept (the rates-only program's for the kinematics)."""
     a, b = _analysis(model, "numpy", **kw), _analysis(model, "numba", **kw)
     if isinstance(a, type):
         assert a is b
         return None
     assert_close_on_unit_scales(b, a, 1e-12)
-    return b.system.memo.get(fused.KEY)
+    return b.system.memo.get(fused.RATES_KEY if kw.get("kinematics_only") else fused.KEY)
 
 
 def _model(source):
@@ -245,19 +247,32 @@ def _model(source):
     "source", SHIPPED + HARD + list(SEEDS), ids=lambda s: getattr(s, "stem", f"seed{s}")
 )
 def test_fused_stage_gives_every_column(source, at_once):
-    """A whole analysis with the fused stage: every column within 1e-12 of its unit's
-    scale of the NumPy plan's."""
-    _both(_model(source))
+    """A whole analysis with the fused stage, and the kinematics alone with its rates-only
+    program: every column within 1e-12 of its unit's scale of the NumPy plan's."""
+    model = _model(source)
+    _both(model)
+    _both(model, kinematics_only=True)
 
 
 @compiling
 @pytest.mark.parametrize("name", ["slider_crank", "slotting_machine"])
-def test_the_pairs_mechanisms_take_the_fused_stage(name, at_once):
-    """Over 36,000 positions too (the program's blocks, no chunks)."""
+def test_the_pairs_mechanisms_take_the_fused_stage(name, at_once, monkeypatch):
+    """Over 36,000 positions too (the program's blocks, no chunks): the rates alone by
+    their program; with the factors the NumPy plan above FACTORS_UP_TO positions, the
+    fused stage at or below it."""
     model = ks.load(ROOT / "mechanisms" / f"{name}.yaml")
     assert _both(model) is not None
+    assert _both(model, kinematics_only=True) is not None
     angles = model.analysis.start + np.linspace(0.0, 2 * np.pi, 36_000, endpoint=False)
-    assert _both(model, positions=angles, friction=False) is not None
+    assert _both(model, positions=angles, kinematics_only=True) is not None
+    runs = []
+    real = fused.program.run
+    monkeypatch.setattr(fused.program, "run", lambda *a: runs.append(a[-1].shape) or real(*a))
+    _both(model, positions=angles, friction=False)
+    assert not runs  # the NumPy plan's factors, its transposed solves with them
+    monkeypatch.setattr(fused, "FACTORS_UP_TO", len(angles))
+    made = _both(model, positions=angles, friction=False)
+    assert runs == [(made.program.rows, len(angles))]
 
 
 @compiling
@@ -295,7 +310,9 @@ def test_a_failed_pivot_sends_the_call_to_the_numpy_plan(at_once, monkeypatch, r
 @pytest.mark.slow
 def test_fused_stage_on_200_generated_mechanisms(at_once):
     for seed in MANY:
-        _both(_model(seed))
+        model = _model(seed)
+        _both(model)
+        _both(model, kinematics_only=True)
 
 
 @compiling

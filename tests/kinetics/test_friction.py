@@ -342,17 +342,25 @@ def test_the_efforts_are_each_joint_s_own_law(path, monkeypatch):
     ],
     ids=["one model", "stacked variants", "self-locking zones"],
 )
+@pytest.mark.parametrize("backend", ["numpy", "numba"])
 def test_the_fixed_point_in_runs_of_positions_is_the_fixed_point_over_all(
-    path, stacked, monkeypatch
+    path, stacked, backend, monkeypatch, request
 ):
     """A position's iterates do not depend on the other positions', so the fixed point run
     over runs of a few positions (``FIXED_POINT_RUN``, here 7: the last run shorter, the
     approximate solution's first iterate sliced with them) gives the reactions, efforts,
     statuses and iterations of one run over all of them, on one model, on variants
     stacked along a leading axis, and where positions leave the fixed point for the
-    homotopy (self-locked, zero relative speed)."""
+    homotopy (self-locked, zero relative speed) — on each backend (the compiled fixed
+    point runs by runs too)."""
     from kinetostatics.analysis import vectorised
+    from kinetostatics.base import kernels
     from kinetostatics.kinetics import friction as fr
+
+    if backend == "numba":
+        pytest.importorskip("numba")
+        kernels.set_backend("numba")
+        request.addfinalizer(lambda: kernels.set_backend("numpy"))
 
     if stacked:
         models = [ks.load(path, parameters={"H": 90.0 + 5.0 * k}) for k in range(3)]

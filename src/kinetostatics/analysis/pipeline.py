@@ -137,7 +137,7 @@ def analyze(  # noqa: PLR0913  the public keywords of analyze (docs/python.md)
     sched = schedule(system)
     rows = _rows(system, sched, positions, times, reachable)
     t, sol, full = solve_run(system, sched, rows)
-    motion = _motion(system, sched, t, sol.q, derivatives_by, step)
+    motion = _motion(system, sched, t, sol.q, derivatives_by, step, not kinematics_only)
     if kinematics_only:
         return _result(system, sol, motion, full)
     extremes, found, states = load_events(system, sched, motion, full)
@@ -285,12 +285,13 @@ def _check_memory(system: System, n: int, given: str | None) -> None:
     raise ValueError(f"{given}: {why}")
 
 
-def _motion(system: System, sched: Schedule, t, q, by: str, step: float) -> Motion:
+def _motion(system: System, sched: Schedule, t, q, by: str, step: float, factors: bool) -> Motion:
     """The :class:`~kinetostatics.kinematics.motion.Motion` of the rows: the drivers'
     coordinates and the velocities and accelerations, from the constraint Jacobian (``lu``:
-    its factors) or by differences (no factors: the reactions build their own)."""
+    its factors, kept only if ``factors``) or by differences (no factors: the reactions
+    build their own)."""
     if by == "jacobian":
-        return motion_at(system, sched, t, q)
+        return motion_at(system, sched, t, q, factors)
     psi, psi_d, psi_dd = sched(t)
     qd, qdd = difference_derivatives(system, sched, t, q, by, step)
     return Motion(t, psi, q, qd, qdd, psi_d, psi_dd, None)

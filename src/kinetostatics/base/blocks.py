@@ -9,13 +9,14 @@ q̈ (forward substitution) and the reactions, Φ_qᵀ λ = −Q (back substituti
 from __future__ import annotations
 
 import functools
+from dataclasses import dataclass
 
 import numpy as np
 
 from .arrays import as_run, entries_first, entries_last
 from .linalg import small_inverse
 
-__all__ = ["BlockFactor", "TRANSPOSED_ROWS_FROM"]
+__all__ = ["BlockFactor", "Conditions", "TRANSPOSED_ROWS_FROM"]
 
 
 @functools.lru_cache(maxsize=1024)
@@ -39,6 +40,16 @@ its products whole-array passes over runs of positions, its y stored component-m
 (a position-major view).  Measured on the slotting machine's blocks: 0.22 against 0.16
 ms at 4,000 positions, 0.70 against 0.41 at 10,000; below ~3,000 the passes over
 position-major vectors cost less, and the reactions' columns read them faster."""
+
+
+@dataclass(frozen=True)
+class Conditions:
+    """In place of a :class:`BlockFactor` where a stage asked for the rates alone (an
+    analysis of the kinematics on the compiled backend, kinematics/fused.py): the groups'
+    condition numbers ``{g: (...)}`` (but the driven groups'), and no factors to solve
+    with."""
+
+    conditions: dict
 
 
 class BlockFactor:

@@ -25,7 +25,9 @@ Every constraint set must have whole-array kernels (revolute and prismatic pairs
 drivers on them); a system with another (a cam, a gear pair) keeps the NumPy plan.  The
 program writes what the NumPy plan writes — Φ_q's entries, the blocks' inverses, q̇, q̈
 — and the condition numbers into one output whose rows the stage hands on as the same
-views, so the stages after it cannot tell them apart; the numbers agree to round-off
+views, so the stages after it cannot tell them apart (up to :data:`FACTORS_UP_TO`
+positions); for the kinematics alone a second program writes q̇, q̈ and the conditions
+only, the factors kept in its registers.  The numbers agree to round-off
 (the row order of an elimination may differ from the call's own first position;
 tests/kinematics/test_fused.py holds every column to 1e-12 of its scale).
 """
@@ -45,9 +47,17 @@ from ..structure.system import System
 from .newton import traced_condition
 from .plan_params import driver_params
 
-__all__ = ["FusedPlan", "fused_plan", "fused_derivatives"]
+__all__ = ["FACTORS_UP_TO", "FusedPlan", "fused_plan", "fused_derivatives"]
 
 KEY = "fused kinematic plan"
+RATES_KEY = "fused kinematic plan, rates only"
+FACTORS_UP_TO = 3000
+"""The most positions the fused stage is run for when the factors are asked for (the
+rates alone: any number).  It then writes Φ_q's entries and the inverses as the NumPy
+plan does, without the plan's written-out transposed solves, and above ~3,000 positions
+the analysis took longer through it (tests/benchmarks/bench_speed.py's mechanisms,
+frictionless: at 2,500 positions 1.0× the NumPy plan's time, at 6,000 1.07–1.14×, at
+10,000 1.12–1.25×); the rates alone, at 36,000 positions, 0.59× the NumPy plan's stage."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -69,29 +79,35 @@ class _NotFused(Exception):
     """The stage cannot be written as a program for this system."""
 
 
-def fused_plan(system: System, pe: np.ndarray) -> FusedPlan | None:
+def fused_plan(system: System, pe: np.ndarray, factors: bool = True) -> FusedPlan | None:
     """The system's :class:`FusedPlan`, made on first use (``pe``: the poses of the call
     that makes it, whose first finite position picks the eliminations' row orders) and
     kept with it; None where the stage cannot be fused."""
-    if KEY not in system.memo:
+    key = KEY if factors else RATES_KEY
+    if key not in system.memo:
         try:
-            system.memo[KEY] = _generate(system, pe)
+            system.memo[key] = _generate(system, pe, factors)
         except (_NotFused, TypeError, ZeroDivisionError):  # a kernel branched; a 1/0
-            system.memo[KEY] = None
-    return system.memo[KEY]
+            system.memo[key] = None
+    return system.memo[key]
 
 
 def fused_derivatives(
-    system: System, pe: np.ndarray, psi_d: np.ndarray, psi_dd: np.ndarray
-) -> tuple[np.ndarray, list[np.ndarray], np.ndarray, np.ndarray, dict] | None:
+    system: System, pe: np.ndarray, psi_d: np.ndarray, psi_dd: np.ndarray, factors: bool = True
+) -> tuple[np.ndarray | None, list[np.ndarray] | None, np.ndarray, np.ndarray, dict] | None:
     """(Φ_q's entries ``(size + 1, N)``, the groups' inverses ``(k, k, N)``, q̇ and q̈
     ``(n_q, N)``, the groups' condition numbers ``{g: (N,)}``) at the poses ``pe (N, n +
     1, 5)``, as the NumPy plan and ``condition_number`` give them; None where the system
-    has no fused plan or a position failed a pivot's test."""
-    plan = fused_plan(system, pe)
+    has no fused plan, a position failed a pivot's test, or the factors are asked for at
+    more than :data:`FACTORS_UP_TO` positions.  Without ``factors`` the program stores
+    neither Φ_q's entries nor the inverses (None for both): they stay in its registers,
+    and the rates and conditions are the output's only rows."""
+    n = pe.shape[0]
+    if factors and n > FACTORS_UP_TO:
+        return None
+    plan = fused_plan(system, pe, factors)
     if plan is None:
         return None
-    n = pe.shape[0]
     out = np.zeros((plan.program.rows, n))  # a zero is not stored by the program: over
     # 36,000 positions storing them (half the rows) took longer than the zeroed memory
     inputs = (
@@ -101,12 +117,14 @@ def fused_derivatives(
     )
     if program.run(plan.program, inputs, out):
         return None
+    n_q, at = system.n_q, plan.rates
+    conditions = {g: out[row] for g, row in plan.conditions}
+    if not factors:
+        return None, None, out[at : at + n_q], out[at + n_q :], conditions
     inv = [
         out[at : at + len(p.cols) ** 2].reshape(len(p.cols), len(p.cols), n)
         for at, p in zip(plan.inverses, system.plans)
     ]
-    n_q, at = system.n_q, plan.rates
-    conditions = {g: out[row] for g, row in plan.conditions}
     return out[: plan.inverses[0]], inv, out[at : at + n_q], out[at + n_q :], conditions
 
 
@@ -127,7 +145,7 @@ class _Rates:
         return 0.0 if i == self.ground else self.qd.get(3 * i + c, 0.0)
 
 
-def _generate(system: System, pe: np.ndarray) -> FusedPlan:
+def _generate(system: System, pe: np.ndarray, factors: bool = True) -> FusedPlan:
     layout = system.layout
     if layout is None:
         raise _NotFused
@@ -149,17 +167,19 @@ def _generate(system: System, pe: np.ndarray) -> FusedPlan:
                 slots[at] = slots.get(at, 0.0) + v
     slots.pop(layout.size, None)  # the spare slot: entries of no block
     body: list[str] = []
-    _emit(body, lines, slots)  # each value stored once computed: fewer registers held
+    _emit(body, lines, slots if factors else {})  # stored once computed: fewer registers
     finite = np.all(np.isfinite(pe), axis=(-2, -1))  # the first assembled position's
     k = int(np.argmax(finite))  # blocks pick the row orders (a NaN row would pick badly)
     first = jacobian_blocks_all(system.sets, layout, pe[k : k + 1])[0]
-    inverses, inv, at = [], [], layout.size + 1
+    inverses, inv, at = [], [], layout.size + 1 if factors else 0
     for (off, r, c), (d, _, _) in zip(layout.diag, first):
         m = [[slots.get(off + i * c + j, 0.0) for j in range(c)] for i in range(r)]
         block = traced_inverse(m, np.asarray(d)[0], lambda test: _check(lines, test))
         if block is None:
             raise _NotFused
         inv.append(block)
+        if not factors:
+            continue
         inverses.append(at)
         _emit(
             body,

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..base.blocks import BlockFactor
+from ..base.blocks import BlockFactor, Conditions
 from ..structure.system import System
 from .plan import derivatives_at
 from .schedule import Schedule
@@ -39,7 +39,7 @@ class Motion:
     qdd: np.ndarray
     psi_d: np.ndarray | None = None
     psi_dd: np.ndarray | None = None
-    lu: BlockFactor | None = None
+    lu: BlockFactor | Conditions | None = None
 
     @property
     def times(self) -> np.ndarray:
@@ -54,11 +54,14 @@ class Motion:
         return self.psi[..., 0]
 
 
-def motion_at(system: System, sched: Schedule, t: np.ndarray, q: np.ndarray) -> Motion:
+def motion_at(
+    system: System, sched: Schedule, t: np.ndarray, q: np.ndarray, factors: bool = True
+) -> Motion:
     """The :class:`Motion` at times ``t`` and solved positions ``q``: the drivers' schedule
     there, and q̇, q̈ from the constraint Jacobian (Φ_q q̇ = ν, Φ_q q̈ = γ; ``lu`` its
     factors): by the system's generated plan where it covers the rows (:mod:`.plan`), else
-    by the general stage."""
+    by the general stage.  Without ``factors`` (the kinematics alone) ``lu`` may be the
+    groups' :class:`~kinetostatics.base.blocks.Conditions` only."""
     psi, psi_d, psi_dd = sched(t)
-    qd, qdd, lu = derivatives_at(system, q, psi_d, psi_dd)
+    qd, qdd, lu = derivatives_at(system, q, psi_d, psi_dd, factors)
     return Motion(t, psi, q, qd, qdd, psi_d, psi_dd, lu)

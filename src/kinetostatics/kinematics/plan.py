@@ -59,7 +59,7 @@ import numpy as np
 
 from ..base import kernels
 from ..base.arrays import entries_last
-from ..base.blocks import BlockFactor
+from ..base.blocks import BlockFactor, Conditions
 from ..base.geometry import poses
 from ..base.linalg import small_inverse
 from ..base.trace import Leaves, Lines, operand, pruned, traced_kernel
@@ -106,7 +106,6 @@ __all__ = [
 ENABLED = True
 """Whether the plan is used where it covers the rows (off: the general path everywhere)."""
 
-
 CHUNK_BYTES = 4 * 2**20
 """Rows are run in chunks whose Φ_q entries take about this much memory (1,024–8,192
 positions; one pass's temporaries stay in the caches), each chunk's blocks inverted on
@@ -140,8 +139,7 @@ Before, the general path runs, as the plans' oracle (a ``run`` and its cycle kee
 
 
 def _worth(system: System, n: int) -> bool:
-    """Whether the plan is (or now becomes) worth generating, one more analysis of ``n``
-    rows made (:data:`PLAN_AFTER`)."""
+    """Whether the plan is (or now becomes) worth making, one more analysis of ``n`` rows."""
     if "kinematic plan" in system.memo:
         return True
     calls, rows = system.memo.get("analysed", (0, 0))
@@ -193,15 +191,15 @@ def _long_runs(system: System, variants: int | None = None) -> bool:
 
 
 def planned_derivatives(
-    system: System, q: np.ndarray, psi_d: np.ndarray, psi_dd: np.ndarray
-) -> tuple[np.ndarray, np.ndarray, BlockFactor] | None:
+    system: System, q: np.ndarray, psi_d: np.ndarray, psi_dd: np.ndarray, factors: bool = True
+) -> tuple[np.ndarray, np.ndarray, BlockFactor | Conditions] | None:
     """(q̇, q̈, factorised Φ_q) by the system's plan, as ``derivatives`` gives them, or None
     where the plan does not cover the rows (:func:`covers`) or is not worth generating yet
-    (:data:`PLAN_AFTER`).  The plan writes into arrays
-    made here, each entry of a block and each component one contiguous array over the
-    rows, and the block factor is made of their views (the entries no line writes zeroed
-    where first read: :mod:`.plan_buffers`); the rows are run in chunks
-    (:data:`CHUNK_BYTES`)."""
+    (:data:`PLAN_AFTER`).  The plan writes into arrays made here, each entry of a block and
+    each component one contiguous array over the rows, and the block factor is made of
+    their views (the entries no line writes zeroed where first read: :mod:`.plan_buffers`),
+    the rows in chunks (:data:`CHUNK_BYTES`).  On the compiled backend without ``factors``
+    (the kinematics alone) the fused stage gives the rates and the groups' conditions."""
     if not covers(system, q) or not _worth(system, q[..., 0].size):
         return None
     layout = system.layout
@@ -211,7 +209,9 @@ def planned_derivatives(
     pe = link_poses(system, q)
     done = None
     if kernels.active() and len(shape) == 1:
-        done = fused_derivatives(system, pe, psi_d, psi_dd)
+        done = fused_derivatives(system, pe, psi_d, psi_dd, factors)
+        if done is not None and not factors:  # the rates alone
+            return _rows(done[2], shape), _rows(done[3], shape), Conditions(done[4])
     conditions = transposed = zeros = None
     if done is not None:  # the compiled backend's program, position by position
         buf, inv, qdT, qddT, conditions = done
@@ -255,11 +255,11 @@ def _rows(x_t: np.ndarray, shape: tuple) -> np.ndarray:
 
 
 def derivatives_at(
-    system: System, q: np.ndarray, psi_d: np.ndarray, psi_dd: np.ndarray
-) -> tuple[np.ndarray, np.ndarray, BlockFactor]:
-    """(q̇, q̈, factorised Φ_q) by the plan where it covers the rows (one model's or stacked
-    variants'), else by the general stage (:func:`~.derivatives.derivatives`)."""
-    planned = planned_derivatives(system, q, psi_d, psi_dd)
+    system: System, q: np.ndarray, psi_d: np.ndarray, psi_dd: np.ndarray, factors: bool = True
+) -> tuple[np.ndarray, np.ndarray, BlockFactor | Conditions]:
+    """(q̇, q̈, factorised Φ_q, or without ``factors`` maybe its :class:`Conditions` only) by
+    the plan where it covers the rows, else by the general stage (``derivatives``)."""
+    planned = planned_derivatives(system, q, psi_d, psi_dd, factors)
     return derivatives(system, q, psi_d, psi_dd) if planned is None else planned
 
 

@@ -445,20 +445,27 @@ def _compiled_fixed_point(sets, fs, x0, per_effort, scale, x, it, converged, liv
     """The fixed point's loop of :func:`consistent` with the efforts' magnitudes by the
     friction kernels and each iteration's update by :func:`_fixed_point_step`: the same
     operations position by position, so the same numbers to the bit.  Updates ``x``,
-    ``it``, ``converged`` and ``live`` (contiguous, as ``consistent`` makes them)."""
+    ``it``, ``converged`` and ``live`` (contiguous, as ``consistent`` makes them).  Run
+    by runs of :data:`FIXED_POINT_RUN` positions, as NumPy's: a run's A⁻¹g_k stay in the
+    cache from one iteration to the next (a position's iterates are its own); the A⁻¹g_k
+    read component-major, as they are solved (a copy only for stacked variants)."""
     n_f, n = per_effort.shape[-2], it.size
     flat = x.reshape(n, -1)
     x0 = np.ascontiguousarray(x0).reshape(n, -1)
-    per_effort = np.ascontiguousarray(per_effort).reshape(n, n_f, -1)
-    sign = np.ascontiguousarray(fs.sign).reshape(n, n_f)
+    per_effort_t = np.ascontiguousarray(np.moveaxis(per_effort.reshape(n, n_f, -1), 0, -1))
+    sign_t = np.ascontiguousarray(fs.sign.reshape(n, n_f).T)
     scale = np.ascontiguousarray(np.broadcast_to(scale, it.shape)).reshape(n)
-    mu, parts = np.empty((n_f, n)), _parts(sets, n)
     step = kernels.compiled(_fixed_point_step)
     state = it.reshape(n), converged.reshape(n), live.reshape(n)
-    for _ in range(FIXED_POINT_ITER):
-        _magnitudes(sets, flat, mu, parts)
-        if not step(x0, per_effort, mu, sign, scale, flat, *state, TOL):
-            break
+    size = min(n, FIXED_POINT_RUN)
+    acc = np.empty((per_effort_t.shape[1], size))
+    for a in range(0, n, FIXED_POINT_RUN):
+        b = min(n, a + FIXED_POINT_RUN)
+        mu, parts = np.empty((n_f, b - a)), _parts(sets, b - a)
+        for _ in range(FIXED_POINT_ITER):
+            _magnitudes(sets, flat[a:b], mu, parts)
+            if not step(x0, per_effort_t, mu, sign_t, scale, flat, *state, TOL, a, b, acc):
+                break
 
 
 def _parts(sets, n: int) -> list[np.ndarray]:
@@ -474,29 +481,41 @@ def _magnitudes(sets, flat: np.ndarray, mu: np.ndarray, parts) -> None:
         mu[cols] = part
 
 
-def _fixed_point_step(x0, per_effort, mu, sign, scale, x, it, converged, live, tol):  # noqa: PLR0913  a numba kernel: plain arrays only
-    """One iteration at the live positions: x ← x₀ + Σ e_k A⁻¹(−g_k), e_k = −s_k μ_k, as
-    x₀ + Σ s_k μ_k A⁻¹g_k (``per_effort``: the A⁻¹g_k; each product the same to the bit;
-    the sum in ``einsum``'s order), its step max|Δx|/scale, and the tests of
-    ``consistent``; returns how many positions stay live."""
-    n, n_f, n_x = per_effort.shape
-    xn = np.empty(n_x)
+def _fixed_point_step(x0, per_effort_t, mu, sign_t, scale, x, it, converged, live, tol, a, b, acc):  # noqa: PLR0913  a numba kernel: plain arrays only
+    """One iteration at the live positions of the run ``a:b``: x ← x₀ + Σ e_k A⁻¹(−g_k),
+    e_k = −s_k μ_k, as x₀ + Σ s_k μ_k A⁻¹g_k (``per_effort_t (n_f, n_λ, n)``: the A⁻¹g_k
+    component-major; ``mu (n_f, b − a)``: the run's magnitudes; each product the same to
+    the bit, each sum over k in ``einsum``'s order, over the run's positions at once into
+    ``acc``), its step max|Δx|/scale, and the tests of ``consistent``; returns how many
+    positions of the run stay live."""
+    n_f, n_x = per_effort_t.shape[0], per_effort_t.shape[1]
+    m = b - a
+    e = np.empty(m)
+    for c in range(n_x):  # rows as 1-d views: loops the compiler vectorises
+        row = acc[c]
+        for i in range(m):
+            row[i] = 0.0
+    for k in range(n_f):
+        s_k, mu_k = sign_t[k, a:b], mu[k]
+        for i in range(m):
+            e[i] = s_k[i] * mu_k[i]
+        for c in range(n_x):
+            row, g = acc[c], per_effort_t[k, c, a:b]
+            for i in range(m):
+                row[i] += g[i] * e[i]
     count = 0
-    for p in range(n):
+    for i in range(m):
+        p = a + i
         if not live[p]:
             continue
         worst = 0.0
         for c in range(n_x):
-            acc = 0.0
-            for k in range(n_f):
-                acc += per_effort[p, k, c] * (sign[p, k] * mu[k, p])
-            xn[c] = x0[p, c] + acc
-            d = abs(xn[c] - x[p, c])
+            xn = x0[p, c] + acc[c, i]
+            d = abs(xn - x[p, c])
             if d != d or d > worst:  # a NaN stays: nothing is greater
                 worst = d
+            x[p, c] = xn
         step = worst / scale[p]
-        for c in range(n_x):
-            x[p, c] = xn[c]
         it[p] += 1
         if step <= tol:
             converged[p] = True
