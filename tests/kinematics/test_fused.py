@@ -255,6 +255,18 @@ def test_fused_stage_gives_every_column(source, at_once):
 
 
 @compiling
+@pytest.mark.parametrize(
+    "source", SHIPPED + HARD + list(SEEDS), ids=lambda s: getattr(s, "stem", f"seed{s}")
+)
+def test_the_fused_factors_take_the_written_out_transposed_solves(source, at_once, monkeypatch):
+    """From TRACED_FROM positions (here all) the stages after the fused stage solve with
+    its factors by the plan's written-out transposed solves, as after the NumPy plan:
+    every column within 1e-12 of its unit's scale of the NumPy backend's."""
+    monkeypatch.setattr(plan, "TRACED_FROM", 0)
+    _both(_model(source))
+
+
+@compiling
 @pytest.mark.parametrize("name", ["slider_crank", "slotting_machine"])
 def test_the_pairs_mechanisms_take_the_fused_stage(name, at_once, monkeypatch):
     """Over 36,000 positions too (the program's blocks, no chunks): the rates alone by

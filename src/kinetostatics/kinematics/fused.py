@@ -53,11 +53,14 @@ KEY = "fused kinematic plan"
 RATES_KEY = "fused kinematic plan, rates only"
 FACTORS_UP_TO = 3000
 """The most positions the fused stage is run for when the factors are asked for (the
-rates alone: any number).  It then writes Φ_q's entries and the inverses as the NumPy
-plan does, without the plan's written-out transposed solves, and above ~3,000 positions
-the analysis took longer through it (tests/benchmarks/bench_speed.py's mechanisms,
-frictionless: at 2,500 positions 1.0× the NumPy plan's time, at 6,000 1.07–1.14×, at
-10,000 1.12–1.25×); the rates alone, at 36,000 positions, 0.59× the NumPy plan's stage."""
+rates alone: any number).  It then writes Φ_q's entries and the inverses for the stages
+after it, which solve with them (from 1,024 positions by the plan's written-out
+transposed solves), and gains little over the NumPy plan from a few thousand positions
+on: a frictionless analysis through the NumPy plan above 3,000 positions took 0.95–1.04×
+its time through the fused stage at 4,000–20,000 positions and 0.93× at 36,000
+(tests/benchmarks/bench_baseline.py --numba, this tree against one without the limit,
+glibc's allocator held warm; with its defaults the fused stage was ahead by up to 18 % at
+4,000–10,000 positions on the slider-crank, in runs varying by ±25 %)."""
 
 
 @dataclass(frozen=True, eq=False)

@@ -212,7 +212,7 @@ def planned_derivatives(
         done = fused_derivatives(system, pe, psi_d, psi_dd, factors)
         if done is not None and not factors:  # the rates alone
             return _rows(done[2], shape), _rows(done[3], shape), Conditions(done[4])
-    conditions = transposed = zeros = None
+    redone, conditions, transposed, zeros = False, None, None, None
     if done is not None:  # the compiled backend's program, position by position
         buf, inv, qdT, qddT, conditions = done
     else:
@@ -229,14 +229,14 @@ def planned_derivatives(
             per = min(max(CHUNK_BYTES // (8 * (layout.size + 1)), 1024), 8192)
             redone, zeros = run_in_chunks(plan.run, per, rows, into, inv, cnd, unwritten)
             conditions = {g: c for g, c in enumerate(cnd) if c is not None}
-            if plan.transposed is not None and not redone and n >= TRACED_FROM:
-                transposed = (
-                    functools.partial(transposed_in_runs, plan.transposed, buf, inv),
-                    functools.partial(product_in_runs, plan.product, buf, system.n_q),
-                )
         else:  # a stacked model's variants, their rows one after the other
             rows = (np.reshape(x, (n,) + x.shape[len(shape) :]) for x in (pe, psi_d, psi_dd))
             plan.run(*rows, *into, inv, np.repeat(plan.table, shape[1], axis=1), shape)
+    if plan.transposed is not None and not redone and n >= TRACED_FROM:  # one model's
+        transposed = (
+            functools.partial(transposed_in_runs, plan.transposed, buf, inv),
+            functools.partial(product_in_runs, plan.product, buf, system.n_q),
+        )
     parts = [
         (block(buf, d, shape), None if lo is None else block(buf, lo, shape), cols)
         for d, lo, cols in zip(layout.diag, layout.lower, layout.lower_cols)
