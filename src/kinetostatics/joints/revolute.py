@@ -13,7 +13,7 @@ from ..base.keys import NAME, NUMBER, Keys, enum, names
 from .base import Anchor, Compiled, Friction, Glyph, Joint, Pole, Presentation
 from .relative import RelativeMotion
 
-_TURN_I, _TURN_J = np.array([0.0, 0.0, -1.0]), np.array([0.0, 0.0, 1.0])  # fixed_direction
+_TURN_I, _TURN_J = np.array([0.0, 0.0, -1.0]), np.array([0.0, 0.0, 1.0])  # θ_j − θ_i
 _TURN_I.flags.writeable = _TURN_J.flags.writeable = False
 
 FRICTION_KEYS = Keys(
@@ -132,7 +132,7 @@ class Revolute(Joint, Presentation, Friction, Compiled, kind="revolute"):
     n_eq: ClassVar[int] = 2
     reaction_labels: ClassVar[tuple[str, ...]] = ("Fx", "Fy")
     angular: ClassVar[bool] = True
-    fixed_direction: ClassVar = ((0.0, 0.0, -1.0), (0.0, 0.0, 1.0))  # θ_j − θ_i
+    fixed_direction: ClassVar = (tuple(_TURN_I.tolist()), tuple(_TURN_J.tolist()))
     letter: ClassVar[str] = "R"
     reports_swing: ClassVar[bool] = True
     # links: two, or three or more sharing one pin (io/bodies.py), with as many points
